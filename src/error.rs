@@ -1,0 +1,55 @@
+//! The library's error type.
+
+use std::path::PathBuf;
+
+/// Everything a pixgeo call can fail with.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The Vulkan loader or a driver is missing.
+    #[error("no Vulkan driver: {0}. On Debian/Ubuntu install libvulkan1 and mesa-vulkan-drivers (tools/setup does)")]
+    NoVulkan(String),
+    /// No device matched the request (`PIXGEO_DEVICE`) or none has what pixgeo needs.
+    #[error("no suitable Vulkan device: {0}")]
+    NoDevice(String),
+    /// A Vulkan call failed.
+    #[error("Vulkan call {call} failed: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: ash::vk::Result,
+    },
+    /// The Khronos validation layer reported problems (only with `PIXGEO_VALIDATION=1`).
+    #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
+    Validation(Vec<String>),
+    /// Device memory could not be allocated.
+    #[error("device memory: {0}")]
+    Memory(#[from] gpu_allocator::AllocationError),
+    /// The input is not something pixgeo can compute with.
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+    /// The picture is larger than the device allows.
+    #[error("picture {width}x{height} is larger than the device allows ({limit}x{limit})")]
+    PictureTooLarge { width: u32, height: u32, limit: u32 },
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// A file was read but its content is malformed.
+    #[error("{path}: {message}")]
+    Parse { path: PathBuf, message: String },
+}
+
+/// Result with pixgeo's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Attaches the name of the failing Vulkan call to a `VkResult`.
+pub(crate) trait VkContext<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for ash::prelude::VkResult<T> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}

@@ -1,0 +1,386 @@
+//! Instance, device choice, validation and the memory allocator: the Vulkan objects
+//! every other machine object depends on. Shared through an `Arc` so that images and
+//! buffers can destroy themselves in `Drop`.
+
+use std::{
+    ffi::{c_void, CStr},
+    mem::ManuallyDrop,
+    sync::Mutex,
+};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use crate::error::{Error, Result, VkContext};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How the machine picks its device.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum DeviceChoice {
+    /// A GPU if one is present, otherwise the CPU (lavapipe).
+    #[default]
+    Auto,
+    /// A software device (lavapipe).
+    Cpu,
+    /// A hardware GPU; an error if there is none.
+    Gpu,
+    /// The device with this index in enumeration order.
+    Index(usize),
+    /// The first device whose name contains this text (case-insensitive).
+    Name(String),
+}
+
+impl DeviceChoice {
+    /// Reads `PIXGEO_DEVICE`: `auto`, `cpu` (or `lavapipe`), `gpu`, an index, or part
+    /// of a device name.
+    pub fn from_env() -> Self {
+        match std::env::var("PIXGEO_DEVICE") {
+            Ok(v) => Self::parse(&v),
+            Err(_) => Self::Auto,
+        }
+    }
+
+    /// Parses the same forms as `PIXGEO_DEVICE`.
+    pub fn parse(text: &str) -> Self {
+        let t = text.trim();
+        match t.to_ascii_lowercase().as_str() {
+            "" | "auto" => Self::Auto,
+            "cpu" | "lavapipe" | "llvmpipe" => Self::Cpu,
+            "gpu" => Self::Gpu,
+            _ => t
+                .parse()
+                .map(Self::Index)
+                .unwrap_or_else(|_| Self::Name(t.to_string())),
+        }
+    }
+}
+
+/// Options for creating a machine.
+#[derive(Clone, Debug, Default)]
+pub struct MachineOptions {
+    pub device: DeviceChoice,
+    /// Enable the Khronos validation layer; every message becomes an error.
+    pub validation: bool,
+}
+
+impl MachineOptions {
+    /// `PIXGEO_DEVICE` and `PIXGEO_VALIDATION=1` from the environment.
+    pub fn from_env() -> Self {
+        Self {
+            device: DeviceChoice::from_env(),
+            validation: std::env::var("PIXGEO_VALIDATION").is_ok_and(|v| v == "1"),
+        }
+    }
+}
+
+/// The shared Vulkan context. Dropped last: after every image, buffer and pipeline.
+pub(crate) struct Context {
+    _entry: ash::Entry,
+    pub instance: ash::Instance,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Boxed so its address is stable for the messenger's user-data pointer.
+    messages: Box<Mutex<Vec<String>>>,
+    pub device: ash::Device,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub properties: vk::PhysicalDeviceProperties,
+    pub device_name: String,
+    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+}
+
+impl Context {
+    pub fn new(options: &MachineOptions) -> Result<Self> {
+        // SAFETY: loading the system's Vulkan loader library; its entry points are
+        // only called through ash's typed wrappers.
+        let entry = unsafe { ash::Entry::load() }
+            .map_err(|e| Error::NoVulkan(format!("cannot load libvulkan ({e})")))?;
+
+        let mut layers = Vec::new();
+        let mut extensions = Vec::new();
+        if options.validation {
+            // SAFETY: plain enumeration call on a valid entry.
+            let available = unsafe { entry.enumerate_instance_layer_properties() }
+                .vk("vkEnumerateInstanceLayerProperties")?;
+            let found = available
+                .iter()
+                .any(|l| l.layer_name_as_c_str().ok() == Some(VALIDATION_LAYER));
+            if !found {
+                return Err(Error::NoVulkan(
+                    "PIXGEO_VALIDATION=1 needs the Khronos validation layer (Debian package vulkan-validationlayers)".into(),
+                ));
+            }
+            layers.push(VALIDATION_LAYER.as_ptr());
+            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+        }
+
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"pixgeo")
+            .engine_name(c"pixgeo")
+            .api_version(vk::API_VERSION_1_3);
+        let create = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions);
+        // SAFETY: the create info and the strings it points to outlive the call.
+        let instance = unsafe { entry.create_instance(&create, None) }.map_err(|e| match e {
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => {
+                Error::NoVulkan("the loader found no Vulkan 1.3 driver".into())
+            }
+            result => Error::Vulkan {
+                call: "vkCreateInstance",
+                result,
+            },
+        })?;
+        // From here on, `partial` destroys the instance if a later step fails.
+        let mut partial = Partial {
+            instance: Some(&instance),
+            debug: None,
+            device: None,
+        };
+
+        let messages: Box<Mutex<Vec<String>>> = Box::default();
+        let debug = if options.validation {
+            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                        | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                )
+                .pfn_user_callback(Some(collect_message))
+                .user_data(&*messages as *const Mutex<Vec<String>> as *mut c_void);
+            // SAFETY: `messages` is boxed and lives in the context as long as the
+            // messenger, which is destroyed first in `Drop`.
+            let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
+                .vk("vkCreateDebugUtilsMessengerEXT")?;
+            partial.debug = Some((loader.clone(), messenger));
+            Some((loader, messenger))
+        } else {
+            None
+        };
+
+        let (physical_device, properties) = choose_device(&instance, &options.device)?;
+        let device_name = properties
+            .device_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+
+        // SAFETY: valid physical device from this instance.
+        let families =
+            unsafe { instance.get_physical_device_queue_family_properties(physical_device) };
+        let queue_family = families
+            .iter()
+            .position(|f| {
+                f.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+            })
+            .ok_or_else(|| Error::NoDevice(format!("{device_name} has no graphics+compute queue")))?
+            as u32;
+
+        let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut supported = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
+        // SAFETY: valid physical device; the chained struct outlives the call.
+        unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
+        let logic_op = supported.features.logic_op;
+        if supported13.dynamic_rendering == vk::FALSE || supported13.synchronization2 == vk::FALSE
+        {
+            return Err(Error::NoDevice(format!(
+                "{device_name} lacks dynamic rendering or synchronization2"
+            )));
+        }
+
+        let priorities = [1.0f32];
+        let queue_info = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let features = vk::PhysicalDeviceFeatures::default()
+            .logic_op(logic_op == vk::TRUE)
+            .independent_blend(true);
+        let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let create = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_features(&features)
+            .push_next(&mut features13);
+        // SAFETY: the create info and its chain outlive the call.
+        let device = unsafe { instance.create_device(physical_device, &create, None) }
+            .vk("vkCreateDevice")?;
+        partial.device = Some(device.clone());
+        // SAFETY: queue 0 of a family requested above.
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })?;
+
+        std::mem::forget(partial);
+        let context = Self {
+            _entry: entry,
+            instance,
+            debug,
+            messages,
+
+            device,
+            queue,
+            queue_family,
+            properties,
+            device_name,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+        };
+        context.check_validation()?;
+        Ok(context)
+    }
+
+    /// Returns the validation messages collected since the last check as an error.
+    pub fn check_validation(&self) -> Result<()> {
+        let mut messages = self.messages.lock().unwrap_or_else(|e| e.into_inner());
+        if messages.is_empty() {
+            Ok(())
+        } else {
+            Err(Error::Validation(std::mem::take(&mut *messages)))
+        }
+    }
+
+    pub fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
+        self.allocator.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// True for a software rasterizer such as lavapipe.
+    pub fn is_cpu(&self) -> bool {
+        self.properties.device_type == vk::PhysicalDeviceType::CPU
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        // SAFETY: every object created from this device has been destroyed (they hold
+        // an `Arc<Context>`); the allocator frees its memory before the device goes.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some((loader, messenger)) = self.debug.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// Destroys what `Context::new` created so far if a later step fails.
+struct Partial<'a> {
+    instance: Option<&'a ash::Instance>,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    device: Option<ash::Device>,
+}
+
+impl Drop for Partial<'_> {
+    fn drop(&mut self) {
+        // SAFETY: these objects were created in `Context::new` and nothing else uses
+        // them once construction has failed.
+        unsafe {
+            if let Some(device) = self.device.take() {
+                device.destroy_device(None);
+            }
+            if let Some((loader, messenger)) = self.debug.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            if let Some(instance) = self.instance.take() {
+                instance.destroy_instance(None);
+            }
+        }
+    }
+}
+
+fn choose_device(
+    instance: &ash::Instance,
+    choice: &DeviceChoice,
+) -> Result<(vk::PhysicalDevice, vk::PhysicalDeviceProperties)> {
+    // SAFETY: valid instance.
+    let devices = unsafe { instance.enumerate_physical_devices() }
+        .vk("vkEnumeratePhysicalDevices")?;
+    let candidates: Vec<_> = devices
+        .into_iter()
+        .map(|d| {
+            // SAFETY: `d` was just enumerated from this instance.
+            let props = unsafe { instance.get_physical_device_properties(d) };
+            (d, props)
+        })
+        .filter(|(_, p)| p.api_version >= vk::API_VERSION_1_3)
+        .collect();
+    if candidates.is_empty() {
+        return Err(Error::NoVulkan(
+            "no device supports Vulkan 1.3 (install mesa-vulkan-drivers for lavapipe)".into(),
+        ));
+    }
+    let name = |p: &vk::PhysicalDeviceProperties| {
+        p.device_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let rank = |t: vk::PhysicalDeviceType| match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    };
+    let is_gpu = |t: vk::PhysicalDeviceType| rank(t) <= 2;
+    let found = match choice {
+        DeviceChoice::Auto => candidates.iter().min_by_key(|(_, p)| rank(p.device_type)),
+        DeviceChoice::Cpu => candidates
+            .iter()
+            .find(|(_, p)| p.device_type == vk::PhysicalDeviceType::CPU),
+        DeviceChoice::Gpu => candidates
+            .iter()
+            .filter(|(_, p)| is_gpu(p.device_type))
+            .min_by_key(|(_, p)| rank(p.device_type)),
+        DeviceChoice::Index(i) => candidates.get(*i),
+        DeviceChoice::Name(n) => candidates
+            .iter()
+            .find(|(_, p)| name(p).to_lowercase().contains(&n.to_lowercase())),
+    };
+    found.copied().ok_or_else(|| {
+        let names: Vec<String> = candidates.iter().map(|(_, p)| name(p)).collect();
+        Error::NoDevice(format!(
+            "PIXGEO_DEVICE={choice:?} matches none of: {}",
+            names.join(", ")
+        ))
+    })
+}
+
+/// Debug-utils callback: stores each message for `Context::check_validation`.
+unsafe extern "system" fn collect_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    // SAFETY: the layer passes valid callback data; `user` is the boxed mutex that
+    // the context keeps alive while the messenger exists.
+    unsafe {
+        let text = if data.is_null() || (*data).p_message.is_null() {
+            "(no message)".to_string()
+        } else {
+            CStr::from_ptr((*data).p_message)
+                .to_string_lossy()
+                .into_owned()
+        };
+        if let Some(messages) = (user as *const Mutex<Vec<String>>).as_ref() {
+            if let Ok(mut m) = messages.lock() {
+                m.push(format!("{severity:?}: {text}"));
+            }
+        }
+    }
+    vk::FALSE
+}

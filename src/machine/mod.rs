@@ -1,0 +1,377 @@
+//! The pixel machine of thesis ch. 1 on Vulkan.
+//!
+//! | thesis model | here |
+//! | --- | --- |
+//! | picture of p×p pixels, its buffers | [`Image`]s in a [`Format`] |
+//! | z buffer and stencil | one [`Format::DepthStencil`] image |
+//! | state of the raster pipeline | [`RasterState`] (cached as `VkPipeline`s) |
+//! | display list + translate | instanced [`Pass::draw_cones`] |
+//! | a set of triangles | [`Pass::draw_rect`], [`Pass::draw_cones`] |
+//! | read back a rectangle | [`Machine::read_u32`], [`Machine::read_f32`] |
+//! | minmax, histogram | [`Machine::minmax`], [`Machine::histogram`] (compute) |
+
+mod context;
+mod conv;
+mod memory;
+mod pass;
+mod pipelines;
+pub mod state;
+mod sync;
+
+#[allow(clippy::all)]
+mod shaders {
+    include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+}
+
+use std::sync::Arc;
+
+use ash::vk;
+
+pub use context::{DeviceChoice, MachineOptions};
+pub use memory::{Buffer, BufferKind, Format, Image};
+pub use pass::{Clear, ClearColor, ConeDraw, ConePush, Pass, PixelRect, RectDraw, Target};
+pub use pipelines::Program;
+pub use state::{
+    Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams,
+    LogicOp, RasterState, StencilOp, StencilTest,
+};
+
+use crate::error::{Error, Result, VkContext};
+use context::Context;
+use pipelines::{Kernel, Pipelines};
+
+/// Per-channel minimum and maximum of a picture buffer (thesis §1.7, Fig. 1.12).
+/// Integer buffers report their values exactly (as `f64`); single-channel buffers
+/// fill channel 0 only.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MinMax {
+    pub min: [f64; 4],
+    pub max: [f64; 4],
+    pub channels: usize,
+}
+
+/// Bins of a histogram: `[low + b * width, low + (b + 1) * width)` for `b < bins`.
+/// For integer buffers `low` and `width` are rounded to integers (width at least 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bins {
+    pub channel: u32,
+    pub low: f64,
+    pub width: f64,
+    pub bins: u32,
+}
+
+/// The pixel machine: one Vulkan device with its queue, pipeline cache and the
+/// means to submit passes and read results back.
+pub struct Machine {
+    pipelines: Pipelines,
+    command_pool: vk::CommandPool,
+    command_buffer: vk::CommandBuffer,
+    fence: vk::Fence,
+    descriptor_pool: vk::DescriptorPool,
+    validation: bool,
+    ctx: Arc<Context>,
+}
+
+impl Machine {
+    /// Creates the machine on the device `options` choose.
+    pub fn new(options: &MachineOptions) -> Result<Self> {
+        let ctx = Arc::new(Context::new(options)?);
+        let device = &ctx.device;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid create infos; every object is destroyed in `Drop`.
+        let command_pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
+        let mut machine = Self {
+            pipelines: Pipelines::new(&ctx)?,
+            command_pool,
+            command_buffer: vk::CommandBuffer::null(),
+            fence: vk::Fence::null(),
+            descriptor_pool: vk::DescriptorPool::null(),
+            validation: options.validation,
+            ctx: ctx.clone(),
+        };
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: as above.
+        unsafe {
+            machine.command_buffer =
+                device.allocate_command_buffers(&alloc).vk("vkAllocateCommandBuffers")?[0];
+            machine.fence = device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+                .vk("vkCreateFence")?;
+            let sizes = [
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::STORAGE_IMAGE,
+                    descriptor_count: 16,
+                },
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::STORAGE_BUFFER,
+                    descriptor_count: 16,
+                },
+            ];
+            let info = vk::DescriptorPoolCreateInfo::default()
+                .flags(vk::DescriptorPoolCreateFlags::FREE_DESCRIPTOR_SET)
+                .max_sets(16)
+                .pool_sizes(&sizes);
+            machine.descriptor_pool = device
+                .create_descriptor_pool(&info, None)
+                .vk("vkCreateDescriptorPool")?;
+        }
+        ctx.check_validation()?;
+        Ok(machine)
+    }
+
+    /// The machine `PIXGEO_DEVICE` and `PIXGEO_VALIDATION` ask for.
+    pub fn from_env() -> Result<Self> {
+        Self::new(&MachineOptions::from_env())
+    }
+
+    /// The device's name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
+    pub fn device_name(&self) -> &str {
+        &self.ctx.device_name
+    }
+
+    /// True when the device is a software rasterizer (lavapipe).
+    pub fn is_cpu_device(&self) -> bool {
+        self.ctx.is_cpu()
+    }
+
+    /// Whether the validation layer is on.
+    pub fn validation(&self) -> bool {
+        self.validation
+    }
+
+    /// The largest picture side the device allows.
+    pub fn max_picture_side(&self) -> u32 {
+        let l = &self.ctx.properties.limits;
+        l.max_image_dimension2_d
+            .min(l.max_framebuffer_width)
+            .min(l.max_framebuffer_height)
+    }
+
+    /// Number of distinct graphics pipelines created so far.
+    pub fn pipeline_count(&self) -> usize {
+        self.pipelines.graphics_count()
+    }
+
+    /// A picture buffer of `format`, `width` x `height` pixels.
+    pub fn image(&self, format: Format, width: u32, height: u32) -> Result<Image> {
+        let side = self.max_picture_side();
+        if width > side || height > side {
+            return Err(Error::PictureTooLarge {
+                width,
+                height,
+                limit: side,
+            });
+        }
+        Image::new(&self.ctx, format, width, height)
+    }
+
+    /// A host-visible buffer with `data`, for vertices and instances.
+    pub fn vertex_buffer<T: bytemuck::Pod>(&self, data: &[T]) -> Result<Buffer> {
+        Buffer::with_data(&self.ctx, BufferKind::Vertices, data)
+    }
+
+    /// A host-visible buffer of `bytes` for reading results back.
+    pub fn readback_buffer(&self, bytes: u64) -> Result<Buffer> {
+        Buffer::new(&self.ctx, BufferKind::Readback, bytes)
+    }
+
+    /// Records the passes of `record` into one command buffer, submits it and waits.
+    /// With validation on, any message reported meanwhile makes this an error.
+    pub fn run<R>(&self, record: impl FnOnce(&mut Pass<'_>) -> Result<R>) -> Result<R> {
+        let device = &self.ctx.device;
+        let cmd = self.command_buffer;
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: the command buffer is not in use (every run waits for its fence).
+        unsafe {
+            device
+                .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
+                .vk("vkResetCommandBuffer")?;
+            device.begin_command_buffer(cmd, &begin).vk("vkBeginCommandBuffer")?;
+        }
+        let recorded = {
+            let mut pass = Pass::new(self, cmd);
+            record(&mut pass)
+        };
+        pass::end_commands(device, cmd)?;
+        let value = recorded?;
+        let cmds = [cmd];
+        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        // SAFETY: the command buffer is fully recorded; the fence is unsignalled and
+        // reset after waiting, so the next run starts from the same state.
+        unsafe {
+            device
+                .queue_submit(self.ctx.queue, &[submit], self.fence)
+                .vk("vkQueueSubmit")?;
+            device
+                .wait_for_fences(&[self.fence], true, u64::MAX)
+                .vk("vkWaitForFences")?;
+            device.reset_fences(&[self.fence]).vk("vkResetFences")?;
+        }
+        self.ctx.check_validation()?;
+        Ok(value)
+    }
+
+    /// Reads back `rect` of an integer image, row-major.
+    pub fn read_u32(&self, image: &Image, rect: PixelRect) -> Result<Vec<u32>> {
+        if image.format() != Format::R32Uint {
+            return Err(Error::InvalidInput(format!(
+                "read_u32 reads R32Uint images, not {:?}",
+                image.format()
+            )));
+        }
+        self.read(image, rect)
+    }
+
+    /// Reads back `rect` of a float image (for `DepthStencil`: the z buffer),
+    /// row-major; `Rgba32Float` gives four values per pixel.
+    pub fn read_f32(&self, image: &Image, rect: PixelRect) -> Result<Vec<f32>> {
+        if !matches!(
+            image.format(),
+            Format::R32Float | Format::Rgba32Float | Format::DepthStencil
+        ) {
+            return Err(Error::InvalidInput(format!(
+                "read_f32 reads float images or depth, not {:?}",
+                image.format()
+            )));
+        }
+        self.read(image, rect)
+    }
+
+    fn read<T: bytemuck::Pod>(&self, image: &Image, rect: PixelRect) -> Result<Vec<T>> {
+        let bytes = rect.width as u64 * rect.height as u64 * image.format().texel_bytes();
+        let buffer = self.readback_buffer(bytes)?;
+        self.run(|pass| pass.copy_to_buffer(image, rect, &buffer))?;
+        Ok(buffer.read((bytes / 4) as usize))
+    }
+
+    fn with_descriptor_set<R>(
+        &self,
+        image: &Image,
+        buffer: &Buffer,
+        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
+    ) -> Result<R> {
+        let device = &self.ctx.device;
+        let layouts = [self.pipelines.compute_set_layout];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(self.descriptor_pool)
+            .set_layouts(&layouts);
+        // SAFETY: pool and layout are valid; the set is freed below after the run
+        // that used it has completed.
+        let set = unsafe { device.allocate_descriptor_sets(&alloc) }
+            .vk("vkAllocateDescriptorSets")?[0];
+        let image_info = [vk::DescriptorImageInfo::default()
+            .image_view(image.view)
+            .image_layout(vk::ImageLayout::GENERAL)];
+        let buffer_info = [vk::DescriptorBufferInfo::default()
+            .buffer(buffer.raw)
+            .range(vk::WHOLE_SIZE)];
+        let writes = [
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(0)
+                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                .image_info(&image_info),
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(1)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&buffer_info),
+        ];
+        // SAFETY: the set is not in use; infos outlive the call.
+        unsafe { device.update_descriptor_sets(&writes, &[]) };
+        let result = f(set);
+        // SAFETY: `f` ran its submission to completion (`run` waits).
+        unsafe { device.free_descriptor_sets(self.descriptor_pool, &[set]) }
+            .vk("vkFreeDescriptorSets")?;
+        result
+    }
+
+    /// The minmax function (thesis §1.7) over `rect`, computed on the device; only
+    /// eight numbers come back to the host.
+    pub fn minmax(&self, image: &Image, rect: PixelRect) -> Result<MinMax> {
+        let float = image.format() != Format::R32Uint;
+        let channels = if image.format() == Format::Rgba32Float { 4 } else { 1 };
+        let mut buffer = self.readback_buffer(32)?;
+        buffer.write(&[u32::MAX, u32::MAX, u32::MAX, u32::MAX, 0, 0, 0, 0]);
+        self.with_descriptor_set(image, &buffer, |set| {
+            self.run(|pass| pass.reduce(Kernel::MinMax, image, rect, set, &[]))
+        })?;
+        let raw: Vec<u32> = buffer.read(8);
+        let decode = |u: u32| -> f64 {
+            if float {
+                let bits = if u & 0x8000_0000 != 0 { u & 0x7fff_ffff } else { !u };
+                f32::from_bits(bits) as f64
+            } else {
+                u as f64
+            }
+        };
+        let mut out = MinMax {
+            min: [0.0; 4],
+            max: [0.0; 4],
+            channels,
+        };
+        for c in 0..channels {
+            out.min[c] = decode(raw[c]);
+            out.max[c] = decode(raw[4 + c]);
+        }
+        Ok(out)
+    }
+
+    /// The histogram function (thesis §1.7) of one channel over `rect`, computed on
+    /// the device; only the bin counts come back.
+    pub fn histogram(&self, image: &Image, rect: PixelRect, bins: Bins) -> Result<Vec<u32>> {
+        if bins.bins == 0 || !(bins.width > 0.0) || !bins.low.is_finite() {
+            return Err(Error::InvalidInput(format!("histogram bins {bins:?}")));
+        }
+        let channels = if image.format() == Format::Rgba32Float { 4 } else { 1 };
+        if bins.channel >= channels {
+            return Err(Error::InvalidInput(format!(
+                "channel {} of a {}-channel picture",
+                bins.channel, channels
+            )));
+        }
+        let (low, width) = if image.format() == Format::R32Uint {
+            (
+                bins.low.clamp(0.0, u32::MAX as f64) as u32,
+                bins.width.round().clamp(1.0, u32::MAX as f64) as u32,
+            )
+        } else {
+            ((bins.low as f32).to_bits(), (bins.width as f32).to_bits())
+        };
+        let mut buffer = self.readback_buffer(4 * bins.bins as u64)?;
+        buffer.write(&vec![0u32; bins.bins as usize]);
+        self.with_descriptor_set(image, &buffer, |set| {
+            self.run(|pass| {
+                pass.reduce(
+                    Kernel::Histogram,
+                    image,
+                    rect,
+                    set,
+                    &[bins.channel, bins.bins, low, width],
+                )
+            })
+        })?;
+        Ok(buffer.read(bins.bins as usize))
+    }
+}
+
+impl Drop for Machine {
+    fn drop(&mut self) {
+        // SAFETY: no submission is pending (`run` waits); each object is destroyed
+        // once, before the context (dropped after this with the last `Arc`).
+        unsafe {
+            let device = &self.ctx.device;
+            let _ = device.device_wait_idle();
+            device.destroy_descriptor_pool(self.descriptor_pool, None);
+            device.destroy_fence(self.fence, None);
+            device.destroy_command_pool(self.command_pool, None);
+        }
+    }
+}

@@ -1,0 +1,540 @@
+//! Recording work for the machine: rendering into the picture's buffers, copies and
+//! compute dispatches. A `Pass` records into one command buffer; `Machine::run`
+//! submits it and waits.
+
+use ash::vk;
+
+use super::{
+    memory::{Buffer, Format, Image},
+    pipelines::{Kernel, Program},
+    state::{DrawParams, RasterState},
+    sync::{self, Usage},
+    Machine,
+};
+use crate::error::{Error, Result, VkContext};
+
+/// The buffers a rendering pass draws into.
+#[derive(Clone, Copy)]
+pub struct Target<'a> {
+    /// The colour buffer(s) of the pixel: one image.
+    pub color: Option<&'a Image>,
+    /// The z buffer and stencil.
+    pub depth_stencil: Option<&'a Image>,
+}
+
+/// A colour clear value matching the target's format.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClearColor {
+    Uint([u32; 4]),
+    Float([f32; 4]),
+}
+
+/// What the buffers hold when a rendering pass begins; `None` keeps the contents.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Clear {
+    pub color: Option<ClearColor>,
+    pub depth: Option<f32>,
+    pub stencil: Option<u8>,
+}
+
+/// A rectangle of pixels `(x, y, width, height)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelRect {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl PixelRect {
+    /// The whole of `image`.
+    pub fn of(image: &Image) -> Self {
+        Self {
+            x: 0,
+            y: 0,
+            width: image.width(),
+            height: image.height(),
+        }
+    }
+
+    fn check_inside(&self, image: &Image) -> Result<()> {
+        if self.width == 0
+            || self.height == 0
+            || self.x.checked_add(self.width).is_none_or(|r| r > image.width())
+            || self.y.checked_add(self.height).is_none_or(|b| b > image.height())
+        {
+            return Err(Error::InvalidInput(format!(
+                "rectangle {self:?} is empty or not inside the {}x{} picture",
+                image.width(),
+                image.height()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Push constants of the cone programs (`glsl/common.glsl`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConePush {
+    pub picture_size: [f32; 2],
+    pub vertex_depth_scale: f32,
+    pub fragment_depth_scale: f32,
+}
+
+/// An instanced draw of cones: `vertex_count` vertices of the unit fan mesh from
+/// `first_vertex`, once per instance in `first_instance..first_instance + count`.
+#[derive(Clone, Copy)]
+pub struct ConeDraw<'a> {
+    pub mesh: &'a Buffer,
+    pub first_vertex: u32,
+    pub vertex_count: u32,
+    pub instances: &'a Buffer,
+    pub first_instance: u32,
+    pub instance_count: u32,
+}
+
+/// A rectangle in world coordinates with constant depth and colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RectDraw {
+    /// World corners `(min x, min y)` and `(max x, max y)`.
+    pub lo: [f32; 2],
+    pub hi: [f32; 2],
+    pub depth: f32,
+    /// The colour; for integer targets the values are written as `u32` bit patterns
+    /// (use [`RectDraw::uint`]).
+    pub value: [f32; 4],
+}
+
+impl RectDraw {
+    /// A rectangle covering the whole picture of `width` x `height` pixels.
+    pub fn full_picture(width: u32, height: u32) -> Self {
+        Self {
+            lo: [-0.5, -0.5],
+            hi: [width as f32 - 0.5, height as f32 - 0.5],
+            depth: 0.0,
+            value: [0.0; 4],
+        }
+    }
+
+    /// Sets an integer colour (for `R32Uint` targets).
+    pub fn uint(mut self, value: [u32; 4]) -> Self {
+        self.value = value.map(f32::from_bits);
+        self
+    }
+
+    pub fn float(mut self, value: [f32; 4]) -> Self {
+        self.value = value;
+        self
+    }
+
+    pub fn at_depth(mut self, depth: f32) -> Self {
+        self.depth = depth;
+        self
+    }
+}
+
+struct Rendering {
+    color: Option<Format>,
+    depth_stencil: bool,
+    width: u32,
+    height: u32,
+}
+
+/// Records commands for one submission.
+pub struct Pass<'m> {
+    pub(crate) machine: &'m Machine,
+    pub(crate) cmd: vk::CommandBuffer,
+    rendering: Option<Rendering>,
+}
+
+impl<'m> Pass<'m> {
+    pub(crate) fn new(machine: &'m Machine, cmd: vk::CommandBuffer) -> Self {
+        Self {
+            machine,
+            cmd,
+            rendering: None,
+        }
+    }
+
+    fn device(&self) -> &ash::Device {
+        &self.machine.ctx.device
+    }
+
+    /// Declares that `image` is used as `usage` from here on; records the barrier.
+    pub(crate) fn use_image(&mut self, image: &Image, usage: Usage) {
+        let from = image.last_use.get();
+        if let Some(barrier) = sync::image_barrier(image.raw, image.subresource_range(), from, usage)
+        {
+            let barriers = [barrier];
+            let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
+            // SAFETY: recording into a command buffer in the recording state.
+            unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        }
+        image.last_use.set(usage);
+    }
+
+    /// Begins rendering into `target`, clearing what `clear` names.
+    pub fn begin(&mut self, target: Target<'_>, clear: Clear) -> Result<()> {
+        if self.rendering.is_some() {
+            return Err(Error::InvalidInput("a rendering pass is already open".into()));
+        }
+        let (width, height) = match (target.color, target.depth_stencil) {
+            (Some(c), _) => (c.width(), c.height()),
+            (None, Some(d)) => (d.width(), d.height()),
+            (None, None) => {
+                return Err(Error::InvalidInput("a rendering pass needs a target".into()))
+            }
+        };
+        if let Some(d) = target.depth_stencil {
+            if d.width() != width || d.height() != height || !d.format().is_depth() {
+                return Err(Error::InvalidInput(
+                    "depth/stencil target must be a DepthStencil image of the colour target's size".into(),
+                ));
+            }
+        }
+        if let Some(c) = target.color {
+            if c.format().is_depth() {
+                return Err(Error::InvalidInput("colour target has a depth format".into()));
+            }
+            if clear.color.is_some() {
+                c.last_use.set(Usage::Undefined);
+            }
+            self.use_image(c, Usage::ColorAttachment);
+        }
+        if let Some(d) = target.depth_stencil {
+            if clear.depth.is_some() && clear.stencil.is_some() {
+                d.last_use.set(Usage::Undefined);
+            }
+            self.use_image(d, Usage::DepthStencilAttachment);
+        }
+        let color_clear = match clear.color {
+            Some(ClearColor::Uint(v)) => vk::ClearValue {
+                color: vk::ClearColorValue { uint32: v },
+            },
+            Some(ClearColor::Float(v)) => vk::ClearValue {
+                color: vk::ClearColorValue { float32: v },
+            },
+            None => vk::ClearValue::default(),
+        };
+        let load = |c: bool| {
+            if c {
+                vk::AttachmentLoadOp::CLEAR
+            } else {
+                vk::AttachmentLoadOp::LOAD
+            }
+        };
+        let color_attachments: Vec<vk::RenderingAttachmentInfo> = target
+            .color
+            .iter()
+            .map(|c| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(c.view)
+                    .image_layout(sync::layout(Usage::ColorAttachment))
+                    .load_op(load(clear.color.is_some()))
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(color_clear)
+            })
+            .collect();
+        let ds_clear = vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: clear.depth.unwrap_or(1.0),
+                stencil: clear.stencil.unwrap_or(0).into(),
+            },
+        };
+        let ds = target.depth_stencil.map(|d| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(d.view)
+                .image_layout(sync::layout(Usage::DepthStencilAttachment))
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(ds_clear)
+        });
+        let depth_attachment = ds.map(|a| a.load_op(load(clear.depth.is_some())));
+        let stencil_attachment = ds.map(|a| a.load_op(load(clear.stencil.is_some())));
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: vk::Extent2D { width, height },
+        };
+        let mut info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachments);
+        if let (Some(d), Some(s)) = (depth_attachment.as_ref(), stencil_attachment.as_ref()) {
+            info = info.depth_attachment(d).stencil_attachment(s);
+        }
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: width as f32,
+            height: height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: attachments are in the layouts declared above; the info's pointers
+        // refer to locals alive during the call.
+        unsafe {
+            self.device().cmd_begin_rendering(self.cmd, &info);
+            self.device().cmd_set_viewport(self.cmd, 0, &[viewport]);
+        }
+        self.rendering = Some(Rendering {
+            color: target.color.map(|c| c.format()),
+            depth_stencil: target.depth_stencil.is_some(),
+            width,
+            height,
+        });
+        Ok(())
+    }
+
+    /// Ends the rendering pass begun with [`Pass::begin`].
+    pub fn end(&mut self) -> Result<()> {
+        if self.rendering.take().is_none() {
+            return Err(Error::InvalidInput("no rendering pass is open".into()));
+        }
+        // SAFETY: a rendering pass was begun in this command buffer.
+        unsafe { self.device().cmd_end_rendering(self.cmd) };
+        Ok(())
+    }
+
+    /// Binds the pipeline for `program` and `state` and sets the per-draw state.
+    fn bind(&mut self, program: Program, state: &RasterState, params: &DrawParams) -> Result<()> {
+        let r = self
+            .rendering
+            .as_ref()
+            .ok_or_else(|| Error::InvalidInput("draw outside a rendering pass".into()))?;
+        let pipeline =
+            self.machine
+                .pipelines
+                .graphics(program, r.color, r.depth_stencil, state)?;
+        let [x, y, w, h] = params.scissor.unwrap_or([0, 0, r.width, r.height]);
+        let x = x.min(r.width);
+        let y = y.min(r.height);
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D {
+                x: x as i32,
+                y: y as i32,
+            },
+            extent: vk::Extent2D {
+                width: w.min(r.width - x),
+                height: h.min(r.height - y),
+            },
+        };
+        let device = self.device();
+        // SAFETY: inside a rendering pass whose formats match the pipeline's.
+        unsafe {
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            device.cmd_set_scissor(self.cmd, 0, &[scissor]);
+            device.cmd_set_stencil_reference(
+                self.cmd,
+                vk::StencilFaceFlags::FRONT_AND_BACK,
+                params.stencil_reference.into(),
+            );
+            device.cmd_set_blend_constants(self.cmd, &params.blend_constant);
+        }
+        Ok(())
+    }
+
+    fn push_graphics(&mut self, words: &[u32]) {
+        // SAFETY: the layout's range covers VERTEX|FRAGMENT and at least these bytes.
+        unsafe {
+            self.device().cmd_push_constants(
+                self.cmd,
+                self.machine.pipelines.graphics_layout,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::cast_slice(words),
+            )
+        };
+    }
+
+    /// Draws instanced cones (a "display list" translated per site, thesis §3.3).
+    pub fn draw_cones(
+        &mut self,
+        program: Program,
+        state: &RasterState,
+        params: &DrawParams,
+        push: &ConePush,
+        draw: &ConeDraw<'_>,
+    ) -> Result<()> {
+        if program == Program::Rect {
+            return Err(Error::InvalidInput("draw_cones needs a cone program".into()));
+        }
+        if draw.instance_count == 0 {
+            return Ok(());
+        }
+        self.bind(program, state, params)?;
+        let words = [
+            push.picture_size[0].to_bits(),
+            push.picture_size[1].to_bits(),
+            push.vertex_depth_scale.to_bits(),
+            push.fragment_depth_scale.to_bits(),
+        ];
+        self.push_graphics(&words);
+        let device = self.device();
+        // SAFETY: buffers are alive until the submission completes (borrowed by the
+        // caller of `Machine::run`); counts are within the buffers.
+        unsafe {
+            device.cmd_bind_vertex_buffers(
+                self.cmd,
+                0,
+                &[draw.mesh.raw, draw.instances.raw],
+                &[0, 0],
+            );
+            device.cmd_draw(
+                self.cmd,
+                draw.vertex_count,
+                draw.instance_count,
+                draw.first_vertex,
+                draw.first_instance,
+            );
+        }
+        Ok(())
+    }
+
+    /// Draws an axis-aligned rectangle of constant depth and colour.
+    pub fn draw_rect(&mut self, state: &RasterState, params: &DrawParams, rect: &RectDraw) -> Result<()> {
+        self.bind(Program::Rect, state, params)?;
+        let r = self.rendering.as_ref().map(|r| (r.width, r.height)).unwrap_or((1, 1));
+        let v = rect.value.map(f32::to_bits);
+        let words = [
+            (r.0 as f32).to_bits(),
+            (r.1 as f32).to_bits(),
+            rect.lo[0].to_bits(),
+            rect.lo[1].to_bits(),
+            rect.hi[0].to_bits(),
+            rect.hi[1].to_bits(),
+            rect.depth.to_bits(),
+            0,
+            v[0],
+            v[1],
+            v[2],
+            v[3],
+        ];
+        self.push_graphics(&words);
+        // SAFETY: inside a rendering pass with a bound pipeline.
+        unsafe { self.device().cmd_draw(self.cmd, 4, 1, 0, 0) };
+        Ok(())
+    }
+
+    /// Copies `rect` of `image` (for depth/stencil: its depth) into `buffer`,
+    /// row-major, tightly packed.
+    pub fn copy_to_buffer(&mut self, image: &Image, rect: PixelRect, buffer: &Buffer) -> Result<()> {
+        rect.check_inside(image)?;
+        let bytes = rect.width as u64 * rect.height as u64 * image.format().texel_bytes();
+        if bytes > buffer.size() {
+            return Err(Error::InvalidInput("readback buffer too small".into()));
+        }
+        self.use_image(image, Usage::TransferSrc);
+        let aspect = if image.format().is_depth() {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(aspect)
+                    .layer_count(1),
+            )
+            .image_offset(vk::Offset3D {
+                x: rect.x as i32,
+                y: rect.y as i32,
+                z: 0,
+            })
+            .image_extent(vk::Extent3D {
+                width: rect.width,
+                height: rect.height,
+                depth: 1,
+            });
+        // SAFETY: image in TRANSFER_SRC layout, buffer large enough (checked).
+        unsafe {
+            self.device().cmd_copy_image_to_buffer(
+                self.cmd,
+                image.raw,
+                sync::layout(Usage::TransferSrc),
+                buffer.raw,
+                &[region],
+            )
+        };
+        self.host_barrier(vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
+        Ok(())
+    }
+
+    /// Makes writes of `stage` visible to the host after the submission.
+    fn host_barrier(&mut self, stage: vk::PipelineStageFlags2, access: vk::AccessFlags2) {
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(stage)
+            .src_access_mask(access)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+        // SAFETY: recording state.
+        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
+    /// Records a reduction kernel over `rect` of `image` writing into `result`
+    /// (which the caller has initialised). `push` follows the rect's origin/extent.
+    pub(crate) fn reduce(
+        &mut self,
+        kernel: Kernel,
+        image: &Image,
+        rect: PixelRect,
+        set: vk::DescriptorSet,
+        extra_push: &[u32],
+    ) -> Result<()> {
+        rect.check_inside(image)?;
+        let pipeline = self.machine.pipelines.compute(kernel, image.format())?;
+        self.use_image(image, Usage::ComputeRead);
+        let mut words = vec![rect.x, rect.y, rect.width, rect.height];
+        words.extend_from_slice(extra_push);
+        let device = self.device();
+        let layout = self.machine.pipelines.compute_layout;
+        // SAFETY: descriptor set written for this image and buffer; image in GENERAL.
+        unsafe {
+            let host_write = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::HOST)
+                .src_access_mask(vk::AccessFlags2::HOST_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+                .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE)];
+            device.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().memory_barriers(&host_write),
+            );
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            device.cmd_bind_descriptor_sets(
+                self.cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                layout,
+                0,
+                &[set],
+                &[],
+            );
+            device.cmd_push_constants(
+                self.cmd,
+                layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::cast_slice(&words),
+            );
+            device.cmd_dispatch(self.cmd, rect.width.div_ceil(16), rect.height.div_ceil(16), 1);
+        }
+        self.host_barrier(
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        Ok(())
+    }
+}
+
+impl Drop for Pass<'_> {
+    fn drop(&mut self) {
+        if self.rendering.take().is_some() {
+            // SAFETY: close a pass the caller left open so the buffer can end.
+            unsafe { self.device().cmd_end_rendering(self.cmd) };
+        }
+    }
+}
+
+/// Ends a command buffer, mapping the error.
+pub(crate) fn end_commands(device: &ash::Device, cmd: vk::CommandBuffer) -> Result<()> {
+    // SAFETY: the command buffer is in the recording state.
+    unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")
+}

@@ -1,0 +1,365 @@
+//! Shader programs and the pipeline cache: each distinct (program, targets, raster
+//! state) becomes one `VkPipeline`, created on first use.
+
+use std::{cell::RefCell, collections::HashMap, sync::Arc};
+
+use ash::vk;
+
+use super::{
+    context::Context,
+    conv,
+    memory::Format,
+    shaders,
+    state::{ColorUpdate, RasterState},
+};
+use crate::error::{Error, Result, VkContext};
+
+/// The vertex and fragment shaders of a draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Program {
+    /// Instanced triangle-fan cones; depth is the interpolated cone height.
+    ConeFan,
+    /// Instanced cone footprints; depth is the exact squared distance per fragment.
+    ConeExact,
+    /// An axis-aligned rectangle of constant depth and colour.
+    Rect,
+}
+
+/// Compute kernels of the reductions (thesis §1.7).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kernel {
+    MinMax,
+    Histogram,
+}
+
+/// Bytes of push constants shared by all graphics programs.
+pub const GRAPHICS_PUSH_BYTES: u32 = 64;
+/// Bytes of push constants of the compute kernels.
+pub const COMPUTE_PUSH_BYTES: u32 = 32;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct GraphicsKey {
+    program: Program,
+    color: Option<Format>,
+    depth_stencil: bool,
+    state: RasterState,
+}
+
+pub(crate) struct Pipelines {
+    ctx: Arc<Context>,
+    modules: HashMap<&'static str, vk::ShaderModule>,
+    pub graphics_layout: vk::PipelineLayout,
+    pub compute_set_layout: vk::DescriptorSetLayout,
+    pub compute_layout: vk::PipelineLayout,
+    graphics: RefCell<HashMap<GraphicsKey, vk::Pipeline>>,
+    compute: RefCell<HashMap<(Kernel, Format), vk::Pipeline>>,
+}
+
+const SHADERS: &[(&str, &[u32])] = &[
+    ("cone.vert", shaders::CONE_VERT),
+    ("cone_fan.frag", shaders::CONE_FAN_FRAG),
+    ("cone_exact.frag", shaders::CONE_EXACT_FRAG),
+    ("rect.vert", shaders::RECT_VERT),
+    ("rect.frag:uint", shaders::RECT_FRAG_UINT),
+    ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
+    ("minmax:r32ui", shaders::MINMAX_COMP_R32UI),
+    ("minmax:r32f", shaders::MINMAX_COMP_R32F),
+    ("minmax:rgba32f", shaders::MINMAX_COMP_RGBA32F),
+    ("histogram:r32ui", shaders::HISTOGRAM_COMP_R32UI),
+    ("histogram:r32f", shaders::HISTOGRAM_COMP_R32F),
+    ("histogram:rgba32f", shaders::HISTOGRAM_COMP_RGBA32F),
+];
+
+impl Pipelines {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self> {
+        let mut pipelines = Self {
+            ctx: ctx.clone(),
+            modules: HashMap::new(),
+            graphics_layout: vk::PipelineLayout::null(),
+            compute_set_layout: vk::DescriptorSetLayout::null(),
+            compute_layout: vk::PipelineLayout::null(),
+            graphics: RefCell::default(),
+            compute: RefCell::default(),
+        };
+        let device = &ctx.device;
+        for (name, code) in SHADERS {
+            let info = vk::ShaderModuleCreateInfo::default().code(code);
+            // SAFETY: SPIR-V compiled and validated by build.rs; destroyed in `Drop`.
+            let module =
+                unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+            pipelines.modules.insert(name, module);
+        }
+
+        let push = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
+            .size(GRAPHICS_PUSH_BYTES)];
+        let info = vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&push);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        pipelines.graphics_layout =
+            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(0)
+                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(1)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE),
+        ];
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        pipelines.compute_set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
+            .vk("vkCreateDescriptorSetLayout")?;
+        let set_layouts = [pipelines.compute_set_layout];
+        let push = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            .size(COMPUTE_PUSH_BYTES)];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&push);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        pipelines.compute_layout =
+            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+        Ok(pipelines)
+    }
+
+    fn module(&self, name: &str) -> vk::ShaderModule {
+        self.modules.get(name).copied().unwrap_or_default()
+    }
+
+    /// The pipeline for `program` drawing into `color` (and the depth/stencil
+    /// buffer when `depth_stencil`) with `state`.
+    pub fn graphics(
+        &self,
+        program: Program,
+        color: Option<Format>,
+        depth_stencil: bool,
+        state: &RasterState,
+    ) -> Result<vk::Pipeline> {
+        let key = GraphicsKey {
+            program,
+            color,
+            depth_stencil,
+            state: *state,
+        };
+        if let Some(p) = self.graphics.borrow().get(&key) {
+            return Ok(*p);
+        }
+        let pipeline = self.create_graphics(&key)?;
+        self.graphics.borrow_mut().insert(key, pipeline);
+        Ok(pipeline)
+    }
+
+    fn create_graphics(&self, key: &GraphicsKey) -> Result<vk::Pipeline> {
+        let uint_target = key.color == Some(Format::R32Uint);
+        if matches!(key.state.color, ColorUpdate::Blend(_)) && uint_target {
+            return Err(Error::InvalidInput(
+                "blending needs a float colour target (integer targets only overwrite or use logic ops)".into(),
+            ));
+        }
+        if matches!(key.state.color, ColorUpdate::Logic(_)) && !uint_target {
+            return Err(Error::InvalidInput(
+                "logic operations need an integer colour target".into(),
+            ));
+        }
+        let (vertex, fragment, topology) = match key.program {
+            Program::ConeFan => ("cone.vert", "cone_fan.frag", vk::PrimitiveTopology::TRIANGLE_FAN),
+            Program::ConeExact => (
+                "cone.vert",
+                "cone_exact.frag",
+                vk::PrimitiveTopology::TRIANGLE_FAN,
+            ),
+            Program::Rect if uint_target => (
+                "rect.vert",
+                "rect.frag:uint",
+                vk::PrimitiveTopology::TRIANGLE_STRIP,
+            ),
+            Program::Rect => (
+                "rect.vert",
+                "rect.frag:float",
+                vk::PrimitiveTopology::TRIANGLE_STRIP,
+            ),
+        };
+        if matches!(key.program, Program::ConeFan | Program::ConeExact) && !uint_target {
+            return Err(Error::InvalidInput(
+                "cones write site ids and need an R32Uint colour target".into(),
+            ));
+        }
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(self.module(vertex))
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(self.module(fragment))
+                .name(c"main"),
+        ];
+        let cone_bindings = [
+            vk::VertexInputBindingDescription::default()
+                .binding(0)
+                .stride(12)
+                .input_rate(vk::VertexInputRate::VERTEX),
+            vk::VertexInputBindingDescription::default()
+                .binding(1)
+                .stride(16)
+                .input_rate(vk::VertexInputRate::INSTANCE),
+        ];
+        let cone_attributes = [
+            vk::VertexInputAttributeDescription::default()
+                .location(0)
+                .binding(0)
+                .format(vk::Format::R32G32B32_SFLOAT),
+            vk::VertexInputAttributeDescription::default()
+                .location(1)
+                .binding(1)
+                .format(vk::Format::R32G32B32_SFLOAT),
+            vk::VertexInputAttributeDescription::default()
+                .location(2)
+                .binding(1)
+                .offset(12)
+                .format(vk::Format::R32_UINT),
+        ];
+        let vertex_input = if key.program == Program::Rect {
+            vk::PipelineVertexInputStateCreateInfo::default()
+        } else {
+            vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&cone_bindings)
+                .vertex_attribute_descriptions(&cone_attributes)
+        };
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(topology);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth_stencil = conv::map_depth_stencil(&key.state)
+            .depth_test_enable(key.depth_stencil)
+            .stencil_test_enable(key.depth_stencil && key.state.stencil != super::state::StencilTest::OFF);
+        let (attachment, logic_op) = conv::map_color_update(&key.state);
+        let attachments = [attachment];
+        let mut blend = vk::PipelineColorBlendStateCreateInfo::default();
+        if key.color.is_some() {
+            blend = blend.attachments(&attachments);
+        }
+        if let Some(op) = logic_op {
+            blend = blend.logic_op_enable(true).logic_op(op);
+        }
+        let dynamic = [
+            vk::DynamicState::VIEWPORT,
+            vk::DynamicState::SCISSOR,
+            vk::DynamicState::STENCIL_REFERENCE,
+            vk::DynamicState::BLEND_CONSTANTS,
+        ];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
+        let color_formats: Vec<vk::Format> = key.color.iter().map(|f| f.vk()).collect();
+        let ds_format = if key.depth_stencil {
+            Format::DepthStencil.vk()
+        } else {
+            vk::Format::UNDEFINED
+        };
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(ds_format)
+            .stencil_attachment_format(ds_format);
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth_stencil)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(self.graphics_layout)
+            .push_next(&mut rendering);
+        // SAFETY: every pointer in `info` refers to locals alive during the call; the
+        // pipeline is destroyed in `Drop`.
+        let pipelines = unsafe {
+            self.ctx
+                .device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| Error::Vulkan {
+            call: "vkCreateGraphicsPipelines",
+            result,
+        })?;
+        Ok(pipelines[0])
+    }
+
+    /// The compute pipeline of `kernel` reading pictures of `format`.
+    pub fn compute(&self, kernel: Kernel, format: Format) -> Result<vk::Pipeline> {
+        if let Some(p) = self.compute.borrow().get(&(kernel, format)) {
+            return Ok(*p);
+        }
+        let suffix = match format {
+            Format::R32Uint => "r32ui",
+            Format::R32Float => "r32f",
+            Format::Rgba32Float => "rgba32f",
+            other => {
+                return Err(Error::InvalidInput(format!(
+                    "reductions read R32Uint, R32Float or Rgba32Float pictures, not {other:?}"
+                )))
+            }
+        };
+        let name = match kernel {
+            Kernel::MinMax => format!("minmax:{suffix}"),
+            Kernel::Histogram => format!("histogram:{suffix}"),
+        };
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(self.module(&name))
+            .name(c"main");
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(self.compute_layout);
+        // SAFETY: valid create info; the pipeline is destroyed in `Drop`.
+        let pipelines = unsafe {
+            self.ctx
+                .device
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| Error::Vulkan {
+            call: "vkCreateComputePipelines",
+            result,
+        })?;
+        self.compute.borrow_mut().insert((kernel, format), pipelines[0]);
+        Ok(pipelines[0])
+    }
+
+    /// Number of graphics pipelines created so far (one per distinct state used).
+    pub fn graphics_count(&self) -> usize {
+        self.graphics.borrow().len()
+    }
+}
+
+impl Drop for Pipelines {
+    fn drop(&mut self) {
+        let device = &self.ctx.device;
+        // SAFETY: the machine has waited for all work; each object is destroyed once.
+        unsafe {
+            for p in self.graphics.get_mut().values() {
+                device.destroy_pipeline(*p, None);
+            }
+            for p in self.compute.get_mut().values() {
+                device.destroy_pipeline(*p, None);
+            }
+            device.destroy_pipeline_layout(self.graphics_layout, None);
+            device.destroy_pipeline_layout(self.compute_layout, None);
+            device.destroy_descriptor_set_layout(self.compute_set_layout, None);
+            for m in self.modules.values() {
+                device.destroy_shader_module(*m, None);
+            }
+        }
+    }
+}

@@ -1,0 +1,92 @@
+//! Barriers derived from declared use: each image records its last `Usage`, and
+//! `image_barrier` turns a change of use into the one barrier it needs.
+
+use ash::vk;
+
+/// What a pass does with an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Usage {
+    /// Contents are undefined (new image, or about to be cleared).
+    Undefined,
+    ColorAttachment,
+    DepthStencilAttachment,
+    /// Source of a copy to the host.
+    TransferSrc,
+    /// Read as a storage image by a compute pass (reductions).
+    ComputeRead,
+}
+
+struct Access {
+    stage: vk::PipelineStageFlags2,
+    access: vk::AccessFlags2,
+    layout: vk::ImageLayout,
+    writes: bool,
+}
+
+fn access(usage: Usage) -> Access {
+    match usage {
+        Usage::Undefined => Access {
+            stage: vk::PipelineStageFlags2::NONE,
+            access: vk::AccessFlags2::NONE,
+            layout: vk::ImageLayout::UNDEFINED,
+            writes: false,
+        },
+        Usage::ColorAttachment => Access {
+            stage: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            access: vk::AccessFlags2::COLOR_ATTACHMENT_READ
+                | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            writes: true,
+        },
+        Usage::DepthStencilAttachment => Access {
+            stage: vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+            access: vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            writes: true,
+        },
+        Usage::TransferSrc => Access {
+            stage: vk::PipelineStageFlags2::COPY,
+            access: vk::AccessFlags2::TRANSFER_READ,
+            layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            writes: false,
+        },
+        Usage::ComputeRead => Access {
+            stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+            access: vk::AccessFlags2::SHADER_STORAGE_READ,
+            layout: vk::ImageLayout::GENERAL,
+            writes: false,
+        },
+    }
+}
+
+/// The barrier that makes an image used as `from` ready to be used as `to`, or
+/// `None` when two uses only read.
+pub fn image_barrier(
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    from: Usage,
+    to: Usage,
+) -> Option<vk::ImageMemoryBarrier2<'static>> {
+    let (a, b) = (access(from), access(to));
+    if from == to && !a.writes {
+        return None;
+    }
+    Some(
+        vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(a.stage)
+            .src_access_mask(a.access)
+            .dst_stage_mask(b.stage)
+            .dst_access_mask(b.access)
+            .old_layout(a.layout)
+            .new_layout(b.layout)
+            .image(image)
+            .subresource_range(range),
+    )
+}
+
+/// The layout an image has while used as `usage`.
+pub fn layout(usage: Usage) -> vk::ImageLayout {
+    access(usage).layout
+}

@@ -1,0 +1,167 @@
+//! The pixel machine's tests, blending, logic ops, readback and reductions, each
+//! checked against what the thesis's model says the pixel must hold.
+
+use pixgeo::machine::*;
+
+fn machine() -> Machine {
+    Machine::from_env().expect("a Vulkan device (run tools/setup)")
+}
+
+const W: u32 = 37;
+const H: u32 = 23;
+
+fn rect(x0: f32, y0: f32, x1: f32, y1: f32) -> RectDraw {
+    // Pixel centres are at integer world points; a rectangle from x0 - 0.5 to
+    // x1 + 0.5 covers pixel columns x0..=x1.
+    RectDraw {
+        lo: [x0 - 0.5, y0 - 0.5],
+        hi: [x1 + 0.5, y1 + 0.5],
+        depth: 0.0,
+        value: [0.0; 4],
+    }
+}
+
+#[test]
+fn depth_test_keeps_nearest_and_logic_ops_combine_bits() {
+    let m = machine();
+    let ids = m.image(Format::R32Uint, W, H).unwrap();
+    let depth = m.image(Format::DepthStencil, W, H).unwrap();
+    m.run(|p| {
+        p.begin(
+            Target { color: Some(&ids), depth_stencil: Some(&depth) },
+            Clear { color: Some(ClearColor::Uint([0; 4])), depth: Some(1.0), stencil: Some(0) },
+        )?;
+        let env = RasterState::lower_envelope();
+        let d = DrawParams::default();
+        // Far rectangle over everything, near one over the left part.
+        p.draw_rect(&env, &d, &RectDraw::full_picture(W, H).uint([7, 0, 0, 0]).at_depth(0.5))?;
+        p.draw_rect(&env, &d, &rect(0.0, 0.0, 9.0, 22.0).uint([3, 0, 0, 0]).at_depth(0.25))?;
+        // Drawn later but farther: loses.
+        p.draw_rect(&env, &d, &rect(0.0, 0.0, 4.0, 22.0).uint([9, 0, 0, 0]).at_depth(0.75))?;
+        // XOR then OR, no depth test.
+        let xor = RasterState::OVERWRITE.with_color(ColorUpdate::Logic(LogicOp::Xor));
+        p.draw_rect(&xor, &d, &rect(20.0, 0.0, 36.0, 22.0).uint([0b101, 0, 0, 0]))?;
+        let or = RasterState::OVERWRITE.with_color(ColorUpdate::Logic(LogicOp::Or));
+        p.draw_rect(&or, &d, &rect(30.0, 0.0, 36.0, 22.0).uint([0b1000, 0, 0, 0]))?;
+        p.end()
+    })
+    .unwrap();
+    let v = m.read_u32(&ids, PixelRect::of(&ids)).unwrap();
+    let z = m.read_f32(&depth, PixelRect::of(&depth)).unwrap();
+    for j in 0..H as usize {
+        for i in 0..W as usize {
+            let expect = match i {
+                0..=9 => 3,
+                20..=29 => 7 ^ 0b101,
+                30.. => (7 ^ 0b101) | 0b1000,
+                _ => 7,
+            };
+            assert_eq!(v[j * W as usize + i], expect, "pixel ({i}, {j})");
+            let expect_z = if i <= 9 { 0.25 } else { 0.5 };
+            assert_eq!(z[j * W as usize + i], expect_z, "depth ({i}, {j})");
+        }
+    }
+    let mm = m.minmax(&ids, PixelRect::of(&ids)).unwrap();
+    assert_eq!((mm.min[0], mm.max[0]), (2.0, 10.0));
+    let part = m
+        .minmax(&ids, PixelRect { x: 10, y: 5, width: 10, height: 3 })
+        .unwrap();
+    assert_eq!((part.min[0], part.max[0]), (7.0, 7.0));
+    let h = m
+        .histogram(&ids, PixelRect::of(&ids), Bins { channel: 0, low: 0.0, width: 4.0, bins: 4 })
+        .unwrap();
+    // values 3 (10 cols), 7 (10 cols), 2 (10 cols), 10 (7 cols)
+    assert_eq!(h, vec![20 * H, 10 * H, 7 * H, 0]);
+}
+
+#[test]
+fn stencil_counts_and_blending_adds() {
+    let m = machine();
+    let counts = m.image(Format::Rgba32Float, W, H).unwrap();
+    let ds = m.image(Format::DepthStencil, W, H).unwrap();
+    m.run(|p| {
+        p.begin(
+            Target { color: Some(&counts), depth_stencil: Some(&ds) },
+            Clear {
+                color: Some(ClearColor::Float([0.0; 4])),
+                depth: Some(1.0),
+                stencil: Some(0),
+            },
+        )?;
+        let d = DrawParams::default();
+        let count = RasterState::count_with_blending();
+        for k in 0..5 {
+            let x1 = 5.0 + 6.0 * k as f32;
+            p.draw_rect(&count, &d, &rect(0.0, 0.0, x1, 22.0).float([1.0, 0.5, 0.0, 2.0]))?;
+        }
+        // Stencil: count overlaps with wrap, then keep only pixels whose count is 2
+        // and paint them via the stencil EQUAL test.
+        let stencil_count = RasterState::count_with_stencil_wrap();
+        p.draw_rect(&stencil_count, &d, &rect(0.0, 0.0, 36.0, 10.0))?;
+        p.draw_rect(&stencil_count, &d, &rect(0.0, 5.0, 36.0, 22.0))?;
+        let only_two = RasterState::OVERWRITE
+            .with_stencil(StencilTest {
+                compare: Compare::Equal,
+                compare_mask: 0xff,
+                write_mask: 0xff,
+                on_fail: StencilOp::Keep,
+                on_depth_fail: StencilOp::Keep,
+                on_pass: StencilOp::Invert,
+            })
+            .with_color_mask(ChannelMask { red: false, green: false, blue: true, alpha: false });
+        let params = DrawParams { stencil_reference: 2, ..Default::default() };
+        p.draw_rect(&only_two, &params, &RectDraw::full_picture(W, H).float([9.0; 4]))?;
+        // Scissor: only columns 0..2 of rows 0..2 get a constant blend added.
+        let constant = RasterState::OVERWRITE.with_color(ColorUpdate::Blend(Blend {
+            fragment_factor: BlendFactor::Constant,
+            pixel_factor: BlendFactor::One,
+            op: BlendOp::Add,
+        }));
+        let params = DrawParams {
+            blend_constant: [0.0, 0.0, 0.0, 100.0],
+            scissor: Some([0, 0, 2, 2]),
+            ..Default::default()
+        };
+        p.draw_rect(&constant, &params, &RectDraw::full_picture(W, H).float([1.0; 4]))?;
+        p.end()
+    })
+    .unwrap();
+    let v = m.read_f32(&counts, PixelRect::of(&counts)).unwrap();
+    for j in 0..H as usize {
+        for i in 0..W as usize {
+            let n = (0..5).filter(|k| i <= 5 + 6 * k).count() as f32;
+            let px = &v[4 * (j * W as usize + i)..][..4];
+            let blue = if (5..=10).contains(&j) { 9.0 } else { 0.0 };
+            let alpha = 2.0 * n + if i < 2 && j < 2 { 100.0 } else { 0.0 };
+            assert_eq!(px, &[n, 0.5 * n, blue, alpha], "pixel ({i}, {j})");
+        }
+    }
+    let mm = m.minmax(&counts, PixelRect::of(&counts)).unwrap();
+    assert_eq!(mm.channels, 4);
+    assert_eq!(mm.max, [5.0, 2.5, 9.0, 110.0]);
+    assert_eq!(mm.min, [0.0, 0.0, 0.0, 0.0]);
+    let h = m
+        .histogram(&counts, PixelRect::of(&counts), Bins { channel: 0, low: 0.0, width: 1.0, bins: 6 })
+        .unwrap();
+    assert_eq!(h, vec![7 * H, 6 * H, 6 * H, 6 * H, 6 * H, 6 * H]);
+}
+
+#[test]
+fn bad_requests_are_errors() {
+    let m = machine();
+    assert!(m.image(Format::R32Uint, 0, 5).is_err());
+    let side = m.max_picture_side();
+    assert!(matches!(
+        m.image(Format::R32Uint, side + 1, 1),
+        Err(pixgeo::Error::PictureTooLarge { .. })
+    ));
+    let ids = m.image(Format::R32Uint, 4, 4).unwrap();
+    assert!(m.read_f32(&ids, PixelRect::of(&ids)).is_err());
+    assert!(m.minmax(&ids, PixelRect { x: 3, y: 0, width: 2, height: 1 }).is_err());
+    // Blending into an integer target is refused, not undefined.
+    let r = m.run(|p| {
+        p.begin(Target { color: Some(&ids), depth_stencil: None }, Clear::default())?;
+        p.draw_rect(&RasterState::count_with_blending(), &DrawParams::default(), &RectDraw::full_picture(4, 4))
+    });
+    assert!(r.is_err());
+}
