@@ -1,1 +1,4 @@
+//! The problems pixgeo solves, each written as passes over the pixel machine.
+#![forbid(unsafe_code)]
 
+pub mod voronoi;

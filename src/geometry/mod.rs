@@ -1,1 +1,10 @@
+//! The surfaces pixgeo draws and the bounds that size them: sites and the picture
+//! frame, triangle-fan cones with the thesis's error analysis (§3.3–3.4), and the
+//! width bounds that truncate the cones (§3.5).
+#![forbid(unsafe_code)]
 
+pub mod cone;
+pub mod frame;
+pub mod radius;
+
+pub use frame::Frame;

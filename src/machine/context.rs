@@ -186,10 +186,12 @@ impl Context {
         // SAFETY: valid physical device; the chained struct outlives the call.
         unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
         let logic_op = supported.features.logic_op;
-        if supported13.dynamic_rendering == vk::FALSE || supported13.synchronization2 == vk::FALSE
+        if supported13.dynamic_rendering == vk::FALSE
+            || supported13.synchronization2 == vk::FALSE
+            || supported13.maintenance4 == vk::FALSE
         {
             return Err(Error::NoDevice(format!(
-                "{device_name} lacks dynamic rendering or synchronization2"
+                "{device_name} lacks dynamic rendering, synchronization2 or maintenance4"
             )));
         }
 
@@ -200,9 +202,12 @@ impl Context {
         let features = vk::PhysicalDeviceFeatures::default()
             .logic_op(logic_op == vk::TRUE)
             .independent_blend(true);
+        // maintenance4 relaxes interface matching: a fan cone's fragment shader
+        // ignores the site position the vertex shader passes to exact cones.
         let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
-            .synchronization2(true);
+            .synchronization2(true)
+            .maintenance4(true);
         let create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_features(&features)

@@ -1,0 +1,131 @@
+//! Where the picture lies in the world. Pixel (i, j) is the unit square centred at
+//! pixel coordinates (i, j); without a bounding box, world = pixel coordinates.
+
+use glam::DVec2;
+
+use crate::error::{Error, Result};
+
+/// A picture of `width` x `height` pixels and the world rectangle it shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// World point at the picture's corner (-0.5, -0.5).
+    pub origin: DVec2,
+    /// Pixels per world unit (the same along both axes, so distances keep their
+    /// shape).
+    pub scale: f64,
+}
+
+impl Frame {
+    /// World = pixel coordinates: pixel (i, j) centred at world (i, j).
+    pub fn pixels(width: u32, height: u32) -> Result<Self> {
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidInput(format!(
+                "picture size {width}x{height}: both sides must be at least 1"
+            )));
+        }
+        Ok(Self {
+            width,
+            height,
+            origin: DVec2::splat(-0.5),
+            scale: 1.0,
+        })
+    }
+
+    /// The world rectangle `[xmin, xmax] x [ymin, ymax]` mapped onto the picture,
+    /// row 0 at `ymin`. `height` may be omitted (`None`): it then follows from the
+    /// rectangle's aspect ratio. A given height must match the aspect ratio to within
+    /// one pixel, since pixels are square.
+    pub fn with_bbox(width: u32, height: Option<u32>, bbox: [f64; 4]) -> Result<Self> {
+        let [xmin, ymin, xmax, ymax] = bbox;
+        if !bbox.iter().all(|v| v.is_finite()) || xmax <= xmin || ymax <= ymin {
+            return Err(Error::InvalidInput(format!(
+                "bbox {xmin},{ymin},{xmax},{ymax}: need finite XMIN < XMAX and YMIN < YMAX"
+            )));
+        }
+        if width == 0 {
+            return Err(Error::InvalidInput("picture width must be at least 1".into()));
+        }
+        let scale = width as f64 / (xmax - xmin);
+        let natural = (ymax - ymin) * scale;
+        let height = match height {
+            Some(h) => {
+                if (h as f64 - natural).abs() > 1.0 {
+                    return Err(Error::InvalidInput(format!(
+                        "bbox aspect ratio gives a height of {natural:.1} pixels for width {width}, not {h}; \
+                         give only the width (--size {width}) or a matching height"
+                    )));
+                }
+                h
+            }
+            None => natural.round().max(1.0) as u32,
+        };
+        if height == 0 {
+            return Err(Error::InvalidInput("picture height must be at least 1".into()));
+        }
+        Ok(Self {
+            width,
+            height,
+            origin: DVec2::new(xmin, ymin),
+            scale,
+        })
+    }
+
+    /// Pixel coordinates of a world point.
+    pub fn to_pixel(&self, p: DVec2) -> DVec2 {
+        (p - self.origin) * self.scale - 0.5
+    }
+
+    /// World coordinates of a point given in pixel coordinates.
+    pub fn to_world(&self, p: DVec2) -> DVec2 {
+        (p + 0.5) / self.scale + self.origin
+    }
+
+    /// Number of pixels.
+    pub fn len(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// Always false: a frame has at least one pixel.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Distance from `p` (pixel coordinates) to the farthest pixel centre.
+    pub fn farthest_pixel(&self, p: DVec2) -> f64 {
+        let (w, h) = ((self.width - 1) as f64, (self.height - 1) as f64);
+        let dx = p.x.abs().max((p.x - w).abs());
+        let dy = p.y.abs().max((p.y - h).abs());
+        dx.hypot(dy)
+    }
+
+    /// Distance from `p` (pixel coordinates) to the nearest pixel centre's
+    /// rectangle `[0, w-1] x [0, h-1]` (0 inside).
+    pub fn distance_to_pixels(&self, p: DVec2) -> f64 {
+        let (w, h) = ((self.width - 1) as f64, (self.height - 1) as f64);
+        let dx = (-p.x).max(p.x - w).max(0.0);
+        let dy = (-p.y).max(p.y - h).max(0.0);
+        dx.hypot(dy)
+    }
+}
+
+/// Checks a site list: not empty, every coordinate finite.
+pub fn check_sites(sites: &[DVec2]) -> Result<()> {
+    if sites.is_empty() {
+        return Err(Error::InvalidInput("the site list is empty".into()));
+    }
+    if let Some((i, p)) = sites.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "site {i} has a non-finite coordinate ({}, {})",
+            p.x, p.y
+        )));
+    }
+    if sites.len() >= u32::MAX as usize {
+        return Err(Error::InvalidInput(format!(
+            "{} sites: ids must fit below u32::MAX",
+            sites.len()
+        )));
+    }
+    Ok(())
+}

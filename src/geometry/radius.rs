@@ -1,0 +1,210 @@
+//! How far each cone must reach: the width bounds of thesis §3.5 from a quadtree,
+//! and pixgeo's per-site bound from a grid of buckets.
+//!
+//! All coordinates here are pixel coordinates; pixel centres are the integer points
+//! of `[0, w-1] x [0, h-1]`.
+
+use glam::DVec2;
+use rstar::{primitives::GeomWithData, RTree};
+
+use super::Frame;
+
+/// Bounds on the width of the Voronoi diagram restricted to the picture
+/// (thesis Def. 3.3, Lemma 3.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WidthBounds {
+    /// Side of a cell at the first level with an empty cell: some point is at least
+    /// about this far from every site.
+    pub lower: f64,
+    /// Diagonal of a cell at the deepest level whose cells all hold a site; `None`
+    /// when not even the root holds a site of the picture.
+    pub upper: Option<f64>,
+    /// The deepest level whose cells are all occupied (0 = the root).
+    pub full_level: Option<u32>,
+}
+
+/// The quadtree of thesis §3.5 over the picture: the root is the smallest
+/// power-of-two square holding it, a level-`l` cell has side `S / 2^l`. A cell is
+/// marked when a site lies in it; the deepest level where every cell meeting the
+/// picture is marked gives the upper bound. Levels stop once they have more cells
+/// than there are sites, since those cannot all be marked.
+pub fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
+    let (w, h) = (frame.width as f64, frame.height as f64);
+    let side = (frame.width.max(frame.height) as f64).log2().ceil().exp2().max(1.0);
+    let inside: Vec<DVec2> = sites
+        .iter()
+        .map(|p| *p + 0.5) // picture corner at the origin
+        .filter(|p| p.x >= 0.0 && p.y >= 0.0 && p.x < w && p.y < h)
+        .collect();
+    let mut full_level = None;
+    let mut level = 0u32;
+    loop {
+        let cell = side / (1u64 << level) as f64;
+        let nx = (w / cell).ceil() as usize;
+        let ny = (h / cell).ceil() as usize;
+        if nx * ny > inside.len().max(1) || cell < 1.0 {
+            break;
+        }
+        let mut marked = vec![false; nx * ny];
+        for p in &inside {
+            let ix = ((p.x / cell) as usize).min(nx - 1);
+            let iy = ((p.y / cell) as usize).min(ny - 1);
+            marked[iy * nx + ix] = true;
+        }
+        if marked.iter().all(|m| *m) {
+            full_level = Some(level);
+            level += 1;
+        } else {
+            break;
+        }
+    }
+    let cell_at = |l: u32| side / (1u64 << l) as f64;
+    match full_level {
+        Some(l) => WidthBounds {
+            lower: cell_at(l + 1),
+            upper: Some(cell_at(l) * 2f64.sqrt()),
+            full_level,
+        },
+        None => WidthBounds {
+            lower: side,
+            upper: None,
+            full_level,
+        },
+    }
+}
+
+/// The radii of the thesis's retry loop: start a little above the lower bound
+/// (`lower * sqrt 2`), double, and end at the upper bound — or, when the quadtree
+/// gives none, at the radius that covers the picture from every site.
+pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
+    let last = bounds.upper.unwrap_or(picture_wide).min(picture_wide);
+    let mut r = (bounds.lower * 2f64.sqrt()).min(last);
+    let mut out = Vec::new();
+    while r < last {
+        out.push(r);
+        r *= 2.0;
+    }
+    out.push(last);
+    out
+}
+
+/// A radius per site that its cone must reach: every pixel centre owned by site s
+/// is within `radii[s]` of it (a site that owns no pixel may get 0).
+///
+/// The picture is cut into square buckets of side `bucket`. For a bucket B, U(B) is
+/// the smallest over sites of the distance to B's farthest corner: every point of B
+/// has a site within U(B), so its owner s is within U(B) and has
+/// `mindist(s, B) <= U(B)`. Each such candidate needs `min(U(B), maxdist(s, B))`.
+/// Where sites are dense the radii shrink to the local spacing, while a site next to
+/// an empty quarter still reaches across it: the thesis's worst case costs only the
+/// cones that need the reach.
+pub fn local_radii(sites: &[DVec2], frame: &Frame, bucket: f64) -> Vec<f64> {
+    let tree: RTree<GeomWithData<[f64; 2], usize>> = RTree::bulk_load(
+        sites
+            .iter()
+            .enumerate()
+            .map(|(i, p)| GeomWithData::new([p.x, p.y], i))
+            .collect(),
+    );
+    let mut radii = vec![0.0f64; sites.len()];
+    let (w, h) = ((frame.width - 1) as f64, (frame.height - 1) as f64);
+    let bucket = bucket.max(1.0);
+    let nx = ((w + 1.0) / bucket).ceil().max(1.0) as usize;
+    let ny = ((h + 1.0) / bucket).ceil().max(1.0) as usize;
+    for by in 0..ny {
+        for bx in 0..nx {
+            // The bucket's pixel centres span [x0, x1] x [y0, y1].
+            let x0 = bx as f64 * bucket;
+            let y0 = by as f64 * bucket;
+            let x1 = (x0 + bucket - 1.0).min(w).max(x0);
+            let y1 = (y0 + bucket - 1.0).min(h).max(y0);
+            let lo = DVec2::new(x0, y0);
+            let hi = DVec2::new(x1, y1);
+            let centre = (lo + hi) * 0.5;
+            let half_diag = (hi - lo).length() * 0.5;
+            let maxdist = |p: DVec2| {
+                let d = (p - centre).abs() + (hi - lo) * 0.5;
+                d.length()
+            };
+            let mindist = |p: DVec2| {
+                let d = (p.clamp(lo, hi) - p).length();
+                d
+            };
+            let mut cover = f64::INFINITY;
+            for s in tree.nearest_neighbor_iter(&[centre.x, centre.y]) {
+                let p = DVec2::from(*s.geom());
+                if (p - centre).length() >= cover {
+                    break;
+                }
+                cover = cover.min(maxdist(p));
+            }
+            let reach = cover + half_diag;
+            for s in tree.locate_within_distance([centre.x, centre.y], reach * reach) {
+                let p = DVec2::from(*s.geom());
+                if mindist(p) <= cover {
+                    let need = cover.min(maxdist(p));
+                    let r = &mut radii[s.data];
+                    *r = r.max(need);
+                }
+            }
+        }
+    }
+    radii
+}
+
+/// The bucket side for [`local_radii`]: about one site per bucket on average,
+/// between 4 and 64 pixels.
+pub fn default_bucket(frame: &Frame, sites: usize) -> f64 {
+    ((frame.len() as f64 / sites.max(1) as f64).sqrt()).clamp(4.0, 64.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn nearest(sites: &[DVec2], q: DVec2) -> f64 {
+        sites.iter().map(|s| (*s - q).length()).fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn local_radii_reach_every_owned_pixel() {
+        let frame = Frame::pixels(61, 47).unwrap();
+        // Clustered in one quarter, plus one site outside the picture.
+        let mut sites: Vec<DVec2> = (0..40)
+            .map(|i| DVec2::new((i * 7 % 23) as f64 * 0.9, (i * 11 % 19) as f64 * 1.1))
+            .collect();
+        sites.push(DVec2::new(80.0, -10.0));
+        let radii = local_radii(&sites, &frame, 6.0);
+        for y in 0..47 {
+            for x in 0..61 {
+                let q = DVec2::new(x as f64, y as f64);
+                let d = nearest(&sites, q);
+                let owners = sites
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, s)| ((**s - q).length() - d).abs() < 1e-12);
+                for (i, s) in owners {
+                    assert!((*s - q).length() <= radii[i] + 1e-9, "pixel {q} site {i}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn quadtree_bounds_bracket_the_width() {
+        let frame = Frame::pixels(64, 64).unwrap();
+        let sites: Vec<DVec2> = (0..64)
+            .map(|i| DVec2::new((i % 8) as f64 * 8.0 + 3.0, (i / 8) as f64 * 8.0 + 4.0))
+            .collect();
+        let b = quadtree_width_bounds(&sites, &frame);
+        assert_eq!(b.full_level, Some(3));
+        assert_eq!(b.upper, Some(8.0 * 2f64.sqrt()));
+        let width = (0..64 * 64)
+            .map(|k| nearest(&sites, DVec2::new((k % 64) as f64, (k / 64) as f64)))
+            .fold(0.0, f64::max);
+        assert!(width <= b.upper.unwrap());
+        // A quarter empty: no level below the root is full.
+        let quarter: Vec<DVec2> = sites.iter().copied().filter(|p| p.x < 32.0 || p.y < 32.0).collect();
+        assert_eq!(quadtree_width_bounds(&quarter, &frame).full_level, Some(0));
+    }
+}
