@@ -21,14 +21,20 @@ fn main() {
     for path in entries {
         println!("cargo:rerun-if-changed={}", path.display());
         let source = fs::read_to_string(&path).expect("shader source");
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or_default();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or_default();
         let (kind, naga_stage) = match ext {
             "vert" => (shaderc::ShaderKind::Vertex, naga::ShaderStage::Vertex),
             "frag" => (shaderc::ShaderKind::Fragment, naga::ShaderStage::Fragment),
             "comp" => (shaderc::ShaderKind::Compute, naga::ShaderStage::Compute),
             other => panic!("{}: unknown shader stage `{other}`", path.display()),
         };
-        let stem = path.file_stem().and_then(|s| s.to_str()).expect("file name");
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .expect("file name");
         let variants: Vec<&str> = source
             .lines()
             .next()

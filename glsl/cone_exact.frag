@@ -2,15 +2,20 @@
 // An exact cone: the depth is the squared Euclidean distance from the pixel centre
 // to the site, computed per fragment (the depth-texture remedy of thesis §3.4).
 // Squared distances of integer points are exact in float32 below 2^24, and the
-// scale is a power of two, so ties between integer sites are exact ties.
+// scale is a power of two, so ties between integer sites are exact ties. Fragments
+// beyond the truncation radius are dropped (see cone_fan.frag).
 #include "common.glsl"
 
 layout(location = 0) flat in uint id;
-layout(location = 1) flat in vec2 site;
+layout(location = 1) flat in vec3 site;
 layout(location = 0) out uint out_id;
 
 void main() {
-    vec2 d = (gl_FragCoord.xy - 0.5) - site;
-    gl_FragDepth = dot(d, d) * picture.fragment_depth_scale;
+    vec2 d = (gl_FragCoord.xy - 0.5) - site.xy;
+    float d2 = dot(d, d);
+    if (d2 > site.z * site.z) {
+        discard;
+    }
+    gl_FragDepth = d2 * picture.fragment_depth_scale;
     out_id = id;
 }

@@ -1,16 +1,24 @@
 // variants: R32UI R32F RGBA32F
 #version 460
 // The thesis's minmax (§1.7): per channel minimum and maximum over a rectangle of
-// the picture. Floats are mapped to order-preserving uints so that atomicMin and
-// atomicMax work on them; the host maps them back.
-layout(local_size_x = 16, local_size_y = 16) in;
+// the picture. Each invocation walks a column strip of ROWS pixels keeping its
+// minimum and maximum in registers, then makes one atomic update; no shared memory
+// and no barrier, which software rasterizers execute slowly. Floats are mapped to
+// order-preserving uints so that atomicMin/atomicMax work on them; the host maps
+// them back.
+layout(local_size_x = 64) in;
+
+const int ROWS = 64;
 
 #if defined(R32UI)
 layout(set = 0, binding = 0, r32ui) uniform readonly uimage2D picture;
+const uint CHANNELS = 1u;
 #elif defined(R32F)
 layout(set = 0, binding = 0, r32f) uniform readonly image2D picture;
+const uint CHANNELS = 1u;
 #else
 layout(set = 0, binding = 0, rgba32f) uniform readonly image2D picture;
+const uint CHANNELS = 4u;
 #endif
 
 layout(set = 0, binding = 1) buffer Result {
@@ -23,44 +31,38 @@ layout(push_constant) uniform Region {
     ivec2 extent;
 } region;
 
-shared uint group_min[4];
-shared uint group_max[4];
-
 uint ordered(float f) {
     uint u = floatBitsToUint(f);
     return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
 }
 
-void main() {
-    uint lane = gl_LocalInvocationIndex;
-    if (lane < 4u) {
-        group_min[lane] = 0xffffffffu;
-        group_max[lane] = 0u;
-    }
-    barrier();
-
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (all(lessThan(p, region.extent))) {
+uvec4 load(ivec2 p) {
 #if defined(R32UI)
-        uvec4 v = uvec4(imageLoad(picture, region.origin + p).r, 0u, 0u, 0u);
-        const uint channels = 1u;
+    return uvec4(imageLoad(picture, p).r, 0u, 0u, 0u);
 #elif defined(R32F)
-        uvec4 v = uvec4(ordered(imageLoad(picture, region.origin + p).r), 0u, 0u, 0u);
-        const uint channels = 1u;
+    return uvec4(ordered(imageLoad(picture, p).r), 0u, 0u, 0u);
 #else
-        vec4 f = imageLoad(picture, region.origin + p);
-        uvec4 v = uvec4(ordered(f.r), ordered(f.g), ordered(f.b), ordered(f.a));
-        const uint channels = 4u;
+    vec4 f = imageLoad(picture, p);
+    return uvec4(ordered(f.r), ordered(f.g), ordered(f.b), ordered(f.a));
 #endif
-        for (uint c = 0u; c < channels; ++c) {
-            atomicMin(group_min[c], v[c]);
-            atomicMax(group_max[c], v[c]);
-        }
-    }
-    barrier();
+}
 
-    if (lane < 4u) {
-        atomicMin(result.minimum[lane], group_min[lane]);
-        atomicMax(result.maximum[lane], group_max[lane]);
+void main() {
+    int x = int(gl_GlobalInvocationID.x);
+    int y0 = int(gl_GlobalInvocationID.y) * ROWS;
+    if (x >= region.extent.x || y0 >= region.extent.y) {
+        return;
+    }
+    int y1 = min(y0 + ROWS, region.extent.y);
+    uvec4 lo = uvec4(0xffffffffu);
+    uvec4 hi = uvec4(0u);
+    for (int y = y0; y < y1; ++y) {
+        uvec4 v = load(region.origin + ivec2(x, y));
+        lo = min(lo, v);
+        hi = max(hi, v);
+    }
+    for (uint c = 0u; c < CHANNELS; ++c) {
+        atomicMin(result.minimum[c], lo[c]);
+        atomicMax(result.maximum[c], hi[c]);
     }
 }

@@ -28,21 +28,50 @@ fn depth_test_keeps_nearest_and_logic_ops_combine_bits() {
     let depth = m.image(Format::DepthStencil, W, H).unwrap();
     m.run(|p| {
         p.begin(
-            Target { color: Some(&ids), depth_stencil: Some(&depth) },
-            Clear { color: Some(ClearColor::Uint([0; 4])), depth: Some(1.0), stencil: Some(0) },
+            Target {
+                color: Some(&ids),
+                depth_stencil: Some(&depth),
+            },
+            Clear {
+                color: Some(ClearColor::Uint([0; 4])),
+                depth: Some(1.0),
+                stencil: Some(0),
+            },
         )?;
         let env = RasterState::lower_envelope();
         let d = DrawParams::default();
         // Far rectangle over everything, near one over the left part.
-        p.draw_rect(&env, &d, &RectDraw::full_picture(W, H).uint([7, 0, 0, 0]).at_depth(0.5))?;
-        p.draw_rect(&env, &d, &rect(0.0, 0.0, 9.0, 22.0).uint([3, 0, 0, 0]).at_depth(0.25))?;
+        p.draw_rect(
+            &env,
+            &d,
+            &RectDraw::full_picture(W, H)
+                .uint([7, 0, 0, 0])
+                .at_depth(0.5),
+        )?;
+        p.draw_rect(
+            &env,
+            &d,
+            &rect(0.0, 0.0, 9.0, 22.0).uint([3, 0, 0, 0]).at_depth(0.25),
+        )?;
         // Drawn later but farther: loses.
-        p.draw_rect(&env, &d, &rect(0.0, 0.0, 4.0, 22.0).uint([9, 0, 0, 0]).at_depth(0.75))?;
+        p.draw_rect(
+            &env,
+            &d,
+            &rect(0.0, 0.0, 4.0, 22.0).uint([9, 0, 0, 0]).at_depth(0.75),
+        )?;
         // XOR then OR, no depth test.
         let xor = RasterState::OVERWRITE.with_color(ColorUpdate::Logic(LogicOp::Xor));
-        p.draw_rect(&xor, &d, &rect(20.0, 0.0, 36.0, 22.0).uint([0b101, 0, 0, 0]))?;
+        p.draw_rect(
+            &xor,
+            &d,
+            &rect(20.0, 0.0, 36.0, 22.0).uint([0b101, 0, 0, 0]),
+        )?;
         let or = RasterState::OVERWRITE.with_color(ColorUpdate::Logic(LogicOp::Or));
-        p.draw_rect(&or, &d, &rect(30.0, 0.0, 36.0, 22.0).uint([0b1000, 0, 0, 0]))?;
+        p.draw_rect(
+            &or,
+            &d,
+            &rect(30.0, 0.0, 36.0, 22.0).uint([0b1000, 0, 0, 0]),
+        )?;
         p.end()
     })
     .unwrap();
@@ -64,11 +93,28 @@ fn depth_test_keeps_nearest_and_logic_ops_combine_bits() {
     let mm = m.minmax(&ids, PixelRect::of(&ids)).unwrap();
     assert_eq!((mm.min[0], mm.max[0]), (2.0, 10.0));
     let part = m
-        .minmax(&ids, PixelRect { x: 10, y: 5, width: 10, height: 3 })
+        .minmax(
+            &ids,
+            PixelRect {
+                x: 10,
+                y: 5,
+                width: 10,
+                height: 3,
+            },
+        )
         .unwrap();
     assert_eq!((part.min[0], part.max[0]), (7.0, 7.0));
     let h = m
-        .histogram(&ids, PixelRect::of(&ids), Bins { channel: 0, low: 0.0, width: 4.0, bins: 4 })
+        .histogram(
+            &ids,
+            PixelRect::of(&ids),
+            Bins {
+                channel: 0,
+                low: 0.0,
+                width: 4.0,
+                bins: 4,
+            },
+        )
         .unwrap();
     // values 3 (10 cols), 7 (10 cols), 2 (10 cols), 10 (7 cols)
     assert_eq!(h, vec![20 * H, 10 * H, 7 * H, 0]);
@@ -81,7 +127,10 @@ fn stencil_counts_and_blending_adds() {
     let ds = m.image(Format::DepthStencil, W, H).unwrap();
     m.run(|p| {
         p.begin(
-            Target { color: Some(&counts), depth_stencil: Some(&ds) },
+            Target {
+                color: Some(&counts),
+                depth_stencil: Some(&ds),
+            },
             Clear {
                 color: Some(ClearColor::Float([0.0; 4])),
                 depth: Some(1.0),
@@ -92,7 +141,11 @@ fn stencil_counts_and_blending_adds() {
         let count = RasterState::count_with_blending();
         for k in 0..5 {
             let x1 = 5.0 + 6.0 * k as f32;
-            p.draw_rect(&count, &d, &rect(0.0, 0.0, x1, 22.0).float([1.0, 0.5, 0.0, 2.0]))?;
+            p.draw_rect(
+                &count,
+                &d,
+                &rect(0.0, 0.0, x1, 22.0).float([1.0, 0.5, 0.0, 2.0]),
+            )?;
         }
         // Stencil: count overlaps with wrap, then keep only pixels whose count is 2
         // and paint them via the stencil EQUAL test.
@@ -108,9 +161,21 @@ fn stencil_counts_and_blending_adds() {
                 on_depth_fail: StencilOp::Keep,
                 on_pass: StencilOp::Invert,
             })
-            .with_color_mask(ChannelMask { red: false, green: false, blue: true, alpha: false });
-        let params = DrawParams { stencil_reference: 2, ..Default::default() };
-        p.draw_rect(&only_two, &params, &RectDraw::full_picture(W, H).float([9.0; 4]))?;
+            .with_color_mask(ChannelMask {
+                red: false,
+                green: false,
+                blue: true,
+                alpha: false,
+            });
+        let params = DrawParams {
+            stencil_reference: 2,
+            ..Default::default()
+        };
+        p.draw_rect(
+            &only_two,
+            &params,
+            &RectDraw::full_picture(W, H).float([9.0; 4]),
+        )?;
         // Scissor: only columns 0..2 of rows 0..2 get a constant blend added.
         let constant = RasterState::OVERWRITE.with_color(ColorUpdate::Blend(Blend {
             fragment_factor: BlendFactor::Constant,
@@ -122,7 +187,11 @@ fn stencil_counts_and_blending_adds() {
             scissor: Some([0, 0, 2, 2]),
             ..Default::default()
         };
-        p.draw_rect(&constant, &params, &RectDraw::full_picture(W, H).float([1.0; 4]))?;
+        p.draw_rect(
+            &constant,
+            &params,
+            &RectDraw::full_picture(W, H).float([1.0; 4]),
+        )?;
         p.end()
     })
     .unwrap();
@@ -141,7 +210,16 @@ fn stencil_counts_and_blending_adds() {
     assert_eq!(mm.max, [5.0, 2.5, 9.0, 110.0]);
     assert_eq!(mm.min, [0.0, 0.0, 0.0, 0.0]);
     let h = m
-        .histogram(&counts, PixelRect::of(&counts), Bins { channel: 0, low: 0.0, width: 1.0, bins: 6 })
+        .histogram(
+            &counts,
+            PixelRect::of(&counts),
+            Bins {
+                channel: 0,
+                low: 0.0,
+                width: 1.0,
+                bins: 6,
+            },
+        )
         .unwrap();
     assert_eq!(h, vec![7 * H, 6 * H, 6 * H, 6 * H, 6 * H, 6 * H]);
 }
@@ -157,11 +235,31 @@ fn bad_requests_are_errors() {
     ));
     let ids = m.image(Format::R32Uint, 4, 4).unwrap();
     assert!(m.read_f32(&ids, PixelRect::of(&ids)).is_err());
-    assert!(m.minmax(&ids, PixelRect { x: 3, y: 0, width: 2, height: 1 }).is_err());
+    assert!(m
+        .minmax(
+            &ids,
+            PixelRect {
+                x: 3,
+                y: 0,
+                width: 2,
+                height: 1
+            }
+        )
+        .is_err());
     // Blending into an integer target is refused, not undefined.
     let r = m.run(|p| {
-        p.begin(Target { color: Some(&ids), depth_stencil: None }, Clear::default())?;
-        p.draw_rect(&RasterState::count_with_blending(), &DrawParams::default(), &RectDraw::full_picture(4, 4))
+        p.begin(
+            Target {
+                color: Some(&ids),
+                depth_stencil: None,
+            },
+            Clear::default(),
+        )?;
+        p.draw_rect(
+            &RasterState::count_with_blending(),
+            &DrawParams::default(),
+            &RectDraw::full_picture(4, 4),
+        )
     });
     assert!(r.is_err());
 }

@@ -17,9 +17,23 @@ fn machine() -> Machine {
 
 const SPEEDUPS: [Speedup; 3] = [Speedup::None, Speedup::Quadtree, Speedup::Local];
 
-fn run(m: &Machine, sites: &[DVec2], frame: Frame, accuracy: Accuracy, speedup: Speedup) -> VoronoiDiagram {
-    voronoi(m, sites, &VoronoiOptions { frame, accuracy, speedup })
-        .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
+fn run(
+    m: &Machine,
+    sites: &[DVec2],
+    frame: Frame,
+    accuracy: Accuracy,
+    speedup: Speedup,
+) -> VoronoiDiagram {
+    voronoi(
+        m,
+        sites,
+        &VoronoiOptions {
+            frame,
+            accuracy,
+            speedup,
+        },
+    )
+    .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
 }
 
 /// Exact mode: every pixel's site is at the minimum distance (ties either way), and
@@ -37,19 +51,36 @@ fn assert_exact(d: &VoronoiDiagram, sites: &[DVec2], frame: &Frame, what: &str) 
         if dl > best[k] + tol {
             wrong += 1;
             if wrong < 5 {
-                eprintln!("{what}: pixel {q}: site {label} at {dl}, nearest at {}", best[k]);
+                eprintln!(
+                    "{what}: pixel {q}: site {label} at {dl}, nearest at {}",
+                    best[k]
+                );
             }
         }
         let dd = d.distances[k] as f64;
-        assert!((dd - best[k]).abs() <= tol, "{what}: pixel {q}: distance {dd} vs {}", best[k]);
+        assert!(
+            (dd - best[k]).abs() <= tol,
+            "{what}: pixel {q}: distance {dd} vs {}",
+            best[k]
+        );
     }
-    assert_eq!(wrong, 0, "{what}: {wrong} pixels labelled with a farther site");
+    assert_eq!(
+        wrong, 0,
+        "{what}: {wrong} pixels labelled with a farther site"
+    );
 }
 
 /// Fan mode: the distance map is an ε distance diagram, each label's site is within ε
 /// of the nearest, and (for a fixed T) each pixel is on the wrong side of a bisector
 /// by no more than the §3.4 deviation bound.
-fn assert_fan(d: &VoronoiDiagram, sites: &[DVec2], frame: &Frame, epsilon: f64, triangles: Option<u32>, what: &str) {
+fn assert_fan(
+    d: &VoronoiDiagram,
+    sites: &[DVec2],
+    frame: &Frame,
+    epsilon: f64,
+    triangles: Option<u32>,
+    what: &str,
+) {
     let (nearest, best) = nearest_sites_brute_force(sites, frame);
     let w = frame.width as usize;
     let tol = 1e-3;
@@ -58,25 +89,41 @@ fn assert_fan(d: &VoronoiDiagram, sites: &[DVec2], frame: &Frame, epsilon: f64, 
         let q = DVec2::new((k % w) as f64, (k / w) as f64);
         assert_ne!(label, u32::MAX, "{what}: pixel {q} uncovered");
         let dd = d.distances[k] as f64;
-        assert!(dd >= best[k] - tol && dd <= best[k] + epsilon + tol, "{what}: pixel {q}: depth {dd}, true {}", best[k]);
+        assert!(
+            dd >= best[k] - tol && dd <= best[k] + epsilon + tol,
+            "{what}: pixel {q}: depth {dd}, true {}",
+            best[k]
+        );
         let site = sites[label as usize];
         let dl = (site - q).length();
-        assert!(dl <= best[k] + epsilon + tol, "{what}: pixel {q}: label at {dl}, nearest {}", best[k]);
+        assert!(
+            dl <= best[k] + epsilon + tol,
+            "{what}: pixel {q}: label at {dl}, nearest {}",
+            best[k]
+        );
         if dl > best[k] + tol {
             mislabelled += 1;
             if let Some(t) = triangles {
                 let a = (site - sites[nearest[k] as usize]).length();
                 let offset = (dl * dl - best[k] * best[k]) / (2.0 * a);
                 let bound = bisector_deviation(t, best[k], a);
-                assert!(offset <= bound + tol, "{what}: pixel {q} {offset} beyond the bisector, bound {bound}");
+                assert!(
+                    offset <= bound + tol,
+                    "{what}: pixel {q} {offset} beyond the bisector, bound {bound}"
+                );
             }
         }
     }
-    eprintln!("{what}: {mislabelled} of {} pixels have a site within ε but not the nearest", d.labels.len());
+    eprintln!(
+        "{what}: {mislabelled} of {} pixels have a site within ε but not the nearest",
+        d.labels.len()
+    );
 }
 
 fn uniform(rng: &mut ChaCha8Rng, n: usize, w: f64, h: f64) -> Vec<DVec2> {
-    (0..n).map(|_| DVec2::new(rng.gen_range(-0.5..w - 0.5), rng.gen_range(-0.5..h - 0.5))).collect()
+    (0..n)
+        .map(|_| DVec2::new(rng.gen_range(-0.5..w - 0.5), rng.gen_range(-0.5..h - 0.5)))
+        .collect()
 }
 
 fn clustered(rng: &mut ChaCha8Rng, n: usize, w: f64, h: f64) -> Vec<DVec2> {
@@ -97,8 +144,18 @@ fn cases(w: u32, h: u32) -> Vec<(&'static str, Vec<DVec2>)> {
     let mut out = vec![
         ("uniform", uniform(&mut rng, 300, wf, hf)),
         ("clustered", clustered(&mut rng, 200, wf, hf)),
-        ("collinear", (0..25).map(|i| DVec2::new(3.0 + 4.5 * i as f64, 2.0 + 3.1 * i as f64)).collect()),
-        ("horizontal", (0..12).map(|i| DVec2::new(i as f64 * 9.0, hf / 2.0)).collect()),
+        (
+            "collinear",
+            (0..25)
+                .map(|i| DVec2::new(3.0 + 4.5 * i as f64, 2.0 + 3.1 * i as f64))
+                .collect(),
+        ),
+        (
+            "horizontal",
+            (0..12)
+                .map(|i| DVec2::new(i as f64 * 9.0, hf / 2.0))
+                .collect(),
+        ),
     ];
     let mut dup = uniform(&mut rng, 40, wf, hf);
     dup.extend(dup.clone());
@@ -107,12 +164,22 @@ fn cases(w: u32, h: u32) -> Vec<(&'static str, Vec<DVec2>)> {
     // Integer lattice: every pixel centre between four sites is co-circular.
     out.push((
         "lattice",
-        (0..(w / 8) * (h / 8)).map(|k| DVec2::new((k % (w / 8) * 8 + 2) as f64, (k / (w / 8) * 8 + 3) as f64)).collect(),
+        (0..(w / 8) * (h / 8))
+            .map(|k| DVec2::new((k % (w / 8) * 8 + 2) as f64, (k / (w / 8) * 8 + 3) as f64))
+            .collect(),
     ));
     let mut off = uniform(&mut rng, 20, wf, hf);
-    off.extend([DVec2::new(-40.0, 10.0), DVec2::new(wf + 15.0, hf + 3.0), DVec2::new(1e4, -1e4), DVec2::new(wf / 2.0, -25.0)]);
+    off.extend([
+        DVec2::new(-40.0, 10.0),
+        DVec2::new(wf + 15.0, hf + 3.0),
+        DVec2::new(1e4, -1e4),
+        DVec2::new(wf / 2.0, -25.0),
+    ]);
     out.push(("off-picture", off));
-    out.push(("only-outside", vec![DVec2::new(-30.0, -20.0), DVec2::new(wf + 50.0, hf * 0.3)]));
+    out.push((
+        "only-outside",
+        vec![DVec2::new(-30.0, -20.0), DVec2::new(wf + 50.0, hf * 0.3)],
+    ));
     out.push(("single", vec![DVec2::new(wf * 0.3, hf * 0.8)]));
     let quarter: Vec<DVec2> = uniform(&mut rng, 300, wf, hf)
         .into_iter()
@@ -121,7 +188,13 @@ fn cases(w: u32, h: u32) -> Vec<(&'static str, Vec<DVec2>)> {
     out.push(("quarter-empty", quarter));
     out.push((
         "border",
-        vec![DVec2::new(0.0, 0.0), DVec2::new(wf - 1.0, 0.0), DVec2::new(0.0, hf - 1.0), DVec2::new(wf - 1.0, hf - 1.0), DVec2::new(wf / 2.0, 0.0)],
+        vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(wf - 1.0, 0.0),
+            DVec2::new(0.0, hf - 1.0),
+            DVec2::new(wf - 1.0, hf - 1.0),
+            DVec2::new(wf / 2.0, 0.0),
+        ],
     ));
     out
 }
@@ -145,9 +218,25 @@ fn fan_mode_stays_inside_its_bounds() {
     for (name, sites) in cases(128, 96) {
         for speedup in [Speedup::Quadtree, Speedup::Local] {
             let d = run(&m, &sites, frame, Accuracy::FAN, speedup);
-            assert_fan(&d, &sites, &frame, 1.0, None, &format!("{name} {speedup:?} ε=1"));
+            assert_fan(
+                &d,
+                &sites,
+                &frame,
+                1.0,
+                None,
+                &format!("{name} {speedup:?} ε=1"),
+            );
         }
-        let d = run(&m, &sites, frame, Accuracy::Fan { epsilon: 0.25, triangles: None }, Speedup::Local);
+        let d = run(
+            &m,
+            &sites,
+            frame,
+            Accuracy::Fan {
+                epsilon: 0.25,
+                triangles: None,
+            },
+            Speedup::Local,
+        );
         assert_fan(&d, &sites, &frame, 0.25, None, &format!("{name} ε=0.25"));
     }
 }
@@ -159,7 +248,16 @@ fn fixed_triangle_count_obeys_the_bisector_bound() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let sites = uniform(&mut rng, 50, 128.0, 128.0);
     for t in [6, 12, 40] {
-        let d = run(&m, &sites, frame, Accuracy::Fan { epsilon: 1.0, triangles: Some(t) }, Speedup::None);
+        let d = run(
+            &m,
+            &sites,
+            frame,
+            Accuracy::Fan {
+                epsilon: 1.0,
+                triangles: Some(t),
+            },
+            Speedup::None,
+        );
         let eps = d.stats.distance_error_bound;
         assert!(eps > 0.0);
         assert_fan(&d, &sites, &frame, eps, Some(t), &format!("T={t}"));
@@ -180,7 +278,12 @@ fn quadtree_retries_until_covered_and_local_radii_are_smaller() {
     assert_exact(&q, &sites, &frame, "quarter quadtree");
     let l = run(&m, &sites, frame, Accuracy::Exact, Speedup::Local);
     assert_exact(&l, &sites, &frame, "quarter local");
-    assert!(l.stats.radius_mean < q.stats.radius_mean / 2.0, "{:?} vs {:?}", l.stats, q.stats);
+    assert!(
+        l.stats.radius_mean < q.stats.radius_mean / 2.0,
+        "{:?} vs {:?}",
+        l.stats,
+        q.stats
+    );
     // Uniform sites: the first quadtree radius is usually enough.
     let sites = uniform(&mut rng, 2000, 256.0, 256.0);
     let q = run(&m, &sites, frame, Accuracy::Exact, Speedup::Quadtree);
@@ -192,14 +295,19 @@ fn quadtree_retries_until_covered_and_local_radii_are_smaller() {
 fn bounding_box_maps_world_to_pixels() {
     let m = machine();
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let world: Vec<DVec2> = (0..80).map(|_| DVec2::new(rng.gen_range(10.0..12.0), rng.gen_range(-3.0..-1.5))).collect();
+    let world: Vec<DVec2> = (0..80)
+        .map(|_| DVec2::new(rng.gen_range(10.0..12.0), rng.gen_range(-3.0..-1.5)))
+        .collect();
     let frame = Frame::with_bbox(100, None, [10.0, -3.0, 12.0, -1.5]).unwrap();
     assert_eq!((frame.width, frame.height), (100, 75));
     let d = run(&m, &world, frame, Accuracy::Exact, Speedup::Local);
     let pixels: Vec<DVec2> = world.iter().map(|p| frame.to_pixel(*p)).collect();
     let pixel_frame = Frame::pixels(100, 75).unwrap();
     let mut in_pixels = d.clone();
-    in_pixels.distances.iter_mut().for_each(|v| *v *= frame.scale as f32);
+    in_pixels
+        .distances
+        .iter_mut()
+        .for_each(|v| *v *= frame.scale as f32);
     assert_exact(&in_pixels, &pixels, &pixel_frame, "bbox");
     assert!(Frame::with_bbox(100, Some(10), [0.0, 0.0, 1.0, 1.0]).is_err());
 }
@@ -208,15 +316,28 @@ fn bounding_box_maps_world_to_pixels() {
 fn bad_input_is_a_clear_error() {
     let m = machine();
     let frame = Frame::pixels(16, 16).unwrap();
-    let opts = VoronoiOptions { frame, accuracy: Accuracy::Exact, speedup: Speedup::Local };
+    let opts = VoronoiOptions {
+        frame,
+        accuracy: Accuracy::Exact,
+        speedup: Speedup::Local,
+    };
     let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
     assert!(err(&[]).contains("empty"));
     assert!(err(&[DVec2::new(f64::NAN, 1.0)]).contains("non-finite"));
     assert!(err(&[DVec2::new(1.0, f64::INFINITY)]).contains("non-finite"));
     assert!(Frame::pixels(0, 5).is_err());
-    let big = Frame { width: m.max_picture_side() + 1, ..frame };
+    let big = Frame {
+        width: m.max_picture_side() + 1,
+        ..frame
+    };
     let e = voronoi(&m, &[DVec2::ZERO], &VoronoiOptions { frame: big, ..opts }).unwrap_err();
     assert!(matches!(e, pixgeo::Error::PictureTooLarge { .. }), "{e}");
-    let bad_fan = VoronoiOptions { accuracy: Accuracy::Fan { epsilon: 0.0, triangles: None }, ..opts };
+    let bad_fan = VoronoiOptions {
+        accuracy: Accuracy::Fan {
+            epsilon: 0.0,
+            triangles: None,
+        },
+        ..opts
+    };
     assert!(voronoi(&m, &[DVec2::ZERO], &bad_fan).is_err());
 }

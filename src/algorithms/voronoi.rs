@@ -12,12 +12,13 @@
 use std::time::Instant;
 
 use glam::DVec2;
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
     geometry::{
-        cone::{fan_distance_error, unit_fan, FanShape},
+        cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::check_sites,
         radius, Frame,
     },
@@ -123,14 +124,22 @@ struct Picture {
 }
 
 /// Computes the Voronoi diagram of `sites` (world coordinates).
-pub fn voronoi(machine: &Machine, sites: &[DVec2], options: &VoronoiOptions) -> Result<VoronoiDiagram> {
+pub fn voronoi(
+    machine: &Machine,
+    sites: &[DVec2],
+    options: &VoronoiOptions,
+) -> Result<VoronoiDiagram> {
     check_sites(sites)?;
     if let Accuracy::Fan { epsilon, triangles } = options.accuracy {
         if !(epsilon > 0.0 && epsilon.is_finite()) {
-            return Err(Error::InvalidInput(format!("fan epsilon {epsilon} must be positive")));
+            return Err(Error::InvalidInput(format!(
+                "fan epsilon {epsilon} must be positive"
+            )));
         }
         if triangles.is_some_and(|t| t < 3) {
-            return Err(Error::InvalidInput("a fan needs at least 3 triangles".into()));
+            return Err(Error::InvalidInput(
+                "a fan needs at least 3 triangles".into(),
+            ));
         }
     }
     let frame = options.frame;
@@ -148,7 +157,10 @@ pub fn voronoi(machine: &Machine, sites: &[DVec2], options: &VoronoiOptions) -> 
     let started = Instant::now();
     // The radius that reaches every pixel from a site, plus half a pixel so that
     // rasterization rules at the cone's rim never drop a pixel centre.
-    let picture_wide: Vec<f64> = pixels.iter().map(|p| frame.farthest_pixel(*p) + 0.5).collect();
+    let picture_wide: Vec<f64> = pixels
+        .iter()
+        .map(|p| frame.farthest_pixel(*p) + 0.5)
+        .collect();
     let cones_with = |radius: &dyn Fn(usize) -> f64| -> Vec<Cone> {
         pixels
             .iter()
@@ -165,8 +177,8 @@ pub fn voronoi(machine: &Machine, sites: &[DVec2], options: &VoronoiOptions) -> 
     match options.speedup {
         Speedup::None => attempts.push(cones_with(&|i| picture_wide[i])),
         Speedup::Local => {
-            let bucket = radius::default_bucket(&frame, pixels.len());
-            let radii = radius::local_radii(&pixels, &frame, bucket);
+            let cell = radius::default_cell(&frame, pixels.len());
+            let radii = radius::local_radii(&pixels, &frame, cell);
             attempts.push(cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])));
         }
         Speedup::Quadtree => {
@@ -185,7 +197,9 @@ pub fn voronoi(machine: &Machine, sites: &[DVec2], options: &VoronoiOptions) -> 
     for (k, cones) in attempts.into_iter().enumerate() {
         stats.passes += 1;
         let fan_sizes = render(machine, &picture, &frame, &cones, options.accuracy)?;
-        let covered = machine.minmax(&picture.ids, PixelRect::of(&picture.ids))?.max[0]
+        let covered = machine
+            .minmax(&picture.ids, PixelRect::of(&picture.ids))?
+            .max[0]
             < u32::MAX as f64;
         last = cones;
         stats.triangles = fan_sizes;
@@ -209,30 +223,44 @@ pub fn voronoi(machine: &Machine, sites: &[DVec2], options: &VoronoiOptions) -> 
     }
     stats.distance_error_bound = match options.accuracy {
         Accuracy::Exact => 0.0,
-        Accuracy::Fan { epsilon, triangles: None } => epsilon / frame.scale,
-        Accuracy::Fan { triangles: Some(t), .. } => fan_distance_error(stats.radius_max, t) / frame.scale,
+        Accuracy::Fan {
+            epsilon,
+            triangles: None,
+        } => epsilon / frame.scale,
+        Accuracy::Fan {
+            triangles: Some(t), ..
+        } => fan_distance_error(stats.radius_max, t) / frame.scale,
     };
 
     let started = Instant::now();
     let rect = PixelRect::of(&picture.ids);
     let labels = machine.read_u32(&picture.ids, rect)?;
-    let depth = machine.read_f32(&picture.depth, rect)?;
+    let mut distances = machine.read_f32(&picture.depth, rect)?;
     let scale = depth_scale(&last, options.accuracy);
-    let distances = depth
-        .iter()
-        .zip(&labels)
-        .map(|(z, id)| {
-            if *id == u32::MAX {
-                f32::INFINITY
-            } else {
-                let d = match options.accuracy {
-                    Accuracy::Exact => ((*z as f64) / scale.fragment).sqrt(),
-                    Accuracy::Fan { .. } => (*z as f64) / scale.vertex,
+    let to_world = (1.0 / frame.scale) as f32;
+    let exact = options.accuracy == Accuracy::Exact;
+    let unscale = if exact {
+        1.0 / scale.fragment
+    } else {
+        1.0 / scale.vertex
+    } as f32;
+    distances
+        .par_chunks_mut(4096)
+        .zip(labels.par_chunks(4096))
+        .for_each(|(depths, ids)| {
+            for (z, id) in depths.iter_mut().zip(ids) {
+                let d = if exact {
+                    (*z * unscale).sqrt()
+                } else {
+                    *z * unscale
                 };
-                (d / frame.scale) as f32
+                *z = if *id == u32::MAX {
+                    f32::INFINITY
+                } else {
+                    d * to_world
+                };
             }
-        })
-        .collect();
+        });
     stats.readback_ms = ms(started);
     Ok(VoronoiDiagram {
         width: frame.width,
@@ -247,14 +275,25 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
+/// Corners of an exact cone's footprint: one triangle around the disc it must
+/// cover. On lavapipe each triangle costs about a microsecond of setup, as much as
+/// several hundred fragments, so one triangle (area 5.2 r²) beats a square (two
+/// triangles, 4 r²) or an octagon (six, 3.3 r²) for the radii the speedups give.
+const EXACT_FOOTPRINT_CORNERS: u32 = 3;
+
 /// The triangle fan each cone is drawn with.
 fn fan_shape(cone: &Cone, accuracy: Accuracy) -> FanShape {
     match accuracy {
         // The footprint of an exact cone only has to cover its radius: an octagon
         // wastes 5% of fragments over the circle, a square 27%.
-        Accuracy::Exact => FanShape::with_triangles(cone.radius, 8),
-        Accuracy::Fan { triangles: Some(t), .. } => FanShape::with_triangles(cone.radius, t),
-        Accuracy::Fan { epsilon, triangles: None } => FanShape::for_distance_error(cone.radius, epsilon),
+        Accuracy::Exact => FanShape::with_triangles(cone.radius, EXACT_FOOTPRINT_CORNERS),
+        Accuracy::Fan {
+            triangles: Some(t), ..
+        } => FanShape::with_triangles(cone.radius, t),
+        Accuracy::Fan {
+            epsilon,
+            triangles: None,
+        } => FanShape::for_distance_error(cone.radius, epsilon),
     }
 }
 
@@ -294,16 +333,27 @@ fn render(
     cones: &[Cone],
     accuracy: Accuracy,
 ) -> Result<Vec<(u32, usize)>> {
-    let mut shaped: Vec<(FanShape, &Cone)> = cones.iter().map(|c| (fan_shape(c, accuracy), c)).collect();
+    let mut shaped: Vec<(FanShape, &Cone)> =
+        cones.iter().map(|c| (fan_shape(c, accuracy), c)).collect();
     shaped.sort_by_key(|(s, _)| s.triangles);
     let mut mesh: Vec<[f32; 3]> = Vec::new();
-    let mut instances: Vec<[u32; 4]> = Vec::with_capacity(shaped.len());
+    let mut instances: Vec<[u32; 5]> = Vec::with_capacity(shaped.len());
     // (first vertex, vertex count, first instance, instance count, T)
     let mut groups: Vec<(u32, u32, u32, u32, u32)> = Vec::new();
     for (shape, cone) in &shaped {
         if groups.last().is_none_or(|g| g.4 != shape.triangles) {
-            let fan = unit_fan(shape.triangles);
-            groups.push((mesh.len() as u32, fan.len() as u32, instances.len() as u32, 0, shape.triangles));
+            let fan = if accuracy == Accuracy::Exact {
+                unit_footprint(shape.triangles)
+            } else {
+                unit_fan(shape.triangles)
+            };
+            groups.push((
+                mesh.len() as u32,
+                fan.len() as u32,
+                instances.len() as u32,
+                0,
+                shape.triangles,
+            ));
             mesh.extend(fan);
         }
         if let Some(g) = groups.last_mut() {
@@ -313,6 +363,7 @@ fn render(
             (cone.site.x as f32).to_bits(),
             (cone.site.y as f32).to_bits(),
             (shape.outer_radius as f32).to_bits(),
+            (cone.radius as f32).to_bits(),
             cone.id,
         ]);
     }
@@ -326,9 +377,16 @@ fn render(
         Accuracy::Exact => Program::ConeExact,
         Accuracy::Fan { .. } => Program::ConeFan,
     };
-    let mesh_buffer = machine.vertex_buffer(if mesh.is_empty() { &[[0.0f32; 3]][..] } else { &mesh })?;
-    let instance_buffer =
-        machine.vertex_buffer(if instances.is_empty() { &[[0u32; 4]][..] } else { &instances })?;
+    let mesh_buffer = machine.vertex_buffer(if mesh.is_empty() {
+        &[[0.0f32; 3]][..]
+    } else {
+        &mesh
+    })?;
+    let instance_buffer = machine.vertex_buffer(if instances.is_empty() {
+        &[[0u32; 5]][..]
+    } else {
+        &instances
+    })?;
     let state = RasterState::lower_envelope();
     let params = DrawParams::default();
     machine.run(|pass| {

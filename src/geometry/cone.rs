@@ -93,6 +93,19 @@ pub fn unit_fan(triangles: u32) -> Vec<[f32; 3]> {
     v
 }
 
+/// A regular polygon of `corners` with circumradius 1, as a fan from its first
+/// corner (`corners - 2` triangles): the footprint of an exact cone, whose depth
+/// comes from the fragment shader rather than from the vertices.
+pub fn unit_footprint(corners: u32) -> Vec<[f32; 3]> {
+    (0..corners)
+        .map(|k| {
+            // Start at 45° so a square is axis-aligned.
+            let a = 2.0 * PI * k as f64 / corners as f64 + PI / 4.0;
+            [a.cos() as f32, a.sin() as f32, 0.0]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

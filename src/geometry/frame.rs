@@ -45,7 +45,9 @@ impl Frame {
             )));
         }
         if width == 0 {
-            return Err(Error::InvalidInput("picture width must be at least 1".into()));
+            return Err(Error::InvalidInput(
+                "picture width must be at least 1".into(),
+            ));
         }
         let scale = width as f64 / (xmax - xmin);
         let natural = (ymax - ymin) * scale;
@@ -62,7 +64,9 @@ impl Frame {
             None => natural.round().max(1.0) as u32,
         };
         if height == 0 {
-            return Err(Error::InvalidInput("picture height must be at least 1".into()));
+            return Err(Error::InvalidInput(
+                "picture height must be at least 1".into(),
+            ));
         }
         Ok(Self {
             width,

@@ -5,7 +5,9 @@
 //! of `[0, w-1] x [0, h-1]`.
 
 use glam::DVec2;
-use rstar::{primitives::GeomWithData, RTree};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use rayon::prelude::*;
 
 use super::Frame;
 
@@ -30,7 +32,11 @@ pub struct WidthBounds {
 /// than there are sites, since those cannot all be marked.
 pub fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
     let (w, h) = (frame.width as f64, frame.height as f64);
-    let side = (frame.width.max(frame.height) as f64).log2().ceil().exp2().max(1.0);
+    let side = (frame.width.max(frame.height) as f64)
+        .log2()
+        .ceil()
+        .exp2()
+        .max(1.0);
     let inside: Vec<DVec2> = sites
         .iter()
         .map(|p| *p + 0.5) // picture corner at the origin
@@ -91,71 +97,139 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
 /// A radius per site that its cone must reach: every pixel centre owned by site s
 /// is within `radii[s]` of it (a site that owns no pixel may get 0).
 ///
-/// The picture is cut into square buckets of side `bucket`. For a bucket B, U(B) is
-/// the smallest over sites of the distance to B's farthest corner: every point of B
-/// has a site within U(B), so its owner s is within U(B) and has
-/// `mindist(s, B) <= U(B)`. Each such candidate needs `min(U(B), maxdist(s, B))`.
-/// Where sites are dense the radii shrink to the local spacing, while a site next to
-/// an empty quarter still reaches across it: the thesis's worst case costs only the
-/// cones that need the reach.
-pub fn local_radii(sites: &[DVec2], frame: &Frame, bucket: f64) -> Vec<f64> {
-    let tree: RTree<GeomWithData<[f64; 2], usize>> = RTree::bulk_load(
-        sites
-            .iter()
-            .enumerate()
-            .map(|(i, p)| GeomWithData::new([p.x, p.y], i))
-            .collect(),
-    );
-    let mut radii = vec![0.0f64; sites.len()];
-    let (w, h) = ((frame.width - 1) as f64, (frame.height - 1) as f64);
-    let bucket = bucket.max(1.0);
-    let nx = ((w + 1.0) / bucket).ceil().max(1.0) as usize;
-    let ny = ((h + 1.0) / bucket).ceil().max(1.0) as usize;
-    for by in 0..ny {
-        for bx in 0..nx {
-            // The bucket's pixel centres span [x0, x1] x [y0, y1].
-            let x0 = bx as f64 * bucket;
-            let y0 = by as f64 * bucket;
-            let x1 = (x0 + bucket - 1.0).min(w).max(x0);
-            let y1 = (y0 + bucket - 1.0).min(h).max(y0);
-            let lo = DVec2::new(x0, y0);
-            let hi = DVec2::new(x1, y1);
-            let centre = (lo + hi) * 0.5;
-            let half_diag = (hi - lo).length() * 0.5;
-            let maxdist = |p: DVec2| {
-                let d = (p - centre).abs() + (hi - lo) * 0.5;
-                d.length()
-            };
-            let mindist = |p: DVec2| {
-                let d = (p.clamp(lo, hi) - p).length();
-                d
-            };
+/// The picture is cut into square cells of side `cell`. For a cell B, U(B) is the
+/// smallest over sites of the distance to B's farthest point: every point of B has
+/// a site within U(B), so its owner s is within U(B) and has `mindist(s, B) <= U(B)`.
+/// Each such candidate needs `min(U(B), maxdist(s, B))`. As cells shrink, the radius
+/// tends to the width of the site's own region (thesis Def. 3.2); where sites are
+/// dense the radii shrink to the local spacing, while a site next to an empty
+/// quarter still reaches across it: the thesis's worst case costs only the cones
+/// that need the reach.
+///
+/// Sites are binned into the same cells, those outside the picture into the nearest
+/// border cell: projecting onto the picture never moves a site closer to a point of
+/// the picture, so ring distances stay lower bounds.
+pub fn local_radii(sites: &[DVec2], frame: &Frame, cell: f64) -> Vec<f64> {
+    let grid = Grid::new(sites, frame, cell);
+    let radii: Vec<AtomicU64> = (0..sites.len()).map(|_| AtomicU64::new(0)).collect();
+    (0..grid.ny).into_par_iter().for_each(|cy| {
+        for cx in 0..grid.nx {
+            let (lo, hi) = grid.cell_bounds(cx, cy);
+            let maxdist = |p: DVec2| ((p - (lo + hi) * 0.5).abs() + (hi - lo) * 0.5).length();
+            let mindist = |p: DVec2| (p.clamp(lo, hi) - p).length();
+            // U(B): rings of cells until no farther ring can hold a closer site.
             let mut cover = f64::INFINITY;
-            for s in tree.nearest_neighbor_iter(&[centre.x, centre.y]) {
-                let p = DVec2::from(*s.geom());
-                if (p - centre).length() >= cover {
-                    break;
-                }
-                cover = cover.min(maxdist(p));
+            let mut ring = 0;
+            while ring <= grid.max_ring() && (ring as f64 - 1.0) * grid.cell < cover {
+                grid.for_ring(cx, cy, ring, |i| cover = cover.min(maxdist(sites[i])));
+                ring += 1;
             }
-            let reach = cover + half_diag;
-            for s in tree.locate_within_distance([centre.x, centre.y], reach * reach) {
-                let p = DVec2::from(*s.geom());
-                if mindist(p) <= cover {
-                    let need = cover.min(maxdist(p));
-                    let r = &mut radii[s.data];
-                    *r = r.max(need);
-                }
+            // Candidates: every site within U(B) of the cell.
+            let mut ring = 0;
+            while ring <= grid.max_ring() && (ring as f64 - 1.0) * grid.cell <= cover {
+                grid.for_ring(cx, cy, ring, |i| {
+                    let p = sites[i];
+                    if mindist(p) <= cover {
+                        // Non-negative floats order like their bit patterns.
+                        radii[i].fetch_max(cover.min(maxdist(p)).to_bits(), Ordering::Relaxed);
+                    }
+                });
+                ring += 1;
             }
         }
-    }
+    });
     radii
+        .into_iter()
+        .map(|r| f64::from_bits(r.into_inner()))
+        .collect()
 }
 
-/// The bucket side for [`local_radii`]: about one site per bucket on average,
-/// between 4 and 64 pixels.
-pub fn default_bucket(frame: &Frame, sites: usize) -> f64 {
-    ((frame.len() as f64 / sites.max(1) as f64).sqrt()).clamp(4.0, 64.0)
+/// Site indices binned into square cells over the picture's pixel centres.
+struct Grid {
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    /// Sites of cell (x, y) are `order[start[y * nx + x]..start[y * nx + x + 1]]`.
+    start: Vec<u32>,
+    order: Vec<u32>,
+}
+
+impl Grid {
+    fn new(sites: &[DVec2], frame: &Frame, cell: f64) -> Self {
+        let cell = cell.max(1.0);
+        let nx = (frame.width as f64 / cell).ceil().max(1.0) as usize;
+        let ny = (frame.height as f64 / cell).ceil().max(1.0) as usize;
+        let index = |p: DVec2| {
+            let ix = ((p.x + 0.5) / cell).floor().clamp(0.0, (nx - 1) as f64) as usize;
+            let iy = ((p.y + 0.5) / cell).floor().clamp(0.0, (ny - 1) as f64) as usize;
+            iy * nx + ix
+        };
+        let mut start = vec![0u32; nx * ny + 1];
+        for p in sites {
+            start[index(*p) + 1] += 1;
+        }
+        for k in 0..nx * ny {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut order = vec![0u32; sites.len()];
+        for (i, p) in sites.iter().enumerate() {
+            let k = index(*p);
+            order[fill[k] as usize] = i as u32;
+            fill[k] += 1;
+        }
+        Self {
+            cell,
+            nx,
+            ny,
+            start,
+            order,
+        }
+    }
+
+    /// The pixel centres of cell (cx, cy) span `[lo, hi]`.
+    fn cell_bounds(&self, cx: usize, cy: usize) -> (DVec2, DVec2) {
+        let lo = DVec2::new(cx as f64, cy as f64) * self.cell;
+        let hi = lo + self.cell - 1.0;
+        (lo, hi.max(lo))
+    }
+
+    fn max_ring(&self) -> usize {
+        self.nx.max(self.ny)
+    }
+
+    /// Calls `f` for every site in the cells at Chebyshev distance `ring` from
+    /// (cx, cy).
+    fn for_ring(&self, cx: usize, cy: usize, ring: usize, mut f: impl FnMut(usize)) {
+        let (x0, x1) = (cx as isize - ring as isize, cx as isize + ring as isize);
+        let (y0, y1) = (cy as isize - ring as isize, cy as isize + ring as isize);
+        let mut visit = |x: isize, y: isize| {
+            if x >= 0 && y >= 0 && (x as usize) < self.nx && (y as usize) < self.ny {
+                let k = y as usize * self.nx + x as usize;
+                for &i in &self.order[self.start[k] as usize..self.start[k + 1] as usize] {
+                    f(i as usize);
+                }
+            }
+        };
+        if ring == 0 {
+            visit(x0, y0);
+            return;
+        }
+        for x in x0..=x1 {
+            visit(x, y0);
+            visit(x, y1);
+        }
+        for y in y0 + 1..y1 {
+            visit(x0, y);
+            visit(x1, y);
+        }
+    }
+}
+
+/// The cell side for [`local_radii`]: half the mean site spacing, between 2
+/// and 64 pixels. Smaller cells give tighter radii for more CPU work.
+pub fn default_cell(frame: &Frame, sites: usize) -> f64 {
+    ((frame.len() as f64 / sites.max(1) as f64).sqrt() / 2.0).clamp(2.0, 64.0)
 }
 
 #[cfg(test)]
@@ -163,7 +237,10 @@ mod tests {
     use super::*;
 
     fn nearest(sites: &[DVec2], q: DVec2) -> f64 {
-        sites.iter().map(|s| (*s - q).length()).fold(f64::INFINITY, f64::min)
+        sites
+            .iter()
+            .map(|s| (*s - q).length())
+            .fold(f64::INFINITY, f64::min)
     }
 
     #[test]
@@ -204,7 +281,11 @@ mod tests {
             .fold(0.0, f64::max);
         assert!(width <= b.upper.unwrap());
         // A quarter empty: no level below the root is full.
-        let quarter: Vec<DVec2> = sites.iter().copied().filter(|p| p.x < 32.0 || p.y < 32.0).collect();
+        let quarter: Vec<DVec2> = sites
+            .iter()
+            .copied()
+            .filter(|p| p.x < 32.0 || p.y < 32.0)
+            .collect();
         assert_eq!(quadtree_width_bounds(&quarter, &frame).full_level, Some(0));
     }
 }

@@ -178,8 +178,9 @@ impl Context {
                 f.queue_flags
                     .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
             })
-            .ok_or_else(|| Error::NoDevice(format!("{device_name} has no graphics+compute queue")))?
-            as u32;
+            .ok_or_else(|| {
+                Error::NoDevice(format!("{device_name} has no graphics+compute queue"))
+            })? as u32;
 
         let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
         let mut supported = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
@@ -312,8 +313,8 @@ fn choose_device(
     choice: &DeviceChoice,
 ) -> Result<(vk::PhysicalDevice, vk::PhysicalDeviceProperties)> {
     // SAFETY: valid instance.
-    let devices = unsafe { instance.enumerate_physical_devices() }
-        .vk("vkEnumeratePhysicalDevices")?;
+    let devices =
+        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
     let candidates: Vec<_> = devices
         .into_iter()
         .map(|d| {

@@ -26,6 +26,9 @@ pub enum Format {
     Rgba8Unorm,
     /// The z buffer and the stencil.
     DepthStencil,
+    /// The z buffer alone, for algorithms that need no stencil (half the bytes
+    /// per pixel of `DepthStencil` to test and write).
+    Depth,
 }
 
 impl Format {
@@ -36,6 +39,7 @@ impl Format {
             Format::Rgba32Float => vk::Format::R32G32B32A32_SFLOAT,
             Format::Rgba8Unorm => vk::Format::R8G8B8A8_UNORM,
             Format::DepthStencil => vk::Format::D32_SFLOAT_S8_UINT,
+            Format::Depth => vk::Format::D32_SFLOAT,
         }
     }
 
@@ -48,14 +52,18 @@ impl Format {
     }
 
     pub(crate) fn is_depth(self) -> bool {
+        matches!(self, Format::DepthStencil | Format::Depth)
+    }
+
+    pub(crate) fn has_stencil(self) -> bool {
         self == Format::DepthStencil
     }
 
     pub(crate) fn aspect(self) -> vk::ImageAspectFlags {
-        if self.is_depth() {
-            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
-        } else {
-            vk::ImageAspectFlags::COLOR
+        match self {
+            Format::DepthStencil => vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL,
+            Format::Depth => vk::ImageAspectFlags::DEPTH,
+            _ => vk::ImageAspectFlags::COLOR,
         }
     }
 }
@@ -250,7 +258,11 @@ impl Buffer {
     }
 
     /// A host-visible buffer holding `data`.
-    pub(crate) fn with_data<T: bytemuck::Pod>(ctx: &Arc<Context>, kind: BufferKind, data: &[T]) -> Result<Self> {
+    pub(crate) fn with_data<T: bytemuck::Pod>(
+        ctx: &Arc<Context>,
+        kind: BufferKind,
+        data: &[T],
+    ) -> Result<Self> {
         let mut buffer = Self::new(ctx, kind, std::mem::size_of_val(data) as u64)?;
         buffer.write(data);
         Ok(buffer)
@@ -296,4 +308,3 @@ impl Drop for Buffer {
         }
     }
 }
-

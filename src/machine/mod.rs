@@ -32,8 +32,8 @@ pub use memory::{Buffer, BufferKind, Format, Image};
 pub use pass::{Clear, ClearColor, ConeDraw, ConePush, Pass, PixelRect, RectDraw, Target};
 pub use pipelines::Program;
 pub use state::{
-    Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams,
-    LogicOp, RasterState, StencilOp, StencilTest,
+    Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams, LogicOp,
+    RasterState, StencilOp, StencilTest,
 };
 
 use crate::error::{Error, Result, VkContext};
@@ -69,6 +69,7 @@ pub struct Machine {
     fence: vk::Fence,
     descriptor_pool: vk::DescriptorPool,
     validation: bool,
+    scratch: std::cell::RefCell<Option<Buffer>>,
     ctx: Arc<Context>,
 }
 
@@ -90,6 +91,7 @@ impl Machine {
             fence: vk::Fence::null(),
             descriptor_pool: vk::DescriptorPool::null(),
             validation: options.validation,
+            scratch: Default::default(),
             ctx: ctx.clone(),
         };
         let alloc = vk::CommandBufferAllocateInfo::default()
@@ -98,8 +100,9 @@ impl Machine {
             .command_buffer_count(1);
         // SAFETY: as above.
         unsafe {
-            machine.command_buffer =
-                device.allocate_command_buffers(&alloc).vk("vkAllocateCommandBuffers")?[0];
+            machine.command_buffer = device
+                .allocate_command_buffers(&alloc)
+                .vk("vkAllocateCommandBuffers")?[0];
             machine.fence = device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
                 .vk("vkCreateFence")?;
@@ -193,7 +196,9 @@ impl Machine {
             device
                 .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
                 .vk("vkResetCommandBuffer")?;
-            device.begin_command_buffer(cmd, &begin).vk("vkBeginCommandBuffer")?;
+            device
+                .begin_command_buffer(cmd, &begin)
+                .vk("vkBeginCommandBuffer")?;
         }
         let recorded = {
             let mut pass = Pass::new(self, cmd);
@@ -234,7 +239,7 @@ impl Machine {
     pub fn read_f32(&self, image: &Image, rect: PixelRect) -> Result<Vec<f32>> {
         if !matches!(
             image.format(),
-            Format::R32Float | Format::Rgba32Float | Format::DepthStencil
+            Format::R32Float | Format::Rgba32Float | Format::DepthStencil | Format::Depth
         ) {
             return Err(Error::InvalidInput(format!(
                 "read_f32 reads float images or depth, not {:?}",
@@ -246,8 +251,17 @@ impl Machine {
 
     fn read<T: bytemuck::Pod>(&self, image: &Image, rect: PixelRect) -> Result<Vec<T>> {
         let bytes = rect.width as u64 * rect.height as u64 * image.format().texel_bytes();
-        let buffer = self.readback_buffer(bytes)?;
-        self.run(|pass| pass.copy_to_buffer(image, rect, &buffer))?;
+        // One readback buffer is kept and grown: allocating fresh host memory for
+        // every read costs more than the copy.
+        let mut scratch = self.scratch.borrow_mut();
+        if scratch.as_ref().is_none_or(|b| b.size() < bytes) {
+            *scratch = None;
+            *scratch = Some(self.readback_buffer(bytes)?);
+        }
+        let buffer = scratch
+            .as_ref()
+            .ok_or_else(|| Error::InvalidInput("no readback buffer".into()))?;
+        self.run(|pass| pass.copy_to_buffer(image, rect, buffer))?;
         Ok(buffer.read((bytes / 4) as usize))
     }
 
@@ -264,8 +278,8 @@ impl Machine {
             .set_layouts(&layouts);
         // SAFETY: pool and layout are valid; the set is freed below after the run
         // that used it has completed.
-        let set = unsafe { device.allocate_descriptor_sets(&alloc) }
-            .vk("vkAllocateDescriptorSets")?[0];
+        let set =
+            unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
         let image_info = [vk::DescriptorImageInfo::default()
             .image_view(image.view)
             .image_layout(vk::ImageLayout::GENERAL)];
@@ -297,7 +311,11 @@ impl Machine {
     /// eight numbers come back to the host.
     pub fn minmax(&self, image: &Image, rect: PixelRect) -> Result<MinMax> {
         let float = image.format() != Format::R32Uint;
-        let channels = if image.format() == Format::Rgba32Float { 4 } else { 1 };
+        let channels = if image.format() == Format::Rgba32Float {
+            4
+        } else {
+            1
+        };
         let mut buffer = self.readback_buffer(32)?;
         buffer.write(&[u32::MAX, u32::MAX, u32::MAX, u32::MAX, 0, 0, 0, 0]);
         self.with_descriptor_set(image, &buffer, |set| {
@@ -306,7 +324,11 @@ impl Machine {
         let raw: Vec<u32> = buffer.read(8);
         let decode = |u: u32| -> f64 {
             if float {
-                let bits = if u & 0x8000_0000 != 0 { u & 0x7fff_ffff } else { !u };
+                let bits = if u & 0x8000_0000 != 0 {
+                    u & 0x7fff_ffff
+                } else {
+                    !u
+                };
                 f32::from_bits(bits) as f64
             } else {
                 u as f64
@@ -327,10 +349,14 @@ impl Machine {
     /// The histogram function (thesis §1.7) of one channel over `rect`, computed on
     /// the device; only the bin counts come back.
     pub fn histogram(&self, image: &Image, rect: PixelRect, bins: Bins) -> Result<Vec<u32>> {
-        if bins.bins == 0 || !(bins.width > 0.0) || !bins.low.is_finite() {
+        if bins.bins == 0 || bins.width.is_nan() || bins.width <= 0.0 || !bins.low.is_finite() {
             return Err(Error::InvalidInput(format!("histogram bins {bins:?}")));
         }
-        let channels = if image.format() == Format::Rgba32Float { 4 } else { 1 };
+        let channels = if image.format() == Format::Rgba32Float {
+            4
+        } else {
+            1
+        };
         if bins.channel >= channels {
             return Err(Error::InvalidInput(format!(
                 "channel {} of a {}-channel picture",

@@ -18,7 +18,7 @@ use crate::error::{Error, Result, VkContext};
 pub struct Target<'a> {
     /// The colour buffer(s) of the pixel: one image.
     pub color: Option<&'a Image>,
-    /// The z buffer and stencil.
+    /// The z buffer and stencil (`DepthStencil`), or the z buffer alone (`Depth`).
     pub depth_stencil: Option<&'a Image>,
 }
 
@@ -60,8 +60,14 @@ impl PixelRect {
     fn check_inside(&self, image: &Image) -> Result<()> {
         if self.width == 0
             || self.height == 0
-            || self.x.checked_add(self.width).is_none_or(|r| r > image.width())
-            || self.y.checked_add(self.height).is_none_or(|b| b > image.height())
+            || self
+                .x
+                .checked_add(self.width)
+                .is_none_or(|r| r > image.width())
+            || self
+                .y
+                .checked_add(self.height)
+                .is_none_or(|b| b > image.height())
         {
             return Err(Error::InvalidInput(format!(
                 "rectangle {self:?} is empty or not inside the {}x{} picture",
@@ -83,6 +89,8 @@ pub struct ConePush {
 
 /// An instanced draw of cones: `vertex_count` vertices of the unit fan mesh from
 /// `first_vertex`, once per instance in `first_instance..first_instance + count`.
+/// The mesh holds `[f32; 3]` unit vertices (cos, sin, h); each instance is five
+/// 32-bit words: site x, y, outer radius, truncation radius (floats) and the site id.
 #[derive(Clone, Copy)]
 pub struct ConeDraw<'a> {
     pub mesh: &'a Buffer,
@@ -135,7 +143,7 @@ impl RectDraw {
 
 struct Rendering {
     color: Option<Format>,
-    depth_stencil: bool,
+    depth: Option<Format>,
     width: u32,
     height: u32,
 }
@@ -163,7 +171,8 @@ impl<'m> Pass<'m> {
     /// Declares that `image` is used as `usage` from here on; records the barrier.
     pub(crate) fn use_image(&mut self, image: &Image, usage: Usage) {
         let from = image.last_use.get();
-        if let Some(barrier) = sync::image_barrier(image.raw, image.subresource_range(), from, usage)
+        if let Some(barrier) =
+            sync::image_barrier(image.raw, image.subresource_range(), from, usage)
         {
             let barriers = [barrier];
             let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
@@ -176,25 +185,32 @@ impl<'m> Pass<'m> {
     /// Begins rendering into `target`, clearing what `clear` names.
     pub fn begin(&mut self, target: Target<'_>, clear: Clear) -> Result<()> {
         if self.rendering.is_some() {
-            return Err(Error::InvalidInput("a rendering pass is already open".into()));
+            return Err(Error::InvalidInput(
+                "a rendering pass is already open".into(),
+            ));
         }
         let (width, height) = match (target.color, target.depth_stencil) {
             (Some(c), _) => (c.width(), c.height()),
             (None, Some(d)) => (d.width(), d.height()),
             (None, None) => {
-                return Err(Error::InvalidInput("a rendering pass needs a target".into()))
+                return Err(Error::InvalidInput(
+                    "a rendering pass needs a target".into(),
+                ))
             }
         };
         if let Some(d) = target.depth_stencil {
             if d.width() != width || d.height() != height || !d.format().is_depth() {
                 return Err(Error::InvalidInput(
-                    "depth/stencil target must be a DepthStencil image of the colour target's size".into(),
+                    "depth/stencil target must be a DepthStencil image of the colour target's size"
+                        .into(),
                 ));
             }
         }
         if let Some(c) = target.color {
             if c.format().is_depth() {
-                return Err(Error::InvalidInput("colour target has a depth format".into()));
+                return Err(Error::InvalidInput(
+                    "colour target has a depth format".into(),
+                ));
             }
             if clear.color.is_some() {
                 c.last_use.set(Usage::Undefined);
@@ -202,7 +218,7 @@ impl<'m> Pass<'m> {
             self.use_image(c, Usage::ColorAttachment);
         }
         if let Some(d) = target.depth_stencil {
-            if clear.depth.is_some() && clear.stencil.is_some() {
+            if clear.depth.is_some() && (clear.stencil.is_some() || !d.format().has_stencil()) {
                 d.last_use.set(Usage::Undefined);
             }
             self.use_image(d, Usage::DepthStencilAttachment);
@@ -258,8 +274,14 @@ impl<'m> Pass<'m> {
             .render_area(area)
             .layer_count(1)
             .color_attachments(&color_attachments);
-        if let (Some(d), Some(s)) = (depth_attachment.as_ref(), stencil_attachment.as_ref()) {
-            info = info.depth_attachment(d).stencil_attachment(s);
+        if let Some(d) = depth_attachment.as_ref() {
+            info = info.depth_attachment(d);
+        }
+        let has_stencil = target
+            .depth_stencil
+            .is_some_and(|d| d.format().has_stencil());
+        if let (Some(s), true) = (stencil_attachment.as_ref(), has_stencil) {
+            info = info.stencil_attachment(s);
         }
         let viewport = vk::Viewport {
             x: 0.0,
@@ -277,7 +299,7 @@ impl<'m> Pass<'m> {
         }
         self.rendering = Some(Rendering {
             color: target.color.map(|c| c.format()),
-            depth_stencil: target.depth_stencil.is_some(),
+            depth: target.depth_stencil.map(|d| d.format()),
             width,
             height,
         });
@@ -300,10 +322,10 @@ impl<'m> Pass<'m> {
             .rendering
             .as_ref()
             .ok_or_else(|| Error::InvalidInput("draw outside a rendering pass".into()))?;
-        let pipeline =
-            self.machine
-                .pipelines
-                .graphics(program, r.color, r.depth_stencil, state)?;
+        let pipeline = self
+            .machine
+            .pipelines
+            .graphics(program, r.color, r.depth, state)?;
         let [x, y, w, h] = params.scissor.unwrap_or([0, 0, r.width, r.height]);
         let x = x.min(r.width);
         let y = y.min(r.height);
@@ -355,7 +377,9 @@ impl<'m> Pass<'m> {
         draw: &ConeDraw<'_>,
     ) -> Result<()> {
         if program == Program::Rect {
-            return Err(Error::InvalidInput("draw_cones needs a cone program".into()));
+            return Err(Error::InvalidInput(
+                "draw_cones needs a cone program".into(),
+            ));
         }
         if draw.instance_count == 0 {
             return Ok(());
@@ -390,9 +414,18 @@ impl<'m> Pass<'m> {
     }
 
     /// Draws an axis-aligned rectangle of constant depth and colour.
-    pub fn draw_rect(&mut self, state: &RasterState, params: &DrawParams, rect: &RectDraw) -> Result<()> {
+    pub fn draw_rect(
+        &mut self,
+        state: &RasterState,
+        params: &DrawParams,
+        rect: &RectDraw,
+    ) -> Result<()> {
         self.bind(Program::Rect, state, params)?;
-        let r = self.rendering.as_ref().map(|r| (r.width, r.height)).unwrap_or((1, 1));
+        let r = self
+            .rendering
+            .as_ref()
+            .map(|r| (r.width, r.height))
+            .unwrap_or((1, 1));
         let v = rect.value.map(f32::to_bits);
         let words = [
             (r.0 as f32).to_bits(),
@@ -416,7 +449,12 @@ impl<'m> Pass<'m> {
 
     /// Copies `rect` of `image` (for depth/stencil: its depth) into `buffer`,
     /// row-major, tightly packed.
-    pub fn copy_to_buffer(&mut self, image: &Image, rect: PixelRect, buffer: &Buffer) -> Result<()> {
+    pub fn copy_to_buffer(
+        &mut self,
+        image: &Image,
+        rect: PixelRect,
+        buffer: &Buffer,
+    ) -> Result<()> {
         rect.check_inside(image)?;
         let bytes = rect.width as u64 * rect.height as u64 * image.format().texel_bytes();
         if bytes > buffer.size() {
@@ -454,7 +492,10 @@ impl<'m> Pass<'m> {
                 &[region],
             )
         };
-        self.host_barrier(vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
+        self.host_barrier(
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_WRITE,
+        );
         Ok(())
     }
 
@@ -493,7 +534,9 @@ impl<'m> Pass<'m> {
                 .src_stage_mask(vk::PipelineStageFlags2::HOST)
                 .src_access_mask(vk::AccessFlags2::HOST_WRITE)
                 .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE)];
+                .dst_access_mask(
+                    vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                )];
             device.cmd_pipeline_barrier2(
                 self.cmd,
                 &vk::DependencyInfo::default().memory_barriers(&host_write),
@@ -514,7 +557,8 @@ impl<'m> Pass<'m> {
                 0,
                 bytemuck::cast_slice(&words),
             );
-            device.cmd_dispatch(self.cmd, rect.width.div_ceil(16), rect.height.div_ceil(16), 1);
+            let (gx, gy) = kernel.groups(rect.width, rect.height);
+            device.cmd_dispatch(self.cmd, gx, gy, 1);
         }
         self.host_barrier(
             vk::PipelineStageFlags2::COMPUTE_SHADER,

@@ -32,6 +32,17 @@ pub enum Kernel {
     Histogram,
 }
 
+impl Kernel {
+    /// Workgroups covering a `width` x `height` rectangle (must match the shaders'
+    /// local sizes: minmax runs 64 columns x 64-row strips, histogram 16 x 16).
+    pub fn groups(self, width: u32, height: u32) -> (u32, u32) {
+        match self {
+            Kernel::MinMax => (width.div_ceil(64), height.div_ceil(64)),
+            Kernel::Histogram => (width.div_ceil(16), height.div_ceil(16)),
+        }
+    }
+}
+
 /// Bytes of push constants shared by all graphics programs.
 pub const GRAPHICS_PUSH_BYTES: u32 = 64;
 /// Bytes of push constants of the compute kernels.
@@ -41,7 +52,7 @@ pub const COMPUTE_PUSH_BYTES: u32 = 32;
 struct GraphicsKey {
     program: Program,
     color: Option<Format>,
-    depth_stencil: bool,
+    depth: Option<Format>,
     state: RasterState,
 }
 
@@ -131,19 +142,18 @@ impl Pipelines {
         self.modules.get(name).copied().unwrap_or_default()
     }
 
-    /// The pipeline for `program` drawing into `color` (and the depth/stencil
-    /// buffer when `depth_stencil`) with `state`.
+    /// The pipeline for `program` drawing into `color` and `depth` with `state`.
     pub fn graphics(
         &self,
         program: Program,
         color: Option<Format>,
-        depth_stencil: bool,
+        depth: Option<Format>,
         state: &RasterState,
     ) -> Result<vk::Pipeline> {
         let key = GraphicsKey {
             program,
             color,
-            depth_stencil,
+            depth,
             state: *state,
         };
         if let Some(p) = self.graphics.borrow().get(&key) {
@@ -167,12 +177,17 @@ impl Pipelines {
             ));
         }
         let (vertex, fragment, topology) = match key.program {
-            Program::ConeFan => ("cone.vert", "cone_fan.frag", vk::PrimitiveTopology::TRIANGLE_FAN),
+            Program::ConeFan => (
+                "cone.vert",
+                "cone_fan.frag",
+                vk::PrimitiveTopology::TRIANGLE_FAN,
+            ),
             Program::ConeExact => (
                 "cone.vert",
                 "cone_exact.frag",
                 vk::PrimitiveTopology::TRIANGLE_FAN,
             ),
+
             Program::Rect if uint_target => (
                 "rect.vert",
                 "rect.frag:uint",
@@ -184,7 +199,7 @@ impl Pipelines {
                 vk::PrimitiveTopology::TRIANGLE_STRIP,
             ),
         };
-        if matches!(key.program, Program::ConeFan | Program::ConeExact) && !uint_target {
+        if key.program != Program::Rect && !uint_target {
             return Err(Error::InvalidInput(
                 "cones write site ids and need an R32Uint colour target".into(),
             ));
@@ -206,7 +221,7 @@ impl Pipelines {
                 .input_rate(vk::VertexInputRate::VERTEX),
             vk::VertexInputBindingDescription::default()
                 .binding(1)
-                .stride(16)
+                .stride(20)
                 .input_rate(vk::VertexInputRate::INSTANCE),
         ];
         let cone_attributes = [
@@ -217,11 +232,11 @@ impl Pipelines {
             vk::VertexInputAttributeDescription::default()
                 .location(1)
                 .binding(1)
-                .format(vk::Format::R32G32B32_SFLOAT),
+                .format(vk::Format::R32G32B32A32_SFLOAT),
             vk::VertexInputAttributeDescription::default()
                 .location(2)
                 .binding(1)
-                .offset(12)
+                .offset(16)
                 .format(vk::Format::R32_UINT),
         ];
         let vertex_input = if key.program == Program::Rect {
@@ -231,8 +246,7 @@ impl Pipelines {
                 .vertex_binding_descriptions(&cone_bindings)
                 .vertex_attribute_descriptions(&cone_attributes)
         };
-        let input_assembly =
-            vk::PipelineInputAssemblyStateCreateInfo::default().topology(topology);
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(topology);
         let viewport = vk::PipelineViewportStateCreateInfo::default()
             .viewport_count(1)
             .scissor_count(1);
@@ -243,8 +257,11 @@ impl Pipelines {
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let depth_stencil = conv::map_depth_stencil(&key.state)
-            .depth_test_enable(key.depth_stencil)
-            .stencil_test_enable(key.depth_stencil && key.state.stencil != super::state::StencilTest::OFF);
+            .depth_test_enable(key.depth.is_some())
+            .stencil_test_enable(
+                key.depth.is_some_and(Format::has_stencil)
+                    && key.state.stencil != super::state::StencilTest::OFF,
+            );
         let (attachment, logic_op) = conv::map_color_update(&key.state);
         let attachments = [attachment];
         let mut blend = vk::PipelineColorBlendStateCreateInfo::default();
@@ -262,15 +279,15 @@ impl Pipelines {
         ];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
         let color_formats: Vec<vk::Format> = key.color.iter().map(|f| f.vk()).collect();
-        let ds_format = if key.depth_stencil {
-            Format::DepthStencil.vk()
-        } else {
-            vk::Format::UNDEFINED
+        let depth_format = key.depth.map_or(vk::Format::UNDEFINED, Format::vk);
+        let stencil_format = match key.depth {
+            Some(f) if f.has_stencil() => f.vk(),
+            _ => vk::Format::UNDEFINED,
         };
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(&color_formats)
-            .depth_attachment_format(ds_format)
-            .stencil_attachment_format(ds_format);
+            .depth_attachment_format(depth_format)
+            .stencil_attachment_format(stencil_format);
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
             .vertex_input_state(&vertex_input)
@@ -333,7 +350,9 @@ impl Pipelines {
             call: "vkCreateComputePipelines",
             result,
         })?;
-        self.compute.borrow_mut().insert((kernel, format), pipelines[0]);
+        self.compute
+            .borrow_mut()
+            .insert((kernel, format), pipelines[0]);
         Ok(pipelines[0])
     }
 

@@ -72,7 +72,10 @@ pub fn nearest_sites_grid(sites: &[DVec2], frame: &Frame) -> Vec<u32> {
                 let hi_y = (by + ring).min(gy - 1);
                 for cy in lo_y..=hi_y {
                     for cx in lo_x..=hi_x {
-                        let on_ring = cx + ring == bx || cx == bx + ring || cy + ring == by || cy == by + ring;
+                        let on_ring = cx + ring == bx
+                            || cx == bx + ring
+                            || cy + ring == by
+                            || cy == by + ring;
                         if on_ring {
                             for &i in &buckets[cy * gx + cx] {
                                 consider(&mut best, i);

@@ -1,1 +1,30 @@
-fn main(){}
+//! The pixgeo command-line tool.
+
+mod voronoi;
+
+use clap::{Parser, Subcommand};
+
+/// Planar geometry computed by rendering: Voronoi diagrams as the lower envelope of
+/// cones drawn with a depth test (M. Denny, Algorithmic Geometry via Graphics
+/// Hardware, 2003), on any Vulkan device; without a GPU on Mesa's lavapipe.
+///
+/// Environment: PIXGEO_DEVICE (auto, cpu, gpu, an index, or part of a device
+/// name) picks the device; PIXGEO_VALIDATION=1 turns on the Khronos validation
+/// layer and makes every message an error.
+#[derive(Parser)]
+#[command(name = "pixgeo", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Voronoi(voronoi::Args),
+}
+
+fn main() -> anyhow::Result<()> {
+    match Cli::parse().command {
+        Command::Voronoi(args) => voronoi::run(args),
+    }
+}

@@ -1,0 +1,254 @@
+//! `pixgeo voronoi`: the Voronoi diagram of point sites.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::Args as ClapArgs;
+use glam::DVec2;
+use pixgeo::{
+    algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
+    geometry::Frame,
+    io::{npy, picture, sites},
+    machine::{DeviceChoice, Machine, MachineOptions},
+};
+use serde_json::json;
+
+/// Computes the Voronoi diagram of point sites: which site is nearest to every
+/// pixel, and how far it is.
+///
+/// Each site gets a cone whose height is the distance to the site; drawn with a
+/// depth test, the lowest cone wins each pixel. Pixel (i, j) is centred at world
+/// point (i, j) unless --bbox maps another rectangle onto the picture; row 0 is
+/// the top row of the PNG.
+///
+/// Examples:
+///
+///   pixgeo voronoi --random 2000 --seed 1 --size 1024 -o voronoi.png
+///
+///   pixgeo voronoi --sites shops.csv --bbox 0,0,10,7.5 --size 800 --labels l.npy --distance d.npy --json
+///
+///   pixgeo voronoi --random 500 --mode fan:12 --no-speedup -o fan.png
+#[derive(ClapArgs)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// Site file: CSV with `x,y` per line (optional header) or JSON
+    /// (`[[x, y], ...]` or `{"sites": [...]}`).
+    #[arg(long, value_name = "FILE", conflicts_with = "random")]
+    sites: Option<PathBuf>,
+
+    /// Use N uniformly random sites over the picture instead of a file.
+    #[arg(long, value_name = "N")]
+    random: Option<usize>,
+
+    /// Seed of --random.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+
+    /// Picture size in pixels: `W` (square, or with --bbox the height follows the
+    /// box's aspect ratio) or `WxH`.
+    #[arg(long, default_value = "1024", value_parser = parse_size)]
+    size: (u32, Option<u32>),
+
+    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture (YMIN at row 0).
+    #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
+    bbox: Option<[f64; 4]>,
+
+    /// Accuracy: `exact` writes the exact distance per pixel (labels are nearest
+    /// sites); `fan` draws triangle fans sized for a distance error of --epsilon
+    /// pixels; `fan:T` draws every cone with T triangles (thesis §3.3).
+    #[arg(long, default_value = "exact", value_parser = parse_mode)]
+    mode: ModeArg,
+
+    /// Distance error bound in pixels for `--mode fan`.
+    #[arg(long, default_value_t = 1.0)]
+    epsilon: f64,
+
+    /// How far cones reach: `local` (a radius per site from its neighbourhood),
+    /// `quadtree` (thesis §3.5: one radius from the quadtree, retried while minmax
+    /// finds uncovered pixels), or `none` (picture-wide cones).
+    #[arg(long, default_value = "local", value_parser = parse_speedup)]
+    speedup: Speedup,
+
+    /// Same as `--speedup none`.
+    #[arg(long)]
+    no_speedup: bool,
+
+    /// Write a PNG picture: one colour per region, sites as dots.
+    #[arg(short = 'o', long = "output", value_name = "PICTURE.png")]
+    output: Option<PathBuf>,
+
+    /// Write the label map as .npy (uint32, H×W; 4294967295 = no site).
+    #[arg(long, value_name = "FILE.npy")]
+    labels: Option<PathBuf>,
+
+    /// Write the distance map as .npy (float32, H×W, world units).
+    #[arg(long, value_name = "FILE.npy")]
+    distance: Option<PathBuf>,
+
+    /// Print a JSON summary (timings, triangles, cone radii, passes, device).
+    #[arg(long)]
+    json: bool,
+
+    /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
+    #[arg(long)]
+    device: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum ModeArg {
+    Exact,
+    Fan(Option<u32>),
+}
+
+fn parse_size(s: &str) -> Result<(u32, Option<u32>), String> {
+    let parse = |t: &str| -> Result<u32, String> {
+        let v: u32 = t
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{t}` is not a pixel count"))?;
+        if v == 0 {
+            return Err("picture sides must be at least 1 pixel".into());
+        }
+        Ok(v)
+    };
+    match s.split_once(['x', 'X']) {
+        Some((w, h)) => Ok((parse(w)?, Some(parse(h)?))),
+        None => Ok((parse(s)?, None)),
+    }
+}
+
+fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("`{t}` is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    let arr: [f64; 4] = v
+        .try_into()
+        .map_err(|_| "need four numbers XMIN,YMIN,XMAX,YMAX".to_string())?;
+    if !arr.iter().all(|x| x.is_finite()) || arr[2] <= arr[0] || arr[3] <= arr[1] {
+        return Err("need finite XMIN < XMAX and YMIN < YMAX".into());
+    }
+    Ok(arr)
+}
+
+fn parse_mode(s: &str) -> Result<ModeArg, String> {
+    match s {
+        "exact" => Ok(ModeArg::Exact),
+        "fan" => Ok(ModeArg::Fan(None)),
+        _ => match s.strip_prefix("fan:") {
+            Some(t) => match t.parse::<u32>() {
+                Ok(t) if t >= 3 => Ok(ModeArg::Fan(Some(t))),
+                _ => Err(format!(
+                    "`{t}`: a fan needs an integer of at least 3 triangles"
+                )),
+            },
+            None => Err(format!("unknown mode `{s}`: use exact, fan or fan:T")),
+        },
+    }
+}
+
+fn parse_speedup(s: &str) -> Result<Speedup, String> {
+    match s {
+        "local" => Ok(Speedup::Local),
+        "quadtree" => Ok(Speedup::Quadtree),
+        "none" => Ok(Speedup::None),
+        _ => Err(format!(
+            "unknown speedup `{s}`: use local, quadtree or none"
+        )),
+    }
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let (width, height) = args.size;
+    let frame = match args.bbox {
+        Some(b) => Frame::with_bbox(width, height, b)?,
+        None => Frame::pixels(width, height.unwrap_or(width))?,
+    };
+    let sites: Vec<DVec2> = match (&args.sites, args.random) {
+        (Some(path), None) => sites::read_sites(path)?,
+        (None, Some(n)) => {
+            if n == 0 {
+                bail!("--random needs at least one site");
+            }
+            sites::random_sites(n, args.seed, &frame)
+        }
+        _ => bail!("give the sites: --sites FILE or --random N"),
+    };
+    let accuracy = match args.mode {
+        ModeArg::Exact => Accuracy::Exact,
+        ModeArg::Fan(triangles) => Accuracy::Fan {
+            epsilon: args.epsilon,
+            triangles,
+        },
+    };
+    let speedup = if args.no_speedup {
+        Speedup::None
+    } else {
+        args.speedup
+    };
+    let mut machine_options = MachineOptions::from_env();
+    if let Some(d) = &args.device {
+        machine_options.device = DeviceChoice::parse(d);
+    }
+    let machine = Machine::new(&machine_options).context("starting the pixel machine")?;
+    let diagram = voronoi(
+        &machine,
+        &sites,
+        &VoronoiOptions {
+            frame,
+            accuracy,
+            speedup,
+        },
+    )?;
+
+    let shape = [frame.height as u64, frame.width as u64];
+    if let Some(path) = &args.labels {
+        npy::write(path, &shape, &diagram.labels)?;
+    }
+    if let Some(path) = &args.distance {
+        npy::write(path, &shape, &diagram.distances)?;
+    }
+    if let Some(path) = &args.output {
+        let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+        let img = picture::label_picture(&diagram.labels, frame.width, frame.height, &pixels);
+        picture::save_png(&img, path)?;
+    }
+    let s = &diagram.stats;
+    if args.json {
+        let mode = match args.mode {
+            ModeArg::Exact => "exact".to_string(),
+            ModeArg::Fan(None) => format!("fan (epsilon {})", args.epsilon),
+            ModeArg::Fan(Some(t)) => format!("fan:{t}"),
+        };
+        let summary = json!({
+            "width": frame.width,
+            "height": frame.height,
+            "mode": mode,
+            "speedup": speedup,
+            "stats": s,
+        });
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        eprintln!(
+            "{} sites, {}x{} pixels on {}: {} cone(s) in {} pass(es), radius {:.1}..{:.1}, \
+             {:.1} ms rendering",
+            s.sites,
+            frame.width,
+            frame.height,
+            s.device,
+            s.cones,
+            s.passes,
+            s.radius_min,
+            s.radius_max,
+            s.render_ms
+        );
+        if let Some(p) = &args.output {
+            eprintln!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}
