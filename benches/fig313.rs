@@ -95,6 +95,7 @@ fn main() -> anyhow::Result<()> {
                 frame,
                 accuracy: c.accuracy,
                 speedup: c.speedup,
+                distances: false,
             },
         )?;
     }
@@ -115,10 +116,12 @@ fn main() -> anyhow::Result<()> {
                 row.push(None);
                 continue;
             }
+            // Labels only, like the peers: the label map is what they compute.
             let opts = VoronoiOptions {
                 frame,
                 accuracy: c.accuracy,
                 speedup: c.speedup,
+                distances: false,
             };
             let mut total = Vec::new();
             let mut render = Vec::new();
@@ -206,7 +209,7 @@ fn markdown(
     let mut s = format!(
         "Voronoi diagram of n uniform random sites, {SIZE}×{SIZE} pixels, on {} \
          (median of {repeats}; milliseconds, whole call: cone sizing, rendering, coverage \
-         check, readback of labels and distances; in brackets the rendering alone).\n\n",
+         check, readback of the label map; in brackets the rendering alone).\n\n",
         machine.device_name()
     );
     s.push_str("| n |");
@@ -254,6 +257,9 @@ fn markdown(
     );
     s
 }
+
+/// A peer's name, its points and its colour in the plot.
+type Series = (&'static str, Vec<(f64, f64)>, RGBColor);
 
 fn plot(
     path: &std::path::Path,
@@ -311,7 +317,7 @@ fn plot(
             });
         chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
     }
-    let peers: [(&str, Vec<(f64, f64)>, RGBColor); 2] = [
+    let peers: [Series; 2] = [
         (
             "scipy distance_transform_edt + indices",
             ns.iter()

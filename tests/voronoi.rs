@@ -31,6 +31,7 @@ fn run(
             frame,
             accuracy,
             speedup,
+            distances: true,
         },
     )
     .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
@@ -320,6 +321,7 @@ fn bad_input_is_a_clear_error() {
         frame,
         accuracy: Accuracy::Exact,
         speedup: Speedup::Local,
+        distances: true,
     };
     let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
     assert!(err(&[]).contains("empty"));

@@ -21,7 +21,9 @@ def label_map(sites, size):
     # Later sites overwrite earlier ones in the same pixel, like the lowest cone.
     ids[ij[:, 1], ij[:, 0]] = np.arange(len(sites))
     start = time.perf_counter()
-    _, (rows, cols) = ndimage.distance_transform_edt(ids < 0, return_indices=True)
+    rows, cols = ndimage.distance_transform_edt(
+        ids < 0, return_distances=False, return_indices=True
+    )
     labels = ids[rows, cols]
     return labels, (time.perf_counter() - start) * 1e3
 

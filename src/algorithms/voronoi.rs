@@ -68,6 +68,8 @@ pub struct VoronoiOptions {
     pub frame: Frame,
     pub accuracy: Accuracy,
     pub speedup: Speedup,
+    /// Whether to read back the distance map (the z buffer) as well as the labels.
+    pub distances: bool,
 }
 
 /// How the diagram was made.
@@ -103,7 +105,8 @@ pub struct VoronoiDiagram {
     pub height: u32,
     /// Nearest site per pixel, row-major (`[j][i]`); `u32::MAX` where no site is.
     pub labels: Vec<u32>,
-    /// Distance to that site in world units, row-major.
+    /// Distance to that site in world units, row-major; empty unless
+    /// [`VoronoiOptions::distances`].
     pub distances: Vec<f32>,
     pub stats: VoronoiStats,
 }
@@ -151,7 +154,7 @@ pub fn voronoi(
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     let picture = Picture {
         ids: machine.image(Format::R32Uint, frame.width, frame.height)?,
-        depth: machine.image(Format::DepthStencil, frame.width, frame.height)?,
+        depth: machine.image(Format::Depth, frame.width, frame.height)?,
     };
 
     let started = Instant::now();
@@ -197,10 +200,14 @@ pub fn voronoi(
     for (k, cones) in attempts.into_iter().enumerate() {
         stats.passes += 1;
         let fan_sizes = render(machine, &picture, &frame, &cones, options.accuracy)?;
-        let covered = machine
-            .minmax(&picture.ids, PixelRect::of(&picture.ids))?
-            .max[0]
-            < u32::MAX as f64;
+        // Picture-wide and local radii cover every pixel by construction; the
+        // quadtree's radius is checked with minmax, the thesis's way: a pixel no
+        // truncated cone reached keeps the "no site" id, the largest value.
+        let covered = options.speedup != Speedup::Quadtree
+            || machine
+                .minmax(&picture.ids, PixelRect::of(&picture.ids))?
+                .max[0]
+                < u32::MAX as f64;
         last = cones;
         stats.triangles = fan_sizes;
         if covered {
@@ -235,7 +242,11 @@ pub fn voronoi(
     let started = Instant::now();
     let rect = PixelRect::of(&picture.ids);
     let labels = machine.read_u32(&picture.ids, rect)?;
-    let mut distances = machine.read_f32(&picture.depth, rect)?;
+    let mut distances = if options.distances {
+        machine.read_f32(&picture.depth, rect)?
+    } else {
+        Vec::new()
+    };
     let scale = depth_scale(&last, options.accuracy);
     let to_world = (1.0 / frame.scale) as f32;
     let exact = options.accuracy == Accuracy::Exact;
@@ -275,18 +286,29 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
-/// Corners of an exact cone's footprint: one triangle around the disc it must
-/// cover. On lavapipe each triangle costs about a microsecond of setup, as much as
-/// several hundred fragments, so one triangle (area 5.2 r²) beats a square (two
-/// triangles, 4 r²) or an octagon (six, 3.3 r²) for the radii the speedups give.
-const EXACT_FOOTPRINT_CORNERS: u32 = 3;
+/// Corners of an exact cone's footprint, a regular polygon around the disc it must
+/// cover: a K-gon is K - 2 triangles of area `K tan(pi / K) r²`. On lavapipe a
+/// triangle costs about a microsecond of setup, as much as ~400 fragments, so small
+/// cones are single triangles (5.2 r²) and larger ones trade triangles for
+/// fragments: squares (4 r²), hexagons (3.5 r²), octagons (3.3 r²). The thresholds
+/// are where the measured costs cross.
+fn exact_footprint_corners(radius: f64) -> u32 {
+    match radius {
+        r if r < 18.0 => 3,
+        r if r < 37.0 => 4,
+        r if r < 70.0 => 6,
+        _ => 8,
+    }
+}
 
 /// The triangle fan each cone is drawn with.
 fn fan_shape(cone: &Cone, accuracy: Accuracy) -> FanShape {
     match accuracy {
         // The footprint of an exact cone only has to cover its radius: an octagon
         // wastes 5% of fragments over the circle, a square 27%.
-        Accuracy::Exact => FanShape::with_triangles(cone.radius, EXACT_FOOTPRINT_CORNERS),
+        Accuracy::Exact => {
+            FanShape::with_triangles(cone.radius, exact_footprint_corners(cone.radius))
+        }
         Accuracy::Fan {
             triangles: Some(t), ..
         } => FanShape::with_triangles(cone.radius, t),

@@ -111,37 +111,66 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
 /// the picture, so ring distances stay lower bounds.
 pub fn local_radii(sites: &[DVec2], frame: &Frame, cell: f64) -> Vec<f64> {
     let grid = Grid::new(sites, frame, cell);
+    // Squared radii: non-negative floats order like their bit patterns, so
+    // `fetch_max` on the bits is a maximum.
     let radii: Vec<AtomicU64> = (0..sites.len()).map(|_| AtomicU64::new(0)).collect();
-    (0..grid.ny).into_par_iter().for_each(|cy| {
-        for cx in 0..grid.nx {
-            let (lo, hi) = grid.cell_bounds(cx, cy);
-            let maxdist = |p: DVec2| ((p - (lo + hi) * 0.5).abs() + (hi - lo) * 0.5).length();
-            let mindist = |p: DVec2| (p.clamp(lo, hi) - p).length();
-            // U(B): rings of cells until no farther ring can hold a closer site.
-            let mut cover = f64::INFINITY;
-            let mut ring = 0;
-            while ring <= grid.max_ring() && (ring as f64 - 1.0) * grid.cell < cover {
-                grid.for_ring(cx, cy, ring, |i| cover = cover.min(maxdist(sites[i])));
-                ring += 1;
-            }
-            // Candidates: every site within U(B) of the cell.
-            let mut ring = 0;
-            while ring <= grid.max_ring() && (ring as f64 - 1.0) * grid.cell <= cover {
-                grid.for_ring(cx, cy, ring, |i| {
-                    let p = sites[i];
-                    if mindist(p) <= cover {
-                        // Non-negative floats order like their bit patterns.
-                        radii[i].fetch_max(cover.min(maxdist(p)).to_bits(), Ordering::Relaxed);
+    (0..grid.ny)
+        .into_par_iter()
+        .for_each_init(Vec::new, |seen, cy| {
+            for cx in 0..grid.nx {
+                let (lo, hi) = grid.cell_bounds(cx, cy);
+                let centre = (lo + hi) * 0.5;
+                let half = (hi - lo) * 0.5;
+                let maxdist2 = |p: DVec2| ((p - centre).abs() + half).length_squared();
+                let mindist2 = |p: DVec2| (p.clamp(lo, hi) - p).length_squared();
+                // U(B)²: rings of cells until no farther ring can hold a closer site
+                // (a site in ring k is at least (k - 1) cells away). The sites seen on
+                // the way are the first candidates.
+                seen.clear();
+                let mut cover2 = f64::INFINITY;
+                let mut ring = 0;
+                while ring <= grid.max_ring() && ring_gap2(ring, grid.cell) < cover2 {
+                    grid.for_ring(cx, cy, ring, |i, p| {
+                        cover2 = cover2.min(maxdist2(p));
+                        seen.push(i);
+                    });
+                    ring += 1;
+                }
+                // Candidates: every site within U(B) of the cell.
+                let mut raise = |i: u32, p: DVec2| {
+                    if mindist2(p) <= cover2 {
+                        let need = cover2.min(maxdist2(p)).to_bits();
+                        // Read first: most candidates do not raise the radius, and a
+                        // plain load is far cheaper than fetch_max's CAS loop.
+                        let r = &radii[i as usize];
+                        if r.load(Ordering::Relaxed) < need {
+                            r.fetch_max(need, Ordering::Relaxed);
+                        }
                     }
-                });
-                ring += 1;
+                };
+                for &i in seen.iter() {
+                    raise(i, sites[i as usize]);
+                }
+                while ring <= grid.max_ring() && ring_gap2(ring, grid.cell) <= cover2 {
+                    grid.for_ring(cx, cy, ring, &mut raise);
+                    ring += 1;
+                }
             }
-        }
-    });
+        });
     radii
         .into_iter()
-        .map(|r| f64::from_bits(r.into_inner()))
+        .map(|r| f64::from_bits(r.into_inner()).sqrt())
         .collect()
+}
+
+/// Squared lower bound on the distance from a cell to sites `ring` cells away.
+fn ring_gap2(ring: usize, cell: f64) -> f64 {
+    let gap = (ring as f64 - 1.0).max(0.0) * cell;
+    if ring == 0 {
+        f64::NEG_INFINITY
+    } else {
+        gap * gap
+    }
 }
 
 /// Site indices binned into square cells over the picture's pixel centres.
@@ -149,9 +178,11 @@ struct Grid {
     cell: f64,
     nx: usize,
     ny: usize,
-    /// Sites of cell (x, y) are `order[start[y * nx + x]..start[y * nx + x + 1]]`.
+    /// Sites of cell (x, y) are `order[start[y * nx + x]..start[y * nx + x + 1]]`,
+    /// their positions at the same indices of `position`.
     start: Vec<u32>,
     order: Vec<u32>,
+    position: Vec<DVec2>,
 }
 
 impl Grid {
@@ -178,12 +209,14 @@ impl Grid {
             order[fill[k] as usize] = i as u32;
             fill[k] += 1;
         }
+        let position = order.iter().map(|&i| sites[i as usize]).collect();
         Self {
             cell,
             nx,
             ny,
             start,
             order,
+            position,
         }
     }
 
@@ -198,30 +231,35 @@ impl Grid {
         self.nx.max(self.ny)
     }
 
-    /// Calls `f` for every site in the cells at Chebyshev distance `ring` from
-    /// (cx, cy).
-    fn for_ring(&self, cx: usize, cy: usize, ring: usize, mut f: impl FnMut(usize)) {
-        let (x0, x1) = (cx as isize - ring as isize, cx as isize + ring as isize);
-        let (y0, y1) = (cy as isize - ring as isize, cy as isize + ring as isize);
-        let mut visit = |x: isize, y: isize| {
-            if x >= 0 && y >= 0 && (x as usize) < self.nx && (y as usize) < self.ny {
-                let k = y as usize * self.nx + x as usize;
-                for &i in &self.order[self.start[k] as usize..self.start[k + 1] as usize] {
-                    f(i as usize);
-                }
+    /// Calls `f(index, position)` for every site in the cells at Chebyshev
+    /// distance `ring` from (cx, cy).
+    fn for_ring(&self, cx: usize, cy: usize, ring: usize, mut f: impl FnMut(u32, DVec2)) {
+        let (cx, cy, r) = (cx as isize, cy as isize, ring as isize);
+        let (nx, ny) = (self.nx as isize, self.ny as isize);
+        // The cells of row y from x0 to x1 are contiguous in `order`.
+        let mut span = |y: isize, x0: isize, x1: isize| {
+            let (x0, x1) = (x0.max(0), x1.min(nx - 1));
+            if y < 0 || y >= ny || x0 > x1 {
+                return;
+            }
+            let row = y as usize * self.nx;
+            let (a, b) = (
+                self.start[row + x0 as usize] as usize,
+                self.start[row + x1 as usize + 1] as usize,
+            );
+            for (&i, &p) in self.order[a..b].iter().zip(&self.position[a..b]) {
+                f(i, p);
             }
         };
-        if ring == 0 {
-            visit(x0, y0);
+        if r == 0 {
+            span(cy, cx, cx);
             return;
         }
-        for x in x0..=x1 {
-            visit(x, y0);
-            visit(x, y1);
-        }
-        for y in y0 + 1..y1 {
-            visit(x0, y);
-            visit(x1, y);
+        span(cy - r, cx - r, cx + r);
+        span(cy + r, cx - r, cx + r);
+        for y in cy - r + 1..cy + r {
+            span(y, cx - r, cx - r);
+            span(y, cx + r, cx + r);
         }
     }
 }

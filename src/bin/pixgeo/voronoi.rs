@@ -202,6 +202,7 @@ pub fn run(args: Args) -> Result<()> {
             frame,
             accuracy,
             speedup,
+            distances: args.distance.is_some(),
         },
     )?;
 
