@@ -292,12 +292,12 @@ fn plot(
         .x_label_area_size(45)
         .y_label_area_size(70)
         .build_cartesian_2d(
-            0f64..*ns.last().unwrap_or(&1) as f64 * 1.02,
-            (1f64..max_t * 1.5).log_scale(),
+            (ns[0] as f64 * 0.8..*ns.last().unwrap_or(&1) as f64 * 1.25).log_scale(),
+            (5f64..max_t * 1.5).log_scale(),
         )?;
     chart
         .configure_mesh()
-        .x_desc("number of sites n")
+        .x_desc("number of sites n (log scale)")
         .y_desc("milliseconds (log scale)")
         .label_style(("sans-serif", 16))
         .draw()?;

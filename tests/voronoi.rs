@@ -84,7 +84,9 @@ fn assert_fan(
 ) {
     let (nearest, best) = nearest_sites_brute_force(sites, frame);
     let w = frame.width as usize;
-    let tol = 1e-3;
+    // Fan vertices are snapped to the rasterizer's subpixel grid (1/256 pixel on
+    // lavapipe); with cone slope 1 that moves depths by about as much.
+    let tol = 1e-2;
     let mut mislabelled = 0;
     for (k, &label) in d.labels.iter().enumerate() {
         let q = DVec2::new((k % w) as f64, (k / w) as f64);

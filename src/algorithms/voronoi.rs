@@ -176,20 +176,20 @@ pub fn voronoi(
             .filter(|c| c.radius > 0.0 && frame.distance_to_pixels(c.site) <= c.radius)
             .collect()
     };
-    let mut attempts: Vec<Vec<Cone>> = Vec::new();
+    // The cones of each pass to try, with the quadtree radius it uses (if any).
+    let mut attempts: Vec<(Option<f64>, Vec<Cone>)> = Vec::new();
     match options.speedup {
-        Speedup::None => attempts.push(cones_with(&|i| picture_wide[i])),
+        Speedup::None => attempts.push((None, cones_with(&|i| picture_wide[i]))),
         Speedup::Local => {
-            let cell = radius::default_cell(&frame, pixels.len());
-            let radii = radius::local_radii(&pixels, &frame, cell);
-            attempts.push(cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])));
+            let (cell, bin) = radius::default_cell_and_bin(&frame, pixels.len());
+            let radii = radius::local_radii(&pixels, &frame, cell, bin);
+            attempts.push((None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i]))));
         }
         Speedup::Quadtree => {
             let bounds = radius::quadtree_width_bounds(&pixels, &frame);
             let widest = picture_wide.iter().copied().fold(0.0, f64::max);
             for r in radius::retry_radii(&bounds, widest) {
-                stats.radii_tried.push(r);
-                attempts.push(cones_with(&|i| (r + 0.5).min(picture_wide[i])));
+                attempts.push((Some(r), cones_with(&|i| (r + 0.5).min(picture_wide[i]))));
             }
         }
     }
@@ -197,8 +197,10 @@ pub fn voronoi(
 
     let started = Instant::now();
     let mut last = Vec::new();
-    for (k, cones) in attempts.into_iter().enumerate() {
+    let tries = attempts.len();
+    for (k, (radius, cones)) in attempts.into_iter().enumerate() {
         stats.passes += 1;
+        stats.radii_tried.extend(radius);
         let fan_sizes = render(machine, &picture, &frame, &cones, options.accuracy)?;
         // Picture-wide and local radii cover every pixel by construction; the
         // quadtree's radius is checked with minmax, the thesis's way: a pixel no
@@ -213,7 +215,7 @@ pub fn voronoi(
         if covered {
             break;
         }
-        if options.speedup != Speedup::Quadtree || k + 1 == stats.radii_tried.len() {
+        if k + 1 == tries {
             // Only the quadtree's short radii may leave pixels uncovered; anything
             // else is a bug worth reporting rather than a wrong picture.
             return Err(Error::InvalidInput(

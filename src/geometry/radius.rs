@@ -80,15 +80,17 @@ pub fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
 }
 
 /// The radii of the thesis's retry loop: start a little above the lower bound
-/// (`lower * sqrt 2`), double, and end at the upper bound — or, when the quadtree
-/// gives none, at the radius that covers the picture from every site.
+/// (`lower * sqrt 2`), step by `sqrt 2` and end at the upper bound — or, when the
+/// quadtree gives none, at the radius that covers the picture from every site.
+/// Steps of `sqrt 2` rather than 2: a pass costs about the square of its radius,
+/// so overshooting the needed radius by up to 2x would cost up to 4x.
 pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
     let last = bounds.upper.unwrap_or(picture_wide).min(picture_wide);
     let mut r = (bounds.lower * 2f64.sqrt()).min(last);
     let mut out = Vec::new();
-    while r < last {
+    while r < last * 0.99 {
         out.push(r);
-        r *= 2.0;
+        r *= std::f64::consts::SQRT_2;
     }
     out.push(last);
     out
@@ -97,7 +99,8 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
 /// A radius per site that its cone must reach: every pixel centre owned by site s
 /// is within `radii[s]` of it (a site that owns no pixel may get 0).
 ///
-/// The picture is cut into square cells of side `cell`. For a cell B, U(B) is the
+/// The picture is cut into square cells of side `cell` (rounded to whole pixels).
+/// For a cell B, U(B) is the
 /// smallest over sites of the distance to B's farthest point: every point of B has
 /// a site within U(B), so its owner s is within U(B) and has `mindist(s, B) <= U(B)`.
 /// Each such candidate needs `min(U(B), maxdist(s, B))`. As cells shrink, the radius
@@ -106,57 +109,64 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
 /// quarter still reaches across it: the thesis's worst case costs only the cones
 /// that need the reach.
 ///
-/// Sites are binned into the same cells, those outside the picture into the nearest
-/// border cell: projecting onto the picture never moves a site closer to a point of
-/// the picture, so ring distances stay lower bounds.
-pub fn local_radii(sites: &[DVec2], frame: &Frame, cell: f64) -> Vec<f64> {
-    let grid = Grid::new(sites, frame, cell);
+/// Sites are found through square bins of side `bin` (about one site each), those
+/// outside the picture in the nearest border bin: projecting onto the picture never
+/// moves a site closer to a point of the picture, so ring distances stay lower
+/// bounds.
+pub fn local_radii(sites: &[DVec2], frame: &Frame, cell: f64, bin: f64) -> Vec<f64> {
+    // Whole pixels: then [lo, hi] below holds exactly the cell's pixel centres.
+    let cell = cell.round().max(1.0);
+    let bins = Grid::new(sites, frame, bin.max(cell));
+    let nx = (frame.width as f64 / cell).ceil() as usize;
+    let ny = (frame.height as f64 / cell).ceil() as usize;
+    let (w, h) = ((frame.width - 1) as f64, (frame.height - 1) as f64);
     // Squared radii: non-negative floats order like their bit patterns, so
     // `fetch_max` on the bits is a maximum.
     let radii: Vec<AtomicU64> = (0..sites.len()).map(|_| AtomicU64::new(0)).collect();
-    (0..grid.ny)
-        .into_par_iter()
-        .for_each_init(Vec::new, |seen, cy| {
-            for cx in 0..grid.nx {
-                let (lo, hi) = grid.cell_bounds(cx, cy);
-                let centre = (lo + hi) * 0.5;
-                let half = (hi - lo) * 0.5;
-                let maxdist2 = |p: DVec2| ((p - centre).abs() + half).length_squared();
-                let mindist2 = |p: DVec2| (p.clamp(lo, hi) - p).length_squared();
-                // U(B)²: rings of cells until no farther ring can hold a closer site
-                // (a site in ring k is at least (k - 1) cells away). The sites seen on
-                // the way are the first candidates.
-                seen.clear();
-                let mut cover2 = f64::INFINITY;
-                let mut ring = 0;
-                while ring <= grid.max_ring() && ring_gap2(ring, grid.cell) < cover2 {
-                    grid.for_ring(cx, cy, ring, |i, p| {
-                        cover2 = cover2.min(maxdist2(p));
-                        seen.push(i);
-                    });
-                    ring += 1;
-                }
-                // Candidates: every site within U(B) of the cell.
-                let mut raise = |i: u32, p: DVec2| {
-                    if mindist2(p) <= cover2 {
-                        let need = cover2.min(maxdist2(p)).to_bits();
-                        // Read first: most candidates do not raise the radius, and a
-                        // plain load is far cheaper than fetch_max's CAS loop.
-                        let r = &radii[i as usize];
-                        if r.load(Ordering::Relaxed) < need {
-                            r.fetch_max(need, Ordering::Relaxed);
-                        }
-                    }
-                };
-                for &i in seen.iter() {
-                    raise(i, sites[i as usize]);
-                }
-                while ring <= grid.max_ring() && ring_gap2(ring, grid.cell) <= cover2 {
-                    grid.for_ring(cx, cy, ring, &mut raise);
-                    ring += 1;
-                }
+    (0..ny).into_par_iter().for_each_init(Vec::new, |seen, cy| {
+        for cx in 0..nx {
+            // The cell's pixel centres span [lo, hi].
+            let lo = DVec2::new(cx as f64, cy as f64) * cell;
+            let hi = (lo + cell - 1.0).min(DVec2::new(w, h)).max(lo);
+            let centre = (lo + hi) * 0.5;
+            let half = (hi - lo) * 0.5;
+            let maxdist2 = |p: DVec2| ((p - centre).abs() + half).length_squared();
+            let mindist2 = |p: DVec2| (p.clamp(lo, hi) - p).length_squared();
+            let rect = bins.bins_of(lo, hi);
+            // U(B)²: rings of bins until no farther ring can hold a closer site (a
+            // site in ring k is at least k - 1 bins away). The sites seen on the way
+            // are the first candidates.
+            seen.clear();
+            let mut cover2 = f64::INFINITY;
+            let mut ring = 0;
+            while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < cover2 {
+                bins.for_ring(rect, ring, |i, p| {
+                    cover2 = cover2.min(maxdist2(p));
+                    seen.push((i, p));
+                });
+                ring += 1;
             }
-        });
+            // Candidates: every site within U(B) of the cell.
+            let mut raise = |i: u32, p: DVec2| {
+                if mindist2(p) <= cover2 {
+                    let need = cover2.min(maxdist2(p)).to_bits();
+                    // Read first: most candidates do not raise the radius, and a
+                    // plain load is far cheaper than fetch_max's CAS loop.
+                    let r = &radii[i as usize];
+                    if r.load(Ordering::Relaxed) < need {
+                        r.fetch_max(need, Ordering::Relaxed);
+                    }
+                }
+            };
+            for &(i, p) in seen.iter() {
+                raise(i, p);
+            }
+            while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) <= cover2 {
+                bins.for_ring(rect, ring, &mut raise);
+                ring += 1;
+            }
+        }
+    });
     radii
         .into_iter()
         .map(|r| f64::from_bits(r.into_inner()).sqrt())
@@ -220,54 +230,63 @@ impl Grid {
         }
     }
 
-    /// The pixel centres of cell (cx, cy) span `[lo, hi]`.
-    fn cell_bounds(&self, cx: usize, cy: usize) -> (DVec2, DVec2) {
-        let lo = DVec2::new(cx as f64, cy as f64) * self.cell;
-        let hi = lo + self.cell - 1.0;
-        (lo, hi.max(lo))
+    /// The rectangle of bins `[x0, x1] x [y0, y1]` holding the points of `[lo, hi]`.
+    fn bins_of(&self, lo: DVec2, hi: DVec2) -> [isize; 4] {
+        let index =
+            |v: f64, n: usize| ((v + 0.5) / self.cell).floor().clamp(0.0, (n - 1) as f64) as isize;
+        [
+            index(lo.x, self.nx),
+            index(lo.y, self.ny),
+            index(hi.x, self.nx),
+            index(hi.y, self.ny),
+        ]
     }
 
     fn max_ring(&self) -> usize {
         self.nx.max(self.ny)
     }
 
-    /// Calls `f(index, position)` for every site in the cells at Chebyshev
-    /// distance `ring` from (cx, cy).
-    fn for_ring(&self, cx: usize, cy: usize, ring: usize, mut f: impl FnMut(u32, DVec2)) {
-        let (cx, cy, r) = (cx as isize, cy as isize, ring as isize);
+    /// Calls `f(index, position)` for every site in the bins at Chebyshev
+    /// distance `ring` from the bin rectangle `[x0, y0, x1, y1]`.
+    fn for_ring(&self, [x0, y0, x1, y1]: [isize; 4], ring: usize, mut f: impl FnMut(u32, DVec2)) {
+        let r = ring as isize;
         let (nx, ny) = (self.nx as isize, self.ny as isize);
-        // The cells of row y from x0 to x1 are contiguous in `order`.
-        let mut span = |y: isize, x0: isize, x1: isize| {
-            let (x0, x1) = (x0.max(0), x1.min(nx - 1));
-            if y < 0 || y >= ny || x0 > x1 {
+        // The bins of row y from x0 to x1 are contiguous in `order`.
+        let mut span = |y: isize, a: isize, b: isize| {
+            let (a, b) = (a.max(0), b.min(nx - 1));
+            if y < 0 || y >= ny || a > b {
                 return;
             }
             let row = y as usize * self.nx;
-            let (a, b) = (
-                self.start[row + x0 as usize] as usize,
-                self.start[row + x1 as usize + 1] as usize,
+            let (from, to) = (
+                self.start[row + a as usize] as usize,
+                self.start[row + b as usize + 1] as usize,
             );
-            for (&i, &p) in self.order[a..b].iter().zip(&self.position[a..b]) {
+            for (&i, &p) in self.order[from..to].iter().zip(&self.position[from..to]) {
                 f(i, p);
             }
         };
         if r == 0 {
-            span(cy, cx, cx);
+            for y in y0..=y1 {
+                span(y, x0, x1);
+            }
             return;
         }
-        span(cy - r, cx - r, cx + r);
-        span(cy + r, cx - r, cx + r);
-        for y in cy - r + 1..cy + r {
-            span(y, cx - r, cx - r);
-            span(y, cx + r, cx + r);
+        span(y0 - r, x0 - r, x1 + r);
+        span(y1 + r, x0 - r, x1 + r);
+        for y in y0 - r + 1..y1 + r {
+            span(y, x0 - r, x0 - r);
+            span(y, x1 + r, x1 + r);
         }
     }
 }
 
-/// The cell side for [`local_radii`]: half the mean site spacing, between 2
-/// and 64 pixels. Smaller cells give tighter radii for more CPU work.
-pub fn default_cell(frame: &Frame, sites: usize) -> f64 {
-    ((frame.len() as f64 / sites.max(1) as f64).sqrt() / 2.0).clamp(2.0, 64.0)
+/// The cell and bin sides for [`local_radii`]: cells a third of the mean site
+/// spacing (at least 2 pixels), bins the spacing itself. Smaller cells give
+/// tighter radii for more CPU work.
+pub fn default_cell_and_bin(frame: &Frame, sites: usize) -> (f64, f64) {
+    let spacing = (frame.len() as f64 / sites.max(1) as f64).sqrt();
+    ((spacing / 3.0).clamp(2.0, 64.0), spacing.clamp(2.0, 256.0))
 }
 
 #[cfg(test)]
@@ -284,22 +303,31 @@ mod tests {
     #[test]
     fn local_radii_reach_every_owned_pixel() {
         let frame = Frame::pixels(61, 47).unwrap();
-        // Clustered in one quarter, plus one site outside the picture.
+        // Clustered in one quarter, a regular row, and sites outside the picture.
         let mut sites: Vec<DVec2> = (0..40)
             .map(|i| DVec2::new((i * 7 % 23) as f64 * 0.9, (i * 11 % 19) as f64 * 1.1))
             .collect();
-        sites.push(DVec2::new(80.0, -10.0));
-        let radii = local_radii(&sites, &frame, 6.0);
-        for y in 0..47 {
-            for x in 0..61 {
-                let q = DVec2::new(x as f64, y as f64);
-                let d = nearest(&sites, q);
-                let owners = sites
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, s)| ((**s - q).length() - d).abs() < 1e-12);
-                for (i, s) in owners {
-                    assert!((*s - q).length() <= radii[i] + 1e-9, "pixel {q} site {i}");
+        sites.extend((0..6).map(|i| DVec2::new(10.0 * i as f64, 40.0)));
+        sites.extend([
+            DVec2::new(80.0, -10.0),
+            DVec2::new(-3.0, 30.0),
+            DVec2::new(30.0, 47.2),
+        ]);
+        for (cell, bin) in [(1.0, 1.0), (3.0, 7.0), (2.5, 10.0), (6.0, 6.0), (4.0, 64.0)] {
+            let radii = local_radii(&sites, &frame, cell, bin);
+            for y in 0..47 {
+                for x in 0..61 {
+                    let q = DVec2::new(x as f64, y as f64);
+                    let d = nearest(&sites, q);
+                    for (i, s) in sites.iter().enumerate() {
+                        if ((*s - q).length() - d).abs() < 1e-12 {
+                            assert!(
+                                d <= radii[i] + 1e-9,
+                                "cell {cell} bin {bin}: pixel {q} site {i} at {d} > {}",
+                                radii[i]
+                            );
+                        }
+                    }
                 }
             }
         }
