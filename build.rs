@@ -3,6 +3,7 @@
 //!
 //! A shader whose first line reads `// variants: A B C` is compiled once per name,
 //! with that name defined as a macro; the variant's constant is `FILE_STEM_A`.
+//! Every shader also sees `STAGE_VERT`, `STAGE_FRAG` or `STAGE_COMP` defined.
 
 use std::{env, fmt::Write as _, fs, path::Path};
 
@@ -67,6 +68,8 @@ fn main() {
             if let Some(v) = variant {
                 options.add_macro_definition(v, Some("1"));
             }
+            // Lets shared include files offer stage-specific helpers.
+            options.add_macro_definition(&format!("STAGE_{}", ext.to_uppercase()), Some("1"));
             let name = path.display().to_string();
             let artifact = compiler
                 .compile_into_spirv(&source, kind, &name, "main", Some(&options))

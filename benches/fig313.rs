@@ -96,6 +96,7 @@ fn main() -> anyhow::Result<()> {
                 accuracy: c.accuracy,
                 speedup: c.speedup,
                 distances: false,
+                max_tile: None,
             },
         )?;
     }
@@ -122,6 +123,7 @@ fn main() -> anyhow::Result<()> {
                 accuracy: c.accuracy,
                 speedup: c.speedup,
                 distances: false,
+                max_tile: None,
             };
             let mut total = Vec::new();
             let mut render = Vec::new();

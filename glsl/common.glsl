@@ -1,9 +1,24 @@
-// Push constants shared by the cone programs (see src/machine/pipelines.rs).
+// Push constants shared by the cone programs (see src/machine/pass.rs, ConePush).
 layout(push_constant) uniform Picture {
-    // Picture size in pixels; pixel (i, j) is centred at world (i, j).
+    // Target size in pixels.
     vec2 size;
+    // The picture pixel shown at the target's pixel (0, 0): a tile's origin. Picture
+    // pixel (i, j) is centred at pixel coordinates (i, j).
+    vec2 offset;
     // Depth of a fan vertex = its cone height times this (0 for exact cones).
     float vertex_depth_scale;
     // Depth written by an exact cone = squared distance times this.
     float fragment_depth_scale;
 } picture;
+
+#ifdef STAGE_FRAG
+// The pixel coordinates of the fragment's pixel centre.
+vec2 fragment_pixel() {
+    return gl_FragCoord.xy - 0.5 + picture.offset;
+}
+#else
+// Pixel coordinates (i, j) -> normalized device coordinates of the target.
+vec2 to_ndc(vec2 p) {
+    return (p - picture.offset + 0.5) / picture.size * 2.0 - 1.0;
+}
+#endif

@@ -13,7 +13,7 @@ layout(location = 1) flat out vec3 out_site;  // (x, y, truncation radius)
 
 void main() {
     vec2 world = site.xy + unit_vertex.xy * site.z;
-    vec2 ndc = (world + 0.5) / picture.size * 2.0 - 1.0;
+    vec2 ndc = to_ndc(world);
     float depth = unit_vertex.z * site.z * picture.vertex_depth_scale;
     gl_Position = vec4(ndc, depth, 1.0);
     out_id = site_id;

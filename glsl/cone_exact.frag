@@ -11,7 +11,7 @@ layout(location = 1) flat in vec3 site;
 layout(location = 0) out uint out_id;
 
 void main() {
-    vec2 d = (gl_FragCoord.xy - 0.5) - site.xy;
+    vec2 d = fragment_pixel() - site.xy;
     float d2 = dot(d, d);
     if (d2 > site.z * site.z) {
         discard;

@@ -26,8 +26,8 @@ pub enum Error {
     /// The input is not something pixgeo can compute with.
     #[error("invalid input: {0}")]
     InvalidInput(String),
-    /// The picture is larger than the device allows.
-    #[error("picture {width}x{height} is larger than the device allows ({limit}x{limit})")]
+    /// The picture (or one image of the device) is larger than allowed.
+    #[error("picture {width}x{height} is too large: sides of at most {limit} pixels")]
     PictureTooLarge { width: u32, height: u32, limit: u32 },
     /// A file could not be read or written.
     #[error("{path}: {source}")]

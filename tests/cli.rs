@@ -81,7 +81,11 @@ fn random_sites_with_bbox_and_fan_mode() {
         (summary["width"].clone(), summary["height"].clone()),
         (80.into(), 40.into())
     );
-    assert_eq!(summary["stats"]["triangles"][0][0], 16);
+    let group = &summary["stats"]["groups"][0];
+    assert_eq!(
+        (group["kind"].as_str(), group["size"].as_u64()),
+        (Some("fan"), Some(16))
+    );
 }
 
 #[test]
@@ -114,7 +118,7 @@ fn bad_input_fails_with_a_message() {
                     "--size".into(),
                     "99999999".into(),
                 ],
-                "larger than the device",
+                "too large",
             ),
             (
                 vec![

@@ -32,6 +32,7 @@ fn run(
             accuracy,
             speedup,
             distances: true,
+            max_tile: None,
         },
     )
     .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
@@ -324,6 +325,7 @@ fn bad_input_is_a_clear_error() {
         accuracy: Accuracy::Exact,
         speedup: Speedup::Local,
         distances: true,
+        max_tile: None,
     };
     let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
     assert!(err(&[]).contains("empty"));
@@ -331,7 +333,7 @@ fn bad_input_is_a_clear_error() {
     assert!(err(&[DVec2::new(1.0, f64::INFINITY)]).contains("non-finite"));
     assert!(Frame::pixels(0, 5).is_err());
     let big = Frame {
-        width: m.max_picture_side() + 1,
+        width: Frame::MAX_SIDE + 1,
         ..frame
     };
     let e = voronoi(&m, &[DVec2::ZERO], &VoronoiOptions { frame: big, ..opts }).unwrap_err();
@@ -344,4 +346,83 @@ fn bad_input_is_a_clear_error() {
         ..opts
     };
     assert!(voronoi(&m, &[DVec2::ZERO], &bad_fan).is_err());
+}
+
+#[test]
+fn tiles_give_the_same_diagram_pixel_for_pixel() {
+    let m = machine();
+    let (w, h) = (173u32, 131u32);
+    let frame = Frame::pixels(w, h).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let mut sites = uniform(&mut rng, 150, w as f64, h as f64);
+    // Sites on and beside tile borders (tiles of 40), on the integer lattice so that
+    // exact ties abound, and outside the picture.
+    for k in 0..12 {
+        sites.push(DVec2::new(
+            40.0 * (k % 4) as f64,
+            40.0 * (k / 4) as f64 + 0.5,
+        ));
+        sites.push(DVec2::new(
+            39.0 + 40.0 * (k % 4) as f64,
+            20.0 + 40.0 * (k / 4) as f64,
+        ));
+    }
+    sites.extend([
+        DVec2::new(-12.0, 60.0),
+        DVec2::new(w as f64 + 30.0, -8.0),
+        DVec2::new(90.0, h as f64 + 5.0),
+    ]);
+    for speedup in [Speedup::Local, Speedup::Quadtree] {
+        let options = |max_tile| VoronoiOptions {
+            frame,
+            accuracy: Accuracy::Exact,
+            speedup,
+            distances: true,
+            max_tile,
+        };
+        let whole = voronoi(&m, &sites, &options(None)).unwrap();
+        assert_eq!(whole.stats.tiles, 1);
+        assert_exact(&whole, &sites, &frame, "whole");
+        for tile in [40, 64, 100] {
+            let tiled = voronoi(&m, &sites, &options(Some(tile))).unwrap();
+            assert_eq!(
+                tiled.stats.tiles,
+                (w.div_ceil(tile) * h.div_ceil(tile)) as usize
+            );
+            assert!(
+                whole.labels == tiled.labels,
+                "{speedup:?} tile {tile}: {} labels differ",
+                whole
+                    .labels
+                    .iter()
+                    .zip(&tiled.labels)
+                    .filter(|(a, b)| a != b)
+                    .count()
+            );
+            assert_eq!(whole.distances, tiled.distances, "{speedup:?} tile {tile}");
+        }
+    }
+    // Fan cones are bounded the same way in every tile.
+    let fan = VoronoiOptions {
+        frame,
+        accuracy: Accuracy::FAN,
+        speedup: Speedup::Local,
+        distances: true,
+        max_tile: Some(50),
+    };
+    let d = voronoi(&m, &sites, &fan).unwrap();
+    assert_fan(&d, &sites, &frame, 1.0, None, "fan tiles");
+}
+
+#[test]
+fn pictures_wider_than_the_device_are_tiled() {
+    let m = machine();
+    let w = m.max_picture_side() + 300;
+    let frame = Frame::pixels(w, 3).unwrap();
+    let sites: Vec<DVec2> = (0..40)
+        .map(|k| DVec2::new(k as f64 * w as f64 / 40.0 + 7.3, (k % 3) as f64))
+        .collect();
+    let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    assert_eq!(d.stats.tiles, 2);
+    assert_exact(&d, &sites, &frame, "wide");
 }

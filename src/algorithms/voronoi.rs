@@ -8,6 +8,11 @@
 //! label is a nearest site. Three ways to size the cones: [`Speedup::None`]
 //! (picture-wide cones, Hoff et al.), [`Speedup::Quadtree`] (the thesis's width
 //! bounds with minmax-detected retries) and [`Speedup::Local`] (a radius per site).
+//!
+//! Pictures larger than one device image (or than [`VoronoiOptions::max_tile`])
+//! are rendered tile by tile, each tile drawing only the cones that reach it, and
+//! delivered as bands of rows ([`voronoi_bands`]) so that no more than a band is
+//! ever held in memory.
 
 use std::time::Instant;
 
@@ -70,6 +75,31 @@ pub struct VoronoiOptions {
     pub speedup: Speedup,
     /// Whether to read back the distance map (the z buffer) as well as the labels.
     pub distances: bool,
+    /// Largest tile side in pixels; `None` = as large as the device allows.
+    pub max_tile: Option<u32>,
+}
+
+impl VoronoiOptions {
+    /// Exact labels with per-site radii on `frame`, distances included.
+    pub fn exact(frame: Frame) -> Self {
+        Self {
+            frame,
+            accuracy: Accuracy::Exact,
+            speedup: Speedup::Local,
+            distances: true,
+            max_tile: None,
+        }
+    }
+}
+
+/// How many cones were drawn with one kind of footprint.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct ConeGroup {
+    /// `point` (a point sprite), `polygon` (an exact cone's footprint) or `fan`.
+    pub kind: &'static str,
+    /// Corners of a polygon, triangles of a fan, 1 for a point.
+    pub size: u32,
+    pub cones: usize,
 }
 
 /// How the diagram was made.
@@ -77,19 +107,23 @@ pub struct VoronoiOptions {
 pub struct VoronoiStats {
     pub device: String,
     pub sites: usize,
-    /// Cones drawn in the final pass (sites whose cone reaches the picture).
+    /// Cones drawn (sites whose cone reaches the picture).
     pub cones: usize,
-    /// Rendering passes (more than one when the quadtree's first radius was short).
+    /// Footprints of the cones.
+    pub groups: Vec<ConeGroup>,
+    /// Tiles the picture was cut into.
+    pub tiles: usize,
+    /// Rendering passes, over all tiles (more than one per tile when the quadtree's
+    /// first radius was short).
     pub passes: u32,
     /// Cone radii (pixels) of the final pass: smallest, mean, largest.
     pub radius_min: f64,
     pub radius_mean: f64,
     pub radius_max: f64,
-    /// Triangles per cone, as (T, number of cones), for fan mode.
-    pub triangles: Vec<(u32, usize)>,
-    /// Guaranteed bound on the distance overestimate (pixels); 0 in exact mode.
+    /// Guaranteed bound on the distance overestimate (world units), apart from the
+    /// rasterizer's subpixel snapping of fan vertices; 0 in exact mode.
     pub distance_error_bound: f64,
-    /// Radii tried by the quadtree retry loop.
+    /// Radii the quadtree retry loop tried, in order.
     pub radii_tried: Vec<f64>,
     /// Milliseconds: cone sizing on the CPU, rendering (all passes, with coverage
     /// checks), reading the result back.
@@ -111,20 +145,50 @@ pub struct VoronoiDiagram {
     pub stats: VoronoiStats,
 }
 
+/// Rows `y0 .. y0 + height` of the diagram, full width, row-major.
+#[derive(Clone, Debug)]
+pub struct Band {
+    pub y0: u32,
+    pub height: u32,
+    pub labels: Vec<u32>,
+    /// Empty unless [`VoronoiOptions::distances`].
+    pub distances: Vec<f32>,
+}
+
 /// One cone to draw, in pixel coordinates.
 #[derive(Clone, Copy, Debug)]
 struct Cone {
     site: DVec2,
     id: u32,
-    /// Every owned pixel centre lies within this distance.
+    /// Every owned pixel centre lies within this distance; fragments beyond it are
+    /// discarded.
     radius: f64,
 }
 
-/// The GPU-side buffers of one diagram.
-struct Picture {
-    ids: Image,
-    depth: Image,
+/// How a cone is drawn; the order is the draw order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Footprint {
+    /// A point sprite of side `2 r + 1` (exact cones of sites inside the picture).
+    Point,
+    /// A regular polygon with this many corners (exact cones).
+    Polygon(u32),
+    /// A triangle fan of this many triangles.
+    Fan(u32),
 }
+
+/// A cone with its footprint, ready to draw.
+#[derive(Clone, Copy, Debug)]
+struct Shaped {
+    cone: Cone,
+    footprint: Footprint,
+    /// Radius of the footprint's corners.
+    outer_radius: f64,
+}
+
+/// Largest radius drawn as a point sprite. On lavapipe a point costs less than one
+/// triangle to set up and covers 4 r²; a hexagon (four triangles, 3.5 r²) is
+/// cheaper from about this radius on.
+const POINT_RADIUS_LIMIT: f64 = 48.0;
 
 /// Computes the Voronoi diagram of `sites` (world coordinates).
 pub fn voronoi(
@@ -132,7 +196,36 @@ pub fn voronoi(
     sites: &[DVec2],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
+    let frame = options.frame;
+    let mut labels = Vec::with_capacity(frame.len());
+    let mut distances = Vec::with_capacity(if options.distances { frame.len() } else { 0 });
+    let stats = voronoi_bands(machine, sites, options, |band| {
+        labels.extend_from_slice(&band.labels);
+        distances.extend_from_slice(&band.distances);
+        Ok(())
+    })?;
+    Ok(VoronoiDiagram {
+        width: frame.width,
+        height: frame.height,
+        labels,
+        distances,
+        stats,
+    })
+}
+
+/// Computes the Voronoi diagram of `sites` (world coordinates) and hands it to
+/// `sink` as bands of rows, top to bottom. A band is one row of tiles; tiles are as
+/// large as the device (or [`VoronoiOptions::max_tile`]) allows, so only one band
+/// is held at a time. The result does not depend on the tiling: every tile draws the
+/// cones that reach it in the same order, so even ties resolve alike.
+pub fn voronoi_bands(
+    machine: &Machine,
+    sites: &[DVec2],
+    options: &VoronoiOptions,
+    mut sink: impl FnMut(Band) -> Result<()>,
+) -> Result<VoronoiStats> {
     check_sites(sites)?;
+    options.frame.check()?;
     if let Accuracy::Fan { epsilon, triangles } = options.accuracy {
         if !(epsilon > 0.0 && epsilon.is_finite()) {
             return Err(Error::InvalidInput(format!(
@@ -151,15 +244,153 @@ pub fn voronoi(
         sites: sites.len(),
         ..Default::default()
     };
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let picture = Picture {
-        ids: machine.image(Format::R32Uint, frame.width, frame.height)?,
-        depth: machine.image(Format::Depth, frame.width, frame.height)?,
-    };
 
     let started = Instant::now();
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let attempts = cone_attempts(&pixels, &frame, options.speedup);
+    let max_point = machine.max_point_size() as f64;
+    let shaped: Vec<Vec<Shaped>> = attempts
+        .iter()
+        .map(|(_, cones)| shape_cones(cones, &frame, options.accuracy, max_point))
+        .collect();
+    // One depth scale for every tile and attempt: the largest cone's.
+    let scale = depth_scale(shaped.iter().flatten(), options.accuracy);
+    stats.bounds_ms = ms(started);
+
+    let side = machine.max_picture_side();
+    let max_tile = options.max_tile.unwrap_or(side).min(side);
+    if max_tile == 0 {
+        return Err(Error::InvalidInput("tile size must be at least 1".into()));
+    }
+    let one_tile = frame.width <= max_tile && frame.height <= max_tile;
+    // Tiles of a larger picture carry a margin so that a point sprite is never
+    // clipped: its centre lies inside the enlarged tile whenever its square touches
+    // the tile.
+    let margin = if one_tile || options.accuracy != Accuracy::Exact {
+        0
+    } else {
+        POINT_RADIUS_LIMIT.ceil() as u32 + 2
+    };
+    let tile = if one_tile {
+        max_tile
+    } else {
+        max_tile.min(side.saturating_sub(2 * margin)).max(1)
+    };
+    // A band of rows is held on the host: keep it to about 2^26 pixels.
+    let band_rows = ((1u64 << 26) / frame.width as u64).max(1) as u32;
+    let (tile_w, tile_h) = (tile.min(frame.width), tile.min(frame.height).min(band_rows));
+    let picture = Picture {
+        ids: machine.image(Format::R32Uint, tile_w + 2 * margin, tile_h + 2 * margin)?,
+        depth: machine.image(Format::Depth, tile_w + 2 * margin, tile_h + 2 * margin)?,
+    };
+
+    let mut final_attempt = 0;
+    for y0 in (0..frame.height).step_by(tile_h as usize) {
+        let band_h = tile_h.min(frame.height - y0);
+        let mut band = Band {
+            y0,
+            height: band_h,
+            labels: vec![0; band_h as usize * frame.width as usize],
+            distances: if options.distances {
+                vec![0.0; band_h as usize * frame.width as usize]
+            } else {
+                Vec::new()
+            },
+        };
+        for x0 in (0..frame.width).step_by(tile_w as usize) {
+            let inner = PixelRect {
+                x: margin,
+                y: margin,
+                width: tile_w.min(frame.width - x0),
+                height: band_h,
+            };
+            let view = TileView {
+                origin: DVec2::new(x0 as f64, y0 as f64) - margin as f64,
+                width: tile_w + 2 * margin,
+                height: tile_h + 2 * margin,
+            };
+            stats.tiles += 1;
+            let started = Instant::now();
+            for (k, cones) in shaped.iter().enumerate() {
+                stats.passes += 1;
+                render(machine, &picture, &view, cones, options.accuracy, scale)?;
+                final_attempt = final_attempt.max(k);
+                // Picture-wide and local radii cover every pixel by construction; the
+                // quadtree's radius is checked with minmax, the thesis's way: a pixel
+                // no truncated cone reached keeps the "no site" id, the largest value.
+                let covered = options.speedup != Speedup::Quadtree
+                    || machine.minmax(&picture.ids, inner)?.max[0] < u32::MAX as f64;
+                if covered {
+                    break;
+                }
+                if k + 1 == shaped.len() {
+                    return Err(Error::InvalidInput(
+                        "cones left pixels uncovered; this is a pixgeo bug, please report it with the sites".into(),
+                    ));
+                }
+            }
+            stats.render_ms += ms(started);
+            let started = Instant::now();
+            read_tile(
+                machine, &picture, inner, x0, &frame, options, scale, &mut band,
+            )?;
+            stats.readback_ms += ms(started);
+        }
+        sink(band)?;
+    }
+
+    let last = &shaped[final_attempt];
+    stats.radii_tried = attempts[..=final_attempt]
+        .iter()
+        .filter_map(|(r, _)| *r)
+        .collect();
+    stats.cones = last.len();
+    stats.groups = groups_of(last)
+        .into_iter()
+        .map(|g| ConeGroup {
+            kind: match g.footprint {
+                Footprint::Point => "point",
+                Footprint::Polygon(_) => "polygon",
+                Footprint::Fan(_) => "fan",
+            },
+            size: match g.footprint {
+                Footprint::Point => 1,
+                Footprint::Polygon(k) | Footprint::Fan(k) => k,
+            },
+            cones: g.count as usize,
+        })
+        .collect();
+    if !last.is_empty() {
+        let radii = last.iter().map(|s| s.cone.radius);
+        stats.radius_min = radii.clone().fold(f64::INFINITY, f64::min);
+        stats.radius_max = radii.clone().fold(0.0, f64::max);
+        stats.radius_mean = radii.sum::<f64>() / last.len() as f64;
+    }
+    stats.distance_error_bound = match options.accuracy {
+        Accuracy::Exact => 0.0,
+        Accuracy::Fan {
+            epsilon,
+            triangles: None,
+        } => epsilon / frame.scale,
+        Accuracy::Fan {
+            triangles: Some(t), ..
+        } => fan_distance_error(stats.radius_max, t) / frame.scale,
+    };
+    Ok(stats)
+}
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+/// The cones of each pass to try, with the quadtree radius a pass uses (if any).
+fn cone_attempts(
+    pixels: &[DVec2],
+    frame: &Frame,
+    speedup: Speedup,
+) -> Vec<(Option<f64>, Vec<Cone>)> {
     // The radius that reaches every pixel from a site, plus half a pixel so that
-    // rasterization rules at the cone's rim never drop a pixel centre.
+    // rasterization rules at a footprint's rim never drop a pixel centre.
     let picture_wide: Vec<f64> = pixels
         .iter()
         .map(|p| frame.farthest_pixel(*p) + 0.5)
@@ -176,80 +407,274 @@ pub fn voronoi(
             .filter(|c| c.radius > 0.0 && frame.distance_to_pixels(c.site) <= c.radius)
             .collect()
     };
-    // The cones of each pass to try, with the quadtree radius it uses (if any).
-    let mut attempts: Vec<(Option<f64>, Vec<Cone>)> = Vec::new();
-    match options.speedup {
-        Speedup::None => attempts.push((None, cones_with(&|i| picture_wide[i]))),
+    match speedup {
+        Speedup::None => vec![(None, cones_with(&|i| picture_wide[i]))],
         Speedup::Local => {
-            let (cell, bin) = radius::default_cell_and_bin(&frame, pixels.len());
-            let radii = radius::local_radii(&pixels, &frame, cell, bin);
-            attempts.push((None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i]))));
+            let (cell, bin) = radius::default_cell_and_bin(frame, pixels.len());
+            let radii = radius::local_radii(pixels, frame, cell, bin);
+            vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))]
         }
         Speedup::Quadtree => {
-            let bounds = radius::quadtree_width_bounds(&pixels, &frame);
+            let bounds = radius::quadtree_width_bounds(pixels, frame);
             let widest = picture_wide.iter().copied().fold(0.0, f64::max);
-            for r in radius::retry_radii(&bounds, widest) {
-                attempts.push((Some(r), cones_with(&|i| (r + 0.5).min(picture_wide[i]))));
+            radius::retry_radii(&bounds, widest)
+                .into_iter()
+                .map(|r| (Some(r), cones_with(&|i| (r + 0.5).min(picture_wide[i]))))
+                .collect()
+        }
+    }
+}
+
+/// Corners of an exact cone's footprint polygon, a regular K-gon around the disc
+/// it must cover: K - 2 triangles of area `K tan(pi / K) r²`. On lavapipe a
+/// triangle costs about a microsecond of setup, as much as ~400 fragments, so small
+/// cones are single triangles (5.2 r²) and larger ones trade triangles for
+/// fragments: squares (4 r²), hexagons (3.5 r²), octagons (3.3 r²). The thresholds
+/// are where the measured costs cross.
+fn polygon_corners(radius: f64) -> u32 {
+    match radius {
+        r if r < 18.0 => 3,
+        r if r < 37.0 => 4,
+        r if r < 70.0 => 6,
+        _ => 8,
+    }
+}
+
+/// Chooses each cone's footprint and sorts the cones into draw order: by footprint,
+/// then by site id.
+fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy, max_point: f64) -> Vec<Shaped> {
+    let (w, h) = ((frame.width - 1) as f64, (frame.height - 1) as f64);
+    let mut shaped: Vec<Shaped> = cones
+        .iter()
+        .map(|cone| {
+            let fan = |s: FanShape| (Footprint::Fan(s.triangles), s.outer_radius);
+            let (footprint, outer_radius) = match accuracy {
+                Accuracy::Exact => {
+                    let inside =
+                        (0.0..=w).contains(&cone.site.x) && (0.0..=h).contains(&cone.site.y);
+                    if inside
+                        && cone.radius < POINT_RADIUS_LIMIT
+                        && 2.0 * cone.radius + 1.0 <= max_point
+                    {
+                        (Footprint::Point, cone.radius)
+                    } else {
+                        let k = polygon_corners(cone.radius);
+                        (
+                            Footprint::Polygon(k),
+                            FanShape::with_triangles(cone.radius, k).outer_radius,
+                        )
+                    }
+                }
+                Accuracy::Fan {
+                    triangles: Some(t), ..
+                } => fan(FanShape::with_triangles(cone.radius, t)),
+                Accuracy::Fan {
+                    epsilon,
+                    triangles: None,
+                } => fan(FanShape::for_distance_error(cone.radius, epsilon)),
+            };
+            Shaped {
+                cone: *cone,
+                footprint,
+                outer_radius,
             }
-        }
-    }
-    stats.bounds_ms = ms(started);
+        })
+        .collect();
+    // Stable: ids stay ascending within a footprint.
+    shaped.sort_by_key(|s| s.footprint);
+    shaped
+}
 
-    let started = Instant::now();
-    let mut last = Vec::new();
-    let tries = attempts.len();
-    for (k, (radius, cones)) in attempts.into_iter().enumerate() {
-        stats.passes += 1;
-        stats.radii_tried.extend(radius);
-        let fan_sizes = render(machine, &picture, &frame, &cones, options.accuracy)?;
-        // Picture-wide and local radii cover every pixel by construction; the
-        // quadtree's radius is checked with minmax, the thesis's way: a pixel no
-        // truncated cone reached keeps the "no site" id, the largest value.
-        let covered = options.speedup != Speedup::Quadtree
-            || machine
-                .minmax(&picture.ids, PixelRect::of(&picture.ids))?
-                .max[0]
-                < u32::MAX as f64;
-        last = cones;
-        stats.triangles = fan_sizes;
-        if covered {
-            break;
-        }
-        if k + 1 == tries {
-            // Only the quadtree's short radii may leave pixels uncovered; anything
-            // else is a bug worth reporting rather than a wrong picture.
-            return Err(Error::InvalidInput(
-                "cones left pixels uncovered; this is a pixgeo bug, please report it with the sites".into(),
-            ));
-        }
-    }
-    stats.render_ms = ms(started);
-    stats.cones = last.len();
-    if !last.is_empty() {
-        stats.radius_min = last.iter().map(|c| c.radius).fold(f64::INFINITY, f64::min);
-        stats.radius_max = last.iter().map(|c| c.radius).fold(0.0, f64::max);
-        stats.radius_mean = last.iter().map(|c| c.radius).sum::<f64>() / last.len() as f64;
-    }
-    stats.distance_error_bound = match options.accuracy {
-        Accuracy::Exact => 0.0,
-        Accuracy::Fan {
-            epsilon,
-            triangles: None,
-        } => epsilon / frame.scale,
-        Accuracy::Fan {
-            triangles: Some(t), ..
-        } => fan_distance_error(stats.radius_max, t) / frame.scale,
-    };
+/// Powers of two that map cone heights (fan) or squared distances (exact) into the
+/// depth range [0, 1]; powers of two keep the mapping exact.
+#[derive(Clone, Copy, Debug)]
+struct DepthScale {
+    vertex: f64,
+    fragment: f64,
+}
 
-    let started = Instant::now();
-    let rect = PixelRect::of(&picture.ids);
-    let labels = machine.read_u32(&picture.ids, rect)?;
-    let mut distances = if options.distances {
-        machine.read_f32(&picture.depth, rect)?
-    } else {
-        Vec::new()
+fn depth_scale<'a>(cones: impl Iterator<Item = &'a Shaped>, accuracy: Accuracy) -> DepthScale {
+    // Exact cones discard fragments beyond their radius; fan heights reach the
+    // outer radius at the rim.
+    let reach = cones
+        .map(|s| match accuracy {
+            Accuracy::Exact => s.cone.radius,
+            Accuracy::Fan { .. } => s.outer_radius,
+        })
+        .fold(1.0, f64::max)
+        * 1.001;
+    match accuracy {
+        Accuracy::Exact => DepthScale {
+            vertex: 0.0,
+            fragment: (reach * reach).log2().ceil().exp2().recip(),
+        },
+        Accuracy::Fan { .. } => DepthScale {
+            vertex: reach.log2().ceil().exp2().recip(),
+            fragment: 0.0,
+        },
+    }
+}
+
+/// A run of cones with one footprint: one instanced draw.
+#[derive(Clone, Copy, Debug)]
+struct Group {
+    footprint: Footprint,
+    first: u32,
+    count: u32,
+}
+
+fn groups_of(shaped: &[Shaped]) -> Vec<Group> {
+    let mut groups: Vec<Group> = Vec::new();
+    for (i, s) in shaped.iter().enumerate() {
+        match groups.last_mut() {
+            Some(g) if g.footprint == s.footprint => g.count += 1,
+            _ => groups.push(Group {
+                footprint: s.footprint,
+                first: i as u32,
+                count: 1,
+            }),
+        }
+    }
+    groups
+}
+
+/// The GPU-side buffers of one tile.
+struct Picture {
+    ids: Image,
+    depth: Image,
+}
+
+/// The part of the picture a tile image shows: pixel `(i, j)` of the tile image is
+/// pixel `origin + (i, j)` of the picture.
+#[derive(Clone, Copy, Debug)]
+struct TileView {
+    origin: DVec2,
+    width: u32,
+    height: u32,
+}
+
+impl TileView {
+    /// Whether a disc of radius `r` around `p` (picture pixels) meets the tile.
+    fn reaches(&self, p: DVec2, r: f64) -> bool {
+        let lo = self.origin;
+        let hi = self.origin + DVec2::new(self.width as f64 - 1.0, self.height as f64 - 1.0);
+        (p.clamp(lo, hi) - p).length_squared() <= r * r
+    }
+}
+
+/// Draws the lower envelope of the cones that reach `view` into the tile.
+fn render(
+    machine: &Machine,
+    picture: &Picture,
+    view: &TileView,
+    shaped: &[Shaped],
+    accuracy: Accuracy,
+    scale: DepthScale,
+) -> Result<()> {
+    let visible: Vec<Shaped> = shaped
+        .iter()
+        .filter(|s| view.reaches(s.cone.site, s.cone.radius))
+        .copied()
+        .collect();
+    let groups = groups_of(&visible);
+    let mut mesh: Vec<[f32; 3]> = vec![[0.0; 3]];
+    let mut ranges = Vec::with_capacity(groups.len());
+    for g in &groups {
+        let vertices = match g.footprint {
+            // A point sprite reads no mesh: one vertex per instance.
+            Footprint::Point => {
+                ranges.push((0, 1));
+                continue;
+            }
+            Footprint::Polygon(k) => unit_footprint(k),
+            Footprint::Fan(t) => unit_fan(t),
+        };
+        ranges.push((mesh.len() as u32, vertices.len() as u32));
+        mesh.extend(vertices);
+    }
+    let instances: Vec<[u32; 5]> = visible
+        .iter()
+        .map(|s| {
+            [
+                (s.cone.site.x as f32).to_bits(),
+                (s.cone.site.y as f32).to_bits(),
+                (s.outer_radius as f32).to_bits(),
+                (s.cone.radius as f32).to_bits(),
+                s.cone.id,
+            ]
+        })
+        .chain(std::iter::once([0; 5]))
+        .collect();
+    let push = ConePush {
+        picture_size: [view.width as f32, view.height as f32],
+        offset: [view.origin.x as f32, view.origin.y as f32],
+        vertex_depth_scale: scale.vertex as f32,
+        fragment_depth_scale: scale.fragment as f32,
     };
-    let scale = depth_scale(&last, options.accuracy);
+    let mesh_buffer = machine.vertex_buffer(&mesh)?;
+    let instance_buffer = machine.vertex_buffer(&instances)?;
+    let state = RasterState::lower_envelope();
+    let params = DrawParams::default();
+    machine.run(|pass| {
+        pass.begin(
+            Target {
+                color: Some(&picture.ids),
+                depth_stencil: Some(&picture.depth),
+            },
+            Clear {
+                color: Some(ClearColor::Uint([u32::MAX; 4])),
+                depth: Some(1.0),
+                stencil: None,
+            },
+        )?;
+        for (g, &(first_vertex, vertex_count)) in groups.iter().zip(&ranges) {
+            let program = match (g.footprint, accuracy) {
+                (Footprint::Point, _) => Program::ConeExactPoint,
+                (_, Accuracy::Exact) => Program::ConeExact,
+                (_, Accuracy::Fan { .. }) => Program::ConeFan,
+            };
+            pass.draw_cones(
+                program,
+                &state,
+                &params,
+                &push,
+                &ConeDraw {
+                    mesh: &mesh_buffer,
+                    first_vertex,
+                    vertex_count,
+                    instances: &instance_buffer,
+                    first_instance: g.first,
+                    instance_count: g.count,
+                },
+            )?;
+        }
+        pass.end()
+    })
+}
+
+/// Reads the `inner` rectangle of the tile into `band` at column `x0`, turning
+/// depths into distances in world units.
+#[allow(clippy::too_many_arguments)]
+fn read_tile(
+    machine: &Machine,
+    picture: &Picture,
+    inner: PixelRect,
+    x0: u32,
+    frame: &Frame,
+    options: &VoronoiOptions,
+    scale: DepthScale,
+    band: &mut Band,
+) -> Result<()> {
+    let labels = machine.read_u32(&picture.ids, inner)?;
+    let width = frame.width as usize;
+    let (w, x0) = (inner.width as usize, x0 as usize);
+    for (row, src) in labels.chunks(w).enumerate() {
+        band.labels[row * width + x0..][..w].copy_from_slice(src);
+    }
+    if !options.distances {
+        return Ok(());
+    }
+    let mut depths = machine.read_f32(&picture.depth, inner)?;
     let to_world = (1.0 / frame.scale) as f32;
     let exact = options.accuracy == Accuracy::Exact;
     let unscale = if exact {
@@ -257,9 +682,9 @@ pub fn voronoi(
     } else {
         1.0 / scale.vertex
     } as f32;
-    distances
-        .par_chunks_mut(4096)
-        .zip(labels.par_chunks(4096))
+    depths
+        .par_chunks_mut(w)
+        .zip(labels.par_chunks(w))
         .for_each(|(depths, ids)| {
             for (z, id) in depths.iter_mut().zip(ids) {
                 let d = if exact {
@@ -274,174 +699,8 @@ pub fn voronoi(
                 };
             }
         });
-    stats.readback_ms = ms(started);
-    Ok(VoronoiDiagram {
-        width: frame.width,
-        height: frame.height,
-        labels,
-        distances,
-        stats,
-    })
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
-}
-
-/// Corners of an exact cone's footprint, a regular polygon around the disc it must
-/// cover: a K-gon is K - 2 triangles of area `K tan(pi / K) r²`. On lavapipe a
-/// triangle costs about a microsecond of setup, as much as ~400 fragments, so small
-/// cones are single triangles (5.2 r²) and larger ones trade triangles for
-/// fragments: squares (4 r²), hexagons (3.5 r²), octagons (3.3 r²). The thresholds
-/// are where the measured costs cross.
-fn exact_footprint_corners(radius: f64) -> u32 {
-    match radius {
-        r if r < 18.0 => 3,
-        r if r < 37.0 => 4,
-        r if r < 70.0 => 6,
-        _ => 8,
+    for (row, src) in depths.chunks(w).enumerate() {
+        band.distances[row * width + x0..][..w].copy_from_slice(src);
     }
-}
-
-/// The triangle fan each cone is drawn with.
-fn fan_shape(cone: &Cone, accuracy: Accuracy) -> FanShape {
-    match accuracy {
-        // The footprint of an exact cone only has to cover its radius: an octagon
-        // wastes 5% of fragments over the circle, a square 27%.
-        Accuracy::Exact => {
-            FanShape::with_triangles(cone.radius, exact_footprint_corners(cone.radius))
-        }
-        Accuracy::Fan {
-            triangles: Some(t), ..
-        } => FanShape::with_triangles(cone.radius, t),
-        Accuracy::Fan {
-            epsilon,
-            triangles: None,
-        } => FanShape::for_distance_error(cone.radius, epsilon),
-    }
-}
-
-/// Powers of two that map cone heights (fan) or squared distances (exact) into the
-/// depth range [0, 1]; powers of two keep the mapping exact.
-#[derive(Clone, Copy, Debug)]
-struct DepthScale {
-    vertex: f64,
-    fragment: f64,
-}
-
-fn depth_scale(cones: &[Cone], accuracy: Accuracy) -> DepthScale {
-    let outer = cones
-        .iter()
-        .map(|c| fan_shape(c, accuracy).outer_radius)
-        .fold(1.0, f64::max)
-        * 1.001;
-    match accuracy {
-        Accuracy::Exact => DepthScale {
-            vertex: 0.0,
-            fragment: (outer * outer).log2().ceil().exp2().recip(),
-        },
-        Accuracy::Fan { .. } => DepthScale {
-            vertex: outer.log2().ceil().exp2().recip(),
-            fragment: 0.0,
-        },
-    }
-}
-
-/// Draws the lower envelope of `cones` into the picture; returns (T, count) per
-/// distinct fan size. Cones are grouped by T so each group is one instanced draw of
-/// one unit fan.
-fn render(
-    machine: &Machine,
-    picture: &Picture,
-    frame: &Frame,
-    cones: &[Cone],
-    accuracy: Accuracy,
-) -> Result<Vec<(u32, usize)>> {
-    let mut shaped: Vec<(FanShape, &Cone)> =
-        cones.iter().map(|c| (fan_shape(c, accuracy), c)).collect();
-    shaped.sort_by_key(|(s, _)| s.triangles);
-    let mut mesh: Vec<[f32; 3]> = Vec::new();
-    let mut instances: Vec<[u32; 5]> = Vec::with_capacity(shaped.len());
-    // (first vertex, vertex count, first instance, instance count, T)
-    let mut groups: Vec<(u32, u32, u32, u32, u32)> = Vec::new();
-    for (shape, cone) in &shaped {
-        if groups.last().is_none_or(|g| g.4 != shape.triangles) {
-            let fan = if accuracy == Accuracy::Exact {
-                unit_footprint(shape.triangles)
-            } else {
-                unit_fan(shape.triangles)
-            };
-            groups.push((
-                mesh.len() as u32,
-                fan.len() as u32,
-                instances.len() as u32,
-                0,
-                shape.triangles,
-            ));
-            mesh.extend(fan);
-        }
-        if let Some(g) = groups.last_mut() {
-            g.3 += 1;
-        }
-        instances.push([
-            (cone.site.x as f32).to_bits(),
-            (cone.site.y as f32).to_bits(),
-            (shape.outer_radius as f32).to_bits(),
-            (cone.radius as f32).to_bits(),
-            cone.id,
-        ]);
-    }
-    let scale = depth_scale(cones, accuracy);
-    let push = ConePush {
-        picture_size: [frame.width as f32, frame.height as f32],
-        vertex_depth_scale: scale.vertex as f32,
-        fragment_depth_scale: scale.fragment as f32,
-    };
-    let program = match accuracy {
-        Accuracy::Exact => Program::ConeExact,
-        Accuracy::Fan { .. } => Program::ConeFan,
-    };
-    let mesh_buffer = machine.vertex_buffer(if mesh.is_empty() {
-        &[[0.0f32; 3]][..]
-    } else {
-        &mesh
-    })?;
-    let instance_buffer = machine.vertex_buffer(if instances.is_empty() {
-        &[[0u32; 5]][..]
-    } else {
-        &instances
-    })?;
-    let state = RasterState::lower_envelope();
-    let params = DrawParams::default();
-    machine.run(|pass| {
-        pass.begin(
-            Target {
-                color: Some(&picture.ids),
-                depth_stencil: Some(&picture.depth),
-            },
-            Clear {
-                color: Some(ClearColor::Uint([u32::MAX; 4])),
-                depth: Some(1.0),
-                stencil: Some(0),
-            },
-        )?;
-        for &(first_vertex, vertex_count, first_instance, instance_count, _) in &groups {
-            pass.draw_cones(
-                program,
-                &state,
-                &params,
-                &push,
-                &ConeDraw {
-                    mesh: &mesh_buffer,
-                    first_vertex,
-                    vertex_count,
-                    instances: &instance_buffer,
-                    first_instance,
-                    instance_count,
-                },
-            )?;
-        }
-        pass.end()
-    })?;
-    Ok(groups.iter().map(|g| (g.4, g.3 as usize)).collect())
+    Ok(())
 }

@@ -18,19 +18,45 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// The longest picture side: pixel coordinates go through float32 on the
+    /// device, which holds integers exactly up to 2^24.
+    pub const MAX_SIDE: u32 = 1 << 24;
+
     /// World = pixel coordinates: pixel (i, j) centred at world (i, j).
     pub fn pixels(width: u32, height: u32) -> Result<Self> {
+        let frame = Self {
+            width,
+            height,
+            origin: DVec2::splat(-0.5),
+            scale: 1.0,
+        };
+        frame.check()?;
+        Ok(frame)
+    }
+
+    /// Checks the picture size: both sides at least 1 and at most [`Self::MAX_SIDE`],
+    /// and a finite, positive scale.
+    pub fn check(&self) -> Result<()> {
+        let (width, height) = (self.width, self.height);
         if width == 0 || height == 0 {
             return Err(Error::InvalidInput(format!(
                 "picture size {width}x{height}: both sides must be at least 1"
             )));
         }
-        Ok(Self {
-            width,
-            height,
-            origin: DVec2::splat(-0.5),
-            scale: 1.0,
-        })
+        if width > Self::MAX_SIDE || height > Self::MAX_SIDE {
+            return Err(Error::PictureTooLarge {
+                width,
+                height,
+                limit: Self::MAX_SIDE,
+            });
+        }
+        if !(self.scale > 0.0 && self.scale.is_finite() && self.origin.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "picture frame with scale {} and origin {}",
+                self.scale, self.origin
+            )));
+        }
+        Ok(())
     }
 
     /// The world rectangle `[xmin, xmax] x [ymin, ymax]` mapped onto the picture,

@@ -282,11 +282,16 @@ impl Grid {
 }
 
 /// The cell and bin sides for [`local_radii`]: cells a third of the mean site
-/// spacing (at least 2 pixels), bins the spacing itself. Smaller cells give
-/// tighter radii for more CPU work.
+/// spacing (2 to 64 pixels), bins the spacing itself. Smaller cells give tighter
+/// radii for more CPU work.
 pub fn default_cell_and_bin(frame: &Frame, sites: usize) -> (f64, f64) {
     let spacing = (frame.len() as f64 / sites.max(1) as f64).sqrt();
-    ((spacing / 3.0).clamp(2.0, 64.0), spacing.clamp(2.0, 256.0))
+    // At most about 4 million cells and bins, whatever the picture's size.
+    let least = (frame.len() as f64 / (1u64 << 22) as f64).sqrt();
+    (
+        (spacing / 3.0).clamp(2.0, 64.0).max(least),
+        spacing.clamp(2.0, 256.0).max(least),
+    )
 }
 
 #[cfg(test)]

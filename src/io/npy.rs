@@ -1,5 +1,6 @@
 //! NumPy `.npy` arrays: label maps (`uint32`) and distance maps (`float32`),
-//! row-major with shape `[height, width]`.
+//! row-major with shape `[height, width]`, written in one go or streamed row band
+//! by row band.
 
 use std::{fs::File, io::BufWriter, path::Path};
 
@@ -11,6 +12,57 @@ fn io_error(path: &Path, source: std::io::Error) -> Error {
     Error::Io {
         path: path.to_path_buf(),
         source,
+    }
+}
+
+/// An `.npy` file being written value by value in row-major order.
+pub struct NpyStream<T: npyz::Serialize + npyz::AutoSerialize + Copy> {
+    path: std::path::PathBuf,
+    writer: npyz::NpyWriter<T, BufWriter<File>>,
+    remaining: u64,
+}
+
+impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
+    /// Creates `path` for an array of `shape`.
+    pub fn create(path: &Path, shape: &[u64]) -> Result<Self> {
+        let file = File::create(path).map_err(|e| io_error(path, e))?;
+        let writer = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(shape)
+            .writer(BufWriter::new(file))
+            .begin_nd()
+            .map_err(|e| io_error(path, e))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            writer,
+            remaining: shape.iter().product(),
+        })
+    }
+
+    /// Appends values.
+    pub fn write(&mut self, data: &[T]) -> Result<()> {
+        if data.len() as u64 > self.remaining {
+            return Err(Error::InvalidInput(format!(
+                "{}: more values than the array's shape holds",
+                self.path.display()
+            )));
+        }
+        self.remaining -= data.len() as u64;
+        self.writer
+            .extend(data.iter().copied())
+            .map_err(|e| io_error(&self.path, e))
+    }
+
+    /// Finishes the file; every value of the shape must have been written.
+    pub fn finish(self) -> Result<()> {
+        if self.remaining != 0 {
+            return Err(Error::InvalidInput(format!(
+                "{}: {} values missing",
+                self.path.display(),
+                self.remaining
+            )));
+        }
+        self.writer.finish().map_err(|e| io_error(&self.path, e))
     }
 }
 
@@ -26,17 +78,9 @@ where
             data.len()
         )));
     }
-    let file = File::create(path).map_err(|e| io_error(path, e))?;
-    let mut writer = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(shape)
-        .writer(BufWriter::new(file))
-        .begin_nd()
-        .map_err(|e| io_error(path, e))?;
-    writer
-        .extend(data.iter().copied())
-        .map_err(|e| io_error(path, e))?;
-    writer.finish().map_err(|e| io_error(path, e))
+    let mut stream = NpyStream::create(path, shape)?;
+    stream.write(data)?;
+    stream.finish()
 }
 
 /// Reads an `.npy` array: its shape and values.

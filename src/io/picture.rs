@@ -1,10 +1,9 @@
 //! Pictures for people: a label map with one colour per region and the sites drawn
-//! on top.
+//! on top, written as PNG row band by row band.
 
-use std::path::Path;
+use std::{fs::File, io::BufWriter, path::Path};
 
 use glam::DVec2;
-use image::{Rgb, RgbImage};
 
 use crate::error::{Error, Result};
 
@@ -31,32 +30,72 @@ pub fn site_color(id: u32) -> [u8; 3] {
     [r, g, b].map(|t| ((t + m) * 255.0).round() as u8)
 }
 
-/// Renders a label map (row-major, `width` x `height`) with the sites (pixel
-/// coordinates) as small dark dots.
-pub fn label_picture(labels: &[u32], width: u32, height: u32, sites: &[DVec2]) -> RgbImage {
-    let mut img = RgbImage::from_fn(width, height, |i, j| {
-        Rgb(site_color(labels[(j * width + i) as usize]))
-    });
+/// RGB bytes of rows `y0 ..` of a label map (`labels` holds whole rows of
+/// `width`), with the sites (pixel coordinates) as small dark dots.
+pub fn label_rows(labels: &[u32], width: u32, y0: u32, sites: &[DVec2]) -> Vec<u8> {
+    let mut rgb: Vec<u8> = labels.iter().flat_map(|&id| site_color(id)).collect();
+    let rows = (labels.len() / width.max(1) as usize) as i64;
     let dot = if sites.len() > 4000 { 0 } else { 1 };
     for s in sites {
-        let (ci, cj) = (s.x.round() as i64, s.y.round() as i64);
+        let (ci, cj) = (s.x.round() as i64, s.y.round() as i64 - y0 as i64);
         for dj in -dot..=dot {
             for di in -dot..=dot {
                 let (i, j) = (ci + di, cj + dj);
-                if i >= 0 && j >= 0 && i < width as i64 && j < height as i64 {
-                    img.put_pixel(i as u32, j as u32, Rgb([20, 20, 20]));
+                if i >= 0 && j >= 0 && i < width as i64 && j < rows {
+                    let k = 3 * (j as usize * width as usize + i as usize);
+                    rgb[k..k + 3].copy_from_slice(&[20, 20, 20]);
                 }
             }
         }
     }
-    img
+    rgb
 }
 
-/// Writes a picture as PNG.
-pub fn save_png(img: &RgbImage, path: &Path) -> Result<()> {
-    img.save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| Error::Io {
+/// A PNG picture written row band by row band.
+pub struct PngStream {
+    path: std::path::PathBuf,
+    writer: png::StreamWriter<'static, BufWriter<File>>,
+}
+
+impl PngStream {
+    /// Creates an RGB picture of `width` x `height` at `path`.
+    pub fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
+        let err = |e: png::EncodingError| Error::Io {
             path: path.to_path_buf(),
             source: std::io::Error::other(e),
+        };
+        let file = File::create(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let writer = encoder
+            .write_header()
+            .map_err(err)?
+            .into_stream_writer()
+            .map_err(err)?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            writer,
         })
+    }
+
+    /// Appends RGB rows.
+    pub fn write(&mut self, rgb: &[u8]) -> Result<()> {
+        use std::io::Write;
+        self.writer.write_all(rgb).map_err(|source| Error::Io {
+            path: self.path.clone(),
+            source,
+        })
+    }
+
+    /// Finishes the file; every row must have been written.
+    pub fn finish(self) -> Result<()> {
+        self.writer.finish().map_err(|e| Error::Io {
+            path: self.path.clone(),
+            source: std::io::Error::other(e),
+        })
+    }
 }

@@ -156,6 +156,15 @@ impl Machine {
             .min(l.max_framebuffer_height)
     }
 
+    /// The largest point sprite side in pixels (1 without `largePoints`).
+    pub fn max_point_size(&self) -> f32 {
+        if self.ctx.large_points {
+            self.ctx.properties.limits.point_size_range[1]
+        } else {
+            1.0
+        }
+    }
+
     /// Number of distinct graphics pipelines created so far.
     pub fn pipeline_count(&self) -> usize {
         self.pipelines.graphics_count()

@@ -82,7 +82,10 @@ impl PixelRect {
 /// Push constants of the cone programs (`glsl/common.glsl`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConePush {
+    /// Size of the target in pixels.
     pub picture_size: [f32; 2],
+    /// The picture pixel shown at the target's pixel (0, 0): a tile's origin.
+    pub offset: [f32; 2],
     pub vertex_depth_scale: f32,
     pub fragment_depth_scale: f32,
 }
@@ -388,6 +391,8 @@ impl<'m> Pass<'m> {
         let words = [
             push.picture_size[0].to_bits(),
             push.picture_size[1].to_bits(),
+            push.offset[0].to_bits(),
+            push.offset[1].to_bits(),
             push.vertex_depth_scale.to_bits(),
             push.fragment_depth_scale.to_bits(),
         ];

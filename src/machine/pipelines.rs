@@ -23,6 +23,9 @@ pub enum Program {
     ConeExact,
     /// An axis-aligned rectangle of constant depth and colour.
     Rect,
+    /// Exact cones of sites inside the picture as point sprites: a square of side
+    /// `2 r + 1` for one vertex, cheaper to set up than any triangle.
+    ConeExactPoint,
 }
 
 /// Compute kernels of the reductions (thesis §1.7).
@@ -68,6 +71,7 @@ pub(crate) struct Pipelines {
 
 const SHADERS: &[(&str, &[u32])] = &[
     ("cone.vert", shaders::CONE_VERT),
+    ("cone_point.vert", shaders::CONE_POINT_VERT),
     ("cone_fan.frag", shaders::CONE_FAN_FRAG),
     ("cone_exact.frag", shaders::CONE_EXACT_FRAG),
     ("rect.vert", shaders::RECT_VERT),
@@ -187,6 +191,11 @@ impl Pipelines {
                 "cone_exact.frag",
                 vk::PrimitiveTopology::TRIANGLE_FAN,
             ),
+            Program::ConeExactPoint => (
+                "cone_point.vert",
+                "cone_exact.frag",
+                vk::PrimitiveTopology::POINT_LIST,
+            ),
 
             Program::Rect if uint_target => (
                 "rect.vert",
@@ -239,12 +248,15 @@ impl Pipelines {
                 .offset(16)
                 .format(vk::Format::R32_UINT),
         ];
-        let vertex_input = if key.program == Program::Rect {
-            vk::PipelineVertexInputStateCreateInfo::default()
-        } else {
-            vk::PipelineVertexInputStateCreateInfo::default()
+        let vertex_input = match key.program {
+            Program::Rect => vk::PipelineVertexInputStateCreateInfo::default(),
+            // A point sprite is the site itself: no mesh.
+            Program::ConeExactPoint => vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&cone_bindings[1..])
+                .vertex_attribute_descriptions(&cone_attributes[1..]),
+            _ => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&cone_bindings)
-                .vertex_attribute_descriptions(&cone_attributes)
+                .vertex_attribute_descriptions(&cone_attributes),
         };
         let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(topology);
         let viewport = vk::PipelineViewportStateCreateInfo::default()

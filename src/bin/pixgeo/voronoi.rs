@@ -6,9 +6,9 @@ use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
+    algorithms::voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     geometry::Frame,
-    io::{npy, picture, sites},
+    io::{npy::NpyStream, picture, picture::PngStream, sites},
     machine::{DeviceChoice, Machine, MachineOptions},
 };
 use serde_json::json;
@@ -85,9 +85,16 @@ pub struct Args {
     #[arg(long, value_name = "FILE.npy")]
     distance: Option<PathBuf>,
 
-    /// Print a JSON summary (timings, triangles, cone radii, passes, device).
+    /// Print a JSON summary (timings, cone footprints and radii, tiles, passes,
+    /// device).
     #[arg(long)]
     json: bool,
+
+    /// Largest tile side in pixels. Pictures larger than a tile (or than the
+    /// device's largest image) are rendered tile by tile and written band by band,
+    /// so the whole picture is never held in memory.
+    #[arg(long, value_name = "PIXELS")]
+    max_tile: Option<u32>,
 
     /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
     #[arg(long)]
@@ -195,30 +202,54 @@ pub fn run(args: Args) -> Result<()> {
         machine_options.device = DeviceChoice::parse(d);
     }
     let machine = Machine::new(&machine_options).context("starting the pixel machine")?;
-    let diagram = voronoi(
-        &machine,
-        &sites,
-        &VoronoiOptions {
-            frame,
-            accuracy,
-            speedup,
-            distances: args.distance.is_some(),
-        },
-    )?;
+    let options = VoronoiOptions {
+        frame,
+        accuracy,
+        speedup,
+        distances: args.distance.is_some(),
+        max_tile: args.max_tile,
+    };
 
+    // Outputs are streamed band by band as the tiles come in.
     let shape = [frame.height as u64, frame.width as u64];
-    if let Some(path) = &args.labels {
-        npy::write(path, &shape, &diagram.labels)?;
-    }
-    if let Some(path) = &args.distance {
-        npy::write(path, &shape, &diagram.distances)?;
-    }
-    if let Some(path) = &args.output {
-        let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-        let img = picture::label_picture(&diagram.labels, frame.width, frame.height, &pixels);
-        picture::save_png(&img, path)?;
-    }
-    let s = &diagram.stats;
+    let mut labels = args
+        .labels
+        .as_deref()
+        .map(|p| NpyStream::<u32>::create(p, &shape))
+        .transpose()?;
+    let mut distances = args
+        .distance
+        .as_deref()
+        .map(|p| NpyStream::<f32>::create(p, &shape))
+        .transpose()?;
+    let mut png = args
+        .output
+        .as_deref()
+        .map(|p| PngStream::create(p, frame.width, frame.height))
+        .transpose()?;
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let stats = voronoi_bands(&machine, &sites, &options, |band| {
+        if let Some(out) = labels.as_mut() {
+            out.write(&band.labels)?;
+        }
+        if let Some(out) = distances.as_mut() {
+            out.write(&band.distances)?;
+        }
+        if let Some(out) = png.as_mut() {
+            out.write(&picture::label_rows(
+                &band.labels,
+                frame.width,
+                band.y0,
+                &pixels,
+            ))?;
+        }
+        Ok(())
+    })?;
+    labels.map(NpyStream::finish).transpose()?;
+    distances.map(NpyStream::finish).transpose()?;
+    png.map(PngStream::finish).transpose()?;
+
+    let s = &stats;
     if args.json {
         let mode = match args.mode {
             ModeArg::Exact => "exact".to_string(),
