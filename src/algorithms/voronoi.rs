@@ -197,11 +197,17 @@ pub fn voronoi(
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
     let frame = options.frame;
-    let mut labels = Vec::with_capacity(frame.len());
-    let mut distances = Vec::with_capacity(if options.distances { frame.len() } else { 0 });
+    let mut labels = Vec::new();
+    let mut distances = Vec::new();
     let stats = voronoi_bands(machine, sites, options, |band| {
-        labels.extend_from_slice(&band.labels);
-        distances.extend_from_slice(&band.distances);
+        // A picture of one band is handed over without a copy.
+        if labels.is_empty() {
+            labels = band.labels;
+            distances = band.distances;
+        } else {
+            labels.extend_from_slice(&band.labels);
+            distances.extend_from_slice(&band.distances);
+        }
         Ok(())
     })?;
     Ok(VoronoiDiagram {
@@ -665,16 +671,12 @@ fn read_tile(
     scale: DepthScale,
     band: &mut Band,
 ) -> Result<()> {
-    let labels = machine.read_u32(&picture.ids, inner)?;
-    let width = frame.width as usize;
-    let (w, x0) = (inner.width as usize, x0 as usize);
-    for (row, src) in labels.chunks(w).enumerate() {
-        band.labels[row * width + x0..][..w].copy_from_slice(src);
-    }
+    let (width, x0, w) = (frame.width as usize, x0 as usize, inner.width as usize);
+    machine.read_u32_into(&picture.ids, inner, &mut band.labels[x0..], width)?;
     if !options.distances {
         return Ok(());
     }
-    let mut depths = machine.read_f32(&picture.depth, inner)?;
+    machine.read_f32_into(&picture.depth, inner, &mut band.distances[x0..], width)?;
     let to_world = (1.0 / frame.scale) as f32;
     let exact = options.accuracy == Accuracy::Exact;
     let unscale = if exact {
@@ -682,11 +684,11 @@ fn read_tile(
     } else {
         1.0 / scale.vertex
     } as f32;
-    depths
-        .par_chunks_mut(w)
-        .zip(labels.par_chunks(w))
+    band.distances
+        .par_chunks_mut(width)
+        .zip(band.labels.par_chunks(width))
         .for_each(|(depths, ids)| {
-            for (z, id) in depths.iter_mut().zip(ids) {
+            for (z, id) in depths[x0..x0 + w].iter_mut().zip(&ids[x0..x0 + w]) {
                 let d = if exact {
                     (*z * unscale).sqrt()
                 } else {
@@ -699,8 +701,5 @@ fn read_tile(
                 };
             }
         });
-    for (row, src) in depths.chunks(w).enumerate() {
-        band.distances[row * width + x0..][..w].copy_from_slice(src);
-    }
     Ok(())
 }

@@ -272,7 +272,7 @@ impl Buffer {
         self.size
     }
 
-    fn mapped(&self) -> &[u8] {
+    pub(crate) fn mapped(&self) -> &[u8] {
         self.allocation
             .as_ref()
             .and_then(|a| a.mapped_slice())

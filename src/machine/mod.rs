@@ -234,18 +234,48 @@ impl Machine {
 
     /// Reads back `rect` of an integer image, row-major.
     pub fn read_u32(&self, image: &Image, rect: PixelRect) -> Result<Vec<u32>> {
+        let mut out = vec![0; rect.width as usize * rect.height as usize];
+        self.read_u32_into(image, rect, &mut out, rect.width as usize)?;
+        Ok(out)
+    }
+
+    /// Reads back `rect` of an integer image into `out`: row `r` of the rectangle
+    /// goes to `out[r * stride..]`, so a tile lands in place in a wider array.
+    pub fn read_u32_into(
+        &self,
+        image: &Image,
+        rect: PixelRect,
+        out: &mut [u32],
+        stride: usize,
+    ) -> Result<()> {
         if image.format() != Format::R32Uint {
             return Err(Error::InvalidInput(format!(
                 "read_u32 reads R32Uint images, not {:?}",
                 image.format()
             )));
         }
-        self.read(image, rect)
+        self.read_into(image, rect, out, stride)
     }
 
     /// Reads back `rect` of a float image (for `DepthStencil`: the z buffer),
     /// row-major; `Rgba32Float` gives four values per pixel.
     pub fn read_f32(&self, image: &Image, rect: PixelRect) -> Result<Vec<f32>> {
+        let per_pixel = (image.format().texel_bytes() / 4) as usize;
+        let row = rect.width as usize * per_pixel;
+        let mut out = vec![0.0; row * rect.height as usize];
+        self.read_f32_into(image, rect, &mut out, row)?;
+        Ok(out)
+    }
+
+    /// Reads back `rect` of a float image into `out` with a row stride, as
+    /// [`Machine::read_u32_into`] does (the stride counts floats).
+    pub fn read_f32_into(
+        &self,
+        image: &Image,
+        rect: PixelRect,
+        out: &mut [f32],
+        stride: usize,
+    ) -> Result<()> {
         if !matches!(
             image.format(),
             Format::R32Float | Format::Rgba32Float | Format::DepthStencil | Format::Depth
@@ -255,11 +285,28 @@ impl Machine {
                 image.format()
             )));
         }
-        self.read(image, rect)
+        self.read_into(image, rect, out, stride)
     }
 
-    fn read<T: bytemuck::Pod>(&self, image: &Image, rect: PixelRect) -> Result<Vec<T>> {
+    fn read_into<T: bytemuck::Pod>(
+        &self,
+        image: &Image,
+        rect: PixelRect,
+        out: &mut [T],
+        stride: usize,
+    ) -> Result<()> {
         let bytes = rect.width as u64 * rect.height as u64 * image.format().texel_bytes();
+        let row =
+            (rect.width as u64 * image.format().texel_bytes()) as usize / std::mem::size_of::<T>();
+        let needed = (rect.height as usize).saturating_sub(1) * stride + row;
+        if stride < row || out.len() < needed {
+            return Err(Error::InvalidInput(format!(
+                "readback of {}x{} pixels needs {needed} values with stride {stride}, got {}",
+                rect.width,
+                rect.height,
+                out.len()
+            )));
+        }
         // One readback buffer is kept and grown: allocating fresh host memory for
         // every read costs more than the copy.
         let mut scratch = self.scratch.borrow_mut();
@@ -271,7 +318,12 @@ impl Machine {
             .as_ref()
             .ok_or_else(|| Error::InvalidInput("no readback buffer".into()))?;
         self.run(|pass| pass.copy_to_buffer(image, rect, buffer))?;
-        Ok(buffer.read((bytes / 4) as usize))
+        let src: &[T] = bytemuck::try_cast_slice(&buffer.mapped()[..bytes as usize])
+            .map_err(|e| Error::InvalidInput(format!("readback buffer: {e}")))?;
+        for (r, src_row) in src.chunks_exact(row).enumerate() {
+            out[r * stride..][..row].copy_from_slice(src_row);
+        }
+        Ok(())
     }
 
     fn with_descriptor_set<R>(
