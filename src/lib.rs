@@ -9,6 +9,7 @@
 
 pub mod algorithms;
 pub mod error;
+pub mod ffi;
 pub mod geometry;
 pub mod io;
 pub mod machine;

@@ -1,0 +1,106 @@
+/* A C host using pixgeo: a Voronoi diagram, checked against the definition, and
+ * the errors a caller can get. Exits 0 when every check passes.
+ *
+ *   cc -std=c11 -I include examples/c/voronoi.c -L target/debug -lpixgeo \
+ *      -Wl,-rpath,$PWD/target/debug -o voronoi-c && ./voronoi-c
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pixgeo.h"
+
+static int failures = 0;
+
+#define CHECK(cond, ...)                        \
+    do {                                        \
+        if (!(cond)) {                          \
+            fprintf(stderr, "FAILED: " __VA_ARGS__); \
+            fprintf(stderr, "\n");              \
+            failures++;                         \
+        }                                       \
+    } while (0)
+
+enum { W = 64, H = 48, N = 7 };
+
+int main(void) {
+    PixgeoContextOptions context_options = {PIXGEO_DEVICE_AUTO, false};
+    const char *validation = getenv("PIXGEO_VALIDATION");
+    context_options.validation = validation != NULL && strcmp(validation, "1") == 0;
+
+    PixgeoContext *ctx = NULL;
+    if (pixgeo_context_create(&context_options, &ctx) != PIXGEO_STATUS_OK) {
+        fprintf(stderr, "no context: %s\n", pixgeo_create_error());
+        return 1;
+    }
+    printf("device: %s\n", pixgeo_context_device_name(ctx));
+
+    /* Sites: some inside, one on the border, one outside the picture. */
+    const double xy[2 * N] = {10, 10, 50.5, 20, 30, 45, 0, 0, 63, 47, 31.25, 23.75, -20, 30};
+    uint32_t *labels = malloc(sizeof(uint32_t) * W * H);
+    float *distances = malloc(sizeof(float) * W * H);
+    PixgeoVoronoiOptions options = pixgeo_voronoi_options_default(W, H);
+    PixgeoStatus status = pixgeo_voronoi(ctx, xy, N, &options, labels, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "voronoi: %s", pixgeo_context_last_error(ctx));
+
+    /* Every pixel: its site is a nearest one, its distance the nearest distance. */
+    int wrong = 0;
+    for (int j = 0; j < H; j++) {
+        for (int i = 0; i < W; i++) {
+            double best = INFINITY;
+            for (int s = 0; s < N; s++) {
+                double d = hypot(xy[2 * s] - i, xy[2 * s + 1] - j);
+                if (d < best) best = d;
+            }
+            uint32_t label = labels[j * W + i];
+            double mine = label < N ? hypot(xy[2 * label] - i, xy[2 * label + 1] - j) : INFINITY;
+            if (mine > best + 1e-4 || fabs(distances[j * W + i] - best) > 1e-4) wrong++;
+        }
+    }
+    CHECK(wrong == 0, "%d pixels differ from the definition", wrong);
+    CHECK(labels[10 * W + 10] == 0, "pixel (10, 10) belongs to site 0");
+
+    /* Tiles of 20 pixels give the same labels. */
+    uint32_t *tiled = malloc(sizeof(uint32_t) * W * H);
+    options.max_tile = 20;
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, NULL);
+    CHECK(status == PIXGEO_STATUS_OK, "tiled: %s", pixgeo_context_last_error(ctx));
+    CHECK(memcmp(tiled, labels, sizeof(uint32_t) * W * H) == 0, "tiled labels differ");
+
+    /* Fan cones with 6 triangles stay within their error bound (< 0.16 r). */
+    options = pixgeo_voronoi_options_default(W, H);
+    options.accuracy = PIXGEO_ACCURACY_FAN;
+    options.triangles = 6;
+    options.speedup = PIXGEO_SPEEDUP_QUADTREE;
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "fan: %s", pixgeo_context_last_error(ctx));
+
+    /* Errors come back as status codes with a message. */
+    status = pixgeo_voronoi(ctx, NULL, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null sites accepted");
+    const double bad[2] = {1.0, NAN};
+    options = pixgeo_voronoi_options_default(W, H);
+    status = pixgeo_voronoi(ctx, bad, 1, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "NaN accepted");
+    CHECK(strstr(pixgeo_context_last_error(ctx), "non-finite") != NULL, "message: %s",
+          pixgeo_context_last_error(ctx));
+    status = pixgeo_voronoi(ctx, xy, 0, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "empty site list accepted");
+    options = pixgeo_voronoi_options_default(1u << 25, 1);
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_TOO_LARGE, "oversized picture accepted");
+    options = pixgeo_voronoi_options_default(W, H);
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_OK && pixgeo_context_last_error(ctx)[0] == '\0',
+          "a good call after errors");
+
+    free(tiled);
+    free(distances);
+    free(labels);
+    pixgeo_context_destroy(ctx);
+    pixgeo_context_destroy(NULL);
+
+    if (failures == 0) printf("all checks passed\n");
+    return failures == 0 ? 0 : 1;
+}

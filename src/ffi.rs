@@ -1,0 +1,372 @@
+//! The C ABI: opaque context handles, status codes, caller-owned flat arrays.
+//!
+//! Every function returns a [`PixgeoStatus`]; on failure the message is kept in the
+//! context ([`pixgeo_context_last_error`]) or, for context creation, per thread
+//! ([`pixgeo_create_error`]). No panic crosses the boundary: a panic becomes
+//! [`PixgeoStatus::Panic`].
+//!
+//! Threads: a context may be used by one thread at a time (calls on it must not
+//! overlap); different contexts may be used from different threads at once.
+//!
+//! The header `include/pixgeo.h` is generated from this file by cbindgen; a test
+//! fails when the two drift apart.
+
+use std::{
+    cell::RefCell,
+    ffi::{c_char, CString},
+    panic::{catch_unwind, AssertUnwindSafe},
+    ptr,
+};
+
+use glam::DVec2;
+
+use crate::{
+    algorithms::voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
+    geometry::Frame,
+    machine::{DeviceChoice, Machine, MachineOptions},
+    Error,
+};
+
+/// Result of every call.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoStatus {
+    Ok = 0,
+    /// A pointer was null, a count zero, an option out of range, a coordinate
+    /// not finite.
+    InvalidArgument = 1,
+    /// No Vulkan driver, or no device matching the request.
+    NoDevice = 2,
+    /// A Vulkan call or a memory allocation failed.
+    DeviceError = 3,
+    /// The validation layer reported a problem (only with validation on).
+    ValidationError = 4,
+    /// The picture is larger than pixgeo supports.
+    TooLarge = 5,
+    /// pixgeo panicked: a bug; the message says where.
+    Panic = 6,
+}
+
+/// Which device a context uses.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoDevice {
+    /// `PIXGEO_DEVICE` if set, else a GPU if present, else lavapipe.
+    Auto = 0,
+    /// A software device (lavapipe).
+    Cpu = 1,
+    /// A hardware GPU.
+    Gpu = 2,
+}
+
+/// Options of [`pixgeo_context_create`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PixgeoContextOptions {
+    pub device: PixgeoDevice,
+    /// Enable the Khronos validation layer; any message fails the call.
+    pub validation: bool,
+}
+
+/// How cones are drawn.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoAccuracy {
+    /// Exact distance per pixel: every label is a nearest site.
+    Exact = 0,
+    /// Triangle fans: distances within `epsilon` (or `triangles` per cone).
+    Fan = 1,
+}
+
+/// How far cones reach.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoSpeedup {
+    /// A radius per site (default).
+    Local = 0,
+    /// The thesis's quadtree radius with minmax-checked retries.
+    Quadtree = 1,
+    /// Picture-wide cones.
+    None = 2,
+}
+
+/// Options of [`pixgeo_voronoi`]; start from [`pixgeo_voronoi_options_default`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PixgeoVoronoiOptions {
+    /// Picture size in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// Map the world rectangle `bbox = {xmin, ymin, xmax, ymax}` onto the picture
+    /// (its aspect ratio must match the picture's to within a pixel); otherwise
+    /// pixel (i, j) is centred at world point (i, j).
+    pub use_bbox: bool,
+    pub bbox: [f64; 4],
+    pub accuracy: PixgeoAccuracy,
+    /// Distance error bound of fan mode, pixels.
+    pub epsilon: f64,
+    /// Triangles per fan cone; 0 = the fewest for `epsilon`.
+    pub triangles: u32,
+    pub speedup: PixgeoSpeedup,
+    /// Largest tile side in pixels; 0 = as large as the device allows.
+    pub max_tile: u32,
+}
+
+/// A pixel machine and the message of its last failed call.
+pub struct PixgeoContext {
+    machine: Machine,
+    device_name: CString,
+    last_error: CString,
+}
+
+thread_local! {
+    static CREATE_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+fn message(text: &str) -> CString {
+    CString::new(text.replace('\0', " ")).unwrap_or_default()
+}
+
+fn status_of(error: &Error) -> PixgeoStatus {
+    match error {
+        Error::NoVulkan(_) | Error::NoDevice(_) => PixgeoStatus::NoDevice,
+        Error::Vulkan { .. } | Error::Memory(_) => PixgeoStatus::DeviceError,
+        Error::Validation(_) => PixgeoStatus::ValidationError,
+        Error::PictureTooLarge { .. } => PixgeoStatus::TooLarge,
+        Error::InvalidInput(_) | Error::Io { .. } | Error::Parse { .. } => {
+            PixgeoStatus::InvalidArgument
+        }
+    }
+}
+
+fn panic_text(payload: Box<dyn std::any::Any + Send>) -> String {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into());
+    format!("pixgeo panicked (a bug, please report it): {what}")
+}
+
+/// Runs `f` on the context, recording its error message there.
+fn with_context(
+    ctx: *mut PixgeoContext,
+    f: impl FnOnce(&mut PixgeoContext) -> Result<(), (PixgeoStatus, String)>,
+) -> PixgeoStatus {
+    // SAFETY: the caller passes a pointer from `pixgeo_context_create` that is not
+    // used by another thread during this call (documented), or null.
+    let Some(context) = (unsafe { ctx.as_mut() }) else {
+        return PixgeoStatus::InvalidArgument;
+    };
+    let outcome = catch_unwind(AssertUnwindSafe(|| f(context)));
+    let (status, text) = match outcome {
+        Ok(Ok(())) => (PixgeoStatus::Ok, String::new()),
+        Ok(Err(e)) => e,
+        Err(payload) => (PixgeoStatus::Panic, panic_text(payload)),
+    };
+    context.last_error = message(&text);
+    status
+}
+
+fn invalid(text: impl Into<String>) -> (PixgeoStatus, String) {
+    (PixgeoStatus::InvalidArgument, text.into())
+}
+
+fn failed(error: Error) -> (PixgeoStatus, String) {
+    (status_of(&error), error.to_string())
+}
+
+/// Creates a context on the device `options` asks for (null: `PIXGEO_DEVICE` and
+/// `PIXGEO_VALIDATION` from the environment). On success `*out` holds the context,
+/// to be released with [`pixgeo_context_destroy`]; on failure `*out` is null and
+/// [`pixgeo_create_error`] says why.
+///
+/// # Safety
+/// `options` is null or points to a valid `PixgeoContextOptions`; `out` points to
+/// writable storage for one pointer.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_create(
+    options: *const PixgeoContextOptions,
+    out: *mut *mut PixgeoContext,
+) -> PixgeoStatus {
+    if out.is_null() {
+        return PixgeoStatus::InvalidArgument;
+    }
+    // SAFETY: `out` is non-null and writable (caller contract).
+    unsafe { *out = ptr::null_mut() };
+    // SAFETY: `options` is null or valid (caller contract).
+    let options = unsafe { options.as_ref() }.copied();
+    let outcome = catch_unwind(|| {
+        let mut machine_options = MachineOptions::from_env();
+        if let Some(o) = options {
+            machine_options.validation = o.validation;
+            match o.device {
+                PixgeoDevice::Auto => {}
+                PixgeoDevice::Cpu => machine_options.device = DeviceChoice::Cpu,
+                PixgeoDevice::Gpu => machine_options.device = DeviceChoice::Gpu,
+            }
+        }
+        Machine::new(&machine_options)
+    });
+    let (status, text) = match outcome {
+        Ok(Ok(machine)) => {
+            let context = Box::new(PixgeoContext {
+                device_name: message(machine.device_name()),
+                machine,
+                last_error: CString::default(),
+            });
+            // SAFETY: as above.
+            unsafe { *out = Box::into_raw(context) };
+            (PixgeoStatus::Ok, String::new())
+        }
+        Ok(Err(e)) => (status_of(&e), e.to_string()),
+        Err(payload) => (PixgeoStatus::Panic, panic_text(payload)),
+    };
+    CREATE_ERROR.with(|c| *c.borrow_mut() = message(&text));
+    status
+}
+
+/// Why the last [`pixgeo_context_create`] on this thread failed ("" if it did
+/// not). Valid until the next create call on this thread.
+#[no_mangle]
+pub extern "C" fn pixgeo_create_error() -> *const c_char {
+    CREATE_ERROR.with(|c| c.borrow().as_ptr())
+}
+
+/// Releases a context and every device object it holds. Null is ignored.
+///
+/// # Safety
+/// `ctx` is null or a context from [`pixgeo_context_create`] not yet destroyed and
+/// not in use by another thread.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_destroy(ctx: *mut PixgeoContext) {
+    if !ctx.is_null() {
+        // SAFETY: the pointer came from `Box::into_raw` in `pixgeo_context_create`
+        // and is destroyed once (caller contract).
+        let context = unsafe { Box::from_raw(ctx) };
+        let _ = catch_unwind(AssertUnwindSafe(move || drop(context)));
+    }
+}
+
+/// The message of the last failed call on `ctx` ("" after a successful call).
+/// Valid until the next call on `ctx`.
+///
+/// # Safety
+/// `ctx` is null or a live context.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_last_error(ctx: *const PixgeoContext) -> *const c_char {
+    // SAFETY: null or live (caller contract).
+    match unsafe { ctx.as_ref() } {
+        Some(c) => c.last_error.as_ptr(),
+        None => c"null context".as_ptr(),
+    }
+}
+
+/// The name of the context's device. Valid as long as the context.
+///
+/// # Safety
+/// `ctx` is null or a live context.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_device_name(ctx: *const PixgeoContext) -> *const c_char {
+    // SAFETY: null or live (caller contract).
+    match unsafe { ctx.as_ref() } {
+        Some(c) => c.device_name.as_ptr(),
+        None => c"null context".as_ptr(),
+    }
+}
+
+/// Default Voronoi options for a `width` x `height` picture: exact, local radii,
+/// no bounding box, tiles as large as the device allows.
+#[no_mangle]
+pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> PixgeoVoronoiOptions {
+    PixgeoVoronoiOptions {
+        width,
+        height,
+        use_bbox: false,
+        bbox: [0.0; 4],
+        accuracy: PixgeoAccuracy::Exact,
+        epsilon: 1.0,
+        triangles: 0,
+        speedup: PixgeoSpeedup::Local,
+        max_tile: 0,
+    }
+}
+
+/// The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
+/// coordinates). Writes the nearest site's index per pixel to `labels` and, if
+/// `distances` is not null, its distance (world units) to `distances`; both are
+/// caller-owned arrays of `width * height` values, row-major (`[j * width + i]`).
+/// `UINT32_MAX` marks a pixel with no site (never with the default options).
+///
+/// # Safety
+/// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+/// valid options; `labels` (and `distances` unless null) have room for
+/// `width * height` values.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_voronoi(
+    ctx: *mut PixgeoContext,
+    xy: *const f64,
+    count: usize,
+    options: *const PixgeoVoronoiOptions,
+    labels: *mut u32,
+    distances: *mut f32,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        if xy.is_null() || options.is_null() || labels.is_null() {
+            return Err(invalid("xy, options and labels must not be null"));
+        }
+        // SAFETY: non-null and valid (caller contract).
+        let o = unsafe { *options };
+        let frame = if o.use_bbox {
+            Frame::with_bbox(o.width, Some(o.height), o.bbox)
+        } else {
+            Frame::pixels(o.width, o.height)
+        }
+        .map_err(failed)?;
+        let count2 = count
+            .checked_mul(2)
+            .ok_or_else(|| invalid("site count overflows"))?;
+        // SAFETY: `xy` holds `2 * count` doubles (caller contract).
+        let coords = unsafe { std::slice::from_raw_parts(xy, count2) };
+        let sites: Vec<DVec2> = coords
+            .chunks_exact(2)
+            .map(|p| DVec2::new(p[0], p[1]))
+            .collect();
+        let accuracy = match o.accuracy {
+            PixgeoAccuracy::Exact => Accuracy::Exact,
+            PixgeoAccuracy::Fan => Accuracy::Fan {
+                epsilon: o.epsilon,
+                triangles: (o.triangles > 0).then_some(o.triangles),
+            },
+        };
+        let speedup = match o.speedup {
+            PixgeoSpeedup::Local => Speedup::Local,
+            PixgeoSpeedup::Quadtree => Speedup::Quadtree,
+            PixgeoSpeedup::None => Speedup::None,
+        };
+        let options = VoronoiOptions {
+            frame,
+            accuracy,
+            speedup,
+            distances: !distances.is_null(),
+            max_tile: (o.max_tile > 0).then_some(o.max_tile),
+        };
+        let pixels = frame.len();
+        // SAFETY: caller-owned arrays of `width * height` values (caller contract).
+        let labels = unsafe { std::slice::from_raw_parts_mut(labels, pixels) };
+        let mut distances = (!distances.is_null())
+            // SAFETY: as above.
+            .then(|| unsafe { std::slice::from_raw_parts_mut(distances, pixels) });
+        let width = frame.width as usize;
+        voronoi_bands(&context.machine, &sites, &options, |band| {
+            let start = band.y0 as usize * width;
+            labels[start..start + band.labels.len()].copy_from_slice(&band.labels);
+            if let Some(d) = distances.as_mut() {
+                d[start..start + band.distances.len()].copy_from_slice(&band.distances);
+            }
+            Ok(())
+        })
+        .map(|_| ())
+        .map_err(failed)
+    })
+}
