@@ -4,8 +4,40 @@
 //! one cone per site with a depth test paints every pixel with its nearest site
 //! (M. Denny, *Algorithmic Geometry via Graphics Hardware*, 2003). pixgeo runs that
 //! machine on Vulkan ([`machine`]), builds the surfaces it draws in [`geometry`],
-//! writes the problems on it in [`algorithms`], and checks every result against the
-//! CPU definitions in [`reference`].
+//! writes the problems on it in [`algorithms`], checks every result against the
+//! CPU definitions in [`mod@reference`], reads and writes files in [`io`], and
+//! offers all of it to C hosts through [`ffi`].
+//!
+//! # The thesis's model and the machine's types
+//!
+//! | thesis (ch. 1) | pixgeo |
+//! | --- | --- |
+//! | picture of p×p pixels, its colour buffers | [`machine::Image`] in a [`machine::Format`] (`R32Uint` ids, `R32Float`/`Rgba32Float` counters) |
+//! | z buffer and stencil | an image of [`machine::Format::DepthStencil`] (or `Depth` alone) |
+//! | state of the raster pipeline: depth, stencil, blending or logic op, write masks | [`machine::RasterState`], a plain value; each distinct one becomes a cached `VkPipeline` |
+//! | stencil reference, blend constant, scissor rectangle | [`machine::DrawParams`], set per draw |
+//! | a set of triangles entering the pipeline | [`machine::Pass::draw_cones`] (instanced fans, one per site) and [`machine::Pass::draw_rect`] |
+//! | display list translated per site | one unit fan mesh drawn instanced with a per-site buffer |
+//! | depth texture (exact distance) | the fragment shader writes the squared distance as depth |
+//! | read back a rectangle | [`machine::Machine::read_u32`], [`machine::Machine::read_f32`] |
+//! | minmax, histogram | [`machine::Machine::minmax`], [`machine::Machine::histogram`]: compute passes; only their few numbers reach the host |
+//!
+//! # Example
+//!
+//! ```no_run
+//! use glam::DVec2;
+//! use pixgeo::{algorithms::voronoi::{voronoi, VoronoiOptions}, geometry::Frame, Machine};
+//!
+//! let machine = Machine::from_env()?; // PIXGEO_DEVICE, PIXGEO_VALIDATION
+//! let sites = [DVec2::new(10.0, 20.0), DVec2::new(40.5, 7.0)];
+//! let diagram = voronoi(&machine, &sites, &VoronoiOptions::exact(Frame::pixels(64, 48)?))?;
+//! assert_eq!(diagram.labels[20 * 64 + 10], 0);
+//! # Ok::<(), pixgeo::Error>(())
+//! ```
+//!
+//! `unsafe` code lives in two places only: the Vulkan layer ([`machine`]) and the
+//! C boundary ([`ffi`]), every block with a `// SAFETY:` note; the rest of the
+//! crate forbids it.
 
 pub mod algorithms;
 pub mod error;

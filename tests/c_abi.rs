@@ -42,8 +42,14 @@ fn library_dir() -> std::path::PathBuf {
         .to_path_buf()
 }
 
-/// Builds `examples/c/voronoi.c` with the system C compiler against the cdylib.
+/// Builds `examples/c/voronoi.c` with the system C compiler against the cdylib,
+/// once for all tests.
 fn build_c_example() -> std::path::PathBuf {
+    static BUILT: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    BUILT.get_or_init(compile_c_example).clone()
+}
+
+fn compile_c_example() -> std::path::PathBuf {
     let root = Path::new(MANIFEST);
     let lib = library_dir();
     assert!(

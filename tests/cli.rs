@@ -162,3 +162,22 @@ fn bad_input_fails_with_a_message() {
         );
     }
 }
+
+#[test]
+fn gallery_renders_every_picture_and_an_index() {
+    let dir = temp("gallery");
+    let (ok, _, stderr) = pixgeo(&["gallery", dir.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let pictures: Vec<&str> = index
+        .split("<img src=\"")
+        .skip(1)
+        .map(|s| &s[..s.find('"').unwrap()])
+        .collect();
+    assert!(pictures.len() >= 5, "{index}");
+    for p in pictures {
+        let img = image::open(dir.join(p)).unwrap_or_else(|e| panic!("{p}: {e}"));
+        assert!(img.width() >= 256, "{p}");
+    }
+    assert!(index.contains("<code>pixgeo voronoi"), "commands shown");
+}

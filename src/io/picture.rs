@@ -30,10 +30,37 @@ pub fn site_color(id: u32) -> [u8; 3] {
     [r, g, b].map(|t| ((t + m) * 255.0).round() as u8)
 }
 
+/// Contour lines of the distance map drawn over a picture: one every `step` of
+/// distance, so the cones' lower envelope shows as rings.
+#[derive(Clone, Copy, Debug)]
+pub struct Contours<'a> {
+    /// Distances, the same rows as the labels.
+    pub distances: &'a [f32],
+    pub step: f32,
+    /// Width of a line in the same units (one pixel).
+    pub line: f32,
+}
+
 /// RGB bytes of rows `y0 ..` of a label map (`labels` holds whole rows of
-/// `width`), with the sites (pixel coordinates) as small dark dots.
-pub fn label_rows(labels: &[u32], width: u32, y0: u32, sites: &[DVec2]) -> Vec<u8> {
+/// `width`), with the sites (pixel coordinates) as small dark dots and, if given,
+/// distance contours.
+pub fn label_rows(
+    labels: &[u32],
+    width: u32,
+    y0: u32,
+    sites: &[DVec2],
+    contours: Option<Contours<'_>>,
+) -> Vec<u8> {
     let mut rgb: Vec<u8> = labels.iter().flat_map(|&id| site_color(id)).collect();
+    if let Some(c) = contours {
+        for (px, d) in rgb.chunks_exact_mut(3).zip(c.distances) {
+            // A line about one pixel wide where the distance crosses a multiple of
+            // the step.
+            if (d / c.step).fract() * c.step < c.line {
+                px.iter_mut().for_each(|v| *v = (*v as f32 * 0.55) as u8);
+            }
+        }
+    }
     let rows = (labels.len() / width.max(1) as usize) as i64;
     let dot = if sites.len() > 4000 { 0 } else { 1 };
     for s in sites {

@@ -1,5 +1,6 @@
 //! The pixgeo command-line tool.
 
+mod gallery;
 mod voronoi;
 
 use clap::{Parser, Subcommand};
@@ -21,10 +22,12 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Voronoi(voronoi::Args),
+    Gallery(gallery::Args),
 }
 
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Voronoi(args) => voronoi::run(args),
+        Command::Gallery(args) => gallery::run(args),
     }
 }

@@ -77,6 +77,11 @@ pub struct Args {
     #[arg(short = 'o', long = "output", value_name = "PICTURE.png")]
     output: Option<PathBuf>,
 
+    /// Draw distance contours on the picture every STEP world units: the cones'
+    /// lower envelope seen from above.
+    #[arg(long, value_name = "STEP")]
+    contours: Option<f64>,
+
     /// Write the label map as .npy (uint32, H×W; 4294967295 = no site).
     #[arg(long, value_name = "FILE.npy")]
     labels: Option<PathBuf>,
@@ -206,7 +211,7 @@ pub fn run(args: Args) -> Result<()> {
         frame,
         accuracy,
         speedup,
-        distances: args.distance.is_some(),
+        distances: args.distance.is_some() || args.contours.is_some(),
         max_tile: args.max_tile,
     };
 
@@ -228,6 +233,13 @@ pub fn run(args: Args) -> Result<()> {
         .map(|p| PngStream::create(p, frame.width, frame.height))
         .transpose()?;
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    // Distances come in world units; contours are drawn in those units too.
+    let contour_step = match args.contours {
+        Some(step) if !(step > 0.0 && step.is_finite()) => {
+            bail!("--contours needs a positive step, not {step}")
+        }
+        step => step.map(|s| s as f32),
+    };
     let stats = voronoi_bands(&machine, &sites, &options, |band| {
         if let Some(out) = labels.as_mut() {
             out.write(&band.labels)?;
@@ -236,11 +248,17 @@ pub fn run(args: Args) -> Result<()> {
             out.write(&band.distances)?;
         }
         if let Some(out) = png.as_mut() {
+            let contours = contour_step.map(|step| picture::Contours {
+                distances: &band.distances,
+                step,
+                line: (1.0 / frame.scale) as f32,
+            });
             out.write(&picture::label_rows(
                 &band.labels,
                 frame.width,
                 band.y0,
                 &pixels,
+                contours,
             ))?;
         }
         Ok(())
@@ -266,13 +284,14 @@ pub fn run(args: Args) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         eprintln!(
-            "{} sites, {}x{} pixels on {}: {} cone(s) in {} pass(es), radius {:.1}..{:.1}, \
-             {:.1} ms rendering",
+            "{} sites, {}x{} pixels on {}: {} cone(s), {} tile(s), {} pass(es), radius \
+             {:.1}..{:.1}, {:.1} ms rendering",
             s.sites,
             frame.width,
             frame.height,
             s.device,
             s.cones,
+            s.tiles,
             s.passes,
             s.radius_min,
             s.radius_max,

@@ -1,0 +1,217 @@
+//! `pixgeo gallery`: one picture per capability, with its caption and the command
+//! that makes it, and an `index.html` to look at them.
+
+use std::{fmt::Write as _, path::PathBuf};
+
+use anyhow::{Context, Result};
+use clap::{Args as ClapArgs, Parser};
+use glam::DVec2;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::{Cli, Command};
+
+/// Renders the gallery: one picture per capability pixgeo has, each the output of
+/// a `pixgeo` command shown beneath it, and an index.html that shows them all.
+///
+/// Example: pixgeo gallery gallery/ && xdg-open gallery/index.html
+#[derive(ClapArgs)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// Directory to write the pictures, their site files and index.html into.
+    dir: PathBuf,
+
+    /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
+    #[arg(long)]
+    device: Option<String>,
+}
+
+struct Entry {
+    picture: &'static str,
+    title: &'static str,
+    caption: &'static str,
+    /// The site file the command reads, written by the gallery: name and sites.
+    sites: Option<(&'static str, Vec<DVec2>)>,
+    args: &'static [&'static str],
+}
+
+fn entries() -> Vec<Entry> {
+    let mut rng = ChaCha8Rng::seed_from_u64(2003);
+    let quarter: Vec<DVec2> = (0..900)
+        .map(|_| DVec2::new(rng.gen_range(0.0..640.0), rng.gen_range(0.0..640.0)))
+        .filter(|p| p.x < 320.0 || p.y < 320.0)
+        .collect();
+    let mut scattered: Vec<DVec2> = (0..5)
+        .flat_map(|_| {
+            let c = DVec2::new(rng.gen_range(-0.5..4.5), rng.gen_range(-0.5..3.5));
+            let spread = rng.gen_range(0.05..0.4);
+            (0..40)
+                .map(|_| {
+                    c + DVec2::new(
+                        rng.gen_range(-spread..spread),
+                        rng.gen_range(-spread..spread),
+                    )
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    scattered.extend([
+        DVec2::new(-1.0, 1.5),
+        DVec2::new(5.0, -0.5),
+        DVec2::new(2.0, 4.2),
+    ]);
+    vec![
+        Entry {
+            picture: "voronoi.png",
+            title: "The Voronoi diagram",
+            caption: "1000 random sites, one cone per site, the lowest cone wins each pixel \
+                      (thesis §3.2, Fig. 3.1). Exact cones: every pixel gets a nearest site.",
+            sites: None,
+            args: &["--random", "1000", "--seed", "1", "--size", "640"],
+        },
+        Entry {
+            picture: "envelope.png",
+            title: "The lower envelope of the cones",
+            caption: "Distance contours every 6 pixels: seen from above, each region is its \
+                      cone's rings, cut where a lower cone takes over (thesis Fig. 3.3).",
+            sites: None,
+            args: &[
+                "--random",
+                "80",
+                "--seed",
+                "4",
+                "--size",
+                "640",
+                "--contours",
+                "6",
+            ],
+        },
+        Entry {
+            picture: "fan.png",
+            title: "Cones as triangle fans",
+            caption: "The same sites with every cone a fan of 6 triangles: the distances are \
+                      off by at most 16 %, and the bisectors bend into arcs (thesis §3.3-3.4, \
+                      Figs. 3.6-3.8). --mode fan chooses T per cone for an error of ε pixels.",
+            sites: None,
+            args: &[
+                "--random",
+                "80",
+                "--seed",
+                "4",
+                "--size",
+                "640",
+                "--contours",
+                "6",
+                "--mode",
+                "fan:6",
+                "--no-speedup",
+            ],
+        },
+        Entry {
+            picture: "quarter.png",
+            title: "The quadtree's worst case",
+            caption: "One quarter of the picture holds no site (thesis §3.5). The cones next to \
+                      it must reach far; per-site radii keep all the others short.",
+            sites: Some(("quarter.csv", quarter)),
+            args: &[
+                "--sites",
+                "quarter.csv",
+                "--size",
+                "640",
+                "--contours",
+                "12",
+            ],
+        },
+        Entry {
+            picture: "world.png",
+            title: "World coordinates, clusters and sites outside",
+            caption: "Clustered sites in world coordinates mapped with --bbox, three of them \
+                      outside the picture: their cones still reach in.",
+            sites: Some(("world.csv", scattered)),
+            args: &[
+                "--sites",
+                "world.csv",
+                "--bbox",
+                "0,0,4,3",
+                "--size",
+                "640",
+                "--contours",
+                "0.05",
+            ],
+        },
+        Entry {
+            picture: "tiled.png",
+            title: "Tiles",
+            caption: "A 1800x450 picture drawn in tiles of 256 pixels, each tile with only the \
+                      cones that reach it, streamed to the PNG band by band. Tiling never \
+                      changes a pixel.",
+            sites: None,
+            args: &[
+                "--random",
+                "2500",
+                "--seed",
+                "9",
+                "--size",
+                "1800x450",
+                "--max-tile",
+                "256",
+            ],
+        },
+    ]
+}
+
+pub fn run(args: Args) -> Result<()> {
+    std::fs::create_dir_all(&args.dir)
+        .with_context(|| format!("creating {}", args.dir.display()))?;
+    let mut html = String::from(
+        "<!doctype html>\n<meta charset=\"utf-8\">\n<title>pixgeo gallery</title>\n<style>\n\
+         body { font-family: sans-serif; max-width: 1400px; margin: 2em auto; padding: 0 1em; }\n\
+         main { display: grid; grid-template-columns: repeat(auto-fill, minmax(420px, 1fr)); gap: 2em; }\n\
+         img { width: 100%; image-rendering: pixelated; border: 1px solid #ccc; }\n\
+         code { display: block; background: #f4f4f4; padding: .5em; overflow-x: auto; font-size: 85%; }\n\
+         </style>\n<h1>pixgeo gallery</h1>\n<p>Planar geometry computed by rendering. Each \
+         picture is the output of the command beneath it, run in this directory.</p>\n<main>\n",
+    );
+    for entry in entries() {
+        if let Some((name, sites)) = &entry.sites {
+            let text: String = sites.iter().fold("x,y\n".into(), |mut s, p| {
+                let _ = writeln!(s, "{},{}", p.x, p.y);
+                s
+            });
+            std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;
+        }
+        let mut argv: Vec<String> = vec!["pixgeo".into(), "voronoi".into()];
+        argv.extend(entry.args.iter().map(|a| a.to_string()));
+        argv.extend(["-o".into(), entry.picture.into()]);
+        let shown = argv.join(" ");
+        // Run with file names relative to the gallery directory.
+        let mut real: Vec<String> = argv
+            .iter()
+            .map(|a| {
+                if a.ends_with(".csv") || a.ends_with(".png") {
+                    args.dir.join(a).display().to_string()
+                } else {
+                    a.clone()
+                }
+            })
+            .collect();
+        if let Some(d) = &args.device {
+            real.extend(["--device".into(), d.clone()]);
+        }
+        let cli = Cli::try_parse_from(&real).with_context(|| format!("gallery command {shown}"))?;
+        match cli.command {
+            Command::Voronoi(v) => crate::voronoi::run(v)?,
+            Command::Gallery(_) => unreachable!("the gallery only runs voronoi commands"),
+        }
+        let _ = write!(
+            html,
+            "<figure>\n<img src=\"{}\" alt=\"{}\">\n<figcaption><b>{}.</b> {}<code>{}</code></figcaption>\n</figure>\n",
+            entry.picture, entry.title, entry.title, entry.caption, shown
+        );
+    }
+    html.push_str("</main>\n");
+    let index = args.dir.join("index.html");
+    std::fs::write(&index, html).with_context(|| format!("writing {}", index.display()))?;
+    eprintln!("wrote {}", index.display());
+    Ok(())
+}
