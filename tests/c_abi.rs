@@ -52,6 +52,16 @@ fn build_c_example() -> std::path::PathBuf {
 fn compile_c_example() -> std::path::PathBuf {
     let root = Path::new(MANIFEST);
     let lib = library_dir();
+    // `cargo test` builds only the rlib; the C example links the cdylib.
+    let mut cargo = Command::new(env!("CARGO"));
+    cargo.args(["build", "--lib"]).current_dir(root);
+    if lib.ends_with("release") {
+        cargo.arg("--release");
+    }
+    assert!(
+        cargo.status().expect("run cargo").success(),
+        "cargo build --lib failed"
+    );
     assert!(
         lib.join("libpixgeo.so").exists(),
         "{} has no libpixgeo.so",

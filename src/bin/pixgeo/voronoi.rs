@@ -1,10 +1,11 @@
 //! `pixgeo voronoi`: the Voronoi diagram of point sites.
 
-use std::path::PathBuf;
+use std::{io::IsTerminal, path::PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
+use indicatif::{ProgressBar, ProgressStyle};
 use pixgeo::{
     algorithms::voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     geometry::Frame,
@@ -240,7 +241,19 @@ pub fn run(args: Args) -> Result<()> {
         }
         step => step.map(|s| s as f32),
     };
+    // A tiled picture shows its progress, band by band, on a terminal.
+    let mut progress: Option<ProgressBar> = None;
+    let show_progress = !args.json && std::io::stderr().is_terminal();
     let stats = voronoi_bands(&machine, &sites, &options, |band| {
+        if show_progress && band.height < frame.height {
+            let bar = progress.get_or_insert_with(|| {
+                ProgressBar::new(frame.height as u64).with_style(
+                    ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left")
+                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                )
+            });
+            bar.inc(band.height as u64);
+        }
         if let Some(out) = labels.as_mut() {
             out.write(&band.labels)?;
         }
@@ -263,6 +276,9 @@ pub fn run(args: Args) -> Result<()> {
         }
         Ok(())
     })?;
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
     labels.map(NpyStream::finish).transpose()?;
     distances.map(NpyStream::finish).transpose()?;
     png.map(PngStream::finish).transpose()?;
