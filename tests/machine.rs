@@ -92,6 +92,32 @@ fn depth_test_keeps_nearest_and_logic_ops_combine_bits() {
     }
     let mm = m.minmax(&ids, PixelRect::of(&ids)).unwrap();
     assert_eq!((mm.min[0], mm.max[0]), (2.0, 10.0));
+    // Three distinct states were drawn: three pipelines; drawing them again from
+    // the cache adds none.
+    assert_eq!(m.pipeline_count(), 3);
+    m.run(|p| {
+        p.begin(
+            Target {
+                color: Some(&ids),
+                depth_stencil: Some(&depth),
+            },
+            Clear::default(),
+        )?;
+        let xor = RasterState::OVERWRITE.with_color(ColorUpdate::Logic(LogicOp::Xor));
+        p.draw_rect(
+            &xor,
+            &DrawParams::default(),
+            &rect(0.0, 0.0, 1.0, 1.0).uint([0; 4]),
+        )?;
+        p.draw_rect(
+            &RasterState::lower_envelope(),
+            &DrawParams::default(),
+            &RectDraw::full_picture(W, H).at_depth(0.9),
+        )?;
+        p.end()
+    })
+    .unwrap();
+    assert_eq!(m.pipeline_count(), 3);
     let part = m
         .minmax(
             &ids,

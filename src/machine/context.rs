@@ -265,11 +265,6 @@ impl Context {
     pub fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
     }
-
-    /// True for a software rasterizer such as lavapipe.
-    pub fn is_cpu(&self) -> bool {
-        self.properties.device_type == vk::PhysicalDeviceType::CPU
-    }
 }
 
 impl Drop for Context {

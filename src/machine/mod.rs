@@ -68,7 +68,6 @@ pub struct Machine {
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
     descriptor_pool: vk::DescriptorPool,
-    validation: bool,
     scratch: std::cell::RefCell<Option<Buffer>>,
     ctx: Arc<Context>,
 }
@@ -90,7 +89,6 @@ impl Machine {
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
             descriptor_pool: vk::DescriptorPool::null(),
-            validation: options.validation,
             scratch: Default::default(),
             ctx: ctx.clone(),
         };
@@ -136,16 +134,6 @@ impl Machine {
     /// The device's name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
     pub fn device_name(&self) -> &str {
         &self.ctx.device_name
-    }
-
-    /// True when the device is a software rasterizer (lavapipe).
-    pub fn is_cpu_device(&self) -> bool {
-        self.ctx.is_cpu()
-    }
-
-    /// Whether the validation layer is on.
-    pub fn validation(&self) -> bool {
-        self.validation
     }
 
     /// The largest picture side the device allows.
