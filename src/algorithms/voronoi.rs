@@ -24,7 +24,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
-        frame::check_sites,
+        frame::{check_sites, distance2_to_rect},
         radius, Frame,
     },
     machine::{
@@ -564,7 +564,7 @@ impl TileView {
     fn reaches(&self, p: DVec2, r: f64) -> bool {
         let lo = self.origin;
         let hi = self.origin + DVec2::new(self.width as f64 - 1.0, self.height as f64 - 1.0);
-        (p.clamp(lo, hi) - p).length_squared() <= r * r
+        distance2_to_rect(p, lo, hi) <= r * r
     }
 }
 

@@ -122,22 +122,34 @@ impl Frame {
         false
     }
 
+    /// The rectangle of pixel centres `[0, w-1] x [0, h-1]`, as its corners.
+    fn pixel_centres(&self) -> (DVec2, DVec2) {
+        let far = DVec2::new((self.width - 1) as f64, (self.height - 1) as f64);
+        (DVec2::ZERO, far)
+    }
+
     /// Distance from `p` (pixel coordinates) to the farthest pixel centre.
     pub fn farthest_pixel(&self, p: DVec2) -> f64 {
-        let (w, h) = ((self.width - 1) as f64, (self.height - 1) as f64);
-        let dx = p.x.abs().max((p.x - w).abs());
-        let dy = p.y.abs().max((p.y - h).abs());
-        dx.hypot(dy)
+        let (lo, hi) = self.pixel_centres();
+        farthest2_in_rect(p, lo, hi).sqrt()
     }
 
     /// Distance from `p` (pixel coordinates) to the nearest pixel centre's
     /// rectangle `[0, w-1] x [0, h-1]` (0 inside).
     pub fn distance_to_pixels(&self, p: DVec2) -> f64 {
-        let (w, h) = ((self.width - 1) as f64, (self.height - 1) as f64);
-        let dx = (-p.x).max(p.x - w).max(0.0);
-        let dy = (-p.y).max(p.y - h).max(0.0);
-        dx.hypot(dy)
+        let (lo, hi) = self.pixel_centres();
+        distance2_to_rect(p, lo, hi).sqrt()
     }
+}
+
+/// Squared distance from `p` to the rectangle `[lo, hi]` (0 inside).
+pub fn distance2_to_rect(p: DVec2, lo: DVec2, hi: DVec2) -> f64 {
+    (p.clamp(lo, hi) - p).length_squared()
+}
+
+/// Squared distance from `p` to the farthest point of the rectangle `[lo, hi]`.
+pub fn farthest2_in_rect(p: DVec2, lo: DVec2, hi: DVec2) -> f64 {
+    ((p - (lo + hi) * 0.5).abs() + (hi - lo) * 0.5).length_squared()
 }
 
 /// Checks a site list: not empty, every coordinate finite.

@@ -9,7 +9,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
-use super::Frame;
+use super::{
+    frame::{distance2_to_rect, farthest2_in_rect},
+    Frame,
+};
 
 /// Bounds on the width of the Voronoi diagram restricted to the picture
 /// (thesis Def. 3.3, Lemma 3.2).
@@ -128,10 +131,8 @@ pub fn local_radii(sites: &[DVec2], frame: &Frame, cell: f64, bin: f64) -> Vec<f
             // The cell's pixel centres span [lo, hi].
             let lo = DVec2::new(cx as f64, cy as f64) * cell;
             let hi = (lo + cell - 1.0).min(DVec2::new(w, h)).max(lo);
-            let centre = (lo + hi) * 0.5;
-            let half = (hi - lo) * 0.5;
-            let maxdist2 = |p: DVec2| ((p - centre).abs() + half).length_squared();
-            let mindist2 = |p: DVec2| (p.clamp(lo, hi) - p).length_squared();
+            let maxdist2 = |p: DVec2| farthest2_in_rect(p, lo, hi);
+            let mindist2 = |p: DVec2| distance2_to_rect(p, lo, hi);
             let rect = bins.bins_of(lo, hi);
             // U(B)²: rings of bins until no farther ring can hold a closer site (a
             // site in ring k is at least k - 1 bins away). The sites seen on the way
