@@ -28,8 +28,8 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Image, Machine, PixelRect,
-        Program, RasterState, Target,
+        Clear, ClearColor, ConeBatch, ConeDraw, ConePush, DrawParams, Format, Image, Machine,
+        PixelRect, Program, RasterState, Target,
     },
 };
 
@@ -95,7 +95,8 @@ impl VoronoiOptions {
 /// How many cones were drawn with one kind of footprint.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct ConeGroup {
-    /// `point` (a point sprite), `polygon` (an exact cone's footprint) or `fan`.
+    /// `batch` (exact cones drawn eight to a rectangle), `polygon` (an exact
+    /// cone's own footprint) or `fan`.
     pub kind: &'static str,
     /// Corners of a polygon, triangles of a fan, 1 for a point.
     pub size: u32,
@@ -168,8 +169,8 @@ struct Cone {
 /// How a cone is drawn; the order is the draw order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Footprint {
-    /// A point sprite of side `2 r + 1` (exact cones of sites inside the picture).
-    Point,
+    /// One of up to [`BATCH`] nearby exact cones drawn as one rectangle.
+    Batch,
     /// A regular polygon with this many corners (exact cones).
     Polygon(u32),
     /// A triangle fan of this many triangles.
@@ -185,10 +186,13 @@ struct Shaped {
     outer_radius: f64,
 }
 
-/// Largest radius drawn as a point sprite. On lavapipe a point costs less than one
-/// triangle to set up and covers 4 r²; a hexagon (four triangles, 3.5 r²) is
-/// cheaper from about this radius on.
-const POINT_RADIUS_LIMIT: f64 = 48.0;
+/// Exact cones per batch: the batch programs (`glsl/cone_batch.*`) take eight.
+const BATCH: usize = 8;
+
+/// Largest radius of a batched cone. A batch's rectangle is the bounding box of
+/// its cones, so one long cone would widen it for all eight; longer cones get a
+/// polygon of their own.
+const BATCH_RADIUS_LIMIT: f64 = 48.0;
 
 /// Computes the Voronoi diagram of `sites` (world coordinates).
 pub fn voronoi(
@@ -254,11 +258,11 @@ pub fn voronoi_bands(
     let started = Instant::now();
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     let attempts = cone_attempts(&pixels, &frame, options.speedup);
-    let max_point = machine.max_point_size() as f64;
     let shaped: Vec<Vec<Shaped>> = attempts
         .iter()
-        .map(|(_, cones)| shape_cones(cones, &frame, options.accuracy, max_point))
+        .map(|(_, cones)| shape_cones(cones, &frame, options.accuracy))
         .collect();
+    let batches: Vec<Vec<ConeBatch>> = shaped.iter().map(|s| batches_of(s)).collect();
     // One depth scale for every tile and attempt: the largest cone's.
     let scale = depth_scale(shaped.iter().flatten(), options.accuracy);
     stats.bounds_ms = ms(started);
@@ -268,26 +272,15 @@ pub fn voronoi_bands(
     if max_tile == 0 {
         return Err(Error::InvalidInput("tile size must be at least 1".into()));
     }
-    let one_tile = frame.width <= max_tile && frame.height <= max_tile;
-    // Tiles of a larger picture carry a margin so that a point sprite is never
-    // clipped: its centre lies inside the enlarged tile whenever its square touches
-    // the tile.
-    let margin = if one_tile || options.accuracy != Accuracy::Exact {
-        0
-    } else {
-        POINT_RADIUS_LIMIT.ceil() as u32 + 2
-    };
-    let tile = if one_tile {
-        max_tile
-    } else {
-        max_tile.min(side.saturating_sub(2 * margin)).max(1)
-    };
     // A band of rows is held on the host: keep it to about 2^26 pixels.
     let band_rows = ((1u64 << 26) / frame.width as u64).max(1) as u32;
-    let (tile_w, tile_h) = (tile.min(frame.width), tile.min(frame.height).min(band_rows));
+    let (tile_w, tile_h) = (
+        max_tile.min(frame.width),
+        max_tile.min(frame.height).min(band_rows),
+    );
     let picture = Picture {
-        ids: machine.image(Format::R32Uint, tile_w + 2 * margin, tile_h + 2 * margin)?,
-        depth: machine.image(Format::Depth, tile_w + 2 * margin, tile_h + 2 * margin)?,
+        ids: machine.image(Format::R32Uint, tile_w, tile_h)?,
+        depth: machine.image(Format::Depth, tile_w, tile_h)?,
     };
 
     let mut final_attempt = 0;
@@ -305,21 +298,27 @@ pub fn voronoi_bands(
         };
         for x0 in (0..frame.width).step_by(tile_w as usize) {
             let inner = PixelRect {
-                x: margin,
-                y: margin,
+                x: 0,
+                y: 0,
                 width: tile_w.min(frame.width - x0),
                 height: band_h,
             };
             let view = TileView {
-                origin: DVec2::new(x0 as f64, y0 as f64) - margin as f64,
-                width: tile_w + 2 * margin,
-                height: tile_h + 2 * margin,
+                origin: DVec2::new(x0 as f64, y0 as f64),
+                width: tile_w,
+                height: tile_h,
             };
             stats.tiles += 1;
             let started = Instant::now();
-            for (k, cones) in shaped.iter().enumerate() {
+            for (k, (cones, batches)) in shaped.iter().zip(&batches).enumerate() {
                 stats.passes += 1;
-                render(machine, &picture, &view, cones, options.accuracy, scale)?;
+                let draws = Draws {
+                    cones,
+                    batches,
+                    accuracy: options.accuracy,
+                    scale,
+                };
+                render(machine, &picture, &view, &draws)?;
                 final_attempt = final_attempt.max(k);
                 // Picture-wide and local radii cover every pixel by construction; the
                 // quadtree's radius is checked with minmax, the thesis's way: a pixel
@@ -355,12 +354,12 @@ pub fn voronoi_bands(
         .into_iter()
         .map(|g| ConeGroup {
             kind: match g.footprint {
-                Footprint::Point => "point",
+                Footprint::Batch => "batch",
                 Footprint::Polygon(_) => "polygon",
                 Footprint::Fan(_) => "fan",
             },
             size: match g.footprint {
-                Footprint::Point => 1,
+                Footprint::Batch => BATCH as u32,
                 Footprint::Polygon(k) | Footprint::Fan(k) => k,
             },
             cones: g.count as usize,
@@ -416,8 +415,7 @@ fn cone_attempts(
     match speedup {
         Speedup::None => vec![(None, cones_with(&|i| picture_wide[i]))],
         Speedup::Local => {
-            let (cell, bin) = radius::default_cell_and_bin(frame, pixels.len());
-            let radii = radius::local_radii(pixels, frame, cell, bin);
+            let radii = radius::cell_radii(pixels, frame, radius::default_bin(frame, pixels.len()));
             vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))]
         }
         Speedup::Quadtree => {
@@ -431,38 +429,31 @@ fn cone_attempts(
     }
 }
 
-/// Corners of an exact cone's footprint polygon, a regular K-gon around the disc
-/// it must cover: K - 2 triangles of area `K tan(pi / K) r²`. On lavapipe a
-/// triangle costs about a microsecond of setup, as much as ~400 fragments, so small
-/// cones are single triangles (5.2 r²) and larger ones trade triangles for
-/// fragments: squares (4 r²), hexagons (3.5 r²), octagons (3.3 r²). The thresholds
-/// are where the measured costs cross.
+/// Corners of a long exact cone's footprint polygon, a regular K-gon around the
+/// disc it must cover: K - 2 triangles of area `K tan(pi / K) r²`. On lavapipe a
+/// triangle costs about a microsecond of setup, as much as ~400 fragments, so
+/// hexagons (3.5 r²) give way to octagons (3.3 r²) only where the saved fragments
+/// pay for the two extra triangles.
 fn polygon_corners(radius: f64) -> u32 {
-    match radius {
-        r if r < 18.0 => 3,
-        r if r < 37.0 => 4,
-        r if r < 70.0 => 6,
-        _ => 8,
+    if radius < 70.0 {
+        6
+    } else {
+        8
     }
 }
 
-/// Chooses each cone's footprint and sorts the cones into draw order: by footprint,
-/// then by site id.
-fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy, max_point: f64) -> Vec<Shaped> {
-    let (w, h) = ((frame.width - 1) as f64, (frame.height - 1) as f64);
+/// Chooses each cone's footprint and sorts the cones into draw order: batched
+/// cones first, along a Hilbert curve so that a batch's cones are neighbours, then
+/// the others by footprint and site id.
+fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy) -> Vec<Shaped> {
     let mut shaped: Vec<Shaped> = cones
         .iter()
         .map(|cone| {
             let fan = |s: FanShape| (Footprint::Fan(s.triangles), s.outer_radius);
             let (footprint, outer_radius) = match accuracy {
                 Accuracy::Exact => {
-                    let inside =
-                        (0.0..=w).contains(&cone.site.x) && (0.0..=h).contains(&cone.site.y);
-                    if inside
-                        && cone.radius < POINT_RADIUS_LIMIT
-                        && 2.0 * cone.radius + 1.0 <= max_point
-                    {
-                        (Footprint::Point, cone.radius)
+                    if cone.radius < BATCH_RADIUS_LIMIT {
+                        (Footprint::Batch, cone.radius)
                     } else {
                         let k = polygon_corners(cone.radius);
                         (
@@ -486,9 +477,78 @@ fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy, max_point: f64
             }
         })
         .collect();
-    // Stable: ids stay ascending within a footprint.
-    shaped.sort_by_key(|s| s.footprint);
+    let side = frame.width.max(frame.height) as f64;
+    let curve = |p: DVec2| {
+        let q = |v: f64| ((v + 0.5) / side * 65536.0).clamp(0.0, 65535.0) as u32;
+        hilbert_index(q(p.x), q(p.y))
+    };
+    shaped.sort_by_cached_key(|s| match s.footprint {
+        Footprint::Batch => (s.footprint, curve(s.cone.site), s.cone.id),
+        _ => (s.footprint, 0, s.cone.id),
+    });
     shaped
+}
+
+/// Position of cell `(x, y)` along the Hilbert curve through a 2^16 x 2^16 grid:
+/// cells close along the curve are close in the plane.
+fn hilbert_index(mut x: u32, mut y: u32) -> u64 {
+    const SIDE: u32 = 1 << 16;
+    let mut index = 0u64;
+    let mut s = SIDE / 2;
+    while s > 0 {
+        let rx = u32::from(x & s != 0);
+        let ry = u32::from(y & s != 0);
+        index += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
+        // Rotate the quadrant so that the sub-curve starts where the last ended.
+        if ry == 0 {
+            if rx == 1 {
+                x = SIDE - 1 - x;
+                y = SIDE - 1 - y;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        s /= 2;
+    }
+    index
+}
+
+/// Instances of the batch program: the batched cones (a prefix of `shaped`) in
+/// runs of [`BATCH`], each with the bounding box of its cones' footprints. The
+/// last batch repeats its last cone to fill its slots.
+fn batches_of(shaped: &[Shaped]) -> Vec<ConeBatch> {
+    let batched = shaped
+        .iter()
+        .take_while(|s| s.footprint == Footprint::Batch)
+        .count();
+    shaped[..batched]
+        .chunks(BATCH)
+        .map(|chunk| {
+            let mut batch = ConeBatch {
+                rect: [f32::MAX, f32::MAX, f32::MIN, f32::MIN],
+                sites: [0.0; 2 * BATCH],
+                radii2: [0.0; BATCH],
+                ids: [0; BATCH],
+            };
+            for k in 0..BATCH {
+                let cone = chunk[k.min(chunk.len() - 1)].cone;
+                let (p, r) = (cone.site, cone.radius);
+                batch.sites[2 * k] = p.x as f32;
+                batch.sites[2 * k + 1] = p.y as f32;
+                batch.radii2[k] = (r * r) as f32;
+                batch.ids[k] = cone.id;
+                // Half a pixel more, so that the rectangle's rasterization rules
+                // never drop a pixel centre on the rim.
+                let (lo, hi) = (p - r - 0.5, p + r + 0.5);
+                batch.rect = [
+                    batch.rect[0].min(lo.x as f32),
+                    batch.rect[1].min(lo.y as f32),
+                    batch.rect[2].max(hi.x as f32),
+                    batch.rect[3].max(hi.y as f32),
+                ];
+            }
+            batch
+        })
+        .collect()
 }
 
 /// Powers of two that map cone heights (fan) or squared distances (exact) into the
@@ -560,38 +620,65 @@ struct TileView {
 }
 
 impl TileView {
+    /// The tile's pixel centres: corners `(lo, hi)` in picture pixels.
+    fn centres(&self) -> (DVec2, DVec2) {
+        let size = DVec2::new(self.width as f64, self.height as f64);
+        (self.origin, self.origin + size - 1.0)
+    }
+
     /// Whether a disc of radius `r` around `p` (picture pixels) meets the tile.
     fn reaches(&self, p: DVec2, r: f64) -> bool {
-        let lo = self.origin;
-        let hi = self.origin + DVec2::new(self.width as f64 - 1.0, self.height as f64 - 1.0);
+        let (lo, hi) = self.centres();
         distance2_to_rect(p, lo, hi) <= r * r
+    }
+
+    /// Whether the rectangle `[lo, hi]` (picture pixels) holds a pixel centre of
+    /// the tile's range.
+    fn meets(&self, lo: [f32; 2], hi: [f32; 2]) -> bool {
+        let (a, b) = self.centres();
+        lo[0] as f64 <= b.x && hi[0] as f64 >= a.x && lo[1] as f64 <= b.y && hi[1] as f64 >= a.y
     }
 }
 
-/// Draws the lower envelope of the cones that reach `view` into the tile.
-fn render(
-    machine: &Machine,
-    picture: &Picture,
-    view: &TileView,
-    shaped: &[Shaped],
+/// What one pass draws.
+struct Draws<'a> {
+    /// All cones in draw order; the batched ones are drawn through `batches`.
+    cones: &'a [Shaped],
+    batches: &'a [ConeBatch],
     accuracy: Accuracy,
     scale: DepthScale,
-) -> Result<()> {
-    let visible: Vec<Shaped> = shaped
+}
+
+/// The unit square as two triangles: the mesh of a batch's rectangle.
+const UNIT_SQUARE: [[f32; 3]; 6] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+];
+
+/// Draws the lower envelope of the cones that reach `view` into the tile.
+fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'_>) -> Result<()> {
+    let batches: Vec<ConeBatch> = draws
+        .batches
         .iter()
-        .filter(|s| view.reaches(s.cone.site, s.cone.radius))
+        .filter(|b| view.meets([b.rect[0], b.rect[1]], [b.rect[2], b.rect[3]]))
+        .copied()
+        .collect();
+    let visible: Vec<Shaped> = draws
+        .cones
+        .iter()
+        .filter(|s| s.footprint != Footprint::Batch && view.reaches(s.cone.site, s.cone.radius))
         .copied()
         .collect();
     let groups = groups_of(&visible);
-    let mut mesh: Vec<[f32; 3]> = vec![[0.0; 3]];
+    let mut mesh: Vec<[f32; 3]> = UNIT_SQUARE.to_vec();
     let mut ranges = Vec::with_capacity(groups.len());
     for g in &groups {
         let vertices = match g.footprint {
-            // A point sprite reads no mesh: one vertex per instance.
-            Footprint::Point => {
-                ranges.push((0, 1));
-                continue;
-            }
+            Footprint::Batch => unreachable!("batched cones are drawn as batches"),
             Footprint::Polygon(k) => unit_footprint(k),
             Footprint::Fan(t) => unit_fan(t),
         };
@@ -614,11 +701,16 @@ fn render(
     let push = ConePush {
         picture_size: [view.width as f32, view.height as f32],
         offset: [view.origin.x as f32, view.origin.y as f32],
-        vertex_depth_scale: scale.vertex as f32,
-        fragment_depth_scale: scale.fragment as f32,
+        vertex_depth_scale: draws.scale.vertex as f32,
+        fragment_depth_scale: draws.scale.fragment as f32,
     };
     let mesh_buffer = machine.vertex_buffer(&mesh)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
+    let batch_buffer = if batches.is_empty() {
+        None
+    } else {
+        Some(machine.vertex_buffer(&batches)?)
+    };
     let state = RasterState::lower_envelope();
     let params = DrawParams::default();
     machine.run(|pass| {
@@ -633,11 +725,26 @@ fn render(
                 stencil: None,
             },
         )?;
+        if let Some(batch_buffer) = &batch_buffer {
+            pass.draw_cones(
+                Program::ConeExactBatch,
+                &state,
+                &params,
+                &push,
+                &ConeDraw {
+                    mesh: &mesh_buffer,
+                    first_vertex: 0,
+                    vertex_count: UNIT_SQUARE.len() as u32,
+                    instances: batch_buffer,
+                    first_instance: 0,
+                    instance_count: batches.len() as u32,
+                },
+            )?;
+        }
         for (g, &(first_vertex, vertex_count)) in groups.iter().zip(&ranges) {
-            let program = match (g.footprint, accuracy) {
-                (Footprint::Point, _) => Program::ConeExactPoint,
-                (_, Accuracy::Exact) => Program::ConeExact,
-                (_, Accuracy::Fan { .. }) => Program::ConeFan,
+            let program = match draws.accuracy {
+                Accuracy::Exact => Program::ConeExact,
+                Accuracy::Fan { .. } => Program::ConeFan,
             };
             pass.draw_cones(
                 program,

@@ -1,18 +1,15 @@
 //! How far each cone must reach: the width bounds of thesis §3.5 from a quadtree,
-//! and pixgeo's per-site bound from a grid of buckets.
+//! and pixgeo's per-site bound, the width of a polygon that contains the site's
+//! region.
 //!
 //! All coordinates here are pixel coordinates; pixel centres are the integer points
 //! of `[0, w-1] x [0, h-1]`.
 
 use glam::DVec2;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
-use super::{
-    frame::{distance2_to_rect, farthest2_in_rect},
-    Frame,
-};
+use super::{frame::distance2_to_rect, Frame};
 
 /// Bounds on the width of the Voronoi diagram restricted to the picture
 /// (thesis Def. 3.3, Lemma 3.2).
@@ -99,79 +96,128 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
     out
 }
 
-/// A radius per site that its cone must reach: every pixel centre owned by site s
-/// is within `radii[s]` of it (a site that owns no pixel may get 0).
+/// A radius per site that its cone must reach: every pixel centre that site s owns
+/// lies within `radii[s]` of it; a site that owns no pixel centre may get 0.
 ///
-/// The picture is cut into square cells of side `cell` (rounded to whole pixels).
-/// For a cell B, U(B) is the
-/// smallest over sites of the distance to B's farthest point: every point of B has
-/// a site within U(B), so its owner s is within U(B) and has `mindist(s, B) <= U(B)`.
-/// Each such candidate needs `min(U(B), maxdist(s, B))`. As cells shrink, the radius
-/// tends to the width of the site's own region (thesis Def. 3.2); where sites are
-/// dense the radii shrink to the local spacing, while a site next to an empty
-/// quarter still reaches across it: the thesis's worst case costs only the cones
-/// that need the reach.
+/// The region of s is the intersection of the half-planes nearer to s than to each
+/// other site. Clipping the picture by the half-planes of *some* sites leaves a
+/// polygon that contains the region, so its farthest corner is a valid radius
+/// whichever sites were used, and it is the region's exact width (thesis Def. 3.2)
+/// once every Voronoi neighbour has cut. Sites are visited ring by ring of square
+/// bins of side `bin` (about one site each; sites outside the picture sit in the
+/// nearest border bin: projecting onto the picture never brings two points
+/// closer, so ring distances stay lower bounds). The search ends once every site
+/// not yet seen is at least twice the radius away: its bisector lies beyond the
+/// polygon. Half-planes are widened by a relative 1e-9 so that rounding can only
+/// enlarge a radius.
 ///
-/// Sites are found through square bins of side `bin` (about one site each), those
-/// outside the picture in the nearest border bin: projecting onto the picture never
-/// moves a site closer to a point of the picture, so ring distances stay lower
-/// bounds.
-pub fn local_radii(sites: &[DVec2], frame: &Frame, cell: f64, bin: f64) -> Vec<f64> {
-    // Whole pixels: then [lo, hi] below holds exactly the cell's pixel centres.
-    let cell = cell.round().max(1.0);
-    let bins = Grid::new(sites, frame, bin.max(cell));
-    let nx = (frame.width as f64 / cell).ceil() as usize;
-    let ny = (frame.height as f64 / cell).ceil() as usize;
-    let (w, h) = ((frame.width - 1) as f64, (frame.height - 1) as f64);
-    // Squared radii: non-negative floats order like their bit patterns, so
-    // `fetch_max` on the bits is a maximum.
-    let radii: Vec<AtomicU64> = (0..sites.len()).map(|_| AtomicU64::new(0)).collect();
-    (0..ny).into_par_iter().for_each_init(Vec::new, |seen, cy| {
-        for cx in 0..nx {
-            // The cell's pixel centres span [lo, hi].
-            let lo = DVec2::new(cx as f64, cy as f64) * cell;
-            let hi = (lo + cell - 1.0).min(DVec2::new(w, h)).max(lo);
-            let maxdist2 = |p: DVec2| farthest2_in_rect(p, lo, hi);
-            let mindist2 = |p: DVec2| distance2_to_rect(p, lo, hi);
-            let rect = bins.bins_of(lo, hi);
-            // U(B)²: rings of bins until no farther ring can hold a closer site (a
-            // site in ring k is at least k - 1 bins away). The sites seen on the way
-            // are the first candidates.
-            seen.clear();
-            let mut cover2 = f64::INFINITY;
+/// Where sites are dense the radii shrink to the local spacing, while a site next
+/// to an empty quarter still reaches across it: the thesis's worst case costs only
+/// the cones that need the reach.
+pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
+    let bins = Grid::new(sites, frame, bin);
+    let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
+    let picture = [
+        DVec2::ZERO,
+        DVec2::new(corner.x, 0.0),
+        corner,
+        DVec2::new(0.0, corner.y),
+    ];
+    // Sites in bin order, so that neighbouring searches share cache lines.
+    let by_bin: Vec<f64> = bins
+        .position
+        .par_iter()
+        .map(|&s| {
+            // Corners relative to s.
+            let mut polygon = Polygon::new(picture.map(|v| v - s));
+            let mut reach2 = polygon.farthest2();
+            let [bx, by, _, _] = bins.bins_of(s, s);
             let mut ring = 0;
-            while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < cover2 {
-                bins.for_ring(rect, ring, |i, p| {
-                    cover2 = cover2.min(maxdist2(p));
-                    seen.push((i, p));
+            while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < 4.0 * reach2 {
+                bins.for_ring_bins([bx, by, bx, by], ring, |lo, hi, members| {
+                    // A bin wholly at twice the radius or more cannot cut.
+                    if reach2 == 0.0 || distance2_to_rect(s, lo, hi) >= 4.0 * reach2 {
+                        return;
+                    }
+                    for &t in members {
+                        let d = t - s;
+                        let dd = d.length_squared();
+                        if dd == 0.0 || dd >= 4.0 * reach2 {
+                            continue;
+                        }
+                        // Keep v with v.d <= dd / 2, widened so rounding only enlarges.
+                        if polygon.clip(d, 0.5 * dd * (1.0 + 1e-9) + 1e-9) {
+                            reach2 = polygon.farthest2();
+                        }
+                    }
                 });
                 ring += 1;
             }
-            // Candidates: every site within U(B) of the cell.
-            let mut raise = |i: u32, p: DVec2| {
-                if mindist2(p) <= cover2 {
-                    let need = cover2.min(maxdist2(p)).to_bits();
-                    // Read first: most candidates do not raise the radius, and a
-                    // plain load is far cheaper than fetch_max's CAS loop.
-                    let r = &radii[i as usize];
-                    if r.load(Ordering::Relaxed) < need {
-                        r.fetch_max(need, Ordering::Relaxed);
-                    }
-                }
-            };
-            for &(i, p) in seen.iter() {
-                raise(i, p);
-            }
-            while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) <= cover2 {
-                bins.for_ring(rect, ring, &mut raise);
-                ring += 1;
-            }
-        }
-    });
+            reach2.sqrt()
+        })
+        .collect();
+    let mut radii = vec![0.0; sites.len()];
+    for (&i, r) in bins.order.iter().zip(by_bin) {
+        radii[i as usize] = r;
+    }
     radii
-        .into_iter()
-        .map(|r| f64::from_bits(r.into_inner()).sqrt())
-        .collect()
+}
+
+/// A convex polygon of bounded size on the stack, with room for one clip.
+struct Polygon {
+    len: usize,
+    corners: [DVec2; Polygon::CAPACITY],
+    scratch: [DVec2; Polygon::CAPACITY],
+}
+
+impl Polygon {
+    const CAPACITY: usize = 32;
+
+    fn new(corners: [DVec2; 4]) -> Self {
+        let mut polygon = Self {
+            len: 4,
+            corners: [DVec2::ZERO; Self::CAPACITY],
+            scratch: [DVec2::ZERO; Self::CAPACITY],
+        };
+        polygon.corners[..4].copy_from_slice(&corners);
+        polygon
+    }
+
+    /// Squared distance of the farthest corner from the origin; 0 when empty.
+    fn farthest2(&self) -> f64 {
+        self.corners[..self.len]
+            .iter()
+            .map(|v| v.length_squared())
+            .fold(0.0, f64::max)
+    }
+
+    /// Clips to `v.normal <= limit` (Sutherland–Hodgman); returns whether anything
+    /// was cut. A clip that would overflow the capacity is skipped, which only
+    /// leaves the polygon larger.
+    fn clip(&mut self, normal: DVec2, limit: f64) -> bool {
+        let corners = &self.corners[..self.len];
+        if self.len == Self::CAPACITY || corners.iter().all(|v| v.dot(normal) <= limit) {
+            return false;
+        }
+        let mut n = 0;
+        let mut a = corners[self.len - 1];
+        let mut fa = a.dot(normal) - limit;
+        for &b in corners {
+            let fb = b.dot(normal) - limit;
+            if (fa <= 0.0) != (fb <= 0.0) {
+                self.scratch[n] = a + (b - a) * (fa / (fa - fb));
+                n += 1;
+            }
+            if fb <= 0.0 {
+                self.scratch[n] = b;
+                n += 1;
+            }
+            (a, fa) = (b, fb);
+        }
+        std::mem::swap(&mut self.corners, &mut self.scratch);
+        self.len = n;
+        true
+    }
 }
 
 /// Squared lower bound on the distance from a cell to sites `ring` cells away.
@@ -247,52 +293,46 @@ impl Grid {
         self.nx.max(self.ny)
     }
 
-    /// Calls `f(index, position)` for every site in the bins at Chebyshev
-    /// distance `ring` from the bin rectangle `[x0, y0, x1, y1]`.
-    fn for_ring(&self, [x0, y0, x1, y1]: [isize; 4], ring: usize, mut f: impl FnMut(u32, DVec2)) {
+    /// Calls `f(lo, hi, positions)` for every bin at Chebyshev distance `ring` from
+    /// the bin rectangle `[x0, y0, x1, y1]`: the bin's corners (pixel coordinates,
+    /// widened by half a pixel) and the positions of its sites.
+    fn for_ring_bins(
+        &self,
+        [x0, y0, x1, y1]: [isize; 4],
+        ring: usize,
+        mut f: impl FnMut(DVec2, DVec2, &[DVec2]),
+    ) {
         let r = ring as isize;
-        let (nx, ny) = (self.nx as isize, self.ny as isize);
-        // The bins of row y from x0 to x1 are contiguous in `order`.
-        let mut span = |y: isize, a: isize, b: isize| {
-            let (a, b) = (a.max(0), b.min(nx - 1));
-            if y < 0 || y >= ny || a > b {
+        let mut bin = |x: isize, y: isize| {
+            if x < 0 || y < 0 || x >= self.nx as isize || y >= self.ny as isize {
                 return;
             }
-            let row = y as usize * self.nx;
-            let (from, to) = (
-                self.start[row + a as usize] as usize,
-                self.start[row + b as usize + 1] as usize,
-            );
-            for (&i, &p) in self.order[from..to].iter().zip(&self.position[from..to]) {
-                f(i, p);
-            }
+            let k = y as usize * self.nx + x as usize;
+            let (from, to) = (self.start[k] as usize, self.start[k + 1] as usize);
+            let lo = DVec2::new(x as f64, y as f64) * self.cell - 0.5;
+            f(lo, lo + self.cell, &self.position[from..to]);
         };
-        if r == 0 {
-            for y in y0..=y1 {
-                span(y, x0, x1);
+        for y in y0 - r..=y1 + r {
+            if y == y0 - r || y == y1 + r {
+                for x in x0 - r..=x1 + r {
+                    bin(x, y);
+                }
+            } else {
+                bin(x0 - r, y);
+                if r > 0 || x1 > x0 {
+                    bin(x1 + r, y);
+                }
             }
-            return;
-        }
-        span(y0 - r, x0 - r, x1 + r);
-        span(y1 + r, x0 - r, x1 + r);
-        for y in y0 - r + 1..y1 + r {
-            span(y, x0 - r, x0 - r);
-            span(y, x1 + r, x1 + r);
         }
     }
 }
 
-/// The cell and bin sides for [`local_radii`]: cells a third of the mean site
-/// spacing (2 to 64 pixels), bins the spacing itself. Smaller cells give tighter
-/// radii for more CPU work.
-pub fn default_cell_and_bin(frame: &Frame, sites: usize) -> (f64, f64) {
+/// The bin side for [`cell_radii`]: the mean site spacing, so that a bin holds
+/// about one site (at least 2 pixels, and at most about 4 million bins).
+pub fn default_bin(frame: &Frame, sites: usize) -> f64 {
     let spacing = (frame.len() as f64 / sites.max(1) as f64).sqrt();
-    // At most about 4 million cells and bins, whatever the picture's size.
     let least = (frame.len() as f64 / (1u64 << 22) as f64).sqrt();
-    (
-        (spacing / 3.0).clamp(2.0, 64.0).max(least),
-        spacing.clamp(2.0, 256.0).max(least),
-    )
+    spacing.max(2.0).max(least)
 }
 
 #[cfg(test)]
@@ -307,20 +347,25 @@ mod tests {
     }
 
     #[test]
-    fn local_radii_reach_every_owned_pixel() {
+    fn cell_radii_reach_every_owned_pixel() {
         let frame = Frame::pixels(61, 47).unwrap();
-        // Clustered in one quarter, a regular row, and sites outside the picture.
+        // Clustered in one quarter, a regular row, duplicates, a co-circular
+        // lattice and sites outside the picture.
         let mut sites: Vec<DVec2> = (0..40)
             .map(|i| DVec2::new((i * 7 % 23) as f64 * 0.9, (i * 11 % 19) as f64 * 1.1))
             .collect();
         sites.extend((0..6).map(|i| DVec2::new(10.0 * i as f64, 40.0)));
+        sites.extend(
+            (0..9).map(|i| DVec2::new(40.0 + 5.0 * (i % 3) as f64, 20.0 + 5.0 * (i / 3) as f64)),
+        );
         sites.extend([
             DVec2::new(80.0, -10.0),
             DVec2::new(-3.0, 30.0),
             DVec2::new(30.0, 47.2),
+            DVec2::new(30.0, 47.2),
         ]);
-        for (cell, bin) in [(1.0, 1.0), (3.0, 7.0), (2.5, 10.0), (6.0, 6.0), (4.0, 64.0)] {
-            let radii = local_radii(&sites, &frame, cell, bin);
+        for bin in [1.0, 2.5, 7.0, 64.0] {
+            let radii = cell_radii(&sites, &frame, bin);
             for y in 0..47 {
                 for x in 0..61 {
                     let q = DVec2::new(x as f64, y as f64);
@@ -329,7 +374,7 @@ mod tests {
                         if ((*s - q).length() - d).abs() < 1e-12 {
                             assert!(
                                 d <= radii[i] + 1e-9,
-                                "cell {cell} bin {bin}: pixel {q} site {i} at {d} > {}",
+                                "bin {bin}: pixel {q} site {i} at {d} > {}",
                                 radii[i]
                             );
                         }
@@ -337,6 +382,36 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn cell_radii_are_the_region_widths() {
+        // Uniform sites: the radius is the farthest corner of the exact region, which
+        // lies within a pixel diagonal of the farthest owned pixel centre unless
+        // the corner sits in a sliver between pixel centres.
+        let frame = Frame::pixels(200, 150).unwrap();
+        let sites = crate::io::sites::random_sites(300, 7, &frame);
+        let radii = cell_radii(&sites, &frame, default_bin(&frame, sites.len()));
+        let mut width = vec![0.0f64; sites.len()];
+        for y in 0..150 {
+            for x in 0..200 {
+                let q = DVec2::new(x as f64, y as f64);
+                let (i, d) = sites
+                    .iter()
+                    .map(|s| (*s - q).length())
+                    .enumerate()
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .unwrap();
+                width[i] = width[i].max(d);
+            }
+        }
+        let excess: f64 = radii.iter().zip(&width).map(|(r, w)| r - w).sum();
+        assert!(radii.iter().zip(&width).all(|(r, w)| r + 1e-9 >= *w));
+        assert!(
+            excess / (sites.len() as f64) < 1.0,
+            "mean excess {}",
+            excess / 300.0
+        );
     }
 
     #[test]

@@ -86,8 +86,6 @@ pub(crate) struct Context {
     pub queue_family: u32,
     pub properties: vk::PhysicalDeviceProperties,
     pub device_name: String,
-    /// Point sprites larger than one pixel are enabled.
-    pub large_points: bool,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
@@ -189,7 +187,6 @@ impl Context {
         // SAFETY: valid physical device; the chained struct outlives the call.
         unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
         let logic_op = supported.features.logic_op;
-        let large_points = supported.features.large_points;
         if supported13.dynamic_rendering == vk::FALSE
             || supported13.synchronization2 == vk::FALSE
             || supported13.maintenance4 == vk::FALSE
@@ -205,7 +202,6 @@ impl Context {
             .queue_priorities(&priorities)];
         let features = vk::PhysicalDeviceFeatures::default()
             .logic_op(logic_op == vk::TRUE)
-            .large_points(large_points == vk::TRUE)
             .independent_blend(true);
         // maintenance4 relaxes interface matching: a fan cone's fragment shader
         // ignores the site position the vertex shader passes to exact cones.
@@ -245,7 +241,6 @@ impl Context {
             queue_family,
             properties,
             device_name,
-            large_points: large_points == vk::TRUE,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
         context.check_validation()?;

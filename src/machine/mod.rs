@@ -29,7 +29,9 @@ use ash::vk;
 
 pub use context::{DeviceChoice, MachineOptions};
 pub use memory::{Buffer, BufferKind, Format, Image};
-pub use pass::{Clear, ClearColor, ConeDraw, ConePush, Pass, PixelRect, RectDraw, Target};
+pub use pass::{
+    Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, Target,
+};
 pub use pipelines::Program;
 pub use state::{
     Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams, LogicOp,
@@ -142,15 +144,6 @@ impl Machine {
         l.max_image_dimension2_d
             .min(l.max_framebuffer_width)
             .min(l.max_framebuffer_height)
-    }
-
-    /// The largest point sprite side in pixels (1 without `largePoints`).
-    pub fn max_point_size(&self) -> f32 {
-        if self.ctx.large_points {
-            self.ctx.properties.limits.point_size_range[1]
-        } else {
-            1.0
-        }
     }
 
     /// Number of distinct graphics pipelines created so far.

@@ -104,6 +104,20 @@ pub struct ConeDraw<'a> {
     pub instance_count: u32,
 }
 
+/// One instance of [`Program::ConeExactBatch`]: up to eight exact cones drawn as
+/// one rectangle that covers all their footprints. Unused slots repeat a used one.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ConeBatch {
+    /// Pixel coordinates `(min x, min y, max x, max y)` of the rectangle.
+    pub rect: [f32; 4],
+    /// Site positions, two per group of four: `x0, y0, x1, y1, x2, ...`.
+    pub sites: [f32; 16],
+    /// Squared truncation radii.
+    pub radii2: [f32; 8],
+    pub ids: [u32; 8],
+}
+
 /// A rectangle in world coordinates with constant depth and colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RectDraw {

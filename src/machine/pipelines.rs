@@ -23,9 +23,9 @@ pub enum Program {
     ConeExact,
     /// An axis-aligned rectangle of constant depth and colour.
     Rect,
-    /// Exact cones of sites inside the picture as point sprites: a square of side
-    /// `2 r + 1` for one vertex, cheaper to set up than any triangle.
-    ConeExactPoint,
+    /// Up to eight exact cones in one bounding rectangle, the envelope taken per
+    /// fragment; see [`crate::machine::ConeBatch`].
+    ConeExactBatch,
 }
 
 /// Compute kernels of the reductions (thesis §1.7).
@@ -71,9 +71,10 @@ pub(crate) struct Pipelines {
 
 const SHADERS: &[(&str, &[u32])] = &[
     ("cone.vert", shaders::CONE_VERT),
-    ("cone_point.vert", shaders::CONE_POINT_VERT),
     ("cone_fan.frag", shaders::CONE_FAN_FRAG),
     ("cone_exact.frag", shaders::CONE_EXACT_FRAG),
+    ("cone_batch.vert", shaders::CONE_BATCH_VERT),
+    ("cone_batch.frag", shaders::CONE_BATCH_FRAG),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
@@ -143,7 +144,12 @@ impl Pipelines {
     }
 
     fn module(&self, name: &str) -> vk::ShaderModule {
-        self.modules.get(name).copied().unwrap_or_default()
+        // Every name used below is listed in SHADERS; a missing one is a bug that
+        // the first draw of its program reveals.
+        *self
+            .modules
+            .get(name)
+            .unwrap_or_else(|| panic!("shader {name} is not in SHADERS"))
     }
 
     /// The pipeline for `program` drawing into `color` and `depth` with `state`.
@@ -191,10 +197,10 @@ impl Pipelines {
                 "cone_exact.frag",
                 vk::PrimitiveTopology::TRIANGLE_FAN,
             ),
-            Program::ConeExactPoint => (
-                "cone_point.vert",
-                "cone_exact.frag",
-                vk::PrimitiveTopology::POINT_LIST,
+            Program::ConeExactBatch => (
+                "cone_batch.vert",
+                "cone_batch.frag",
+                vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
 
             Program::Rect if uint_target => (
@@ -248,12 +254,40 @@ impl Pipelines {
                 .offset(16)
                 .format(vk::Format::R32_UINT),
         ];
+        let batch_bindings = [
+            cone_bindings[0],
+            vk::VertexInputBindingDescription::default()
+                .binding(1)
+                .stride(std::mem::size_of::<super::pass::ConeBatch>() as u32)
+                .input_rate(vk::VertexInputRate::INSTANCE),
+        ];
+        // glsl/cone_batch.vert: the rectangle, four vec4 of site pairs, two vec4 of
+        // squared radii, two uvec4 of ids.
+        let batch_attributes: Vec<_> = [
+            cone_attributes[0],
+            vk::VertexInputAttributeDescription::default()
+                .location(1)
+                .binding(1)
+                .format(vk::Format::R32G32B32A32_SFLOAT),
+        ]
+        .into_iter()
+        .chain((0..8).map(|k| {
+            vk::VertexInputAttributeDescription::default()
+                .location(2 + k)
+                .binding(1)
+                .offset(16 + 16 * k)
+                .format(if k < 6 {
+                    vk::Format::R32G32B32A32_SFLOAT
+                } else {
+                    vk::Format::R32G32B32A32_UINT
+                })
+        }))
+        .collect();
         let vertex_input = match key.program {
+            Program::ConeExactBatch => vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&batch_bindings)
+                .vertex_attribute_descriptions(&batch_attributes),
             Program::Rect => vk::PipelineVertexInputStateCreateInfo::default(),
-            // A point sprite is the site itself: no mesh.
-            Program::ConeExactPoint => vk::PipelineVertexInputStateCreateInfo::default()
-                .vertex_binding_descriptions(&cone_bindings[1..])
-                .vertex_attribute_descriptions(&cone_attributes[1..]),
             _ => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&cone_bindings)
                 .vertex_attribute_descriptions(&cone_attributes),
