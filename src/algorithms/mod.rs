@@ -1,4 +1,5 @@
 //! The problems pixgeo solves, each written as passes over the pixel machine.
 #![forbid(unsafe_code)]
 
+pub mod higher_order;
 pub mod voronoi;

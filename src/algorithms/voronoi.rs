@@ -703,6 +703,7 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         offset: [view.origin.x as f32, view.origin.y as f32],
         vertex_depth_scale: draws.scale.vertex as f32,
         fragment_depth_scale: draws.scale.fragment as f32,
+        levels: 1,
     };
     let mesh_buffer = machine.vertex_buffer(&mesh)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;

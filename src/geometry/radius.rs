@@ -9,7 +9,12 @@ use glam::DVec2;
 
 use rayon::prelude::*;
 
-use super::{frame::distance2_to_rect, Frame};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::{
+    frame::{distance2_to_rect, farthest2_in_rect},
+    Frame,
+};
 
 /// Bounds on the width of the Voronoi diagram restricted to the picture
 /// (thesis Def. 3.3, Lemma 3.2).
@@ -31,6 +36,34 @@ pub struct WidthBounds {
 /// picture is marked gives the upper bound. Levels stop once they have more cells
 /// than there are sites, since those cannot all be marked.
 pub fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
+    let (side, full_level) = deepest_full_level(sites, frame, 1);
+    let cell_at = |l: u32| side / (1u64 << l) as f64;
+    match full_level {
+        Some(l) => WidthBounds {
+            lower: cell_at(l + 1),
+            upper: Some(cell_at(l) * 2f64.sqrt()),
+            full_level,
+        },
+        None => WidthBounds {
+            lower: side,
+            upper: None,
+            full_level,
+        },
+    }
+}
+
+/// Thesis Theorem 3.3: if every cell of a covering of the picture holds at least
+/// `k` sites, cones truncated at the largest cell diagonal keep the `k` lowest
+/// layers of the arrangement. The diagonal of the quadtree's deepest such level;
+/// `None` when not even the root holds `k` sites of the picture.
+pub fn quadtree_k_radius(sites: &[DVec2], frame: &Frame, k: usize) -> Option<f64> {
+    let (side, full_level) = deepest_full_level(sites, frame, k.max(1));
+    full_level.map(|l| side / (1u64 << l) as f64 * 2f64.sqrt())
+}
+
+/// The root side of the picture's quadtree and its deepest level whose cells
+/// (those meeting the picture) all hold at least `k` sites of the picture.
+fn deepest_full_level(sites: &[DVec2], frame: &Frame, k: usize) -> (f64, Option<u32>) {
     let (w, h) = (frame.width as f64, frame.height as f64);
     let side = (frame.width.max(frame.height) as f64)
         .log2()
@@ -48,35 +81,23 @@ pub fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
         let cell = side / (1u64 << level) as f64;
         let nx = (w / cell).ceil() as usize;
         let ny = (h / cell).ceil() as usize;
-        if nx * ny > inside.len().max(1) || cell < 1.0 {
+        if nx * ny * k > inside.len().max(1) || cell < 1.0 {
             break;
         }
-        let mut marked = vec![false; nx * ny];
+        let mut count = vec![0usize; nx * ny];
         for p in &inside {
             let ix = ((p.x / cell) as usize).min(nx - 1);
             let iy = ((p.y / cell) as usize).min(ny - 1);
-            marked[iy * nx + ix] = true;
+            count[iy * nx + ix] += 1;
         }
-        if marked.iter().all(|m| *m) {
+        if count.iter().all(|c| *c >= k) {
             full_level = Some(level);
             level += 1;
         } else {
             break;
         }
     }
-    let cell_at = |l: u32| side / (1u64 << l) as f64;
-    match full_level {
-        Some(l) => WidthBounds {
-            lower: cell_at(l + 1),
-            upper: Some(cell_at(l) * 2f64.sqrt()),
-            full_level,
-        },
-        None => WidthBounds {
-            lower: side,
-            upper: None,
-            full_level,
-        },
-    }
+    (side, full_level)
 }
 
 /// The radii of the thesis's retry loop: start a little above the lower bound
@@ -134,7 +155,7 @@ pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
             let [bx, by, _, _] = bins.bins_of(s, s);
             let mut ring = 0;
             while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < 4.0 * reach2 {
-                bins.for_ring_bins([bx, by, bx, by], ring, |lo, hi, members| {
+                bins.for_ring_bins([bx, by, bx, by], ring, |lo, hi, _, members| {
                     // A bin wholly at twice the radius or more cannot cut.
                     if reach2 == 0.0 || distance2_to_rect(s, lo, hi) >= 4.0 * reach2 {
                         return;
@@ -161,6 +182,98 @@ pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
         radii[i as usize] = r;
     }
     radii
+}
+
+/// A radius per site for the k lowest layers of the arrangement (degree 1..k
+/// diagrams): every pixel centre that has site s among its k nearest lies within
+/// `radii[s]` of it.
+///
+/// The picture is cut into square cells of side `cell`. For a cell B, U(B) is the
+/// k-th smallest over sites of the distance to B's farthest point: every point of
+/// B has k sites within U(B), so a site among its k nearest is within U(B) of it
+/// and has `mindist(s, B) <= U(B)`. Each such candidate needs
+/// `min(U(B), maxdist(s, B))`. Sites are found through square bins of side `bin`.
+pub fn k_local_radii(sites: &[DVec2], frame: &Frame, k: usize, cell: f64, bin: f64) -> Vec<f64> {
+    let k = k.max(1);
+    // Whole pixels: then [lo, hi] below holds exactly the cell's pixel centres.
+    let cell = cell.round().max(1.0);
+    let bins = Grid::new(sites, frame, bin.max(cell));
+    let nx = (frame.width as f64 / cell).ceil() as usize;
+    let ny = (frame.height as f64 / cell).ceil() as usize;
+    let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
+    // Squared radii: non-negative floats order like their bit patterns, so
+    // `fetch_max` on the bits is a maximum.
+    let radii: Vec<AtomicU64> = (0..sites.len()).map(|_| AtomicU64::new(0)).collect();
+    (0..ny).into_par_iter().for_each_init(
+        || (Vec::new(), Vec::new()),
+        |(seen, nearest), cy| {
+            for cx in 0..nx {
+                let lo = DVec2::new(cx as f64, cy as f64) * cell;
+                let hi = (lo + cell - 1.0).min(corner).max(lo);
+                let maxdist2 = |p: DVec2| farthest2_in_rect(p, lo, hi);
+                let rect = bins.bins_of(lo, hi);
+                // U(B)²: rings of bins until no farther ring can hold one of the k
+                // closest (a site in ring r is at least r - 1 bins away).
+                seen.clear();
+                nearest.clear();
+                let mut cover2 = f64::INFINITY;
+                let mut ring = 0;
+                while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < cover2 {
+                    bins.for_ring_bins(rect, ring, |_, _, indices, positions| {
+                        for (&i, &p) in indices.iter().zip(positions) {
+                            let d2 = maxdist2(p);
+                            seen.push((i, p));
+                            let at = nearest.partition_point(|&x| x < d2);
+                            if at < k {
+                                nearest.insert(at, d2);
+                                nearest.truncate(k);
+                            }
+                        }
+                    });
+                    if nearest.len() == k {
+                        cover2 = nearest[k - 1];
+                    }
+                    ring += 1;
+                }
+                // Candidates: every site within U(B) of the cell.
+                let raise = |i: u32, p: DVec2| {
+                    if distance2_to_rect(p, lo, hi) <= cover2 {
+                        let need = cover2.min(maxdist2(p)).to_bits();
+                        // Most candidates do not raise the radius; a plain load is
+                        // far cheaper than fetch_max.
+                        let r = &radii[i as usize];
+                        if r.load(Ordering::Relaxed) < need {
+                            r.fetch_max(need, Ordering::Relaxed);
+                        }
+                    }
+                };
+                for &(i, p) in seen.iter() {
+                    raise(i, p);
+                }
+                while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) <= cover2 {
+                    bins.for_ring_bins(rect, ring, |_, _, indices, positions| {
+                        for (&i, &p) in indices.iter().zip(positions) {
+                            raise(i, p);
+                        }
+                    });
+                    ring += 1;
+                }
+            }
+        },
+    );
+    radii
+        .into_iter()
+        .map(|r| f64::from_bits(r.into_inner()).sqrt())
+        .collect()
+}
+
+/// Cell and bin sides for [`k_local_radii`]: the k-th neighbour is about
+/// `sqrt k` spacings away, so cells are a third of that and bins that wide
+/// (at least 2 pixels; at most about 4 million cells).
+pub fn k_cell_and_bin(frame: &Frame, sites: usize, k: usize) -> (f64, f64) {
+    let reach = (frame.len() as f64 * k.max(1) as f64 / sites.max(1) as f64).sqrt();
+    let least = (frame.len() as f64 / (1u64 << 22) as f64).sqrt();
+    ((reach / 3.0).max(2.0).max(least), reach.max(2.0).max(least))
 }
 
 /// A convex polygon of bounded size on the stack, with room for one clip.
@@ -293,14 +406,14 @@ impl Grid {
         self.nx.max(self.ny)
     }
 
-    /// Calls `f(lo, hi, positions)` for every bin at Chebyshev distance `ring` from
-    /// the bin rectangle `[x0, y0, x1, y1]`: the bin's corners (pixel coordinates,
-    /// widened by half a pixel) and the positions of its sites.
+    /// Calls `f(lo, hi, indices, positions)` for every bin at Chebyshev distance
+    /// `ring` from the bin rectangle `[x0, y0, x1, y1]`: the bin's corners (pixel
+    /// coordinates, widened by half a pixel) and its sites.
     fn for_ring_bins(
         &self,
         [x0, y0, x1, y1]: [isize; 4],
         ring: usize,
-        mut f: impl FnMut(DVec2, DVec2, &[DVec2]),
+        mut f: impl FnMut(DVec2, DVec2, &[u32], &[DVec2]),
     ) {
         let r = ring as isize;
         let mut bin = |x: isize, y: isize| {
@@ -310,7 +423,12 @@ impl Grid {
             let k = y as usize * self.nx + x as usize;
             let (from, to) = (self.start[k] as usize, self.start[k + 1] as usize);
             let lo = DVec2::new(x as f64, y as f64) * self.cell - 0.5;
-            f(lo, lo + self.cell, &self.position[from..to]);
+            f(
+                lo,
+                lo + self.cell,
+                &self.order[from..to],
+                &self.position[from..to],
+            );
         };
         for y in y0 - r..=y1 + r {
             if y == y0 - r || y == y1 + r {

@@ -86,6 +86,8 @@ pub(crate) struct Context {
     pub queue_family: u32,
     pub properties: vk::PhysicalDeviceProperties,
     pub device_name: String,
+    /// Fragment shaders may do 64-bit atomics on storage buffers.
+    pub fragment_atomics64: bool,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
@@ -183,10 +185,18 @@ impl Context {
             })? as u32;
 
         let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
-        let mut supported = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
+        let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut supported = vk::PhysicalDeviceFeatures2::default()
+            .push_next(&mut supported13)
+            .push_next(&mut supported12);
         // SAFETY: valid physical device; the chained struct outlives the call.
         unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
         let logic_op = supported.features.logic_op;
+        // The k nearest sites per pixel in one pass: fragments insert 64-bit keys
+        // into sorted per-pixel lists with atomic min.
+        let fragment_atomics64 = supported.features.fragment_stores_and_atomics == vk::TRUE
+            && supported.features.shader_int64 == vk::TRUE
+            && supported12.shader_buffer_int64_atomics == vk::TRUE;
         if supported13.dynamic_rendering == vk::FALSE
             || supported13.synchronization2 == vk::FALSE
             || supported13.maintenance4 == vk::FALSE
@@ -202,7 +212,11 @@ impl Context {
             .queue_priorities(&priorities)];
         let features = vk::PhysicalDeviceFeatures::default()
             .logic_op(logic_op == vk::TRUE)
-            .independent_blend(true);
+            .independent_blend(true)
+            .fragment_stores_and_atomics(fragment_atomics64)
+            .shader_int64(fragment_atomics64);
+        let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
+            .shader_buffer_int64_atomics(fragment_atomics64);
         // maintenance4 relaxes interface matching: a fan cone's fragment shader
         // ignores the site position the vertex shader passes to exact cones.
         let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
@@ -212,7 +226,8 @@ impl Context {
         let create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_features(&features)
-            .push_next(&mut features13);
+            .push_next(&mut features13)
+            .push_next(&mut features12);
         // SAFETY: the create info and its chain outlive the call.
         let device = unsafe { instance.create_device(physical_device, &create, None) }
             .vk("vkCreateDevice")?;
@@ -241,6 +256,7 @@ impl Context {
             queue_family,
             properties,
             device_name,
+            fragment_atomics64,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
         context.check_validation()?;

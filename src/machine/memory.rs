@@ -288,6 +288,13 @@ impl Buffer {
         }
     }
 
+    /// Sets every byte of the buffer to `byte`.
+    pub(crate) fn fill(&mut self, byte: u8) {
+        if let Some(slice) = self.allocation.as_mut().and_then(|a| a.mapped_slice_mut()) {
+            slice.fill(byte);
+        }
+    }
+
     /// Reads `count` values of `T` from the start of the buffer.
     pub(crate) fn read<T: bytemuck::Pod>(&self, count: usize) -> Vec<T> {
         let bytes = self.mapped();

@@ -307,14 +307,17 @@ impl Machine {
         Ok(())
     }
 
-    fn with_descriptor_set<R>(
+    /// Runs `f` with a descriptor set of `layout` whose bindings `writes` fills,
+    /// freeing the set afterwards (`f` runs its submissions to completion).
+    fn with_set<R>(
         &self,
-        image: &Image,
+        layout: vk::DescriptorSetLayout,
+        image: Option<&Image>,
         buffer: &Buffer,
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
         let device = &self.ctx.device;
-        let layouts = [self.pipelines.compute_set_layout];
+        let layouts = [layout];
         let alloc = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(self.descriptor_pool)
             .set_layouts(&layouts);
@@ -322,24 +325,33 @@ impl Machine {
         // that used it has completed.
         let set =
             unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
-        let image_info = [vk::DescriptorImageInfo::default()
-            .image_view(image.view)
-            .image_layout(vk::ImageLayout::GENERAL)];
+        let image_info: Vec<_> = image
+            .iter()
+            .map(|image| {
+                vk::DescriptorImageInfo::default()
+                    .image_view(image.view)
+                    .image_layout(vk::ImageLayout::GENERAL)
+            })
+            .collect();
         let buffer_info = [vk::DescriptorBufferInfo::default()
             .buffer(buffer.raw)
             .range(vk::WHOLE_SIZE)];
-        let writes = [
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(0)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .image_info(&image_info),
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(1)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&buffer_info),
-        ];
+        // The compute layout has the image at binding 0 and the buffer at 1; the
+        // graphics layout only the buffer, at 0.
+        let mut writes = vec![vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(image_info.len() as u32)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .buffer_info(&buffer_info)];
+        if !image_info.is_empty() {
+            writes.push(
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(0)
+                    .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                    .image_info(&image_info),
+            );
+        }
         // SAFETY: the set is not in use; infos outlive the call.
         unsafe { device.update_descriptor_sets(&writes, &[]) };
         let result = f(set);
@@ -347,6 +359,31 @@ impl Machine {
         unsafe { device.free_descriptor_sets(self.descriptor_pool, &[set]) }
             .vk("vkFreeDescriptorSets")?;
         result
+    }
+
+    fn with_descriptor_set<R>(
+        &self,
+        image: &Image,
+        buffer: &Buffer,
+        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
+    ) -> Result<R> {
+        self.with_set(self.pipelines.compute_set_layout, Some(image), buffer, f)
+    }
+
+    /// Runs `f` with a descriptor set that gives fragment shaders `buffer` as their
+    /// storage buffer; bind it in a pass with [`Pass::bind_fragment_buffer`].
+    pub fn with_fragment_buffer<R>(
+        &self,
+        buffer: &Buffer,
+        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
+    ) -> Result<R> {
+        self.with_set(self.pipelines.graphics_set_layout, None, buffer, f)
+    }
+
+    /// Whether fragment shaders may do 64-bit atomics on storage buffers, which
+    /// [`Program::ConeKNearest`] needs.
+    pub fn has_fragment_atomics64(&self) -> bool {
+        self.ctx.fragment_atomics64
     }
 
     /// The minmax function (thesis §1.7) over `rect`, computed on the device; only

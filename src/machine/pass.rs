@@ -88,6 +88,8 @@ pub struct ConePush {
     pub offset: [f32; 2],
     pub vertex_depth_scale: f32,
     pub fragment_depth_scale: f32,
+    /// Nearest sites kept per pixel by [`Program::ConeKNearest`] (else unused).
+    pub levels: u32,
 }
 
 /// An instanced draw of cones: `vertex_count` vertices of the unit fan mesh from
@@ -170,6 +172,9 @@ pub struct Pass<'m> {
     pub(crate) machine: &'m Machine,
     pub(crate) cmd: vk::CommandBuffer,
     rendering: Option<Rendering>,
+    /// Fragment shaders of the open rendering pass write a storage buffer that the
+    /// host reads afterwards.
+    fragment_buffer: bool,
 }
 
 impl<'m> Pass<'m> {
@@ -178,6 +183,7 @@ impl<'m> Pass<'m> {
             machine,
             cmd,
             rendering: None,
+            fragment_buffer: false,
         }
     }
 
@@ -330,6 +336,12 @@ impl<'m> Pass<'m> {
         }
         // SAFETY: a rendering pass was begun in this command buffer.
         unsafe { self.device().cmd_end_rendering(self.cmd) };
+        if std::mem::take(&mut self.fragment_buffer) {
+            self.host_barrier(
+                vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            );
+        }
         Ok(())
     }
 
@@ -384,6 +396,23 @@ impl<'m> Pass<'m> {
         };
     }
 
+    /// Binds a set from [`Machine::with_fragment_buffer`] for the draws that follow.
+    pub fn bind_fragment_buffer(&mut self, set: vk::DescriptorSet) {
+        self.fragment_buffer = true;
+        let layout = self.machine.pipelines.graphics_layout;
+        // SAFETY: the set matches the graphics layout's set 0 and outlives the run.
+        unsafe {
+            self.device().cmd_bind_descriptor_sets(
+                self.cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                layout,
+                0,
+                &[set],
+                &[],
+            )
+        };
+    }
+
     /// Draws instanced cones (a "display list" translated per site, thesis §3.3).
     pub fn draw_cones(
         &mut self,
@@ -409,6 +438,7 @@ impl<'m> Pass<'m> {
             push.offset[1].to_bits(),
             push.vertex_depth_scale.to_bits(),
             push.fragment_depth_scale.to_bits(),
+            push.levels,
         ];
         self.push_graphics(&words);
         let device = self.device();

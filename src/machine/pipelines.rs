@@ -26,6 +26,10 @@ pub enum Program {
     /// Up to eight exact cones in one bounding rectangle, the envelope taken per
     /// fragment; see [`crate::machine::ConeBatch`].
     ConeExactBatch,
+    /// Instanced exact cone footprints inserting `(squared distance, id)` keys into
+    /// each pixel's sorted list of the k nearest, a storage buffer bound with
+    /// [`crate::machine::Pass::bind_fragment_buffer`]; writes no attachment.
+    ConeKNearest,
 }
 
 /// Compute kernels of the reductions (thesis §1.7).
@@ -63,6 +67,8 @@ pub(crate) struct Pipelines {
     ctx: Arc<Context>,
     modules: HashMap<&'static str, vk::ShaderModule>,
     pub graphics_layout: vk::PipelineLayout,
+    /// One storage buffer for fragment shaders (binding 0 of set 0).
+    pub graphics_set_layout: vk::DescriptorSetLayout,
     pub compute_set_layout: vk::DescriptorSetLayout,
     pub compute_layout: vk::PipelineLayout,
     graphics: RefCell<HashMap<GraphicsKey, vk::Pipeline>>,
@@ -75,6 +81,7 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("cone_exact.frag", shaders::CONE_EXACT_FRAG),
     ("cone_batch.vert", shaders::CONE_BATCH_VERT),
     ("cone_batch.frag", shaders::CONE_BATCH_FRAG),
+    ("cone_knearest.frag", shaders::CONE_KNEAREST_FRAG),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
@@ -92,6 +99,7 @@ impl Pipelines {
             ctx: ctx.clone(),
             modules: HashMap::new(),
             graphics_layout: vk::PipelineLayout::null(),
+            graphics_set_layout: vk::DescriptorSetLayout::null(),
             compute_set_layout: vk::DescriptorSetLayout::null(),
             compute_layout: vk::PipelineLayout::null(),
             graphics: RefCell::default(),
@@ -106,10 +114,22 @@ impl Pipelines {
             pipelines.modules.insert(name, module);
         }
 
+        let bindings = [vk::DescriptorSetLayoutBinding::default()
+            .binding(0)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT)];
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        pipelines.graphics_set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
+            .vk("vkCreateDescriptorSetLayout")?;
+        let set_layouts = [pipelines.graphics_set_layout];
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
             .size(GRAPHICS_PUSH_BYTES)];
-        let info = vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&push);
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&push);
         // SAFETY: valid create info; destroyed in `Drop`.
         pipelines.graphics_layout =
             unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
@@ -202,6 +222,11 @@ impl Pipelines {
                 "cone_batch.frag",
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
+            Program::ConeKNearest => (
+                "cone.vert",
+                "cone_knearest.frag",
+                vk::PrimitiveTopology::TRIANGLE_FAN,
+            ),
 
             Program::Rect if uint_target => (
                 "rect.vert",
@@ -214,7 +239,7 @@ impl Pipelines {
                 vk::PrimitiveTopology::TRIANGLE_STRIP,
             ),
         };
-        if key.program != Program::Rect && !uint_target {
+        if !matches!(key.program, Program::Rect | Program::ConeKNearest) && !uint_target {
             return Err(Error::InvalidInput(
                 "cones write site ids and need an R32Uint colour target".into(),
             ));
@@ -422,6 +447,7 @@ impl Drop for Pipelines {
             device.destroy_pipeline_layout(self.graphics_layout, None);
             device.destroy_pipeline_layout(self.compute_layout, None);
             device.destroy_descriptor_set_layout(self.compute_set_layout, None);
+            device.destroy_descriptor_set_layout(self.graphics_set_layout, None);
             for m in self.modules.values() {
                 device.destroy_shader_module(*m, None);
             }

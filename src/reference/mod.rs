@@ -2,4 +2,5 @@
 //! against.
 #![forbid(unsafe_code)]
 
+pub mod higher_order;
 pub mod voronoi;

@@ -1,0 +1,39 @@
+#version 460
+// k nearest sites per pixel in one pass: each fragment of an exact cone inserts its
+// key (squared distance, site id) into the pixel's list of the `levels` smallest
+// keys, kept sorted in a storage buffer. Insertion walks the list with atomic min,
+// carrying the larger key on, so concurrent fragments leave the smallest keys in
+// order; equal distances are distinct keys, so multiplicities are kept (thesis
+// §3.7) and ties are ordered by id. Squared distances are non-negative floats, whose
+// bits order like the numbers.
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#include "common.glsl"
+
+layout(location = 0) flat in uint id;
+layout(location = 1) flat in vec3 site;  // (x, y, truncation radius)
+
+layout(std430, set = 0, binding = 0) coherent buffer Levels {
+    uint64_t keys[];
+};
+
+const uint64_t EMPTY = 0xFFFFFFFFFFFFFFFFul;
+
+void main() {
+    vec2 d = fragment_pixel() - site.xy;
+    float d2 = dot(d, d);
+    if (d2 > site.z * site.z) {
+        return;
+    }
+    uint64_t key = (uint64_t(floatBitsToUint(d2)) << 32) | uint64_t(id);
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    uint base = (pixel.y * uint(picture.size.x) + pixel.x) * picture.levels;
+    // Keys only ever decrease, so a stale last key can only let a fragment in that
+    // then finds no place: the shortcut never drops a key that belongs.
+    if (key >= keys[base + picture.levels - 1u]) {
+        return;
+    }
+    for (uint i = 0u; i < picture.levels && key != EMPTY; i++) {
+        key = max(key, atomicMin(keys[base + i], key));
+    }
+}

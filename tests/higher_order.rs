@@ -1,0 +1,217 @@
+//! Higher-order diagrams against their definitions: the k nearest sites of every
+//! pixel in order, the order-k sets and the furthest site, on random and degenerate
+//! inputs and with every speedup.
+
+mod common;
+
+use common::{cases, machine};
+use glam::DVec2;
+use pixgeo::{
+    algorithms::{
+        higher_order::{convex_hull, furthest, k_nearest, KNearest, KNearestOptions},
+        voronoi::Speedup,
+    },
+    geometry::Frame,
+    reference::higher_order::{furthest_brute_force, k_nearest_brute_force},
+};
+
+const SPEEDUPS: [Speedup; 3] = [Speedup::None, Speedup::Quadtree, Speedup::Local];
+
+/// Float32 on the device: squared distances of real coordinates carry a relative
+/// error of about 1e-7.
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-3 * (1.0 + b)
+}
+
+/// Level by level: the distance is the definition's l-th smallest (with
+/// multiplicity), the label a site at that distance, and no site twice per pixel.
+fn assert_levels(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str) {
+    let truth = k_nearest_brute_force(sites, frame, d.k as usize);
+    let w = frame.width as usize;
+    for (p, expected) in truth.iter().enumerate() {
+        let q = DVec2::new((p % w) as f64, (p / w) as f64);
+        let k = d.k as usize;
+        let labels = &d.labels[p * k..][..k];
+        let distances = &d.distances[p * k..][..k];
+        for l in 0..k {
+            match expected.get(l) {
+                None => {
+                    assert_eq!(labels[l], u32::MAX, "{what}: pixel {q} level {l}");
+                    assert!(distances[l].is_infinite());
+                }
+                Some(&(_, dist)) => {
+                    let label = labels[l];
+                    assert_ne!(label, u32::MAX, "{what}: pixel {q} level {l} empty");
+                    let dl = (sites[label as usize] - q).length();
+                    assert!(
+                        close(dl, dist) && close(distances[l] as f64, dist),
+                        "{what}: pixel {q} level {l}: site {label} at {dl}, map {}, truth {dist}",
+                        distances[l]
+                    );
+                    assert!(
+                        !labels[..l].contains(&label),
+                        "{what}: pixel {q}: site {label} twice"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn k_nearest_sites_match_the_definition() {
+    let m = machine();
+    let frame = Frame::pixels(97, 73).unwrap();
+    for (name, sites) in cases(97, 73) {
+        for speedup in SPEEDUPS {
+            for k in [1, 4] {
+                let d = k_nearest(&m, &sites, &KNearestOptions { frame, k, speedup })
+                    .unwrap_or_else(|e| panic!("{name} {speedup:?} k={k}: {e}"));
+                assert_levels(&d, &sites, &frame, &format!("{name} {speedup:?} k={k}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn equal_distances_keep_their_multiplicity() {
+    // An integer lattice of spacing 4: the pixel centres at the lattice's cell
+    // centres have four sites at one distance, then eight at the next, so the
+    // first twelve levels come in runs of equal distances.
+    let m = machine();
+    let frame = Frame::pixels(40, 40).unwrap();
+    let sites: Vec<DVec2> = (0..100)
+        .map(|i| DVec2::new((i % 10 * 4) as f64, (i / 10 * 4) as f64))
+        .collect();
+    for speedup in SPEEDUPS {
+        let d = k_nearest(
+            &m,
+            &sites,
+            &KNearestOptions {
+                frame,
+                k: 12,
+                speedup,
+            },
+        )
+        .unwrap();
+        assert_levels(&d, &sites, &frame, &format!("lattice {speedup:?}"));
+        // Pixel (18, 22) is the centre of a lattice cell: 4 sites at sqrt 8.
+        let p = (22 * 40 + 18) * 12;
+        let first: Vec<f32> = d.distances[p..p + 4].to_vec();
+        assert!(first.iter().all(|x| *x == 8f32.sqrt()), "{first:?}");
+        assert!(d.distances[p + 4] > 8f32.sqrt());
+    }
+}
+
+#[test]
+fn more_levels_than_sites_stay_empty() {
+    let m = machine();
+    let frame = Frame::pixels(30, 20).unwrap();
+    let sites = [
+        DVec2::new(3.0, 4.0),
+        DVec2::new(20.5, 11.0),
+        DVec2::new(3.0, 4.0),
+    ];
+    let d = k_nearest(
+        &m,
+        &sites,
+        &KNearestOptions {
+            frame,
+            k: 5,
+            speedup: Speedup::Local,
+        },
+    )
+    .unwrap();
+    assert_levels(&d, &sites, &frame, "three sites, five levels");
+}
+
+#[test]
+fn order_sets_are_the_sets_of_nearest_sites() {
+    let m = machine();
+    let frame = Frame::pixels(64, 48).unwrap();
+    let (_, sites) = cases(64, 48).remove(0);
+    let k = 3;
+    let d = k_nearest(
+        &m,
+        &sites,
+        &KNearestOptions {
+            frame,
+            k,
+            speedup: Speedup::Local,
+        },
+    )
+    .unwrap();
+    let sets = d.order_sets();
+    let truth = k_nearest_brute_force(&sites, &frame, k as usize);
+    for (p, expected) in truth.iter().enumerate() {
+        let set = &sets[p * 3..][..3];
+        assert!(set.windows(2).all(|w| w[0] < w[1]));
+        // Real coordinates: no ties, so the sets agree exactly.
+        let mut want: Vec<u32> = expected.iter().map(|e| e.0).collect();
+        want.sort_unstable();
+        assert_eq!(set, &want[..], "pixel {p}");
+    }
+}
+
+#[test]
+fn furthest_site_matches_the_definition() {
+    let m = machine();
+    let frame = Frame::pixels(80, 60).unwrap();
+    for (name, sites) in cases(80, 60) {
+        let f = furthest(&m, &sites, &frame).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (_, best) = furthest_brute_force(&sites, &frame);
+        let w = frame.width as usize;
+        for (p, &label) in f.labels.iter().enumerate() {
+            let q = DVec2::new((p % w) as f64, (p / w) as f64);
+            let dl = (sites[label as usize] - q).length();
+            assert!(
+                close(dl, best[p]) && close(f.distances[p] as f64, best[p]),
+                "{name}: pixel {q}: site {label} at {dl}, furthest at {}",
+                best[p]
+            );
+        }
+    }
+}
+
+#[test]
+fn convex_hull_of_degenerate_sets() {
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    assert_eq!(convex_hull(&[p(1.0, 1.0)]), vec![0]);
+    assert_eq!(convex_hull(&[p(1.0, 1.0), p(1.0, 1.0)]).len(), 1);
+    // Collinear: the two ends.
+    let line: Vec<DVec2> = (0..6).map(|i| p(i as f64, 2.0 * i as f64)).collect();
+    let mut h = convex_hull(&line);
+    h.sort_unstable();
+    assert_eq!(h, vec![0, 5]);
+    // A square with points on its edges and inside.
+    let square = [
+        p(0.0, 0.0),
+        p(2.0, 0.0),
+        p(4.0, 0.0),
+        p(4.0, 4.0),
+        p(0.0, 4.0),
+        p(1.0, 1.0),
+        p(0.0, 2.0),
+        p(4.0, 4.0),
+    ];
+    let mut h = convex_hull(&square);
+    h.sort_unstable();
+    assert_eq!(h, vec![0, 2, 3, 4]);
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let m = machine();
+    let frame = Frame::pixels(10, 10).unwrap();
+    let sites = [DVec2::new(1.0, 1.0)];
+    let opts = |k| KNearestOptions {
+        frame,
+        k,
+        speedup: Speedup::Local,
+    };
+    assert!(k_nearest(&m, &sites, &opts(0)).is_err());
+    assert!(k_nearest(&m, &sites, &opts(100_000)).is_err());
+    assert!(k_nearest(&m, &[], &opts(2)).is_err());
+    assert!(k_nearest(&m, &[DVec2::new(f64::NAN, 0.0)], &opts(2)).is_err());
+    assert!(furthest(&m, &[], &frame).is_err());
+}
