@@ -1,11 +1,13 @@
+// variants: EXACT FAN
 #version 460
-// k nearest sites per pixel in one pass: each fragment of an exact cone inserts its
-// key (squared distance, site id) into the pixel's list of the `levels` smallest
+// k nearest sites per pixel in one pass: each fragment of a cone inserts its key
+// (distance, site id) into the pixel's list of the `levels` smallest
 // keys, kept sorted in a storage buffer. Insertion walks the list with atomic min,
 // carrying the larger key on, so concurrent fragments leave the smallest keys in
 // order; equal distances are distinct keys, so multiplicities are kept (thesis
-// §3.7) and ties are ordered by id. Squared distances are non-negative floats, whose
-// bits order like the numbers.
+// §3.7) and ties are ordered by id. The distance is the exact squared distance
+// (EXACT) or the fan's interpolated height, its depth (FAN, thesis §3.3); both are
+// non-negative floats, whose bits order like the numbers.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #include "common.glsl"
@@ -25,7 +27,12 @@ void main() {
     if (d2 > site.z * site.z) {
         return;
     }
-    uint64_t key = (uint64_t(floatBitsToUint(d2)) << 32) | uint64_t(id);
+#ifdef EXACT
+    float distance = d2;
+#else
+    float distance = gl_FragCoord.z;
+#endif
+    uint64_t key = (uint64_t(floatBitsToUint(distance)) << 32) | uint64_t(id);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     uint base = (pixel.y * uint(picture.size.x) + pixel.x) * picture.levels;
     // Keys only ever decrease, so a stale last key can only let a fragment in that
@@ -33,7 +40,19 @@ void main() {
     if (key >= keys[base + picture.levels - 1u]) {
         return;
     }
-    for (uint i = 0u; i < picture.levels && key != EMPTY; i++) {
+    // Find the key's place among the (possibly stale) sorted keys: the ones before
+    // it can only have shrunk since, so the atomic walk may start there.
+    uint lo = 0u;
+    uint hi = picture.levels - 1u;
+    while (lo < hi) {
+        uint mid = (lo + hi) / 2u;
+        if (keys[base + mid] <= key) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    for (uint i = lo; i < picture.levels && key != EMPTY; i++) {
         key = max(key, atomicMin(keys[base + i], key));
     }
 }

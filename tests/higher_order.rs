@@ -9,7 +9,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         higher_order::{convex_hull, furthest, k_nearest, KNearest, KNearestOptions},
-        voronoi::Speedup,
+        voronoi::{Accuracy, Speedup},
     },
     geometry::Frame,
     reference::higher_order::{furthest_brute_force, k_nearest_brute_force},
@@ -65,9 +65,62 @@ fn k_nearest_sites_match_the_definition() {
     for (name, sites) in cases(97, 73) {
         for speedup in SPEEDUPS {
             for k in [1, 4] {
-                let d = k_nearest(&m, &sites, &KNearestOptions { frame, k, speedup })
-                    .unwrap_or_else(|e| panic!("{name} {speedup:?} k={k}: {e}"));
+                let d = k_nearest(
+                    &m,
+                    &sites,
+                    &KNearestOptions {
+                        frame,
+                        k,
+                        accuracy: Accuracy::Exact,
+                        speedup,
+                    },
+                )
+                .unwrap_or_else(|e| panic!("{name} {speedup:?} k={k}: {e}"));
                 assert_levels(&d, &sites, &frame, &format!("{name} {speedup:?} k={k}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn fan_levels_stay_inside_their_bound() {
+    // Each site's fan height lies in [d, d + bound], so the l-th smallest height
+    // lies within the bound above the l-th smallest distance.
+    let m = machine();
+    let frame = Frame::pixels(90, 70).unwrap();
+    let (_, sites) = cases(90, 70).remove(0);
+    let k = 3;
+    for accuracy in [
+        Accuracy::FAN,
+        Accuracy::Fan {
+            epsilon: 1.0,
+            triangles: Some(12),
+        },
+    ] {
+        for speedup in SPEEDUPS {
+            let d = k_nearest(
+                &m,
+                &sites,
+                &KNearestOptions {
+                    frame,
+                    k,
+                    accuracy,
+                    speedup,
+                },
+            )
+            .unwrap();
+            let bound = d.stats.distance_error_bound;
+            assert!(bound > 0.0);
+            let truth = k_nearest_brute_force(&sites, &frame, k as usize);
+            for (p, expected) in truth.iter().enumerate() {
+                for (l, &(_, dist)) in expected.iter().enumerate() {
+                    let got = d.distances[p * k as usize + l] as f64;
+                    // Vertices snap to the rasterizer's subpixel grid.
+                    assert!(
+                        got >= dist - 0.05 && got <= dist + bound + 0.05,
+                        "{accuracy:?} {speedup:?}: pixel {p} level {l}: {got} vs {dist} (+{bound})"
+                    );
+                }
             }
         }
     }
@@ -90,6 +143,7 @@ fn equal_distances_keep_their_multiplicity() {
             &KNearestOptions {
                 frame,
                 k: 12,
+                accuracy: Accuracy::Exact,
                 speedup,
             },
         )
@@ -118,6 +172,7 @@ fn more_levels_than_sites_stay_empty() {
         &KNearestOptions {
             frame,
             k: 5,
+            accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
         },
     )
@@ -137,6 +192,7 @@ fn order_sets_are_the_sets_of_nearest_sites() {
         &KNearestOptions {
             frame,
             k,
+            accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
         },
     )
@@ -207,6 +263,7 @@ fn bad_input_is_a_clear_error() {
     let opts = |k| KNearestOptions {
         frame,
         k,
+        accuracy: Accuracy::Exact,
         speedup: Speedup::Local,
     };
     assert!(k_nearest(&m, &sites, &opts(0)).is_err());

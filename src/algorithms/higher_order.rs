@@ -22,7 +22,7 @@ use serde::Serialize;
 use crate::{
     error::{Error, Result},
     geometry::{
-        cone::{unit_footprint, FanShape},
+        cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::check_sites,
         radius, Frame,
     },
@@ -32,7 +32,7 @@ use crate::{
     },
 };
 
-use super::voronoi::Speedup;
+use super::voronoi::{Accuracy, Speedup};
 
 /// Corners of the polygon drawn around each cone's disc.
 const FOOTPRINT_CORNERS: u32 = 8;
@@ -50,6 +50,10 @@ pub struct KNearestOptions {
     pub frame: Frame,
     /// Levels per pixel: the 1st to the k-th nearest site.
     pub k: u32,
+    /// Exact squared distances per fragment, or the thesis's triangle fans (one
+    /// triangle count for all cones: the largest cone's for `epsilon`, or the
+    /// given one).
+    pub accuracy: Accuracy,
     /// How far cones reach: [`Speedup::Quadtree`] is thesis Theorem 3.3 (cells with
     /// at least k sites bound the cone height), [`Speedup::Local`] a radius per site
     /// from the k-th nearest sites around it.
@@ -64,6 +68,10 @@ pub struct KNearestStats {
     pub levels: u32,
     /// Cones drawn (sites whose cone reaches the picture).
     pub cones: usize,
+    /// Triangles per fan cone (0 in exact mode).
+    pub triangles: u32,
+    /// Guaranteed bound on the distance overestimate (world units); 0 when exact.
+    pub distance_error_bound: f64,
     /// Cone radii in pixels: smallest, mean, largest.
     pub radius_min: f64,
     pub radius_mean: f64,
@@ -161,29 +169,73 @@ pub fn k_nearest(
     let started = Instant::now();
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     let radii = k_radii(&pixels, &frame, k as usize, options.speedup);
-    let instances: Vec<[u32; 5]> = pixels
+    let cones: Vec<(u32, DVec2, f64)> = pixels
         .iter()
         .zip(&radii)
         .enumerate()
         .filter(|(_, (p, r))| **r > 0.0 && frame.distance_to_pixels(**p) <= **r)
-        .map(|(i, (p, r))| {
-            let outer = FanShape::with_triangles(*r, FOOTPRINT_CORNERS).outer_radius;
+        .map(|(i, (p, r))| (i as u32, *p, *r))
+        .collect();
+    stats.cones = cones.len();
+    if !cones.is_empty() {
+        stats.radius_min = cones.iter().map(|c| c.2).fold(f64::INFINITY, f64::min);
+        stats.radius_max = cones.iter().map(|c| c.2).fold(0.0, f64::max);
+        stats.radius_mean = cones.iter().map(|c| c.2).sum::<f64>() / cones.len() as f64;
+    }
+    // The mesh, each cone's outer radius, and the fan's error bound.
+    let (program, mesh, outer) = match options.accuracy {
+        Accuracy::Exact => (
+            Program::ConeKNearest,
+            unit_footprint(FOOTPRINT_CORNERS),
+            Rim::Circumscribed(FOOTPRINT_CORNERS),
+        ),
+        Accuracy::Fan {
+            epsilon,
+            triangles: None,
+        } => {
+            if !(epsilon > 0.0 && epsilon.is_finite()) {
+                return Err(Error::InvalidInput(format!(
+                    "fan epsilon {epsilon} must be positive"
+                )));
+            }
+            let t = FanShape::for_distance_error(stats.radius_max, epsilon).triangles;
+            stats.triangles = t;
+            stats.distance_error_bound = epsilon / frame.scale;
+            (Program::ConeKNearestFan, unit_fan(t), Rim::Beyond(epsilon))
+        }
+        Accuracy::Fan {
+            triangles: Some(t), ..
+        } => {
+            if t < 3 {
+                return Err(Error::InvalidInput(
+                    "a fan needs at least 3 triangles".into(),
+                ));
+            }
+            stats.triangles = t;
+            stats.distance_error_bound = fan_distance_error(stats.radius_max, t) / frame.scale;
+            (Program::ConeKNearestFan, unit_fan(t), Rim::Circumscribed(t))
+        }
+    };
+    let instances: Vec<[u32; 5]> = cones
+        .iter()
+        .map(|&(i, p, r)| {
             [
                 (p.x as f32).to_bits(),
                 (p.y as f32).to_bits(),
-                (outer as f32).to_bits(),
-                (*r as f32).to_bits(),
-                i as u32,
+                (outer.radius(r) as f32).to_bits(),
+                (r as f32).to_bits(),
+                i,
             ]
         })
         .collect();
-    stats.cones = instances.len();
-    if !instances.is_empty() {
-        let drawn = instances.iter().map(|c| f32::from_bits(c[3]) as f64);
-        stats.radius_min = drawn.clone().fold(f64::INFINITY, f64::min);
-        stats.radius_max = drawn.clone().fold(0.0, f64::max);
-        stats.radius_mean = drawn.sum::<f64>() / instances.len() as f64;
-    }
+    // Fan heights map into the depth range by a power of two, which keeps them
+    // exact; exact keys hold squared distances as they are.
+    let reach = instances
+        .iter()
+        .map(|c| f32::from_bits(c[2]) as f64)
+        .fold(1.0, f64::max)
+        * 1.001;
+    let vertex_scale = reach.log2().ceil().exp2().recip();
     stats.bounds_ms = ms(started);
 
     let started = Instant::now();
@@ -191,12 +243,12 @@ pub fn k_nearest(
     keys.fill(0xFF);
     if !instances.is_empty() {
         let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-        let mesh = machine.vertex_buffer(&unit_footprint(FOOTPRINT_CORNERS))?;
+        let mesh_buffer = machine.vertex_buffer(&mesh)?;
         let instance_buffer = machine.vertex_buffer(&instances)?;
         let push = ConePush {
             picture_size: [frame.width as f32, frame.height as f32],
             offset: [0.0, 0.0],
-            vertex_depth_scale: 0.0,
+            vertex_depth_scale: vertex_scale as f32,
             fragment_depth_scale: 0.0,
             levels: k,
         };
@@ -216,14 +268,14 @@ pub fn k_nearest(
                 )?;
                 pass.bind_fragment_buffer(set);
                 pass.draw_cones(
-                    Program::ConeKNearest,
+                    program,
                     &RasterState::OVERWRITE,
                     &DrawParams::default(),
                     &push,
                     &ConeDraw {
-                        mesh: &mesh,
+                        mesh: &mesh_buffer,
                         first_vertex: 0,
-                        vertex_count: FOOTPRINT_CORNERS,
+                        vertex_count: mesh.len() as u32,
                         instances: &instance_buffer,
                         first_instance: 0,
                         instance_count: instances.len() as u32,
@@ -238,15 +290,17 @@ pub fn k_nearest(
     let started = Instant::now();
     let raw: &[u64] = bytemuck::cast_slice(&keys.mapped()[..key_bytes as usize]);
     let to_world = (1.0 / frame.scale) as f32;
+    let unscale = (1.0 / vertex_scale) as f32;
+    let exact = options.accuracy == Accuracy::Exact;
     let (labels, distances): (Vec<u32>, Vec<f32>) = raw
         .par_iter()
         .map(|&key| {
             if key == u64::MAX {
-                (u32::MAX, f32::INFINITY)
-            } else {
-                let d2 = f32::from_bits((key >> 32) as u32);
-                (key as u32, d2.sqrt() * to_world)
+                return (u32::MAX, f32::INFINITY);
             }
+            let value = f32::from_bits((key >> 32) as u32);
+            let distance = if exact { value.sqrt() } else { value * unscale };
+            (key as u32, distance * to_world)
         })
         .unzip();
     stats.readback_ms = ms(started);
@@ -258,6 +312,24 @@ pub fn k_nearest(
         distances,
         stats,
     })
+}
+
+/// Where a cone's rim vertices lie for a cone that must reach radius r.
+#[derive(Clone, Copy)]
+enum Rim {
+    /// A polygon of this many corners around the disc.
+    Circumscribed(u32),
+    /// A fan whose height error stays below epsilon out to r (thesis §3.3).
+    Beyond(f64),
+}
+
+impl Rim {
+    fn radius(self, r: f64) -> f64 {
+        match self {
+            Rim::Circumscribed(corners) => FanShape::with_triangles(r, corners).outer_radius,
+            Rim::Beyond(epsilon) => r + epsilon,
+        }
+    }
 }
 
 /// Cone radii (pixels) that keep the k lowest layers of the arrangement over the

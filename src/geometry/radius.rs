@@ -268,12 +268,12 @@ pub fn k_local_radii(sites: &[DVec2], frame: &Frame, k: usize, cell: f64, bin: f
 }
 
 /// Cell and bin sides for [`k_local_radii`]: the k-th neighbour is about
-/// `sqrt k` spacings away, so cells are a third of that and bins that wide
+/// `sqrt k` spacings away, so cells are a sixth of that and bins that wide
 /// (at least 2 pixels; at most about 4 million cells).
 pub fn k_cell_and_bin(frame: &Frame, sites: usize, k: usize) -> (f64, f64) {
     let reach = (frame.len() as f64 * k.max(1) as f64 / sites.max(1) as f64).sqrt();
     let least = (frame.len() as f64 / (1u64 << 22) as f64).sqrt();
-    ((reach / 3.0).max(2.0).max(least), reach.max(2.0).max(least))
+    ((reach / 6.0).max(2.0).max(least), reach.max(2.0).max(least))
 }
 
 /// A convex polygon of bounded size on the stack, with room for one clip.

@@ -30,6 +30,9 @@ pub enum Program {
     /// each pixel's sorted list of the k nearest, a storage buffer bound with
     /// [`crate::machine::Pass::bind_fragment_buffer`]; writes no attachment.
     ConeKNearest,
+    /// [`Program::ConeKNearest`] with triangle-fan cones: the key's distance is the
+    /// fan's interpolated height.
+    ConeKNearestFan,
 }
 
 /// Compute kernels of the reductions (thesis §1.7).
@@ -81,7 +84,11 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("cone_exact.frag", shaders::CONE_EXACT_FRAG),
     ("cone_batch.vert", shaders::CONE_BATCH_VERT),
     ("cone_batch.frag", shaders::CONE_BATCH_FRAG),
-    ("cone_knearest.frag", shaders::CONE_KNEAREST_FRAG),
+    (
+        "cone_knearest.frag:exact",
+        shaders::CONE_KNEAREST_FRAG_EXACT,
+    ),
+    ("cone_knearest.frag:fan", shaders::CONE_KNEAREST_FRAG_FAN),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
@@ -224,7 +231,12 @@ impl Pipelines {
             ),
             Program::ConeKNearest => (
                 "cone.vert",
-                "cone_knearest.frag",
+                "cone_knearest.frag:exact",
+                vk::PrimitiveTopology::TRIANGLE_FAN,
+            ),
+            Program::ConeKNearestFan => (
+                "cone.vert",
+                "cone_knearest.frag:fan",
                 vk::PrimitiveTopology::TRIANGLE_FAN,
             ),
 
@@ -239,7 +251,11 @@ impl Pipelines {
                 vk::PrimitiveTopology::TRIANGLE_STRIP,
             ),
         };
-        if !matches!(key.program, Program::Rect | Program::ConeKNearest) && !uint_target {
+        if !matches!(
+            key.program,
+            Program::Rect | Program::ConeKNearest | Program::ConeKNearestFan
+        ) && !uint_target
+        {
             return Err(Error::InvalidInput(
                 "cones write site ids and need an R32Uint colour target".into(),
             ));

@@ -21,13 +21,13 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    Voronoi(voronoi::Args),
+    Voronoi(Box<voronoi::Args>),
     Gallery(gallery::Args),
 }
 
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
-        Command::Voronoi(args) => voronoi::run(args),
+        Command::Voronoi(args) => voronoi::run(*args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

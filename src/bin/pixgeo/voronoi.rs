@@ -7,9 +7,12 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
 use pixgeo::{
-    algorithms::voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
+    algorithms::{
+        higher_order::{self, KNearestOptions},
+        voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
+    },
     geometry::Frame,
-    io::{npy::NpyStream, picture, picture::PngStream, sites},
+    io::{npy, npy::NpyStream, picture, picture::PngStream, sites},
     machine::{DeviceChoice, Machine, MachineOptions},
 };
 use serde_json::json;
@@ -29,6 +32,16 @@ use serde_json::json;
 ///   pixgeo voronoi --sites shops.csv --bbox 0,0,10,7.5 --size 800 --labels l.npy --distance d.npy --json
 ///
 ///   pixgeo voronoi --random 500 --mode fan:12 --no-speedup -o fan.png
+///
+/// Higher-order diagrams (thesis §3.7): --degree K gives every pixel its K
+/// nearest sites in order, --order K its set of K nearest, --furthest its
+/// furthest site.
+///
+///   pixgeo voronoi --random 300 --degree 3 -o third.png --each-level --labels knn.npy
+///
+///   pixgeo voronoi --random 40 --order 2 -o order2.png
+///
+///   pixgeo voronoi --random 40 --furthest -o furthest.png
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
@@ -105,6 +118,28 @@ pub struct Args {
     /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
     #[arg(long)]
     device: Option<String>,
+
+    /// The K nearest sites of every pixel: the degree 1..K diagrams at once, equal
+    /// distances counted with their multiplicity. --labels and --distance become
+    /// H×W×K arrays (level 1 first); the picture shows level K.
+    #[arg(long, value_name = "K", conflicts_with_all = ["order", "furthest"])]
+    degree: Option<u32>,
+
+    /// The order-K diagram: every pixel's set of K nearest sites. --labels holds
+    /// each set's ids in ascending order (H×W×K), --distance the K distances in
+    /// increasing order (H×W×K); the picture has one colour per set.
+    #[arg(long, value_name = "K", conflicts_with = "furthest")]
+    order: Option<u32>,
+
+    /// The furthest-site diagram: every pixel's furthest site (drawn from the
+    /// convex hull's sites only).
+    #[arg(long)]
+    furthest: bool,
+
+    /// With --degree: also write one picture per level, PICTURE-1.png to
+    /// PICTURE-K.png beside -o.
+    #[arg(long, requires = "degree")]
+    each_level: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -208,6 +243,9 @@ pub fn run(args: Args) -> Result<()> {
         machine_options.device = DeviceChoice::parse(d);
     }
     let machine = Machine::new(&machine_options).context("starting the pixel machine")?;
+    if args.degree.is_some() || args.order.is_some() || args.furthest {
+        return higher_order(&args, &machine, &sites, frame, accuracy, speedup);
+    }
     let options = VoronoiOptions {
         frame,
         accuracy,
@@ -318,4 +356,166 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `--degree`, `--order` and `--furthest`: diagrams held whole (one device image).
+fn higher_order(
+    args: &Args,
+    machine: &Machine,
+    sites: &[DVec2],
+    frame: Frame,
+    accuracy: Accuracy,
+    speedup: Speedup,
+) -> Result<()> {
+    if args.max_tile.is_some() {
+        bail!(
+            "--max-tile applies to ordinary diagrams; higher-order diagrams are drawn in one image"
+        );
+    }
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let (w, h) = (frame.width as u64, frame.height as u64);
+    let contour_step = match args.contours {
+        Some(step) if !(step > 0.0 && step.is_finite()) => {
+            bail!("--contours needs a positive step, not {step}")
+        }
+        step => step.map(|s| s as f32),
+    };
+    // One picture of labels (and their distances for contours).
+    let draw = |path: &std::path::Path, labels: &[u32], distances: &[f32]| -> Result<()> {
+        let mut png = PngStream::create(path, frame.width, frame.height)?;
+        let contours = contour_step.map(|step| picture::Contours {
+            distances,
+            step,
+            line: (1.0 / frame.scale) as f32,
+        });
+        png.write(&picture::label_rows(
+            labels,
+            frame.width,
+            0,
+            &pixels,
+            contours,
+        ))?;
+        png.finish()?;
+        Ok(())
+    };
+
+    let summary = if args.furthest {
+        if accuracy != Accuracy::Exact {
+            bail!("the furthest-site diagram is computed exactly; drop --mode");
+        }
+        let f = higher_order::furthest(machine, sites, &frame)?;
+        if let Some(path) = &args.labels {
+            npy::write(path, &[h, w], &f.labels)?;
+        }
+        if let Some(path) = &args.distance {
+            npy::write(path, &[h, w], &f.distances)?;
+        }
+        if let Some(path) = &args.output {
+            draw(path, &f.labels, &f.distances)?;
+        }
+        json!({
+            "width": frame.width,
+            "height": frame.height,
+            "kind": "furthest",
+            "device": machine.device_name(),
+            "sites": sites.len(),
+            "hull": f.hull.len(),
+        })
+    } else {
+        let (k, order) = match (args.degree, args.order) {
+            (Some(k), _) => (k, false),
+            (_, Some(k)) => (k, true),
+            _ => bail!("no higher-order diagram asked for"),
+        };
+        let d = higher_order::k_nearest(
+            machine,
+            sites,
+            &KNearestOptions {
+                frame,
+                k,
+                accuracy,
+                speedup,
+            },
+        )?;
+        let shape = [h, w, k as u64];
+        if let Some(path) = &args.labels {
+            let labels = if order {
+                d.order_sets()
+            } else {
+                d.labels.clone()
+            };
+            npy::write(path, &shape, &labels)?;
+        }
+        if let Some(path) = &args.distance {
+            npy::write(path, &shape, &d.distances)?;
+        }
+        if let Some(path) = &args.output {
+            let last = d.level_distances(k - 1);
+            if order {
+                // One colour per set: the set's hash picks it.
+                let sets: Vec<u32> = d
+                    .order_sets()
+                    .chunks_exact(k as usize)
+                    .map(set_colour_key)
+                    .collect();
+                draw(path, &sets, &last)?;
+            } else {
+                draw(path, &d.level_labels(k - 1), &last)?;
+                if args.each_level {
+                    for l in 0..k {
+                        draw(
+                            &level_path(path, l + 1),
+                            &d.level_labels(l),
+                            &d.level_distances(l),
+                        )?;
+                    }
+                }
+            }
+        }
+        json!({
+            "width": frame.width,
+            "height": frame.height,
+            "kind": if order { "order" } else { "degree" },
+            "levels": k,
+            "speedup": speedup,
+            "stats": d.stats,
+        })
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        eprintln!(
+            "{} sites, {}x{} pixels on {}",
+            sites.len(),
+            frame.width,
+            frame.height,
+            machine.device_name()
+        );
+        if let Some(p) = &args.output {
+            eprintln!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}
+
+/// A colour key for a set of site ids (FNV-1a over the ids); "no site" only for
+/// an empty set.
+fn set_colour_key(set: &[u32]) -> u32 {
+    if set.first() == Some(&u32::MAX) {
+        return u32::MAX;
+    }
+    let hash = set.iter().fold(0x811c_9dc5u32, |h, id| {
+        id.to_le_bytes()
+            .iter()
+            .fold(h, |h, b| (h ^ *b as u32).wrapping_mul(0x0100_0193))
+    });
+    // Keep clear of the "no site" value.
+    hash % (u32::MAX - 1)
+}
+
+/// `picture.png` -> `picture-3.png`.
+fn level_path(path: &std::path::Path, level: u32) -> PathBuf {
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("level");
+    let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("png");
+    path.with_file_name(format!("{stem}-{level}.{ext}"))
 }
