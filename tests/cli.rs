@@ -181,3 +181,93 @@ fn gallery_renders_every_picture_and_an_index() {
     }
     assert!(index.contains("<code>pixgeo voronoi"), "commands shown");
 }
+
+#[test]
+fn higher_order_diagrams_write_level_arrays_and_pictures() {
+    let sites = temp("ho.csv");
+    std::fs::write(&sites, "10,10\n50.5,20\n30,45\n5,40\n").unwrap();
+    let (png, labels, dist) = (temp("ho.png"), temp("hol.npy"), temp("hod.npy"));
+    let s = sites.to_str().unwrap();
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        s,
+        "--size",
+        "64x48",
+        "--degree",
+        "3",
+        "--each-level",
+        "-o",
+        png.to_str().unwrap(),
+        "--labels",
+        labels.to_str().unwrap(),
+        "--distance",
+        dist.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (shape, l): (Vec<u64>, Vec<u32>) = npy::read(&labels).unwrap();
+    assert_eq!(shape, vec![48, 64, 3]);
+    // Pixel (10, 10): site 0 at 0, site 3 at sqrt 925, site 2 at sqrt 1625.
+    let p = (10 * 64 + 10) * 3;
+    assert_eq!(&l[p..p + 3], &[0, 3, 2]);
+    let (_, d): (Vec<u64>, Vec<f32>) = npy::read(&dist).unwrap();
+    assert_eq!(d[p], 0.0);
+    assert!((d[p + 2] - 1625f32.sqrt()).abs() < 1e-4);
+    for level in 1..=3 {
+        assert!(temp(&format!("ho-{level}.png")).exists());
+    }
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        s,
+        "--size",
+        "64x48",
+        "--order",
+        "2",
+        "--labels",
+        labels.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (_, l): (Vec<u64>, Vec<u32>) = npy::read(&labels).unwrap();
+    assert_eq!(&l[(10 * 64 + 10) * 2..][..2], &[0, 3]);
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        s,
+        "--size",
+        "64x48",
+        "--furthest",
+        "--labels",
+        labels.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (_, l): (Vec<u64>, Vec<u32>) = npy::read(&labels).unwrap();
+    assert_eq!(l[10 * 64 + 10], 1);
+    // Levels need a positive count.
+    let (ok, _, stderr) = pixgeo(&["voronoi", "--sites", s, "--degree", "0"]);
+    assert!(!ok && stderr.contains("levels"), "{stderr}");
+}
+
+#[test]
+fn distance_commands_answer_with_the_pair() {
+    let (red, blue) = (temp("red.csv"), temp("blue.csv"));
+    std::fs::write(&red, "0,0\n1,0\n0,1\n").unwrap();
+    std::fs::write(&blue, "0,0.5\n3,4\n").unwrap();
+    let (r, b) = (red.to_str().unwrap(), blue.to_str().unwrap());
+    let (ok, stdout, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", b, "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    // Blue (3, 4) is sqrt(18) from red (0, 1), its nearest.
+    assert_eq!(v["hausdorff"], 18f64.sqrt());
+    assert_eq!(v["blue_to_red"]["blue"]["index"], 1);
+    assert_eq!(v["blue_to_red"]["red"]["index"], 2);
+    let (ok, stdout, stderr) = pixgeo(&["diameter", "--sites", b, "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["distance"], (9.0f64 + 3.5 * 3.5).sqrt());
+    let (ok, stdout, stderr) = pixgeo(&["maxdist", "--red", r, "--blue", b]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("maximum distance 5 "), "{stdout}");
+    let (ok, _, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", "/nonexistent.csv"]);
+    assert!(!ok && stderr.contains("blue"), "{stderr}");
+}

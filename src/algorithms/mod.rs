@@ -1,5 +1,6 @@
 //! The problems pixgeo solves, each written as passes over the pixel machine.
 #![forbid(unsafe_code)]
 
+pub mod distances;
 pub mod higher_order;
 pub mod voronoi;

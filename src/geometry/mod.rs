@@ -3,6 +3,7 @@
 //! width bounds that truncate the cones (§3.5).
 #![forbid(unsafe_code)]
 
+pub mod buckets;
 pub mod cone;
 pub mod frame;
 pub mod radius;

@@ -201,7 +201,7 @@ pub fn run(args: Args) -> Result<()> {
         let cli = Cli::try_parse_from(&real).with_context(|| format!("gallery command {shown}"))?;
         match cli.command {
             Command::Voronoi(v) => crate::voronoi::run(*v)?,
-            Command::Gallery(_) => unreachable!("the gallery only runs voronoi commands"),
+            _ => unreachable!("the gallery only runs voronoi commands"),
         }
         let _ = write!(
             html,

@@ -1,5 +1,6 @@
 //! The pixgeo command-line tool.
 
+mod distances;
 mod gallery;
 mod voronoi;
 
@@ -22,12 +23,18 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Voronoi(Box<voronoi::Args>),
+    Hausdorff(distances::HausdorffArgs),
+    Diameter(distances::DiameterArgs),
+    Maxdist(distances::MaxDistArgs),
     Gallery(gallery::Args),
 }
 
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Voronoi(args) => voronoi::run(*args),
+        Command::Hausdorff(args) => distances::hausdorff(args),
+        Command::Diameter(args) => distances::diameter(args),
+        Command::Maxdist(args) => distances::maxdist(args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

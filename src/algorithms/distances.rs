@@ -1,0 +1,266 @@
+//! Distances between point sets read off Voronoi pictures (thesis §3.11): the
+//! Hausdorff distance from the nearest-site diagram, the diameter and the maximum
+//! distance from the furthest-site diagram.
+//!
+//! A picture names a candidate partner for every query point: the site whose
+//! region holds the point's pixel. Its distance, computed from the coordinates, is
+//! an upper bound (Hausdorff) or lower bound (furthest) of the point's true value;
+//! the picture's distance at the pixel, corrected by how far the point lies from
+//! the pixel centre, bounds it from the other side. Only the points whose bounds
+//! could still reach the best value are checked exactly, so every answer is exact
+//! while the checks stay few.
+
+use glam::DVec2;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::{
+    error::{Error, Result},
+    geometry::{buckets::PointGrid, frame::check_sites, Frame},
+    machine::Machine,
+};
+
+use super::{
+    higher_order::{convex_hull, furthest},
+    voronoi::{voronoi, VoronoiOptions},
+};
+
+/// Two points, one of each set (indices into the sets as given), and their
+/// distance.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Pair {
+    pub from: u32,
+    pub to: u32,
+    pub distance: f64,
+}
+
+/// An exact answer and how it was found.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Answer {
+    /// The exact answer.
+    pub pair: Pair,
+    /// The pair the picture alone suggests (its distance from the coordinates).
+    pub picture_pair: Pair,
+    /// Query points checked exactly because the picture could not rule them out.
+    pub checked: usize,
+    /// Size of the picture used.
+    pub width: u32,
+    pub height: u32,
+}
+
+/// The Hausdorff distance both ways and the larger of the two.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Hausdorff {
+    /// max over a of the distance to the nearest b (`from` in a, `to` in b).
+    pub a_to_b: Answer,
+    /// max over b of the distance to the nearest a (`from` in b, `to` in a).
+    pub b_to_a: Answer,
+    /// The larger of the two directed distances.
+    pub distance: f64,
+}
+
+/// Picture side used when none is given: enough pixels to separate the sites,
+/// within the device's largest image.
+fn default_side(machine: &Machine, sites: usize) -> u32 {
+    let side = (4.0 * (sites as f64).sqrt()).clamp(256.0, 4096.0) as u32;
+    side.min(machine.max_picture_side())
+}
+
+/// A frame showing every point with a pixel to spare, `side` pixels along the
+/// longer axis.
+fn frame_around(points: &[&[DVec2]], side: u32) -> Result<Frame> {
+    let all = points.iter().flat_map(|s| s.iter());
+    let lo = all.clone().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = all.fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    // A degenerate box (one point, a line) still needs an area.
+    let extent = (hi - lo)
+        .max_element()
+        .max(1e-9 * (1.0 + lo.abs().max_element()));
+    let pad = extent / side as f64 * 2.0;
+    let lo = lo - pad;
+    let hi = lo + DVec2::splat(extent + 4.0 * pad).max(hi - lo + 2.0 * pad);
+    Frame::with_bbox(side, None, [lo.x, lo.y, hi.x, hi.y])
+}
+
+/// The pixel of `frame` holding `p` and the distance (world units) from `p` to
+/// that pixel's centre.
+fn pixel_of(frame: &Frame, p: DVec2) -> (usize, f64) {
+    let q = frame.to_pixel(p).round();
+    let i = q.x.clamp(0.0, (frame.width - 1) as f64);
+    let j = q.y.clamp(0.0, (frame.height - 1) as f64);
+    let centre = frame.to_world(DVec2::new(i, j));
+    (
+        j as usize * frame.width as usize + i as usize,
+        centre.distance(p),
+    )
+}
+
+/// How far a distance read from the picture may be off (world units): the device
+/// holds pixel coordinates in float32, a few thousandths of a pixel on the
+/// largest pictures, and rounds the squared distance.
+fn picture_error(frame: &Frame, d: f64) -> f64 {
+    d * 1e-5 + 1e-3 / frame.scale
+}
+
+fn check_sets(sets: &[(&str, &[DVec2])]) -> Result<()> {
+    for (name, set) in sets {
+        check_sites(set).map_err(|e| Error::InvalidInput(format!("{name}: {e}")))?;
+    }
+    Ok(())
+}
+
+/// The directed Hausdorff distance from `a` to `b`: the point of `a` farthest from
+/// its nearest point of `b`, read off the Voronoi diagram of `b` (thesis §3.11.1).
+pub fn directed_hausdorff(
+    machine: &Machine,
+    a: &[DVec2],
+    b: &[DVec2],
+    side: Option<u32>,
+) -> Result<Answer> {
+    check_sets(&[("first set", a), ("second set", b)])?;
+    let side = side.unwrap_or_else(|| default_side(machine, b.len()));
+    let frame = frame_around(&[a, b], side)?;
+    let diagram = voronoi(machine, b, &VoronoiOptions::exact(frame))?;
+    // Per point of a: the picture's partner, an upper bound (its distance) and a
+    // lower bound (the pixel's distance less the offset from the pixel centre).
+    let bounds: Vec<(u32, f64, f64)> = a
+        .par_iter()
+        .map(|p| {
+            let (k, offset) = pixel_of(&frame, *p);
+            let partner = diagram.labels[k];
+            let upper = b[partner as usize].distance(*p);
+            let d = diagram.distances[k] as f64;
+            let lower = (d - picture_error(&frame, d) - offset).max(0.0);
+            (partner, upper, lower)
+        })
+        .collect();
+    let floor = bounds.iter().map(|x| x.2).fold(0.0, f64::max);
+    let (from, &(to, distance, _)) = bounds
+        .iter()
+        .enumerate()
+        .max_by(|x, y| x.1 .1.total_cmp(&y.1 .1))
+        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
+    let picture_pair = Pair {
+        from: from as u32,
+        to,
+        distance,
+    };
+    // Exact nearest distances for the points that might be the farthest.
+    let grid = PointGrid::new(b);
+    let candidates: Vec<usize> = (0..a.len()).filter(|&i| bounds[i].1 >= floor).collect();
+    let pair = candidates
+        .par_iter()
+        .filter_map(|&i| {
+            grid.nearest(a[i]).map(|(to, distance)| Pair {
+                from: i as u32,
+                to,
+                distance,
+            })
+        })
+        .max_by(|x, y| x.distance.total_cmp(&y.distance).then(y.from.cmp(&x.from)))
+        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
+    Ok(Answer {
+        pair,
+        picture_pair,
+        checked: candidates.len(),
+        width: frame.width,
+        height: frame.height,
+    })
+}
+
+/// The Hausdorff distance between `a` and `b`, both directions.
+pub fn hausdorff(
+    machine: &Machine,
+    a: &[DVec2],
+    b: &[DVec2],
+    side: Option<u32>,
+) -> Result<Hausdorff> {
+    let a_to_b = directed_hausdorff(machine, a, b, side)?;
+    let b_to_a = directed_hausdorff(machine, b, a, side)?;
+    Ok(Hausdorff {
+        a_to_b,
+        b_to_a,
+        distance: a_to_b.pair.distance.max(b_to_a.pair.distance),
+    })
+}
+
+/// The largest distance from a point of `a` to a point of `b`, read off the
+/// furthest-site diagram of `b` (thesis §3.11.3). Only hull vertices of either set
+/// can be the answer's ends.
+pub fn max_distance(
+    machine: &Machine,
+    a: &[DVec2],
+    b: &[DVec2],
+    side: Option<u32>,
+) -> Result<Answer> {
+    check_sets(&[("first set", a), ("second set", b)])?;
+    let side = side.unwrap_or_else(|| default_side(machine, convex_hull(b).len()));
+    let frame = frame_around(&[a, b], side)?;
+    let diagram = furthest(machine, b, &frame)?;
+    // The farthest point from a fixed point over a set is a hull vertex, and the
+    // distance to the farthest point of b is convex, so its maximum over a is at a
+    // hull vertex of a.
+    let queries = convex_hull(a);
+    let bounds: Vec<(u32, f64, f64)> = queries
+        .par_iter()
+        .map(|&i| {
+            let p = a[i as usize];
+            let (k, offset) = pixel_of(&frame, p);
+            let partner = diagram.labels[k];
+            let lower = b[partner as usize].distance(p);
+            let d = diagram.distances[k] as f64;
+            let upper = d + picture_error(&frame, d) + offset;
+            (partner, lower, upper)
+        })
+        .collect();
+    let floor = bounds.iter().map(|x| x.1).fold(0.0, f64::max);
+    let (q, &(to, distance, _)) = bounds
+        .iter()
+        .enumerate()
+        .max_by(|x, y| x.1 .1.total_cmp(&y.1 .1))
+        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
+    let picture_pair = Pair {
+        from: queries[q],
+        to,
+        distance,
+    };
+    let candidates: Vec<u32> = queries
+        .iter()
+        .zip(&bounds)
+        .filter(|(_, x)| x.2 >= floor)
+        .map(|(i, _)| *i)
+        .collect();
+    let pair = candidates
+        .par_iter()
+        .map(|&i| {
+            let p = a[i as usize];
+            let (to, distance) = diagram
+                .hull
+                .iter()
+                .map(|&j| (j, b[j as usize].distance(p)))
+                .fold(
+                    (u32::MAX, -1.0),
+                    |best, x| if x.1 > best.1 { x } else { best },
+                );
+            Pair {
+                from: i,
+                to,
+                distance,
+            }
+        })
+        .max_by(|x, y| x.distance.total_cmp(&y.distance).then(y.from.cmp(&x.from)))
+        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
+    Ok(Answer {
+        pair,
+        picture_pair,
+        checked: candidates.len(),
+        width: frame.width,
+        height: frame.height,
+    })
+}
+
+/// The diameter of `sites`: the largest distance between two of them, read off
+/// their furthest-site diagram (thesis §3.11.2).
+pub fn diameter(machine: &Machine, sites: &[DVec2], side: Option<u32>) -> Result<Answer> {
+    max_distance(machine, sites, sites, side)
+}
