@@ -11,6 +11,7 @@
 
 use std::{path::PathBuf, process::Command, time::Instant};
 
+use common::plot::{Series, PALETTE};
 use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
@@ -19,7 +20,11 @@ use pixgeo::{
     reference::voronoi::nearest_sites_grid,
     Machine,
 };
-use plotters::prelude::*;
+use plotters::style::RGBColor;
+
+mod common {
+    pub mod plot;
+}
 
 const SIZE: u32 = 1024;
 /// Picture-wide cones cost n full pictures of fragments; beyond this they take
@@ -260,9 +265,6 @@ fn markdown(
     s
 }
 
-/// A peer's name, its points and its colour in the plot.
-type Series = (&'static str, Vec<(f64, f64)>, RGBColor);
-
 fn plot(
     path: &std::path::Path,
     ns: &[usize],
@@ -270,95 +272,40 @@ fn plot(
     cpu: &[f64],
     scipy: &[Option<f64>],
 ) -> anyhow::Result<()> {
-    let font = std::fs::read("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")
-        .map_err(|e| anyhow::anyhow!("font for the plot (tools/setup --bench installs it): {e}"))?;
-    let font: &'static [u8] = Box::leak(font.into_boxed_slice());
-    plotters::style::register_font("sans-serif", FontStyle::Normal, font)
-        .map_err(|_| anyhow::anyhow!("cannot register the plot font"))?;
-    let root = BitMapBackend::new(path, (1100, 700)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let max_t = rows
+    let mut series: Vec<Series> = CONFIGS
         .iter()
-        .flatten()
-        .flatten()
-        .map(|c| c.0)
-        .chain(cpu.iter().copied())
-        .chain(scipy.iter().flatten().copied())
-        .fold(1.0, f64::max);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("Voronoi diagram, {SIZE}² pixels (cf. thesis Fig. 3.13)"),
-            ("sans-serif", 26),
-        )
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            (ns[0] as f64 * 0.8..*ns.last().unwrap_or(&1) as f64 * 1.25).log_scale(),
-            (5f64..max_t * 1.5).log_scale(),
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc("number of sites n (log scale)")
-        .y_desc("milliseconds (log scale)")
-        .label_style(("sans-serif", 16))
-        .draw()?;
-    let palette = [RED, BLUE, MAGENTA, GREEN, CYAN, BLACK];
-    for (c, config) in CONFIGS.iter().enumerate() {
-        let pts: Vec<(f64, f64)> = ns
-            .iter()
-            .zip(rows)
-            .filter_map(|(n, r)| r[c].map(|v| (*n as f64, v.0)))
-            .collect();
-        let color = palette[c % palette.len()];
-        chart
-            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
-            .label(config.name)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
-        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
-    }
-    let peers: [Series; 2] = [
-        (
-            "scipy distance_transform_edt + indices",
-            ns.iter()
-                .zip(scipy)
-                .filter_map(|(n, v)| v.map(|v| (*n as f64, v)))
+        .enumerate()
+        .map(|(c, config)| Series {
+            name: config.name.to_string(),
+            points: ns
+                .iter()
+                .zip(rows)
+                .filter_map(|(n, r)| r[c].map(|v| (*n as f64, v.0)))
                 .collect(),
-            RGBColor(255, 140, 0),
-        ),
-        (
-            "exact CPU bucket search",
-            ns.iter().zip(cpu).map(|(n, v)| (*n as f64, *v)).collect(),
-            RGBColor(120, 120, 120),
-        ),
-    ];
-    for (name, pts, color) in peers {
-        chart
-            .draw_series(LineSeries::new(
-                pts.clone(),
-                ShapeStyle::from(color).stroke_width(2),
-            ))?
-            .label(name)
-            .legend(move |(x, y)| {
-                PathElement::new(
-                    vec![(x, y), (x + 20, y)],
-                    ShapeStyle::from(color).stroke_width(2),
-                )
-            });
-        chart.draw_series(
-            pts.iter()
-                .map(|p| TriangleMarker::new(*p, 4, color.filled())),
-        )?;
-    }
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
-    root.present()?;
-    Ok(())
+            color: PALETTE[c % PALETTE.len()],
+            peer: false,
+        })
+        .collect();
+    series.push(Series {
+        name: "scipy distance_transform_edt + indices".into(),
+        points: ns
+            .iter()
+            .zip(scipy)
+            .filter_map(|(n, v)| v.map(|v| (*n as f64, v)))
+            .collect(),
+        color: RGBColor(255, 140, 0),
+        peer: true,
+    });
+    series.push(Series {
+        name: "exact CPU bucket search".into(),
+        points: ns.iter().zip(cpu).map(|(n, v)| (*n as f64, *v)).collect(),
+        color: RGBColor(120, 120, 120),
+        peer: true,
+    });
+    common::plot::plot(
+        path,
+        &format!("Voronoi diagram, {SIZE}² pixels (cf. thesis Fig. 3.13)"),
+        "number of sites n (log scale)",
+        &series,
+    )
 }
