@@ -271,3 +271,31 @@ fn distance_commands_answer_with_the_pair() {
     let (ok, _, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", "/nonexistent.csv"]);
     assert!(!ok && stderr.contains("blue"), "{stderr}");
 }
+
+#[test]
+fn the_cpu_pixel_algorithm_gives_the_same_diagram() {
+    let (gpu, cpu) = (temp("gpu.npy"), temp("cpu.npy"));
+    for (device, out) in [("auto", &gpu), ("cpu", &cpu)] {
+        let (ok, _, stderr) = pixgeo(&[
+            "voronoi",
+            "--random",
+            "300",
+            "--size",
+            "120x90",
+            "--device",
+            device,
+            "--labels",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{stderr}");
+    }
+    let (shape, a): (Vec<u64>, Vec<u32>) = npy::read(&gpu).unwrap();
+    let (cpu_shape, b): (Vec<u64>, Vec<u32>) = npy::read(&cpu).unwrap();
+    assert_eq!(shape, cpu_shape);
+    // Random real coordinates: no ties, so every label agrees.
+    assert_eq!(a, b);
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi", "--random", "30", "--device", "cpu", "--mode", "fan",
+    ]);
+    assert!(!ok && stderr.contains("exact"), "{stderr}");
+}

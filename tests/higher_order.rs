@@ -8,6 +8,7 @@ use common::{cases, machine};
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
+        cpu,
         higher_order::{convex_hull, furthest, k_nearest, KNearest, KNearestOptions},
         voronoi::{Accuracy, Speedup},
     },
@@ -271,4 +272,41 @@ fn bad_input_is_a_clear_error() {
     assert!(k_nearest(&m, &[], &opts(2)).is_err());
     assert!(k_nearest(&m, &[DVec2::new(f64::NAN, 0.0)], &opts(2)).is_err());
     assert!(furthest(&m, &[], &frame).is_err());
+}
+
+#[test]
+fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
+    let m = machine();
+    let frame = Frame::pixels(97, 73).unwrap();
+    for (name, sites) in cases(97, 73) {
+        for k in [1, 4] {
+            let c = cpu::k_nearest(&sites, &frame, k).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_levels(&c, &sites, &frame, &format!("cpu {name} k={k}"));
+            let g = k_nearest(
+                &m,
+                &sites,
+                &KNearestOptions {
+                    frame,
+                    k,
+                    accuracy: Accuracy::Exact,
+                    speedup: Speedup::Local,
+                },
+            )
+            .unwrap();
+            for (a, b) in c.distances.iter().zip(&g.distances) {
+                assert!(
+                    a == b || close(*a as f64, *b as f64),
+                    "{name}: cpu {a} gpu {b}"
+                );
+            }
+        }
+        let f = cpu::furthest(&sites, &frame).unwrap();
+        let g = furthest(&m, &sites, &frame).unwrap();
+        for (a, b) in f.distances.iter().zip(&g.distances) {
+            assert!(
+                close(*a as f64, *b as f64),
+                "{name}: furthest cpu {a} gpu {b}"
+            );
+        }
+    }
 }

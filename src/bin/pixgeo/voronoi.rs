@@ -8,6 +8,7 @@ use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
 use pixgeo::{
     algorithms::{
+        cpu,
         higher_order::{self, KNearestOptions},
         voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     },
@@ -115,7 +116,10 @@ pub struct Args {
     #[arg(long, value_name = "PIXELS")]
     max_tile: Option<u32>,
 
-    /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
+    /// Where to compute: `cpu` runs the thesis's CPU pixel algorithms (§3.12,
+    /// exact, no Vulkan needed); `auto`, `gpu`, `lavapipe`, an index or part of a
+    /// name picks a Vulkan device (default: PIXGEO_DEVICE, else a GPU if present,
+    /// else lavapipe; without any Vulkan driver, the CPU).
     #[arg(long)]
     device: Option<String>,
 
@@ -238,14 +242,17 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         args.speedup
     };
-    let mut machine_options = MachineOptions::from_env();
-    if let Some(d) = &args.device {
-        machine_options.device = DeviceChoice::parse(d);
-    }
-    let machine = Machine::new(&machine_options).context("starting the pixel machine")?;
-    if args.degree.is_some() || args.order.is_some() || args.furthest {
-        return higher_order(&args, &machine, &sites, frame, accuracy, speedup);
-    }
+    let backend = Backend::choose(args.device.as_deref())?;
+    let kind = match (args.degree, args.order, args.furthest) {
+        (Some(k), _, _) => Kind::Degree(k),
+        (_, Some(k), _) => Kind::Order(k),
+        (_, _, true) => Kind::Furthest,
+        _ => Kind::Ordinary,
+    };
+    let machine = match &backend {
+        Backend::Gpu(machine) if kind == Kind::Ordinary => machine,
+        _ => return whole_picture(&args, &backend, &sites, frame, accuracy, speedup, kind),
+    };
     let options = VoronoiOptions {
         frame,
         accuracy,
@@ -282,7 +289,7 @@ pub fn run(args: Args) -> Result<()> {
     // A tiled picture shows its progress, band by band, on a terminal.
     let mut progress: Option<ProgressBar> = None;
     let show_progress = !args.json && std::io::stderr().is_terminal();
-    let stats = voronoi_bands(&machine, &sites, &options, |band| {
+    let stats = voronoi_bands(machine, &sites, &options, |band| {
         if show_progress && band.height < frame.height {
             let bar = progress.get_or_insert_with(|| {
                 ProgressBar::new(frame.height as u64).with_style(
@@ -358,18 +365,29 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// `--degree`, `--order` and `--furthest`: diagrams held whole (one device image).
-fn higher_order(
+/// Which diagram `pixgeo voronoi` computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Ordinary,
+    Degree(u32),
+    Order(u32),
+    Furthest,
+}
+
+/// Diagrams held whole rather than streamed in tiles: `--degree`, `--order`,
+/// `--furthest`, and every diagram on the CPU (an ordinary diagram is degree 1).
+fn whole_picture(
     args: &Args,
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     frame: Frame,
     accuracy: Accuracy,
     speedup: Speedup,
+    kind: Kind,
 ) -> Result<()> {
     if args.max_tile.is_some() {
         bail!(
-            "--max-tile applies to ordinary diagrams; higher-order diagrams are drawn in one image"
+            "--max-tile applies to ordinary diagrams on a Vulkan device; this diagram is computed whole"
         );
     }
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
@@ -399,11 +417,14 @@ fn higher_order(
         Ok(())
     };
 
-    let summary = if args.furthest {
+    let summary = if kind == Kind::Furthest {
         if accuracy != Accuracy::Exact {
             bail!("the furthest-site diagram is computed exactly; drop --mode");
         }
-        let f = higher_order::furthest(machine, sites, &frame)?;
+        let f = match backend {
+            Backend::Gpu(machine) => higher_order::furthest(machine, sites, &frame)?,
+            Backend::Cpu => cpu::furthest(sites, &frame)?,
+        };
         if let Some(path) = &args.labels {
             npy::write(path, &[h, w], &f.labels)?;
         }
@@ -417,27 +438,39 @@ fn higher_order(
             "width": frame.width,
             "height": frame.height,
             "kind": "furthest",
-            "device": machine.device_name(),
+            "device": backend.name(),
             "sites": sites.len(),
             "hull": f.hull.len(),
         })
     } else {
-        let (k, order) = match (args.degree, args.order) {
-            (Some(k), _) => (k, false),
-            (_, Some(k)) => (k, true),
-            _ => bail!("no higher-order diagram asked for"),
+        let (k, order) = match kind {
+            Kind::Order(k) => (k, true),
+            Kind::Degree(k) => (k, false),
+            _ => (1, false),
         };
-        let d = higher_order::k_nearest(
-            machine,
-            sites,
-            &KNearestOptions {
-                frame,
-                k,
-                accuracy,
-                speedup,
-            },
-        )?;
-        let shape = [h, w, k as u64];
+        let d = match backend {
+            Backend::Gpu(machine) => higher_order::k_nearest(
+                machine,
+                sites,
+                &KNearestOptions {
+                    frame,
+                    k,
+                    accuracy,
+                    speedup,
+                },
+            )?,
+            Backend::Cpu => {
+                if accuracy != Accuracy::Exact {
+                    bail!("--mode fan draws cones on a Vulkan device; the CPU pixel algorithm is exact");
+                }
+                cpu::k_nearest(sites, &frame, k)?
+            }
+        };
+        let shape = if kind == Kind::Ordinary {
+            vec![h, w]
+        } else {
+            vec![h, w, k as u64]
+        };
         if let Some(path) = &args.labels {
             let labels = if order {
                 d.order_sets()
@@ -475,7 +508,11 @@ fn higher_order(
         json!({
             "width": frame.width,
             "height": frame.height,
-            "kind": if order { "order" } else { "degree" },
+            "kind": match kind {
+                Kind::Ordinary => "ordinary",
+                Kind::Order(_) => "order",
+                _ => "degree",
+            },
             "levels": k,
             "speedup": speedup,
             "stats": d.stats,
@@ -489,13 +526,54 @@ fn higher_order(
             sites.len(),
             frame.width,
             frame.height,
-            machine.device_name()
+            backend.name()
         );
         if let Some(p) = &args.output {
             eprintln!("wrote {}", p.display());
         }
     }
     Ok(())
+}
+
+/// Where diagrams are computed.
+pub enum Backend {
+    /// The pixel machine on a Vulkan device.
+    Gpu(Box<Machine>),
+    /// The thesis's CPU pixel algorithms (§3.12): no Vulkan needed.
+    Cpu,
+}
+
+impl Backend {
+    /// `--device cpu` (or PIXGEO_DEVICE=cpu) asks for the CPU algorithms; any other
+    /// choice is a Vulkan device. Without a Vulkan driver the CPU algorithms step
+    /// in, with a notice.
+    pub fn choose(device: Option<&str>) -> Result<Self> {
+        let mut options = MachineOptions::from_env();
+        let wanted = device
+            .map(str::to_string)
+            .or_else(|| std::env::var("PIXGEO_DEVICE").ok());
+        if wanted.as_deref().map(str::trim) == Some("cpu") {
+            return Ok(Self::Cpu);
+        }
+        if let Some(d) = device {
+            options.device = DeviceChoice::parse(d);
+        }
+        match Machine::new(&options) {
+            Ok(machine) => Ok(Self::Gpu(Box::new(machine))),
+            Err(pixgeo::Error::NoVulkan(why)) => {
+                eprintln!("note: no Vulkan driver ({why}); using the CPU pixel algorithms");
+                Ok(Self::Cpu)
+            }
+            Err(e) => Err(e).context("starting the pixel machine"),
+        }
+    }
+
+    pub fn name(&self) -> &str {
+        match self {
+            Self::Gpu(machine) => machine.device_name(),
+            Self::Cpu => "cpu (thesis §3.12 pixel algorithms)",
+        }
+    }
 }
 
 /// A colour key for a set of site ids (FNV-1a over the ids); "no site" only for

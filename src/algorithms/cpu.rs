@@ -1,0 +1,218 @@
+//! The pixel algorithms of thesis §3.12 for machines without a GPU driver: every
+//! site grows outwards through one table of pixel offsets sorted by length, round
+//! robin, and each pixel keeps the first k sites that reach it (§3.12.2; k = 1 is
+//! the Voronoi diagram of §3.12.1).
+//!
+//! The thesis's sites sit on pixel centres. pixgeo's may lie anywhere, so a site
+//! grows from its nearest pixel centre, which it misses by at most
+//! `SLACK = sqrt(2)/2`: an offset of length r then reaches a pixel at a true
+//! distance within `r ± SLACK`. Pixels keep the k smallest *true* keys (squared
+//! distance, site index) seen so far, and a pixel is final once its k-th key is
+//! nearer than the current offset length minus the slack, because every later
+//! arrival is farther. The result is exact: the k nearest sites in order, ties by
+//! index, the same as the GPU's.
+//!
+//! The picture is cut into bands of rows, one per thread; sites are sorted by row
+//! so that each offset visits only the sites that land in the band.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use crate::{
+    error::{Error, Result},
+    geometry::{frame::check_sites, Frame},
+};
+
+use super::higher_order::{convex_hull, Furthest, KNearest, KNearestStats, MAX_LEVELS};
+
+/// How far a site may lie from the pixel centre it grows from.
+const SLACK: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// Rows per band: enough bands for every thread, few enough to share the sites.
+const BAND_ROWS: u32 = 32;
+
+/// The x offsets of ring r (`r - 1 < |(dx, dy)| <= r`) in the row dy, as up to
+/// two ranges (the ring's left and right arcs; one range when they meet).
+fn ring_row(r: i64, dy: i64) -> [std::ops::Range<i64>; 2] {
+    let outer = r * r - dy * dy;
+    if outer < 0 {
+        return [0..0, 0..0];
+    }
+    let hi = isqrt(outer);
+    // dx² > (r - 1)² - dy², so |dx| >= lo.
+    let inner = if r == 0 {
+        -1
+    } else {
+        (r - 1) * (r - 1) - dy * dy
+    };
+    let lo = if inner < 0 { 0 } else { isqrt(inner) + 1 };
+    if lo == 0 {
+        [-hi..hi + 1, 0..0]
+    } else {
+        [-hi..-lo + 1, lo..hi + 1]
+    }
+}
+
+/// The largest integer whose square is at most `v` (v >= 0).
+fn isqrt(v: i64) -> i64 {
+    let mut s = (v as f64).sqrt() as i64;
+    while s * s > v {
+        s -= 1;
+    }
+    while (s + 1) * (s + 1) <= v {
+        s += 1;
+    }
+    s
+}
+
+/// Every pixel's `k` nearest sites (world coordinates) on `frame`, computed on the
+/// CPU by growing the sites (thesis §3.12.2).
+pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32) -> Result<KNearest> {
+    check_sites(sites)?;
+    frame.check()?;
+    if k == 0 || k > MAX_LEVELS {
+        return Err(Error::InvalidInput(format!(
+            "the number of levels must be 1 to {MAX_LEVELS}, not {k}"
+        )));
+    }
+    let started = std::time::Instant::now();
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let ku = k as usize;
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    // Sites by the row of the pixel centre they grow from. A site farther than the
+    // picture's diagonal from it never needs to grow past that diagonal.
+    let mut by_row: Vec<(i64, i64, u32)> = pixels
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.y.round() as i64, p.x.round() as i64, i as u32))
+        .collect();
+    by_row.sort_unstable();
+    // No pixel is farther than this from the centre a site grows from.
+    let reach = pixels
+        .iter()
+        .map(|p| frame.farthest_pixel(p.round()))
+        .fold(0.0, f64::max);
+    let mut keys = vec![(f64::INFINITY, u32::MAX); w * h * ku];
+    // A pixel's list can hold at most this many sites.
+    let full = ku.min(sites.len());
+    let mut done = vec![false; h.div_ceil(BAND_ROWS as usize)];
+    // Ring r of the offset table holds the offsets of length in (r - 1, r]; the
+    // sites visit it row by row of the band.
+    for r in 0..=reach.ceil() as i64 + 1 {
+        keys.par_chunks_mut(BAND_ROWS as usize * w * ku)
+            .zip(done.par_iter_mut())
+            .enumerate()
+            .filter(|(_, (_, done))| !**done)
+            .for_each(|(band, (band_keys, done))| {
+                let y0 = (band * BAND_ROWS as usize) as i64;
+                let rows = (band_keys.len() / (w * ku)) as i64;
+                // Sites whose ring r can reach a row of the band.
+                let from = by_row.partition_point(|s| s.0 < y0 - r);
+                let to = by_row.partition_point(|s| s.0 <= y0 + rows - 1 + r);
+                for &(ay, ax, i) in &by_row[from..to] {
+                    let site = pixels[i as usize];
+                    for y in y0.max(ay - r)..(y0 + rows).min(ay + r + 1) {
+                        for dxs in ring_row(r, y - ay) {
+                            for x in dxs.map(|dx| ax + dx) {
+                                if x < 0 || x >= w as i64 {
+                                    continue;
+                                }
+                                let q = DVec2::new(x as f64, y as f64);
+                                let at = ((y - y0) as usize * w + x as usize) * ku;
+                                insert(&mut band_keys[at..at + ku], (site.distance_squared(q), i));
+                            }
+                        }
+                    }
+                }
+                // Final once every pixel's list is as full as it can be and its last
+                // key beats any later arrival (at least r - SLACK away).
+                let horizon = r as f64 - SLACK;
+                *done = horizon > 0.0
+                    && band_keys
+                        .chunks_exact(ku)
+                        .all(|list| list[full - 1].0.sqrt() <= horizon);
+            });
+        if done.iter().all(|d| *d) {
+            break;
+        }
+    }
+    let to_world = 1.0 / frame.scale;
+    let (labels, distances) = keys
+        .par_iter()
+        .map(|&(d2, i)| {
+            if i == u32::MAX {
+                (u32::MAX, f32::INFINITY)
+            } else {
+                (i, (d2.sqrt() * to_world) as f32)
+            }
+        })
+        .unzip();
+    Ok(KNearest {
+        width: frame.width,
+        height: frame.height,
+        k,
+        labels,
+        distances,
+        stats: KNearestStats {
+            device: "cpu".into(),
+            sites: sites.len(),
+            levels: k,
+            render_ms: started.elapsed().as_secs_f64() * 1e3,
+            ..Default::default()
+        },
+    })
+}
+
+/// Inserts `key` into the sorted list `list` if it is among its smallest.
+fn insert(list: &mut [(f64, u32)], key: (f64, u32)) {
+    let last = list.len() - 1;
+    let smaller = |a: (f64, u32), b: (f64, u32)| a.0 < b.0 || (a.0 == b.0 && a.1 < b.1);
+    if !smaller(key, list[last]) {
+        return;
+    }
+    let mut at = last;
+    while at > 0 && smaller(key, list[at - 1]) {
+        list[at] = list[at - 1];
+        at -= 1;
+    }
+    list[at] = key;
+}
+
+/// The furthest-site diagram on the CPU: every pixel against the convex hull's
+/// sites, the only ones that own furthest regions.
+pub fn furthest(sites: &[DVec2], frame: &Frame) -> Result<Furthest> {
+    check_sites(sites)?;
+    frame.check()?;
+    let hull = convex_hull(sites);
+    let pixels: Vec<DVec2> = hull
+        .iter()
+        .map(|&i| frame.to_pixel(sites[i as usize]))
+        .collect();
+    let w = frame.width as usize;
+    let to_world = 1.0 / frame.scale;
+    let (labels, distances) = (0..frame.len())
+        .into_par_iter()
+        .map(|p| {
+            let q = DVec2::new((p % w) as f64, (p / w) as f64);
+            let (i, d2) = hull
+                .iter()
+                .zip(&pixels)
+                .map(|(&i, s)| (i, s.distance_squared(q)))
+                .fold((u32::MAX, -1.0), |best, x| {
+                    if x.1 > best.1 || (x.1 == best.1 && x.0 < best.0) {
+                        x
+                    } else {
+                        best
+                    }
+                });
+            (i, (d2.sqrt() * to_world) as f32)
+        })
+        .unzip();
+    Ok(Furthest {
+        width: frame.width,
+        height: frame.height,
+        labels,
+        distances,
+        hull,
+    })
+}
