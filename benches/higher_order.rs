@@ -15,8 +15,9 @@ use common::plot::{Series, PALETTE};
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
+        cpu,
         distances::hausdorff,
-        higher_order::{k_nearest, KNearestOptions},
+        higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::Frame,
@@ -98,6 +99,18 @@ fn main() -> anyhow::Result<()> {
             eprintln!("n = {n:>5}  order {LEVELS}, {name:<22} {t:>9.1} ms");
             times.push(Some(t));
         }
+        let peeled = time(repeats, || {
+            k_nearest_peeled(&machine, &sites, &order(Speedup::Local))?;
+            Ok(())
+        })?;
+        eprintln!("n = {n:>5}  order {LEVELS}, thesis peeling         {peeled:>9.1} ms");
+        times.push(Some(peeled));
+        let on_cpu = time(repeats, || {
+            cpu::k_nearest(&sites, &frame, LEVELS)?;
+            Ok(())
+        })?;
+        eprintln!("n = {n:>5}  order {LEVELS}, CPU pixel algorithm    {on_cpu:>9.1} ms");
+        times.push(Some(on_cpu));
         let opts = VoronoiOptions {
             distances: false,
             ..VoronoiOptions::exact(frame)
@@ -161,11 +174,19 @@ fn main() -> anyhow::Result<()> {
          call), beside one ordinary Voronoi diagram of the same sites.\n\n| n |",
         machine.device_name()
     );
-    for (name, _) in speedups {
+    let columns: Vec<String> = speedups
+        .iter()
+        .map(|(name, _)| name.to_string())
+        .chain([
+            "thesis peeling (local radii)".into(),
+            "CPU pixel algorithm (§3.12.2)".into(),
+        ])
+        .collect();
+    for name in &columns {
         md.push_str(&format!(" order {LEVELS}, {name} |"));
     }
     md.push_str(" one diagram | order 10 (local) / one diagram |\n|");
-    md.push_str(&"---|".repeat(speedups.len() + 3));
+    md.push_str(&"---|".repeat(columns.len() + 3));
     md.push('\n');
     for (n, (times, one)) in ns.iter().zip(&rows) {
         md.push_str(&format!("| {n} |"));
@@ -198,10 +219,10 @@ fn main() -> anyhow::Result<()> {
     std::fs::write(out_dir.join("higher_order.md"), &md)?;
     println!("{md}");
 
-    let mut series: Vec<Series> = speedups
+    let mut series: Vec<Series> = columns
         .iter()
         .enumerate()
-        .map(|(c, (name, _))| Series {
+        .map(|(c, name)| Series {
             name: format!("order {LEVELS}, {name}"),
             points: ns
                 .iter()

@@ -9,7 +9,9 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         cpu,
-        higher_order::{convex_hull, furthest, k_nearest, KNearest, KNearestOptions},
+        higher_order::{
+            convex_hull, furthest, k_nearest, k_nearest_peeled, KNearest, KNearestOptions,
+        },
         voronoi::{Accuracy, Speedup},
     },
     geometry::Frame,
@@ -27,6 +29,10 @@ fn close(a: f64, b: f64) -> bool {
 /// Level by level: the distance is the definition's l-th smallest (with
 /// multiplicity), the label a site at that distance, and no site twice per pixel.
 fn assert_levels(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str) {
+    assert_levels_with(d, sites, frame, what, true);
+}
+
+fn assert_levels_with(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str, distinct: bool) {
     let truth = k_nearest_brute_force(sites, frame, d.k as usize);
     let w = frame.width as usize;
     for (p, expected) in truth.iter().enumerate() {
@@ -50,7 +56,7 @@ fn assert_levels(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str) {
                         distances[l]
                     );
                     assert!(
-                        !labels[..l].contains(&label),
+                        !distinct || !labels[..l].contains(&label),
                         "{what}: pixel {q}: site {label} twice"
                     );
                 }
@@ -306,6 +312,38 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
             assert!(
                 close(*a as f64, *b as f64),
                 "{name}: furthest cpu {a} gpu {b}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_thesis_peeling_gives_the_same_levels() {
+    // Two depth buffers and a stencil (thesis §3.7): the same distances, equal
+    // distances counted by the stencil; a repeated distance keeps its first site.
+    let m = machine();
+    let frame = Frame::pixels(60, 50).unwrap();
+    let lattice: Vec<DVec2> = (0..100)
+        .map(|i| DVec2::new((i % 10 * 6) as f64, (i / 10 * 5) as f64))
+        .collect();
+    let mut inputs = cases(60, 50);
+    inputs.push(("lattice 6x5", lattice));
+    for (name, sites) in inputs {
+        for speedup in [Speedup::Quadtree, Speedup::Local] {
+            let options = KNearestOptions {
+                frame,
+                k: 5,
+                accuracy: Accuracy::Exact,
+                speedup,
+            };
+            let d = k_nearest_peeled(&m, &sites, &options)
+                .unwrap_or_else(|e| panic!("{name} {speedup:?}: {e}"));
+            assert_levels_with(
+                &d,
+                &sites,
+                &frame,
+                &format!("peeled {name} {speedup:?}"),
+                false,
             );
         }
     }

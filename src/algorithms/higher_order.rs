@@ -27,8 +27,8 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Machine,
-        Program, RasterState, Target,
+        ChannelMask, Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format,
+        Machine, PixelRect, Program, RasterState, RectDraw, StencilOp, StencilTest, Target,
     },
 };
 
@@ -129,21 +129,9 @@ pub fn k_nearest(
     sites: &[DVec2],
     options: &KNearestOptions,
 ) -> Result<KNearest> {
-    check_sites(sites)?;
     let frame = options.frame;
-    frame.check()?;
     let k = options.k;
-    if k == 0 || k > MAX_LEVELS {
-        return Err(Error::InvalidInput(format!(
-            "the number of levels must be 1 to {MAX_LEVELS}, not {k}"
-        )));
-    }
-    let side = machine.max_picture_side();
-    if frame.width > side || frame.height > side {
-        return Err(Error::InvalidInput(format!(
-            "higher-order diagrams are drawn in one image of at most {side}x{side} pixels on this device"
-        )));
-    }
+    check_levels(machine, sites, options)?;
     let key_bytes = frame.len() as u64 * k as u64 * 8;
     if key_bytes > MAX_KEY_BYTES {
         return Err(Error::InvalidInput(format!(
@@ -159,29 +147,8 @@ pub fn k_nearest(
             machine.device_name()
         )));
     }
-    let mut stats = KNearestStats {
-        device: machine.device_name().to_string(),
-        sites: sites.len(),
-        levels: k,
-        ..Default::default()
-    };
-
     let started = Instant::now();
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let radii = k_radii(&pixels, &frame, k as usize, options.speedup);
-    let cones: Vec<(u32, DVec2, f64)> = pixels
-        .iter()
-        .zip(&radii)
-        .enumerate()
-        .filter(|(_, (p, r))| **r > 0.0 && frame.distance_to_pixels(**p) <= **r)
-        .map(|(i, (p, r))| (i as u32, *p, *r))
-        .collect();
-    stats.cones = cones.len();
-    if !cones.is_empty() {
-        stats.radius_min = cones.iter().map(|c| c.2).fold(f64::INFINITY, f64::min);
-        stats.radius_max = cones.iter().map(|c| c.2).fold(0.0, f64::max);
-        stats.radius_mean = cones.iter().map(|c| c.2).sum::<f64>() / cones.len() as f64;
-    }
+    let (cones, mut stats) = level_cones(machine, sites, options);
     // The mesh, each cone's outer radius, and the fan's error bound.
     let (program, mesh, outer) = match options.accuracy {
         Accuracy::Exact => (
@@ -332,6 +299,267 @@ impl Rim {
     }
 }
 
+/// The checks every way of computing levels shares.
+fn check_levels(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result<()> {
+    check_sites(sites)?;
+    let frame = options.frame;
+    frame.check()?;
+    let k = options.k;
+    if k == 0 || k > MAX_LEVELS {
+        return Err(Error::InvalidInput(format!(
+            "the number of levels must be 1 to {MAX_LEVELS}, not {k}"
+        )));
+    }
+    let side = machine.max_picture_side();
+    if frame.width > side || frame.height > side {
+        return Err(Error::InvalidInput(format!(
+            "higher-order diagrams are drawn in one image of at most {side}x{side} pixels on this device"
+        )));
+    }
+    Ok(())
+}
+
+/// The cones (site index, pixel position, radius) that reach the picture, and the
+/// statistics that describe them.
+fn level_cones(
+    machine: &Machine,
+    sites: &[DVec2],
+    options: &KNearestOptions,
+) -> (Vec<(u32, DVec2, f64)>, KNearestStats) {
+    let frame = options.frame;
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let radii = k_radii(&pixels, &frame, options.k as usize, options.speedup);
+    let cones: Vec<(u32, DVec2, f64)> = pixels
+        .iter()
+        .zip(&radii)
+        .enumerate()
+        .filter(|(_, (p, r))| **r > 0.0 && frame.distance_to_pixels(**p) <= **r)
+        .map(|(i, (p, r))| (i as u32, *p, *r))
+        .collect();
+    let mut stats = KNearestStats {
+        device: machine.device_name().to_string(),
+        sites: sites.len(),
+        levels: options.k,
+        cones: cones.len(),
+        ..Default::default()
+    };
+    if !cones.is_empty() {
+        stats.radius_min = cones.iter().map(|c| c.2).fold(f64::INFINITY, f64::min);
+        stats.radius_max = cones.iter().map(|c| c.2).fold(0.0, f64::max);
+        stats.radius_mean = cones.iter().map(|c| c.2).sum::<f64>() / cones.len() as f64;
+    }
+    (cones, stats)
+}
+
+/// Computes every pixel's k nearest sites by the thesis's peeling (§3.7): level
+/// by level, the cones are drawn against the previous level's depth z, held in a
+/// storage buffer, so that the depth test LESS finds the next layer, and the
+/// stencil counts how often a distance repeats. Four steps per level:
+///
+/// 1. cones where the count is 0: fragments deeper than z, depth test LESS;
+/// 2. picture-wide where the count is not 0: the level repeats z and its site,
+///    and the pixel is marked so that step 3 passes it by;
+/// 3. cones again where unmarked, depth test EQUAL: the stencil counts the sites
+///    at the new distance;
+/// 4. picture-wide: marks cleared, the count decremented, one use spent.
+///
+/// The thesis marks step 2's pixels by setting z to infinity; here the stencil's
+/// top bit marks them and its low seven bits count, because a shader that writes
+/// depth runs before the stencil test and could not write z only where the
+/// count is not 0. Multiplicities above 127 wrap.
+///
+/// Exact cones only. Where a distance repeats, the thesis keeps the site of its
+/// first level, so unlike [`k_nearest`] a site may be named on several levels;
+/// the distances are the same.
+pub fn k_nearest_peeled(
+    machine: &Machine,
+    sites: &[DVec2],
+    options: &KNearestOptions,
+) -> Result<KNearest> {
+    check_levels(machine, sites, options)?;
+    if options.accuracy != Accuracy::Exact {
+        return Err(Error::InvalidInput(
+            "peeling draws exact cones; use the default level method for fans".into(),
+        ));
+    }
+    let (frame, k) = (options.frame, options.k);
+    let started = Instant::now();
+    let (cones, mut stats) = level_cones(machine, sites, options);
+    let instances: Vec<[u32; 5]> = cones
+        .iter()
+        .map(|&(i, p, r)| {
+            let outer = FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius;
+            [
+                (p.x as f32).to_bits(),
+                (p.y as f32).to_bits(),
+                (outer as f32).to_bits(),
+                (r as f32).to_bits(),
+                i,
+            ]
+        })
+        .chain(std::iter::once([0; 5]))
+        .collect();
+    let reach = cones.iter().map(|c| c.2).fold(1.0, f64::max) * 1.001;
+    let scale = (reach * reach).log2().ceil().exp2().recip();
+    stats.bounds_ms = ms(started);
+
+    let started = Instant::now();
+    let (w, h) = (frame.width, frame.height);
+    let pixels = frame.len();
+    let ids = machine.image(Format::R32Uint, w, h)?;
+    let depth = machine.image(Format::DepthStencil, w, h)?;
+    let octagon = machine.vertex_buffer(&unit_footprint(FOOTPRINT_CORNERS))?;
+    let square = machine.vertex_buffer(&unit_footprint(4))?;
+    let instance_buffer = machine.vertex_buffer(&instances)?;
+    // Step 2's footprint: a square around the picture's centre that covers it.
+    let half = (w.max(h) as f64 / 2.0 + 1.0) * std::f64::consts::SQRT_2;
+    let carry = machine.vertex_buffer(&[[
+        ((w as f64 - 1.0) / 2.0) as f32,
+        ((h as f64 - 1.0) / 2.0) as f32,
+        half as f32,
+        half as f32,
+        0.0,
+    ]])?;
+    // The previous level: depth -1 (below every cone) and no site.
+    let mut previous = machine.readback_buffer(8 * pixels as u64)?;
+    let mut words = vec![(-1.0f32).to_bits(); pixels];
+    words.resize(2 * pixels, u32::MAX);
+    previous.write(&words);
+    let push = ConePush {
+        picture_size: [w as f32, h as f32],
+        offset: [0.0, 0.0],
+        vertex_depth_scale: 0.0,
+        fragment_depth_scale: scale as f32,
+        levels: k,
+    };
+    // Stencil bits: the low seven count, the top one marks step 2's pixels.
+    const COUNT: u8 = 0x7f;
+    const MARK: u8 = 0x80;
+    let stencil = |compare, compare_mask, write_mask, on_pass| StencilTest {
+        compare,
+        compare_mask,
+        write_mask,
+        on_fail: StencilOp::Keep,
+        on_depth_fail: StencilOp::Keep,
+        on_pass,
+    };
+    let register = RasterState {
+        depth: DepthTest {
+            compare: Compare::Less,
+            write: true,
+        },
+        stencil: stencil(Compare::Equal, COUNT, 0, StencilOp::Keep),
+        ..RasterState::OVERWRITE
+    };
+    let repeat = RasterState {
+        depth: DepthTest {
+            compare: Compare::Always,
+            write: true,
+        },
+        stencil: stencil(Compare::NotEqual, COUNT, MARK, StencilOp::Replace),
+        ..RasterState::OVERWRITE
+    };
+    let count = RasterState {
+        depth: DepthTest {
+            compare: Compare::Equal,
+            write: false,
+        },
+        stencil: stencil(Compare::Equal, MARK, COUNT, StencilOp::IncrementClamp),
+        color_mask: ChannelMask::NONE,
+        ..RasterState::OVERWRITE
+    };
+    let unmark = RasterState {
+        stencil: stencil(Compare::Always, 0, MARK, StencilOp::Replace),
+        color_mask: ChannelMask::NONE,
+        ..RasterState::OVERWRITE
+    };
+    let spend = RasterState {
+        stencil: stencil(Compare::Always, 0, COUNT, StencilOp::DecrementClamp),
+        color_mask: ChannelMask::NONE,
+        ..RasterState::OVERWRITE
+    };
+    let draw = |buffer, vertices, instances, count| ConeDraw {
+        mesh: buffer,
+        first_vertex: 0,
+        vertex_count: vertices,
+        instances,
+        first_instance: 0,
+        instance_count: count,
+    };
+    let cones_draw = draw(
+        &octagon,
+        FOOTPRINT_CORNERS,
+        &instance_buffer,
+        cones.len() as u32,
+    );
+    let carry_draw = draw(&square, 4, &carry, 1);
+    let target = Target {
+        color: Some(&ids),
+        depth_stencil: Some(&depth),
+    };
+    let keep = Clear {
+        color: None,
+        depth: None,
+        stencil: None,
+    };
+    let params = DrawParams::default();
+    let marking = DrawParams {
+        stencil_reference: MARK,
+        ..DrawParams::default()
+    };
+    let mut labels = vec![u32::MAX; pixels * k as usize];
+    let mut distances = vec![f32::INFINITY; pixels * k as usize];
+    let to_world = (1.0 / frame.scale) as f32;
+    let unscale = (1.0 / scale) as f32;
+    for level in 0..k as usize {
+        machine.with_fragment_buffer(&previous, |set| {
+            machine.run(|pass| {
+                let fresh = Clear {
+                    color: Some(ClearColor::Uint([u32::MAX; 4])),
+                    depth: Some(1.0),
+                    stencil: (level == 0).then_some(0),
+                };
+                pass.begin(target, fresh)?;
+                pass.bind_fragment_buffer(set);
+                pass.draw_cones(Program::ConePeel, &register, &params, &push, &cones_draw)?;
+                pass.end()?;
+                pass.begin(target, keep)?;
+                pass.draw_cones(Program::PeelCarry, &repeat, &marking, &push, &carry_draw)?;
+                pass.end()?;
+                pass.begin(target, keep)?;
+                pass.draw_cones(Program::ConePeel, &count, &params, &push, &cones_draw)?;
+                pass.end()?;
+                pass.begin(target, keep)?;
+                pass.draw_rect(&unmark, &params, &RectDraw::full_picture(w, h))?;
+                pass.draw_rect(&spend, &params, &RectDraw::full_picture(w, h))?;
+                pass.end()?;
+                // This level becomes the next one's z and sites.
+                pass.feed_fragment_buffer(&depth, &previous, 0)?;
+                pass.feed_fragment_buffer(&ids, &previous, 4 * pixels as u64)
+            })
+        })?;
+        let rect = PixelRect::of(&ids);
+        let level_ids = machine.read_u32(&ids, rect)?;
+        let level_depths = machine.read_f32(&depth, rect)?;
+        for (p, (id, z)) in level_ids.iter().zip(&level_depths).enumerate() {
+            let at = p * k as usize + level;
+            labels[at] = *id;
+            if *id != u32::MAX {
+                distances[at] = (z * unscale).sqrt() * to_world;
+            }
+        }
+    }
+    stats.render_ms = ms(started);
+    Ok(KNearest {
+        width: w,
+        height: h,
+        k,
+        labels,
+        distances,
+        stats,
+    })
+}
+
 /// Cone radii (pixels) that keep the k lowest layers of the arrangement over the
 /// picture, plus half a pixel so that rasterization never drops a rim pixel.
 fn k_radii(pixels: &[DVec2], frame: &Frame, k: usize, speedup: Speedup) -> Vec<f64> {
@@ -453,7 +681,7 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
         )?;
         pass.end()
     })?;
-    let rect = crate::machine::PixelRect::of(&ids);
+    let rect = PixelRect::of(&ids);
     let labels = machine.read_u32(&ids, rect)?;
     let depths = machine.read_f32(&depth, rect)?;
     let unscale = (1.0 / scale) as f32;

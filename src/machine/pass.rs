@@ -496,6 +496,46 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
+    /// Copies all of `image` (for depth/stencil: its depth) into `buffer` from byte
+    /// `offset`, row-major, for fragment shaders of later passes to read.
+    pub fn feed_fragment_buffer(
+        &mut self,
+        image: &Image,
+        buffer: &Buffer,
+        offset: u64,
+    ) -> Result<()> {
+        let bytes = image.width() as u64 * image.height() as u64 * 4;
+        if image.format() == Format::Rgba32Float || offset + bytes > buffer.size() {
+            return Err(Error::InvalidInput(
+                "fragment buffer too small for the image".into(),
+            ));
+        }
+        self.fragment_buffer_barrier();
+        self.record_copy(image, PixelRect::of(image), buffer, offset);
+        self.fragment_buffer_barrier();
+        Ok(())
+    }
+
+    /// Orders writes to storage buffers by copies and fragment shaders before the
+    /// reads and writes that follow (outside a rendering pass).
+    pub fn fragment_buffer_barrier(&mut self) {
+        let stages = vk::PipelineStageFlags2::COPY | vk::PipelineStageFlags2::FRAGMENT_SHADER;
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(stages)
+            .src_access_mask(
+                vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )
+            .dst_stage_mask(stages)
+            .dst_access_mask(
+                vk::AccessFlags2::TRANSFER_WRITE
+                    | vk::AccessFlags2::SHADER_STORAGE_READ
+                    | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )];
+        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+        // SAFETY: recording state, outside a rendering pass.
+        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
     /// Copies `rect` of `image` (for depth/stencil: its depth) into `buffer`,
     /// row-major, tightly packed.
     pub fn copy_to_buffer(
@@ -509,6 +549,16 @@ impl<'m> Pass<'m> {
         if bytes > buffer.size() {
             return Err(Error::InvalidInput("readback buffer too small".into()));
         }
+        self.record_copy(image, rect, buffer, 0);
+        self.host_barrier(
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_WRITE,
+        );
+        Ok(())
+    }
+
+    /// Records the copy of `rect` of `image` into `buffer` at byte `offset`.
+    fn record_copy(&mut self, image: &Image, rect: PixelRect, buffer: &Buffer, offset: u64) {
         self.use_image(image, Usage::TransferSrc);
         let aspect = if image.format().is_depth() {
             vk::ImageAspectFlags::DEPTH
@@ -516,6 +566,7 @@ impl<'m> Pass<'m> {
             vk::ImageAspectFlags::COLOR
         };
         let region = vk::BufferImageCopy::default()
+            .buffer_offset(offset)
             .image_subresource(
                 vk::ImageSubresourceLayers::default()
                     .aspect_mask(aspect)
@@ -541,11 +592,6 @@ impl<'m> Pass<'m> {
                 &[region],
             )
         };
-        self.host_barrier(
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        );
-        Ok(())
     }
 
     /// Makes writes of `stage` visible to the host after the submission.

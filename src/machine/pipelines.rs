@@ -33,6 +33,12 @@ pub enum Program {
     /// [`Program::ConeKNearest`] with triangle-fan cones: the key's distance is the
     /// fan's interpolated height.
     ConeKNearestFan,
+    /// Exact cones peeled against the previous level held in the fragment storage
+    /// buffer (thesis §3.7, steps 1 and 3).
+    ConePeel,
+    /// Step 2 of the peeling: a picture-wide footprint that carries the previous
+    /// level's depth and site where multiplicity is left.
+    PeelCarry,
 }
 
 /// Compute kernels of the reductions (thesis §1.7).
@@ -89,6 +95,8 @@ const SHADERS: &[(&str, &[u32])] = &[
         shaders::CONE_KNEAREST_FRAG_EXACT,
     ),
     ("cone_knearest.frag:fan", shaders::CONE_KNEAREST_FRAG_FAN),
+    ("cone_peel.frag", shaders::CONE_PEEL_FRAG),
+    ("peel_carry.frag", shaders::PEEL_CARRY_FRAG),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
@@ -237,6 +245,16 @@ impl Pipelines {
             Program::ConeKNearestFan => (
                 "cone.vert",
                 "cone_knearest.frag:fan",
+                vk::PrimitiveTopology::TRIANGLE_FAN,
+            ),
+            Program::ConePeel => (
+                "cone.vert",
+                "cone_peel.frag",
+                vk::PrimitiveTopology::TRIANGLE_FAN,
+            ),
+            Program::PeelCarry => (
+                "cone.vert",
+                "peel_carry.frag",
                 vk::PrimitiveTopology::TRIANGLE_FAN,
             ),
 

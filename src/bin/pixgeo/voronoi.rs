@@ -144,6 +144,14 @@ pub struct Args {
     /// PICTURE-K.png beside -o.
     #[arg(long, requires = "degree")]
     each_level: bool,
+
+    /// With --degree or --order: compute the levels the thesis's way (§3.7), by
+    /// peeling the cones level by level against the previous depth with the
+    /// stencil counting equal distances (four steps per level), instead of
+    /// pixgeo's one-pass insertion. Same distances; a repeated distance keeps the
+    /// site of its first level.
+    #[arg(long)]
+    peel: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -242,6 +250,9 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         args.speedup
     };
+    if args.peel && args.degree.is_none() && args.order.is_none() {
+        bail!("--peel computes the levels of --degree or --order");
+    }
     let backend = Backend::choose(args.device.as_deref())?;
     let kind = match (args.degree, args.order, args.furthest) {
         (Some(k), _, _) => Kind::Degree(k),
@@ -449,16 +460,19 @@ fn whole_picture(
             _ => (1, false),
         };
         let d = match backend {
-            Backend::Gpu(machine) => higher_order::k_nearest(
-                machine,
-                sites,
-                &KNearestOptions {
+            Backend::Gpu(machine) => {
+                let options = KNearestOptions {
                     frame,
                     k,
                     accuracy,
                     speedup,
-                },
-            )?,
+                };
+                if args.peel {
+                    higher_order::k_nearest_peeled(machine, sites, &options)?
+                } else {
+                    higher_order::k_nearest(machine, sites, &options)?
+                }
+            }
             Backend::Cpu => {
                 if accuracy != Accuracy::Exact {
                     bail!("--mode fan draws cones on a Vulkan device; the CPU pixel algorithm is exact");
