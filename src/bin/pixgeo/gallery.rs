@@ -157,6 +157,46 @@ fn entries() -> Vec<Entry> {
                 "256",
             ],
         },
+        Entry {
+            picture: "second.png",
+            title: "The second-nearest diagram",
+            caption: "Every pixel coloured by its second-nearest site: the degree-2 diagram \
+                      of thesis Fig. 3.34, whose regions fall apart into pieces. --degree K \
+                      computes levels 1 to K at once.",
+            sites: None,
+            args: &[
+                "--random", "40", "--seed", "4", "--size", "512", "--degree", "2",
+            ],
+        },
+        Entry {
+            picture: "order3.png",
+            title: "The order-3 diagram",
+            caption: "One colour per set of three nearest sites (thesis §3.7): unlike the \
+                      degree-3 diagram, every region is connected.",
+            sites: None,
+            args: &[
+                "--random", "40", "--seed", "4", "--size", "512", "--order", "3",
+            ],
+        },
+        Entry {
+            picture: "furthest.png",
+            title: "The furthest-site diagram",
+            caption: "Every pixel coloured by its furthest site, with distance contours: the \
+                      cones turned upside down in one pass, drawn only for the convex hull's \
+                      sites (thesis §3.7.1).",
+            sites: None,
+            args: &[
+                "--random",
+                "40",
+                "--seed",
+                "4",
+                "--size",
+                "512",
+                "--furthest",
+                "--contours",
+                "40",
+            ],
+        },
     ]
 }
 
