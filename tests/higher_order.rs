@@ -90,6 +90,26 @@ fn k_nearest_sites_match_the_definition() {
 }
 
 #[test]
+fn long_lists_insert_with_atomics() {
+    // More levels than a tile fragment keeps: the one-pass atomic insertion.
+    let m = machine();
+    let frame = Frame::pixels(24, 20).unwrap();
+    let (_, sites) = cases(24, 20).remove(0);
+    let d = k_nearest(
+        &m,
+        &sites,
+        &KNearestOptions {
+            frame,
+            k: 40,
+            accuracy: Accuracy::Exact,
+            speedup: Speedup::Local,
+        },
+    )
+    .unwrap();
+    assert_levels(&d, &sites, &frame, "k=40");
+}
+
+#[test]
 fn fan_levels_stay_inside_their_bound() {
     // Each site's fan height lies in [d, d + bound], so the l-th smallest height
     // lies within the bound above the l-th smallest distance.

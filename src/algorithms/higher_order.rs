@@ -3,9 +3,12 @@
 //! order-k diagram), and the furthest site (§3.7.1).
 //!
 //! The thesis peels the arrangement of cones level by level with two depth buffers
-//! and a stencil that counts equal distances, 2k passes for k levels. pixgeo draws
-//! the cones once: each fragment inserts its key (squared distance, site id) into
-//! the pixel's sorted list of the k smallest keys with 64-bit atomic min
+//! and a stencil that counts equal distances, 2k cone passes for k levels
+//! ([`k_nearest_peeled`]). pixgeo draws the cones once ([`k_nearest`]): exact
+//! cones are binned to screen tiles, and each tile's rectangle keeps, per
+//! fragment, the k smallest keys (squared distance, site id) of its cones
+//! (`glsl/cone_tiles.frag`); fan cones, or more levels than a tile keeps, insert
+//! their keys into per-pixel sorted lists with 64-bit atomic min
 //! (`glsl/cone_knearest.frag`). Equal distances are distinct keys, so
 //! multiplicities come out right, and ties are ordered by site id.
 //!
@@ -23,7 +26,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
-        frame::check_sites,
+        frame::{check_sites, distance2_to_rect},
         radius, Frame,
     },
     machine::{
@@ -141,14 +144,27 @@ pub fn k_nearest(
             key_bytes >> 20
         )));
     }
-    if !machine.has_fragment_atomics64() {
+    // Exact cones binned to screen tiles need only storage writes; fans are
+    // rasterized and insert with 64-bit atomics.
+    let tiled = options.accuracy == Accuracy::Exact && k <= TILE_LEVELS;
+    let supported = if tiled {
+        machine.has_fragment_stores()
+    } else {
+        machine.has_fragment_atomics64()
+    };
+    if !supported {
         return Err(Error::InvalidInput(format!(
-            "{} has no 64-bit atomics in fragment shaders, which the k nearest sites need; use --device cpu",
+            "{} cannot write storage buffers (with 64-bit atomics for fans or more than \
+             {TILE_LEVELS} levels) from fragment shaders, which the k nearest sites need; \
+             use --device cpu",
             machine.device_name()
         )));
     }
     let started = Instant::now();
     let (cones, mut stats) = level_cones(machine, sites, options);
+    if tiled {
+        return k_nearest_tiled(machine, options, &cones, stats, started);
+    }
     // The mesh, each cone's outer radius, and the fan's error bound.
     let (program, mesh, outer) = match options.accuracy {
         Accuracy::Exact => (
@@ -219,7 +235,7 @@ pub fn k_nearest(
             fragment_depth_scale: 0.0,
             levels: k,
         };
-        machine.with_fragment_buffer(&keys, |set| {
+        machine.with_fragment_buffers(&[&keys], |set| {
             machine.run(|pass| {
                 // The depth buffer only gives the pass its size.
                 pass.begin(
@@ -255,21 +271,8 @@ pub fn k_nearest(
     stats.render_ms = ms(started);
 
     let started = Instant::now();
-    let raw: &[u64] = bytemuck::cast_slice(&keys.mapped()[..key_bytes as usize]);
-    let to_world = (1.0 / frame.scale) as f32;
-    let unscale = (1.0 / vertex_scale) as f32;
-    let exact = options.accuracy == Accuracy::Exact;
-    let (labels, distances): (Vec<u32>, Vec<f32>) = raw
-        .par_iter()
-        .map(|&key| {
-            if key == u64::MAX {
-                return (u32::MAX, f32::INFINITY);
-            }
-            let value = f32::from_bits((key >> 32) as u32);
-            let distance = if exact { value.sqrt() } else { value * unscale };
-            (key as u32, distance * to_world)
-        })
-        .unzip();
+    let fan_scale = (options.accuracy != Accuracy::Exact).then_some(1.0 / vertex_scale);
+    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, fan_scale);
     stats.readback_ms = ms(started);
     Ok(KNearest {
         width: frame.width,
@@ -297,6 +300,152 @@ impl Rim {
             Rim::Beyond(epsilon) => r + epsilon,
         }
     }
+}
+
+/// Most levels a tile fragment keeps (`glsl/cone_tiles.frag`: MAX_LEVELS).
+const TILE_LEVELS: u32 = 32;
+
+/// Side of a screen tile in pixels. Smaller tiles hold fewer cones per fragment
+/// but cost more rectangles and more binning.
+const TILE_SIDE: u32 = 16;
+
+/// The k nearest sites of exact cones, binned to screen tiles: each tile is one
+/// rectangle whose fragments keep the k lowest layers of the tile's cones in
+/// registers and store them once, so no pixel is written twice and no atomics
+/// are needed. A cone goes to every tile its disc meets, in order of distance
+/// from the tile's centre, so that the lists mostly fill nearest first.
+fn k_nearest_tiled(
+    machine: &Machine,
+    options: &KNearestOptions,
+    cones: &[(u32, DVec2, f64)],
+    mut stats: KNearestStats,
+    started: Instant,
+) -> Result<KNearest> {
+    let (frame, k) = (options.frame, options.k);
+    let (tx, ty) = (
+        frame.width.div_ceil(TILE_SIDE) as usize,
+        frame.height.div_ceil(TILE_SIDE) as usize,
+    );
+    let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
+    let tile_rect = |t: usize| {
+        let lo = DVec2::new((t % tx) as f64, (t / tx) as f64) * TILE_SIDE as f64;
+        (lo, (lo + (TILE_SIDE - 1) as f64).min(corner))
+    };
+    // Cones per tile, nearest to the tile's centre first.
+    let mut binned: Vec<Vec<(f64, u32)>> = vec![Vec::new(); tx * ty];
+    for (c, &(_, p, r)) in cones.iter().enumerate() {
+        let cell = |v: f64, n: usize| ((v / TILE_SIDE as f64).floor().max(0.0) as usize).min(n - 1);
+        for y in cell(p.y - r, ty)..=cell(p.y + r, ty) {
+            for x in cell(p.x - r, tx)..=cell(p.x + r, tx) {
+                let t = y * tx + x;
+                let (lo, hi) = tile_rect(t);
+                if distance2_to_rect(p, lo, hi) <= r * r {
+                    binned[t].push((p.distance_squared((lo + hi) * 0.5), c as u32));
+                }
+            }
+        }
+    }
+    binned
+        .par_iter_mut()
+        .for_each(|list| list.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))));
+    let occupied: Vec<usize> = (0..tx * ty).filter(|&t| !binned[t].is_empty()).collect();
+    // Tile records (six words each), then the cones (four words each).
+    let mut words: Vec<u32> = Vec::with_capacity(6 * occupied.len());
+    let mut next = 6 * occupied.len() as u32;
+    for &t in &occupied {
+        let (lo, hi) = tile_rect(t);
+        words.extend([lo.x, lo.y, hi.x, hi.y].map(|v| (v as f32).to_bits()));
+        words.extend([next, binned[t].len() as u32]);
+        next += 4 * binned[t].len() as u32;
+    }
+    for &t in &occupied {
+        for &(_, c) in &binned[t] {
+            let (id, p, r) = cones[c as usize];
+            words.extend([
+                (p.x as f32).to_bits(),
+                (p.y as f32).to_bits(),
+                ((r * r) as f32).to_bits(),
+                id,
+            ]);
+        }
+    }
+    stats.bounds_ms = ms(started);
+
+    let started = Instant::now();
+    let key_bytes = frame.len() as u64 * k as u64 * 8;
+    let mut keys = machine.readback_buffer(key_bytes)?;
+    keys.fill(0xFF);
+    let mut tiles = machine.readback_buffer(4 * words.len() as u64)?;
+    tiles.write(&words);
+    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
+    let push = ConePush {
+        picture_size: [frame.width as f32, frame.height as f32],
+        offset: [0.0, 0.0],
+        vertex_depth_scale: 0.0,
+        fragment_depth_scale: 0.0,
+        levels: k,
+    };
+    machine.with_fragment_buffers(&[&keys, &tiles], |set| {
+        machine.run(|pass| {
+            // The depth buffer only gives the pass its size.
+            pass.begin(
+                Target {
+                    color: None,
+                    depth_stencil: Some(&depth),
+                },
+                Clear {
+                    color: None,
+                    depth: Some(1.0),
+                    stencil: None,
+                },
+            )?;
+            pass.bind_fragment_buffer(set);
+            pass.draw_tiles(
+                &RasterState::OVERWRITE,
+                &DrawParams::default(),
+                &push,
+                occupied.len() as u32,
+            )?;
+            pass.end()
+        })
+    })?;
+    stats.render_ms = ms(started);
+    let started = Instant::now();
+    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, None);
+    stats.readback_ms = ms(started);
+    Ok(KNearest {
+        width: frame.width,
+        height: frame.height,
+        k,
+        labels,
+        distances,
+        stats,
+    })
+}
+
+/// Labels and world distances from keys (distance bits above the site id):
+/// squared distances when `fan_scale` is `None`, else fan heights times it.
+fn decode_keys(
+    keys: &crate::machine::Buffer,
+    key_bytes: u64,
+    frame: &Frame,
+    fan_scale: Option<f64>,
+) -> (Vec<u32>, Vec<f32>) {
+    let raw: &[u64] = bytemuck::cast_slice(&keys.mapped()[..key_bytes as usize]);
+    let to_world = (1.0 / frame.scale) as f32;
+    raw.par_iter()
+        .map(|&key| {
+            if key == u64::MAX {
+                return (u32::MAX, f32::INFINITY);
+            }
+            let value = f32::from_bits((key >> 32) as u32);
+            let distance = match fan_scale {
+                None => value.sqrt(),
+                Some(unscale) => value * unscale as f32,
+            };
+            (key as u32, distance * to_world)
+        })
+        .unzip()
 }
 
 /// The checks every way of computing levels shares.
@@ -512,7 +661,7 @@ pub fn k_nearest_peeled(
     let to_world = (1.0 / frame.scale) as f32;
     let unscale = (1.0 / scale) as f32;
     for level in 0..k as usize {
-        machine.with_fragment_buffer(&previous, |set| {
+        machine.with_fragment_buffers(&[&previous], |set| {
             machine.run(|pass| {
                 let fresh = Clear {
                     color: Some(ClearColor::Uint([u32::MAX; 4])),

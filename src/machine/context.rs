@@ -86,6 +86,8 @@ pub(crate) struct Context {
     pub queue_family: u32,
     pub properties: vk::PhysicalDeviceProperties,
     pub device_name: String,
+    /// Fragment shaders may write storage buffers.
+    pub fragment_stores: bool,
     /// Fragment shaders may do 64-bit atomics on storage buffers.
     pub fragment_atomics64: bool,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
@@ -194,7 +196,8 @@ impl Context {
         let logic_op = supported.features.logic_op;
         // The k nearest sites per pixel in one pass: fragments insert 64-bit keys
         // into sorted per-pixel lists with atomic min.
-        let fragment_atomics64 = supported.features.fragment_stores_and_atomics == vk::TRUE
+        let fragment_stores = supported.features.fragment_stores_and_atomics == vk::TRUE;
+        let fragment_atomics64 = fragment_stores
             && supported.features.shader_int64 == vk::TRUE
             && supported12.shader_buffer_int64_atomics == vk::TRUE;
         if supported13.dynamic_rendering == vk::FALSE
@@ -213,7 +216,7 @@ impl Context {
         let features = vk::PhysicalDeviceFeatures::default()
             .logic_op(logic_op == vk::TRUE)
             .independent_blend(true)
-            .fragment_stores_and_atomics(fragment_atomics64)
+            .fragment_stores_and_atomics(fragment_stores)
             .shader_int64(fragment_atomics64);
         let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
             .shader_buffer_int64_atomics(fragment_atomics64);
@@ -256,6 +259,7 @@ impl Context {
             queue_family,
             properties,
             device_name,
+            fragment_stores,
             fragment_atomics64,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };

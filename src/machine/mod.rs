@@ -313,7 +313,7 @@ impl Machine {
         &self,
         layout: vk::DescriptorSetLayout,
         image: Option<&Image>,
-        buffer: &Buffer,
+        buffers: &[&Buffer],
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
         let device = &self.ctx.device;
@@ -333,16 +333,28 @@ impl Machine {
                     .image_layout(vk::ImageLayout::GENERAL)
             })
             .collect();
-        let buffer_info = [vk::DescriptorBufferInfo::default()
-            .buffer(buffer.raw)
-            .range(vk::WHOLE_SIZE)];
+        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|b| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b.raw)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
         // The compute layout has the image at binding 0 and the buffer at 1; the
-        // graphics layout only the buffer, at 0.
-        let mut writes = vec![vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(image_info.len() as u32)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&buffer_info)];
+        // graphics layout its buffers from 0.
+        let first = image_info.len() as u32;
+        let mut writes: Vec<vk::WriteDescriptorSet> = buffer_infos
+            .iter()
+            .enumerate()
+            .map(|(k, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(first + k as u32)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
         if !image_info.is_empty() {
             writes.push(
                 vk::WriteDescriptorSet::default()
@@ -367,17 +379,29 @@ impl Machine {
         buffer: &Buffer,
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
-        self.with_set(self.pipelines.compute_set_layout, Some(image), buffer, f)
+        self.with_set(self.pipelines.compute_set_layout, Some(image), &[buffer], f)
     }
 
-    /// Runs `f` with a descriptor set that gives fragment shaders `buffer` as their
-    /// storage buffer; bind it in a pass with [`Pass::bind_fragment_buffer`].
-    pub fn with_fragment_buffer<R>(
+    /// Runs `f` with a descriptor set that gives vertex and fragment shaders
+    /// `buffers` as storage buffers 0, 1 (at most two); bind it in a pass with
+    /// [`Pass::bind_fragment_buffer`].
+    pub fn with_fragment_buffers<R>(
         &self,
-        buffer: &Buffer,
+        buffers: &[&Buffer],
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
-        self.with_set(self.pipelines.graphics_set_layout, None, buffer, f)
+        if buffers.is_empty() || buffers.len() > 2 {
+            return Err(Error::InvalidInput(
+                "graphics programs take one or two storage buffers".into(),
+            ));
+        }
+        self.with_set(self.pipelines.graphics_set_layout, None, buffers, f)
+    }
+
+    /// Whether fragment shaders may write storage buffers, which the k nearest
+    /// sites and the thesis's peeling need.
+    pub fn has_fragment_stores(&self) -> bool {
+        self.ctx.fragment_stores
     }
 
     /// Whether fragment shaders may do 64-bit atomics on storage buffers, which

@@ -396,7 +396,7 @@ impl<'m> Pass<'m> {
         };
     }
 
-    /// Binds a set from [`Machine::with_fragment_buffer`] for the draws that follow.
+    /// Binds a set from [`Machine::with_fragment_buffers`] for the draws that follow.
     pub fn bind_fragment_buffer(&mut self, set: vk::DescriptorSet) {
         self.fragment_buffer = true;
         let layout = self.machine.pipelines.graphics_layout;
@@ -422,7 +422,7 @@ impl<'m> Pass<'m> {
         push: &ConePush,
         draw: &ConeDraw<'_>,
     ) -> Result<()> {
-        if program == Program::Rect {
+        if matches!(program, Program::Rect | Program::KNearestTiles(_)) {
             return Err(Error::InvalidInput(
                 "draw_cones needs a cone program".into(),
             ));
@@ -431,16 +431,7 @@ impl<'m> Pass<'m> {
             return Ok(());
         }
         self.bind(program, state, params)?;
-        let words = [
-            push.picture_size[0].to_bits(),
-            push.picture_size[1].to_bits(),
-            push.offset[0].to_bits(),
-            push.offset[1].to_bits(),
-            push.vertex_depth_scale.to_bits(),
-            push.fragment_depth_scale.to_bits(),
-            push.levels,
-        ];
-        self.push_graphics(&words);
+        self.push_cone_constants(push);
         let device = self.device();
         // SAFETY: buffers are alive until the submission completes (borrowed by the
         // caller of `Machine::run`); counts are within the buffers.
@@ -460,6 +451,40 @@ impl<'m> Pass<'m> {
             );
         }
         Ok(())
+    }
+
+    /// Draws `tiles` screen tiles with [`Program::KNearestTiles`] for
+    /// `push.levels` levels, whose records come from the second storage buffer of
+    /// the bound set.
+    pub fn draw_tiles(
+        &mut self,
+        state: &RasterState,
+        params: &DrawParams,
+        push: &ConePush,
+        tiles: u32,
+    ) -> Result<()> {
+        if tiles == 0 {
+            return Ok(());
+        }
+        self.bind(Program::KNearestTiles(push.levels), state, params)?;
+        self.push_cone_constants(push);
+        // SAFETY: inside a rendering pass with a bound pipeline; the vertex shader
+        // reads its tile records from the bound storage buffer.
+        unsafe { self.device().cmd_draw(self.cmd, 6, tiles, 0, 0) };
+        Ok(())
+    }
+
+    fn push_cone_constants(&mut self, push: &ConePush) {
+        let words = [
+            push.picture_size[0].to_bits(),
+            push.picture_size[1].to_bits(),
+            push.offset[0].to_bits(),
+            push.offset[1].to_bits(),
+            push.vertex_depth_scale.to_bits(),
+            push.fragment_depth_scale.to_bits(),
+            push.levels,
+        ];
+        self.push_graphics(&words);
     }
 
     /// Draws an axis-aligned rectangle of constant depth and colour.

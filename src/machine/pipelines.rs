@@ -39,6 +39,11 @@ pub enum Program {
     /// Step 2 of the peeling: a picture-wide footprint that carries the previous
     /// level's depth and site where multiplicity is left.
     PeelCarry,
+    /// One rectangle per screen tile whose fragments keep the k lowest layers of
+    /// the cones binned to the tile (tile records and cones in the second storage
+    /// buffer, keys written to the first). The number is the longest list the
+    /// shader keeps: 1, 2, 4, 8, 16 or 32.
+    KNearestTiles(u32),
 }
 
 /// Compute kernels of the reductions (thesis §1.7).
@@ -76,7 +81,8 @@ pub(crate) struct Pipelines {
     ctx: Arc<Context>,
     modules: HashMap<&'static str, vk::ShaderModule>,
     pub graphics_layout: vk::PipelineLayout,
-    /// One storage buffer for fragment shaders (binding 0 of set 0).
+    /// Two storage buffers for vertex and fragment shaders (bindings 0 and 1 of
+    /// set 0).
     pub graphics_set_layout: vk::DescriptorSetLayout,
     pub compute_set_layout: vk::DescriptorSetLayout,
     pub compute_layout: vk::PipelineLayout,
@@ -97,6 +103,13 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("cone_knearest.frag:fan", shaders::CONE_KNEAREST_FRAG_FAN),
     ("cone_peel.frag", shaders::CONE_PEEL_FRAG),
     ("peel_carry.frag", shaders::PEEL_CARRY_FRAG),
+    ("tiles.vert", shaders::TILES_VERT),
+    ("cone_tiles.frag:k1", shaders::CONE_TILES_FRAG_K1),
+    ("cone_tiles.frag:k2", shaders::CONE_TILES_FRAG_K2),
+    ("cone_tiles.frag:k4", shaders::CONE_TILES_FRAG_K4),
+    ("cone_tiles.frag:k8", shaders::CONE_TILES_FRAG_K8),
+    ("cone_tiles.frag:k16", shaders::CONE_TILES_FRAG_K16),
+    ("cone_tiles.frag:k32", shaders::CONE_TILES_FRAG_K32),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
@@ -129,11 +142,13 @@ impl Pipelines {
             pipelines.modules.insert(name, module);
         }
 
-        let bindings = [vk::DescriptorSetLayoutBinding::default()
-            .binding(0)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::FRAGMENT)];
+        let bindings = [0, 1].map(|binding| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(binding)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
+        });
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; destroyed in `Drop`.
         pipelines.graphics_set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
@@ -257,6 +272,18 @@ impl Pipelines {
                 "peel_carry.frag",
                 vk::PrimitiveTopology::TRIANGLE_FAN,
             ),
+            Program::KNearestTiles(levels) => (
+                "tiles.vert",
+                match levels {
+                    0..=1 => "cone_tiles.frag:k1",
+                    2 => "cone_tiles.frag:k2",
+                    3..=4 => "cone_tiles.frag:k4",
+                    5..=8 => "cone_tiles.frag:k8",
+                    9..=16 => "cone_tiles.frag:k16",
+                    _ => "cone_tiles.frag:k32",
+                },
+                vk::PrimitiveTopology::TRIANGLE_LIST,
+            ),
 
             Program::Rect if uint_target => (
                 "rect.vert",
@@ -271,7 +298,10 @@ impl Pipelines {
         };
         if !matches!(
             key.program,
-            Program::Rect | Program::ConeKNearest | Program::ConeKNearestFan
+            Program::Rect
+                | Program::ConeKNearest
+                | Program::ConeKNearestFan
+                | Program::KNearestTiles(_)
         ) && !uint_target
         {
             return Err(Error::InvalidInput(
@@ -346,7 +376,9 @@ impl Pipelines {
             Program::ConeExactBatch => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&batch_bindings)
                 .vertex_attribute_descriptions(&batch_attributes),
-            Program::Rect => vk::PipelineVertexInputStateCreateInfo::default(),
+            Program::Rect | Program::KNearestTiles(_) => {
+                vk::PipelineVertexInputStateCreateInfo::default()
+            }
             _ => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&cone_bindings)
                 .vertex_attribute_descriptions(&cone_attributes),
