@@ -85,6 +85,14 @@ typedef struct PixgeoVoronoiOptions {
   uint32_t max_tile;
 } PixgeoVoronoiOptions;
 
+// Two points, one of each set (indices into the sets as passed), and their exact
+// distance: the answer of the distance functions.
+typedef struct PixgeoPair {
+  uint32_t from;
+  uint32_t to;
+  double distance;
+} PixgeoPair;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -144,6 +152,78 @@ enum PixgeoStatus pixgeo_voronoi(struct PixgeoContext *ctx,
                                  const struct PixgeoVoronoiOptions *options,
                                  uint32_t *labels,
                                  float *distances);
+
+// Every pixel's `k` nearest sites in order (the degree 1..k diagrams, thesis
+// §3.7), equal distances counted with their multiplicity, ties by index. Writes
+// `width * height * k` values to `labels` and, unless null, `distances` (world
+// units): `[(j * width + i) * k + l]` is the (l+1)-th nearest site of pixel
+// (i, j); `UINT32_MAX` (and infinity) where fewer than l+1 sites exist. The
+// order-k diagram is each pixel's k labels as a set. `max_tile` must be 0: the
+// picture is drawn whole.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+// valid options; `labels` (and `distances` unless null) have room for
+// `width * height * k` values.
+enum PixgeoStatus pixgeo_k_nearest(struct PixgeoContext *ctx,
+                                   const double *xy,
+                                   size_t count,
+                                   const struct PixgeoVoronoiOptions *options,
+                                   uint32_t k,
+                                   uint32_t *labels,
+                                   float *distances);
+
+// Every pixel's furthest site (thesis §3.7.1), like [`pixgeo_voronoi`]'s
+// outputs: `width * height` labels and, unless null, distances. Only the
+// picture's size and bounding box of `options` apply.
+//
+// # Safety
+// As [`pixgeo_voronoi`].
+enum PixgeoStatus pixgeo_furthest(struct PixgeoContext *ctx,
+                                  const double *xy,
+                                  size_t count,
+                                  const struct PixgeoVoronoiOptions *options,
+                                  uint32_t *labels,
+                                  float *distances);
+
+// The Hausdorff distance between point sets `a` and `b` (thesis §3.11.1), both
+// directed distances, exact: `*a_to_b` gets the point of `a` farthest from its
+// nearest point of `b` (`from` in `a`, `to` in `b`), `*b_to_a` the converse.
+// The Hausdorff distance is the larger of the two.
+//
+// # Safety
+// `ctx` is a live context; `a` holds `2 * a_count` doubles, `b` `2 * b_count`;
+// `a_to_b` and `b_to_a` point to writable pairs.
+enum PixgeoStatus pixgeo_hausdorff(struct PixgeoContext *ctx,
+                                   const double *a,
+                                   size_t a_count,
+                                   const double *b,
+                                   size_t b_count,
+                                   struct PixgeoPair *a_to_b,
+                                   struct PixgeoPair *b_to_a);
+
+// The diameter of a point set: the two points farthest apart (thesis §3.11.2),
+// exact.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles; `out` points to a
+// writable pair.
+enum PixgeoStatus pixgeo_diameter(struct PixgeoContext *ctx,
+                                  const double *xy,
+                                  size_t count,
+                                  struct PixgeoPair *out);
+
+// The largest distance between a point of `a` and a point of `b` (thesis
+// §3.11.3), exact; `from` indexes `a`, `to` indexes `b`.
+//
+// # Safety
+// As [`pixgeo_hausdorff`], with one writable pair `out`.
+enum PixgeoStatus pixgeo_max_distance(struct PixgeoContext *ctx,
+                                      const double *a,
+                                      size_t a_count,
+                                      const double *b,
+                                      size_t b_count,
+                                      struct PixgeoPair *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -21,7 +21,11 @@ use std::{
 use glam::DVec2;
 
 use crate::{
-    algorithms::voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
+    algorithms::{
+        distances::{self, Answer},
+        higher_order::{self, KNearestOptions},
+        voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
+    },
     geometry::Frame,
     machine::{DeviceChoice, Machine, MachineOptions},
     Error,
@@ -110,6 +114,26 @@ pub struct PixgeoVoronoiOptions {
     pub speedup: PixgeoSpeedup,
     /// Largest tile side in pixels; 0 = as large as the device allows.
     pub max_tile: u32,
+}
+
+/// Two points, one of each set (indices into the sets as passed), and their exact
+/// distance: the answer of the distance functions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixgeoPair {
+    pub from: u32,
+    pub to: u32,
+    pub distance: f64,
+}
+
+impl From<Answer> for PixgeoPair {
+    fn from(answer: Answer) -> Self {
+        Self {
+            from: answer.pair.from,
+            to: answer.pair.to,
+            distance: answer.pair.distance,
+        }
+    }
 }
 
 /// A pixel machine and the message of its last failed call.
@@ -317,33 +341,9 @@ pub unsafe extern "C" fn pixgeo_voronoi(
         }
         // SAFETY: non-null and valid (caller contract).
         let o = unsafe { *options };
-        let frame = if o.use_bbox {
-            Frame::with_bbox(o.width, Some(o.height), o.bbox)
-        } else {
-            Frame::pixels(o.width, o.height)
-        }
-        .map_err(failed)?;
-        let count2 = count
-            .checked_mul(2)
-            .ok_or_else(|| invalid("site count overflows"))?;
+        let (frame, accuracy, speedup) = picture_of(&o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
-        let coords = unsafe { std::slice::from_raw_parts(xy, count2) };
-        let sites: Vec<DVec2> = coords
-            .chunks_exact(2)
-            .map(|p| DVec2::new(p[0], p[1]))
-            .collect();
-        let accuracy = match o.accuracy {
-            PixgeoAccuracy::Exact => Accuracy::Exact,
-            PixgeoAccuracy::Fan => Accuracy::Fan {
-                epsilon: o.epsilon,
-                triangles: (o.triangles > 0).then_some(o.triangles),
-            },
-        };
-        let speedup = match o.speedup {
-            PixgeoSpeedup::Local => Speedup::Local,
-            PixgeoSpeedup::Quadtree => Speedup::Quadtree,
-            PixgeoSpeedup::None => Speedup::None,
-        };
+        let sites = unsafe { points(xy, count) }?;
         let options = VoronoiOptions {
             frame,
             accuracy,
@@ -368,5 +368,226 @@ pub unsafe extern "C" fn pixgeo_voronoi(
         })
         .map(|_| ())
         .map_err(failed)
+    })
+}
+
+/// The frame, accuracy and speedup that `options` describe.
+fn picture_of(
+    o: &PixgeoVoronoiOptions,
+) -> Result<(Frame, Accuracy, Speedup), (PixgeoStatus, String)> {
+    let frame = if o.use_bbox {
+        Frame::with_bbox(o.width, Some(o.height), o.bbox)
+    } else {
+        Frame::pixels(o.width, o.height)
+    }
+    .map_err(failed)?;
+    let accuracy = match o.accuracy {
+        PixgeoAccuracy::Exact => Accuracy::Exact,
+        PixgeoAccuracy::Fan => Accuracy::Fan {
+            epsilon: o.epsilon,
+            triangles: (o.triangles > 0).then_some(o.triangles),
+        },
+    };
+    let speedup = match o.speedup {
+        PixgeoSpeedup::Local => Speedup::Local,
+        PixgeoSpeedup::Quadtree => Speedup::Quadtree,
+        PixgeoSpeedup::None => Speedup::None,
+    };
+    Ok((frame, accuracy, speedup))
+}
+
+/// `count` points from `xy = {x0, y0, x1, y1, ...}`.
+///
+/// # Safety
+/// `xy` is null or holds `2 * count` doubles.
+unsafe fn points(xy: *const f64, count: usize) -> Result<Vec<DVec2>, (PixgeoStatus, String)> {
+    if xy.is_null() {
+        return Err(invalid("a point array is null"));
+    }
+    let count2 = count
+        .checked_mul(2)
+        .ok_or_else(|| invalid("point count overflows"))?;
+    // SAFETY: `xy` holds `2 * count` doubles (caller contract).
+    let coords = unsafe { std::slice::from_raw_parts(xy, count2) };
+    Ok(coords
+        .chunks_exact(2)
+        .map(|p| DVec2::new(p[0], p[1]))
+        .collect())
+}
+
+/// Every pixel's `k` nearest sites in order (the degree 1..k diagrams, thesis
+/// §3.7), equal distances counted with their multiplicity, ties by index. Writes
+/// `width * height * k` values to `labels` and, unless null, `distances` (world
+/// units): `[(j * width + i) * k + l]` is the (l+1)-th nearest site of pixel
+/// (i, j); `UINT32_MAX` (and infinity) where fewer than l+1 sites exist. The
+/// order-k diagram is each pixel's k labels as a set. `max_tile` must be 0: the
+/// picture is drawn whole.
+///
+/// # Safety
+/// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+/// valid options; `labels` (and `distances` unless null) have room for
+/// `width * height * k` values.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_k_nearest(
+    ctx: *mut PixgeoContext,
+    xy: *const f64,
+    count: usize,
+    options: *const PixgeoVoronoiOptions,
+    k: u32,
+    labels: *mut u32,
+    distances: *mut f32,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        if options.is_null() || labels.is_null() {
+            return Err(invalid("options and labels must not be null"));
+        }
+        // SAFETY: non-null and valid (caller contract).
+        let o = unsafe { *options };
+        if o.max_tile != 0 {
+            return Err(invalid(
+                "k nearest sites are drawn whole: max_tile must be 0",
+            ));
+        }
+        let (frame, accuracy, speedup) = picture_of(&o)?;
+        // SAFETY: `xy` holds `2 * count` doubles (caller contract).
+        let sites = unsafe { points(xy, count) }?;
+        let d = higher_order::k_nearest(
+            &context.machine,
+            &sites,
+            &KNearestOptions {
+                frame,
+                k,
+                accuracy,
+                speedup,
+            },
+        )
+        .map_err(failed)?;
+        // SAFETY: caller-owned arrays of `width * height * k` values.
+        unsafe { std::slice::from_raw_parts_mut(labels, d.labels.len()) }
+            .copy_from_slice(&d.labels);
+        if !distances.is_null() {
+            // SAFETY: as above.
+            unsafe { std::slice::from_raw_parts_mut(distances, d.distances.len()) }
+                .copy_from_slice(&d.distances);
+        }
+        Ok(())
+    })
+}
+
+/// Every pixel's furthest site (thesis §3.7.1), like [`pixgeo_voronoi`]'s
+/// outputs: `width * height` labels and, unless null, distances. Only the
+/// picture's size and bounding box of `options` apply.
+///
+/// # Safety
+/// As [`pixgeo_voronoi`].
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_furthest(
+    ctx: *mut PixgeoContext,
+    xy: *const f64,
+    count: usize,
+    options: *const PixgeoVoronoiOptions,
+    labels: *mut u32,
+    distances: *mut f32,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        if options.is_null() || labels.is_null() {
+            return Err(invalid("options and labels must not be null"));
+        }
+        // SAFETY: non-null and valid (caller contract).
+        let (frame, _, _) = picture_of(unsafe { &*options })?;
+        // SAFETY: `xy` holds `2 * count` doubles (caller contract).
+        let sites = unsafe { points(xy, count) }?;
+        let f = higher_order::furthest(&context.machine, &sites, &frame).map_err(failed)?;
+        // SAFETY: caller-owned arrays of `width * height` values.
+        unsafe { std::slice::from_raw_parts_mut(labels, f.labels.len()) }
+            .copy_from_slice(&f.labels);
+        if !distances.is_null() {
+            // SAFETY: as above.
+            unsafe { std::slice::from_raw_parts_mut(distances, f.distances.len()) }
+                .copy_from_slice(&f.distances);
+        }
+        Ok(())
+    })
+}
+
+/// Writes `answer` to `out`, which the caller guarantees is writable or null.
+fn answer_into(out: *mut PixgeoPair, answer: Answer) -> Result<(), (PixgeoStatus, String)> {
+    // SAFETY: null or writable (caller contract of the public functions).
+    match unsafe { out.as_mut() } {
+        Some(slot) => {
+            *slot = answer.into();
+            Ok(())
+        }
+        None => Err(invalid("the answer pointer is null")),
+    }
+}
+
+/// The Hausdorff distance between point sets `a` and `b` (thesis §3.11.1), both
+/// directed distances, exact: `*a_to_b` gets the point of `a` farthest from its
+/// nearest point of `b` (`from` in `a`, `to` in `b`), `*b_to_a` the converse.
+/// The Hausdorff distance is the larger of the two.
+///
+/// # Safety
+/// `ctx` is a live context; `a` holds `2 * a_count` doubles, `b` `2 * b_count`;
+/// `a_to_b` and `b_to_a` point to writable pairs.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_hausdorff(
+    ctx: *mut PixgeoContext,
+    a: *const f64,
+    a_count: usize,
+    b: *const f64,
+    b_count: usize,
+    a_to_b: *mut PixgeoPair,
+    b_to_a: *mut PixgeoPair,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        // SAFETY: sizes as documented (caller contract).
+        let (a, b) = unsafe { (points(a, a_count)?, points(b, b_count)?) };
+        let h = distances::hausdorff(&context.machine, &a, &b, None).map_err(failed)?;
+        answer_into(a_to_b, h.a_to_b)?;
+        answer_into(b_to_a, h.b_to_a)
+    })
+}
+
+/// The diameter of a point set: the two points farthest apart (thesis §3.11.2),
+/// exact.
+///
+/// # Safety
+/// `ctx` is a live context; `xy` holds `2 * count` doubles; `out` points to a
+/// writable pair.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_diameter(
+    ctx: *mut PixgeoContext,
+    xy: *const f64,
+    count: usize,
+    out: *mut PixgeoPair,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        // SAFETY: size as documented (caller contract).
+        let sites = unsafe { points(xy, count) }?;
+        let d = distances::diameter(&context.machine, &sites, None).map_err(failed)?;
+        answer_into(out, d)
+    })
+}
+
+/// The largest distance between a point of `a` and a point of `b` (thesis
+/// §3.11.3), exact; `from` indexes `a`, `to` indexes `b`.
+///
+/// # Safety
+/// As [`pixgeo_hausdorff`], with one writable pair `out`.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_max_distance(
+    ctx: *mut PixgeoContext,
+    a: *const f64,
+    a_count: usize,
+    b: *const f64,
+    b_count: usize,
+    out: *mut PixgeoPair,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        // SAFETY: sizes as documented (caller contract).
+        let (a, b) = unsafe { (points(a, a_count)?, points(b, b_count)?) };
+        let d = distances::max_distance(&context.machine, &a, &b, None).map_err(failed)?;
+        answer_into(out, d)
     })
 }

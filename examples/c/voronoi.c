@@ -1,5 +1,6 @@
-/* A C host using pixgeo: a Voronoi diagram, checked against the definition, and
- * the errors a caller can get. Exits 0 when every check passes.
+/* A C host using pixgeo: a Voronoi diagram, the k nearest and the furthest sites,
+ * and exact distances between point sets, each checked against its definition,
+ * and the errors a caller can get. Exits 0 when every check passes.
  *
  *   cc -std=c11 -I include examples/c/voronoi.c -L target/debug -lpixgeo \
  *      -Wl,-rpath,$PWD/target/debug -o voronoi-c && ./voronoi-c
@@ -76,6 +77,61 @@ int main(void) {
     status = pixgeo_voronoi(ctx, xy, N, &options, tiled, distances);
     CHECK(status == PIXGEO_STATUS_OK, "fan: %s", pixgeo_context_last_error(ctx));
 
+    /* The three nearest sites of every pixel, in order. */
+    enum { K = 3 };
+    uint32_t *knn = malloc(sizeof(uint32_t) * W * H * K);
+    float *knn_d = malloc(sizeof(float) * W * H * K);
+    options = pixgeo_voronoi_options_default(W, H);
+    status = pixgeo_k_nearest(ctx, xy, N, &options, K, knn, knn_d);
+    CHECK(status == PIXGEO_STATUS_OK, "k nearest: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++) {
+        double i = p % W, j = p / W, d[N];
+        for (int s = 0; s < N; s++) d[s] = hypot(xy[2 * s] - i, xy[2 * s + 1] - j);
+        for (int l = 0; l < K; l++) {
+            /* The l-th smallest distance: select it from what remains. */
+            int m = l;
+            for (int s = l + 1; s < N; s++)
+                if (d[s] < d[m]) m = s;
+            double t = d[l];
+            d[l] = d[m];
+            d[m] = t;
+            uint32_t site = knn[p * K + l];
+            double mine = site < N ? hypot(xy[2 * site] - i, xy[2 * site + 1] - j) : INFINITY;
+            if (fabs(mine - d[l]) > 1e-4 || fabs(knn_d[p * K + l] - d[l]) > 1e-4) wrong++;
+        }
+    }
+    CHECK(wrong == 0, "%d levels differ from the definition", wrong);
+
+    /* The furthest site of every pixel. */
+    status = pixgeo_furthest(ctx, xy, N, &options, labels, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "furthest: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++) {
+        double i = p % W, j = p / W, far = 0;
+        for (int s = 0; s < N; s++) far = fmax(far, hypot(xy[2 * s] - i, xy[2 * s + 1] - j));
+        if (fabs(distances[p] - far) > 1e-4) wrong++;
+    }
+    CHECK(wrong == 0, "%d furthest distances differ", wrong);
+
+    /* Exact distances between point sets, with the answering pair. */
+    const double red[6] = {0, 0, 1, 0, 0, 1};
+    const double blue[4] = {0, 0.5, 3, 4};
+    PixgeoPair red_to_blue, blue_to_red, pair;
+    status = pixgeo_hausdorff(ctx, red, 3, blue, 2, &red_to_blue, &blue_to_red);
+    CHECK(status == PIXGEO_STATUS_OK, "hausdorff: %s", pixgeo_context_last_error(ctx));
+    CHECK(red_to_blue.distance == sqrt(1.25) && red_to_blue.from == 1 && red_to_blue.to == 0,
+          "red to blue %g", red_to_blue.distance);
+    CHECK(blue_to_red.distance == sqrt(18.0) && blue_to_red.from == 1 && blue_to_red.to == 2,
+          "blue to red %g", blue_to_red.distance);
+    status = pixgeo_diameter(ctx, blue, 2, &pair);
+    CHECK(status == PIXGEO_STATUS_OK && pair.distance == sqrt(21.25), "diameter %g", pair.distance);
+    status = pixgeo_max_distance(ctx, red, 3, blue, 2, &pair);
+    CHECK(status == PIXGEO_STATUS_OK && pair.distance == 5.0 && pair.from == 0 && pair.to == 1,
+          "maximum distance %g", pair.distance);
+    status = pixgeo_diameter(ctx, blue, 2, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null answer accepted");
+
     /* Errors come back as status codes with a message. */
     status = pixgeo_voronoi(ctx, NULL, N, &options, labels, NULL);
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null sites accepted");
@@ -95,6 +151,8 @@ int main(void) {
     CHECK(status == PIXGEO_STATUS_OK && pixgeo_context_last_error(ctx)[0] == '\0',
           "a good call after errors");
 
+    free(knn_d);
+    free(knn);
     free(tiled);
     free(distances);
     free(labels);
