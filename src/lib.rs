@@ -19,6 +19,8 @@
 //! | a set of triangles entering the pipeline | [`machine::Pass::draw_cones`] (instanced fans, one per site) and [`machine::Pass::draw_rect`] |
 //! | display list translated per site | one unit fan mesh drawn instanced with a per-site buffer |
 //! | depth texture (exact distance) | the fragment shader writes the squared distance as depth |
+//! | second z buffer z' of the k-th level peeling (§3.7) | the previous level's depth in a storage buffer the fragment shader reads ([`algorithms::higher_order::k_nearest_peeled`]) |
+//! | stencil counting equal distances | the stencil's low bits, incremented by the depth test EQUAL |
 //! | read back a rectangle | [`machine::Machine::read_u32`], [`machine::Machine::read_f32`] |
 //! | minmax, histogram | [`machine::Machine::minmax`], [`machine::Machine::histogram`]: compute passes; only their few numbers reach the host |
 //!
