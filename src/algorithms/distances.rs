@@ -109,6 +109,56 @@ fn check_sets(sets: &[(&str, &[DVec2])]) -> Result<()> {
     Ok(())
 }
 
+/// What the picture says of one query point: the partner its pixel names, that
+/// partner's distance, and bounds on the point's true value.
+struct Estimate {
+    partner: u32,
+    partner_distance: f64,
+    lower: f64,
+    upper: f64,
+}
+
+/// The query point with the largest true value, found exactly: every query whose
+/// upper bound reaches the largest lower bound is checked with `exact` (its
+/// partner and distance); the others cannot be the answer.
+fn refine(
+    frame: &Frame,
+    queries: &[u32],
+    estimates: &[Estimate],
+    exact: impl Fn(u32) -> Option<(u32, f64)> + Sync,
+) -> Result<Answer> {
+    let empty = || Error::InvalidInput("empty set".into());
+    let floor = estimates.iter().map(|e| e.lower).fold(0.0, f64::max);
+    let (q, e) = queries
+        .iter()
+        .zip(estimates)
+        .max_by(|x, y| x.1.partner_distance.total_cmp(&y.1.partner_distance))
+        .ok_or_else(empty)?;
+    let picture_pair = Pair {
+        from: *q,
+        to: e.partner,
+        distance: e.partner_distance,
+    };
+    let candidates: Vec<u32> = queries
+        .iter()
+        .zip(estimates)
+        .filter(|(_, e)| e.upper >= floor)
+        .map(|(q, _)| *q)
+        .collect();
+    let pair = candidates
+        .par_iter()
+        .filter_map(|&from| exact(from).map(|(to, distance)| Pair { from, to, distance }))
+        .max_by(|x, y| x.distance.total_cmp(&y.distance).then(y.from.cmp(&x.from)))
+        .ok_or_else(empty)?;
+    Ok(Answer {
+        pair,
+        picture_pair,
+        checked: candidates.len(),
+        width: frame.width,
+        height: frame.height,
+    })
+}
+
 /// The directed Hausdorff distance from `a` to `b`: the point of `a` farthest from
 /// its nearest point of `b`, read off the Voronoi diagram of `b` (thesis §3.11.1).
 pub fn directed_hausdorff(
@@ -121,50 +171,27 @@ pub fn directed_hausdorff(
     let side = side.unwrap_or_else(|| default_side(machine, b.len()));
     let frame = frame_around(&[a, b], side)?;
     let diagram = voronoi(machine, b, &VoronoiOptions::exact(frame))?;
-    // Per point of a: the picture's partner, an upper bound (its distance) and a
-    // lower bound (the pixel's distance less the offset from the pixel centre).
-    let bounds: Vec<(u32, f64, f64)> = a
+    // Per point of a: the picture's partner, whose distance is an upper bound, and
+    // a lower bound (the pixel's distance less the offset from the pixel centre).
+    let queries: Vec<u32> = (0..a.len() as u32).collect();
+    let estimates: Vec<Estimate> = a
         .par_iter()
         .map(|p| {
             let (k, offset) = pixel_of(&frame, *p);
             let partner = diagram.labels[k];
-            let upper = b[partner as usize].distance(*p);
+            let partner_distance = b[partner as usize].distance(*p);
             let d = diagram.distances[k] as f64;
-            let lower = (d - picture_error(&frame, d) - offset).max(0.0);
-            (partner, upper, lower)
+            Estimate {
+                partner,
+                partner_distance,
+                lower: (d - picture_error(&frame, d) - offset).max(0.0),
+                upper: partner_distance,
+            }
         })
         .collect();
-    let floor = bounds.iter().map(|x| x.2).fold(0.0, f64::max);
-    let (from, &(to, distance, _)) = bounds
-        .iter()
-        .enumerate()
-        .max_by(|x, y| x.1 .1.total_cmp(&y.1 .1))
-        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
-    let picture_pair = Pair {
-        from: from as u32,
-        to,
-        distance,
-    };
-    // Exact nearest distances for the points that might be the farthest.
     let grid = PointGrid::new(b);
-    let candidates: Vec<usize> = (0..a.len()).filter(|&i| bounds[i].1 >= floor).collect();
-    let pair = candidates
-        .par_iter()
-        .filter_map(|&i| {
-            grid.nearest(a[i]).map(|(to, distance)| Pair {
-                from: i as u32,
-                to,
-                distance,
-            })
-        })
-        .max_by(|x, y| x.distance.total_cmp(&y.distance).then(y.from.cmp(&x.from)))
-        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
-    Ok(Answer {
-        pair,
-        picture_pair,
-        checked: candidates.len(),
-        width: frame.width,
-        height: frame.height,
+    refine(&frame, &queries, &estimates, |i| {
+        grid.nearest(a[i as usize])
     })
 }
 
@@ -199,63 +226,32 @@ pub fn max_distance(
     let diagram = furthest(machine, b, &frame)?;
     // The farthest point from a fixed point over a set is a hull vertex, and the
     // distance to the farthest point of b is convex, so its maximum over a is at a
-    // hull vertex of a.
+    // hull vertex of a. The picture's partner's distance is a lower bound, the
+    // pixel's distance plus the offset from the pixel centre an upper one.
     let queries = convex_hull(a);
-    let bounds: Vec<(u32, f64, f64)> = queries
+    let estimates: Vec<Estimate> = queries
         .par_iter()
         .map(|&i| {
             let p = a[i as usize];
             let (k, offset) = pixel_of(&frame, p);
             let partner = diagram.labels[k];
-            let lower = b[partner as usize].distance(p);
+            let partner_distance = b[partner as usize].distance(p);
             let d = diagram.distances[k] as f64;
-            let upper = d + picture_error(&frame, d) + offset;
-            (partner, lower, upper)
-        })
-        .collect();
-    let floor = bounds.iter().map(|x| x.1).fold(0.0, f64::max);
-    let (q, &(to, distance, _)) = bounds
-        .iter()
-        .enumerate()
-        .max_by(|x, y| x.1 .1.total_cmp(&y.1 .1))
-        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
-    let picture_pair = Pair {
-        from: queries[q],
-        to,
-        distance,
-    };
-    let candidates: Vec<u32> = queries
-        .iter()
-        .zip(&bounds)
-        .filter(|(_, x)| x.2 >= floor)
-        .map(|(i, _)| *i)
-        .collect();
-    let pair = candidates
-        .par_iter()
-        .map(|&i| {
-            let p = a[i as usize];
-            let (to, distance) = diagram
-                .hull
-                .iter()
-                .map(|&j| (j, b[j as usize].distance(p)))
-                .fold(
-                    (u32::MAX, -1.0),
-                    |best, x| if x.1 > best.1 { x } else { best },
-                );
-            Pair {
-                from: i,
-                to,
-                distance,
+            Estimate {
+                partner,
+                partner_distance,
+                lower: partner_distance,
+                upper: d + picture_error(&frame, d) + offset,
             }
         })
-        .max_by(|x, y| x.distance.total_cmp(&y.distance).then(y.from.cmp(&x.from)))
-        .ok_or_else(|| Error::InvalidInput("empty set".into()))?;
-    Ok(Answer {
-        pair,
-        picture_pair,
-        checked: candidates.len(),
-        width: frame.width,
-        height: frame.height,
+        .collect();
+    refine(&frame, &queries, &estimates, |i| {
+        let p = a[i as usize];
+        diagram
+            .hull
+            .iter()
+            .map(|&j| (j, b[j as usize].distance(p)))
+            .reduce(|best, x| if x.1 > best.1 { x } else { best })
     })
 }
 

@@ -30,8 +30,9 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        ChannelMask, Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format,
-        Machine, PixelRect, Program, RasterState, RectDraw, StencilOp, StencilTest, Target,
+        Buffer, ChannelMask, Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams,
+        Format, Machine, Pass, PixelRect, Program, RasterState, RectDraw, StencilOp, StencilTest,
+        Target,
     },
 };
 
@@ -201,15 +202,7 @@ pub fn k_nearest(
     };
     let instances: Vec<[u32; 5]> = cones
         .iter()
-        .map(|&(i, p, r)| {
-            [
-                (p.x as f32).to_bits(),
-                (p.y as f32).to_bits(),
-                (outer.radius(r) as f32).to_bits(),
-                (r as f32).to_bits(),
-                i,
-            ]
-        })
+        .map(|&(i, p, r)| cone_instance(i, p, outer.radius(r), r))
         .collect();
     // Fan heights map into the depth range by a power of two, which keeps them
     // exact; exact keys hold squared distances as they are.
@@ -225,47 +218,27 @@ pub fn k_nearest(
     let mut keys = machine.readback_buffer(key_bytes)?;
     keys.fill(0xFF);
     if !instances.is_empty() {
-        let depth = machine.image(Format::Depth, frame.width, frame.height)?;
         let mesh_buffer = machine.vertex_buffer(&mesh)?;
         let instance_buffer = machine.vertex_buffer(&instances)?;
         let push = ConePush {
-            picture_size: [frame.width as f32, frame.height as f32],
-            offset: [0.0, 0.0],
             vertex_depth_scale: vertex_scale as f32,
-            fragment_depth_scale: 0.0,
-            levels: k,
+            ..picture_push(&frame, k)
         };
-        machine.with_fragment_buffers(&[&keys], |set| {
-            machine.run(|pass| {
-                // The depth buffer only gives the pass its size.
-                pass.begin(
-                    Target {
-                        color: None,
-                        depth_stencil: Some(&depth),
-                    },
-                    Clear {
-                        color: None,
-                        depth: Some(1.0),
-                        stencil: None,
-                    },
-                )?;
-                pass.bind_fragment_buffer(set);
-                pass.draw_cones(
-                    program,
-                    &RasterState::OVERWRITE,
-                    &DrawParams::default(),
-                    &push,
-                    &ConeDraw {
-                        mesh: &mesh_buffer,
-                        first_vertex: 0,
-                        vertex_count: mesh.len() as u32,
-                        instances: &instance_buffer,
-                        first_instance: 0,
-                        instance_count: instances.len() as u32,
-                    },
-                )?;
-                pass.end()
-            })
+        draw_to_buffers(machine, &frame, &[&keys], |pass| {
+            pass.draw_cones(
+                program,
+                &RasterState::OVERWRITE,
+                &DrawParams::default(),
+                &push,
+                &ConeDraw {
+                    mesh: &mesh_buffer,
+                    first_vertex: 0,
+                    vertex_count: mesh.len() as u32,
+                    instances: &instance_buffer,
+                    first_instance: 0,
+                    instance_count: instances.len() as u32,
+                },
+            )
         })?;
     }
     stats.render_ms = ms(started);
@@ -377,37 +350,13 @@ fn k_nearest_tiled(
     keys.fill(0xFF);
     let mut tiles = machine.readback_buffer(4 * words.len() as u64)?;
     tiles.write(&words);
-    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-    let push = ConePush {
-        picture_size: [frame.width as f32, frame.height as f32],
-        offset: [0.0, 0.0],
-        vertex_depth_scale: 0.0,
-        fragment_depth_scale: 0.0,
-        levels: k,
-    };
-    machine.with_fragment_buffers(&[&keys, &tiles], |set| {
-        machine.run(|pass| {
-            // The depth buffer only gives the pass its size.
-            pass.begin(
-                Target {
-                    color: None,
-                    depth_stencil: Some(&depth),
-                },
-                Clear {
-                    color: None,
-                    depth: Some(1.0),
-                    stencil: None,
-                },
-            )?;
-            pass.bind_fragment_buffer(set);
-            pass.draw_tiles(
-                &RasterState::OVERWRITE,
-                &DrawParams::default(),
-                &push,
-                occupied.len() as u32,
-            )?;
-            pass.end()
-        })
+    draw_to_buffers(machine, &frame, &[&keys, &tiles], |pass| {
+        pass.draw_tiles(
+            &RasterState::OVERWRITE,
+            &DrawParams::default(),
+            &picture_push(&frame, k),
+            occupied.len() as u32,
+        )
     })?;
     stats.render_ms = ms(started);
     let started = Instant::now();
@@ -423,10 +372,62 @@ fn k_nearest_tiled(
     })
 }
 
+/// One instance of the cone programs (`glsl/cone.vert`): site `id` at pixel
+/// position `p`, rim radius `outer`, truncation radius `radius`.
+fn cone_instance(id: u32, p: DVec2, outer: f64, radius: f64) -> [u32; 5] {
+    [
+        (p.x as f32).to_bits(),
+        (p.y as f32).to_bits(),
+        (outer as f32).to_bits(),
+        (radius as f32).to_bits(),
+        id,
+    ]
+}
+
+/// Push constants for drawing on the whole `frame` with `levels` per pixel.
+fn picture_push(frame: &Frame, levels: u32) -> ConePush {
+    ConePush {
+        picture_size: [frame.width as f32, frame.height as f32],
+        offset: [0.0, 0.0],
+        vertex_depth_scale: 0.0,
+        fragment_depth_scale: 0.0,
+        levels,
+    }
+}
+
+/// Runs `draw` in a rendering pass over `frame` whose fragments write only the
+/// storage `buffers` (a depth buffer just gives the pass its size).
+fn draw_to_buffers(
+    machine: &Machine,
+    frame: &Frame,
+    buffers: &[&Buffer],
+    draw: impl FnOnce(&mut Pass<'_>) -> Result<()>,
+) -> Result<()> {
+    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
+    machine.with_fragment_buffers(buffers, |set| {
+        machine.run(|pass| {
+            pass.begin(
+                Target {
+                    color: None,
+                    depth_stencil: Some(&depth),
+                },
+                Clear {
+                    color: None,
+                    depth: Some(1.0),
+                    stencil: None,
+                },
+            )?;
+            pass.bind_fragment_buffer(set);
+            draw(pass)?;
+            pass.end()
+        })
+    })
+}
+
 /// Labels and world distances from keys (distance bits above the site id):
 /// squared distances when `fan_scale` is `None`, else fan heights times it.
 fn decode_keys(
-    keys: &crate::machine::Buffer,
+    keys: &Buffer,
     key_bytes: u64,
     frame: &Frame,
     fan_scale: Option<f64>,
@@ -537,14 +538,12 @@ pub fn k_nearest_peeled(
     let instances: Vec<[u32; 5]> = cones
         .iter()
         .map(|&(i, p, r)| {
-            let outer = FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius;
-            [
-                (p.x as f32).to_bits(),
-                (p.y as f32).to_bits(),
-                (outer as f32).to_bits(),
-                (r as f32).to_bits(),
+            cone_instance(
                 i,
-            ]
+                p,
+                FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius,
+                r,
+            )
         })
         .chain(std::iter::once([0; 5]))
         .collect();
@@ -575,11 +574,8 @@ pub fn k_nearest_peeled(
     words.resize(2 * pixels, u32::MAX);
     previous.write(&words);
     let push = ConePush {
-        picture_size: [w as f32, h as f32],
-        offset: [0.0, 0.0],
-        vertex_depth_scale: 0.0,
         fragment_depth_scale: scale as f32,
-        levels: k,
+        ..picture_push(&frame, k)
     };
     // Stencil bits: the low seven count, the top one marks step 2's pixels.
     const COUNT: u8 = 0x7f;
@@ -766,13 +762,7 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
             let p = pixels[i as usize];
             let r = frame.farthest_pixel(p) + 0.5;
             let outer = FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius;
-            [
-                (p.x as f32).to_bits(),
-                (p.y as f32).to_bits(),
-                (outer as f32).to_bits(),
-                (r as f32).to_bits(),
-                i,
-            ]
+            cone_instance(i, p, outer, r)
         })
         .collect();
     let reach = instances
@@ -787,11 +777,8 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
     let mesh = machine.vertex_buffer(&unit_footprint(FOOTPRINT_CORNERS))?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
     let push = ConePush {
-        picture_size: [frame.width as f32, frame.height as f32],
-        offset: [0.0, 0.0],
-        vertex_depth_scale: 0.0,
         fragment_depth_scale: scale as f32,
-        levels: 1,
+        ..picture_push(frame, 1)
     };
     // The upper envelope: the furthest fragment wins, ties the last drawn (or-equal,
     // so that a lone site's own pixel at distance 0 still gets it).
