@@ -9,7 +9,8 @@ layout(push_constant) uniform Picture {
     float vertex_depth_scale;
     // Depth written by an exact cone = squared distance times this.
     float fragment_depth_scale;
-    // Length of each pixel's list of nearest sites (cone_knearest.frag).
+    // Length of each pixel's list of nearest sites (cone_knearest.frag,
+    // cone_tiles.frag).
     uint levels;
 } picture;
 

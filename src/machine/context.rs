@@ -194,8 +194,8 @@ impl Context {
         // SAFETY: valid physical device; the chained struct outlives the call.
         unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
         let logic_op = supported.features.logic_op;
-        // The k nearest sites per pixel in one pass: fragments insert 64-bit keys
-        // into sorted per-pixel lists with atomic min.
+        // The k nearest sites per pixel: fragments store their lists in storage
+        // buffers, and fan cones insert 64-bit keys with atomic min.
         let fragment_stores = supported.features.fragment_stores_and_atomics == vk::TRUE;
         let fragment_atomics64 = fragment_stores
             && supported.features.shader_int64 == vk::TRUE

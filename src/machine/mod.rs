@@ -307,8 +307,9 @@ impl Machine {
         Ok(())
     }
 
-    /// Runs `f` with a descriptor set of `layout` whose bindings `writes` fills,
-    /// freeing the set afterwards (`f` runs its submissions to completion).
+    /// Runs `f` with a descriptor set of `layout` holding `image` (compute
+    /// layouts: binding 0) and `buffers` (the bindings after it), freeing the set
+    /// afterwards (`f` runs its submissions to completion).
     fn with_set<R>(
         &self,
         layout: vk::DescriptorSetLayout,

@@ -88,7 +88,8 @@ pub struct ConePush {
     pub offset: [f32; 2],
     pub vertex_depth_scale: f32,
     pub fragment_depth_scale: f32,
-    /// Nearest sites kept per pixel by [`Program::ConeKNearest`] (else unused).
+    /// Length of each pixel's list of nearest sites, for the k-nearest programs
+    /// (else unused).
     pub levels: u32,
 }
 
