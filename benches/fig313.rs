@@ -15,7 +15,7 @@ use common::plot::{Series, PALETTE};
 use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
-    geometry::Frame,
+    geometry::{metric::Metric, Frame},
     io::{npy, sites::random_sites},
     reference::voronoi::nearest_sites_grid,
     Machine,
@@ -98,6 +98,7 @@ fn main() -> anyhow::Result<()> {
             &warm,
             &VoronoiOptions {
                 frame,
+                metric: Metric::L2,
                 accuracy: c.accuracy,
                 speedup: c.speedup,
                 distances: false,
@@ -125,6 +126,7 @@ fn main() -> anyhow::Result<()> {
             // Labels only, like the peers: the label map is what they compute.
             let opts = VoronoiOptions {
                 frame,
+                metric: Metric::L2,
                 accuracy: c.accuracy,
                 speedup: c.speedup,
                 distances: false,

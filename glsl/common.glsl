@@ -12,9 +12,27 @@ layout(push_constant) uniform Picture {
     // Length of each pixel's list of nearest sites (cone_knearest.frag,
     // cone_tiles.frag).
     uint levels;
+    // The distance function of exact cones (geometry/metric.rs): 0 Euclidean,
+    // 1 L1, 2 L-infinity, 3 L_p with p = metric_p.
+    uint metric;
+    float metric_p;
 } picture;
 
 #ifdef STAGE_FRAG
+// The metric's key of offset d: a monotone function of its distance (the squared
+// distance for the Euclidean norm, the sum of p-th powers for L_p).
+float metric_key(vec2 d) {
+    vec2 a = abs(d);
+    if (picture.metric == 0u) {
+        return dot(d, d);
+    } else if (picture.metric == 1u) {
+        return a.x + a.y;
+    } else if (picture.metric == 2u) {
+        return max(a.x, a.y);
+    }
+    return pow(a.x, picture.metric_p) + pow(a.y, picture.metric_p);
+}
+
 // The pixel coordinates of the fragment's pixel centre.
 vec2 fragment_pixel() {
     return gl_FragCoord.xy - 0.5 + picture.offset;

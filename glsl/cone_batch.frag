@@ -1,7 +1,7 @@
 #version 460
-// The lower envelope of a batch of exact cones (cone_batch.vert): the squared
-// distance to the nearest site of the batch whose truncation radius reaches the
-// pixel; nothing where none does. Earlier sites win ties, as earlier draws do.
+// The lower envelope of a batch of exact cones (cone_batch.vert): the metric's key
+// of the nearest site of the batch whose truncation radius (Euclidean) reaches
+// the pixel; nothing where none does. Earlier sites win ties, as earlier draws do.
 #include "common.glsl"
 
 layout(location = 0) flat in vec4 xy01;
@@ -19,9 +19,12 @@ uint best_id = 0u;
 
 void consider(vec2 p, vec2 site, float r2, uint id) {
     vec2 d = p - site;
-    float d2 = dot(d, d);
-    if (d2 <= r2 && d2 < best) {
-        best = d2;
+    if (dot(d, d) > r2) {
+        return;
+    }
+    float key = metric_key(d);
+    if (key < best) {
+        best = key;
         best_id = id;
     }
 }

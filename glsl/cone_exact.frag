@@ -1,9 +1,10 @@
 #version 460
-// An exact cone: the depth is the squared Euclidean distance from the pixel centre
-// to the site, computed per fragment (the depth-texture remedy of thesis §3.4).
-// Squared distances of integer points are exact in float32 below 2^24, and the
-// scale is a power of two, so ties between integer sites are exact ties. Fragments
-// beyond the truncation radius are dropped (see cone_fan.frag).
+// An exact cone: the depth is the metric's key of the offset from the site (the
+// squared Euclidean distance unless another metric is chosen), computed per
+// fragment (the depth-texture remedy of thesis §3.4). Keys of integer offsets are
+// exact in float32 below 2^24 for L1, L2 and L-infinity, and the scale is a power
+// of two, so ties between integer sites are exact ties. Fragments beyond the
+// (Euclidean) truncation radius are dropped (see cone_fan.frag).
 #include "common.glsl"
 
 layout(location = 0) flat in uint id;
@@ -16,6 +17,6 @@ void main() {
     if (d2 > site.z * site.z) {
         discard;
     }
-    gl_FragDepth = d2 * picture.fragment_depth_scale;
+    gl_FragDepth = metric_key(d) * picture.fragment_depth_scale;
     out_id = id;
 }

@@ -26,7 +26,7 @@ use crate::{
         higher_order::{self, KNearestOptions},
         voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     },
-    geometry::Frame,
+    geometry::{metric::Metric, Frame},
     machine::{DeviceChoice, Machine, MachineOptions},
     Error,
 };
@@ -346,6 +346,7 @@ pub unsafe extern "C" fn pixgeo_voronoi(
         let sites = unsafe { points(xy, count) }?;
         let options = VoronoiOptions {
             frame,
+            metric: Metric::L2,
             accuracy,
             speedup,
             distances: !distances.is_null(),

@@ -174,7 +174,7 @@ fn gallery_renders_every_picture_and_an_index() {
         .skip(1)
         .map(|s| &s[..s.find('"').unwrap()])
         .collect();
-    assert!(pictures.len() >= 9, "{index}");
+    assert!(pictures.len() >= 12, "{index}");
     for p in pictures {
         let img = image::open(dir.join(p)).unwrap_or_else(|e| panic!("{p}: {e}"));
         assert!(img.width() >= 256, "{p}");

@@ -4,8 +4,8 @@
 use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions},
-    geometry::{cone::bisector_deviation, Frame},
-    reference::voronoi::nearest_sites_brute_force,
+    geometry::{cone::bisector_deviation, metric::Metric, Frame},
+    reference::voronoi::{nearest_distances_metric, nearest_sites_brute_force},
     Machine,
 };
 mod common;
@@ -28,6 +28,7 @@ fn run(
         sites,
         &VoronoiOptions {
             frame,
+            metric: Metric::L2,
             accuracy,
             speedup,
             distances: true,
@@ -242,6 +243,7 @@ fn bad_input_is_a_clear_error() {
     let frame = Frame::pixels(16, 16).unwrap();
     let opts = VoronoiOptions {
         frame,
+        metric: Metric::L2,
         accuracy: Accuracy::Exact,
         speedup: Speedup::Local,
         distances: true,
@@ -295,6 +297,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
     for speedup in [Speedup::Local, Speedup::Quadtree] {
         let options = |max_tile| VoronoiOptions {
             frame,
+            metric: Metric::L2,
             accuracy: Accuracy::Exact,
             speedup,
             distances: true,
@@ -325,6 +328,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
     // Fan cones are bounded the same way in every tile.
     let fan = VoronoiOptions {
         frame,
+        metric: Metric::L2,
         accuracy: Accuracy::FAN,
         speedup: Speedup::Local,
         distances: true,
@@ -345,4 +349,52 @@ fn pictures_wider_than_the_device_are_tiled() {
     let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
     assert_eq!(d.stats.tiles, 2);
     assert_exact(&d, &sites, &frame, "wide");
+}
+
+#[test]
+fn other_metrics_match_their_definition() {
+    // Thesis §3.6: L1, L-infinity and L_p (p < 1 too) in exact mode: every pixel
+    // gets a site at the smallest distance of the metric, with every speedup.
+    let m = machine();
+    let frame = Frame::pixels(61, 47).unwrap();
+    for metric in [Metric::L1, Metric::LInf, Metric::Lp(0.5), Metric::Lp(3.0)] {
+        for (name, sites) in cases(61, 47) {
+            let truth = nearest_distances_metric(&sites, &frame, metric);
+            for speedup in SPEEDUPS {
+                let d = voronoi(
+                    &m,
+                    &sites,
+                    &VoronoiOptions {
+                        metric,
+                        speedup,
+                        ..VoronoiOptions::exact(frame)
+                    },
+                )
+                .unwrap_or_else(|e| panic!("{metric} {name} {speedup:?}: {e}"));
+                for (k, &label) in d.labels.iter().enumerate() {
+                    let q = DVec2::new((k % 61) as f64, (k / 61) as f64);
+                    assert_ne!(
+                        label,
+                        u32::MAX,
+                        "{metric} {name} {speedup:?}: {q} uncovered"
+                    );
+                    let mine = metric.distance(sites[label as usize] - q);
+                    let tol = 1e-3 * (1.0 + truth[k]);
+                    assert!(
+                        mine <= truth[k] + tol && (d.distances[k] as f64 - truth[k]).abs() <= tol,
+                        "{metric} {name} {speedup:?}: pixel {q}: site {label} at {mine}, map {}, nearest {}",
+                        d.distances[k],
+                        truth[k]
+                    );
+                }
+            }
+        }
+    }
+    // Fans of other metrics are not drawn: a clear error.
+    let fan = VoronoiOptions {
+        metric: Metric::L1,
+        accuracy: Accuracy::FAN,
+        ..VoronoiOptions::exact(frame)
+    };
+    assert!(voronoi(&m, &[DVec2::ZERO], &fan).is_err());
 }

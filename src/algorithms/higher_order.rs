@@ -27,6 +27,7 @@ use crate::{
     geometry::{
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::{check_sites, distance2_to_rect},
+        metric::Metric,
         radius, Frame,
     },
     machine::{
@@ -392,6 +393,7 @@ fn picture_push(frame: &Frame, levels: u32) -> ConePush {
         vertex_depth_scale: 0.0,
         fragment_depth_scale: 0.0,
         levels,
+        metric: Metric::L2.shader_code(),
     }
 }
 
@@ -720,7 +722,7 @@ fn k_radii(pixels: &[DVec2], frame: &Frame, k: usize, speedup: Speedup) -> Vec<f
         }
         Speedup::Local => {
             let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), k);
-            radius::k_local_radii(pixels, frame, k, cell, bin)
+            radius::k_local_radii(pixels, frame, k, cell, bin, 1.0)
                 .into_iter()
                 .zip(pixels)
                 .map(|(r, p)| (r + 0.5).min(picture_wide(p)))

@@ -25,6 +25,7 @@ use crate::{
     geometry::{
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::{check_sites, distance2_to_rect},
+        metric::Metric,
         radius, Frame,
     },
     machine::{
@@ -71,6 +72,8 @@ pub enum Speedup {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VoronoiOptions {
     pub frame: Frame,
+    /// The distance function (thesis §3.6); metrics other than L2 need exact mode.
+    pub metric: Metric,
     pub accuracy: Accuracy,
     pub speedup: Speedup,
     /// Whether to read back the distance map (the z buffer) as well as the labels.
@@ -84,6 +87,7 @@ impl VoronoiOptions {
     pub fn exact(frame: Frame) -> Self {
         Self {
             frame,
+            metric: Metric::L2,
             accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
             distances: true,
@@ -236,6 +240,12 @@ pub fn voronoi_bands(
 ) -> Result<VoronoiStats> {
     check_sites(sites)?;
     options.frame.check()?;
+    if options.metric != Metric::L2 && options.accuracy != Accuracy::Exact {
+        return Err(Error::InvalidInput(format!(
+            "{} cones are drawn exactly; fans of other metrics need the thesis's polygonal cone bases, which pixgeo does not draw yet (use --mode exact)",
+            options.metric
+        )));
+    }
     if let Accuracy::Fan { epsilon, triangles } = options.accuracy {
         if !(epsilon > 0.0 && epsilon.is_finite()) {
             return Err(Error::InvalidInput(format!(
@@ -257,14 +267,14 @@ pub fn voronoi_bands(
 
     let started = Instant::now();
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let attempts = cone_attempts(&pixels, &frame, options.speedup);
+    let attempts = cone_attempts(&pixels, &frame, options.speedup, options.metric);
     let shaped: Vec<Vec<Shaped>> = attempts
         .iter()
         .map(|(_, cones)| shape_cones(cones, &frame, options.accuracy))
         .collect();
     let batches: Vec<Vec<ConeBatch>> = shaped.iter().map(|s| batches_of(s)).collect();
     // One depth scale for every tile and attempt: the largest cone's.
-    let scale = depth_scale(shaped.iter().flatten(), options.accuracy);
+    let scale = depth_scale(shaped.iter().flatten(), options.accuracy, options.metric);
     stats.bounds_ms = ms(started);
 
     let side = machine.max_picture_side();
@@ -316,6 +326,7 @@ pub fn voronoi_bands(
                     cones,
                     batches,
                     accuracy: options.accuracy,
+                    metric: options.metric,
                     scale,
                 };
                 render(machine, &picture, &view, &draws)?;
@@ -393,6 +404,7 @@ fn cone_attempts(
     pixels: &[DVec2],
     frame: &Frame,
     speedup: Speedup,
+    metric: Metric,
 ) -> Vec<(Option<f64>, Vec<Cone>)> {
     // The radius that reaches every pixel from a site, plus half a pixel so that
     // rasterization rules at a footprint's rim never drop a pixel centre.
@@ -414,6 +426,13 @@ fn cone_attempts(
     };
     match speedup {
         Speedup::None => vec![(None, cones_with(&|i| picture_wide[i]))],
+        Speedup::Local if metric != Metric::L2 => {
+            // Other metrics' regions are not cut by straight bisectors: bound them
+            // from the Euclidean cover, stretched by the metric's bounds.
+            let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), 1);
+            let radii = radius::k_local_radii(pixels, frame, 1, cell, bin, metric.stretch());
+            vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))]
+        }
         Speedup::Local => {
             let radii = radius::cell_radii(pixels, frame, radius::default_bin(frame, pixels.len()));
             vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))]
@@ -421,6 +440,13 @@ fn cone_attempts(
         Speedup::Quadtree => {
             let bounds = radius::quadtree_width_bounds(pixels, frame);
             let widest = picture_wide.iter().copied().fold(0.0, f64::max);
+            // The quadtree's widths are Euclidean; other metrics stretch them.
+            let stretch = metric.stretch();
+            let bounds = radius::WidthBounds {
+                lower: bounds.lower * stretch,
+                upper: bounds.upper.map(|u| u * stretch),
+                ..bounds
+            };
             radius::retry_radii(&bounds, widest)
                 .into_iter()
                 .map(|r| (Some(r), cones_with(&|i| (r + 0.5).min(picture_wide[i]))))
@@ -559,7 +585,11 @@ struct DepthScale {
     fragment: f64,
 }
 
-fn depth_scale<'a>(cones: impl Iterator<Item = &'a Shaped>, accuracy: Accuracy) -> DepthScale {
+fn depth_scale<'a>(
+    cones: impl Iterator<Item = &'a Shaped>,
+    accuracy: Accuracy,
+    metric: Metric,
+) -> DepthScale {
     // Exact cones discard fragments beyond their radius; fan heights reach the
     // outer radius at the rim.
     let reach = cones
@@ -570,9 +600,15 @@ fn depth_scale<'a>(cones: impl Iterator<Item = &'a Shaped>, accuracy: Accuracy) 
         .fold(1.0, f64::max)
         * 1.001;
     match accuracy {
+        // A Euclidean reach r is at most b r in the metric.
         Accuracy::Exact => DepthScale {
             vertex: 0.0,
-            fragment: (reach * reach).log2().ceil().exp2().recip(),
+            fragment: metric
+                .key_of_distance(reach * metric.euclidean_bounds().1)
+                .log2()
+                .ceil()
+                .exp2()
+                .recip(),
         },
         Accuracy::Fan { .. } => DepthScale {
             vertex: reach.log2().ceil().exp2().recip(),
@@ -646,6 +682,7 @@ struct Draws<'a> {
     cones: &'a [Shaped],
     batches: &'a [ConeBatch],
     accuracy: Accuracy,
+    metric: Metric,
     scale: DepthScale,
 }
 
@@ -704,6 +741,7 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         vertex_depth_scale: draws.scale.vertex as f32,
         fragment_depth_scale: draws.scale.fragment as f32,
         levels: 1,
+        metric: draws.metric.shader_code(),
     };
     let mesh_buffer = machine.vertex_buffer(&mesh)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
@@ -798,7 +836,7 @@ fn read_tile(
         .for_each(|(depths, ids)| {
             for (z, id) in depths[x0..x0 + w].iter_mut().zip(&ids[x0..x0 + w]) {
                 let d = if exact {
-                    (*z * unscale).sqrt()
+                    options.metric.distance_of_key((*z * unscale) as f64) as f32
                 } else {
                     *z * unscale
                 };

@@ -6,6 +6,7 @@
 pub mod buckets;
 pub mod cone;
 pub mod frame;
+pub mod metric;
 pub mod radius;
 
 pub use frame::Frame;

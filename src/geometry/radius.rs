@@ -193,7 +193,20 @@ pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
 /// B has k sites within U(B), so a site among its k nearest is within U(B) of it
 /// and has `mindist(s, B) <= U(B)`. Each such candidate needs
 /// `min(U(B), maxdist(s, B))`. Sites are found through square bins of side `bin`.
-pub fn k_local_radii(sites: &[DVec2], frame: &Frame, k: usize, cell: f64, bin: f64) -> Vec<f64> {
+///
+/// With `stretch` > 1 the bound holds for a metric whose distances lie within
+/// a factor `stretch` of each other relative to the Euclidean ones (the ratio of
+/// its Euclidean bounds, `Metric::stretch`): a point whose k-th nearest site is
+/// within Euclidean U has its k metric-nearest within Euclidean `stretch * U`.
+pub fn k_local_radii(
+    sites: &[DVec2],
+    frame: &Frame,
+    k: usize,
+    cell: f64,
+    bin: f64,
+    stretch: f64,
+) -> Vec<f64> {
+    let stretch2 = stretch * stretch;
     let k = k.max(1);
     // Whole pixels: then [lo, hi] below holds exactly the cell's pixel centres.
     let cell = cell.round().max(1.0);
@@ -235,7 +248,8 @@ pub fn k_local_radii(sites: &[DVec2], frame: &Frame, k: usize, cell: f64, bin: f
                     }
                     ring += 1;
                 }
-                // Candidates: every site within U(B) of the cell.
+                // Candidates: every site within U(B) of the cell, stretched.
+                let cover2 = cover2 * stretch2;
                 let raise = |i: u32, p: DVec2| {
                     if distance2_to_rect(p, lo, hi) <= cover2 {
                         let need = cover2.min(maxdist2(p)).to_bits();

@@ -91,6 +91,9 @@ pub struct ConePush {
     /// Length of each pixel's list of nearest sites, for the k-nearest programs
     /// (else unused).
     pub levels: u32,
+    /// The distance function of exact cones, as `Metric::shader_code` gives it:
+    /// kind (0 Euclidean, 1 L1, 2 L-infinity, 3 L_p) and p.
+    pub metric: (u32, f32),
 }
 
 /// An instanced draw of cones: `vertex_count` vertices of the unit fan mesh from
@@ -484,6 +487,8 @@ impl<'m> Pass<'m> {
             push.vertex_depth_scale.to_bits(),
             push.fragment_depth_scale.to_bits(),
             push.levels,
+            push.metric.0,
+            push.metric.1.to_bits(),
         ];
         self.push_graphics(&words);
     }

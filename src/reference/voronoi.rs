@@ -96,3 +96,23 @@ pub fn nearest_sites_grid(sites: &[DVec2], frame: &Frame) -> Vec<u32> {
     });
     labels
 }
+
+/// For every pixel (row-major), the smallest `metric` distance to a site (pixel
+/// units), by looking at every site. Sites are in pixel coordinates.
+pub fn nearest_distances_metric(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: crate::geometry::metric::Metric,
+) -> Vec<f64> {
+    let w = frame.width as usize;
+    (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let q = DVec2::new((k % w) as f64, (k / w) as f64);
+            sites
+                .iter()
+                .map(|s| metric.distance(*s - q))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}

@@ -158,6 +158,64 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            picture: "l05.png",
+            title: "The L0.5 distance",
+            caption: "The same 30 sites under L<sub>0.5</sub>: its balls are concave stars, so \
+                      regions grow arms and may fall apart (thesis Fig. 3.26). Exact mode \
+                      evaluates the metric per pixel; contours every 25 units.",
+            sites: None,
+            args: &[
+                "--random",
+                "30",
+                "--seed",
+                "2",
+                "--size",
+                "400",
+                "--metric",
+                "lp:0.5",
+                "--contours",
+                "25",
+            ],
+        },
+        Entry {
+            picture: "l1.png",
+            title: "The L1 distance",
+            caption: "Manhattan distance: diamond-shaped cones, bisectors of horizontal, \
+                      vertical and diagonal pieces (thesis Fig. 3.27).",
+            sites: None,
+            args: &[
+                "--random",
+                "30",
+                "--seed",
+                "2",
+                "--size",
+                "400",
+                "--metric",
+                "l1",
+                "--contours",
+                "25",
+            ],
+        },
+        Entry {
+            picture: "l6.png",
+            title: "The L6 distance",
+            caption: "Nearly square balls: the diagram approaches that of L<sub>∞</sub> \
+                      (thesis Fig. 3.29).",
+            sites: None,
+            args: &[
+                "--random",
+                "30",
+                "--seed",
+                "2",
+                "--size",
+                "400",
+                "--metric",
+                "lp:6",
+                "--contours",
+                "25",
+            ],
+        },
+        Entry {
             picture: "second.png",
             title: "The second-nearest diagram",
             caption: "Every pixel coloured by its second-nearest site: the degree-2 diagram \

@@ -12,7 +12,7 @@ use pixgeo::{
         higher_order::{self, KNearestOptions},
         voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     },
-    geometry::Frame,
+    geometry::{metric::Metric, Frame},
     io::{npy, npy::NpyStream, picture, picture::PngStream, sites},
     machine::{DeviceChoice, Machine, MachineOptions},
 };
@@ -67,6 +67,12 @@ pub struct Args {
     /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture (YMIN at row 0).
     #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
     bbox: Option<[f64; 4]>,
+
+    /// Distance function (thesis §3.6): `l2` (Euclidean), `l1`, `linf`, or
+    /// `lp:P` for any P > 0 (P < 1 gives star-shaped, non-convex balls). Other
+    /// metrics than l2 are drawn in exact mode, for ordinary diagrams.
+    #[arg(long, default_value = "l2", value_parser = Metric::parse)]
+    metric: Metric,
 
     /// Accuracy: `exact` writes the exact distance per pixel (labels are nearest
     /// sites); `fan` draws triangle fans sized for a distance error of --epsilon
@@ -266,6 +272,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let options = VoronoiOptions {
         frame,
+        metric: args.metric,
         accuracy,
         speedup,
         distances: args.distance.is_some() || args.contours.is_some(),
@@ -349,6 +356,7 @@ pub fn run(args: Args) -> Result<()> {
         let summary = json!({
             "width": frame.width,
             "height": frame.height,
+            "metric": args.metric.to_string(),
             "mode": mode,
             "speedup": speedup,
             "stats": s,
@@ -396,6 +404,12 @@ fn whole_picture(
     speedup: Speedup,
     kind: Kind,
 ) -> Result<()> {
+    if args.metric != Metric::L2 {
+        bail!(
+            "--metric {} applies to ordinary diagrams on a Vulkan device so far",
+            args.metric
+        );
+    }
     if args.max_tile.is_some() {
         bail!(
             "--max-tile applies to ordinary diagrams on a Vulkan device; this diagram is computed whole"
