@@ -350,6 +350,7 @@ pub unsafe extern "C" fn pixgeo_voronoi(
             accuracy,
             speedup,
             distances: !distances.is_null(),
+            ties: false,
             max_tile: (o.max_tile > 0).then_some(o.max_tile),
         };
         let pixels = frame.len();

@@ -32,6 +32,7 @@ fn run(
             accuracy,
             speedup,
             distances: true,
+            ties: false,
             max_tile: None,
         },
     )
@@ -247,6 +248,7 @@ fn bad_input_is_a_clear_error() {
         accuracy: Accuracy::Exact,
         speedup: Speedup::Local,
         distances: true,
+        ties: false,
         max_tile: None,
     };
     let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
@@ -301,6 +303,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
             accuracy: Accuracy::Exact,
             speedup,
             distances: true,
+            ties: false,
             max_tile,
         };
         let whole = voronoi(&m, &sites, &options(None)).unwrap();
@@ -332,6 +335,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         accuracy: Accuracy::FAN,
         speedup: Speedup::Local,
         distances: true,
+        ties: false,
         max_tile: Some(50),
     };
     let d = voronoi(&m, &sites, &fan).unwrap();
@@ -393,6 +397,61 @@ fn other_metrics_match_their_definition() {
     // Fans of other metrics are not drawn: a clear error.
     let fan = VoronoiOptions {
         metric: Metric::L1,
+        accuracy: Accuracy::FAN,
+        ..VoronoiOptions::exact(frame)
+    };
+    assert!(voronoi(&m, &[DVec2::ZERO], &fan).is_err());
+}
+
+#[test]
+fn ties_count_the_sites_at_the_smallest_distance() {
+    // Thesis §3.6.4: the second pass with the depth test EQUAL counts every site at
+    // a pixel's smallest distance. Integer sites, so ties are exact: the L1 and
+    // L-infinity areas of equidistant points, lattice corners, duplicates.
+    let m = machine();
+    let frame = Frame::pixels(48, 40).unwrap();
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    let inputs = [
+        ("diagonal pair", vec![p(15.0, 12.0), p(30.0, 27.0)]),
+        (
+            "lattice",
+            (0..42)
+                .map(|k| p((k % 7 * 6) as f64, (k / 7 * 6) as f64))
+                .collect(),
+        ),
+        (
+            "duplicates",
+            vec![p(10.0, 10.0), p(10.0, 10.0), p(33.0, 25.0)],
+        ),
+    ];
+    for metric in [Metric::L2, Metric::L1, Metric::LInf] {
+        for (name, sites) in &inputs {
+            let d = voronoi(
+                &m,
+                sites,
+                &VoronoiOptions {
+                    metric,
+                    ties: true,
+                    max_tile: Some(20),
+                    ..VoronoiOptions::exact(frame)
+                },
+            )
+            .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
+            let mut tied = 0;
+            for (k, &count) in d.ties.iter().enumerate() {
+                let q = p((k % 48) as f64, (k / 48) as f64);
+                let dists: Vec<f64> = sites.iter().map(|s| metric.distance(*s - q)).collect();
+                let best = dists.iter().copied().fold(f64::INFINITY, f64::min);
+                let want = dists.iter().filter(|x| **x == best).count() as u32;
+                assert_eq!(count, want, "{metric} {name}: pixel {q}");
+                tied += (want > 1) as usize;
+            }
+            assert!(tied > 0, "{metric} {name}: no ties to count");
+        }
+    }
+    // Fans have no exact ties to count.
+    let fan = VoronoiOptions {
+        ties: true,
         accuracy: Accuracy::FAN,
         ..VoronoiOptions::exact(frame)
     };

@@ -29,8 +29,9 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        Clear, ClearColor, ConeBatch, ConeDraw, ConePush, DrawParams, Format, Image, Machine,
-        PixelRect, Program, RasterState, Target,
+        ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConePush, DepthTest,
+        DrawParams, Format, Image, Machine, PixelRect, Program, RasterState, StencilOp,
+        StencilTest, Target,
     },
 };
 
@@ -78,6 +79,9 @@ pub struct VoronoiOptions {
     pub speedup: Speedup,
     /// Whether to read back the distance map (the z buffer) as well as the labels.
     pub distances: bool,
+    /// Whether to count, per pixel, the sites at the smallest distance (thesis
+    /// §3.6.4: L1 and L∞ have whole areas of equidistant points). Exact mode only.
+    pub ties: bool,
     /// Largest tile side in pixels; `None` = as large as the device allows.
     pub max_tile: Option<u32>,
 }
@@ -91,6 +95,7 @@ impl VoronoiOptions {
             accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
             distances: true,
+            ties: false,
             max_tile: None,
         }
     }
@@ -147,6 +152,9 @@ pub struct VoronoiDiagram {
     /// Distance to that site in world units, row-major; empty unless
     /// [`VoronoiOptions::distances`].
     pub distances: Vec<f32>,
+    /// Number of sites at the smallest distance per pixel (255 at most), row-major;
+    /// empty unless [`VoronoiOptions::ties`].
+    pub ties: Vec<u32>,
     pub stats: VoronoiStats,
 }
 
@@ -158,6 +166,8 @@ pub struct Band {
     pub labels: Vec<u32>,
     /// Empty unless [`VoronoiOptions::distances`].
     pub distances: Vec<f32>,
+    /// Empty unless [`VoronoiOptions::ties`].
+    pub ties: Vec<u32>,
 }
 
 /// One cone to draw, in pixel coordinates.
@@ -207,14 +217,17 @@ pub fn voronoi(
     let frame = options.frame;
     let mut labels = Vec::new();
     let mut distances = Vec::new();
+    let mut ties = Vec::new();
     let stats = voronoi_bands(machine, sites, options, |band| {
         // A picture of one band is handed over without a copy.
         if labels.is_empty() {
             labels = band.labels;
             distances = band.distances;
+            ties = band.ties;
         } else {
             labels.extend_from_slice(&band.labels);
             distances.extend_from_slice(&band.distances);
+            ties.extend_from_slice(&band.ties);
         }
         Ok(())
     })?;
@@ -223,6 +236,7 @@ pub fn voronoi(
         height: frame.height,
         labels,
         distances,
+        ties,
         stats,
     })
 }
@@ -240,6 +254,11 @@ pub fn voronoi_bands(
 ) -> Result<VoronoiStats> {
     check_sites(sites)?;
     options.frame.check()?;
+    if options.ties && options.accuracy != Accuracy::Exact {
+        return Err(Error::InvalidInput(
+            "equal distances are counted in exact mode only".into(),
+        ));
+    }
     if options.metric != Metric::L2 && options.accuracy != Accuracy::Exact {
         return Err(Error::InvalidInput(format!(
             "{} cones are drawn exactly; fans of other metrics need the thesis's polygonal cone bases, which pixgeo does not draw yet (use --mode exact)",
@@ -270,7 +289,7 @@ pub fn voronoi_bands(
     let attempts = cone_attempts(&pixels, &frame, options.speedup, options.metric);
     let shaped: Vec<Vec<Shaped>> = attempts
         .iter()
-        .map(|(_, cones)| shape_cones(cones, &frame, options.accuracy))
+        .map(|(_, cones)| shape_cones(cones, &frame, options.accuracy, !options.ties))
         .collect();
     let batches: Vec<Vec<ConeBatch>> = shaped.iter().map(|s| batches_of(s)).collect();
     // One depth scale for every tile and attempt: the largest cone's.
@@ -290,7 +309,15 @@ pub fn voronoi_bands(
     );
     let picture = Picture {
         ids: machine.image(Format::R32Uint, tile_w, tile_h)?,
-        depth: machine.image(Format::Depth, tile_w, tile_h)?,
+        depth: machine.image(
+            if options.ties {
+                Format::DepthStencil
+            } else {
+                Format::Depth
+            },
+            tile_w,
+            tile_h,
+        )?,
     };
 
     let mut final_attempt = 0;
@@ -302,6 +329,11 @@ pub fn voronoi_bands(
             labels: vec![0; band_h as usize * frame.width as usize],
             distances: if options.distances {
                 vec![0.0; band_h as usize * frame.width as usize]
+            } else {
+                Vec::new()
+            },
+            ties: if options.ties {
+                vec![0; band_h as usize * frame.width as usize]
             } else {
                 Vec::new()
             },
@@ -328,6 +360,7 @@ pub fn voronoi_bands(
                     accuracy: options.accuracy,
                     metric: options.metric,
                     scale,
+                    ties: options.ties,
                 };
                 render(machine, &picture, &view, &draws)?;
                 final_attempt = final_attempt.max(k);
@@ -471,14 +504,17 @@ fn polygon_corners(radius: f64) -> u32 {
 /// Chooses each cone's footprint and sorts the cones into draw order: batched
 /// cones first, along a Hilbert curve so that a batch's cones are neighbours, then
 /// the others by footprint and site id.
-fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy) -> Vec<Shaped> {
+///
+/// Without `batch` every exact cone gets a polygon of its own: counting ties
+/// needs each cone's own fragments.
+fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy, batch: bool) -> Vec<Shaped> {
     let mut shaped: Vec<Shaped> = cones
         .iter()
         .map(|cone| {
             let fan = |s: FanShape| (Footprint::Fan(s.triangles), s.outer_radius);
             let (footprint, outer_radius) = match accuracy {
                 Accuracy::Exact => {
-                    if cone.radius < BATCH_RADIUS_LIMIT {
+                    if batch && cone.radius < BATCH_RADIUS_LIMIT {
                         (Footprint::Batch, cone.radius)
                     } else {
                         let k = polygon_corners(cone.radius);
@@ -684,6 +720,8 @@ struct Draws<'a> {
     accuracy: Accuracy,
     metric: Metric,
     scale: DepthScale,
+    /// Count the cones at each pixel's lowest depth in the stencil.
+    ties: bool,
 }
 
 /// The unit square as two triangles: the mesh of a batch's rectangle.
@@ -761,7 +799,7 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
             Clear {
                 color: Some(ClearColor::Uint([u32::MAX; 4])),
                 depth: Some(1.0),
-                stencil: None,
+                stencil: draws.ties.then_some(0),
             },
         )?;
         if let Some(batch_buffer) = &batch_buffer {
@@ -780,25 +818,51 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
                 },
             )?;
         }
-        for (g, &(first_vertex, vertex_count)) in groups.iter().zip(&ranges) {
-            let program = match draws.accuracy {
-                Accuracy::Exact => Program::ConeExact,
-                Accuracy::Fan { .. } => Program::ConeFan,
-            };
-            pass.draw_cones(
-                program,
-                &state,
-                &params,
-                &push,
-                &ConeDraw {
-                    mesh: &mesh_buffer,
-                    first_vertex,
-                    vertex_count,
-                    instances: &instance_buffer,
-                    first_instance: g.first,
-                    instance_count: g.count,
-                },
-            )?;
+        // The lower envelope, then (for ties) the thesis's second pass of §3.6.4:
+        // every cone again with the depth test EQUAL, the stencil counting the
+        // cones that reach the lowest depth.
+        let count = RasterState {
+            depth: DepthTest {
+                compare: Compare::Equal,
+                write: false,
+            },
+            stencil: StencilTest {
+                compare: Compare::Always,
+                compare_mask: 0xff,
+                write_mask: 0xff,
+                on_fail: StencilOp::Keep,
+                on_depth_fail: StencilOp::Keep,
+                on_pass: StencilOp::IncrementClamp,
+            },
+            color_mask: ChannelMask::NONE,
+            ..RasterState::OVERWRITE
+        };
+        let passes: &[&RasterState] = if draws.ties {
+            &[&state, &count]
+        } else {
+            &[&state]
+        };
+        for state in passes {
+            for (g, &(first_vertex, vertex_count)) in groups.iter().zip(&ranges) {
+                let program = match draws.accuracy {
+                    Accuracy::Exact => Program::ConeExact,
+                    Accuracy::Fan { .. } => Program::ConeFan,
+                };
+                pass.draw_cones(
+                    program,
+                    state,
+                    &params,
+                    &push,
+                    &ConeDraw {
+                        mesh: &mesh_buffer,
+                        first_vertex,
+                        vertex_count,
+                        instances: &instance_buffer,
+                        first_instance: g.first,
+                        instance_count: g.count,
+                    },
+                )?;
+            }
         }
         pass.end()
     })
@@ -819,6 +883,9 @@ fn read_tile(
 ) -> Result<()> {
     let (width, x0, w) = (frame.width as usize, x0 as usize, inner.width as usize);
     machine.read_u32_into(&picture.ids, inner, &mut band.labels[x0..], width)?;
+    if options.ties {
+        machine.read_stencil_into(&picture.depth, inner, &mut band.ties[x0..], width)?;
+    }
     if !options.distances {
         return Ok(());
     }

@@ -269,6 +269,32 @@ impl Machine {
         self.read_into(image, rect, out, stride)
     }
 
+    /// Reads back the stencil of `rect` of a depth/stencil image into `out`, row
+    /// `r` at `out[r * stride..]`.
+    pub fn read_stencil_into(
+        &self,
+        image: &Image,
+        rect: PixelRect,
+        out: &mut [u32],
+        stride: usize,
+    ) -> Result<()> {
+        let (w, h) = (rect.width as usize, rect.height as usize);
+        if stride < w || out.len() < h.saturating_sub(1) * stride + w {
+            return Err(Error::InvalidInput(format!(
+                "stencil readback of {w}x{h} pixels does not fit {} values with stride {stride}",
+                out.len()
+            )));
+        }
+        let buffer = self.readback_buffer((w * h).max(4) as u64)?;
+        self.run(|pass| pass.copy_stencil_to_buffer(image, rect, &buffer))?;
+        for (r, row) in buffer.mapped()[..w * h].chunks_exact(w).enumerate() {
+            for (o, v) in out[r * stride..][..w].iter_mut().zip(row) {
+                *o = *v as u32;
+            }
+        }
+        Ok(())
+    }
+
     fn read_into<T: bytemuck::Pod>(
         &self,
         image: &Image,

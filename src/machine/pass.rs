@@ -590,12 +590,45 @@ impl<'m> Pass<'m> {
 
     /// Records the copy of `rect` of `image` into `buffer` at byte `offset`.
     fn record_copy(&mut self, image: &Image, rect: PixelRect, buffer: &Buffer, offset: u64) {
-        self.use_image(image, Usage::TransferSrc);
         let aspect = if image.format().is_depth() {
             vk::ImageAspectFlags::DEPTH
         } else {
             vk::ImageAspectFlags::COLOR
         };
+        self.record_aspect_copy(image, rect, buffer, offset, aspect);
+    }
+
+    /// Copies the stencil of `rect` of a depth/stencil `image` into `buffer`, one
+    /// byte per pixel, row-major, tightly packed.
+    pub fn copy_stencil_to_buffer(
+        &mut self,
+        image: &Image,
+        rect: PixelRect,
+        buffer: &Buffer,
+    ) -> Result<()> {
+        rect.check_inside(image)?;
+        if !image.format().has_stencil() || rect.width as u64 * rect.height as u64 > buffer.size() {
+            return Err(Error::InvalidInput(
+                "stencil readback needs a DepthStencil image and room for a byte per pixel".into(),
+            ));
+        }
+        self.record_aspect_copy(image, rect, buffer, 0, vk::ImageAspectFlags::STENCIL);
+        self.host_barrier(
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_WRITE,
+        );
+        Ok(())
+    }
+
+    fn record_aspect_copy(
+        &mut self,
+        image: &Image,
+        rect: PixelRect,
+        buffer: &Buffer,
+        offset: u64,
+        aspect: vk::ImageAspectFlags,
+    ) {
+        self.use_image(image, Usage::TransferSrc);
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
             .image_subresource(

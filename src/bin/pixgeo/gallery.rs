@@ -216,6 +216,28 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            picture: "ties.png",
+            title: "Areas of equidistant points",
+            caption: "Under L<sub>1</sub> two sites on a diagonal have whole quadrants of \
+                      points equally far from both, hatched here: a second pass with the \
+                      depth test EQUAL counts the sites at each pixel's lowest depth \
+                      (thesis §3.6.4, Fig. 3.32). --ties writes the counts.",
+            sites: Some((
+                "diagonal.csv",
+                vec![DVec2::new(100.0, 100.0), DVec2::new(200.0, 200.0)],
+            )),
+            args: &[
+                "--sites",
+                "diagonal.csv",
+                "--size",
+                "300",
+                "--metric",
+                "l1",
+                "--ties",
+                "ties.npy",
+            ],
+        },
+        Entry {
             picture: "second.png",
             title: "The second-nearest diagram",
             caption: "Every pixel coloured by its second-nearest site: the degree-2 diagram \
@@ -286,7 +308,7 @@ pub fn run(args: Args) -> Result<()> {
         let mut real: Vec<String> = argv
             .iter()
             .map(|a| {
-                if a.ends_with(".csv") || a.ends_with(".png") {
+                if a.ends_with(".csv") || a.ends_with(".png") || a.ends_with(".npy") {
                     args.dir.join(a).display().to_string()
                 } else {
                     a.clone()

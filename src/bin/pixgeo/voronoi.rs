@@ -111,6 +111,13 @@ pub struct Args {
     #[arg(long, value_name = "FILE.npy")]
     distance: Option<PathBuf>,
 
+    /// Count the sites at the smallest distance of every pixel (thesis §3.6.4:
+    /// under L1 and L∞ whole areas are equidistant to two sites) and write the
+    /// counts as .npy (uint32, H×W); the picture shades pixels with more than
+    /// one nearest site. Exact mode.
+    #[arg(long, value_name = "FILE.npy")]
+    ties: Option<PathBuf>,
+
     /// Print a JSON summary (timings, cone footprints and radii, tiles, passes,
     /// device).
     #[arg(long)]
@@ -276,6 +283,7 @@ pub fn run(args: Args) -> Result<()> {
         accuracy,
         speedup,
         distances: args.distance.is_some() || args.contours.is_some(),
+        ties: args.ties.is_some(),
         max_tile: args.max_tile,
     };
 
@@ -290,6 +298,11 @@ pub fn run(args: Args) -> Result<()> {
         .distance
         .as_deref()
         .map(|p| NpyStream::<f32>::create(p, &shape))
+        .transpose()?;
+    let mut ties = args
+        .ties
+        .as_deref()
+        .map(|p| NpyStream::<u32>::create(p, &shape))
         .transpose()?;
     let mut png = args
         .output
@@ -323,19 +336,26 @@ pub fn run(args: Args) -> Result<()> {
         if let Some(out) = distances.as_mut() {
             out.write(&band.distances)?;
         }
+        if let Some(out) = ties.as_mut() {
+            out.write(&band.ties)?;
+        }
         if let Some(out) = png.as_mut() {
             let contours = contour_step.map(|step| picture::Contours {
                 distances: &band.distances,
                 step,
                 line: (1.0 / frame.scale) as f32,
             });
-            out.write(&picture::label_rows(
-                &band.labels,
-                frame.width,
-                band.y0,
-                &pixels,
-                contours,
-            ))?;
+            let mut rgb =
+                picture::label_rows(&band.labels, frame.width, band.y0, &pixels, contours);
+            // Areas of equidistant points (Figs. 3.32, 3.33): darker, hatched.
+            for (k, (px, count)) in rgb.chunks_exact_mut(3).zip(&band.ties).enumerate() {
+                let (i, j) = (k % frame.width as usize, k / frame.width as usize);
+                if *count > 1 {
+                    let dim = if (i + j) % 4 < 2 { 0.35 } else { 0.6 };
+                    px.iter_mut().for_each(|v| *v = (*v as f32 * dim) as u8);
+                }
+            }
+            out.write(&rgb)?;
         }
         Ok(())
     })?;
@@ -344,6 +364,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     labels.map(NpyStream::finish).transpose()?;
     distances.map(NpyStream::finish).transpose()?;
+    ties.map(NpyStream::finish).transpose()?;
     png.map(PngStream::finish).transpose()?;
 
     let s = &stats;
@@ -404,6 +425,9 @@ fn whole_picture(
     speedup: Speedup,
     kind: Kind,
 ) -> Result<()> {
+    if args.ties.is_some() {
+        bail!("--ties counts equal distances of ordinary diagrams on a Vulkan device");
+    }
     if args.metric != Metric::L2 {
         bail!(
             "--metric {} applies to ordinary diagrams on a Vulkan device so far",
