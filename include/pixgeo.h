@@ -37,6 +37,16 @@ typedef enum PixgeoDevice {
   PIXGEO_DEVICE_GPU = 2,
 } PixgeoDevice;
 
+// The distance function (thesis §3.6).
+typedef enum PixgeoMetric {
+  // The Euclidean norm (default).
+  PIXGEO_METRIC_L2 = 0,
+  PIXGEO_METRIC_L1 = 1,
+  PIXGEO_METRIC_L_INF = 2,
+  // L_p with `p = metric_p` > 0.
+  PIXGEO_METRIC_LP = 3,
+} PixgeoMetric;
+
 // How cones are drawn.
 typedef enum PixgeoAccuracy {
   // Exact distance per pixel: every label is a nearest site.
@@ -75,6 +85,10 @@ typedef struct PixgeoVoronoiOptions {
   // pixel (i, j) is centred at world point (i, j).
   bool use_bbox;
   double bbox[4];
+  // The distance function; metrics other than L2 need exact accuracy.
+  enum PixgeoMetric metric;
+  // The exponent of [`PixgeoMetric::Lp`].
+  double metric_p;
   enum PixgeoAccuracy accuracy;
   // Distance error bound of fan mode, pixels.
   double epsilon;
@@ -132,8 +146,8 @@ const char *pixgeo_context_last_error(const struct PixgeoContext *ctx);
 // `ctx` is null or a live context.
 const char *pixgeo_context_device_name(const struct PixgeoContext *ctx);
 
-// Default Voronoi options for a `width` x `height` picture: exact, local radii,
-// no bounding box, tiles as large as the device allows.
+// Default Voronoi options for a `width` x `height` picture: Euclidean, exact,
+// local radii, no bounding box, tiles as large as the device allows.
 struct PixgeoVoronoiOptions pixgeo_voronoi_options_default(uint32_t width, uint32_t height);
 
 // The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
@@ -158,8 +172,8 @@ enum PixgeoStatus pixgeo_voronoi(struct PixgeoContext *ctx,
 // `width * height * k` values to `labels` and, unless null, `distances` (world
 // units): `[(j * width + i) * k + l]` is the (l+1)-th nearest site of pixel
 // (i, j); `UINT32_MAX` (and infinity) where fewer than l+1 sites exist. The
-// order-k diagram is each pixel's k labels as a set. `max_tile` must be 0: the
-// picture is drawn whole.
+// order-k diagram is each pixel's k labels as a set. `max_tile` must be 0 (the
+// picture is drawn whole) and the metric L2.
 //
 // # Safety
 // `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
@@ -175,7 +189,7 @@ enum PixgeoStatus pixgeo_k_nearest(struct PixgeoContext *ctx,
 
 // Every pixel's furthest site (thesis §3.7.1), like [`pixgeo_voronoi`]'s
 // outputs: `width * height` labels and, unless null, distances. Only the
-// picture's size and bounding box of `options` apply.
+// picture's size and bounding box of `options` apply; the metric must be L2.
 //
 // # Safety
 // As [`pixgeo_voronoi`].

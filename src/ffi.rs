@@ -82,6 +82,18 @@ pub enum PixgeoAccuracy {
     Fan = 1,
 }
 
+/// The distance function (thesis §3.6).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoMetric {
+    /// The Euclidean norm (default).
+    L2 = 0,
+    L1 = 1,
+    LInf = 2,
+    /// L_p with `p = metric_p` > 0.
+    Lp = 3,
+}
+
 /// How far cones reach.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -106,6 +118,10 @@ pub struct PixgeoVoronoiOptions {
     /// pixel (i, j) is centred at world point (i, j).
     pub use_bbox: bool,
     pub bbox: [f64; 4],
+    /// The distance function; metrics other than L2 need exact accuracy.
+    pub metric: PixgeoMetric,
+    /// The exponent of [`PixgeoMetric::Lp`].
+    pub metric_p: f64,
     pub accuracy: PixgeoAccuracy,
     /// Distance error bound of fan mode, pixels.
     pub epsilon: f64,
@@ -299,8 +315,8 @@ pub unsafe extern "C" fn pixgeo_context_device_name(ctx: *const PixgeoContext) -
     }
 }
 
-/// Default Voronoi options for a `width` x `height` picture: exact, local radii,
-/// no bounding box, tiles as large as the device allows.
+/// Default Voronoi options for a `width` x `height` picture: Euclidean, exact,
+/// local radii, no bounding box, tiles as large as the device allows.
 #[no_mangle]
 pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> PixgeoVoronoiOptions {
     PixgeoVoronoiOptions {
@@ -308,6 +324,8 @@ pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> Pix
         height,
         use_bbox: false,
         bbox: [0.0; 4],
+        metric: PixgeoMetric::L2,
+        metric_p: 2.0,
         accuracy: PixgeoAccuracy::Exact,
         epsilon: 1.0,
         triangles: 0,
@@ -342,11 +360,17 @@ pub unsafe extern "C" fn pixgeo_voronoi(
         // SAFETY: non-null and valid (caller contract).
         let o = unsafe { *options };
         let (frame, accuracy, speedup) = picture_of(&o)?;
+        let metric = match o.metric {
+            PixgeoMetric::L2 => Metric::L2,
+            PixgeoMetric::L1 => Metric::L1,
+            PixgeoMetric::LInf => Metric::LInf,
+            PixgeoMetric::Lp => Metric::lp(o.metric_p).map_err(invalid)?,
+        };
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
         let options = VoronoiOptions {
             frame,
-            metric: Metric::L2,
+            metric,
             accuracy,
             speedup,
             distances: !distances.is_null(),
@@ -422,8 +446,8 @@ unsafe fn points(xy: *const f64, count: usize) -> Result<Vec<DVec2>, (PixgeoStat
 /// `width * height * k` values to `labels` and, unless null, `distances` (world
 /// units): `[(j * width + i) * k + l]` is the (l+1)-th nearest site of pixel
 /// (i, j); `UINT32_MAX` (and infinity) where fewer than l+1 sites exist. The
-/// order-k diagram is each pixel's k labels as a set. `max_tile` must be 0: the
-/// picture is drawn whole.
+/// order-k diagram is each pixel's k labels as a set. `max_tile` must be 0 (the
+/// picture is drawn whole) and the metric L2.
 ///
 /// # Safety
 /// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
@@ -449,6 +473,9 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
             return Err(invalid(
                 "k nearest sites are drawn whole: max_tile must be 0",
             ));
+        }
+        if o.metric != PixgeoMetric::L2 {
+            return Err(invalid("k nearest sites are Euclidean so far"));
         }
         let (frame, accuracy, speedup) = picture_of(&o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
@@ -478,7 +505,7 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
 
 /// Every pixel's furthest site (thesis §3.7.1), like [`pixgeo_voronoi`]'s
 /// outputs: `width * height` labels and, unless null, distances. Only the
-/// picture's size and bounding box of `options` apply.
+/// picture's size and bounding box of `options` apply; the metric must be L2.
 ///
 /// # Safety
 /// As [`pixgeo_voronoi`].
@@ -496,7 +523,11 @@ pub unsafe extern "C" fn pixgeo_furthest(
             return Err(invalid("options and labels must not be null"));
         }
         // SAFETY: non-null and valid (caller contract).
-        let (frame, _, _) = picture_of(unsafe { &*options })?;
+        let o = unsafe { &*options };
+        if o.metric != PixgeoMetric::L2 {
+            return Err(invalid("the furthest site is Euclidean so far"));
+        }
+        let (frame, _, _) = picture_of(o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
         let f = higher_order::furthest(&context.machine, &sites, &frame).map_err(failed)?;

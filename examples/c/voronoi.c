@@ -77,6 +77,25 @@ int main(void) {
     status = pixgeo_voronoi(ctx, xy, N, &options, tiled, distances);
     CHECK(status == PIXGEO_STATUS_OK, "fan: %s", pixgeo_context_last_error(ctx));
 
+    /* The L1 distance: every pixel's site at the smallest |dx| + |dy|. */
+    options = pixgeo_voronoi_options_default(W, H);
+    options.metric = PIXGEO_METRIC_L1;
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "L1: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++) {
+        double i = p % W, j = p / W, best = INFINITY;
+        for (int s = 0; s < N; s++) best = fmin(best, fabs(xy[2 * s] - i) + fabs(xy[2 * s + 1] - j));
+        uint32_t site = labels[p];
+        double mine = site < N ? fabs(xy[2 * site] - i) + fabs(xy[2 * site + 1] - j) : INFINITY;
+        if (mine > best + 1e-4 || fabs(distances[p] - best) > 1e-4) wrong++;
+    }
+    CHECK(wrong == 0, "%d L1 pixels differ from the definition", wrong);
+    options.metric = PIXGEO_METRIC_LP;
+    options.metric_p = 0.0;
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "L_p with p = 0 accepted");
+
     /* The three nearest sites of every pixel, in order. */
     enum { K = 3 };
     uint32_t *knn = malloc(sizeof(uint32_t) * W * H * K);
