@@ -102,6 +102,7 @@ fn main() -> anyhow::Result<()> {
                 accuracy: c.accuracy,
                 speedup: c.speedup,
                 distances: false,
+                ties: false,
                 max_tile: None,
             },
         )?;
@@ -130,6 +131,7 @@ fn main() -> anyhow::Result<()> {
                 accuracy: c.accuracy,
                 speedup: c.speedup,
                 distances: false,
+                ties: false,
                 max_tile: None,
             };
             let mut total = Vec::new();

@@ -20,7 +20,7 @@ use pixgeo::{
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
-    geometry::Frame,
+    geometry::{metric::Metric, Frame},
     io::{npy, sites::random_sites},
     Machine,
 };
@@ -77,6 +77,7 @@ fn main() -> anyhow::Result<()> {
     let order = |speedup| KNearestOptions {
         frame,
         k: LEVELS,
+        metric: Metric::L2,
         accuracy: Accuracy::Exact,
         speedup,
     };

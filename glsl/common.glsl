@@ -33,6 +33,26 @@ float metric_key(vec2 d) {
     return pow(a.x, picture.metric_p) + pow(a.y, picture.metric_p);
 }
 
+// The key of a distance r (metric_key of an offset of that length).
+float metric_key_of_distance(float r) {
+    if (picture.metric == 0u) {
+        return r * r;
+    } else if (picture.metric == 3u) {
+        return pow(r, picture.metric_p);
+    }
+    return r;
+}
+
+// The largest a with a |x|_2 <= |x| for every offset x.
+float metric_euclidean_lower() {
+    if (picture.metric == 2u) {
+        return 0.70710677;
+    } else if (picture.metric == 3u && picture.metric_p > 2.0) {
+        return pow(2.0, 1.0 / picture.metric_p - 0.5);
+    }
+    return 1.0;
+}
+
 // The pixel coordinates of the fragment's pixel centre.
 vec2 fragment_pixel() {
     return gl_FragCoord.xy - 0.5 + picture.offset;

@@ -28,7 +28,7 @@ void main() {
         return;
     }
 #ifdef EXACT
-    float distance = d2;
+    float distance = metric_key(d);
 #else
     float distance = gl_FragCoord.z;
 #endif

@@ -16,7 +16,7 @@ void main() {
     if (d2 > site.z * site.z) {
         discard;
     }
-    float depth = d2 * picture.fragment_depth_scale;
+    float depth = metric_key(d) * picture.fragment_depth_scale;
     if (depth <= uintBitsToFloat(previous.words[pixel_index()])) {
         discard;
     }

@@ -1,7 +1,7 @@
 // variants: K1 K2 K4 K8 K16 K32
 #version 460
 // The k lowest layers of the cones binned to a screen tile (tiles.vert), per
-// fragment: a sorted list of (squared distance, id) in registers, then one plain
+// fragment: a sorted list of (metric key, id) in registers, then one plain
 // store per level, since tiles do not overlap. Cones (binding 1, four words
 // each: x, y, squared truncation radius as float bits, site id) come sorted by
 // distance from the tile's centre, so the list mostly fills in order. Keys as in
@@ -57,13 +57,14 @@ void main() {
         // Cones come by distance from the tile's centre: once that distance, less
         // the pixel's own offset from the centre, passes the pixel's last key, no
         // later cone can enter the list.
-        float reach = distance(site, tile.xy) - tile.z;
-        if (reach > 0.0 && reach * reach > best_d2[LEVELS - 1u]) {
+        float reach = (distance(site, tile.xy) - tile.z) * metric_euclidean_lower();
+        if (reach > 0.0 && metric_key_of_distance(reach) > best_d2[LEVELS - 1u]) {
             break;
         }
-        float d2 = dot(p - site, p - site);
+        vec2 d = p - site;
+        float d2 = metric_key(d);
         uint id = tiles.words[w + 3u];
-        if (d2 > uintBitsToFloat(tiles.words[w + 2u])
+        if (dot(d, d) > uintBitsToFloat(tiles.words[w + 2u])
             || !before(d2, id, best_d2[LEVELS - 1u], best_id[LEVELS - 1u])) {
             continue;
         }

@@ -486,6 +486,7 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
             &KNearestOptions {
                 frame,
                 k,
+                metric: Metric::L2,
                 accuracy,
                 speedup,
             },

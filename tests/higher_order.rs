@@ -14,8 +14,8 @@ use pixgeo::{
         },
         voronoi::{Accuracy, Speedup},
     },
-    geometry::Frame,
-    reference::higher_order::{furthest_brute_force, k_nearest_brute_force},
+    geometry::{metric::Metric, Frame},
+    reference::higher_order::{furthest_brute_force, k_nearest_brute_force, k_nearest_by_metric},
 };
 
 const SPEEDUPS: [Speedup; 3] = [Speedup::None, Speedup::Quadtree, Speedup::Local];
@@ -33,7 +33,18 @@ fn assert_levels(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str) {
 }
 
 fn assert_levels_with(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str, distinct: bool) {
-    let truth = k_nearest_brute_force(sites, frame, d.k as usize);
+    assert_levels_in(d, sites, frame, what, distinct, Metric::L2);
+}
+
+fn assert_levels_in(
+    d: &KNearest,
+    sites: &[DVec2],
+    frame: &Frame,
+    what: &str,
+    distinct: bool,
+    metric: Metric,
+) {
+    let truth = k_nearest_by_metric(sites, frame, d.k as usize, metric);
     let w = frame.width as usize;
     for (p, expected) in truth.iter().enumerate() {
         let q = DVec2::new((p % w) as f64, (p / w) as f64);
@@ -49,7 +60,7 @@ fn assert_levels_with(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str, 
                 Some(&(_, dist)) => {
                     let label = labels[l];
                     assert_ne!(label, u32::MAX, "{what}: pixel {q} level {l} empty");
-                    let dl = (sites[label as usize] - q).length();
+                    let dl = metric.distance(sites[label as usize] - q);
                     assert!(
                         close(dl, dist) && close(distances[l] as f64, dist),
                         "{what}: pixel {q} level {l}: site {label} at {dl}, map {}, truth {dist}",
@@ -78,6 +89,7 @@ fn k_nearest_sites_match_the_definition() {
                     &KNearestOptions {
                         frame,
                         k,
+                        metric: Metric::L2,
                         accuracy: Accuracy::Exact,
                         speedup,
                     },
@@ -101,6 +113,7 @@ fn long_lists_insert_with_atomics() {
         &KNearestOptions {
             frame,
             k: 40,
+            metric: Metric::L2,
             accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
         },
@@ -131,6 +144,7 @@ fn fan_levels_stay_inside_their_bound() {
                 &KNearestOptions {
                     frame,
                     k,
+                    metric: Metric::L2,
                     accuracy,
                     speedup,
                 },
@@ -170,6 +184,7 @@ fn equal_distances_keep_their_multiplicity() {
             &KNearestOptions {
                 frame,
                 k: 12,
+                metric: Metric::L2,
                 accuracy: Accuracy::Exact,
                 speedup,
             },
@@ -199,6 +214,7 @@ fn more_levels_than_sites_stay_empty() {
         &KNearestOptions {
             frame,
             k: 5,
+            metric: Metric::L2,
             accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
         },
@@ -219,6 +235,7 @@ fn order_sets_are_the_sets_of_nearest_sites() {
         &KNearestOptions {
             frame,
             k,
+            metric: Metric::L2,
             accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
         },
@@ -290,6 +307,7 @@ fn bad_input_is_a_clear_error() {
     let opts = |k| KNearestOptions {
         frame,
         k,
+        metric: Metric::L2,
         accuracy: Accuracy::Exact,
         speedup: Speedup::Local,
     };
@@ -314,6 +332,7 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                 &KNearestOptions {
                     frame,
                     k,
+                    metric: Metric::L2,
                     accuracy: Accuracy::Exact,
                     speedup: Speedup::Local,
                 },
@@ -353,6 +372,7 @@ fn the_thesis_peeling_gives_the_same_levels() {
             let options = KNearestOptions {
                 frame,
                 k: 5,
+                metric: Metric::L2,
                 accuracy: Accuracy::Exact,
                 speedup,
             };
@@ -365,6 +385,48 @@ fn the_thesis_peeling_gives_the_same_levels() {
                 &format!("peeled {name} {speedup:?}"),
                 false,
             );
+        }
+    }
+}
+
+#[test]
+fn other_metrics_give_their_k_nearest() {
+    // L1, L-infinity and L_p, by the tiles, the atomic lists and the peeling.
+    let m = machine();
+    let frame = Frame::pixels(50, 40).unwrap();
+    for metric in [Metric::L1, Metric::LInf, Metric::Lp(0.5), Metric::Lp(3.0)] {
+        for (name, sites) in cases(50, 40).into_iter().take(3) {
+            for speedup in [Speedup::Quadtree, Speedup::Local] {
+                for k in [3, 33] {
+                    let options = KNearestOptions {
+                        frame,
+                        k,
+                        metric,
+                        accuracy: Accuracy::Exact,
+                        speedup,
+                    };
+                    let what = format!("{metric} {name} {speedup:?} k={k}");
+                    let d =
+                        k_nearest(&m, &sites, &options).unwrap_or_else(|e| panic!("{what}: {e}"));
+                    assert_levels_in(&d, &sites, &frame, &what, true, metric);
+                }
+                let options = KNearestOptions {
+                    frame,
+                    k: 3,
+                    metric,
+                    accuracy: Accuracy::Exact,
+                    speedup,
+                };
+                let d = k_nearest_peeled(&m, &sites, &options).unwrap();
+                assert_levels_in(
+                    &d,
+                    &sites,
+                    &frame,
+                    &format!("peeled {metric} {name}"),
+                    false,
+                    metric,
+                );
+            }
         }
     }
 }

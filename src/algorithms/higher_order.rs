@@ -55,6 +55,8 @@ pub struct KNearestOptions {
     pub frame: Frame,
     /// Levels per pixel: the 1st to the k-th nearest site.
     pub k: u32,
+    /// The distance function (thesis §3.6); others than L2 need exact mode.
+    pub metric: Metric,
     /// Exact squared distances per fragment, or the thesis's triangle fans (one
     /// triangle count for all cones: the largest cone's for `epsilon`, or the
     /// given one).
@@ -223,7 +225,7 @@ pub fn k_nearest(
         let instance_buffer = machine.vertex_buffer(&instances)?;
         let push = ConePush {
             vertex_depth_scale: vertex_scale as f32,
-            ..picture_push(&frame, k)
+            ..picture_push(&frame, k, options.metric)
         };
         draw_to_buffers(machine, &frame, &[&keys], |pass| {
             pass.draw_cones(
@@ -246,7 +248,7 @@ pub fn k_nearest(
 
     let started = Instant::now();
     let fan_scale = (options.accuracy != Accuracy::Exact).then_some(1.0 / vertex_scale);
-    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, fan_scale);
+    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, options.metric, fan_scale);
     stats.readback_ms = ms(started);
     Ok(KNearest {
         width: frame.width,
@@ -355,13 +357,13 @@ fn k_nearest_tiled(
         pass.draw_tiles(
             &RasterState::OVERWRITE,
             &DrawParams::default(),
-            &picture_push(&frame, k),
+            &picture_push(&frame, k, options.metric),
             occupied.len() as u32,
         )
     })?;
     stats.render_ms = ms(started);
     let started = Instant::now();
-    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, None);
+    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, options.metric, None);
     stats.readback_ms = ms(started);
     Ok(KNearest {
         width: frame.width,
@@ -386,14 +388,14 @@ fn cone_instance(id: u32, p: DVec2, outer: f64, radius: f64) -> [u32; 5] {
 }
 
 /// Push constants for drawing on the whole `frame` with `levels` per pixel.
-fn picture_push(frame: &Frame, levels: u32) -> ConePush {
+fn picture_push(frame: &Frame, levels: u32, metric: Metric) -> ConePush {
     ConePush {
         picture_size: [frame.width as f32, frame.height as f32],
         offset: [0.0, 0.0],
         vertex_depth_scale: 0.0,
         fragment_depth_scale: 0.0,
         levels,
-        metric: Metric::L2.shader_code(),
+        metric: metric.shader_code(),
     }
 }
 
@@ -432,6 +434,7 @@ fn decode_keys(
     keys: &Buffer,
     key_bytes: u64,
     frame: &Frame,
+    metric: Metric,
     fan_scale: Option<f64>,
 ) -> (Vec<u32>, Vec<f32>) {
     let raw: &[u64] = bytemuck::cast_slice(&keys.mapped()[..key_bytes as usize]);
@@ -443,7 +446,7 @@ fn decode_keys(
             }
             let value = f32::from_bits((key >> 32) as u32);
             let distance = match fan_scale {
-                None => value.sqrt(),
+                None => metric.distance_of_key(value as f64) as f32,
                 Some(unscale) => value * unscale as f32,
             };
             (key as u32, distance * to_world)
@@ -454,6 +457,12 @@ fn decode_keys(
 /// The checks every way of computing levels shares.
 fn check_levels(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result<()> {
     check_sites(sites)?;
+    if options.metric != Metric::L2 && options.accuracy != Accuracy::Exact {
+        return Err(Error::InvalidInput(format!(
+            "{} cones are drawn exactly; use exact mode",
+            options.metric
+        )));
+    }
     let frame = options.frame;
     frame.check()?;
     let k = options.k;
@@ -480,7 +489,13 @@ fn level_cones(
 ) -> (Vec<(u32, DVec2, f64)>, KNearestStats) {
     let frame = options.frame;
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let radii = k_radii(&pixels, &frame, options.k as usize, options.speedup);
+    let radii = k_radii(
+        &pixels,
+        &frame,
+        options.k as usize,
+        options.speedup,
+        options.metric,
+    );
     let cones: Vec<(u32, DVec2, f64)> = pixels
         .iter()
         .zip(&radii)
@@ -550,7 +565,13 @@ pub fn k_nearest_peeled(
         .chain(std::iter::once([0; 5]))
         .collect();
     let reach = cones.iter().map(|c| c.2).fold(1.0, f64::max) * 1.001;
-    let scale = (reach * reach).log2().ceil().exp2().recip();
+    let metric = options.metric;
+    let scale = metric
+        .key_of_distance(reach * metric.euclidean_bounds().1)
+        .log2()
+        .ceil()
+        .exp2()
+        .recip();
     stats.bounds_ms = ms(started);
 
     let started = Instant::now();
@@ -577,7 +598,7 @@ pub fn k_nearest_peeled(
     previous.write(&words);
     let push = ConePush {
         fragment_depth_scale: scale as f32,
-        ..picture_push(&frame, k)
+        ..picture_push(&frame, k, metric)
     };
     // Stencil bits: the low seven count, the top one marks step 2's pixels.
     const COUNT: u8 = 0x7f;
@@ -692,7 +713,7 @@ pub fn k_nearest_peeled(
             let at = p * k as usize + level;
             labels[at] = *id;
             if *id != u32::MAX {
-                distances[at] = (z * unscale).sqrt() * to_world;
+                distances[at] = metric.distance_of_key((z * unscale) as f64) as f32 * to_world;
             }
         }
     }
@@ -709,20 +730,31 @@ pub fn k_nearest_peeled(
 
 /// Cone radii (pixels) that keep the k lowest layers of the arrangement over the
 /// picture, plus half a pixel so that rasterization never drops a rim pixel.
-fn k_radii(pixels: &[DVec2], frame: &Frame, k: usize, speedup: Speedup) -> Vec<f64> {
+fn k_radii(
+    pixels: &[DVec2],
+    frame: &Frame,
+    k: usize,
+    speedup: Speedup,
+    metric: Metric,
+) -> Vec<f64> {
     let picture_wide = |p: &DVec2| frame.farthest_pixel(*p) + 0.5;
+    // Euclidean bounds, stretched for other metrics (see radius::k_local_radii).
+    let stretch = metric.stretch();
     match speedup {
         Speedup::None => pixels.iter().map(picture_wide).collect(),
         Speedup::Quadtree => {
             let e = radius::quadtree_k_radius(pixels, frame, k);
             pixels
                 .iter()
-                .map(|p| e.map_or(f64::INFINITY, |e| e + 0.5).min(picture_wide(p)))
+                .map(|p| {
+                    e.map_or(f64::INFINITY, |e| e * stretch + 0.5)
+                        .min(picture_wide(p))
+                })
                 .collect()
         }
         Speedup::Local => {
             let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), k);
-            radius::k_local_radii(pixels, frame, k, cell, bin, 1.0)
+            radius::k_local_radii(pixels, frame, k, cell, bin, stretch)
                 .into_iter()
                 .zip(pixels)
                 .map(|(r, p)| (r + 0.5).min(picture_wide(p)))
@@ -780,7 +812,7 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
     let instance_buffer = machine.vertex_buffer(&instances)?;
     let push = ConePush {
         fragment_depth_scale: scale as f32,
-        ..picture_push(frame, 1)
+        ..picture_push(frame, 1, Metric::L2)
     };
     // The upper envelope: the furthest fragment wins, ties the last drawn (or-equal,
     // so that a lone site's own pixel at distance 0 still gets it).

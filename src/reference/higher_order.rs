@@ -4,12 +4,22 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use crate::geometry::Frame;
+use crate::geometry::{metric::Metric, Frame};
 
 /// For every pixel (row-major), its `k` nearest sites as `(index, distance)` in
 /// pixel units, sorted by distance and then index; fewer where fewer sites exist.
 /// Sites are in pixel coordinates.
 pub fn k_nearest_brute_force(sites: &[DVec2], frame: &Frame, k: usize) -> Vec<Vec<(u32, f64)>> {
+    k_nearest_by_metric(sites, frame, k, Metric::L2)
+}
+
+/// [`k_nearest_brute_force`] under another distance function.
+pub fn k_nearest_by_metric(
+    sites: &[DVec2],
+    frame: &Frame,
+    k: usize,
+    metric: Metric,
+) -> Vec<Vec<(u32, f64)>> {
     let w = frame.width as usize;
     (0..frame.len())
         .into_par_iter()
@@ -18,7 +28,7 @@ pub fn k_nearest_brute_force(sites: &[DVec2], frame: &Frame, k: usize) -> Vec<Ve
             let mut all: Vec<(u32, f64)> = sites
                 .iter()
                 .enumerate()
-                .map(|(i, s)| (i as u32, (*s - q).length()))
+                .map(|(i, s)| (i as u32, metric.distance(*s - q)))
                 .collect();
             all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
             all.truncate(k);

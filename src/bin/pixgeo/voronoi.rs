@@ -70,7 +70,8 @@ pub struct Args {
 
     /// Distance function (thesis §3.6): `l2` (Euclidean), `l1`, `linf`, or
     /// `lp:P` for any P > 0 (P < 1 gives star-shaped, non-convex balls). Other
-    /// metrics than l2 are drawn in exact mode, for ordinary diagrams.
+    /// metrics than l2 are drawn in exact mode, for ordinary, --degree and
+    /// --order diagrams on a Vulkan device.
     #[arg(long, default_value = "l2", value_parser = Metric::parse)]
     metric: Metric,
 
@@ -428,9 +429,9 @@ fn whole_picture(
     if args.ties.is_some() {
         bail!("--ties counts equal distances of ordinary diagrams on a Vulkan device");
     }
-    if args.metric != Metric::L2 {
+    if args.metric != Metric::L2 && (kind == Kind::Furthest || matches!(backend, Backend::Cpu)) {
         bail!(
-            "--metric {} applies to ordinary diagrams on a Vulkan device so far",
+            "--metric {} applies to ordinary, --degree and --order diagrams on a Vulkan device so far",
             args.metric
         );
     }
@@ -502,6 +503,7 @@ fn whole_picture(
                 let options = KNearestOptions {
                     frame,
                     k,
+                    metric: args.metric,
                     accuracy,
                     speedup,
                 };
