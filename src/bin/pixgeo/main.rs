@@ -10,9 +10,10 @@ use clap::{Parser, Subcommand};
 /// cones drawn with a depth test (M. Denny, Algorithmic Geometry via Graphics
 /// Hardware, 2003), on any Vulkan device; without a GPU on Mesa's lavapipe.
 ///
-/// Environment: PIXGEO_DEVICE (auto, cpu, gpu, an index, or part of a device
-/// name) picks the device; PIXGEO_VALIDATION=1 turns on the Khronos validation
-/// layer and makes every message an error.
+/// Environment: PIXGEO_DEVICE (auto, gpu, lavapipe, an index, or part of a
+/// device name; cpu for the thesis's CPU pixel algorithms) picks where to
+/// compute; PIXGEO_VALIDATION=1 turns on the Khronos validation layer and makes
+/// every message an error.
 #[derive(Parser)]
 #[command(name = "pixgeo", version, about, long_about)]
 struct Cli {

@@ -162,7 +162,7 @@ pub struct Args {
     /// With --degree or --order: compute the levels the thesis's way (§3.7), by
     /// peeling the cones level by level against the previous depth with the
     /// stencil counting equal distances (four steps per level), instead of
-    /// pixgeo's one-pass insertion. Same distances; a repeated distance keeps the
+    /// pixgeo's one pass over screen tiles. Same distances; a repeated distance keeps the
     /// site of its first level.
     #[arg(long)]
     peel: bool,
