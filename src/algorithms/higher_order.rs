@@ -246,18 +246,8 @@ pub fn k_nearest(
     }
     stats.render_ms = ms(started);
 
-    let started = Instant::now();
     let fan_scale = (options.accuracy != Accuracy::Exact).then_some(1.0 / vertex_scale);
-    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, options.metric, fan_scale);
-    stats.readback_ms = ms(started);
-    Ok(KNearest {
-        width: frame.width,
-        height: frame.height,
-        k,
-        labels,
-        distances,
-        stats,
-    })
+    Ok(read_keys(&keys, options, fan_scale, stats))
 }
 
 /// Where a cone's rim vertices lie for a cone that must reach radius r.
@@ -362,17 +352,7 @@ fn k_nearest_tiled(
         )
     })?;
     stats.render_ms = ms(started);
-    let started = Instant::now();
-    let (labels, distances) = decode_keys(&keys, key_bytes, &frame, options.metric, None);
-    stats.readback_ms = ms(started);
-    Ok(KNearest {
-        width: frame.width,
-        height: frame.height,
-        k,
-        labels,
-        distances,
-        stats,
-    })
+    Ok(read_keys(&keys, options, None, stats))
 }
 
 /// One instance of the cone programs (`glsl/cone.vert`): site `id` at pixel
@@ -428,18 +408,21 @@ fn draw_to_buffers(
     })
 }
 
-/// Labels and world distances from keys (distance bits above the site id):
-/// squared distances when `fan_scale` is `None`, else fan heights times it.
-fn decode_keys(
+/// The k nearest sites from the pixels' keys (distance bits above the site id):
+/// metric keys when `fan_scale` is `None`, else fan heights times it.
+fn read_keys(
     keys: &Buffer,
-    key_bytes: u64,
-    frame: &Frame,
-    metric: Metric,
+    options: &KNearestOptions,
     fan_scale: Option<f64>,
-) -> (Vec<u32>, Vec<f32>) {
-    let raw: &[u64] = bytemuck::cast_slice(&keys.mapped()[..key_bytes as usize]);
+    mut stats: KNearestStats,
+) -> KNearest {
+    let started = Instant::now();
+    let (frame, k, metric) = (options.frame, options.k, options.metric);
+    let key_bytes = frame.len() * k as usize * 8;
+    let raw: &[u64] = bytemuck::cast_slice(&keys.mapped()[..key_bytes]);
     let to_world = (1.0 / frame.scale) as f32;
-    raw.par_iter()
+    let (labels, distances) = raw
+        .par_iter()
         .map(|&key| {
             if key == u64::MAX {
                 return (u32::MAX, f32::INFINITY);
@@ -451,7 +434,16 @@ fn decode_keys(
             };
             (key as u32, distance * to_world)
         })
-        .unzip()
+        .unzip();
+    stats.readback_ms = ms(started);
+    KNearest {
+        width: frame.width,
+        height: frame.height,
+        k,
+        labels,
+        distances,
+        stats,
+    }
 }
 
 /// The checks every way of computing levels shares.
@@ -603,14 +595,7 @@ pub fn k_nearest_peeled(
     // Stencil bits: the low seven count, the top one marks step 2's pixels.
     const COUNT: u8 = 0x7f;
     const MARK: u8 = 0x80;
-    let stencil = |compare, compare_mask, write_mask, on_pass| StencilTest {
-        compare,
-        compare_mask,
-        write_mask,
-        on_fail: StencilOp::Keep,
-        on_depth_fail: StencilOp::Keep,
-        on_pass,
-    };
+    let stencil = StencilTest::on_pass;
     let register = RasterState {
         depth: DepthTest {
             compare: Compare::Less,

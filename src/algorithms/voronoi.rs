@@ -826,14 +826,7 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
                 compare: Compare::Equal,
                 write: false,
             },
-            stencil: StencilTest {
-                compare: Compare::Always,
-                compare_mask: 0xff,
-                write_mask: 0xff,
-                on_fail: StencilOp::Keep,
-                on_depth_fail: StencilOp::Keep,
-                on_pass: StencilOp::IncrementClamp,
-            },
+            stencil: StencilTest::on_pass(Compare::Always, 0xff, 0xff, StencilOp::IncrementClamp),
             color_mask: ChannelMask::NONE,
             ..RasterState::OVERWRITE
         };

@@ -68,6 +68,25 @@ impl StencilTest {
         on_depth_fail: StencilOp::Keep,
         on_pass: StencilOp::Keep,
     };
+
+    /// A test that passes where `(reference & compare_mask) compare
+    /// (stencil & compare_mask)` and, where depth passes too, applies `on_pass`
+    /// to the bits of `write_mask`; failing fragments leave the stencil alone.
+    pub const fn on_pass(
+        compare: Compare,
+        compare_mask: u8,
+        write_mask: u8,
+        on_pass: StencilOp,
+    ) -> Self {
+        Self {
+            compare,
+            compare_mask,
+            write_mask,
+            on_fail: StencilOp::Keep,
+            on_depth_fail: StencilOp::Keep,
+            on_pass,
+        }
+    }
 }
 
 /// Blending factors: the thesis's table in Fig. 1.9 ("source" is the fragment,
@@ -218,14 +237,7 @@ impl RasterState {
     /// value, wrapping at 256; no colour is written.
     pub const fn count_with_stencil_wrap() -> Self {
         Self {
-            stencil: StencilTest {
-                compare: Compare::Always,
-                compare_mask: 0xff,
-                write_mask: 0xff,
-                on_fail: StencilOp::Keep,
-                on_depth_fail: StencilOp::Keep,
-                on_pass: StencilOp::IncrementWrap,
-            },
+            stencil: StencilTest::on_pass(Compare::Always, 0xff, 0xff, StencilOp::IncrementWrap),
             color_mask: ChannelMask::NONE,
             ..Self::OVERWRITE
         }
