@@ -19,18 +19,11 @@ layout(push_constant) uniform Picture {
 } picture;
 
 #ifdef STAGE_FRAG
-// The metric's key of offset d: a monotone function of its distance (the squared
-// distance for the Euclidean norm, the sum of p-th powers for L_p).
+#include "metric.glsl"
+
+// The metric's key of offset d (metric.glsl).
 float metric_key(vec2 d) {
-    vec2 a = abs(d);
-    if (picture.metric == 0u) {
-        return dot(d, d);
-    } else if (picture.metric == 1u) {
-        return a.x + a.y;
-    } else if (picture.metric == 2u) {
-        return max(a.x, a.y);
-    }
-    return pow(a.x, picture.metric_p) + pow(a.y, picture.metric_p);
+    return metric_key_of(d, picture.metric, picture.metric_p);
 }
 
 // The key of a distance r (metric_key of an offset of that length).

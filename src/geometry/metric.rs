@@ -65,12 +65,18 @@ impl Metric {
 
     /// The distance of offset `d`.
     pub fn distance(self, d: DVec2) -> f64 {
+        self.distance_of_key(self.key(d))
+    }
+
+    /// The key of offset `d`: the monotone function of its distance that the
+    /// shaders compare (`metric_key_of` in `glsl/metric.glsl`).
+    pub fn key(self, d: DVec2) -> f64 {
         let a = d.abs();
         match self {
-            Self::L2 => a.length(),
+            Self::L2 => a.length_squared(),
             Self::L1 => a.x + a.y,
             Self::LInf => a.x.max(a.y),
-            Self::Lp(p) => (a.x.powf(p) + a.y.powf(p)).powf(1.0 / p),
+            Self::Lp(p) => a.x.powf(p) + a.y.powf(p),
         }
     }
 

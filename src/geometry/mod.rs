@@ -4,6 +4,7 @@
 #![forbid(unsafe_code)]
 
 pub mod buckets;
+pub mod cell;
 pub mod cone;
 pub mod frame;
 pub mod metric;

@@ -30,9 +30,9 @@ use ash::vk;
 pub use context::{DeviceChoice, MachineOptions};
 pub use memory::{Buffer, BufferKind, Format, Image};
 pub use pass::{
-    Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, Target,
+    Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, Target, MAX_GROUPS,
 };
-pub use pipelines::Program;
+pub use pipelines::{BufferKernel, Program};
 pub use state::{
     Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams, LogicOp,
     RasterState, StencilOp, StencilTest,
@@ -222,6 +222,7 @@ impl Machine {
 
     /// Reads back `rect` of an integer image into `out`: row `r` of the rectangle
     /// goes to `out[r * stride..]`, so a tile lands in place in a wider array.
+    /// An `Rgba8Unorm` pixel reads as one word, red in the lowest byte.
     pub fn read_u32_into(
         &self,
         image: &Image,
@@ -229,9 +230,9 @@ impl Machine {
         out: &mut [u32],
         stride: usize,
     ) -> Result<()> {
-        if image.format() != Format::R32Uint {
+        if !matches!(image.format(), Format::R32Uint | Format::Rgba8Unorm) {
             return Err(Error::InvalidInput(format!(
-                "read_u32 reads R32Uint images, not {:?}",
+                "read_u32 reads R32Uint or Rgba8Unorm images, not {:?}",
                 image.format()
             )));
         }
@@ -423,6 +424,22 @@ impl Machine {
             ));
         }
         self.with_set(self.pipelines.graphics_set_layout, None, buffers, f)
+    }
+
+    /// Runs `f` with a descriptor set that gives compute kernels
+    /// ([`BufferKernel`]) `buffers` as storage buffers 0 and 1.
+    pub fn with_compute_buffers<R>(
+        &self,
+        buffers: [&Buffer; 2],
+        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
+    ) -> Result<R> {
+        self.with_set(self.pipelines.buffer_set_layout, None, &buffers, f)
+    }
+
+    /// A host-visible storage buffer of `bytes` bytes, for kernels and fragment
+    /// shaders to read and write and the host to fill and read.
+    pub fn storage_buffer(&self, bytes: u64) -> Result<Buffer> {
+        self.readback_buffer(bytes)
     }
 
     /// Whether fragment shaders may write storage buffers, which the k nearest

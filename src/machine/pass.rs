@@ -6,7 +6,7 @@ use ash::vk;
 
 use super::{
     memory::{Buffer, Format, Image},
-    pipelines::{Kernel, Program},
+    pipelines::{BufferKernel, Kernel, Program},
     state::{DrawParams, RasterState},
     sync::{self, Usage},
     Machine,
@@ -170,6 +170,9 @@ struct Rendering {
     width: u32,
     height: u32,
 }
+
+/// Workgroups one dispatch may have in x on every Vulkan device.
+pub const MAX_GROUPS: u32 = 65535;
 
 /// Records commands for one submission.
 pub struct Pass<'m> {
@@ -524,6 +527,109 @@ impl<'m> Pass<'m> {
         self.push_graphics(&words);
         // SAFETY: inside a rendering pass with a bound pipeline.
         unsafe { self.device().cmd_draw(self.cmd, 4, 1, 0, 0) };
+        Ok(())
+    }
+
+    /// Draws `count` instances of a program that makes its own vertices
+    /// ([`Program::SettleDisc`]): `vertex_count` vertices each, with `push` as its
+    /// push constants.
+    pub fn draw_instances(
+        &mut self,
+        program: Program,
+        state: &RasterState,
+        params: &DrawParams,
+        push: &[u32],
+        vertex_count: u32,
+        count: u32,
+    ) -> Result<()> {
+        if program != Program::SettleDisc {
+            return Err(Error::InvalidInput(format!(
+                "{program:?} draws from vertex buffers"
+            )));
+        }
+        if count == 0 {
+            return Ok(());
+        }
+        self.bind(program, state, params)?;
+        self.push_graphics(push);
+        // SAFETY: inside a rendering pass with a bound pipeline that reads no
+        // vertex buffers.
+        unsafe { self.device().cmd_draw(self.cmd, vertex_count, count, 0, 0) };
+        Ok(())
+    }
+
+    /// Records `kernel` over `invocations` invocations (one dimension) with the
+    /// storage buffers of `set` ([`Machine::with_compute_buffers`]), ordered after
+    /// earlier host writes, copies and dispatches, and visible to the host and to
+    /// later work afterwards.
+    pub fn dispatch(
+        &mut self,
+        kernel: BufferKernel,
+        set: vk::DescriptorSet,
+        invocations: u32,
+        push: &[u32],
+    ) -> Result<()> {
+        if self.rendering.is_some() {
+            return Err(Error::InvalidInput(
+                "dispatch inside a rendering pass".into(),
+            ));
+        }
+        if invocations == 0 {
+            return Ok(());
+        }
+        let groups = invocations.div_ceil(kernel.group());
+        if groups > MAX_GROUPS {
+            return Err(Error::InvalidInput(format!(
+                "{invocations} invocations in one dispatch: split it (at most {} each)",
+                MAX_GROUPS * kernel.group()
+            )));
+        }
+        let pipeline = self.machine.pipelines.buffer_compute(kernel)?;
+        let layout = self.machine.pipelines.buffer_layout;
+        let stages = vk::PipelineStageFlags2::HOST
+            | vk::PipelineStageFlags2::COPY
+            | vk::PipelineStageFlags2::COMPUTE_SHADER;
+        let before = [vk::MemoryBarrier2::default()
+            .src_stage_mask(stages)
+            .src_access_mask(
+                vk::AccessFlags2::HOST_WRITE
+                    | vk::AccessFlags2::TRANSFER_WRITE
+                    | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )];
+        let device = self.device();
+        // SAFETY: recording state outside a rendering pass; the set matches the
+        // buffer layout and outlives the run; push fits the layout's range.
+        unsafe {
+            device.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().memory_barriers(&before),
+            );
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            device.cmd_bind_descriptor_sets(
+                self.cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                layout,
+                0,
+                &[set],
+                &[],
+            );
+            device.cmd_push_constants(
+                self.cmd,
+                layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::cast_slice(push),
+            );
+            device.cmd_dispatch(self.cmd, groups, 1, 1);
+        }
+        self.host_barrier(
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
         Ok(())
     }
 

@@ -44,6 +44,10 @@ pub enum Program {
     /// buffer, keys written to the first). The number is the longest list the
     /// shader keeps: 1, 2, 4, 8, 16 or 32.
     KNearestTiles(u32),
+    /// The settle point's discs (thesis §3.10.3): one square per source pixel,
+    /// instanced without vertex buffers; the fragment shader keeps the disc and
+    /// reads each pixel's radius from the bound storage buffer.
+    SettleDisc,
 }
 
 /// Compute kernels of the reductions (thesis §1.7).
@@ -60,6 +64,34 @@ impl Kernel {
         match self {
             Kernel::MinMax => (width.div_ceil(64), height.div_ceil(64)),
             Kernel::Histogram => (width.div_ceil(16), height.div_ceil(16)),
+        }
+    }
+}
+
+/// Compute kernels over storage buffers (bindings 0 and 1 of the set that
+/// [`crate::machine::Machine::with_compute_buffers`] makes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BufferKernel {
+    /// The settle point's span counting: +1/-1 at the ends of every disc's rows,
+    /// one invocation per source pixel.
+    SettleSpans,
+    /// Prefix sums along each row of a picture of `i32`, in place.
+    RowPrefix,
+}
+
+impl BufferKernel {
+    /// Invocations per workgroup (the shader's `local_size_x`).
+    pub fn group(self) -> u32 {
+        match self {
+            BufferKernel::SettleSpans => 64,
+            BufferKernel::RowPrefix => 64,
+        }
+    }
+
+    fn shader(self) -> &'static str {
+        match self {
+            BufferKernel::SettleSpans => "settle_spans.comp",
+            BufferKernel::RowPrefix => "row_prefix.comp",
         }
     }
 }
@@ -86,8 +118,12 @@ pub(crate) struct Pipelines {
     pub graphics_set_layout: vk::DescriptorSetLayout,
     pub compute_set_layout: vk::DescriptorSetLayout,
     pub compute_layout: vk::PipelineLayout,
+    /// Two storage buffers for compute kernels.
+    pub buffer_set_layout: vk::DescriptorSetLayout,
+    pub buffer_layout: vk::PipelineLayout,
     graphics: RefCell<HashMap<GraphicsKey, vk::Pipeline>>,
     compute: RefCell<HashMap<(Kernel, Format), vk::Pipeline>>,
+    buffer_kernels: RefCell<HashMap<BufferKernel, vk::Pipeline>>,
 }
 
 const SHADERS: &[(&str, &[u32])] = &[
@@ -110,6 +146,10 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("cone_tiles.frag:k8", shaders::CONE_TILES_FRAG_K8),
     ("cone_tiles.frag:k16", shaders::CONE_TILES_FRAG_K16),
     ("cone_tiles.frag:k32", shaders::CONE_TILES_FRAG_K32),
+    ("settle_disc.vert", shaders::SETTLE_DISC_VERT),
+    ("settle_disc.frag", shaders::SETTLE_DISC_FRAG),
+    ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
+    ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
@@ -130,8 +170,11 @@ impl Pipelines {
             graphics_set_layout: vk::DescriptorSetLayout::null(),
             compute_set_layout: vk::DescriptorSetLayout::null(),
             compute_layout: vk::PipelineLayout::null(),
+            buffer_set_layout: vk::DescriptorSetLayout::null(),
+            buffer_layout: vk::PipelineLayout::null(),
             graphics: RefCell::default(),
             compute: RefCell::default(),
+            buffer_kernels: RefCell::default(),
         };
         let device = &ctx.device;
         for (name, code) in SHADERS {
@@ -189,6 +232,25 @@ impl Pipelines {
             .push_constant_ranges(&push);
         // SAFETY: valid create info; destroyed in `Drop`.
         pipelines.compute_layout =
+            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+
+        let bindings = [0, 1].map(|binding| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(binding)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE)
+        });
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        pipelines.buffer_set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
+            .vk("vkCreateDescriptorSetLayout")?;
+        let set_layouts = [pipelines.buffer_set_layout];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&push);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        pipelines.buffer_layout =
             unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
         Ok(pipelines)
     }
@@ -285,6 +347,11 @@ impl Pipelines {
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
 
+            Program::SettleDisc => (
+                "settle_disc.vert",
+                "settle_disc.frag",
+                vk::PrimitiveTopology::TRIANGLE_STRIP,
+            ),
             Program::Rect if uint_target => (
                 "rect.vert",
                 "rect.frag:uint",
@@ -302,6 +369,7 @@ impl Pipelines {
                 | Program::ConeKNearest
                 | Program::ConeKNearestFan
                 | Program::KNearestTiles(_)
+                | Program::SettleDisc
         ) && !uint_target
         {
             return Err(Error::InvalidInput(
@@ -376,7 +444,7 @@ impl Pipelines {
             Program::ConeExactBatch => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&batch_bindings)
                 .vertex_attribute_descriptions(&batch_attributes),
-            Program::Rect | Program::KNearestTiles(_) => {
+            Program::Rect | Program::KNearestTiles(_) | Program::SettleDisc => {
                 vk::PipelineVertexInputStateCreateInfo::default()
             }
             _ => vk::PipelineVertexInputStateCreateInfo::default()
@@ -470,13 +538,29 @@ impl Pipelines {
             Kernel::MinMax => format!("minmax:{suffix}"),
             Kernel::Histogram => format!("histogram:{suffix}"),
         };
+        let pipeline = self.create_compute(&name, self.compute_layout)?;
+        self.compute.borrow_mut().insert((kernel, format), pipeline);
+        Ok(pipeline)
+    }
+
+    /// The compute pipeline of a kernel over storage buffers.
+    pub fn buffer_compute(&self, kernel: BufferKernel) -> Result<vk::Pipeline> {
+        if let Some(p) = self.buffer_kernels.borrow().get(&kernel) {
+            return Ok(*p);
+        }
+        let pipeline = self.create_compute(kernel.shader(), self.buffer_layout)?;
+        self.buffer_kernels.borrow_mut().insert(kernel, pipeline);
+        Ok(pipeline)
+    }
+
+    fn create_compute(&self, shader: &str, layout: vk::PipelineLayout) -> Result<vk::Pipeline> {
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(self.module(&name))
+            .module(self.module(shader))
             .name(c"main");
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
-            .layout(self.compute_layout);
+            .layout(layout);
         // SAFETY: valid create info; the pipeline is destroyed in `Drop`.
         let pipelines = unsafe {
             self.ctx
@@ -487,9 +571,6 @@ impl Pipelines {
             call: "vkCreateComputePipelines",
             result,
         })?;
-        self.compute
-            .borrow_mut()
-            .insert((kernel, format), pipelines[0]);
         Ok(pipelines[0])
     }
 
@@ -510,6 +591,11 @@ impl Drop for Pipelines {
             for p in self.compute.get_mut().values() {
                 device.destroy_pipeline(*p, None);
             }
+            for p in self.buffer_kernels.get_mut().values() {
+                device.destroy_pipeline(*p, None);
+            }
+            device.destroy_pipeline_layout(self.buffer_layout, None);
+            device.destroy_descriptor_set_layout(self.buffer_set_layout, None);
             device.destroy_pipeline_layout(self.graphics_layout, None);
             device.destroy_pipeline_layout(self.compute_layout, None);
             device.destroy_descriptor_set_layout(self.compute_set_layout, None);

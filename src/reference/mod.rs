@@ -3,4 +3,5 @@
 #![forbid(unsafe_code)]
 
 pub mod higher_order;
+pub mod settle;
 pub mod voronoi;

@@ -1,0 +1,652 @@
+//! The settle point (thesis §3.10): where a new site would win the largest
+//! Voronoi region.
+//!
+//! For a candidate pixel t, its *potential area* is the number of pixels p with
+//! `dist(t, p) < dist(p, s_p)`, s_p the site nearest to p. Turned around, pixel p
+//! adds one to every candidate inside its disc C(p) of radius `dist(p, s_p)`
+//! (thesis's correctness argument: `p ∈ zone(t) ⟺ t ∈ C(p)`). Counting, for
+//! every pixel, the discs that cover it gives the whole potential-area map at
+//! once.
+//!
+//! Two methods count the same discs with the same membership test
+//! (`in_disc` in `glsl/settle.glsl`), so their maps are identical:
+//! - [`SettleMethod::Faithful`]: the thesis's GPU method. Every disc is drawn;
+//!   the stencil counts covering discs with wrap-around and every 256th one adds
+//!   1/255 to a colour channel by blending (Fig. 3.49). After 255 wraps per
+//!   channel the next channel counts; after four the picture is read back.
+//! - [`SettleMethod::Spans`]: the idea of §3.12.3 on the device. Every disc adds
+//!   +1 where its span in a row starts and -1 after it ends, and a prefix sum
+//!   along each row yields the counts: work per disc is its height, not its
+//!   area. Each invocation of the compute pass walks one disc's border and adds
+//!   its span ends with atomics.
+//!
+//! Disc radii are metric keys rounded up to the next float32: for L1, L2 and L∞
+//! the keys of integer offsets are exact integers, so the strict comparison
+//! `key < radius` gives the same answer as the exact comparison with the
+//! float64 radius. The maps of those metrics therefore equal the definition
+//! evaluated in float64.
+//!
+//! Pixels that already belong to one of the user's own stores ("successful
+//! stores", §3.10.3) get radius 0 and add nothing.
+
+use std::time::Instant;
+
+use glam::DVec2;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::{
+    error::{Error, Result},
+    geometry::{cell, frame::check_sites, metric::Metric, Frame},
+    machine::{
+        Blend, BufferKernel, ChannelMask, Clear, ClearColor, ColorUpdate, Compare, DepthTest,
+        DrawParams, Format, Machine, PixelRect, Program, RasterState, StencilOp, StencilTest,
+        Target, MAX_GROUPS,
+    },
+};
+
+use super::voronoi::{voronoi, VoronoiOptions};
+
+/// How the discs are counted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SettleMethod {
+    /// Row spans and prefix sums (§3.12.3) in a compute pass: the default.
+    Spans,
+    /// The thesis's discs counted by stencil wrap-around and blending (Fig. 3.49).
+    Faithful,
+}
+
+/// What to compute.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SettleOptions {
+    pub frame: Frame,
+    pub metric: Metric,
+    pub method: SettleMethod,
+}
+
+/// How the map was made.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SettleStats {
+    pub device: String,
+    pub rivals: usize,
+    pub own: usize,
+    /// Pixels whose disc counts (not in an own store's region).
+    pub discs: usize,
+    /// Milliseconds: nearest sites and disc radii; counting; reading back.
+    pub radii_ms: f64,
+    pub count_ms: f64,
+    pub readback_ms: f64,
+    /// Pictures read back by the faithful method (thesis: five at 1024²).
+    pub readbacks: u32,
+}
+
+/// The potential-area map and its maximum.
+#[derive(Clone, Debug)]
+pub struct PotentialAreas {
+    pub width: u32,
+    pub height: u32,
+    /// Pixels a new site at each pixel would win, row-major.
+    pub area: Vec<u32>,
+    /// The largest potential area.
+    pub best_area: u32,
+    /// Every pixel (row-major index) with the largest potential area, ascending.
+    pub best: Vec<usize>,
+    pub stats: SettleStats,
+}
+
+impl PotentialAreas {
+    fn new(frame: &Frame, area: Vec<u32>, stats: SettleStats) -> Self {
+        let best_area = area.par_iter().copied().max().unwrap_or(0);
+        let best = area
+            .par_iter()
+            .enumerate()
+            .filter(|(_, &a)| a == best_area)
+            .map(|(k, _)| k)
+            .collect();
+        Self {
+            width: frame.width,
+            height: frame.height,
+            area,
+            best_area,
+            best,
+            stats,
+        }
+    }
+
+    /// Up to `count` pixels in order of decreasing potential area (ties by index).
+    pub fn leaders(&self, count: usize) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.area.len()).collect();
+        let count = count.min(order.len());
+        if count == 0 {
+            return Vec::new();
+        }
+        let by_area = |a: &usize, b: &usize| self.area[*b].cmp(&self.area[*a]).then(a.cmp(b));
+        order.select_nth_unstable_by(count - 1, by_area);
+        order.truncate(count);
+        order.sort_unstable_by(by_area);
+        order
+    }
+}
+
+/// Checks the inputs every method shares.
+fn check(rivals: &[DVec2], own: &[DVec2], frame: &Frame) -> Result<()> {
+    frame.check()?;
+    check_sites(rivals).map_err(|e| Error::InvalidInput(format!("rival sites: {e}")))?;
+    if !own.is_empty() {
+        check_sites(own).map_err(|e| Error::InvalidInput(format!("own sites: {e}")))?;
+    }
+    Ok(())
+}
+
+/// Each pixel's disc radius key: the key of its nearest rival, or 0 where an own
+/// store is at least as near (given the nearest site ids of both sets; sites in
+/// pixel coordinates). Rounded up to float32 (see the module notes).
+fn disc_radius_keys(
+    frame: &Frame,
+    metric: Metric,
+    rivals: &[DVec2],
+    rival_labels: &[u32],
+    own: &[DVec2],
+    own_labels: Option<&[u32]>,
+) -> Vec<f32> {
+    let w = frame.width as usize;
+    let key = |sites: &[DVec2], label: u32, k: usize| -> f64 {
+        let p = DVec2::new((k % w) as f64, (k / w) as f64);
+        sites
+            .get(label as usize)
+            .map_or(f64::INFINITY, |s| metric.key(*s - p))
+    };
+    (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let rival = key(rivals, rival_labels[k], k);
+            let owned = own_labels.is_some_and(|labels| key(own, labels[k], k) <= rival);
+            if owned {
+                0.0
+            } else {
+                round_up_f32(rival)
+            }
+        })
+        .collect()
+}
+
+/// The smallest float32 at least `x`.
+fn round_up_f32(x: f64) -> f32 {
+    let f = x as f32;
+    // For finite positive f the next float up has the next bit pattern.
+    if (f as f64) < x && f.is_finite() && f >= 0.0 {
+        f32::from_bits(f.to_bits() + 1)
+    } else {
+        f
+    }
+}
+
+/// The potential-area map of a new site among `rivals`, not counting pixels that
+/// `own` stores already hold (world coordinates), on the pixel machine.
+/// `progress(done, total)` is called as the counting proceeds.
+pub fn potential_areas(
+    machine: &Machine,
+    rivals: &[DVec2],
+    own: &[DVec2],
+    options: &SettleOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<PotentialAreas> {
+    let frame = options.frame;
+    check(rivals, own, &frame)?;
+    let side = machine.max_picture_side();
+    if frame.width > side || frame.height > side {
+        return Err(Error::PictureTooLarge {
+            width: frame.width,
+            height: frame.height,
+            limit: side,
+        });
+    }
+    let start = Instant::now();
+    let diagram_options = VoronoiOptions {
+        metric: options.metric,
+        distances: false,
+        ..VoronoiOptions::exact(frame)
+    };
+    let rival_labels = voronoi(machine, rivals, &diagram_options)?.labels;
+    let own_labels = if own.is_empty() {
+        None
+    } else {
+        Some(voronoi(machine, own, &diagram_options)?.labels)
+    };
+    let keys = disc_radius_keys(
+        &frame,
+        options.metric,
+        &to_pixels(rivals, &frame),
+        &rival_labels,
+        &to_pixels(own, &frame),
+        own_labels.as_deref(),
+    );
+    let mut stats = SettleStats {
+        device: machine.device_name().to_string(),
+        rivals: rivals.len(),
+        own: own.len(),
+        discs: keys.iter().filter(|&&k| k > 0.0).count(),
+        radii_ms: ms(start),
+        ..Default::default()
+    };
+    let mut radii = machine.storage_buffer(4 * frame.len() as u64)?;
+    radii.write(&keys);
+    let push = Push {
+        frame,
+        metric: options.metric,
+    };
+    let area = match options.method {
+        SettleMethod::Spans => count_spans(machine, &radii, push, &mut stats, progress)?,
+        SettleMethod::Faithful => count_faithful(machine, &radii, push, &mut stats, progress)?,
+    };
+    Ok(PotentialAreas::new(&frame, area, stats))
+}
+
+fn to_pixels(sites: &[DVec2], frame: &Frame) -> Vec<DVec2> {
+    sites.iter().map(|&s| frame.to_pixel(s)).collect()
+}
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+/// The push constants of the settle programs (`glsl/settle.glsl`).
+#[derive(Clone, Copy)]
+struct Push {
+    frame: Frame,
+    metric: Metric,
+}
+
+impl Push {
+    fn words(&self, first: u32, count: u32, channel: u32) -> [u32; 7] {
+        let (kind, p) = self.metric.shader_code();
+        [
+            self.frame.width,
+            self.frame.height,
+            kind,
+            p.to_bits(),
+            first,
+            count,
+            channel,
+        ]
+    }
+}
+
+fn count_spans(
+    machine: &Machine,
+    radii: &crate::machine::Buffer,
+    push: Push,
+    stats: &mut SettleStats,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Vec<u32>> {
+    let frame = push.frame;
+    let pixels = frame.len() as u32;
+    let mut differences = machine.storage_buffer(4 * pixels as u64)?;
+    differences.fill(0);
+    let start = Instant::now();
+    machine.with_compute_buffers([radii, &differences], |set| {
+        // About 64 submissions, for progress; each within one dispatch's limits.
+        let step = pixels
+            .div_ceil(64)
+            .clamp(1, MAX_GROUPS * BufferKernel::SettleSpans.group());
+        let mut first = 0;
+        while first < pixels {
+            let count = step.min(pixels - first);
+            machine.run(|pass| {
+                pass.dispatch(
+                    BufferKernel::SettleSpans,
+                    set,
+                    count,
+                    &push.words(first, count, 0),
+                )
+            })?;
+            first += count;
+            progress(first as u64, pixels as u64);
+        }
+        machine.run(|pass| {
+            pass.dispatch(
+                BufferKernel::RowPrefix,
+                set,
+                frame.height,
+                &[frame.width, frame.height],
+            )
+        })
+    })?;
+    stats.count_ms = ms(start);
+    let start = Instant::now();
+    let area = differences.read::<u32>(pixels as usize);
+    stats.readback_ms = ms(start);
+    Ok(area)
+}
+
+/// Discs one channel may count: 255 wrap-arounds of the 8-bit stencil, each
+/// adding 1/255, fill the 8-bit channel, and a pixel is covered at most once per
+/// disc.
+const DISCS_PER_CHANNEL: u32 = 255 * 256;
+
+fn count_faithful(
+    machine: &Machine,
+    radii: &crate::machine::Buffer,
+    push: Push,
+    stats: &mut SettleStats,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Vec<u32>> {
+    let frame = push.frame;
+    let pixels = frame.len() as u32;
+    let (w, h) = (frame.width, frame.height);
+    let color = machine.image(Format::Rgba8Unorm, w, h)?;
+    let depth_stencil = machine.image(Format::DepthStencil, w, h)?;
+    // Fig. 3.49: stencil starts at 1, passes where it is 0, and every fragment
+    // increments it with wrap-around; passing fragments add their colour.
+    let state = RasterState {
+        depth: DepthTest::OFF,
+        stencil: StencilTest {
+            compare: Compare::Equal,
+            compare_mask: 0xff,
+            write_mask: 0xff,
+            on_fail: StencilOp::IncrementWrap,
+            on_depth_fail: StencilOp::IncrementWrap,
+            on_pass: StencilOp::IncrementWrap,
+        },
+        color: ColorUpdate::Blend(Blend::ADD),
+        color_mask: ChannelMask::ALL,
+    };
+    let params = DrawParams::default();
+    let target = Target {
+        color: Some(&color),
+        depth_stencil: Some(&depth_stencil),
+    };
+    let mut total = vec![0u32; pixels as usize];
+    let mut rgba = vec![0u32; pixels as usize];
+    let mut count_ms = 0.0;
+    let mut readback_ms = 0.0;
+    machine.with_fragment_buffers(&[radii], |set| {
+        let mut first = 0;
+        let mut channel = 0;
+        while first < pixels {
+            let count = DISCS_PER_CHANNEL.min(pixels - first);
+            let clear = Clear {
+                color: (channel == 0).then_some(ClearColor::Float([0.0; 4])),
+                depth: (first == 0).then_some(1.0),
+                stencil: (first == 0).then_some(1),
+            };
+            let start = Instant::now();
+            machine.run(|pass| {
+                pass.begin(target, clear)?;
+                pass.bind_fragment_buffer(set);
+                pass.draw_instances(
+                    Program::SettleDisc,
+                    &state,
+                    &params,
+                    &push.words(first, count, channel),
+                    4,
+                    count,
+                )?;
+                pass.end()
+            })?;
+            count_ms += ms(start);
+            first += count;
+            channel += 1;
+            if channel == 4 || first == pixels {
+                let start = Instant::now();
+                let rect = PixelRect::of(&color);
+                machine.read_u32_into(&color, rect, &mut rgba, w as usize)?;
+                total.par_iter_mut().zip(&rgba).for_each(|(t, &c)| {
+                    let wraps: u32 = c.to_le_bytes().iter().map(|&b| b as u32).sum();
+                    *t += 256 * wraps;
+                });
+                stats.readbacks += 1;
+                readback_ms += ms(start);
+                channel = 0;
+            }
+            progress(first as u64, pixels as u64);
+        }
+        Ok(())
+    })?;
+    // The hits since the last wrap: the stencil started at 1.
+    let start = Instant::now();
+    machine.read_stencil_into(
+        &depth_stencil,
+        PixelRect::of(&depth_stencil),
+        &mut rgba,
+        w as usize,
+    )?;
+    total
+        .par_iter_mut()
+        .zip(&rgba)
+        .for_each(|(t, &s)| *t += (s + 255) % 256);
+    stats.readbacks += 1;
+    stats.count_ms = count_ms;
+    stats.readback_ms = readback_ms + ms(start);
+    Ok(total)
+}
+
+/// The potential-area map computed on the CPU with the thesis's own variant
+/// (§3.12.3): every disc's border is walked row by row, +1 and -1 mark each row
+/// span, and prefix sums along the rows give the counts. Threads take bands of
+/// source rows, each with its own difference picture. Nearest sites come from
+/// the CPU Voronoi diagram (Euclidean) or a search over all sites (other
+/// metrics).
+pub fn potential_areas_cpu(
+    rivals: &[DVec2],
+    own: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+) -> Result<PotentialAreas> {
+    check(rivals, own, frame)?;
+    let start = Instant::now();
+    let rivals_px = to_pixels(rivals, frame);
+    let own_px = to_pixels(own, frame);
+    let rival_labels = nearest_labels_cpu(rivals, &rivals_px, frame, metric)?;
+    let own_labels = if own.is_empty() {
+        None
+    } else {
+        Some(nearest_labels_cpu(own, &own_px, frame, metric)?)
+    };
+    let keys = disc_radius_keys(
+        frame,
+        metric,
+        &rivals_px,
+        &rival_labels,
+        &own_px,
+        own_labels.as_deref(),
+    );
+    let mut stats = SettleStats {
+        device: "cpu".into(),
+        rivals: rivals.len(),
+        own: own.len(),
+        discs: keys.iter().filter(|&&k| k > 0.0).count(),
+        radii_ms: ms(start),
+        ..Default::default()
+    };
+    let start = Instant::now();
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let threads = rayon::current_num_threads().max(1);
+    let band = h.div_ceil(threads);
+    let mut area = (0..h.div_ceil(band))
+        .into_par_iter()
+        .map(|b| {
+            let mut differences = vec![0i32; w * h];
+            for y in b * band..((b + 1) * band).min(h) {
+                for x in 0..w {
+                    add_disc_spans(&mut differences, frame, metric, x, y, keys[y * w + x]);
+                }
+            }
+            differences
+        })
+        .reduce_with(|mut a, b| {
+            a.iter_mut().zip(&b).for_each(|(a, b)| *a += b);
+            a
+        })
+        .unwrap_or_default();
+    area.par_chunks_mut(w).for_each(|row| {
+        let mut sum = 0;
+        for v in row {
+            sum += *v;
+            *v = sum;
+        }
+    });
+    stats.count_ms = ms(start);
+    let area = area.into_iter().map(|v| v as u32).collect();
+    Ok(PotentialAreas::new(frame, area, stats))
+}
+
+/// Whether offset (dx, dy) lies in the disc of radius key `key` (as
+/// `in_disc` of `glsl/settle.glsl`, in float64).
+fn in_disc(metric: Metric, dx: i64, dy: i64, key: f32) -> bool {
+    metric.key(DVec2::new(dx as f64, dy as f64)) < key as f64
+}
+
+/// Adds the row spans of the disc of pixel (x, y) to `differences`.
+fn add_disc_spans(
+    differences: &mut [i32],
+    frame: &Frame,
+    metric: Metric,
+    x: usize,
+    y: usize,
+    key: f32,
+) {
+    if key.is_nan() || key <= 0.0 {
+        return;
+    }
+    let (w, h) = (frame.width as i64, frame.height as i64);
+    let (x, y) = (x as i64, y as i64);
+    let limit = w.max(h);
+    let guess = metric.distance_of_key(key as f64).min(limit as f64) as i64;
+    let mut m = guess;
+    while m < limit && in_disc(metric, m + 1, 0, key) {
+        m += 1;
+    }
+    let rows = y.max(h - 1 - y);
+    for dy in 0..=rows {
+        while m >= 0 && !in_disc(metric, m, dy, key) {
+            m -= 1;
+        }
+        if m < 0 {
+            break;
+        }
+        for row in [y + dy, y - dy]
+            .into_iter()
+            .take(if dy > 0 { 2 } else { 1 })
+        {
+            if row < 0 || row >= h {
+                continue;
+            }
+            let base = (row * w) as usize;
+            differences[base + (x - m).max(0) as usize] += 1;
+            if x + m + 1 < w {
+                differences[base + (x + m + 1) as usize] -= 1;
+            }
+        }
+    }
+}
+
+/// Nearest site per pixel on the CPU: the thesis's growing sites for the
+/// Euclidean metric, a look at every site otherwise.
+fn nearest_labels_cpu(
+    sites: &[DVec2],
+    sites_px: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+) -> Result<Vec<u32>> {
+    if metric == Metric::L2 {
+        return Ok(super::cpu::k_nearest(sites, frame, 1)?.labels);
+    }
+    let w = frame.width as usize;
+    Ok((0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let p = DVec2::new((k % w) as f64, (k / w) as f64);
+            let mut best = (f64::INFINITY, u32::MAX);
+            for (i, s) in sites_px.iter().enumerate() {
+                let key = metric.key(*s - p);
+                if key < best.0 {
+                    best = (key, i as u32);
+                }
+            }
+            best.1
+        })
+        .collect())
+}
+
+/// The refined settle point: a position (pixel coordinates) and the exact area
+/// (square pixels) of the region a new site there would win, clipped to the
+/// picture and without the own stores' regions.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Refined {
+    pub position: [f64; 2],
+    pub area: f64,
+    /// The exact area at the pixel the search started from.
+    pub start_area: f64,
+    pub start_pixel: [u32; 2],
+}
+
+/// Refines the settle point beyond the pixels (Euclidean metric): from each of
+/// the `starts` (row-major pixel indices), a compass search over the exact area
+/// of the new site's Voronoi region ([`cell::stolen_area`]) climbs to a local
+/// maximum, halving its step from one pixel to 1e-9 pixels; the best climb wins.
+/// The result's area is at least the exact area at its starting pixel. Sites in
+/// world coordinates; the result in pixel coordinates.
+pub fn refine(rivals: &[DVec2], own: &[DVec2], frame: &Frame, starts: &[usize]) -> Result<Refined> {
+    check(rivals, own, frame)?;
+    if starts.is_empty() {
+        return Err(Error::InvalidInput("no pixel to refine from".into()));
+    }
+    let rivals = to_pixels(rivals, frame);
+    let own = to_pixels(own, frame);
+    let picture = cell::Rect {
+        lo: DVec2::splat(-0.5),
+        hi: DVec2::new(frame.width as f64 - 0.5, frame.height as f64 - 0.5),
+    };
+    let area = |t: DVec2| cell::stolen_area(t, &rivals, &own, &picture);
+    let w = frame.width as usize;
+    let climbs: Vec<Refined> = starts
+        .par_iter()
+        .map(|&k| {
+            let pixel = [(k % w) as u32, (k / w) as u32];
+            let start = DVec2::new(pixel[0] as f64, pixel[1] as f64);
+            let (position, best) = compass_search(start, &area, &picture);
+            Refined {
+                position: position.to_array(),
+                area: best,
+                start_area: area(start),
+                start_pixel: pixel,
+            }
+        })
+        .collect();
+    climbs
+        .into_iter()
+        .max_by(|a, b| a.area.total_cmp(&b.area))
+        .ok_or_else(|| Error::InvalidInput("no pixel to refine from".into()))
+}
+
+/// Climbs `f` from `start` within `bounds` by compass steps (eight directions),
+/// halving the step whenever no direction improves.
+fn compass_search(start: DVec2, f: &dyn Fn(DVec2) -> f64, bounds: &cell::Rect) -> (DVec2, f64) {
+    let directions = [
+        DVec2::new(1.0, 0.0),
+        DVec2::new(-1.0, 0.0),
+        DVec2::new(0.0, 1.0),
+        DVec2::new(0.0, -1.0),
+        DVec2::new(1.0, 1.0),
+        DVec2::new(1.0, -1.0),
+        DVec2::new(-1.0, 1.0),
+        DVec2::new(-1.0, -1.0),
+    ];
+    let (mut x, mut best) = (start, f(start));
+    let mut step = 1.0;
+    while step > 1e-9 {
+        let improved = directions
+            .iter()
+            .map(|d| (x + *d * step).clamp(bounds.lo, bounds.hi))
+            .map(|y| (y, f(y)))
+            .filter(|&(_, v)| v > best)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        match improved {
+            Some((y, v)) => (x, best) = (y, v),
+            None => step *= 0.5,
+        }
+    }
+    (x, best)
+}

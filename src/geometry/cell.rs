@@ -1,0 +1,186 @@
+//! Exact Euclidean Voronoi cells as convex polygons: the plane region a site
+//! wins, clipped to a rectangle, and its area. The settle point's refinement
+//! (thesis §3.10) maximizes such an area beyond the pixels.
+
+use glam::DVec2;
+
+/// An axis-aligned rectangle `[lo, hi]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    pub lo: DVec2,
+    pub hi: DVec2,
+}
+
+/// A convex polygon, counter-clockwise or clockwise, its corners relative to a
+/// centre (the site whose cell it is), which keeps bisector clipping accurate far
+/// from the origin.
+#[derive(Clone, Debug, Default)]
+struct Polygon {
+    corners: Vec<DVec2>,
+}
+
+impl Polygon {
+    fn rect(rect: &Rect, centre: DVec2) -> Self {
+        let (lo, hi) = (rect.lo - centre, rect.hi - centre);
+        Self {
+            corners: vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)],
+        }
+    }
+
+    fn shifted(&self, by: DVec2) -> Self {
+        Self {
+            corners: self.corners.iter().map(|&v| v + by).collect(),
+        }
+    }
+
+    fn farthest2(&self) -> f64 {
+        self.corners
+            .iter()
+            .map(|v| v.length_squared())
+            .fold(0.0, f64::max)
+    }
+
+    /// Keeps the part with `v . normal <= limit` (Sutherland–Hodgman).
+    fn clip(&mut self, normal: DVec2, limit: f64) {
+        if self.corners.iter().all(|v| v.dot(normal) <= limit) {
+            return;
+        }
+        let mut out = Vec::with_capacity(self.corners.len() + 1);
+        let Some(&last) = self.corners.last() else {
+            return;
+        };
+        let (mut a, mut fa) = (last, last.dot(normal) - limit);
+        for &b in &self.corners {
+            let fb = b.dot(normal) - limit;
+            if (fa <= 0.0) != (fb <= 0.0) {
+                out.push(a + (b - a) * (fa / (fa - fb)));
+            }
+            if fb <= 0.0 {
+                out.push(b);
+            }
+            (a, fa) = (b, fb);
+        }
+        self.corners = out;
+    }
+
+    /// Clips to the points nearer to the centre than to `other` (relative to the
+    /// centre), i.e. `v . other <= |other|² / 2`.
+    fn clip_by_bisector(&mut self, other: DVec2) {
+        self.clip(other, 0.5 * other.length_squared());
+    }
+
+    fn area(&self) -> f64 {
+        let n = self.corners.len();
+        if n < 3 {
+            return 0.0;
+        }
+        let twice: f64 = (0..n)
+            .map(|i| self.corners[i].perp_dot(self.corners[(i + 1) % n]))
+            .sum();
+        0.5 * twice.abs()
+    }
+
+    /// Clips by the bisectors of `centre` with `sites` (absolute coordinates),
+    /// nearest first, stopping once the rest lie beyond twice the farthest
+    /// corner: their bisectors miss the polygon. Sites at the centre itself are
+    /// skipped.
+    fn clip_by_sites(&mut self, centre: DVec2, sites: &[DVec2]) {
+        let mut offsets: Vec<(f64, DVec2)> = sites
+            .iter()
+            .map(|&s| s - centre)
+            .map(|d| (d.length_squared(), d))
+            .filter(|&(dd, _)| dd > 0.0)
+            .collect();
+        offsets.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut reach2 = self.farthest2();
+        for (dd, d) in offsets {
+            if self.corners.is_empty() || dd >= 4.0 * reach2 {
+                break;
+            }
+            self.clip_by_bisector(d);
+            reach2 = self.farthest2();
+        }
+    }
+}
+
+/// The area of the Voronoi cell of `site` among `others` (which may contain
+/// `site` itself), clipped to `rect`.
+pub fn cell_area(site: DVec2, others: &[DVec2], rect: &Rect) -> f64 {
+    let mut cell = Polygon::rect(rect, site);
+    cell.clip_by_sites(site, others);
+    cell.area()
+}
+
+/// The area that a new site at `t` takes from the `rivals`, within `rect`: its
+/// Voronoi cell among all sites, less the parts that the `own` sites held
+/// before it came. Zero when `t` coincides with a site.
+pub fn stolen_area(t: DVec2, rivals: &[DVec2], own: &[DVec2], rect: &Rect) -> f64 {
+    if rivals.iter().chain(own).any(|&s| s == t) {
+        return 0.0;
+    }
+    let mut cell = Polygon::rect(rect, t);
+    cell.clip_by_sites(t, rivals);
+    cell.clip_by_sites(t, own);
+    let mut area = cell.area();
+    if own.is_empty() || area == 0.0 {
+        return area;
+    }
+    let all: Vec<DVec2> = rivals.iter().chain(own).copied().collect();
+    for &o in own {
+        let mut part = cell.shifted(t - o);
+        part.clip_by_sites(o, &all);
+        area -= part.area();
+    }
+    area.max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit() -> Rect {
+        Rect {
+            lo: DVec2::ZERO,
+            hi: DVec2::ONE,
+        }
+    }
+
+    #[test]
+    fn two_sites_split_the_square() {
+        let a = DVec2::new(0.25, 0.5);
+        let b = DVec2::new(0.75, 0.5);
+        assert!((cell_area(a, &[a, b], &unit()) - 0.5).abs() < 1e-12);
+        assert!((stolen_area(b, &[a], &[], &unit()) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn own_regions_do_not_count() {
+        // Rival on the left, own store on the right; a new site in the middle
+        // takes the strip between x = 0.375 and 0.625, half of it from each.
+        let rival = DVec2::new(0.25, 0.5);
+        let own = DVec2::new(0.75, 0.5);
+        let t = DVec2::new(0.5, 0.5);
+        let all = stolen_area(t, &[rival, own], &[], &unit());
+        assert!((all - 0.25).abs() < 1e-12);
+        let stolen = stolen_area(t, &[rival], &[own], &unit());
+        assert!((stolen - 0.125).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_site_on_another_wins_nothing() {
+        let a = DVec2::new(0.3, 0.3);
+        assert_eq!(stolen_area(a, &[a], &[], &unit()), 0.0);
+    }
+
+    #[test]
+    fn cells_tile_the_rectangle() {
+        let sites: Vec<DVec2> = (0..40)
+            .map(|i| {
+                let f = i as f64;
+                DVec2::new((f * 0.618).fract(), (f * 0.377 + 0.1).fract())
+            })
+            .collect();
+        let total: f64 = sites.iter().map(|&s| cell_area(s, &sites, &unit())).sum();
+        assert!((total - 1.0).abs() < 1e-9, "{total}");
+    }
+}
