@@ -299,3 +299,63 @@ fn the_cpu_pixel_algorithm_gives_the_same_diagram() {
     ]);
     assert!(!ok && stderr.contains("exact"), "{stderr}");
 }
+
+#[test]
+fn settle_answers_with_the_same_map_on_every_path() {
+    let sites = temp("rivals.csv");
+    std::fs::write(&sites, "x,y\n10,10\n50.5,20\n30,45\n8,40\n").unwrap();
+    let own = temp("own.csv");
+    std::fs::write(&own, "x,y\n55,44\n").unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let (png, area) = (temp(&format!("{name}.png")), temp(&format!("{name}.npy")));
+        let mut args = vec![
+            "settle",
+            "--sites",
+            sites.to_str().unwrap(),
+            "--own",
+            own.to_str().unwrap(),
+            "--size",
+            "64x48",
+            "-o",
+            png.to_str().unwrap(),
+            "--area",
+            area.to_str().unwrap(),
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let (ok, stdout, stderr) = pixgeo(&args);
+        assert!(ok, "{stderr}");
+        let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let (shape, a): (Vec<u64>, Vec<u32>) = npy::read(&area).unwrap();
+        assert_eq!(shape, vec![48, 64]);
+        let img = image::open(&png).unwrap();
+        assert_eq!((img.width(), img.height()), (64, 48));
+        (summary, a)
+    };
+    let (spans, a) = run("spans", &[]);
+    let (faithful, b) = run("faithful", &["--method", "faithful"]);
+    let (cpu, c) = run("cpu", &["--device", "cpu"]);
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+    let best = spans["settle"]["area_pixels"].as_u64().unwrap();
+    assert_eq!(a.iter().copied().max().unwrap() as u64, best);
+    assert_eq!(faithful["settle"], spans["settle"]);
+    assert_eq!(cpu["settle"], spans["settle"]);
+    let refined = &spans["refined"];
+    assert!(refined["area"].as_f64().unwrap() >= refined["start_area_pixels"].as_f64().unwrap());
+    // Other metrics have no exact refinement.
+    let (l1, _) = run("l1", &["--metric", "l1"]);
+    assert!(l1["refined"].is_null());
+}
+
+#[test]
+fn settle_rejects_bad_requests() {
+    let (ok, _, stderr) = pixgeo(&["settle", "--random", "0"]);
+    assert!(!ok && stderr.contains("at least one"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&[
+        "settle", "--random", "3", "--device", "cpu", "--method", "faithful",
+    ]);
+    assert!(!ok && stderr.contains("faithful"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&["settle", "--random", "3", "--metric", "lp:-1"]);
+    assert!(!ok && stderr.contains("p > 0"), "{stderr}");
+}

@@ -2,6 +2,7 @@
 
 mod distances;
 mod gallery;
+mod settle;
 mod voronoi;
 
 use clap::{Parser, Subcommand};
@@ -27,6 +28,7 @@ enum Command {
     Hausdorff(distances::HausdorffArgs),
     Diameter(distances::DiameterArgs),
     Maxdist(distances::MaxDistArgs),
+    Settle(Box<settle::Args>),
     Gallery(gallery::Args),
 }
 
@@ -36,6 +38,7 @@ fn main() -> anyhow::Result<()> {
         Command::Hausdorff(args) => distances::hausdorff(args),
         Command::Diameter(args) => distances::diameter(args),
         Command::Maxdist(args) => distances::maxdist(args),
+        Command::Settle(args) => settle::run(*args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

@@ -174,7 +174,7 @@ enum ModeArg {
     Fan(Option<u32>),
 }
 
-fn parse_size(s: &str) -> Result<(u32, Option<u32>), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, Option<u32>), String> {
     let parse = |t: &str| -> Result<u32, String> {
         let v: u32 = t
             .trim()
@@ -191,7 +191,7 @@ fn parse_size(s: &str) -> Result<(u32, Option<u32>), String> {
     }
 }
 
-fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
+pub(crate) fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
     let v: Vec<f64> = s
         .split(',')
         .map(|t| {

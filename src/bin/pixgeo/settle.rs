@@ -1,0 +1,332 @@
+//! `pixgeo settle`: where a new site would win the largest Voronoi region.
+
+use std::{io::IsTerminal, path::PathBuf};
+
+use anyhow::{bail, Result};
+use clap::{Args as ClapArgs, ValueEnum};
+use glam::DVec2;
+use indicatif::{ProgressBar, ProgressStyle};
+use pixgeo::{
+    algorithms::settle::{
+        potential_areas, potential_areas_cpu, refine, PotentialAreas, Refined, SettleMethod,
+        SettleOptions,
+    },
+    geometry::{metric::Metric, Frame},
+    io::{npy, picture::PngStream, sites},
+};
+use serde_json::{json, Value};
+
+use crate::voronoi::{parse_bbox, parse_size, Backend};
+
+/// Finds the settle point (thesis §3.10): the place where a new site, added to
+/// the existing ones (a rival's stores, say), would own the largest Voronoi
+/// region.
+///
+/// Every pixel t gets its potential area: the number of pixels nearer to t than
+/// to any existing site. Turned around, each pixel p lies in the regions of all
+/// candidates inside the disc around p whose radius is p's distance to its
+/// nearest site, so counting how many discs cover each pixel gives the whole map.
+/// `--method spans` (default) adds +1/-1 at the ends of every disc's rows in a
+/// compute pass and sums each row; `--method faithful` draws every disc and
+/// counts with the stencil's wrap-around and blending, as the thesis did. Both
+/// give the same counts. With the Euclidean metric the best pixels are then
+/// refined to the exact region area of a real-valued position.
+///
+/// Examples:
+///
+///   pixgeo settle --random 20 --size 512 -o settle.png --json
+///
+///   pixgeo settle --sites rivals.csv --own mine.csv --bbox 0,0,10,10 --size 800 --area area.npy
+///
+///   pixgeo settle --random 18 --metric lp:0.5 --size 400 -o l05.png
+#[derive(ClapArgs)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// The existing sites: CSV `x,y` per line (optional header) or JSON.
+    #[arg(long, value_name = "FILE", conflicts_with = "random")]
+    sites: Option<PathBuf>,
+
+    /// Use N uniformly random existing sites instead of a file.
+    #[arg(long, value_name = "N")]
+    random: Option<usize>,
+
+    /// Seed of --random.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+
+    /// The user's own stores (thesis §3.10.3): pixels already nearest to one of
+    /// them do not count, since a new store cannot win them from a rival.
+    #[arg(long, value_name = "FILE")]
+    own: Option<PathBuf>,
+
+    /// Picture size in pixels: `W` or `WxH` (with --bbox, `W` alone takes the
+    /// height from the box's aspect ratio).
+    #[arg(long, default_value = "512", value_parser = parse_size)]
+    size: (u32, Option<u32>),
+
+    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture (YMIN at row 0).
+    #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
+    bbox: Option<[f64; 4]>,
+
+    /// Distance function: `l2`, `l1`, `linf` or `lp:P` (any P > 0; the disc is
+    /// the metric's ball). The exact refinement is Euclidean only.
+    #[arg(long, default_value = "l2", value_parser = Metric::parse)]
+    metric: Metric,
+
+    /// How the discs are counted (on a Vulkan device).
+    #[arg(long, value_enum, default_value_t = MethodArg::Spans)]
+    method: MethodArg,
+
+    /// Write a PNG: brightness is the potential area, existing sites green, own
+    /// stores blue, the settle point circled in red.
+    #[arg(short = 'o', long = "output", value_name = "PICTURE.png")]
+    output: Option<PathBuf>,
+
+    /// Write the potential-area map as .npy (uint32, H×W, pixels).
+    #[arg(long, value_name = "FILE.npy")]
+    area: Option<PathBuf>,
+
+    /// Best pixels the exact refinement starts from (Euclidean metric; 0 turns
+    /// it off).
+    #[arg(long, default_value_t = 8, value_name = "K")]
+    refine_from: usize,
+
+    /// Print the answer as one JSON object.
+    #[arg(long)]
+    json: bool,
+
+    /// Where to compute: `cpu` runs the thesis's CPU variant (§3.12.3); `auto`,
+    /// `gpu`, `lavapipe`, an index or part of a name picks a Vulkan device
+    /// (default: PIXGEO_DEVICE, else a GPU if present, else lavapipe; without any
+    /// Vulkan driver, the CPU).
+    #[arg(long)]
+    device: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum MethodArg {
+    /// +1/-1 at every disc row's ends, prefix sums along the rows (§3.12.3).
+    Spans,
+    /// Every disc drawn, counted by stencil wrap-around and blending (Fig. 3.49).
+    Faithful,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let (width, height) = args.size;
+    let frame = match args.bbox {
+        Some(b) => Frame::with_bbox(width, height, b)?,
+        None => Frame::pixels(width, height.unwrap_or(width))?,
+    };
+    let rivals: Vec<DVec2> = match (&args.sites, args.random) {
+        (Some(path), None) => sites::read_sites(path)?,
+        (None, Some(n)) if n > 0 => sites::random_sites(n, args.seed, &frame),
+        (None, Some(_)) => bail!("--random needs at least one site"),
+        _ => bail!("give the existing sites: --sites FILE or --random N"),
+    };
+    let own = match &args.own {
+        Some(path) => sites::read_sites(path)?,
+        None => Vec::new(),
+    };
+    let method = match args.method {
+        MethodArg::Spans => SettleMethod::Spans,
+        MethodArg::Faithful => SettleMethod::Faithful,
+    };
+    let backend = Backend::choose(args.device.as_deref())?;
+    let bar = (!args.json && std::io::stderr().is_terminal()).then(|| {
+        ProgressBar::new(1).with_style(
+            ProgressStyle::with_template("{msg} {bar:40} {percent}% {elapsed}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        )
+    });
+    let map = match &backend {
+        Backend::Gpu(machine) => {
+            if let Some(bar) = &bar {
+                bar.set_message(format!("counting discs ({method:?})").to_lowercase());
+            }
+            let options = SettleOptions {
+                frame,
+                metric: args.metric,
+                method,
+            };
+            let mut progress = |done: u64, total: u64| {
+                if let Some(bar) = &bar {
+                    bar.set_length(total);
+                    bar.set_position(done);
+                }
+            };
+            potential_areas(machine, &rivals, &own, &options, &mut progress)?
+        }
+        Backend::Cpu => {
+            if args.method == MethodArg::Faithful {
+                bail!("--method faithful draws discs on a Vulkan device; the CPU counts spans");
+            }
+            potential_areas_cpu(&rivals, &own, &frame, args.metric)?
+        }
+    };
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let refined = if args.metric == Metric::L2 && args.refine_from > 0 {
+        Some(refine(
+            &rivals,
+            &own,
+            &frame,
+            &map.leaders(args.refine_from),
+        )?)
+    } else {
+        None
+    };
+
+    if let Some(path) = &args.area {
+        npy::write(path, &[frame.height as u64, frame.width as u64], &map.area)?;
+    }
+    if let Some(path) = &args.output {
+        write_picture(path, &map, &frame, &rivals, &own)?;
+    }
+    let summary = summary(&map, &frame, refined.as_ref(), backend.name(), &args);
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        print_summary(&summary);
+    }
+    Ok(())
+}
+
+fn pixel_of(map: &PotentialAreas, k: usize) -> [u32; 2] {
+    [
+        (k % map.width as usize) as u32,
+        (k / map.width as usize) as u32,
+    ]
+}
+
+fn summary(
+    map: &PotentialAreas,
+    frame: &Frame,
+    refined: Option<&Refined>,
+    device: &str,
+    args: &Args,
+) -> Value {
+    let world = |p: DVec2| frame.to_world(p).to_array();
+    let pixel_area = 1.0 / (frame.scale * frame.scale);
+    let best = pixel_of(map, map.best[0]);
+    let best_point = DVec2::new(best[0] as f64, best[1] as f64);
+    json!({
+        "device": device,
+        "method": if map.stats.device == "cpu" {
+            "spans (cpu)".to_string()
+        } else {
+            format!("{:?}", args.method).to_lowercase()
+        },
+        "metric": args.metric.to_string(),
+        "width": frame.width,
+        "height": frame.height,
+        "settle": {
+            "pixel": best,
+            "point": world(best_point),
+            "area_pixels": map.best_area,
+            "area": map.best_area as f64 * pixel_area,
+        },
+        "ties": map.best.len(),
+        "tied_pixels": map.best.iter().take(64).map(|&k| pixel_of(map, k)).collect::<Vec<_>>(),
+        "refined": refined.map(|r| json!({
+            "point": world(DVec2::from_array(r.position)),
+            "area": r.area * pixel_area,
+            "area_pixels": r.area,
+            "start_pixel": r.start_pixel,
+            "start_area_pixels": r.start_area,
+        })),
+        "stats": map.stats,
+    })
+}
+
+fn print_summary(s: &Value) {
+    let settle = &s["settle"];
+    println!(
+        "settle point: pixel {} = {} wins {} pixels (area {:.6})",
+        settle["pixel"], settle["point"], settle["area_pixels"], settle["area"]
+    );
+    if s["ties"].as_u64().unwrap_or(0) > 1 {
+        println!("{} pixels tie for the largest potential area", s["ties"]);
+    }
+    if let Some(r) = s["refined"].as_object() {
+        println!(
+            "refined: {} wins an exact area of {:.6} ({:.3} square pixels; {:.3} at pixel {})",
+            r["point"], r["area"], r["area_pixels"], r["start_area_pixels"], r["start_pixel"]
+        );
+    }
+    let stats = &s["stats"];
+    println!(
+        "{} on {}: radii {:.1} ms, counting {:.1} ms, readback {:.1} ms",
+        s["method"].as_str().unwrap_or_default(),
+        s["device"].as_str().unwrap_or_default(),
+        stats["radii_ms"].as_f64().unwrap_or(0.0),
+        stats["count_ms"].as_f64().unwrap_or(0.0),
+        stats["readback_ms"].as_f64().unwrap_or(0.0)
+    );
+}
+
+/// The potential area as brightness (thesis Fig. 3.46), with the sites on top.
+fn write_picture(
+    path: &std::path::Path,
+    map: &PotentialAreas,
+    frame: &Frame,
+    rivals: &[DVec2],
+    own: &[DVec2],
+) -> Result<()> {
+    let (w, h) = (map.width as usize, map.height as usize);
+    let top = map.best_area.max(1) as f64;
+    let mut rgb: Vec<u8> = map
+        .area
+        .iter()
+        .flat_map(|&a| {
+            // A warm ramp: black, red, orange, pale yellow.
+            let v = a as f64 / top;
+            [
+                (255.0 * (1.6 * v).min(1.0)) as u8,
+                (255.0 * (1.6 * v - 0.45).clamp(0.0, 1.0)) as u8,
+                (255.0 * (2.0 * v - 1.2).clamp(0.0, 0.8)) as u8,
+            ]
+        })
+        .collect();
+    let mut paint = |p: DVec2, radius: f64, ring: bool, colour: [u8; 3]| {
+        let r = radius.ceil() as i64 + 1;
+        for dy in -r..=r {
+            for dx in -r..=r {
+                let (x, y) = (p.x.round() as i64 + dx, p.y.round() as i64 + dy);
+                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                    continue;
+                }
+                let d = ((x as f64 - p.x).powi(2) + (y as f64 - p.y).powi(2)).sqrt();
+                let hit = if ring {
+                    (d - radius).abs() < 0.9
+                } else {
+                    d <= radius
+                };
+                if hit {
+                    let k = 3 * (y as usize * w + x as usize);
+                    rgb[k..k + 3].copy_from_slice(&colour);
+                }
+            }
+        }
+    };
+    let dot = (w.max(h) as f64 / 300.0).max(1.5);
+    for &s in rivals {
+        paint(frame.to_pixel(s), dot, false, [40, 220, 90]);
+    }
+    for &s in own {
+        paint(frame.to_pixel(s), dot, false, [60, 140, 255]);
+    }
+    for &k in map.best.iter().take(16) {
+        let p = pixel_of(map, k);
+        paint(
+            DVec2::new(p[0] as f64, p[1] as f64),
+            3.0 * dot,
+            true,
+            [255, 30, 30],
+        );
+    }
+    let mut png = PngStream::create(path, map.width, map.height)?;
+    png.write(&rgb)?;
+    png.finish()?;
+    Ok(())
+}
