@@ -586,6 +586,20 @@ impl<'m> Pass<'m> {
         }
         let pipeline = self.machine.pipelines.buffer_compute(kernel)?;
         let layout = self.machine.pipelines.buffer_layout;
+        self.record_dispatch(pipeline, layout, set, push, (groups, 1));
+        Ok(())
+    }
+
+    /// Records a compute dispatch ordered after earlier host writes, copies and
+    /// dispatches, whose writes are visible to the host and to later work.
+    fn record_dispatch(
+        &mut self,
+        pipeline: vk::Pipeline,
+        layout: vk::PipelineLayout,
+        set: vk::DescriptorSet,
+        push: &[u32],
+        groups: (u32, u32),
+    ) {
         let stages = vk::PipelineStageFlags2::HOST
             | vk::PipelineStageFlags2::COPY
             | vk::PipelineStageFlags2::COMPUTE_SHADER;
@@ -602,7 +616,7 @@ impl<'m> Pass<'m> {
             )];
         let device = self.device();
         // SAFETY: recording state outside a rendering pass; the set matches the
-        // buffer layout and outlives the run; push fits the layout's range.
+        // layout and outlives the run; push fits the layout's range.
         unsafe {
             device.cmd_pipeline_barrier2(
                 self.cmd,
@@ -624,13 +638,12 @@ impl<'m> Pass<'m> {
                 0,
                 bytemuck::cast_slice(push),
             );
-            device.cmd_dispatch(self.cmd, groups, 1, 1);
+            device.cmd_dispatch(self.cmd, groups.0, groups.1, 1);
         }
         self.host_barrier(
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_WRITE,
         );
-        Ok(())
     }
 
     /// Copies all of `image` (for depth/stencil: its depth) into `buffer` from byte
@@ -791,43 +804,13 @@ impl<'m> Pass<'m> {
         self.use_image(image, Usage::ComputeRead);
         let mut words = vec![rect.x, rect.y, rect.width, rect.height];
         words.extend_from_slice(extra_push);
-        let device = self.device();
         let layout = self.machine.pipelines.compute_layout;
-        // SAFETY: descriptor set written for this image and buffer; image in GENERAL.
-        unsafe {
-            let host_write = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::HOST)
-                .src_access_mask(vk::AccessFlags2::HOST_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                .dst_access_mask(
-                    vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                )];
-            device.cmd_pipeline_barrier2(
-                self.cmd,
-                &vk::DependencyInfo::default().memory_barriers(&host_write),
-            );
-            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-            device.cmd_bind_descriptor_sets(
-                self.cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                layout,
-                0,
-                &[set],
-                &[],
-            );
-            device.cmd_push_constants(
-                self.cmd,
-                layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::cast_slice(&words),
-            );
-            let (gx, gy) = kernel.groups(rect.width, rect.height);
-            device.cmd_dispatch(self.cmd, gx, gy, 1);
-        }
-        self.host_barrier(
-            vk::PipelineStageFlags2::COMPUTE_SHADER,
-            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        self.record_dispatch(
+            pipeline,
+            layout,
+            set,
+            &words,
+            kernel.groups(rect.width, rect.height),
         );
         Ok(())
     }

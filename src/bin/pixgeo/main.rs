@@ -2,6 +2,7 @@
 
 mod distances;
 mod gallery;
+mod input;
 mod settle;
 mod voronoi;
 

@@ -16,7 +16,7 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
-use crate::voronoi::{parse_bbox, parse_size, Backend};
+use crate::{input::Input, voronoi::Backend};
 
 /// Finds the settle point (thesis §3.10): the place where a new site, added to
 /// the existing ones (a rival's stores, say), would own the largest Voronoi
@@ -42,31 +42,14 @@ use crate::voronoi::{parse_bbox, parse_size, Backend};
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// The existing sites: CSV `x,y` per line (optional header) or JSON.
-    #[arg(long, value_name = "FILE", conflicts_with = "random")]
-    sites: Option<PathBuf>,
-
-    /// Use N uniformly random existing sites instead of a file.
-    #[arg(long, value_name = "N")]
-    random: Option<usize>,
-
-    /// Seed of --random.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    /// The existing sites (--sites or --random) and the picture.
+    #[command(flatten)]
+    input: Input,
 
     /// The user's own stores (thesis §3.10.3): pixels already nearest to one of
     /// them do not count, since a new store cannot win them from a rival.
     #[arg(long, value_name = "FILE")]
     own: Option<PathBuf>,
-
-    /// Picture size in pixels: `W` or `WxH` (with --bbox, `W` alone takes the
-    /// height from the box's aspect ratio).
-    #[arg(long, default_value = "512", value_parser = parse_size)]
-    size: (u32, Option<u32>),
-
-    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture (YMIN at row 0).
-    #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
-    bbox: Option<[f64; 4]>,
 
     /// Distance function: `l2`, `l1`, `linf` or `lp:P` (any P > 0; the disc is
     /// the metric's ball). The exact refinement is Euclidean only.
@@ -112,17 +95,7 @@ enum MethodArg {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let (width, height) = args.size;
-    let frame = match args.bbox {
-        Some(b) => Frame::with_bbox(width, height, b)?,
-        None => Frame::pixels(width, height.unwrap_or(width))?,
-    };
-    let rivals: Vec<DVec2> = match (&args.sites, args.random) {
-        (Some(path), None) => sites::read_sites(path)?,
-        (None, Some(n)) if n > 0 => sites::random_sites(n, args.seed, &frame),
-        (None, Some(_)) => bail!("--random needs at least one site"),
-        _ => bail!("give the existing sites: --sites FILE or --random N"),
-    };
+    let (frame, rivals) = args.input.frame_and_sites()?;
     let own = match &args.own {
         Some(path) => sites::read_sites(path)?,
         None => Vec::new(),

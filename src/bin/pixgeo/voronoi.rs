@@ -13,10 +13,12 @@ use pixgeo::{
         voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    io::{npy, npy::NpyStream, picture, picture::PngStream, sites},
+    io::{npy, npy::NpyStream, picture, picture::PngStream},
     machine::{DeviceChoice, Machine, MachineOptions},
 };
 use serde_json::json;
+
+use crate::input::Input;
 
 /// Computes the Voronoi diagram of point sites: which site is nearest to every
 /// pixel, and how far it is.
@@ -46,27 +48,8 @@ use serde_json::json;
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// Site file: CSV with `x,y` per line (optional header) or JSON
-    /// (`[[x, y], ...]` or `{"sites": [...]}`).
-    #[arg(long, value_name = "FILE", conflicts_with = "random")]
-    sites: Option<PathBuf>,
-
-    /// Use N uniformly random sites over the picture instead of a file.
-    #[arg(long, value_name = "N")]
-    random: Option<usize>,
-
-    /// Seed of --random.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-
-    /// Picture size in pixels: `W` (square, or with --bbox the height follows the
-    /// box's aspect ratio) or `WxH`.
-    #[arg(long, default_value = "1024", value_parser = parse_size)]
-    size: (u32, Option<u32>),
-
-    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture (YMIN at row 0).
-    #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
-    bbox: Option<[f64; 4]>,
+    #[command(flatten)]
+    input: Input,
 
     /// Distance function (thesis §3.6): `l2` (Euclidean), `l1`, `linf`, or
     /// `lp:P` for any P > 0 (P < 1 gives star-shaped, non-convex balls). Other
@@ -174,41 +157,6 @@ enum ModeArg {
     Fan(Option<u32>),
 }
 
-pub(crate) fn parse_size(s: &str) -> Result<(u32, Option<u32>), String> {
-    let parse = |t: &str| -> Result<u32, String> {
-        let v: u32 = t
-            .trim()
-            .parse()
-            .map_err(|_| format!("`{t}` is not a pixel count"))?;
-        if v == 0 {
-            return Err("picture sides must be at least 1 pixel".into());
-        }
-        Ok(v)
-    };
-    match s.split_once(['x', 'X']) {
-        Some((w, h)) => Ok((parse(w)?, Some(parse(h)?))),
-        None => Ok((parse(s)?, None)),
-    }
-}
-
-pub(crate) fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| {
-            t.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("`{t}` is not a number"))
-        })
-        .collect::<Result<_, _>>()?;
-    let arr: [f64; 4] = v
-        .try_into()
-        .map_err(|_| "need four numbers XMIN,YMIN,XMAX,YMAX".to_string())?;
-    if !arr.iter().all(|x| x.is_finite()) || arr[2] <= arr[0] || arr[3] <= arr[1] {
-        return Err("need finite XMIN < XMAX and YMIN < YMAX".into());
-    }
-    Ok(arr)
-}
-
 fn parse_mode(s: &str) -> Result<ModeArg, String> {
     match s {
         "exact" => Ok(ModeArg::Exact),
@@ -237,21 +185,7 @@ fn parse_speedup(s: &str) -> Result<Speedup, String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let (width, height) = args.size;
-    let frame = match args.bbox {
-        Some(b) => Frame::with_bbox(width, height, b)?,
-        None => Frame::pixels(width, height.unwrap_or(width))?,
-    };
-    let sites: Vec<DVec2> = match (&args.sites, args.random) {
-        (Some(path), None) => sites::read_sites(path)?,
-        (None, Some(n)) => {
-            if n == 0 {
-                bail!("--random needs at least one site");
-            }
-            sites::random_sites(n, args.seed, &frame)
-        }
-        _ => bail!("give the sites: --sites FILE or --random N"),
-    };
+    let (frame, sites) = args.input.frame_and_sites()?;
     let accuracy = match args.mode {
         ModeArg::Exact => Accuracy::Exact,
         ModeArg::Fan(triangles) => Accuracy::Fan {

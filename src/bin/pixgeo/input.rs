@@ -1,0 +1,87 @@
+//! The picture and the sites, as every picture-making command takes them.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Result};
+use clap::Args as ClapArgs;
+use glam::DVec2;
+use pixgeo::{geometry::Frame, io::sites};
+
+/// The sites and the picture they are drawn on.
+#[derive(ClapArgs)]
+pub struct Input {
+    /// Site file: CSV with `x,y` per line (optional header) or JSON
+    /// (`[[x, y], ...]` or `{"sites": [...]}`).
+    #[arg(long, value_name = "FILE", conflicts_with = "random")]
+    sites: Option<PathBuf>,
+
+    /// Use N uniformly random sites over the picture instead of a file.
+    #[arg(long, value_name = "N")]
+    random: Option<usize>,
+
+    /// Seed of --random.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+
+    /// Picture size in pixels: `W` (square, or with --bbox the height follows the
+    /// box's aspect ratio) or `WxH`.
+    #[arg(long, default_value = "1024", value_parser = parse_size)]
+    size: (u32, Option<u32>),
+
+    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture (YMIN at row 0).
+    #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
+    bbox: Option<[f64; 4]>,
+}
+
+impl Input {
+    /// The picture's frame and the sites in world coordinates.
+    pub fn frame_and_sites(&self) -> Result<(Frame, Vec<DVec2>)> {
+        let (width, height) = self.size;
+        let frame = match self.bbox {
+            Some(b) => Frame::with_bbox(width, height, b)?,
+            None => Frame::pixels(width, height.unwrap_or(width))?,
+        };
+        let sites = match (&self.sites, self.random) {
+            (Some(path), None) => sites::read_sites(path)?,
+            (None, Some(n)) if n > 0 => sites::random_sites(n, self.seed, &frame),
+            (None, Some(_)) => bail!("--random needs at least one site"),
+            _ => bail!("give the sites: --sites FILE or --random N"),
+        };
+        Ok((frame, sites))
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u32, Option<u32>), String> {
+    let parse = |t: &str| -> Result<u32, String> {
+        let v: u32 = t
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{t}` is not a pixel count"))?;
+        if v == 0 {
+            return Err("picture sides must be at least 1 pixel".into());
+        }
+        Ok(v)
+    };
+    match s.split_once(['x', 'X']) {
+        Some((w, h)) => Ok((parse(w)?, Some(parse(h)?))),
+        None => Ok((parse(s)?, None)),
+    }
+}
+
+fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("`{t}` is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    let arr: [f64; 4] = v
+        .try_into()
+        .map_err(|_| "need four numbers XMIN,YMIN,XMAX,YMAX".to_string())?;
+    if !arr.iter().all(|x| x.is_finite()) || arr[2] <= arr[0] || arr[3] <= arr[1] {
+        return Err("need finite XMIN < XMAX and YMIN < YMAX".into());
+    }
+    Ok(arr)
+}
