@@ -584,7 +584,7 @@ pub struct Refined {
 
 /// Refines the settle point beyond the pixels (Euclidean metric): from each of
 /// the `starts` (row-major pixel indices), a compass search over the exact area
-/// of the new site's Voronoi region ([`cell::stolen_area`]) climbs to a local
+/// of the new site's Voronoi region ([`cell::StolenArea`]) climbs to a local
 /// maximum, halving its step from one pixel to 1e-9 pixels; the best climb wins.
 /// The result's area is at least the exact area at its starting pixel. Sites in
 /// world coordinates; the result in pixel coordinates.
@@ -599,13 +599,14 @@ pub fn refine(rivals: &[DVec2], own: &[DVec2], frame: &Frame, starts: &[usize]) 
         lo: DVec2::splat(-0.5),
         hi: DVec2::new(frame.width as f64 - 0.5, frame.height as f64 - 0.5),
     };
-    let area = |t: DVec2| cell::stolen_area(t, &rivals, &own, &picture);
     let w = frame.width as usize;
     let climbs: Vec<Refined> = starts
         .par_iter()
         .map(|&k| {
             let pixel = [(k % w) as u32, (k / w) as u32];
             let start = DVec2::new(pixel[0] as f64, pixel[1] as f64);
+            let stolen = cell::StolenArea::new(start, &rivals, &own, &picture);
+            let area = |t: DVec2| stolen.at(t);
             let (position, best) = compass_search(start, &area, &picture);
             Refined {
                 position: position.to_array(),

@@ -4,6 +4,31 @@
 
 use glam::DVec2;
 
+/// Clips the convex polygon `corners` to `v . normal <= limit`
+/// (Sutherland–Hodgman), handing the result's corners to `push` in order: at
+/// most one more than `corners` has.
+pub(crate) fn clip_convex(
+    corners: &[DVec2],
+    normal: DVec2,
+    limit: f64,
+    mut push: impl FnMut(DVec2),
+) {
+    let Some(&last) = corners.last() else {
+        return;
+    };
+    let (mut a, mut fa) = (last, last.dot(normal) - limit);
+    for &b in corners {
+        let fb = b.dot(normal) - limit;
+        if (fa <= 0.0) != (fb <= 0.0) {
+            push(a + (b - a) * (fa / (fa - fb)));
+        }
+        if fb <= 0.0 {
+            push(b);
+        }
+        (a, fa) = (b, fb);
+    }
+}
+
 /// An axis-aligned rectangle `[lo, hi]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rect {
@@ -40,26 +65,13 @@ impl Polygon {
             .fold(0.0, f64::max)
     }
 
-    /// Keeps the part with `v . normal <= limit` (Sutherland–Hodgman).
+    /// Keeps the part with `v . normal <= limit`.
     fn clip(&mut self, normal: DVec2, limit: f64) {
         if self.corners.iter().all(|v| v.dot(normal) <= limit) {
             return;
         }
         let mut out = Vec::with_capacity(self.corners.len() + 1);
-        let Some(&last) = self.corners.last() else {
-            return;
-        };
-        let (mut a, mut fa) = (last, last.dot(normal) - limit);
-        for &b in &self.corners {
-            let fb = b.dot(normal) - limit;
-            if (fa <= 0.0) != (fb <= 0.0) {
-                out.push(a + (b - a) * (fa / (fa - fb)));
-            }
-            if fb <= 0.0 {
-                out.push(b);
-            }
-            (a, fa) = (b, fb);
-        }
+        clip_convex(&self.corners, normal, limit, |v| out.push(v));
         self.corners = out;
     }
 
@@ -115,23 +127,78 @@ pub fn cell_area(site: DVec2, others: &[DVec2], rect: &Rect) -> f64 {
 /// Voronoi cell among all sites, less the parts that the `own` sites held
 /// before it came. Zero when `t` coincides with a site.
 pub fn stolen_area(t: DVec2, rivals: &[DVec2], own: &[DVec2], rect: &Rect) -> f64 {
-    if rivals.iter().chain(own).any(|&s| s == t) {
-        return 0.0;
+    StolenArea::new(t, rivals, own, rect).at(t)
+}
+
+/// [`stolen_area`] for many positions near one origin: the sites are sorted by
+/// distance from the origin once, and the own stores' former cells computed
+/// once.
+pub struct StolenArea {
+    rect: Rect,
+    origin: DVec2,
+    /// Every site with its distance from the origin, nearest first.
+    sites: Vec<(f64, DVec2)>,
+    /// The cells the own stores held, as corners relative to the rectangle's
+    /// low corner, counter-clockwise.
+    own_cells: Vec<Polygon>,
+}
+
+impl StolenArea {
+    pub fn new(origin: DVec2, rivals: &[DVec2], own: &[DVec2], rect: &Rect) -> Self {
+        let mut sites: Vec<(f64, DVec2)> = rivals
+            .iter()
+            .chain(own)
+            .map(|&s| (s.distance(origin), s))
+            .collect();
+        sites.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let all: Vec<DVec2> = rivals.iter().chain(own).copied().collect();
+        let own_cells = own
+            .iter()
+            .map(|&o| {
+                let mut cell = Polygon::rect(rect, o);
+                cell.clip_by_sites(o, &all);
+                cell.shifted(o - rect.lo)
+            })
+            .collect();
+        Self {
+            rect: *rect,
+            origin,
+            sites,
+            own_cells,
+        }
     }
-    let mut cell = Polygon::rect(rect, t);
-    cell.clip_by_sites(t, rivals);
-    cell.clip_by_sites(t, own);
-    let mut area = cell.area();
-    if own.is_empty() || area == 0.0 {
-        return area;
+
+    /// The area a new site at `t` takes from the rivals.
+    pub fn at(&self, t: DVec2) -> f64 {
+        // A site s is at least |s - origin| - shift from t; once that is twice
+        // the cell's farthest corner, its bisector and all later ones miss.
+        let shift = t.distance(self.origin);
+        let mut cell = Polygon::rect(&self.rect, t);
+        let mut reach = cell.farthest2().sqrt();
+        for &(d, s) in &self.sites {
+            if d - shift >= 2.0 * reach || cell.corners.is_empty() {
+                break;
+            }
+            if s == t {
+                return 0.0;
+            }
+            cell.clip_by_bisector(s - t);
+            reach = cell.farthest2().sqrt();
+        }
+        let mut area = cell.area();
+        for own_cell in &self.own_cells {
+            let mut part = cell.clone();
+            let corners = &own_cell.corners;
+            for (k, &a) in corners.iter().enumerate() {
+                // Keep the left of edge a -> b (relative to t).
+                let edge = corners[(k + 1) % corners.len()] - a;
+                let a = a + self.rect.lo - t;
+                part.clip(-edge.perp(), -a.dot(edge.perp()));
+            }
+            area -= part.area();
+        }
+        area.max(0.0)
     }
-    let all: Vec<DVec2> = rivals.iter().chain(own).copied().collect();
-    for &o in own {
-        let mut part = cell.shifted(t - o);
-        part.clip_by_sites(o, &all);
-        area -= part.area();
-    }
-    area.max(0.0)
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::{
+    cell::clip_convex,
     frame::{distance2_to_rect, farthest2_in_rect},
     Frame,
 };
@@ -327,20 +328,11 @@ impl Polygon {
             return false;
         }
         let mut n = 0;
-        let mut a = corners[self.len - 1];
-        let mut fa = a.dot(normal) - limit;
-        for &b in corners {
-            let fb = b.dot(normal) - limit;
-            if (fa <= 0.0) != (fb <= 0.0) {
-                self.scratch[n] = a + (b - a) * (fa / (fa - fb));
-                n += 1;
-            }
-            if fb <= 0.0 {
-                self.scratch[n] = b;
-                n += 1;
-            }
-            (a, fa) = (b, fb);
-        }
+        let scratch = &mut self.scratch;
+        clip_convex(corners, normal, limit, |v| {
+            scratch[n] = v;
+            n += 1;
+        });
         std::mem::swap(&mut self.corners, &mut self.scratch);
         self.len = n;
         true

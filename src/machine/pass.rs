@@ -429,7 +429,7 @@ impl<'m> Pass<'m> {
         push: &ConePush,
         draw: &ConeDraw<'_>,
     ) -> Result<()> {
-        if matches!(program, Program::Rect | Program::KNearestTiles(_)) {
+        if !program.reads_vertex_buffers() {
             return Err(Error::InvalidInput(
                 "draw_cones needs a cone program".into(),
             ));
@@ -530,8 +530,8 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
-    /// Draws `count` instances of a program that makes its own vertices
-    /// ([`Program::SettleDisc`]): `vertex_count` vertices each, with `push` as its
+    /// Draws `count` instances of a program that makes its own vertices (such as
+    /// [`Program::SettleDisc`]): `vertex_count` vertices each, with `push` as its
     /// push constants.
     pub fn draw_instances(
         &mut self,
@@ -542,7 +542,7 @@ impl<'m> Pass<'m> {
         vertex_count: u32,
         count: u32,
     ) -> Result<()> {
-        if program != Program::SettleDisc {
+        if program.reads_vertex_buffers() {
             return Err(Error::InvalidInput(format!(
                 "{program:?} draws from vertex buffers"
             )));

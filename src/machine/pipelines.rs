@@ -50,6 +50,17 @@ pub enum Program {
     SettleDisc,
 }
 
+impl Program {
+    /// Whether the program's vertices come from vertex buffers (a mesh and
+    /// per-instance data), rather than being made by its vertex shader.
+    pub fn reads_vertex_buffers(self) -> bool {
+        !matches!(
+            self,
+            Program::Rect | Program::KNearestTiles(_) | Program::SettleDisc
+        )
+    }
+}
+
 /// Compute kernels of the reductions (thesis §1.7).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kernel {
@@ -444,7 +455,7 @@ impl Pipelines {
             Program::ConeExactBatch => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&batch_bindings)
                 .vertex_attribute_descriptions(&batch_attributes),
-            Program::Rect | Program::KNearestTiles(_) | Program::SettleDisc => {
+            program if !program.reads_vertex_buffers() => {
                 vk::PipelineVertexInputStateCreateInfo::default()
             }
             _ => vk::PipelineVertexInputStateCreateInfo::default()
