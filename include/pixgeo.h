@@ -65,6 +65,14 @@ typedef enum PixgeoSpeedup {
   PIXGEO_SPEEDUP_NONE = 2,
 } PixgeoSpeedup;
 
+// How [`pixgeo_settle`] counts the discs.
+typedef enum PixgeoSettleMethod {
+  // Row spans and prefix sums (default).
+  PIXGEO_SETTLE_METHOD_SPANS = 0,
+  // The thesis's discs, counted by stencil wrap-around and blending.
+  PIXGEO_SETTLE_METHOD_FAITHFUL = 1,
+} PixgeoSettleMethod;
+
 // A pixel machine and the message of its last failed call.
 typedef struct PixgeoContext PixgeoContext;
 
@@ -106,6 +114,22 @@ typedef struct PixgeoPair {
   uint32_t to;
   double distance;
 } PixgeoPair;
+
+// The answer of [`pixgeo_settle`].
+typedef struct PixgeoSettle {
+  // The settle pixel (the first, row-major, of those tied) and the number of
+  // pixels a new site there would win.
+  uint32_t pixel_x;
+  uint32_t pixel_y;
+  uint32_t area;
+  // How many pixels share the largest potential area.
+  uint32_t ties;
+  // The refined position (world coordinates) and the exact area (world units)
+  // it wins; NaN unless the metric is L2.
+  double refined_x;
+  double refined_y;
+  double refined_area;
+} PixgeoSettle;
 
 #ifdef __cplusplus
 extern "C" {
@@ -238,6 +262,28 @@ enum PixgeoStatus pixgeo_max_distance(struct PixgeoContext *ctx,
                                       const double *b,
                                       size_t b_count,
                                       struct PixgeoPair *out);
+
+// The settle point (thesis §3.10): where a new site among the `count` sites
+// `xy` would win the most pixels, not counting pixels already nearest to one
+// of the `own_count` sites `own` (null when 0). The picture's size, bounding
+// box and metric come from `options`. Unless null, `area` receives the
+// potential-area map (`width * height` counts, row-major). With the L2 metric
+// the answer is refined to a real-valued position and its exact area.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles, `own` `2 *
+// own_count` (or is null when `own_count` is 0); `options` points to valid
+// options; `area` is null or has room for `width * height` values; `out`
+// points to a writable answer.
+enum PixgeoStatus pixgeo_settle(struct PixgeoContext *ctx,
+                                const double *xy,
+                                size_t count,
+                                const double *own,
+                                size_t own_count,
+                                const struct PixgeoVoronoiOptions *options,
+                                enum PixgeoSettleMethod method,
+                                uint32_t *area,
+                                struct PixgeoSettle *out);
 
 #ifdef __cplusplus
 }  // extern "C"

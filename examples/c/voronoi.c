@@ -1,6 +1,7 @@
 /* A C host using pixgeo: a Voronoi diagram, the k nearest and the furthest sites,
- * and exact distances between point sets, each checked against its definition,
- * and the errors a caller can get. Exits 0 when every check passes.
+ * exact distances between point sets and the settle point, each checked against
+ * its definition, and the errors a caller can get. Exits 0 when every check
+ * passes.
  *
  *   cc -std=c11 -I include examples/c/voronoi.c -L target/debug -lpixgeo \
  *      -Wl,-rpath,$PWD/target/debug -o voronoi-c && ./voronoi-c
@@ -150,6 +151,42 @@ int main(void) {
           "maximum distance %g", pair.distance);
     status = pixgeo_diameter(ctx, blue, 2, NULL);
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null answer accepted");
+
+    /* The settle point: the potential area of the best pixel against its
+     * definition, the pixels nearer to it than to every site. */
+    options = pixgeo_voronoi_options_default(W, H);
+    uint32_t *area = malloc(sizeof(uint32_t) * W * H);
+    PixgeoSettle settle;
+    status = pixgeo_settle(ctx, xy, N, NULL, 0, &options, PIXGEO_SETTLE_METHOD_SPANS, area, &settle);
+    CHECK(status == PIXGEO_STATUS_OK, "settle: %s", pixgeo_context_last_error(ctx));
+    uint32_t largest = 0;
+    for (int k = 0; k < W * H; k++) largest = area[k] > largest ? area[k] : largest;
+    CHECK(settle.area == largest && area[settle.pixel_y * W + settle.pixel_x] == largest,
+          "settle area %u, map maximum %u", settle.area, largest);
+    uint32_t won = 0;
+    for (int j = 0; j < H; j++) {
+        for (int i = 0; i < W; i++) {
+            double nearest = INFINITY;
+            for (int s = 0; s < N; s++) {
+                double dx = xy[2 * s] - i, dy = xy[2 * s + 1] - j;
+                nearest = fmin(nearest, dx * dx + dy * dy);
+            }
+            double tx = (double)settle.pixel_x - i, ty = (double)settle.pixel_y - j;
+            won += tx * tx + ty * ty < nearest;
+        }
+    }
+    CHECK(won == settle.area, "settle pixel wins %u pixels, pixgeo says %u", won, settle.area);
+    CHECK(settle.refined_area > 0.5 * settle.area && settle.refined_area < 2.0 * settle.area,
+          "refined area %g", settle.refined_area);
+    PixgeoSettle faithful;
+    status = pixgeo_settle(ctx, xy, N, NULL, 0, &options, PIXGEO_SETTLE_METHOD_FAITHFUL, NULL,
+                           &faithful);
+    CHECK(status == PIXGEO_STATUS_OK && faithful.area == settle.area &&
+              faithful.pixel_x == settle.pixel_x && faithful.pixel_y == settle.pixel_y,
+          "faithful settle point");
+    status = pixgeo_settle(ctx, xy, N, NULL, 1, &options, PIXGEO_SETTLE_METHOD_SPANS, NULL, &settle);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null own stores accepted");
+    free(area);
 
     /* Errors come back as status codes with a message. */
     status = pixgeo_voronoi(ctx, NULL, N, &options, labels, NULL);
