@@ -170,17 +170,18 @@ pub fn diameter(args: DiameterArgs) -> Result<()> {
     let points = read(&args.sites, "")?;
     let machine = args.common.machine()?;
     let d = distances::diameter(&machine, &points, args.common.size)?;
-    if args.common.json {
-        let mut summary = answer_json(&d, &points, &points, ["first", "second"]);
-        summary["device"] = json!(machine.device_name());
-        println!("{}", serde_json::to_string_pretty(&summary)?);
-    } else {
-        println!(
-            "diameter {}",
-            describe(&d, &points, &points, ["point", "point"])
-        );
-    }
-    Ok(())
+    let names = Names {
+        json: ["first", "second"],
+        text: ["point", "point"],
+    };
+    print_answer(
+        &args.common,
+        &machine,
+        "diameter",
+        &d,
+        [&points, &points],
+        names,
+    )
 }
 
 pub fn maxdist(args: MaxDistArgs) -> Result<()> {
@@ -188,15 +189,41 @@ pub fn maxdist(args: MaxDistArgs) -> Result<()> {
     let blue = read(&args.blue, "blue")?;
     let machine = args.common.machine()?;
     let d = distances::max_distance(&machine, &red, &blue, args.common.size)?;
-    if args.common.json {
-        let mut summary = answer_json(&d, &red, &blue, ["red", "blue"]);
+    let names = Names {
+        json: ["red", "blue"],
+        text: ["red", "blue"],
+    };
+    print_answer(
+        &args.common,
+        &machine,
+        "maximum distance",
+        &d,
+        [&red, &blue],
+        names,
+    )
+}
+
+/// What the two points of an answer are called in JSON and in a line of text.
+struct Names {
+    json: [&'static str; 2],
+    text: [&'static str; 2],
+}
+
+/// Prints one answering pair: as JSON with the device, or as a line.
+fn print_answer(
+    common: &Common,
+    machine: &Machine,
+    what: &str,
+    answer: &Answer,
+    sets: [&[DVec2]; 2],
+    names: Names,
+) -> Result<()> {
+    if common.json {
+        let mut summary = answer_json(answer, sets[0], sets[1], names.json);
         summary["device"] = json!(machine.device_name());
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
-        println!(
-            "maximum distance {}",
-            describe(&d, &red, &blue, ["red", "blue"])
-        );
+        println!("{what} {}", describe(answer, sets[0], sets[1], names.text));
     }
     Ok(())
 }
