@@ -107,7 +107,7 @@ fn main() -> anyhow::Result<()> {
         eprintln!("n = {n:>5}  order {LEVELS}, thesis peeling         {peeled:>9.1} ms");
         times.push(Some(peeled));
         let on_cpu = time(repeats, || {
-            cpu::k_nearest(&sites, &frame, LEVELS)?;
+            cpu::k_nearest(&sites, &frame, LEVELS, Metric::L2)?;
             Ok(())
         })?;
         eprintln!("n = {n:>5}  order {LEVELS}, CPU pixel algorithm    {on_cpu:>9.1} ms");

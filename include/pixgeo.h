@@ -213,7 +213,7 @@ enum PixgeoStatus pixgeo_k_nearest(struct PixgeoContext *ctx,
 
 // Every pixel's furthest site (thesis §3.7.1), like [`pixgeo_voronoi`]'s
 // outputs: `width * height` labels and, unless null, distances. Only the
-// picture's size and bounding box of `options` apply; the metric must be L2.
+// picture's size, bounding box and metric of `options` apply.
 //
 // # Safety
 // As [`pixgeo_voronoi`].

@@ -508,9 +508,6 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
                 "k nearest sites are drawn whole: max_tile must be 0",
             ));
         }
-        if o.metric != PixgeoMetric::L2 {
-            return Err(invalid("k nearest sites are Euclidean so far"));
-        }
         let (frame, accuracy, speedup) = picture_of(&o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
@@ -520,7 +517,7 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
             &KNearestOptions {
                 frame,
                 k,
-                metric: Metric::L2,
+                metric: metric_of(&o)?,
                 accuracy,
                 speedup,
             },
@@ -540,7 +537,7 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
 
 /// Every pixel's furthest site (thesis §3.7.1), like [`pixgeo_voronoi`]'s
 /// outputs: `width * height` labels and, unless null, distances. Only the
-/// picture's size and bounding box of `options` apply; the metric must be L2.
+/// picture's size, bounding box and metric of `options` apply.
 ///
 /// # Safety
 /// As [`pixgeo_voronoi`].
@@ -559,13 +556,11 @@ pub unsafe extern "C" fn pixgeo_furthest(
         }
         // SAFETY: non-null and valid (caller contract).
         let o = unsafe { &*options };
-        if o.metric != PixgeoMetric::L2 {
-            return Err(invalid("the furthest site is Euclidean so far"));
-        }
+        let metric = metric_of(o)?;
         let (frame, _, _) = picture_of(o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let f = higher_order::furthest(&context.machine, &sites, &frame).map_err(failed)?;
+        let f = higher_order::furthest(&context.machine, &sites, &frame, metric).map_err(failed)?;
         // SAFETY: caller-owned arrays of `width * height` values.
         unsafe { std::slice::from_raw_parts_mut(labels, f.labels.len()) }
             .copy_from_slice(&f.labels);

@@ -130,13 +130,17 @@ fn fan_levels_stay_inside_their_bound() {
     let frame = Frame::pixels(90, 70).unwrap();
     let (_, sites) = cases(90, 70).remove(0);
     let k = 3;
-    for accuracy in [
+    let accuracies = [
         Accuracy::FAN,
         Accuracy::Fan {
             epsilon: 1.0,
             triangles: Some(12),
         },
-    ] {
+    ];
+    // Fans of other metrics too (thesis §3.6.1): chains or uniform samples.
+    let metrics = [Metric::L2, Metric::L1, Metric::LInf, Metric::Lp(3.0)];
+    for (metric, accuracy) in metrics.into_iter().flat_map(|m| accuracies.map(|a| (m, a))) {
+        let truth = k_nearest_by_metric(&sites, &frame, k as usize, metric);
         for speedup in SPEEDUPS {
             let d = k_nearest(
                 &m,
@@ -144,22 +148,21 @@ fn fan_levels_stay_inside_their_bound() {
                 &KNearestOptions {
                     frame,
                     k,
-                    metric: Metric::L2,
+                    metric,
                     accuracy,
                     speedup,
                 },
             )
             .unwrap();
             let bound = d.stats.distance_error_bound;
-            assert!(bound > 0.0);
-            let truth = k_nearest_brute_force(&sites, &frame, k as usize);
+            assert!(bound > 0.0 || metric != Metric::L2);
             for (p, expected) in truth.iter().enumerate() {
                 for (l, &(_, dist)) in expected.iter().enumerate() {
                     let got = d.distances[p * k as usize + l] as f64;
                     // Vertices snap to the rasterizer's subpixel grid.
                     assert!(
                         got >= dist - 0.05 && got <= dist + bound + 0.05,
-                        "{accuracy:?} {speedup:?}: pixel {p} level {l}: {got} vs {dist} (+{bound})"
+                        "{metric} {accuracy:?} {speedup:?}: pixel {p} level {l}: {got} vs {dist} (+{bound})"
                     );
                 }
             }
@@ -257,18 +260,28 @@ fn order_sets_are_the_sets_of_nearest_sites() {
 fn furthest_site_matches_the_definition() {
     let m = machine();
     let frame = Frame::pixels(80, 60).unwrap();
-    for (name, sites) in cases(80, 60) {
-        let f = furthest(&m, &sites, &frame).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let (_, best) = furthest_brute_force(&sites, &frame);
-        let w = frame.width as usize;
-        for (p, &label) in f.labels.iter().enumerate() {
-            let q = DVec2::new((p % w) as f64, (p / w) as f64);
-            let dl = (sites[label as usize] - q).length();
-            assert!(
-                close(dl, best[p]) && close(f.distances[p] as f64, best[p]),
-                "{name}: pixel {q}: site {label} at {dl}, furthest at {}",
-                best[p]
-            );
+    let metrics = [
+        Metric::L2,
+        Metric::L1,
+        Metric::LInf,
+        Metric::Lp(0.5),
+        Metric::Lp(3.0),
+    ];
+    for metric in metrics {
+        for (name, sites) in cases(80, 60) {
+            let name = format!("{metric} {name}");
+            let f = furthest(&m, &sites, &frame, metric).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let (_, best) = furthest_brute_force(&sites, &frame, metric);
+            let w = frame.width as usize;
+            for (p, &label) in f.labels.iter().enumerate() {
+                let q = DVec2::new((p % w) as f64, (p / w) as f64);
+                let dl = metric.distance(sites[label as usize] - q);
+                assert!(
+                    close(dl, best[p]) && close(f.distances[p] as f64, best[p]),
+                    "{name}: pixel {q}: site {label} at {dl}, furthest at {}",
+                    best[p]
+                );
+            }
         }
     }
 }
@@ -315,43 +328,69 @@ fn bad_input_is_a_clear_error() {
     assert!(k_nearest(&m, &sites, &opts(100_000)).is_err());
     assert!(k_nearest(&m, &[], &opts(2)).is_err());
     assert!(k_nearest(&m, &[DVec2::new(f64::NAN, 0.0)], &opts(2)).is_err());
-    assert!(furthest(&m, &[], &frame).is_err());
+    assert!(furthest(&m, &[], &frame, Metric::L2).is_err());
 }
 
 #[test]
 fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
     let m = machine();
     let frame = Frame::pixels(97, 73).unwrap();
-    for (name, sites) in cases(97, 73) {
-        for k in [1, 4] {
-            let c = cpu::k_nearest(&sites, &frame, k).unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert_levels(&c, &sites, &frame, &format!("cpu {name} k={k}"));
-            let g = k_nearest(
-                &m,
-                &sites,
-                &KNearestOptions {
-                    frame,
-                    k,
-                    metric: Metric::L2,
-                    accuracy: Accuracy::Exact,
-                    speedup: Speedup::Local,
-                },
-            )
-            .unwrap();
-            for (a, b) in c.distances.iter().zip(&g.distances) {
+    // Thesis §3.12.1–3.12.2 with every metric: the CPU's levels equal the
+    // definition and the GPU's.
+    let metrics = [
+        Metric::L2,
+        Metric::L1,
+        Metric::LInf,
+        Metric::Lp(0.5),
+        Metric::Lp(3.0),
+    ];
+    for metric in metrics {
+        for (name, sites) in cases(97, 73) {
+            let name = format!("{metric} {name}");
+            for k in [1, 4] {
+                let c = cpu::k_nearest(&sites, &frame, k, metric)
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+                if metric == Metric::L2 {
+                    assert_levels(&c, &sites, &frame, &format!("cpu {name} k={k}"));
+                } else {
+                    let truth = k_nearest_by_metric(&sites, &frame, k as usize, metric);
+                    for (p, expected) in truth.iter().enumerate() {
+                        for (l, &(_, dist)) in expected.iter().enumerate() {
+                            let got = c.distances[p * k as usize + l] as f64;
+                            assert!(
+                                close(got, dist),
+                                "cpu {name}: pixel {p} level {l}: {got} vs {dist}"
+                            );
+                        }
+                    }
+                }
+                let g = k_nearest(
+                    &m,
+                    &sites,
+                    &KNearestOptions {
+                        frame,
+                        k,
+                        metric,
+                        accuracy: Accuracy::Exact,
+                        speedup: Speedup::Local,
+                    },
+                )
+                .unwrap();
+                for (a, b) in c.distances.iter().zip(&g.distances) {
+                    assert!(
+                        a == b || close(*a as f64, *b as f64),
+                        "{name}: cpu {a} gpu {b}"
+                    );
+                }
+            }
+            let f = cpu::furthest(&sites, &frame, metric).unwrap();
+            let g = furthest(&m, &sites, &frame, metric).unwrap();
+            for (a, b) in f.distances.iter().zip(&g.distances) {
                 assert!(
-                    a == b || close(*a as f64, *b as f64),
-                    "{name}: cpu {a} gpu {b}"
+                    close(*a as f64, *b as f64),
+                    "{name}: furthest cpu {a} gpu {b}"
                 );
             }
-        }
-        let f = cpu::furthest(&sites, &frame).unwrap();
-        let g = furthest(&m, &sites, &frame).unwrap();
-        for (a, b) in f.distances.iter().zip(&g.distances) {
-            assert!(
-                close(*a as f64, *b as f64),
-                "{name}: furthest cpu {a} gpu {b}"
-            );
         }
     }
 }

@@ -1,7 +1,9 @@
 //! The pixel algorithms of thesis §3.12 for machines without a GPU driver: every
 //! site grows outwards through one table of pixel offsets sorted by length, round
 //! robin, and each pixel keeps the first k sites that reach it (§3.12.2; k = 1 is
-//! the Voronoi diagram of §3.12.1).
+//! the Voronoi diagram of §3.12.1). Any metric works: the offsets grow by
+//! Euclidean length, the pixels compare the metric's keys, and the finishing
+//! test scales the horizon by the metric's lower Euclidean bound.
 //!
 //! The thesis's sites sit on pixel centres. pixgeo's may lie anywhere, so a site
 //! grows from its nearest pixel centre, which it misses by at most
@@ -20,10 +22,12 @@ use rayon::prelude::*;
 
 use crate::{
     error::{Error, Result},
-    geometry::{frame::check_sites, Frame},
+    geometry::{frame::check_sites, metric::Metric, Frame},
 };
 
-use super::higher_order::{convex_hull, Furthest, KNearest, KNearestStats, MAX_LEVELS};
+use super::higher_order::{
+    convex_hull, furthest_candidates, Furthest, KNearest, KNearestStats, MAX_LEVELS,
+};
 
 /// How far a site may lie from the pixel centre it grows from.
 const SLACK: f64 = std::f64::consts::FRAC_1_SQRT_2;
@@ -67,7 +71,7 @@ fn isqrt(v: i64) -> i64 {
 
 /// Every pixel's `k` nearest sites (world coordinates) on `frame`, computed on the
 /// CPU by growing the sites (thesis §3.12.2).
-pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32) -> Result<KNearest> {
+pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Result<KNearest> {
     check_sites(sites)?;
     frame.check()?;
     if k == 0 || k > MAX_LEVELS {
@@ -96,6 +100,7 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32) -> Result<KNearest> {
     // A pixel's list can hold at most this many sites.
     let full = ku.min(sites.len());
     let mut done = vec![false; h.div_ceil(BAND_ROWS as usize)];
+    let lower = metric.euclidean_bounds().0;
     // Ring r of the offset table holds the offsets of length in (r - 1, r]; the
     // sites visit it row by row of the band.
     for r in 0..=reach.ceil() as i64 + 1 {
@@ -119,18 +124,20 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32) -> Result<KNearest> {
                                 }
                                 let q = DVec2::new(x as f64, y as f64);
                                 let at = ((y - y0) as usize * w + x as usize) * ku;
-                                insert(&mut band_keys[at..at + ku], (site.distance_squared(q), i));
+                                insert(&mut band_keys[at..at + ku], (metric.key(site - q), i));
                             }
                         }
                     }
                 }
                 // Final once every pixel's list is as full as it can be and its last
-                // key beats any later arrival (at least r - SLACK away).
+                // key beats any later arrival (at least r - SLACK away, Euclidean;
+                // at least a times that in the metric).
                 let horizon = r as f64 - SLACK;
+                let last_key = metric.key_of_distance(lower * horizon.max(0.0));
                 *done = horizon > 0.0
                     && band_keys
                         .chunks_exact(ku)
-                        .all(|list| list[full - 1].0.sqrt() <= horizon);
+                        .all(|list| list[full - 1].0 <= last_key);
             });
         if done.iter().all(|d| *d) {
             break;
@@ -139,11 +146,11 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32) -> Result<KNearest> {
     let to_world = 1.0 / frame.scale;
     let (labels, distances) = keys
         .par_iter()
-        .map(|&(d2, i)| {
+        .map(|&(key, i)| {
             if i == u32::MAX {
                 (u32::MAX, f32::INFINITY)
             } else {
-                (i, (d2.sqrt() * to_world) as f32)
+                (i, (metric.distance_of_key(key) * to_world) as f32)
             }
         })
         .unzip();
@@ -180,10 +187,10 @@ fn insert(list: &mut [(f64, u32)], key: (f64, u32)) {
 
 /// The furthest-site diagram on the CPU: every pixel against the convex hull's
 /// sites, the only ones that own furthest regions.
-pub fn furthest(sites: &[DVec2], frame: &Frame) -> Result<Furthest> {
+pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthest> {
     check_sites(sites)?;
     frame.check()?;
-    let hull = convex_hull(sites);
+    let hull = furthest_candidates(sites, &convex_hull(sites), metric);
     let pixels: Vec<DVec2> = hull
         .iter()
         .map(|&i| frame.to_pixel(sites[i as usize]))
@@ -194,10 +201,10 @@ pub fn furthest(sites: &[DVec2], frame: &Frame) -> Result<Furthest> {
         .into_par_iter()
         .map(|p| {
             let q = DVec2::new((p % w) as f64, (p / w) as f64);
-            let (i, d2) = hull
+            let (i, key) = hull
                 .iter()
                 .zip(&pixels)
-                .map(|(&i, s)| (i, s.distance_squared(q)))
+                .map(|(&i, s)| (i, metric.key(*s - q)))
                 .fold((u32::MAX, -1.0), |best, x| {
                     if x.1 > best.1 || (x.1 == best.1 && x.0 < best.0) {
                         x
@@ -205,7 +212,7 @@ pub fn furthest(sites: &[DVec2], frame: &Frame) -> Result<Furthest> {
                         best
                     }
                 });
-            (i, (d2.sqrt() * to_world) as f32)
+            (i, (metric.distance_of_key(key) * to_world) as f32)
         })
         .unzip();
     Ok(Furthest {

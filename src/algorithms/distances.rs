@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
-    geometry::{buckets::PointGrid, frame::check_sites, Frame},
+    geometry::{buckets::PointGrid, frame::check_sites, metric::Metric, Frame},
     machine::Machine,
 };
 
@@ -223,7 +223,7 @@ pub fn max_distance(
     check_sets(&[("first set", a), ("second set", b)])?;
     let side = side.unwrap_or_else(|| default_side(machine, convex_hull(b).len()));
     let frame = frame_around(&[a, b], side)?;
-    let diagram = furthest(machine, b, &frame)?;
+    let diagram = furthest(machine, b, &frame, Metric::L2)?;
     // The farthest point from a fixed point over a set is a hull vertex, and the
     // distance to the farthest point of b is convex, so its maximum over a is at a
     // hull vertex of a. The picture's partner's distance is a lower bound, the

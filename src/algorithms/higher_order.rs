@@ -25,6 +25,7 @@ use serde::Serialize;
 use crate::{
     error::{Error, Result},
     geometry::{
+        chain::MetricFan,
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::{check_sites, distance2_to_rect},
         metric::Metric,
@@ -37,7 +38,7 @@ use crate::{
     },
 };
 
-use super::voronoi::{Accuracy, Speedup};
+use super::voronoi::{metric_fan, Accuracy, Speedup};
 
 /// Corners of the polygon drawn around each cone's disc.
 const FOOTPRINT_CORNERS: u32 = 8;
@@ -203,6 +204,21 @@ pub fn k_nearest(
             (Program::ConeKNearestFan, unit_fan(t), Rim::Circumscribed(t))
         }
     };
+    // Other metrics' fans: one mesh over the chain (or sample) of the widest cone.
+    let (mesh, outer) = match options.accuracy {
+        Accuracy::Fan { .. } if options.metric != Metric::L2 => {
+            let fan = metric_fan(options.accuracy);
+            let widest = fan.outer_radius(options.metric, stats.radius_max);
+            stats.triangles = fan.unit_mesh(options.metric, widest).len() as u32 - 2;
+            stats.distance_error_bound =
+                fan.error_bound(options.metric, stats.radius_max) / frame.scale;
+            (
+                fan.unit_mesh(options.metric, widest),
+                Rim::Metric(fan, options.metric),
+            )
+        }
+        _ => (mesh, outer),
+    };
     let instances: Vec<[u32; 5]> = cones
         .iter()
         .map(|&(i, p, r)| cone_instance(i, p, outer.radius(r), r))
@@ -257,6 +273,8 @@ enum Rim {
     Circumscribed(u32),
     /// A fan whose height error stays below epsilon out to r (thesis §3.3).
     Beyond(f64),
+    /// A fan of another metric (thesis §3.6.1–3.6.2).
+    Metric(MetricFan, Metric),
 }
 
 impl Rim {
@@ -264,6 +282,7 @@ impl Rim {
         match self {
             Rim::Circumscribed(corners) => FanShape::with_triangles(r, corners).outer_radius,
             Rim::Beyond(epsilon) => r + epsilon,
+            Rim::Metric(fan, metric) => fan.outer_radius(metric, r),
         }
     }
 }
@@ -449,12 +468,6 @@ fn read_keys(
 /// The checks every way of computing levels shares.
 fn check_levels(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result<()> {
     check_sites(sites)?;
-    if options.metric != Metric::L2 && options.accuracy != Accuracy::Exact {
-        return Err(Error::InvalidInput(format!(
-            "{} cones are drawn exactly; use exact mode",
-            options.metric
-        )));
-    }
     let frame = options.frame;
     frame.check()?;
     let k = options.k;
@@ -748,6 +761,16 @@ fn k_radii(
     }
 }
 
+/// The sites that may own furthest regions: for a convex unit ball (L_p with
+/// p >= 1) a distance is a convex function, largest over the sites at a corner of
+/// their convex hull; for p < 1 every site may.
+pub(crate) fn furthest_candidates(sites: &[DVec2], hull: &[u32], metric: Metric) -> Vec<u32> {
+    match metric {
+        Metric::Lp(p) if p < 1.0 => (0..sites.len() as u32).collect(),
+        _ => hull.to_vec(),
+    }
+}
+
 /// The furthest-site diagram (thesis §3.7.1) with its distances.
 #[derive(Clone, Debug)]
 pub struct Furthest {
@@ -757,12 +780,18 @@ pub struct Furthest {
     pub labels: Vec<u32>,
     /// Distance to it in world units.
     pub distances: Vec<f32>,
-    /// Indices of the sites drawn: the vertices of the convex hull.
+    /// Indices of the sites drawn: the vertices of the convex hull (every site for
+    /// L_p with p < 1, see [`furthest_candidates`]).
     pub hull: Vec<u32>,
 }
 
 /// Computes the furthest-site diagram of `sites` (world coordinates) on `frame`.
-pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Furthest> {
+pub fn furthest(
+    machine: &Machine,
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+) -> Result<Furthest> {
     check_sites(sites)?;
     frame.check()?;
     let side = machine.max_picture_side();
@@ -771,11 +800,11 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
             "furthest-site diagrams are drawn in one image of at most {side}x{side} pixels on this device"
         )));
     }
-    let hull = convex_hull(sites);
+    let owners = furthest_candidates(sites, &convex_hull(sites), metric);
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     // Upside-down cones reach every pixel: a site's furthest region may lie
     // anywhere in the picture.
-    let instances: Vec<[u32; 5]> = hull
+    let instances: Vec<[u32; 5]> = owners
         .iter()
         .map(|&i| {
             let p = pixels[i as usize];
@@ -789,15 +818,21 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
         .map(|c| f32::from_bits(c[3]) as f64)
         .fold(1.0, f64::max)
         * 1.001;
-    // A power of two keeps squared distances exact in the depth buffer.
-    let scale = (reach * reach).log2().ceil().exp2().recip();
+    // A power of two keeps keys (squared distances for L2) exact in the depth
+    // buffer; a Euclidean reach r is at most b r in the metric.
+    let scale = metric
+        .key_of_distance(reach * metric.euclidean_bounds().1)
+        .log2()
+        .ceil()
+        .exp2()
+        .recip();
     let ids = machine.image(Format::R32Uint, frame.width, frame.height)?;
     let depth = machine.image(Format::Depth, frame.width, frame.height)?;
     let mesh = machine.vertex_buffer(&unit_footprint(FOOTPRINT_CORNERS))?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
     let push = ConePush {
         fragment_depth_scale: scale as f32,
-        ..picture_push(frame, 1, Metric::L2)
+        ..picture_push(frame, 1, metric)
     };
     // The upper envelope: the furthest fragment wins, ties the last drawn (or-equal,
     // so that a lone site's own pixel at distance 0 still gets it).
@@ -848,7 +883,7 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
             if *id == u32::MAX {
                 f32::INFINITY
             } else {
-                (z * unscale).sqrt() * to_world
+                metric.distance_of_key((z * unscale) as f64) as f32 * to_world
             }
         })
         .collect();
@@ -857,7 +892,7 @@ pub fn furthest(machine: &Machine, sites: &[DVec2], frame: &Frame) -> Result<Fur
         height: frame.height,
         labels,
         distances,
-        hull,
+        hull: owners,
     })
 }
 

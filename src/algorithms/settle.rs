@@ -438,11 +438,11 @@ pub fn potential_areas_cpu(
     let start = Instant::now();
     let rivals_px = to_pixels(rivals, frame);
     let own_px = to_pixels(own, frame);
-    let rival_labels = nearest_labels_cpu(rivals, &rivals_px, frame, metric)?;
+    let rival_labels = nearest_labels_cpu(rivals, frame, metric)?;
     let own_labels = if own.is_empty() {
         None
     } else {
-        Some(nearest_labels_cpu(own, &own_px, frame, metric)?)
+        Some(nearest_labels_cpu(own, frame, metric)?)
     };
     let keys = disc_radius_keys(
         frame,
@@ -542,32 +542,9 @@ fn add_disc_spans(
     }
 }
 
-/// Nearest site per pixel on the CPU: the thesis's growing sites for the
-/// Euclidean metric, a look at every site otherwise.
-fn nearest_labels_cpu(
-    sites: &[DVec2],
-    sites_px: &[DVec2],
-    frame: &Frame,
-    metric: Metric,
-) -> Result<Vec<u32>> {
-    if metric == Metric::L2 {
-        return Ok(super::cpu::k_nearest(sites, frame, 1)?.labels);
-    }
-    let w = frame.width as usize;
-    Ok((0..frame.len())
-        .into_par_iter()
-        .map(|k| {
-            let p = DVec2::new((k % w) as f64, (k / w) as f64);
-            let mut best = (f64::INFINITY, u32::MAX);
-            for (i, s) in sites_px.iter().enumerate() {
-                let key = metric.key(*s - p);
-                if key < best.0 {
-                    best = (key, i as u32);
-                }
-            }
-            best.1
-        })
-        .collect())
+/// Nearest site per pixel on the CPU: the thesis's growing sites (§3.12.1).
+fn nearest_labels_cpu(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Vec<u32>> {
+    Ok(super::cpu::k_nearest(sites, frame, 1, metric)?.labels)
 }
 
 /// The refined settle point: a position (pixel coordinates) and the exact area

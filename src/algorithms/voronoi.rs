@@ -23,6 +23,7 @@ use serde::Serialize;
 use crate::{
     error::{Error, Result},
     geometry::{
+        chain,
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::{check_sites, distance2_to_rect},
         metric::Metric,
@@ -187,8 +188,12 @@ enum Footprint {
     Batch,
     /// A regular polygon with this many corners (exact cones).
     Polygon(u32),
-    /// A triangle fan of this many triangles.
+    /// A triangle fan of this many triangles (for other metrics: over the metric's
+    /// circle sampled at equal angles).
     Fan(u32),
+    /// A fan over the thesis's polygonal chain of another metric's circle
+    /// (§3.6.1–3.6.2), built for the radius of this [`chain::chain_level`].
+    Chain(i32),
 }
 
 /// A cone with its footprint, ready to draw.
@@ -259,12 +264,6 @@ pub fn voronoi_bands(
             "equal distances are counted in exact mode only".into(),
         ));
     }
-    if options.metric != Metric::L2 && options.accuracy != Accuracy::Exact {
-        return Err(Error::InvalidInput(format!(
-            "{} cones are drawn exactly; fans of other metrics need the thesis's polygonal cone bases, which pixgeo does not draw yet (use --mode exact)",
-            options.metric
-        )));
-    }
     if let Accuracy::Fan { epsilon, triangles } = options.accuracy {
         if !(epsilon > 0.0 && epsilon.is_finite()) {
             return Err(Error::InvalidInput(format!(
@@ -289,7 +288,15 @@ pub fn voronoi_bands(
     let attempts = cone_attempts(&pixels, &frame, options.speedup, options.metric);
     let shaped: Vec<Vec<Shaped>> = attempts
         .iter()
-        .map(|(_, cones)| shape_cones(cones, &frame, options.accuracy, !options.ties))
+        .map(|(_, cones)| {
+            shape_cones(
+                cones,
+                &frame,
+                options.accuracy,
+                options.metric,
+                !options.ties,
+            )
+        })
         .collect();
     let batches: Vec<Vec<ConeBatch>> = shaped.iter().map(|s| batches_of(s)).collect();
     // One depth scale for every tile and attempt: the largest cone's.
@@ -401,10 +408,17 @@ pub fn voronoi_bands(
                 Footprint::Batch => "batch",
                 Footprint::Polygon(_) => "polygon",
                 Footprint::Fan(_) => "fan",
+                Footprint::Chain(_) => "chain",
             },
             size: match g.footprint {
                 Footprint::Batch => BATCH as u32,
                 Footprint::Polygon(k) | Footprint::Fan(k) => k,
+                Footprint::Chain(level) => {
+                    metric_fan(options.accuracy)
+                        .unit_mesh(options.metric, chain::level_radius(level))
+                        .len() as u32
+                        - 2
+                }
             },
             cones: g.count as usize,
         })
@@ -423,9 +437,24 @@ pub fn voronoi_bands(
         } => epsilon / frame.scale,
         Accuracy::Fan {
             triangles: Some(t), ..
-        } => fan_distance_error(stats.radius_max, t) / frame.scale,
+        } if options.metric == Metric::L2 => fan_distance_error(stats.radius_max, t) / frame.scale,
+        Accuracy::Fan { .. } => {
+            metric_fan(options.accuracy).error_bound(options.metric, stats.radius_max) / frame.scale
+        }
     };
     Ok(stats)
+}
+
+/// How fans of metrics other than L2 are built for `accuracy` (a fan mode).
+pub(crate) fn metric_fan(accuracy: Accuracy) -> chain::MetricFan {
+    match accuracy {
+        Accuracy::Fan {
+            triangles: Some(corners),
+            ..
+        } => chain::MetricFan::Uniform { corners },
+        Accuracy::Fan { epsilon, .. } => chain::MetricFan::Chain { epsilon },
+        Accuracy::Exact => unreachable!("exact cones have no fan"),
+    }
 }
 
 fn ms(since: Instant) -> f64 {
@@ -507,7 +536,13 @@ fn polygon_corners(radius: f64) -> u32 {
 ///
 /// Without `batch` every exact cone gets a polygon of its own: counting ties
 /// needs each cone's own fragments.
-fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy, batch: bool) -> Vec<Shaped> {
+fn shape_cones(
+    cones: &[Cone],
+    frame: &Frame,
+    accuracy: Accuracy,
+    metric: Metric,
+    batch: bool,
+) -> Vec<Shaped> {
     let mut shaped: Vec<Shaped> = cones
         .iter()
         .map(|cone| {
@@ -526,11 +561,28 @@ fn shape_cones(cones: &[Cone], frame: &Frame, accuracy: Accuracy, batch: bool) -
                 }
                 Accuracy::Fan {
                     triangles: Some(t), ..
-                } => fan(FanShape::with_triangles(cone.radius, t)),
+                } if metric == Metric::L2 => fan(FanShape::with_triangles(cone.radius, t)),
                 Accuracy::Fan {
                     epsilon,
                     triangles: None,
-                } => fan(FanShape::for_distance_error(cone.radius, epsilon)),
+                } if metric == Metric::L2 => {
+                    fan(FanShape::for_distance_error(cone.radius, epsilon))
+                }
+                Accuracy::Fan {
+                    triangles: Some(t), ..
+                } => (
+                    Footprint::Fan(t),
+                    metric_fan(accuracy).outer_radius(metric, cone.radius),
+                ),
+                Accuracy::Fan { .. } => {
+                    let outer = metric_fan(accuracy).outer_radius(metric, cone.radius);
+                    // L1 and L∞ chains are their exact circles at every radius.
+                    let level = match metric {
+                        Metric::L1 | Metric::LInf => 0,
+                        _ => chain::chain_level(outer),
+                    };
+                    (Footprint::Chain(level), outer)
+                }
             };
             Shaped {
                 cone: *cone,
@@ -755,7 +807,11 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         let vertices = match g.footprint {
             Footprint::Batch => unreachable!("batched cones are drawn as batches"),
             Footprint::Polygon(k) => unit_footprint(k),
-            Footprint::Fan(t) => unit_fan(t),
+            Footprint::Fan(t) if draws.metric == Metric::L2 => unit_fan(t),
+            Footprint::Fan(_) => metric_fan(draws.accuracy).unit_mesh(draws.metric, 1.0),
+            Footprint::Chain(level) => {
+                metric_fan(draws.accuracy).unit_mesh(draws.metric, chain::level_radius(level))
+            }
         };
         ranges.push((mesh.len() as u32, vertices.len() as u32));
         mesh.extend(vertices);

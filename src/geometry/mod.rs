@@ -5,6 +5,7 @@
 
 pub mod buckets;
 pub mod cell;
+pub mod chain;
 pub mod cone;
 pub mod frame;
 pub mod metric;

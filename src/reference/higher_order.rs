@@ -37,9 +37,14 @@ pub fn k_nearest_by_metric(
         .collect()
 }
 
-/// For every pixel (row-major), the largest distance to a site (pixel units) and
-/// the lowest index of a site at that distance. Sites are in pixel coordinates.
-pub fn furthest_brute_force(sites: &[DVec2], frame: &Frame) -> (Vec<u32>, Vec<f64>) {
+/// For every pixel (row-major), the largest `metric` distance to a site (pixel
+/// units) and the lowest index of a site at that distance. Sites are in pixel
+/// coordinates.
+pub fn furthest_brute_force(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+) -> (Vec<u32>, Vec<f64>) {
     let w = frame.width as usize;
     (0..frame.len())
         .into_par_iter()
@@ -47,7 +52,7 @@ pub fn furthest_brute_force(sites: &[DVec2], frame: &Frame) -> (Vec<u32>, Vec<f6
             let q = DVec2::new((p % w) as f64, (p / w) as f64);
             let mut best = (u32::MAX, f64::NEG_INFINITY);
             for (i, s) in sites.iter().enumerate() {
-                let d = (*s - q).length();
+                let d = metric.distance(*s - q);
                 if d > best.1 {
                     best = (i as u32, d);
                 }

@@ -52,9 +52,9 @@ pub struct Args {
     input: Input,
 
     /// Distance function (thesis §3.6): `l2` (Euclidean), `l1`, `linf`, or
-    /// `lp:P` for any P > 0 (P < 1 gives star-shaped, non-convex balls). Other
-    /// metrics than l2 are drawn in exact mode, for ordinary, --degree and
-    /// --order diagrams on a Vulkan device.
+    /// `lp:P` for any P > 0 (P < 1 gives star-shaped, non-convex balls). Every
+    /// metric works in both modes (fans over the thesis's polygonal chains), for
+    /// every kind of diagram, and with --device cpu.
     #[arg(long, default_value = "l2", value_parser = Metric::parse)]
     metric: Metric,
 
@@ -363,12 +363,6 @@ fn whole_picture(
     if args.ties.is_some() {
         bail!("--ties counts equal distances of ordinary diagrams on a Vulkan device");
     }
-    if args.metric != Metric::L2 && (kind == Kind::Furthest || matches!(backend, Backend::Cpu)) {
-        bail!(
-            "--metric {} applies to ordinary, --degree and --order diagrams on a Vulkan device so far",
-            args.metric
-        );
-    }
     if args.max_tile.is_some() {
         bail!(
             "--max-tile applies to ordinary diagrams on a Vulkan device; this diagram is computed whole"
@@ -406,8 +400,8 @@ fn whole_picture(
             bail!("the furthest-site diagram is computed exactly; drop --mode");
         }
         let f = match backend {
-            Backend::Gpu(machine) => higher_order::furthest(machine, sites, &frame)?,
-            Backend::Cpu => cpu::furthest(sites, &frame)?,
+            Backend::Gpu(machine) => higher_order::furthest(machine, sites, &frame, args.metric)?,
+            Backend::Cpu => cpu::furthest(sites, &frame, args.metric)?,
         };
         if let Some(path) = &args.labels {
             npy::write(path, &[h, w], &f.labels)?;
@@ -451,7 +445,7 @@ fn whole_picture(
                 if accuracy != Accuracy::Exact {
                     bail!("--mode fan draws cones on a Vulkan device; the CPU pixel algorithm is exact");
                 }
-                cpu::k_nearest(sites, &frame, k)?
+                cpu::k_nearest(sites, &frame, k, args.metric)?
             }
         };
         let shape = if kind == Kind::Ordinary {
