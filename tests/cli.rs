@@ -58,6 +58,46 @@ fn voronoi_writes_picture_arrays_and_json() {
 }
 
 #[test]
+fn voronoi_reads_weights_and_shapes() {
+    // Thesis Figs. 3.38 and 3.45: weighted points, a segment, a circle and an arc.
+    let sites = temp("mixed.json");
+    std::fs::write(
+        &sites,
+        r#"{"sites": [{"point": [8, 8], "m": 2},
+                      {"segment": [[40, 5], [60, 5]]},
+                      {"circle": {"center": [20, 36], "radius": 6}},
+                      {"arc": {"center": [50, 36], "radius": 8, "start": 0, "end": 3.1416}, "a": 1}]}"#,
+    )
+    .unwrap();
+    let (labels, dist) = (temp("ml.npy"), temp("md.npy"));
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        sites.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "--labels",
+        labels.to_str().unwrap(),
+        "--distance",
+        dist.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (_, l): (Vec<u64>, Vec<u32>) = npy::read(&labels).unwrap();
+    let (_, d): (Vec<u64>, Vec<f32>) = npy::read(&dist).unwrap();
+    // On the segment, at the circle's centre (6 away), above the arc's middle.
+    assert_eq!((l[5 * 64 + 50], d[5 * 64 + 50]), (1, 0.0));
+    assert_eq!(l[36 * 64 + 20], 2);
+    assert!((d[36 * 64 + 20] - 6.0).abs() < 1e-4);
+    assert_eq!(l[44 * 64 + 50], 3);
+    assert!((d[44 * 64 + 50] - 1.0).abs() < 1e-4);
+    // Weights in CSV columns; a bad weight names its site.
+    let csv = temp("weights.csv");
+    std::fs::write(&csv, "x,y,m,a\n10,10,1,0\n50,20,0,0\n").unwrap();
+    let (ok, _, stderr) = pixgeo(&["voronoi", "--sites", csv.to_str().unwrap(), "--size", "32"]);
+    assert!(!ok && stderr.contains("site 1"), "{stderr}");
+}
+
+#[test]
 fn random_sites_with_bbox_and_fan_mode() {
     let (ok, stdout, stderr) = pixgeo(&[
         "voronoi",

@@ -5,4 +5,5 @@ pub mod cpu;
 pub mod distances;
 pub mod higher_order;
 pub mod settle;
+pub mod sites;
 pub mod voronoi;

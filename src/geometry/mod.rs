@@ -10,5 +10,6 @@ pub mod cone;
 pub mod frame;
 pub mod metric;
 pub mod radius;
+pub mod site;
 
 pub use frame::Frame;

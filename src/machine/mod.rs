@@ -30,7 +30,8 @@ use ash::vk;
 pub use context::{DeviceChoice, MachineOptions};
 pub use memory::{Buffer, BufferKind, Format, Image};
 pub use pass::{
-    Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, Target, MAX_GROUPS,
+    Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, SiteInstance,
+    Target, MAX_GROUPS,
 };
 pub use pipelines::{BufferKernel, Program};
 pub use state::{

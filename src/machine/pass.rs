@@ -79,6 +79,20 @@ impl PixelRect {
     }
 }
 
+/// One site of [`crate::machine::Program::SiteExact`] (`glsl/site.vert`): its
+/// rectangle, shape words, weights, kind and id.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SiteInstance {
+    /// (min x, min y, max x, max y) in picture pixels.
+    pub rect: [f32; 4],
+    pub shape: [f32; 8],
+    /// (1 / (frame scale * m), a - the smallest a).
+    pub weights: [f32; 2],
+    /// Kind (0 point, 1 segment, 2 circle, 3 arc) and site id.
+    pub kind_id: [u32; 2],
+}
+
 /// Push constants of the cone programs (`glsl/common.glsl`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConePush {

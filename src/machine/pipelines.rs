@@ -48,6 +48,9 @@ pub enum Program {
     /// instanced without vertex buffers; the fragment shader keeps the disc and
     /// reads each pixel's radius from the bound storage buffer.
     SettleDisc,
+    /// One rectangle per site of any shape with weights; the fragment writes the
+    /// exact weighted distance (see [`crate::machine::SiteInstance`]).
+    SiteExact,
 }
 
 impl Program {
@@ -159,6 +162,8 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("cone_tiles.frag:k32", shaders::CONE_TILES_FRAG_K32),
     ("settle_disc.vert", shaders::SETTLE_DISC_VERT),
     ("settle_disc.frag", shaders::SETTLE_DISC_FRAG),
+    ("site.vert", shaders::SITE_VERT),
+    ("site_exact.frag", shaders::SITE_EXACT_FRAG),
     ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
     ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
     ("rect.vert", shaders::RECT_VERT),
@@ -358,6 +363,11 @@ impl Pipelines {
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
 
+            Program::SiteExact => (
+                "site.vert",
+                "site_exact.frag",
+                vk::PrimitiveTopology::TRIANGLE_LIST,
+            ),
             Program::SettleDisc => (
                 "settle_disc.vert",
                 "settle_disc.frag",
@@ -451,7 +461,44 @@ impl Pipelines {
                 })
         }))
         .collect();
+        let site_bindings = [
+            cone_bindings[0],
+            vk::VertexInputBindingDescription::default()
+                .binding(1)
+                .stride(std::mem::size_of::<super::pass::SiteInstance>() as u32)
+                .input_rate(vk::VertexInputRate::INSTANCE),
+        ];
+        // glsl/site.vert: rectangle, two vec4 of shape, vec2 of weights, uvec2.
+        let site_formats = [
+            (16, vk::Format::R32G32B32A32_SFLOAT),
+            (16, vk::Format::R32G32B32A32_SFLOAT),
+            (16, vk::Format::R32G32B32A32_SFLOAT),
+            (8, vk::Format::R32G32_SFLOAT),
+            (8, vk::Format::R32G32_UINT),
+        ];
+        let site_attributes: Vec<_> = std::iter::once(cone_attributes[0])
+            .chain(
+                site_formats
+                    .iter()
+                    .scan(0u32, |offset, &(size, format)| {
+                        let at = *offset;
+                        *offset += size;
+                        Some((at, format))
+                    })
+                    .enumerate()
+                    .map(|(k, (offset, format))| {
+                        vk::VertexInputAttributeDescription::default()
+                            .location(1 + k as u32)
+                            .binding(1)
+                            .offset(offset)
+                            .format(format)
+                    }),
+            )
+            .collect();
         let vertex_input = match key.program {
+            Program::SiteExact => vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&site_bindings)
+                .vertex_attribute_descriptions(&site_attributes),
             Program::ConeExactBatch => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&batch_bindings)
                 .vertex_attribute_descriptions(&batch_attributes),

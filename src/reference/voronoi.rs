@@ -116,3 +116,23 @@ pub fn nearest_distances_metric(
         })
         .collect()
 }
+
+/// For every pixel (row-major), the smallest weighted distance (world units) to a
+/// site of any shape, by looking at every site. Sites are in world coordinates.
+pub fn nearest_weighted_distances(
+    sites: &[crate::geometry::site::Site],
+    frame: &Frame,
+    metric: crate::geometry::metric::Metric,
+) -> Vec<f64> {
+    let w = frame.width as usize;
+    (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let q = frame.to_world(DVec2::new((k % w) as f64, (k / w) as f64));
+            sites
+                .iter()
+                .map(|s| s.distance(metric, q))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}

@@ -5,13 +5,23 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
-use pixgeo::{geometry::Frame, io::sites};
+use pixgeo::{
+    geometry::{
+        site::{Shape, Site},
+        Frame,
+    },
+    io::sites,
+};
 
 /// The sites and the picture they are drawn on.
 #[derive(ClapArgs)]
 pub struct Input {
-    /// Site file: CSV with `x,y` per line (optional header) or JSON
-    /// (`[[x, y], ...]` or `{"sites": [...]}`).
+    /// Site file: CSV with `x,y` per line (optional header; `pixgeo voronoi` also
+    /// reads weight columns `x,y,m,a`) or JSON (`[[x, y], ...]` or
+    /// `{"sites": [...]}`; `pixgeo voronoi` also reads `{"segment": [[x1, y1],
+    /// [x2, y2]]}`, `{"circle": {"center": [x, y], "radius": r}}`, `{"arc":
+    /// {"center": [x, y], "radius": r, "start": a0, "end": a1}}` and weights
+    /// `"m"`, `"a"` on any site).
     #[arg(long, value_name = "FILE", conflicts_with = "random")]
     sites: Option<PathBuf>,
 
@@ -34,16 +44,33 @@ pub struct Input {
 }
 
 impl Input {
-    /// The picture's frame and the sites in world coordinates.
+    /// The picture's frame and the (unweighted point) sites in world coordinates.
     pub fn frame_and_sites(&self) -> Result<(Frame, Vec<DVec2>)> {
+        let (frame, general) = self.frame_and_general_sites()?;
+        let points = general
+            .iter()
+            .enumerate()
+            .map(|(i, s)| match s.shape {
+                Shape::Point(p) if s.is_plain_point() => Ok(p),
+                _ => bail!("site {i}: this command takes unweighted points"),
+            })
+            .collect::<Result<_>>()?;
+        Ok((frame, points))
+    }
+
+    /// The picture's frame and sites of every shape and weight.
+    pub fn frame_and_general_sites(&self) -> Result<(Frame, Vec<Site>)> {
         let (width, height) = self.size;
         let frame = match self.bbox {
             Some(b) => Frame::with_bbox(width, height, b)?,
             None => Frame::pixels(width, height.unwrap_or(width))?,
         };
         let sites = match (&self.sites, self.random) {
-            (Some(path), None) => sites::read_sites(path)?,
-            (None, Some(n)) if n > 0 => sites::random_sites(n, self.seed, &frame),
+            (Some(path), None) => sites::read_general_sites(path)?,
+            (None, Some(n)) if n > 0 => sites::random_sites(n, self.seed, &frame)
+                .into_iter()
+                .map(Site::point)
+                .collect(),
             (None, Some(_)) => bail!("--random needs at least one site"),
             _ => bail!("give the sites: --sites FILE or --random N"),
         };

@@ -1,4 +1,5 @@
-//! `pixgeo voronoi`: the Voronoi diagram of point sites.
+//! `pixgeo voronoi`: the Voronoi diagram of point sites, and of weighted sites,
+//! segments, circles and arcs.
 
 use std::{io::IsTerminal, path::PathBuf};
 
@@ -10,9 +11,14 @@ use pixgeo::{
     algorithms::{
         cpu,
         higher_order::{self, KNearestOptions},
+        sites::voronoi_sites,
         voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     },
-    geometry::{metric::Metric, Frame},
+    geometry::{
+        metric::Metric,
+        site::{Shape, Site},
+        Frame,
+    },
     io::{npy, npy::NpyStream, picture, picture::PngStream},
     machine::{DeviceChoice, Machine, MachineOptions},
 };
@@ -185,7 +191,17 @@ fn parse_speedup(s: &str) -> Result<Speedup, String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let (frame, sites) = args.input.frame_and_sites()?;
+    let (frame, general) = args.input.frame_and_general_sites()?;
+    if general.iter().any(|s| !s.is_plain_point()) {
+        return general_sites(&args, &general, frame);
+    }
+    let sites: Vec<DVec2> = general
+        .iter()
+        .map(|s| match s.shape {
+            Shape::Point(p) => p,
+            _ => unreachable!("plain points"),
+        })
+        .collect();
     let accuracy = match args.mode {
         ModeArg::Exact => Accuracy::Exact,
         ModeArg::Fan(triangles) => Accuracy::Fan {
@@ -332,6 +348,90 @@ pub fn run(args: Args) -> Result<()> {
             s.radius_min,
             s.radius_max,
             s.render_ms
+        );
+        if let Some(p) = &args.output {
+            eprintln!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}
+
+/// The diagram of weighted points, segments, circles and arcs (thesis §3.8–3.9).
+fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
+    if args.degree.is_some() || args.order.is_some() || args.furthest {
+        bail!("--degree, --order and --furthest take unweighted points; these sites have weights or shapes");
+    }
+    let machine = match Backend::choose(args.device.as_deref())? {
+        Backend::Gpu(machine) => machine,
+        Backend::Cpu => {
+            bail!("weighted sites, segments, circles and arcs are drawn on a Vulkan device")
+        }
+    };
+    let accuracy = match args.mode {
+        ModeArg::Exact => Accuracy::Exact,
+        ModeArg::Fan(triangles) => Accuracy::Fan {
+            epsilon: args.epsilon,
+            triangles,
+        },
+    };
+    let options = VoronoiOptions {
+        frame,
+        metric: args.metric,
+        accuracy,
+        speedup: Speedup::Local,
+        distances: true,
+        ties: args.ties.is_some(),
+        max_tile: args.max_tile,
+    };
+    let d = voronoi_sites(&machine, sites, &options)?;
+    let shape = [frame.height as u64, frame.width as u64];
+    if let Some(p) = &args.labels {
+        let mut out = NpyStream::<u32>::create(p, &shape)?;
+        out.write(&d.labels)?;
+        out.finish()?;
+    }
+    if let Some(p) = &args.distance {
+        let mut out = NpyStream::<f32>::create(p, &shape)?;
+        out.write(&d.distances)?;
+        out.finish()?;
+    }
+    if let Some(p) = &args.output {
+        // A dot at the middle of each site's shape.
+        let marks: Vec<DVec2> = sites
+            .iter()
+            .map(|s| {
+                let (lo, hi) = s.bounds();
+                frame.to_pixel(0.5 * (lo + hi))
+            })
+            .collect();
+        let contours = args.contours.map(|step| picture::Contours {
+            distances: &d.distances,
+            step: step as f32,
+            line: (1.0 / frame.scale) as f32,
+        });
+        let rgb = picture::label_rows(&d.labels, frame.width, 0, &marks, contours);
+        let mut out = PngStream::create(p, frame.width, frame.height)?;
+        out.write(&rgb)?;
+        out.finish()?;
+    }
+    if args.json {
+        let summary = json!({
+            "width": frame.width,
+            "height": frame.height,
+            "metric": args.metric.to_string(),
+            "mode": "exact",
+            "stats": d.stats,
+        });
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        eprintln!(
+            "{} sites, {}x{} pixels on {}: {} drawn, {:.1} ms rendering",
+            d.stats.sites,
+            frame.width,
+            frame.height,
+            d.stats.device,
+            d.stats.cones,
+            d.stats.render_ms
         );
         if let Some(p) = &args.output {
             eprintln!("wrote {}", p.display());

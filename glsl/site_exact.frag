@@ -1,0 +1,88 @@
+#version 460
+// The weighted distance of a site of any shape, per fragment (thesis §3.8–3.9:
+// the roof of a segment, the straw hut of a circle, the sliced hut of an arc, with
+// the apex angle and height of its weights), written as depth:
+//   kind 0 point    shape0.xy
+//   kind 1 segment  shape0.xy to shape0.zw
+//   kind 2 circle   centre shape0.xy, radius shape0.z (Euclidean)
+//   kind 3 arc      centre shape0.xy, radius shape0.z, counter-clockwise from
+//                   angle shape1.x over shape1.y radians (Euclidean)
+// The weighted distance is dist * weights.x + weights.y (world units).
+#include "common.glsl"
+
+layout(location = 0) flat in vec4 shape0;
+layout(location = 1) flat in vec4 shape1;
+layout(location = 2) flat in vec2 weights;
+layout(location = 3) flat in uvec2 kind_id;
+layout(location = 0) out uint out_id;
+
+const float TAU = 6.28318530718;
+
+float norm(vec2 v) {
+    return metric_distance_of_key(metric_key(v), picture.metric, picture.metric_p);
+}
+
+// The smallest norm on the segment of offsets a + t (b - a), t in [0, 1]: closed
+// form for L2; otherwise the ends and the zeros of each coordinate (the minimum
+// for p < 1, where each |coordinate|^p is concave between its zeros), refined by
+// golden-section search for the convex norms (src/geometry/chain.rs).
+float segment_norm(vec2 a, vec2 b) {
+    vec2 e = b - a;
+    float ee = dot(e, e);
+    if (picture.metric == 0u) {
+        float t = ee > 0.0 ? clamp(-dot(a, e) / ee, 0.0, 1.0) : 0.0;
+        return length(a + t * e);
+    }
+    float best = min(norm(a), norm(b));
+    for (int axis = 0; axis < 2; axis++) {
+        if (e[axis] != 0.0) {
+            float t = -a[axis] / e[axis];
+            if (t > 0.0 && t < 1.0) {
+                best = min(best, norm(a + t * e));
+            }
+        }
+    }
+    bool convex = picture.metric != 3u || picture.metric_p >= 1.0;
+    if (convex && ee > 0.0) {
+        float lo = 0.0;
+        float hi = 1.0;
+        const float g = 0.61803398875;
+        for (int i = 0; i < 40; i++) {
+            float m1 = hi - g * (hi - lo);
+            float m2 = lo + g * (hi - lo);
+            if (norm(a + m1 * e) <= norm(a + m2 * e)) {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        best = min(best, norm(a + 0.5 * (lo + hi) * e));
+    }
+    return best;
+}
+
+void main() {
+    vec2 p = fragment_pixel();
+    uint kind = kind_id.x;
+    float d;
+    if (kind == 0u) {
+        d = norm(p - shape0.xy);
+    } else if (kind == 1u) {
+        d = segment_norm(shape0.xy - p, shape0.zw - p);
+    } else {
+        vec2 v = p - shape0.xy;
+        float r = shape0.z;
+        d = abs(length(v) - r);
+        if (kind == 3u && shape1.y < TAU && dot(v, v) > 0.0) {
+            float along = mod(atan(v.y, v.x) - shape1.x, TAU);
+            if (along > shape1.y) {
+                vec2 e0 = shape0.xy + r * vec2(cos(shape1.x), sin(shape1.x));
+                float a1 = shape1.x + shape1.y;
+                vec2 e1 = shape0.xy + r * vec2(cos(a1), sin(a1));
+                d = min(length(p - e0), length(p - e1));
+            }
+        }
+    }
+    gl_FragDepth = (d * weights.x + weights.y) * picture.fragment_depth_scale;
+    out_id = kind_id.y;
+}

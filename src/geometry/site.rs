@@ -1,0 +1,253 @@
+//! Sites beyond points (thesis §3.8–3.9): segments, circles and circular arcs,
+//! each with a multiplicative and an additive weight. A site's weighted distance
+//! from q is `dist(q, site) / m + a`, where `dist` is the metric's distance to the
+//! nearest point of the site.
+//!
+//! Segments work with every metric (the distance to a segment is the smallest
+//! norm on the segment of offsets, [`super::chain::norm_range_on_segment`]);
+//! circles and arcs are Euclidean.
+
+use std::f64::consts::TAU;
+
+use glam::DVec2;
+
+use super::{chain::norm_range_on_segment, metric::Metric};
+use crate::error::{Error, Result};
+
+/// The geometric part of a site, in world coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    Point(DVec2),
+    Segment(DVec2, DVec2),
+    Circle {
+        center: DVec2,
+        radius: f64,
+    },
+    /// The arc of the circle counter-clockwise from angle `start` to `end`
+    /// (radians); a span of 2π or more is the whole circle.
+    Arc {
+        center: DVec2,
+        radius: f64,
+        start: f64,
+        end: f64,
+    },
+}
+
+/// A site: a shape with its weights.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Site {
+    pub shape: Shape,
+    /// Multiplicative weight m > 0: distances are divided by it (a steeper or
+    /// flatter cone, thesis §3.8).
+    pub multiplicative: f64,
+    /// Additive weight a: added to distances (a raised apex).
+    pub additive: f64,
+}
+
+impl Site {
+    /// An unweighted site.
+    pub fn new(shape: Shape) -> Self {
+        Self {
+            shape,
+            multiplicative: 1.0,
+            additive: 0.0,
+        }
+    }
+
+    /// An unweighted point.
+    pub fn point(p: DVec2) -> Self {
+        Self::new(Shape::Point(p))
+    }
+
+    /// Whether the site is an unweighted point, which the point machinery draws.
+    pub fn is_plain_point(&self) -> bool {
+        matches!(self.shape, Shape::Point(_)) && self.multiplicative == 1.0 && self.additive == 0.0
+    }
+
+    /// The `metric` distance from `q` to the nearest point of the shape.
+    pub fn distance_to_shape(&self, metric: Metric, q: DVec2) -> f64 {
+        match self.shape {
+            Shape::Point(p) => metric.distance(q - p),
+            Shape::Segment(a, b) => norm_range_on_segment(metric, a - q, b - q).0,
+            Shape::Circle { center, radius } => ((q - center).length() - radius).abs(),
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => {
+                let d = q - center;
+                if on_arc(d.y.atan2(d.x), start, end) || d == DVec2::ZERO {
+                    (d.length() - radius).abs()
+                } else {
+                    let at = |a: f64| center + radius * DVec2::new(a.cos(), a.sin());
+                    (q - at(start)).length().min((q - at(end)).length())
+                }
+            }
+        }
+    }
+
+    /// The weighted distance from `q`: `dist / m + a`.
+    pub fn distance(&self, metric: Metric, q: DVec2) -> f64 {
+        self.distance_to_shape(metric, q) / self.multiplicative + self.additive
+    }
+
+    /// The site in pixel coordinates of a frame that maps world point `w` to
+    /// `(w - origin) * scale - 0.5`; weights stay in world units.
+    pub fn to_pixels(&self, to_pixel: impl Fn(DVec2) -> DVec2, scale: f64) -> Self {
+        let shape = match self.shape {
+            Shape::Point(p) => Shape::Point(to_pixel(p)),
+            Shape::Segment(a, b) => Shape::Segment(to_pixel(a), to_pixel(b)),
+            Shape::Circle { center, radius } => Shape::Circle {
+                center: to_pixel(center),
+                radius: radius * scale,
+            },
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => Shape::Arc {
+                center: to_pixel(center),
+                radius: radius * scale,
+                start,
+                end,
+            },
+        };
+        Self { shape, ..*self }
+    }
+
+    /// The smallest box holding the shape: (lo, hi).
+    pub fn bounds(&self) -> (DVec2, DVec2) {
+        match self.shape {
+            Shape::Point(p) => (p, p),
+            Shape::Segment(a, b) => (a.min(b), a.max(b)),
+            Shape::Circle { center, radius } | Shape::Arc { center, radius, .. } => {
+                (center - radius, center + radius)
+            }
+        }
+    }
+}
+
+/// Whether the direction of angle `angle` lies on the arc from `start`
+/// counter-clockwise to `end`.
+pub fn on_arc(angle: f64, start: f64, end: f64) -> bool {
+    let span = end - start;
+    if span >= TAU {
+        return true;
+    }
+    (angle - start).rem_euclid(TAU) <= span.rem_euclid(TAU)
+}
+
+/// Checks a site list: not empty, finite, weights m > 0, radii >= 0, and shapes
+/// other than segments and points only with the Euclidean metric.
+pub fn check_general_sites(sites: &[Site], metric: Metric) -> Result<()> {
+    if sites.is_empty() {
+        return Err(Error::InvalidInput("the site list is empty".into()));
+    }
+    if sites.len() >= u32::MAX as usize {
+        return Err(Error::InvalidInput(format!(
+            "{} sites: ids must fit below u32::MAX",
+            sites.len()
+        )));
+    }
+    for (i, s) in sites.iter().enumerate() {
+        let bad = |what: &str| Err(Error::InvalidInput(format!("site {i}: {what}")));
+        let numbers: Vec<f64> = match s.shape {
+            Shape::Point(p) => vec![p.x, p.y],
+            Shape::Segment(a, b) => vec![a.x, a.y, b.x, b.y],
+            Shape::Circle { center, radius } => vec![center.x, center.y, radius],
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => vec![center.x, center.y, radius, start, end],
+        };
+        if numbers
+            .iter()
+            .chain([&s.multiplicative, &s.additive])
+            .any(|v| !v.is_finite())
+        {
+            return bad("has a non-finite coordinate or weight");
+        }
+        if s.multiplicative <= 0.0 {
+            return bad(&format!(
+                "multiplicative weight {} must be positive",
+                s.multiplicative
+            ));
+        }
+        match s.shape {
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
+                if radius < 0.0 {
+                    return bad(&format!("radius {radius} is negative"));
+                }
+                if metric != Metric::L2 {
+                    return bad(&format!(
+                        "circles and arcs are Euclidean sites; {metric} takes points and segments"
+                    ));
+                }
+            }
+            _ => {}
+        }
+        if let Shape::Arc { start, end, .. } = s.shape {
+            if end < start {
+                return bad(&format!("arc end {end} is before its start {start}"));
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distances_of_each_shape() {
+        let q = DVec2::new(3.0, 4.0);
+        let l2 = Metric::L2;
+        assert_eq!(Site::point(DVec2::ZERO).distance(l2, q), 5.0);
+        let seg = Site::new(Shape::Segment(DVec2::new(-1.0, 0.0), DVec2::new(10.0, 0.0)));
+        assert!((seg.distance(l2, q) - 4.0).abs() < 1e-9);
+        assert!((seg.distance(Metric::L1, DVec2::new(12.0, 1.0)) - 3.0).abs() < 1e-9);
+        let circle = Site::new(Shape::Circle {
+            center: DVec2::ZERO,
+            radius: 2.0,
+        });
+        assert!((circle.distance(l2, q) - 3.0).abs() < 1e-12);
+        // The upper half circle: q below it is nearest an end point.
+        let arc = Site::new(Shape::Arc {
+            center: DVec2::ZERO,
+            radius: 2.0,
+            start: 0.0,
+            end: std::f64::consts::PI,
+        });
+        assert!((arc.distance(l2, q) - 3.0).abs() < 1e-12);
+        let below = DVec2::new(0.0, -3.0);
+        assert!((arc.distance(l2, below) - 13f64.sqrt()).abs() < 1e-12);
+        let weighted = Site {
+            multiplicative: 2.0,
+            additive: 1.0,
+            ..Site::point(DVec2::ZERO)
+        };
+        assert_eq!(weighted.distance(l2, q), 3.5);
+    }
+
+    #[test]
+    fn bad_sites_are_named() {
+        let mut s = Site::point(DVec2::ZERO);
+        s.multiplicative = 0.0;
+        assert!(check_general_sites(&[s], Metric::L2)
+            .unwrap_err()
+            .to_string()
+            .contains("site 0"));
+        let c = Site::new(Shape::Circle {
+            center: DVec2::ZERO,
+            radius: 1.0,
+        });
+        assert!(check_general_sites(&[c], Metric::L1).is_err());
+        assert!(check_general_sites(&[c], Metric::L2).is_ok());
+        assert!(check_general_sites(&[], Metric::L2).is_err());
+    }
+}

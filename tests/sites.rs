@@ -1,0 +1,222 @@
+//! Generalized Voronoi diagrams (thesis §3.8–3.9) against the per-pixel
+//! definition: weighted points, segments, circles and arcs, mixed, under every
+//! metric that takes them, on random and degenerate inputs.
+
+use std::f64::consts::PI;
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::{
+        sites::voronoi_sites,
+        voronoi::{Accuracy, VoronoiOptions},
+    },
+    geometry::{
+        metric::Metric,
+        site::{Shape, Site},
+        Frame,
+    },
+    reference::voronoi::nearest_weighted_distances,
+    Machine,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+mod common;
+
+fn weighted(shape: Shape, m: f64, a: f64) -> Site {
+    Site {
+        shape,
+        multiplicative: m,
+        additive: a,
+    }
+}
+
+/// Random sites of the given kinds with random weights (or none).
+fn random_sites(
+    rng: &mut ChaCha8Rng,
+    n: usize,
+    kinds: &[u32],
+    weights: bool,
+    w: f64,
+    h: f64,
+) -> Vec<Site> {
+    let mut point = || DVec2::new(rng.gen_range(-5.0..w + 5.0), rng.gen_range(-5.0..h + 5.0));
+    let shapes: Vec<Shape> = (0..n)
+        .map(|i| match kinds[i % kinds.len()] {
+            0 => Shape::Point(point()),
+            1 => {
+                let a = point();
+                Shape::Segment(a, a + (point() - a) * 0.3)
+            }
+            2 => Shape::Circle {
+                center: point(),
+                radius: 2.0 + 10.0 * (i % 3) as f64,
+            },
+            _ => {
+                let start = (i as f64) * 0.7;
+                Shape::Arc {
+                    center: point(),
+                    radius: 3.0 + 7.0 * (i % 4) as f64,
+                    start,
+                    end: start + 0.5 + (i % 5) as f64,
+                }
+            }
+        })
+        .collect();
+    shapes
+        .into_iter()
+        .enumerate()
+        .map(|(i, s)| {
+            if weights {
+                weighted(s, 0.5 + (i % 4) as f64 * 0.5, (i % 3) as f64 * 3.0 - 3.0)
+            } else {
+                Site::new(s)
+            }
+        })
+        .collect()
+}
+
+fn check(m: &Machine, sites: &[Site], frame: Frame, metric: Metric, what: &str) {
+    let d = voronoi_sites(
+        m,
+        sites,
+        &VoronoiOptions {
+            metric,
+            ..VoronoiOptions::exact(frame)
+        },
+    )
+    .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let truth = nearest_weighted_distances(sites, &frame, metric);
+    let w = frame.width as usize;
+    for (k, &label) in d.labels.iter().enumerate() {
+        let q = DVec2::new((k % w) as f64, (k / w) as f64);
+        assert_ne!(label, u32::MAX, "{what}: pixel {q} uncovered");
+        let mine = sites[label as usize].distance(metric, frame.to_world(q));
+        // For p < 1 the distance is steep near the axes through a site's points,
+        // so rounding the coordinates to float32 moves it more.
+        let steep = if matches!(metric, Metric::Lp(p) if p < 1.0) {
+            10.0
+        } else {
+            1.0
+        };
+        let tol = 1e-3 * steep * (1.0 + truth[k].abs());
+        assert!(
+            mine <= truth[k] + tol && (d.distances[k] as f64 - truth[k]).abs() <= tol,
+            "{what}: pixel {q}: site {label} at {mine}, map {}, nearest {}",
+            d.distances[k],
+            truth[k]
+        );
+    }
+}
+
+#[test]
+fn mixed_weighted_sites_match_the_definition() {
+    let m = common::machine();
+    let frame = Frame::pixels(71, 53).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    // Fig. 3.45: points, segments, circles and arcs in one diagram (Euclidean).
+    for weights in [false, true] {
+        let sites = random_sites(&mut rng, 40, &[0, 1, 2, 3], weights, 71.0, 53.0);
+        check(
+            &m,
+            &sites,
+            frame,
+            Metric::L2,
+            &format!("mixed weights={weights}"),
+        );
+    }
+    // Points and segments under the other metrics.
+    for metric in [Metric::L1, Metric::LInf, Metric::Lp(0.5), Metric::Lp(3.0)] {
+        for weights in [false, true] {
+            let sites = random_sites(&mut rng, 30, &[0, 1], weights, 71.0, 53.0);
+            check(
+                &m,
+                &sites,
+                frame,
+                metric,
+                &format!("{metric} weights={weights}"),
+            );
+        }
+    }
+    // Many sites: the culling grid gets coarser.
+    let sites = random_sites(&mut rng, 3000, &[0, 1, 2, 3], true, 71.0, 53.0);
+    check(&m, &sites, frame, Metric::L2, "3000 sites");
+}
+
+#[test]
+fn degenerate_sites_match_the_definition() {
+    let m = common::machine();
+    let frame = Frame::pixels(64, 48).unwrap();
+    let p = DVec2::new;
+    let sites = vec![
+        // A zero-length segment, a zero-radius circle, arcs of zero and full angle.
+        Site::new(Shape::Segment(p(10.0, 10.0), p(10.0, 10.0))),
+        Site::new(Shape::Circle {
+            center: p(50.0, 30.0),
+            radius: 0.0,
+        }),
+        Site::new(Shape::Arc {
+            center: p(30.0, 30.0),
+            radius: 8.0,
+            start: 1.0,
+            end: 1.0,
+        }),
+        Site::new(Shape::Arc {
+            center: p(20.0, 40.0),
+            radius: 6.0,
+            start: -PI,
+            end: 3.0 * PI,
+        }),
+        // Far outside the picture, and a segment crossing it.
+        Site::new(Shape::Point(p(-300.0, 500.0))),
+        Site::new(Shape::Segment(p(-20.0, 47.0), p(90.0, 0.0))),
+    ];
+    check(&m, &sites, frame, Metric::L2, "degenerate");
+    // A heavy weight swallows the others' regions; a negative additive weight
+    // makes one site win everywhere.
+    let mut swallow = sites.clone();
+    swallow[2].multiplicative = 50.0;
+    check(&m, &swallow, frame, Metric::L2, "swallow");
+    let mut lead = sites.clone();
+    lead[4].additive = -1000.0;
+    check(&m, &lead, frame, Metric::L2, "lead");
+    // A world rectangle mapped onto the picture.
+    let frame = Frame::with_bbox(64, None, [-1.0, -1.0, 1.0, 0.5]).unwrap();
+    let small = vec![
+        Site::new(Shape::Segment(p(-0.5, -0.5), p(0.5, 0.2))),
+        weighted(
+            Shape::Circle {
+                center: p(0.3, -0.6),
+                radius: 0.2,
+            },
+            2.0,
+            0.1,
+        ),
+        Site::new(Shape::Point(p(-0.8, 0.4))),
+    ];
+    check(&m, &small, frame, Metric::L2, "bbox");
+}
+
+#[test]
+fn bad_sites_are_clear_errors() {
+    let m = common::machine();
+    let frame = Frame::pixels(16, 16).unwrap();
+    let options = VoronoiOptions::exact(frame);
+    let circle = Site::new(Shape::Circle {
+        center: DVec2::ZERO,
+        radius: 3.0,
+    });
+    let metric = VoronoiOptions {
+        metric: Metric::L1,
+        ..options
+    };
+    assert!(voronoi_sites(&m, &[circle], &metric).is_err());
+    let fan = VoronoiOptions {
+        accuracy: Accuracy::FAN,
+        ..options
+    };
+    assert!(voronoi_sites(&m, &[circle], &fan).is_err());
+    let mut zero = circle;
+    zero.multiplicative = 0.0;
+    assert!(voronoi_sites(&m, &[zero], &options).is_err());
+    assert!(voronoi_sites(&m, &[], &options).is_err());
+}
