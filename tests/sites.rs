@@ -211,7 +211,10 @@ fn bad_sites_are_clear_errors() {
     };
     assert!(voronoi_sites(&m, &[circle], &metric).is_err());
     let fan = VoronoiOptions {
-        accuracy: Accuracy::FAN,
+        accuracy: Accuracy::Fan {
+            epsilon: 0.0,
+            triangles: None,
+        },
         ..options
     };
     assert!(voronoi_sites(&m, &[circle], &fan).is_err());
@@ -219,4 +222,120 @@ fn bad_sites_are_clear_errors() {
     zero.multiplicative = 0.0;
     assert!(voronoi_sites(&m, &[zero], &options).is_err());
     assert!(voronoi_sites(&m, &[], &options).is_err());
+}
+
+/// Fan mode: the distance map within the reported bound of the definition (either
+/// way: chords of circles and arcs may cut inside), and each label's site within
+/// twice the bound of the nearest.
+fn check_fan(
+    m: &Machine,
+    sites: &[Site],
+    frame: Frame,
+    metric: Metric,
+    accuracy: Accuracy,
+    what: &str,
+) {
+    let d = voronoi_sites(
+        m,
+        sites,
+        &VoronoiOptions {
+            metric,
+            accuracy,
+            ..VoronoiOptions::exact(frame)
+        },
+    )
+    .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let bound = d.stats.distance_error_bound;
+    assert!(bound > 0.0, "{what}");
+    let truth = nearest_weighted_distances(sites, &frame, metric);
+    let w = frame.width as usize;
+    // Vertices snap to the rasterizer's subpixel grid; for p < 1 that tilts the
+    // slivers along the axes' spikes (see tests/voronoi.rs), so a few pixels may
+    // fall outside.
+    let tol = 0.02 / frame.scale;
+    let concave = matches!(metric, Metric::Lp(p) if p < 1.0);
+    let mut outside = 0;
+    for (k, &label) in d.labels.iter().enumerate() {
+        let q = DVec2::new((k % w) as f64, (k / w) as f64);
+        assert_ne!(label, u32::MAX, "{what}: pixel {q} uncovered");
+        let depth = d.distances[k] as f64;
+        let mine = sites[label as usize].distance(metric, frame.to_world(q));
+        if (depth - truth[k]).abs() > bound + tol || mine > truth[k] + 2.0 * bound + tol {
+            outside += 1;
+            assert!(
+                concave,
+                "{what}: pixel {q}: depth {depth}, label at {mine}, nearest {}, bound {bound}",
+                truth[k]
+            );
+        }
+    }
+    assert!(
+        outside * 200 <= d.labels.len(),
+        "{what}: {outside} pixels outside"
+    );
+}
+
+#[test]
+fn fans_of_every_site_stay_inside_their_bounds() {
+    // Cones with weighted apexes, roofs swept along segments, the straw hut and
+    // the sliced hut as swept chords (thesis §3.8–3.9, Fig. 3.41).
+    let m = common::machine();
+    let frame = Frame::pixels(71, 53).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let fixed = Accuracy::Fan {
+        epsilon: 1.0,
+        triangles: Some(16),
+    };
+    for accuracy in [Accuracy::FAN, fixed] {
+        let sites = random_sites(&mut rng, 30, &[0, 1, 2, 3], true, 71.0, 53.0);
+        check_fan(
+            &m,
+            &sites,
+            frame,
+            Metric::L2,
+            accuracy,
+            &format!("mixed {accuracy:?}"),
+        );
+        for metric in [Metric::L1, Metric::LInf, Metric::Lp(0.5), Metric::Lp(3.0)] {
+            let sites = random_sites(&mut rng, 30, &[0, 1], true, 71.0, 53.0);
+            check_fan(
+                &m,
+                &sites,
+                frame,
+                metric,
+                accuracy,
+                &format!("{metric} {accuracy:?}"),
+            );
+        }
+    }
+    // Degenerate shapes and a far, heavy site.
+    let p = DVec2::new;
+    let degenerate = vec![
+        Site::new(Shape::Segment(p(10.0, 10.0), p(10.0, 10.0))),
+        Site::new(Shape::Circle {
+            center: p(50.0, 30.0),
+            radius: 0.0,
+        }),
+        Site::new(Shape::Arc {
+            center: p(30.0, 30.0),
+            radius: 8.0,
+            start: 1.0,
+            end: 1.0,
+        }),
+        Site::new(Shape::Arc {
+            center: p(20.0, 40.0),
+            radius: 6.0,
+            start: -PI,
+            end: 3.0 * PI,
+        }),
+        weighted(Shape::Point(p(-300.0, 500.0)), 20.0, -5.0),
+    ];
+    check_fan(
+        &m,
+        &degenerate,
+        frame,
+        Metric::L2,
+        Accuracy::FAN,
+        "degenerate fans",
+    );
 }

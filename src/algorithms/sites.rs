@@ -20,8 +20,10 @@ use rayon::prelude::*;
 use crate::{
     error::{Error, Result},
     geometry::{
+        chain::MetricFan,
         metric::Metric,
         site::{check_general_sites, Shape, Site},
+        surface::{fan_surface, Triangles},
     },
     machine::{
         Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Machine, PixelRect, Program,
@@ -58,10 +60,17 @@ pub fn voronoi_sites(
     let (frame, metric) = (options.frame, options.metric);
     frame.check()?;
     check_general_sites(sites, metric)?;
-    if options.accuracy != Accuracy::Exact {
-        return Err(Error::InvalidInput(
-            "weighted sites, segments, circles and arcs are drawn in exact mode; fans of them are not drawn yet (use --mode exact)".into(),
-        ));
+    if let Accuracy::Fan { epsilon, triangles } = options.accuracy {
+        if !(epsilon > 0.0 && epsilon.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "fan epsilon {epsilon} must be positive"
+            )));
+        }
+        if triangles.is_some_and(|t| t < 3) {
+            return Err(Error::InvalidInput(
+                "a fan needs at least 3 triangles".into(),
+            ));
+        }
     }
     if options.ties {
         return Err(Error::InvalidInput(
@@ -79,37 +88,107 @@ pub fn voronoi_sites(
         .iter()
         .map(|s| s.to_pixels(|p| frame.to_pixel(p), frame.scale))
         .collect();
-    let (rects, reach) = cull(&pixels, frame.width, frame.height, metric, frame.scale);
+    let (reaches, envelope_reach) = cull(&pixels, frame.width, frame.height, metric, frame.scale);
     let least_additive = sites
         .iter()
         .map(|s| s.additive)
         .fold(f64::INFINITY, f64::min);
-    // A power of two maps the envelope's range into [0, 1).
-    let span = (reach - least_additive).max(1e-30) * 1.001;
-    let depth_scale = span.log2().ceil().exp2().recip();
-    let instances: Vec<SiteInstance> = pixels
-        .iter()
-        .zip(&rects)
-        .enumerate()
-        .filter_map(|(i, (s, rect))| {
-            rect.map(|rect| instance(i as u32, s, rect, frame.scale, least_additive))
-        })
-        .collect();
     let mut stats = VoronoiStats {
         device: machine.device_name().to_string(),
         sites: sites.len(),
-        cones: instances.len(),
+        cones: reaches.iter().filter(|r| r.is_some()).count(),
         tiles: 1,
         passes: 1,
-        bounds_ms: ms(started),
         ..Default::default()
     };
+    let weighted = |s: &Site, d: f64| d / (frame.scale * s.multiplicative) + s.additive;
+    // Exact sites are rectangles with per-fragment distances; fans are triangles
+    // with per-vertex depths.
+    let (draw, reach) = match options.accuracy {
+        Accuracy::Exact => {
+            let instances: Vec<SiteInstance> = pixels
+                .iter()
+                .zip(&reaches)
+                .enumerate()
+                .filter_map(|(i, (s, r))| {
+                    r.map(|(rect, _)| instance(i as u32, s, rect, frame.scale, least_additive))
+                })
+                .collect();
+            (SiteDraw::Exact(instances), envelope_reach)
+        }
+        Accuracy::Fan { .. } => {
+            let fan = super::voronoi::metric_fan(options.accuracy);
+            let surfaces: Vec<(u32, Triangles, f64)> = pixels
+                .par_iter()
+                .zip(&reaches)
+                .enumerate()
+                .filter_map(|(i, (s, r))| {
+                    r.map(|(_, reach)| {
+                        // ε bounds the weighted distance: m ε of shape distance.
+                        let fan = match fan {
+                            MetricFan::Chain { epsilon } => MetricFan::Chain {
+                                epsilon: epsilon * s.multiplicative,
+                            },
+                            uniform => uniform,
+                        };
+                        let (t, error) = fan_surface(s, metric, fan, reach);
+                        (i as u32, t, error / s.multiplicative)
+                    })
+                })
+                .collect();
+            let reach = surfaces
+                .iter()
+                .flat_map(|(i, t, _)| {
+                    let s = &pixels[*i as usize];
+                    t.iter().flatten().map(move |v| weighted(s, v.z))
+                })
+                .fold(least_additive, f64::max);
+            stats.distance_error_bound =
+                surfaces.iter().map(|(_, _, e)| *e).fold(0.0, f64::max) / frame.scale;
+            (SiteDraw::Fan(surfaces), reach)
+        }
+    };
+    // A power of two maps the envelope's range into [0, 1).
+    let span = (reach - least_additive).max(1e-30) * 1.001;
+    let depth_scale = span.log2().ceil().exp2().recip();
+    stats.bounds_ms = ms(started);
 
     let started = Instant::now();
     let ids = machine.image(Format::R32Uint, frame.width, frame.height)?;
     let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-    let mesh = machine.vertex_buffer(&UNIT_SQUARE)?;
-    let instance_buffer = machine.vertex_buffer(&instances)?;
+    // The draw's two vertex buffers and its counts.
+    let (program, mesh, second, vertex_count, instance_count) = match &draw {
+        SiteDraw::Exact(instances) => (
+            Program::SiteExact,
+            machine.vertex_buffer(&UNIT_SQUARE)?,
+            machine.vertex_buffer(instances)?,
+            UNIT_SQUARE.len() as u32,
+            instances.len() as u32,
+        ),
+        SiteDraw::Fan(surfaces) => {
+            let mut vertices: Vec<[f32; 3]> = Vec::new();
+            let mut ids: Vec<u32> = Vec::new();
+            for (i, triangles, _) in surfaces {
+                let s = &pixels[*i as usize];
+                for v in triangles.iter().flatten() {
+                    let depth = (weighted(s, v.z) - least_additive) * depth_scale;
+                    vertices.push([v.x as f32, v.y as f32, depth as f32]);
+                    ids.push(*i);
+                }
+            }
+            let count = vertices.len() as u32;
+            // Vulkan buffers cannot be empty.
+            vertices.push([0.0; 3]);
+            ids.push(0);
+            (
+                Program::SiteFan,
+                machine.vertex_buffer(&vertices)?,
+                machine.vertex_buffer(&ids)?,
+                count,
+                u32::from(count > 0),
+            )
+        }
+    };
     let push = ConePush {
         picture_size: [frame.width as f32, frame.height as f32],
         offset: [0.0, 0.0],
@@ -131,17 +210,17 @@ pub fn voronoi_sites(
             },
         )?;
         pass.draw_cones(
-            Program::SiteExact,
+            program,
             &RasterState::lower_envelope(),
             &DrawParams::default(),
             &push,
             &ConeDraw {
                 mesh: &mesh,
                 first_vertex: 0,
-                vertex_count: UNIT_SQUARE.len() as u32,
-                instances: &instance_buffer,
+                vertex_count,
+                instances: &second,
                 first_instance: 0,
-                instance_count: instances.len() as u32,
+                instance_count,
             },
         )?;
         pass.end()
@@ -176,6 +255,14 @@ pub fn voronoi_sites(
         ties: Vec::new(),
         stats,
     })
+}
+
+/// What one diagram draws.
+enum SiteDraw {
+    /// One rectangle per site.
+    Exact(Vec<SiteInstance>),
+    /// Each site's fan surface with its error bound (world units).
+    Fan(Vec<(u32, Triangles, f64)>),
 }
 
 fn ms(since: Instant) -> f64 {
@@ -223,15 +310,19 @@ fn instance(id: u32, s: &Site, rect: [f32; 4], scale: f64, least_additive: f64) 
     }
 }
 
-/// Each site's rectangle (pixel coordinates, `None` where it wins nowhere) and an
-/// upper bound on the envelope over the picture.
+/// A site's rectangle (pixel coordinates) and the largest shape distance (pixels)
+/// it may have where it wins.
+type Reach = ([f32; 4], f64);
+
+/// Each site's [`Reach`], `None` where it wins nowhere, and an upper bound on the
+/// envelope over the picture.
 fn cull(
     sites: &[Site],
     width: u32,
     height: u32,
     metric: Metric,
     scale: f64,
-) -> (Vec<Option<[f32; 4]>>, f64) {
+) -> (Vec<Option<Reach>>, f64) {
     let cells_per_side = ((CULL_BUDGET / sites.len()) as f64).sqrt() as usize;
     let cells_per_side = cells_per_side.clamp(1, CULL_CELLS);
     let side = (width.max(height) as f64 / cells_per_side as f64)
@@ -250,7 +341,7 @@ fn cull(
         })
         .collect();
     // Weighted distance bounds of every site over every cell.
-    let bounds: Vec<Vec<(f64, f64)>> = sites
+    let bounds: Vec<Vec<(f64, f64, f64)>> = sites
         .par_iter()
         .map(|s| {
             cells
@@ -260,7 +351,7 @@ fn cull(
                     let d = s.distance_to_shape(metric, centre);
                     let (dlo, dhi) = spread(metric, d, 0.5 * (hi - lo));
                     let w = |d: f64| d / (scale * s.multiplicative) + s.additive;
-                    (w(dlo), w(dhi))
+                    (w(dlo), w(dhi), dhi)
                 })
                 .collect()
         })
@@ -273,9 +364,11 @@ fn cull(
         .par_iter()
         .map(|b| {
             let mut rect: Option<(DVec2, DVec2)> = None;
-            for (c, &(lo, _)) in b.iter().enumerate() {
+            let mut reach = 0.0f64;
+            for (c, &(lo, _, far)) in b.iter().enumerate() {
                 if lo <= upper[c] {
                     let (a, z) = cells[c];
+                    reach = reach.max(far);
                     rect = Some(match rect {
                         None => (a, z),
                         Some((ra, rz)) => (ra.min(a), rz.max(z)),
@@ -284,12 +377,14 @@ fn cull(
             }
             // Half a pixel around the centres, so rasterization keeps the rim.
             rect.map(|(a, z)| {
-                [
+                let rect = [
                     (a.x - 0.5) as f32,
                     (a.y - 0.5) as f32,
                     (z.x + 0.5) as f32,
                     (z.y + 0.5) as f32,
-                ]
+                ];
+                // A pixel more, for the rasterizer's rim.
+                (rect, reach + 1.0)
             })
         })
         .collect();

@@ -11,5 +11,6 @@ pub mod frame;
 pub mod metric;
 pub mod radius;
 pub mod site;
+pub mod surface;
 
 pub use frame::Frame;

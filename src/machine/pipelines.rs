@@ -51,6 +51,9 @@ pub enum Program {
     /// One rectangle per site of any shape with weights; the fragment writes the
     /// exact weighted distance (see [`crate::machine::SiteInstance`]).
     SiteExact,
+    /// Triangles of fan surfaces with per-vertex position, depth and site id
+    /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
+    SiteFan,
 }
 
 impl Program {
@@ -164,6 +167,8 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("settle_disc.frag", shaders::SETTLE_DISC_FRAG),
     ("site.vert", shaders::SITE_VERT),
     ("site_exact.frag", shaders::SITE_EXACT_FRAG),
+    ("site_fan.vert", shaders::SITE_FAN_VERT),
+    ("site_fan.frag", shaders::SITE_FAN_FRAG),
     ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
     ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
     ("rect.vert", shaders::RECT_VERT),
@@ -368,6 +373,11 @@ impl Pipelines {
                 "site_exact.frag",
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
+            Program::SiteFan => (
+                "site_fan.vert",
+                "site_fan.frag",
+                vk::PrimitiveTopology::TRIANGLE_LIST,
+            ),
             Program::SettleDisc => (
                 "settle_disc.vert",
                 "settle_disc.frag",
@@ -495,7 +505,24 @@ impl Pipelines {
                     }),
             )
             .collect();
+        let fan_attributes = [
+            cone_attributes[0],
+            vk::VertexInputAttributeDescription::default()
+                .location(1)
+                .binding(1)
+                .format(vk::Format::R32_UINT),
+        ];
+        let fan_bindings = [
+            cone_bindings[0],
+            vk::VertexInputBindingDescription::default()
+                .binding(1)
+                .stride(4)
+                .input_rate(vk::VertexInputRate::VERTEX),
+        ];
         let vertex_input = match key.program {
+            Program::SiteFan => vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&fan_bindings)
+                .vertex_attribute_descriptions(&fan_attributes),
             Program::SiteExact => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&site_bindings)
                 .vertex_attribute_descriptions(&site_attributes),

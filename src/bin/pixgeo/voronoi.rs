@@ -320,16 +320,11 @@ pub fn run(args: Args) -> Result<()> {
 
     let s = &stats;
     if args.json {
-        let mode = match args.mode {
-            ModeArg::Exact => "exact".to_string(),
-            ModeArg::Fan(None) => format!("fan (epsilon {})", args.epsilon),
-            ModeArg::Fan(Some(t)) => format!("fan:{t}"),
-        };
         let summary = json!({
             "width": frame.width,
             "height": frame.height,
             "metric": args.metric.to_string(),
-            "mode": mode,
+            "mode": mode_name(&args),
             "speedup": speedup,
             "stats": s,
         });
@@ -419,7 +414,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
             "width": frame.width,
             "height": frame.height,
             "metric": args.metric.to_string(),
-            "mode": "exact",
+            "mode": mode_name(args),
             "stats": d.stats,
         });
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -438,6 +433,15 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The accuracy mode as the JSON summary names it.
+fn mode_name(args: &Args) -> String {
+    match args.mode {
+        ModeArg::Exact => "exact".to_string(),
+        ModeArg::Fan(None) => format!("fan (epsilon {})", args.epsilon),
+        ModeArg::Fan(Some(t)) => format!("fan:{t}"),
+    }
 }
 
 /// Which diagram `pixgeo voronoi` computes.

@@ -1,0 +1,157 @@
+//! Fan surfaces of sites of any shape (thesis §3.9): the distance to a site is the
+//! lower envelope of the cones standing on its points, so a segment's surface is
+//! the cone at each end plus the quads its rulings sweep along the segment (the
+//! thesis's roof and half-cones for L2, the Minkowski-sum sweep of Fig. 3.41 for
+//! other metrics), and a circle or arc is the polyline of its chords swept the
+//! same way (the straw hut and the sliced hut, with the end cones of an arc).
+//!
+//! Why the sweep is the envelope: along the segment's direction, the height of
+//! the translated fan at a fixed point is piecewise linear in the translation; its
+//! minimum lies at an end (the end cones) or where the point crosses one of the
+//! fan's rulings (the swept quads). For a convex base only the two rulings that
+//! are extreme across the segment can give a minimum; a star-shaped base (L_p,
+//! p < 1) sweeps all of them. Every drawn triangle lies on some translated cone,
+//! so none dips below the envelope.
+
+use glam::{DVec2, DVec3};
+
+use super::{
+    chain::MetricFan,
+    metric::Metric,
+    site::{Shape, Site},
+};
+
+/// The surface's triangles, three vertices each: picture position (pixels) and
+/// the metric distance to the site's shape at that vertex (pixels, unweighted).
+pub type Triangles = Vec<[DVec3; 3]>;
+
+/// The fan base of one cone: rim vertices relative to the apex and their height.
+struct Base {
+    rim: Vec<DVec2>,
+    height: f64,
+    convex: bool,
+}
+
+impl Base {
+    /// A base covering metric distance `reach` with the accuracy of `fan` (whose
+    /// ε is in pixels of shape distance).
+    fn new(metric: Metric, fan: MetricFan, reach: f64) -> Self {
+        let b = metric.euclidean_bounds().1;
+        let outer = fan.outer_radius(metric, reach / b);
+        let mesh = fan.unit_mesh(metric, outer);
+        let rim = mesh[1..mesh.len() - 1]
+            .iter()
+            .map(|v| DVec2::new(v[0] as f64, v[1] as f64) * outer)
+            .collect();
+        Self {
+            rim,
+            height: outer,
+            convex: !matches!(metric, Metric::Lp(p) if p < 1.0),
+        }
+    }
+
+    fn cone(&self, apex: DVec2, out: &mut Triangles) {
+        let n = self.rim.len();
+        let at = |v: DVec2| (apex + v).extend(self.height);
+        for k in 0..n {
+            out.push([apex.extend(0.0), at(self.rim[k]), at(self.rim[(k + 1) % n])]);
+        }
+    }
+
+    /// The quads the rulings sweep along the segment `a b` (no end cones).
+    fn sweep(&self, a: DVec2, b: DVec2, out: &mut Triangles) {
+        let e = b - a;
+        if e == DVec2::ZERO {
+            return;
+        }
+        let across = |v: &DVec2| e.perp_dot(*v);
+        let rulings: Vec<DVec2> = if self.convex {
+            let max = self
+                .rim
+                .iter()
+                .copied()
+                .max_by(|u, v| across(u).total_cmp(&across(v)));
+            let min = self
+                .rim
+                .iter()
+                .copied()
+                .min_by(|u, v| across(u).total_cmp(&across(v)));
+            max.into_iter().chain(min).collect()
+        } else {
+            self.rim.clone()
+        };
+        let h = self.height;
+        for v in rulings {
+            let (a0, b0) = (a.extend(0.0), b.extend(0.0));
+            let (a1, b1) = ((a + v).extend(h), (b + v).extend(h));
+            out.push([a0, b0, b1]);
+            out.push([a0, b1, a1]);
+        }
+    }
+}
+
+/// The fan surface of `site` (pixel coordinates) out to shape distance `reach`,
+/// and a bound on its error (pixels of shape distance): the fan's own
+/// overestimate, plus the chords' deviation for circles and arcs, which may err
+/// either way. For a chain fan of error ε the chords get half of ε.
+pub fn fan_surface(site: &Site, metric: Metric, fan: MetricFan, reach: f64) -> (Triangles, f64) {
+    let b = metric.euclidean_bounds().1;
+    let curved = matches!(site.shape, Shape::Circle { .. } | Shape::Arc { .. });
+    let (fan, chord) = match fan {
+        MetricFan::Chain { epsilon } if curved => (
+            MetricFan::Chain {
+                epsilon: epsilon / 2.0,
+            },
+            epsilon / (2.0 * b),
+        ),
+        MetricFan::Chain { .. } => (fan, 0.0),
+        MetricFan::Uniform { .. } => (fan, 0.5 / b),
+    };
+    let base = Base::new(metric, fan, reach + chord * b);
+    let fan_error = fan.error_bound(metric, (reach + chord * b) / b);
+    let mut out = Triangles::new();
+    let polyline = match site.shape {
+        Shape::Point(p) => vec![p],
+        Shape::Segment(a, b) => vec![a, b],
+        Shape::Circle { center, radius } => {
+            chords(center, radius, 0.0, std::f64::consts::TAU, chord)
+        }
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } => chords(center, radius, start, end - start, chord),
+    };
+    for p in &polyline {
+        base.cone(*p, &mut out);
+    }
+    for w in polyline.windows(2) {
+        base.sweep(w[0], w[1], &mut out);
+    }
+    (out, fan_error + chord * b)
+}
+
+/// Points of the circle of `radius` around `center` from angle `start` over
+/// `span` (clamped to a full turn), close enough that every chord stays within
+/// `deviation` of the arc (Euclidean).
+fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> Vec<DVec2> {
+    let span = span.clamp(0.0, std::f64::consts::TAU);
+    if radius == 0.0 || span == 0.0 {
+        let p = center + radius * DVec2::new(start.cos(), start.sin());
+        return vec![p];
+    }
+    // A chord over angle 2t deviates by r (1 - cos t).
+    let step = if deviation >= radius {
+        std::f64::consts::PI
+    } else {
+        2.0 * (1.0 - deviation / radius).acos()
+    };
+    let pieces = (span / step).ceil().max(1.0) as usize;
+    (0..=pieces)
+        .map(|k| {
+            let a = start + span * k as f64 / pieces as f64;
+            center + radius * DVec2::new(a.cos(), a.sin())
+        })
+        .collect()
+}
