@@ -30,7 +30,9 @@ void main() {
 #ifdef EXACT
     float distance = metric_key(d);
 #else
-    float distance = gl_FragCoord.z;
+    // Interpolation may dip a hair below the apex's 0; a negative float's bits
+    // would order as a huge key.
+    float distance = max(gl_FragCoord.z, 0.0);
 #endif
     uint64_t key = (uint64_t(floatBitsToUint(distance)) << 32) | uint64_t(id);
     uvec2 pixel = uvec2(gl_FragCoord.xy);

@@ -124,7 +124,7 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
                                 }
                                 let q = DVec2::new(x as f64, y as f64);
                                 let at = ((y - y0) as usize * w + x as usize) * ku;
-                                insert(&mut band_keys[at..at + ku], (metric.key(site - q), i));
+                                insert(&mut band_keys[at..at + ku], (metric.key(q - site), i));
                             }
                         }
                     }
@@ -204,7 +204,7 @@ pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthe
             let (i, key) = hull
                 .iter()
                 .zip(&pixels)
-                .map(|(&i, s)| (i, metric.key(*s - q)))
+                .map(|(&i, s)| (i, metric.key(q - *s)))
                 .fold((u32::MAX, -1.0), |best, x| {
                     if x.1 > best.1 || (x.1 == best.1 && x.0 < best.0) {
                         x

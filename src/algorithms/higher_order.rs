@@ -25,7 +25,7 @@ use serde::Serialize;
 use crate::{
     error::{Error, Result},
     geometry::{
-        chain::MetricFan,
+        chain::{unit_fan_over, MetricFan},
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::{check_sites, distance2_to_rect},
         metric::Metric,
@@ -137,6 +137,18 @@ pub fn k_nearest(
     sites: &[DVec2],
     options: &KNearestOptions,
 ) -> Result<KNearest> {
+    // A polygon's distance is piecewise linear: fans over the polygon are exact.
+    let as_fan;
+    let options = match (options.metric, options.accuracy) {
+        (Metric::Polygon(_), Accuracy::Exact) => {
+            as_fan = KNearestOptions {
+                accuracy: Accuracy::FAN,
+                ..*options
+            };
+            &as_fan
+        }
+        _ => options,
+    };
     let frame = options.frame;
     let k = options.k;
     check_levels(machine, sites, options)?;
@@ -394,7 +406,8 @@ fn picture_push(frame: &Frame, levels: u32, metric: Metric) -> ConePush {
         vertex_depth_scale: 0.0,
         fragment_depth_scale: 0.0,
         levels,
-        metric: metric.shader_code(),
+        // Exact programs never see a polygon (drawn as fans instead).
+        metric: metric.shader_code().unwrap_or((0, 2.0)),
     }
 }
 
@@ -549,9 +562,9 @@ pub fn k_nearest_peeled(
     options: &KNearestOptions,
 ) -> Result<KNearest> {
     check_levels(machine, sites, options)?;
-    if options.accuracy != Accuracy::Exact {
+    if options.accuracy != Accuracy::Exact || matches!(options.metric, Metric::Polygon(_)) {
         return Err(Error::InvalidInput(
-            "peeling draws exact cones; use the default level method for fans".into(),
+            "peeling draws exact cones of the L_p metrics; use the default level method for fans and polygons".into(),
         ));
     }
     let (frame, k) = (options.frame, options.k);
@@ -762,12 +775,13 @@ fn k_radii(
 }
 
 /// The sites that may own furthest regions: for a convex unit ball (L_p with
-/// p >= 1) a distance is a convex function, largest over the sites at a corner of
-/// their convex hull; for p < 1 every site may.
+/// p >= 1, convex polygons) a distance is a convex function, largest over the
+/// sites at a corner of their convex hull; otherwise every site may.
 pub(crate) fn furthest_candidates(sites: &[DVec2], hull: &[u32], metric: Metric) -> Vec<u32> {
-    match metric {
-        Metric::Lp(p) if p < 1.0 => (0..sites.len() as u32).collect(),
-        _ => hull.to_vec(),
+    if metric.is_convex() {
+        hull.to_vec()
+    } else {
+        (0..sites.len() as u32).collect()
     }
 }
 
@@ -802,6 +816,12 @@ pub fn furthest(
     }
     let owners = furthest_candidates(sites, &convex_hull(sites), metric);
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    // A polygon's distance is drawn exactly by the fan over the polygon; the other
+    // metrics' cones evaluate the distance per fragment.
+    let (program, unit) = match metric {
+        Metric::Polygon(g) => (Program::ConeFan, unit_fan_over(&g.vertices, 1.0)),
+        _ => (Program::ConeExact, unit_footprint(FOOTPRINT_CORNERS)),
+    };
     // Upside-down cones reach every pixel: a site's furthest region may lie
     // anywhere in the picture.
     let instances: Vec<[u32; 5]> = owners
@@ -809,7 +829,11 @@ pub fn furthest(
         .map(|&i| {
             let p = pixels[i as usize];
             let r = frame.farthest_pixel(p) + 0.5;
-            let outer = FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius;
+            let outer = match metric {
+                // The polygon's inscribed ball must hold the disc of radius r.
+                Metric::Polygon(_) => metric.euclidean_bounds().1 * r,
+                _ => FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius,
+            };
             cone_instance(i, p, outer, r)
         })
         .collect();
@@ -828,9 +852,11 @@ pub fn furthest(
         .recip();
     let ids = machine.image(Format::R32Uint, frame.width, frame.height)?;
     let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-    let mesh = machine.vertex_buffer(&unit_footprint(FOOTPRINT_CORNERS))?;
+    let mesh = machine.vertex_buffer(&unit)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
+    // Polygon keys are distances, so one scale serves fan heights and keys.
     let push = ConePush {
+        vertex_depth_scale: scale as f32,
         fragment_depth_scale: scale as f32,
         ..picture_push(frame, 1, metric)
     };
@@ -856,14 +882,14 @@ pub fn furthest(
             },
         )?;
         pass.draw_cones(
-            Program::ConeExact,
+            program,
             &state,
             &DrawParams::default(),
             &push,
             &ConeDraw {
                 mesh: &mesh,
                 first_vertex: 0,
-                vertex_count: FOOTPRINT_CORNERS,
+                vertex_count: unit.len() as u32,
                 instances: &instance_buffer,
                 first_instance: 0,
                 instance_count: instances.len() as u32,

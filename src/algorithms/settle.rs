@@ -130,8 +130,15 @@ impl PotentialAreas {
 }
 
 /// Checks the inputs every method shares.
-fn check(rivals: &[DVec2], own: &[DVec2], frame: &Frame) -> Result<()> {
+fn check(rivals: &[DVec2], own: &[DVec2], frame: &Frame, metric: Metric) -> Result<()> {
     frame.check()?;
+    if let Metric::Polygon(_) = metric {
+        // A star-shaped disc's rows need not be single spans.
+        return Err(Error::InvalidInput(
+            "the settle point takes the L_p metrics; polygonal distances are not counted yet"
+                .into(),
+        ));
+    }
     check_sites(rivals).map_err(|e| Error::InvalidInput(format!("rival sites: {e}")))?;
     if !own.is_empty() {
         check_sites(own).map_err(|e| Error::InvalidInput(format!("own sites: {e}")))?;
@@ -193,7 +200,7 @@ pub fn potential_areas(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<PotentialAreas> {
     let frame = options.frame;
-    check(rivals, own, &frame)?;
+    check(rivals, own, &frame, options.metric)?;
     let side = machine.max_picture_side();
     if frame.width > side || frame.height > side {
         return Err(Error::PictureTooLarge {
@@ -260,7 +267,8 @@ struct Push {
 
 impl Push {
     fn words(&self, first: u32, count: u32, channel: u32) -> [u32; 7] {
-        let (kind, p) = self.metric.shader_code();
+        // `check` keeps polygons out.
+        let (kind, p) = self.metric.shader_code().unwrap_or((0, 2.0));
         [
             self.frame.width,
             self.frame.height,
@@ -434,7 +442,7 @@ pub fn potential_areas_cpu(
     frame: &Frame,
     metric: Metric,
 ) -> Result<PotentialAreas> {
-    check(rivals, own, frame)?;
+    check(rivals, own, frame, metric)?;
     let start = Instant::now();
     let rivals_px = to_pixels(rivals, frame);
     let own_px = to_pixels(own, frame);
@@ -566,7 +574,7 @@ pub struct Refined {
 /// The result's area is at least the exact area at its starting pixel. Sites in
 /// world coordinates; the result in pixel coordinates.
 pub fn refine(rivals: &[DVec2], own: &[DVec2], frame: &Frame, starts: &[usize]) -> Result<Refined> {
-    check(rivals, own, frame)?;
+    check(rivals, own, frame, Metric::L2)?;
     if starts.is_empty() {
         return Err(Error::InvalidInput("no pixel to refine from".into()));
     }

@@ -57,6 +57,19 @@ pub fn voronoi_sites(
     sites: &[Site],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
+    // A polygon's distance is piecewise linear: the sweep of the polygon's fan is
+    // exact for points and segments, and is what exact mode draws.
+    let as_fan;
+    let options = match (options.metric, options.accuracy) {
+        (Metric::Polygon(_), Accuracy::Exact) => {
+            as_fan = VoronoiOptions {
+                accuracy: Accuracy::FAN,
+                ..*options
+            };
+            &as_fan
+        }
+        _ => options,
+    };
     let (frame, metric) = (options.frame, options.metric);
     frame.check()?;
     check_general_sites(sites, metric)?;
@@ -195,7 +208,8 @@ pub fn voronoi_sites(
         vertex_depth_scale: 0.0,
         fragment_depth_scale: depth_scale as f32,
         levels: 1,
-        metric: metric.shader_code(),
+        // Polygons are drawn as fans (see above).
+        metric: metric.shader_code().unwrap_or((0, 2.0)),
     };
     machine.run(|pass| {
         pass.begin(
@@ -348,8 +362,7 @@ fn cull(
                 .iter()
                 .map(|&(lo, hi)| {
                     let centre = 0.5 * (lo + hi);
-                    let d = s.distance_to_shape(metric, centre);
-                    let (dlo, dhi) = spread(metric, d, 0.5 * (hi - lo));
+                    let (dlo, dhi) = spread(s, metric, centre, 0.5 * (hi - lo));
                     let w = |d: f64| d / (scale * s.multiplicative) + s.additive;
                     (w(dlo), w(dhi), dhi)
                 })
@@ -391,10 +404,18 @@ fn cull(
     (rects, reach)
 }
 
-/// The range of a distance-to-a-set over a box of half-extents `half` around a
-/// point where it is `d`: d ± |half| for norms, and (d^p ± |half|^p)^(1/p) for
-/// p < 1, whose p-th power is subadditive.
-fn spread(metric: Metric, d: f64, half: DVec2) -> (f64, f64) {
+/// The range of the site's shape distance over a box of half-extents `half`
+/// around `centre`, from its value d there: d ± |half| for the L_p norms, and
+/// (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is subadditive. A polygon
+/// need be neither symmetric nor convex: its range comes from the Euclidean one
+/// and the bounds a |x| <= |x|_P <= b |x|.
+fn spread(site: &Site, metric: Metric, centre: DVec2, half: DVec2) -> (f64, f64) {
+    if let Metric::Polygon(_) = metric {
+        let (a, b) = metric.euclidean_bounds();
+        let (lo, hi) = spread(site, Metric::L2, centre, half);
+        return (a * lo, b * hi);
+    }
+    let d = site.distance_to_shape(metric, centre);
     let h = metric.distance(half);
     match metric {
         Metric::Lp(p) if p < 1.0 => {

@@ -259,6 +259,24 @@ pub fn voronoi_bands(
 ) -> Result<VoronoiStats> {
     check_sites(sites)?;
     options.frame.check()?;
+    if options.ties && matches!(options.metric, Metric::Polygon(_)) {
+        return Err(Error::InvalidInput(
+            "equal distances are counted for the L_p metrics; polygonal distances are drawn as fans".into(),
+        ));
+    }
+    // A polygon's distance is piecewise linear: the fan over the polygon itself is
+    // exact, and is what exact mode draws.
+    let as_fan;
+    let options = match (options.metric, options.accuracy) {
+        (Metric::Polygon(_), Accuracy::Exact) => {
+            as_fan = VoronoiOptions {
+                accuracy: Accuracy::FAN,
+                ..*options
+            };
+            &as_fan
+        }
+        _ => options,
+    };
     if options.ties && options.accuracy != Accuracy::Exact {
         return Err(Error::InvalidInput(
             "equal distances are counted in exact mode only".into(),
@@ -434,7 +452,7 @@ pub fn voronoi_bands(
         Accuracy::Fan {
             epsilon,
             triangles: None,
-        } => epsilon / frame.scale,
+        } if options.metric == Metric::L2 => epsilon / frame.scale,
         Accuracy::Fan {
             triangles: Some(t), ..
         } if options.metric == Metric::L2 => fan_distance_error(stats.radius_max, t) / frame.scale,
@@ -578,7 +596,7 @@ fn shape_cones(
                     let outer = metric_fan(accuracy).outer_radius(metric, cone.radius);
                     // L1 and L∞ chains are their exact circles at every radius.
                     let level = match metric {
-                        Metric::L1 | Metric::LInf => 0,
+                        Metric::L1 | Metric::LInf | Metric::Polygon(_) => 0,
                         _ => chain::chain_level(outer),
                     };
                     (Footprint::Chain(level), outer)
@@ -835,7 +853,8 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         vertex_depth_scale: draws.scale.vertex as f32,
         fragment_depth_scale: draws.scale.fragment as f32,
         levels: 1,
-        metric: draws.metric.shader_code(),
+        // Polygons are drawn as fans only (see `voronoi_bands`).
+        metric: draws.metric.shader_code().unwrap_or((0, 2.0)),
     };
     let mesh_buffer = machine.vertex_buffer(&mesh)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;

@@ -39,6 +39,7 @@ pub fn chain(metric: Metric, radius: f64, epsilon: f64) -> Vec<DVec2> {
                 .collect()
         }
         Metric::Lp(p) => reflect(&quadrant(p, radius, epsilon)),
+        Metric::Polygon(g) => g.vertices.iter().map(|v| *v * radius).collect(),
     }
 }
 
@@ -198,10 +199,25 @@ pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
             }
         }
     }
+    // A polygon's gauge is linear between the rays through its vertices.
+    if let Metric::Polygon(g) = metric {
+        for v in &g.vertices {
+            let (num, den) = (v.perp_dot(a), v.perp_dot(b - a));
+            if den != 0.0 {
+                let t = -num / den;
+                if t > 0.0 && t < 1.0 && v.dot(a + (b - a) * t) > 0.0 {
+                    cuts.push(t);
+                }
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        let ends = cuts.iter().map(|&t| at(t));
+        return ends.fold((f64::INFINITY, 0.0f64), |(l, h), d| (l.min(d), h.max(d)));
+    }
     cuts.sort_by(f64::total_cmp);
     let ends = cuts.iter().map(|&t| at(t));
     let (mut lo, mut hi) = ends.fold((f64::INFINITY, 0.0f64), |(l, h), d| (l.min(d), h.max(d)));
-    let concave = matches!(metric, Metric::Lp(p) if p < 1.0);
+    let concave = !metric.is_convex();
     for piece in cuts.windows(2) {
         // The extremum inside the piece: a minimum of a convex function or a
         // maximum of a concave one.
@@ -271,6 +287,8 @@ impl MetricFan {
     /// to `r`.
     pub fn error_bound(self, metric: Metric, r: f64) -> f64 {
         match self {
+            // A polygon's chain is the polygon: exact.
+            Self::Chain { .. } if matches!(metric, Metric::Polygon(_)) => 0.0,
             Self::Chain { epsilon } => epsilon,
             Self::Uniform { .. } => self.outer_radius(metric, r) - metric.euclidean_bounds().1 * r,
         }

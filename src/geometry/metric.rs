@@ -1,13 +1,19 @@
-//! Distance functions (thesis §3.6): the Euclidean norm, L1, L∞ and L_p for every
-//! p > 0. Changing the metric changes the shape of the cones; in exact mode the
-//! fragment shader evaluates the metric per pixel.
+//! Distance functions (thesis §3.6): the Euclidean norm, L1, L∞, L_p for every
+//! p > 0, and the polygonal distance of any polygon star-shaped around its kernel
+//! point (§3.6.5). Changing the metric changes the shape of the cones; in exact
+//! mode the fragment shader evaluates the metric per pixel, except for polygons,
+//! whose distance is piecewise linear, so the fan over the polygon itself is exact.
 //!
 //! Each metric has a *key*, a monotone function of the distance that the shaders
 //! compare instead of the distance itself: the squared distance for L2, the sum of
 //! p-th powers for L_p, the distance itself for L1 and L∞. Keys of integer
 //! offsets are exact in float32 for L1, L2 and L∞, so integer ties stay ties.
 
-use std::fmt;
+use std::{
+    f64::consts::TAU,
+    fmt,
+    sync::{Mutex, OnceLock},
+};
 
 use glam::DVec2;
 
@@ -22,12 +28,70 @@ pub enum Metric {
     LInf,
     /// (|x|^p + |y|^p)^(1/p), any p > 0 (not a norm for p < 1).
     Lp(f64),
+    /// The gauge of a star-shaped polygon around the origin: the t with x / t on
+    /// the polygon's boundary. The distance from a site s to a point q is the
+    /// gauge of q - s: the cone on s has the base s + polygon.
+    Polygon(&'static Gauge),
+}
+
+/// A polygon star-shaped around the origin, counter-clockwise, as a unit ball.
+#[derive(Debug, PartialEq)]
+pub struct Gauge {
+    pub vertices: Vec<DVec2>,
+    /// The vertices' angles, increasing from the first vertex's.
+    angles: Vec<f64>,
+    /// The smallest and largest Euclidean distance of the boundary from the origin.
+    radii: (f64, f64),
+    convex: bool,
+}
+
+impl Gauge {
+    /// The gauge of `v`.
+    pub fn of(&self, v: DVec2) -> f64 {
+        if v == DVec2::ZERO {
+            return 0.0;
+        }
+        let n = self.vertices.len();
+        let a = (v.y.atan2(v.x) - self.angles[0]).rem_euclid(TAU) + self.angles[0];
+        // The edge whose sector holds the direction: the last vertex at or before it.
+        let k = self.angles.partition_point(|&t| t <= a).saturating_sub(1);
+        let (p, q) = (self.vertices[k], self.vertices[(k + 1) % n]);
+        (v.perp_dot(q - p) / p.perp_dot(q)).max(0.0)
+    }
+
+    /// Whether the polygon is convex (a norm, when also symmetric).
+    pub fn is_convex(&self) -> bool {
+        self.convex
+    }
+}
+
+/// Polygons used as metrics live for the whole program (so that [`Metric`] stays
+/// a plain copyable value); each distinct polygon is kept once.
+fn intern(gauge: Gauge) -> &'static Gauge {
+    static GAUGES: OnceLock<Mutex<Vec<&'static Gauge>>> = OnceLock::new();
+    let mut kept = GAUGES
+        .get_or_init(|| Mutex::new(Vec::new()))
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    if let Some(g) = kept.iter().find(|g| ***g == gauge) {
+        return g;
+    }
+    let g: &'static Gauge = Box::leak(Box::new(gauge));
+    kept.push(g);
+    g
 }
 
 impl Metric {
-    /// Parses `l2`, `l1`, `linf` or `lp:P` (P a positive number; `lp:1`, `lp:2`
-    /// and `lp:inf` name the special cases).
+    /// Parses `l2`, `l1`, `linf`, `lp:P` (P a positive number; `lp:1`, `lp:2`
+    /// and `lp:inf` name the special cases) or `polygon:FILE` (the polygon's
+    /// vertices as a site file, around the kernel point at the origin, or JSON
+    /// `{"vertices": [...], "kernel": [x, y]}`).
     pub fn parse(text: &str) -> Result<Self, String> {
+        if let Some(path) = text.trim().strip_prefix("polygon:") {
+            let (vertices, kernel) = crate::io::sites::read_polygon(std::path::Path::new(path))
+                .map_err(|e| e.to_string())?;
+            return Self::polygon(&vertices, kernel);
+        }
         let t = text.trim().to_ascii_lowercase();
         let named = match t.as_str() {
             "l2" | "euclidean" => Some(Self::L2),
@@ -38,9 +102,9 @@ impl Metric {
         if let Some(m) = named {
             return Ok(m);
         }
-        let p = t
-            .strip_prefix("lp:")
-            .ok_or_else(|| format!("unknown metric `{text}`: use l2, l1, linf or lp:P"))?;
+        let p = t.strip_prefix("lp:").ok_or_else(|| {
+            format!("unknown metric `{text}`: use l2, l1, linf, lp:P or polygon:FILE")
+        })?;
         if p == "inf" {
             return Ok(Self::LInf);
         }
@@ -63,6 +127,77 @@ impl Metric {
         })
     }
 
+    /// The polygonal distance whose unit ball is `vertices` (any orientation)
+    /// around `kernel`: an error unless the polygon is star-shaped around it.
+    pub fn polygon(vertices: &[DVec2], kernel: DVec2) -> Result<Self, String> {
+        if vertices.len() < 3 {
+            return Err(format!(
+                "a polygon needs 3 vertices, not {}",
+                vertices.len()
+            ));
+        }
+        if vertices.iter().any(|v| !v.is_finite()) || !kernel.is_finite() {
+            return Err("polygon coordinates must be finite".into());
+        }
+        let mut v: Vec<DVec2> = vertices.iter().map(|p| *p - kernel).collect();
+        let area: f64 = (0..v.len())
+            .map(|k| v[k].perp_dot(v[(k + 1) % v.len()]))
+            .sum();
+        if area < 0.0 {
+            v.reverse();
+        }
+        let n = v.len();
+        // Star-shaped around the origin: every edge sees it strictly on its left,
+        // and the vertices turn once around it.
+        let mut turn = 0.0;
+        for k in 0..n {
+            let (p, q) = (v[k], v[(k + 1) % n]);
+            if p == DVec2::ZERO || p.perp_dot(q) <= 0.0 {
+                return Err(format!(
+                    "the polygon is not star-shaped around its kernel point ({}, {}): edge {k} does not face it",
+                    kernel.x, kernel.y
+                ));
+            }
+            turn += p.perp_dot(q).atan2(p.dot(q));
+        }
+        if (turn - TAU).abs() > 1e-9 {
+            return Err(format!(
+                "the polygon is not star-shaped around its kernel point ({}, {}): it winds {:.3} times around it",
+                kernel.x,
+                kernel.y,
+                turn / TAU
+            ));
+        }
+        let first = v[0].y.atan2(v[0].x);
+        let angles = v
+            .iter()
+            .map(|p| (p.y.atan2(p.x) - first).rem_euclid(TAU) + first)
+            .collect();
+        let near = (0..n)
+            .map(|k| super::chain::norm_range_on_segment(Self::L2, v[k], v[(k + 1) % n]).0)
+            .fold(f64::INFINITY, f64::min);
+        let far = v.iter().map(|p| p.length()).fold(0.0, f64::max);
+        let convex = (0..n)
+            .all(|k| (v[(k + 1) % n] - v[k]).perp_dot(v[(k + 2) % n] - v[(k + 1) % n]) >= 0.0);
+        Ok(Self::Polygon(intern(Gauge {
+            vertices: v,
+            angles,
+            radii: (near, far),
+            convex,
+        })))
+    }
+
+    /// Whether the distance is convex (its balls are convex): L_p for p >= 1 and
+    /// convex polygons. Convex distances obey the triangle inequality, and their
+    /// largest value over a polygon is at a corner.
+    pub fn is_convex(self) -> bool {
+        match self {
+            Self::Lp(p) => p >= 1.0,
+            Self::Polygon(g) => g.is_convex(),
+            _ => true,
+        }
+    }
+
     /// The distance of offset `d`.
     pub fn distance(self, d: DVec2) -> f64 {
         self.distance_of_key(self.key(d))
@@ -77,6 +212,7 @@ impl Metric {
             Self::L1 => a.x + a.y,
             Self::LInf => a.x.max(a.y),
             Self::Lp(p) => a.x.powf(p) + a.y.powf(p),
+            Self::Polygon(g) => g.of(d),
         }
     }
 
@@ -84,7 +220,7 @@ impl Metric {
     pub fn key_of_distance(self, r: f64) -> f64 {
         match self {
             Self::L2 => r * r,
-            Self::L1 | Self::LInf => r,
+            Self::L1 | Self::LInf | Self::Polygon(_) => r,
             Self::Lp(p) => r.powf(p),
         }
     }
@@ -93,7 +229,7 @@ impl Metric {
     pub fn distance_of_key(self, key: f64) -> f64 {
         match self {
             Self::L2 => key.sqrt(),
-            Self::L1 | Self::LInf => key,
+            Self::L1 | Self::LInf | Self::Polygon(_) => key,
             Self::Lp(p) => key.powf(1.0 / p),
         }
     }
@@ -107,6 +243,8 @@ impl Metric {
             Self::LInf => (1.0 / root2, 1.0),
             Self::Lp(p) if p <= 2.0 => (1.0, 2f64.powf(1.0 / p - 0.5)),
             Self::Lp(p) => (2f64.powf(1.0 / p - 0.5), 1.0),
+            // |x| / (largest radius) <= gauge <= |x| / (smallest radius).
+            Self::Polygon(g) => (1.0 / g.radii.1, 1.0 / g.radii.0),
         }
     }
 
@@ -117,13 +255,15 @@ impl Metric {
         b / a
     }
 
-    /// The shader's code for the metric: (kind, p).
-    pub fn shader_code(self) -> (u32, f32) {
+    /// The shader's code for the metric: (kind, p). Polygons have none: they are
+    /// drawn as fans over themselves, which are exact.
+    pub fn shader_code(self) -> Option<(u32, f32)> {
         match self {
-            Self::L2 => (0, 2.0),
-            Self::L1 => (1, 1.0),
-            Self::LInf => (2, 0.0),
-            Self::Lp(p) => (3, p as f32),
+            Self::L2 => Some((0, 2.0)),
+            Self::L1 => Some((1, 1.0)),
+            Self::LInf => Some((2, 0.0)),
+            Self::Lp(p) => Some((3, p as f32)),
+            Self::Polygon(_) => None,
         }
     }
 }
@@ -135,6 +275,7 @@ impl fmt::Display for Metric {
             Self::L1 => write!(f, "l1"),
             Self::LInf => write!(f, "linf"),
             Self::Lp(p) => write!(f, "lp:{p}"),
+            Self::Polygon(g) => write!(f, "polygon ({} vertices)", g.vertices.len()),
         }
     }
 }
@@ -181,6 +322,34 @@ mod tests {
             }
         }
         assert_eq!(Metric::L1.distance(DVec2::new(3.0, -4.0)), 7.0);
+        // A polygon equal to the L1 diamond, listed clockwise around a shifted
+        // kernel, measures like L1.
+        let k = DVec2::new(5.0, 5.0);
+        let diamond: Vec<DVec2> = [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0)]
+            .iter()
+            .map(|&(x, y)| k + DVec2::new(x, y))
+            .collect();
+        let m = Metric::polygon(&diamond, k).unwrap();
+        for d in offsets {
+            assert!(
+                (m.distance(d) - Metric::L1.distance(d)).abs() < 1e-12,
+                "{d}"
+            );
+        }
+        let (a, b) = m.euclidean_bounds();
+        assert!((a - 1.0).abs() < 1e-12 && (b - 2f64.sqrt()).abs() < 1e-12);
+        assert!(m.is_convex());
+        // Not star-shaped around the kernel: a clear error.
+        let bent = [
+            DVec2::new(1.0, 0.0),
+            DVec2::new(-1.0, 1.0),
+            DVec2::new(-1.0, -1.0),
+            DVec2::new(-2.0, 0.0),
+        ];
+        assert!(Metric::polygon(&bent, DVec2::ZERO)
+            .unwrap_err()
+            .contains("star-shaped"));
+        assert!(Metric::polygon(&diamond, DVec2::new(9.0, 9.0)).is_err());
         assert_eq!(Metric::LInf.distance(DVec2::new(3.0, -4.0)), 4.0);
     }
 }

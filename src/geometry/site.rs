@@ -68,7 +68,7 @@ impl Site {
     pub fn distance_to_shape(&self, metric: Metric, q: DVec2) -> f64 {
         match self.shape {
             Shape::Point(p) => metric.distance(q - p),
-            Shape::Segment(a, b) => norm_range_on_segment(metric, a - q, b - q).0,
+            Shape::Segment(a, b) => norm_range_on_segment(metric, q - a, q - b).0,
             Shape::Circle { center, radius } => ((q - center).length() - radius).abs(),
             Shape::Arc {
                 center,

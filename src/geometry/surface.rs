@@ -46,7 +46,7 @@ impl Base {
         Self {
             rim,
             height: outer,
-            convex: !matches!(metric, Metric::Lp(p) if p < 1.0),
+            convex: metric.is_convex(),
         }
     }
 

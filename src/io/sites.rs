@@ -54,6 +54,48 @@ pub fn read_general_sites(path: &Path) -> Result<Vec<Site>> {
     })
 }
 
+/// Reads a polygon for `--metric polygon:FILE`: its vertices as a point site
+/// file (around the kernel point at the origin), or JSON `{"vertices": [[x, y],
+/// ...], "kernel": [x, y]}`. Returns the vertices and the kernel point.
+pub fn read_polygon(path: &Path) -> Result<(Vec<DVec2>, DVec2)> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let failed = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let value: Option<Value> = serde_json::from_str(&text).ok();
+    let (vertices, kernel) = match value {
+        Some(Value::Object(o)) if o.contains_key("vertices") => {
+            let vertices =
+                serde_json::to_string(&o["vertices"]).map_err(|e| failed(e.to_string()))?;
+            let kernel = match o.get("kernel") {
+                None => DVec2::ZERO,
+                Some(Value::Array(k)) if k.len() == 2 => DVec2::new(
+                    k[0].as_f64()
+                        .ok_or_else(|| failed("kernel x is not a number".into()))?,
+                    k[1].as_f64()
+                        .ok_or_else(|| failed("kernel y is not a number".into()))?,
+                ),
+                Some(k) => return Err(failed(format!("kernel must be [x, y], found {k}"))),
+            };
+            (parse_json(&vertices).map_err(failed)?, kernel)
+        }
+        Some(_) => (parse_json(&text).map_err(failed)?, DVec2::ZERO),
+        None => (parse_csv(&text).map_err(failed)?, DVec2::ZERO),
+    };
+    let points = vertices
+        .iter()
+        .map(|s| match s.shape {
+            Shape::Point(p) if s.is_plain_point() => Ok(p),
+            _ => Err(failed("polygon vertices are points [x, y]".into())),
+        })
+        .collect::<Result<_>>()?;
+    Ok((points, kernel))
+}
+
 /// Parses CSV text: `x,y` and optionally the multiplicative weight `m` and the
 /// additive weight `a` per record; a first record that is not numeric is a
 /// header. Empty lines and lines starting with `#` are skipped.

@@ -28,7 +28,7 @@ pub fn k_nearest_by_metric(
             let mut all: Vec<(u32, f64)> = sites
                 .iter()
                 .enumerate()
-                .map(|(i, s)| (i as u32, metric.distance(*s - q)))
+                .map(|(i, s)| (i as u32, metric.distance(q - *s)))
                 .collect();
             all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
             all.truncate(k);
@@ -52,7 +52,7 @@ pub fn furthest_brute_force(
             let q = DVec2::new((p % w) as f64, (p / w) as f64);
             let mut best = (u32::MAX, f64::NEG_INFINITY);
             for (i, s) in sites.iter().enumerate() {
-                let d = metric.distance(*s - q);
+                let d = metric.distance(q - *s);
                 if d > best.1 {
                     best = (i as u32, d);
                 }

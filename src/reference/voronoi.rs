@@ -111,7 +111,7 @@ pub fn nearest_distances_metric(
             let q = DVec2::new((k % w) as f64, (k / w) as f64);
             sites
                 .iter()
-                .map(|s| metric.distance(*s - q))
+                .map(|s| metric.distance(q - *s))
                 .fold(f64::INFINITY, f64::min)
         })
         .collect()

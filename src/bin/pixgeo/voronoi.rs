@@ -58,9 +58,13 @@ pub struct Args {
     input: Input,
 
     /// Distance function (thesis §3.6): `l2` (Euclidean), `l1`, `linf`, or
-    /// `lp:P` for any P > 0 (P < 1 gives star-shaped, non-convex balls). Every
-    /// metric works in both modes (fans over the thesis's polygonal chains), for
-    /// every kind of diagram, and with --device cpu.
+    /// `lp:P` for any P > 0 (P < 1 gives star-shaped, non-convex balls), or
+    /// `polygon:FILE`: the unit ball is the polygon in FILE (vertices as a site
+    /// file around the kernel point at the origin, or JSON `{"vertices": [...],
+    /// "kernel": [x, y]}`), star-shaped around its kernel (§3.6.5). Every metric
+    /// works in both modes (fans over the thesis's polygonal chains), for every
+    /// kind of diagram, and with --device cpu; --ties and --peel take the L_p
+    /// metrics.
     #[arg(long, default_value = "l2", value_parser = Metric::parse)]
     metric: Metric,
 
