@@ -90,6 +90,34 @@ fn voronoi_reads_weights_and_shapes() {
     assert!((d[36 * 64 + 20] - 6.0).abs() < 1e-4);
     assert_eq!(l[44 * 64 + 50], 3);
     assert!((d[44 * 64 + 50] - 1.0).abs() < 1e-4);
+    // The CPU gives the same labels; fans stay within a pixel.
+    let cpu_labels = temp("mlc.npy");
+    let fan_dist = temp("mdf.npy");
+    for (flags, out) in [
+        (["--device", "cpu"], &cpu_labels),
+        (["--mode", "fan"], &fan_dist),
+    ] {
+        let kind = if out == &cpu_labels {
+            "--labels"
+        } else {
+            "--distance"
+        };
+        let mut a = vec![
+            "voronoi",
+            "--sites",
+            sites.to_str().unwrap(),
+            "--size",
+            "64x48",
+        ];
+        a.extend(flags);
+        a.extend([kind, out.to_str().unwrap()]);
+        let (ok, _, stderr) = pixgeo(&a);
+        assert!(ok, "{flags:?}: {stderr}");
+    }
+    let (_, c): (Vec<u64>, Vec<u32>) = npy::read(&cpu_labels).unwrap();
+    assert_eq!(c, l);
+    let (_, f): (Vec<u64>, Vec<f32>) = npy::read(&fan_dist).unwrap();
+    assert!(f.iter().zip(&d).all(|(a, b)| (a - b).abs() <= 1.05));
     // Weights in CSV columns; a bad weight names its site.
     let csv = temp("weights.csv");
     std::fs::write(&csv, "x,y,m,a\n10,10,1,0\n50,20,0,0\n").unwrap();

@@ -339,3 +339,56 @@ fn fans_of_every_site_stay_inside_their_bounds() {
         "degenerate fans",
     );
 }
+
+#[test]
+fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
+    // Thesis §3.12.1 for every site kind, weight and metric.
+    let m = common::machine();
+    let frame = Frame::pixels(57, 43).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let mut inputs = vec![(
+        Metric::L2,
+        random_sites(&mut rng, 25, &[0, 1, 2, 3], true, 57.0, 43.0),
+    )];
+    for metric in [Metric::L1, Metric::LInf, Metric::Lp(0.5), Metric::Lp(3.0)] {
+        inputs.push((
+            metric,
+            random_sites(&mut rng, 25, &[0, 1], true, 57.0, 43.0),
+        ));
+    }
+    for (metric, sites) in inputs {
+        let (labels, distances) =
+            pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric).unwrap();
+        let truth = nearest_weighted_distances(&sites, &frame, metric);
+        for (k, (&label, &d)) in labels.iter().zip(&distances).enumerate() {
+            let q = frame.to_world(DVec2::new((k % 57) as f64, (k / 57) as f64));
+            let mine = sites[label as usize].distance(metric, q);
+            assert!(
+                (mine - truth[k]).abs() <= 1e-9 * (1.0 + truth[k].abs())
+                    && (d as f64 - truth[k]).abs() <= 1e-5 * (1.0 + truth[k].abs()),
+                "{metric}: pixel {q}: site {label} at {mine}, map {d}, nearest {}",
+                truth[k]
+            );
+        }
+        let g = voronoi_sites(
+            &m,
+            &sites,
+            &VoronoiOptions {
+                metric,
+                ..VoronoiOptions::exact(frame)
+            },
+        )
+        .unwrap();
+        let steep = if matches!(metric, Metric::Lp(p) if p < 1.0) {
+            10.0
+        } else {
+            1.0
+        };
+        for (a, b) in distances.iter().zip(&g.distances) {
+            assert!(
+                (a - b).abs() as f64 <= 1e-3 * steep * (1.0 + a.abs() as f64),
+                "{metric}: cpu {a} gpu {b}"
+            );
+        }
+    }
+}

@@ -189,6 +189,15 @@ pub fn norm_range(metric: Metric, polygon: &[DVec2]) -> (f64, f64) {
 /// p < 1, its p-th power is concave (smallest at an end, largest by search).
 pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
     let at = |t: f64| metric.distance(a + (b - a) * t);
+    if metric == Metric::L2 {
+        let e = b - a;
+        let t = if e == DVec2::ZERO {
+            0.0
+        } else {
+            (-a.dot(e) / e.length_squared()).clamp(0.0, 1.0)
+        };
+        return (at(t), a.length().max(b.length()));
+    }
     let mut cuts = vec![0.0, 1.0];
     for axis in 0..2 {
         let (u, v) = (a[axis], b[axis]);

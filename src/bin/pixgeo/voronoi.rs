@@ -12,7 +12,7 @@ use pixgeo::{
         cpu,
         higher_order::{self, KNearestOptions},
         sites::voronoi_sites,
-        voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
+        voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats},
     },
     geometry::{
         metric::Metric,
@@ -360,12 +360,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
     if args.degree.is_some() || args.order.is_some() || args.furthest {
         bail!("--degree, --order and --furthest take unweighted points; these sites have weights or shapes");
     }
-    let machine = match Backend::choose(args.device.as_deref())? {
-        Backend::Gpu(machine) => machine,
-        Backend::Cpu => {
-            bail!("weighted sites, segments, circles and arcs are drawn on a Vulkan device")
-        }
-    };
+    let backend = Backend::choose(args.device.as_deref())?;
     let accuracy = match args.mode {
         ModeArg::Exact => Accuracy::Exact,
         ModeArg::Fan(triangles) => Accuracy::Fan {
@@ -382,7 +377,29 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
         ties: args.ties.is_some(),
         max_tile: args.max_tile,
     };
-    let d = voronoi_sites(&machine, sites, &options)?;
+    let d = match backend {
+        Backend::Gpu(machine) => voronoi_sites(&machine, sites, &options)?,
+        Backend::Cpu => {
+            if args.ties.is_some() || args.max_tile.is_some() {
+                bail!("--ties and --max-tile apply to diagrams on a Vulkan device");
+            }
+            let started = std::time::Instant::now();
+            let (labels, distances) = cpu::voronoi_sites(sites, &frame, args.metric)?;
+            VoronoiDiagram {
+                width: frame.width,
+                height: frame.height,
+                labels,
+                distances,
+                ties: Vec::new(),
+                stats: VoronoiStats {
+                    device: "cpu".into(),
+                    sites: sites.len(),
+                    render_ms: started.elapsed().as_secs_f64() * 1e3,
+                    ..Default::default()
+                },
+            }
+        }
+    };
     let shape = [frame.height as u64, frame.width as u64];
     if let Some(p) = &args.labels {
         let mut out = NpyStream::<u32>::create(p, &shape)?;
