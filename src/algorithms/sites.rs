@@ -33,11 +33,6 @@ use crate::{
 
 use super::voronoi::{Accuracy, VoronoiDiagram, VoronoiOptions, VoronoiStats};
 
-/// Cells per side of the culling grid, at most; fewer for many sites, so that
-/// cells times sites stays near `CULL_BUDGET`.
-const CULL_CELLS: usize = 64;
-const CULL_BUDGET: usize = 1 << 22;
-
 /// The unit square as two triangles.
 const UNIT_SQUARE: [[f32; 3]; 6] = [
     [0.0, 0.0, 0.0],
@@ -114,6 +109,12 @@ pub fn voronoi_sites(
         passes: 1,
         ..Default::default()
     };
+    let drawn: Vec<f64> = reaches.iter().flatten().map(|(_, r)| *r).collect();
+    if !drawn.is_empty() {
+        stats.radius_min = drawn.iter().copied().fold(f64::INFINITY, f64::min);
+        stats.radius_max = drawn.iter().copied().fold(0.0, f64::max);
+        stats.radius_mean = drawn.iter().sum::<f64>() / drawn.len() as f64;
+    }
     let weighted = |s: &Site, d: f64| d / (frame.scale * s.multiplicative) + s.additive;
     // Exact sites are rectangles with per-fragment distances; fans are triangles
     // with per-vertex depths.
@@ -330,6 +331,12 @@ type Reach = ([f32; 4], f64);
 
 /// Each site's [`Reach`], `None` where it wins nowhere, and an upper bound on the
 /// envelope over the picture.
+///
+/// Cells of about half the sites' spacing: a cell's upper bound is the smallest
+/// largest-distance of the sites binned near it (any subset of the sites bounds
+/// the envelope from above); a site then visits the rings of cells around its box
+/// until even the ring's nearest point is beyond the largest upper bound, keeping
+/// the cells where its smallest distance can reach the cell's bound.
 fn cull(
     sites: &[Site],
     width: u32,
@@ -337,71 +344,119 @@ fn cull(
     metric: Metric,
     scale: f64,
 ) -> (Vec<Option<Reach>>, f64) {
-    let cells_per_side = ((CULL_BUDGET / sites.len()) as f64).sqrt() as usize;
-    let cells_per_side = cells_per_side.clamp(1, CULL_CELLS);
-    let side = (width.max(height) as f64 / cells_per_side as f64)
-        .ceil()
-        .max(1.0);
+    let spacing = (width as f64 * height as f64 / sites.len() as f64).sqrt();
+    let side = (spacing / 4.0).clamp(2.0, 64.0).floor();
     let (cx, cy) = (
         (width as f64 / side).ceil() as usize,
         (height as f64 / side).ceil() as usize,
     );
+    let cell_of = |v: f64, n: usize| ((v / side).floor().max(0.0) as usize).min(n - 1);
     // Cell (i, j) holds the pixel centres [i side, (i + 1) side) (clipped).
-    let cells: Vec<(DVec2, DVec2)> = (0..cx * cy)
-        .map(|k| {
-            let lo = DVec2::new((k % cx) as f64 * side, (k / cx) as f64 * side);
-            let hi = (lo + side - 1.0).min(DVec2::new(width as f64 - 1.0, height as f64 - 1.0));
-            (lo, hi)
-        })
-        .collect();
-    // Weighted distance bounds of every site over every cell.
-    let bounds: Vec<Vec<(f64, f64, f64)>> = sites
-        .par_iter()
-        .map(|s| {
-            cells
-                .iter()
-                .map(|&(lo, hi)| {
-                    let centre = 0.5 * (lo + hi);
-                    let (dlo, dhi) = spread(s, metric, centre, 0.5 * (hi - lo));
-                    let w = |d: f64| d / (scale * s.multiplicative) + s.additive;
-                    (w(dlo), w(dhi), dhi)
-                })
-                .collect()
-        })
-        .collect();
-    let upper: Vec<f64> = (0..cells.len())
-        .map(|c| bounds.iter().map(|b| b[c].1).fold(f64::INFINITY, f64::min))
-        .collect();
-    let reach = upper.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let rects = bounds
-        .par_iter()
-        .map(|b| {
-            let mut rect: Option<(DVec2, DVec2)> = None;
-            let mut reach = 0.0f64;
-            for (c, &(lo, _, far)) in b.iter().enumerate() {
-                if lo <= upper[c] {
-                    let (a, z) = cells[c];
-                    reach = reach.max(far);
-                    rect = Some(match rect {
-                        None => (a, z),
-                        Some((ra, rz)) => (ra.min(a), rz.max(z)),
-                    });
+    let bounds_of = |i: usize, j: usize| {
+        let lo = DVec2::new(i as f64 * side, j as f64 * side);
+        let hi = (lo + side - 1.0).min(DVec2::new(width as f64 - 1.0, height as f64 - 1.0));
+        (lo, hi)
+    };
+    let weighted = |s: &Site, d: f64| d / (scale * s.multiplicative) + s.additive;
+    let range = |s: &Site, i: usize, j: usize| {
+        let (lo, hi) = bounds_of(i, j);
+        let (dlo, dhi) = spread(s, metric, 0.5 * (lo + hi), 0.5 * (hi - lo));
+        (weighted(s, dlo), weighted(s, dhi), dhi)
+    };
+    // Sites binned by the cell of their box's centre.
+    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); cx * cy];
+    for (k, s) in sites.iter().enumerate() {
+        let (lo, hi) = s.bounds();
+        let c = 0.5 * (lo + hi);
+        bins[cell_of(c.y, cy) * cx + cell_of(c.x, cx)].push(k as u32);
+    }
+    // Upper bounds from the sites of the nearest non-empty rings of bins.
+    let upper: Vec<f64> = (0..cx * cy)
+        .into_par_iter()
+        .map(|c| {
+            let (i, j) = ((c % cx) as i64, (c / cx) as i64);
+            let mut best = f64::INFINITY;
+            for ring in 0..(cx.max(cy) as i64) {
+                for (x, y) in ring_cells(i, j, ring) {
+                    if x >= 0 && y >= 0 && (x as usize) < cx && (y as usize) < cy {
+                        for &k in &bins[y as usize * cx + x as usize] {
+                            best = best.min(range(&sites[k as usize], i as usize, j as usize).1);
+                        }
+                    }
+                }
+                // One more ring after the first find tightens the bound cheaply.
+                if best.is_finite() && ring >= 1 {
+                    break;
                 }
             }
-            // Half a pixel around the centres, so rasterization keeps the rim.
-            rect.map(|(a, z)| {
+            best
+        })
+        .collect();
+    let reach = upper.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (a, _) = metric.euclidean_bounds();
+    let reaches = sites
+        .par_iter()
+        .map(|s| {
+            let (blo, bhi) = s.bounds();
+            let (i0, j0) = (cell_of(blo.x, cx) as i64, cell_of(blo.y, cy) as i64);
+            let (i1, j1) = (cell_of(bhi.x, cx) as i64, cell_of(bhi.y, cy) as i64);
+            let mut rect: Option<(DVec2, DVec2)> = None;
+            let mut far = 0.0f64;
+            for ring in 0..(cx.max(cy) as i64 + 1) {
+                // Cells of this ring are at least (ring - 1) cells from the box.
+                let gap = ((ring - 1).max(0) as f64) * side;
+                if weighted(s, a * gap) > reach {
+                    break;
+                }
+                for (x, y) in box_ring_cells(i0, j0, i1, j1, ring) {
+                    if x < 0 || y < 0 || x as usize >= cx || y as usize >= cy {
+                        continue;
+                    }
+                    let (x, y) = (x as usize, y as usize);
+                    let (lo, _, d) = range(s, x, y);
+                    if lo <= upper[y * cx + x] {
+                        let (p, q) = bounds_of(x, y);
+                        far = far.max(d);
+                        rect = Some(match rect {
+                            None => (p, q),
+                            Some((rp, rq)) => (rp.min(p), rq.max(q)),
+                        });
+                    }
+                }
+            }
+            // Half a pixel around the centres, so rasterization keeps the rim; a
+            // pixel more of reach for the same reason.
+            rect.map(|(p, q)| {
                 let rect = [
-                    (a.x - 0.5) as f32,
-                    (a.y - 0.5) as f32,
-                    (z.x + 0.5) as f32,
-                    (z.y + 0.5) as f32,
+                    (p.x - 0.5) as f32,
+                    (p.y - 0.5) as f32,
+                    (q.x + 0.5) as f32,
+                    (q.y + 0.5) as f32,
                 ];
-                // A pixel more, for the rasterizer's rim.
-                (rect, reach + 1.0)
+                (rect, far + 1.0)
             })
         })
         .collect();
-    (rects, reach)
+    (reaches, reach)
+}
+
+/// The cells of ring `ring` around cell `(i, j)`.
+fn ring_cells(i: i64, j: i64, ring: i64) -> Vec<(i64, i64)> {
+    box_ring_cells(i, j, i, j, ring)
+}
+
+/// The cells at Chebyshev distance exactly `ring` from the block of cells
+/// `[i0, i1] x [j0, j1]`.
+fn box_ring_cells(i0: i64, j0: i64, i1: i64, j1: i64, ring: i64) -> Vec<(i64, i64)> {
+    if ring == 0 {
+        return (j0..=j1)
+            .flat_map(|y| (i0..=i1).map(move |x| (x, y)))
+            .collect();
+    }
+    let (x0, x1, y0, y1) = (i0 - ring, i1 + ring, j0 - ring, j1 + ring);
+    let mut out: Vec<(i64, i64)> = (x0..=x1).flat_map(|x| [(x, y0), (x, y1)]).collect();
+    out.extend((y0 + 1..y1).flat_map(|y| [(x0, y), (x1, y)]));
+    out
 }
 
 /// The range of the site's shape distance over a box of half-extents `half`
