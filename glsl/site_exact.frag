@@ -24,8 +24,9 @@ float norm(vec2 v) {
 
 // The smallest norm on the segment of offsets a + t (b - a), t in [0, 1]: closed
 // form for L2; otherwise the ends and the zeros of each coordinate (the minimum
-// for p < 1, where each |coordinate|^p is concave between its zeros), refined by
-// golden-section search for the convex norms (src/geometry/chain.rs).
+// for L1, and for p < 1, where each |coordinate|^p is concave between its zeros),
+// the diagonals for L-infinity, and golden-section search for the other convex
+// L_p (src/geometry/chain.rs).
 float segment_norm(vec2 a, vec2 b) {
     vec2 e = b - a;
     float ee = dot(e, e);
@@ -42,8 +43,21 @@ float segment_norm(vec2 a, vec2 b) {
             }
         }
     }
-    bool convex = picture.metric != 3u || picture.metric_p >= 1.0;
-    if (convex && ee > 0.0) {
+    // L-infinity is linear between the zeros and the diagonals |x| = |y|.
+    if (picture.metric == 2u) {
+        for (int sign = -1; sign <= 1; sign += 2) {
+            float den = e.x - float(sign) * e.y;
+            if (den != 0.0) {
+                float t = (float(sign) * a.y - a.x) / den;
+                if (t > 0.0 && t < 1.0) {
+                    best = min(best, norm(a + t * e));
+                }
+            }
+        }
+    }
+    // L1 and L-infinity are piecewise linear: their candidates are exact.
+    bool search = picture.metric == 3u && picture.metric_p >= 1.0;
+    if (search && ee > 0.0) {
         float lo = 0.0;
         float hi = 1.0;
         const float g = 0.61803398875;

@@ -65,6 +65,19 @@ typedef enum PixgeoSpeedup {
   PIXGEO_SPEEDUP_NONE = 2,
 } PixgeoSpeedup;
 
+// The shape of a [`PixgeoSite`].
+typedef enum PixgeoSiteKind {
+  // `coords = {x, y}`.
+  PIXGEO_SITE_KIND_POINT = 0,
+  // `coords = {x1, y1, x2, y2}`.
+  PIXGEO_SITE_KIND_SEGMENT = 1,
+  // `coords = {cx, cy, radius}` (Euclidean metric only).
+  PIXGEO_SITE_KIND_CIRCLE = 2,
+  // `coords = {cx, cy, radius, start, end}`: counter-clockwise from angle
+  // `start` to `end` (radians; Euclidean metric only).
+  PIXGEO_SITE_KIND_ARC = 3,
+} PixgeoSiteKind;
+
 // How [`pixgeo_settle`] counts the discs.
 typedef enum PixgeoSettleMethod {
   // Row spans and prefix sums (default).
@@ -93,7 +106,7 @@ typedef struct PixgeoVoronoiOptions {
   // pixel (i, j) is centred at world point (i, j).
   bool use_bbox;
   double bbox[4];
-  // The distance function; metrics other than L2 need exact accuracy.
+  // The distance function (both accuracy modes take every metric).
   enum PixgeoMetric metric;
   // The exponent of [`PixgeoMetric::Lp`].
   double metric_p;
@@ -106,6 +119,16 @@ typedef struct PixgeoVoronoiOptions {
   // Largest tile side in pixels; 0 = as large as the device allows.
   uint32_t max_tile;
 } PixgeoVoronoiOptions;
+
+// A site of any shape with weights (thesis §3.8–3.9): its weighted distance is
+// the distance to the shape divided by `multiplicative` (> 0) plus `additive`.
+typedef struct PixgeoSite {
+  enum PixgeoSiteKind kind;
+  // World coordinates, as [`PixgeoSiteKind`] lays them out; unused ones ignored.
+  double coords[5];
+  double multiplicative;
+  double additive;
+} PixgeoSite;
 
 // Two points, one of each set (indices into the sets as passed), and their exact
 // distance: the answer of the distance functions.
@@ -191,13 +214,28 @@ enum PixgeoStatus pixgeo_voronoi(struct PixgeoContext *ctx,
                                  uint32_t *labels,
                                  float *distances);
 
+// The Voronoi diagram of `count` sites of any shape and weight, like
+// [`pixgeo_voronoi`]: labels (and, unless null, weighted distances in world
+// units) of `width * height` pixels, row-major. `max_tile` must be 0.
+//
+// # Safety
+// `ctx` is a live context; `sites` holds `count` sites; `options` points to
+// valid options; `labels` (and `distances` unless null) have room for
+// `width * height` values.
+enum PixgeoStatus pixgeo_voronoi_sites(struct PixgeoContext *ctx,
+                                       const struct PixgeoSite *sites,
+                                       size_t count,
+                                       const struct PixgeoVoronoiOptions *options,
+                                       uint32_t *labels,
+                                       float *distances);
+
 // Every pixel's `k` nearest sites in order (the degree 1..k diagrams, thesis
 // §3.7), equal distances counted with their multiplicity, ties by index. Writes
 // `width * height * k` values to `labels` and, unless null, `distances` (world
 // units): `[(j * width + i) * k + l]` is the (l+1)-th nearest site of pixel
 // (i, j); `UINT32_MAX` (and infinity) where fewer than l+1 sites exist. The
 // order-k diagram is each pixel's k labels as a set. `max_tile` must be 0 (the
-// picture is drawn whole) and the metric L2.
+// picture is drawn whole).
 //
 // # Safety
 // `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to

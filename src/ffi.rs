@@ -25,9 +25,14 @@ use crate::{
         distances::{self, Answer},
         higher_order::{self, KNearestOptions},
         settle::{self, SettleMethod, SettleOptions},
+        sites::voronoi_sites,
         voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiOptions},
     },
-    geometry::{metric::Metric, Frame},
+    geometry::{
+        metric::Metric,
+        site::{Shape, Site},
+        Frame,
+    },
     machine::{DeviceChoice, Machine, MachineOptions},
     Error,
 };
@@ -119,7 +124,7 @@ pub struct PixgeoVoronoiOptions {
     /// pixel (i, j) is centred at world point (i, j).
     pub use_bbox: bool,
     pub bbox: [f64; 4],
-    /// The distance function; metrics other than L2 need exact accuracy.
+    /// The distance function (both accuracy modes take every metric).
     pub metric: PixgeoMetric,
     /// The exponent of [`PixgeoMetric::Lp`].
     pub metric_p: f64,
@@ -131,6 +136,33 @@ pub struct PixgeoVoronoiOptions {
     pub speedup: PixgeoSpeedup,
     /// Largest tile side in pixels; 0 = as large as the device allows.
     pub max_tile: u32,
+}
+
+/// The shape of a [`PixgeoSite`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoSiteKind {
+    /// `coords = {x, y}`.
+    Point = 0,
+    /// `coords = {x1, y1, x2, y2}`.
+    Segment = 1,
+    /// `coords = {cx, cy, radius}` (Euclidean metric only).
+    Circle = 2,
+    /// `coords = {cx, cy, radius, start, end}`: counter-clockwise from angle
+    /// `start` to `end` (radians; Euclidean metric only).
+    Arc = 3,
+}
+
+/// A site of any shape with weights (thesis §3.8–3.9): its weighted distance is
+/// the distance to the shape divided by `multiplicative` (> 0) plus `additive`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixgeoSite {
+    pub kind: PixgeoSiteKind,
+    /// World coordinates, as [`PixgeoSiteKind`] lays them out; unused ones ignored.
+    pub coords: [f64; 5],
+    pub multiplicative: f64,
+    pub additive: f64,
 }
 
 /// Two points, one of each set (indices into the sets as passed), and their exact
@@ -421,6 +453,86 @@ pub unsafe extern "C" fn pixgeo_voronoi(
     })
 }
 
+/// The Voronoi diagram of `count` sites of any shape and weight, like
+/// [`pixgeo_voronoi`]: labels (and, unless null, weighted distances in world
+/// units) of `width * height` pixels, row-major. `max_tile` must be 0.
+///
+/// # Safety
+/// `ctx` is a live context; `sites` holds `count` sites; `options` points to
+/// valid options; `labels` (and `distances` unless null) have room for
+/// `width * height` values.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_voronoi_sites(
+    ctx: *mut PixgeoContext,
+    sites: *const PixgeoSite,
+    count: usize,
+    options: *const PixgeoVoronoiOptions,
+    labels: *mut u32,
+    distances: *mut f32,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        if sites.is_null() || options.is_null() || labels.is_null() {
+            return Err(invalid("sites, options and labels must not be null"));
+        }
+        // SAFETY: non-null and valid (caller contract).
+        let o = unsafe { *options };
+        if o.max_tile != 0 {
+            return Err(invalid(
+                "sites of any shape are drawn whole: max_tile must be 0",
+            ));
+        }
+        let (frame, accuracy, speedup) = picture_of(&o)?;
+        // SAFETY: `sites` holds `count` sites (caller contract).
+        let given = unsafe { std::slice::from_raw_parts(sites, count) };
+        let sites: Vec<Site> = given
+            .iter()
+            .map(|s| {
+                let c = s.coords;
+                let shape = match s.kind {
+                    PixgeoSiteKind::Point => Shape::Point(DVec2::new(c[0], c[1])),
+                    PixgeoSiteKind::Segment => {
+                        Shape::Segment(DVec2::new(c[0], c[1]), DVec2::new(c[2], c[3]))
+                    }
+                    PixgeoSiteKind::Circle => Shape::Circle {
+                        center: DVec2::new(c[0], c[1]),
+                        radius: c[2],
+                    },
+                    PixgeoSiteKind::Arc => Shape::Arc {
+                        center: DVec2::new(c[0], c[1]),
+                        radius: c[2],
+                        start: c[3],
+                        end: c[4],
+                    },
+                };
+                Site {
+                    shape,
+                    multiplicative: s.multiplicative,
+                    additive: s.additive,
+                }
+            })
+            .collect();
+        let options = VoronoiOptions {
+            frame,
+            metric: metric_of(&o)?,
+            accuracy,
+            speedup,
+            distances: !distances.is_null(),
+            ties: false,
+            max_tile: None,
+        };
+        let d = voronoi_sites(&context.machine, &sites, &options).map_err(failed)?;
+        // SAFETY: caller-owned arrays of `width * height` values.
+        unsafe { std::slice::from_raw_parts_mut(labels, d.labels.len()) }
+            .copy_from_slice(&d.labels);
+        if !distances.is_null() {
+            // SAFETY: as above.
+            unsafe { std::slice::from_raw_parts_mut(distances, d.distances.len()) }
+                .copy_from_slice(&d.distances);
+        }
+        Ok(())
+    })
+}
+
 /// The frame, accuracy and speedup that `options` describe.
 fn picture_of(
     o: &PixgeoVoronoiOptions,
@@ -481,7 +593,7 @@ unsafe fn points(xy: *const f64, count: usize) -> Result<Vec<DVec2>, (PixgeoStat
 /// units): `[(j * width + i) * k + l]` is the (l+1)-th nearest site of pixel
 /// (i, j); `UINT32_MAX` (and infinity) where fewer than l+1 sites exist. The
 /// order-k diagram is each pixel's k labels as a set. `max_tile` must be 0 (the
-/// picture is drawn whole) and the metric L2.
+/// picture is drawn whole).
 ///
 /// # Safety
 /// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to

@@ -1,6 +1,7 @@
 /* A C host using pixgeo: a Voronoi diagram, the k nearest and the furthest sites,
- * exact distances between point sets and the settle point, each checked against
- * its definition, and the errors a caller can get. Exits 0 when every check
+ * exact distances between point sets, the settle point and a diagram of weighted
+ * and extended sites, each checked against its definition, and the errors a
+ * caller can get. Exits 0 when every check
  * passes.
  *
  *   cc -std=c11 -I include examples/c/voronoi.c -L target/debug -lpixgeo \
@@ -187,6 +188,49 @@ int main(void) {
     status = pixgeo_settle(ctx, xy, N, NULL, 1, &options, PIXGEO_SETTLE_METHOD_SPANS, NULL, &settle);
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null own stores accepted");
     free(area);
+
+    /* Weighted points, a segment, a circle and an arc (thesis §3.8-3.9): every
+     * pixel's label has the smallest weighted distance; fans stay within their
+     * bound of it. */
+    const PixgeoSite shapes[4] = {
+        {PIXGEO_SITE_KIND_POINT, {10, 10, 0, 0, 0}, 2.0, 0.0},
+        {PIXGEO_SITE_KIND_SEGMENT, {40, 5, 60, 5, 0}, 1.0, 0.0},
+        {PIXGEO_SITE_KIND_CIRCLE, {20, 36, 6, 0, 0}, 1.0, 1.0},
+        {PIXGEO_SITE_KIND_ARC, {50, 36, 8, 0, 3.14159265}, 1.0, -1.0},
+    };
+    for (int fan = 0; fan < 2; fan++) {
+        options = pixgeo_voronoi_options_default(W, H);
+        options.accuracy = fan ? PIXGEO_ACCURACY_FAN : PIXGEO_ACCURACY_EXACT;
+        status = pixgeo_voronoi_sites(ctx, shapes, 4, &options, labels, distances);
+        CHECK(status == PIXGEO_STATUS_OK, "voronoi_sites: %s", pixgeo_context_last_error(ctx));
+        int off = 0;
+        for (int j = 0; j < H; j++) {
+            for (int i = 0; i < W; i++) {
+                double d[4];
+                /* Distances to each shape, weighted. */
+                d[0] = hypot(i - 10.0, j - 10.0) / 2.0;
+                double t = fmin(fmax((i - 40.0) / 20.0, 0.0), 1.0);
+                d[1] = hypot(i - (40.0 + 20.0 * t), j - 5.0);
+                d[2] = fabs(hypot(i - 20.0, j - 36.0) - 6.0) + 1.0;
+                double a = atan2(j - 36.0, i - 50.0);
+                d[3] = (a >= 0.0 && a <= 3.14159265)
+                           ? fabs(hypot(i - 50.0, j - 36.0) - 8.0)
+                           : fmin(hypot(i - 58.0, j - 36.0), hypot(i - 42.0, j - 36.0));
+                d[3] -= 1.0;
+                double best = fmin(fmin(d[0], d[1]), fmin(d[2], d[3]));
+                uint32_t label = labels[j * W + i];
+                double slack = fan ? 2.05 : 1e-3;
+                if (label >= 4 || d[label] > best + slack ||
+                    fabs(distances[j * W + i] - best) > slack / 2.0 + 1e-3)
+                    off++;
+            }
+        }
+        CHECK(off == 0, "%d pixels of the site diagram (fan %d) differ from the definition", off, fan);
+    }
+    PixgeoSite bad_weight = shapes[0];
+    bad_weight.multiplicative = 0.0;
+    status = pixgeo_voronoi_sites(ctx, &bad_weight, 1, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "zero weight accepted");
 
     /* Errors come back as status codes with a message. */
     status = pixgeo_voronoi(ctx, NULL, N, &options, labels, NULL);

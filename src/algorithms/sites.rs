@@ -462,10 +462,14 @@ fn box_ring_cells(i0: i64, j0: i64, i1: i64, j1: i64, ring: i64) -> Vec<(i64, i6
 /// The range of the site's shape distance over a box of half-extents `half`
 /// around `centre`, from its value d there: d ± |half| for the L_p norms, and
 /// (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is subadditive. A polygon
-/// need be neither symmetric nor convex: its range comes from the Euclidean one
-/// and the bounds a |x| <= |x|_P <= b |x|.
+/// need be neither symmetric nor convex, and segments under other metrics are
+/// costly to measure: their range comes from the Euclidean one and the bounds
+/// a |x| <= |x| <= b |x| of the metric.
 fn spread(site: &Site, metric: Metric, centre: DVec2, half: DVec2) -> (f64, f64) {
-    if let Metric::Polygon(_) = metric {
+    // Distances to extended shapes under other metrics need a search per
+    // evaluation; the Euclidean range is closed-form and, stretched, as rigorous.
+    let extended = !matches!(site.shape, Shape::Point(_));
+    if matches!(metric, Metric::Polygon(_)) || (extended && metric != Metric::L2) {
         let (a, b) = metric.euclidean_bounds();
         let (lo, hi) = spread(site, Metric::L2, centre, half);
         return (a * lo, b * hi);

@@ -208,9 +208,20 @@ pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
             }
         }
     }
-    // A polygon's gauge is linear between the rays through its vertices.
-    if let Metric::Polygon(g) = metric {
-        for v in &g.vertices {
+    // L1, L∞ and polygons are linear between the rays through their corners.
+    let corners: &[DVec2] = match metric {
+        Metric::Polygon(g) => &g.vertices,
+        Metric::L1 => &[DVec2::X, DVec2::Y, DVec2::NEG_X, DVec2::NEG_Y],
+        Metric::LInf => &[
+            DVec2::ONE,
+            DVec2::new(-1.0, 1.0),
+            DVec2::NEG_ONE,
+            DVec2::new(1.0, -1.0),
+        ],
+        _ => &[],
+    };
+    if !corners.is_empty() {
+        for v in corners {
             let (num, den) = (v.perp_dot(a), v.perp_dot(b - a));
             if den != 0.0 {
                 let t = -num / den;

@@ -97,6 +97,9 @@ impl Base {
 pub fn fan_surface(site: &Site, metric: Metric, fan: MetricFan, reach: f64) -> (Triangles, f64) {
     let b = metric.euclidean_bounds().1;
     let curved = matches!(site.shape, Shape::Circle { .. } | Shape::Arc { .. });
+    if let (true, Metric::L2, MetricFan::Chain { epsilon }) = (curved, metric, fan) {
+        return (straw_hut(site, reach, epsilon), epsilon);
+    }
     let (fan, chord) = match fan {
         MetricFan::Chain { epsilon } if curved => (
             MetricFan::Chain {
@@ -154,4 +157,55 @@ fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> 
             center + radius * DVec2::new(a.cos(), a.sin())
         })
         .collect()
+}
+
+/// The thesis's straw hut (L2): over the arc's wedge the distance is |ρ − r|, a
+/// cone rising inwards to the centre and one rising outwards, sampled at angles
+/// close enough that the chords at the outer radius stay within ε (so the hut
+/// errs by at most ε either way); an arc adds the cones of its two ends, which
+/// serve the pixels outside its wedge (the sliced hut of §3.9).
+fn straw_hut(site: &Site, reach: f64, epsilon: f64) -> Triangles {
+    let (center, r, start, span) = match site.shape {
+        Shape::Circle { center, radius } => (center, radius, 0.0, std::f64::consts::TAU),
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } => (
+            center,
+            radius,
+            start,
+            (end - start).min(std::f64::consts::TAU),
+        ),
+        _ => unreachable!("only circles and arcs have huts"),
+    };
+    let outer = r + reach + epsilon;
+    let full = super::cone::triangles_for_distance_error(outer, epsilon) as f64;
+    let pieces = (full * span / std::f64::consts::TAU).ceil().max(1.0) as usize;
+    let at = |k: usize, radius: f64| {
+        let a = start + span * k as f64 / pieces as f64;
+        center + radius * DVec2::new(a.cos(), a.sin())
+    };
+    let mut out = Triangles::new();
+    if span > 0.0 && r > 0.0 {
+        for k in 0..pieces {
+            let (i0, i1) = (at(k, r).extend(0.0), at(k + 1, r).extend(0.0));
+            let (o0, o1) = (
+                at(k, outer).extend(outer - r),
+                at(k + 1, outer).extend(outer - r),
+            );
+            out.push([center.extend(r), i0, i1]);
+            out.push([i0, o0, o1]);
+            out.push([i0, o1, i1]);
+        }
+    }
+    if span < std::f64::consts::TAU || r == 0.0 {
+        let ends = [at(0, r), at(pieces, r)];
+        let base = Base::new(Metric::L2, MetricFan::Chain { epsilon }, reach);
+        for p in ends {
+            base.cone(p, &mut out);
+        }
+    }
+    out
 }
