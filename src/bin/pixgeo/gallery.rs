@@ -30,8 +30,8 @@ struct Entry {
     picture: &'static str,
     title: &'static str,
     caption: &'static str,
-    /// The site file the command reads, written by the gallery: name and sites.
-    sites: Option<(&'static str, Vec<DVec2>)>,
+    /// The file the command reads, written by the gallery: name and text.
+    sites: Option<(&'static str, String)>,
     args: &'static [&'static str],
 }
 
@@ -112,7 +112,7 @@ fn entries() -> Vec<Entry> {
             title: "The quadtree's worst case",
             caption: "One quarter of the picture holds no site (thesis §3.5). The cones next to \
                       it must reach far; per-site radii keep all the others short.",
-            sites: Some(("quarter.csv", quarter)),
+            sites: Some(("quarter.csv", csv(&quarter))),
             args: &[
                 "--sites",
                 "quarter.csv",
@@ -127,7 +127,7 @@ fn entries() -> Vec<Entry> {
             title: "World coordinates, clusters and sites outside",
             caption: "Clustered sites in world coordinates mapped with --bbox, three of them \
                       outside the picture: their cones still reach in.",
-            sites: Some(("world.csv", scattered)),
+            sites: Some(("world.csv", csv(&scattered))),
             args: &[
                 "--sites",
                 "world.csv",
@@ -224,7 +224,7 @@ fn entries() -> Vec<Entry> {
                       (thesis §3.6.4, Fig. 3.32). --ties writes the counts.",
             sites: Some((
                 "diagonal.csv",
-                vec![DVec2::new(100.0, 100.0), DVec2::new(200.0, 200.0)],
+                csv(&[DVec2::new(100.0, 100.0), DVec2::new(200.0, 200.0)]),
             )),
             args: &[
                 "--sites",
@@ -277,7 +277,100 @@ fn entries() -> Vec<Entry> {
                 "40",
             ],
         },
+        Entry {
+            picture: "weighted.png",
+            title: "Multiplicatively weighted points",
+            caption: "Each site's distance divided by its weight m: heavier sites have                       flatter cones and win regions bounded by circles around the                       lighter ones, which may lie inside them (thesis §3.8, Fig. 3.38).",
+            sites: Some(("weighted.json", weighted_sites(&mut rng))),
+            args: &["--sites", "weighted.json", "--size", "640", "--contours", "40"],
+        },
+        Entry {
+            picture: "mixed.png",
+            title: "Points, segments, circles and arcs",
+            caption: "Segments as roofs with half-cones at their ends, circles as straw                       huts, arcs as sliced huts with their end cones, all in one diagram                       (thesis §3.9, Fig. 3.45); contours every 12 pixels.",
+            sites: Some(("mixed.json", mixed_sites(&mut rng))),
+            args: &["--sites", "mixed.json", "--size", "640", "--contours", "12"],
+        },
+        Entry {
+            picture: "polygon.png",
+            title: "A polygonal distance",
+            caption: "The unit ball is a four-pointed star around its kernel point: the                       polygon is the cone's base, so the fan over it is exact                       (thesis §3.6.5).",
+            sites: Some((
+                "star.json",
+                "{\"vertices\": [[3, 0], [0.5, 0.5], [0, 2], [-0.5, 0.5], [-3, 0], \
+                 [-0.5, -0.5], [0, -2], [0.5, -0.5]], \"kernel\": [0, 0]}\n"
+                    .into(),
+            )),
+            args: &[
+                "--random",
+                "60",
+                "--seed",
+                "4",
+                "--size",
+                "640",
+                "--metric",
+                "polygon:star.json",
+            ],
+        },
     ]
+}
+
+/// Point sites as a CSV site file.
+fn csv(sites: &[DVec2]) -> String {
+    sites.iter().fold("x,y\n".into(), |mut s, p| {
+        let _ = writeln!(s, "{},{}", p.x, p.y);
+        s
+    })
+}
+
+/// Fig. 3.45's kind of input: points, segments, circles and arcs in one file,
+/// some weighted.
+fn mixed_sites(rng: &mut ChaCha8Rng) -> String {
+    let mut items = Vec::new();
+    for k in 0..24 {
+        let (x, y) = (rng.gen_range(20.0..620.0), rng.gen_range(20.0..620.0));
+        let item = match k % 4 {
+            0 => format!("{{\"point\": [{x:.1}, {y:.1}]}}"),
+            1 => {
+                let a: f64 = rng.gen_range(0.0..std::f64::consts::TAU);
+                let l = rng.gen_range(30.0..90.0);
+                format!(
+                    "{{\"segment\": [[{x:.1}, {y:.1}], [{:.1}, {:.1}]]}}",
+                    x + l * a.cos(),
+                    y + l * a.sin()
+                )
+            }
+            2 => format!(
+                "{{\"circle\": {{\"center\": [{x:.1}, {y:.1}], \"radius\": {:.1}}}}}",
+                rng.gen_range(10.0..40.0)
+            ),
+            _ => {
+                let start: f64 = rng.gen_range(0.0..std::f64::consts::TAU);
+                format!(
+                    "{{\"arc\": {{\"center\": [{x:.1}, {y:.1}], \"radius\": {:.1}, \"start\": {start:.2}, \"end\": {:.2}}}}}",
+                    rng.gen_range(15.0..45.0),
+                    start + rng.gen_range(1.0..4.0)
+                )
+            }
+        };
+        items.push(item);
+    }
+    format!("{{\"sites\": [\n  {}\n]}}\n", items.join(",\n  "))
+}
+
+/// Fig. 3.38's kind of input: points with multiplicative weights.
+fn weighted_sites(rng: &mut ChaCha8Rng) -> String {
+    let items: Vec<String> = (0..30)
+        .map(|_| {
+            format!(
+                "{{\"point\": [{:.1}, {:.1}], \"m\": {:.2}}}",
+                rng.gen_range(0.0..640.0),
+                rng.gen_range(0.0..640.0),
+                rng.gen_range(0.5..3.0)
+            )
+        })
+        .collect();
+    format!("{{\"sites\": [\n  {}\n]}}\n", items.join(",\n  "))
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -293,11 +386,7 @@ pub fn run(args: Args) -> Result<()> {
          picture is the output of the command beneath it, run in this directory.</p>\n<main>\n",
     );
     for entry in entries() {
-        if let Some((name, sites)) = &entry.sites {
-            let text: String = sites.iter().fold("x,y\n".into(), |mut s, p| {
-                let _ = writeln!(s, "{},{}", p.x, p.y);
-                s
-            });
+        if let Some((name, text)) = &entry.sites {
             std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;
         }
         let mut argv: Vec<String> = vec!["pixgeo".into(), "voronoi".into()];
@@ -308,7 +397,12 @@ pub fn run(args: Args) -> Result<()> {
         let mut real: Vec<String> = argv
             .iter()
             .map(|a| {
-                if a.ends_with(".csv") || a.ends_with(".png") || a.ends_with(".npy") {
+                if let Some(file) = a.strip_prefix("polygon:") {
+                    format!("polygon:{}", args.dir.join(file).display())
+                } else if [".csv", ".json", ".png", ".npy"]
+                    .iter()
+                    .any(|e| a.ends_with(e))
+                {
                     args.dir.join(a).display().to_string()
                 } else {
                     a.clone()
