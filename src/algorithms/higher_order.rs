@@ -38,7 +38,7 @@ use crate::{
     },
 };
 
-use super::voronoi::{metric_fan, Accuracy, Speedup};
+use super::voronoi::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 
 /// Corners of the polygon drawn around each cone's disc.
 const FOOTPRINT_CORNERS: u32 = 8;
@@ -137,17 +137,9 @@ pub fn k_nearest(
     sites: &[DVec2],
     options: &KNearestOptions,
 ) -> Result<KNearest> {
-    // A polygon's distance is piecewise linear: fans over the polygon are exact.
-    let as_fan;
-    let options = match (options.metric, options.accuracy) {
-        (Metric::Polygon(_), Accuracy::Exact) => {
-            as_fan = KNearestOptions {
-                accuracy: Accuracy::FAN,
-                ..*options
-            };
-            &as_fan
-        }
-        _ => options,
+    let options = &KNearestOptions {
+        accuracy: drawn_accuracy(options.metric, options.accuracy),
+        ..*options
     };
     let frame = options.frame;
     let k = options.k;
@@ -193,11 +185,6 @@ pub fn k_nearest(
             epsilon,
             triangles: None,
         } => {
-            if !(epsilon > 0.0 && epsilon.is_finite()) {
-                return Err(Error::InvalidInput(format!(
-                    "fan epsilon {epsilon} must be positive"
-                )));
-            }
             let t = FanShape::for_distance_error(stats.radius_max, epsilon).triangles;
             stats.triangles = t;
             stats.distance_error_bound = epsilon / frame.scale;
@@ -206,11 +193,6 @@ pub fn k_nearest(
         Accuracy::Fan {
             triangles: Some(t), ..
         } => {
-            if t < 3 {
-                return Err(Error::InvalidInput(
-                    "a fan needs at least 3 triangles".into(),
-                ));
-            }
             stats.triangles = t;
             stats.distance_error_bound = fan_distance_error(stats.radius_max, t) / frame.scale;
             (Program::ConeKNearestFan, unit_fan(t), Rim::Circumscribed(t))
@@ -481,6 +463,7 @@ fn read_keys(
 /// The checks every way of computing levels shares.
 fn check_levels(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result<()> {
     check_sites(sites)?;
+    options.accuracy.check()?;
     let frame = options.frame;
     frame.check()?;
     let k = options.k;

@@ -31,7 +31,7 @@ use crate::{
     },
 };
 
-use super::voronoi::{Accuracy, VoronoiDiagram, VoronoiOptions, VoronoiStats};
+use super::voronoi::{drawn_accuracy, Accuracy, VoronoiDiagram, VoronoiOptions, VoronoiStats};
 
 /// The unit square as two triangles.
 const UNIT_SQUARE: [[f32; 3]; 6] = [
@@ -45,41 +45,22 @@ const UNIT_SQUARE: [[f32; 3]; 6] = [
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
 /// every pixel labelled with a site of smallest weighted distance, and the
-/// distance map holding that weighted distance (world units). Exact mode only;
-/// one picture of at most the device's image size.
+/// distance map holding that weighted distance (world units). In fan mode the
+/// sites' fan surfaces ([`crate::geometry::surface`]) give a distance diagram
+/// within the reported bound. One picture of at most the device's image size.
 pub fn voronoi_sites(
     machine: &Machine,
     sites: &[Site],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
-    // A polygon's distance is piecewise linear: the sweep of the polygon's fan is
-    // exact for points and segments, and is what exact mode draws.
-    let as_fan;
-    let options = match (options.metric, options.accuracy) {
-        (Metric::Polygon(_), Accuracy::Exact) => {
-            as_fan = VoronoiOptions {
-                accuracy: Accuracy::FAN,
-                ..*options
-            };
-            &as_fan
-        }
-        _ => options,
+    let options = &VoronoiOptions {
+        accuracy: drawn_accuracy(options.metric, options.accuracy),
+        ..*options
     };
     let (frame, metric) = (options.frame, options.metric);
     frame.check()?;
     check_general_sites(sites, metric)?;
-    if let Accuracy::Fan { epsilon, triangles } = options.accuracy {
-        if !(epsilon > 0.0 && epsilon.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "fan epsilon {epsilon} must be positive"
-            )));
-        }
-        if triangles.is_some_and(|t| t < 3) {
-            return Err(Error::InvalidInput(
-                "a fan needs at least 3 triangles".into(),
-            ));
-        }
-    }
+    options.accuracy.check()?;
     if options.ties {
         return Err(Error::InvalidInput(
             "equal distances are counted for unweighted points only".into(),

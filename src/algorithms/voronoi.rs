@@ -55,6 +55,24 @@ impl Accuracy {
         epsilon: 1.0,
         triangles: None,
     };
+
+    /// A clear error for a fan without a positive ε or with fewer than three
+    /// triangles.
+    pub fn check(self) -> Result<()> {
+        if let Self::Fan { epsilon, triangles } = self {
+            if !(epsilon > 0.0 && epsilon.is_finite()) {
+                return Err(Error::InvalidInput(format!(
+                    "fan epsilon {epsilon} must be positive"
+                )));
+            }
+            if triangles.is_some_and(|t| t < 3) {
+                return Err(Error::InvalidInput(
+                    "a fan needs at least 3 triangles".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// How far cones reach.
@@ -264,36 +282,16 @@ pub fn voronoi_bands(
             "equal distances are counted for the L_p metrics; polygonal distances are drawn as fans".into(),
         ));
     }
-    // A polygon's distance is piecewise linear: the fan over the polygon itself is
-    // exact, and is what exact mode draws.
-    let as_fan;
-    let options = match (options.metric, options.accuracy) {
-        (Metric::Polygon(_), Accuracy::Exact) => {
-            as_fan = VoronoiOptions {
-                accuracy: Accuracy::FAN,
-                ..*options
-            };
-            &as_fan
-        }
-        _ => options,
+    let options = &VoronoiOptions {
+        accuracy: drawn_accuracy(options.metric, options.accuracy),
+        ..*options
     };
     if options.ties && options.accuracy != Accuracy::Exact {
         return Err(Error::InvalidInput(
             "equal distances are counted in exact mode only".into(),
         ));
     }
-    if let Accuracy::Fan { epsilon, triangles } = options.accuracy {
-        if !(epsilon > 0.0 && epsilon.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "fan epsilon {epsilon} must be positive"
-            )));
-        }
-        if triangles.is_some_and(|t| t < 3) {
-            return Err(Error::InvalidInput(
-                "a fan needs at least 3 triangles".into(),
-            ));
-        }
-    }
+    options.accuracy.check()?;
     let frame = options.frame;
     let mut stats = VoronoiStats {
         device: machine.device_name().to_string(),
@@ -461,6 +459,16 @@ pub fn voronoi_bands(
         }
     };
     Ok(stats)
+}
+
+/// The accuracy a diagram is drawn with: a polygon's distance is piecewise
+/// linear, so the fan over the polygon itself is exact, and is what exact mode
+/// draws; every other metric as asked.
+pub(crate) fn drawn_accuracy(metric: Metric, accuracy: Accuracy) -> Accuracy {
+    match (metric, accuracy) {
+        (Metric::Polygon(_), Accuracy::Exact) => Accuracy::FAN,
+        _ => accuracy,
+    }
 }
 
 /// How fans of metrics other than L2 are built for `accuracy` (a fan mode).
