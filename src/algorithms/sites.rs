@@ -326,7 +326,7 @@ fn cull(
     scale: f64,
 ) -> (Vec<Option<Reach>>, f64) {
     let spacing = (width as f64 * height as f64 / sites.len() as f64).sqrt();
-    let side = (spacing / 4.0).clamp(2.0, 64.0).floor();
+    let side = (spacing / 3.0).clamp(3.0, 64.0).floor();
     let (cx, cy) = (
         (width as f64 / side).ceil() as usize,
         (height as f64 / side).ceil() as usize,

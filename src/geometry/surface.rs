@@ -51,10 +51,34 @@ impl Base {
     }
 
     fn cone(&self, apex: DVec2, out: &mut Triangles) {
+        self.part_cone(apex, None, None, out);
+    }
+
+    /// The cone at a vertex of a polyline with the edges `incoming` (towards the
+    /// vertex) and `outgoing` (away from it). On a convex base the distance is
+    /// linear on each triangle, with a gradient along the rim edge's outward
+    /// normal; the cone is only needed where no step along an edge lowers it
+    /// (elsewhere the sweeps or another cone are lower), so a segment's ends get
+    /// half-cones, the thesis's roof construction.
+    fn part_cone(
+        &self,
+        apex: DVec2,
+        incoming: Option<DVec2>,
+        outgoing: Option<DVec2>,
+        out: &mut Triangles,
+    ) {
         let n = self.rim.len();
         let at = |v: DVec2| (apex + v).extend(self.height);
         for k in 0..n {
-            out.push([apex.extend(0.0), at(self.rim[k]), at(self.rim[(k + 1) % n])]);
+            let (u, v) = (self.rim[k], self.rim[(k + 1) % n]);
+            let d = v - u;
+            let normal = DVec2::new(d.y, -d.x);
+            let needed = !self.convex
+                || (outgoing.is_none_or(|e| normal.dot(e) <= 0.0)
+                    && incoming.is_none_or(|e| normal.dot(e) >= 0.0));
+            if needed {
+                out.push([apex.extend(0.0), at(u), at(v)]);
+            }
         }
     }
 
@@ -126,8 +150,21 @@ pub fn fan_surface(site: &Site, metric: Metric, fan: MetricFan, reach: f64) -> (
             end,
         } => chords(center, radius, start, end - start, chord),
     };
-    for p in &polyline {
-        base.cone(*p, &mut out);
+    // A closed polyline's last point repeats its first.
+    let closed = polyline.len() > 2 && polyline[0].distance(polyline[polyline.len() - 1]) < 1e-9;
+    let vertices = polyline.len() - usize::from(closed);
+    for i in 0..vertices {
+        let edge = |from: usize, to: usize| {
+            let e = polyline[to] - polyline[from];
+            (e != DVec2::ZERO).then_some(e)
+        };
+        let incoming = match i {
+            0 if closed => edge(vertices - 1, 0),
+            0 => None,
+            _ => edge(i - 1, i),
+        };
+        let outgoing = (i + 1 < polyline.len()).then(|| edge(i, i + 1)).flatten();
+        base.part_cone(polyline[i], incoming, outgoing, &mut out);
     }
     for w in polyline.windows(2) {
         base.sweep(w[0], w[1], &mut out);
