@@ -45,6 +45,9 @@ typedef enum PixgeoMetric {
   PIXGEO_METRIC_L_INF = 2,
   // L_p with `p = metric_p` > 0.
   PIXGEO_METRIC_LP = 3,
+  // The polygonal distance whose unit ball is `polygon` around `kernel`
+  // (thesis §3.6.5); the polygon must be star-shaped around its kernel.
+  PIXGEO_METRIC_POLYGON = 4,
 } PixgeoMetric;
 
 // How cones are drawn.
@@ -97,6 +100,8 @@ typedef struct PixgeoContextOptions {
 } PixgeoContextOptions;
 
 // Options of [`pixgeo_voronoi`]; start from [`pixgeo_voronoi_options_default`].
+// Valid options have `polygon` pointing at `2 * polygon_count` doubles when the
+// metric is [`PixgeoMetric::Polygon`].
 typedef struct PixgeoVoronoiOptions {
   // Picture size in pixels.
   uint32_t width;
@@ -110,6 +115,11 @@ typedef struct PixgeoVoronoiOptions {
   enum PixgeoMetric metric;
   // The exponent of [`PixgeoMetric::Lp`].
   double metric_p;
+  // The vertices `{x0, y0, x1, y1, ...}` of [`PixgeoMetric::Polygon`]'s unit
+  // ball, `polygon_count` of them, and its kernel point; read during the call.
+  const double *polygon;
+  size_t polygon_count;
+  double kernel[2];
   enum PixgeoAccuracy accuracy;
   // Distance error bound of fan mode, pixels.
   double epsilon;

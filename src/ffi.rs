@@ -98,6 +98,9 @@ pub enum PixgeoMetric {
     LInf = 2,
     /// L_p with `p = metric_p` > 0.
     Lp = 3,
+    /// The polygonal distance whose unit ball is `polygon` around `kernel`
+    /// (thesis §3.6.5); the polygon must be star-shaped around its kernel.
+    Polygon = 4,
 }
 
 /// How far cones reach.
@@ -113,6 +116,8 @@ pub enum PixgeoSpeedup {
 }
 
 /// Options of [`pixgeo_voronoi`]; start from [`pixgeo_voronoi_options_default`].
+/// Valid options have `polygon` pointing at `2 * polygon_count` doubles when the
+/// metric is [`PixgeoMetric::Polygon`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PixgeoVoronoiOptions {
@@ -128,6 +133,11 @@ pub struct PixgeoVoronoiOptions {
     pub metric: PixgeoMetric,
     /// The exponent of [`PixgeoMetric::Lp`].
     pub metric_p: f64,
+    /// The vertices `{x0, y0, x1, y1, ...}` of [`PixgeoMetric::Polygon`]'s unit
+    /// ball, `polygon_count` of them, and its kernel point; read during the call.
+    pub polygon: *const f64,
+    pub polygon_count: usize,
+    pub kernel: [f64; 2],
     pub accuracy: PixgeoAccuracy,
     /// Distance error bound of fan mode, pixels.
     pub epsilon: f64,
@@ -387,6 +397,9 @@ pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> Pix
         bbox: [0.0; 4],
         metric: PixgeoMetric::L2,
         metric_p: 2.0,
+        polygon: ptr::null(),
+        polygon_count: 0,
+        kernel: [0.0; 2],
         accuracy: PixgeoAccuracy::Exact,
         epsilon: 1.0,
         triangles: 0,
@@ -565,6 +578,12 @@ fn metric_of(o: &PixgeoVoronoiOptions) -> Result<Metric, (PixgeoStatus, String)>
         PixgeoMetric::L1 => Metric::L1,
         PixgeoMetric::LInf => Metric::LInf,
         PixgeoMetric::Lp => Metric::lp(o.metric_p).map_err(invalid)?,
+        PixgeoMetric::Polygon => {
+            // SAFETY: `polygon` is null or holds `2 * polygon_count` doubles
+            // (caller contract of every call taking options).
+            let vertices = unsafe { points(o.polygon, o.polygon_count) }?;
+            Metric::polygon(&vertices, DVec2::from(o.kernel)).map_err(invalid)?
+        }
     })
 }
 

@@ -93,6 +93,27 @@ int main(void) {
         if (mine > best + 1e-4 || fabs(distances[p] - best) > 1e-4) wrong++;
     }
     CHECK(wrong == 0, "%d L1 pixels differ from the definition", wrong);
+
+    /* A polygonal distance whose unit ball is the L1 diamond around a shifted
+     * kernel: the same distances (thesis §3.6.5). */
+    const double diamond[8] = {6, 5, 5, 6, 4, 5, 5, 4};
+    float *polygon_distances = malloc(sizeof(float) * W * H);
+    options.metric = PIXGEO_METRIC_POLYGON;
+    options.polygon = diamond;
+    options.polygon_count = 4;
+    options.kernel[0] = 5;
+    options.kernel[1] = 5;
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, polygon_distances);
+    CHECK(status == PIXGEO_STATUS_OK, "polygon: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++)
+        if (fabs(polygon_distances[p] - distances[p]) > 0.02) wrong++;
+    CHECK(wrong == 0, "%d polygon pixels differ from L1", wrong);
+    options.kernel[0] = 9; /* outside the diamond: not star-shaped around it */
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "a polygon around the wrong kernel accepted");
+    free(polygon_distances);
+    options.polygon = NULL;
     options.metric = PIXGEO_METRIC_LP;
     options.metric_p = 0.0;
     status = pixgeo_voronoi(ctx, xy, N, &options, labels, NULL);

@@ -777,8 +777,8 @@ pub struct Furthest {
     pub labels: Vec<u32>,
     /// Distance to it in world units.
     pub distances: Vec<f32>,
-    /// Indices of the sites drawn: the vertices of the convex hull (every site for
-    /// L_p with p < 1, see [`furthest_candidates`]).
+    /// Indices of the sites drawn: the vertices of the convex hull (every site
+    /// for metrics whose balls are not convex: L_p with p < 1, star polygons).
     pub hull: Vec<u32>,
 }
 
