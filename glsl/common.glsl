@@ -30,8 +30,6 @@ float metric_key(vec2 d) {
 float metric_key_of_distance(float r) {
     if (picture.metric == 0u) {
         return r * r;
-    } else if (picture.metric == 3u) {
-        return pow(r, picture.metric_p);
     }
     return r;
 }

@@ -2,7 +2,7 @@
 // 2 L-infinity, 3 L_p with exponent p.
 
 // The metric's key of offset d: a monotone function of its distance (the squared
-// distance for the Euclidean norm, the sum of p-th powers for L_p). Keys of
+// distance for the Euclidean norm, the distance itself otherwise). Keys of
 // integer offsets are exact for kinds 0 to 2.
 float metric_key_of(vec2 d, uint kind, float p) {
     vec2 a = abs(d);
@@ -13,15 +13,19 @@ float metric_key_of(vec2 d, uint kind, float p) {
     } else if (kind == 2u) {
         return max(a.x, a.y);
     }
-    return pow(a.x, p) + pow(a.y, p);
+    // L_p: the distance itself, scaled by the larger coordinate so that large p
+    // neither overflows nor underflows float32.
+    float m = max(a.x, a.y);
+    if (m == 0.0) {
+        return 0.0;
+    }
+    return m * pow(pow(a.x / m, p) + pow(a.y / m, p), 1.0 / p);
 }
 
 // The distance of a key.
 float metric_distance_of_key(float key, uint kind, float p) {
     if (kind == 0u) {
         return sqrt(key);
-    } else if (kind == 3u) {
-        return pow(key, 1.0 / p);
     }
     return key;
 }

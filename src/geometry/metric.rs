@@ -5,8 +5,9 @@
 //! whose distance is piecewise linear, so the fan over the polygon itself is exact.
 //!
 //! Each metric has a *key*, a monotone function of the distance that the shaders
-//! compare instead of the distance itself: the squared distance for L2, the sum of
-//! p-th powers for L_p, the distance itself for L1 and L∞. Keys of integer
+//! compare instead of the distance itself: the squared distance for L2, the
+//! distance itself for the others (for L_p computed as m (Σ (|x_i| / m)^p)^(1/p)
+//! with m the larger coordinate, so that no p overflows float32). Keys of integer
 //! offsets are exact in float32 for L1, L2 and L∞, so integer ties stay ties.
 
 use std::{
@@ -211,7 +212,15 @@ impl Metric {
             Self::L2 => a.length_squared(),
             Self::L1 => a.x + a.y,
             Self::LInf => a.x.max(a.y),
-            Self::Lp(p) => a.x.powf(p) + a.y.powf(p),
+            Self::Lp(p) => {
+                // Scaled by the larger coordinate: no overflow for large p.
+                let m = a.x.max(a.y);
+                if m == 0.0 {
+                    0.0
+                } else {
+                    m * ((a.x / m).powf(p) + (a.y / m).powf(p)).powf(1.0 / p)
+                }
+            }
             Self::Polygon(g) => g.of(d),
         }
     }
@@ -220,8 +229,7 @@ impl Metric {
     pub fn key_of_distance(self, r: f64) -> f64 {
         match self {
             Self::L2 => r * r,
-            Self::L1 | Self::LInf | Self::Polygon(_) => r,
-            Self::Lp(p) => r.powf(p),
+            Self::L1 | Self::LInf | Self::Lp(_) | Self::Polygon(_) => r,
         }
     }
 
@@ -229,8 +237,7 @@ impl Metric {
     pub fn distance_of_key(self, key: f64) -> f64 {
         match self {
             Self::L2 => key.sqrt(),
-            Self::L1 | Self::LInf | Self::Polygon(_) => key,
-            Self::Lp(p) => key.powf(1.0 / p),
+            Self::L1 | Self::LInf | Self::Lp(_) | Self::Polygon(_) => key,
         }
     }
 
