@@ -75,6 +75,30 @@ fn random_sites(
         .collect()
 }
 
+/// A zero-length segment, a zero-radius circle, arcs of zero and full angle.
+fn degenerate_shapes() -> Vec<Site> {
+    let p = DVec2::new;
+    vec![
+        Site::new(Shape::Segment(p(10.0, 10.0), p(10.0, 10.0))),
+        Site::new(Shape::Circle {
+            center: p(50.0, 30.0),
+            radius: 0.0,
+        }),
+        Site::new(Shape::Arc {
+            center: p(30.0, 30.0),
+            radius: 8.0,
+            start: 1.0,
+            end: 1.0,
+        }),
+        Site::new(Shape::Arc {
+            center: p(20.0, 40.0),
+            radius: 6.0,
+            start: -PI,
+            end: 3.0 * PI,
+        }),
+    ]
+}
+
 fn check(m: &Machine, sites: &[Site], frame: Frame, metric: Metric, what: &str) {
     let d = voronoi_sites(
         m,
@@ -147,29 +171,12 @@ fn degenerate_sites_match_the_definition() {
     let m = common::machine();
     let frame = Frame::pixels(64, 48).unwrap();
     let p = DVec2::new;
-    let sites = vec![
-        // A zero-length segment, a zero-radius circle, arcs of zero and full angle.
-        Site::new(Shape::Segment(p(10.0, 10.0), p(10.0, 10.0))),
-        Site::new(Shape::Circle {
-            center: p(50.0, 30.0),
-            radius: 0.0,
-        }),
-        Site::new(Shape::Arc {
-            center: p(30.0, 30.0),
-            radius: 8.0,
-            start: 1.0,
-            end: 1.0,
-        }),
-        Site::new(Shape::Arc {
-            center: p(20.0, 40.0),
-            radius: 6.0,
-            start: -PI,
-            end: 3.0 * PI,
-        }),
+    let mut sites = degenerate_shapes();
+    sites.extend([
         // Far outside the picture, and a segment crossing it.
         Site::new(Shape::Point(p(-300.0, 500.0))),
         Site::new(Shape::Segment(p(-20.0, 47.0), p(90.0, 0.0))),
-    ];
+    ]);
     check(&m, &sites, frame, Metric::L2, "degenerate");
     // A heavy weight swallows the others' regions; a negative additive weight
     // makes one site win everywhere.
@@ -309,27 +316,12 @@ fn fans_of_every_site_stay_inside_their_bounds() {
         }
     }
     // Degenerate shapes and a far, heavy site.
-    let p = DVec2::new;
-    let degenerate = vec![
-        Site::new(Shape::Segment(p(10.0, 10.0), p(10.0, 10.0))),
-        Site::new(Shape::Circle {
-            center: p(50.0, 30.0),
-            radius: 0.0,
-        }),
-        Site::new(Shape::Arc {
-            center: p(30.0, 30.0),
-            radius: 8.0,
-            start: 1.0,
-            end: 1.0,
-        }),
-        Site::new(Shape::Arc {
-            center: p(20.0, 40.0),
-            radius: 6.0,
-            start: -PI,
-            end: 3.0 * PI,
-        }),
-        weighted(Shape::Point(p(-300.0, 500.0)), 20.0, -5.0),
-    ];
+    let mut degenerate = degenerate_shapes();
+    degenerate.push(weighted(
+        Shape::Point(DVec2::new(-300.0, 500.0)),
+        20.0,
+        -5.0,
+    ));
     check_fan(
         &m,
         &degenerate,

@@ -3,9 +3,10 @@
 //! whose fragments write the site's exact weighted distance as depth, so the depth
 //! test LESS keeps the lower envelope: the thesis's cones with raised apexes and
 //! changed angles, roofs over segments and straw huts over circles, evaluated
-//! exactly per pixel.
+//! exactly per pixel. In fan mode the same surfaces are drawn as triangles
+//! ([`crate::geometry::surface`]), their depths interpolated from their vertices.
 //!
-//! Rectangles are cut to where a site can win: the picture is divided into cells,
+//! Rectangles (and fan surfaces) are cut to where a site can win: the picture is divided into cells,
 //! each cell gets an upper bound on the envelope (the smallest over the sites of
 //! their largest weighted distance in the cell) and a site is drawn over the cells
 //! where its smallest weighted distance is at most that bound. Distances to a set
@@ -31,17 +32,9 @@ use crate::{
     },
 };
 
-use super::voronoi::{drawn_accuracy, Accuracy, VoronoiDiagram, VoronoiOptions, VoronoiStats};
-
-/// The unit square as two triangles.
-const UNIT_SQUARE: [[f32; 3]; 6] = [
-    [0.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [1.0, 1.0, 0.0],
-    [0.0, 1.0, 0.0],
-];
+use super::voronoi::{
+    drawn_accuracy, Accuracy, VoronoiDiagram, VoronoiOptions, VoronoiStats, UNIT_SQUARE,
+};
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
 /// every pixel labelled with a site of smallest weighted distance, and the

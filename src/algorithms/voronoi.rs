@@ -803,7 +803,7 @@ struct Draws<'a> {
 }
 
 /// The unit square as two triangles: the mesh of a batch's rectangle.
-const UNIT_SQUARE: [[f32; 3]; 6] = [
+pub(crate) const UNIT_SQUARE: [[f32; 3]; 6] = [
     [0.0, 0.0, 0.0],
     [1.0, 0.0, 0.0],
     [0.0, 1.0, 0.0],
