@@ -8,7 +8,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         sites::voronoi_sites,
-        voronoi::{Accuracy, VoronoiOptions},
+        voronoi::{Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{
         metric::Metric,
@@ -99,12 +99,34 @@ fn degenerate_shapes() -> Vec<Site> {
     ]
 }
 
+/// Exact mode, with the culling grid and with picture-wide rectangles.
 fn check(m: &Machine, sites: &[Site], frame: Frame, metric: Metric, what: &str) {
+    for speedup in [Speedup::Local, Speedup::None] {
+        check_with(
+            m,
+            sites,
+            frame,
+            metric,
+            speedup,
+            &format!("{what} {speedup:?}"),
+        );
+    }
+}
+
+fn check_with(
+    m: &Machine,
+    sites: &[Site],
+    frame: Frame,
+    metric: Metric,
+    speedup: Speedup,
+    what: &str,
+) {
     let d = voronoi_sites(
         m,
         sites,
         &VoronoiOptions {
             metric,
+            speedup,
             ..VoronoiOptions::exact(frame)
         },
     )

@@ -33,7 +33,7 @@ use crate::{
 };
 
 use super::voronoi::{
-    drawn_accuracy, Accuracy, VoronoiDiagram, VoronoiOptions, VoronoiStats, UNIT_SQUARE,
+    drawn_accuracy, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats, UNIT_SQUARE,
 };
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
@@ -70,7 +70,12 @@ pub fn voronoi_sites(
         .iter()
         .map(|s| s.to_pixels(|p| frame.to_pixel(p), frame.scale))
         .collect();
-    let (reaches, envelope_reach) = cull(&pixels, frame.width, frame.height, metric, frame.scale);
+    let (reaches, envelope_reach) = match options.speedup {
+        Speedup::None => picture_wide(&pixels, frame.width, frame.height, metric, frame.scale),
+        Speedup::Local | Speedup::Quadtree => {
+            cull(&pixels, frame.width, frame.height, metric, frame.scale)
+        }
+    };
     let least_additive = sites
         .iter()
         .map(|s| s.additive)
@@ -412,6 +417,42 @@ fn cull(
         })
         .collect();
     (reaches, reach)
+}
+
+/// Every site over the whole picture (no speedup), reaching the farthest pixel:
+/// the Euclidean distance to the far corner of its box, stretched by the metric.
+fn picture_wide(
+    sites: &[Site],
+    width: u32,
+    height: u32,
+    metric: Metric,
+    scale: f64,
+) -> (Vec<Option<Reach>>, f64) {
+    let (lo, hi) = (
+        DVec2::splat(0.0),
+        DVec2::new(width as f64 - 1.0, height as f64 - 1.0),
+    );
+    let rect = [-0.5, -0.5, width as f32 - 0.5, height as f32 - 0.5];
+    let b = metric.euclidean_bounds().1;
+    let reaches: Vec<Option<Reach>> = sites
+        .iter()
+        .map(|s| {
+            let (a, z) = s.bounds();
+            let far = (hi - a).max(z - lo).length();
+            Some((rect, b * far + 1.0))
+        })
+        .collect();
+    // The envelope is at most any one site's largest weighted distance.
+    let envelope = sites
+        .iter()
+        .zip(&reaches)
+        .map(|(s, r)| {
+            r.map_or(f64::INFINITY, |r| {
+                r.1 / (scale * s.multiplicative) + s.additive
+            })
+        })
+        .fold(f64::INFINITY, f64::min);
+    (reaches, envelope)
 }
 
 /// The cells of ring `ring` around cell `(i, j)`.

@@ -372,7 +372,11 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
         frame,
         metric: args.metric,
         accuracy,
-        speedup: Speedup::Local,
+        speedup: if args.no_speedup {
+            Speedup::None
+        } else {
+            args.speedup
+        },
         distances: true,
         ties: args.ties.is_some(),
         max_tile: args.max_tile,
