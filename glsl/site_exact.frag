@@ -4,9 +4,9 @@
 // the apex angle and height of its weights), written as depth:
 //   kind 0 point    shape0.xy
 //   kind 1 segment  shape0.xy to shape0.zw
-//   kind 2 circle   centre shape0.xy, radius shape0.z (Euclidean)
+//   kind 2 circle   centre shape0.xy, radius shape0.z
 //   kind 3 arc      centre shape0.xy, radius shape0.z, counter-clockwise from
-//                   angle shape1.x over shape1.y radians (Euclidean)
+//                   angle shape1.x over shape1.y radians
 // The weighted distance is dist * weights.x + weights.y (world units).
 #include "common.glsl"
 
@@ -75,6 +75,75 @@ float segment_norm(vec2 a, vec2 b) {
     return best;
 }
 
+// The metric distance from p to the arc of the circle around c of radius r from
+// angle a0 over span (radians): samples at equal angles, the best brackets
+// refined by golden-section search (src/geometry/site.rs, curve_distance).
+float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
+    const int SAMPLES = 32;
+    const int REFINEMENTS = 24;
+    int n = max(2, int(ceil(float(SAMPLES) * span / TAU)));
+    float step = span / float(n);
+    // The two (convex metrics) or four (star-shaped balls) best samples.
+    int brackets = (picture.metric == 3u && picture.metric_p < 1.0) ? 4 : 2;
+    float best_d[4] = float[4](3.0e38, 3.0e38, 3.0e38, 3.0e38);
+    int best_k[4] = int[4](0, 0, 0, 0);
+    for (int k = 0; k <= n; k++) {
+        float a = a0 + step * float(k);
+        float d = norm(p - c - r * vec2(cos(a), sin(a)));
+        for (int b = 0; b < 4; b++) {
+            if (d < best_d[b]) {
+                for (int m = 3; m > b; m--) {
+                    best_d[m] = best_d[m - 1];
+                    best_k[m] = best_k[m - 1];
+                }
+                best_d[b] = d;
+                best_k[b] = k;
+                break;
+            }
+        }
+    }
+    float best = best_d[0];
+    // Cusps where the offset lies along a kink ray of the ball: the axes for L1
+    // and p < 1, the diagonals for L-infinity (src/geometry/site.rs).
+    bool axes = picture.metric == 1u || (picture.metric == 3u && picture.metric_p < 1.0);
+    if (axes || picture.metric == 2u) {
+        vec2 d = p - c;
+        for (int ray = 0; ray < 2; ray++) {
+            vec2 v = axes ? (ray == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0))
+                          : (ray == 0 ? vec2(1.0, 1.0) : vec2(1.0, -1.0));
+            float s = (v.x * d.y - v.y * d.x) / (r * length(v));
+            if (abs(s) <= 1.0) {
+                float phi = atan(v.y, v.x);
+                for (int t = 0; t < 2; t++) {
+                    float a = phi + (t == 0 ? asin(s) : 3.14159265 - asin(s));
+                    if (mod(a - a0, TAU) <= span) {
+                        best = min(best, norm(p - c - r * vec2(cos(a), sin(a))));
+                    }
+                }
+            }
+        }
+    }
+    const float g = 0.61803398875;
+    for (int b = 0; b < brackets; b++) {
+        float lo = a0 + step * float(max(best_k[b] - 1, 0));
+        float hi = a0 + step * float(min(best_k[b] + 1, n));
+        for (int i = 0; i < REFINEMENTS; i++) {
+            float m1 = hi - g * (hi - lo);
+            float m2 = lo + g * (hi - lo);
+            float d1 = norm(p - c - r * vec2(cos(m1), sin(m1)));
+            float d2 = norm(p - c - r * vec2(cos(m2), sin(m2)));
+            if (d1 <= d2) {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        float a = 0.5 * (lo + hi);
+        best = min(best, norm(p - c - r * vec2(cos(a), sin(a))));
+    }
+    return best;
+}
+
 void main() {
     vec2 p = fragment_pixel();
     uint kind = kind_id.x;
@@ -83,6 +152,9 @@ void main() {
         d = norm(p - shape0.xy);
     } else if (kind == 1u) {
         d = segment_norm(shape0.xy - p, shape0.zw - p);
+    } else if (picture.metric != 0u) {
+        float span = kind == 2u ? TAU : min(shape1.y, TAU);
+        d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, span);
     } else {
         vec2 v = p - shape0.xy;
         float r = shape0.z;

@@ -74,10 +74,10 @@ typedef enum PixgeoSiteKind {
   PIXGEO_SITE_KIND_POINT = 0,
   // `coords = {x1, y1, x2, y2}`.
   PIXGEO_SITE_KIND_SEGMENT = 1,
-  // `coords = {cx, cy, radius}` (Euclidean metric only).
+  // `coords = {cx, cy, radius}`.
   PIXGEO_SITE_KIND_CIRCLE = 2,
   // `coords = {cx, cy, radius, start, end}`: counter-clockwise from angle
-  // `start` to `end` (radians; Euclidean metric only).
+  // `start` to `end` (radians).
   PIXGEO_SITE_KIND_ARC = 3,
 } PixgeoSiteKind;
 

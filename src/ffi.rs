@@ -156,10 +156,10 @@ pub enum PixgeoSiteKind {
     Point = 0,
     /// `coords = {x1, y1, x2, y2}`.
     Segment = 1,
-    /// `coords = {cx, cy, radius}` (Euclidean metric only).
+    /// `coords = {cx, cy, radius}`.
     Circle = 2,
     /// `coords = {cx, cy, radius, start, end}`: counter-clockwise from angle
-    /// `start` to `end` (radians; Euclidean metric only).
+    /// `start` to `end` (radians).
     Arc = 3,
 }
 

@@ -243,7 +243,7 @@ pub fn voronoi_sites(
     frame: &Frame,
     metric: Metric,
 ) -> Result<(Vec<u32>, Vec<f32>)> {
-    check_general_sites(sites, metric)?;
+    check_general_sites(sites)?;
     frame.check()?;
     let (w, h) = (frame.width as usize, frame.height as usize);
     let pixels: Vec<Site> = sites

@@ -46,13 +46,22 @@ pub fn voronoi_sites(
     sites: &[Site],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
+    let accuracy = match (options.metric, options.accuracy) {
+        // Fans over a polygon are exact for points and segments; circles and arcs
+        // take chords within a thousandth of a pixel.
+        (Metric::Polygon(_), Accuracy::Exact) => Accuracy::Fan {
+            epsilon: 1e-3,
+            triangles: None,
+        },
+        (metric, accuracy) => drawn_accuracy(metric, accuracy),
+    };
     let options = &VoronoiOptions {
-        accuracy: drawn_accuracy(options.metric, options.accuracy),
+        accuracy,
         ..*options
     };
     let (frame, metric) = (options.frame, options.metric);
     frame.check()?;
-    check_general_sites(sites, metric)?;
+    check_general_sites(sites)?;
     options.accuracy.check()?;
     if options.ties {
         return Err(Error::InvalidInput(
@@ -311,7 +320,7 @@ type Reach = ([f32; 4], f64);
 /// Each site's [`Reach`], `None` where it wins nowhere, and an upper bound on the
 /// envelope over the picture.
 ///
-/// Cells of about half the sites' spacing: a cell's upper bound is the smallest
+/// Cells of about a third of the sites' spacing: a cell's upper bound is the smallest
 /// largest-distance of the sites binned near it (any subset of the sites bounds
 /// the envelope from above); a site then visits the rings of cells around its box
 /// until even the ring's nearest point is beyond the largest upper bound, keeping

@@ -3,9 +3,10 @@
 //! from q is `dist(q, site) / m + a`, where `dist` is the metric's distance to the
 //! nearest point of the site.
 //!
-//! Segments work with every metric (the distance to a segment is the smallest
-//! norm on the segment of offsets, [`super::chain::norm_range_on_segment`]);
-//! circles and arcs are Euclidean.
+//! Every shape works with every metric: the distance to a segment is the smallest
+//! norm on the segment of offsets ([`super::chain::norm_range_on_segment`]); to a
+//! circle or arc it is closed-form for L2 and found by [`curve_distance`]
+//! otherwise. Circles and arcs are Euclidean circles whatever the metric.
 
 use std::f64::consts::TAU;
 
@@ -69,6 +70,17 @@ impl Site {
         match self.shape {
             Shape::Point(p) => metric.distance(q - p),
             Shape::Segment(a, b) => norm_range_on_segment(metric, q - a, q - b).0,
+            Shape::Circle { center, radius } if metric != Metric::L2 => {
+                curve_distance(metric, q, center, radius, 0.0, TAU)
+            }
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } if metric != Metric::L2 => {
+                curve_distance(metric, q, center, radius, start, (end - start).min(TAU))
+            }
             Shape::Circle { center, radius } => ((q - center).length() - radius).abs(),
             Shape::Arc {
                 center,
@@ -129,6 +141,88 @@ impl Site {
     }
 }
 
+/// Samples of a curve distance per full turn, brackets refined, and golden-section
+/// steps per bracket.
+const CURVE_SAMPLES: usize = 64;
+const CURVE_BRACKETS: usize = 4;
+const CURVE_REFINEMENTS: usize = 40;
+
+/// The `metric` distance from `q` to the arc of the circle around `center` from
+/// angle `start` over `span`: the smallest of samples at equal angles, the four
+/// best refined by golden-section search between their neighbours. Along the
+/// circle a norm's distance has a valley on each side of `q`; star-shaped balls
+/// (p < 1, star polygons) may add valleys at their spikes, which the extra
+/// brackets cover. The tests compare it with dense sampling.
+pub fn curve_distance(
+    metric: Metric,
+    q: DVec2,
+    center: DVec2,
+    radius: f64,
+    start: f64,
+    span: f64,
+) -> f64 {
+    let at = |a: f64| metric.distance(q - center - radius * DVec2::new(a.cos(), a.sin()));
+    if radius == 0.0 || span <= 0.0 {
+        return at(start);
+    }
+    let n = ((CURVE_SAMPLES as f64 * span / TAU).ceil() as usize).max(2);
+    let step = span / n as f64;
+    let samples: Vec<f64> = (0..=n).map(|k| at(start + step * k as f64)).collect();
+    let mut order: Vec<usize> = (0..=n).collect();
+    order.sort_by(|&i, &j| samples[i].total_cmp(&samples[j]));
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let mut best = samples[order[0]];
+    // Cusps: where the offset to the curve lies along a ray through a corner of
+    // the unit ball (the axes for p < 1, where the valleys are too narrow for any
+    // sampling).
+    for a in ray_crossings(metric, q - center, radius) {
+        if (a - start).rem_euclid(TAU) <= span {
+            best = best.min(at(a));
+        }
+    }
+    for &k in order.iter().take(CURVE_BRACKETS) {
+        let mut lo = start + step * (k as f64 - 1.0).max(0.0);
+        let mut hi = start + step * (k as f64 + 1.0).min(n as f64);
+        for _ in 0..CURVE_REFINEMENTS {
+            let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if at(m1) <= at(m2) {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        best = best.min(at(0.5 * (lo + hi)));
+    }
+    best
+}
+
+/// The rays along which the metric's distance has a kink: the corners of L1,
+/// L∞ and polygon balls, and the axes for p < 1.
+pub fn kink_rays(metric: Metric) -> Vec<DVec2> {
+    match metric {
+        Metric::L1 => vec![DVec2::X, DVec2::Y],
+        Metric::Lp(p) if p < 1.0 => vec![DVec2::X, DVec2::Y],
+        Metric::LInf => vec![DVec2::ONE, DVec2::new(1.0, -1.0)],
+        Metric::Polygon(g) => g.vertices.clone(),
+        _ => Vec::new(),
+    }
+}
+
+/// The angles a at which the offset `d - radius (cos a, sin a)` from a circle
+/// point lies on the line of a kink ray.
+pub fn ray_crossings(metric: Metric, d: DVec2, radius: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    for v in kink_rays(metric) {
+        // v × (d − r u(a)) = 0  ⇔  |v| sin(a − φ) = (v × d) / r.
+        let s = v.perp_dot(d) / (radius * v.length());
+        if s.abs() <= 1.0 {
+            let phi = v.y.atan2(v.x);
+            out.extend([phi + s.asin(), phi + std::f64::consts::PI - s.asin()]);
+        }
+    }
+    out
+}
+
 /// Whether the direction of angle `angle` lies on the arc from `start`
 /// counter-clockwise to `end`.
 pub fn on_arc(angle: f64, start: f64, end: f64) -> bool {
@@ -139,9 +233,9 @@ pub fn on_arc(angle: f64, start: f64, end: f64) -> bool {
     (angle - start).rem_euclid(TAU) <= span.rem_euclid(TAU)
 }
 
-/// Checks a site list: not empty, finite, weights m > 0, radii >= 0, and shapes
-/// other than segments and points only with the Euclidean metric.
-pub fn check_general_sites(sites: &[Site], metric: Metric) -> Result<()> {
+/// Checks a site list: not empty, finite, weights m > 0, radii >= 0, arcs that
+/// end after they start.
+pub fn check_general_sites(sites: &[Site]) -> Result<()> {
     if sites.is_empty() {
         return Err(Error::InvalidInput("the site list is empty".into()));
     }
@@ -178,22 +272,13 @@ pub fn check_general_sites(sites: &[Site], metric: Metric) -> Result<()> {
             ));
         }
         match s.shape {
-            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
-                if radius < 0.0 {
-                    return bad(&format!("radius {radius} is negative"));
-                }
-                if metric != Metric::L2 {
-                    return bad(&format!(
-                        "circles and arcs are Euclidean sites; {metric} takes points and segments"
-                    ));
-                }
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } if radius < 0.0 => {
+                return bad(&format!("radius {radius} is negative"));
             }
-            _ => {}
-        }
-        if let Shape::Arc { start, end, .. } = s.shape {
-            if end < start {
+            Shape::Arc { start, end, .. } if end < start => {
                 return bad(&format!("arc end {end} is before its start {start}"));
             }
+            _ => {}
         }
     }
     Ok(())
@@ -238,7 +323,7 @@ mod tests {
     fn bad_sites_are_named() {
         let mut s = Site::point(DVec2::ZERO);
         s.multiplicative = 0.0;
-        assert!(check_general_sites(&[s], Metric::L2)
+        assert!(check_general_sites(&[s])
             .unwrap_err()
             .to_string()
             .contains("site 0"));
@@ -246,8 +331,7 @@ mod tests {
             center: DVec2::ZERO,
             radius: 1.0,
         });
-        assert!(check_general_sites(&[c], Metric::L1).is_err());
-        assert!(check_general_sites(&[c], Metric::L2).is_ok());
-        assert!(check_general_sites(&[], Metric::L2).is_err());
+        assert!(check_general_sites(&[c]).is_ok());
+        assert!(check_general_sites(&[]).is_err());
     }
 }

@@ -119,6 +119,9 @@ pub fn nearest_distances_metric(
 
 /// For every pixel (row-major), the smallest weighted distance (world units) to a
 /// site of any shape, by looking at every site. Sites are in world coordinates.
+/// Circles and arcs under metrics other than L2 are measured at
+/// [`CURVE_SAMPLES`] points per turn (and their ends), which overestimates by at
+/// most [`curve_sampling_slack`].
 pub fn nearest_weighted_distances(
     sites: &[crate::geometry::site::Site],
     frame: &Frame,
@@ -131,8 +134,72 @@ pub fn nearest_weighted_distances(
             let q = frame.to_world(DVec2::new((k % w) as f64, (k / w) as f64));
             sites
                 .iter()
-                .map(|s| s.distance(metric, q))
+                .map(|s| shape_distance(s, metric, q) / s.multiplicative + s.additive)
                 .fold(f64::INFINITY, f64::min)
         })
         .collect()
+}
+
+/// Points per turn at which [`nearest_weighted_distances`] samples curves.
+pub const CURVE_SAMPLES: usize = 1 << 11;
+
+/// How much sampling curves can overestimate a weighted distance: half the
+/// spacing of the samples, stretched by the metric.
+pub fn curve_sampling_slack(
+    sites: &[crate::geometry::site::Site],
+    metric: crate::geometry::metric::Metric,
+) -> f64 {
+    use crate::geometry::site::Shape;
+    if metric == crate::geometry::metric::Metric::L2 {
+        return 0.0;
+    }
+    let b = metric.euclidean_bounds().1;
+    sites
+        .iter()
+        .map(|s| match s.shape {
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
+                b * radius * std::f64::consts::PI / CURVE_SAMPLES as f64 / s.multiplicative
+            }
+            _ => 0.0,
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The distance to a site's shape by its definition: closed forms for points,
+/// segments and Euclidean curves, samples for curves under other metrics.
+fn shape_distance(
+    s: &crate::geometry::site::Site,
+    metric: crate::geometry::metric::Metric,
+    q: DVec2,
+) -> f64 {
+    use crate::geometry::site::Shape;
+    // Samples, and the cusps where the offset lies along a corner ray of the ball
+    // (too narrow a valley for any sampling).
+    let sampled = |center: DVec2, radius: f64, start: f64, span: f64| {
+        let at = |a: f64| metric.distance(q - center - radius * DVec2::new(a.cos(), a.sin()));
+        let n = ((CURVE_SAMPLES as f64 * span / std::f64::consts::TAU).ceil() as usize).max(1);
+        let samples = (0..=n).map(|k| at(start + span * k as f64 / n as f64));
+        let cusps = crate::geometry::site::ray_crossings(metric, q - center, radius)
+            .into_iter()
+            .filter(|a| (a - start).rem_euclid(std::f64::consts::TAU) <= span)
+            .map(at);
+        samples.chain(cusps).fold(f64::INFINITY, f64::min)
+    };
+    match s.shape {
+        Shape::Circle { center, radius } if metric != crate::geometry::metric::Metric::L2 => {
+            sampled(center, radius, 0.0, std::f64::consts::TAU)
+        }
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } if metric != crate::geometry::metric::Metric::L2 => sampled(
+            center,
+            radius,
+            start,
+            (end - start).min(std::f64::consts::TAU),
+        ),
+        _ => s.distance_to_shape(metric, q),
+    }
 }
