@@ -226,7 +226,7 @@ enum PixgeoStatus pixgeo_voronoi(struct PixgeoContext *ctx,
 
 // The Voronoi diagram of `count` sites of any shape and weight, like
 // [`pixgeo_voronoi`]: labels (and, unless null, weighted distances in world
-// units) of `width * height` pixels, row-major. `max_tile` must be 0.
+// units) of `width * height` pixels, row-major.
 //
 // # Safety
 // `ctx` is a live context; `sites` holds `count` sites; `options` points to

@@ -468,7 +468,7 @@ pub unsafe extern "C" fn pixgeo_voronoi(
 
 /// The Voronoi diagram of `count` sites of any shape and weight, like
 /// [`pixgeo_voronoi`]: labels (and, unless null, weighted distances in world
-/// units) of `width * height` pixels, row-major. `max_tile` must be 0.
+/// units) of `width * height` pixels, row-major.
 ///
 /// # Safety
 /// `ctx` is a live context; `sites` holds `count` sites; `options` points to
@@ -489,11 +489,6 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
         }
         // SAFETY: non-null and valid (caller contract).
         let o = unsafe { *options };
-        if o.max_tile != 0 {
-            return Err(invalid(
-                "sites of any shape are drawn whole: max_tile must be 0",
-            ));
-        }
         let (frame, accuracy, speedup) = picture_of(&o)?;
         // SAFETY: `sites` holds `count` sites (caller contract).
         let given = unsafe { std::slice::from_raw_parts(sites, count) };
@@ -531,7 +526,7 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
             speedup,
             distances: !distances.is_null(),
             ties: false,
-            max_tile: None,
+            max_tile: (o.max_tile > 0).then_some(o.max_tile),
         };
         let d = voronoi_sites(&context.machine, &sites, &options).map_err(failed)?;
         // SAFETY: caller-owned arrays of `width * height` values.

@@ -116,6 +116,22 @@ fn voronoi_reads_weights_and_shapes() {
     }
     let (_, c): (Vec<u64>, Vec<u32>) = npy::read(&cpu_labels).unwrap();
     assert_eq!(c, l);
+    // Tiles of 20 pixels give the same labels.
+    let tiled = temp("mlt.npy");
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        sites.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "--max-tile",
+        "20",
+        "--labels",
+        tiled.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (_, t): (Vec<u64>, Vec<u32>) = npy::read(&tiled).unwrap();
+    assert_eq!(t, l);
     let (_, f): (Vec<u64>, Vec<f32>) = npy::read(&fan_dist).unwrap();
     assert!(f.iter().zip(&d).all(|(a, b)| (a - b).abs() <= 1.05));
     // Weights in CSV columns; a bad weight names its site.

@@ -260,16 +260,17 @@ fn check_fan(
     accuracy: Accuracy,
     what: &str,
 ) {
-    let d = voronoi_sites(
-        m,
-        sites,
-        &VoronoiOptions {
-            metric,
-            accuracy,
-            ..VoronoiOptions::exact(frame)
-        },
-    )
-    .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let options = VoronoiOptions {
+        metric,
+        accuracy,
+        ..VoronoiOptions::exact(frame)
+    };
+    check_fan_with(m, sites, &options, what);
+}
+
+fn check_fan_with(m: &Machine, sites: &[Site], options: &VoronoiOptions, what: &str) {
+    let (frame, metric) = (options.frame, options.metric);
+    let d = voronoi_sites(m, sites, options).unwrap_or_else(|e| panic!("{what}: {e}"));
     let bound = d.stats.distance_error_bound;
     assert!(bound > 0.0, "{what}");
     let truth = nearest_weighted_distances(sites, &frame, metric);
@@ -445,4 +446,42 @@ fn circles_and_arcs_under_every_metric() {
             );
         }
     }
+}
+
+#[test]
+fn tiles_give_the_same_diagram_pixel_for_pixel() {
+    // Small tiles, sites on tile borders and outside the picture, both modes.
+    let m = common::machine();
+    let frame = Frame::pixels(70, 50).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let mut sites = random_sites(&mut rng, 24, &[0, 1, 2, 3], true, 70.0, 50.0);
+    let p = DVec2::new;
+    sites.extend([
+        Site::new(Shape::Segment(p(16.0, -10.0), p(16.0, 60.0))),
+        Site::point(p(32.0, 17.0)),
+        Site::point(p(-25.0, 20.0)),
+    ]);
+    let run = |max_tile| {
+        voronoi_sites(
+            &m,
+            &sites,
+            &VoronoiOptions {
+                max_tile,
+                ..VoronoiOptions::exact(frame)
+            },
+        )
+        .unwrap()
+    };
+    let (whole, tiled) = (run(None), run(Some(16)));
+    assert_eq!(whole.stats.tiles, 1);
+    assert_eq!(tiled.stats.tiles, 5 * 4);
+    assert_eq!(whole.labels, tiled.labels);
+    assert_eq!(whole.distances, tiled.distances);
+    // Fans are interpolated per tile: bounded the same way in every tile.
+    let fan = VoronoiOptions {
+        accuracy: Accuracy::FAN,
+        max_tile: Some(16),
+        ..VoronoiOptions::exact(frame)
+    };
+    check_fan_with(&m, &sites, &fan, "fan tiles");
 }

@@ -40,7 +40,8 @@ use super::voronoi::{
 /// every pixel labelled with a site of smallest weighted distance, and the
 /// distance map holding that weighted distance (world units). In fan mode the
 /// sites' fan surfaces ([`crate::geometry::surface`]) give a distance diagram
-/// within the reported bound. One picture of at most the device's image size.
+/// within the reported bound. Pictures larger than the device's image size (or
+/// than `max_tile`) are drawn tile by tile.
 pub fn voronoi_sites(
     machine: &Machine,
     sites: &[Site],
@@ -69,10 +70,9 @@ pub fn voronoi_sites(
         ));
     }
     let side = machine.max_picture_side();
-    if frame.width > side || frame.height > side || options.max_tile.is_some() {
-        return Err(Error::InvalidInput(format!(
-            "diagrams of weighted or extended sites are drawn in one image of at most {side}x{side} pixels, without tiles"
-        )));
+    let max_tile = options.max_tile.unwrap_or(side).min(side);
+    if max_tile == 0 {
+        return Err(Error::InvalidInput("tile size must be at least 1".into()));
     }
     let started = Instant::now();
     let pixels: Vec<Site> = sites
@@ -93,7 +93,6 @@ pub fn voronoi_sites(
         device: machine.device_name().to_string(),
         sites: sites.len(),
         cones: reaches.iter().filter(|r| r.is_some()).count(),
-        tiles: 1,
         passes: 1,
         ..Default::default()
     };
@@ -156,17 +155,15 @@ pub fn voronoi_sites(
     stats.bounds_ms = ms(started);
 
     let started = Instant::now();
-    let ids = machine.image(Format::R32Uint, frame.width, frame.height)?;
-    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-    // The draw's two vertex buffers and its counts.
-    let (program, mesh, second, vertex_count, instance_count) = match &draw {
-        SiteDraw::Exact(instances) => (
-            Program::SiteExact,
-            machine.vertex_buffer(&UNIT_SQUARE)?,
-            machine.vertex_buffer(instances)?,
-            UNIT_SQUARE.len() as u32,
-            instances.len() as u32,
-        ),
+    // Tiles as large as the device (or `max_tile`) allows; each draws the
+    // rectangles that meet it, or every fan triangle (the rasterizer clips them).
+    let (tile_w, tile_h) = (max_tile.min(frame.width), max_tile.min(frame.height));
+    let ids = machine.image(Format::R32Uint, tile_w, tile_h)?;
+    let depth = machine.image(Format::Depth, tile_w, tile_h)?;
+    let mesh = machine.vertex_buffer(&UNIT_SQUARE)?;
+    // The fan surfaces' two per-vertex buffers, made once for every tile.
+    let fans = match &draw {
+        SiteDraw::Exact(_) => None,
         SiteDraw::Fan(surfaces) => {
             let mut vertices: Vec<[f32; 3]> = Vec::new();
             let mut ids: Vec<u32> = Vec::new();
@@ -182,74 +179,131 @@ pub fn voronoi_sites(
             // Vulkan buffers cannot be empty.
             vertices.push([0.0; 3]);
             ids.push(0);
-            (
-                Program::SiteFan,
+            Some((
                 machine.vertex_buffer(&vertices)?,
                 machine.vertex_buffer(&ids)?,
                 count,
-                u32::from(count > 0),
-            )
+            ))
         }
     };
-    let push = ConePush {
-        picture_size: [frame.width as f32, frame.height as f32],
-        offset: [0.0, 0.0],
-        vertex_depth_scale: 0.0,
-        fragment_depth_scale: depth_scale as f32,
-        levels: 1,
-        // Polygons are drawn as fans (see above).
-        metric: metric.shader_code().unwrap_or((0, 2.0)),
-    };
-    machine.run(|pass| {
-        pass.begin(
-            Target {
-                color: Some(&ids),
-                depth_stencil: Some(&depth),
-            },
-            Clear {
-                color: Some(ClearColor::Uint([u32::MAX; 4])),
-                depth: Some(1.0),
-                stencil: None,
-            },
-        )?;
-        pass.draw_cones(
-            program,
-            &RasterState::lower_envelope(),
-            &DrawParams::default(),
-            &push,
-            &ConeDraw {
-                mesh: &mesh,
-                first_vertex: 0,
-                vertex_count,
-                instances: &second,
-                first_instance: 0,
-                instance_count,
-            },
-        )?;
-        pass.end()
-    })?;
-    stats.render_ms = ms(started);
-
-    let started = Instant::now();
-    let rect = PixelRect::of(&ids);
-    let labels = machine.read_u32(&ids, rect)?;
-    let distances = if options.distances {
-        let depths = machine.read_f32(&depth, rect)?;
-        depths
-            .par_iter()
-            .zip(&labels)
-            .map(|(z, id)| {
-                if *id == u32::MAX {
-                    f32::INFINITY
-                } else {
-                    (*z as f64 / depth_scale + least_additive) as f32
-                }
-            })
-            .collect()
+    let width = frame.width as usize;
+    let mut labels = vec![u32::MAX; frame.len()];
+    let mut depths = if options.distances {
+        vec![0.0f32; frame.len()]
     } else {
         Vec::new()
     };
-    stats.readback_ms = ms(started);
+    for y0 in (0..frame.height).step_by(tile_h as usize) {
+        for x0 in (0..frame.width).step_by(tile_w as usize) {
+            stats.tiles += 1;
+            let inner = PixelRect {
+                x: 0,
+                y: 0,
+                width: tile_w.min(frame.width - x0),
+                height: tile_h.min(frame.height - y0),
+            };
+            let (lo, hi) = (
+                [x0 as f32 - 0.5, y0 as f32 - 0.5],
+                [
+                    (x0 + inner.width) as f32 - 0.5,
+                    (y0 + inner.height) as f32 - 0.5,
+                ],
+            );
+            let visible: Vec<SiteInstance> = match &draw {
+                SiteDraw::Exact(instances) => instances
+                    .iter()
+                    .filter(|i| {
+                        i.rect[0] < hi[0]
+                            && i.rect[2] > lo[0]
+                            && i.rect[1] < hi[1]
+                            && i.rect[3] > lo[1]
+                    })
+                    .copied()
+                    .collect(),
+                SiteDraw::Fan(_) => Vec::new(),
+            };
+            let rects = (!visible.is_empty())
+                .then(|| machine.vertex_buffer(&visible))
+                .transpose()?;
+            let (program, first, second, vertex_count, instance_count) = match (&fans, &rects) {
+                (Some((vertices, ids, count)), _) => (
+                    Program::SiteFan,
+                    vertices,
+                    ids,
+                    *count,
+                    u32::from(*count > 0),
+                ),
+                (None, Some(rects)) => (
+                    Program::SiteExact,
+                    &mesh,
+                    rects,
+                    UNIT_SQUARE.len() as u32,
+                    visible.len() as u32,
+                ),
+                // Nothing reaches the tile: it keeps the "no site" id.
+                (None, None) => (Program::SiteExact, &mesh, &mesh, 0, 0),
+            };
+            let push = ConePush {
+                picture_size: [tile_w as f32, tile_h as f32],
+                offset: [x0 as f32, y0 as f32],
+                vertex_depth_scale: 0.0,
+                fragment_depth_scale: depth_scale as f32,
+                levels: 1,
+                // Polygons are drawn as fans (see above).
+                metric: metric.shader_code().unwrap_or((0, 2.0)),
+            };
+            machine.run(|pass| {
+                pass.begin(
+                    Target {
+                        color: Some(&ids),
+                        depth_stencil: Some(&depth),
+                    },
+                    Clear {
+                        color: Some(ClearColor::Uint([u32::MAX; 4])),
+                        depth: Some(1.0),
+                        stencil: None,
+                    },
+                )?;
+                pass.draw_cones(
+                    program,
+                    &RasterState::lower_envelope(),
+                    &DrawParams::default(),
+                    &push,
+                    &ConeDraw {
+                        mesh: first,
+                        first_vertex: 0,
+                        vertex_count,
+                        instances: second,
+                        first_instance: 0,
+                        instance_count,
+                    },
+                )?;
+                pass.end()
+            })?;
+            let read = Instant::now();
+            let at = y0 as usize * width + x0 as usize;
+            machine.read_u32_into(&ids, inner, &mut labels[at..], width)?;
+            if options.distances {
+                machine.read_f32_into(&depth, inner, &mut depths[at..], width)?;
+            }
+            stats.readback_ms += ms(read);
+        }
+    }
+    stats.render_ms = ms(started) - stats.readback_ms;
+
+    let started = Instant::now();
+    let distances = depths
+        .par_iter()
+        .zip(&labels)
+        .map(|(z, id)| {
+            if *id == u32::MAX {
+                f32::INFINITY
+            } else {
+                (*z as f64 / depth_scale + least_additive) as f32
+            }
+        })
+        .collect();
+    stats.readback_ms += ms(started);
     Ok(VoronoiDiagram {
         width: frame.width,
         height: frame.height,
