@@ -203,13 +203,11 @@ pub fn k_nearest(
         Accuracy::Fan { .. } if options.metric != Metric::L2 => {
             let fan = metric_fan(options.accuracy);
             let widest = fan.outer_radius(options.metric, stats.radius_max);
-            stats.triangles = fan.unit_mesh(options.metric, widest).len() as u32 - 2;
+            let mesh = fan.unit_mesh(options.metric, widest);
+            stats.triangles = mesh.len() as u32 - 2;
             stats.distance_error_bound =
                 fan.error_bound(options.metric, stats.radius_max) / frame.scale;
-            (
-                fan.unit_mesh(options.metric, widest),
-                Rim::Metric(fan, options.metric),
-            )
+            (mesh, Rim::Metric(fan, options.metric))
         }
         _ => (mesh, outer),
     };

@@ -21,7 +21,7 @@ use rayon::prelude::*;
 use crate::{
     error::{Error, Result},
     geometry::{
-        chain::MetricFan,
+        chain::{FanMeshes, MetricFan},
         metric::Metric,
         site::{check_general_sites, Shape, Site},
         surface::{fan_surface, Triangles},
@@ -119,6 +119,7 @@ pub fn voronoi_sites(
         }
         Accuracy::Fan { .. } => {
             let fan = super::voronoi::metric_fan(options.accuracy);
+            let meshes = FanMeshes::new(metric);
             let surfaces: Vec<(u32, Triangles, f64)> = pixels
                 .par_iter()
                 .zip(&reaches)
@@ -132,7 +133,7 @@ pub fn voronoi_sites(
                             },
                             uniform => uniform,
                         };
-                        let (t, error) = fan_surface(s, metric, fan, reach);
+                        let (t, error) = fan_surface(s, &meshes, fan, reach);
                         (i as u32, t, error / s.multiplicative)
                     })
                 })

@@ -319,6 +319,7 @@ pub fn voronoi_bands(
     let scale = depth_scale(shaped.iter().flatten(), options.accuracy, options.metric);
     stats.bounds_ms = ms(started);
 
+    let meshes = chain::FanMeshes::new(options.metric);
     let side = machine.max_picture_side();
     let max_tile = options.max_tile.unwrap_or(side).min(side);
     if max_tile == 0 {
@@ -382,6 +383,7 @@ pub fn voronoi_bands(
                     batches,
                     accuracy: options.accuracy,
                     metric: options.metric,
+                    meshes: &meshes,
                     scale,
                     ties: options.ties,
                 };
@@ -430,8 +432,8 @@ pub fn voronoi_bands(
                 Footprint::Batch => BATCH as u32,
                 Footprint::Polygon(k) | Footprint::Fan(k) => k,
                 Footprint::Chain(level) => {
-                    metric_fan(options.accuracy)
-                        .unit_mesh(options.metric, chain::level_radius(level))
+                    meshes
+                        .unit_mesh(metric_fan(options.accuracy), chain::level_radius(level))
                         .len() as u32
                         - 2
                 }
@@ -797,6 +799,8 @@ struct Draws<'a> {
     batches: &'a [ConeBatch],
     accuracy: Accuracy,
     metric: Metric,
+    /// Fan meshes of other metrics, made once for every tile and pass.
+    meshes: &'a chain::FanMeshes,
     scale: DepthScale,
     /// Count the cones at each pixel's lowest depth in the stencil.
     ties: bool,
@@ -834,10 +838,14 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
             Footprint::Batch => unreachable!("batched cones are drawn as batches"),
             Footprint::Polygon(k) => unit_footprint(k),
             Footprint::Fan(t) if draws.metric == Metric::L2 => unit_fan(t),
-            Footprint::Fan(_) => metric_fan(draws.accuracy).unit_mesh(draws.metric, 1.0),
-            Footprint::Chain(level) => {
-                metric_fan(draws.accuracy).unit_mesh(draws.metric, chain::level_radius(level))
-            }
+            Footprint::Fan(_) => draws
+                .meshes
+                .unit_mesh(metric_fan(draws.accuracy), 1.0)
+                .to_vec(),
+            Footprint::Chain(level) => draws
+                .meshes
+                .unit_mesh(metric_fan(draws.accuracy), chain::level_radius(level))
+                .to_vec(),
         };
         ranges.push((mesh.len() as u32, vertices.len() as u32));
         mesh.extend(vertices);

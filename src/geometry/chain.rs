@@ -13,7 +13,11 @@
 //! Each quadrant starts on the x axis and the greedy walk takes the longest edge
 //! the annulus allows; the other quadrants are reflections.
 
-use std::f64::consts::PI;
+use std::{
+    collections::HashMap,
+    f64::consts::PI,
+    sync::{Arc, Mutex},
+};
 
 use glam::DVec2;
 
@@ -312,6 +316,43 @@ impl MetricFan {
             Self::Chain { epsilon } => epsilon,
             Self::Uniform { .. } => self.outer_radius(metric, r) - metric.euclidean_bounds().1 * r,
         }
+    }
+}
+
+/// A unit fan mesh (see [`unit_fan_over`]), shared.
+pub type UnitMesh = Arc<Vec<[f32; 3]>>;
+
+/// Unit fan meshes of one metric, each made once and shared by every site whose
+/// fan has the same accuracy and rounds to the same radius level
+/// ([`chain_level`]): building an L_p chain costs far more than scaling it.
+pub struct FanMeshes {
+    metric: Metric,
+    made: Mutex<HashMap<(u64, i32), UnitMesh>>,
+}
+
+impl FanMeshes {
+    pub fn new(metric: Metric) -> Self {
+        Self {
+            metric,
+            made: Mutex::new(HashMap::new()),
+        }
+    }
+
+    pub fn metric(&self) -> Metric {
+        self.metric
+    }
+
+    /// [`MetricFan::unit_mesh`] for cones of outer radius `outer`.
+    pub fn unit_mesh(&self, fan: MetricFan, outer: f64) -> UnitMesh {
+        let key = match fan {
+            MetricFan::Chain { epsilon } => (epsilon.to_bits(), chain_level(outer)),
+            // A sample does not depend on the radius.
+            MetricFan::Uniform { corners } => (u64::from(corners), i32::MIN),
+        };
+        let mut made = self.made.lock().unwrap_or_else(|e| e.into_inner());
+        made.entry(key)
+            .or_insert_with(|| Arc::new(fan.unit_mesh(self.metric, outer)))
+            .clone()
     }
 }
 

@@ -16,7 +16,7 @@
 use glam::{DVec2, DVec3};
 
 use super::{
-    chain::MetricFan,
+    chain::{FanMeshes, MetricFan},
     metric::Metric,
     site::{Shape, Site},
 };
@@ -35,10 +35,11 @@ struct Base {
 impl Base {
     /// A base covering metric distance `reach` with the accuracy of `fan` (whose
     /// ε is in pixels of shape distance).
-    fn new(metric: Metric, fan: MetricFan, reach: f64) -> Self {
+    fn new(meshes: &FanMeshes, fan: MetricFan, reach: f64) -> Self {
+        let metric = meshes.metric();
         let b = metric.euclidean_bounds().1;
         let outer = fan.outer_radius(metric, reach / b);
-        let mesh = fan.unit_mesh(metric, outer);
+        let mesh = meshes.unit_mesh(fan, outer);
         let rim = mesh[1..mesh.len() - 1]
             .iter()
             .map(|v| DVec2::new(v[0] as f64, v[1] as f64) * outer)
@@ -118,11 +119,17 @@ impl Base {
 /// and a bound on its error (pixels of shape distance): the fan's own
 /// overestimate, plus the chords' deviation for circles and arcs, which may err
 /// either way. For a chain fan of error ε the chords get half of ε.
-pub fn fan_surface(site: &Site, metric: Metric, fan: MetricFan, reach: f64) -> (Triangles, f64) {
+pub fn fan_surface(
+    site: &Site,
+    meshes: &FanMeshes,
+    fan: MetricFan,
+    reach: f64,
+) -> (Triangles, f64) {
+    let metric = meshes.metric();
     let b = metric.euclidean_bounds().1;
     let curved = matches!(site.shape, Shape::Circle { .. } | Shape::Arc { .. });
     if let (true, Metric::L2, MetricFan::Chain { epsilon }) = (curved, metric, fan) {
-        return (straw_hut(site, reach, epsilon), epsilon);
+        return (straw_hut(site, meshes, reach, epsilon), epsilon);
     }
     let (fan, chord) = match fan {
         MetricFan::Chain { epsilon } if curved => (
@@ -134,7 +141,7 @@ pub fn fan_surface(site: &Site, metric: Metric, fan: MetricFan, reach: f64) -> (
         MetricFan::Chain { .. } => (fan, 0.0),
         MetricFan::Uniform { .. } => (fan, 0.5 / b),
     };
-    let base = Base::new(metric, fan, reach + chord * b);
+    let base = Base::new(meshes, fan, reach + chord * b);
     let fan_error = fan.error_bound(metric, (reach + chord * b) / b);
     let mut out = Triangles::new();
     let polyline = match site.shape {
@@ -201,7 +208,7 @@ fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> 
 /// close enough that the chords at the outer radius stay within ε (so the hut
 /// errs by at most ε either way); an arc adds the cones of its two ends, which
 /// serve the pixels outside its wedge (the sliced hut of §3.9).
-fn straw_hut(site: &Site, reach: f64, epsilon: f64) -> Triangles {
+fn straw_hut(site: &Site, meshes: &FanMeshes, reach: f64, epsilon: f64) -> Triangles {
     let (center, r, start, span) = match site.shape {
         Shape::Circle { center, radius } => (center, radius, 0.0, std::f64::consts::TAU),
         Shape::Arc {
@@ -239,7 +246,7 @@ fn straw_hut(site: &Site, reach: f64, epsilon: f64) -> Triangles {
     }
     if span < std::f64::consts::TAU || r == 0.0 {
         let ends = [at(0, r), at(pieces, r)];
-        let base = Base::new(Metric::L2, MetricFan::Chain { epsilon }, reach);
+        let base = Base::new(meshes, MetricFan::Chain { epsilon }, reach);
         for p in ends {
             base.cone(p, &mut out);
         }
