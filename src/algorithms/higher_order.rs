@@ -565,12 +565,7 @@ pub fn k_nearest_peeled(
         .collect();
     let reach = cones.iter().map(|c| c.2).fold(1.0, f64::max) * 1.001;
     let metric = options.metric;
-    let scale = metric
-        .key_of_distance(reach * metric.euclidean_bounds().1)
-        .log2()
-        .ceil()
-        .exp2()
-        .recip();
+    let scale = metric.key_scale(reach);
     stats.bounds_ms = ms(started);
 
     let started = Instant::now();
@@ -823,14 +818,7 @@ pub fn furthest(
         .map(|c| f32::from_bits(c[3]) as f64)
         .fold(1.0, f64::max)
         * 1.001;
-    // A power of two keeps keys (squared distances for L2) exact in the depth
-    // buffer; a Euclidean reach r is at most b r in the metric.
-    let scale = metric
-        .key_of_distance(reach * metric.euclidean_bounds().1)
-        .log2()
-        .ceil()
-        .exp2()
-        .recip();
+    let scale = metric.key_scale(reach);
     let ids = machine.image(Format::R32Uint, frame.width, frame.height)?;
     let depth = machine.image(Format::Depth, frame.width, frame.height)?;
     let mesh = machine.vertex_buffer(&unit)?;

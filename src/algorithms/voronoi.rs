@@ -719,12 +719,7 @@ fn depth_scale<'a>(
         // A Euclidean reach r is at most b r in the metric.
         Accuracy::Exact => DepthScale {
             vertex: 0.0,
-            fragment: metric
-                .key_of_distance(reach * metric.euclidean_bounds().1)
-                .log2()
-                .ceil()
-                .exp2()
-                .recip(),
+            fragment: metric.key_scale(reach),
         },
         Accuracy::Fan { .. } => DepthScale {
             vertex: reach.log2().ceil().exp2().recip(),

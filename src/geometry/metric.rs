@@ -233,6 +233,17 @@ impl Metric {
         }
     }
 
+    /// The power of two that maps the keys of every offset within Euclidean
+    /// distance `reach` into the depth range [0, 1]; powers of two keep the
+    /// mapping exact, so equal keys stay equal depths.
+    pub fn key_scale(self, reach: f64) -> f64 {
+        self.key_of_distance(reach * self.euclidean_bounds().1)
+            .log2()
+            .ceil()
+            .exp2()
+            .recip()
+    }
+
     /// The distance of a key.
     pub fn distance_of_key(self, key: f64) -> f64 {
         match self {
