@@ -119,7 +119,8 @@ pub struct Args {
 
     /// Largest tile side in pixels. Pictures larger than a tile (or than the
     /// device's largest image) are rendered tile by tile and written band by band,
-    /// so the whole picture is never held in memory.
+    /// so the whole picture is never held in memory (weighted and extended sites
+    /// are tiled too, their arrays assembled on the host).
     #[arg(long, value_name = "PIXELS")]
     max_tile: Option<u32>,
 
