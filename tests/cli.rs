@@ -443,3 +443,34 @@ fn settle_rejects_bad_requests() {
     let (ok, _, stderr) = pixgeo(&["settle", "--random", "3", "--metric", "lp:-1"]);
     assert!(!ok && stderr.contains("p > 0"), "{stderr}");
 }
+
+#[test]
+fn enclose_and_empty_print_exact_homothets() {
+    let sites = temp("homothet.csv");
+    std::fs::write(&sites, "x,y\n0,0\n4,0\n0,3\n").unwrap();
+    let s = sites.to_str().unwrap();
+    let (ok, stdout, stderr) = pixgeo(&["enclose", "--sites", s, "--json", "--size", "128"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    // The right triangle's smallest circle is on its hypotenuse: radius 2.5.
+    assert!(
+        (v["exact"]["scale"].as_f64().unwrap() - 2.5).abs() < 1e-9,
+        "{stdout}"
+    );
+    let region = temp("region.json");
+    std::fs::write(&region, "[[[0,0],[4,0],[4,3],[0,3]]]").unwrap();
+    let (ok, stdout, stderr) = pixgeo(&[
+        "empty",
+        "--sites",
+        s,
+        "--region",
+        region.to_str().unwrap(),
+        "--size",
+        "128",
+    ]);
+    assert!(ok, "{stderr}");
+    // The far corner (4, 3) is 3 from (4, 0) and (0, 3), 5 from (0, 0).
+    assert!(stdout.contains("scale 3"), "{stdout}");
+    let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--k", "9"]);
+    assert!(!ok && stderr.contains("cannot enclose 9 of 3"), "{stderr}");
+}

@@ -33,8 +33,8 @@ use crate::{
     },
     machine::{
         Buffer, ChannelMask, Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams,
-        Format, Machine, Pass, PixelRect, Program, RasterState, RectDraw, StencilOp, StencilTest,
-        Target,
+        Format, Image, Machine, Pass, PixelRect, Program, RasterState, RectDraw, StencilOp,
+        StencilTest, Target,
     },
 };
 
@@ -782,6 +782,56 @@ pub fn furthest(
     frame: &Frame,
     metric: Metric,
 ) -> Result<Furthest> {
+    let drawn = draw_furthest(machine, sites, frame, metric)?;
+    let rect = PixelRect::of(&drawn.ids);
+    let labels = machine.read_u32(&drawn.ids, rect)?;
+    let depths = machine.read_f32(&drawn.depth, rect)?;
+    let (metric, scale) = (drawn.metric, drawn.scale);
+    let distances = depths
+        .par_iter()
+        .zip(&labels)
+        .map(|(z, id)| {
+            if *id == u32::MAX {
+                f32::INFINITY
+            } else {
+                distance_of_depth(metric, scale, *z, frame) as f32
+            }
+        })
+        .collect();
+    Ok(Furthest {
+        width: frame.width,
+        height: frame.height,
+        labels,
+        distances,
+        hull: drawn.owners,
+    })
+}
+
+/// The upper envelope of the sites' cones, still on the device.
+pub(crate) struct DrawnFurthest {
+    /// Furthest site per pixel.
+    pub ids: Image,
+    /// The envelope's keys times `scale`.
+    pub depth: Image,
+    pub scale: f64,
+    pub metric: Metric,
+    /// The sites drawn.
+    pub owners: Vec<u32>,
+}
+
+/// The distance (world units) a depth of keys times `scale` stands for.
+pub(crate) fn distance_of_depth(metric: Metric, scale: f64, z: f32, frame: &Frame) -> f64 {
+    metric.distance_of_key(z as f64 / scale) / frame.scale
+}
+
+/// Draws the upper envelope of the cones of `sites` under `metric` (only the
+/// sites that can own a region).
+pub(crate) fn draw_furthest(
+    machine: &Machine,
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+) -> Result<DrawnFurthest> {
     check_sites(sites)?;
     frame.check()?;
     let side = machine.max_picture_side();
@@ -866,28 +916,12 @@ pub fn furthest(
         )?;
         pass.end()
     })?;
-    let rect = PixelRect::of(&ids);
-    let labels = machine.read_u32(&ids, rect)?;
-    let depths = machine.read_f32(&depth, rect)?;
-    let unscale = (1.0 / scale) as f32;
-    let to_world = (1.0 / frame.scale) as f32;
-    let distances = depths
-        .par_iter()
-        .zip(&labels)
-        .map(|(z, id)| {
-            if *id == u32::MAX {
-                f32::INFINITY
-            } else {
-                metric.distance_of_key((z * unscale) as f64) as f32 * to_world
-            }
-        })
-        .collect();
-    Ok(Furthest {
-        width: frame.width,
-        height: frame.height,
-        labels,
-        distances,
-        hull: owners,
+    Ok(DrawnFurthest {
+        ids,
+        depth,
+        scale,
+        metric,
+        owners,
     })
 }
 

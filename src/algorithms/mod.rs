@@ -4,6 +4,7 @@
 pub mod cpu;
 pub mod distances;
 pub mod higher_order;
+pub mod homothet;
 pub mod settle;
 pub mod sites;
 pub mod voronoi;

@@ -27,8 +27,8 @@ use crate::{
         surface::{fan_surface, Triangles},
     },
     machine::{
-        Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Machine, PixelRect, Program,
-        RasterState, SiteInstance, Target,
+        Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Image, Machine, PixelRect,
+        Program, RasterState, SiteInstance, Target,
     },
 };
 
@@ -47,6 +47,82 @@ pub fn voronoi_sites(
     sites: &[Site],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
+    let frame = options.frame;
+    let width = frame.width as usize;
+    let mut labels = vec![u32::MAX; frame.len()];
+    let mut depths = if options.distances {
+        vec![0.0f32; frame.len()]
+    } else {
+        Vec::new()
+    };
+    let mut readback_ms = 0.0;
+    let (mut stats, depth) = draw_sites(machine, sites, options, |tile| {
+        let read = Instant::now();
+        let at = tile.y0 as usize * width + tile.x0 as usize;
+        machine.read_u32_into(tile.ids, tile.inner, &mut labels[at..], width)?;
+        if options.distances {
+            machine.read_f32_into(tile.depth, tile.inner, &mut depths[at..], width)?;
+        }
+        readback_ms += ms(read);
+        Ok(())
+    })?;
+    stats.readback_ms = readback_ms;
+    stats.render_ms -= readback_ms;
+    let started = Instant::now();
+    let distances = depths
+        .par_iter()
+        .zip(&labels)
+        .map(|(z, id)| {
+            if *id == u32::MAX {
+                f32::INFINITY
+            } else {
+                depth.distance(*z) as f32
+            }
+        })
+        .collect();
+    stats.readback_ms += ms(started);
+    Ok(VoronoiDiagram {
+        width: frame.width,
+        height: frame.height,
+        labels,
+        distances,
+        ties: Vec::new(),
+        stats,
+    })
+}
+
+/// One drawn tile of a diagram of sites: its images (ids, and depth with a clear
+/// stencil), where it lies in the picture and the part of it that is picture.
+pub(crate) struct DrawnTile<'a> {
+    pub ids: &'a Image,
+    pub depth: &'a Image,
+    pub x0: u32,
+    pub y0: u32,
+    pub inner: PixelRect,
+    pub keys: SiteDepth,
+}
+
+/// How depths of a diagram of sites map to weighted distances (world units).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SiteDepth {
+    pub scale: f64,
+    pub least_additive: f64,
+}
+
+impl SiteDepth {
+    pub fn distance(self, z: f32) -> f64 {
+        z as f64 / self.scale + self.least_additive
+    }
+}
+
+/// Draws the lower envelope of the sites' distance surfaces tile by tile, handing
+/// each tile to `visit` while it is on the device.
+pub(crate) fn draw_sites(
+    machine: &Machine,
+    sites: &[Site],
+    options: &VoronoiOptions,
+    mut visit: impl FnMut(&DrawnTile<'_>) -> Result<()>,
+) -> Result<(VoronoiStats, SiteDepth)> {
     let accuracy = match (options.metric, options.accuracy) {
         // Fans over a polygon are exact for points and segments; circles and arcs
         // take chords within a thousandth of a pixel.
@@ -160,7 +236,8 @@ pub fn voronoi_sites(
     // rectangles that meet it, or every fan triangle (the rasterizer clips them).
     let (tile_w, tile_h) = (max_tile.min(frame.width), max_tile.min(frame.height));
     let ids = machine.image(Format::R32Uint, tile_w, tile_h)?;
-    let depth = machine.image(Format::Depth, tile_w, tile_h)?;
+    // The stencil is left for the visitor (a region mask, for instance).
+    let depth = machine.image(Format::DepthStencil, tile_w, tile_h)?;
     let mesh = machine.vertex_buffer(&UNIT_SQUARE)?;
     // The fan surfaces' two per-vertex buffers, made once for every tile.
     let fans = match &draw {
@@ -186,13 +263,6 @@ pub fn voronoi_sites(
                 count,
             ))
         }
-    };
-    let width = frame.width as usize;
-    let mut labels = vec![u32::MAX; frame.len()];
-    let mut depths = if options.distances {
-        vec![0.0f32; frame.len()]
-    } else {
-        Vec::new()
     };
     for y0 in (0..frame.height).step_by(tile_h as usize) {
         for x0 in (0..frame.width).step_by(tile_w as usize) {
@@ -262,7 +332,7 @@ pub fn voronoi_sites(
                     Clear {
                         color: Some(ClearColor::Uint([u32::MAX; 4])),
                         depth: Some(1.0),
-                        stencil: None,
+                        stencil: Some(0),
                     },
                 )?;
                 pass.draw_cones(
@@ -281,38 +351,27 @@ pub fn voronoi_sites(
                 )?;
                 pass.end()
             })?;
-            let read = Instant::now();
-            let at = y0 as usize * width + x0 as usize;
-            machine.read_u32_into(&ids, inner, &mut labels[at..], width)?;
-            if options.distances {
-                machine.read_f32_into(&depth, inner, &mut depths[at..], width)?;
-            }
-            stats.readback_ms += ms(read);
+            visit(&DrawnTile {
+                ids: &ids,
+                depth: &depth,
+                x0,
+                y0,
+                inner,
+                keys: SiteDepth {
+                    scale: depth_scale,
+                    least_additive,
+                },
+            })?;
         }
     }
-    stats.render_ms = ms(started) - stats.readback_ms;
-
-    let started = Instant::now();
-    let distances = depths
-        .par_iter()
-        .zip(&labels)
-        .map(|(z, id)| {
-            if *id == u32::MAX {
-                f32::INFINITY
-            } else {
-                (*z as f64 / depth_scale + least_additive) as f32
-            }
-        })
-        .collect();
-    stats.readback_ms += ms(started);
-    Ok(VoronoiDiagram {
-        width: frame.width,
-        height: frame.height,
-        labels,
-        distances,
-        ties: Vec::new(),
+    stats.render_ms = ms(started);
+    Ok((
         stats,
-    })
+        SiteDepth {
+            scale: depth_scale,
+            least_additive,
+        },
+    ))
 }
 
 /// What one diagram draws.

@@ -53,6 +53,30 @@ pub struct MinMax {
     pub channels: usize,
 }
 
+/// The smallest and largest depth of a picture, the first pixel (row-major
+/// index) holding each, and the pixels near one of them when asked for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthExtremes {
+    pub min: f32,
+    pub max: f32,
+    pub at_min: usize,
+    pub at_max: usize,
+    /// Pixels within [`NearExtreme::within`] of the extreme asked for (at most
+    /// its capacity of them, in no order).
+    pub near: Vec<usize>,
+    /// How many pixels were that near (more than `near` holds if it overflowed).
+    pub near_count: usize,
+}
+
+/// Which pixels [`Machine::depth_extremes`] should also list: those within
+/// `within` (depth units) of the minimum or of the maximum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NearExtreme {
+    pub maximum: bool,
+    pub within: f32,
+    pub capacity: u32,
+}
+
 /// Bins of a histogram: `[low + b * width, low + (b + 1) * width)` for `b < bins`.
 /// For integer buffers `low` and `width` are rounded to integers (width at least 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -492,6 +516,68 @@ impl Machine {
             out.max[c] = decode(raw[4 + c]);
         }
         Ok(out)
+    }
+
+    /// The extremes of the depth buffer `depth` and where they are: the depth is
+    /// copied to a storage buffer on the device and reduced there by
+    /// [`BufferKernel::Extremum`]; four words come back to the host.
+    pub fn depth_extremes(
+        &self,
+        depth: &Image,
+        near: Option<NearExtreme>,
+    ) -> Result<DepthExtremes> {
+        if !matches!(depth.format(), Format::Depth | Format::DepthStencil) {
+            return Err(Error::InvalidInput(
+                "depth extremes are taken of a depth image".into(),
+            ));
+        }
+        let (w, h) = (depth.width(), depth.height());
+        let values = self.storage_buffer(4 * w as u64 * h as u64)?;
+        let capacity = near.map_or(0, |n| n.capacity);
+        let mut result = self.storage_buffer(4 * (5 + capacity as u64))?;
+        result.write(&[u32::MAX, 0, u32::MAX, u32::MAX, 0]);
+        // One invocation per strip of 64 rows of a column.
+        let strips = w * h.div_ceil(64);
+        self.with_compute_buffers([&values, &result], |set| {
+            self.run(|pass| {
+                pass.feed_fragment_buffer(depth, &values, 0)?;
+                let push = |phase: u32| {
+                    let within = near.map_or(0.0, |n| n.within);
+                    [w, h, phase, within.to_bits(), capacity]
+                };
+                pass.dispatch(BufferKernel::Extremum, set, strips, &push(0))?;
+                pass.dispatch(BufferKernel::Extremum, set, strips, &push(1))?;
+                if let Some(n) = near {
+                    pass.dispatch(
+                        BufferKernel::Extremum,
+                        set,
+                        strips,
+                        &push(2 + u32::from(n.maximum)),
+                    )?;
+                }
+                Ok(())
+            })
+        })?;
+        let raw: Vec<u32> = result.read(5 + capacity as usize);
+        let near_count = raw[4] as usize;
+        let decode = |u: u32| {
+            f32::from_bits(if u & 0x8000_0000 != 0 {
+                u & 0x7fff_ffff
+            } else {
+                !u
+            })
+        };
+        Ok(DepthExtremes {
+            min: decode(raw[0]),
+            max: decode(raw[1]),
+            at_min: raw[2] as usize,
+            at_max: raw[3] as usize,
+            near: raw[5..5 + near_count.min(capacity as usize)]
+                .iter()
+                .map(|&i| i as usize)
+                .collect(),
+            near_count,
+        })
     }
 
     /// The histogram function (thesis §1.7) of one channel over `rect`, computed on

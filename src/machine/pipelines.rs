@@ -94,6 +94,9 @@ pub enum BufferKernel {
     SettleSpans,
     /// Prefix sums along each row of a picture of `i32`, in place.
     RowPrefix,
+    /// The extremes of a float picture and their first indices, in two phases
+    /// (push `[width, height, phase]`, one invocation per 64 rows of a column).
+    Extremum,
 }
 
 impl BufferKernel {
@@ -102,6 +105,7 @@ impl BufferKernel {
         match self {
             BufferKernel::SettleSpans => 64,
             BufferKernel::RowPrefix => 64,
+            BufferKernel::Extremum => 64,
         }
     }
 
@@ -109,6 +113,7 @@ impl BufferKernel {
         match self {
             BufferKernel::SettleSpans => "settle_spans.comp",
             BufferKernel::RowPrefix => "row_prefix.comp",
+            BufferKernel::Extremum => "extremum.comp",
         }
     }
 }
@@ -171,6 +176,7 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("site_fan.frag", shaders::SITE_FAN_FRAG),
     ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
     ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
+    ("extremum.comp", shaders::EXTREMUM_COMP),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),

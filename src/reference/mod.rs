@@ -3,5 +3,6 @@
 #![forbid(unsafe_code)]
 
 pub mod higher_order;
+pub mod homothet;
 pub mod settle;
 pub mod voronoi;

@@ -19,11 +19,11 @@ pub struct Common {
     /// Picture side in pixels (default: about 4·sqrt(n), 256 to 4096). A coarser
     /// picture only means more points are checked exactly; the answer stays exact.
     #[arg(long, value_name = "PIXELS")]
-    size: Option<u32>,
+    pub size: Option<u32>,
 
     /// Print the answer as JSON.
     #[arg(long)]
-    json: bool,
+    pub json: bool,
 
     /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
     #[arg(long)]
@@ -31,7 +31,7 @@ pub struct Common {
 }
 
 impl Common {
-    fn machine(&self) -> Result<Machine> {
+    pub fn machine(&self) -> Result<Machine> {
         let mut options = MachineOptions::from_env();
         if let Some(d) = &self.device {
             options.device = DeviceChoice::parse(d);

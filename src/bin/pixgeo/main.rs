@@ -2,6 +2,7 @@
 
 mod distances;
 mod gallery;
+mod homothet;
 mod input;
 mod settle;
 mod voronoi;
@@ -30,6 +31,8 @@ enum Command {
     Diameter(distances::DiameterArgs),
     Maxdist(distances::MaxDistArgs),
     Settle(Box<settle::Args>),
+    Enclose(homothet::EncloseArgs),
+    Empty(homothet::EmptyArgs),
     Gallery(gallery::Args),
 }
 
@@ -40,6 +43,8 @@ fn main() -> anyhow::Result<()> {
         Command::Diameter(args) => distances::diameter(args),
         Command::Maxdist(args) => distances::maxdist(args),
         Command::Settle(args) => settle::run(*args),
+        Command::Enclose(args) => homothet::enclose(args),
+        Command::Empty(args) => homothet::empty(args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

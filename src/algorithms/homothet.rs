@@ -1,0 +1,810 @@
+//! Smallest enclosing and largest empty homothets (thesis ch. 4 and 5).
+//!
+//! A homothet of a polygon Q (star-shaped around its kernel point, the origin) is
+//! `c + λ Q`. It contains a site s exactly when the gauge of Q at s − c is at most
+//! λ, which is the distance of the reflected polygon −Q from s to c: a cone with
+//! base −Q stands on every site. The upper envelope of these cones is, at each
+//! pixel, the smallest λ of a homothet centred there that holds every site, so its
+//! lowest pixel is the smallest enclosing homothet (§4.3); the k-th level gives the
+//! smallest one holding k sites (§4.4.1); the lower envelope's highest pixel inside
+//! the allowed region is the largest empty one (§5.3), the rest of the picture
+//! pushed to depth 0 through a stencil mask of the region (§5.4.1). Only the
+//! extreme and its pixel leave the device ([`Machine::depth_extremes`]).
+//!
+//! The pixel answer is a candidate. The exact answer comes from the few sites the
+//! candidate names: Welzl's algorithm for the smallest enclosing circle (checked
+//! against every site, repeated with any site left out), and otherwise every
+//! point where three of the candidate sites' distance pieces (or region edges)
+//! meet, evaluated exactly against all sites.
+
+use glam::DVec2;
+use serde::Serialize;
+
+use crate::{
+    error::{Error, Result},
+    geometry::{
+        frame::check_sites,
+        metric::{Gauge, Metric},
+        site::Site,
+        Frame,
+    },
+    machine::{
+        ChannelMask, Clear, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Machine,
+        NearExtreme, Program, RasterState, RectDraw, StencilOp, StencilTest, Target,
+    },
+};
+
+use super::{
+    higher_order::{draw_furthest, k_nearest, KNearestOptions},
+    sites::draw_sites,
+    voronoi::{Accuracy, Speedup, VoronoiOptions},
+};
+
+/// The shape whose homothets are sought: a circle or a polygon star-shaped
+/// around its kernel point (the origin of its [`Gauge`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Unit {
+    Circle,
+    Polygon(&'static Gauge),
+}
+
+impl Unit {
+    /// The distance from a site to a centre: the gauge of site − centre.
+    fn gauge(self, v: DVec2) -> f64 {
+        match self {
+            Unit::Circle => v.length(),
+            Unit::Polygon(g) => g.of(v),
+        }
+    }
+
+    /// The metric of the cones: the reflected unit −Q.
+    fn cone_metric(self) -> Result<Metric> {
+        match self {
+            Unit::Circle => Ok(Metric::L2),
+            Unit::Polygon(g) => {
+                let reflected: Vec<DVec2> = g.vertices.iter().map(|v| -*v).collect();
+                Metric::polygon(&reflected, DVec2::ZERO).map_err(Error::InvalidInput)
+            }
+        }
+    }
+
+    /// How much the gauge can change per unit of Euclidean motion.
+    fn lipschitz(self) -> f64 {
+        match self {
+            Unit::Circle => 1.0,
+            Unit::Polygon(g) => Metric::Polygon(g).euclidean_bounds().1,
+        }
+    }
+}
+
+/// A homothet `centre + scale · Q`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Homothet {
+    pub centre: [f64; 2],
+    pub scale: f64,
+    /// The sites that determine it (on its boundary), where known.
+    pub sites: Vec<u32>,
+}
+
+/// The answer: what the picture says, the exact homothet, and how far apart they
+/// may be.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct HomothetAnswer {
+    /// The pixel holding the envelope's extreme, and its depth as a scale.
+    pub pixel: Homothet,
+    pub exact: Homothet,
+    /// Bound on |pixel scale − exact scale| from the pixel size: the gauge changes
+    /// by at most this much over half a pixel's diagonal.
+    pub pixel_bound: f64,
+    /// Candidate points (or Welzl rounds) evaluated exactly.
+    pub checked: usize,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Picture side (pixels along the longer axis) used when none is given.
+pub const DEFAULT_SIDE: u32 = 512;
+
+/// The smallest homothet of `unit` holding at least `k` of the point `sites`
+/// (every site when `k` is 0 or the number of sites).
+pub fn enclose(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    k: usize,
+    side: u32,
+) -> Result<HomothetAnswer> {
+    check_sites(sites)?;
+    let n = sites.len();
+    let k = if k == 0 { n } else { k };
+    if k > n {
+        return Err(Error::InvalidInput(format!(
+            "cannot enclose {k} of {n} sites"
+        )));
+    }
+    let frame = enclosing_frame(sites, unit, side, k)?;
+    let metric = unit.cone_metric()?;
+    let bound = half_diagonal(&frame) * unit.lipschitz();
+    let (pixel, value, near_pixels) = if k == n {
+        let drawn = draw_furthest(machine, sites, &frame, metric)?;
+        let lowest = machine.depth_extremes(&drawn.depth, None)?;
+        let value = super::higher_order::distance_of_depth(metric, drawn.scale, lowest.min, &frame);
+        // Every pixel that could be the optimum's: within twice the bound.
+        let key = |d: f64| metric.key_of_distance(d * frame.scale) * drawn.scale;
+        let within = (key(value + 2.0 * bound) - key(value)) as f32;
+        let extremes = machine.depth_extremes(
+            &drawn.depth,
+            Some(NearExtreme {
+                maximum: false,
+                within,
+                capacity: NEAR_PIXELS,
+            }),
+        )?;
+        (lowest.at_min, value, extremes.near)
+    } else {
+        // The k-th level of the lower envelope, read back: its lowest pixel.
+        let levels = k_nearest(
+            machine,
+            sites,
+            &KNearestOptions {
+                frame,
+                k: k as u32,
+                metric,
+                accuracy: Accuracy::Exact,
+                speedup: Speedup::Quadtree,
+            },
+        )?;
+        let kth = levels.level_distances(k as u32 - 1);
+        let (at, d) = kth
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(b.1))
+            .expect("a picture has pixels");
+        let d = *d as f64;
+        let near: Vec<usize> = (0..kth.len())
+            .filter(|&p| (kth[p] as f64) <= d + 2.0 * bound)
+            .take(NEAR_PIXELS as usize)
+            .collect();
+        (at, d, near)
+    };
+    let centre = pixel_centre(&frame, pixel);
+    let pixel_bound = bound + 1e-5 * value;
+    let (around, reach) = surroundings(&frame, &near_pixels);
+    let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
+    let (exact, checked) = if k == n && unit == Unit::Circle {
+        smallest_circle(sites, around, value, slack)
+    } else {
+        let near: Vec<u32> = candidates(sites, |s| {
+            let g = unit.gauge(s - around);
+            if k == n {
+                g >= value - slack
+            } else {
+                g <= value + slack
+            }
+        });
+        let evaluate = |c: DVec2| kth_gauge(sites, unit, c, k);
+        best_vertex(
+            sites,
+            unit,
+            around,
+            reach,
+            &near,
+            &[],
+            Goal::Smallest,
+            evaluate,
+        )
+        .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?
+    };
+    Ok(HomothetAnswer {
+        pixel: Homothet {
+            centre: centre.to_array(),
+            scale: value,
+            sites: Vec::new(),
+        },
+        exact,
+        pixel_bound,
+        checked,
+        width: frame.width,
+        height: frame.height,
+    })
+}
+
+/// Where the centre of the largest empty homothet may lie.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Region {
+    /// Closed rings (polygons and their holes, any orientation); a point is inside
+    /// when it is inside an odd number of rings. Empty: the sites' bounding box.
+    pub rings: Vec<Vec<DVec2>>,
+}
+
+impl Region {
+    /// Even-odd inside test.
+    pub fn contains(&self, p: DVec2) -> bool {
+        let mut inside = false;
+        for ring in &self.rings {
+            for k in 0..ring.len() {
+                let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+                if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x)
+                {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+
+    fn edges(&self) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+        self.rings
+            .iter()
+            .flat_map(|r| (0..r.len()).map(move |k| (r[k], r[(k + 1) % r.len()])))
+    }
+}
+
+/// The largest homothet of `unit` containing none of the point `sites`, its
+/// centre in `region`.
+pub fn largest_empty(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    region: &Region,
+    side: u32,
+) -> Result<HomothetAnswer> {
+    check_sites(sites)?;
+    let region = if region.rings.is_empty() {
+        let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+        let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+        Region {
+            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+        }
+    } else {
+        check_region(region)?;
+        region.clone()
+    };
+    let points: Vec<DVec2> = region.rings.iter().flatten().copied().collect();
+    let lo = points.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = points.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    if !(hi - lo).cmpgt(DVec2::ZERO).all() {
+        return Err(Error::InvalidInput("the region has no area".into()));
+    }
+    let frame = Frame::with_bbox(side, None, [lo.x, lo.y, hi.x, hi.y])?;
+    let metric = unit.cone_metric()?;
+    let options = VoronoiOptions {
+        metric,
+        speedup: Speedup::Quadtree,
+        ..VoronoiOptions::exact(frame)
+    };
+    let shaped: Vec<Site> = sites.iter().map(|p| Site::point(*p)).collect();
+    let region_mesh = region_triangles(&region, &frame);
+    let bound = half_diagonal(&frame) * unit.lipschitz();
+    // Per tile: its highest depth and the pixels within twice the bound of it.
+    let mut tiles: Vec<(f32, Vec<usize>)> = Vec::new();
+    let (_, depth) = draw_sites(machine, &shaped, &options, |tile| {
+        mask_outside(
+            machine,
+            tile.ids,
+            tile.depth,
+            &region_mesh,
+            tile.x0,
+            tile.y0,
+        )?;
+        let w = tile.depth.width() as usize;
+        let to_picture = |at: usize| {
+            let (i, j) = ((at % w) as u32, (at / w) as u32);
+            (i < tile.inner.width && j < tile.inner.height)
+                .then(|| (tile.y0 + j) as usize * frame.width as usize + (tile.x0 + i) as usize)
+        };
+        let highest = machine.depth_extremes(tile.depth, None)?;
+        let extremes = machine.depth_extremes(
+            tile.depth,
+            Some(NearExtreme {
+                maximum: true,
+                within: (2.0 * bound * tile.keys.scale) as f32,
+                capacity: NEAR_PIXELS,
+            }),
+        )?;
+        let near: Vec<usize> = extremes
+            .near
+            .iter()
+            .filter_map(|&a| to_picture(a))
+            .collect();
+        if let Some(at) = to_picture(highest.at_max) {
+            tiles.push((highest.max, std::iter::once(at).chain(near).collect()));
+        }
+        Ok(())
+    })?;
+    let top = tiles.iter().map(|t| t.0).fold(f32::NEG_INFINITY, f32::max);
+    if tiles.is_empty() || top <= 0.0 {
+        return Err(Error::InvalidInput(
+            "no pixel centre lies in the region".into(),
+        ));
+    }
+    let value = depth.distance(top);
+    let near_pixels: Vec<usize> = tiles
+        .iter()
+        .filter(|t| depth.distance(t.0) >= value - 2.0 * bound)
+        .flat_map(|t| t.1.iter().copied())
+        .collect();
+    let centre = pixel_centre(&frame, near_pixels[0]);
+    let pixel_bound = bound + 1e-5 * value;
+    let (around, reach) = surroundings(&frame, &near_pixels);
+    let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
+    let near = candidates(sites, |s| unit.gauge(s - around) <= value + slack);
+    let edges: Vec<(DVec2, DVec2)> = region
+        .edges()
+        .filter(|(a, b)| segment_distance(around, *a, *b) <= reach + 3.0 * half_diagonal(&frame))
+        .collect();
+    let evaluate = |c: DVec2| {
+        if region.contains(c)
+            || edges
+                .iter()
+                .any(|(a, b)| segment_distance(c, *a, *b) < 1e-9 * (1.0 + c.abs().max_element()))
+        {
+            kth_gauge(sites, unit, c, 1)
+        } else {
+            None
+        }
+    };
+    let (exact, checked) = best_vertex(
+        sites,
+        unit,
+        centre,
+        reach,
+        &near,
+        &edges,
+        Goal::Largest,
+        evaluate,
+    )
+    .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    Ok(HomothetAnswer {
+        pixel: Homothet {
+            centre: centre.to_array(),
+            scale: value,
+            sites: Vec::new(),
+        },
+        exact,
+        pixel_bound,
+        checked,
+        width: frame.width,
+        height: frame.height,
+    })
+}
+
+fn check_region(region: &Region) -> Result<()> {
+    for (r, ring) in region.rings.iter().enumerate() {
+        if ring.len() < 3 {
+            return Err(Error::InvalidInput(format!(
+                "region ring {r} has {} vertices; it needs 3",
+                ring.len()
+            )));
+        }
+        if ring.iter().any(|p| !p.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "region ring {r} has a coordinate that is not finite"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A frame sure to hold the best centre. The homothet centred on the sites'
+/// bounding box's middle that holds k of them has a scale λ₀ no smaller than the
+/// optimum's, so the best centre lies in the intersection (all sites) or the
+/// union (k of them) of the boxes of `s − λ₀ Q`.
+fn enclosing_frame(sites: &[DVec2], unit: Unit, side: u32, k: usize) -> Result<Frame> {
+    let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    let mid = (lo + hi) / 2.0;
+    let scale0 = kth_gauge(sites, unit, mid, k).unwrap_or(0.0);
+    // Fewer than all: the centre is within λ₀ (−Q) of one of the k it holds.
+    let (lo, hi) = if k < sites.len() { (hi, lo) } else { (lo, hi) };
+    let (qlo, qhi) = match unit {
+        Unit::Circle => (DVec2::splat(-1.0), DVec2::splat(1.0)),
+        Unit::Polygon(g) => (
+            g.vertices.iter().fold(DVec2::INFINITY, |a, p| a.min(*p)),
+            g.vertices
+                .iter()
+                .fold(DVec2::NEG_INFINITY, |a, p| a.max(*p)),
+        ),
+    };
+    // c ∈ s − λ₀Q for every s: c ≥ s − λ₀ qhi and c ≤ s − λ₀ qlo.
+    let mut blo = hi - qhi * scale0;
+    let mut bhi = lo - qlo * scale0;
+    // The box can shrink to the answer itself (co-circular sites): keep a few
+    // percent of the sites' extent around it.
+    let floor = 0.05 * (hi - lo).abs().max_element() + 1e-9 * (1.0 + mid.abs().max_element());
+    let middle = (blo + bhi) / 2.0;
+    blo = blo.min(middle - DVec2::splat(floor / 2.0));
+    bhi = bhi.max(middle + DVec2::splat(floor / 2.0));
+    let extent = (bhi - blo).max_element();
+    let pad = DVec2::splat(extent * 4.0 / side as f64);
+    blo -= pad;
+    bhi = bhi.max(blo + DVec2::splat(extent * 1e-3)) + pad;
+    Frame::with_bbox(side, None, [blo.x, blo.y, bhi.x, bhi.y])
+}
+
+/// Pixels near the extreme that are refined around, at most.
+const NEAR_PIXELS: u32 = 4096;
+
+/// A disc holding every centre the near-extreme pixels stand for: around their
+/// bounding box's middle, reaching its corners plus four pixels.
+fn surroundings(frame: &Frame, pixels: &[usize]) -> (DVec2, f64) {
+    let centres: Vec<DVec2> = pixels.iter().map(|&p| pixel_centre(frame, p)).collect();
+    let lo = centres.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = centres.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    (
+        (lo + hi) / 2.0,
+        (hi - lo).length() / 2.0 + 8.0 * half_diagonal(frame),
+    )
+}
+
+fn pixel_centre(frame: &Frame, at: usize) -> DVec2 {
+    let w = frame.width as usize;
+    frame.to_world(DVec2::new((at % w) as f64, (at / w) as f64))
+}
+
+fn half_diagonal(frame: &Frame) -> f64 {
+    std::f64::consts::FRAC_1_SQRT_2 / frame.scale
+}
+
+fn candidates(sites: &[DVec2], keep: impl Fn(DVec2) -> bool) -> Vec<u32> {
+    (0..sites.len() as u32)
+        .filter(|&i| keep(sites[i as usize]))
+        .collect()
+}
+
+/// The k-th smallest gauge from `c` to the sites (1 = nearest; n = furthest).
+fn kth_gauge(sites: &[DVec2], unit: Unit, c: DVec2, k: usize) -> Option<f64> {
+    let mut g: Vec<f64> = sites.iter().map(|s| unit.gauge(*s - c)).collect();
+    let (_, kth, _) = g.select_nth_unstable_by(k - 1, f64::total_cmp);
+    Some(*kth)
+}
+
+fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    p.distance(a + ab * t)
+}
+
+/// The smallest enclosing circle, exact: Welzl's algorithm on the sites the
+/// picture names as far from its centre, repeated with every site it left out
+/// until none is.
+fn smallest_circle(sites: &[DVec2], centre: DVec2, radius: f64, slack: f64) -> (Homothet, usize) {
+    let mut chosen: Vec<u32> = candidates(sites, |s| s.distance(centre) >= radius - slack);
+    let mut rounds = 0;
+    loop {
+        rounds += 1;
+        let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
+        let circle = crate::reference::homothet::welzl(&points);
+        let slack = 1e-12 * (1.0 + circle.centre.abs().max_element() + circle.radius);
+        let missed: Vec<u32> = (0..sites.len() as u32)
+            .filter(|&i| sites[i as usize].distance(circle.centre) > circle.radius + slack)
+            .collect();
+        if missed.is_empty() {
+            let on: Vec<u32> = circle.support.iter().map(|&s| chosen[s]).collect();
+            return (
+                Homothet {
+                    centre: circle.centre.to_array(),
+                    scale: circle.radius,
+                    sites: on,
+                },
+                rounds,
+            );
+        }
+        chosen.extend(missed);
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Goal {
+    Smallest,
+    Largest,
+}
+
+/// A linear equation `a · c + b λ = r` in the centre c and the scale λ.
+#[derive(Clone, Copy)]
+struct Plane {
+    a: DVec2,
+    b: f64,
+    r: f64,
+}
+
+/// The best of the points where three of the distance pieces of the `near`
+/// sites and the `edges` meet (the pieces a centre within `reach` of `around`
+/// can see), each evaluated with `evaluate` (its exact value
+/// over all sites, or `None` where the point is not allowed).
+#[allow(clippy::too_many_arguments)]
+fn best_vertex(
+    sites: &[DVec2],
+    unit: Unit,
+    around: DVec2,
+    reach: f64,
+    near: &[u32],
+    edges: &[(DVec2, DVec2)],
+    goal: Goal,
+    evaluate: impl Fn(DVec2) -> Option<f64>,
+) -> Option<(Homothet, usize)> {
+    let mut planes: Vec<Plane> = Vec::new();
+    if let Unit::Polygon(g) = unit {
+        // Where the gauge of s − c changes its linear piece matters wherever the
+        // objective is not one convex piece-wise maximum: always for the largest
+        // empty homothet, and for polygons that are not convex.
+        let rays = goal == Goal::Largest || !g.is_convex();
+        let n = g.vertices.len();
+        for &i in near {
+            let s = sites[i as usize];
+            let (from, to) = directions_seen(s, around, reach);
+            for k in 0..n {
+                let (p, q) = (g.vertices[k], g.vertices[(k + 1) % n]);
+                if !sector_meets(p, q, from, to) {
+                    continue;
+                }
+                // In sector k the gauge of v = s − c is (v × e) / (p × q), e = q − p:
+                // c · (e.y, −e.x) + (p × q) λ = s × e.
+                let e = q - p;
+                planes.push(Plane {
+                    a: DVec2::new(e.y, -e.x),
+                    b: p.perp_dot(q),
+                    r: s.perp_dot(e),
+                });
+                if rays {
+                    // The ray s − t p where the piece begins: p × c = p × s.
+                    planes.push(Plane {
+                        a: DVec2::new(-p.y, p.x),
+                        b: 0.0,
+                        r: p.perp_dot(s),
+                    });
+                }
+            }
+        }
+    }
+    for (a, b) in edges {
+        let n = (*b - *a).perp();
+        planes.push(Plane {
+            a: n,
+            b: 0.0,
+            r: n.dot(*a),
+        });
+    }
+    let mut points: Vec<DVec2> = Vec::new();
+    match unit {
+        Unit::Polygon(_) => {
+            let m = planes.len();
+            for x in 0..m {
+                for y in x + 1..m {
+                    for z in y + 1..m {
+                        if let Some(c) = solve3(planes[x], planes[y], planes[z]) {
+                            points.push(c);
+                        }
+                    }
+                }
+                // Two lines meet in a point whose scale is evaluated.
+                for y in x + 1..m {
+                    if planes[x].b == 0.0 && planes[y].b == 0.0 {
+                        if let Some(c) = solve2(planes[x], planes[y]) {
+                            points.push(c);
+                        }
+                    }
+                }
+            }
+        }
+        Unit::Circle => {
+            let m = near.len();
+            let at = |i: usize| sites[near[i] as usize];
+            for x in 0..m {
+                for y in x + 1..m {
+                    points.push((at(x) + at(y)) / 2.0);
+                    for z in y + 1..m {
+                        if let Some(c) = circumcentre(at(x), at(y), at(z)) {
+                            points.push(c);
+                        }
+                    }
+                    // Equidistant from two sites on a region edge.
+                    for (a, b) in edges {
+                        let (u, v) = (at(x), at(y));
+                        let d = *b - *a;
+                        let denom = 2.0 * d.dot(v - u);
+                        if denom != 0.0 {
+                            let t = (v.length_squared() - u.length_squared() - 2.0 * a.dot(v - u))
+                                / denom;
+                            if (0.0..=1.0).contains(&t) {
+                                points.push(*a + d * t);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Sites themselves (the one-site homothet of scale 0) and region corners
+    // count as candidate centres.
+    points.extend(near.iter().map(|&i| sites[i as usize]));
+    for (a, b) in edges {
+        points.push(*a);
+        points.push(*b);
+    }
+    let checked = points.len();
+    let mut best: Option<(DVec2, f64)> = None;
+    for c in points {
+        if !c.is_finite() {
+            continue;
+        }
+        if let Some(v) = evaluate(c) {
+            let better = match (best, goal) {
+                (None, _) => true,
+                (Some((_, b)), Goal::Smallest) => v < b,
+                (Some((_, b)), Goal::Largest) => v > b,
+            };
+            if better {
+                best = Some((c, v));
+            }
+        }
+    }
+    let (c, v) = best?;
+    let tol = 1e-9 * (1.0 + v + c.abs().max_element());
+    let on: Vec<u32> = (0..sites.len() as u32)
+        .filter(|&i| (unit.gauge(sites[i as usize] - c) - v).abs() <= tol)
+        .collect();
+    Some((
+        Homothet {
+            centre: c.to_array(),
+            scale: v,
+            sites: on,
+        },
+        checked,
+    ))
+}
+
+/// The directions (angles, `from` ≤ `to`) in which `s` is seen from the disc of
+/// radius `reach` around `c`.
+fn directions_seen(s: DVec2, c: DVec2, reach: f64) -> (f64, f64) {
+    let v = s - c;
+    let d = v.length();
+    if d <= reach {
+        return (-std::f64::consts::PI, std::f64::consts::PI);
+    }
+    let mid = v.y.atan2(v.x);
+    let half = (reach / d).asin();
+    (mid - half, mid + half)
+}
+
+/// Whether the sector from direction `p` counter-clockwise to `q` meets the
+/// directions `from..=to`.
+fn sector_meets(p: DVec2, q: DVec2, from: f64, to: f64) -> bool {
+    use std::f64::consts::TAU;
+    if to - from >= TAU - 1e-12 {
+        return true;
+    }
+    let a = p.y.atan2(p.x);
+    let span = (q.y.atan2(q.x) - a).rem_euclid(TAU);
+    // Shift the interval so that it starts within one turn after a.
+    let start = (from - a).rem_euclid(TAU);
+    let end = start + (to - from);
+    start <= span || end >= TAU
+}
+
+fn solve3(p: Plane, q: Plane, r: Plane) -> Option<DVec2> {
+    let m = glam::DMat3::from_cols(
+        glam::DVec3::new(p.a.x, q.a.x, r.a.x),
+        glam::DVec3::new(p.a.y, q.a.y, r.a.y),
+        glam::DVec3::new(p.b, q.b, r.b),
+    );
+    let det = m.determinant();
+    let size = m
+        .x_axis
+        .abs()
+        .max_element()
+        .max(m.y_axis.abs().max_element())
+        .max(m.z_axis.abs().max_element());
+    if det.abs() <= 1e-12 * size * size * size {
+        return None;
+    }
+    let x = m.inverse() * glam::DVec3::new(p.r, q.r, r.r);
+    Some(DVec2::new(x.x, x.y))
+}
+
+fn solve2(p: Plane, q: Plane) -> Option<DVec2> {
+    let det = p.a.perp_dot(q.a);
+    if det.abs() <= 1e-12 * p.a.length() * q.a.length() {
+        return None;
+    }
+    Some(DVec2::new(
+        (p.r * q.a.y - q.r * p.a.y) / det,
+        (p.a.x * q.r - q.a.x * p.r) / det,
+    ))
+}
+
+fn circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
+    let (b, c) = (b - a, c - a);
+    let d = 2.0 * b.perp_dot(c);
+    if d == 0.0 {
+        return None;
+    }
+    let (b2, c2) = (b.length_squared(), c.length_squared());
+    Some(a + DVec2::new(c.y * b2 - b.y * c2, b.x * c2 - c.x * b2) / d)
+}
+
+/// The region as triangles in picture pixels (fans from each ring's first vertex,
+/// filled by even-odd stencil parity), in the `[x, y, depth]` layout of
+/// [`Program::SiteFan`].
+fn region_triangles(region: &Region, frame: &Frame) -> Vec<[f32; 3]> {
+    let mut out = Vec::new();
+    for ring in &region.rings {
+        let p: Vec<DVec2> = ring.iter().map(|v| frame.to_pixel(*v)).collect();
+        for k in 1..p.len() - 1 {
+            for v in [p[0], p[k], p[k + 1]] {
+                out.push([v.x as f32, v.y as f32, 0.0]);
+            }
+        }
+    }
+    out
+}
+
+/// Pushes every pixel outside the region to depth 0 (thesis §5.4.1): the
+/// region's fans invert the stencil's low bit, then a picture-wide rectangle at
+/// depth 0 is drawn where that bit is clear.
+fn mask_outside(
+    machine: &Machine,
+    ids: &crate::machine::Image,
+    depth: &crate::machine::Image,
+    triangles: &[[f32; 3]],
+    x0: u32,
+    y0: u32,
+) -> Result<()> {
+    let (w, h) = (depth.width(), depth.height());
+    let mut vertices = triangles.to_vec();
+    let count = vertices.len() as u32;
+    vertices.push([0.0; 3]);
+    let mesh = machine.vertex_buffer(&vertices)?;
+    let zeros = machine.vertex_buffer(&vec![0u32; vertices.len()])?;
+    let parity = RasterState {
+        stencil: StencilTest::on_pass(Compare::Always, 1, 1, StencilOp::Invert),
+        color_mask: ChannelMask::NONE,
+        ..RasterState::OVERWRITE
+    };
+    let forbid = RasterState {
+        depth: DepthTest {
+            compare: Compare::Always,
+            write: true,
+        },
+        stencil: StencilTest::on_pass(Compare::Equal, 1, 0, StencilOp::Keep),
+        color_mask: ChannelMask::NONE,
+        ..RasterState::OVERWRITE
+    };
+    let push = ConePush {
+        picture_size: [w as f32, h as f32],
+        offset: [x0 as f32, y0 as f32],
+        vertex_depth_scale: 0.0,
+        fragment_depth_scale: 0.0,
+        levels: 1,
+        metric: (0, 2.0),
+    };
+    machine.run(|pass| {
+        pass.begin(
+            Target {
+                color: Some(ids),
+                depth_stencil: Some(depth),
+            },
+            Clear::default(),
+        )?;
+        pass.draw_cones(
+            Program::SiteFan,
+            &parity,
+            &DrawParams::default(),
+            &push,
+            &ConeDraw {
+                mesh: &mesh,
+                first_vertex: 0,
+                vertex_count: count,
+                instances: &zeros,
+                first_instance: 0,
+                instance_count: u32::from(count > 0),
+            },
+        )?;
+        pass.draw_rect(
+            &forbid,
+            &DrawParams::default(),
+            &RectDraw::full_picture(w, h),
+        )?;
+        pass.end()
+    })
+}

@@ -1,0 +1,271 @@
+//! Smallest enclosing and largest empty homothets (thesis ch. 4, 5) against
+//! Welzl's algorithm and exhaustive searches over candidate determining sites.
+
+use std::f64::consts::TAU;
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::homothet::{enclose, largest_empty, Region, Unit},
+    geometry::metric::{Gauge, Metric},
+    reference::homothet::{self as oracle, welzl},
+};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+mod common;
+
+use common::{clustered, machine, uniform};
+
+fn gauge_of(metric: Metric) -> &'static Gauge {
+    match metric {
+        Metric::Polygon(g) => g,
+        _ => unreachable!("a polygon"),
+    }
+}
+
+/// A triangle (convex, not symmetric) and a four-pointed star (not convex).
+fn polygons() -> Vec<(&'static str, &'static Gauge)> {
+    let triangle = [
+        DVec2::new(2.0, 0.0),
+        DVec2::new(-1.0, 1.5),
+        DVec2::new(-0.5, -1.0),
+    ];
+    let star: Vec<DVec2> = (0..8)
+        .map(|k| {
+            let a = TAU * k as f64 / 8.0 + 0.1;
+            DVec2::new(a.cos(), a.sin()) * if k % 2 == 0 { 1.5 } else { 0.6 }
+        })
+        .collect();
+    vec![
+        (
+            "triangle",
+            gauge_of(Metric::polygon(&triangle, DVec2::ZERO).unwrap()),
+        ),
+        (
+            "star",
+            gauge_of(Metric::polygon(&star, DVec2::new(0.05, 0.0)).unwrap()),
+        ),
+    ]
+}
+
+fn inputs() -> Vec<(&'static str, Vec<DVec2>)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let cocircular: Vec<DVec2> = (0..12)
+        .map(|k| {
+            let a = TAU * k as f64 / 12.0;
+            DVec2::new(50.0 + 30.0 * a.cos(), 40.0 + 30.0 * a.sin())
+        })
+        .collect();
+    vec![
+        ("uniform", uniform(&mut rng, 40, 100.0, 80.0)),
+        ("clustered", clustered(&mut rng, 40, 100.0, 80.0)),
+        (
+            "collinear",
+            (0..9)
+                .map(|i| DVec2::new(3.0 + 7.0 * i as f64, 5.0 + 2.5 * i as f64))
+                .collect(),
+        ),
+        ("cocircular", cocircular),
+        ("two", vec![DVec2::new(1.0, 2.0), DVec2::new(9.0, 7.5)]),
+    ]
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-7 * (1.0 + b.abs())
+}
+
+#[test]
+fn smallest_enclosing_circle_equals_welzl() {
+    let machine = machine();
+    for (name, sites) in inputs() {
+        let answer = enclose(&machine, &sites, Unit::Circle, 0, 256).unwrap();
+        let truth = welzl(&sites);
+        assert!(
+            close(answer.exact.scale, truth.radius),
+            "{name}: {} vs Welzl {}",
+            answer.exact.scale,
+            truth.radius
+        );
+        assert!(
+            DVec2::from(answer.exact.centre).distance(truth.centre) < 1e-6 * (1.0 + truth.radius)
+        );
+        // The picture's answer is within its own bound, from above.
+        assert!(
+            answer.pixel.scale >= truth.radius - 1e-3
+                && answer.pixel.scale <= truth.radius + answer.pixel_bound + 1e-3,
+            "{name}: pixel {} vs {} (bound {})",
+            answer.pixel.scale,
+            truth.radius,
+            answer.pixel_bound
+        );
+        // Every site the answer names lies on the circle.
+        for &s in &answer.exact.sites {
+            let d = sites[s as usize].distance(truth.centre);
+            assert!(close(d, truth.radius), "{name}: site {s} off the circle");
+        }
+    }
+}
+
+#[test]
+fn welzl_is_the_smallest_of_all_determined_circles() {
+    for (name, sites) in inputs() {
+        let truth = welzl(&sites);
+        let (_, r) = oracle::smallest_k_circle(&sites, sites.len());
+        assert!(
+            close(truth.radius, r),
+            "{name}: Welzl {} vs brute force {r}",
+            truth.radius
+        );
+    }
+}
+
+#[test]
+fn smallest_k_enclosing_circle_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let sites = uniform(&mut rng, 14, 60.0, 50.0);
+    for k in [1, 2, 5, 9] {
+        let answer = enclose(&machine, &sites, Unit::Circle, k, 256).unwrap();
+        let (_, r) = oracle::smallest_k_circle(&sites, k);
+        assert!(
+            close(answer.exact.scale, r),
+            "k = {k}: {} vs {r}",
+            answer.exact.scale
+        );
+    }
+}
+
+#[test]
+fn smallest_enclosing_polygon_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let sites = uniform(&mut rng, 9, 60.0, 50.0);
+    for (name, g) in polygons() {
+        for k in [sites.len(), 4] {
+            let answer = enclose(&machine, &sites, Unit::Polygon(g), k, 256).unwrap();
+            let (_, truth) = oracle::smallest_k_homothet(&sites, &g.vertices, |v| g.of(v), k);
+            assert!(
+                close(answer.exact.scale, truth),
+                "{name}, k = {k}: {} vs brute force {truth}",
+                answer.exact.scale
+            );
+            // The homothet holds k sites.
+            let c = DVec2::from(answer.exact.centre);
+            let held = sites
+                .iter()
+                .filter(|s| g.of(**s - c) <= answer.exact.scale * (1.0 + 1e-9))
+                .count();
+            assert!(held >= k, "{name}: holds {held} < {k}");
+        }
+    }
+}
+
+fn square_with_hole() -> Region {
+    Region {
+        rings: vec![
+            vec![
+                DVec2::new(0.0, 0.0),
+                DVec2::new(100.0, 0.0),
+                DVec2::new(100.0, 80.0),
+                DVec2::new(0.0, 80.0),
+            ],
+            vec![
+                DVec2::new(30.0, 20.0),
+                DVec2::new(70.0, 20.0),
+                DVec2::new(70.0, 60.0),
+                DVec2::new(30.0, 60.0),
+            ],
+        ],
+    }
+}
+
+fn edges(region: &Region) -> Vec<(DVec2, DVec2)> {
+    region
+        .rings
+        .iter()
+        .flat_map(|r| (0..r.len()).map(move |k| (r[k], r[(k + 1) % r.len()])))
+        .collect()
+}
+
+#[test]
+fn largest_empty_circle_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let sites = uniform(&mut rng, 25, 100.0, 80.0);
+    let plain = Region::default();
+    let holed = square_with_hole();
+    for (name, region) in [("bounding box", &plain), ("square with a hole", &holed)] {
+        let answer = largest_empty(&machine, &sites, Unit::Circle, region, 256).unwrap();
+        let boundary = if region.rings.is_empty() {
+            let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+            let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+            Region {
+                rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+            }
+        } else {
+            region.clone()
+        };
+        let e = edges(&boundary);
+        let on_edge = |c: DVec2| {
+            e.iter().any(|(a, b)| {
+                let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+                c.distance(*a + (*b - *a) * t) < 1e-9
+            })
+        };
+        let (_, truth) = oracle::largest_empty(
+            &sites,
+            &[],
+            |v| v.length(),
+            &e,
+            |c| boundary.contains(c) || on_edge(c),
+        );
+        assert!(
+            close(answer.exact.scale, truth),
+            "{name}: {} vs brute force {truth}",
+            answer.exact.scale
+        );
+        assert!((answer.pixel.scale - truth).abs() <= answer.pixel_bound + 1e-3);
+    }
+}
+
+#[test]
+fn largest_empty_polygon_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let sites = uniform(&mut rng, 8, 100.0, 80.0);
+    let region = square_with_hole();
+    let e = edges(&region);
+    for (name, g) in polygons() {
+        let answer = largest_empty(&machine, &sites, Unit::Polygon(g), &region, 256).unwrap();
+        let on_edge = |c: DVec2| {
+            e.iter().any(|(a, b)| {
+                let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+                c.distance(*a + (*b - *a) * t) < 1e-9
+            })
+        };
+        let (_, truth) = oracle::largest_empty(
+            &sites,
+            &g.vertices,
+            |v| g.of(v),
+            &e,
+            |c| region.contains(c) || on_edge(c),
+        );
+        assert!(
+            close(answer.exact.scale, truth),
+            "{name}: {} vs brute force {truth}",
+            answer.exact.scale
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    let machine = machine();
+    let sites = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0)];
+    assert!(enclose(&machine, &sites, Unit::Circle, 3, 64).is_err());
+    assert!(enclose(&machine, &[], Unit::Circle, 0, 64).is_err());
+    assert!(enclose(&machine, &[DVec2::new(f64::NAN, 0.0)], Unit::Circle, 0, 64).is_err());
+    let thin = Region {
+        rings: vec![vec![DVec2::ZERO, DVec2::X]],
+    };
+    assert!(largest_empty(&machine, &sites, Unit::Circle, &thin, 64).is_err());
+}
