@@ -195,7 +195,23 @@ pub fn enclose(
         )
         .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?
     };
-    Ok(HomothetAnswer {
+    Ok(answer_of(
+        &frame,
+        centre,
+        value,
+        pixel_bound,
+        (exact, checked),
+    ))
+}
+
+fn answer_of(
+    frame: &Frame,
+    centre: DVec2,
+    value: f64,
+    pixel_bound: f64,
+    (exact, checked): (Homothet, usize),
+) -> HomothetAnswer {
+    HomothetAnswer {
         pixel: Homothet {
             centre: centre.to_array(),
             scale: value,
@@ -206,7 +222,7 @@ pub fn enclose(
         checked,
         width: frame.width,
         height: frame.height,
-    })
+    }
 }
 
 /// Where the centre of the largest empty homothet may lie.
@@ -355,18 +371,13 @@ pub fn largest_empty(
         evaluate,
     )
     .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
-    Ok(HomothetAnswer {
-        pixel: Homothet {
-            centre: centre.to_array(),
-            scale: value,
-            sites: Vec::new(),
-        },
-        exact,
+    Ok(answer_of(
+        &frame,
+        centre,
+        value,
         pixel_bound,
-        checked,
-        width: frame.width,
-        height: frame.height,
-    })
+        (exact, checked),
+    ))
 }
 
 fn check_region(region: &Region) -> Result<()> {
