@@ -15,6 +15,9 @@ layout(push_constant) uniform Job {
     int phase;
     float within;
     uint capacity;
+    // Nonzero: values are squared distances times this scale, and `within` is
+    // a distance.
+    float squared_scale;
 } job;
 
 layout(set = 0, binding = 0) readonly buffer Values {
@@ -54,8 +57,16 @@ void main() {
         uint at_lo = 0xffffffffu;
         uint at_hi = 0xffffffffu;
         // Phases 2 and 3 keep the values at or below (above) this one.
-        uint bar = job.phase == 2 ? ordered(unordered(want_lo) + job.within)
-                                  : ordered(unordered(want_hi) - job.within);
+        float lo_bar = unordered(want_lo) + job.within;
+        float hi_bar = unordered(want_hi) - job.within;
+        if (job.squared_scale > 0.0) {
+            float s = job.squared_scale;
+            float d_lo = sqrt(unordered(want_lo) / s) + job.within;
+            float d_hi = max(sqrt(unordered(want_hi) / s) - job.within, 0.0);
+            lo_bar = d_lo * d_lo * s;
+            hi_bar = d_hi * d_hi * s;
+        }
+        uint bar = job.phase == 2 ? ordered(lo_bar) : ordered(hi_bar);
         // Unrolled: naga's SPIR-V reader loses values carried out of loops.
         [[unroll]] for (int r = 0; r < ROWS; ++r) {
             int y = min(y0 + r, y1 - 1);

@@ -269,3 +269,115 @@ fn bad_input_is_an_error() {
     };
     assert!(largest_empty(&machine, &sites, Unit::Circle, &thin, 64).is_err());
 }
+
+/// The largest clearance over a grid of allowed centres (spacing `h`): the
+/// definition evaluated per point.
+fn grid_best(
+    lo: DVec2,
+    hi: DVec2,
+    h: f64,
+    clearance: impl Fn(DVec2) -> f64,
+    allowed: impl Fn(DVec2) -> bool,
+) -> f64 {
+    let (nx, ny) = (((hi.x - lo.x) / h) as usize, ((hi.y - lo.y) / h) as usize);
+    let mut best = f64::NEG_INFINITY;
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let c = lo + DVec2::new(i as f64, j as f64) * h;
+            if allowed(c) {
+                best = best.max(clearance(c));
+            }
+        }
+    }
+    best
+}
+
+#[test]
+fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
+    use pixgeo::{
+        algorithms::homothet::largest_empty_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let points: Vec<Site> = uniform(&mut rng, 6, 100.0, 80.0)
+        .into_iter()
+        .map(Site::point)
+        .collect();
+    let mut obstacles = points.clone();
+    obstacles.push(Site::new(Shape::Segment(
+        DVec2::new(10.0, 70.0),
+        DVec2::new(45.0, 50.0),
+    )));
+    obstacles.push(Site::new(Shape::Arc {
+        center: DVec2::new(75.0, 25.0),
+        radius: 12.0,
+        start: 0.3,
+        end: 2.5,
+    }));
+    let mut weighted = points.clone();
+    for (k, s) in weighted.iter_mut().enumerate() {
+        s.multiplicative = 0.6 + 0.2 * k as f64;
+    }
+    let region = square_with_hole();
+    let boundary = edges(&region);
+    let allowed = |c: DVec2| region.contains(c);
+    let (lo, hi) = (DVec2::ZERO, DVec2::new(100.0, 80.0));
+    let h = 0.25;
+    for (name, sites, inside) in [
+        ("points inside", &points, true),
+        ("segment and arc", &obstacles, false),
+        ("weighted", &weighted, false),
+    ] {
+        let answer =
+            largest_empty_sites(&machine, sites, Unit::Circle, &region, inside, 256).unwrap();
+        let clearance = |c: DVec2| {
+            let to_sites = sites
+                .iter()
+                .map(|s| s.distance(Metric::L2, c))
+                .fold(f64::INFINITY, f64::min);
+            let to_boundary = boundary
+                .iter()
+                .map(|(a, b)| {
+                    let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+                    c.distance(*a + (*b - *a) * t)
+                })
+                .fold(f64::INFINITY, f64::min);
+            if inside {
+                to_sites.min(to_boundary)
+            } else {
+                to_sites
+            }
+        };
+        let grid = grid_best(lo, hi, h, clearance, allowed);
+        let slope = sites
+            .iter()
+            .map(|s| 1.0 / s.multiplicative)
+            .fold(1.0, f64::max);
+        let c = DVec2::from(answer.exact.centre);
+        assert!(
+            allowed(c)
+                || boundary.iter().any(|(a, b)| {
+                    let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+                    c.distance(*a + (*b - *a) * t) < 1e-6
+                }),
+            "{name}: centre {c} outside the region"
+        );
+        // The answer's value is true at its centre, and no grid point beats it.
+        assert!(
+            (clearance(c) - answer.exact.scale).abs() <= 1e-9 * (1.0 + answer.exact.scale),
+            "{name}"
+        );
+        assert!(
+            answer.exact.scale >= grid - answer.tolerance - 1e-9
+                && answer.exact.scale <= grid + slope * h * 0.75,
+            "{name}: {} vs grid {grid}",
+            answer.exact.scale
+        );
+        assert!(
+            answer.tolerance <= 1e-6 * (1.0 + answer.exact.scale),
+            "{name}: gap {}",
+            answer.tolerance
+        );
+    }
+}

@@ -879,6 +879,17 @@ pub(crate) fn draw_furthest(
         fragment_depth_scale: scale as f32,
         ..picture_push(frame, 1, metric)
     };
+    // Euclidean furthest regions are convex: each cone is drawn only inside the
+    // bounding box of a region that holds its own (one draw per cone with a
+    // scissor), instead of over the whole picture.
+    let scissors: Vec<Option<[u32; 4]>> = if metric == Metric::L2 && owners.len() >= 3 {
+        let owned: Vec<DVec2> = owners.iter().map(|&i| pixels[i as usize]).collect();
+        (0..owned.len())
+            .map(|k| Some(furthest_region_box(&owned, k, frame.width, frame.height)))
+            .collect()
+    } else {
+        vec![None]
+    };
     // The upper envelope: the furthest fragment wins, ties the last drawn (or-equal,
     // so that a lone site's own pixel at distance 0 still gets it).
     let state = RasterState {
@@ -900,20 +911,32 @@ pub(crate) fn draw_furthest(
                 stencil: None,
             },
         )?;
-        pass.draw_cones(
-            program,
-            &state,
-            &DrawParams::default(),
-            &push,
-            &ConeDraw {
-                mesh: &mesh,
-                first_vertex: 0,
-                vertex_count: unit.len() as u32,
-                instances: &instance_buffer,
-                first_instance: 0,
-                instance_count: instances.len() as u32,
-            },
-        )?;
+        for (k, scissor) in scissors.iter().enumerate() {
+            if scissor.is_some_and(|r| r[2] == 0 || r[3] == 0) {
+                continue;
+            }
+            pass.draw_cones(
+                program,
+                &state,
+                &DrawParams {
+                    scissor: *scissor,
+                    ..DrawParams::default()
+                },
+                &push,
+                &ConeDraw {
+                    mesh: &mesh,
+                    first_vertex: 0,
+                    vertex_count: unit.len() as u32,
+                    instances: &instance_buffer,
+                    first_instance: if scissors.len() == 1 { 0 } else { k as u32 },
+                    instance_count: if scissors.len() == 1 {
+                        instances.len() as u32
+                    } else {
+                        1
+                    },
+                },
+            )?;
+        }
         pass.end()
     })?;
     Ok(DrawnFurthest {
@@ -923,6 +946,51 @@ pub(crate) fn draw_furthest(
         metric,
         owners,
     })
+}
+
+/// The pixel rectangle `(x, y, width, height)` around the part of the picture
+/// where `sites[k]` is at least as far as each of the other sites (up to 64 of
+/// them: its neighbours first, so that fewer still bound a superset), with a
+/// pixel to spare; zero-sized when that part misses the picture.
+fn furthest_region_box(sites: &[DVec2], k: usize, width: u32, height: u32) -> [u32; 4] {
+    let (w, h) = (width as f64 - 0.5, height as f64 - 0.5);
+    let mut polygon = vec![
+        DVec2::new(-0.5, -0.5),
+        DVec2::new(w, -0.5),
+        DVec2::new(w, h),
+        DVec2::new(-0.5, h),
+    ];
+    let n = sites.len();
+    let others = (1..n).map(|d| (k + if d % 2 == 1 { d / 2 + 1 } else { n - d / 2 }) % n);
+    let p = sites[k];
+    for j in others.take(64) {
+        let q = sites[j];
+        // |x − p| ≥ |x − q|  ⇔  2 x·(q − p) ≥ |q|² − |p|².
+        let (a, b) = (2.0 * (q - p), q.length_squared() - p.length_squared());
+        let keep = |x: DVec2| a.dot(x) - b >= -1e-6 * (1.0 + b.abs());
+        let mut clipped = Vec::new();
+        for e in 0..polygon.len() {
+            let (u, v) = (polygon[e], polygon[(e + 1) % polygon.len()]);
+            if keep(u) {
+                clipped.push(u);
+            }
+            if keep(u) != keep(v) {
+                let (fu, fv) = (a.dot(u) - b, a.dot(v) - b);
+                clipped.push(u + (v - u) * (fu / (fu - fv)));
+            }
+        }
+        polygon = clipped;
+        if polygon.is_empty() {
+            return [0; 4];
+        }
+    }
+    let lo = polygon.iter().fold(DVec2::INFINITY, |a, p| a.min(*p)) - 1.0;
+    let hi = polygon.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p)) + 1.0;
+    let x0 = lo.x.floor().clamp(0.0, width as f64) as u32;
+    let y0 = lo.y.floor().clamp(0.0, height as f64) as u32;
+    let x1 = hi.x.ceil().clamp(0.0, width as f64) as u32;
+    let y1 = hi.y.ceil().clamp(0.0, height as f64) as u32;
+    [x0, y0, x1.saturating_sub(x0), y1.saturating_sub(y0)]
 }
 
 /// Indices of the convex hull's vertices, counter-clockwise, points on its edges

@@ -25,7 +25,7 @@ use crate::{
     geometry::{
         frame::check_sites,
         metric::{Gauge, Metric},
-        site::Site,
+        site::{check_general_sites, Shape, Site},
         Frame,
     },
     machine::{
@@ -37,7 +37,7 @@ use crate::{
 use super::{
     higher_order::{draw_furthest, k_nearest, KNearestOptions},
     sites::draw_sites,
-    voronoi::{Accuracy, Speedup, VoronoiOptions},
+    voronoi::{draw_point_tiles, Accuracy, Speedup, VoronoiOptions},
 };
 
 /// The shape whose homothets are sought: a circle or a polygon star-shaped
@@ -82,7 +82,8 @@ impl Unit {
 pub struct Homothet {
     pub centre: [f64; 2],
     pub scale: f64,
-    /// The sites that determine it (on its boundary), where known.
+    /// The sites that determine it (on its boundary); with `inside`, ids from
+    /// the number of sites on are the region's edges, ring by ring.
     pub sites: Vec<u32>,
 }
 
@@ -96,10 +97,18 @@ pub struct HomothetAnswer {
     /// Bound on |pixel scale − exact scale| from the pixel size: the gauge changes
     /// by at most this much over half a pixel's diagonal.
     pub pixel_bound: f64,
-    /// Candidate points (or Welzl rounds) evaluated exactly.
+    /// Candidate points (or Welzl rounds, or branch-and-bound cells) evaluated
+    /// exactly.
     pub checked: usize,
+    /// How far the exact scale may be from the optimum: 0 where candidate
+    /// vertices or Welzl's algorithm decide (exact up to rounding), the
+    /// branch-and-bound gap for sites other than points.
+    pub tolerance: f64,
     pub width: u32,
     pub height: u32,
+    /// The picture the envelope was drawn on.
+    #[serde(skip)]
+    pub frame: Frame,
 }
 
 /// Picture side (pixels along the longer axis) used when none is given.
@@ -127,20 +136,19 @@ pub fn enclose(
     let bound = half_diagonal(&frame) * unit.lipschitz();
     let (pixel, value, near_pixels) = if k == n {
         let drawn = draw_furthest(machine, sites, &frame, metric)?;
-        let lowest = machine.depth_extremes(&drawn.depth, None)?;
-        let value = super::higher_order::distance_of_depth(metric, drawn.scale, lowest.min, &frame);
-        // Every pixel that could be the optimum's: within twice the bound.
-        let key = |d: f64| metric.key_of_distance(d * frame.scale) * drawn.scale;
-        let within = (key(value + 2.0 * bound) - key(value)) as f32;
-        let extremes = machine.depth_extremes(
+        // Every pixel that could be the optimum's: within twice the bound. L2
+        // keys are squared distances (pixels); the others are distances.
+        let lowest = machine.depth_extremes(
             &drawn.depth,
-            Some(NearExtreme {
-                maximum: false,
-                within,
-                capacity: NEAR_PIXELS,
-            }),
+            Some(near_extreme(
+                metric,
+                drawn.scale,
+                2.0 * bound * frame.scale,
+                false,
+            )),
         )?;
-        (lowest.at_min, value, extremes.near)
+        let value = super::higher_order::distance_of_depth(metric, drawn.scale, lowest.min, &frame);
+        (lowest.at_min, value, lowest.near)
     } else {
         // The k-th level of the lower envelope, read back: its lowest pixel.
         let levels = k_nearest(
@@ -169,30 +177,23 @@ pub fn enclose(
     };
     let centre = pixel_centre(&frame, pixel);
     let pixel_bound = bound + 1e-5 * value;
-    let (around, reach) = surroundings(&frame, &near_pixels);
-    let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
     let (exact, checked) = if k == n && unit == Unit::Circle {
+        let (around, reach) = surroundings(&frame, &near_pixels);
+        let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
         smallest_circle(sites, around, value, slack)
     } else {
-        let near: Vec<u32> = candidates(sites, |s| {
-            let g = unit.gauge(s - around);
-            if k == n {
-                g >= value - slack
+        let goal = Goal::Smallest;
+        best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
+            let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
+            let near = if k == n {
+                let key = |s: DVec2| -unit.gauge(s - around);
+                nearest_candidates(sites, key, slack - value, MAX_NEAR_SITES)
             } else {
-                g <= value + slack
-            }
-        });
-        let evaluate = |c: DVec2| kth_gauge(sites, unit, c, k);
-        best_vertex(
-            sites,
-            unit,
-            around,
-            reach,
-            &near,
-            &[],
-            Goal::Smallest,
-            evaluate,
-        )
+                let key = |s: DVec2| unit.gauge(s - around);
+                nearest_candidates(sites, key, value + slack, MAX_NEAR_SITES.max(k + 8))
+            };
+            best_vertex(sites, unit, around, reach, &near, &[], goal, k, |_| true)
+        })
         .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?
     };
     Ok(answer_of(
@@ -220,8 +221,10 @@ fn answer_of(
         exact,
         pixel_bound,
         checked,
+        tolerance: 0.0,
         width: frame.width,
         height: frame.height,
+        frame: *frame,
     }
 }
 
@@ -282,19 +285,20 @@ pub fn largest_empty(
     if !(hi - lo).cmpgt(DVec2::ZERO).all() {
         return Err(Error::InvalidInput("the region has no area".into()));
     }
-    let frame = Frame::with_bbox(side, None, [lo.x, lo.y, hi.x, hi.y])?;
+    let frame = frame_of_box(side, lo, hi)?;
     let metric = unit.cone_metric()?;
     let options = VoronoiOptions {
         metric,
         speedup: Speedup::Quadtree,
         ..VoronoiOptions::exact(frame)
     };
-    let shaped: Vec<Site> = sites.iter().map(|p| Site::point(*p)).collect();
     let region_mesh = region_triangles(&region, &frame);
     let bound = half_diagonal(&frame) * unit.lipschitz();
     // Per tile: its highest depth and the pixels within twice the bound of it.
     let mut tiles: Vec<(f32, Vec<usize>)> = Vec::new();
-    let (_, depth) = draw_sites(machine, &shaped, &options, |tile| {
+    let mut keys = None;
+    draw_point_tiles(machine, sites, &options, true, |tile| {
+        keys = Some(tile.keys);
         mask_outside(
             machine,
             tile.ids,
@@ -309,25 +313,22 @@ pub fn largest_empty(
             (i < tile.inner.width && j < tile.inner.height)
                 .then(|| (tile.y0 + j) as usize * frame.width as usize + (tile.x0 + i) as usize)
         };
-        let highest = machine.depth_extremes(tile.depth, None)?;
-        let extremes = machine.depth_extremes(
+        let highest = machine.depth_extremes(
             tile.depth,
-            Some(NearExtreme {
-                maximum: true,
-                within: (2.0 * bound * tile.keys.scale) as f32,
-                capacity: NEAR_PIXELS,
-            }),
+            Some(near_extreme(
+                metric,
+                tile.keys.scale,
+                2.0 * bound * frame.scale,
+                true,
+            )),
         )?;
-        let near: Vec<usize> = extremes
-            .near
-            .iter()
-            .filter_map(|&a| to_picture(a))
-            .collect();
+        let near: Vec<usize> = highest.near.iter().filter_map(|&a| to_picture(a)).collect();
         if let Some(at) = to_picture(highest.at_max) {
             tiles.push((highest.max, std::iter::once(at).chain(near).collect()));
         }
         Ok(())
     })?;
+    let depth = keys.expect("a picture has a tile");
     let top = tiles.iter().map(|t| t.0).fold(f32::NEG_INFINITY, f32::max);
     if tiles.is_empty() || top <= 0.0 {
         return Err(Error::InvalidInput(
@@ -342,34 +343,21 @@ pub fn largest_empty(
         .collect();
     let centre = pixel_centre(&frame, near_pixels[0]);
     let pixel_bound = bound + 1e-5 * value;
-    let (around, reach) = surroundings(&frame, &near_pixels);
-    let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
-    let near = candidates(sites, |s| unit.gauge(s - around) <= value + slack);
-    let edges: Vec<(DVec2, DVec2)> = region
-        .edges()
-        .filter(|(a, b)| segment_distance(around, *a, *b) <= reach + 3.0 * half_diagonal(&frame))
-        .collect();
-    let evaluate = |c: DVec2| {
-        if region.contains(c)
-            || edges
-                .iter()
-                .any(|(a, b)| segment_distance(c, *a, *b) < 1e-9 * (1.0 + c.abs().max_element()))
-        {
-            kth_gauge(sites, unit, c, 1)
-        } else {
-            None
-        }
-    };
-    let (exact, checked) = best_vertex(
-        sites,
-        unit,
-        centre,
-        reach,
-        &near,
-        &edges,
-        Goal::Largest,
-        evaluate,
-    )
+    let goal = Goal::Largest;
+    let (exact, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
+        let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
+        let key = |s: DVec2| unit.gauge(s - around);
+        let near = nearest_candidates(sites, key, value + slack, MAX_NEAR_SITES);
+        let edges: Vec<(DVec2, DVec2)> = region
+            .edges()
+            .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
+            .collect();
+        let allowed = |c: DVec2| {
+            let tol = 1e-9 * (1.0 + c.abs().max_element());
+            region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
+        };
+        best_vertex(sites, unit, around, reach, &near, &edges, goal, 1, allowed)
+    })
     .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
     Ok(answer_of(
         &frame,
@@ -378,6 +366,262 @@ pub fn largest_empty(
         pixel_bound,
         (exact, checked),
     ))
+}
+
+/// The largest homothet of `unit` meeting none of `sites` (points, segments,
+/// circles and arcs, with multiplicative weights scaling the clearance each
+/// demands, thesis §5.4.2–5.4.3), its centre in `region`; with `inside`, the
+/// whole homothet inside the region, its boundary added as segment sites
+/// (§5.4.1). Plain points without `inside` take [`largest_empty`]'s exact
+/// vertices; the others a branch and bound on the exact distances around the
+/// candidate pixels, to a relative gap of 1e-9.
+pub fn largest_empty_sites(
+    machine: &Machine,
+    sites: &[Site],
+    unit: Unit,
+    region: &Region,
+    inside: bool,
+    side: u32,
+) -> Result<HomothetAnswer> {
+    check_general_sites(sites)?;
+    if !inside && sites.iter().all(Site::is_plain_point) {
+        let points: Vec<DVec2> = sites
+            .iter()
+            .map(|s| match s.shape {
+                Shape::Point(p) => p,
+                _ => unreachable!("plain points"),
+            })
+            .collect();
+        return largest_empty(machine, &points, unit, region, side);
+    }
+    let region = if region.rings.is_empty() {
+        let (lo, hi) = sites
+            .iter()
+            .map(Site::bounds)
+            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), (l, h)| {
+                (a.min(l), b.max(h))
+            });
+        Region {
+            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+        }
+    } else {
+        check_region(region)?;
+        region.clone()
+    };
+    let (lo, hi) = region
+        .rings
+        .iter()
+        .flatten()
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), p| {
+            (a.min(*p), b.max(*p))
+        });
+    if !(hi - lo).cmpgt(DVec2::ZERO).all() {
+        return Err(Error::InvalidInput("the region has no area".into()));
+    }
+    let frame = frame_of_box(side, lo, hi)?;
+    let metric = unit.cone_metric()?;
+    let mut all = sites.to_vec();
+    if inside {
+        all.extend(region.edges().map(|(a, b)| Site::new(Shape::Segment(a, b))));
+    }
+    let options = VoronoiOptions {
+        metric,
+        speedup: Speedup::Quadtree,
+        distances: false,
+        ..VoronoiOptions::exact(frame)
+    };
+    let region_mesh = region_triangles(&region, &frame);
+    let least_m = all
+        .iter()
+        .map(|s| s.multiplicative)
+        .fold(f64::INFINITY, f64::min);
+    let lipschitz = unit.lipschitz() / least_m;
+    let bound = half_diagonal(&frame) * lipschitz;
+    let mut tiles: Vec<(f64, Vec<usize>)> = Vec::new();
+    let mut drawn_error = 0.0;
+    let (stats, _) = draw_sites(machine, &all, &options, |tile| {
+        mask_outside(
+            machine,
+            tile.ids,
+            tile.depth,
+            &region_mesh,
+            tile.x0,
+            tile.y0,
+        )?;
+        let w = tile.depth.width() as usize;
+        let to_picture = |at: usize| {
+            let (i, j) = ((at % w) as u32, (at / w) as u32);
+            (i < tile.inner.width && j < tile.inner.height)
+                .then(|| (tile.y0 + j) as usize * frame.width as usize + (tile.x0 + i) as usize)
+        };
+        let highest = machine.depth_extremes(
+            tile.depth,
+            Some(NearExtreme {
+                maximum: true,
+                within: (2.0 * bound * tile.keys.scale) as f32,
+                squared_scale: 0.0,
+                capacity: NEAR_PIXELS,
+            }),
+        )?;
+        if highest.max > 0.0 {
+            if let Some(at) = to_picture(highest.at_max) {
+                let near = highest.near.iter().filter_map(|&a| to_picture(a));
+                tiles.push((
+                    tile.keys.distance(highest.max),
+                    std::iter::once(at).chain(near).collect(),
+                ));
+            }
+        }
+        Ok(())
+    })?;
+    drawn_error += stats.distance_error_bound;
+    let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
+    if tiles.is_empty() {
+        return Err(Error::InvalidInput(
+            "no pixel centre lies in the region".into(),
+        ));
+    }
+    // Fans (polygons, curves under other metrics) add their own error.
+    let bound = bound + drawn_error;
+    let near_pixels: Vec<usize> = tiles
+        .iter()
+        .filter(|t| t.0 >= value - 2.0 * bound)
+        .flat_map(|t| t.1.iter().copied())
+        .collect();
+    let centre = pixel_centre(&frame, near_pixels[0]);
+    let pixel_bound = bound + 1e-5 * value.abs();
+    let clearance = |c: DVec2, set: &[Site]| {
+        set.iter()
+            .map(|s| s.distance(metric, c))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let edges: Vec<(DVec2, DVec2)> = region.edges().collect();
+    let mut best: Option<(DVec2, f64, f64, usize)> = None;
+    for cluster in clusters(&frame, &near_pixels) {
+        let (around, reach) = surroundings(&frame, &cluster);
+        let slack = 3.0 * pixel_bound + lipschitz * reach;
+        let near: Vec<Site> = all
+            .iter()
+            .filter(|s| s.distance(metric, around) <= value + slack)
+            .copied()
+            .collect();
+        let found = branch_and_bound(
+            around,
+            reach,
+            lipschitz,
+            |c| clearance(c, &near),
+            |c| clearance(c, &all),
+            |c| {
+                let tol = 1e-9 * (1.0 + c.abs().max_element());
+                region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
+            },
+            |c, r| {
+                region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
+            },
+        );
+        if let Some((c, v, gap, cells)) = found {
+            if best.is_none_or(|b| v > b.1) {
+                best = Some((c, v, gap, cells));
+            }
+        }
+    }
+    let (c, v, gap, cells) =
+        best.ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    let tol = 1e-9 * (1.0 + v.abs());
+    let on: Vec<u32> = (0..all.len() as u32)
+        .filter(|&i| (all[i as usize].distance(metric, c) - v).abs() <= tol.max(gap))
+        .collect();
+    let mut answer = answer_of(
+        &frame,
+        centre,
+        value,
+        pixel_bound,
+        (
+            Homothet {
+                centre: c.to_array(),
+                scale: v,
+                sites: on,
+            },
+            cells,
+        ),
+    );
+    answer.tolerance = gap;
+    Ok(answer)
+}
+
+/// Cells a branch and bound may evaluate before it stops with its gap.
+const MAX_CELLS: usize = 200_000;
+
+/// The largest value of `exact` over the allowed points of the square of
+/// half-side `reach` around `around`, by branch and bound: `bound` (at least
+/// `exact` everywhere, changing by at most `lipschitz` per unit) bounds each
+/// square from above, allowed centres give true values, and squares that
+/// cannot beat the best or miss the allowed set (`meets(c, r)`: the disc of
+/// radius r around c meets it) are dropped. Returns the centre, its value, the
+/// gap left and the cells evaluated.
+fn branch_and_bound(
+    around: DVec2,
+    reach: f64,
+    lipschitz: f64,
+    bound: impl Fn(DVec2) -> f64,
+    exact: impl Fn(DVec2) -> f64,
+    allowed: impl Fn(DVec2) -> bool,
+    meets: impl Fn(DVec2, f64) -> bool,
+) -> Option<(DVec2, f64, f64, usize)> {
+    use std::collections::BinaryHeap;
+    #[derive(PartialEq)]
+    struct Cell(f64, DVec2, f64);
+    impl Eq for Cell {}
+    impl PartialOrd for Cell {
+        fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+            Some(self.cmp(other))
+        }
+    }
+    impl Ord for Cell {
+        fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+            self.0.total_cmp(&other.0)
+        }
+    }
+    let root2 = std::f64::consts::SQRT_2;
+    let mut best: Option<(DVec2, f64)> = None;
+    let mut heap = BinaryHeap::new();
+    let mut cells = 0;
+    let push = |heap: &mut BinaryHeap<Cell>,
+                best: &mut Option<(DVec2, f64)>,
+                cells: &mut usize,
+                c: DVec2,
+                h: f64| {
+        *cells += 1;
+        if !meets(c, h * root2) {
+            return;
+        }
+        if allowed(c) {
+            let v = exact(c);
+            if best.is_none_or(|b| v > b.1) {
+                *best = Some((c, v));
+            }
+        }
+        heap.push(Cell(bound(c) + lipschitz * h * root2, c, h));
+    };
+    push(&mut heap, &mut best, &mut cells, around, reach);
+    while let Some(Cell(upper, c, h)) = heap.pop() {
+        let floor = best.map_or(f64::NEG_INFINITY, |b| b.1);
+        let gap = upper - floor;
+        if gap <= 1e-9 * (1.0 + floor.abs()) || cells >= MAX_CELLS {
+            let (c, v) = best?;
+            return Some((c, v, gap.max(0.0), cells));
+        }
+        let q = h / 2.0;
+        for d in [
+            DVec2::new(-q, -q),
+            DVec2::new(q, -q),
+            DVec2::new(-q, q),
+            DVec2::new(q, q),
+        ] {
+            push(&mut heap, &mut best, &mut cells, c + d, q);
+        }
+    }
+    best.map(|(c, v)| (c, v, 0.0, cells))
 }
 
 fn check_region(region: &Region) -> Result<()> {
@@ -430,7 +674,34 @@ fn enclosing_frame(sites: &[DVec2], unit: Unit, side: u32, k: usize) -> Result<F
     let pad = DVec2::splat(extent * 4.0 / side as f64);
     blo -= pad;
     bhi = bhi.max(blo + DVec2::splat(extent * 1e-3)) + pad;
-    Frame::with_bbox(side, None, [blo.x, blo.y, bhi.x, bhi.y])
+    frame_of_box(side, blo, bhi)
+}
+
+/// The frame showing the box `lo..hi` with `side` pixels along its longer axis.
+fn frame_of_box(side: u32, lo: DVec2, hi: DVec2) -> Result<Frame> {
+    let size = hi - lo;
+    let width = if size.x >= size.y {
+        side
+    } else {
+        ((side as f64 * size.x / size.y).round() as u32).max(1)
+    };
+    Frame::with_bbox(width, None, [lo.x, lo.y, hi.x, hi.y])
+}
+
+/// The pixels within `within` (pixels of distance) of an extreme of depths
+/// that are keys times `scale`: L2 keys are squared distances, the other
+/// metrics' are distances.
+fn near_extreme(metric: Metric, scale: f64, within: f64, maximum: bool) -> NearExtreme {
+    let (within, squared_scale) = match metric {
+        Metric::L2 => (within, scale),
+        _ => (within * scale, 0.0),
+    };
+    NearExtreme {
+        maximum,
+        within: within as f32,
+        squared_scale: squared_scale as f32,
+        capacity: NEAR_PIXELS,
+    }
 }
 
 /// Pixels near the extreme that are refined around, at most.
@@ -455,6 +726,88 @@ fn pixel_centre(frame: &Frame, at: usize) -> DVec2 {
 
 fn half_diagonal(frame: &Frame) -> f64 {
     std::f64::consts::FRAC_1_SQRT_2 / frame.scale
+}
+
+/// At most this many sites (or k + 8 for the k-th level) are refined around one
+/// cluster of pixels.
+const MAX_NEAR_SITES: usize = 40;
+
+/// The sites whose `key` is at most `limit`, the `cap` smallest of them.
+fn nearest_candidates(
+    sites: &[DVec2],
+    key: impl Fn(DVec2) -> f64,
+    limit: f64,
+    cap: usize,
+) -> Vec<u32> {
+    let mut keyed: Vec<(f64, u32)> = (0..sites.len() as u32)
+        .map(|i| (key(sites[i as usize]), i))
+        .filter(|(k, _)| *k <= limit)
+        .collect();
+    if keyed.len() > cap {
+        keyed.select_nth_unstable_by(cap, |a, b| a.0.total_cmp(&b.0));
+        keyed.truncate(cap);
+    }
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+/// Groups pixels (row-major indices) into clusters of 8-connected pixels.
+fn clusters(frame: &Frame, pixels: &[usize]) -> Vec<Vec<usize>> {
+    use std::collections::HashMap;
+    let w = frame.width as i64;
+    let slot: HashMap<usize, usize> = pixels.iter().enumerate().map(|(k, &p)| (p, k)).collect();
+    let mut parent: Vec<usize> = (0..pixels.len()).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    for (k, &p) in pixels.iter().enumerate() {
+        let (i, j) = (p as i64 % w, p as i64 / w);
+        for (di, dj) in [(1, 0), (-1, 1), (0, 1), (1, 1)] {
+            let (x, y) = (i + di, j + dj);
+            if x < 0 || x >= w || y >= frame.height as i64 {
+                continue;
+            }
+            if let Some(&other) = slot.get(&((y * w + x) as usize)) {
+                let (a, b) = (root(&mut parent, k), root(&mut parent, other));
+                parent[a] = b;
+            }
+        }
+    }
+    let mut groups: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (k, &p) in pixels.iter().enumerate() {
+        let r = root(&mut parent, k);
+        groups.entry(r).or_default().push(p);
+    }
+    groups.into_values().collect()
+}
+
+/// Refines around every cluster of near-extreme pixels and keeps the best.
+fn best_of_clusters(
+    frame: &Frame,
+    pixels: &[usize],
+    goal: Goal,
+    refine: impl Fn(DVec2, f64) -> Option<(Homothet, usize)>,
+) -> Option<(Homothet, usize)> {
+    let mut best: Option<(Homothet, usize)> = None;
+    let mut checked = 0;
+    for cluster in clusters(frame, pixels) {
+        let (around, reach) = surroundings(frame, &cluster);
+        if let Some((h, c)) = refine(around, reach) {
+            checked += c;
+            let better = match (&best, goal) {
+                (None, _) => true,
+                (Some((b, _)), Goal::Smallest) => h.scale < b.scale,
+                (Some((b, _)), Goal::Largest) => h.scale > b.scale,
+            };
+            if better {
+                best = Some((h, 0));
+            }
+        }
+    }
+    best.map(|(h, _)| (h, checked))
 }
 
 fn candidates(sites: &[DVec2], keep: impl Fn(DVec2) -> bool) -> Vec<u32> {
@@ -532,7 +885,8 @@ fn best_vertex(
     near: &[u32],
     edges: &[(DVec2, DVec2)],
     goal: Goal,
-    evaluate: impl Fn(DVec2) -> Option<f64>,
+    k: usize,
+    allowed: impl Fn(DVec2) -> bool,
 ) -> Option<(Homothet, usize)> {
     let mut planes: Vec<Plane> = Vec::new();
     if let Unit::Polygon(g) = unit {
@@ -633,21 +987,45 @@ fn best_vertex(
         points.push(*a);
         points.push(*b);
     }
+    // Only centres near the candidate pixels, where the near sites decide.
+    points.retain(|c| c.is_finite() && c.distance(around) <= reach * (1.0 + 1e-9) && allowed(*c));
     let checked = points.len();
+    let near_points: Vec<DVec2> = near.iter().map(|&i| sites[i as usize]).collect();
+    let mut bounded: Vec<(DVec2, f64)> = points
+        .into_iter()
+        .filter_map(|c| kth_gauge(&near_points, unit, c, k.min(near_points.len())).map(|v| (c, v)))
+        .collect();
+    // The near sites' value bounds the true one: from below for the furthest
+    // (all sites), from above for the nearest; for other levels it is the true
+    // value near the candidate pixels.
+    let exact_k = k < sites.len() && k > 1;
+    match goal {
+        Goal::Smallest => bounded.sort_by(|a, b| a.1.total_cmp(&b.1)),
+        Goal::Largest => bounded.sort_by(|a, b| b.1.total_cmp(&a.1)),
+    }
     let mut best: Option<(DVec2, f64)> = None;
-    for c in points {
-        if !c.is_finite() {
-            continue;
-        }
-        if let Some(v) = evaluate(c) {
-            let better = match (best, goal) {
-                (None, _) => true,
-                (Some((_, b)), Goal::Smallest) => v < b,
-                (Some((_, b)), Goal::Largest) => v > b,
+    for (c, bound) in bounded {
+        if let Some((_, b)) = best {
+            let hopeless = match goal {
+                Goal::Smallest => bound >= b,
+                Goal::Largest => bound <= b,
             };
-            if better {
-                best = Some((c, v));
+            if hopeless {
+                break;
             }
+        }
+        let v = if exact_k {
+            bound
+        } else {
+            kth_gauge(sites, unit, c, k)?
+        };
+        let better = match (best, goal) {
+            (None, _) => true,
+            (Some((_, b)), Goal::Smallest) => v < b,
+            (Some((_, b)), Goal::Largest) => v > b,
+        };
+        if better {
+            best = Some((c, v));
         }
     }
     let (c, v) = best?;
@@ -795,7 +1173,10 @@ fn mask_outside(
                 color: Some(ids),
                 depth_stencil: Some(depth),
             },
-            Clear::default(),
+            Clear {
+                stencil: Some(0),
+                ..Clear::default()
+            },
         )?;
         pass.draw_cones(
             Program::SiteFan,
@@ -818,4 +1199,83 @@ fn mask_outside(
         )?;
         pass.end()
     })
+}
+
+/// Which envelope a picture shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Envelope {
+    /// The regions of the furthest sites (or of the k-th nearest), as `enclose`
+    /// draws them.
+    Enclosing { k: usize },
+    /// The nearest-site regions, outside the region darkened, as `empty` draws them.
+    Empty,
+}
+
+/// A picture (RGB rows) of the envelope behind `answer`, like the thesis's
+/// Figs. 4.1 and 5.1: the regions coloured by their site, the point sites as
+/// dots, the exact homothet's outline in red and its centre in yellow.
+/// Enclosing pictures show the point sites.
+pub fn picture(
+    machine: &Machine,
+    shapes: &[Site],
+    unit: Unit,
+    answer: &HomothetAnswer,
+    envelope: Envelope,
+    region: &Region,
+) -> Result<Vec<u8>> {
+    let frame = answer.frame;
+    let metric = unit.cone_metric()?;
+    let sites: Vec<DVec2> = shapes
+        .iter()
+        .filter_map(|s| match s.shape {
+            Shape::Point(p) => Some(p),
+            _ => None,
+        })
+        .collect();
+    let sites = &sites[..];
+    let labels = match envelope {
+        Envelope::Enclosing { k } if k == 0 || k >= sites.len() => {
+            super::higher_order::furthest(machine, sites, &frame, metric)?.labels
+        }
+        Envelope::Enclosing { k } => k_nearest(
+            machine,
+            sites,
+            &KNearestOptions {
+                frame,
+                k: k as u32,
+                metric,
+                accuracy: Accuracy::Exact,
+                speedup: Speedup::Quadtree,
+            },
+        )?
+        .level_labels(k as u32 - 1),
+        Envelope::Empty => {
+            let options = VoronoiOptions {
+                metric,
+                distances: false,
+                ..VoronoiOptions::exact(frame)
+            };
+            super::sites::voronoi_sites(machine, shapes, &options)?.labels
+        }
+    };
+    let marks: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let mut rgb = crate::io::picture::label_rows(&labels, frame.width, 0, &marks, None);
+    let centre = DVec2::from(answer.exact.centre);
+    let scale = answer.exact.scale;
+    // A band about a pixel wide around the outline, in gauge units.
+    let band = 0.8 / frame.scale * unit.lipschitz();
+    let w = frame.width as usize;
+    for (at, px) in rgb.chunks_exact_mut(3).enumerate() {
+        let q = frame.to_world(DVec2::new((at % w) as f64, (at / w) as f64));
+        if envelope == Envelope::Empty && !region.rings.is_empty() && !region.contains(q) {
+            px.iter_mut().for_each(|v| *v = (*v as f32 * 0.35) as u8);
+        }
+        let g = unit.gauge(q - centre);
+        if (g - scale).abs() <= band {
+            px.copy_from_slice(&[220, 20, 30]);
+        } else if q.distance(centre) * frame.scale <= 2.5 {
+            px.copy_from_slice(&[255, 220, 0]);
+        }
+    }
+    Ok(rgb)
 }

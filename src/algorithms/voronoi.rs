@@ -275,6 +275,83 @@ pub fn voronoi_bands(
     options: &VoronoiOptions,
     mut sink: impl FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
+    let frame = options.frame;
+    let mut band: Option<Band> = None;
+    let stats = draw_point_tiles(machine, sites, options, false, |tile| {
+        if tile.x0 == 0 {
+            if let Some(done) = band.take() {
+                sink(done)?;
+            }
+            let pixels = tile.inner.height as usize * frame.width as usize;
+            band = Some(Band {
+                y0: tile.y0,
+                height: tile.inner.height,
+                labels: vec![0; pixels],
+                distances: if options.distances {
+                    vec![0.0; pixels]
+                } else {
+                    Vec::new()
+                },
+                ties: if options.ties {
+                    vec![0; pixels]
+                } else {
+                    Vec::new()
+                },
+            });
+        }
+        let band = band.as_mut().expect("a band begins at x = 0");
+        read_tile(machine, tile, &frame, options, band)
+    })?;
+    if let Some(done) = band {
+        sink(done)?;
+    }
+    Ok(stats)
+}
+
+/// One drawn tile of a diagram of points, still on the device.
+pub(crate) struct PointTile<'a> {
+    pub ids: &'a Image,
+    /// Depth, and (when asked for, or with ties) a stencil.
+    pub depth: &'a Image,
+    pub x0: u32,
+    pub y0: u32,
+    /// The part of the tile image that is picture.
+    pub inner: PixelRect,
+    pub keys: PointDepth,
+}
+
+/// How a diagram of points' depths map to distances.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PointDepth {
+    pub metric: Metric,
+    pub exact: bool,
+    /// Depth units per key (exact) or per pixel of distance (fans).
+    pub scale: f64,
+    pub pixels_per_unit: f64,
+}
+
+impl PointDepth {
+    /// The distance (world units) of a depth.
+    pub fn distance(self, z: f32) -> f64 {
+        let d = if self.exact {
+            self.metric.distance_of_key(z as f64 / self.scale)
+        } else {
+            z as f64 / self.scale
+        };
+        d / self.pixels_per_unit
+    }
+}
+
+/// Draws the Voronoi diagram of points tile by tile, handing each tile to
+/// `visit` while it is on the device (tiles of a row of tiles left to right, rows
+/// top to bottom). `stencil` asks for a stencil in the depth image.
+pub(crate) fn draw_point_tiles(
+    machine: &Machine,
+    sites: &[DVec2],
+    options: &VoronoiOptions,
+    stencil: bool,
+    mut visit: impl FnMut(&PointTile<'_>) -> Result<()>,
+) -> Result<VoronoiStats> {
     check_sites(sites)?;
     options.frame.check()?;
     if options.ties && matches!(options.metric, Metric::Polygon(_)) {
@@ -334,7 +411,7 @@ pub fn voronoi_bands(
     let picture = Picture {
         ids: machine.image(Format::R32Uint, tile_w, tile_h)?,
         depth: machine.image(
-            if options.ties {
+            if options.ties || stencil {
                 Format::DepthStencil
             } else {
                 Format::Depth
@@ -344,24 +421,19 @@ pub fn voronoi_bands(
         )?,
     };
 
+    let keys = PointDepth {
+        metric: options.metric,
+        exact: options.accuracy == Accuracy::Exact,
+        scale: if options.accuracy == Accuracy::Exact {
+            scale.fragment
+        } else {
+            scale.vertex
+        },
+        pixels_per_unit: frame.scale,
+    };
     let mut final_attempt = 0;
     for y0 in (0..frame.height).step_by(tile_h as usize) {
         let band_h = tile_h.min(frame.height - y0);
-        let mut band = Band {
-            y0,
-            height: band_h,
-            labels: vec![0; band_h as usize * frame.width as usize],
-            distances: if options.distances {
-                vec![0.0; band_h as usize * frame.width as usize]
-            } else {
-                Vec::new()
-            },
-            ties: if options.ties {
-                vec![0; band_h as usize * frame.width as usize]
-            } else {
-                Vec::new()
-            },
-        };
         for x0 in (0..frame.width).step_by(tile_w as usize) {
             let inner = PixelRect {
                 x: 0,
@@ -405,12 +477,16 @@ pub fn voronoi_bands(
             }
             stats.render_ms += ms(started);
             let started = Instant::now();
-            read_tile(
-                machine, &picture, inner, x0, &frame, options, scale, &mut band,
-            )?;
+            visit(&PointTile {
+                ids: &picture.ids,
+                depth: &picture.depth,
+                x0,
+                y0,
+                inner,
+                keys,
+            })?;
             stats.readback_ms += ms(started);
         }
-        sink(band)?;
     }
 
     let last = &shaped[final_attempt];
@@ -947,49 +1023,35 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
     })
 }
 
-/// Reads the `inner` rectangle of the tile into `band` at column `x0`, turning
+/// Reads the picture part of a tile into `band` at the tile's column, turning
 /// depths into distances in world units.
-#[allow(clippy::too_many_arguments)]
 fn read_tile(
     machine: &Machine,
-    picture: &Picture,
-    inner: PixelRect,
-    x0: u32,
+    tile: &PointTile<'_>,
     frame: &Frame,
     options: &VoronoiOptions,
-    scale: DepthScale,
     band: &mut Band,
 ) -> Result<()> {
-    let (width, x0, w) = (frame.width as usize, x0 as usize, inner.width as usize);
-    machine.read_u32_into(&picture.ids, inner, &mut band.labels[x0..], width)?;
+    let (inner, x0) = (tile.inner, tile.x0 as usize);
+    let (width, w) = (frame.width as usize, inner.width as usize);
+    machine.read_u32_into(tile.ids, inner, &mut band.labels[x0..], width)?;
     if options.ties {
-        machine.read_stencil_into(&picture.depth, inner, &mut band.ties[x0..], width)?;
+        machine.read_stencil_into(tile.depth, inner, &mut band.ties[x0..], width)?;
     }
     if !options.distances {
         return Ok(());
     }
-    machine.read_f32_into(&picture.depth, inner, &mut band.distances[x0..], width)?;
-    let to_world = (1.0 / frame.scale) as f32;
-    let exact = options.accuracy == Accuracy::Exact;
-    let unscale = if exact {
-        1.0 / scale.fragment
-    } else {
-        1.0 / scale.vertex
-    } as f32;
+    machine.read_f32_into(tile.depth, inner, &mut band.distances[x0..], width)?;
+    let keys = tile.keys;
     band.distances
         .par_chunks_mut(width)
         .zip(band.labels.par_chunks(width))
         .for_each(|(depths, ids)| {
             for (z, id) in depths[x0..x0 + w].iter_mut().zip(&ids[x0..x0 + w]) {
-                let d = if exact {
-                    options.metric.distance_of_key((*z * unscale) as f64) as f32
-                } else {
-                    *z * unscale
-                };
                 *z = if *id == u32::MAX {
                     f32::INFINITY
                 } else {
-                    d * to_world
+                    keys.distance(*z) as f32
                 };
             }
         });

@@ -69,11 +69,14 @@ pub struct DepthExtremes {
 }
 
 /// Which pixels [`Machine::depth_extremes`] should also list: those within
-/// `within` (depth units) of the minimum or of the maximum.
+/// `within` of the minimum or of the maximum.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NearExtreme {
     pub maximum: bool,
+    /// In depth units; or, when `squared_scale` is positive and depths are
+    /// squared distances times it, in distance units.
     pub within: f32,
+    pub squared_scale: f32,
     pub capacity: u32,
 }
 
@@ -543,7 +546,8 @@ impl Machine {
                 pass.feed_fragment_buffer(depth, &values, 0)?;
                 let push = |phase: u32| {
                     let within = near.map_or(0.0, |n| n.within);
-                    [w, h, phase, within.to_bits(), capacity]
+                    let squared = near.map_or(0.0, |n| n.squared_scale);
+                    [w, h, phase, within.to_bits(), capacity, squared.to_bits()]
                 };
                 pass.dispatch(BufferKernel::Extremum, set, strips, &push(0))?;
                 pass.dispatch(BufferKernel::Extremum, set, strips, &push(1))?;

@@ -7,9 +7,10 @@ use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
-    geometry::metric::Metric,
-    io::sites,
+    algorithms::homothet::{self, Envelope, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+    geometry::{metric::Metric, site::Site},
+    io::{picture::PngStream, sites},
+    Machine,
 };
 use serde_json::Value;
 
@@ -29,11 +30,34 @@ pub struct Shape {
     /// Circles (the default).
     #[arg(long)]
     circle: bool,
+    /// Write a PNG of the envelope's regions with the homothet outlined in red
+    /// and its centre in yellow (thesis Figs. 4.1, 5.1).
+    #[arg(short = 'o', long = "output", value_name = "PNG")]
+    output: Option<PathBuf>,
     #[command(flatten)]
     common: Common,
 }
 
 impl Shape {
+    /// Writes the picture if one was asked for.
+    fn draw(
+        &self,
+        machine: &Machine,
+        shapes: &[Site],
+        answer: &HomothetAnswer,
+        envelope: Envelope,
+        region: &Region,
+    ) -> Result<()> {
+        let Some(path) = &self.output else {
+            return Ok(());
+        };
+        let rgb = homothet::picture(machine, shapes, self.unit()?, answer, envelope, region)?;
+        let mut png = PngStream::create(path, answer.frame.width, answer.frame.height)?;
+        png.write(&rgb)?;
+        png.finish()?;
+        Ok(())
+    }
+
     fn unit(&self) -> Result<Unit> {
         let Some(path) = &self.polygon else {
             return Ok(Unit::Circle);
@@ -69,10 +93,14 @@ pub struct EncloseArgs {
 /// The largest homothet of a circle or polygon containing no site, its centre in
 /// a region: the highest pixel of the lower envelope, the pixels outside the
 /// region pushed to 0 through a stencil mask (thesis ch. 5), refined exactly.
+/// Sites may be points, segments, circles and arcs with multiplicative weights
+/// (JSON or weight columns, as for `pixgeo voronoi`): obstacles and weighted
+/// facilities (§5.4.2–5.4.3).
 ///
 /// Example:
 ///
 ///   pixgeo empty --sites towns.csv --region county.json --json
+///   pixgeo empty --sites obstacles.json --region hall.json --inside
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct EmptyArgs {
@@ -83,6 +111,10 @@ pub struct EmptyArgs {
     /// sites' bounding box.
     #[arg(long, value_name = "FILE")]
     region: Option<PathBuf>,
+    /// Keep the whole homothet inside the region: its boundary becomes segment
+    /// sites (thesis §5.4.1).
+    #[arg(long)]
+    inside: bool,
 }
 
 pub fn enclose(args: EncloseArgs) -> Result<()> {
@@ -90,12 +122,17 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let unit = args.shape.unit()?;
     let machine = args.shape.common.machine()?;
     let side = args.shape.common.size.unwrap_or(DEFAULT_SIDE);
-    let answer = homothet::enclose(&machine, &points, unit, args.k.unwrap_or(0), side)?;
-    report(&answer, args.shape.common.json, "smallest enclosing")
+    let k = args.k.unwrap_or(0);
+    let answer = homothet::enclose(&machine, &points, unit, k, side)?;
+    report(&answer, args.shape.common.json, "smallest enclosing")?;
+    let envelope = Envelope::Enclosing { k };
+    let shapes: Vec<Site> = points.iter().map(|p| Site::point(*p)).collect();
+    args.shape
+        .draw(&machine, &shapes, &answer, envelope, &Region::default())
 }
 
 pub fn empty(args: EmptyArgs) -> Result<()> {
-    let points = sites::read_sites(&args.shape.sites)?;
+    let shapes = sites::read_general_sites(&args.shape.sites)?;
     let unit = args.shape.unit()?;
     let region = match &args.region {
         None => Region::default(),
@@ -103,8 +140,11 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
     };
     let machine = args.shape.common.machine()?;
     let side = args.shape.common.size.unwrap_or(DEFAULT_SIDE);
-    let answer = homothet::largest_empty(&machine, &points, unit, &region, side)?;
-    report(&answer, args.shape.common.json, "largest empty")
+    let answer =
+        homothet::largest_empty_sites(&machine, &shapes, unit, &region, args.inside, side)?;
+    report(&answer, args.shape.common.json, "largest empty")?;
+    args.shape
+        .draw(&machine, &shapes, &answer, Envelope::Empty, &region)
 }
 
 fn read_region(path: &Path) -> Result<Region> {

@@ -1,0 +1,150 @@
+//! Smallest enclosing and largest empty circles (thesis ch. 4–5) on a 1024²
+//! picture, beside the exact CPU methods a user would otherwise pick, in the same
+//! run: Welzl's algorithm for the enclosing circle, and the largest empty circle
+//! from a Delaunay triangulation (`spade`): circumcentres inside the box, Voronoi
+//! edges crossing its sides, and its corners.
+//!
+//! `cargo bench --bench homothet` writes `target/homothet/homothet.md`.
+//! `HM_N=100,1000` sets the site counts, `HM_REPEATS` the repeats (median).
+
+use std::{path::PathBuf, time::Instant};
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::homothet::{enclose, largest_empty, Region, Unit},
+    geometry::Frame,
+    io::sites::random_sites,
+    reference::homothet::welzl,
+    Machine,
+};
+use spade::{DelaunayTriangulation, Point2, Triangulation};
+
+const SIZE: u32 = 1024;
+
+fn env_list(name: &str, default: &[usize]) -> Vec<usize> {
+    std::env::var(name)
+        .ok()
+        .map(|s| s.split(',').filter_map(|t| t.trim().parse().ok()).collect())
+        .unwrap_or_else(|| default.to_vec())
+}
+
+fn time<T>(repeats: usize, mut f: impl FnMut() -> anyhow::Result<T>) -> anyhow::Result<(f64, T)> {
+    let mut v = Vec::new();
+    let mut last = None;
+    for _ in 0..repeats {
+        let t = Instant::now();
+        last = Some(f()?);
+        v.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    v.sort_by(f64::total_cmp);
+    Ok((v[v.len() / 2], last.expect("one repeat")))
+}
+
+/// The largest empty circle centred in the box [lo, hi] of the points, from
+/// their Delaunay triangulation.
+fn delaunay_empty_circle(points: &[DVec2]) -> anyhow::Result<f64> {
+    let lo = points.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = points.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    let inside = |c: DVec2| c.cmpge(lo).all() && c.cmple(hi).all();
+    let vertices: Vec<Point2<f64>> = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
+    let t: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::bulk_load(vertices)?;
+    let point = |p: Point2<f64>| DVec2::new(p.x, p.y);
+    let nearest = |c: DVec2| {
+        let v = t
+            .nearest_neighbor(Point2::new(c.x, c.y))
+            .expect("points exist");
+        point(v.position()).distance(c)
+    };
+    let mut best = [lo, hi, DVec2::new(lo.x, hi.y), DVec2::new(hi.x, lo.y)]
+        .into_iter()
+        .map(nearest)
+        .fold(0.0, f64::max);
+    for face in t.inner_faces() {
+        let (c, r2) = face.circumcircle();
+        if inside(point(c)) {
+            best = best.max(r2.sqrt());
+        }
+    }
+    // Voronoi edges crossing the box's sides: points equidistant from an edge's
+    // two ends, on a side, and nearest to them.
+    let sides = [
+        (lo, DVec2::new(hi.x, lo.y)),
+        (DVec2::new(hi.x, lo.y), hi),
+        (hi, DVec2::new(lo.x, hi.y)),
+        (DVec2::new(lo.x, hi.y), lo),
+    ];
+    for edge in t.undirected_edges() {
+        let [a, b] = edge.positions();
+        let (u, v) = (point(a), point(b));
+        for (p, q) in sides {
+            let d = q - p;
+            let denom = 2.0 * d.dot(v - u);
+            if denom == 0.0 {
+                continue;
+            }
+            let s = (v.length_squared() - u.length_squared() - 2.0 * p.dot(v - u)) / denom;
+            if (0.0..=1.0).contains(&s) {
+                let c = p + d * s;
+                let r = c.distance(u);
+                if r > best && nearest(c) >= r * (1.0 - 1e-12) {
+                    best = r;
+                }
+            }
+        }
+    }
+    Ok(best)
+}
+
+fn main() -> anyhow::Result<()> {
+    let ns = env_list("HM_N", &[100, 1000, 10_000, 100_000]);
+    let repeats = env_list("HM_REPEATS", &[3])[0].max(1);
+    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/homothet");
+    std::fs::create_dir_all(&out_dir)?;
+    let machine = Machine::from_env()?;
+    eprintln!("device: {}", machine.device_name());
+    let frame = Frame::pixels(1000, 1000)?;
+    let warm = random_sites(100, 1, &frame);
+    enclose(&machine, &warm, Unit::Circle, 0, SIZE)?;
+    largest_empty(&machine, &warm, Unit::Circle, &Region::default(), SIZE)?;
+
+    let mut table = String::from(
+        "| n | pixgeo enclose (ms) | Welzl (ms) | enclose / Welzl | same radius | pixgeo empty (ms) | Delaunay (spade) (ms) | empty / Delaunay | same radius |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for &n in &ns {
+        let sites = random_sites(n, n as u64, &frame);
+        let (ours, a) = time(repeats, || {
+            Ok(enclose(&machine, &sites, Unit::Circle, 0, SIZE)?)
+        })?;
+        let (theirs, w) = time(repeats, || Ok(welzl(&sites)))?;
+        let same_enclose = (a.exact.scale - w.radius).abs() <= 1e-9 * w.radius;
+        let (ours_e, e) = time(repeats, || {
+            Ok(largest_empty(
+                &machine,
+                &sites,
+                Unit::Circle,
+                &Region::default(),
+                SIZE,
+            )?)
+        })?;
+        let (theirs_e, d) = time(repeats, || delaunay_empty_circle(&sites))?;
+        let same_empty = (e.exact.scale - d).abs() <= 1e-9 * d;
+        eprintln!(
+            "n = {n:>6}: enclose {ours:.1} ms, Welzl {theirs:.2} ms ({}); empty {ours_e:.1} ms, Delaunay {theirs_e:.1} ms ({}); radii {} / {} and {} / {}",
+            same_enclose, same_empty, a.exact.scale, w.radius, e.exact.scale, d
+        );
+        table += &format!(
+            "| {n} | {ours:.1} | {theirs:.2} | {:.1}× | {} | {ours_e:.1} | {theirs_e:.1} | {:.1}× | {} |\n",
+            ours / theirs,
+            if same_enclose { "yes" } else { "no" },
+            ours_e / theirs_e,
+            if same_empty { "yes" } else { "no" },
+        );
+    }
+    let text = format!(
+        "Smallest enclosing and largest empty circle of n uniform random points, {SIZE}² picture, device {}; median of {repeats}.\n\n{table}",
+        machine.device_name()
+    );
+    std::fs::write(out_dir.join("homothet.md"), &text)?;
+    println!("{text}");
+    Ok(())
+}
