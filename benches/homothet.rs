@@ -17,7 +17,7 @@ use pixgeo::{
     reference::homothet::welzl,
     Machine,
 };
-use spade::{DelaunayTriangulation, Point2, Triangulation};
+use spade::{DelaunayTriangulation, HierarchyHintGenerator, Point2, Triangulation};
 
 const SIZE: u32 = 1024;
 
@@ -47,7 +47,9 @@ fn delaunay_empty_circle(points: &[DVec2]) -> anyhow::Result<f64> {
     let hi = points.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
     let inside = |c: DVec2| c.cmpge(lo).all() && c.cmple(hi).all();
     let vertices: Vec<Point2<f64>> = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
-    let t: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::bulk_load(vertices)?;
+    // The hierarchy makes nearest-neighbour queries logarithmic.
+    type Hierarchical = DelaunayTriangulation<Point2<f64>, (), (), (), HierarchyHintGenerator<f64>>;
+    let t = Hierarchical::bulk_load(vertices)?;
     let point = |p: Point2<f64>| DVec2::new(p.x, p.y);
     let nearest = |c: DVec2| {
         let v = t
@@ -65,8 +67,10 @@ fn delaunay_empty_circle(points: &[DVec2]) -> anyhow::Result<f64> {
             best = best.max(r2.sqrt());
         }
     }
-    // Voronoi edges crossing the box's sides: points equidistant from an edge's
-    // two ends, on a side, and nearest to them.
+    // Voronoi edges crossing the box's sides: each Delaunay edge's Voronoi edge
+    // runs between the circumcentres of its two triangles (a ray beyond a hull
+    // edge), and where it crosses a side the circle through the edge's ends is
+    // empty.
     let sides = [
         (lo, DVec2::new(hi.x, lo.y)),
         (DVec2::new(hi.x, lo.y), hi),
@@ -74,21 +78,39 @@ fn delaunay_empty_circle(points: &[DVec2]) -> anyhow::Result<f64> {
         (DVec2::new(lo.x, hi.y), lo),
     ];
     for edge in t.undirected_edges() {
-        let [a, b] = edge.positions();
-        let (u, v) = (point(a), point(b));
+        let e = edge.as_directed();
+        let (u, v) = (point(e.from().position()), point(e.to().position()));
+        let m = (u + v) / 2.0;
+        let dir = (v - u).perp();
+        // The Voronoi edge as m + t dir for t in [t0, t1].
+        let param = |c: DVec2| (c - m).dot(dir) / dir.length_squared();
+        let (left, right) = (e.face().as_inner(), e.rev().face().as_inner());
+        let (t0, t1) = match (left, right) {
+            (Some(f), Some(g)) => {
+                let (a, b) = (
+                    param(point(f.circumcircle().0)),
+                    param(point(g.circumcircle().0)),
+                );
+                (a.min(b), a.max(b))
+            }
+            // A hull edge: the ray from the inner triangle's circumcentre away
+            // from that triangle (dir points to the edge's left).
+            (Some(f), None) => (f64::NEG_INFINITY, param(point(f.circumcircle().0))),
+            (None, Some(g)) => (param(point(g.circumcircle().0)), f64::INFINITY),
+            (None, None) => (f64::NEG_INFINITY, f64::INFINITY),
+        };
         for (p, q) in sides {
             let d = q - p;
-            let denom = 2.0 * d.dot(v - u);
+            let denom = d.perp_dot(dir);
             if denom == 0.0 {
                 continue;
             }
-            let s = (v.length_squared() - u.length_squared() - 2.0 * p.dot(v - u)) / denom;
-            if (0.0..=1.0).contains(&s) {
-                let c = p + d * s;
-                let r = c.distance(u);
-                if r > best && nearest(c) >= r * (1.0 - 1e-12) {
-                    best = r;
-                }
+            // p + s d = m + t dir.
+            let w = m - p;
+            let s_at = w.perp_dot(dir) / denom;
+            let t_at = w.perp_dot(d) / denom;
+            if (0.0..=1.0).contains(&s_at) && t_at >= t0 && t_at <= t1 {
+                best = best.max((p + d * s_at).distance(u));
             }
         }
     }

@@ -313,6 +313,36 @@ fn convex_hull_of_degenerate_sets() {
 }
 
 #[test]
+fn convex_hull_equals_the_pairs_with_every_point_on_one_side() {
+    use rand::SeedableRng;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(21);
+    for points in [
+        common::uniform(&mut rng, 300, 100.0, 80.0),
+        common::clustered(&mut rng, 300, 100.0, 80.0),
+    ] {
+        let orient = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
+        // Brute force: (a, b) is a hull edge when no point is to its right.
+        let mut truth: Vec<u32> = Vec::new();
+        for a in 0..points.len() {
+            for b in 0..points.len() {
+                if a != b
+                    && points
+                        .iter()
+                        .all(|&c| orient(points[a], points[b], c) >= 0.0)
+                {
+                    truth.push(a as u32);
+                }
+            }
+        }
+        truth.sort_unstable();
+        truth.dedup();
+        let mut h = convex_hull(&points);
+        h.sort_unstable();
+        assert_eq!(h, truth);
+    }
+}
+
+#[test]
 fn bad_input_is_a_clear_error() {
     let m = machine();
     let frame = Frame::pixels(10, 10).unwrap();

@@ -315,6 +315,15 @@ fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
         start: 0.3,
         end: 2.5,
     }));
+    let mut segments = points.clone();
+    segments.push(Site::new(Shape::Segment(
+        DVec2::new(10.0, 70.0),
+        DVec2::new(45.0, 50.0),
+    )));
+    segments.push(Site::new(Shape::Segment(
+        DVec2::new(80.0, 5.0),
+        DVec2::new(95.0, 40.0),
+    )));
     let mut weighted = points.clone();
     for (k, s) in weighted.iter_mut().enumerate() {
         s.multiplicative = 0.6 + 0.2 * k as f64;
@@ -327,6 +336,8 @@ fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
     for (name, sites, inside) in [
         ("points inside", &points, true),
         ("segment and arc", &obstacles, false),
+        ("segments", &segments, false),
+        ("segments inside", &segments, true),
         ("weighted", &weighted, false),
     ] {
         let answer =
@@ -380,4 +391,104 @@ fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
             answer.tolerance
         );
     }
+}
+
+#[test]
+fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
+    use pixgeo::{
+        algorithms::homothet::enclose_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    // Two circles: the enclosing circle spans from -1 to 13 on the x axis.
+    let two = [
+        Site::new(Shape::Circle {
+            center: DVec2::ZERO,
+            radius: 1.0,
+        }),
+        Site::new(Shape::Circle {
+            center: DVec2::new(10.0, 0.0),
+            radius: 3.0,
+        }),
+    ];
+    let answer = enclose_sites(&machine, &two, Unit::Circle, 0, 256).unwrap();
+    assert!((answer.exact.scale - 7.0).abs() < 1e-7, "{answer:?}");
+    assert!(DVec2::from(answer.exact.centre).distance(DVec2::new(6.0, 0.0)) < 1e-6);
+    // Segments: Welzl on their ends.
+    let segments = [
+        Site::new(Shape::Segment(DVec2::new(0.0, 0.0), DVec2::new(5.0, 9.0))),
+        Site::new(Shape::Segment(DVec2::new(12.0, 1.0), DVec2::new(7.0, -4.0))),
+        Site::point(DVec2::new(3.0, -6.0)),
+    ];
+    let ends = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(5.0, 9.0),
+        DVec2::new(12.0, 1.0),
+        DVec2::new(7.0, -4.0),
+        DVec2::new(3.0, -6.0),
+    ];
+    let answer = enclose_sites(&machine, &segments, Unit::Circle, 0, 256).unwrap();
+    assert!(close(answer.exact.scale, welzl(&ends).radius));
+    // Mixed with an arc: no grid centre does better, none much worse.
+    let mut mixed = segments.to_vec();
+    mixed.push(Site::new(Shape::Arc {
+        center: DVec2::new(4.0, 3.0),
+        radius: 8.0,
+        start: 1.0,
+        end: 2.6,
+    }));
+    mixed.push(Site::new(Shape::Circle {
+        center: DVec2::new(10.0, 8.0),
+        radius: 2.5,
+    }));
+    let answer = enclose_sites(&machine, &mixed, Unit::Circle, 0, 256).unwrap();
+    let farthest = |c: DVec2| {
+        let mut far = 0.0f64;
+        for s in &mixed {
+            // The definition: the farthest of many points along the shape.
+            let pts: Vec<DVec2> = match s.shape {
+                Shape::Point(p) => vec![p],
+                Shape::Segment(a, b) => (0..=100)
+                    .map(|t| a + (b - a) * (t as f64 / 100.0))
+                    .collect(),
+                Shape::Circle { center, radius } => (0..4000)
+                    .map(|t| {
+                        let a = TAU * t as f64 / 4000.0;
+                        center + radius * DVec2::new(a.cos(), a.sin())
+                    })
+                    .collect(),
+                Shape::Arc {
+                    center,
+                    radius,
+                    start,
+                    end,
+                } => (0..=4000)
+                    .map(|t| {
+                        let a = start + (end - start) * t as f64 / 4000.0;
+                        center + radius * DVec2::new(a.cos(), a.sin())
+                    })
+                    .collect(),
+            };
+            far = pts.iter().map(|p| p.distance(c)).fold(far, f64::max);
+        }
+        far
+    };
+    let mut grid = f64::INFINITY;
+    for j in -40..=60 {
+        for i in -20..=60 {
+            grid = grid.min(farthest(DVec2::new(i as f64 * 0.25, j as f64 * 0.25)));
+        }
+    }
+    let c = DVec2::from(answer.exact.centre);
+    // Dense sampling of the curves reaches the farthest point within 1e-5.
+    assert!(
+        (farthest(c) - answer.exact.scale).abs() < 1e-5,
+        "{answer:?}"
+    );
+    assert!(
+        answer.exact.scale <= grid + 1e-9 && answer.exact.scale >= grid - 0.25,
+        "{} vs {grid}",
+        answer.exact.scale
+    );
+    assert!(enclose_sites(&machine, &mixed, Unit::Circle, 2, 64).is_err());
 }

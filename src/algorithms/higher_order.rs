@@ -997,7 +997,43 @@ fn furthest_region_box(sites: &[DVec2], k: usize, width: u32, height: u32) -> [u
 /// left out (Andrew's monotone chain with exact orientation tests). Duplicates
 /// appear once; one or two distinct points are their own hull.
 pub fn convex_hull(points: &[DVec2]) -> Vec<u32> {
-    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    let turn = |o: DVec2, a: DVec2, b: DVec2| {
+        let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
+        robust::orient2d(c(o), c(a), c(b))
+    };
+    // Akl–Toussaint: points strictly inside the octagon of the extreme points in
+    // eight directions are no hull vertices; only the others are sorted.
+    let mut octagon: Vec<DVec2> = Vec::new();
+    if !points.is_empty() {
+        let directions = [
+            DVec2::new(1.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.0, 1.0),
+            DVec2::new(-1.0, 1.0),
+            DVec2::new(-1.0, 0.0),
+            DVec2::new(-1.0, -1.0),
+            DVec2::new(0.0, -1.0),
+            DVec2::new(1.0, -1.0),
+        ];
+        for d in directions {
+            let p = points
+                .iter()
+                .copied()
+                .max_by(|a, b| a.dot(d).total_cmp(&b.dot(d)))
+                .expect("points exist");
+            if octagon.last() != Some(&p) && octagon.first() != Some(&p) {
+                octagon.push(p);
+            }
+        }
+    }
+    let strictly_inside = |p: DVec2| {
+        octagon.len() >= 3
+            && (0..octagon.len())
+                .all(|k| turn(octagon[k], octagon[(k + 1) % octagon.len()], p) > 0.0)
+    };
+    let mut order: Vec<u32> = (0..points.len() as u32)
+        .filter(|&i| !strictly_inside(points[i as usize]))
+        .collect();
     order.sort_by(|&a, &b| {
         let (p, q) = (points[a as usize], points[b as usize]);
         p.x.total_cmp(&q.x)
@@ -1008,13 +1044,8 @@ pub fn convex_hull(points: &[DVec2]) -> Vec<u32> {
     if order.len() < 3 {
         return order;
     }
-    let turn = |o: u32, a: u32, b: u32| {
-        let c = |i: u32| robust::Coord {
-            x: points[i as usize].x,
-            y: points[i as usize].y,
-        };
-        robust::orient2d(c(o), c(a), c(b))
-    };
+    let turn =
+        |o: u32, a: u32, b: u32| turn(points[o as usize], points[a as usize], points[b as usize]);
     let mut hull: Vec<u32> = Vec::with_capacity(2 * order.len());
     for pass in [
         &order[..],

@@ -23,6 +23,7 @@ use serde::Serialize;
 use crate::{
     error::{Error, Result},
     geometry::{
+        buckets::PointGrid,
         frame::check_sites,
         metric::{Gauge, Metric},
         site::{check_general_sites, Shape, Site},
@@ -46,6 +47,15 @@ use super::{
 pub enum Unit {
     Circle,
     Polygon(&'static Gauge),
+}
+
+impl From<Unit> for Metric {
+    fn from(unit: Unit) -> Metric {
+        match unit {
+            Unit::Circle => Metric::L2,
+            Unit::Polygon(g) => Metric::Polygon(g),
+        }
+    }
 }
 
 impl Unit {
@@ -176,15 +186,28 @@ pub fn enclose(
         (at, d, near)
     };
     let centre = pixel_centre(&frame, pixel);
-    let pixel_bound = bound + 1e-5 * value;
+    let pixel_bound = bound + rounding(unit, &frame, value);
     let (exact, checked) = if k == n && unit == Unit::Circle {
         let (around, reach) = surroundings(&frame, &near_pixels);
         let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
         smallest_circle(sites, around, value, slack)
     } else {
         let goal = Goal::Smallest;
-        best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
-            let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
+        let eps = rounding(unit, &frame, value);
+        let window = (value - 2.0 * bound - eps, value + eps);
+        // The furthest site is a hull vertex when the unit is convex.
+        let owners: Vec<u32> = match unit {
+            Unit::Polygon(g) if !g.is_convex() => (0..n as u32).collect(),
+            _ => super::higher_order::convex_hull(sites),
+        };
+        let furthest = |c: DVec2| {
+            owners
+                .iter()
+                .map(|&i| unit.gauge(sites[i as usize] - c))
+                .fold(0.0, f64::max)
+        };
+        let (c, v, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
+            let slack = 2.0 * bound + eps + unit.lipschitz() * reach;
             let near = if k == n {
                 let key = |s: DVec2| -unit.gauge(s - around);
                 nearest_candidates(sites, key, slack - value, MAX_NEAR_SITES)
@@ -192,9 +215,23 @@ pub fn enclose(
                 let key = |s: DVec2| unit.gauge(s - around);
                 nearest_candidates(sites, key, value + slack, MAX_NEAR_SITES.max(k + 8))
             };
-            best_vertex(sites, unit, around, reach, &near, &[], goal, k, |_| true)
+            let always = |_| true;
+            best_vertex(
+                sites,
+                unit,
+                around,
+                reach,
+                &near,
+                &[],
+                goal,
+                k,
+                window,
+                always,
+                furthest,
+            )
         })
-        .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?
+        .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?;
+        (homothet_at(sites, unit, c, v), checked)
     };
     Ok(answer_of(
         &frame,
@@ -225,6 +262,174 @@ fn answer_of(
         width: frame.width,
         height: frame.height,
         frame: *frame,
+    }
+}
+
+/// Points per full turn that stand for a circle in the picture of an enclosing
+/// homothet; the chords lose at most r (1 − cos(π / 64)).
+const CURVE_SAMPLES: usize = 64;
+
+/// The Euclidean distance from `c` to the farthest point of a site's shape.
+fn farthest_euclidean(shape: Shape, c: DVec2) -> f64 {
+    let at = |o: DVec2, r: f64, a: f64| o + r * DVec2::new(a.cos(), a.sin());
+    match shape {
+        Shape::Point(p) => c.distance(p),
+        Shape::Segment(a, b) => c.distance(a).max(c.distance(b)),
+        Shape::Circle { center, radius } => c.distance(center) + radius,
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } => {
+            let d = center - c;
+            if d == DVec2::ZERO || crate::geometry::site::on_arc(d.y.atan2(d.x), start, end) {
+                d.length() + radius
+            } else {
+                c.distance(at(center, radius, start))
+                    .max(c.distance(at(center, radius, end)))
+            }
+        }
+    }
+}
+
+/// The smallest homothet of `unit` holding every site: points, segments (whose
+/// ends decide, for convex units), and with circles as the unit also circles and
+/// arcs (thesis §4.4: the minimum enclosing circle of circles). Points and
+/// segments are exact through [`enclose`]; circles and arcs are drawn as points
+/// on them and refined by a branch and bound on their farthest distances, to a
+/// relative gap of 1e-9.
+pub fn enclose_sites(
+    machine: &Machine,
+    sites: &[Site],
+    unit: Unit,
+    k: usize,
+    side: u32,
+) -> Result<HomothetAnswer> {
+    check_general_sites(sites)?;
+    if sites
+        .iter()
+        .any(|s| s.multiplicative != 1.0 || s.additive != 0.0)
+    {
+        return Err(Error::InvalidInput(
+            "enclosing homothets take unweighted sites".into(),
+        ));
+    }
+    let curved = sites
+        .iter()
+        .any(|s| matches!(s.shape, Shape::Circle { .. } | Shape::Arc { .. }));
+    let points_only = sites.iter().all(|s| matches!(s.shape, Shape::Point(_)));
+    if !points_only && k != 0 && k != sites.len() {
+        return Err(Error::InvalidInput(
+            "the smallest k-enclosing homothet takes point sites".into(),
+        ));
+    }
+    match unit {
+        Unit::Polygon(g) if curved || (!points_only && !g.is_convex()) => {
+            return Err(Error::InvalidInput(
+                "polygons enclose points, and segments when convex; circles and arcs need --circle"
+                    .into(),
+            ));
+        }
+        _ => {}
+    }
+    // Points standing for each site, and whose site they are.
+    let mut samples = Vec::new();
+    let mut owner = Vec::new();
+    for (i, s) in sites.iter().enumerate() {
+        let mut add = |p: DVec2| {
+            samples.push(p);
+            owner.push(i as u32);
+        };
+        match s.shape {
+            Shape::Point(p) => add(p),
+            Shape::Segment(a, b) => {
+                add(a);
+                add(b);
+            }
+            Shape::Circle { center, radius } => {
+                for j in 0..CURVE_SAMPLES {
+                    let a = std::f64::consts::TAU * j as f64 / CURVE_SAMPLES as f64;
+                    add(center + radius * DVec2::new(a.cos(), a.sin()));
+                }
+            }
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => {
+                let span = (end - start).min(std::f64::consts::TAU);
+                let steps =
+                    ((span / std::f64::consts::TAU * CURVE_SAMPLES as f64).ceil() as usize).max(1);
+                for j in 0..=steps {
+                    let a = start + span * j as f64 / steps as f64;
+                    add(center + radius * DVec2::new(a.cos(), a.sin()));
+                }
+            }
+        }
+    }
+    let mut answer = enclose(machine, &samples, unit, k, side)?;
+    // The picture saw chords of the curves.
+    let chord_loss = sites
+        .iter()
+        .map(|s| match s.shape {
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
+                radius * (1.0 - (std::f64::consts::PI / CURVE_SAMPLES as f64).cos())
+            }
+            _ => 0.0,
+        })
+        .fold(0.0, f64::max);
+    answer.pixel_bound += chord_loss;
+    let mut named: Vec<u32> = answer
+        .exact
+        .sites
+        .iter()
+        .map(|&s| owner[s as usize])
+        .collect();
+    named.dedup();
+    answer.exact.sites = named;
+    if !curved {
+        return Ok(answer);
+    }
+    // The samples' circle is a start; the sites' farthest distances decide.
+    let start = DVec2::from(answer.exact.centre);
+    let farthest = |c: DVec2| {
+        sites
+            .iter()
+            .map(|s| farthest_euclidean(s.shape, c))
+            .fold(0.0, f64::max)
+    };
+    let mut reach = 0.1 * answer.exact.scale + 8.0 * half_diagonal(&answer.frame);
+    loop {
+        let (c, v, gap, cells) = branch_and_bound(
+            start,
+            reach,
+            1.0,
+            |c| -farthest(c),
+            |c| -farthest(c),
+            |_| true,
+            |_, _| true,
+        )
+        .ok_or_else(|| Error::InvalidInput("no enclosing circle found".into()))?;
+        // The optimum is where the function is convex and lowest: inside the
+        // square searched, or the square was too small.
+        if (c - start).abs().max_element() < reach * 0.99 {
+            let tol = 1e-9 * (1.0 + v.abs());
+            answer.exact = Homothet {
+                centre: c.to_array(),
+                scale: -v,
+                sites: (0..sites.len() as u32)
+                    .filter(|&i| {
+                        (farthest_euclidean(sites[i as usize].shape, c) + v).abs() <= tol.max(gap)
+                    })
+                    .collect(),
+            };
+            answer.tolerance = gap;
+            answer.checked += cells;
+            return Ok(answer);
+        }
+        reach *= 4.0;
     }
 }
 
@@ -289,7 +494,7 @@ pub fn largest_empty(
     let metric = unit.cone_metric()?;
     let options = VoronoiOptions {
         metric,
-        speedup: Speedup::Quadtree,
+        speedup: Speedup::Local,
         ..VoronoiOptions::exact(frame)
     };
     let region_mesh = region_triangles(&region, &frame);
@@ -342,12 +547,33 @@ pub fn largest_empty(
         .flat_map(|t| t.1.iter().copied())
         .collect();
     let centre = pixel_centre(&frame, near_pixels[0]);
-    let pixel_bound = bound + 1e-5 * value;
+    let eps = rounding(unit, &frame, value);
+    let pixel_bound = bound + eps;
     let goal = Goal::Largest;
-    let (exact, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
-        let slack = 3.0 * pixel_bound + unit.lipschitz() * reach;
-        let key = |s: DVec2| unit.gauge(s - around);
-        let near = nearest_candidates(sites, key, value + slack, MAX_NEAR_SITES);
+    // The best centre's pixel (or, masked, a neighbour) is among the near ones.
+    let window = (value - eps, value + 2.0 * bound + eps);
+    // A gauge of at most g is within Euclidean distance g · rmax.
+    let rmax = 1.0 / Metric::from(unit).euclidean_bounds().0;
+    let grid = PointGrid::new(sites);
+    let nearest = |c: DVec2| {
+        let (i, _) = grid.nearest(c).expect("sites exist");
+        let upper = unit.gauge(sites[i as usize] - c);
+        grid.around(c, upper * rmax)
+            .map(|j| unit.gauge(sites[j as usize] - c))
+            .fold(upper, f64::min)
+    };
+    let (c, v, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
+        let limit = value + 2.0 * bound + eps + unit.lipschitz() * reach;
+        let near: Vec<u32> = {
+            let mut keyed: Vec<(f64, u32)> = grid
+                .around(around, limit * rmax)
+                .map(|i| (unit.gauge(sites[i as usize] - around), i))
+                .filter(|(g, _)| *g <= limit)
+                .collect();
+            keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+            keyed.truncate(MAX_NEAR_SITES);
+            keyed.into_iter().map(|(_, i)| i).collect()
+        };
         let edges: Vec<(DVec2, DVec2)> = region
             .edges()
             .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
@@ -356,9 +582,12 @@ pub fn largest_empty(
             let tol = 1e-9 * (1.0 + c.abs().max_element());
             region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
         };
-        best_vertex(sites, unit, around, reach, &near, &edges, goal, 1, allowed)
+        best_vertex(
+            sites, unit, around, reach, &near, &edges, goal, 1, window, allowed, nearest,
+        )
     })
     .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    let exact = homothet_at(sites, unit, c, v);
     Ok(answer_of(
         &frame,
         centre,
@@ -505,20 +734,65 @@ pub fn largest_empty_sites(
             .filter(|s| s.distance(metric, around) <= value + slack)
             .copied()
             .collect();
-        let found = branch_and_bound(
-            around,
-            reach,
-            lipschitz,
-            |c| clearance(c, &near),
-            |c| clearance(c, &all),
-            |c| {
-                let tol = 1e-9 * (1.0 + c.abs().max_element());
-                region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
-            },
-            |c, r| {
-                region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
-            },
-        );
+        let allowed = |c: DVec2| {
+            let tol = 1e-9 * (1.0 + c.abs().max_element());
+            region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
+        };
+        let found = if unit == Unit::Circle && near.iter().all(is_plain_point_or_segment) {
+            // Exact: the best centre is a vertex of the diagram of points and
+            // segments, or where its edges meet the region's boundary.
+            let mut points = Vec::new();
+            let mut lines = Vec::new();
+            for site in &near {
+                match site.shape {
+                    Shape::Point(p) => points.push(p),
+                    Shape::Segment(a, b) => {
+                        points.extend([a, b]);
+                        if a != b {
+                            lines.push((a, b));
+                        }
+                    }
+                    _ => unreachable!("points and segments"),
+                }
+            }
+            let walls: Vec<(DVec2, DVec2)> = edges
+                .iter()
+                .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
+                .copied()
+                .collect();
+            let mut candidates = clearing_vertices(&points, &lines, &walls);
+            candidates.retain(|c| c.is_finite() && c.distance(around) <= reach && allowed(*c));
+            let cells = candidates.len();
+            let mut bounded: Vec<(DVec2, f64)> = candidates
+                .into_iter()
+                .map(|c| (c, clearance(c, &near)))
+                .collect();
+            bounded.sort_by(|a, b| b.1.total_cmp(&a.1));
+            let mut best: Option<(DVec2, f64)> = None;
+            for (c, upper) in bounded {
+                if best.is_some_and(|b| upper <= b.1) {
+                    break;
+                }
+                let v = clearance(c, &all);
+                if best.is_none_or(|b| v > b.1) {
+                    best = Some((c, v));
+                }
+            }
+            best.map(|(c, v)| (c, v, 0.0, cells))
+        } else {
+            branch_and_bound(
+                around,
+                reach,
+                lipschitz,
+                |c| clearance(c, &near),
+                |c| clearance(c, &all),
+                allowed,
+                |c, r| {
+                    region.contains(c)
+                        || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
+                },
+            )
+        };
         if let Some((c, v, gap, cells)) = found {
             if best.is_none_or(|b| v > b.1) {
                 best = Some((c, v, gap, cells));
@@ -547,6 +821,184 @@ pub fn largest_empty_sites(
     );
     answer.tolerance = gap;
     Ok(answer)
+}
+
+fn is_plain_point_or_segment(s: &Site) -> bool {
+    matches!(s.shape, Shape::Point(_) | Shape::Segment(..))
+        && s.multiplicative == 1.0
+        && s.additive == 0.0
+}
+
+/// Roots of a t² + b t + c = 0 (the one root of the linear equation when a
+/// vanishes).
+fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
+    let scale = a.abs().max(b.abs()).max(c.abs());
+    if scale == 0.0 {
+        return Vec::new();
+    }
+    if a.abs() <= 1e-12 * scale {
+        return if b != 0.0 { vec![-c / b] } else { Vec::new() };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < -1e-12 * b * b {
+        return Vec::new();
+    }
+    let root = disc.max(0.0).sqrt();
+    // The stable pair: no cancellation between b and the root.
+    let q = -0.5 * (b + b.signum() * root);
+    if q == 0.0 {
+        return vec![0.0];
+    }
+    vec![q / a, c / q]
+}
+
+/// Every centre equidistant (Euclidean) from three of the points and the
+/// lines through `lines`, and every point of a `walls` segment equidistant
+/// from two of them, and the walls' ends: the candidates for the largest
+/// circle clearing points and segments (whose ends are among `points`).
+fn clearing_vertices(
+    points: &[DVec2],
+    lines: &[(DVec2, DVec2)],
+    walls: &[(DVec2, DVec2)],
+) -> Vec<DVec2> {
+    // A line as unit normal n and offset e: signed distance n·c − e.
+    let normal = |(a, b): (DVec2, DVec2)| {
+        let n = (b - a).perp().normalize();
+        (n, n.dot(a))
+    };
+    let ls: Vec<(DVec2, f64)> = lines.iter().map(|l| normal(*l)).collect();
+    let signs = [1.0, -1.0];
+    let mut out = Vec::new();
+    // Centres on a line c = c0 + t u with clearance r = r0 + t k that are also at
+    // distance r from p.
+    let on_line_from_point =
+        |out: &mut Vec<DVec2>, c0: DVec2, u: DVec2, r0: f64, k: f64, p: DVec2| {
+            let w = c0 - p;
+            for t in quadratic_roots(
+                u.length_squared() - k * k,
+                2.0 * (u.dot(w) - r0 * k),
+                w.length_squared() - r0 * r0,
+            ) {
+                if r0 + t * k >= 0.0 {
+                    out.push(c0 + u * t);
+                }
+            }
+        };
+    let np = points.len();
+    let nl = ls.len();
+    for x in 0..np {
+        for y in x + 1..np {
+            let (p, q) = (points[x], points[y]);
+            if p == q {
+                continue;
+            }
+            for &r in &points[y + 1..] {
+                if let Some(c) = circumcentre(p, q, r) {
+                    out.push(c);
+                }
+            }
+            // Two points and a line: along their bisector.
+            let m = (p + q) / 2.0;
+            let u = (q - p).perp().normalize();
+            for &(n, e) in &ls {
+                for s in signs {
+                    on_line_from_point(&mut out, m, u, s * (n.dot(m) - e), s * n.dot(u), p);
+                }
+            }
+        }
+    }
+    for x in 0..nl {
+        for y in x + 1..nl {
+            let ((n1, e1), (n2, e2)) = (ls[x], ls[y]);
+            for s1 in signs {
+                for s2 in signs {
+                    // s1 (n1·c − e1) = s2 (n2·c − e2): the line A·c = B.
+                    let a = s1 * n1 - s2 * n2;
+                    let b = s1 * e1 - s2 * e2;
+                    if a.length_squared() < 1e-24 {
+                        continue;
+                    }
+                    let c0 = a * (b / a.length_squared());
+                    let u = a.perp().normalize();
+                    let (r0, k) = (s1 * (n1.dot(c0) - e1), s1 * n1.dot(u));
+                    // A point and two lines.
+                    for &p in points {
+                        on_line_from_point(&mut out, c0, u, r0, k, p);
+                    }
+                    // Three lines: the third equation fixes t.
+                    for &(n3, e3) in &ls[y + 1..] {
+                        for s3 in signs {
+                            // s3 (n3·(c0 + t u) − e3) = r0 + t k.
+                            let slope = s3 * n3.dot(u) - k;
+                            if slope.abs() > 1e-12 {
+                                let t = (r0 - s3 * (n3.dot(c0) - e3)) / slope;
+                                if r0 + t * k >= 0.0 {
+                                    out.push(c0 + u * t);
+                                }
+                            }
+                        }
+                    }
+                    // Two lines and a wall.
+                    for (wa, wb) in walls {
+                        let (nw, ew) = normal((*wa, *wb));
+                        let d = nw.dot(u);
+                        if d.abs() > 1e-12 {
+                            out.push(c0 + u * ((ew - nw.dot(c0)) / d));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // On a wall c = a + t (b − a), t in [0, 1]: equidistant from two points, a
+    // point and a line, or two lines; and the wall's ends.
+    for &(a, b) in walls {
+        let d = b - a;
+        let inside = |t: f64| (-1e-12..=1.0 + 1e-12).contains(&t);
+        let mut on_wall = |t: f64| {
+            if inside(t) {
+                out.push(a + d * t);
+            }
+        };
+        for x in 0..np {
+            for y in x + 1..np {
+                let (u, v) = (points[x], points[y]);
+                let denom = 2.0 * d.dot(v - u);
+                if denom != 0.0 {
+                    on_wall((v.length_squared() - u.length_squared() - 2.0 * a.dot(v - u)) / denom);
+                }
+            }
+            for &(n, e) in &ls {
+                for s in signs {
+                    // |a + t d − p|² = (s (n·a − e) + t s n·d)².
+                    let (r0, k) = (s * (n.dot(a) - e), s * n.dot(d));
+                    let w = a - points[x];
+                    for t in quadratic_roots(
+                        d.length_squared() - k * k,
+                        2.0 * (d.dot(w) - r0 * k),
+                        w.length_squared() - r0 * r0,
+                    ) {
+                        on_wall(t);
+                    }
+                }
+            }
+        }
+        for x in 0..nl {
+            for y in x + 1..nl {
+                let ((n1, e1), (n2, e2)) = (ls[x], ls[y]);
+                for s in signs {
+                    // n1·(a + t d) − e1 = s (n2·(a + t d) − e2).
+                    let slope = n1.dot(d) - s * n2.dot(d);
+                    if slope.abs() > 1e-12 {
+                        on_wall((s * (n2.dot(a) - e2) - (n1.dot(a) - e1)) / slope);
+                    }
+                }
+            }
+        }
+        out.extend([a, b]);
+    }
+    out.extend(points.iter().copied());
+    out
 }
 
 /// Cells a branch and bound may evaluate before it stops with its gap.
@@ -677,6 +1129,19 @@ fn enclosing_frame(sites: &[DVec2], unit: Unit, side: u32, k: usize) -> Result<F
     frame_of_box(side, blo, bhi)
 }
 
+/// The bounding box of the unit shape around its kernel point.
+fn unit_box(unit: Unit) -> (DVec2, DVec2) {
+    match unit {
+        Unit::Circle => (DVec2::splat(-1.0), DVec2::splat(1.0)),
+        Unit::Polygon(g) => (
+            g.vertices.iter().fold(DVec2::INFINITY, |a, p| a.min(*p)),
+            g.vertices
+                .iter()
+                .fold(DVec2::NEG_INFINITY, |a, p| a.max(*p)),
+        ),
+    }
+}
+
 /// The frame showing the box `lo..hi` with `side` pixels along its longer axis.
 fn frame_of_box(side: u32, lo: DVec2, hi: DVec2) -> Result<Frame> {
     let size = hi - lo;
@@ -708,20 +1173,31 @@ fn near_extreme(metric: Metric, scale: f64, within: f64, maximum: bool) -> NearE
 const NEAR_PIXELS: u32 = 4096;
 
 /// A disc holding every centre the near-extreme pixels stand for: around their
-/// bounding box's middle, reaching its corners plus four pixels.
+/// bounding box's middle, reaching its corners and a pixel beyond.
 fn surroundings(frame: &Frame, pixels: &[usize]) -> (DVec2, f64) {
     let centres: Vec<DVec2> = pixels.iter().map(|&p| pixel_centre(frame, p)).collect();
     let lo = centres.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = centres.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
     (
         (lo + hi) / 2.0,
-        (hi - lo).length() / 2.0 + 8.0 * half_diagonal(frame),
+        // The best centre is within a pixel's diagonal of a near pixel's centre.
+        (hi - lo).length() / 2.0 + 2.5 * half_diagonal(frame),
     )
 }
 
 fn pixel_centre(frame: &Frame, at: usize) -> DVec2 {
     let w = frame.width as usize;
     frame.to_world(DVec2::new((at % w) as f64, (at / w) as f64))
+}
+
+/// How far a depth may be from the scale it stands for (world units): float32
+/// rounding, and for polygon fans the rasterizer's 1/256-pixel vertex snapping.
+fn rounding(unit: Unit, frame: &Frame, value: f64) -> f64 {
+    let snap = match unit {
+        Unit::Circle => 0.0,
+        Unit::Polygon(_) => unit.lipschitz() / (128.0 * frame.scale),
+    };
+    1e-5 * value.abs() + snap
 }
 
 fn half_diagonal(frame: &Frame) -> f64 {
@@ -789,25 +1265,37 @@ fn best_of_clusters(
     frame: &Frame,
     pixels: &[usize],
     goal: Goal,
-    refine: impl Fn(DVec2, f64) -> Option<(Homothet, usize)>,
-) -> Option<(Homothet, usize)> {
-    let mut best: Option<(Homothet, usize)> = None;
+    refine: impl Fn(DVec2, f64) -> Option<(DVec2, f64, usize)>,
+) -> Option<(DVec2, f64, usize)> {
+    let mut best: Option<(DVec2, f64)> = None;
     let mut checked = 0;
     for cluster in clusters(frame, pixels) {
         let (around, reach) = surroundings(frame, &cluster);
-        if let Some((h, c)) = refine(around, reach) {
-            checked += c;
-            let better = match (&best, goal) {
+        if let Some((c, v, n)) = refine(around, reach) {
+            checked += n;
+            let better = match (best, goal) {
                 (None, _) => true,
-                (Some((b, _)), Goal::Smallest) => h.scale < b.scale,
-                (Some((b, _)), Goal::Largest) => h.scale > b.scale,
+                (Some((_, b)), Goal::Smallest) => v < b,
+                (Some((_, b)), Goal::Largest) => v > b,
             };
             if better {
-                best = Some((h, 0));
+                best = Some((c, v));
             }
         }
     }
-    best.map(|(h, _)| (h, checked))
+    best.map(|(c, v)| (c, v, checked))
+}
+
+/// The homothet at `centre` of scale `v` with the sites on its boundary.
+fn homothet_at(sites: &[DVec2], unit: Unit, centre: DVec2, v: f64) -> Homothet {
+    let tol = 1e-9 * (1.0 + v + centre.abs().max_element());
+    Homothet {
+        centre: centre.to_array(),
+        scale: v,
+        sites: (0..sites.len() as u32)
+            .filter(|&i| (unit.gauge(sites[i as usize] - centre) - v).abs() <= tol)
+            .collect(),
+    }
 }
 
 fn candidates(sites: &[DVec2], keep: impl Fn(DVec2) -> bool) -> Vec<u32> {
@@ -886,8 +1374,11 @@ fn best_vertex(
     edges: &[(DVec2, DVec2)],
     goal: Goal,
     k: usize,
+    window: (f64, f64),
     allowed: impl Fn(DVec2) -> bool,
-) -> Option<(Homothet, usize)> {
+    full: impl Fn(DVec2) -> f64,
+) -> Option<(DVec2, f64, usize)> {
+    let in_window = |scale: f64| scale >= window.0 && scale <= window.1;
     let mut planes: Vec<Plane> = Vec::new();
     if let Unit::Polygon(g) = unit {
         // Where the gauge of s − c changes its linear piece matters wherever the
@@ -937,8 +1428,10 @@ fn best_vertex(
             for x in 0..m {
                 for y in x + 1..m {
                     for z in y + 1..m {
-                        if let Some(c) = solve3(planes[x], planes[y], planes[z]) {
-                            points.push(c);
+                        if let Some((c, scale)) = solve3(planes[x], planes[y], planes[z]) {
+                            if in_window(scale) {
+                                points.push(c);
+                            }
                         }
                     }
                 }
@@ -957,10 +1450,14 @@ fn best_vertex(
             let at = |i: usize| sites[near[i] as usize];
             for x in 0..m {
                 for y in x + 1..m {
-                    points.push((at(x) + at(y)) / 2.0);
+                    if in_window(at(x).distance(at(y)) / 2.0) {
+                        points.push((at(x) + at(y)) / 2.0);
+                    }
                     for z in y + 1..m {
                         if let Some(c) = circumcentre(at(x), at(y), at(z)) {
-                            points.push(c);
+                            if in_window(c.distance(at(x))) {
+                                points.push(c);
+                            }
                         }
                     }
                     // Equidistant from two sites on a region edge.
@@ -998,7 +1495,7 @@ fn best_vertex(
     // The near sites' value bounds the true one: from below for the furthest
     // (all sites), from above for the nearest; for other levels it is the true
     // value near the candidate pixels.
-    let exact_k = k < sites.len() && k > 1;
+    let exact_k = goal == Goal::Smallest && k < sites.len();
     match goal {
         Goal::Smallest => bounded.sort_by(|a, b| a.1.total_cmp(&b.1)),
         Goal::Largest => bounded.sort_by(|a, b| b.1.total_cmp(&a.1)),
@@ -1014,11 +1511,7 @@ fn best_vertex(
                 break;
             }
         }
-        let v = if exact_k {
-            bound
-        } else {
-            kth_gauge(sites, unit, c, k)?
-        };
+        let v = if exact_k { bound } else { full(c) };
         let better = match (best, goal) {
             (None, _) => true,
             (Some((_, b)), Goal::Smallest) => v < b,
@@ -1028,19 +1521,7 @@ fn best_vertex(
             best = Some((c, v));
         }
     }
-    let (c, v) = best?;
-    let tol = 1e-9 * (1.0 + v + c.abs().max_element());
-    let on: Vec<u32> = (0..sites.len() as u32)
-        .filter(|&i| (unit.gauge(sites[i as usize] - c) - v).abs() <= tol)
-        .collect();
-    Some((
-        Homothet {
-            centre: c.to_array(),
-            scale: v,
-            sites: on,
-        },
-        checked,
-    ))
+    best.map(|(c, v)| (c, v, checked))
 }
 
 /// The directions (angles, `from` ≤ `to`) in which `s` is seen from the disc of
@@ -1071,7 +1552,8 @@ fn sector_meets(p: DVec2, q: DVec2, from: f64, to: f64) -> bool {
     start <= span || end >= TAU
 }
 
-fn solve3(p: Plane, q: Plane, r: Plane) -> Option<DVec2> {
+/// The centre and scale where three planes meet.
+fn solve3(p: Plane, q: Plane, r: Plane) -> Option<(DVec2, f64)> {
     let m = glam::DMat3::from_cols(
         glam::DVec3::new(p.a.x, q.a.x, r.a.x),
         glam::DVec3::new(p.a.y, q.a.y, r.a.y),
@@ -1088,7 +1570,7 @@ fn solve3(p: Plane, q: Plane, r: Plane) -> Option<DVec2> {
         return None;
     }
     let x = m.inverse() * glam::DVec3::new(p.r, q.r, r.r);
-    Some(DVec2::new(x.x, x.y))
+    Some((DVec2::new(x.x, x.y), x.z))
 }
 
 fn solve2(p: Plane, q: Plane) -> Option<DVec2> {
@@ -1213,8 +1695,8 @@ pub enum Envelope {
 
 /// A picture (RGB rows) of the envelope behind `answer`, like the thesis's
 /// Figs. 4.1 and 5.1: the regions coloured by their site, the point sites as
-/// dots, the exact homothet's outline in red and its centre in yellow.
-/// Enclosing pictures show the point sites.
+/// dots, the exact homothet's outline in red and its centre in yellow; with its
+/// width and height. Enclosing pictures show the sites and the whole homothet.
 pub fn picture(
     machine: &Machine,
     shapes: &[Site],
@@ -1222,9 +1704,24 @@ pub fn picture(
     answer: &HomothetAnswer,
     envelope: Envelope,
     region: &Region,
-) -> Result<Vec<u8>> {
-    let frame = answer.frame;
+) -> Result<(Vec<u8>, u32, u32)> {
     let metric = unit.cone_metric()?;
+    let centre = DVec2::from(answer.exact.centre);
+    let scale = answer.exact.scale;
+    let frame = match envelope {
+        Envelope::Empty => answer.frame,
+        // The sites and the whole homothet, a little margin around them.
+        Envelope::Enclosing { .. } => {
+            let (qlo, qhi) = unit_box(unit);
+            let (lo, hi) = shapes.iter().map(Site::bounds).fold(
+                (centre + qlo * scale, centre + qhi * scale),
+                |(a, b), (l, h)| (a.min(l), b.max(h)),
+            );
+            let pad = 0.03 * (hi - lo).max_element() + 1e-9;
+            let side = answer.frame.width.max(answer.frame.height);
+            frame_of_box(side, lo - pad, hi + pad)?
+        }
+    };
     let sites: Vec<DVec2> = shapes
         .iter()
         .filter_map(|s| match s.shape {
@@ -1260,8 +1757,6 @@ pub fn picture(
     };
     let marks: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     let mut rgb = crate::io::picture::label_rows(&labels, frame.width, 0, &marks, None);
-    let centre = DVec2::from(answer.exact.centre);
-    let scale = answer.exact.scale;
     // A band about a pixel wide around the outline, in gauge units.
     let band = 0.8 / frame.scale * unit.lipschitz();
     let w = frame.width as usize;
@@ -1277,5 +1772,5 @@ pub fn picture(
             px.copy_from_slice(&[255, 220, 0]);
         }
     }
-    Ok(rgb)
+    Ok((rgb, frame.width, frame.height))
 }

@@ -66,6 +66,19 @@ impl<'a> PointGrid<'a> {
         y * self.nx + x
     }
 
+    /// Indices of the points within distance `radius` of `q` (and a few more
+    /// from the buckets around it).
+    pub fn around(&self, q: DVec2, radius: f64) -> impl Iterator<Item = u32> + '_ {
+        let (x0, y0) = self.cell_of(q - radius);
+        let (x1, y1) = self.cell_of(q + radius);
+        (y0..=y1).flat_map(move |y| {
+            let row = y * self.nx;
+            self.order[self.start[row + x0] as usize..self.start[row + x1 + 1] as usize]
+                .iter()
+                .copied()
+        })
+    }
+
     /// The point nearest to `q` (lowest index among equals) and its distance.
     pub fn nearest(&self, q: DVec2) -> Option<(u32, f64)> {
         if self.points.is_empty() {

@@ -27,6 +27,8 @@ pub struct Args {
 }
 
 struct Entry {
+    /// The `pixgeo` subcommand.
+    command: &'static str,
     picture: &'static str,
     title: &'static str,
     caption: &'static str,
@@ -60,8 +62,19 @@ fn entries() -> Vec<Entry> {
         DVec2::new(5.0, -0.5),
         DVec2::new(2.0, 4.2),
     ]);
+    // Its own generator, so that the other entries' sites stay as they were.
+    let mut town_rng = ChaCha8Rng::seed_from_u64(4);
+    let towns: Vec<DVec2> = (0..60)
+        .map(|_| {
+            DVec2::new(
+                town_rng.gen_range(0.0..100.0),
+                town_rng.gen_range(0.0..100.0),
+            )
+        })
+        .collect();
     vec![
         Entry {
+            command: "voronoi",
             picture: "voronoi.png",
             title: "The Voronoi diagram",
             caption: "1000 random sites, one cone per site, the lowest cone wins each pixel \
@@ -70,6 +83,7 @@ fn entries() -> Vec<Entry> {
             args: &["--random", "1000", "--seed", "1", "--size", "640"],
         },
         Entry {
+            command: "voronoi",
             picture: "envelope.png",
             title: "The lower envelope of the cones",
             caption: "Distance contours every 6 pixels: seen from above, each region is its \
@@ -87,6 +101,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "fan.png",
             title: "Cones as triangle fans",
             caption: "The same sites with every cone a fan of 6 triangles: the distances are \
@@ -108,6 +123,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "quarter.png",
             title: "The quadtree's worst case",
             caption: "One quarter of the picture holds no site (thesis §3.5). The cones next to \
@@ -123,6 +139,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "world.png",
             title: "World coordinates, clusters and sites outside",
             caption: "Clustered sites in world coordinates mapped with --bbox, three of them \
@@ -140,6 +157,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "tiled.png",
             title: "Tiles",
             caption: "A 1800x450 picture drawn in tiles of 256 pixels, each tile with only the \
@@ -158,6 +176,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "l05.png",
             title: "The L0.5 distance",
             caption: "The same 30 sites under L<sub>0.5</sub>: its balls are concave stars, so \
@@ -178,6 +197,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "l1.png",
             title: "The L1 distance",
             caption: "Manhattan distance: diamond-shaped cones, bisectors of horizontal, \
@@ -197,6 +217,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "l6.png",
             title: "The L6 distance",
             caption: "Nearly square balls: the diagram approaches that of L<sub>∞</sub> \
@@ -216,6 +237,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "ties.png",
             title: "Areas of equidistant points",
             caption: "Under L<sub>1</sub> two sites on a diagonal have whole quadrants of \
@@ -238,6 +260,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "second.png",
             title: "The second-nearest diagram",
             caption: "Every pixel coloured by its second-nearest site: the degree-2 diagram \
@@ -249,6 +272,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "order3.png",
             title: "The order-3 diagram",
             caption: "One colour per set of three nearest sites (thesis §3.7): unlike the \
@@ -259,6 +283,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "furthest.png",
             title: "The furthest-site diagram",
             caption: "Every pixel coloured by its furthest site, with distance contours: the \
@@ -278,6 +303,7 @@ fn entries() -> Vec<Entry> {
             ],
         },
         Entry {
+            command: "voronoi",
             picture: "weighted.png",
             title: "Multiplicatively weighted points",
             caption: "Each site's distance divided by its weight m: heavier sites have                       flatter cones and win regions bounded by circles around the                       lighter ones, which may lie inside them (thesis §3.8, Fig. 3.38).",
@@ -285,6 +311,7 @@ fn entries() -> Vec<Entry> {
             args: &["--sites", "weighted.json", "--size", "640", "--contours", "40"],
         },
         Entry {
+            command: "voronoi",
             picture: "mixed.png",
             title: "Points, segments, circles and arcs",
             caption: "Segments as roofs with half-cones at their ends, circles as straw                       huts, arcs as sliced huts with their end cones, all in one diagram                       (thesis §3.9, Fig. 3.45); contours every 12 pixels.",
@@ -292,6 +319,7 @@ fn entries() -> Vec<Entry> {
             args: &["--sites", "mixed.json", "--size", "640", "--contours", "12"],
         },
         Entry {
+            command: "voronoi",
             picture: "polygon.png",
             title: "A polygonal distance",
             caption: "The unit ball is a four-pointed star around its kernel point: the                       polygon is the cone's base, so the fan over it is exact                       (thesis §3.6.5).",
@@ -312,8 +340,41 @@ fn entries() -> Vec<Entry> {
                 "polygon:star.json",
             ],
         },
+        Entry {
+            command: "enclose",
+            picture: "enclose.png",
+            title: "Smallest enclosing homothet",
+            caption: "The lowest pixel of the upper envelope of cones on the reflected                       kite is the centre (yellow) of the smallest kite holding every                       site (red), refined exactly; regions coloured by their furthest                       site (thesis ch. 4, Fig. 4.1).",
+            sites: Some(("towns.csv", csv(&towns))),
+            args: &["--sites", "towns.csv", "--polygon", "kite.csv", "--size", "640"],
+        },
+        Entry {
+            command: "empty",
+            picture: "empty.png",
+            title: "Largest empty circle inside a region with a hole",
+            caption: "The highest pixel of the lower envelope inside the region (the                       hole darkened), with the region's edges as segment sites so that                       the whole circle stays inside (thesis ch. 5, §5.4.1).",
+            sites: Some(("towns.csv", csv(&towns))),
+            args: &[
+                "--sites",
+                "towns.csv",
+                "--region",
+                "county.json",
+                "--inside",
+                "--size",
+                "640",
+            ],
+        },
     ]
 }
+
+/// The files the homothet entries read besides their sites.
+const EXTRA_FILES: [(&str, &str); 2] = [
+    ("kite.csv", "x,y\n1,0\n0,1.2\n-0.6,0\n0,-0.5\n"),
+    (
+        "county.json",
+        "[[[0, 0], [100, 0], [100, 100], [0, 100]], [[30, 30], [70, 30], [70, 70], [30, 70]]]\n",
+    ),
+];
 
 /// Point sites as a CSV site file.
 fn csv(sites: &[DVec2]) -> String {
@@ -385,11 +446,14 @@ pub fn run(args: Args) -> Result<()> {
          </style>\n<h1>pixgeo gallery</h1>\n<p>Planar geometry computed by rendering. Each \
          picture is the output of the command beneath it, run in this directory.</p>\n<main>\n",
     );
+    for (name, text) in EXTRA_FILES {
+        std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;
+    }
     for entry in entries() {
         if let Some((name, text)) = &entry.sites {
             std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;
         }
-        let mut argv: Vec<String> = vec!["pixgeo".into(), "voronoi".into()];
+        let mut argv: Vec<String> = vec!["pixgeo".into(), entry.command.into()];
         argv.extend(entry.args.iter().map(|a| a.to_string()));
         argv.extend(["-o".into(), entry.picture.into()]);
         let shown = argv.join(" ");
@@ -415,7 +479,9 @@ pub fn run(args: Args) -> Result<()> {
         let cli = Cli::try_parse_from(&real).with_context(|| format!("gallery command {shown}"))?;
         match cli.command {
             Command::Voronoi(v) => crate::voronoi::run(*v)?,
-            _ => unreachable!("the gallery only runs voronoi commands"),
+            Command::Enclose(a) => crate::homothet::enclose(a)?,
+            Command::Empty(a) => crate::homothet::empty(a)?,
+            _ => unreachable!("the gallery runs voronoi, enclose and empty"),
         }
         let _ = write!(
             html,

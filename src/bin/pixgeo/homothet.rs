@@ -51,8 +51,9 @@ impl Shape {
         let Some(path) = &self.output else {
             return Ok(());
         };
-        let rgb = homothet::picture(machine, shapes, self.unit()?, answer, envelope, region)?;
-        let mut png = PngStream::create(path, answer.frame.width, answer.frame.height)?;
+        let (rgb, width, height) =
+            homothet::picture(machine, shapes, self.unit()?, answer, envelope, region)?;
+        let mut png = PngStream::create(path, width, height)?;
         png.write(&rgb)?;
         png.finish()?;
         Ok(())
