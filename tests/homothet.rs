@@ -492,3 +492,191 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
     );
     assert!(enclose_sites(&machine, &mixed, Unit::Circle, 2, 64).is_err());
 }
+
+#[test]
+fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
+    use pixgeo::{
+        algorithms::homothet::enclose_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let (_, triangle) = polygons()[0];
+    let sites = [
+        Site::new(Shape::Circle {
+            center: DVec2::new(10.0, 10.0),
+            radius: 4.0,
+        }),
+        Site::new(Shape::Arc {
+            center: DVec2::new(30.0, 5.0),
+            radius: 6.0,
+            start: -1.0,
+            end: 1.5,
+        }),
+        Site::new(Shape::Segment(
+            DVec2::new(0.0, 25.0),
+            DVec2::new(15.0, 30.0),
+        )),
+        Site::point(DVec2::new(25.0, 28.0)),
+    ];
+    let answer = enclose_sites(&machine, &sites, Unit::Polygon(triangle), 0, 256).unwrap();
+    // The definition: the largest gauge over dense samples of each shape.
+    let samples: Vec<DVec2> = sites
+        .iter()
+        .flat_map(|s| match s.shape {
+            Shape::Point(p) => vec![p],
+            Shape::Segment(a, b) => vec![a, b],
+            Shape::Circle { center, radius } => (0..20000)
+                .map(|t| {
+                    let a = TAU * t as f64 / 20000.0;
+                    center + radius * DVec2::new(a.cos(), a.sin())
+                })
+                .collect(),
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => (0..=20000)
+                .map(|t| {
+                    let a = start + (end - start) * t as f64 / 20000.0;
+                    center + radius * DVec2::new(a.cos(), a.sin())
+                })
+                .collect(),
+        })
+        .collect();
+    let c = DVec2::from(answer.exact.centre);
+    let held = samples
+        .iter()
+        .map(|p| triangle.of(*p - c))
+        .fold(0.0, f64::max);
+    assert!(
+        (held - answer.exact.scale).abs() < 1e-4 * answer.exact.scale,
+        "{held} vs {answer:?}"
+    );
+    // Twelve points per curve: their optimum (a vertex search) is a lower
+    // bound, and within the chords' loss of the true one.
+    let coarse: Vec<DVec2> = sites
+        .iter()
+        .flat_map(|s| match s.shape {
+            Shape::Point(p) => vec![p],
+            Shape::Segment(a, b) => vec![a, b],
+            Shape::Circle { center, radius } => (0..12)
+                .map(|t| center + radius * DVec2::from_angle(TAU * t as f64 / 12.0))
+                .collect(),
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => (0..=12)
+                .map(|t| {
+                    center + radius * DVec2::from_angle(start + (end - start) * t as f64 / 12.0)
+                })
+                .collect(),
+        })
+        .collect();
+    let (_, sampled) = oracle::smallest_k_homothet(
+        &coarse,
+        &triangle.vertices,
+        |v| triangle.of(v),
+        coarse.len(),
+    );
+    let loss = 6.0 * (1.0 - (TAU / 24.0).cos()) * Metric::Polygon(triangle).euclidean_bounds().1;
+    assert!(
+        answer.exact.scale >= sampled - 1e-9 && answer.exact.scale <= sampled + loss,
+        "{} vs {sampled} (+{loss})",
+        answer.exact.scale
+    );
+}
+
+#[test]
+fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
+    use pixgeo::{
+        algorithms::homothet::largest_empty_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let (_, triangle) = polygons()[0];
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let mut sites: Vec<Site> = uniform(&mut rng, 5, 100.0, 80.0)
+        .into_iter()
+        .map(Site::point)
+        .collect();
+    sites.push(Site::new(Shape::Segment(
+        DVec2::new(10.0, 60.0),
+        DVec2::new(50.0, 40.0),
+    )));
+    sites.push(Site::new(Shape::Arc {
+        center: DVec2::new(70.0, 30.0),
+        radius: 10.0,
+        start: 0.5,
+        end: 3.0,
+    }));
+    let region = Region {
+        rings: vec![vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(100.0, 0.0),
+            DVec2::new(100.0, 80.0),
+            DVec2::new(0.0, 80.0),
+        ]],
+    };
+    let answer = largest_empty_sites(
+        &machine,
+        &sites,
+        Unit::Polygon(triangle),
+        &region,
+        true,
+        256,
+    )
+    .unwrap();
+    // The definition on dense samples of every shape and of the region's edges.
+    let mut samples: Vec<DVec2> = Vec::new();
+    for s in &sites {
+        match s.shape {
+            Shape::Point(p) => samples.push(p),
+            Shape::Segment(a, b) => {
+                samples.extend((0..=2000).map(|t| a + (b - a) * (t as f64 / 2000.0)))
+            }
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => samples.extend((0..=2000).map(|t| {
+                center + radius * DVec2::from_angle(start + (end - start) * t as f64 / 2000.0)
+            })),
+            Shape::Circle { .. } => unreachable!(),
+        }
+    }
+    for (a, b) in edges(&region) {
+        samples.extend((0..=4000).map(|t| a + (b - a) * (t as f64 / 4000.0)));
+    }
+    let clearance = |c: DVec2| {
+        samples
+            .iter()
+            .map(|p| triangle.of(*p - c))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let c = DVec2::from(answer.exact.centre);
+    // Sampling overestimates a clearance by at most a sample spacing's gauge.
+    let spacing = 100.0 / 2000.0 * Metric::Polygon(triangle).euclidean_bounds().1;
+    assert!(
+        (clearance(c) - answer.exact.scale).abs() <= spacing,
+        "{} vs {}",
+        clearance(c),
+        answer.exact.scale
+    );
+    let grid = grid_best(DVec2::ZERO, DVec2::new(100.0, 80.0), 1.0, clearance, |c| {
+        region.contains(c)
+    });
+    assert!(
+        answer.exact.scale >= grid - spacing,
+        "{} vs grid {grid}",
+        answer.exact.scale
+    );
+    assert!(
+        answer.tolerance <= 1e-6 * (1.0 + answer.exact.scale),
+        "gap {}",
+        answer.tolerance
+    );
+}

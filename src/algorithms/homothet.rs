@@ -293,11 +293,52 @@ fn farthest_euclidean(shape: Shape, c: DVec2) -> f64 {
     }
 }
 
+/// The gauge of the farthest point of a site's shape from `c` (how large a
+/// homothet centred at `c` must be to hold it), for circles and convex polygons.
+fn farthest_gauge(unit: Unit, shape: Shape, c: DVec2) -> f64 {
+    let Unit::Polygon(g) = unit else {
+        return farthest_euclidean(shape, c);
+    };
+    let n = g.vertices.len();
+    // Over a convex polygon the gauge is the largest of its edges' linear
+    // pieces, (v × e) / (p × q); over a curve each piece peaks where the
+    // curve's tangent is parallel to the edge.
+    let pieces = |o: DVec2, lift: &dyn Fn(DVec2) -> f64| {
+        (0..n)
+            .map(|k| {
+                let (p, q) = (g.vertices[k], g.vertices[(k + 1) % n]);
+                let e = q - p;
+                ((o - c).perp_dot(e) + lift(e)) / p.perp_dot(q)
+            })
+            .fold(0.0, f64::max)
+    };
+    match shape {
+        Shape::Point(p) => g.of(p - c),
+        Shape::Segment(a, b) => g.of(a - c).max(g.of(b - c)),
+        Shape::Circle { center, radius } => pieces(center, &|e| radius * e.length()),
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } => pieces(center, &|e| {
+            // max over the arc's angles t of u(t) × e = |e| sin(α − t).
+            let alpha = e.y.atan2(e.x);
+            let peak = alpha - std::f64::consts::FRAC_PI_2;
+            if crate::geometry::site::on_arc(peak, start, end) {
+                radius * e.length()
+            } else {
+                radius * e.length() * (alpha - start).sin().max((alpha - end).sin())
+            }
+        }),
+    }
+}
+
 /// The smallest homothet of `unit` holding every site: points, segments (whose
-/// ends decide, for convex units), and with circles as the unit also circles and
-/// arcs (thesis §4.4: the minimum enclosing circle of circles). Points and
+/// ends decide, for convex units), and for circles and convex polygons also
+/// circles and arcs (thesis §4.4: the minimum enclosing circle of circles). Points and
 /// segments are exact through [`enclose`]; circles and arcs are drawn as points
-/// on them and refined by a branch and bound on their farthest distances, to a
+/// on them and refined by a branch and bound on their farthest gauges, to a
 /// relative gap of 1e-9.
 pub fn enclose_sites(
     machine: &Machine,
@@ -325,10 +366,9 @@ pub fn enclose_sites(
         ));
     }
     match unit {
-        Unit::Polygon(g) if curved || (!points_only && !g.is_convex()) => {
+        Unit::Polygon(g) if !points_only && !g.is_convex() => {
             return Err(Error::InvalidInput(
-                "polygons enclose points, and segments when convex; circles and arcs need --circle"
-                    .into(),
+                "a polygon that is not convex encloses points only".into(),
             ));
         }
         _ => {}
@@ -380,7 +420,7 @@ pub fn enclose_sites(
             _ => 0.0,
         })
         .fold(0.0, f64::max);
-    answer.pixel_bound += chord_loss;
+    answer.pixel_bound += chord_loss * unit.lipschitz();
     let mut named: Vec<u32> = answer
         .exact
         .sites
@@ -397,7 +437,7 @@ pub fn enclose_sites(
     let farthest = |c: DVec2| {
         sites
             .iter()
-            .map(|s| farthest_euclidean(s.shape, c))
+            .map(|s| farthest_gauge(unit, s.shape, c))
             .fold(0.0, f64::max)
     };
     let mut reach = 0.1 * answer.exact.scale + 8.0 * half_diagonal(&answer.frame);
@@ -405,7 +445,7 @@ pub fn enclose_sites(
         let (c, v, gap, cells) = branch_and_bound(
             start,
             reach,
-            1.0,
+            unit.lipschitz(),
             |c| -farthest(c),
             |c| -farthest(c),
             |_| true,
@@ -421,7 +461,7 @@ pub fn enclose_sites(
                 scale: -v,
                 sites: (0..sites.len() as u32)
                     .filter(|&i| {
-                        (farthest_euclidean(sites[i as usize].shape, c) + v).abs() <= tol.max(gap)
+                        (farthest_gauge(unit, sites[i as usize].shape, c) + v).abs() <= tol.max(gap)
                     })
                     .collect(),
             };

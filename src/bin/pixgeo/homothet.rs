@@ -73,9 +73,11 @@ impl Shape {
 }
 
 /// The smallest homothet of a circle or polygon holding all sites (or at least
-/// K of them): the lowest pixel of the upper envelope of cones on the reflected
+/// K points): the lowest pixel of the upper envelope of cones on the reflected
 /// polygon (thesis §4.3), refined exactly (Welzl for circles; the vertices of the
-/// candidate sites' distance pieces for polygons).
+/// candidate sites' distance pieces for polygons). Sites may also be segments,
+/// and for circles and convex polygons circles and arcs (JSON, as for
+/// `pixgeo voronoi`).
 ///
 /// Example:
 ///
@@ -119,15 +121,14 @@ pub struct EmptyArgs {
 }
 
 pub fn enclose(args: EncloseArgs) -> Result<()> {
-    let points = sites::read_sites(&args.shape.sites)?;
+    let shapes = sites::read_general_sites(&args.shape.sites)?;
     let unit = args.shape.unit()?;
     let machine = args.shape.common.machine()?;
     let side = args.shape.common.size.unwrap_or(DEFAULT_SIDE);
     let k = args.k.unwrap_or(0);
-    let answer = homothet::enclose(&machine, &points, unit, k, side)?;
+    let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
     report(&answer, args.shape.common.json, "smallest enclosing")?;
     let envelope = Envelope::Enclosing { k };
-    let shapes: Vec<Site> = points.iter().map(|p| Site::point(*p)).collect();
     args.shape
         .draw(&machine, &shapes, &answer, envelope, &Region::default())
 }
