@@ -680,3 +680,75 @@ fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
         answer.tolerance
     );
 }
+
+#[test]
+fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
+    use pixgeo::{
+        algorithms::homothet::enclose_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let (_, star) = polygons()[1];
+    let sites = [
+        Site::new(Shape::Segment(DVec2::new(0.0, 0.0), DVec2::new(20.0, 6.0))),
+        Site::new(Shape::Circle {
+            center: DVec2::new(8.0, 18.0),
+            radius: 3.0,
+        }),
+        Site::new(Shape::Arc {
+            center: DVec2::new(22.0, 20.0),
+            radius: 5.0,
+            start: 2.0,
+            end: 4.5,
+        }),
+        Site::point(DVec2::new(-4.0, 12.0)),
+    ];
+    let answer = enclose_sites(&machine, &sites, Unit::Polygon(star), 0, 256).unwrap();
+    let samples: Vec<DVec2> = sites
+        .iter()
+        .flat_map(|s| match s.shape {
+            Shape::Point(p) => vec![p],
+            Shape::Segment(a, b) => (0..=3000)
+                .map(|t| a + (b - a) * (t as f64 / 3000.0))
+                .collect(),
+            Shape::Circle { center, radius } => (0..3000)
+                .map(|t| center + radius * DVec2::from_angle(TAU * t as f64 / 3000.0))
+                .collect(),
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => (0..=3000)
+                .map(|t| {
+                    center + radius * DVec2::from_angle(start + (end - start) * t as f64 / 3000.0)
+                })
+                .collect(),
+        })
+        .collect();
+    let held = |c: DVec2| samples.iter().map(|p| star.of(*p - c)).fold(0.0, f64::max);
+    let c = DVec2::from(answer.exact.centre);
+    assert!(
+        (held(c) - answer.exact.scale).abs() < 1e-3 * answer.exact.scale,
+        "{} vs {answer:?}",
+        held(c)
+    );
+    // No centre on a grid around it holds the samples with a smaller star.
+    let slope = Metric::Polygon(star).euclidean_bounds().1 * 4.0;
+    let mut best = f64::INFINITY;
+    for j in -20..=20 {
+        for i in -20..=20 {
+            best = best.min(held(c + DVec2::new(i as f64, j as f64) * 0.5));
+        }
+    }
+    assert!(
+        answer.exact.scale <= best + 1e-9,
+        "{} vs grid {best}",
+        answer.exact.scale
+    );
+    assert!(
+        answer.exact.scale >= best - slope * 0.5,
+        "{} vs grid {best}",
+        answer.exact.scale
+    );
+}

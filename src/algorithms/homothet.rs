@@ -82,7 +82,19 @@ impl Unit {
     fn lipschitz(self) -> f64 {
         match self {
             Unit::Circle => 1.0,
-            Unit::Polygon(g) => Metric::Polygon(g).euclidean_bounds().1,
+            // In the sector of edge (p, q) the gauge is (v × e) / (p × q): its
+            // slope is |e| / |p × q|, one over the distance of the edge's line
+            // from the kernel (which, for polygons that are not convex, may be
+            // closer than the polygon itself).
+            Unit::Polygon(g) => {
+                let n = g.vertices.len();
+                (0..n)
+                    .map(|k| {
+                        let (p, q) = (g.vertices[k], g.vertices[(k + 1) % n]);
+                        (q - p).length() / p.perp_dot(q)
+                    })
+                    .fold(0.0, f64::max)
+            }
         }
     }
 }
@@ -294,52 +306,85 @@ fn farthest_euclidean(shape: Shape, c: DVec2) -> f64 {
 }
 
 /// The gauge of the farthest point of a site's shape from `c` (how large a
-/// homothet centred at `c` must be to hold it), for circles and convex polygons.
+/// homothet centred at `c` must be to hold it). In each sector of a polygon the
+/// gauge of p − c is linear in p, so over a shape it peaks at an end, where a
+/// vertex ray from `c` crosses the shape, or (on a curve) where the curve's
+/// tangent is parallel to an edge: those candidates are evaluated exactly.
 fn farthest_gauge(unit: Unit, shape: Shape, c: DVec2) -> f64 {
     let Unit::Polygon(g) = unit else {
         return farthest_euclidean(shape, c);
     };
-    let n = g.vertices.len();
-    // Over a convex polygon the gauge is the largest of its edges' linear
-    // pieces, (v × e) / (p × q); over a curve each piece peaks where the
-    // curve's tangent is parallel to the edge.
-    let pieces = |o: DVec2, lift: &dyn Fn(DVec2) -> f64| {
-        (0..n)
-            .map(|k| {
-                let (p, q) = (g.vertices[k], g.vertices[(k + 1) % n]);
-                let e = q - p;
-                ((o - c).perp_dot(e) + lift(e)) / p.perp_dot(q)
-            })
-            .fold(0.0, f64::max)
-    };
+    let at = |o: DVec2, r: f64, a: f64| o + r * DVec2::from_angle(a);
+    let mut candidates: Vec<DVec2> = Vec::new();
     match shape {
-        Shape::Point(p) => g.of(p - c),
-        Shape::Segment(a, b) => g.of(a - c).max(g.of(b - c)),
-        Shape::Circle { center, radius } => pieces(center, &|e| radius * e.length()),
-        Shape::Arc {
-            center,
-            radius,
-            start,
-            end,
-        } => pieces(center, &|e| {
-            // max over the arc's angles t of u(t) × e = |e| sin(α − t).
-            let alpha = e.y.atan2(e.x);
-            let peak = alpha - std::f64::consts::FRAC_PI_2;
-            if crate::geometry::site::on_arc(peak, start, end) {
-                radius * e.length()
-            } else {
-                radius * e.length() * (alpha - start).sin().max((alpha - end).sin())
+        Shape::Point(p) => candidates.push(p),
+        Shape::Segment(a, b) => {
+            candidates.extend([a, b]);
+            if !g.is_convex() {
+                let d = b - a;
+                for v in &g.vertices {
+                    // c + t v = a + s d with t ≥ 0, s in [0, 1].
+                    let det = v.perp_dot(d);
+                    if det != 0.0 {
+                        let w = a - c;
+                        let (t, s) = (w.perp_dot(d) / det, w.perp_dot(*v) / det);
+                        if t >= 0.0 && (0.0..=1.0).contains(&s) {
+                            candidates.push(a + d * s);
+                        }
+                    }
+                }
             }
-        }),
+        }
+        Shape::Circle { center, radius } | Shape::Arc { center, radius, .. } => {
+            let (start, end) = match shape {
+                Shape::Arc { start, end, .. } => (start, end),
+                _ => (0.0, std::f64::consts::TAU),
+            };
+            let on = |p: DVec2| {
+                let d = p - center;
+                crate::geometry::site::on_arc(d.y.atan2(d.x), start, end)
+            };
+            if matches!(shape, Shape::Arc { .. }) {
+                candidates.extend([at(center, radius, start), at(center, radius, end)]);
+            }
+            let n = g.vertices.len();
+            for k in 0..n {
+                // The piece of edge k grows along (e.y, −e.x): its peak on the circle.
+                let e = g.vertices[(k + 1) % n] - g.vertices[k];
+                let peak = center + radius * DVec2::new(e.y, -e.x).normalize();
+                if on(peak) {
+                    candidates.push(peak);
+                }
+                if !g.is_convex() {
+                    // Where the ray c + t v (t ≥ 0) meets the circle.
+                    let v = g.vertices[k];
+                    let w = c - center;
+                    let roots = quadratic_roots(
+                        v.length_squared(),
+                        2.0 * v.dot(w),
+                        w.length_squared() - radius * radius,
+                    );
+                    for t in roots {
+                        let p = c + v * t;
+                        if t >= 0.0 && on(p) {
+                            candidates.push(p);
+                        }
+                    }
+                }
+            }
+        }
     }
+    candidates
+        .into_iter()
+        .map(|p| g.of(p - c))
+        .fold(0.0, f64::max)
 }
 
-/// The smallest homothet of `unit` holding every site: points, segments (whose
-/// ends decide, for convex units), and for circles and convex polygons also
+/// The smallest homothet of `unit` holding every site: points, segments,
 /// circles and arcs (thesis §4.4: the minimum enclosing circle of circles). Points and
-/// segments are exact through [`enclose`]; circles and arcs are drawn as points
-/// on them and refined by a branch and bound on their farthest gauges, to a
-/// relative gap of 1e-9.
+/// segments under convex units are exact through [`enclose`] (a segment's ends
+/// decide); the rest are drawn as points on them and refined by a branch and
+/// bound on their farthest gauges, to a relative gap of 1e-9.
 pub fn enclose_sites(
     machine: &Machine,
     sites: &[Site],
@@ -365,14 +410,10 @@ pub fn enclose_sites(
             "the smallest k-enclosing homothet takes point sites".into(),
         ));
     }
-    match unit {
-        Unit::Polygon(g) if !points_only && !g.is_convex() => {
-            return Err(Error::InvalidInput(
-                "a polygon that is not convex encloses points only".into(),
-            ));
-        }
-        _ => {}
-    }
+    let convex = match unit {
+        Unit::Polygon(g) => g.is_convex(),
+        Unit::Circle => true,
+    };
     // Points standing for each site, and whose site they are.
     let mut samples = Vec::new();
     let mut owner = Vec::new();
@@ -383,9 +424,13 @@ pub fn enclose_sites(
         };
         match s.shape {
             Shape::Point(p) => add(p),
+            // A convex homothet holds a segment when it holds its ends; others
+            // see its inside too.
             Shape::Segment(a, b) => {
-                add(a);
-                add(b);
+                let steps = if convex { 1 } else { CURVE_SAMPLES };
+                for j in 0..=steps {
+                    add(a + (b - a) * (j as f64 / steps as f64));
+                }
             }
             Shape::Circle { center, radius } => {
                 for j in 0..CURVE_SAMPLES {
@@ -429,7 +474,7 @@ pub fn enclose_sites(
         .collect();
     named.dedup();
     answer.exact.sites = named;
-    if !curved {
+    if !curved && (convex || points_only) {
         return Ok(answer);
     }
     // The samples' circle is a start; the sites' farthest distances decide.
@@ -440,7 +485,25 @@ pub fn enclose_sites(
             .map(|s| farthest_gauge(unit, s.shape, c))
             .fold(0.0, f64::max)
     };
-    let mut reach = 0.1 * answer.exact.scale + 8.0 * half_diagonal(&answer.frame);
+    // Convex units have one basin: search around the samples' answer. Others
+    // search every centre whose homothet of the scale at the sites' middle holds
+    // all the samples.
+    let (start, mut reach) = if convex {
+        (
+            start,
+            0.1 * answer.exact.scale + 8.0 * half_diagonal(&answer.frame),
+        )
+    } else {
+        let lo = samples.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+        let hi = samples.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+        let (qlo, qhi) = unit_box(unit);
+        let scale0 = farthest((lo + hi) / 2.0);
+        let (blo, bhi) = (hi - qhi * scale0, lo - qlo * scale0);
+        (
+            (blo + bhi) / 2.0,
+            (bhi - blo).max_element() / 2.0 * 1.01 + 1e-9,
+        )
+    };
     loop {
         let (c, v, gap, cells) = branch_and_bound(
             start,
@@ -452,9 +515,9 @@ pub fn enclose_sites(
             |_, _| true,
         )
         .ok_or_else(|| Error::InvalidInput("no enclosing circle found".into()))?;
-        // The optimum is where the function is convex and lowest: inside the
-        // square searched, or the square was too small.
-        if (c - start).abs().max_element() < reach * 0.99 {
+        // The optimum is inside the square searched, or (convex units) the
+        // square was too small.
+        if !convex || (c - start).abs().max_element() < reach * 0.99 {
             let tol = 1e-9 * (1.0 + v.abs());
             answer.exact = Homothet {
                 centre: c.to_array(),
