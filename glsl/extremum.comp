@@ -4,8 +4,8 @@
 // storage buffer) and where they are. Phase 0 takes the minmax (§1.7): each
 // invocation walks a column strip of ROWS pixels and makes one atomic update.
 // Phase 1 finds the first row-major index holding each extreme. Phase 2 (3)
-// lists the indices of values within `within` of the minimum (maximum), as many
-// as the list holds. A few words reach the host instead of the picture.
+// lists the indices and values within `within` of the minimum (maximum), as
+// many as the list holds. A few words reach the host instead of the picture.
 layout(local_size_x = 64) in;
 
 const int ROWS = 64;
@@ -26,7 +26,7 @@ layout(set = 0, binding = 0) readonly buffer Values {
 
 layout(set = 0, binding = 1) buffer Result {
     // minimum, maximum, first index of the minimum, of the maximum, the list's
-    // length, the list
+    // length, the list of (index, ordered value)
     uint word[];
 } result;
 
@@ -81,7 +81,8 @@ void main() {
             if (listed && y0 + r < y1) {
                 uint slot = atomicAdd(result.word[4], 1u);
                 if (slot < job.capacity) {
-                    result.word[5u + slot] = index;
+                    result.word[5u + 2u * slot] = index;
+                    result.word[6u + 2u * slot] = v;
                 }
             }
         }

@@ -289,3 +289,78 @@ fn bad_requests_are_errors() {
     });
     assert!(r.is_err());
 }
+
+#[test]
+fn depth_extremes_find_the_extreme_pixels_and_those_near_them() {
+    let m = machine();
+    let ids = m.image(Format::R32Uint, W, H).unwrap();
+    let depth = m.image(Format::Depth, W, H).unwrap();
+    m.run(|p| {
+        p.begin(
+            Target {
+                color: Some(&ids),
+                depth_stencil: Some(&depth),
+            },
+            Clear {
+                color: Some(ClearColor::Uint([0; 4])),
+                depth: Some(0.5),
+                stencil: None,
+            },
+        )?;
+        let always = RasterState {
+            depth: DepthTest {
+                compare: Compare::Always,
+                write: true,
+            },
+            ..RasterState::OVERWRITE
+        };
+        let d = DrawParams::default();
+        p.draw_rect(&always, &d, &rect(3.0, 2.0, 5.0, 4.0).at_depth(0.25))?;
+        p.draw_rect(&always, &d, &rect(30.0, 20.0, 30.0, 20.0).at_depth(0.125))?;
+        p.draw_rect(&always, &d, &rect(10.0, 7.0, 11.0, 7.0).at_depth(0.875))?;
+        p.end()
+    })
+    .unwrap();
+    let at = |i: usize, j: usize| j * W as usize + i;
+    let plain = m.depth_extremes(&depth, None).unwrap();
+    assert_eq!((plain.min, plain.max), (0.125, 0.875));
+    assert_eq!((plain.at_min, plain.at_max), (at(30, 20), at(10, 7)));
+    assert!(plain.near.is_empty());
+    // Within 0.2 of the minimum: the lone pixel and the 3x3 block.
+    let low = m
+        .depth_extremes(
+            &depth,
+            Some(NearExtreme {
+                maximum: false,
+                within: 0.2,
+                squared_scale: 0.0,
+                capacity: 64,
+            }),
+        )
+        .unwrap();
+    let mut near = low.near.clone();
+    near.sort_unstable();
+    let mut expect: Vec<usize> = (2..=4)
+        .flat_map(|j| (3..=5).map(move |i| at(i, j)))
+        .collect();
+    expect.push(at(30, 20));
+    expect.sort_unstable();
+    assert_eq!(near, expect);
+    assert_eq!((low.near_count, low.at_min), (10, at(30, 20)));
+    // The maximum's two pixels, and a list too short for the others.
+    let high = m
+        .depth_extremes(
+            &depth,
+            Some(NearExtreme {
+                maximum: true,
+                within: 0.5,
+                squared_scale: 0.0,
+                capacity: 4,
+            }),
+        )
+        .unwrap();
+    assert_eq!(high.at_max, at(10, 7));
+    assert_eq!(high.near.len(), 4);
+    // Everything but the ten low pixels is within 0.5 of the maximum.
+    assert_eq!(high.near_count, W as usize * H as usize - 10);
+}

@@ -54,11 +54,14 @@ pub struct MinMax {
 }
 
 /// The smallest and largest depth of a picture, the first pixel (row-major
-/// index) holding each, and the pixels near one of them when asked for.
+/// index) holding each, and the pixels near one of them when asked for (then
+/// only that extreme's pixel is found).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DepthExtremes {
     pub min: f32,
     pub max: f32,
+    /// The first pixel of each extreme; of the other extreme than the one
+    /// [`NearExtreme`] asked about, `u32::MAX`.
     pub at_min: usize,
     pub at_max: usize,
     /// Pixels within [`NearExtreme::within`] of the extreme asked for (at most
@@ -537,33 +540,69 @@ impl Machine {
         let (w, h) = (depth.width(), depth.height());
         let values = self.storage_buffer(4 * w as u64 * h as u64)?;
         let capacity = near.map_or(0, |n| n.capacity);
-        let mut result = self.storage_buffer(4 * (5 + capacity as u64))?;
+        let mut result = self.storage_buffer(4 * (5 + 2 * capacity as u64))?;
         result.write(&[u32::MAX, 0, u32::MAX, u32::MAX, 0]);
         // One invocation per strip of 64 rows of a column.
         let strips = w * h.div_ceil(64);
+        let push = |phase: u32| {
+            let within = near.map_or(0.0, |n| n.within);
+            let squared = near.map_or(0.0, |n| n.squared_scale);
+            [w, h, phase, within.to_bits(), capacity, squared.to_bits()]
+        };
         self.with_compute_buffers([&values, &result], |set| {
             self.run(|pass| {
                 pass.feed_fragment_buffer(depth, &values, 0)?;
-                let push = |phase: u32| {
-                    let within = near.map_or(0.0, |n| n.within);
-                    let squared = near.map_or(0.0, |n| n.squared_scale);
-                    [w, h, phase, within.to_bits(), capacity, squared.to_bits()]
-                };
                 pass.dispatch(BufferKernel::Extremum, set, strips, &push(0))?;
-                pass.dispatch(BufferKernel::Extremum, set, strips, &push(1))?;
-                if let Some(n) = near {
-                    pass.dispatch(
+                match near {
+                    // The list holds the extremes' pixels (with their values).
+                    Some(n) => pass.dispatch(
                         BufferKernel::Extremum,
                         set,
                         strips,
                         &push(2 + u32::from(n.maximum)),
-                    )?;
+                    ),
+                    None => pass.dispatch(BufferKernel::Extremum, set, strips, &push(1)),
                 }
-                Ok(())
             })
         })?;
-        let raw: Vec<u32> = result.read(5 + capacity as usize);
+        let raw: Vec<u32> = result.read(5 + 2 * capacity as usize);
         let near_count = raw[4] as usize;
+        let listed: Vec<(usize, u32)> = raw[5..5 + 2 * near_count.min(capacity as usize)]
+            .chunks_exact(2)
+            .map(|p| (p[0] as usize, p[1]))
+            .collect();
+        let (mut at_min, mut at_max) = (raw[2] as usize, raw[3] as usize);
+        if let Some(n) = near {
+            // The first pixel holding the extreme among those listed; a list that
+            // overflowed may have lost it, so then ask the device.
+            let extreme = if n.maximum { raw[1] } else { raw[0] };
+            let first = listed
+                .iter()
+                .filter(|(_, v)| *v == extreme)
+                .map(|(i, _)| *i)
+                .min();
+            let first = match first {
+                Some(i) => i,
+                None => {
+                    self.with_compute_buffers([&values, &result], |set| {
+                        self.run(|pass| {
+                            pass.dispatch(BufferKernel::Extremum, set, strips, &push(1))
+                        })
+                    })?;
+                    let again: Vec<u32> = result.read(4);
+                    if n.maximum {
+                        again[3] as usize
+                    } else {
+                        again[2] as usize
+                    }
+                }
+            };
+            if n.maximum {
+                at_max = first;
+            } else {
+                at_min = first;
+            }
+        }
         let decode = |u: u32| {
             f32::from_bits(if u & 0x8000_0000 != 0 {
                 u & 0x7fff_ffff
@@ -574,12 +613,9 @@ impl Machine {
         Ok(DepthExtremes {
             min: decode(raw[0]),
             max: decode(raw[1]),
-            at_min: raw[2] as usize,
-            at_max: raw[3] as usize,
-            near: raw[5..5 + near_count.min(capacity as usize)]
-                .iter()
-                .map(|&i| i as usize)
-                .collect(),
+            at_min,
+            at_max,
+            near: listed.iter().map(|(i, _)| *i).collect(),
             near_count,
         })
     }
