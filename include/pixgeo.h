@@ -148,6 +148,28 @@ typedef struct PixgeoPair {
   double distance;
 } PixgeoPair;
 
+// The shape and picture of [`pixgeo_enclose`] and [`pixgeo_empty`].
+typedef struct PixgeoHomothetOptions {
+  // The polygon's vertices `{x0, y0, x1, y1, ...}` around `kernel`, star-shaped
+  // around it; null for circles.
+  const double *polygon;
+  size_t polygon_count;
+  double kernel[2];
+  // Picture side in pixels along the longer axis (0: 512).
+  uint32_t side;
+} PixgeoHomothetOptions;
+
+// A homothet `centre + scale · Q`: the exact one, the picture's candidate, the
+// bound between them, and the gap left where a branch and bound decided.
+typedef struct PixgeoHomothet {
+  double centre[2];
+  double scale;
+  double pixel_centre[2];
+  double pixel_scale;
+  double pixel_bound;
+  double tolerance;
+} PixgeoHomothet;
+
 // The answer of [`pixgeo_settle`].
 typedef struct PixgeoSettle {
   // The settle pixel (the first, row-major, of those tied) and the number of
@@ -310,6 +332,42 @@ enum PixgeoStatus pixgeo_max_distance(struct PixgeoContext *ctx,
                                       const double *b,
                                       size_t b_count,
                                       struct PixgeoPair *out);
+
+// The smallest homothet of a circle or polygon (thesis ch. 4) holding every
+// one of the `count` sites (points, segments, circles, arcs; unweighted), or
+// with `k` > 0 at least `k` of them (points only, §4.4.1).
+//
+// # Safety
+// `ctx` is a live context; `sites` holds `count` sites; `options` points to
+// valid options; `out` points to a writable answer.
+enum PixgeoStatus pixgeo_enclose(struct PixgeoContext *ctx,
+                                 const struct PixgeoSite *sites,
+                                 size_t count,
+                                 const struct PixgeoHomothetOptions *options,
+                                 size_t k,
+                                 struct PixgeoHomothet *out);
+
+// The largest homothet of a circle or polygon (thesis ch. 5) meeting none of
+// the `count` sites (points, segments, circles, arcs; multiplicative weights
+// scale the clearance each demands), its centre in the region: `ring_count`
+// rings of `ring_sizes[r]` points each, concatenated in `rings` as `{x0, y0,
+// ...}` (holes by even-odd; `ring_count` 0: the sites' bounding box). With
+// `inside`, the whole homothet stays inside the region.
+//
+// # Safety
+// `ctx` is a live context; `sites` holds `count` sites; `rings` holds twice
+// the sum of the `ring_count` sizes in `ring_sizes` (both may be null when
+// `ring_count` is 0); `options` points to valid options; `out` points to a
+// writable answer.
+enum PixgeoStatus pixgeo_empty(struct PixgeoContext *ctx,
+                               const struct PixgeoSite *sites,
+                               size_t count,
+                               const double *rings,
+                               const size_t *ring_sizes,
+                               size_t ring_count,
+                               bool inside,
+                               const struct PixgeoHomothetOptions *options,
+                               struct PixgeoHomothet *out);
 
 // The settle point (thesis §3.10): where a new site among the `count` sites
 // `xy` would win the most pixels, not counting pixels already nearest to one

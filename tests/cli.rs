@@ -469,8 +469,11 @@ fn enclose_and_empty_print_exact_homothets() {
         "128",
     ]);
     assert!(ok, "{stderr}");
-    // The far corner (4, 3) is 3 from (4, 0) and (0, 3), 5 from (0, 0).
-    assert!(stdout.contains("scale 3"), "{stdout}");
+    // On the top side at x = 25/8: as far from (0, 3) as from (4, 0).
+    assert!(
+        stdout.contains("centre (3.125, 3), scale 3.125"),
+        "{stdout}"
+    );
     let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--k", "9"]);
     assert!(!ok && stderr.contains("cannot enclose 9 of 3"), "{stderr}");
 }

@@ -174,6 +174,29 @@ int main(void) {
     status = pixgeo_diameter(ctx, blue, 2, NULL);
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null answer accepted");
 
+    /* Homothets: a right triangle's smallest circle is on its hypotenuse; the
+     * largest empty circle centred in its bounding box sits on the top side at
+     * x = 25/8, as far from (0, 3) as from (4, 0). */
+    PixgeoSite corners[3] = {
+        {PIXGEO_SITE_KIND_POINT, {0, 0}, 1, 0},
+        {PIXGEO_SITE_KIND_POINT, {4, 0}, 1, 0},
+        {PIXGEO_SITE_KIND_POINT, {0, 3}, 1, 0},
+    };
+    PixgeoHomothetOptions circle = {NULL, 0, {0, 0}, 128};
+    PixgeoHomothet homothet;
+    status = pixgeo_enclose(ctx, corners, 3, &circle, 0, &homothet);
+    CHECK(status == PIXGEO_STATUS_OK && fabs(homothet.scale - 2.5) < 1e-9 &&
+              fabs(homothet.centre[0] - 2) < 1e-9 && fabs(homothet.centre[1] - 1.5) < 1e-9,
+          "enclose %g: %s", homothet.scale, pixgeo_context_last_error(ctx));
+    const double box[8] = {0, 0, 4, 0, 4, 3, 0, 3};
+    const size_t box_size = 4;
+    status = pixgeo_empty(ctx, corners, 3, box, &box_size, 1, false, &circle, &homothet);
+    CHECK(status == PIXGEO_STATUS_OK && fabs(homothet.scale - 3.125) < 1e-9 &&
+              fabs(homothet.centre[0] - 3.125) < 1e-9 && fabs(homothet.centre[1] - 3) < 1e-9,
+          "empty %g: %s", homothet.scale, pixgeo_context_last_error(ctx));
+    status = pixgeo_enclose(ctx, corners, 3, &circle, 4, &homothet);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "k beyond the sites accepted");
+
     /* The settle point: the potential area of the best pixel against its
      * definition, the pixels nearer to it than to every site. */
     options = pixgeo_voronoi_options_default(W, H);
