@@ -69,6 +69,28 @@ fn inputs() -> Vec<(&'static str, Vec<DVec2>)> {
     ]
 }
 
+/// Points along a site's shape, `n` steps along each segment, circle and arc:
+/// the shape as the definitions in these tests see it.
+fn along(site: &pixgeo::geometry::site::Site, n: usize) -> Vec<DVec2> {
+    use pixgeo::geometry::site::Shape;
+    let t = |k: usize| k as f64 / n as f64;
+    match site.shape {
+        Shape::Point(p) => vec![p],
+        Shape::Segment(a, b) => (0..=n).map(|k| a + (b - a) * t(k)).collect(),
+        Shape::Circle { center, radius } => (0..n)
+            .map(|k| center + radius * DVec2::from_angle(TAU * t(k)))
+            .collect(),
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } => (0..=n)
+            .map(|k| center + radius * DVec2::from_angle(start + (end - start) * t(k)))
+            .collect(),
+    }
+}
+
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-7 * (1.0 + b.abs())
 }
@@ -446,29 +468,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         let mut far = 0.0f64;
         for s in &mixed {
             // The definition: the farthest of many points along the shape.
-            let pts: Vec<DVec2> = match s.shape {
-                Shape::Point(p) => vec![p],
-                Shape::Segment(a, b) => (0..=100)
-                    .map(|t| a + (b - a) * (t as f64 / 100.0))
-                    .collect(),
-                Shape::Circle { center, radius } => (0..4000)
-                    .map(|t| {
-                        let a = TAU * t as f64 / 4000.0;
-                        center + radius * DVec2::new(a.cos(), a.sin())
-                    })
-                    .collect(),
-                Shape::Arc {
-                    center,
-                    radius,
-                    start,
-                    end,
-                } => (0..=4000)
-                    .map(|t| {
-                        let a = start + (end - start) * t as f64 / 4000.0;
-                        center + radius * DVec2::new(a.cos(), a.sin())
-                    })
-                    .collect(),
-            };
+            let pts = along(s, 4000);
             far = pts.iter().map(|p| p.distance(c)).fold(far, f64::max);
         }
         far
@@ -520,30 +520,7 @@ fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
     ];
     let answer = enclose_sites(&machine, &sites, Unit::Polygon(triangle), 0, 256).unwrap();
     // The definition: the largest gauge over dense samples of each shape.
-    let samples: Vec<DVec2> = sites
-        .iter()
-        .flat_map(|s| match s.shape {
-            Shape::Point(p) => vec![p],
-            Shape::Segment(a, b) => vec![a, b],
-            Shape::Circle { center, radius } => (0..20000)
-                .map(|t| {
-                    let a = TAU * t as f64 / 20000.0;
-                    center + radius * DVec2::new(a.cos(), a.sin())
-                })
-                .collect(),
-            Shape::Arc {
-                center,
-                radius,
-                start,
-                end,
-            } => (0..=20000)
-                .map(|t| {
-                    let a = start + (end - start) * t as f64 / 20000.0;
-                    center + radius * DVec2::new(a.cos(), a.sin())
-                })
-                .collect(),
-        })
-        .collect();
+    let samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 20000)).collect();
     let c = DVec2::from(answer.exact.centre);
     let held = samples
         .iter()
@@ -555,26 +532,7 @@ fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
     );
     // Twelve points per curve: their optimum (a vertex search) is a lower
     // bound, and within the chords' loss of the true one.
-    let coarse: Vec<DVec2> = sites
-        .iter()
-        .flat_map(|s| match s.shape {
-            Shape::Point(p) => vec![p],
-            Shape::Segment(a, b) => vec![a, b],
-            Shape::Circle { center, radius } => (0..12)
-                .map(|t| center + radius * DVec2::from_angle(TAU * t as f64 / 12.0))
-                .collect(),
-            Shape::Arc {
-                center,
-                radius,
-                start,
-                end,
-            } => (0..=12)
-                .map(|t| {
-                    center + radius * DVec2::from_angle(start + (end - start) * t as f64 / 12.0)
-                })
-                .collect(),
-        })
-        .collect();
+    let coarse: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 12)).collect();
     let (_, sampled) = oracle::smallest_k_homothet(
         &coarse,
         &triangle.vertices,
@@ -630,24 +588,7 @@ fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
     )
     .unwrap();
     // The definition on dense samples of every shape and of the region's edges.
-    let mut samples: Vec<DVec2> = Vec::new();
-    for s in &sites {
-        match s.shape {
-            Shape::Point(p) => samples.push(p),
-            Shape::Segment(a, b) => {
-                samples.extend((0..=2000).map(|t| a + (b - a) * (t as f64 / 2000.0)))
-            }
-            Shape::Arc {
-                center,
-                radius,
-                start,
-                end,
-            } => samples.extend((0..=2000).map(|t| {
-                center + radius * DVec2::from_angle(start + (end - start) * t as f64 / 2000.0)
-            })),
-            Shape::Circle { .. } => unreachable!(),
-        }
-    }
+    let mut samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 2000)).collect();
     for (a, b) in edges(&region) {
         samples.extend((0..=4000).map(|t| a + (b - a) * (t as f64 / 4000.0)));
     }
@@ -704,28 +645,7 @@ fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
         Site::point(DVec2::new(-4.0, 12.0)),
     ];
     let answer = enclose_sites(&machine, &sites, Unit::Polygon(star), 0, 256).unwrap();
-    let samples: Vec<DVec2> = sites
-        .iter()
-        .flat_map(|s| match s.shape {
-            Shape::Point(p) => vec![p],
-            Shape::Segment(a, b) => (0..=3000)
-                .map(|t| a + (b - a) * (t as f64 / 3000.0))
-                .collect(),
-            Shape::Circle { center, radius } => (0..3000)
-                .map(|t| center + radius * DVec2::from_angle(TAU * t as f64 / 3000.0))
-                .collect(),
-            Shape::Arc {
-                center,
-                radius,
-                start,
-                end,
-            } => (0..=3000)
-                .map(|t| {
-                    center + radius * DVec2::from_angle(start + (end - start) * t as f64 / 3000.0)
-                })
-                .collect(),
-        })
-        .collect();
+    let samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 3000)).collect();
     let held = |c: DVec2| samples.iter().map(|p| star.of(*p - c)).fold(0.0, f64::max);
     let c = DVec2::from(answer.exact.centre);
     assert!(

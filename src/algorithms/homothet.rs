@@ -173,17 +173,7 @@ pub fn enclose(
         (lowest.at_min, value, lowest.near)
     } else {
         // The k-th level of the lower envelope, read back: its lowest pixel.
-        let levels = k_nearest(
-            machine,
-            sites,
-            &KNearestOptions {
-                frame,
-                k: k as u32,
-                metric,
-                accuracy: Accuracy::Exact,
-                speedup: Speedup::Quadtree,
-            },
-        )?;
+        let levels = kth_levels(machine, sites, frame, metric, k)?;
         let kth = levels.level_distances(k as u32 - 1);
         let (at, d) = kth
             .iter()
@@ -536,6 +526,24 @@ pub fn enclose_sites(
     }
 }
 
+/// The k nearest sites of every pixel, exact.
+fn kth_levels(
+    machine: &Machine,
+    sites: &[DVec2],
+    frame: Frame,
+    metric: Metric,
+    k: usize,
+) -> Result<super::higher_order::KNearest> {
+    let options = KNearestOptions {
+        frame,
+        k: k as u32,
+        metric,
+        accuracy: Accuracy::Exact,
+        speedup: Speedup::Quadtree,
+    };
+    k_nearest(machine, sites, &options)
+}
+
 /// Where the centre of the largest empty homothet may lie.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Region {
@@ -577,23 +585,9 @@ pub fn largest_empty(
     side: u32,
 ) -> Result<HomothetAnswer> {
     check_sites(sites)?;
-    let region = if region.rings.is_empty() {
-        let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
-        let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
-        Region {
-            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
-        }
-    } else {
-        check_region(region)?;
-        region.clone()
-    };
-    let points: Vec<DVec2> = region.rings.iter().flatten().copied().collect();
-    let lo = points.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
-    let hi = points.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
-    if !(hi - lo).cmpgt(DVec2::ZERO).all() {
-        return Err(Error::InvalidInput("the region has no area".into()));
-    }
-    let frame = frame_of_box(side, lo, hi)?;
+    let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    let (region, frame) = region_and_frame(region, (lo, hi), side)?;
     let metric = unit.cone_metric()?;
     let options = VoronoiOptions {
         metric,
@@ -615,40 +609,24 @@ pub fn largest_empty(
             tile.x0,
             tile.y0,
         )?;
-        let w = tile.depth.width() as usize;
-        let to_picture = |at: usize| {
-            let (i, j) = ((at % w) as u32, (at / w) as u32);
-            (i < tile.inner.width && j < tile.inner.height)
-                .then(|| (tile.y0 + j) as usize * frame.width as usize + (tile.x0 + i) as usize)
-        };
-        let highest = machine.depth_extremes(
-            tile.depth,
-            Some(near_extreme(
-                metric,
-                tile.keys.scale,
-                2.0 * bound * frame.scale,
-                true,
-            )),
-        )?;
-        let near: Vec<usize> = highest.near.iter().filter_map(|&a| to_picture(a)).collect();
-        if let Some(at) = to_picture(highest.at_max) {
-            tiles.push((highest.max, std::iter::once(at).chain(near).collect()));
-        }
+        let within = 2.0 * bound * frame.scale;
+        let near = near_extreme(metric, tile.keys.scale, within, true);
+        let picture = (tile.depth, tile.x0, tile.y0, tile.inner);
+        tiles.extend(highest_of_tile(machine, &frame, picture, near)?);
         Ok(())
     })?;
     let depth = keys.expect("a picture has a tile");
-    let top = tiles.iter().map(|t| t.0).fold(f32::NEG_INFINITY, f32::max);
-    if tiles.is_empty() || top <= 0.0 {
+    let tiles: Vec<(f64, Vec<usize>)> = tiles
+        .into_iter()
+        .map(|(z, p)| (depth.distance(z), p))
+        .collect();
+    let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
+    if tiles.is_empty() {
         return Err(Error::InvalidInput(
             "no pixel centre lies in the region".into(),
         ));
     }
-    let value = depth.distance(top);
-    let near_pixels: Vec<usize> = tiles
-        .iter()
-        .filter(|t| depth.distance(t.0) >= value - 2.0 * bound)
-        .flat_map(|t| t.1.iter().copied())
-        .collect();
+    let near_pixels = near_top(&tiles, value, bound);
     let centre = pixel_centre(&frame, near_pixels[0]);
     let eps = rounding(unit, &frame, value);
     let pixel_bound = bound + eps;
@@ -726,31 +704,13 @@ pub fn largest_empty_sites(
             .collect();
         return largest_empty(machine, &points, unit, region, side);
     }
-    let region = if region.rings.is_empty() {
-        let (lo, hi) = sites
-            .iter()
-            .map(Site::bounds)
-            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), (l, h)| {
-                (a.min(l), b.max(h))
-            });
-        Region {
-            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
-        }
-    } else {
-        check_region(region)?;
-        region.clone()
-    };
-    let (lo, hi) = region
-        .rings
+    let bounds = sites
         .iter()
-        .flatten()
-        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), p| {
-            (a.min(*p), b.max(*p))
+        .map(Site::bounds)
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), (l, h)| {
+            (a.min(l), b.max(h))
         });
-    if !(hi - lo).cmpgt(DVec2::ZERO).all() {
-        return Err(Error::InvalidInput("the region has no area".into()));
-    }
-    let frame = frame_of_box(side, lo, hi)?;
+    let (region, frame) = region_and_frame(region, bounds, side)?;
     let metric = unit.cone_metric()?;
     let mut all = sites.to_vec();
     if inside {
@@ -770,7 +730,6 @@ pub fn largest_empty_sites(
     let lipschitz = unit.lipschitz() / least_m;
     let bound = half_diagonal(&frame) * lipschitz;
     let mut tiles: Vec<(f64, Vec<usize>)> = Vec::new();
-    let mut drawn_error = 0.0;
     let (stats, _) = draw_sites(machine, &all, &options, |tile| {
         mask_outside(
             machine,
@@ -780,33 +739,18 @@ pub fn largest_empty_sites(
             tile.x0,
             tile.y0,
         )?;
-        let w = tile.depth.width() as usize;
-        let to_picture = |at: usize| {
-            let (i, j) = ((at % w) as u32, (at / w) as u32);
-            (i < tile.inner.width && j < tile.inner.height)
-                .then(|| (tile.y0 + j) as usize * frame.width as usize + (tile.x0 + i) as usize)
+        let near = NearExtreme {
+            maximum: true,
+            within: (2.0 * bound * tile.keys.scale) as f32,
+            squared_scale: 0.0,
+            capacity: NEAR_PIXELS,
         };
-        let highest = machine.depth_extremes(
-            tile.depth,
-            Some(NearExtreme {
-                maximum: true,
-                within: (2.0 * bound * tile.keys.scale) as f32,
-                squared_scale: 0.0,
-                capacity: NEAR_PIXELS,
-            }),
-        )?;
-        if highest.max > 0.0 {
-            if let Some(at) = to_picture(highest.at_max) {
-                let near = highest.near.iter().filter_map(|&a| to_picture(a));
-                tiles.push((
-                    tile.keys.distance(highest.max),
-                    std::iter::once(at).chain(near).collect(),
-                ));
-            }
+        let picture = (tile.depth, tile.x0, tile.y0, tile.inner);
+        if let Some((z, pixels)) = highest_of_tile(machine, &frame, picture, near)? {
+            tiles.push((tile.keys.distance(z), pixels));
         }
         Ok(())
     })?;
-    drawn_error += stats.distance_error_bound;
     let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
     if tiles.is_empty() {
         return Err(Error::InvalidInput(
@@ -814,12 +758,8 @@ pub fn largest_empty_sites(
         ));
     }
     // Fans (polygons, curves under other metrics) add their own error.
-    let bound = bound + drawn_error;
-    let near_pixels: Vec<usize> = tiles
-        .iter()
-        .filter(|t| t.0 >= value - 2.0 * bound)
-        .flat_map(|t| t.1.iter().copied())
-        .collect();
+    let bound = bound + stats.distance_error_bound;
+    let near_pixels = near_top(&tiles, value, bound);
     let centre = pixel_centre(&frame, near_pixels[0]);
     let pixel_bound = bound + 1e-5 * value.abs();
     let clearance = |c: DVec2, set: &[Site]| {
@@ -1179,6 +1119,70 @@ fn branch_and_bound(
     best.map(|(c, v)| (c, v, 0.0, cells))
 }
 
+/// The region to search (the box `bounds` when none is given, checked
+/// otherwise) and the frame that shows it.
+fn region_and_frame(
+    region: &Region,
+    (lo, hi): (DVec2, DVec2),
+    side: u32,
+) -> Result<(Region, Frame)> {
+    let region = if region.rings.is_empty() {
+        Region {
+            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+        }
+    } else {
+        check_region(region)?;
+        region.clone()
+    };
+    let (lo, hi) = region
+        .rings
+        .iter()
+        .flatten()
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), p| {
+            (a.min(*p), b.max(*p))
+        });
+    if !(hi - lo).cmpgt(DVec2::ZERO).all() {
+        return Err(Error::InvalidInput("the region has no area".into()));
+    }
+    let frame = frame_of_box(side, lo, hi)?;
+    Ok((region, frame))
+}
+
+/// One masked tile's highest depth and the picture pixels near it (the
+/// highest first), unless the whole tile is masked.
+fn highest_of_tile(
+    machine: &Machine,
+    frame: &Frame,
+    tile: (&crate::machine::Image, u32, u32, crate::machine::PixelRect),
+    near: NearExtreme,
+) -> Result<Option<(f32, Vec<usize>)>> {
+    let (depth, x0, y0, inner) = tile;
+    let highest = machine.depth_extremes(depth, Some(near))?;
+    let w = depth.width() as usize;
+    let to_picture = |at: usize| {
+        let (i, j) = ((at % w) as u32, (at / w) as u32);
+        (i < inner.width && j < inner.height)
+            .then(|| (y0 + j) as usize * frame.width as usize + (x0 + i) as usize)
+    };
+    if highest.max <= 0.0 {
+        return Ok(None);
+    }
+    Ok(to_picture(highest.at_max).map(|at| {
+        let near = highest.near.iter().filter_map(|&a| to_picture(a));
+        (highest.max, std::iter::once(at).chain(near).collect())
+    }))
+}
+
+/// The pixels of the tiles whose highest value is within `2 bound` of the
+/// highest of all, `value`.
+fn near_top(tiles: &[(f64, Vec<usize>)], value: f64, bound: f64) -> Vec<usize> {
+    tiles
+        .iter()
+        .filter(|t| t.0 >= value - 2.0 * bound)
+        .flat_map(|t| t.1.iter().copied())
+        .collect()
+}
+
 fn check_region(region: &Region) -> Result<()> {
     for (r, ring) in region.rings.iter().enumerate() {
         if ring.len() < 3 {
@@ -1376,12 +1380,7 @@ fn best_of_clusters(
         let (around, reach) = surroundings(frame, &cluster);
         if let Some((c, v, n)) = refine(around, reach) {
             checked += n;
-            let better = match (best, goal) {
-                (None, _) => true,
-                (Some((_, b)), Goal::Smallest) => v < b,
-                (Some((_, b)), Goal::Largest) => v > b,
-            };
-            if better {
+            if goal.improves(v, best.map(|b| b.1)) {
                 best = Some((c, v));
             }
         }
@@ -1453,6 +1452,17 @@ fn smallest_circle(sites: &[DVec2], centre: DVec2, radius: f64, slack: f64) -> (
 enum Goal {
     Smallest,
     Largest,
+}
+
+impl Goal {
+    /// Whether `v` beats the best so far.
+    fn improves(self, v: f64, best: Option<f64>) -> bool {
+        match (best, self) {
+            (None, _) => true,
+            (Some(b), Goal::Smallest) => v < b,
+            (Some(b), Goal::Largest) => v > b,
+        }
+    }
 }
 
 /// A linear equation `a · c + b λ = r` in the centre c and the scale λ.
@@ -1615,12 +1625,7 @@ fn best_vertex(
             }
         }
         let v = if exact_k { bound } else { full(c) };
-        let better = match (best, goal) {
-            (None, _) => true,
-            (Some((_, b)), Goal::Smallest) => v < b,
-            (Some((_, b)), Goal::Largest) => v > b,
-        };
-        if better {
+        if goal.improves(v, best.map(|b| b.1)) {
             best = Some((c, v));
         }
     }
@@ -1837,18 +1842,9 @@ pub fn picture(
         Envelope::Enclosing { k } if k == 0 || k >= sites.len() => {
             super::higher_order::furthest(machine, sites, &frame, metric)?.labels
         }
-        Envelope::Enclosing { k } => k_nearest(
-            machine,
-            sites,
-            &KNearestOptions {
-                frame,
-                k: k as u32,
-                metric,
-                accuracy: Accuracy::Exact,
-                speedup: Speedup::Quadtree,
-            },
-        )?
-        .level_labels(k as u32 - 1),
+        Envelope::Enclosing { k } => {
+            kth_levels(machine, sites, frame, metric, k)?.level_labels(k as u32 - 1)
+        }
         Envelope::Empty => {
             let options = VoronoiOptions {
                 metric,
