@@ -1,0 +1,598 @@
+//! The exact answers behind the pixel candidates of [`super`]: the candidate
+//! centres three distance pieces determine, Welzl's algorithm, and a branch and
+//! bound for distances without closed-form vertices.
+
+use glam::DVec2;
+
+use super::{candidates, kth_gauge, surroundings, Homothet, Unit};
+use crate::geometry::Frame;
+
+/// Roots of a t² + b t + c = 0 (the one root of the linear equation when a
+/// vanishes).
+pub(super) fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
+    let scale = a.abs().max(b.abs()).max(c.abs());
+    if scale == 0.0 {
+        return Vec::new();
+    }
+    if a.abs() <= 1e-12 * scale {
+        return if b != 0.0 { vec![-c / b] } else { Vec::new() };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < -1e-12 * b * b {
+        return Vec::new();
+    }
+    let root = disc.max(0.0).sqrt();
+    // The stable pair: no cancellation between b and the root.
+    let q = -0.5 * (b + b.signum() * root);
+    if q == 0.0 {
+        return vec![0.0];
+    }
+    vec![q / a, c / q]
+}
+
+/// Every centre equidistant (Euclidean) from three of the points and the
+/// lines through `lines`, and every point of a `walls` segment equidistant
+/// from two of them, and the walls' ends: the candidates for the largest
+/// circle clearing points and segments (whose ends are among `points`).
+pub(super) fn clearing_vertices(
+    points: &[DVec2],
+    lines: &[(DVec2, DVec2)],
+    walls: &[(DVec2, DVec2)],
+) -> Vec<DVec2> {
+    // A line as unit normal n and offset e: signed distance n·c − e.
+    let normal = |(a, b): (DVec2, DVec2)| {
+        let n = (b - a).perp().normalize();
+        (n, n.dot(a))
+    };
+    let ls: Vec<(DVec2, f64)> = lines.iter().map(|l| normal(*l)).collect();
+    let signs = [1.0, -1.0];
+    let mut out = Vec::new();
+    // Centres on a line c = c0 + t u with clearance r = r0 + t k that are also at
+    // distance r from p.
+    let on_line_from_point =
+        |out: &mut Vec<DVec2>, c0: DVec2, u: DVec2, r0: f64, k: f64, p: DVec2| {
+            let w = c0 - p;
+            for t in quadratic_roots(
+                u.length_squared() - k * k,
+                2.0 * (u.dot(w) - r0 * k),
+                w.length_squared() - r0 * r0,
+            ) {
+                if r0 + t * k >= 0.0 {
+                    out.push(c0 + u * t);
+                }
+            }
+        };
+    let np = points.len();
+    let nl = ls.len();
+    for x in 0..np {
+        for y in x + 1..np {
+            let (p, q) = (points[x], points[y]);
+            if p == q {
+                continue;
+            }
+            for &r in &points[y + 1..] {
+                if let Some(c) = circumcentre(p, q, r) {
+                    out.push(c);
+                }
+            }
+            // Two points and a line: along their bisector.
+            let m = (p + q) / 2.0;
+            let u = (q - p).perp().normalize();
+            for &(n, e) in &ls {
+                for s in signs {
+                    on_line_from_point(&mut out, m, u, s * (n.dot(m) - e), s * n.dot(u), p);
+                }
+            }
+        }
+    }
+    for x in 0..nl {
+        for y in x + 1..nl {
+            let ((n1, e1), (n2, e2)) = (ls[x], ls[y]);
+            for s1 in signs {
+                for s2 in signs {
+                    // s1 (n1·c − e1) = s2 (n2·c − e2): the line A·c = B.
+                    let a = s1 * n1 - s2 * n2;
+                    let b = s1 * e1 - s2 * e2;
+                    if a.length_squared() < 1e-24 {
+                        continue;
+                    }
+                    let c0 = a * (b / a.length_squared());
+                    let u = a.perp().normalize();
+                    let (r0, k) = (s1 * (n1.dot(c0) - e1), s1 * n1.dot(u));
+                    // A point and two lines.
+                    for &p in points {
+                        on_line_from_point(&mut out, c0, u, r0, k, p);
+                    }
+                    // Three lines: the third equation fixes t.
+                    for &(n3, e3) in &ls[y + 1..] {
+                        for s3 in signs {
+                            // s3 (n3·(c0 + t u) − e3) = r0 + t k.
+                            let slope = s3 * n3.dot(u) - k;
+                            if slope.abs() > 1e-12 {
+                                let t = (r0 - s3 * (n3.dot(c0) - e3)) / slope;
+                                if r0 + t * k >= 0.0 {
+                                    out.push(c0 + u * t);
+                                }
+                            }
+                        }
+                    }
+                    // Two lines and a wall.
+                    for (wa, wb) in walls {
+                        let (nw, ew) = normal((*wa, *wb));
+                        let d = nw.dot(u);
+                        if d.abs() > 1e-12 {
+                            out.push(c0 + u * ((ew - nw.dot(c0)) / d));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // On a wall c = a + t (b − a), t in [0, 1]: equidistant from two points, a
+    // point and a line, or two lines; and the wall's ends.
+    for &(a, b) in walls {
+        let d = b - a;
+        let inside = |t: f64| (-1e-12..=1.0 + 1e-12).contains(&t);
+        let mut on_wall = |t: f64| {
+            if inside(t) {
+                out.push(a + d * t);
+            }
+        };
+        for x in 0..np {
+            for y in x + 1..np {
+                let (u, v) = (points[x], points[y]);
+                let denom = 2.0 * d.dot(v - u);
+                if denom != 0.0 {
+                    on_wall((v.length_squared() - u.length_squared() - 2.0 * a.dot(v - u)) / denom);
+                }
+            }
+            for &(n, e) in &ls {
+                for s in signs {
+                    // |a + t d − p|² = (s (n·a − e) + t s n·d)².
+                    let (r0, k) = (s * (n.dot(a) - e), s * n.dot(d));
+                    let w = a - points[x];
+                    for t in quadratic_roots(
+                        d.length_squared() - k * k,
+                        2.0 * (d.dot(w) - r0 * k),
+                        w.length_squared() - r0 * r0,
+                    ) {
+                        on_wall(t);
+                    }
+                }
+            }
+        }
+        for x in 0..nl {
+            for y in x + 1..nl {
+                let ((n1, e1), (n2, e2)) = (ls[x], ls[y]);
+                for s in signs {
+                    // n1·(a + t d) − e1 = s (n2·(a + t d) − e2).
+                    let slope = n1.dot(d) - s * n2.dot(d);
+                    if slope.abs() > 1e-12 {
+                        on_wall((s * (n2.dot(a) - e2) - (n1.dot(a) - e1)) / slope);
+                    }
+                }
+            }
+        }
+        out.extend([a, b]);
+    }
+    out.extend(points.iter().copied());
+    out
+}
+
+/// Cells a branch and bound may evaluate before it stops with its gap.
+const MAX_CELLS: usize = 200_000;
+
+/// The largest value of `exact` over the allowed points of the square of
+/// half-side `reach` around `around`, by branch and bound: `bound` (at least
+/// `exact` everywhere, changing by at most `lipschitz` per unit) bounds each
+/// square from above, allowed centres give true values, and squares that
+/// cannot beat the best or miss the allowed set (`meets(c, r)`: the disc of
+/// radius r around c meets it) are dropped. Returns the centre, its value, the
+/// gap left and the cells evaluated.
+pub(super) fn branch_and_bound(
+    around: DVec2,
+    reach: f64,
+    lipschitz: f64,
+    bound: impl Fn(DVec2) -> f64,
+    exact: impl Fn(DVec2) -> f64,
+    allowed: impl Fn(DVec2) -> bool,
+    meets: impl Fn(DVec2, f64) -> bool,
+) -> Option<(DVec2, f64, f64, usize)> {
+    use std::collections::BinaryHeap;
+    #[derive(PartialEq)]
+    struct Cell(f64, DVec2, f64);
+    impl Eq for Cell {}
+    impl PartialOrd for Cell {
+        fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+            Some(self.cmp(other))
+        }
+    }
+    impl Ord for Cell {
+        fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+            self.0.total_cmp(&other.0)
+        }
+    }
+    let root2 = std::f64::consts::SQRT_2;
+    let mut best: Option<(DVec2, f64)> = None;
+    let mut heap = BinaryHeap::new();
+    let mut cells = 0;
+    let push = |heap: &mut BinaryHeap<Cell>,
+                best: &mut Option<(DVec2, f64)>,
+                cells: &mut usize,
+                c: DVec2,
+                h: f64| {
+        *cells += 1;
+        if !meets(c, h * root2) {
+            return;
+        }
+        if allowed(c) {
+            let v = exact(c);
+            if best.is_none_or(|b| v > b.1) {
+                *best = Some((c, v));
+            }
+        }
+        heap.push(Cell(bound(c) + lipschitz * h * root2, c, h));
+    };
+    push(&mut heap, &mut best, &mut cells, around, reach);
+    while let Some(Cell(upper, c, h)) = heap.pop() {
+        let floor = best.map_or(f64::NEG_INFINITY, |b| b.1);
+        let gap = upper - floor;
+        if gap <= 1e-9 * (1.0 + floor.abs()) || cells >= MAX_CELLS {
+            let (c, v) = best?;
+            return Some((c, v, gap.max(0.0), cells));
+        }
+        let q = h / 2.0;
+        for d in [
+            DVec2::new(-q, -q),
+            DVec2::new(q, -q),
+            DVec2::new(-q, q),
+            DVec2::new(q, q),
+        ] {
+            push(&mut heap, &mut best, &mut cells, c + d, q);
+        }
+    }
+    best.map(|(c, v)| (c, v, 0.0, cells))
+}
+
+/// Groups pixels (row-major indices) into clusters of 8-connected pixels.
+pub(super) fn clusters(frame: &Frame, pixels: &[usize]) -> Vec<Vec<usize>> {
+    use std::collections::HashMap;
+    let w = frame.width as i64;
+    let slot: HashMap<usize, usize> = pixels.iter().enumerate().map(|(k, &p)| (p, k)).collect();
+    let mut parent: Vec<usize> = (0..pixels.len()).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    for (k, &p) in pixels.iter().enumerate() {
+        let (i, j) = (p as i64 % w, p as i64 / w);
+        for (di, dj) in [(1, 0), (-1, 1), (0, 1), (1, 1)] {
+            let (x, y) = (i + di, j + dj);
+            if x < 0 || x >= w || y >= frame.height as i64 {
+                continue;
+            }
+            if let Some(&other) = slot.get(&((y * w + x) as usize)) {
+                let (a, b) = (root(&mut parent, k), root(&mut parent, other));
+                parent[a] = b;
+            }
+        }
+    }
+    let mut groups: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (k, &p) in pixels.iter().enumerate() {
+        let r = root(&mut parent, k);
+        groups.entry(r).or_default().push(p);
+    }
+    groups.into_values().collect()
+}
+
+/// Refines around every cluster of near-extreme pixels and keeps the best.
+pub(super) fn best_of_clusters(
+    frame: &Frame,
+    pixels: &[usize],
+    goal: Goal,
+    refine: impl Fn(DVec2, f64) -> Option<(DVec2, f64, usize)>,
+) -> Option<(DVec2, f64, usize)> {
+    let mut best: Option<(DVec2, f64)> = None;
+    let mut checked = 0;
+    for cluster in clusters(frame, pixels) {
+        let (around, reach) = surroundings(frame, &cluster);
+        if let Some((c, v, n)) = refine(around, reach) {
+            checked += n;
+            if goal.improves(v, best.map(|b| b.1)) {
+                best = Some((c, v));
+            }
+        }
+    }
+    best.map(|(c, v)| (c, v, checked))
+}
+
+/// The smallest enclosing circle, exact: Welzl's algorithm on the sites the
+/// picture names as far from its centre, repeated with every site it left out
+/// until none is.
+pub(super) fn smallest_circle(
+    sites: &[DVec2],
+    centre: DVec2,
+    radius: f64,
+    slack: f64,
+) -> (Homothet, usize) {
+    let mut chosen: Vec<u32> = candidates(sites, |s| s.distance(centre) >= radius - slack);
+    let mut rounds = 0;
+    loop {
+        rounds += 1;
+        let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
+        let circle = crate::reference::homothet::welzl(&points);
+        let slack = 1e-12 * (1.0 + circle.centre.abs().max_element() + circle.radius);
+        let missed: Vec<u32> = (0..sites.len() as u32)
+            .filter(|&i| sites[i as usize].distance(circle.centre) > circle.radius + slack)
+            .collect();
+        if missed.is_empty() {
+            let on: Vec<u32> = circle.support.iter().map(|&s| chosen[s]).collect();
+            return (
+                Homothet {
+                    centre: circle.centre.to_array(),
+                    scale: circle.radius,
+                    sites: on,
+                },
+                rounds,
+            );
+        }
+        chosen.extend(missed);
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum Goal {
+    Smallest,
+    Largest,
+}
+
+impl Goal {
+    /// Whether `v` beats the best so far.
+    fn improves(self, v: f64, best: Option<f64>) -> bool {
+        match (best, self) {
+            (None, _) => true,
+            (Some(b), Goal::Smallest) => v < b,
+            (Some(b), Goal::Largest) => v > b,
+        }
+    }
+}
+
+/// A linear equation `a · c + b λ = r` in the centre c and the scale λ.
+#[derive(Clone, Copy)]
+struct Plane {
+    a: DVec2,
+    b: f64,
+    r: f64,
+}
+
+/// The best of the points where three of the distance pieces of the `near`
+/// sites and the `edges` meet (the pieces a centre within `reach` of `around`
+/// can see), each evaluated with `evaluate` (its exact value
+/// over all sites, or `None` where the point is not allowed).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn best_vertex(
+    sites: &[DVec2],
+    unit: Unit,
+    around: DVec2,
+    reach: f64,
+    near: &[u32],
+    edges: &[(DVec2, DVec2)],
+    goal: Goal,
+    k: usize,
+    window: (f64, f64),
+    allowed: impl Fn(DVec2) -> bool,
+    full: impl Fn(DVec2) -> f64,
+) -> Option<(DVec2, f64, usize)> {
+    let in_window = |scale: f64| scale >= window.0 && scale <= window.1;
+    let mut planes: Vec<Plane> = Vec::new();
+    if let Unit::Polygon(g) = unit {
+        // Where the gauge of s − c changes its linear piece matters wherever the
+        // objective is not one convex piece-wise maximum: always for the largest
+        // empty homothet, and for polygons that are not convex.
+        let rays = goal == Goal::Largest || !g.is_convex();
+        let n = g.vertices.len();
+        for &i in near {
+            let s = sites[i as usize];
+            let (from, to) = directions_seen(s, around, reach);
+            for k in 0..n {
+                let (p, q) = (g.vertices[k], g.vertices[(k + 1) % n]);
+                if !sector_meets(p, q, from, to) {
+                    continue;
+                }
+                // In sector k the gauge of v = s − c is (v × e) / (p × q), e = q − p:
+                // c · (e.y, −e.x) + (p × q) λ = s × e.
+                let e = q - p;
+                planes.push(Plane {
+                    a: DVec2::new(e.y, -e.x),
+                    b: p.perp_dot(q),
+                    r: s.perp_dot(e),
+                });
+                if rays {
+                    // The ray s − t p where the piece begins: p × c = p × s.
+                    planes.push(Plane {
+                        a: DVec2::new(-p.y, p.x),
+                        b: 0.0,
+                        r: p.perp_dot(s),
+                    });
+                }
+            }
+        }
+    }
+    for (a, b) in edges {
+        let n = (*b - *a).perp();
+        planes.push(Plane {
+            a: n,
+            b: 0.0,
+            r: n.dot(*a),
+        });
+    }
+    let mut points: Vec<DVec2> = Vec::new();
+    match unit {
+        Unit::Polygon(_) => {
+            let m = planes.len();
+            for x in 0..m {
+                for y in x + 1..m {
+                    for z in y + 1..m {
+                        if let Some((c, scale)) = solve3(planes[x], planes[y], planes[z]) {
+                            if in_window(scale) {
+                                points.push(c);
+                            }
+                        }
+                    }
+                }
+                // Two lines meet in a point whose scale is evaluated.
+                for y in x + 1..m {
+                    if planes[x].b == 0.0 && planes[y].b == 0.0 {
+                        if let Some(c) = solve2(planes[x], planes[y]) {
+                            points.push(c);
+                        }
+                    }
+                }
+            }
+        }
+        Unit::Circle => {
+            let m = near.len();
+            let at = |i: usize| sites[near[i] as usize];
+            for x in 0..m {
+                for y in x + 1..m {
+                    if in_window(at(x).distance(at(y)) / 2.0) {
+                        points.push((at(x) + at(y)) / 2.0);
+                    }
+                    for z in y + 1..m {
+                        if let Some(c) = circumcentre(at(x), at(y), at(z)) {
+                            if in_window(c.distance(at(x))) {
+                                points.push(c);
+                            }
+                        }
+                    }
+                    // Equidistant from two sites on a region edge.
+                    for (a, b) in edges {
+                        let (u, v) = (at(x), at(y));
+                        let d = *b - *a;
+                        let denom = 2.0 * d.dot(v - u);
+                        if denom != 0.0 {
+                            let t = (v.length_squared() - u.length_squared() - 2.0 * a.dot(v - u))
+                                / denom;
+                            if (0.0..=1.0).contains(&t) {
+                                points.push(*a + d * t);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Sites themselves (the one-site homothet of scale 0) and region corners
+    // count as candidate centres.
+    points.extend(near.iter().map(|&i| sites[i as usize]));
+    for (a, b) in edges {
+        points.push(*a);
+        points.push(*b);
+    }
+    // Only centres near the candidate pixels, where the near sites decide.
+    points.retain(|c| c.is_finite() && c.distance(around) <= reach * (1.0 + 1e-9) && allowed(*c));
+    let checked = points.len();
+    let near_points: Vec<DVec2> = near.iter().map(|&i| sites[i as usize]).collect();
+    let mut bounded: Vec<(DVec2, f64)> = points
+        .into_iter()
+        .filter_map(|c| kth_gauge(&near_points, unit, c, k.min(near_points.len())).map(|v| (c, v)))
+        .collect();
+    // The near sites' value bounds the true one: from below for the furthest
+    // (all sites), from above for the nearest; for other levels it is the true
+    // value near the candidate pixels.
+    let exact_k = goal == Goal::Smallest && k < sites.len();
+    match goal {
+        Goal::Smallest => bounded.sort_by(|a, b| a.1.total_cmp(&b.1)),
+        Goal::Largest => bounded.sort_by(|a, b| b.1.total_cmp(&a.1)),
+    }
+    let mut best: Option<(DVec2, f64)> = None;
+    for (c, bound) in bounded {
+        if let Some((_, b)) = best {
+            let hopeless = match goal {
+                Goal::Smallest => bound >= b,
+                Goal::Largest => bound <= b,
+            };
+            if hopeless {
+                break;
+            }
+        }
+        let v = if exact_k { bound } else { full(c) };
+        if goal.improves(v, best.map(|b| b.1)) {
+            best = Some((c, v));
+        }
+    }
+    best.map(|(c, v)| (c, v, checked))
+}
+
+/// The directions (angles, `from` ≤ `to`) in which `s` is seen from the disc of
+/// radius `reach` around `c`.
+fn directions_seen(s: DVec2, c: DVec2, reach: f64) -> (f64, f64) {
+    let v = s - c;
+    let d = v.length();
+    if d <= reach {
+        return (-std::f64::consts::PI, std::f64::consts::PI);
+    }
+    let mid = v.y.atan2(v.x);
+    let half = (reach / d).asin();
+    (mid - half, mid + half)
+}
+
+/// Whether the sector from direction `p` counter-clockwise to `q` meets the
+/// directions `from..=to`.
+fn sector_meets(p: DVec2, q: DVec2, from: f64, to: f64) -> bool {
+    use std::f64::consts::TAU;
+    if to - from >= TAU - 1e-12 {
+        return true;
+    }
+    let a = p.y.atan2(p.x);
+    let span = (q.y.atan2(q.x) - a).rem_euclid(TAU);
+    // Shift the interval so that it starts within one turn after a.
+    let start = (from - a).rem_euclid(TAU);
+    let end = start + (to - from);
+    start <= span || end >= TAU
+}
+
+/// The centre and scale where three planes meet.
+fn solve3(p: Plane, q: Plane, r: Plane) -> Option<(DVec2, f64)> {
+    let m = glam::DMat3::from_cols(
+        glam::DVec3::new(p.a.x, q.a.x, r.a.x),
+        glam::DVec3::new(p.a.y, q.a.y, r.a.y),
+        glam::DVec3::new(p.b, q.b, r.b),
+    );
+    let det = m.determinant();
+    let size = m
+        .x_axis
+        .abs()
+        .max_element()
+        .max(m.y_axis.abs().max_element())
+        .max(m.z_axis.abs().max_element());
+    if det.abs() <= 1e-12 * size * size * size {
+        return None;
+    }
+    let x = m.inverse() * glam::DVec3::new(p.r, q.r, r.r);
+    Some((DVec2::new(x.x, x.y), x.z))
+}
+
+fn solve2(p: Plane, q: Plane) -> Option<DVec2> {
+    let det = p.a.perp_dot(q.a);
+    if det.abs() <= 1e-12 * p.a.length() * q.a.length() {
+        return None;
+    }
+    Some(DVec2::new(
+        (p.r * q.a.y - q.r * p.a.y) / det,
+        (p.a.x * q.r - q.a.x * p.r) / det,
+    ))
+}
+
+fn circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
+    let (b, c) = (b - a, c - a);
+    let d = 2.0 * b.perp_dot(c);
+    if d == 0.0 {
+        return None;
+    }
+    let (b2, c2) = (b.length_squared(), c.length_squared());
+    Some(a + DVec2::new(c.y * b2 - b.y * c2, b.x * c2 - c.x * b2) / d)
+}
