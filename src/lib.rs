@@ -25,6 +25,7 @@
 //! | stencil counting equal distances | the stencil's low bits, incremented by the depth test EQUAL |
 //! | read back a rectangle | [`machine::Machine::read_u32`], [`machine::Machine::read_f32`] |
 //! | minmax, histogram | [`machine::Machine::minmax`], [`machine::Machine::histogram`]: compute passes; only their few numbers reach the host |
+//! | the lowest or highest pixel of an envelope (ch. 4–5) | [`machine::Machine::depth_extremes`]: the depth buffer reduced on the device, its extreme's pixel and the pixels near it returned |
 //!
 //! # Example
 //!
