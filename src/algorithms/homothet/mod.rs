@@ -219,13 +219,19 @@ pub fn enclose(
                 .fold(0.0, f64::max)
         };
         let (c, v, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
-            let slack = 2.0 * bound + eps + unit.lipschitz() * reach;
-            let near = if k == n {
-                let key = |s: DVec2| -unit.gauge(s - around);
-                nearest_candidates(sites, key, slack - value, MAX_NEAR_SITES)
+            // A site on the best homothet has its gauge from `around` within
+            // the window widened by the reach; the k nearest at any centre in
+            // reach lie below its top.
+            let spread = unit.lipschitz() * reach;
+            let (lo, hi) = (window.0 - spread, window.1 + spread);
+            let gauge = |i: &u32| unit.gauge(sites[*i as usize] - around);
+            let (near, generators): (Vec<u32>, Vec<u32>) = if k == n {
+                let far: Vec<u32> = owners.iter().copied().filter(|i| gauge(i) >= lo).collect();
+                (far.clone(), far)
             } else {
-                let key = |s: DVec2| unit.gauge(s - around);
-                nearest_candidates(sites, key, value + slack, MAX_NEAR_SITES.max(k + 8))
+                let near: Vec<u32> = (0..n as u32).filter(|i| gauge(i) <= hi).collect();
+                let ring = near.iter().copied().filter(|i| gauge(i) >= lo).collect();
+                (near, ring)
             };
             let always = |_| true;
             best_vertex(
@@ -233,7 +239,7 @@ pub fn enclose(
                 unit,
                 around,
                 reach,
-                &near,
+                (&near, &generators),
                 &[],
                 goal,
                 k,
@@ -654,17 +660,16 @@ pub fn largest_empty(
             .fold(upper, f64::min)
     };
     let (c, v, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
-        let limit = value + 2.0 * bound + eps + unit.lipschitz() * reach;
-        let near: Vec<u32> = {
-            let mut keyed: Vec<(f64, u32)> = grid
-                .around(around, limit * rmax)
-                .map(|i| (unit.gauge(sites[i as usize] - around), i))
-                .filter(|(g, _)| *g <= limit)
-                .collect();
-            keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
-            keyed.truncate(MAX_NEAR_SITES);
-            keyed.into_iter().map(|(_, i)| i).collect()
-        };
+        // Every site that can be nearest at a centre in reach, and of them those
+        // that can lie on the best homothet.
+        let spread = unit.lipschitz() * reach;
+        let (lo, hi) = (window.0 - spread, window.1 + spread);
+        let gauge = |i: u32| unit.gauge(sites[i as usize] - around);
+        let near: Vec<u32> = grid
+            .around(around, hi * rmax)
+            .filter(|&i| gauge(i) <= hi)
+            .collect();
+        let generators: Vec<u32> = near.iter().copied().filter(|&i| gauge(i) >= lo).collect();
         let edges: Vec<(DVec2, DVec2)> = region
             .edges()
             .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
@@ -673,8 +678,9 @@ pub fn largest_empty(
             let tol = 1e-9 * (1.0 + c.abs().max_element());
             region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
         };
+        let sets = (&near[..], &generators[..]);
         best_vertex(
-            sites, unit, around, reach, &near, &edges, goal, 1, window, allowed, nearest,
+            sites, unit, around, reach, sets, &edges, goal, 1, window, allowed, nearest,
         )
     })
     .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
@@ -1072,28 +1078,6 @@ fn rounding(unit: Unit, frame: &Frame, value: f64) -> f64 {
 
 fn half_diagonal(frame: &Frame) -> f64 {
     std::f64::consts::FRAC_1_SQRT_2 / frame.scale
-}
-
-/// At most this many sites (or k + 8 for the k-th level) are refined around one
-/// cluster of pixels.
-const MAX_NEAR_SITES: usize = 40;
-
-/// The sites whose `key` is at most `limit`, the `cap` smallest of them.
-fn nearest_candidates(
-    sites: &[DVec2],
-    key: impl Fn(DVec2) -> f64,
-    limit: f64,
-    cap: usize,
-) -> Vec<u32> {
-    let mut keyed: Vec<(f64, u32)> = (0..sites.len() as u32)
-        .map(|i| (key(sites[i as usize]), i))
-        .filter(|(k, _)| *k <= limit)
-        .collect();
-    if keyed.len() > cap {
-        keyed.select_nth_unstable_by(cap, |a, b| a.0.total_cmp(&b.0));
-        keyed.truncate(cap);
-    }
-    keyed.into_iter().map(|(_, i)| i).collect()
 }
 
 /// The homothet at `centre` of scale `v` with the sites on its boundary.

@@ -368,17 +368,18 @@ struct Plane {
     r: f64,
 }
 
-/// The best of the points where three of the distance pieces of the `near`
-/// sites and the `edges` meet (the pieces a centre within `reach` of `around`
-/// can see), each evaluated with `evaluate` (its exact value
-/// over all sites, or `None` where the point is not allowed).
+/// The best of the points where three of the distance pieces of the
+/// `generators` and the `edges` meet (the pieces a centre within `reach` of
+/// `around` can see), with a scale in `window` and `allowed`: bounded by the
+/// `near` sites (a superset of the generators: every site that can matter
+/// within the reach), then evaluated with `full` over all sites.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn best_vertex(
     sites: &[DVec2],
     unit: Unit,
     around: DVec2,
     reach: f64,
-    near: &[u32],
+    (near, generators): (&[u32], &[u32]),
     edges: &[(DVec2, DVec2)],
     goal: Goal,
     k: usize,
@@ -394,7 +395,7 @@ pub(super) fn best_vertex(
         // empty homothet, and for polygons that are not convex.
         let rays = goal == Goal::Largest || !g.is_convex();
         let n = g.vertices.len();
-        for &i in near {
+        for &i in generators {
             let s = sites[i as usize];
             let (from, to) = directions_seen(s, around, reach);
             for k in 0..n {
@@ -454,8 +455,8 @@ pub(super) fn best_vertex(
             }
         }
         Unit::Circle => {
-            let m = near.len();
-            let at = |i: usize| sites[near[i] as usize];
+            let m = generators.len();
+            let at = |i: usize| sites[generators[i] as usize];
             for x in 0..m {
                 for y in x + 1..m {
                     if in_window(at(x).distance(at(y)) / 2.0) {
@@ -487,7 +488,7 @@ pub(super) fn best_vertex(
     }
     // Sites themselves (the one-site homothet of scale 0) and region corners
     // count as candidate centres.
-    points.extend(near.iter().map(|&i| sites[i as usize]));
+    points.extend(generators.iter().map(|&i| sites[i as usize]));
     for (a, b) in edges {
         points.push(*a);
         points.push(*b);
