@@ -147,7 +147,9 @@ pub struct HomothetAnswer {
 pub const DEFAULT_SIDE: u32 = 512;
 
 /// The smallest homothet of `unit` holding at least `k` of the point `sites`
-/// (every site when `k` is 0 or the number of sites).
+/// (every site when `k` is 0 or the number of sites); exact, from Welzl's
+/// algorithm (circles, all sites) or the points where three of the candidate
+/// sites' distance pieces meet.
 pub fn enclose(
     machine: &Machine,
     sites: &[DVec2],
@@ -592,7 +594,8 @@ impl Region {
 }
 
 /// The largest homothet of `unit` containing none of the point `sites`, its
-/// centre in `region`.
+/// centre in `region` (empty: the sites' bounding box); exact, from the points
+/// where three of the candidate sites' distance pieces or region edges meet.
 pub fn largest_empty(
     machine: &Machine,
     sites: &[DVec2],
@@ -699,8 +702,10 @@ pub fn largest_empty(
 /// demands, thesis §5.4.2–5.4.3), its centre in `region`; with `inside`, the
 /// whole homothet inside the region, its boundary added as segment sites
 /// (§5.4.1). Plain points without `inside` take [`largest_empty`]'s exact
-/// vertices; the others a branch and bound on the exact distances around the
-/// candidate pixels, to a relative gap of 1e-9.
+/// vertices; circles clearing unweighted points and segments the vertices of
+/// their Voronoi diagram; the others a branch and bound on the exact distances
+/// around the candidate pixels, to a relative gap of 1e-9 (reported as
+/// [`HomothetAnswer::tolerance`]).
 pub fn largest_empty_sites(
     machine: &Machine,
     sites: &[Site],
