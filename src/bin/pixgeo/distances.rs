@@ -19,11 +19,11 @@ pub struct Common {
     /// Picture side in pixels (default: about 4·sqrt(n), 256 to 4096). A coarser
     /// picture only means more points are checked exactly; the answer stays exact.
     #[arg(long, value_name = "PIXELS")]
-    pub size: Option<u32>,
+    size: Option<u32>,
 
     /// Print the answer as JSON.
     #[arg(long)]
-    pub json: bool,
+    json: bool,
 
     /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
     #[arg(long)]
@@ -31,13 +31,18 @@ pub struct Common {
 }
 
 impl Common {
-    pub fn machine(&self) -> Result<Machine> {
-        let mut options = MachineOptions::from_env();
-        if let Some(d) = &self.device {
-            options.device = DeviceChoice::parse(d);
-        }
-        Machine::new(&options).context("starting the pixel machine")
+    fn machine(&self) -> Result<Machine> {
+        machine_on(self.device.as_deref())
     }
+}
+
+/// The pixel machine on `device` (else as PIXGEO_DEVICE says).
+pub fn machine_on(device: Option<&str>) -> Result<Machine> {
+    let mut options = MachineOptions::from_env();
+    if let Some(d) = device {
+        options.device = DeviceChoice::parse(d);
+    }
+    Machine::new(&options).context("starting the pixel machine")
 }
 
 /// The Hausdorff distance between a red and a blue point set: for each direction,

@@ -14,12 +14,13 @@ use pixgeo::{
 };
 use serde_json::Value;
 
-use crate::distances::Common;
+use crate::distances::machine_on;
 
 /// The shape and the picture, shared by both commands.
 #[derive(ClapArgs)]
 pub struct Shape {
-    /// The points: CSV `x,y` per line or JSON.
+    /// The sites: points as CSV `x,y` per line, or JSON with segments, circles
+    /// and arcs too (as for `pixgeo voronoi --sites`).
     #[arg(long, value_name = "FILE")]
     sites: PathBuf,
     /// The homothets' shape: a polygon star-shaped around its kernel point (a
@@ -34,8 +35,16 @@ pub struct Shape {
     /// and its centre in yellow (thesis Figs. 4.1, 5.1).
     #[arg(short = 'o', long = "output", value_name = "PNG")]
     output: Option<PathBuf>,
-    #[command(flatten)]
-    common: Common,
+    /// Picture side in pixels along the longer axis (default 512). A finer
+    /// picture gives a closer candidate; the refined answer is exact either way.
+    #[arg(long, value_name = "PIXELS")]
+    size: Option<u32>,
+    /// Print the answer as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
+    #[arg(long)]
+    device: Option<String>,
 }
 
 impl Shape {
@@ -76,8 +85,8 @@ impl Shape {
 /// K points): the lowest pixel of the upper envelope of cones on the reflected
 /// polygon (thesis §4.3), refined exactly (Welzl for circles; the vertices of the
 /// candidate sites' distance pieces for polygons). Sites may also be segments,
-/// and for circles and convex polygons circles and arcs (JSON, as for
-/// `pixgeo voronoi`).
+/// circles and arcs (JSON, as for `pixgeo voronoi`), refined by a branch and
+/// bound where no closed form decides.
 ///
 /// Example:
 ///
@@ -123,11 +132,11 @@ pub struct EmptyArgs {
 pub fn enclose(args: EncloseArgs) -> Result<()> {
     let shapes = sites::read_general_sites(&args.shape.sites)?;
     let unit = args.shape.unit()?;
-    let machine = args.shape.common.machine()?;
-    let side = args.shape.common.size.unwrap_or(DEFAULT_SIDE);
+    let machine = machine_on(args.shape.device.as_deref())?;
+    let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
     let k = args.k.unwrap_or(0);
     let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
-    report(&answer, args.shape.common.json, "smallest enclosing")?;
+    report(&answer, args.shape.json, "smallest enclosing")?;
     let envelope = Envelope::Enclosing { k };
     args.shape
         .draw(&machine, &shapes, &answer, envelope, &Region::default())
@@ -140,11 +149,11 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         None => Region::default(),
         Some(path) => read_region(path)?,
     };
-    let machine = args.shape.common.machine()?;
-    let side = args.shape.common.size.unwrap_or(DEFAULT_SIDE);
+    let machine = machine_on(args.shape.device.as_deref())?;
+    let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
     let answer =
         homothet::largest_empty_sites(&machine, &shapes, unit, &region, args.inside, side)?;
-    report(&answer, args.shape.common.json, "largest empty")?;
+    report(&answer, args.shape.json, "largest empty")?;
     args.shape
         .draw(&machine, &shapes, &answer, Envelope::Empty, &region)
 }
