@@ -290,6 +290,9 @@ fn bad_input_is_an_error() {
         rings: vec![vec![DVec2::ZERO, DVec2::X]],
     };
     assert!(largest_empty(&machine, &sites, Unit::Circle, &thin, 64).is_err());
+    // One site has no bounding box to search.
+    let lone = [DVec2::new(5.0, 5.0)];
+    assert!(largest_empty(&machine, &lone, Unit::Circle, &Region::default(), 64).is_err());
 }
 
 /// The largest clearance over a grid of allowed centres (spacing `h`): the

@@ -900,7 +900,8 @@ fn region_and_frame(
     (lo, hi): (DVec2, DVec2),
     side: u32,
 ) -> Result<(Region, Frame)> {
-    let region = if region.rings.is_empty() {
+    let defaulted = region.rings.is_empty();
+    let region = if defaulted {
         Region {
             rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
         }
@@ -916,7 +917,11 @@ fn region_and_frame(
             (a.min(*p), b.max(*p))
         });
     if !(hi - lo).cmpgt(DVec2::ZERO).all() {
-        return Err(Error::InvalidInput("the region has no area".into()));
+        return Err(Error::InvalidInput(if defaulted {
+            "the sites' bounding box has no area (one site, or all on a line along an axis): give a region".into()
+        } else {
+            "the region has no area".into()
+        }));
     }
     let frame = frame_of_box(side, lo, hi)?;
     Ok((region, frame))
