@@ -38,7 +38,7 @@ use crate::{
     },
 };
 
-use super::voronoi::{drawn_accuracy, metric_fan, Accuracy, Speedup};
+use super::voronoi::{distances_of, drawn_accuracy, metric_fan, Accuracy, Speedup};
 
 /// Corners of the polygon drawn around each cone's disc.
 const FOOTPRINT_CORNERS: u32 = 8;
@@ -787,17 +787,9 @@ pub fn furthest(
     let labels = machine.read_u32(&drawn.ids, rect)?;
     let depths = machine.read_f32(&drawn.depth, rect)?;
     let (metric, scale) = (drawn.metric, drawn.scale);
-    let distances = depths
-        .par_iter()
-        .zip(&labels)
-        .map(|(z, id)| {
-            if *id == u32::MAX {
-                f32::INFINITY
-            } else {
-                distance_of_depth(metric, scale, *z, frame) as f32
-            }
-        })
-        .collect();
+    let distances = distances_of(&depths, &labels, |z| {
+        distance_of_depth(metric, scale, z, frame)
+    });
     Ok(Furthest {
         width: frame.width,
         height: frame.height,

@@ -33,7 +33,8 @@ use crate::{
 };
 
 use super::voronoi::{
-    drawn_accuracy, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats, UNIT_SQUARE,
+    distances_of, drawn_accuracy, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats,
+    UNIT_SQUARE,
 };
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
@@ -69,17 +70,7 @@ pub fn voronoi_sites(
     stats.readback_ms = readback_ms;
     stats.render_ms -= readback_ms;
     let started = Instant::now();
-    let distances = depths
-        .par_iter()
-        .zip(&labels)
-        .map(|(z, id)| {
-            if *id == u32::MAX {
-                f32::INFINITY
-            } else {
-                depth.distance(*z) as f32
-            }
-        })
-        .collect();
+    let distances = distances_of(&depths, &labels, |z| depth.distance(z));
     stats.readback_ms += ms(started);
     Ok(VoronoiDiagram {
         width: frame.width,

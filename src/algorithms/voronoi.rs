@@ -1023,6 +1023,26 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
     })
 }
 
+/// Distances of a label map's pixels from their depths (infinity where no site
+/// is): the depth-to-distance step every diagram's readback shares.
+pub(crate) fn distances_of(
+    depths: &[f32],
+    labels: &[u32],
+    distance: impl Fn(f32) -> f64 + Sync,
+) -> Vec<f32> {
+    depths
+        .par_iter()
+        .zip(labels)
+        .map(|(z, id)| {
+            if *id == u32::MAX {
+                f32::INFINITY
+            } else {
+                distance(*z) as f32
+            }
+        })
+        .collect()
+}
+
 /// Reads the picture part of a tile into `band` at the tile's column, turning
 /// depths into distances in world units.
 fn read_tile(

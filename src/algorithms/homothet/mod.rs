@@ -620,18 +620,16 @@ pub fn largest_empty(
     let mut keys = None;
     draw_point_tiles(machine, sites, &options, true, |tile| {
         keys = Some(tile.keys);
-        mask_outside(
-            machine,
-            tile.ids,
-            tile.depth,
-            &region_mesh,
-            tile.x0,
-            tile.y0,
-        )?;
         let within = 2.0 * bound * frame.scale;
         let near = near_extreme(metric, tile.keys.scale, within, true);
-        let picture = (tile.depth, tile.x0, tile.y0, tile.inner);
-        tiles.extend(highest_of_tile(machine, &frame, picture, near)?);
+        let picture = (tile.ids, tile.depth, tile.x0, tile.y0, tile.inner);
+        tiles.extend(highest_in_region(
+            machine,
+            &frame,
+            &region_mesh,
+            picture,
+            near,
+        )?);
         Ok(())
     })?;
     let depth = keys.expect("a picture has a tile");
@@ -752,22 +750,15 @@ pub fn largest_empty_sites(
     let bound = half_diagonal(&frame) * lipschitz;
     let mut tiles: Vec<(f64, Vec<usize>)> = Vec::new();
     let (stats, _) = draw_sites(machine, &all, &options, |tile| {
-        mask_outside(
-            machine,
-            tile.ids,
-            tile.depth,
-            &region_mesh,
-            tile.x0,
-            tile.y0,
-        )?;
         let near = NearExtreme {
             maximum: true,
             within: (2.0 * bound * tile.keys.scale) as f32,
             squared_scale: 0.0,
             capacity: NEAR_PIXELS,
         };
-        let picture = (tile.depth, tile.x0, tile.y0, tile.inner);
-        if let Some((z, pixels)) = highest_of_tile(machine, &frame, picture, near)? {
+        let picture = (tile.ids, tile.depth, tile.x0, tile.y0, tile.inner);
+        if let Some((z, pixels)) = highest_in_region(machine, &frame, &region_mesh, picture, near)?
+        {
             tiles.push((tile.keys.distance(z), pixels));
         }
         Ok(())
@@ -824,7 +815,9 @@ pub fn largest_empty_sites(
                 .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
                 .copied()
                 .collect();
-            let mut candidates = clearing_vertices(&points, &lines, &walls);
+            let mut candidates = clearing_vertices(&points, &lines, &walls, |_| true);
+            candidates.extend(walls.iter().flat_map(|(a, b)| [*a, *b]));
+            candidates.extend(points.iter().copied());
             candidates.retain(|c| c.is_finite() && c.distance(around) <= reach && allowed(*c));
             let cells = candidates.len();
             let mut bounded: Vec<(DVec2, f64)> = candidates
@@ -927,15 +920,27 @@ fn region_and_frame(
     Ok((region, frame))
 }
 
-/// One masked tile's highest depth and the picture pixels near it (the
-/// highest first), unless the whole tile is masked.
-fn highest_of_tile(
+/// A drawn tile: ids, depth, its corner in the picture, the part that is
+/// picture.
+type Tile<'a> = (
+    &'a crate::machine::Image,
+    &'a crate::machine::Image,
+    u32,
+    u32,
+    crate::machine::PixelRect,
+);
+
+/// A tile's highest depth inside the region (its `triangles`, the rest masked)
+/// and the picture pixels near it (the highest first), unless the whole tile
+/// is masked.
+fn highest_in_region(
     machine: &Machine,
     frame: &Frame,
-    tile: (&crate::machine::Image, u32, u32, crate::machine::PixelRect),
+    triangles: &[[f32; 3]],
+    (ids, depth, x0, y0, inner): Tile<'_>,
     near: NearExtreme,
 ) -> Result<Option<(f32, Vec<usize>)>> {
-    let (depth, x0, y0, inner) = tile;
+    mask_outside(machine, ids, depth, triangles, x0, y0)?;
     let highest = machine.depth_extremes(depth, Some(near))?;
     let w = depth.width() as usize;
     let to_picture = |at: usize| {

@@ -32,12 +32,15 @@ pub(super) fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
 
 /// Every centre equidistant (Euclidean) from three of the points and the
 /// lines through `lines`, and every point of a `walls` segment equidistant
-/// from two of them, and the walls' ends: the candidates for the largest
-/// circle clearing points and segments (whose ends are among `points`).
+/// from two of them: with the points themselves and the walls' ends, the
+/// candidates for the largest circle clearing points and segments (whose ends
+/// are among `points`). Circles through three points are kept when `keep`
+/// accepts their radius.
 pub(super) fn clearing_vertices(
     points: &[DVec2],
     lines: &[(DVec2, DVec2)],
     walls: &[(DVec2, DVec2)],
+    keep: impl Fn(f64) -> bool,
 ) -> Vec<DVec2> {
     // A line as unit normal n and offset e: signed distance n·c − e.
     let normal = |(a, b): (DVec2, DVec2)| {
@@ -72,7 +75,9 @@ pub(super) fn clearing_vertices(
             }
             for &r in &points[y + 1..] {
                 if let Some(c) = circumcentre(p, q, r) {
-                    out.push(c);
+                    if keep(c.distance(p)) {
+                        out.push(c);
+                    }
                 }
             }
             // Two points and a line: along their bisector.
@@ -173,9 +178,7 @@ pub(super) fn clearing_vertices(
                 }
             }
         }
-        out.extend([a, b]);
     }
-    out.extend(points.iter().copied());
     out
 }
 
@@ -455,35 +458,17 @@ pub(super) fn best_vertex(
             }
         }
         Unit::Circle => {
-            let m = generators.len();
-            let at = |i: usize| sites[generators[i] as usize];
-            for x in 0..m {
-                for y in x + 1..m {
-                    if in_window(at(x).distance(at(y)) / 2.0) {
-                        points.push((at(x) + at(y)) / 2.0);
-                    }
-                    for z in y + 1..m {
-                        if let Some(c) = circumcentre(at(x), at(y), at(z)) {
-                            if in_window(c.distance(at(x))) {
-                                points.push(c);
-                            }
-                        }
-                    }
-                    // Equidistant from two sites on a region edge.
-                    for (a, b) in edges {
-                        let (u, v) = (at(x), at(y));
-                        let d = *b - *a;
-                        let denom = 2.0 * d.dot(v - u);
-                        if denom != 0.0 {
-                            let t = (v.length_squared() - u.length_squared() - 2.0 * a.dot(v - u))
-                                / denom;
-                            if (0.0..=1.0).contains(&t) {
-                                points.push(*a + d * t);
-                            }
-                        }
+            let at: Vec<DVec2> = generators.iter().map(|&i| sites[i as usize]).collect();
+            // Circles on two points' diameter (the k-th level's), then every
+            // vertex of the points' diagram and its crossings with the edges.
+            for (x, p) in at.iter().enumerate() {
+                for q in &at[x + 1..] {
+                    if in_window(p.distance(*q) / 2.0) {
+                        points.push((*p + *q) / 2.0);
                     }
                 }
             }
+            points.extend(clearing_vertices(&at, &[], edges, in_window));
         }
     }
     // Sites themselves (the one-site homothet of scale 0) and region corners
