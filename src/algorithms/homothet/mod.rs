@@ -168,7 +168,9 @@ pub fn enclose(
     let frame = enclosing_frame(sites, unit, side, k)?;
     let metric = unit.cone_metric()?;
     let bound = half_diagonal(&frame) * unit.lipschitz();
-    let (pixel, value, near_pixels) = if k == n {
+    // The sites drawn in the upper envelope are the only ones that can be
+    // furthest (the hull's, for convex units).
+    let (pixel, value, near_pixels, owners) = if k == n {
         let drawn = draw_furthest(machine, sites, &frame, metric)?;
         // Every pixel that could be the optimum's: within twice the bound. L2
         // keys are squared distances (pixels); the others are distances.
@@ -182,7 +184,7 @@ pub fn enclose(
             )),
         )?;
         let value = super::higher_order::distance_of_depth(metric, drawn.scale, lowest.min, &frame);
-        (lowest.at_min, value, lowest.near)
+        (lowest.at_min, value, lowest.near, drawn.owners)
     } else {
         // The k-th level of the lower envelope, read back: its lowest pixel.
         let levels = kth_levels(machine, sites, frame, metric, k)?;
@@ -197,7 +199,7 @@ pub fn enclose(
             .filter(|&p| (kth[p] as f64) <= d + 2.0 * bound)
             .take(NEAR_PIXELS as usize)
             .collect();
-        (at, d, near)
+        (at, d, near, Vec::new())
     };
     let centre = pixel_centre(&frame, pixel);
     let pixel_bound = bound + rounding(unit, &frame, value);
@@ -209,11 +211,6 @@ pub fn enclose(
         let goal = Goal::Smallest;
         let eps = rounding(unit, &frame, value);
         let window = (value - 2.0 * bound - eps, value + eps);
-        // The furthest site is a hull vertex when the unit is convex.
-        let owners: Vec<u32> = match unit {
-            Unit::Polygon(g) if !g.is_convex() => (0..n as u32).collect(),
-            _ => super::higher_order::convex_hull(sites),
-        };
         let furthest = |c: DVec2| {
             owners
                 .iter()
