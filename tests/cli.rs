@@ -477,3 +477,45 @@ fn enclose_and_empty_print_exact_homothets() {
     let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--k", "9"]);
     assert!(!ok && stderr.contains("cannot enclose 9 of 3"), "{stderr}");
 }
+
+#[test]
+fn alpha_writes_mask_picture_and_json() {
+    let sites = temp("alpha.csv");
+    std::fs::write(&sites, "x,y\n0,0\n10,0\n10,10\n0,10\n5,5\n").unwrap();
+    let s = sites.to_str().unwrap();
+    let (mask, png) = (temp("alpha.npy"), temp("alpha.png"));
+    let (ok, stdout, stderr) = pixgeo(&[
+        "alpha",
+        "--sites",
+        s,
+        "--alpha",
+        "-0.16",
+        "--size",
+        "64",
+        "--mask",
+        mask.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let (w, h) = (v["width"].as_u64().unwrap(), v["height"].as_u64().unwrap());
+    let (shape, inside) = npy::read::<u8>(&mask).unwrap();
+    assert_eq!(shape, vec![h, w]);
+    let count = inside.iter().filter(|&&b| b == 1).count() as u64;
+    assert_eq!(count, v["inside"].as_u64().unwrap());
+    // Discs of radius 6.25 bite into the square's sides but cannot reach its
+    // centre: the hull is some of the square, which is a fifth of the picture.
+    assert!(count > 0 && count < w * h / 4, "{count} of {w}x{h}");
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+    // Radius 2 is below the smallest enclosing circle's (about 7.07).
+    let (ok, _, stderr) = pixgeo(&["alpha", "--sites", s, "--alpha", "0.5"]);
+    assert!(
+        !ok && stderr.contains("smallest enclosing circle"),
+        "{stderr}"
+    );
+    let (ok, stdout, stderr) = pixgeo(&["alpha", "--sites", s, "--alpha", "0.1", "--size", "64"]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("method hull"), "{stdout}");
+}

@@ -1,6 +1,7 @@
 //! The problems pixgeo solves, each written as passes over the pixel machine.
 #![forbid(unsafe_code)]
 
+pub mod alpha_hull;
 pub mod cpu;
 pub mod distances;
 pub mod higher_order;

@@ -102,6 +102,18 @@ impl Frame {
         })
     }
 
+    /// The world box `[lo, hi]` on a picture whose longer side has `side`
+    /// pixels (the other side follows the box's aspect ratio).
+    pub fn fitting(side: u32, lo: DVec2, hi: DVec2) -> Result<Self> {
+        let size = hi - lo;
+        let width = if size.x >= size.y {
+            side
+        } else {
+            ((side as f64 * size.x / size.y).round() as u32).max(1)
+        };
+        Self::with_bbox(width, None, [lo.x, lo.y, hi.x, hi.y])
+    }
+
     /// Pixel coordinates of a world point.
     pub fn to_pixel(&self, p: DVec2) -> DVec2 {
         (p - self.origin) * self.scale - 0.5

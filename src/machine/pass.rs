@@ -443,7 +443,7 @@ impl<'m> Pass<'m> {
         push: &ConePush,
         draw: &ConeDraw<'_>,
     ) -> Result<()> {
-        if !program.reads_vertex_buffers() {
+        if !program.reads_vertex_buffers() || program == Program::Disc {
             return Err(Error::InvalidInput(
                 "draw_cones needs a cone program".into(),
             ));
@@ -492,6 +492,32 @@ impl<'m> Pass<'m> {
         // SAFETY: inside a rendering pass with a bound pipeline; the vertex shader
         // reads its tile records from the bound storage buffer.
         unsafe { self.device().cmd_draw(self.cmd, 6, tiles, 0, 0) };
+        Ok(())
+    }
+
+    /// Draws `count` closed discs with [`Program::Disc`] from `discs`, a buffer
+    /// of `[x, y, radius, value]` in the target's pixel coordinates (as placed by
+    /// `push.picture_size` and `push.offset`), into a float colour target.
+    pub fn draw_discs(
+        &mut self,
+        state: &RasterState,
+        params: &DrawParams,
+        push: &ConePush,
+        discs: &Buffer,
+        count: u32,
+    ) -> Result<()> {
+        if count == 0 {
+            return Ok(());
+        }
+        self.bind(Program::Disc, state, params)?;
+        self.push_cone_constants(push);
+        let device = self.device();
+        // SAFETY: the buffer is alive until the submission completes (borrowed by
+        // the caller of `Machine::run`) and holds `count` instances.
+        unsafe {
+            device.cmd_bind_vertex_buffers(self.cmd, 0, &[discs.raw], &[0]);
+            device.cmd_draw(self.cmd, 4, count, 0, 0);
+        }
         Ok(())
     }
 

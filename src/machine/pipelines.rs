@@ -54,6 +54,9 @@ pub enum Program {
     /// Triangles of fan surfaces with per-vertex position, depth and site id
     /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
     SiteFan,
+    /// Closed discs, one per instance of a `[f32; 4]` buffer (centre, radius and
+    /// the value written to a float target); see [`crate::machine::Pass::draw_discs`].
+    Disc,
 }
 
 impl Program {
@@ -174,6 +177,8 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("site_exact.frag", shaders::SITE_EXACT_FRAG),
     ("site_fan.vert", shaders::SITE_FAN_VERT),
     ("site_fan.frag", shaders::SITE_FAN_FRAG),
+    ("disc.vert", shaders::DISC_VERT),
+    ("disc.frag", shaders::DISC_FRAG),
     ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
     ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
     ("extremum.comp", shaders::EXTREMUM_COMP),
@@ -384,6 +389,11 @@ impl Pipelines {
                 "site_fan.frag",
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
+            Program::Disc => (
+                "disc.vert",
+                "disc.frag",
+                vk::PrimitiveTopology::TRIANGLE_STRIP,
+            ),
             Program::SettleDisc => (
                 "settle_disc.vert",
                 "settle_disc.frag",
@@ -407,10 +417,16 @@ impl Pipelines {
                 | Program::ConeKNearestFan
                 | Program::KNearestTiles(_)
                 | Program::SettleDisc
+                | Program::Disc
         ) && !uint_target
         {
             return Err(Error::InvalidInput(
                 "cones write site ids and need an R32Uint colour target".into(),
+            ));
+        }
+        if key.program == Program::Disc && (uint_target || key.color.is_none()) {
+            return Err(Error::InvalidInput(
+                "discs write a value to a float colour target".into(),
             ));
         }
         let stages = [
@@ -525,7 +541,18 @@ impl Pipelines {
                 .stride(4)
                 .input_rate(vk::VertexInputRate::VERTEX),
         ];
+        let disc_bindings = [vk::VertexInputBindingDescription::default()
+            .binding(0)
+            .stride(16)
+            .input_rate(vk::VertexInputRate::INSTANCE)];
+        let disc_attributes = [vk::VertexInputAttributeDescription::default()
+            .location(0)
+            .binding(0)
+            .format(vk::Format::R32G32B32A32_SFLOAT)];
         let vertex_input = match key.program {
+            Program::Disc => vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&disc_bindings)
+                .vertex_attribute_descriptions(&disc_attributes),
             Program::SiteFan => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&fan_bindings)
                 .vertex_attribute_descriptions(&fan_attributes),

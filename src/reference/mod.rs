@@ -2,6 +2,7 @@
 //! against.
 #![forbid(unsafe_code)]
 
+pub mod alpha_hull;
 pub mod higher_order;
 pub mod homothet;
 pub mod settle;

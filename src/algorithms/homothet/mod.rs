@@ -913,7 +913,7 @@ fn region_and_frame(
             "the region has no area".into()
         }));
     }
-    let frame = frame_of_box(side, lo, hi)?;
+    let frame = Frame::fitting(side, lo, hi)?;
     Ok((region, frame))
 }
 
@@ -1014,7 +1014,7 @@ fn enclosing_frame(sites: &[DVec2], unit: Unit, side: u32, k: usize) -> Result<F
     let pad = DVec2::splat(extent * 4.0 / side as f64);
     blo -= pad;
     bhi = bhi.max(blo + DVec2::splat(extent * 1e-3)) + pad;
-    frame_of_box(side, blo, bhi)
+    Frame::fitting(side, blo, bhi)
 }
 
 /// The bounding box of the unit shape around its kernel point.
@@ -1031,16 +1031,6 @@ fn unit_box(unit: Unit) -> (DVec2, DVec2) {
 }
 
 /// The frame showing the box `lo..hi` with `side` pixels along its longer axis.
-fn frame_of_box(side: u32, lo: DVec2, hi: DVec2) -> Result<Frame> {
-    let size = hi - lo;
-    let width = if size.x >= size.y {
-        side
-    } else {
-        ((side as f64 * size.x / size.y).round() as u32).max(1)
-    };
-    Frame::with_bbox(width, None, [lo.x, lo.y, hi.x, hi.y])
-}
-
 /// The pixels within `within` (pixels of distance) of an extreme of depths
 /// that are keys times `scale`: L2 keys are squared distances, the other
 /// metrics' are distances.
@@ -1248,7 +1238,7 @@ pub fn picture(
             );
             let pad = 0.03 * (hi - lo).max_element() + 1e-9;
             let side = answer.frame.width.max(answer.frame.height);
-            frame_of_box(side, lo - pad, hi + pad)?
+            Frame::fitting(side, lo - pad, hi + pad)?
         }
     };
     let sites: Vec<DVec2> = shapes

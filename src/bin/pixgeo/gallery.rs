@@ -72,6 +72,15 @@ fn entries() -> Vec<Entry> {
             )
         })
         .collect();
+    // A crescent of points for the alpha hulls: bays that empty discs can enter.
+    let mut shape_rng = ChaCha8Rng::seed_from_u64(6);
+    let shape: Vec<DVec2> = (0..80)
+        .map(|_| {
+            let a: f64 = shape_rng.gen_range(0.3..5.6);
+            let r = shape_rng.gen_range(28.0..45.0);
+            DVec2::new(50.0 + r * a.cos(), 50.0 + r * a.sin())
+        })
+        .collect();
     vec![
         Entry {
             command: "voronoi",
@@ -364,6 +373,22 @@ fn entries() -> Vec<Entry> {
                 "640",
             ],
         },
+        Entry {
+            command: "alpha",
+            picture: "alpha.png",
+            title: "Alpha hull for a negative alpha",
+            caption: "A rectangle at the depth of r = 1/|α| on the lower envelope marks                       the centres of empty discs (yellow); discs of radius r around                       their rim erase more (blue); what is left is the hull (red)                       (thesis §6.3, Figs. 6.1 and 6.3).",
+            sites: Some(("shape.csv", csv(&shape))),
+            args: &["--sites", "shape.csv", "--alpha", "-0.06", "--size", "640"],
+        },
+        Entry {
+            command: "alpha",
+            picture: "alpha_positive.png",
+            title: "Alpha hull for a positive alpha",
+            caption: "The intersection of every disc of radius 1/α that holds all                       sites: the circles through consecutive hull points that hold                       the others, counted with blending (thesis §6.4.1, Fig. 6.5).",
+            sites: Some(("shape.csv", csv(&shape))),
+            args: &["--sites", "shape.csv", "--alpha", "0.018", "--size", "640"],
+        },
     ]
 }
 
@@ -481,7 +506,8 @@ pub fn run(args: Args) -> Result<()> {
             Command::Voronoi(v) => crate::voronoi::run(*v)?,
             Command::Enclose(a) => crate::homothet::enclose(a)?,
             Command::Empty(a) => crate::homothet::empty(a)?,
-            _ => unreachable!("the gallery runs voronoi, enclose and empty"),
+            Command::Alpha(a) => crate::alpha::run(a)?,
+            _ => unreachable!("the gallery runs voronoi, enclose, empty and alpha"),
         }
         let _ = write!(
             html,

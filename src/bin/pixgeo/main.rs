@@ -1,5 +1,6 @@
 //! The pixgeo command-line tool.
 
+mod alpha;
 mod distances;
 mod gallery;
 mod homothet;
@@ -33,6 +34,7 @@ enum Command {
     Settle(Box<settle::Args>),
     Enclose(homothet::EncloseArgs),
     Empty(homothet::EmptyArgs),
+    Alpha(alpha::Args),
     Gallery(gallery::Args),
 }
 
@@ -45,6 +47,7 @@ fn main() -> anyhow::Result<()> {
         Command::Settle(args) => settle::run(*args),
         Command::Enclose(args) => homothet::enclose(args),
         Command::Empty(args) => homothet::empty(args),
+        Command::Alpha(args) => alpha::run(args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

@@ -1,0 +1,640 @@
+//! Alpha hulls of point sets (thesis ch. 6, after Edelsbrunner, Kirkpatrick and
+//! Seidel): for α > 0 the intersection of all closed discs of radius 1/α that hold
+//! every site, for α < 0 what the open discs of radius -1/α that hold no site
+//! leave of the plane, and the convex hull for α = 0.
+//!
+//! - **α < 0** (§6.3): the lower envelope of the sites' cones; a picture-wide
+//!   rectangle at the depth of r = -1/α marks every pixel at least r from all
+//!   sites (a centre of an empty disc); discs of radius r around the rim of that
+//!   set erase the rest. Every disc centred inside the set is covered by the set
+//!   and the rim's discs (a staircase path from such a centre towards a pixel
+//!   gets no farther from it and leaves the set at a rim pixel), so the rim is
+//!   enough. Empty discs whose centres lie outside the picture are not drawn, so
+//!   pixels within r of the picture border may be wrongly inside: the picture
+//!   reaches r beyond the sites where it can, and the result counts the inside
+//!   pixels of that band.
+//! - **α > 0, [`AlphaMethod::Hull`]** (§6.4.1): a counter-clockwise walk over the
+//!   convex hull keeps the circles of radius R = 1/α through consecutive hull
+//!   points that hold every hull point; the α-hull is the intersection of those
+//!   circles, the pixels every one of them covers (counted with blending). The
+//!   thesis tests a circle by reading back the hull points' pixels; the two
+//!   points it passes through lie on its rim, where a pixel cannot decide, so
+//!   pixgeo tests in exact arithmetic and draws only the circles that hold.
+//! - **α > 0, [`AlphaMethod::Pixels`]** (§6.4.2): nothing but the machine. Discs
+//!   of radius R around every site, counted, leave the pixels that can centre a
+//!   disc holding all sites; discs of radius R around the first and last such
+//!   pixel of every row (the set is convex, so they bound the rest), counted
+//!   again, leave the hull. The picture must hold every such centre, so it
+//!   spans 2R around the smallest enclosing circle's centre (the thesis's
+//!   Fig. 6.6: a large R leaves the hull few pixels).
+//!
+//! A radius below the smallest enclosing circle's is an error: no disc holds
+//! every site.
+
+use glam::DVec2;
+use serde::Serialize;
+
+use crate::{
+    algorithms::{
+        higher_order::convex_hull,
+        voronoi::{draw_point_tiles, VoronoiOptions},
+    },
+    error::{Error, Result},
+    geometry::{frame::check_sites, Frame},
+    machine::{
+        Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Machine,
+        PixelRect, Program, RasterState, RectDraw, Target,
+    },
+    reference::homothet::welzl,
+};
+
+/// Picture side (pixels, longer axis) when none is given.
+pub const DEFAULT_SIDE: u32 = 512;
+
+/// How a hull for α > 0 is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AlphaMethod {
+    /// Circles through consecutive points of a convex hull computed on the CPU.
+    Hull,
+    /// Two intersections of discs by counting, on the machine alone.
+    Pixels,
+}
+
+/// What a pixel of [`AlphaHull::pixels`] is.
+pub mod class {
+    /// Outside the hull.
+    pub const OUTSIDE: u8 = 0;
+    /// Inside the hull.
+    pub const INSIDE: u8 = 1;
+    /// α < 0: at least r from every site, erased by the rectangle. α > 0 with
+    /// [`super::AlphaMethod::Pixels`]: the centre of a disc holding every site
+    /// (and outside the hull).
+    pub const CENTRE: u8 = 2;
+    /// α < 0: erased by a disc around the rim of the centres.
+    pub const DISC: u8 = 3;
+}
+
+/// An α-hull on a picture.
+#[derive(Clone, Debug, Serialize)]
+pub struct AlphaHull {
+    pub alpha: f64,
+    /// |1/α| in world units; `None` for the convex hull (α = 0).
+    pub radius: Option<f64>,
+    /// `envelope` (α < 0), `hull` or `pixels` (α > 0), `convex` (α = 0).
+    pub method: &'static str,
+    pub width: u32,
+    pub height: u32,
+    /// World point at the picture's corner (-0.5, -0.5), and pixels per world unit.
+    pub origin: [f64; 2],
+    pub scale: f64,
+    /// Pixels inside the hull.
+    pub inside: usize,
+    /// Discs drawn (all passes).
+    pub discs: usize,
+    /// α > 0 with the hull method, and α = 0: the sites on the hull's boundary,
+    /// counter-clockwise (duplicates once).
+    pub boundary_sites: Vec<u32>,
+    /// α < 0: pixels within this distance (world units) of the picture border
+    /// may be inside only because discs centred beyond the border are not drawn.
+    pub border_band: f64,
+    /// α < 0: inside pixels in that band.
+    pub uncertain: usize,
+    /// One [`class`] per pixel, row-major (`[j][i]`).
+    #[serde(skip)]
+    pub pixels: Vec<u8>,
+    #[serde(skip)]
+    pub frame: Frame,
+}
+
+impl AlphaHull {
+    /// 1 inside the hull, 0 outside, row-major: the `--mask` array.
+    pub fn mask(&self) -> Vec<u8> {
+        self.pixels
+            .iter()
+            .map(|&c| u8::from(c == class::INSIDE))
+            .collect()
+    }
+}
+
+/// The α-hull of `sites` on a picture whose longer side has `side` pixels, fitted
+/// to where the hull can be; `method` chooses the algorithm for α > 0.
+pub fn alpha_hull(
+    machine: &Machine,
+    sites: &[DVec2],
+    alpha: f64,
+    method: AlphaMethod,
+    side: u32,
+) -> Result<AlphaHull> {
+    check_sites(sites)?;
+    if !alpha.is_finite() {
+        return Err(Error::InvalidInput(format!("alpha {alpha} is not finite")));
+    }
+    if side == 0 || side > machine.max_picture_side() {
+        return Err(Error::InvalidInput(format!(
+            "picture side {side}: it must be between 1 and {} on this device",
+            machine.max_picture_side()
+        )));
+    }
+    if alpha < 0.0 {
+        negative(machine, sites, alpha, side)
+    } else if alpha == 0.0 {
+        convex(machine, sites, side)
+    } else {
+        positive(machine, sites, alpha, method, side)
+    }
+}
+
+fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
+    points
+        .iter()
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), p| {
+            (a.min(*p), b.max(*p))
+        })
+}
+
+/// A frame around `[lo, hi]` padded by `pad` on every side, and by at least a
+/// few percent so that the hull's rim shows and the box never collapses.
+fn frame_around(lo: DVec2, hi: DVec2, pad: f64, side: u32) -> Result<Frame> {
+    let extent = (hi - lo).max_element();
+    let pad = pad
+        .max(0.03 * extent)
+        .max(1e-9 * (1.0 + lo.abs().max_element()));
+    Frame::fitting(side, lo - pad, hi + pad)
+}
+
+/// The answer's frame fields and counts from its pixels.
+fn finish(
+    alpha: f64,
+    method: &'static str,
+    frame: Frame,
+    pixels: Vec<u8>,
+    discs: usize,
+) -> AlphaHull {
+    AlphaHull {
+        alpha,
+        radius: (alpha != 0.0).then(|| 1.0 / alpha.abs()),
+        method,
+        width: frame.width,
+        height: frame.height,
+        origin: frame.origin.to_array(),
+        scale: frame.scale,
+        inside: pixels.iter().filter(|&&c| c == class::INSIDE).count(),
+        discs,
+        boundary_sites: Vec::new(),
+        border_band: 0.0,
+        uncertain: 0,
+        pixels,
+        frame,
+    }
+}
+
+/// α < 0 (§6.3).
+fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, side: u32) -> Result<AlphaHull> {
+    let r = -1.0 / alpha;
+    let (lo, hi) = bounds(sites);
+    // The hull lies in the sites' box; reaching r beyond it puts the border band
+    // outside the hull, unless that would shrink the box to a sliver.
+    let extent = (hi - lo).max_element();
+    let pad = if extent > 0.0 { r.min(extent) } else { r };
+    let frame = frame_around(lo, hi, pad, side)?;
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let r_px = r * frame.scale;
+
+    // The envelope, and the rectangle at depth r marking the empty discs' centres.
+    let options = VoronoiOptions {
+        distances: false,
+        ..VoronoiOptions::exact(frame)
+    };
+    let mut centre = vec![false; w * h];
+    draw_point_tiles(machine, sites, &options, false, |tile| {
+        let key = tile.keys.scale * r_px * r_px;
+        let (tw, th) = (tile.ids.width(), tile.ids.height());
+        if key <= 1.0 {
+            let at_least_r = RasterState {
+                depth: DepthTest {
+                    compare: Compare::LessOrEqual,
+                    write: false,
+                },
+                ..RasterState::OVERWRITE
+            };
+            machine.run(|pass| {
+                pass.begin(
+                    Target {
+                        color: Some(tile.ids),
+                        depth_stencil: Some(tile.depth),
+                    },
+                    Clear::default(),
+                )?;
+                let rect = RectDraw::full_picture(tw, th)
+                    .at_depth(key as f32)
+                    .uint([CENTRE_ID; 4]);
+                pass.draw_rect(&at_least_r, &DrawParams::default(), &rect)?;
+                pass.end()
+            })?;
+        }
+        let ids = machine.read_u32(tile.ids, tile.inner)?;
+        let tw = tile.inner.width as usize;
+        for (k, id) in ids.iter().enumerate() {
+            let (i, j) = (tile.x0 as usize + k % tw, tile.y0 as usize + k / tw);
+            centre[j * w + i] = *id == CENTRE_ID;
+        }
+        Ok(())
+    })?;
+
+    // The rim: centres with a 4-neighbour that is none (or beyond the border).
+    let is_centre = |i: isize, j: isize| {
+        i >= 0
+            && j >= 0
+            && (i as usize) < w
+            && (j as usize) < h
+            && centre[j as usize * w + i as usize]
+    };
+    let mut rim: Vec<[f32; 4]> = Vec::new();
+    for j in 0..h as isize {
+        for i in 0..w as isize {
+            if is_centre(i, j)
+                && !(is_centre(i - 1, j)
+                    && is_centre(i + 1, j)
+                    && is_centre(i, j - 1)
+                    && is_centre(i, j + 1))
+            {
+                rim.push([i as f32, j as f32, r_px as f32, 1.0]);
+            }
+        }
+    }
+    let covered = draw_discs(machine, &frame, &rim, false)?;
+    let pixels: Vec<u8> = (0..w * h)
+        .map(|k| {
+            if centre[k] {
+                class::CENTRE
+            } else if covered[k] > 0.0 {
+                class::DISC
+            } else {
+                class::INSIDE
+            }
+        })
+        .collect();
+    let mut hull = finish(alpha, "envelope", frame, pixels, rim.len());
+    hull.border_band = r;
+    hull.uncertain = (0..w * h)
+        .filter(|&k| {
+            let (i, j) = ((k % w) as f64, (k / w) as f64);
+            let border = i.min(j).min(w as f64 - 1.0 - i).min(h as f64 - 1.0 - j) + 0.5;
+            hull.pixels[k] == class::INSIDE && border < r_px
+        })
+        .count();
+    Ok(hull)
+}
+
+/// The id the rectangle of §6.3 writes over the empty discs' centres.
+const CENTRE_ID: u32 = u32::MAX - 1;
+
+/// α = 0: the convex hull, its triangles drawn as a fan.
+fn convex(machine: &Machine, sites: &[DVec2], side: u32) -> Result<AlphaHull> {
+    let (lo, hi) = bounds(sites);
+    let frame = frame_around(lo, hi, 0.0, side)?;
+    let hull = convex_hull(sites);
+    let corners: Vec<DVec2> = hull
+        .iter()
+        .map(|&i| frame.to_pixel(sites[i as usize]))
+        .collect();
+    let mut triangles: Vec<[f32; 3]> = Vec::new();
+    for k in 1..corners.len().saturating_sub(1) {
+        for v in [corners[0], corners[k], corners[k + 1]] {
+            triangles.push([v.x as f32, v.y as f32, 0.0]);
+        }
+    }
+    let (w, h) = (frame.width, frame.height);
+    let image = machine.image(Format::R32Uint, w, h)?;
+    let count = triangles.len() as u32;
+    // A vertex buffer may not be empty.
+    triangles.push([0.0; 3]);
+    let mesh = machine.vertex_buffer(&triangles)?;
+    let ones = machine.vertex_buffer(&vec![1u32; triangles.len()])?;
+    machine.run(|pass| {
+        pass.begin(
+            Target {
+                color: Some(&image),
+                depth_stencil: None,
+            },
+            Clear {
+                color: Some(ClearColor::Uint([0; 4])),
+                ..Clear::default()
+            },
+        )?;
+        pass.draw_cones(
+            Program::SiteFan,
+            &RasterState::OVERWRITE,
+            &DrawParams::default(),
+            &picture_push(w, h),
+            &ConeDraw {
+                mesh: &mesh,
+                first_vertex: 0,
+                vertex_count: count,
+                instances: &ones,
+                first_instance: 0,
+                instance_count: u32::from(count > 0),
+            },
+        )?;
+        pass.end()
+    })?;
+    let inside = machine.read_u32(&image, PixelRect::of(&image))?;
+    let pixels = inside
+        .iter()
+        .map(|&v| {
+            if v == 1 {
+                class::INSIDE
+            } else {
+                class::OUTSIDE
+            }
+        })
+        .collect();
+    let mut answer = finish(0.0, "convex", frame, pixels, 0);
+    answer.boundary_sites = hull;
+    Ok(answer)
+}
+
+fn picture_push(width: u32, height: u32) -> ConePush {
+    ConePush {
+        picture_size: [width as f32, height as f32],
+        offset: [0.0; 2],
+        vertex_depth_scale: 0.0,
+        fragment_depth_scale: 0.0,
+        levels: 1,
+        metric: (0, 2.0),
+    }
+}
+
+/// Draws `discs` (`[x, y, radius, value]`, pixels) on a cleared float picture of
+/// `frame`, overwriting or (with `count`) adding their values, and reads it back.
+fn draw_discs(
+    machine: &Machine,
+    frame: &Frame,
+    discs: &[[f32; 4]],
+    count: bool,
+) -> Result<Vec<f32>> {
+    let (w, h) = (frame.width, frame.height);
+    let image = machine.image(Format::R32Float, w, h)?;
+    let state = if count {
+        RasterState::count_with_blending()
+    } else {
+        RasterState::OVERWRITE
+    };
+    // A vertex buffer may not be empty.
+    let instances = if discs.is_empty() {
+        vec![[0.0f32; 4]]
+    } else {
+        discs.to_vec()
+    };
+    let buffer = machine.vertex_buffer(&instances)?;
+    machine.run(|pass| {
+        pass.begin(
+            Target {
+                color: Some(&image),
+                depth_stencil: None,
+            },
+            Clear {
+                color: Some(ClearColor::Float([0.0; 4])),
+                ..Clear::default()
+            },
+        )?;
+        pass.draw_discs(
+            &state,
+            &DrawParams::default(),
+            &picture_push(w, h),
+            &buffer,
+            discs.len() as u32,
+        )?;
+        pass.end()
+    })?;
+    machine.read_f32(&image, PixelRect::of(&image))
+}
+
+/// The centre of the circle of radius `radius` through `s` and `t` on the left
+/// of the direction s → t, if the two are at most a diameter apart.
+fn centre_left_of(s: DVec2, t: DVec2, radius: f64) -> Option<DVec2> {
+    let half = 0.5 * (t - s);
+    let h2 = radius * radius - half.length_squared();
+    // A radius that is the smallest enclosing circle's may fall short of half the
+    // diameter by rounding.
+    if h2 < -1e-9 * radius * radius {
+        return None;
+    }
+    let normal = half.perp().normalize_or_zero();
+    Some(s + half + normal * h2.max(0.0).sqrt())
+}
+
+/// The circles of radius `radius` of the hull walk (§6.4.1): from a point on
+/// the smallest enclosing circle, counter-clockwise, each circle through the
+/// current point and the first later hull point whose circle holds every hull
+/// point. Returns the points passed (in order) and the circles' centres.
+fn hull_walk(
+    points: &[DVec2],
+    hull: &[u32],
+    radius: f64,
+    mec_centre: DVec2,
+) -> (Vec<u32>, Vec<DVec2>) {
+    let p = |k: usize| points[hull[k % hull.len()] as usize];
+    let n = hull.len();
+    let start = (0..n)
+        .max_by(|&a, &b| {
+            p(a).distance(mec_centre)
+                .total_cmp(&p(b).distance(mec_centre))
+        })
+        .expect("a hull point");
+    let slack = 1e-9 * radius;
+    let holds = |c: DVec2| (0..n).all(|k| p(k).distance(c) <= radius + slack);
+    let (mut passed, mut centres) = (vec![hull[start]], Vec::new());
+    let mut s = start;
+    // Every step advances s, so the walk ends within one turn.
+    while s < start + n {
+        let next = (s + 1..=start + n).find_map(|t| {
+            centre_left_of(p(s), p(t), radius)
+                .filter(|&c| holds(c))
+                .map(|c| (t, c))
+        });
+        let Some((t, c)) = next else { break };
+        centres.push(c);
+        if t < start + n {
+            passed.push(hull[t % n]);
+        }
+        s = t;
+    }
+    (passed, centres)
+}
+
+/// α > 0 (§6.4).
+fn positive(
+    machine: &Machine,
+    sites: &[DVec2],
+    alpha: f64,
+    method: AlphaMethod,
+    side: u32,
+) -> Result<AlphaHull> {
+    let radius = 1.0 / alpha;
+    let hull = convex_hull(sites);
+    let corners: Vec<DVec2> = hull.iter().map(|&i| sites[i as usize]).collect();
+    let mec = welzl(&corners);
+    if radius < mec.radius * (1.0 - 1e-12) {
+        return Err(Error::InvalidInput(format!(
+            "alpha {alpha} gives radius {radius}, smaller than the smallest enclosing circle's \
+             radius {}: no disc of that radius holds every site (use alpha <= {})",
+            mec.radius,
+            1.0 / mec.radius
+        )));
+    }
+    let radius = radius.max(mec.radius);
+    match method {
+        AlphaMethod::Hull => {
+            // The hull lies in the smallest enclosing circle (α-hulls grow with α).
+            let reach = DVec2::splat(mec.radius);
+            let frame = frame_around(mec.centre - reach, mec.centre + reach, 0.0, side)?;
+            let r_px = (radius * frame.scale) as f32;
+            let (passed, centres) = if hull.len() > 1 {
+                hull_walk(sites, &hull, radius, mec.centre)
+            } else {
+                (hull.clone(), Vec::new())
+            };
+            if hull.len() > 1 && centres.is_empty() {
+                return Err(Error::InvalidInput(format!(
+                    "no circle of radius {radius} through two hull points holds the others; \
+                     this is a pixgeo bug, please report it with the sites"
+                )));
+            }
+            let discs: Vec<[f32; 4]> = centres
+                .iter()
+                .map(|c| {
+                    let c = frame.to_pixel(*c);
+                    [c.x as f32, c.y as f32, r_px, 1.0]
+                })
+                .collect();
+            let pixels = if hull.len() == 1 {
+                // One distinct site: the hull is that point.
+                let at = frame.to_pixel(corners[0]);
+                (0..frame.len())
+                    .map(|k| {
+                        let q = DVec2::new(
+                            (k % frame.width as usize) as f64,
+                            (k / frame.width as usize) as f64,
+                        );
+                        if q == at {
+                            class::INSIDE
+                        } else {
+                            class::OUTSIDE
+                        }
+                    })
+                    .collect()
+            } else {
+                let counts = draw_discs(machine, &frame, &discs, true)?;
+                let k = discs.len() as f32;
+                counts
+                    .iter()
+                    .map(|&c| {
+                        if c == k {
+                            class::INSIDE
+                        } else {
+                            class::OUTSIDE
+                        }
+                    })
+                    .collect()
+            };
+            let mut answer = finish(alpha, "hull", frame, pixels, discs.len());
+            answer.boundary_sites = passed;
+            Ok(answer)
+        }
+        AlphaMethod::Pixels => {
+            if sites.len() >= 1 << 24 {
+                return Err(Error::InvalidInput(
+                    "the pixel method counts sites in float32: at most 2^24 of them".into(),
+                ));
+            }
+            // Every centre of a disc holding all sites lies within the radius of
+            // the smallest enclosing circle's centre.
+            let reach = DVec2::splat(radius);
+            let frame = frame_around(mec.centre - reach, mec.centre + reach, 0.0, side)?;
+            let r_px = (radius * frame.scale) as f32;
+            let around_sites: Vec<[f32; 4]> = sites
+                .iter()
+                .map(|s| {
+                    let c = frame.to_pixel(*s);
+                    [c.x as f32, c.y as f32, r_px, 1.0]
+                })
+                .collect();
+            let counts = draw_discs(machine, &frame, &around_sites, true)?;
+            let n = sites.len() as f32;
+            let w = frame.width as usize;
+            let mut rims: Vec<[f32; 4]> = Vec::new();
+            for (j, row) in counts.chunks(w).enumerate() {
+                let first = row.iter().position(|&c| c == n);
+                let last = row.iter().rposition(|&c| c == n);
+                if let (Some(a), Some(b)) = (first, last) {
+                    rims.push([a as f32, j as f32, r_px, 1.0]);
+                    if b != a {
+                        rims.push([b as f32, j as f32, r_px, 1.0]);
+                    }
+                }
+            }
+            if rims.is_empty() {
+                return Err(Error::InvalidInput(format!(
+                    "radius {radius} is so close to the smallest enclosing circle's ({}) that \
+                     no pixel centre of a {}x{} picture can centre a disc holding every site: \
+                     use the hull method or a larger picture",
+                    mec.radius, frame.width, frame.height
+                )));
+            }
+            let hull_counts = draw_discs(machine, &frame, &rims, true)?;
+            let k = rims.len() as f32;
+            let pixels = hull_counts
+                .iter()
+                .zip(&counts)
+                .map(|(&c, &centre)| {
+                    if c == k {
+                        class::INSIDE
+                    } else if centre == n {
+                        class::CENTRE
+                    } else {
+                        class::OUTSIDE
+                    }
+                })
+                .collect();
+            Ok(finish(
+                alpha,
+                "pixels",
+                frame,
+                pixels,
+                around_sites.len() + rims.len(),
+            ))
+        }
+    }
+}
+
+/// A picture (RGB rows) like the thesis's Figs. 6.1–6.3: the hull dark red, the
+/// empty discs' centres light yellow, what the discs erased light blue, the
+/// sites as blue dots.
+pub fn picture(hull: &AlphaHull, sites: &[DVec2]) -> Vec<u8> {
+    let (w, h) = (hull.width as usize, hull.height as usize);
+    let mut rgb: Vec<u8> = hull
+        .pixels
+        .iter()
+        .flat_map(|&c| match c {
+            class::INSIDE => [150, 20, 30],
+            class::CENTRE => [255, 236, 150],
+            class::DISC => [196, 216, 255],
+            _ => [255, 255, 255],
+        })
+        .collect();
+    for s in sites {
+        let p = hull.frame.to_pixel(*s).round();
+        for dj in -1..=1 {
+            for di in -1..=1 {
+                let (i, j) = (p.x as i64 + di, p.y as i64 + dj);
+                if i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h {
+                    let k = 3 * (j as usize * w + i as usize);
+                    rgb[k..k + 3].copy_from_slice(&[20, 60, 220]);
+                }
+            }
+        }
+    }
+    rgb
+}
