@@ -519,3 +519,30 @@ fn alpha_writes_mask_picture_and_json() {
     assert!(ok, "{stderr}");
     assert!(stdout.contains("method hull"), "{stdout}");
 }
+
+#[test]
+fn triangle_and_quadrangle_print_exact_areas() {
+    let sites = temp("area.csv");
+    // A unit square's corners and a point just off its diagonal.
+    std::fs::write(&sites, "x,y\n0,0\n10,0\n10,10\n0,10\n5,5.5\n").unwrap();
+    let s = sites.to_str().unwrap();
+    let (ok, stdout, stderr) = pixgeo(&["triangle", "--sites", s, "--json", "--size", "64"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    // (0,0), (10,10), (5,5.5): half of |10 * 5.5 - 10 * 5| = 2.5.
+    assert_eq!(v["area"].as_f64().unwrap(), 2.5, "{stdout}");
+    let (ok, stdout, stderr) = pixgeo(&["triangle", "--sites", s, "--max", "--size", "64"]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.starts_with("largest triangle: area 50\n"),
+        "{stdout}"
+    );
+    let (ok, stdout, stderr) = pixgeo(&["quadrangle", "--sites", s, "--max", "--size", "64"]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.starts_with("largest quadrangle: area 100\n"),
+        "{stdout}"
+    );
+    let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "0"]);
+    assert!(!ok && stderr.contains("picture side 0"), "{stderr}");
+}

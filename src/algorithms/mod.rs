@@ -2,6 +2,7 @@
 #![forbid(unsafe_code)]
 
 pub mod alpha_hull;
+pub mod area;
 pub mod cpu;
 pub mod distances;
 pub mod higher_order;

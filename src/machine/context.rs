@@ -90,6 +90,8 @@ pub(crate) struct Context {
     pub fragment_stores: bool,
     /// Fragment shaders may do 64-bit atomics on storage buffers.
     pub fragment_atomics64: bool,
+    /// Shaders may compute in double precision (the area programs need it).
+    pub float64: bool,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
@@ -194,6 +196,7 @@ impl Context {
         // SAFETY: valid physical device; the chained struct outlives the call.
         unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
         let logic_op = supported.features.logic_op;
+        let float64 = supported.features.shader_float64 == vk::TRUE;
         // The k nearest sites per pixel: fragments store their lists in storage
         // buffers, and fan cones insert 64-bit keys with atomic min.
         let fragment_stores = supported.features.fragment_stores_and_atomics == vk::TRUE;
@@ -217,7 +220,8 @@ impl Context {
             .logic_op(logic_op == vk::TRUE)
             .independent_blend(true)
             .fragment_stores_and_atomics(fragment_stores)
-            .shader_int64(fragment_atomics64);
+            .shader_int64(fragment_atomics64)
+            .shader_float64(float64);
         let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
             .shader_buffer_int64_atomics(fragment_atomics64);
         // maintenance4 relaxes interface matching: a fan cone's fragment shader
@@ -261,6 +265,7 @@ impl Context {
             device_name,
             fragment_stores,
             fragment_atomics64,
+            float64,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
         context.check_validation()?;

@@ -442,16 +442,16 @@ impl Machine {
     }
 
     /// Runs `f` with a descriptor set that gives vertex and fragment shaders
-    /// `buffers` as storage buffers 0, 1 (at most two); bind it in a pass with
+    /// `buffers` as storage buffers 0, 1, 2 (at most three); bind it in a pass with
     /// [`Pass::bind_fragment_buffer`].
     pub fn with_fragment_buffers<R>(
         &self,
         buffers: &[&Buffer],
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
-        if buffers.is_empty() || buffers.len() > 2 {
+        if buffers.is_empty() || buffers.len() > 3 {
             return Err(Error::InvalidInput(
-                "graphics programs take one or two storage buffers".into(),
+                "graphics programs take one to three storage buffers".into(),
             ));
         }
         self.with_set(self.pipelines.graphics_set_layout, None, buffers, f)
@@ -483,6 +483,11 @@ impl Machine {
     /// [`Program::ConeKNearest`] needs.
     pub fn has_fragment_atomics64(&self) -> bool {
         self.ctx.fragment_atomics64
+    }
+
+    /// Whether shaders may compute in double precision.
+    pub fn has_float64(&self) -> bool {
+        self.ctx.float64
     }
 
     /// The minmax function (thesis §1.7) over `rect`, computed on the device; only

@@ -54,6 +54,13 @@ pub enum Program {
     /// Triangles of fan surfaces with per-vertex position, depth and site id
     /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
     SiteFan,
+    /// Saddle roofs over pairs of sites (thesis §7.3), one per instance without
+    /// vertex buffers, reading the sites (`f64` pairs) and the site drawn in each
+    /// pixel from storage buffers 0 and 1: the area as depth, the pair as colour.
+    Roof,
+    /// [`Program::Roof`] keeping per pair and side of its line the nearest (or
+    /// farthest) site in storage buffer 2; writes no attachment.
+    RoofSides,
     /// Closed discs, one per instance of a `[f32; 4]` buffer (centre, radius and
     /// the value written to a float target); see [`crate::machine::Pass::draw_discs`].
     Disc,
@@ -65,7 +72,11 @@ impl Program {
     pub fn reads_vertex_buffers(self) -> bool {
         !matches!(
             self,
-            Program::Rect | Program::KNearestTiles(_) | Program::SettleDisc
+            Program::Rect
+                | Program::KNearestTiles(_)
+                | Program::SettleDisc
+                | Program::Roof
+                | Program::RoofSides
         )
     }
 }
@@ -138,8 +149,8 @@ pub(crate) struct Pipelines {
     ctx: Arc<Context>,
     modules: HashMap<&'static str, vk::ShaderModule>,
     pub graphics_layout: vk::PipelineLayout,
-    /// Two storage buffers for vertex and fragment shaders (bindings 0 and 1 of
-    /// set 0).
+    /// Three storage buffers for vertex and fragment shaders (bindings 0, 1 and 2
+    /// of set 0); a program uses those it declares.
     pub graphics_set_layout: vk::DescriptorSetLayout,
     pub compute_set_layout: vk::DescriptorSetLayout,
     pub compute_layout: vk::PipelineLayout,
@@ -178,6 +189,9 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("site_fan.vert", shaders::SITE_FAN_VERT),
     ("site_fan.frag", shaders::SITE_FAN_FRAG),
     ("disc.vert", shaders::DISC_VERT),
+    ("roof.vert", shaders::ROOF_VERT),
+    ("roof.frag:triangle", shaders::ROOF_FRAG_TRIANGLE),
+    ("roof.frag:sides", shaders::ROOF_FRAG_SIDES),
     ("disc.frag", shaders::DISC_FRAG),
     ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
     ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
@@ -217,7 +231,7 @@ impl Pipelines {
             pipelines.modules.insert(name, module);
         }
 
-        let bindings = [0, 1].map(|binding| {
+        let bindings = [0, 1, 2].map(|binding| {
             vk::DescriptorSetLayoutBinding::default()
                 .binding(binding)
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
@@ -389,6 +403,16 @@ impl Pipelines {
                 "site_fan.frag",
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
+            Program::Roof => (
+                "roof.vert",
+                "roof.frag:triangle",
+                vk::PrimitiveTopology::TRIANGLE_STRIP,
+            ),
+            Program::RoofSides => (
+                "roof.vert",
+                "roof.frag:sides",
+                vk::PrimitiveTopology::TRIANGLE_STRIP,
+            ),
             Program::Disc => (
                 "disc.vert",
                 "disc.frag",
@@ -418,6 +442,7 @@ impl Pipelines {
                 | Program::KNearestTiles(_)
                 | Program::SettleDisc
                 | Program::Disc
+                | Program::RoofSides
         ) && !uint_target
         {
             return Err(Error::InvalidInput(

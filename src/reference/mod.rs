@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 
 pub mod alpha_hull;
+pub mod area;
 pub mod higher_order;
 pub mod homothet;
 pub mod settle;

@@ -1,6 +1,7 @@
 //! The pixgeo command-line tool.
 
 mod alpha;
+mod area;
 mod distances;
 mod gallery;
 mod homothet;
@@ -35,6 +36,8 @@ enum Command {
     Enclose(homothet::EncloseArgs),
     Empty(homothet::EmptyArgs),
     Alpha(alpha::Args),
+    Triangle(area::TriangleArgs),
+    Quadrangle(area::QuadrangleArgs),
     Gallery(gallery::Args),
 }
 
@@ -48,6 +51,8 @@ fn main() -> anyhow::Result<()> {
         Command::Enclose(args) => homothet::enclose(args),
         Command::Empty(args) => homothet::empty(args),
         Command::Alpha(args) => alpha::run(args),
+        Command::Triangle(args) => area::triangle(args),
+        Command::Quadrangle(args) => area::quadrangle(args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

@@ -1,0 +1,154 @@
+//! Smallest and largest triangles and quadrangles (thesis ch. 7) against
+//! exhaustive search in exact arithmetic.
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::area::{extremal_quadrangle, extremal_triangle, Extreme},
+    reference::area::{self as oracle, triangle_area},
+    Error,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+mod common;
+
+use common::{machine, uniform};
+
+const SIDE: u32 = 256;
+
+fn inputs() -> Vec<(&'static str, Vec<DVec2>)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let mut duplicates = uniform(&mut rng, 30, 100.0, 100.0);
+    duplicates.push(duplicates[4]);
+    // Three collinear among random ones: the smallest triangle has area 0.
+    let mut collinear = uniform(&mut rng, 40, 100.0, 100.0);
+    collinear.extend([
+        DVec2::new(10.0, 10.0),
+        DVec2::new(20.5, 30.0),
+        DVec2::new(31.0, 50.0),
+    ]);
+    // Nearly collinear: a thin triangle far smaller than a pixel.
+    let mut thin = uniform(&mut rng, 40, 100.0, 100.0);
+    thin.extend([
+        DVec2::new(5.0, 5.0),
+        DVec2::new(95.0, 90.0),
+        DVec2::new(50.0, 47.500001),
+    ]);
+    // Many sites in few pixels, to exercise the shared-pixel search.
+    let crowded: Vec<DVec2> = (0..50)
+        .map(|_| DVec2::new(rng.gen_range(0.0..3.0), rng.gen_range(0.0..3.0)))
+        .chain([DVec2::new(100.0, 100.0), DVec2::new(0.0, 100.0)])
+        .collect();
+    vec![
+        ("uniform", uniform(&mut rng, 120, 200.0, 150.0)),
+        ("duplicates", duplicates),
+        ("collinear", collinear),
+        ("thin", thin),
+        ("crowded", crowded),
+        (
+            "lattice",
+            (0..49)
+                .map(|k| DVec2::new((k % 7 * 10) as f64, (k / 7 * 10) as f64))
+                .collect(),
+        ),
+    ]
+}
+
+fn assert_close(name: &str, got: f64, want: f64) {
+    assert!(
+        (got - want).abs() <= 1e-9 * (1.0 + want.abs()),
+        "{name}: area {got}, exhaustive search {want}"
+    );
+}
+
+#[test]
+fn triangles_match_exhaustive_search() {
+    let machine = machine();
+    for (name, sites) in inputs() {
+        for extreme in [Extreme::Smallest, Extreme::Largest] {
+            let largest = extreme == Extreme::Largest;
+            let answer = extremal_triangle(&machine, &sites, extreme, SIDE).unwrap();
+            let (_, want) = oracle::extremal_triangle(&sites, largest).unwrap();
+            assert_close(name, answer.area, want);
+            // The named sites make that area.
+            let v: Vec<DVec2> = answer.sites.iter().map(|&i| sites[i as usize]).collect();
+            assert_eq!(v.len(), 3);
+            assert_close(name, triangle_area(v[0], v[1], v[2]), want);
+            let distinct = answer
+                .sites
+                .iter()
+                .collect::<std::collections::HashSet<_>>();
+            assert_eq!(distinct.len(), 3, "{name}: {:?}", answer.sites);
+            if ["collinear", "duplicates", "lattice"].contains(&name) && !largest {
+                assert_eq!(answer.area, 0.0, "{name}");
+            }
+            if name == "uniform" && !largest {
+                // The thesis's pigeonhole bound (§7.3.3): area <= W H / (n - 2).
+                let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+                let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+                let box_area = (hi - lo).x * (hi - lo).y;
+                let bound = answer.bound.expect("the roofs were bounded");
+                assert!(bound <= box_area / (sites.len() - 2) as f64 * (1.0 + 1e-5));
+                assert!(answer.area <= bound);
+            }
+            if name == "crowded" && !largest && answer.decided_by == "pixels" {
+                assert!(answer.shared > 0, "{name}: sites share pixels");
+            }
+        }
+    }
+}
+
+#[test]
+fn quadrangles_match_exhaustive_search() {
+    let machine = machine();
+    for (name, sites) in inputs() {
+        let mut distinct = sites.clone();
+        distinct.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+        distinct.dedup();
+        for extreme in [Extreme::Smallest, Extreme::Largest] {
+            let largest = extreme == Extreme::Largest;
+            let answer = extremal_quadrangle(&machine, &sites, extreme, SIDE).unwrap();
+            let (_, want) = oracle::extremal_quadrangle(&distinct, largest).unwrap();
+            assert_close(name, answer.area, want);
+            // p, r, q, l: r right of p -> q, l left of it, areas adding up.
+            let v: Vec<DVec2> = answer.sites.iter().map(|&i| sites[i as usize]).collect();
+            let (p, r, q, l) = (v[0], v[1], v[2], v[3]);
+            assert!(
+                oracle::cross(p, q, l) > 0.0 && oracle::cross(p, q, r) < 0.0,
+                "{name}"
+            );
+            assert_close(name, triangle_area(p, q, l) + triangle_area(p, q, r), want);
+        }
+    }
+}
+
+#[test]
+fn the_rotational_sweep_matches_exhaustive_search() {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for n in [3, 10, 80] {
+        let sites = uniform(&mut rng, n, 100.0, 100.0);
+        let (_, sweep) = oracle::smallest_triangle_sweep(&sites).unwrap();
+        let (_, want) = oracle::extremal_triangle(&sites, false).unwrap();
+        assert_close("sweep", sweep, want);
+    }
+}
+
+#[test]
+fn too_few_sites_are_clear_errors() {
+    let machine = machine();
+    let two = [DVec2::ZERO, DVec2::ONE];
+    let err = extremal_triangle(&machine, &two, Extreme::Smallest, SIDE).unwrap_err();
+    assert!(
+        matches!(&err, Error::InvalidInput(m) if m.contains("three sites")),
+        "{err}"
+    );
+    let line: Vec<DVec2> = (0..6).map(|i| DVec2::splat(i as f64)).collect();
+    let err = extremal_quadrangle(&machine, &line, Extreme::Largest, SIDE).unwrap_err();
+    assert!(
+        matches!(&err, Error::InvalidInput(m) if m.contains("four distinct")),
+        "{err}"
+    );
+    // All on a line: every triangle is flat.
+    let flat = extremal_triangle(&machine, &line, Extreme::Largest, SIDE).unwrap();
+    assert_eq!(flat.area, 0.0);
+    assert_eq!(flat.decided_by, "collinear");
+}
