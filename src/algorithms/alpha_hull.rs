@@ -464,6 +464,59 @@ fn hull_walk(
     (passed, centres)
 }
 
+/// The circles of an α-hull for α = 1/`radius` > 0 (§6.4.1): the smallest
+/// enclosing circle, and the hull walk's circles of that radius through
+/// consecutive boundary sites, whose intersection is the hull.
+#[derive(Clone, Debug)]
+pub struct HullCircles {
+    pub mec_centre: DVec2,
+    pub mec_radius: f64,
+    /// The sites on the hull's boundary, counter-clockwise (one for a single
+    /// distinct site, whose hull is that point).
+    pub boundary: Vec<u32>,
+    /// The circles' centres (world units), one per boundary arc.
+    pub centres: Vec<DVec2>,
+    /// The radius, at least the smallest enclosing circle's.
+    pub radius: f64,
+}
+
+/// The α-hull's circles for α = 1/`radius` > 0; a radius below the smallest
+/// enclosing circle's is an error.
+pub fn hull_circles(sites: &[DVec2], radius: f64) -> Result<HullCircles> {
+    check_sites(sites)?;
+    let hull = convex_hull(sites);
+    let corners: Vec<DVec2> = hull.iter().map(|&i| sites[i as usize]).collect();
+    let mec = welzl(&corners);
+    if radius.is_nan() || radius < mec.radius * (1.0 - 1e-12) {
+        return Err(Error::InvalidInput(format!(
+            "alpha {} gives radius {radius}, smaller than the smallest enclosing circle's \
+             radius {}: no disc of that radius holds every site (use alpha <= {})",
+            1.0 / radius,
+            mec.radius,
+            1.0 / mec.radius
+        )));
+    }
+    let radius = radius.max(mec.radius);
+    let (boundary, centres) = if hull.len() > 1 {
+        hull_walk(sites, &hull, radius, mec.centre)
+    } else {
+        (hull.clone(), Vec::new())
+    };
+    if hull.len() > 1 && centres.is_empty() {
+        return Err(Error::InvalidInput(format!(
+            "no circle of radius {radius} through two hull points holds the others; \
+             this is a pixgeo bug, please report it with the sites"
+        )));
+    }
+    Ok(HullCircles {
+        mec_centre: mec.centre,
+        mec_radius: mec.radius,
+        boundary,
+        centres,
+        radius,
+    })
+}
+
 /// α > 0 (§6.4).
 fn positive(
     machine: &Machine,
@@ -472,46 +525,30 @@ fn positive(
     method: AlphaMethod,
     side: u32,
 ) -> Result<AlphaHull> {
-    let radius = 1.0 / alpha;
-    let hull = convex_hull(sites);
-    let corners: Vec<DVec2> = hull.iter().map(|&i| sites[i as usize]).collect();
-    let mec = welzl(&corners);
-    if radius < mec.radius * (1.0 - 1e-12) {
-        return Err(Error::InvalidInput(format!(
-            "alpha {alpha} gives radius {radius}, smaller than the smallest enclosing circle's \
-             radius {}: no disc of that radius holds every site (use alpha <= {})",
-            mec.radius,
-            1.0 / mec.radius
-        )));
-    }
-    let radius = radius.max(mec.radius);
+    let circles = hull_circles(sites, 1.0 / alpha)?;
+    let radius = circles.radius;
     match method {
         AlphaMethod::Hull => {
             // The hull lies in the smallest enclosing circle (α-hulls grow with α).
-            let reach = DVec2::splat(mec.radius);
-            let frame = frame_around(mec.centre - reach, mec.centre + reach, 0.0, side)?;
+            let reach = DVec2::splat(circles.mec_radius);
+            let frame = frame_around(
+                circles.mec_centre - reach,
+                circles.mec_centre + reach,
+                0.0,
+                side,
+            )?;
             let r_px = (radius * frame.scale) as f32;
-            let (passed, centres) = if hull.len() > 1 {
-                hull_walk(sites, &hull, radius, mec.centre)
-            } else {
-                (hull.clone(), Vec::new())
-            };
-            if hull.len() > 1 && centres.is_empty() {
-                return Err(Error::InvalidInput(format!(
-                    "no circle of radius {radius} through two hull points holds the others; \
-                     this is a pixgeo bug, please report it with the sites"
-                )));
-            }
-            let discs: Vec<[f32; 4]> = centres
+            let discs: Vec<[f32; 4]> = circles
+                .centres
                 .iter()
                 .map(|c| {
                     let c = frame.to_pixel(*c);
                     [c.x as f32, c.y as f32, r_px, 1.0]
                 })
                 .collect();
-            let pixels = if hull.len() == 1 {
+            let pixels = if circles.centres.is_empty() {
                 // One distinct site: the hull is that point.
-                let at = frame.to_pixel(corners[0]);
+                let at = frame.to_pixel(sites[circles.boundary[0] as usize]);
                 (0..frame.len())
                     .map(|k| {
                         let q = DVec2::new(
@@ -540,7 +577,7 @@ fn positive(
                     .collect()
             };
             let mut answer = finish(alpha, "hull", frame, pixels, discs.len());
-            answer.boundary_sites = passed;
+            answer.boundary_sites = circles.boundary;
             Ok(answer)
         }
         AlphaMethod::Pixels => {
@@ -552,7 +589,12 @@ fn positive(
             // Every centre of a disc holding all sites lies within the radius of
             // the smallest enclosing circle's centre.
             let reach = DVec2::splat(radius);
-            let frame = frame_around(mec.centre - reach, mec.centre + reach, 0.0, side)?;
+            let frame = frame_around(
+                circles.mec_centre - reach,
+                circles.mec_centre + reach,
+                0.0,
+                side,
+            )?;
             let r_px = (radius * frame.scale) as f32;
             let around_sites: Vec<[f32; 4]> = sites
                 .iter()
@@ -580,7 +622,7 @@ fn positive(
                     "radius {radius} is so close to the smallest enclosing circle's ({}) that \
                      no pixel centre of a {}x{} picture can centre a disc holding every site: \
                      use the hull method or a larger picture",
-                    mec.radius, frame.width, frame.height
+                    circles.mec_radius, frame.width, frame.height
                 )));
             }
             let hull_counts = draw_discs(machine, &frame, &rims, true)?;
