@@ -12,5 +12,6 @@ pub mod metric;
 pub mod radius;
 pub mod site;
 pub mod surface;
+pub mod triangulation;
 
 pub use frame::Frame;
