@@ -5,6 +5,7 @@ pub mod alpha_hull;
 pub mod area;
 pub mod cpu;
 pub mod distances;
+pub mod flooding;
 pub mod higher_order;
 pub mod homothet;
 pub mod settle;

@@ -24,15 +24,16 @@ pub type Seed = [i32; 2];
 
 /// A (pixel, seed) pair's place in the total order: squared distance, then
 /// the pixel's and the seed's coordinates.
-type Priority = (i64, i32, i32, i32, i32);
+pub type Priority = (i64, i32, i32, i32, i32);
 
 /// The priority of colouring pixel `a` with the seed at `s`: smaller first.
-fn priority(a: [i32; 2], s: Seed) -> Priority {
+pub fn priority(a: [i32; 2], s: Seed) -> Priority {
     let (dx, dy) = ((a[0] - s[0]) as i64, (a[1] - s[1]) as i64);
     (dx * dx + dy * dy, a[0], a[1], s[0], s[1])
 }
 
-fn check(width: u32, height: u32, seeds: &[Seed]) -> Result<()> {
+/// A clear error for an empty texture, or a seed outside it or repeated.
+pub fn check_seeds(width: u32, height: u32, seeds: &[Seed]) -> Result<()> {
     if width == 0 || height == 0 {
         return Err(Error::InvalidInput("the texture has no pixels".into()));
     }
@@ -54,7 +55,7 @@ fn check(width: u32, height: u32, seeds: &[Seed]) -> Result<()> {
 
 /// The Euclidean colouring: every pixel the colour of its nearest seed.
 pub fn euclidean(width: u32, height: u32, seeds: &[Seed]) -> Result<Vec<u32>> {
-    check(width, height, seeds)?;
+    check_seeds(width, height, seeds)?;
     let mut labels = vec![NONE; (width * height) as usize];
     for y in 0..height as i32 {
         for x in 0..width as i32 {
@@ -68,7 +69,7 @@ pub fn euclidean(width: u32, height: u32, seeds: &[Seed]) -> Result<Vec<u32>> {
     Ok(labels)
 }
 
-fn neighbours(x: i32, y: i32, width: u32, height: u32) -> impl Iterator<Item = [i32; 2]> {
+pub fn neighbours(x: i32, y: i32, width: u32, height: u32) -> impl Iterator<Item = [i32; 2]> {
     (-1..=1)
         .flat_map(move |dy| (-1..=1).map(move |dx| [x + dx, y + dy]))
         .filter(move |&[a, b]| {
@@ -80,7 +81,7 @@ fn neighbours(x: i32, y: i32, width: u32, height: u32) -> impl Iterator<Item = [
 /// the queue; an uncoloured pixel gets the colour, and its neighbours become
 /// eligible for it.
 pub fn flood(width: u32, height: u32, seeds: &[Seed]) -> Result<Vec<u32>> {
-    check(width, height, seeds)?;
+    check_seeds(width, height, seeds)?;
     let mut labels = vec![NONE; (width * height) as usize];
     let mut queue: BinaryHeap<Reverse<(Priority, u32)>> = seeds
         .iter()
