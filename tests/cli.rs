@@ -546,3 +546,39 @@ fn triangle_and_quadrangle_print_exact_areas() {
     let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "0"]);
     assert!(!ok && stderr.contains("picture side 0"), "{stderr}");
 }
+
+#[test]
+fn voronoi_floods_and_jump_floods_seed_pixels() {
+    let sites = temp("seeds.csv");
+    std::fs::write(&sites, "x,y\n3,4\n40,10\n20,30\n55,40\n").unwrap();
+    let s = sites.to_str().unwrap();
+    for method in ["flood", "jfa"] {
+        let labels = temp(&format!("{method}.npy"));
+        let (ok, stdout, stderr) = pixgeo(&[
+            "voronoi",
+            "--sites",
+            s,
+            "--size",
+            "64x48",
+            "--method",
+            method,
+            "--labels",
+            labels.to_str().unwrap(),
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["method"], method);
+        let (shape, map) = npy::read::<u32>(&labels).unwrap();
+        assert_eq!(shape, vec![48, 64]);
+        // Each site's own pixel is its own, and pixel (0, 0) is nearest site 0.
+        assert_eq!(map[4 * 64 + 3], 0);
+        assert_eq!(map[30 * 64 + 20], 2);
+        assert_eq!(map[0], 0);
+    }
+    std::fs::write(&sites, "x,y\n3,4\n3.2,4.1\n20,30\n").unwrap();
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi", "--sites", s, "--size", "64x48", "--method", "flood",
+    ]);
+    assert!(!ok && stderr.contains("fall in pixel"), "{stderr}");
+}

@@ -213,3 +213,68 @@ pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Resu
         stats,
     })
 }
+
+/// Jump flooding (Rong and Tan 2006): passes with steps N/2, N/4, ..., 1 over
+/// the texture (N its longer side rounded up to a power of two), each pixel
+/// keeping the nearest seed its eight step-neighbours know. A fast label map
+/// with a few pixels given a farther seed (0.018% in the tests), not the
+/// flooding of the paper: regions need not be connected.
+pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Result<Vec<u32>> {
+    check_seeds(width, height, seeds)?;
+    if width >= 1 << 16 || height >= 1 << 16 {
+        return Err(crate::error::Error::InvalidInput(format!(
+            "jump flooding packs seed positions in 16 bits: {width}x{height} is too large"
+        )));
+    }
+    const NO_SEED: u32 = u32::MAX;
+    let pack = |s: Seed| s[0] as u32 | (s[1] as u32) << 16;
+    let pixels = width as usize * height as usize;
+    let mut start = vec![NO_SEED; pixels];
+    for s in seeds {
+        start[(s[1] as u32 * width + s[0] as u32) as usize] = pack(*s);
+    }
+    let bytes = (pixels * 4) as u64;
+    let mut a = machine.storage_buffer(bytes)?;
+    a.write(&start);
+    let b = machine.storage_buffer(bytes)?;
+    let side = width.max(height).next_power_of_two();
+    let steps: Vec<u32> = std::iter::successors(Some(side / 2), |s| (*s > 1).then_some(s / 2))
+        .filter(|&s| s > 0)
+        .collect();
+    let chunk = crate::machine::MAX_GROUPS * crate::machine::BufferKernel::JumpFlood.group();
+    machine.with_compute_buffers([&a, &b], |forward| {
+        machine.with_compute_buffers([&b, &a], |backward| {
+            machine.run(|pass| {
+                for (k, &step) in steps.iter().enumerate() {
+                    let set = if k % 2 == 0 { forward } else { backward };
+                    for first in (0..pixels as u32).step_by(chunk as usize) {
+                        let count = chunk.min(pixels as u32 - first);
+                        pass.dispatch(
+                            crate::machine::BufferKernel::JumpFlood,
+                            set,
+                            count,
+                            &[width, height, step, first],
+                        )?;
+                    }
+                }
+                Ok(())
+            })
+        })
+    })?;
+    let result = if steps.len() % 2 == 1 { &b } else { &a };
+    let index: std::collections::HashMap<u32, u32> = seeds
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (pack(*s), i as u32))
+        .collect();
+    Ok(result
+        .read::<u32>(pixels)
+        .into_iter()
+        .map(|p| {
+            index
+                .get(&p)
+                .copied()
+                .unwrap_or(crate::reference::flooding::NONE)
+        })
+        .collect())
+}

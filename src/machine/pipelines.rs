@@ -111,6 +111,9 @@ pub enum BufferKernel {
     /// The extremes of a float picture and their first indices, in two phases
     /// (push `[width, height, phase]`, one invocation per 64 rows of a column).
     Extremum,
+    /// One pass of jump flooding from buffer 0 into buffer 1 (push `[width,
+    /// height, step, first pixel]`, one invocation per pixel).
+    JumpFlood,
 }
 
 impl BufferKernel {
@@ -120,6 +123,7 @@ impl BufferKernel {
             BufferKernel::SettleSpans => 64,
             BufferKernel::RowPrefix => 64,
             BufferKernel::Extremum => 64,
+            BufferKernel::JumpFlood => 64,
         }
     }
 
@@ -128,6 +132,7 @@ impl BufferKernel {
             BufferKernel::SettleSpans => "settle_spans.comp",
             BufferKernel::RowPrefix => "row_prefix.comp",
             BufferKernel::Extremum => "extremum.comp",
+            BufferKernel::JumpFlood => "jump_flood.comp",
         }
     }
 }
@@ -196,6 +201,7 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
     ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
     ("extremum.comp", shaders::EXTREMUM_COMP),
+    ("jump_flood.comp", shaders::JUMP_FLOOD_COMP),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),

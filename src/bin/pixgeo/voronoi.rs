@@ -160,6 +160,21 @@ pub struct Args {
     /// site of its first level.
     #[arg(long)]
     peel: bool,
+
+    /// How the label map is made: `cones` (the lower envelope, the default),
+    /// `flood` (the digital Voronoi diagram by flooding of Cao, Edelsbrunner
+    /// and Tan: every region connected, the dual a triangulation) or `jfa`
+    /// (jump flooding: fast, a few pixels wrong). `flood` and `jfa` work on the
+    /// sites' pixels, which must be distinct and inside the picture.
+    #[arg(long, value_enum, default_value = "cones")]
+    method: Method,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Method {
+    Cones,
+    Flood,
+    Jfa,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -221,6 +236,9 @@ pub fn run(args: Args) -> Result<()> {
     };
     if args.peel && args.degree.is_none() && args.order.is_none() {
         bail!("--peel computes the levels of --degree or --order");
+    }
+    if args.method != Method::Cones {
+        return seed_pixels(&args, &sites, frame);
     }
     let backend = Backend::choose(args.device.as_deref())?;
     let kind = match (args.degree, args.order, args.furthest) {
@@ -708,4 +726,97 @@ fn level_path(path: &std::path::Path, level: u32) -> PathBuf {
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("level");
     let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("png");
     path.with_file_name(format!("{stem}-{level}.{ext}"))
+}
+
+/// `--method flood` and `--method jfa`: label maps of the sites' pixels.
+fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
+    if args.degree.is_some() || args.order.is_some() || args.furthest || args.ties.is_some() {
+        bail!("--method flood and jfa make the nearest-site map only (no --degree, --order, --furthest or --ties)");
+    }
+    if args.metric != Metric::L2 {
+        bail!("--method flood and jfa are Euclidean");
+    }
+    let mut seen = std::collections::HashMap::new();
+    let mut seeds = Vec::with_capacity(sites.len());
+    for (i, p) in sites.iter().enumerate() {
+        let c = frame.to_pixel(*p).round();
+        if !(c.x >= 0.0 && c.y >= 0.0 && c.x < frame.width as f64 && c.y < frame.height as f64) {
+            bail!(
+                "site {i} at {p} lies outside the picture; flooding starts from the sites' pixels"
+            );
+        }
+        let seed = [c.x as i32, c.y as i32];
+        if let Some(j) = seen.insert(seed, i) {
+            bail!("sites {j} and {i} fall in pixel {seed:?}; flooding needs one site per pixel (use a larger --size)");
+        }
+        seeds.push(seed);
+    }
+    let machine = crate::distances::machine_on(args.device.as_deref())?;
+    let started = std::time::Instant::now();
+    let (labels, stats) = match args.method {
+        Method::Flood => {
+            let f =
+                pixgeo::algorithms::flooding::flood(&machine, frame.width, frame.height, &seeds)?;
+            (f.labels, serde_json::to_value(&f.stats)?)
+        }
+        _ => (
+            pixgeo::algorithms::flooding::jump_flood(&machine, frame.width, frame.height, &seeds)?,
+            json!({}),
+        ),
+    };
+    let elapsed = started.elapsed().as_secs_f64() * 1e3;
+    let (w, h) = (frame.width, frame.height);
+    // Distances in world units from each pixel centre to its region's site.
+    let distances: Vec<f32> = labels
+        .iter()
+        .enumerate()
+        .map(|(k, &l)| {
+            let q = frame.to_world(DVec2::new((k as u32 % w) as f64, (k as u32 / w) as f64));
+            sites
+                .get(l as usize)
+                .map_or(f32::INFINITY, |s| s.distance(q) as f32)
+        })
+        .collect();
+    if let Some(path) = &args.labels {
+        npy::write(path, &[h as u64, w as u64], &labels)?;
+    }
+    if let Some(path) = &args.distance {
+        npy::write(path, &[h as u64, w as u64], &distances)?;
+    }
+    if let Some(path) = &args.output {
+        let contours = args.contours.map(|step| picture::Contours {
+            distances: &distances,
+            step: step as f32,
+            line: (1.0 / frame.scale) as f32,
+        });
+        let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+        let mut png = PngStream::create(path, w, h)?;
+        png.write(&picture::label_rows(&labels, w, 0, &pixels, contours))?;
+        png.finish()?;
+    }
+    let method = if args.method == Method::Flood {
+        "flood"
+    } else {
+        "jfa"
+    };
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "method": method,
+                "device": machine.device_name(),
+                "sites": sites.len(),
+                "width": w,
+                "height": h,
+                "ms": elapsed,
+                "stats": stats,
+            }))?
+        );
+    } else {
+        eprintln!(
+            "{method}: {} sites on {w}x{h} pixels in {elapsed:.1} ms",
+            sites.len()
+        );
+    }
+    Ok(())
 }
