@@ -13,7 +13,7 @@
 //! `target/alpha/alpha.md`; `ALPHA_N` sets the site counts, `ALPHA_REPEATS` the
 //! repeats (median).
 
-use std::{path::PathBuf, time::Instant};
+use std::path::PathBuf;
 
 use glam::DVec2;
 use pixgeo::{
@@ -24,26 +24,12 @@ use pixgeo::{
 };
 use rayon::prelude::*;
 
+mod common {
+    pub mod timing;
+}
+use common::timing::{env_list, time};
+
 const SIZE: u32 = 512;
-
-fn env_list(name: &str, default: &[usize]) -> Vec<usize> {
-    std::env::var(name)
-        .ok()
-        .map(|s| s.split(',').filter_map(|t| t.trim().parse().ok()).collect())
-        .unwrap_or_else(|| default.to_vec())
-}
-
-fn time<T>(repeats: usize, mut f: impl FnMut() -> anyhow::Result<T>) -> anyhow::Result<(f64, T)> {
-    let mut v = Vec::new();
-    let mut last = None;
-    for _ in 0..repeats {
-        let t = Instant::now();
-        last = Some(f()?);
-        v.push(t.elapsed().as_secs_f64() * 1e3);
-    }
-    v.sort_by(f64::total_cmp);
-    Ok((v[v.len() / 2], last.expect("one repeat")))
-}
 
 fn centres(frame: &Frame) -> Vec<DVec2> {
     (0..frame.len())

@@ -6,7 +6,7 @@
 //! `cargo bench --bench area` writes `target/area/area.md`. `AREA_N=100,500`
 //! sets the site counts, `AREA_REPEATS` the repeats (median).
 
-use std::{path::PathBuf, time::Instant};
+use std::path::PathBuf;
 
 use glam::DVec2;
 use pixgeo::{
@@ -21,27 +21,13 @@ use pixgeo::{
 };
 
 /// The picture side: `AREA_SIZE`, else pixgeo's default for n sites.
+mod common {
+    pub mod timing;
+}
+use common::timing::{env_list, time};
+
 fn size(n: usize) -> u32 {
     env_list("AREA_SIZE", &[default_side(n) as usize])[0] as u32
-}
-
-fn env_list(name: &str, default: &[usize]) -> Vec<usize> {
-    std::env::var(name)
-        .ok()
-        .map(|s| s.split(',').filter_map(|t| t.trim().parse().ok()).collect())
-        .unwrap_or_else(|| default.to_vec())
-}
-
-fn time<T>(repeats: usize, mut f: impl FnMut() -> anyhow::Result<T>) -> anyhow::Result<(f64, T)> {
-    let mut v = Vec::new();
-    let mut last = None;
-    for _ in 0..repeats {
-        let t = Instant::now();
-        last = Some(f()?);
-        v.push(t.elapsed().as_secs_f64() * 1e3);
-    }
-    v.sort_by(f64::total_cmp);
-    Ok((v[v.len() / 2], last.expect("one repeat")))
 }
 
 fn cross(o: DVec2, a: DVec2, b: DVec2) -> f64 {
