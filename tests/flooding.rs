@@ -306,6 +306,37 @@ fn jump_flooding_is_nearly_the_euclidean_colouring() {
     );
 }
 
+/// Triangles as sets up to rotation, sorted.
+fn canonical(mut triangles: Vec<[u32; 3]>) -> Vec<[u32; 3]> {
+    for t in &mut triangles {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+        t.rotate_left(k);
+    }
+    triangles.sort_unstable();
+    triangles
+}
+
+#[test]
+fn dualization_on_the_machine_equals_the_reference() {
+    let machine = common::machine();
+    let (w, h) = (64, 48);
+    let mut cases = inputs(w, h);
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    cases.push((
+        "anywhere",
+        distinct(
+            (0..60)
+                .map(|_| [rng.gen_range(0..64), rng.gen_range(0..48)])
+                .collect(),
+        ),
+    ));
+    for (name, seeds) in cases {
+        let labels = flood(w, h, &seeds).unwrap();
+        let gpu = pixgeo::algorithms::flooding::dualize(&machine, &labels, w, h).unwrap();
+        assert_eq!(canonical(gpu), canonical(dualize(&labels, w, h)), "{name}");
+    }
+}
+
 #[test]
 fn bad_seeds_are_clear_errors() {
     assert!(flood(10, 10, &[[10, 0]]).is_err());

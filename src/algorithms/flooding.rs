@@ -35,7 +35,7 @@ use crate::{
     },
     error::Result,
     geometry::{metric::Metric, Frame},
-    machine::Machine,
+    machine::{BufferKernel, Machine},
     reference::flooding::{check_seeds, neighbours, priority, Priority, Seed},
 };
 
@@ -241,7 +241,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
     let steps: Vec<u32> = std::iter::successors(Some(side / 2), |s| (*s > 1).then_some(s / 2))
         .filter(|&s| s > 0)
         .collect();
-    let chunk = crate::machine::MAX_GROUPS * crate::machine::BufferKernel::JumpFlood.group();
+    let chunk = crate::machine::MAX_GROUPS * BufferKernel::JumpFlood.group();
     machine.with_compute_buffers([&a, &b], |forward| {
         machine.with_compute_buffers([&b, &a], |backward| {
             machine.run(|pass| {
@@ -250,7 +250,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
                     for first in (0..pixels as u32).step_by(chunk as usize) {
                         let count = chunk.min(pixels as u32 - first);
                         pass.dispatch(
-                            crate::machine::BufferKernel::JumpFlood,
+                            BufferKernel::JumpFlood,
                             set,
                             count,
                             &[width, height, step, first],
@@ -277,4 +277,57 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
                 .unwrap_or(crate::reference::flooding::NONE)
         })
         .collect())
+}
+
+/// The dual of a colouring on the device (`glsl/dualize.comp`): a triangle for
+/// every digital Voronoi vertex, two where four colours meet, vertices
+/// counter-clockwise, [`DUMMY`](crate::geometry::triangulation::DUMMY) beyond
+/// the texture; in no particular order.
+pub fn dualize(
+    machine: &Machine,
+    labels: &[u32],
+    width: u32,
+    height: u32,
+) -> Result<Vec<[u32; 3]>> {
+    let pixels = width as usize * height as usize;
+    if labels.len() != pixels || pixels == 0 {
+        return Err(crate::error::Error::InvalidInput(format!(
+            "{} labels for a {width}x{height} texture",
+            labels.len()
+        )));
+    }
+    let mut input = machine.storage_buffer((pixels * 4) as u64)?;
+    input.write(labels);
+    let corners = (width as usize + 1) * (height as usize + 1);
+    let chunk = (crate::machine::MAX_GROUPS * BufferKernel::Dualize.group()) as usize;
+    // A valid dual of n seeds has 2n - 2 triangles; room for more, and a rerun
+    // with the count if even that is short.
+    let seeds = labels
+        .iter()
+        .collect::<std::collections::HashSet<_>>()
+        .len();
+    let mut capacity = 2 * seeds + 64;
+    loop {
+        let mut output = machine.storage_buffer((4 + 12 * capacity) as u64)?;
+        output.fill(0);
+        machine.with_compute_buffers([&input, &output], |set| {
+            machine.run(|pass| {
+                for first in (0..corners).step_by(chunk) {
+                    let count = chunk.min(corners - first) as u32;
+                    let push = [width, height, capacity as u32, first as u32];
+                    pass.dispatch(BufferKernel::Dualize, set, count, &push)?;
+                }
+                Ok(())
+            })
+        })?;
+        let count = output.read::<u32>(1)[0] as usize;
+        if count <= capacity {
+            let words = output.read::<u32>(1 + 3 * count);
+            return Ok(words[1..]
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect());
+        }
+        capacity = count;
+    }
 }

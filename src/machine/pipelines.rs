@@ -114,6 +114,10 @@ pub enum BufferKernel {
     /// One pass of jump flooding from buffer 0 into buffer 1 (push `[width,
     /// height, step, first pixel]`, one invocation per pixel).
     JumpFlood,
+    /// The dual triangles of a colouring in buffer 0, appended to buffer 1
+    /// (push `[width, height, capacity, first corner]`, one invocation per
+    /// pixel corner).
+    Dualize,
 }
 
 impl BufferKernel {
@@ -124,6 +128,7 @@ impl BufferKernel {
             BufferKernel::RowPrefix => 64,
             BufferKernel::Extremum => 64,
             BufferKernel::JumpFlood => 64,
+            BufferKernel::Dualize => 64,
         }
     }
 
@@ -133,6 +138,7 @@ impl BufferKernel {
             BufferKernel::RowPrefix => "row_prefix.comp",
             BufferKernel::Extremum => "extremum.comp",
             BufferKernel::JumpFlood => "jump_flood.comp",
+            BufferKernel::Dualize => "dualize.comp",
         }
     }
 }
@@ -202,6 +208,7 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
     ("extremum.comp", shaders::EXTREMUM_COMP),
     ("jump_flood.comp", shaders::JUMP_FLOOD_COMP),
+    ("dualize.comp", shaders::DUALIZE_COMP),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
