@@ -53,21 +53,29 @@ fn exhaustive_triangle(p: &[DVec2], largest: bool) -> f64 {
     0.5 * best
 }
 
-/// Every diagonal with its nearest sites on both sides.
-fn exhaustive_quadrangle(p: &[DVec2]) -> f64 {
-    let mut best = f64::INFINITY;
+/// Every diagonal with its nearest (farthest) sites on both sides.
+fn exhaustive_quadrangle(p: &[DVec2], largest: bool) -> f64 {
+    let pick = |a: f64, b: f64| if largest { a.max(b) } else { a.min(b) };
+    let none = if largest {
+        f64::NEG_INFINITY
+    } else {
+        f64::INFINITY
+    };
+    let mut best = none;
     for i in 0..p.len() {
         for j in i + 1..p.len() {
-            let (mut left, mut right) = (f64::INFINITY, f64::INFINITY);
+            let (mut left, mut right) = (none, none);
             for s in p {
                 let c = cross(p[i], p[j], *s);
                 if c > 0.0 {
-                    left = left.min(c);
+                    left = pick(left, c);
                 } else if c < 0.0 {
-                    right = right.min(-c);
+                    right = pick(right, -c);
                 }
             }
-            best = best.min(left + right);
+            if left.is_finite() && right.is_finite() {
+                best = pick(best, left + right);
+            }
         }
     }
     0.5 * best
@@ -102,7 +110,7 @@ fn main() -> anyhow::Result<()> {
         "| n | hull | pixgeo (ms) | exhaustive (ms) | hull + exhaustive (ms) | exhaustive / pixgeo | pixgeo / hull + exhaustive | same area |\n|---|---|---|---|---|---|---|---|\n",
     );
     let mut quadrangles = String::from(
-        "| n | pixgeo smallest quadrangle (ms) | draw (ms) | exhaustive O(n³) (ms) | exhaustive / pixgeo | same area |\n|---|---|---|---|---|---|\n",
+        "| n | pixgeo smallest (ms) | draw (ms) | exhaustive O(n³) (ms) | exhaustive / pixgeo | same area | pixgeo largest (ms) | exhaustive O(n³) (ms) | exhaustive / pixgeo | same area |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
         let sites = random_sites(n, n as u64, &frame);
@@ -172,22 +180,33 @@ fn main() -> anyhow::Result<()> {
                     size(n),
                 )?)
             })?;
-            let (brute, b) = time(repeats, || Ok(exhaustive_quadrangle(&sites)))?;
+            let (brute, b) = time(repeats, || Ok(exhaustive_quadrangle(&sites, false)))?;
+            let (ours_max, c) = time(repeats, || {
+                Ok(extremal_quadrangle(
+                    &machine,
+                    &sites,
+                    Extreme::Largest,
+                    size(n),
+                )?)
+            })?;
+            let (brute_max, d) = time(repeats, || Ok(exhaustive_quadrangle(&sites, true)))?;
             eprintln!(
-                "n = {n}: smallest quadrangle {ours:.1} ms, exhaustive {brute:.1} ms; areas {} {b}",
-                a.area
+                "n = {n}: smallest quadrangle {ours:.1} ms, exhaustive {brute:.1} ms; areas {} {b}; largest {ours_max:.1} ms, exhaustive {brute_max:.1} ms; areas {} {d}",
+                a.area, c.area
             );
             quadrangles += &format!(
-                "| {n} | {ours:.1} | {:.1} | {brute:.1} | {:.2}× | {} |\n",
+                "| {n} | {ours:.1} | {:.1} | {brute:.1} | {:.2}× | {} | {ours_max:.1} | {brute_max:.1} | {:.2}× | {} |\n",
                 a.draw_ms,
                 brute / ours,
                 same(a.area, b),
+                brute_max / ours_max,
+                same(c.area, d),
             );
         }
     }
     let text = format!(
         "Extremal triangles and quadrangles of n uniform random points, device {}; median of {repeats}.\n\n\
-         Smallest triangle:\n\n{smallest}\nLargest triangle:\n\n{largest}\nSmallest quadrangle:\n\n{quadrangles}",
+         Smallest triangle:\n\n{smallest}\nLargest triangle:\n\n{largest}\nQuadrangles:\n\n{quadrangles}",
         machine.device_name()
     );
     std::fs::write(out_dir.join("area.md"), &text)?;
