@@ -151,4 +151,12 @@ fn too_few_sites_are_clear_errors() {
     let flat = extremal_triangle(&machine, &line, Extreme::Largest, SIDE).unwrap();
     assert_eq!(flat.area, 0.0);
     assert_eq!(flat.decided_by, "collinear");
+    // All at one point: three distinct sites of area 0.
+    let point = [DVec2::ONE; 4];
+    for extreme in [Extreme::Smallest, Extreme::Largest] {
+        let a = extremal_triangle(&machine, &point, extreme, SIDE).unwrap();
+        assert_eq!(a.area, 0.0);
+        let set: std::collections::HashSet<_> = a.sites.iter().collect();
+        assert_eq!(set.len(), 3, "{:?}", a.sites);
+    }
 }

@@ -134,16 +134,14 @@ pub fn extremal_triangle(
     }
     let hull = convex_hull(sites);
     if hull.len() < 3 {
-        // All sites on a line: every triangle has area 0.
-        let c = (0..sites.len() as u32)
-            .find(|c| !hull.contains(c))
-            .expect("n >= 3");
-        return Ok(decided(
-            extreme,
-            vec![hull[0], hull[hull.len() - 1], c],
-            0.0,
-            "collinear",
-        ));
+        // All sites on a line (or at one point): every triangle has area 0.
+        let mut v = hull.clone();
+        v.extend(
+            (0..sites.len() as u32)
+                .filter(|c| !hull.contains(c))
+                .take(3 - v.len()),
+        );
+        return Ok(decided(extreme, v, 0.0, "collinear"));
     }
     let chosen = match extreme {
         Extreme::Smallest => distinct,
