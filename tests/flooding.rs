@@ -338,6 +338,86 @@ fn dualization_on_the_machine_equals_the_reference() {
 }
 
 #[test]
+fn flips_make_the_digital_triangulation_delaunay() {
+    let (w, h) = (64, 48);
+    for (name, seeds) in inputs(w, h) {
+        let points: Vec<DVec2> = seeds
+            .iter()
+            .map(|s| DVec2::new(s[0] as f64, s[1] as f64))
+            .collect();
+        let digital = dualize(&flood(w, h, &seeds).unwrap(), w, h);
+        let (triangles, flips) = pixgeo::geometry::flips::make_delaunay(&points, digital);
+        let validity = validate(&points, &triangles);
+        assert!(validity.is_valid(), "{name}: {:?}", validity.problems);
+        // Empty circles, exactly.
+        let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
+        for t in triangles.iter().filter(|t| !t.contains(&DUMMY)) {
+            let [a, b, d] = t.map(|v| c(points[v as usize]));
+            for (v, q) in points.iter().enumerate() {
+                if !t.contains(&(v as u32)) {
+                    assert!(
+                        robust::incircle(a, b, d, c(*q)) <= 0.0,
+                        "{name}: site {v} inside {t:?}"
+                    );
+                }
+            }
+        }
+        // The boundary is the convex hull: every site on or left of each
+        // boundary edge, counter-clockwise (the dummy triangle (a, b, D) has
+        // the hull edge b -> a).
+        for t in triangles.iter().filter(|t| t.contains(&DUMMY)) {
+            let k = (0..3).find(|&k| t[(k + 2) % 3] == DUMMY).unwrap();
+            let (a, b) = (c(points[t[k] as usize]), c(points[t[(k + 1) % 3] as usize]));
+            assert!(
+                points.iter().all(|q| robust::orient2d(b, a, c(*q)) >= 0.0),
+                "{name}: boundary edge {t:?} is no hull edge"
+            );
+        }
+        if name == "uniform" {
+            assert!(flips.hull > 0 && flips.delaunay > 0, "{name}: {flips:?}");
+        }
+        // The Delaunay triangulation is unique but for co-circular sites: ours
+        // and spade's differ only in triangles with a fourth site on their circle.
+        {
+            use spade::{DelaunayTriangulation, Point2, Triangulation};
+            let t: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::bulk_load(
+                points.iter().map(|p| Point2::new(p.x, p.y)).collect(),
+            )
+            .unwrap();
+            let index: std::collections::HashMap<(i64, i64), u32> = seeds
+                .iter()
+                .enumerate()
+                .map(|(i, s)| ((s[0] as i64, s[1] as i64), i as u32))
+                .collect();
+            let theirs: Vec<[u32; 3]> = t
+                .inner_faces()
+                .map(|f| {
+                    f.vertices()
+                        .map(|v| index[&(v.position().x as i64, v.position().y as i64)])
+                })
+                .collect();
+            let ours: Vec<[u32; 3]> = triangles
+                .iter()
+                .copied()
+                .filter(|t| !t.contains(&DUMMY))
+                .collect();
+            let (ours, theirs) = (canonical(ours), canonical(theirs));
+            assert_eq!(ours.len(), theirs.len(), "{name}");
+            for t in ours.iter().filter(|t| theirs.binary_search(t).is_err()) {
+                let [a, b, d] = t.map(|v| c(points[v as usize]));
+                let tie = points.iter().enumerate().any(|(v, q)| {
+                    !t.contains(&(v as u32)) && robust::incircle(a, b, d, c(*q)) == 0.0
+                });
+                assert!(
+                    tie,
+                    "{name}: {t:?} differs from spade without a co-circular site"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn bad_seeds_are_clear_errors() {
     assert!(flood(10, 10, &[[10, 0]]).is_err());
     assert!(flood(10, 10, &[[1, 1], [1, 1]]).is_err());

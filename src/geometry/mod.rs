@@ -7,6 +7,7 @@ pub mod buckets;
 pub mod cell;
 pub mod chain;
 pub mod cone;
+pub mod flips;
 pub mod frame;
 pub mod metric;
 pub mod radius;
