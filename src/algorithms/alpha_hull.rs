@@ -42,8 +42,8 @@ use crate::{
     error::{Error, Result},
     geometry::{frame::check_sites, Frame},
     machine::{
-        Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Machine,
-        PixelRect, Program, RasterState, RectDraw, Target,
+        Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Image,
+        Machine, Pass, PixelRect, Program, RasterState, RectDraw, Target,
     },
     reference::homothet::welzl,
 };
@@ -312,17 +312,7 @@ fn convex(machine: &Machine, sites: &[DVec2], side: u32) -> Result<AlphaHull> {
     triangles.push([0.0; 3]);
     let mesh = machine.vertex_buffer(&triangles)?;
     let ones = machine.vertex_buffer(&vec![1u32; triangles.len()])?;
-    machine.run(|pass| {
-        pass.begin(
-            Target {
-                color: Some(&image),
-                depth_stencil: None,
-            },
-            Clear {
-                color: Some(ClearColor::Uint([0; 4])),
-                ..Clear::default()
-            },
-        )?;
+    draw_on(machine, &image, ClearColor::Uint([0; 4]), |pass| {
         pass.draw_cones(
             Program::SiteFan,
             &RasterState::OVERWRITE,
@@ -336,8 +326,7 @@ fn convex(machine: &Machine, sites: &[DVec2], side: u32) -> Result<AlphaHull> {
                 first_instance: 0,
                 instance_count: u32::from(count > 0),
             },
-        )?;
-        pass.end()
+        )
     })?;
     let inside = machine.read_u32(&image, PixelRect::of(&image))?;
     let pixels = inside
@@ -353,6 +342,29 @@ fn convex(machine: &Machine, sites: &[DVec2], side: u32) -> Result<AlphaHull> {
     let mut answer = finish(0.0, "convex", frame, pixels, 0);
     answer.boundary_sites = hull;
     Ok(answer)
+}
+
+/// One rendering pass into `image` alone, cleared to `clear` first.
+fn draw_on(
+    machine: &Machine,
+    image: &Image,
+    clear: ClearColor,
+    draw: impl FnOnce(&mut Pass<'_>) -> Result<()>,
+) -> Result<()> {
+    machine.run(|pass| {
+        pass.begin(
+            Target {
+                color: Some(image),
+                depth_stencil: None,
+            },
+            Clear {
+                color: Some(clear),
+                ..Clear::default()
+            },
+        )?;
+        draw(pass)?;
+        pass.end()
+    })
 }
 
 fn picture_push(width: u32, height: u32) -> ConePush {
@@ -388,25 +400,14 @@ fn draw_discs(
         discs.to_vec()
     };
     let buffer = machine.vertex_buffer(&instances)?;
-    machine.run(|pass| {
-        pass.begin(
-            Target {
-                color: Some(&image),
-                depth_stencil: None,
-            },
-            Clear {
-                color: Some(ClearColor::Float([0.0; 4])),
-                ..Clear::default()
-            },
-        )?;
+    draw_on(machine, &image, ClearColor::Float([0.0; 4]), |pass| {
         pass.draw_discs(
             &state,
             &DrawParams::default(),
             &picture_push(w, h),
             &buffer,
             discs.len() as u32,
-        )?;
-        pass.end()
+        )
     })?;
     machine.read_f32(&image, PixelRect::of(&image))
 }

@@ -160,24 +160,15 @@ pub fn extremal_triangle(
                 return Ok(decided(extreme, ordered(triple), 0.0, "neighbours"));
             }
             offer(triple.to_vec(), area);
-            // Widened a little: the shaders take the bound in float32.
-            Some(bound * (1.0 + 1e-5))
+            Some(bound)
         }
         Extreme::Largest => None,
     };
-    let roofs = Roofs::new(machine, sites, &chosen, side)?;
+    let roofs = Roofs::new(machine, sites, &chosen, side, extreme, bound, &hull)?;
     let frame = roofs.frame;
-    let px2 = frame.scale * frame.scale;
-    // Depths: areas up to the bound map into [0, 1/2] (the clear value 1 stays
-    // clear of the near list); the largest triangle in the hull has at least
-    // 3√3/(4π) of its area, so the hull's area keeps it well inside [0, 1].
-    let scale_px = match bound {
-        Some(b) => 0.5 / (b * px2),
-        None => 1.0 / (polygon_area(sites, &hull) * px2 * 1.001),
-    };
     let prepare_ms = ms(started);
     let started = Instant::now();
-    let (depth, pairs) = roofs.draw_triangles(extreme, bound.map(|b| b * px2), scale_px)?;
+    let (depth, pairs) = roofs.draw_triangles()?;
     let draw_ms = ms(started);
     let started = Instant::now();
     let near = machine.depth_extremes(
@@ -257,7 +248,7 @@ pub fn extremal_triangle(
         extreme,
         sites: counter_clockwise(sites, vertices),
         area,
-        pixel_area: drawn.then(|| extreme_depth as f64 / (scale_px * px2)),
+        pixel_area: drawn.then(|| roofs.area_of_depth(extreme_depth)),
         roofs: roofs.count(),
         bound,
         checked,
@@ -300,25 +291,21 @@ pub fn extremal_quadrangle(
     };
     let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
     let bound = match extreme {
-        Extreme::Smallest => neighbour_quadrangle(&points).map(|b| b * (1.0 + 1e-5)),
+        Extreme::Smallest => neighbour_quadrangle(&points),
         Extreme::Largest => None,
     };
-    let roofs = Roofs::new(machine, sites, &chosen, side)?;
+    let roofs = Roofs::new(machine, sites, &chosen, side, extreme, bound, &hull)?;
     let frame = roofs.frame;
     let px2 = frame.scale * frame.scale;
-    let scale_px = match bound {
-        Some(b) => 0.5 / (b * px2),
-        None => 1.0 / (polygon_area(sites, &hull) * px2 * 1.001),
-    };
     let prepare_ms = ms(started);
     let started = Instant::now();
-    let keys = roofs.draw_sides(machine, extreme, bound.map(|b| b * px2), scale_px)?;
+    let keys = roofs.draw_sides()?;
     let draw_ms = ms(started);
     let started = Instant::now();
     // Per pair: the best site on each side, from the pixels and from the sites
     // that share a pixel (exactly).
     let pairs = roofs.count();
-    let to_area = |key: u64| f32::from_bits((key >> 32) as u32) as f64 / (scale_px * px2);
+    let to_area = |key: u64| roofs.area_of_depth(f32::from_bits((key >> 32) as u32));
     let empty = match extreme {
         Extreme::Smallest => u64::MAX,
         Extreme::Largest => 0,
@@ -570,10 +557,25 @@ struct Roofs<'m> {
     /// Chosen sites whose pixel shows another.
     shared: Vec<u32>,
     chosen: usize,
+    extreme: Extreme,
+    /// How far the roofs reach across (an area in pixels squared), if bounded.
+    bound_px: Option<f64>,
+    /// Depth per unit of area (world units squared).
+    depth_per_area: f64,
 }
 
 impl<'m> Roofs<'m> {
-    fn new(machine: &'m Machine, sites: &[DVec2], chosen: &[u32], side: u32) -> Result<Self> {
+    /// The roofs of the `chosen` sites' pairs reaching across as far as `bound`
+    /// (an area; `None`: the whole picture), for sites whose hull is `hull`.
+    fn new(
+        machine: &'m Machine,
+        sites: &[DVec2],
+        chosen: &[u32],
+        side: u32,
+        extreme: Extreme,
+        bound: Option<f64>,
+        hull: &[u32],
+    ) -> Result<Self> {
         if !machine.has_float64() || !machine.has_fragment_atomics64() {
             return Err(Error::InvalidInput(format!(
                 "{} lacks double precision or 64-bit atomics in shaders, which the saddle roofs need",
@@ -617,6 +619,17 @@ impl<'m> Roofs<'m> {
         sites_buffer.write(&position);
         let mut owners = machine.storage_buffer((owner.len() * 4) as u64)?;
         owners.write(&owner);
+        // Widened a little: the shaders take the bound in float32.
+        let bound = bound.map(|b| b * (1.0 + 1e-5));
+        // Depths: areas up to the bound map into [0, 1/2] (the clear value 1
+        // stays clear of the near list); the largest triangle in the hull has at
+        // least 3√3/(4π) of its area, so the hull's area keeps it well inside
+        // [0, 1].
+        let depth_per_area = match bound {
+            Some(b) => 0.5 / b,
+            None => 1.0 / (polygon_area(sites, hull) * 1.001),
+        };
+        let px2 = frame.scale * frame.scale;
         Ok(Self {
             machine,
             frame,
@@ -625,44 +638,43 @@ impl<'m> Roofs<'m> {
             owner,
             shared,
             chosen: points.len(),
+            extreme,
+            bound_px: bound.map(|b| b * px2),
+            depth_per_area,
         })
+    }
+
+    /// The area (world units squared) of a roof's depth.
+    fn area_of_depth(&self, z: f32) -> f64 {
+        z as f64 / self.depth_per_area
     }
 
     fn count(&self) -> usize {
         self.chosen * (self.chosen - 1) / 2
     }
 
-    /// The roof programs' push constants (`glsl/roof.glsl`).
-    fn push(
-        &self,
-        bound_px: Option<f64>,
-        scale_px: f64,
-        extreme: Extreme,
-        segment: bool,
-    ) -> [u32; 6] {
+    /// The roof programs' push constants (`glsl/roof.glsl`): areas there are in
+    /// pixels squared.
+    fn push(&self, segment: bool) -> [u32; 6] {
+        let depth_per_pixel_area = self.depth_per_area / (self.frame.scale * self.frame.scale);
         [
             (self.frame.width as f32).to_bits(),
             (self.frame.height as f32).to_bits(),
-            (bound_px.unwrap_or(0.0) as f32).to_bits(),
-            (scale_px as f32).to_bits(),
-            u32::from(extreme == Extreme::Largest),
+            (self.bound_px.unwrap_or(0.0) as f32).to_bits(),
+            (depth_per_pixel_area as f32).to_bits(),
+            u32::from(self.extreme == Extreme::Largest),
             u32::from(segment),
         ]
     }
 
     /// Every pair's roof with the depth test keeping the extreme: the depth
-    /// (area times `scale_px`) and the pair picture.
-    fn draw_triangles(
-        &self,
-        extreme: Extreme,
-        bound_px: Option<f64>,
-        scale_px: f64,
-    ) -> Result<(Image, Image)> {
+    /// ([`Roofs::area_of_depth`]) and the pair picture.
+    fn draw_triangles(&self) -> Result<(Image, Image)> {
         let machine = self.machine;
         let (w, h) = (self.frame.width, self.frame.height);
         let depth = machine.image(Format::Depth, w, h)?;
         let pairs = machine.image(Format::R32Uint, w, h)?;
-        let (compare, clear) = match extreme {
+        let (compare, clear) = match self.extreme {
             Extreme::Smallest => (Compare::Less, 1.0),
             Extreme::Largest => (Compare::Greater, 0.0),
         };
@@ -671,7 +683,7 @@ impl<'m> Roofs<'m> {
             write: true,
         });
         // A triangle is found by its longest edge's roof: the segment's strip.
-        let push = self.push(bound_px, scale_px, extreme, true);
+        let push = self.push(true);
         machine.with_fragment_buffers(&[&self.sites, &self.owners], |set| {
             machine.run(|pass| {
                 pass.begin(
@@ -702,23 +714,18 @@ impl<'m> Roofs<'m> {
 
     /// Every pair's roof keeping, per pair and side, the extreme (area bits,
     /// site) key; returns the keys, two per pair (left, right).
-    fn draw_sides(
-        &self,
-        machine: &Machine,
-        extreme: Extreme,
-        bound_px: Option<f64>,
-        scale_px: f64,
-    ) -> Result<Vec<u64>> {
+    fn draw_sides(&self) -> Result<Vec<u64>> {
+        let machine = self.machine;
         let (w, h) = (self.frame.width, self.frame.height);
         let slots = 2 * self.count();
         let mut best = machine.storage_buffer((slots * 8) as u64)?;
-        best.fill(match extreme {
+        best.fill(match self.extreme {
             Extreme::Smallest => 0xFF,
             Extreme::Largest => 0,
         });
         let depth = machine.image(Format::Depth, w, h)?;
         // A quadrangle's diagonal need not be its longest edge: the whole line.
-        let push = self.push(bound_px, scale_px, extreme, false);
+        let push = self.push(false);
         machine.with_fragment_buffers(&[&self.sites, &self.owners, &best], |set| {
             machine.run(|pass| {
                 pass.begin(

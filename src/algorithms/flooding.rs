@@ -262,19 +262,17 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
         })
     })?;
     let result = if steps.len() % 2 == 1 { &b } else { &a };
-    let index: std::collections::HashMap<u32, u32> = seeds
-        .iter()
-        .enumerate()
-        .map(|(i, s)| (pack(*s), i as u32))
-        .collect();
+    // The seed at each seed pixel, to turn positions back into indices.
+    let mut seed_at = vec![crate::reference::flooding::NONE; pixels];
+    for (i, s) in seeds.iter().enumerate() {
+        seed_at[(s[1] as u32 * width + s[0] as u32) as usize] = i as u32;
+    }
     Ok(result
         .read::<u32>(pixels)
         .into_iter()
-        .map(|p| {
-            index
-                .get(&p)
-                .copied()
-                .unwrap_or(crate::reference::flooding::NONE)
+        .map(|p| match p {
+            NO_SEED => crate::reference::flooding::NONE,
+            p => seed_at[((p >> 16) * width + (p & 0xFFFF)) as usize],
         })
         .collect())
 }
@@ -304,8 +302,10 @@ pub fn dualize(
     // with the count if even that is short.
     let seeds = labels
         .iter()
-        .collect::<std::collections::HashSet<_>>()
-        .len();
+        .copied()
+        .filter(|&l| l != crate::reference::flooding::NONE)
+        .max()
+        .map_or(0, |m| m as usize + 1);
     let mut capacity = 2 * seeds + 64;
     loop {
         let mut output = machine.storage_buffer((4 + 12 * capacity) as u64)?;
