@@ -4,6 +4,7 @@
 pub mod alpha_hull;
 pub mod area;
 pub mod cpu;
+pub mod delaunay;
 pub mod distances;
 pub mod flooding;
 pub mod higher_order;

@@ -9,6 +9,7 @@ pub mod chain;
 pub mod cone;
 pub mod flips;
 pub mod frame;
+pub mod mesh;
 pub mod metric;
 pub mod radius;
 pub mod site;

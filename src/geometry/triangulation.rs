@@ -276,3 +276,155 @@ pub fn validate(points: &[DVec2], triangles: &[[u32; 3]]) -> Validity {
         problems,
     }
 }
+
+/// Checks a planar Delaunay triangulation the way delaunator's tests do, plus
+/// exact local Delaunay-ness; returns each problem found (none for a good
+/// one). `triangles` are finite and index `points`; `expected` points (the
+/// distinct input) must all be used.
+///
+/// - every triangle counter-clockwise;
+/// - half-edges: each directed edge once, and twins pair up;
+/// - the boundary (edges without a twin) is one closed convex polygon, with
+///   every point on or inside it;
+/// - the triangles' areas add up to the hull's;
+/// - every inner edge is locally Delaunay (exact incircle), which for a
+///   triangulation of the convex hull means Delaunay.
+pub fn check_delaunay(points: &[DVec2], triangles: &[[u32; 3]], expected: &[u32]) -> Vec<String> {
+    let mut problems = Vec::new();
+    let p = |v: u32| points[v as usize];
+    let mut owner: HashMap<(u32, u32), usize> = HashMap::with_capacity(3 * triangles.len());
+    let mut area = 0.0;
+    let mut compensation = 0.0;
+    for (k, t) in triangles.iter().enumerate() {
+        let o = orient(p(t[0]), p(t[1]), p(t[2]));
+        if o <= 0.0 {
+            note(
+                &mut problems,
+                "orientation",
+                format!("triangle {t:?} is not counter-clockwise"),
+            );
+        }
+        // Kahan summation of twice the areas.
+        let twice = (p(t[1]) - p(t[0])).perp_dot(p(t[2]) - p(t[0])) - compensation;
+        let sum = area + twice;
+        compensation = (sum - area) - twice;
+        area = sum;
+        for e in 0..3 {
+            if owner.insert((t[e], t[(e + 1) % 3]), k).is_some() {
+                note(
+                    &mut problems,
+                    "half-edges",
+                    format!("edge ({}, {}) twice", t[e], t[(e + 1) % 3]),
+                );
+            }
+        }
+    }
+    // The boundary, as next[a] = b for each edge a → b without a twin.
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    for &(a, b) in owner.keys() {
+        if !owner.contains_key(&(b, a)) && next.insert(a, b).is_some() {
+            note(
+                &mut problems,
+                "boundary",
+                format!("site {a} starts two boundary edges"),
+            );
+        }
+    }
+    let Some(&start) = next.keys().min() else {
+        note(&mut problems, "boundary", "there is no boundary".into());
+        return problems;
+    };
+    let mut hull = vec![start];
+    while let Some(&b) = next.get(hull.last().expect("non-empty")) {
+        if b == start || hull.len() > next.len() {
+            break;
+        }
+        hull.push(b);
+    }
+    if hull.len() != next.len() {
+        note(
+            &mut problems,
+            "boundary",
+            format!(
+                "{} boundary edges, but a cycle of {}",
+                next.len(),
+                hull.len()
+            ),
+        );
+    }
+    let h = hull.len();
+    for i in 0..h {
+        let (a, b, c) = (p(hull[i]), p(hull[(i + 1) % h]), p(hull[(i + 2) % h]));
+        if orient(a, b, c) < 0.0 {
+            note(
+                &mut problems,
+                "convexity",
+                format!("the hull turns right at site {}", hull[(i + 1) % h]),
+            );
+        }
+    }
+    let mut hull_area = 0.0;
+    for i in 0..h {
+        let (a, b) = (p(hull[i]) - p(hull[0]), p(hull[(i + 1) % h]) - p(hull[0]));
+        hull_area += a.perp_dot(b);
+    }
+    let scale = triangles
+        .iter()
+        .map(|t| (p(t[1]) - p(t[0])).perp_dot(p(t[2]) - p(t[0])).abs())
+        .sum::<f64>();
+    if (area - hull_area).abs() > 1e-9 * scale.max(f64::MIN_POSITIVE) {
+        note(
+            &mut problems,
+            "area",
+            format!("triangles cover {area}, the hull {hull_area} (twice)"),
+        );
+    }
+    let mut used = vec![false; points.len()];
+    for t in triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    if let Some(v) = expected.iter().find(|&&v| !used[v as usize]) {
+        note(
+            &mut problems,
+            "points",
+            format!("point {v} is in no triangle"),
+        );
+    }
+    // Points outside the hull (O(n h), only where few enough).
+    if (points.len() as u64) * (h as u64) <= 50_000_000 {
+        if let Some(v) = expected
+            .iter()
+            .find(|&&v| (0..h).any(|i| orient(p(hull[i]), p(hull[(i + 1) % h]), p(v)) < 0.0))
+        {
+            note(
+                &mut problems,
+                "convexity",
+                format!("point {v} lies outside the hull"),
+            );
+        }
+    }
+    let c = |v: u32| robust::Coord {
+        x: p(v).x,
+        y: p(v).y,
+    };
+    for (&(a, b), &k) in &owner {
+        if let Some(&l) = owner.get(&(b, a)) {
+            let t = triangles[k];
+            let d = triangles[l]
+                .iter()
+                .copied()
+                .find(|&v| v != a && v != b)
+                .expect("three vertices");
+            if robust::incircle(c(t[0]), c(t[1]), c(t[2]), c(d)) > 0.0 {
+                note(
+                    &mut problems,
+                    "delaunay",
+                    format!("edge ({a}, {b}) is not locally Delaunay"),
+                );
+            }
+        }
+    }
+    problems
+}

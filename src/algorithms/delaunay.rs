@@ -1,0 +1,432 @@
+//! The Delaunay triangulation of real points from a digital Voronoi diagram
+//! (Cao, Edelsbrunner and Tan 2015; the pipeline of GPU-DT):
+//!
+//! 1. **grid**: the points' bounding box is laid over a texture; each pixel
+//!    holding points takes one of them as its seed;
+//! 2. **colouring** and **repair** ([`super::flooding::flood`]): the flooded
+//!    digital Voronoi diagram of the seeds;
+//! 3. **dualization** ([`super::flooding::dualize`]): its dual, a valid
+//!    triangulation of the seeds at their pixel centres (the paper's theorem);
+//! 4. **shifting**: the boundary is made convex, then every seed moves to its
+//!    true position where its triangles stay counter-clockwise (and the hull
+//!    convex); a seed that cannot is taken out and its hole refilled;
+//! 5. **insertion**: the seeds taken out and the points that shared a pixel
+//!    are inserted by a walk from their pixel's seed;
+//! 6. **flips**: Lawson's flips until every edge is locally Delaunay.
+//!
+//! Every step keeps a valid triangulation and every predicate is exact, so
+//! the result is a Delaunay triangulation of the input, whatever the grid.
+//! The pixel centres are an exact scaled integer lattice (the cell side has a
+//! three-bit mantissa and the origin is a multiple of it), so the dual's
+//! orientations hold in floating point too.
+
+use std::time::Instant;
+
+use glam::DVec2;
+use serde::Serialize;
+
+use crate::{
+    algorithms::flooding::{dualize, flood, FloodingStats},
+    error::{Error, Result},
+    geometry::{
+        mesh::{orient, Mesh},
+        triangulation::{validate, Validity, DUMMY},
+    },
+    machine::Machine,
+    reference::flooding::Seed,
+};
+
+/// Empty pixels kept around the points, so that the outside never pinches a
+/// region against the texture's border.
+pub const MARGIN: u32 = 4;
+
+/// How to triangulate.
+#[derive(Clone, Debug, Default)]
+pub struct DelaunayOptions {
+    /// Texture pixels along the longer side of the bounding box (margins
+    /// included); `None` chooses [`default_grid`].
+    pub grid: Option<u32>,
+    /// Check conditions I–III on the digital triangulation.
+    pub check: bool,
+}
+
+/// The texture side GPU-DT's way, from the number of points: about four
+/// pixels per point, between 64 and 8192.
+pub fn default_grid(n: usize) -> u32 {
+    ((4.0 * n as f64).sqrt().ceil() as u32 + 2 * MARGIN).clamp(64, 8192)
+}
+
+/// What each phase did and took.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DelaunayStats {
+    pub width: u32,
+    pub height: u32,
+    /// The side of a pixel in input units.
+    pub cell: f64,
+    /// Distinct points, and those that are seeds.
+    pub points: usize,
+    pub seeds: usize,
+    pub flooding: FloodingStats,
+    pub dualize_ms: f64,
+    /// Triangles of the digital triangulation.
+    pub digital_triangles: usize,
+    /// Shifting: flips that made the hull convex, seeds moved in place, seeds
+    /// taken out.
+    pub shift_ms: f64,
+    pub hull_flips: usize,
+    pub moved: usize,
+    pub taken_out: usize,
+    /// Insertion: points inserted and the flips that legalized them.
+    pub insert_ms: f64,
+    pub inserted: usize,
+    pub insertion_flips: usize,
+    /// Lawson's flips over the whole triangulation.
+    pub flip_ms: f64,
+    pub delaunay_flips: usize,
+    /// Why the triangulation was built by insertion alone, if it was: too
+    /// few seeds, or too few that could stay in place.
+    pub incremental: Option<String>,
+}
+
+/// A Delaunay triangulation.
+#[derive(Clone, Debug, Serialize)]
+pub struct Delaunay {
+    /// Counter-clockwise triangles, as indices into the input.
+    pub triangles: Vec<[u32; 3]>,
+    /// Repeated points, each as (dropped, kept): the first of equal points is
+    /// kept.
+    pub duplicates: Vec<[u32; 2]>,
+    /// Conditions I–III on the digital triangulation, when asked for.
+    pub digital_validity: Option<Validity>,
+    pub stats: DelaunayStats,
+    #[serde(skip)]
+    pub digital: DigitalDiagram,
+}
+
+/// The flooded digital Voronoi diagram behind a triangulation, for pictures.
+#[derive(Clone, Debug, Default)]
+pub struct DigitalDiagram {
+    pub width: u32,
+    pub height: u32,
+    /// Pixel (0, 0)'s centre and the pixel side, in input units.
+    pub origin: DVec2,
+    pub cell: f64,
+    /// Seed index per pixel, row-major; seed `i` is input point `seeds[i]`.
+    pub labels: Vec<u32>,
+    pub seeds: Vec<u32>,
+    /// The dual, over input indices and [`DUMMY`].
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl DigitalDiagram {
+    /// Where input point `p` falls on the texture, in pixels.
+    pub fn to_pixels(&self, p: DVec2) -> DVec2 {
+        (p - self.origin) / self.cell
+    }
+}
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+/// The smallest value q · 2^k (q in 4..=7) at least `x`: products of small
+/// integers and such a value are exact.
+fn three_bit_ceil(x: f64) -> f64 {
+    let k = x.log2().floor() as i32 - 2;
+    (4..=8)
+        .map(|q| q as f64 * 2f64.powi(k))
+        .find(|&c| c >= x)
+        .expect("8 · 2^k exceeds x")
+}
+
+/// The Delaunay triangulation of `points` (at least three, not all on one
+/// line; repeated points are reported and dropped).
+pub fn delaunay(
+    machine: &Machine,
+    points: &[DVec2],
+    options: &DelaunayOptions,
+) -> Result<Delaunay> {
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "point {i} is not finite: {:?}",
+            points[i]
+        )));
+    }
+    if points.len() >= u32::MAX as usize / 2 {
+        return Err(Error::InvalidInput("too many points".into()));
+    }
+    let (unique, duplicates) = distinct(points);
+    if unique.len() < 3 {
+        return Err(Error::InvalidInput(format!(
+            "a triangulation needs three distinct points; there are {}",
+            unique.len()
+        )));
+    }
+    let real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).collect();
+    if !(2..real.len()).any(|k| orient(real[0], real[1], real[k]) != 0.0) {
+        return Err(Error::InvalidInput(
+            "all points lie on one line: there is no triangle".into(),
+        ));
+    }
+    let mut stats = DelaunayStats {
+        points: real.len(),
+        ..Default::default()
+    };
+
+    // 1. The grid.
+    let (lo, hi) = real
+        .iter()
+        .fold((real[0], real[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let side = options.grid.unwrap_or_else(|| default_grid(real.len()));
+    if side < 2 * MARGIN + 2 {
+        return Err(Error::InvalidInput(format!(
+            "a grid of {side} pixels leaves no room inside its {MARGIN}-pixel margins"
+        )));
+    }
+    let span = (hi - lo).max_element();
+    let cell = three_bit_ceil(span / (side - 2 * MARGIN - 1) as f64);
+    let first = (lo / cell).floor() - MARGIN as f64;
+    let origin = first * cell;
+    let width = ((hi.x / cell).floor() - first.x) as u32 + MARGIN + 2;
+    let height = ((hi.y / cell).floor() - first.y) as u32 + MARGIN + 2;
+    stats.width = width;
+    stats.height = height;
+    stats.cell = cell;
+    let pixel_of = |p: DVec2| -> [i32; 2] {
+        let g = ((p - origin) / cell).round();
+        [
+            (g.x as i32).clamp(0, width as i32 - 1),
+            (g.y as i32).clamp(0, height as i32 - 1),
+        ]
+    };
+    let mut seed_at = vec![u32::MAX; width as usize * height as usize];
+    let mut seeds: Vec<Seed> = Vec::new();
+    let mut seed_point: Vec<u32> = Vec::new();
+    for (k, &p) in real.iter().enumerate() {
+        let s = pixel_of(p);
+        let slot = &mut seed_at[s[1] as usize * width as usize + s[0] as usize];
+        if *slot == u32::MAX {
+            *slot = seeds.len() as u32;
+            seeds.push(s);
+            seed_point.push(k as u32);
+        }
+    }
+    stats.seeds = seeds.len();
+
+    // 2–3. Flooding and its dual.
+    let flooding = flood(machine, width, height, &seeds)?;
+    stats.flooding = flooding.stats.clone();
+    let started = Instant::now();
+    let dual = dualize(machine, &flooding.labels, width, height)?;
+    stats.dualize_ms = ms(started);
+    stats.digital_triangles = dual.len();
+    let to_point = |v: u32| {
+        if v == DUMMY {
+            DUMMY
+        } else {
+            seed_point[v as usize]
+        }
+    };
+    let digital: Vec<[u32; 3]> = dual.iter().map(|t| t.map(to_point)).collect();
+    let centre = |s: Seed| origin + DVec2::new(s[0] as f64, s[1] as f64) * cell;
+    let mut placed = real.clone();
+    for (i, &s) in seeds.iter().enumerate() {
+        placed[seed_point[i] as usize] = centre(s);
+    }
+    let digital_validity = options.check.then(|| {
+        let centres: Vec<DVec2> = seeds.iter().map(|&s| centre(s)).collect();
+        validate(&centres, &dual)
+    });
+    // 4. Shifting.
+    let started = Instant::now();
+    let seeds_collinear = !(2..seeds.len())
+        .any(|k| orient(centre(seeds[0]), centre(seeds[1]), centre(seeds[k])) != 0.0);
+    let mut mesh = None;
+    let mut pending: Vec<u32> = Vec::new();
+    if seeds.len() < 5 || seeds_collinear {
+        stats.incremental = Some("fewer than five seeds, or all on one line".into());
+    } else {
+        match Mesh::new(placed, digital.clone()) {
+            Err(e) => {
+                stats.incremental = Some(format!("the digital triangulation is not valid: {e}"))
+            }
+            Ok(mut m) => {
+                stats.hull_flips = m.convexify();
+                for &v in &seed_point {
+                    if m.try_move(v, real[v as usize]) {
+                        stats.moved += 1;
+                    } else if m.remove(v).is_ok() {
+                        pending.push(v);
+                        stats.taken_out += 1;
+                    } else {
+                        stats.incremental = Some("fewer than five seeds stayed in place".into());
+                        break;
+                    }
+                }
+                if stats.incremental.is_none() {
+                    mesh = Some(m);
+                }
+            }
+        }
+    }
+    stats.shift_ms = ms(started);
+
+    // 5. Insertion, each point walking from its pixel's seed.
+    let started = Instant::now();
+    let mut mesh = match mesh {
+        None => {
+            let (built, flips) = insert_all(real.clone());
+            stats.inserted = real.len() - 3;
+            stats.insertion_flips = flips;
+            built
+        }
+        Some(mut mesh) => {
+            let seed_of = |p: DVec2| {
+                let s = pixel_of(p);
+                seed_point[flooding.labels[s[1] as usize * width as usize + s[0] as usize] as usize]
+            };
+            let mut is_seed = vec![false; real.len()];
+            for &v in &seed_point {
+                is_seed[v as usize] = true;
+            }
+            pending.extend((0..real.len() as u32).filter(|&v| !is_seed[v as usize]));
+            let mut last = *seed_point
+                .iter()
+                .find(|&&v| mesh.contains(v))
+                .expect("a mesh keeps four sites");
+            for &v in &pending {
+                let near = seed_of(real[v as usize]);
+                let start = if mesh.contains(near) { near } else { last };
+                mesh.points[v as usize] = real[v as usize];
+                stats.insertion_flips += mesh.insert(v, start);
+                last = v;
+            }
+            stats.inserted = pending.len();
+            mesh
+        }
+    };
+    stats.insert_ms = ms(started);
+
+    // 6. Lawson's flips.
+    let started = Instant::now();
+    stats.delaunay_flips = mesh.make_delaunay();
+    let triangles: Vec<[u32; 3]> = mesh
+        .triangles()
+        .into_iter()
+        .filter(|t| !t.contains(&DUMMY))
+        .map(|t| t.map(|v| unique[v as usize]))
+        .collect();
+    stats.flip_ms = ms(started);
+    Ok(Delaunay {
+        triangles,
+        duplicates,
+        digital_validity,
+        stats,
+        digital: DigitalDiagram {
+            width,
+            height,
+            origin,
+            cell,
+            labels: flooding.labels,
+            seeds: seed_point.iter().map(|&v| unique[v as usize]).collect(),
+            triangles: digital
+                .iter()
+                .map(|t| {
+                    t.map(|v| {
+                        if v == DUMMY {
+                            DUMMY
+                        } else {
+                            unique[v as usize]
+                        }
+                    })
+                })
+                .collect(),
+        },
+    })
+}
+
+/// The distinct points (input indices, first of equals) and the repeats as
+/// (dropped, kept).
+fn distinct(points: &[DVec2]) -> (Vec<u32>, Vec<[u32; 2]>) {
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    let key = |i: u32| {
+        let p = points[i as usize];
+        // +0.0 for -0.0, so that equal points sort together.
+        ((p.x + 0.0).to_bits(), (p.y + 0.0).to_bits(), i)
+    };
+    order.sort_unstable_by_key(|&i| key(i));
+    let mut kept = vec![true; points.len()];
+    let mut duplicates = Vec::new();
+    for w in 0..order.len() {
+        let i = order[w];
+        if w > 0 {
+            let j = order[w - 1];
+            let (a, b) = (key(i), key(j));
+            if (a.0, a.1) == (b.0, b.1) {
+                kept[i as usize] = false;
+                let first = duplicates
+                    .last()
+                    .filter(|d: &&[u32; 2]| d[0] == j)
+                    .map_or(j, |d| d[1]);
+                duplicates.push([i, first]);
+            }
+        }
+    }
+    duplicates.sort_unstable();
+    let unique = (0..points.len() as u32)
+        .filter(|&i| kept[i as usize])
+        .collect();
+    (unique, duplicates)
+}
+
+/// Position along a Hilbert curve over a 2^16 x 2^16 grid.
+fn hilbert(mut x: u32, mut y: u32) -> u64 {
+    let mut d = 0u64;
+    let mut s = 1u32 << 15;
+    while s > 0 {
+        let rx = u32::from(x & s > 0);
+        let ry = u32::from(y & s > 0);
+        d += (s as u64) * (s as u64) * ((3 * rx) ^ ry) as u64;
+        if ry == 0 {
+            if rx == 1 {
+                x = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(x) & 0xFFFF;
+                y = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(y) & 0xFFFF;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        s >>= 1;
+    }
+    d
+}
+
+/// A triangulation by insertion alone in Hilbert order, each point walking
+/// from the one before, from a first counter-clockwise triangle (the points
+/// are distinct and not all on one line).
+fn insert_all(points: Vec<DVec2>) -> (Mesh, usize) {
+    let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
+        (lo.min(p), hi.max(p))
+    });
+    let scale = 65535.0 / (hi - lo).max_element();
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    order.sort_by_cached_key(|&v| {
+        let g = (points[v as usize] - lo) * scale;
+        hilbert(g.x as u32, g.y as u32)
+    });
+    let p = |k: usize| points[order[k] as usize];
+    let c = (2..order.len())
+        .find(|&k| orient(p(0), p(1), p(k)) != 0.0)
+        .expect("the points are not all on one line");
+    let first = if orient(p(0), p(1), p(c)) > 0.0 {
+        [order[0], order[1], order[c]]
+    } else {
+        [order[1], order[0], order[c]]
+    };
+    let mut mesh = Mesh::triangle(points, first);
+    let mut flips = 0;
+    let mut last = first[2];
+    for &v in order.iter().filter(|v| !first.contains(v)) {
+        flips += mesh.insert(v, last);
+        last = v;
+    }
+    (mesh, flips)
+}

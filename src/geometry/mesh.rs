@@ -1,0 +1,704 @@
+//! A triangulation of the sphere over point sites and the dummy vertex at
+//! infinity, with triangle adjacency, for the steps from a digital
+//! triangulation to the Delaunay one: flips, moving a site, removing it and
+//! inserting one.
+//!
+//! Triangles are counter-clockwise; edge `e` of a triangle runs from its
+//! vertex `e` to vertex `e + 1`, and `adjacent[t][e]` is the triangle on its
+//! other side. A triangle with the dummy vertex (a *ghost*) stands for the
+//! outside beyond its one finite edge: ghost (a, b, DUMMY) lies to the left of
+//! a → b. Every predicate is exact (`robust`).
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+pub use super::triangulation::DUMMY;
+
+/// No triangle.
+const NONE: u32 = u32::MAX;
+/// A vertex slot of a removed triangle, kept for reuse.
+const FREE: u32 = u32::MAX - 1;
+
+fn coord(p: DVec2) -> robust::Coord<f64> {
+    robust::Coord { x: p.x, y: p.y }
+}
+
+/// Positive when a, b, c turn counter-clockwise.
+pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    robust::orient2d(coord(a), coord(b), coord(c))
+}
+
+/// Positive when `d` lies strictly inside the circle through the
+/// counter-clockwise a, b, c.
+pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
+    robust::incircle(coord(a), coord(b), coord(c), coord(d))
+}
+
+fn next(e: usize) -> usize {
+    (e + 1) % 3
+}
+
+fn prev(e: usize) -> usize {
+    (e + 2) % 3
+}
+
+/// Why a removal was refused: too few sites would remain.
+#[derive(Debug)]
+pub struct TooFewSites;
+
+/// The triangulation.
+pub struct Mesh {
+    /// Where each vertex is now.
+    pub points: Vec<DVec2>,
+    triangles: Vec<[u32; 3]>,
+    adjacent: Vec<[u32; 3]>,
+    /// One triangle of each vertex (the dummy's last), or `NONE` while the
+    /// vertex is not in the mesh.
+    corner: Vec<u32>,
+    free: Vec<u32>,
+    /// Vertices in the mesh, the dummy not counted.
+    present: usize,
+    /// Xorshift state for the walk's random first edge.
+    walk: u64,
+}
+
+impl Mesh {
+    fn slot(&self, v: u32) -> usize {
+        if v == DUMMY {
+            self.points.len()
+        } else {
+            v as usize
+        }
+    }
+
+    fn at(&self, v: u32) -> DVec2 {
+        self.points[v as usize]
+    }
+
+    fn is_ghost(&self, t: u32) -> bool {
+        self.triangles[t as usize].contains(&DUMMY)
+    }
+
+    /// The mesh of a valid triangulation of the sphere (as
+    /// [`super::triangulation::validate`] accepts) over `points`.
+    pub fn new(points: Vec<DVec2>, triangles: Vec<[u32; 3]>) -> Result<Self, String> {
+        let n = points.len();
+        let slot = |v: u32| if v == DUMMY { n } else { v as usize };
+        // The edges leaving each vertex, as (triangle, edge) in CSR order.
+        let mut start = vec![0u32; n + 2];
+        for t in &triangles {
+            for &v in t {
+                if v != DUMMY && v as usize >= n {
+                    return Err(format!("triangle {t:?} names vertex {v} of {n}"));
+                }
+                start[slot(v) + 1] += 1;
+            }
+        }
+        for k in 1..start.len() {
+            start[k] += start[k - 1];
+        }
+        let mut fill = start.clone();
+        let mut leaving = vec![(0u32, 0u8); 3 * triangles.len()];
+        for (k, t) in triangles.iter().enumerate() {
+            for (e, &v) in t.iter().enumerate() {
+                let s = &mut fill[slot(v)];
+                leaving[*s as usize] = (k as u32, e as u8);
+                *s += 1;
+            }
+        }
+        let edges_of = |v: u32| &leaving[start[slot(v)] as usize..start[slot(v) + 1] as usize];
+        let adjacent: Vec<[u32; 3]> = triangles
+            .par_iter()
+            .enumerate()
+            .map(|(k, t)| {
+                let mut row = [NONE; 3];
+                for e in 0..3 {
+                    let (a, b) = (t[e], t[next(e)]);
+                    // The twin b → a, looked up at its finite end.
+                    let twin = if b != DUMMY {
+                        edges_of(b)
+                            .iter()
+                            .find(|&&(u, f)| triangles[u as usize][next(f as usize)] == a)
+                    } else {
+                        edges_of(a)
+                            .iter()
+                            .find(|&&(u, f)| triangles[u as usize][prev(f as usize)] == b)
+                    };
+                    match twin {
+                        Some(&(u, _)) if u as usize != k => row[e] = u,
+                        _ => return Err(format!("edge {a} -> {b} of triangle {k} has no twin")),
+                    }
+                }
+                Ok(row)
+            })
+            .collect::<Result<_, String>>()?;
+        let mut corner = vec![NONE; n + 1];
+        for (k, t) in triangles.iter().enumerate() {
+            for &v in t {
+                corner[slot(v)] = k as u32;
+            }
+        }
+        let present = corner[..n].iter().filter(|&&c| c != NONE).count();
+        let mesh = Self {
+            points,
+            triangles,
+            adjacent,
+            corner,
+            free: Vec::new(),
+            present,
+            walk: 0x9e37_79b9_7f4a_7c15,
+        };
+        mesh.check(|v| (start[slot(v) + 1] - start[slot(v)]) as usize)?;
+        Ok(mesh)
+    }
+
+    /// What [`Mesh::new`] needs beyond twins: twins pair up (no directed edge
+    /// twice), each vertex's triangles form one ring (`degree` of them), the
+    /// Euler characteristic is a sphere's, and every finite triangle is
+    /// counter-clockwise.
+    fn check(&self, degree: impl Fn(u32) -> usize + Sync) -> Result<(), String> {
+        let triangles = &self.triangles;
+        (0..triangles.len()).into_par_iter().try_for_each(|t| {
+            let tv = triangles[t];
+            for e in 0..3 {
+                let u = self.adjacent[t][e] as usize;
+                let uv = triangles[u];
+                let f = (0..3).find(|&f| uv[f] == tv[next(e)] && uv[next(f)] == tv[e]);
+                if f.map(|f| self.adjacent[u][f]) != Some(t as u32) {
+                    return Err(format!(
+                        "edge {} -> {} lies in more than two triangles",
+                        tv[e],
+                        tv[next(e)]
+                    ));
+                }
+            }
+            if !tv.contains(&DUMMY) && orient(self.at(tv[0]), self.at(tv[1]), self.at(tv[2])) <= 0.0
+            {
+                return Err(format!("triangle {tv:?} is not counter-clockwise"));
+            }
+            Ok(())
+        })?;
+        let vertices: Vec<u32> = (0..self.points.len() as u32)
+            .filter(|&v| self.contains(v))
+            .chain([DUMMY])
+            .collect();
+        vertices.par_iter().try_for_each(|&v| {
+            let ring = self.ring(v).len();
+            if ring != degree(v) {
+                return Err(format!(
+                    "the triangles around vertex {v} form more than one ring"
+                ));
+            }
+            Ok(())
+        })?;
+        let edges = 3 * triangles.len() / 2;
+        if vertices.len() + triangles.len() != edges + 2 {
+            return Err("the triangles are not a sphere".into());
+        }
+        Ok(())
+    }
+
+    /// The triangle a, b, c (counter-clockwise, distinct points) and its three
+    /// ghosts: the start of an incremental triangulation.
+    pub fn triangle(points: Vec<DVec2>, [a, b, c]: [u32; 3]) -> Self {
+        let triangles = vec![[a, b, c], [b, a, DUMMY], [c, b, DUMMY], [a, c, DUMMY]];
+        Self::new(points, triangles).expect("a triangle and its ghosts are a sphere")
+    }
+
+    /// Whether vertex `v` is in the mesh.
+    pub fn contains(&self, v: u32) -> bool {
+        self.corner[v as usize] != NONE
+    }
+
+    /// The triangles (ghosts included), in no particular order.
+    pub fn triangles(&self) -> Vec<[u32; 3]> {
+        self.triangles
+            .iter()
+            .filter(|t| t[0] != FREE)
+            .copied()
+            .collect()
+    }
+
+    fn index_in(&self, t: u32, v: u32) -> usize {
+        self.triangles[t as usize]
+            .iter()
+            .position(|&w| w == v)
+            .expect("the vertex is in the triangle")
+    }
+
+    /// Makes `new` the neighbour that `t` had in `old`.
+    fn repoint(&mut self, t: u32, old: u32, new: u32) {
+        let row = &mut self.adjacent[t as usize];
+        let e = row.iter().position(|&u| u == old).expect("neighbours");
+        row[e] = new;
+    }
+
+    fn set(&mut self, t: u32, vertices: [u32; 3], adjacent: [u32; 3]) {
+        self.triangles[t as usize] = vertices;
+        self.adjacent[t as usize] = adjacent;
+        for v in vertices {
+            let s = self.slot(v);
+            self.corner[s] = t;
+        }
+    }
+
+    fn allocate(&mut self) -> u32 {
+        match self.free.pop() {
+            Some(t) => t,
+            None => {
+                self.triangles.push([FREE; 3]);
+                self.adjacent.push([NONE; 3]);
+                (self.triangles.len() - 1) as u32
+            }
+        }
+    }
+
+    /// The triangles around `v`, counter-clockwise, each with `v`'s index.
+    fn ring(&self, v: u32) -> Vec<(u32, usize)> {
+        let first = self.corner[self.slot(v)];
+        let mut ring = Vec::with_capacity(8);
+        let mut t = first;
+        loop {
+            let i = self.index_in(t, v);
+            ring.push((t, i));
+            // The next triangle around v shares the edge t[i - 1] → v.
+            t = self.adjacent[t as usize][prev(i)];
+            if t == first {
+                return ring;
+            }
+        }
+    }
+
+    /// Flips edge `e` of triangle `t`: (a, b, c) and (b, a, d) become
+    /// (c, a, d) and (d, b, c).
+    pub fn flip(&mut self, t: u32, e: usize) {
+        let u = self.adjacent[t as usize][e];
+        let [tv, ta] = [self.triangles[t as usize], self.adjacent[t as usize]];
+        let f = self.adjacent[u as usize]
+            .iter()
+            .position(|&w| w == t)
+            .expect("twins");
+        let [uv, ua] = [self.triangles[u as usize], self.adjacent[u as usize]];
+        let (a, b, c, d) = (tv[e], tv[next(e)], tv[prev(e)], uv[prev(f)]);
+        let (n_bc, n_ca, n_ad, n_db) = (ta[next(e)], ta[prev(e)], ua[next(f)], ua[prev(f)]);
+        self.set(t, [c, a, d], [n_ca, n_ad, u]);
+        self.set(u, [d, b, c], [n_db, n_bc, t]);
+        self.repoint(n_bc, t, u);
+        self.repoint(n_ad, u, t);
+    }
+
+    /// Whether edge `e` of `t` is finite, between finite triangles, and not
+    /// locally Delaunay.
+    fn is_illegal(&self, t: u32, e: usize) -> bool {
+        let tv = self.triangles[t as usize];
+        if tv[0] == FREE || tv.contains(&DUMMY) {
+            return false;
+        }
+        let u = self.adjacent[t as usize][e];
+        let uv = self.triangles[u as usize];
+        let f = self.adjacent[u as usize]
+            .iter()
+            .position(|&w| w == t)
+            .expect("twins");
+        let d = uv[prev(f)];
+        d != DUMMY && incircle(self.at(tv[0]), self.at(tv[1]), self.at(tv[2]), self.at(d)) > 0.0
+    }
+
+    /// Lawson's flips from the edges on `stack` until every edge they reach is
+    /// locally Delaunay; returns the number of flips.
+    fn legalize(&mut self, mut stack: Vec<(u32, usize)>) -> usize {
+        let mut flips = 0;
+        while let Some((t, e)) = stack.pop() {
+            if self.is_illegal(t, e) {
+                let u = self.adjacent[t as usize][e];
+                self.flip(t, e);
+                flips += 1;
+                stack.extend([(t, 0), (t, 1), (u, 0), (u, 1)]);
+            }
+        }
+        flips
+    }
+
+    /// Lawson's flips over every edge: the Delaunay triangulation, once the
+    /// boundary is the convex hull. Returns the number of flips.
+    pub fn make_delaunay(&mut self) -> usize {
+        let stack: Vec<(u32, usize)> = (0..self.triangles.len() as u32)
+            .flat_map(|t| (0..3).map(move |e| (t, e)))
+            .filter(|&(t, e)| t < self.adjacent[t as usize][e])
+            .collect();
+        self.legalize(stack)
+    }
+
+    /// The ghost after ghost `g` along the boundary: with `g` = (a, b, D), the
+    /// ghost (b, c, D).
+    fn next_ghost(&self, g: u32) -> u32 {
+        let i = self.index_in(g, DUMMY);
+        // The edge DUMMY → a leads to the ghost before; b → DUMMY to the next.
+        self.adjacent[g as usize][prev(i)]
+    }
+
+    fn previous_ghost(&self, g: u32) -> u32 {
+        let i = self.index_in(g, DUMMY);
+        self.adjacent[g as usize][i]
+    }
+
+    /// The finite edge (a, b) of ghost `g`.
+    fn ghost_edge(&self, g: u32) -> (u32, u32) {
+        let i = self.index_in(g, DUMMY);
+        let t = self.triangles[g as usize];
+        (t[next(i)], t[prev(i)])
+    }
+
+    /// Makes the boundary the convex hull: where it turns inward at b between
+    /// a and c and no other boundary site lies in triangle (a, b, c), the
+    /// ghosts (a, b, D) and (b, c, D) become (a, b, c) and (a, c, D). Returns
+    /// the number of flips.
+    pub fn convexify(&mut self) -> usize {
+        let first = self.corner[self.points.len()];
+        let mut ghosts = vec![first];
+        let mut g = self.next_ghost(first);
+        while g != first {
+            ghosts.push(g);
+            g = self.next_ghost(g);
+        }
+        let mut on_boundary = vec![false; self.points.len()];
+        for &g in &ghosts {
+            on_boundary[self.ghost_edge(g).0 as usize] = true;
+        }
+        let boundary: Vec<u32> = (0..self.points.len() as u32)
+            .filter(|&v| on_boundary[v as usize])
+            .collect();
+        let mut flips = 0;
+        let mut stack = ghosts;
+        while let Some(g) = stack.pop() {
+            if !self.is_ghost(g) || self.triangles[g as usize][0] == FREE {
+                continue;
+            }
+            let (a, b) = self.ghost_edge(g);
+            let h = self.next_ghost(g);
+            let (_, c) = self.ghost_edge(h);
+            if c == a || orient(self.at(a), self.at(b), self.at(c)) <= 0.0 {
+                continue;
+            }
+            let (pa, pb, pc) = (self.at(a), self.at(b), self.at(c));
+            let (lo, hi) = (pa.min(pb).min(pc), pa.max(pb).max(pc));
+            let blocked = boundary.iter().any(|&v| {
+                let p = self.at(v);
+                on_boundary[v as usize]
+                    && v != a
+                    && v != b
+                    && v != c
+                    && p.cmpge(lo).all()
+                    && p.cmple(hi).all()
+                    && orient(pa, pb, p) >= 0.0
+                    && orient(pb, pc, p) >= 0.0
+                    && orient(pc, pa, p) >= 0.0
+            });
+            if blocked {
+                continue;
+            }
+            // Edge b → DUMMY of g, shared with h.
+            self.flip(g, self.index_in(g, b));
+            flips += 1;
+            on_boundary[b as usize] = false;
+            // g is now (a, b, c) or the ghost (a, c, D); find the ghost.
+            let ghost = if self.is_ghost(g) { g } else { h };
+            stack.push(ghost);
+            stack.push(self.previous_ghost(ghost));
+        }
+        flips
+    }
+
+    /// Moves vertex `v` to `to` if the mesh stays valid there: every triangle
+    /// around it stays counter-clockwise and, on the hull, the hull stays
+    /// convex. Returns whether it moved.
+    pub fn try_move(&mut self, v: u32, to: DVec2) -> bool {
+        let ring = self.ring(v);
+        let mut ghosts = 0;
+        for &(t, i) in &ring {
+            let tv = self.triangles[t as usize];
+            let (a, b) = (tv[next(i)], tv[prev(i)]);
+            if a == DUMMY || b == DUMMY {
+                ghosts += 1;
+            } else if orient(self.at(a), self.at(b), to) <= 0.0 {
+                return false;
+            }
+        }
+        if ghosts > 0 {
+            // The boundary z → u → v → w → y must keep turning clockwise.
+            let before = self.previous_ghost(self.ghost_around(v, true));
+            let after = self.next_ghost(self.ghost_around(v, false));
+            let (z, u) = self.ghost_edge(before);
+            let (w, y) = self.ghost_edge(after);
+            let p = |x: u32| self.at(x);
+            if orient(p(z), p(u), to) > 0.0
+                || orient(p(u), to, p(w)) > 0.0
+                || orient(to, p(w), p(y)) > 0.0
+            {
+                return false;
+            }
+        }
+        self.points[v as usize] = to;
+        true
+    }
+
+    /// The ghost with hull edge u → v (`ending`) or v → w.
+    fn ghost_around(&self, v: u32, ending: bool) -> u32 {
+        self.ring(v)
+            .into_iter()
+            .map(|(t, _)| t)
+            .find(|&t| self.is_ghost(t) && (self.ghost_edge(t).1 == v) == ending)
+            .expect("a hull vertex has two ghosts")
+    }
+
+    /// Takes vertex `v` out of the mesh and fills its hole: an inner vertex's
+    /// star-shaped link by ears, a hull vertex's pocket up to the new convex
+    /// hull. Refused when fewer than four sites would remain.
+    pub fn remove(&mut self, v: u32) -> Result<(), TooFewSites> {
+        if self.present <= 4 {
+            return Err(TooFewSites);
+        }
+        let ring = self.ring(v);
+        // The link cycle, each edge with the triangle beyond it.
+        let mut polygon = Vec::with_capacity(ring.len());
+        let mut outside = Vec::with_capacity(ring.len());
+        for &(t, i) in &ring {
+            polygon.push(self.triangles[t as usize][next(i)]);
+            outside.push(self.adjacent[t as usize][next(i)]);
+        }
+        let new = match polygon.iter().position(|&x| x == DUMMY) {
+            None => self.ears(&polygon),
+            Some(d) => {
+                // Start the chain after the dummy: l0, ..., lk, D.
+                polygon.rotate_left(d + 1);
+                outside.rotate_left(d + 1);
+                self.pocket(&polygon[..polygon.len() - 1])
+            }
+        };
+        for &(t, _) in &ring {
+            self.triangles[t as usize] = [FREE; 3];
+            self.free.push(t);
+        }
+        self.corner[v as usize] = NONE;
+        self.present -= 1;
+        self.stitch(&polygon, &outside, &new);
+        Ok(())
+    }
+
+    /// Ear clipping of a simple counter-clockwise polygon of sites.
+    fn ears(&self, polygon: &[u32]) -> Vec<[u32; 3]> {
+        let mut left = polygon.to_vec();
+        let mut out = Vec::with_capacity(polygon.len() - 2);
+        while left.len() > 3 {
+            let k = left.len();
+            let ear = (0..k)
+                .find(|&i| {
+                    let (a, b, c) = (left[(i + k - 1) % k], left[i], left[(i + 1) % k]);
+                    let (pa, pb, pc) = (self.at(a), self.at(b), self.at(c));
+                    orient(pa, pb, pc) > 0.0
+                        && left.iter().all(|&x| {
+                            let p = self.at(x);
+                            x == a
+                                || x == b
+                                || x == c
+                                || orient(pa, pb, p) < 0.0
+                                || orient(pb, pc, p) < 0.0
+                                || orient(pc, pa, p) < 0.0
+                        })
+                })
+                .expect("a simple polygon has an ear");
+            out.push([left[(ear + k - 1) % k], left[ear], left[(ear + 1) % k]]);
+            left.remove(ear);
+        }
+        out.push([left[0], left[1], left[2]]);
+        out
+    }
+
+    /// The triangles between a removed hull vertex's link chain and the
+    /// chain's convex side toward it (a Graham scan; the chain is sorted by
+    /// angle around the removed vertex), and the ghosts of the new hull edges.
+    fn pocket(&self, chain: &[u32]) -> Vec<[u32; 3]> {
+        let mut out = Vec::new();
+        let mut hull: Vec<u32> = Vec::with_capacity(chain.len());
+        for &c in chain {
+            while hull.len() >= 2 {
+                let (a, b) = (hull[hull.len() - 2], hull[hull.len() - 1]);
+                if orient(self.at(a), self.at(b), self.at(c)) > 0.0 {
+                    out.push([a, b, c]);
+                    hull.pop();
+                } else {
+                    break;
+                }
+            }
+            hull.push(c);
+        }
+        out.extend(hull.windows(2).map(|w| [w[0], w[1], DUMMY]));
+        out
+    }
+
+    /// Puts triangles `new`, which fill `polygon` (edge k from vertex k to
+    /// k + 1, with `outside[k]` beyond it), into the mesh.
+    fn stitch(&mut self, polygon: &[u32], outside: &[u32], new: &[[u32; 3]]) {
+        let slots: Vec<u32> = new.iter().map(|_| self.allocate()).collect();
+        let k = polygon.len();
+        for (j, tv) in new.iter().enumerate() {
+            let mut row = [NONE; 3];
+            for e in 0..3 {
+                let (a, b) = (tv[e], tv[next(e)]);
+                row[e] = match (0..k).find(|&m| polygon[m] == a && polygon[(m + 1) % k] == b) {
+                    Some(m) => {
+                        let out = outside[m];
+                        // The outer triangle's edge b → a pointed into the hole.
+                        let o = self.triangles[out as usize];
+                        let f = (0..3)
+                            .find(|&f| o[f] == b && o[next(f)] == a)
+                            .expect("the outer triangle borders the hole");
+                        self.adjacent[out as usize][f] = slots[j];
+                        out
+                    }
+                    None => {
+                        let twin = new
+                            .iter()
+                            .position(|u| (0..3).any(|f| u[f] == b && u[next(f)] == a))
+                            .expect("an inner edge of the fill has a twin");
+                        slots[twin]
+                    }
+                };
+            }
+            self.set(slots[j], *tv, row);
+        }
+    }
+
+    /// Inserts vertex `v` (not in the mesh, at `points[v]`, distinct from every
+    /// site in it) by a walk from a triangle of `near` (a vertex in the mesh),
+    /// then legalizes the new edges. Returns the flips.
+    pub fn insert(&mut self, v: u32, near: u32) -> usize {
+        let q = self.at(v);
+        let mut t = self.corner[self.slot(near)];
+        loop {
+            if self.is_ghost(t) {
+                let (a, b) = self.ghost_edge(t);
+                if orient(self.at(a), self.at(b), q) > 0.0 {
+                    return self.insert_outside(v, t);
+                }
+                // Step inside across the hull edge.
+                t = self.adjacent[t as usize][self.index_in(t, a)];
+                continue;
+            }
+            // A stochastic walk (a random first edge), which ends in any
+            // triangulation; the edge it came through is never crossed back,
+            // as q lies strictly on this side of it.
+            let tv = self.triangles[t as usize];
+            self.walk ^= self.walk << 13;
+            self.walk ^= self.walk >> 7;
+            self.walk ^= self.walk << 17;
+            let first = (self.walk % 3) as usize;
+            let mut crossed = None;
+            let mut zero = None;
+            let mut zeros = 0;
+            for j in 0..3 {
+                let e = (first + j) % 3;
+                let side = orient(self.at(tv[e]), self.at(tv[next(e)]), q);
+                if side < 0.0 {
+                    crossed = Some(self.adjacent[t as usize][e]);
+                    break;
+                }
+                if side == 0.0 {
+                    zero = Some(e);
+                    zeros += 1;
+                }
+            }
+            if let Some(u) = crossed {
+                t = u;
+                continue;
+            }
+            self.present += 1;
+            return match (zeros, zero) {
+                (0, _) => self.split_triangle(t, v),
+                (1, Some(e)) => self.split_edge(t, e, v),
+                _ => panic!("inserted point {v} coincides with a site"),
+            };
+        }
+    }
+
+    fn split_triangle(&mut self, t: u32, q: u32) -> usize {
+        let [a, b, c] = self.triangles[t as usize];
+        let [n_ab, n_bc, n_ca] = self.adjacent[t as usize];
+        let (t1, t2) = (self.allocate(), self.allocate());
+        self.set(t1, [b, c, q], [n_bc, t2, t]);
+        self.set(t2, [c, a, q], [n_ca, t, t1]);
+        self.set(t, [a, b, q], [n_ab, t1, t2]);
+        self.repoint(n_bc, t, t1);
+        self.repoint(n_ca, t, t2);
+        self.legalize(vec![(t, 0), (t1, 0), (t2, 0)])
+    }
+
+    fn split_edge(&mut self, t: u32, e: usize, q: u32) -> usize {
+        let u = self.adjacent[t as usize][e];
+        let f = self.adjacent[u as usize]
+            .iter()
+            .position(|&w| w == t)
+            .expect("twins");
+        let [tv, ta] = [self.triangles[t as usize], self.adjacent[t as usize]];
+        let [uv, ua] = [self.triangles[u as usize], self.adjacent[u as usize]];
+        let (a, b, c, d) = (tv[e], tv[next(e)], tv[prev(e)], uv[prev(f)]);
+        let (n_bc, n_ca, n_ad, n_db) = (ta[next(e)], ta[prev(e)], ua[next(f)], ua[prev(f)]);
+        let (t1, u1) = (self.allocate(), self.allocate());
+        self.set(t, [q, b, c], [u1, n_bc, t1]);
+        self.set(t1, [a, q, c], [u, t, n_ca]);
+        self.set(u, [q, a, d], [t1, n_ad, u1]);
+        self.set(u1, [b, q, d], [t, u, n_db]);
+        self.repoint(n_ca, t, t1);
+        self.repoint(n_db, u, u1);
+        self.legalize(vec![(t, 1), (t1, 2), (u, 1), (u1, 2)])
+    }
+
+    /// Inserts `q` beyond the hull edge of ghost `g`, then flips ghosts until
+    /// the hull is convex again.
+    fn insert_outside(&mut self, q: u32, g: u32) -> usize {
+        let (a, b) = self.ghost_edge(g);
+        let i = self.index_in(g, DUMMY);
+        let row = self.adjacent[g as usize];
+        // Neighbours of (a, b, D): across a → b, b → D, D → a.
+        let (n_ab, n_bd, n_da) = (row[next(i)], row[prev(i)], row[i]);
+        let (g1, g2) = (self.allocate(), self.allocate());
+        self.set(g, [a, b, q], [n_ab, g2, g1]);
+        self.set(g1, [a, q, DUMMY], [g, g2, n_da]);
+        self.set(g2, [q, b, DUMMY], [g, n_bd, g1]);
+        self.repoint(n_da, g, g1);
+        self.repoint(n_bd, g, g2);
+        self.present += 1;
+        let mut flips = 0;
+        let mut inner = vec![(g, 0)];
+        // Walk back over a while z → a → q turns left, then on over b.
+        let mut ghost = g1;
+        loop {
+            let before = self.previous_ghost(ghost);
+            let (z, a) = self.ghost_edge(before);
+            if orient(self.at(z), self.at(a), self.at(q)) <= 0.0 {
+                break;
+            }
+            // Edge a → DUMMY of `before`, shared with `ghost`.
+            self.flip(before, self.index_in(before, a));
+            flips += 1;
+            // `before` is now (z, a, q): its edge z → a is inner.
+            inner.push((before, 0));
+            ghost = if self.is_ghost(before) { before } else { ghost };
+        }
+        let mut ghost = g2;
+        loop {
+            let after = self.next_ghost(ghost);
+            let (b, y) = self.ghost_edge(after);
+            if orient(self.at(q), self.at(b), self.at(y)) <= 0.0 {
+                break;
+            }
+            let finite = ghost;
+            self.flip(ghost, self.index_in(ghost, b));
+            flips += 1;
+            // `finite` is now (q, b, y): its edge b → y is inner.
+            inner.push((finite, 1));
+            ghost = if self.is_ghost(ghost) { ghost } else { after };
+        }
+        flips + self.legalize(inner)
+    }
+}

@@ -1,0 +1,261 @@
+//! The Delaunay triangulation from the digital Voronoi diagram, checked
+//! against spade and against the empty-circle property itself.
+
+mod common;
+
+use std::collections::HashMap;
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::delaunay::{delaunay, Delaunay, DelaunayOptions},
+    geometry::triangulation::check_delaunay,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Triangles with the smallest vertex first, sorted.
+fn canonical(mut triangles: Vec<[u32; 3]>) -> Vec<[u32; 3]> {
+    for t in &mut triangles {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+        t.rotate_left(k);
+    }
+    triangles.sort_unstable();
+    triangles
+}
+
+fn distinct_indices(points: &[DVec2], result: &Delaunay) -> Vec<u32> {
+    let dropped: std::collections::HashSet<u32> = result.duplicates.iter().map(|d| d[0]).collect();
+    (0..points.len() as u32)
+        .filter(|v| !dropped.contains(v))
+        .collect()
+}
+
+/// Triangulates and runs the delaunator-style checks; with `brute`, also the
+/// empty-circle property against every point.
+fn triangulate(name: &str, points: &[DVec2], options: &DelaunayOptions, brute: bool) -> Delaunay {
+    let machine = common::machine();
+    let result = delaunay(&machine, points, options).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let expected = distinct_indices(points, &result);
+    let problems = check_delaunay(points, &result.triangles, &expected);
+    assert!(problems.is_empty(), "{name}: {problems:?}");
+    if brute {
+        let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
+        for t in &result.triangles {
+            let [a, b, d] = t.map(|v| c(points[v as usize]));
+            for &v in &expected {
+                assert!(
+                    t.contains(&v) || robust::incircle(a, b, d, c(points[v as usize])) <= 0.0,
+                    "{name}: point {v} inside the circle of {t:?}"
+                );
+            }
+        }
+    }
+    // The validator and the mesh's own checks agree on the digital
+    // triangulation.
+    if let Some(validity) = &result.digital_validity {
+        match &result.stats.incremental {
+            None => assert!(validity.is_valid(), "{name}: {:?}", validity.problems),
+            Some(why) if why.contains("not valid") => assert!(!validity.is_valid(), "{name}"),
+            Some(_) => {}
+        }
+    }
+    result
+}
+
+fn spade_triangles(points: &[DVec2]) -> Vec<[u32; 3]> {
+    use spade::{DelaunayTriangulation, Point2, Triangulation};
+    let t: DelaunayTriangulation<Point2<f64>> =
+        DelaunayTriangulation::bulk_load(points.iter().map(|p| Point2::new(p.x, p.y)).collect())
+            .unwrap();
+    let index: HashMap<(u64, u64), u32> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i as u32))
+        .collect();
+    t.inner_faces()
+        .map(|f| {
+            f.vertices()
+                .map(|v| index[&(v.position().x.to_bits(), v.position().y.to_bits())])
+        })
+        .collect()
+}
+
+fn checked() -> DelaunayOptions {
+    DelaunayOptions {
+        check: true,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn random_points_give_spades_triangulation() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for (n, scale) in [(50, 1.0), (2000, 1.0), (5000, 1e-3), (3000, 1e6)] {
+        let points: Vec<DVec2> = (0..n)
+            .map(|_| DVec2::new(rng.gen::<f64>(), rng.gen::<f64>() * 0.7) * scale + 17.0 * scale)
+            .collect();
+        let result = triangulate("uniform", &points, &checked(), n <= 2000);
+        assert_eq!(
+            canonical(result.triangles.clone()),
+            canonical(spade_triangles(&points)),
+            "n = {n}, scale {scale}"
+        );
+        assert!(result.stats.incremental.is_none(), "{:?}", result.stats);
+        assert!(result.stats.moved > 0);
+    }
+}
+
+#[test]
+fn crowded_grids_insert_what_shares_a_pixel() {
+    // 4000 points on a 64-pixel grid: most pixels hold several.
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let points: Vec<DVec2> = (0..4000)
+        .map(|_| DVec2::new(rng.gen::<f64>() * 10.0, rng.gen::<f64>() * 10.0))
+        .collect();
+    let options = DelaunayOptions {
+        grid: Some(64),
+        check: true,
+    };
+    let result = triangulate("crowded", &points, &options, false);
+    assert!(result.stats.inserted > 2000, "{:?}", result.stats);
+    assert_eq!(
+        canonical(result.triangles.clone()),
+        canonical(spade_triangles(&points))
+    );
+}
+
+#[test]
+fn degenerate_inputs_are_delaunay() {
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let mut cases: Vec<(&str, Vec<DVec2>)> = Vec::new();
+    cases.push(("clustered", common::clustered(&mut rng, 1500, 300.0, 200.0)));
+    // A lattice: every square's four corners are co-circular.
+    cases.push((
+        "lattice",
+        (0..900)
+            .map(|k| DVec2::new((k % 30) as f64 * 0.5, (k / 30) as f64 * 0.5))
+            .collect(),
+    ));
+    // A lattice on a grid whose pixels do not match it.
+    cases.push((
+        "fine lattice",
+        (0..2500)
+            .map(|k| DVec2::new((k % 50) as f64, (k / 50) as f64))
+            .collect(),
+    ));
+    // Nearly collinear: a line with tiny offsets, and two points off it.
+    let mut line: Vec<DVec2> = (0..400)
+        .map(|i| {
+            let t = i as f64 / 400.0;
+            DVec2::new(t, 0.5 * t + 1e-9 * rng.gen::<f64>())
+        })
+        .collect();
+    line.push(DVec2::new(0.3, 0.9));
+    line.push(DVec2::new(0.6, -0.2));
+    cases.push(("nearly collinear", line));
+    // Points on a circle: all co-circular.
+    cases.push((
+        "circle",
+        (0..64)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / 64.0;
+                DVec2::new(a.cos(), a.sin())
+            })
+            .chain([DVec2::ZERO])
+            .collect(),
+    ));
+    // Duplicates, and -0.0 beside 0.0.
+    let mut dup = common::uniform(&mut rng, 300, 50.0, 50.0);
+    dup.extend(dup.clone());
+    dup.push(DVec2::new(0.0, 0.0));
+    dup.push(DVec2::new(-0.0, 0.0));
+    cases.push(("duplicates", dup));
+    for (name, points) in cases {
+        let result = triangulate(name, &points, &checked(), points.len() <= 2500);
+        if name == "duplicates" {
+            assert_eq!(result.duplicates.len(), 301, "{name}");
+            assert!(result
+                .duplicates
+                .iter()
+                .all(|&[d, k]| d > k && points[d as usize] == points[k as usize]));
+        }
+        if name == "lattice" || name == "fine lattice" {
+            // Two triangles per lattice square.
+            let side = if name == "lattice" { 30 } else { 50 };
+            assert_eq!(
+                result.triangles.len(),
+                2 * (side - 1) * (side - 1),
+                "{name}"
+            );
+        }
+    }
+}
+
+#[test]
+fn tiny_inputs_and_every_grid_size() {
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    // Few points leave big regions, and one that reaches the texture's border
+    // twice makes the outside meet it twice: the digital triangulation is then
+    // not valid, and the points are inserted one by one instead.
+    let mut invalid = 0;
+    for n in (3..40).chain(3..40) {
+        let points = common::uniform(&mut rng, n, 10.0, 10.0);
+        let result = triangulate("tiny", &points, &DelaunayOptions::default(), true);
+        assert_eq!(
+            canonical(result.triangles),
+            canonical(spade_triangles(&points))
+        );
+        let reason = result.stats.incremental.unwrap_or_default();
+        invalid += usize::from(reason.contains("not valid"));
+    }
+    eprintln!("{invalid} of 74 small sets had an invalid digital triangulation");
+    assert!(invalid > 0);
+    let points = common::uniform(&mut rng, 700, 10.0, 3.0);
+    for grid in [10, 16, 40, 100, 1000] {
+        let options = DelaunayOptions {
+            grid: Some(grid),
+            check: true,
+        };
+        let result = triangulate("grid", &points, &options, true);
+        assert_eq!(
+            canonical(result.triangles),
+            canonical(spade_triangles(&points)),
+            "grid {grid}"
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let machine = common::machine();
+    let options = DelaunayOptions::default();
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    for (points, says) in [
+        (vec![p(0.0, 0.0), p(1.0, 1.0)], "three distinct"),
+        (
+            vec![p(0.0, 0.0), p(1.0, 1.0), p(1.0, 1.0)],
+            "three distinct",
+        ),
+        (vec![p(0.0, 0.0), p(1.0, 1.0), p(2.0, 2.0)], "one line"),
+        (
+            vec![p(0.0, 0.0), p(f64::NAN, 1.0), p(2.0, 0.0)],
+            "not finite",
+        ),
+    ] {
+        let error = delaunay(&machine, &points, &options)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(says), "{error}");
+    }
+    let error = delaunay(
+        &machine,
+        &[p(0.0, 0.0), p(1.0, 0.0), p(0.0, 1.0)],
+        &DelaunayOptions {
+            grid: Some(5),
+            check: false,
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("margins"), "{error}");
+}
