@@ -582,3 +582,59 @@ fn voronoi_floods_and_jump_floods_seed_pixels() {
     ]);
     assert!(!ok && stderr.contains("fall in pixel"), "{stderr}");
 }
+
+#[test]
+fn delaunay_writes_triangle_files_json_and_a_picture() {
+    let sites = temp("dt.csv");
+    let mut text = String::from("x,y\n");
+    for k in 0..200 {
+        // A jittered lattice with one repeated point.
+        let (x, y) = (
+            (k % 20) as f64 + 0.001 * (k * 7 % 13) as f64,
+            (k / 20) as f64,
+        );
+        text += &format!("{x},{y}\n");
+    }
+    text += "0,0\n";
+    std::fs::write(&sites, text).unwrap();
+    let (prefix, png) = (temp("mesh"), temp("dt.png"));
+    let (ok, stdout, stderr) = pixgeo(&[
+        "delaunay",
+        "--sites",
+        sites.to_str().unwrap(),
+        "--out",
+        prefix.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--check",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("1 repeated"), "{stdout}");
+    assert!(stdout.contains("digital triangulation valid"), "{stdout}");
+    assert!(stdout.contains("every edge locally Delaunay"), "{stdout}");
+    let node = std::fs::read_to_string(prefix.with_extension("node")).unwrap();
+    let ele = std::fs::read_to_string(prefix.with_extension("ele")).unwrap();
+    assert!(node.starts_with("201 2 0 0\n"), "{node}");
+    let header: Vec<usize> = ele
+        .lines()
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(header[1..], [3, 0]);
+    assert_eq!(ele.lines().count(), header[0] + 1);
+    assert!(image::open(&png).is_ok());
+
+    let (ok, stdout, _) = pixgeo(&["delaunay", "--sites", sites.to_str().unwrap(), "--json"]);
+    assert!(ok);
+    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(json["triangles"].as_array().unwrap().len(), header[0]);
+    assert_eq!(json["duplicates"][0], serde_json::json!([200, 0]));
+
+    std::fs::write(&sites, "0,0\n1,1\n2,2\n").unwrap();
+    let (ok, _, stderr) = pixgeo(&["delaunay", "--sites", sites.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("one line"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&["delaunay"]);
+    assert!(!ok && stderr.contains("--sites"), "{stderr}");
+}

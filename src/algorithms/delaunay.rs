@@ -155,14 +155,14 @@ pub fn delaunay(
     if points.len() >= u32::MAX as usize / 2 {
         return Err(Error::InvalidInput("too many points".into()));
     }
-    let (unique, duplicates) = distinct(points);
+    let (mut unique, duplicates) = distinct(points);
     if unique.len() < 3 {
         return Err(Error::InvalidInput(format!(
             "a triangulation needs three distinct points; there are {}",
             unique.len()
         )));
     }
-    let real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).collect();
+    let mut real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).collect();
     if !(2..real.len()).any(|k| orient(real[0], real[1], real[k]) != 0.0) {
         return Err(Error::InvalidInput(
             "all points lie on one line: there is no triangle".into(),
@@ -178,6 +178,11 @@ pub fn delaunay(
         .iter()
         .fold((real[0], real[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
     let side = options.grid.unwrap_or_else(|| default_grid(real.len()));
+    if side > 1 << 16 {
+        return Err(Error::InvalidInput(format!(
+            "a grid of {side} pixels is larger than 65536"
+        )));
+    }
     if side < 2 * MARGIN + 2 {
         return Err(Error::InvalidInput(format!(
             "a grid of {side} pixels leaves no room inside its {MARGIN}-pixel margins"
@@ -199,6 +204,15 @@ pub fn delaunay(
             (g.y as i32).clamp(0, height as i32 - 1),
         ]
     };
+    // Work in Hilbert order over the pixels, so that neighbours in the mesh
+    // are mostly neighbours in memory.
+    let mut order: Vec<u32> = (0..real.len() as u32).collect();
+    order.sort_by_cached_key(|&k| {
+        let s = pixel_of(real[k as usize]);
+        hilbert(s[0] as u32, s[1] as u32)
+    });
+    unique = order.iter().map(|&k| unique[k as usize]).collect();
+    real = order.iter().map(|&k| real[k as usize]).collect();
     let mut seed_at = vec![u32::MAX; width as usize * height as usize];
     let mut seeds: Vec<Seed> = Vec::new();
     let mut seed_point: Vec<u32> = Vec::new();
@@ -290,6 +304,8 @@ pub fn delaunay(
                 is_seed[v as usize] = true;
             }
             pending.extend((0..real.len() as u32).filter(|&v| !is_seed[v as usize]));
+            // In Hilbert order, each walk starting near the last point.
+            pending.sort_unstable();
             let mut last = *seed_point
                 .iter()
                 .find(|&&v| mesh.contains(v))
@@ -389,8 +405,8 @@ fn hilbert(mut x: u32, mut y: u32) -> u64 {
         d += (s as u64) * (s as u64) * ((3 * rx) ^ ry) as u64;
         if ry == 0 {
             if rx == 1 {
-                x = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(x) & 0xFFFF;
-                y = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(y) & 0xFFFF;
+                x = 0xFFFF - x;
+                y = 0xFFFF - y;
             }
             std::mem::swap(&mut x, &mut y);
         }
@@ -429,4 +445,62 @@ fn insert_all(points: Vec<DVec2>) -> (Mesh, usize) {
         last = v;
     }
     (mesh, flips)
+}
+
+/// A picture like Cao, Edelsbrunner and Tan's Fig. 3: the digital Voronoi
+/// diagram (each pixel `zoom` pixels wide, `zoom` chosen so the longer side is
+/// about `side`) with the Delaunay triangulation drawn over it in dark lines
+/// and the points as dots. Returns width, height and RGB bytes.
+pub fn picture(result: &Delaunay, points: &[DVec2], side: u32) -> (u32, u32, Vec<u8>) {
+    let d = &result.digital;
+    let zoom = (side / d.width.max(d.height)).max(1);
+    let (w, h) = (d.width * zoom, d.height * zoom);
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let label = d.labels[((y / zoom) * d.width + x / zoom) as usize];
+            let colour = crate::io::picture::site_color(label);
+            let k = ((y * w + x) * 3) as usize;
+            rgb[k..k + 3].copy_from_slice(&colour);
+        }
+    }
+    // Pixel (i, j) of the texture covers [i, i + 1) x [j, j + 1) of the
+    // picture's texture units, its centre at (i + 1/2, j + 1/2).
+    let at = |p: DVec2| (d.to_pixels(p) + 0.5) * zoom as f64;
+    let mut darken = |x: i64, y: i64, f: f32| {
+        if x >= 0 && y >= 0 && x < w as i64 && y < h as i64 {
+            let k = ((y as u32 * w + x as u32) * 3) as usize;
+            for c in &mut rgb[k..k + 3] {
+                *c = (*c as f32 * f) as u8;
+            }
+        }
+    };
+    let mut edges: Vec<(u32, u32)> = result
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |e| (t[e].min(t[(e + 1) % 3]), t[e].max(t[(e + 1) % 3]))))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    for (a, b) in edges {
+        let (p, q) = (at(points[a as usize]), at(points[b as usize]));
+        let steps = (q - p).abs().max_element().ceil().max(1.0) as usize;
+        for s in 0..=steps {
+            let r = p + (q - p) * (s as f64 / steps as f64);
+            darken(r.x.floor() as i64, r.y.floor() as i64, 0.25);
+        }
+    }
+    // Every point as a dot about a quarter of a texture pixel across.
+    let radius = (zoom as i64 / 4).max(1);
+    for p in points {
+        let r = at(*p);
+        for dy in -radius..=radius {
+            for dx in -radius..=radius {
+                if dx * dx + dy * dy <= radius * radius {
+                    darken(r.x.floor() as i64 + dx, r.y.floor() as i64 + dy, 0.0);
+                }
+            }
+        }
+    }
+    (w, h, rgb)
 }

@@ -2,6 +2,7 @@
 
 mod alpha;
 mod area;
+mod delaunay;
 mod distances;
 mod gallery;
 mod homothet;
@@ -38,6 +39,7 @@ enum Command {
     Alpha(alpha::Args),
     Triangle(area::TriangleArgs),
     Quadrangle(area::QuadrangleArgs),
+    Delaunay(Box<delaunay::Args>),
     Gallery(gallery::Args),
 }
 
@@ -53,6 +55,7 @@ fn main() -> anyhow::Result<()> {
         Command::Alpha(args) => alpha::run(args),
         Command::Triangle(args) => area::triangle(args),
         Command::Quadrangle(args) => area::quadrangle(args),
+        Command::Delaunay(args) => delaunay::run(*args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

@@ -1,0 +1,153 @@
+//! Delaunay triangulations of n uniform random points, pixgeo's digital way
+//! phase by phase, beside Shewchuk's Triangle (PyPI `triangle`, run by
+//! `tools/peer_triangle.py`), `spade` and `delaunator` in the same run.
+//!
+//! `cargo bench --bench delaunay` writes `target/delaunay/delaunay.md`;
+//! `DELAUNAY_N` sets the point counts, `DELAUNAY_REPEATS` the repeats
+//! (median). Triangle is skipped with a note if Python cannot import it
+//! (`tools/setup --bench` installs it).
+
+use std::{path::PathBuf, process::Command};
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::delaunay::{delaunay, Delaunay, DelaunayOptions},
+    Machine,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+mod common {
+    pub mod timing;
+}
+use common::timing::{env_list, time};
+
+fn points(n: usize) -> Vec<DVec2> {
+    let mut rng = ChaCha8Rng::seed_from_u64(n as u64);
+    (0..n).map(|_| DVec2::new(rng.gen(), rng.gen())).collect()
+}
+
+/// Triangle's median time and triangle count per file, if Python has it.
+fn triangle_peer(repeats: usize, files: &[PathBuf]) -> Option<serde_json::Value> {
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tools/peer_triangle.py");
+    let output = Command::new("python3")
+        .arg(script)
+        .arg(repeats.to_string())
+        .args(files)
+        .output()
+        .ok()?;
+    if !output.status.success() {
+        eprintln!(
+            "Triangle skipped: {}",
+            String::from_utf8_lossy(&output.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+        );
+        return None;
+    }
+    serde_json::from_slice(&output.stdout).ok()
+}
+
+fn main() -> anyhow::Result<()> {
+    let ns = env_list("DELAUNAY_N", &[10_000, 100_000, 1_000_000]);
+    let repeats = env_list("DELAUNAY_REPEATS", &[3])[0].max(1);
+    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/delaunay");
+    std::fs::create_dir_all(&out_dir)?;
+    let machine = Machine::from_env()?;
+    eprintln!("device: {}", machine.device_name());
+    delaunay(&machine, &points(1000), &DelaunayOptions::default())?;
+
+    let files: Vec<PathBuf> = ns
+        .iter()
+        .map(|&n| {
+            let path = out_dir.join(format!("points_{n}.npy"));
+            let flat: Vec<f64> = points(n).iter().flat_map(|p| [p.x, p.y]).collect();
+            pixgeo::io::npy::write(&path, &[n as u64, 2], &flat)?;
+            Ok(path)
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let peer = triangle_peer(repeats, &files);
+
+    let mut table = String::from(
+        "| n | grid | pixgeo (ms) | colouring | repair | dualization | shifting | insertion | flips | Triangle (ms) | spade (ms) | delaunator (ms) | pixgeo / Triangle | pixgeo / delaunator |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut fixes = String::from(
+        "| n | seeds | debris recoloured | hull flips | seeds moved | seeds taken out | points inserted | insertion flips | Lawson flips | triangles |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (&n, file) in ns.iter().zip(&files) {
+        let pts = points(n);
+        let (ours, result): (f64, Delaunay) = time(repeats, || {
+            Ok(delaunay(&machine, &pts, &DelaunayOptions::default())?)
+        })?;
+        let (spade_ms, spade_count) = time(repeats, || {
+            use spade::{DelaunayTriangulation, Point2, Triangulation};
+            let t: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::bulk_load(
+                pts.iter().map(|p| Point2::new(p.x, p.y)).collect(),
+            )?;
+            Ok(t.num_inner_faces())
+        })?;
+        let (delaunator_ms, delaunator_count) = time(repeats, || {
+            let input: Vec<delaunator::Point> = pts
+                .iter()
+                .map(|p| delaunator::Point { x: p.x, y: p.y })
+                .collect();
+            Ok(delaunator::triangulate(&input).len())
+        })?;
+        let (triangle_ms, triangle_count) = peer
+            .as_ref()
+            .and_then(|v| v.get(file.to_str()?))
+            .map_or((f64::NAN, 0), |v| {
+                (
+                    v[0].as_f64().unwrap_or(f64::NAN),
+                    v[1].as_u64().unwrap_or(0) as usize,
+                )
+            });
+        let s = &result.stats;
+        let f = &s.flooding;
+        eprintln!(
+            "n = {n}: pixgeo {ours:.1} ms ({} triangles), Triangle {triangle_ms:.1} ({triangle_count}), spade {spade_ms:.1} ({spade_count}), delaunator {delaunator_ms:.1} ({delaunator_count}); {s:?}",
+            result.triangles.len()
+        );
+        let fmt = |x: f64| {
+            if x.is_nan() {
+                "–".to_string()
+            } else {
+                format!("{x:.1}")
+            }
+        };
+        table += &format!(
+            "| {n} | {}×{} | {ours:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {spade_ms:.1} | {delaunator_ms:.1} | {} | {:.2}× |\n",
+            s.width,
+            s.height,
+            f.colour_ms,
+            f.debris_ms + f.repair_ms,
+            s.dualize_ms,
+            s.shift_ms,
+            s.insert_ms,
+            s.flip_ms,
+            fmt(triangle_ms),
+            if triangle_ms.is_nan() { "–".into() } else { format!("{:.2}×", ours / triangle_ms) },
+            ours / delaunator_ms,
+        );
+        fixes += &format!(
+            "| {n} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            s.seeds,
+            f.recoloured,
+            s.hull_flips,
+            s.moved,
+            s.taken_out,
+            s.inserted,
+            s.insertion_flips,
+            s.delaunay_flips,
+            result.triangles.len(),
+        );
+    }
+    let text = format!(
+        "Delaunay triangulations of n uniform random points in the unit square, device {}; median of {repeats}. Phases in ms; the grid is pixgeo's default (about four pixels per point).\n\n{table}\nWhat each phase had to fix:\n\n{fixes}",
+        machine.device_name()
+    );
+    std::fs::write(out_dir.join("delaunay.md"), &text)?;
+    println!("{text}");
+    Ok(())
+}

@@ -1,0 +1,213 @@
+//! `pixgeo delaunay`: the Delaunay triangulation of points from their digital
+//! Voronoi diagram (Cao, Edelsbrunner and Tan 2015).
+
+use std::{io::Write, path::PathBuf};
+
+use anyhow::{bail, Context, Result};
+use clap::Args as ClapArgs;
+use glam::DVec2;
+use pixgeo::{
+    algorithms::delaunay::{self, Delaunay, DelaunayOptions},
+    geometry::{triangulation::check_delaunay, Frame},
+    io::{picture::PngStream, sites},
+};
+
+use crate::distances::machine_on;
+
+/// The Delaunay triangulation of points, from a digital Voronoi diagram.
+///
+/// The points' bounding box is laid over a texture (--grid pixels along its
+/// longer side, about four pixels per point by default); one point per pixel
+/// becomes a seed. Flooding colours the texture so that every region is
+/// connected, and its dual is a valid triangulation of the seeds (Cao,
+/// Edelsbrunner and Tan 2015). The seeds are then moved to their true
+/// positions, the points that shared a pixel inserted, and edges flipped with
+/// exact predicates until the triangulation is Delaunay for the real input.
+/// Repeated points are reported and dropped.
+///
+/// Examples:
+///
+///   pixgeo delaunay --sites points.csv --out mesh        # mesh.node, mesh.ele
+///   pixgeo delaunay --random 2000 -o fig3.png --check
+///   pixgeo delaunay --sites points.csv --json > mesh.json
+#[derive(ClapArgs)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// Points: CSV `x,y` per line (optional header) or JSON `[[x, y], ...]`.
+    #[arg(long, value_name = "FILE", required_unless_present = "random")]
+    sites: Option<PathBuf>,
+    /// Use N uniformly random points in a 1000 x 1000 square instead.
+    #[arg(long, value_name = "N", conflicts_with = "sites")]
+    random: Option<usize>,
+    /// Seed of --random.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Write the triangulation in Triangle's formats: PREFIX.node (every input
+    /// point, numbered from 0) and PREFIX.ele (counter-clockwise triangles).
+    #[arg(long, value_name = "PREFIX")]
+    out: Option<PathBuf>,
+    /// Print the mesh as JSON: points, triangles, duplicates, phase statistics.
+    #[arg(long)]
+    json: bool,
+    /// Write a PNG: the digital Voronoi diagram with the triangulation over it
+    /// (like the paper's Fig. 3).
+    #[arg(short = 'o', long = "output", value_name = "PNG")]
+    output: Option<PathBuf>,
+    /// Longest side of the PNG in pixels (each texture pixel is drawn as a
+    /// square block).
+    #[arg(long, default_value_t = 1024, value_name = "PIXELS")]
+    picture_size: u32,
+    /// Texture pixels along the longer side of the bounding box (default: about
+    /// 2 √n, at least 64). Any size gives the same triangulation; it changes
+    /// how much is left to insertion and flips.
+    #[arg(long, value_name = "PIXELS")]
+    grid: Option<u32>,
+    /// Check the digital triangulation (conditions I–III of a valid
+    /// triangulation) and the result (orientation, half-edges, convex hull,
+    /// area, empty circles); fail if the result is wrong.
+    #[arg(long)]
+    check: bool,
+    /// Device: auto, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
+    #[arg(long)]
+    device: Option<String>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let points = match (&args.sites, args.random) {
+        (Some(path), _) => sites::read_sites(path)?,
+        (None, Some(n)) => sites::random_sites(n, args.seed, &Frame::pixels(1000, 1000)?),
+        (None, None) => bail!("give --sites FILE or --random N"),
+    };
+    let machine = machine_on(args.device.as_deref())?;
+    let options = DelaunayOptions {
+        grid: args.grid,
+        check: args.check,
+    };
+    let result = delaunay::delaunay(&machine, &points, &options)?;
+    let problems = if args.check {
+        let dropped: std::collections::HashSet<u32> =
+            result.duplicates.iter().map(|d| d[0]).collect();
+        let expected: Vec<u32> = (0..points.len() as u32)
+            .filter(|v| !dropped.contains(v))
+            .collect();
+        Some(check_delaunay(&points, &result.triangles, &expected))
+    } else {
+        None
+    };
+    if let Some(prefix) = &args.out {
+        write_triangle_files(prefix, &points, &result)?;
+    }
+    if let Some(path) = &args.output {
+        let (w, h, rgb) = delaunay::picture(&result, &points, args.picture_size);
+        let mut png = PngStream::create(path, w, h)?;
+        png.write(&rgb)?;
+        png.finish()?;
+    }
+    if args.json {
+        let mesh = serde_json::json!({
+            "points": points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+            "triangles": result.triangles,
+            "duplicates": result.duplicates,
+            "digital_validity": result.digital_validity,
+            "check": problems,
+            "stats": result.stats,
+        });
+        println!("{}", serde_json::to_string(&mesh)?);
+    } else {
+        report(&result, points.len(), problems.as_deref());
+    }
+    if let Some(problems) = problems {
+        if !problems.is_empty() {
+            bail!("the triangulation failed its check: {problems:?}");
+        }
+    }
+    Ok(())
+}
+
+fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
+    let s = &result.stats;
+    let f = &s.flooding;
+    println!(
+        "{n} points ({} repeated, dropped): {} Delaunay triangles",
+        result.duplicates.len(),
+        result.triangles.len()
+    );
+    println!(
+        "  grid {}x{} ({} per pixel): {} seeds, {} points shared a pixel",
+        s.width,
+        s.height,
+        s.cell,
+        s.seeds,
+        s.points - s.seeds
+    );
+    println!(
+        "  colouring {:.1} ms, repair {:.1} ms ({} debris pixels recoloured), dualization {:.1} ms ({} triangles)",
+        f.colour_ms,
+        f.debris_ms + f.repair_ms,
+        f.recoloured,
+        s.dualize_ms,
+        s.digital_triangles
+    );
+    println!(
+        "  shifting {:.1} ms ({} hull flips, {} seeds moved, {} taken out), insertion {:.1} ms ({} points, {} flips), flips {:.1} ms ({})",
+        s.shift_ms,
+        s.hull_flips,
+        s.moved,
+        s.taken_out,
+        s.insert_ms,
+        s.inserted,
+        s.insertion_flips,
+        s.flip_ms,
+        s.delaunay_flips
+    );
+    if let Some(why) = &s.incremental {
+        println!("  built by insertion alone: {why}");
+    }
+    if let Some(v) = &result.digital_validity {
+        if v.is_valid() {
+            println!(
+                "  digital triangulation valid: V {} E {} F {}, V - E + F = {}",
+                v.vertices, v.edges, v.triangles, v.euler_characteristic
+            );
+        } else {
+            println!("  digital triangulation NOT valid: {:?}", v.problems);
+        }
+    }
+    match problems {
+        Some([]) => println!("  check: counter-clockwise, half-edges paired, hull convex, areas add up, every edge locally Delaunay"),
+        Some(p) => println!("  check FAILED: {p:?}"),
+        None => {}
+    }
+}
+
+/// PREFIX.node and PREFIX.ele in Triangle's formats, numbered from 0.
+fn write_triangle_files(
+    prefix: &std::path::Path,
+    points: &[DVec2],
+    result: &Delaunay,
+) -> Result<()> {
+    let path = |ext: &str| {
+        let mut p = prefix.as_os_str().to_owned();
+        p.push(ext);
+        PathBuf::from(p)
+    };
+    let node = path(".node");
+    let mut w = std::io::BufWriter::new(
+        std::fs::File::create(&node).with_context(|| format!("creating {}", node.display()))?,
+    );
+    writeln!(w, "{} 2 0 0", points.len())?;
+    for (i, p) in points.iter().enumerate() {
+        writeln!(w, "{i} {:?} {:?}", p.x, p.y)?;
+    }
+    w.flush()?;
+    let ele = path(".ele");
+    let mut w = std::io::BufWriter::new(
+        std::fs::File::create(&ele).with_context(|| format!("creating {}", ele.display()))?,
+    );
+    writeln!(w, "{} 3 0", result.triangles.len())?;
+    for (k, t) in result.triangles.iter().enumerate() {
+        writeln!(w, "{k} {} {} {}", t[0], t[1], t[2])?;
+    }
+    w.flush()?;
+    Ok(())
+}
