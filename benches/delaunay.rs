@@ -144,7 +144,7 @@ fn main() -> anyhow::Result<()> {
         );
     }
     let text = format!(
-        "Delaunay triangulations of n uniform random points in the unit square, device {}; median of {repeats}. Phases in ms; the grid is pixgeo's default (about four pixels per point).\n\n{table}\nWhat each phase had to fix:\n\n{fixes}",
+        "Delaunay triangulations of n uniform random points in the unit square, device {}; median of {repeats}. Phases in ms; the grid is pixgeo's default (about one pixel per point).\n\n{table}\nWhat each phase had to fix:\n\n{fixes}",
         machine.device_name()
     );
     std::fs::write(out_dir.join("delaunay.md"), &text)?;

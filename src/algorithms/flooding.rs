@@ -7,9 +7,9 @@
 //! part connected to the seed), so the two colourings differ only on E's
 //! debris. pixgeo therefore:
 //!
-//! 1. draws the Euclidean colouring with exact cones, the nearest seed per
-//!    pixel, ties broken by the seeds' coordinates as the total order breaks
-//!    them (the cones' keys are (squared distance, id) with ids in that order);
+//! 1. computes the Euclidean colouring exactly in two compute passes, the
+//!    nearest seed per pixel, ties broken by the seeds' coordinates as the
+//!    total order breaks them;
 //! 2. finds the debris: a debris component's nearest pixel to its seed has no
 //!    neighbour of its colour nearer to the seed, which no bulk pixel but the
 //!    seed lacks (the lemma's proof), so the components of those "roots" are
@@ -24,17 +24,11 @@
 
 use std::{cmp::Reverse, collections::BinaryHeap, time::Instant};
 
-use glam::DVec2;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::{
-    algorithms::{
-        higher_order::{k_nearest, KNearestOptions},
-        voronoi::{Accuracy, Speedup},
-    },
     error::Result,
-    geometry::{metric::Metric, Frame},
     machine::{BufferKernel, Machine},
     reference::flooding::{check_seeds, neighbours, priority, Priority, Seed},
 };
@@ -69,7 +63,9 @@ fn ms(since: Instant) -> f64 {
 }
 
 /// The Euclidean colouring of `seeds` on the device, ties broken by the
-/// total order: the nearest seed, then the smallest (x, y).
+/// total order: the nearest seed, then the smallest (x, y). Two compute
+/// passes (`glsl/euclidean.comp`): the nearest seed of every column, then the
+/// lower envelope of the columns' parabolas along every row, in integers.
 pub fn euclidean_colouring(
     machine: &Machine,
     width: u32,
@@ -77,30 +73,28 @@ pub fn euclidean_colouring(
     seeds: &[Seed],
 ) -> Result<Vec<u32>> {
     check_seeds(width, height, seeds)?;
-    // Cone ids in the seeds' lexicographic order, so that (distance, id) keys
-    // break ties as the total order does.
-    let mut order: Vec<u32> = (0..seeds.len() as u32).collect();
-    order.sort_by_key(|&i| seeds[i as usize]);
-    let sites: Vec<DVec2> = order
-        .iter()
-        .map(|&i| {
-            let s = seeds[i as usize];
-            DVec2::new(s[0] as f64, s[1] as f64)
+    if width > 1 << 14 || height > 1 << 14 {
+        return Err(crate::error::Error::InvalidInput(format!(
+            "the Euclidean colouring squares coordinates in 32 bits: {width}x{height} is larger than 16384"
+        )));
+    }
+    let pixels = width as usize * height as usize;
+    let mut seed_at = vec![crate::reference::flooding::NONE; 2 * pixels];
+    for (i, s) in seeds.iter().enumerate() {
+        seed_at[s[1] as usize * width as usize + s[0] as usize] = i as u32;
+    }
+    let bytes = (2 * pixels * 4) as u64;
+    let mut input = machine.storage_buffer(bytes)?;
+    input.write(&seed_at);
+    let output = machine.storage_buffer(bytes)?;
+    machine.with_compute_buffers([&input, &output], |set| {
+        machine.run(|pass| {
+            let kernel = BufferKernel::EuclideanColouring;
+            pass.dispatch(kernel, set, width, &[width, height, 0])?;
+            pass.dispatch(kernel, set, height, &[width, height, 1])
         })
-        .collect();
-    let options = KNearestOptions {
-        frame: Frame::pixels(width, height)?,
-        k: 1,
-        metric: Metric::L2,
-        accuracy: Accuracy::Exact,
-        speedup: Speedup::Local,
-    };
-    let nearest = k_nearest(machine, &sites, &options)?;
-    Ok(nearest
-        .level_labels(0)
-        .into_par_iter()
-        .map(|k| order[k as usize])
-        .collect())
+    })?;
+    Ok(output.read::<u32>(pixels))
 }
 
 /// The flooded colouring of `seeds` (distinct pixels of the texture).

@@ -107,11 +107,13 @@ impl Mesh {
             }
         }
         let edges_of = |v: u32| &leaving[start[slot(v)] as usize..start[slot(v) + 1] as usize];
-        let adjacent: Vec<[u32; 3]> = triangles
+        // Each edge's twin: the triangle and the twin's edge index there.
+        let twins: Vec<([u32; 3], [u8; 3])> = triangles
             .par_iter()
             .enumerate()
             .map(|(k, t)| {
                 let mut row = [NONE; 3];
+                let mut index = [0u8; 3];
                 for e in 0..3 {
                     let (a, b) = (t[e], t[next(e)]);
                     // The twin b → a, looked up at its finite end.
@@ -119,19 +121,22 @@ impl Mesh {
                         edges_of(b)
                             .iter()
                             .find(|&&(u, f)| triangles[u as usize][next(f as usize)] == a)
+                            .map(|&(u, f)| (u, f))
                     } else {
                         edges_of(a)
                             .iter()
                             .find(|&&(u, f)| triangles[u as usize][prev(f as usize)] == b)
+                            .map(|&(u, f)| (u, prev(f as usize) as u8))
                     };
                     match twin {
-                        Some(&(u, _)) if u as usize != k => row[e] = u,
+                        Some((u, f)) if u as usize != k => (row[e], index[e]) = (u, f),
                         _ => return Err(format!("edge {a} -> {b} of triangle {k} has no twin")),
                     }
                 }
-                Ok(row)
+                Ok((row, index))
             })
             .collect::<Result<_, String>>()?;
+        let (adjacent, twin_edges): (Vec<[u32; 3]>, Vec<[u8; 3]>) = twins.into_iter().unzip();
         let mut corner = vec![NONE; n + 1];
         for (k, t) in triangles.iter().enumerate() {
             for &v in t {
@@ -148,7 +153,9 @@ impl Mesh {
             present,
             walk: 0x9e37_79b9_7f4a_7c15,
         };
-        mesh.check(|v| (start[slot(v) + 1] - start[slot(v)]) as usize)?;
+        mesh.check(&twin_edges, |v| {
+            (start[slot(v) + 1] - start[slot(v)]) as usize
+        })?;
         Ok(mesh)
     }
 
@@ -156,15 +163,17 @@ impl Mesh {
     /// twice), each vertex's triangles form one ring (`degree` of them), the
     /// Euler characteristic is a sphere's, and every finite triangle is
     /// counter-clockwise.
-    fn check(&self, degree: impl Fn(u32) -> usize + Sync) -> Result<(), String> {
+    fn check(
+        &self,
+        twin_edges: &[[u8; 3]],
+        degree: impl Fn(u32) -> usize + Sync,
+    ) -> Result<(), String> {
         let triangles = &self.triangles;
         (0..triangles.len()).into_par_iter().try_for_each(|t| {
             let tv = triangles[t];
             for e in 0..3 {
-                let u = self.adjacent[t][e] as usize;
-                let uv = triangles[u];
-                let f = (0..3).find(|&f| uv[f] == tv[next(e)] && uv[next(f)] == tv[e]);
-                if f.map(|f| self.adjacent[u][f]) != Some(t as u32) {
+                let (u, f) = (self.adjacent[t][e] as usize, twin_edges[t][e] as usize);
+                if self.adjacent[u][f] as usize != t || twin_edges[u][f] as usize != e {
                     return Err(format!(
                         "edge {} -> {} lies in more than two triangles",
                         tv[e],
@@ -183,7 +192,22 @@ impl Mesh {
             .chain([DUMMY])
             .collect();
         vertices.par_iter().try_for_each(|&v| {
-            let ring = self.ring(v).len();
+            // Around v: from corner (t, i) across edge i - 1 to the twin's
+            // start, which is v.
+            let first = self.corner[self.slot(v)];
+            let (mut t, mut i) = (first, self.index_in(first, v));
+            let mut ring = 0;
+            loop {
+                ring += 1;
+                let e = prev(i);
+                (t, i) = (
+                    self.adjacent[t as usize][e],
+                    twin_edges[t as usize][e] as usize,
+                );
+                if t == first || ring > degree(v) {
+                    break;
+                }
+            }
             if ring != degree(v) {
                 return Err(format!(
                     "the triangles around vertex {v} form more than one ring"
@@ -322,9 +346,11 @@ impl Mesh {
     /// Lawson's flips over every edge: the Delaunay triangulation, once the
     /// boundary is the convex hull. Returns the number of flips.
     pub fn make_delaunay(&mut self) -> usize {
+        // The edges to flip first, found in parallel; flipping is sequential.
         let stack: Vec<(u32, usize)> = (0..self.triangles.len() as u32)
-            .flat_map(|t| (0..3).map(move |e| (t, e)))
-            .filter(|&(t, e)| t < self.adjacent[t as usize][e])
+            .into_par_iter()
+            .flat_map_iter(|t| (0..3).map(move |e| (t, e)))
+            .filter(|&(t, e)| t < self.adjacent[t as usize][e] && self.is_illegal(t, e))
             .collect();
         self.legalize(stack)
     }
@@ -413,15 +439,21 @@ impl Mesh {
     /// around it stays counter-clockwise and, on the hull, the hull stays
     /// convex. Returns whether it moved.
     pub fn try_move(&mut self, v: u32, to: DVec2) -> bool {
-        let ring = self.ring(v);
+        let first = self.corner[v as usize];
+        let mut t = first;
         let mut ghosts = 0;
-        for &(t, i) in &ring {
+        loop {
             let tv = self.triangles[t as usize];
+            let i = self.index_in(t, v);
             let (a, b) = (tv[next(i)], tv[prev(i)]);
             if a == DUMMY || b == DUMMY {
                 ghosts += 1;
             } else if orient(self.at(a), self.at(b), to) <= 0.0 {
                 return false;
+            }
+            t = self.adjacent[t as usize][prev(i)];
+            if t == first {
+                break;
             }
         }
         if ghosts > 0 {

@@ -118,6 +118,10 @@ pub enum BufferKernel {
     /// (push `[width, height, capacity, first corner]`, one invocation per
     /// pixel corner).
     Dualize,
+    /// The exact Euclidean colouring of the seed map in buffer 0 into buffer 1
+    /// (both twice the pixels; push `[width, height, phase]`, one invocation
+    /// per column in phase 0, per row in phase 1).
+    EuclideanColouring,
 }
 
 impl BufferKernel {
@@ -129,6 +133,7 @@ impl BufferKernel {
             BufferKernel::Extremum => 64,
             BufferKernel::JumpFlood => 64,
             BufferKernel::Dualize => 64,
+            BufferKernel::EuclideanColouring => 64,
         }
     }
 
@@ -139,6 +144,7 @@ impl BufferKernel {
             BufferKernel::Extremum => "extremum.comp",
             BufferKernel::JumpFlood => "jump_flood.comp",
             BufferKernel::Dualize => "dualize.comp",
+            BufferKernel::EuclideanColouring => "euclidean.comp",
         }
     }
 }
@@ -209,6 +215,7 @@ const SHADERS: &[(&str, &[u32])] = &[
     ("extremum.comp", shaders::EXTREMUM_COMP),
     ("jump_flood.comp", shaders::JUMP_FLOOD_COMP),
     ("dualize.comp", shaders::DUALIZE_COMP),
+    ("euclidean.comp", shaders::EUCLIDEAN_COMP),
     ("rect.vert", shaders::RECT_VERT),
     ("rect.frag:uint", shaders::RECT_FRAG_UINT),
     ("rect.frag:float", shaders::RECT_FRAG_FLOAT),

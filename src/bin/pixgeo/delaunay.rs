@@ -17,7 +17,7 @@ use crate::distances::machine_on;
 /// The Delaunay triangulation of points, from a digital Voronoi diagram.
 ///
 /// The points' bounding box is laid over a texture (--grid pixels along its
-/// longer side, about four pixels per point by default); one point per pixel
+/// longer side, about one pixel per point by default); one point per pixel
 /// becomes a seed. Flooding colours the texture so that every region is
 /// connected, and its dual is a valid triangulation of the seeds (Cao,
 /// Edelsbrunner and Tan 2015). The seeds are then moved to their true
@@ -58,7 +58,8 @@ pub struct Args {
     #[arg(long, default_value_t = 1024, value_name = "PIXELS")]
     picture_size: u32,
     /// Texture pixels along the longer side of the bounding box (default: about
-    /// 2 √n, at least 64). Any size gives the same triangulation; it changes
+    /// √n, at least 64; the pixel side is rounded up to a 3-bit mantissa, so
+    /// the texture can come out up to a fifth smaller). Any size gives the same triangulation; it changes
     /// how much is left to insertion and flips.
     #[arg(long, value_name = "PIXELS")]
     grid: Option<u32>,

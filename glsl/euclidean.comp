@@ -1,0 +1,120 @@
+#version 460
+// The exact Euclidean colouring of seed pixels, separably (Meijster, Roerdink
+// and Hesselink 2000): phase 0 gives every pixel the nearest seed of its own
+// column, phase 1 takes the lower envelope of the columns' parabolas
+// (x - c)^2 + h_c along each row. Ties go to the smaller (x, y) of the seed,
+// the flooding's order: the upper seed within a column, the left column
+// within a row (integer arithmetic, floors at the envelope's breakpoints).
+//
+// Buffer 0 holds the seed index per pixel (NONE where there is none) and then
+// phase 0's result, the row of each pixel's column seed. Buffer 1 receives
+// the colouring and then phase 1's segment starts. Sides up to 16384 keep
+// every square in 32 bits.
+layout(local_size_x = 64) in;
+
+layout(push_constant) uniform Pass {
+    ivec2 size;
+    int phase;
+} pass;
+
+layout(set = 0, binding = 0) buffer Seeds {
+    uint seeds[];
+};
+layout(set = 0, binding = 1) buffer Colours {
+    uint colours[];
+};
+
+const uint NONE = 0xFFFFFFFFu;
+
+// The nearest seed's row along column x, for every row.
+void columns(int x) {
+    int w = pass.size.x;
+    int h = pass.size.y;
+    uint pixels = uint(w * h);
+    uint above = NONE;
+    for (int y = 0; y < h; ++y) {
+        if (seeds[y * w + x] != NONE) {
+            above = uint(y);
+        }
+        seeds[pixels + uint(y * w + x)] = above;
+    }
+    uint below = NONE;
+    for (int y = h - 1; y >= 0; --y) {
+        if (seeds[y * w + x] != NONE) {
+            below = uint(y);
+        }
+        uint up = seeds[pixels + uint(y * w + x)];
+        // The lower seed only when strictly nearer.
+        bool lower = below != NONE && (up == NONE || int(below) - y < y - int(up));
+        if (lower) {
+            seeds[pixels + uint(y * w + x)] = below;
+        }
+    }
+}
+
+int floor_div(int a, int b) {
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+// The envelope of the parabolas of row y's column seeds; the stack of columns
+// lives in the row's colours, the segment starts in the second half.
+void row(int y) {
+    int w = pass.size.x;
+    uint pixels = uint(w * pass.size.y);
+    uint base = uint(y * w);
+    int top = -1;
+    for (int u = 0; u < w; ++u) {
+        uint g = seeds[pixels + base + uint(u)];
+        if (g != NONE) {
+            int hu = (y - int(g)) * (y - int(g));
+            bool popping = true;
+            while (top >= 0 && popping) {
+                int c = int(colours[base + uint(top)]);
+                int start = int(colours[pixels + base + uint(top)]);
+                int gc = int(seeds[pixels + base + uint(c)]);
+                int hc = (y - gc) * (y - gc);
+                int fc = (start - c) * (start - c) + hc;
+                int fu = (start - u) * (start - u) + hu;
+                if (fc > fu) {
+                    top -= 1;
+                } else {
+                    popping = false;
+                }
+            }
+            if (top < 0) {
+                top = 0;
+                colours[base] = uint(u);
+                colours[pixels + base] = 0u;
+            } else {
+                int c = int(colours[base + uint(top)]);
+                int gc = int(seeds[pixels + base + uint(c)]);
+                int hc = (y - gc) * (y - gc);
+                int start = 1 + floor_div(u * u - c * c + hu - hc, 2 * (u - c));
+                if (start < w) {
+                    top += 1;
+                    colours[base + uint(top)] = uint(u);
+                    colours[pixels + base + uint(top)] = uint(start);
+                }
+            }
+        }
+    }
+    for (int x = w - 1; x >= 0; --x) {
+        int c = int(colours[base + uint(top)]);
+        int start = int(colours[pixels + base + uint(top)]);
+        uint g = seeds[pixels + base + uint(c)];
+        colours[base + uint(x)] = seeds[g * uint(w) + uint(c)];
+        if (x == start) {
+            top -= 1;
+        }
+    }
+}
+
+void main() {
+    int k = int(gl_GlobalInvocationID.x);
+    if (pass.phase == 0 && k < pass.size.x) {
+        columns(k);
+    }
+    if (pass.phase == 1 && k < pass.size.y) {
+        row(k);
+    }
+}
