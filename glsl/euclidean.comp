@@ -8,8 +8,9 @@
 //
 // Buffer 0 holds the seed index per pixel (NONE where there is none) and then
 // phase 0's result, the row of each pixel's column seed. Buffer 1 receives
-// the colouring and then phase 1's segment starts. Sides up to 16384 keep
-// every square in 32 bits.
+// the colouring and then phase 1's segment starts. Sides up to 16000 keep
+// every square in 32 bits and a row's loops under lavapipe's 65535
+// iterations per invocation (at most 4 x width).
 layout(local_size_x = 64) in;
 
 layout(push_constant) uniform Pass {

@@ -172,6 +172,8 @@ fn degenerate_inputs_are_delaunay() {
     cases.push(("duplicates", dup));
     for (name, points) in cases {
         let result = triangulate(name, &points, &checked(), points.len() <= 2500);
+        // The digital triangulation was valid (and so passed conditions I–III).
+        assert_eq!(result.stats.incremental, None, "{name}");
         if name == "duplicates" {
             assert_eq!(result.duplicates.len(), 301, "{name}");
             assert!(result

@@ -423,3 +423,26 @@ fn bad_seeds_are_clear_errors() {
     assert!(flood(10, 10, &[[1, 1], [1, 1]]).is_err());
     assert!(flood(0, 10, &[]).is_err());
 }
+
+#[test]
+fn the_euclidean_colouring_takes_the_longest_sides() {
+    // 16000 pixels along a row or a column: each invocation of the colouring
+    // loops about four times that, just under lavapipe's limit of 65535.
+    let machine = common::machine();
+    let side = pixgeo::algorithms::flooding::MAX_SIDE;
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    for (w, h) in [(side, 3), (3, side)] {
+        let mut seeds: Vec<Seed> = (0..40)
+            .map(|_| [rng.gen_range(0..w as i32), rng.gen_range(0..h as i32)])
+            .collect();
+        seeds.sort_unstable();
+        seeds.dedup();
+        let colouring =
+            pixgeo::algorithms::flooding::euclidean_colouring(&machine, w, h, &seeds).unwrap();
+        assert_eq!(colouring, euclidean(w, h, &seeds).unwrap(), "{w}x{h}");
+    }
+    assert!(
+        pixgeo::algorithms::flooding::euclidean_colouring(&machine, side + 1, 2, &[[0, 0]])
+            .is_err()
+    );
+}

@@ -163,9 +163,11 @@ pub fn delaunay(
         (lo.min(p), hi.max(p))
     });
     let side = options.grid.unwrap_or_else(|| default_grid(points.len()));
-    if side > 1 << 14 {
+    // The texture comes out at most two pixels wider than the grid.
+    if side + 2 > crate::algorithms::flooding::MAX_SIDE {
         return Err(Error::InvalidInput(format!(
-            "a grid of {side} pixels is larger than 16384"
+            "a grid of {side} pixels is larger than {}",
+            crate::algorithms::flooding::MAX_SIDE - 2
         )));
     }
     if side < 2 * MARGIN + 2 {

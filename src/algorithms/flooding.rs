@@ -62,6 +62,9 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
+/// The longest texture side the Euclidean colouring takes.
+pub const MAX_SIDE: u32 = 16_000;
+
 /// The Euclidean colouring of `seeds` on the device, ties broken by the
 /// total order: the nearest seed, then the smallest (x, y). Two compute
 /// passes (`glsl/euclidean.comp`): the nearest seed of every column, then the
@@ -73,9 +76,11 @@ pub fn euclidean_colouring(
     seeds: &[Seed],
 ) -> Result<Vec<u32>> {
     check_seeds(width, height, seeds)?;
-    if width > 1 << 14 || height > 1 << 14 {
+    // Squares of coordinates must fit 32 bits, and a row's invocation loops
+    // at most 4 x width times (lavapipe stops a shader's loops at 65535).
+    if width > MAX_SIDE || height > MAX_SIDE {
         return Err(crate::error::Error::InvalidInput(format!(
-            "the Euclidean colouring squares coordinates in 32 bits: {width}x{height} is larger than 16384"
+            "the Euclidean colouring takes sides up to {MAX_SIDE}: {width}x{height} is larger"
         )));
     }
     let pixels = width as usize * height as usize;
