@@ -1,0 +1,308 @@
+/* A C host using pixgeo: a Voronoi diagram, the k nearest and the furthest sites,
+ * exact distances between point sets, the settle point and a diagram of weighted
+ * and extended sites, each checked against its definition, and the errors a
+ * caller can get. Exits 0 when every check
+ * passes.
+ *
+ *   cc -std=c11 -I include examples/c/voronoi.c -L target/debug -lpixgeo \
+ *      -Wl,-rpath,$PWD/target/debug -o voronoi-c && ./voronoi-c
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pixgeo.h"
+
+static int failures = 0;
+
+#define CHECK(cond, ...)                        \
+    do {                                        \
+        if (!(cond)) {                          \
+            fprintf(stderr, "FAILED: " __VA_ARGS__); \
+            fprintf(stderr, "\n");              \
+            failures++;                         \
+        }                                       \
+    } while (0)
+
+enum { W = 64, H = 48, N = 7 };
+
+int main(void) {
+    PixgeoContextOptions context_options = {PIXGEO_DEVICE_AUTO, false};
+    const char *validation = getenv("PIXGEO_VALIDATION");
+    context_options.validation = validation != NULL && strcmp(validation, "1") == 0;
+
+    PixgeoContext *ctx = NULL;
+    if (pixgeo_context_create(&context_options, &ctx) != PIXGEO_STATUS_OK) {
+        fprintf(stderr, "no context: %s\n", pixgeo_create_error());
+        return 1;
+    }
+    printf("device: %s\n", pixgeo_context_device_name(ctx));
+
+    /* Sites: some inside, one on the border, one outside the picture. */
+    const double xy[2 * N] = {10, 10, 50.5, 20, 30, 45, 0, 0, 63, 47, 31.25, 23.75, -20, 30};
+    uint32_t *labels = malloc(sizeof(uint32_t) * W * H);
+    float *distances = malloc(sizeof(float) * W * H);
+    PixgeoVoronoiOptions options = pixgeo_voronoi_options_default(W, H);
+    PixgeoStatus status = pixgeo_voronoi(ctx, xy, N, &options, labels, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "voronoi: %s", pixgeo_context_last_error(ctx));
+
+    /* Every pixel: its site is a nearest one, its distance the nearest distance. */
+    int wrong = 0;
+    for (int j = 0; j < H; j++) {
+        for (int i = 0; i < W; i++) {
+            double best = INFINITY;
+            for (int s = 0; s < N; s++) {
+                double d = hypot(xy[2 * s] - i, xy[2 * s + 1] - j);
+                if (d < best) best = d;
+            }
+            uint32_t label = labels[j * W + i];
+            double mine = label < N ? hypot(xy[2 * label] - i, xy[2 * label + 1] - j) : INFINITY;
+            if (mine > best + 1e-4 || fabs(distances[j * W + i] - best) > 1e-4) wrong++;
+        }
+    }
+    CHECK(wrong == 0, "%d pixels differ from the definition", wrong);
+    CHECK(labels[10 * W + 10] == 0, "pixel (10, 10) belongs to site 0");
+
+    /* Tiles of 20 pixels give the same labels. */
+    uint32_t *tiled = malloc(sizeof(uint32_t) * W * H);
+    options.max_tile = 20;
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, NULL);
+    CHECK(status == PIXGEO_STATUS_OK, "tiled: %s", pixgeo_context_last_error(ctx));
+    CHECK(memcmp(tiled, labels, sizeof(uint32_t) * W * H) == 0, "tiled labels differ");
+
+    /* Fan cones with 6 triangles stay within their error bound (< 0.16 r). */
+    options = pixgeo_voronoi_options_default(W, H);
+    options.accuracy = PIXGEO_ACCURACY_FAN;
+    options.triangles = 6;
+    options.speedup = PIXGEO_SPEEDUP_QUADTREE;
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "fan: %s", pixgeo_context_last_error(ctx));
+
+    /* The L1 distance: every pixel's site at the smallest |dx| + |dy|. */
+    options = pixgeo_voronoi_options_default(W, H);
+    options.metric = PIXGEO_METRIC_L1;
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "L1: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++) {
+        double i = p % W, j = p / W, best = INFINITY;
+        for (int s = 0; s < N; s++) best = fmin(best, fabs(xy[2 * s] - i) + fabs(xy[2 * s + 1] - j));
+        uint32_t site = labels[p];
+        double mine = site < N ? fabs(xy[2 * site] - i) + fabs(xy[2 * site + 1] - j) : INFINITY;
+        if (mine > best + 1e-4 || fabs(distances[p] - best) > 1e-4) wrong++;
+    }
+    CHECK(wrong == 0, "%d L1 pixels differ from the definition", wrong);
+
+    /* A polygonal distance whose unit ball is the L1 diamond around a shifted
+     * kernel: the same distances (thesis §3.6.5). */
+    const double diamond[8] = {6, 5, 5, 6, 4, 5, 5, 4};
+    float *polygon_distances = malloc(sizeof(float) * W * H);
+    options.metric = PIXGEO_METRIC_POLYGON;
+    options.polygon = diamond;
+    options.polygon_count = 4;
+    options.kernel[0] = 5;
+    options.kernel[1] = 5;
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, polygon_distances);
+    CHECK(status == PIXGEO_STATUS_OK, "polygon: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++)
+        if (fabs(polygon_distances[p] - distances[p]) > 0.02) wrong++;
+    CHECK(wrong == 0, "%d polygon pixels differ from L1", wrong);
+    options.kernel[0] = 9; /* outside the diamond: not star-shaped around it */
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "a polygon around the wrong kernel accepted");
+    free(polygon_distances);
+    options.polygon = NULL;
+    options.metric = PIXGEO_METRIC_LP;
+    options.metric_p = 0.0;
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "L_p with p = 0 accepted");
+
+    /* The three nearest sites of every pixel, in order. */
+    enum { K = 3 };
+    uint32_t *knn = malloc(sizeof(uint32_t) * W * H * K);
+    float *knn_d = malloc(sizeof(float) * W * H * K);
+    options = pixgeo_voronoi_options_default(W, H);
+    status = pixgeo_k_nearest(ctx, xy, N, &options, K, knn, knn_d);
+    CHECK(status == PIXGEO_STATUS_OK, "k nearest: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++) {
+        double i = p % W, j = p / W, d[N];
+        for (int s = 0; s < N; s++) d[s] = hypot(xy[2 * s] - i, xy[2 * s + 1] - j);
+        for (int l = 0; l < K; l++) {
+            /* The l-th smallest distance: select it from what remains. */
+            int m = l;
+            for (int s = l + 1; s < N; s++)
+                if (d[s] < d[m]) m = s;
+            double t = d[l];
+            d[l] = d[m];
+            d[m] = t;
+            uint32_t site = knn[p * K + l];
+            double mine = site < N ? hypot(xy[2 * site] - i, xy[2 * site + 1] - j) : INFINITY;
+            if (fabs(mine - d[l]) > 1e-4 || fabs(knn_d[p * K + l] - d[l]) > 1e-4) wrong++;
+        }
+    }
+    CHECK(wrong == 0, "%d levels differ from the definition", wrong);
+
+    /* The furthest site of every pixel. */
+    status = pixgeo_furthest(ctx, xy, N, &options, labels, distances);
+    CHECK(status == PIXGEO_STATUS_OK, "furthest: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int p = 0; p < W * H; p++) {
+        double i = p % W, j = p / W, far = 0;
+        for (int s = 0; s < N; s++) far = fmax(far, hypot(xy[2 * s] - i, xy[2 * s + 1] - j));
+        if (fabs(distances[p] - far) > 1e-4) wrong++;
+    }
+    CHECK(wrong == 0, "%d furthest distances differ", wrong);
+
+    /* Exact distances between point sets, with the answering pair. */
+    const double red[6] = {0, 0, 1, 0, 0, 1};
+    const double blue[4] = {0, 0.5, 3, 4};
+    PixgeoPair red_to_blue, blue_to_red, pair;
+    status = pixgeo_hausdorff(ctx, red, 3, blue, 2, &red_to_blue, &blue_to_red);
+    CHECK(status == PIXGEO_STATUS_OK, "hausdorff: %s", pixgeo_context_last_error(ctx));
+    CHECK(red_to_blue.distance == sqrt(1.25) && red_to_blue.from == 1 && red_to_blue.to == 0,
+          "red to blue %g", red_to_blue.distance);
+    CHECK(blue_to_red.distance == sqrt(18.0) && blue_to_red.from == 1 && blue_to_red.to == 2,
+          "blue to red %g", blue_to_red.distance);
+    status = pixgeo_diameter(ctx, blue, 2, &pair);
+    CHECK(status == PIXGEO_STATUS_OK && pair.distance == sqrt(21.25), "diameter %g", pair.distance);
+    status = pixgeo_max_distance(ctx, red, 3, blue, 2, &pair);
+    CHECK(status == PIXGEO_STATUS_OK && pair.distance == 5.0 && pair.from == 0 && pair.to == 1,
+          "maximum distance %g", pair.distance);
+    status = pixgeo_diameter(ctx, blue, 2, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null answer accepted");
+
+    /* Homothets: a right triangle's smallest circle is on its hypotenuse; the
+     * largest empty circle centred in its bounding box sits on the top side at
+     * x = 25/8, as far from (0, 3) as from (4, 0). */
+    PixgeoSite corners[3] = {
+        {PIXGEO_SITE_KIND_POINT, {0, 0}, 1, 0},
+        {PIXGEO_SITE_KIND_POINT, {4, 0}, 1, 0},
+        {PIXGEO_SITE_KIND_POINT, {0, 3}, 1, 0},
+    };
+    PixgeoHomothetOptions circle = {NULL, 0, {0, 0}, 128};
+    PixgeoHomothet homothet;
+    status = pixgeo_enclose(ctx, corners, 3, &circle, 0, &homothet);
+    CHECK(status == PIXGEO_STATUS_OK && fabs(homothet.scale - 2.5) < 1e-9 &&
+              fabs(homothet.centre[0] - 2) < 1e-9 && fabs(homothet.centre[1] - 1.5) < 1e-9,
+          "enclose %g: %s", homothet.scale, pixgeo_context_last_error(ctx));
+    const double box[8] = {0, 0, 4, 0, 4, 3, 0, 3};
+    const size_t box_size = 4;
+    status = pixgeo_empty(ctx, corners, 3, box, &box_size, 1, false, &circle, &homothet);
+    CHECK(status == PIXGEO_STATUS_OK && fabs(homothet.scale - 3.125) < 1e-9 &&
+              fabs(homothet.centre[0] - 3.125) < 1e-9 && fabs(homothet.centre[1] - 3) < 1e-9,
+          "empty %g: %s", homothet.scale, pixgeo_context_last_error(ctx));
+    status = pixgeo_enclose(ctx, corners, 3, &circle, 4, &homothet);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "k beyond the sites accepted");
+
+    /* The settle point: the potential area of the best pixel against its
+     * definition, the pixels nearer to it than to every site. */
+    options = pixgeo_voronoi_options_default(W, H);
+    uint32_t *area = malloc(sizeof(uint32_t) * W * H);
+    PixgeoSettle settle;
+    status = pixgeo_settle(ctx, xy, N, NULL, 0, &options, PIXGEO_SETTLE_METHOD_SPANS, area, &settle);
+    CHECK(status == PIXGEO_STATUS_OK, "settle: %s", pixgeo_context_last_error(ctx));
+    uint32_t largest = 0;
+    for (int k = 0; k < W * H; k++) largest = area[k] > largest ? area[k] : largest;
+    CHECK(settle.area == largest && area[settle.pixel_y * W + settle.pixel_x] == largest,
+          "settle area %u, map maximum %u", settle.area, largest);
+    uint32_t won = 0;
+    for (int j = 0; j < H; j++) {
+        for (int i = 0; i < W; i++) {
+            double nearest = INFINITY;
+            for (int s = 0; s < N; s++) {
+                double dx = xy[2 * s] - i, dy = xy[2 * s + 1] - j;
+                nearest = fmin(nearest, dx * dx + dy * dy);
+            }
+            double tx = (double)settle.pixel_x - i, ty = (double)settle.pixel_y - j;
+            won += tx * tx + ty * ty < nearest;
+        }
+    }
+    CHECK(won == settle.area, "settle pixel wins %u pixels, pixgeo says %u", won, settle.area);
+    CHECK(settle.refined_area > 0.5 * settle.area && settle.refined_area < 2.0 * settle.area,
+          "refined area %g", settle.refined_area);
+    PixgeoSettle faithful;
+    status = pixgeo_settle(ctx, xy, N, NULL, 0, &options, PIXGEO_SETTLE_METHOD_FAITHFUL, NULL,
+                           &faithful);
+    CHECK(status == PIXGEO_STATUS_OK && faithful.area == settle.area &&
+              faithful.pixel_x == settle.pixel_x && faithful.pixel_y == settle.pixel_y,
+          "faithful settle point");
+    status = pixgeo_settle(ctx, xy, N, NULL, 1, &options, PIXGEO_SETTLE_METHOD_SPANS, NULL, &settle);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null own stores accepted");
+    free(area);
+
+    /* Weighted points, a segment, a circle and an arc (thesis §3.8-3.9): every
+     * pixel's label has the smallest weighted distance; fans stay within their
+     * bound of it. */
+    const PixgeoSite shapes[4] = {
+        {PIXGEO_SITE_KIND_POINT, {10, 10, 0, 0, 0}, 2.0, 0.0},
+        {PIXGEO_SITE_KIND_SEGMENT, {40, 5, 60, 5, 0}, 1.0, 0.0},
+        {PIXGEO_SITE_KIND_CIRCLE, {20, 36, 6, 0, 0}, 1.0, 1.0},
+        {PIXGEO_SITE_KIND_ARC, {50, 36, 8, 0, 3.14159265}, 1.0, -1.0},
+    };
+    for (int fan = 0; fan < 2; fan++) {
+        options = pixgeo_voronoi_options_default(W, H);
+        options.accuracy = fan ? PIXGEO_ACCURACY_FAN : PIXGEO_ACCURACY_EXACT;
+        status = pixgeo_voronoi_sites(ctx, shapes, 4, &options, labels, distances);
+        CHECK(status == PIXGEO_STATUS_OK, "voronoi_sites: %s", pixgeo_context_last_error(ctx));
+        int off = 0;
+        for (int j = 0; j < H; j++) {
+            for (int i = 0; i < W; i++) {
+                double d[4];
+                /* Distances to each shape, weighted. */
+                d[0] = hypot(i - 10.0, j - 10.0) / 2.0;
+                double t = fmin(fmax((i - 40.0) / 20.0, 0.0), 1.0);
+                d[1] = hypot(i - (40.0 + 20.0 * t), j - 5.0);
+                d[2] = fabs(hypot(i - 20.0, j - 36.0) - 6.0) + 1.0;
+                double a = atan2(j - 36.0, i - 50.0);
+                d[3] = (a >= 0.0 && a <= 3.14159265)
+                           ? fabs(hypot(i - 50.0, j - 36.0) - 8.0)
+                           : fmin(hypot(i - 58.0, j - 36.0), hypot(i - 42.0, j - 36.0));
+                d[3] -= 1.0;
+                double best = fmin(fmin(d[0], d[1]), fmin(d[2], d[3]));
+                uint32_t label = labels[j * W + i];
+                double slack = fan ? 2.05 : 1e-3;
+                if (label >= 4 || d[label] > best + slack ||
+                    fabs(distances[j * W + i] - best) > slack / 2.0 + 1e-3)
+                    off++;
+            }
+        }
+        CHECK(off == 0, "%d pixels of the site diagram (fan %d) differ from the definition", off, fan);
+    }
+    PixgeoSite bad_weight = shapes[0];
+    bad_weight.multiplicative = 0.0;
+    status = pixgeo_voronoi_sites(ctx, &bad_weight, 1, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "zero weight accepted");
+
+    /* Errors come back as status codes with a message. */
+    status = pixgeo_voronoi(ctx, NULL, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null sites accepted");
+    const double bad[2] = {1.0, NAN};
+    options = pixgeo_voronoi_options_default(W, H);
+    status = pixgeo_voronoi(ctx, bad, 1, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "NaN accepted");
+    CHECK(strstr(pixgeo_context_last_error(ctx), "non-finite") != NULL, "message: %s",
+          pixgeo_context_last_error(ctx));
+    status = pixgeo_voronoi(ctx, xy, 0, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "empty site list accepted");
+    options = pixgeo_voronoi_options_default(1u << 25, 1);
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_TOO_LARGE, "oversized picture accepted");
+    options = pixgeo_voronoi_options_default(W, H);
+    status = pixgeo_voronoi(ctx, xy, N, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_OK && pixgeo_context_last_error(ctx)[0] == '\0',
+          "a good call after errors");
+
+    free(knn_d);
+    free(knn);
+    free(tiled);
+    free(distances);
+    free(labels);
+    pixgeo_context_destroy(ctx);
+    pixgeo_context_destroy(NULL);
+
+    if (failures == 0) printf("all checks passed\n");
+    return failures == 0 ? 0 : 1;
+}
