@@ -391,6 +391,28 @@ enum PixgeoStatus pixgeo_settle(struct PixgeoContext *ctx,
                                 uint32_t *area,
                                 struct PixgeoSettle *out);
 
+// The Delaunay triangulation of the `count` points `xy` (`{x0, y0, x1, ...}`),
+// from their digital Voronoi diagram on a texture `grid` pixels along the
+// longer side of their bounding box (0: about one pixel per point). Writes
+// the counter-clockwise triangles as point indices, three per triangle, into
+// `triangles` and their number into `*triangle_count`; repeated points are in
+// no triangle, and `*duplicate_count` (unless null) receives how many there
+// were. Fewer than three distinct points, or all on one line, is an invalid
+// argument.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles; `triangles` has
+// room for `6 * count` values (a triangulation has fewer than `2 * count`
+// triangles); `triangle_count` points to a writable `size_t`;
+// `duplicate_count` is null or does.
+enum PixgeoStatus pixgeo_delaunay(struct PixgeoContext *ctx,
+                                  const double *xy,
+                                  size_t count,
+                                  uint32_t grid,
+                                  uint32_t *triangles,
+                                  size_t *triangle_count,
+                                  size_t *duplicate_count);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

@@ -197,6 +197,26 @@ int main(void) {
     status = pixgeo_enclose(ctx, corners, 3, &circle, 4, &homothet);
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "k beyond the sites accepted");
 
+    /* The Delaunay triangulation of a square's corners, its centre and a
+     * repeated corner: four triangles around the centre. */
+    const double square[12] = {0, 0, 2, 0, 2, 2, 0, 2, 1, 1, 2, 2};
+    uint32_t mesh[36];
+    size_t triangle_count = 0, duplicate_count = 0;
+    status = pixgeo_delaunay(ctx, square, 6, 0, mesh, &triangle_count, &duplicate_count);
+    CHECK(status == PIXGEO_STATUS_OK && triangle_count == 4 && duplicate_count == 1,
+          "delaunay: %zu triangles, %zu repeats: %s", triangle_count, duplicate_count,
+          pixgeo_context_last_error(ctx));
+    for (size_t t = 0; t < triangle_count; t++) {
+        const uint32_t *v = &mesh[3 * t];
+        double ax = square[2 * v[0]], ay = square[2 * v[0] + 1];
+        double cross = (square[2 * v[1]] - ax) * (square[2 * v[2] + 1] - ay) -
+                       (square[2 * v[1] + 1] - ay) * (square[2 * v[2]] - ax);
+        CHECK(cross > 0 && (v[0] == 4 || v[1] == 4 || v[2] == 4), "triangle %zu", t);
+    }
+    const double line[6] = {0, 0, 1, 1, 2, 2};
+    status = pixgeo_delaunay(ctx, line, 3, 0, mesh, &triangle_count, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "collinear points accepted");
+
     /* The settle point: the potential area of the best pixel against its
      * definition, the pixels nearer to it than to every site. */
     options = pixgeo_voronoi_options_default(W, H);
