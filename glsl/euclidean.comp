@@ -2,13 +2,17 @@
 // The exact Euclidean colouring of seed pixels, separably (Meijster, Roerdink
 // and Hesselink 2000): phase 0 gives every pixel the nearest seed of its own
 // column, phase 1 takes the lower envelope of the columns' parabolas
-// (x - c)^2 + h_c along each row. Ties go to the smaller (x, y) of the seed,
+// (x - c)^2 + h_c along each row. Phase 2 marks the roots of debris: pixels
+// with no neighbour of their colour nearer to their seed in the flooding's
+// order, the seed's own pixel excepted. Ties go to the smaller (x, y) of the seed,
 // the flooding's order: the upper seed within a column, the left column
 // within a row (integer arithmetic, floors at the envelope's breakpoints).
 //
-// Buffer 0 holds the seed index per pixel (NONE where there is none) and then
-// phase 0's result, the row of each pixel's column seed. Buffer 1 receives
-// the colouring and then phase 1's segment starts. Sides up to 16000 keep
+// Buffer 0 holds the seed index per pixel (NONE where there is none), then
+// phase 0's result (the row of each pixel's column seed), then each seed's
+// position packed as x | y << 16. Buffer 1 receives the colouring and then
+// phase 1's segment starts, which phase 2 overwrites with the roots (1) and
+// other pixels (0). Sides up to 16000 keep
 // every square in 32 bits and a row's loops under lavapipe's 65535
 // iterations per invocation (at most 4 x width).
 layout(local_size_x = 64) in;
@@ -16,6 +20,7 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform Pass {
     ivec2 size;
     int phase;
+    uint first;
 } pass;
 
 layout(set = 0, binding = 0) buffer Seeds {
@@ -110,6 +115,33 @@ void row(int y) {
     }
 }
 
+// Whether pixel k of colour i is a root: not the seed, and no neighbour of
+// colour i comes before it in the order (squared distance, then x, then y).
+void root(uint k) {
+    int w = pass.size.x;
+    uint pixels = uint(w * pass.size.y);
+    ivec2 a = ivec2(int(k) % w, int(k) / w);
+    uint i = colours[k];
+    uint packed = seeds[2u * pixels + i];
+    ivec2 s = ivec2(int(packed & 0xFFFFu), int(packed >> 16));
+    ivec2 da = a - s;
+    int pa = da.x * da.x + da.y * da.y;
+    bool earlier = false;
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            ivec2 b = a + ivec2(dx, dy);
+            bool inside = (dx != 0 || dy != 0) && b.x >= 0 && b.y >= 0 && b.x < w
+                && b.y < pass.size.y;
+            if (inside && colours[b.y * w + b.x] == i) {
+                ivec2 db = b - s;
+                int pb = db.x * db.x + db.y * db.y;
+                earlier = earlier || pb < pa || (pb == pa && (b.x < a.x || (b.x == a.x && b.y < a.y)));
+            }
+        }
+    }
+    colours[pixels + k] = (a != s && !earlier) ? 1u : 0u;
+}
+
 void main() {
     int k = int(gl_GlobalInvocationID.x);
     if (pass.phase == 0 && k < pass.size.x) {
@@ -117,5 +149,9 @@ void main() {
     }
     if (pass.phase == 1 && k < pass.size.y) {
         row(k);
+    }
+    uint pixel = pass.first + gl_GlobalInvocationID.x;
+    if (pass.phase == 2 && pixel < uint(pass.size.x * pass.size.y)) {
+        root(pixel);
     }
 }

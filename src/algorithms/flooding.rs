@@ -17,14 +17,14 @@
 //! 3. floods the debris alone, in the total order, from the bulk pixels around
 //!    it, which flooding colours as E does and in the same order.
 //!
-//! The result is the reference flooding pixel for pixel. Debris needs a sharp
-//! corner of a Euclidean region and is rare (none in 200 random sets of 60
-//! seeds on 64 x 48 pixels), so steps 2 and 3 run on the host over the
-//! colouring read back.
+//! The result is the reference flooding pixel for pixel. The roots are found
+//! per pixel by a third compute pass. Debris needs a sharp corner of a
+//! Euclidean region and is rare (none in 200 random sets of 60 seeds on 64 x
+//! 48 pixels), so its components are gathered and flooded on the host, over
+//! the colouring read back.
 
 use std::{cmp::Reverse, collections::BinaryHeap, time::Instant};
 
-use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::{
@@ -36,8 +36,8 @@ use crate::{
 /// How the flooding went.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct FloodingStats {
-    /// Milliseconds: the Euclidean colouring on the device, finding the debris,
-    /// flooding it.
+    /// Milliseconds: the Euclidean colouring and its debris roots on the
+    /// device, gathering the debris, flooding it.
     pub colour_ms: f64,
     pub debris_ms: f64,
     pub repair_ms: f64,
@@ -75,6 +75,17 @@ pub fn euclidean_colouring(
     height: u32,
     seeds: &[Seed],
 ) -> Result<Vec<u32>> {
+    Ok(colouring_and_roots(machine, width, height, seeds)?.0)
+}
+
+/// The Euclidean colouring and, from a third pass, the roots of its debris
+/// (pixel indices in order).
+fn colouring_and_roots(
+    machine: &Machine,
+    width: u32,
+    height: u32,
+    seeds: &[Seed],
+) -> Result<(Vec<u32>, Vec<usize>)> {
     check_seeds(width, height, seeds)?;
     // Squares of coordinates must fit 32 bits, and a row's invocation loops
     // at most 4 x width times (lavapipe stops a shader's loops at 65535).
@@ -84,47 +95,46 @@ pub fn euclidean_colouring(
         )));
     }
     let pixels = width as usize * height as usize;
-    let mut seed_at = vec![crate::reference::flooding::NONE; 2 * pixels];
+    // The seed map, room for the column pass, the seeds' packed positions.
+    let mut input = vec![crate::reference::flooding::NONE; 2 * pixels + seeds.len()];
     for (i, s) in seeds.iter().enumerate() {
-        seed_at[s[1] as usize * width as usize + s[0] as usize] = i as u32;
+        input[s[1] as usize * width as usize + s[0] as usize] = i as u32;
+        input[2 * pixels + i] = s[0] as u32 | (s[1] as u32) << 16;
     }
-    let bytes = (2 * pixels * 4) as u64;
-    let mut input = machine.storage_buffer(bytes)?;
-    input.write(&seed_at);
-    let output = machine.storage_buffer(bytes)?;
-    machine.with_compute_buffers([&input, &output], |set| {
+    let mut seed_buffer = machine.storage_buffer((input.len() * 4) as u64)?;
+    seed_buffer.write(&input);
+    let output = machine.storage_buffer((2 * pixels * 4) as u64)?;
+    let chunk = crate::machine::MAX_GROUPS * BufferKernel::EuclideanColouring.group();
+    machine.with_compute_buffers([&seed_buffer, &output], |set| {
         machine.run(|pass| {
             let kernel = BufferKernel::EuclideanColouring;
-            pass.dispatch(kernel, set, width, &[width, height, 0])?;
-            pass.dispatch(kernel, set, height, &[width, height, 1])
+            pass.dispatch(kernel, set, width, &[width, height, 0, 0])?;
+            pass.dispatch(kernel, set, height, &[width, height, 1, 0])?;
+            for first in (0..pixels as u32).step_by(chunk as usize) {
+                let count = chunk.min(pixels as u32 - first);
+                pass.dispatch(kernel, set, count, &[width, height, 2, first])?;
+            }
+            Ok(())
         })
     })?;
-    Ok(output.read::<u32>(pixels))
+    let words = output.read::<u32>(2 * pixels);
+    let roots = (0..pixels).filter(|&k| words[pixels + k] == 1).collect();
+    let mut labels = words;
+    labels.truncate(pixels);
+    Ok((labels, roots))
 }
 
 /// The flooded colouring of `seeds` (distinct pixels of the texture).
 pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Result<Flooding> {
     let mut stats = FloodingStats::default();
     let started = Instant::now();
-    let mut labels = euclidean_colouring(machine, width, height, seeds)?;
+    let (mut labels, roots) = colouring_and_roots(machine, width, height, seeds)?;
     stats.colour_ms = ms(started);
 
     let started = Instant::now();
     let w = width as i32;
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let colour = |labels: &[u32], p: [i32; 2]| labels[at(p)];
-    // Roots: no neighbour of the same colour nearer to the seed.
-    let roots: Vec<usize> = (0..labels.len())
-        .into_par_iter()
-        .filter(|&k| {
-            let a = [k as i32 % w, k as i32 / w];
-            let i = labels[k];
-            let s = seeds[i as usize];
-            a != s
-                && !neighbours(a[0], a[1], width, height)
-                    .any(|b| colour(&labels, b) == i && priority(b, s) < priority(a, s))
-        })
-        .collect();
     let mut debris = vec![false; labels.len()];
     let mut stack: Vec<[i32; 2]> = Vec::new();
     for &k in &roots {
