@@ -13,16 +13,6 @@ use pixgeo::{
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// Triangles with the smallest vertex first, sorted.
-fn canonical(mut triangles: Vec<[u32; 3]>) -> Vec<[u32; 3]> {
-    for t in &mut triangles {
-        let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-        t.rotate_left(k);
-    }
-    triangles.sort_unstable();
-    triangles
-}
-
 fn distinct_indices(points: &[DVec2], result: &Delaunay) -> Vec<u32> {
     let dropped: std::collections::HashSet<u32> = result.duplicates.iter().map(|d| d[0]).collect();
     (0..points.len() as u32)
@@ -96,8 +86,8 @@ fn random_points_give_spades_triangulation() {
             .collect();
         let result = triangulate("uniform", &points, &checked(), n <= 2000);
         assert_eq!(
-            canonical(result.triangles.clone()),
-            canonical(spade_triangles(&points)),
+            common::canonical(result.triangles.clone()),
+            common::canonical(spade_triangles(&points)),
             "n = {n}, scale {scale}"
         );
         assert!(result.stats.incremental.is_none(), "{:?}", result.stats);
@@ -119,8 +109,8 @@ fn crowded_grids_insert_what_shares_a_pixel() {
     let result = triangulate("crowded", &points, &options, false);
     assert!(result.stats.inserted > 2000, "{:?}", result.stats);
     assert_eq!(
-        canonical(result.triangles.clone()),
-        canonical(spade_triangles(&points))
+        common::canonical(result.triangles.clone()),
+        common::canonical(spade_triangles(&points))
     );
 }
 
@@ -204,8 +194,8 @@ fn tiny_inputs_and_every_grid_size() {
         let points = common::uniform(&mut rng, n, 10.0, 10.0);
         let result = triangulate("tiny", &points, &DelaunayOptions::default(), true);
         assert_eq!(
-            canonical(result.triangles),
-            canonical(spade_triangles(&points))
+            common::canonical(result.triangles),
+            common::canonical(spade_triangles(&points))
         );
         let reason = result.stats.incremental.unwrap_or_default();
         invalid += usize::from(reason.contains("not valid"));
@@ -220,8 +210,8 @@ fn tiny_inputs_and_every_grid_size() {
         };
         let result = triangulate("grid", &points, &options, true);
         assert_eq!(
-            canonical(result.triangles),
-            canonical(spade_triangles(&points)),
+            common::canonical(result.triangles),
+            common::canonical(spade_triangles(&points)),
             "grid {grid}"
         );
     }

@@ -306,16 +306,6 @@ fn jump_flooding_is_nearly_the_euclidean_colouring() {
     );
 }
 
-/// Triangles as sets up to rotation, sorted.
-fn canonical(mut triangles: Vec<[u32; 3]>) -> Vec<[u32; 3]> {
-    for t in &mut triangles {
-        let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-        t.rotate_left(k);
-    }
-    triangles.sort_unstable();
-    triangles
-}
-
 #[test]
 fn dualization_on_the_machine_equals_the_reference() {
     let machine = common::machine();
@@ -333,7 +323,11 @@ fn dualization_on_the_machine_equals_the_reference() {
     for (name, seeds) in cases {
         let labels = flood(w, h, &seeds).unwrap();
         let gpu = pixgeo::algorithms::flooding::dualize(&machine, &labels, w, h).unwrap();
-        assert_eq!(canonical(gpu), canonical(dualize(&labels, w, h)), "{name}");
+        assert_eq!(
+            common::canonical(gpu),
+            common::canonical(dualize(&labels, w, h)),
+            "{name}"
+        );
     }
 }
 
@@ -401,7 +395,7 @@ fn flips_make_the_digital_triangulation_delaunay() {
                 .copied()
                 .filter(|t| !t.contains(&DUMMY))
                 .collect();
-            let (ours, theirs) = (canonical(ours), canonical(theirs));
+            let (ours, theirs) = (common::canonical(ours), common::canonical(theirs));
             assert_eq!(ours.len(), theirs.len(), "{name}");
             for t in ours.iter().filter(|t| theirs.binary_search(t).is_err()) {
                 let [a, b, d] = t.map(|v| c(points[v as usize]));

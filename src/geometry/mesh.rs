@@ -42,6 +42,14 @@ fn prev(e: usize) -> usize {
     (e + 2) % 3
 }
 
+/// Two triangles (a, b, c) and u = (b, a, d) sharing an edge: a, b, c, d, and
+/// the triangles beyond b → c, c → a, a → d and d → b.
+struct Quad {
+    u: u32,
+    vertices: [u32; 4],
+    beyond: [u32; 4],
+}
+
 /// Why a removal was refused: too few sites would remain.
 #[derive(Debug)]
 pub struct TooFewSites;
@@ -293,18 +301,36 @@ impl Mesh {
         }
     }
 
+    /// The edge index in `u` of its edge shared with `t`.
+    fn twin_index(&self, u: u32, t: u32) -> usize {
+        self.adjacent[u as usize]
+            .iter()
+            .position(|&w| w == t)
+            .expect("twins")
+    }
+
+    /// The two triangles at edge `e` of `t`, (a, b, c) and u = (b, a, d), and
+    /// the four beyond their other edges.
+    fn quad(&self, t: u32, e: usize) -> Quad {
+        let u = self.adjacent[t as usize][e];
+        let f = self.twin_index(u, t);
+        let [tv, ta] = [self.triangles[t as usize], self.adjacent[t as usize]];
+        let [uv, ua] = [self.triangles[u as usize], self.adjacent[u as usize]];
+        Quad {
+            u,
+            vertices: [tv[e], tv[next(e)], tv[prev(e)], uv[prev(f)]],
+            beyond: [ta[next(e)], ta[prev(e)], ua[next(f)], ua[prev(f)]],
+        }
+    }
+
     /// Flips edge `e` of triangle `t`: (a, b, c) and (b, a, d) become
     /// (c, a, d) and (d, b, c).
     pub fn flip(&mut self, t: u32, e: usize) {
-        let u = self.adjacent[t as usize][e];
-        let [tv, ta] = [self.triangles[t as usize], self.adjacent[t as usize]];
-        let f = self.adjacent[u as usize]
-            .iter()
-            .position(|&w| w == t)
-            .expect("twins");
-        let [uv, ua] = [self.triangles[u as usize], self.adjacent[u as usize]];
-        let (a, b, c, d) = (tv[e], tv[next(e)], tv[prev(e)], uv[prev(f)]);
-        let (n_bc, n_ca, n_ad, n_db) = (ta[next(e)], ta[prev(e)], ua[next(f)], ua[prev(f)]);
+        let Quad {
+            u,
+            vertices: [a, b, c, d],
+            beyond: [n_bc, n_ca, n_ad, n_db],
+        } = self.quad(t, e);
         self.set(t, [c, a, d], [n_ca, n_ad, u]);
         self.set(u, [d, b, c], [n_db, n_bc, t]);
         self.repoint(n_bc, t, u);
@@ -318,13 +344,7 @@ impl Mesh {
         if tv[0] == FREE || tv.contains(&DUMMY) {
             return false;
         }
-        let u = self.adjacent[t as usize][e];
-        let uv = self.triangles[u as usize];
-        let f = self.adjacent[u as usize]
-            .iter()
-            .position(|&w| w == t)
-            .expect("twins");
-        let d = uv[prev(f)];
+        let d = self.quad(t, e).vertices[3];
         d != DUMMY && incircle(self.at(tv[0]), self.at(tv[1]), self.at(tv[2]), self.at(d)) > 0.0
     }
 
@@ -666,15 +686,11 @@ impl Mesh {
     }
 
     fn split_edge(&mut self, t: u32, e: usize, q: u32) -> usize {
-        let u = self.adjacent[t as usize][e];
-        let f = self.adjacent[u as usize]
-            .iter()
-            .position(|&w| w == t)
-            .expect("twins");
-        let [tv, ta] = [self.triangles[t as usize], self.adjacent[t as usize]];
-        let [uv, ua] = [self.triangles[u as usize], self.adjacent[u as usize]];
-        let (a, b, c, d) = (tv[e], tv[next(e)], tv[prev(e)], uv[prev(f)]);
-        let (n_bc, n_ca, n_ad, n_db) = (ta[next(e)], ta[prev(e)], ua[next(f)], ua[prev(f)]);
+        let Quad {
+            u,
+            vertices: [a, b, c, d],
+            beyond: [n_bc, n_ca, n_ad, n_db],
+        } = self.quad(t, e);
         let (t1, u1) = (self.allocate(), self.allocate());
         self.set(t, [q, b, c], [u1, n_bc, t1]);
         self.set(t1, [a, q, c], [u, t, n_ca]);

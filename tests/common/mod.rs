@@ -88,3 +88,13 @@ pub fn cases(w: u32, h: u32) -> Vec<(&'static str, Vec<DVec2>)> {
     ));
     out
 }
+
+/// Triangles as sets up to rotation, sorted.
+pub fn canonical(mut triangles: Vec<[u32; 3]>) -> Vec<[u32; 3]> {
+    for t in &mut triangles {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+        t.rotate_left(k);
+    }
+    triangles.sort_unstable();
+    triangles
+}
