@@ -19,6 +19,11 @@
 //! The pixel centres are an exact scaled integer lattice (the cell side has a
 //! three-bit mantissa and the origin is a multiple of it), so the dual's
 //! orientations hold in floating point too.
+//!
+//! Few, sparse points can make the dual invalid: an inner point's region then
+//! reaches the texture's border twice and meets the one outside region twice.
+//! The mesh notices, and the points are inserted one by one in Hilbert order
+//! instead ([`DelaunayStats::incremental`] says why).
 
 use std::time::Instant;
 

@@ -87,8 +87,12 @@ impl Mesh {
         self.triangles[t as usize].contains(&DUMMY)
     }
 
-    /// The mesh of a valid triangulation of the sphere (as
-    /// [`super::triangulation::validate`] accepts) over `points`.
+    /// The mesh of a triangulation of the sphere over `points` (sites and
+    /// [`DUMMY`]). An error says what keeps it from being one: an edge without
+    /// a twin or in more than two triangles, a vertex whose triangles form
+    /// more than one ring, an Euler characteristic other than 2, or a finite
+    /// triangle that is not counter-clockwise. (That the boundary is simple is
+    /// not checked; [`super::triangulation::validate`] checks everything.)
     pub fn new(points: Vec<DVec2>, triangles: Vec<[u32; 3]>) -> Result<Self, String> {
         let n = points.len();
         let slot = |v: u32| if v == DUMMY { n } else { v as usize };
