@@ -389,6 +389,14 @@ fn entries() -> Vec<Entry> {
             sites: Some(("shape.csv", csv(&shape))),
             args: &["--sites", "shape.csv", "--alpha", "0.018", "--size", "640"],
         },
+        Entry {
+            command: "delaunay",
+            picture: "delaunay.png",
+            title: "Delaunay triangulation from a digital Voronoi diagram",
+            caption: "Flooding colours the texture so that every region is connected,                       and its dual is a valid triangulation of the seeds (Cao,                       Edelsbrunner and Tan 2015, Fig. 3); the seeds then move to                       their true positions, the points that shared a pixel are                       inserted, and flips make it Delaunay.",
+            sites: None,
+            args: &["--random", "200", "--grid", "60", "--picture-size", "640"],
+        },
     ]
 }
 
@@ -507,7 +515,8 @@ pub fn run(args: Args) -> Result<()> {
             Command::Enclose(a) => crate::homothet::enclose(a)?,
             Command::Empty(a) => crate::homothet::empty(a)?,
             Command::Alpha(a) => crate::alpha::run(a)?,
-            _ => unreachable!("the gallery runs voronoi, enclose, empty and alpha"),
+            Command::Delaunay(a) => crate::delaunay::run(*a)?,
+            _ => unreachable!("the gallery runs voronoi, enclose, empty, alpha and delaunay"),
         }
         let _ = write!(
             html,
