@@ -223,6 +223,7 @@ fn bad_input_is_a_clear_error() {
     let options = DelaunayOptions::default();
     let p = |x: f64, y: f64| DVec2::new(x, y);
     for (points, says) in [
+        (vec![], "three distinct"),
         (vec![p(0.0, 0.0), p(1.0, 1.0)], "three distinct"),
         (
             vec![p(0.0, 0.0), p(1.0, 1.0), p(1.0, 1.0)],

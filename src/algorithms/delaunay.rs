@@ -163,6 +163,11 @@ pub fn delaunay(
     if points.len() >= u32::MAX as usize / 2 {
         return Err(Error::InvalidInput("too many points".into()));
     }
+    if points.is_empty() {
+        return Err(Error::InvalidInput(
+            "a triangulation needs three distinct points; there are none".into(),
+        ));
+    }
     // 1. The grid over the bounding box.
     let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
         (lo.min(p), hi.max(p))
