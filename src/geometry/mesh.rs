@@ -329,7 +329,7 @@ impl Mesh {
 
     /// Flips edge `e` of triangle `t`: (a, b, c) and (b, a, d) become
     /// (c, a, d) and (d, b, c).
-    pub fn flip(&mut self, t: u32, e: usize) {
+    fn flip(&mut self, t: u32, e: usize) {
         let Quad {
             u,
             vertices: [a, b, c, d],

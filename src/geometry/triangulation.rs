@@ -17,6 +17,8 @@ use std::collections::HashMap;
 use glam::DVec2;
 use serde::Serialize;
 
+use super::mesh::{incircle, orient};
+
 /// The vertex at infinity.
 pub const DUMMY: u32 = u32::MAX;
 
@@ -38,11 +40,6 @@ impl Validity {
     pub fn is_valid(&self) -> bool {
         self.problems.is_empty()
     }
-}
-
-fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    let p = |v: DVec2| robust::Coord { x: v.x, y: v.y };
-    robust::orient2d(p(a), p(b), p(c))
 }
 
 /// Whether segments ab and cd share a point other than a common endpoint.
@@ -405,10 +402,6 @@ pub fn check_delaunay(points: &[DVec2], triangles: &[[u32; 3]], expected: &[u32]
             );
         }
     }
-    let c = |v: u32| robust::Coord {
-        x: p(v).x,
-        y: p(v).y,
-    };
     for (&(a, b), &k) in &owner {
         if let Some(&l) = owner.get(&(b, a)) {
             let t = triangles[k];
@@ -417,7 +410,7 @@ pub fn check_delaunay(points: &[DVec2], triangles: &[[u32; 3]], expected: &[u32]
                 .copied()
                 .find(|&v| v != a && v != b)
                 .expect("three vertices");
-            if robust::incircle(c(t[0]), c(t[1]), c(t[2]), c(d)) > 0.0 {
+            if incircle(p(t[0]), p(t[1]), p(t[2]), p(d)) > 0.0 {
                 note(
                     &mut problems,
                     "delaunay",
