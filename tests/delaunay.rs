@@ -252,3 +252,46 @@ fn bad_input_is_a_clear_error() {
     .to_string();
     assert!(error.contains("margins"), "{error}");
 }
+
+#[test]
+fn hundreds_of_degenerate_sets_on_every_kind_of_grid() {
+    // Small lattices with repeats, flat boxes, rounded circles, few columns,
+    // points crowded into a corner; on default, tiny and fine grids.
+    let machine = common::machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(99);
+    for round in 0..400 {
+        let n = rng.gen_range(3..600);
+        let kind = round % 5;
+        let points: Vec<DVec2> = (0..n)
+            .map(|_| match kind {
+                0 => DVec2::new(rng.gen_range(0..12) as f64, rng.gen_range(0..12) as f64),
+                1 => DVec2::new(rng.gen::<f64>(), rng.gen::<f64>() * 1e-6),
+                2 => {
+                    let a = rng.gen::<f64>() * std::f64::consts::TAU;
+                    (DVec2::new(a.cos(), a.sin()) * 3.0).round()
+                }
+                3 => DVec2::new(rng.gen_range(0..5) as f64 * 0.1, rng.gen::<f64>()),
+                _ => DVec2::new(rng.gen::<f64>().powi(8), rng.gen::<f64>().powi(8)),
+            })
+            .collect();
+        let grid = [None, Some(10), Some(16), Some(33), Some(200)][rng.gen_range(0..5)];
+        let options = DelaunayOptions { grid, check: false };
+        let result = match delaunay(&machine, &points, &options) {
+            Ok(result) => result,
+            Err(e) => {
+                let e = e.to_string();
+                assert!(
+                    e.contains("one line") || e.contains("distinct"),
+                    "{round}: {e}"
+                );
+                continue;
+            }
+        };
+        let expected = distinct_indices(&points, &result);
+        let problems = check_delaunay(&points, &result.triangles, &expected);
+        assert!(
+            problems.is_empty(),
+            "round {round}, kind {kind}, {n} points, grid {grid:?}: {problems:?}"
+        );
+    }
+}
