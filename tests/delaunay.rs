@@ -13,19 +13,12 @@ use pixgeo::{
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-fn distinct_indices(points: &[DVec2], result: &Delaunay) -> Vec<u32> {
-    let dropped: std::collections::HashSet<u32> = result.duplicates.iter().map(|d| d[0]).collect();
-    (0..points.len() as u32)
-        .filter(|v| !dropped.contains(v))
-        .collect()
-}
-
 /// Triangulates and runs the delaunator-style checks; with `brute`, also the
 /// empty-circle property against every point.
 fn triangulate(name: &str, points: &[DVec2], options: &DelaunayOptions, brute: bool) -> Delaunay {
     let machine = common::machine();
     let result = delaunay(&machine, points, options).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let expected = distinct_indices(points, &result);
+    let expected = result.distinct();
     let problems = check_delaunay(points, &result.triangles, &expected);
     assert!(problems.is_empty(), "{name}: {problems:?}");
     if brute {
@@ -223,7 +216,7 @@ fn bad_input_is_a_clear_error() {
     let options = DelaunayOptions::default();
     let p = |x: f64, y: f64| DVec2::new(x, y);
     for (points, says) in [
-        (vec![], "three distinct"),
+        (vec![], "empty"),
         (vec![p(0.0, 0.0), p(1.0, 1.0)], "three distinct"),
         (
             vec![p(0.0, 0.0), p(1.0, 1.0), p(1.0, 1.0)],
@@ -232,7 +225,7 @@ fn bad_input_is_a_clear_error() {
         (vec![p(0.0, 0.0), p(1.0, 1.0), p(2.0, 2.0)], "one line"),
         (
             vec![p(0.0, 0.0), p(f64::NAN, 1.0), p(2.0, 0.0)],
-            "not finite",
+            "non-finite coordinate",
         ),
     ] {
         let error = delaunay(&machine, &points, &options)
@@ -287,7 +280,7 @@ fn hundreds_of_degenerate_sets_on_every_kind_of_grid() {
                 continue;
             }
         };
-        let expected = distinct_indices(&points, &result);
+        let expected = result.distinct();
         let problems = check_delaunay(&points, &result.triangles, &expected);
         assert!(
             problems.is_empty(),

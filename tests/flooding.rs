@@ -19,6 +19,15 @@ fn distinct(mut seeds: Vec<Seed>) -> Vec<Seed> {
     seeds
 }
 
+/// `n` random seed pixels anywhere on 64 x 48, border included, without repeats.
+fn anywhere(n: usize) -> (&'static str, Vec<Seed>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let seeds = (0..n)
+        .map(|_| [rng.gen_range(0..64), rng.gen_range(0..48)])
+        .collect();
+    ("anywhere", distinct(seeds))
+}
+
 /// Random, clustered, lattice (many co-circular seeds) and nearly collinear
 /// seed sets on a `w` x `h` texture, a few pixels clear of its border (see
 /// `the_border_can_pinch_the_outside`).
@@ -206,15 +215,7 @@ fn flooding_on_the_machine_equals_the_reference() {
     let (w, h) = (64, 48);
     let mut cases = inputs(w, h);
     // Seeds on the border and a sharp corner with debris.
-    let mut rng = ChaCha8Rng::seed_from_u64(7);
-    cases.push((
-        "anywhere",
-        distinct(
-            (0..80)
-                .map(|_| [rng.gen_range(0..64), rng.gen_range(0..48)])
-                .collect(),
-        ),
-    ));
+    cases.push(anywhere(80));
     cases.push(("sharp corner", vec![[2, 12], [11, 22], [0, 2]]));
     let mut recoloured = 0;
     for (name, seeds) in cases {
@@ -311,15 +312,7 @@ fn dualization_on_the_machine_equals_the_reference() {
     let machine = common::machine();
     let (w, h) = (64, 48);
     let mut cases = inputs(w, h);
-    let mut rng = ChaCha8Rng::seed_from_u64(7);
-    cases.push((
-        "anywhere",
-        distinct(
-            (0..60)
-                .map(|_| [rng.gen_range(0..64), rng.gen_range(0..48)])
-                .collect(),
-        ),
-    ));
+    cases.push(anywhere(60));
     for (name, seeds) in cases {
         let labels = flood(w, h, &seeds).unwrap();
         let gpu = pixgeo::algorithms::flooding::dualize(&machine, &labels, w, h).unwrap();

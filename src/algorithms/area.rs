@@ -37,7 +37,10 @@ use serde::Serialize;
 use crate::{
     algorithms::higher_order::convex_hull,
     error::{Error, Result},
-    geometry::{frame::check_sites, Frame},
+    geometry::{
+        frame::{check_sites, distinct_by, lexicographic},
+        Frame,
+    },
     machine::{
         Buffer, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image, Machine,
         NearExtreme, PixelRect, Program, RasterState, Target,
@@ -410,18 +413,11 @@ fn decided(extreme: Extreme, sites: Vec<u32>, area: f64, by: &'static str) -> Ar
     }
 }
 
-/// The first index of each distinct position.
+/// The first index of each distinct position, in index order.
 fn distinct_sites(sites: &[DVec2]) -> Vec<u32> {
-    let mut order: Vec<u32> = (0..sites.len() as u32).collect();
-    order.sort_by(|&a, &b| {
-        let (p, q) = (sites[a as usize], sites[b as usize]);
-        p.x.total_cmp(&q.x)
-            .then(p.y.total_cmp(&q.y))
-            .then(a.cmp(&b))
-    });
-    order.dedup_by(|a, b| sites[*a as usize] == sites[*b as usize]);
-    order.sort_unstable();
-    order
+    let mut kept = distinct_by(sites, 0..sites.len() as u32, lexicographic).0;
+    kept.sort_unstable();
+    kept
 }
 
 /// Two sites at one position, if any.
@@ -667,6 +663,35 @@ impl<'m> Roofs<'m> {
         ]
     }
 
+    /// One instanced pass of every pair's roof (`segment`: only over the
+    /// segment's strip) into `target`, the fragment shader reading `buffers`.
+    fn draw_roofs(
+        &self,
+        program: Program,
+        state: &RasterState,
+        target: Target<'_>,
+        clear: Clear,
+        buffers: &[&Buffer],
+        segment: bool,
+    ) -> Result<()> {
+        let push = self.push(segment);
+        self.machine.with_fragment_buffers(buffers, |set| {
+            self.machine.run(|pass| {
+                pass.begin(target, clear)?;
+                pass.bind_fragment_buffer(set);
+                pass.draw_instances(
+                    program,
+                    state,
+                    &DrawParams::default(),
+                    &push,
+                    4,
+                    self.count() as u32,
+                )?;
+                pass.end()
+            })
+        })
+    }
+
     /// Every pair's roof with the depth test keeping the extreme: the depth
     /// ([`Roofs::area_of_depth`]) and the pair picture.
     fn draw_triangles(&self) -> Result<(Image, Image)> {
@@ -683,32 +708,21 @@ impl<'m> Roofs<'m> {
             write: true,
         });
         // A triangle is found by its longest edge's roof: the segment's strip.
-        let push = self.push(true);
-        machine.with_fragment_buffers(&[&self.sites, &self.owners], |set| {
-            machine.run(|pass| {
-                pass.begin(
-                    Target {
-                        color: Some(&pairs),
-                        depth_stencil: Some(&depth),
-                    },
-                    Clear {
-                        color: Some(ClearColor::Uint([NO_SITE; 4])),
-                        depth: Some(clear),
-                        stencil: None,
-                    },
-                )?;
-                pass.bind_fragment_buffer(set);
-                pass.draw_instances(
-                    Program::Roof,
-                    &state,
-                    &DrawParams::default(),
-                    &push,
-                    4,
-                    self.count() as u32,
-                )?;
-                pass.end()
-            })
-        })?;
+        self.draw_roofs(
+            Program::Roof,
+            &state,
+            Target {
+                color: Some(&pairs),
+                depth_stencil: Some(&depth),
+            },
+            Clear {
+                color: Some(ClearColor::Uint([NO_SITE; 4])),
+                depth: Some(clear),
+                stencil: None,
+            },
+            &[&self.sites, &self.owners],
+            true,
+        )?;
         Ok((depth, pairs))
     }
 
@@ -725,31 +739,20 @@ impl<'m> Roofs<'m> {
         });
         let depth = machine.image(Format::Depth, w, h)?;
         // A quadrangle's diagonal need not be its longest edge: the whole line.
-        let push = self.push(false);
-        machine.with_fragment_buffers(&[&self.sites, &self.owners, &best], |set| {
-            machine.run(|pass| {
-                pass.begin(
-                    Target {
-                        color: None,
-                        depth_stencil: Some(&depth),
-                    },
-                    Clear {
-                        depth: Some(1.0),
-                        ..Clear::default()
-                    },
-                )?;
-                pass.bind_fragment_buffer(set);
-                pass.draw_instances(
-                    Program::RoofSides,
-                    &RasterState::OVERWRITE,
-                    &DrawParams::default(),
-                    &push,
-                    4,
-                    self.count() as u32,
-                )?;
-                pass.end()
-            })
-        })?;
+        self.draw_roofs(
+            Program::RoofSides,
+            &RasterState::OVERWRITE,
+            Target {
+                color: None,
+                depth_stencil: Some(&depth),
+            },
+            Clear {
+                depth: Some(1.0),
+                ..Clear::default()
+            },
+            &[&self.sites, &self.owners, &best],
+            false,
+        )?;
         Ok(best.read(slots))
     }
 

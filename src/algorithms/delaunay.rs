@@ -28,13 +28,13 @@
 use std::time::Instant;
 
 use glam::DVec2;
-use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::{
     algorithms::flooding::{dualize, flood, FloodingStats},
     error::{Error, Result},
     geometry::{
+        frame::{check_sites, distinct_by},
         mesh::{orient, Mesh},
         triangulation::{validate, Validity, DUMMY},
     },
@@ -111,6 +111,17 @@ pub struct Delaunay {
     pub digital: DigitalDiagram,
 }
 
+impl Delaunay {
+    /// The input points in the triangulation: all but the repeats, in order.
+    pub fn distinct(&self) -> Vec<u32> {
+        let n = (self.stats.points + self.duplicates.len()) as u32;
+        let mut repeats = self.duplicates.iter().map(|d| d[0]).peekable();
+        (0..n)
+            .filter(|&v| repeats.next_if_eq(&v).is_none())
+            .collect()
+    }
+}
+
 /// The flooded digital Voronoi diagram behind a triangulation, for pictures.
 #[derive(Clone, Debug, Default)]
 pub struct DigitalDiagram {
@@ -154,19 +165,10 @@ pub fn delaunay(
     points: &[DVec2],
     options: &DelaunayOptions,
 ) -> Result<Delaunay> {
-    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "point {i} is not finite: {:?}",
-            points[i]
-        )));
-    }
+    check_sites(points)?;
+    // Triangles (about two per point) are numbered in 32 bits too.
     if points.len() >= u32::MAX as usize / 2 {
         return Err(Error::InvalidInput("too many points".into()));
-    }
-    if points.is_empty() {
-        return Err(Error::InvalidInput(
-            "a triangulation needs three distinct points; there are none".into(),
-        ));
     }
     // 1. The grid over the bounding box.
     let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
@@ -200,7 +202,7 @@ pub fn delaunay(
     };
     // The distinct points in Hilbert order over the pixels, so that neighbours
     // in the mesh are mostly neighbours in memory; equal points sort together.
-    let (unique, duplicates) = distinct_in_order(points, |p| {
+    let (unique, duplicates) = distinct_by(points, 0..points.len() as u32, |p| {
         let s = pixel_of(p);
         hilbert(s[0] as u32, s[1] as u32)
     });
@@ -270,7 +272,7 @@ pub fn delaunay(
     if seeds.len() < 5 || seeds_collinear {
         stats.incremental = Some("fewer than five seeds, or all on one line".into());
     } else {
-        match Mesh::new(placed, digital.clone()) {
+        match Mesh::new(placed, digital) {
             Err(e) => {
                 stats.incremental = Some(format!("the digital triangulation is not valid: {e}"))
             }
@@ -355,49 +357,20 @@ pub fn delaunay(
             cell,
             labels: flooding.labels,
             seeds: seed_point.iter().map(|&v| unique[v as usize]).collect(),
-            triangles: digital
+            triangles: dual
                 .iter()
                 .map(|t| {
                     t.map(|v| {
                         if v == DUMMY {
                             DUMMY
                         } else {
-                            unique[v as usize]
+                            unique[to_point(v) as usize]
                         }
                     })
                 })
                 .collect(),
         },
     })
-}
-
-/// The distinct points (input indices, the first of equal points) sorted by
-/// `key`, and the repeats as (dropped, kept), sorted.
-fn distinct_in_order(
-    points: &[DVec2],
-    key: impl Fn(DVec2) -> u64 + Sync,
-) -> (Vec<u32>, Vec<[u32; 2]>) {
-    // +0.0 for -0.0, so that equal points sort together.
-    let bits = |p: DVec2| ((p.x + 0.0).to_bits(), (p.y + 0.0).to_bits());
-    let mut keys: Vec<(u64, (u64, u64), u32)> = points
-        .par_iter()
-        .enumerate()
-        .map(|(i, &p)| (key(p), bits(p), i as u32))
-        .collect();
-    keys.par_sort_unstable();
-    let mut unique = Vec::with_capacity(points.len());
-    let mut duplicates = Vec::new();
-    let mut kept = 0;
-    for (w, &(k, b, i)) in keys.iter().enumerate() {
-        if w > 0 && (keys[w - 1].0, keys[w - 1].1) == (k, b) {
-            duplicates.push([i, kept]);
-        } else {
-            kept = i;
-            unique.push(i);
-        }
-    }
-    duplicates.sort_unstable();
-    (unique, duplicates)
 }
 
 /// Position along a Hilbert curve over a 2^16 x 2^16 grid.

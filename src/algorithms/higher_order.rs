@@ -27,7 +27,7 @@ use crate::{
     geometry::{
         chain::{unit_fan_over, MetricFan},
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
-        frame::{check_sites, distance2_to_rect},
+        frame::{check_sites, distance2_to_rect, distinct_by, lexicographic},
         metric::Metric,
         radius, Frame,
     },
@@ -1023,16 +1023,8 @@ pub fn convex_hull(points: &[DVec2]) -> Vec<u32> {
             && (0..octagon.len())
                 .all(|k| turn(octagon[k], octagon[(k + 1) % octagon.len()], p) > 0.0)
     };
-    let mut order: Vec<u32> = (0..points.len() as u32)
-        .filter(|&i| !strictly_inside(points[i as usize]))
-        .collect();
-    order.sort_by(|&a, &b| {
-        let (p, q) = (points[a as usize], points[b as usize]);
-        p.x.total_cmp(&q.x)
-            .then(p.y.total_cmp(&q.y))
-            .then(a.cmp(&b))
-    });
-    order.dedup_by(|a, b| points[*a as usize] == points[*b as usize]);
+    let outside = (0..points.len() as u32).filter(|&i| !strictly_inside(points[i as usize]));
+    let order = distinct_by(points, outside, lexicographic).0;
     if order.len() < 3 {
         return order;
     }

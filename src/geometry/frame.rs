@@ -183,3 +183,47 @@ pub fn check_sites(sites: &[DVec2]) -> Result<()> {
     }
     Ok(())
 }
+
+/// A key that orders finite coordinates as numbers, with −0.0 equal to 0.0,
+/// so that equal points sort together.
+pub fn lexicographic(p: DVec2) -> (i64, i64) {
+    let key = |x: f64| {
+        let bits = (x + 0.0).to_bits() as i64;
+        // Negative numbers: flip the magnitude bits so that they order downward.
+        bits ^ (((bits >> 63) as u64) >> 1) as i64
+    };
+    (key(p.x), key(p.y))
+}
+
+/// The distinct points among `indices`: sorted by `key`, the first index of
+/// each run of equal points kept (−0.0 equals 0.0). Returns the kept indices in
+/// key order, and the others as (dropped, kept), sorted.
+pub fn distinct_by<K: Ord + Send>(
+    points: &[DVec2],
+    indices: impl IntoIterator<Item = u32>,
+    key: impl Fn(DVec2) -> K + Sync,
+) -> (Vec<u32>, Vec<[u32; 2]>) {
+    use rayon::prelude::*;
+    let mut keys: Vec<(K, (i64, i64), u32)> = indices
+        .into_iter()
+        .collect::<Vec<u32>>()
+        .into_par_iter()
+        .map(|i| {
+            let p = points[i as usize];
+            (key(p), lexicographic(p), i)
+        })
+        .collect();
+    keys.par_sort_unstable();
+    let mut kept = Vec::with_capacity(keys.len());
+    let mut repeats = Vec::new();
+    for w in 0..keys.len() {
+        let i = keys[w].2;
+        if w > 0 && keys[w - 1].1 == keys[w].1 && keys[w - 1].0 == keys[w].0 {
+            repeats.push([i, *kept.last().expect("a run starts with a kept point")]);
+        } else {
+            kept.push(i);
+        }
+    }
+    repeats.sort_unstable();
+    (kept, repeats)
+}

@@ -465,13 +465,16 @@ impl Mesh {
     pub fn try_move(&mut self, v: u32, to: DVec2) -> bool {
         let first = self.corner[v as usize];
         let mut t = first;
-        let mut ghosts = 0;
+        // On the hull: the ghosts with hull edges u → v and v → w.
+        let (mut ending, mut starting) = (None, None);
         loop {
             let tv = self.triangles[t as usize];
             let i = self.index_in(t, v);
             let (a, b) = (tv[next(i)], tv[prev(i)]);
-            if a == DUMMY || b == DUMMY {
-                ghosts += 1;
+            if a == DUMMY {
+                ending = Some(t);
+            } else if b == DUMMY {
+                starting = Some(t);
             } else if orient(self.at(a), self.at(b), to) <= 0.0 {
                 return false;
             }
@@ -480,12 +483,10 @@ impl Mesh {
                 break;
             }
         }
-        if ghosts > 0 {
+        if let (Some(ending), Some(starting)) = (ending, starting) {
             // The boundary z → u → v → w → y must keep turning clockwise.
-            let before = self.previous_ghost(self.ghost_around(v, true));
-            let after = self.next_ghost(self.ghost_around(v, false));
-            let (z, u) = self.ghost_edge(before);
-            let (w, y) = self.ghost_edge(after);
+            let (z, u) = self.ghost_edge(self.previous_ghost(ending));
+            let (w, y) = self.ghost_edge(self.next_ghost(starting));
             let p = |x: u32| self.at(x);
             if orient(p(z), p(u), to) > 0.0
                 || orient(p(u), to, p(w)) > 0.0
@@ -496,15 +497,6 @@ impl Mesh {
         }
         self.points[v as usize] = to;
         true
-    }
-
-    /// The ghost with hull edge u → v (`ending`) or v → w.
-    fn ghost_around(&self, v: u32, ending: bool) -> u32 {
-        self.ring(v)
-            .into_iter()
-            .map(|(t, _)| t)
-            .find(|&t| self.is_ghost(t) && (self.ghost_edge(t).1 == v) == ending)
-            .expect("a hull vertex has two ghosts")
     }
 
     /// Takes vertex `v` out of the mesh and fills its hole: an inner vertex's

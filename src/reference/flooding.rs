@@ -37,14 +37,15 @@ pub fn check_seeds(width: u32, height: u32, seeds: &[Seed]) -> Result<()> {
     if width == 0 || height == 0 {
         return Err(Error::InvalidInput("the texture has no pixels".into()));
     }
-    let mut seen = std::collections::HashSet::new();
+    let mut seen = vec![false; width as usize * height as usize];
     for (i, s) in seeds.iter().enumerate() {
         if s[0] < 0 || s[1] < 0 || s[0] >= width as i32 || s[1] >= height as i32 {
             return Err(Error::InvalidInput(format!(
                 "seed {i} at {s:?} lies outside the {width}x{height} texture"
             )));
         }
-        if !seen.insert(*s) {
+        let pixel = &mut seen[s[1] as usize * width as usize + s[0] as usize];
+        if std::mem::replace(pixel, true) {
             return Err(Error::InvalidInput(format!(
                 "seed {i} at {s:?} repeats a seed pixel"
             )));

@@ -5,9 +5,11 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args as ClapArgs;
+use glam::DVec2;
 use pixgeo::{
     algorithms::area::{self, default_side, AreaAnswer, Extreme},
     io::sites,
+    Machine,
 };
 
 use crate::distances::machine_on;
@@ -78,32 +80,24 @@ impl Common {
 }
 
 pub fn triangle(args: TriangleArgs) -> Result<()> {
-    let c = &args.common;
-    let points = sites::read_sites(&c.sites)?;
-    let machine = machine_on(c.device.as_deref())?;
-    let answer = area::extremal_triangle(
-        &machine,
-        &points,
-        c.extreme(),
-        c.size.unwrap_or(default_side(points.len())),
-    )?;
-    report(&answer, &points, c.json, "triangle")
+    solve(&args.common, area::extremal_triangle, "triangle")
 }
 
 pub fn quadrangle(args: QuadrangleArgs) -> Result<()> {
-    let c = &args.common;
-    let points = sites::read_sites(&c.sites)?;
-    let machine = machine_on(c.device.as_deref())?;
-    let answer = area::extremal_quadrangle(
-        &machine,
-        &points,
-        c.extreme(),
-        c.size.unwrap_or(default_side(points.len())),
-    )?;
-    report(&answer, &points, c.json, "quadrangle")
+    solve(&args.common, area::extremal_quadrangle, "quadrangle")
 }
 
-fn report(answer: &AreaAnswer, points: &[glam::DVec2], json: bool, what: &str) -> Result<()> {
+type Solver = fn(&Machine, &[DVec2], Extreme, u32) -> pixgeo::Result<AreaAnswer>;
+
+fn solve(c: &Common, solver: Solver, what: &str) -> Result<()> {
+    let points = sites::read_sites(&c.sites)?;
+    let machine = machine_on(c.device.as_deref())?;
+    let side = c.size.unwrap_or(default_side(points.len()));
+    let answer = solver(&machine, &points, c.extreme(), side)?;
+    report(&answer, &points, c.json, what)
+}
+
+fn report(answer: &AreaAnswer, points: &[DVec2], json: bool, what: &str) -> Result<()> {
     if json {
         println!("{}", serde_json::to_string_pretty(answer)?);
         return Ok(());

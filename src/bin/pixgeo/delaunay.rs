@@ -85,16 +85,9 @@ pub fn run(args: Args) -> Result<()> {
         check: args.check,
     };
     let result = delaunay::delaunay(&machine, &points, &options)?;
-    let problems = if args.check {
-        let dropped: std::collections::HashSet<u32> =
-            result.duplicates.iter().map(|d| d[0]).collect();
-        let expected: Vec<u32> = (0..points.len() as u32)
-            .filter(|v| !dropped.contains(v))
-            .collect();
-        Some(check_delaunay(&points, &result.triangles, &expected))
-    } else {
-        None
-    };
+    let problems = args
+        .check
+        .then(|| check_delaunay(&points, &result.triangles, &result.distinct()));
     if let Some(prefix) = &args.out {
         write_triangle_files(prefix, &points, &result)?;
     }
