@@ -7,6 +7,9 @@
 // order, the seed's own pixel excepted. Ties go to the smaller (x, y) of the seed,
 // the flooding's order: the upper seed within a column, the left column
 // within a row (integer arithmetic, floors at the envelope's breakpoints).
+// Phase 3 instead writes each pixel's squared distance to its seed plus one,
+// times `scale`, as a float: a distance picture to copy into a depth buffer,
+// every pixel above a depth of 0 (which a mask writes).
 //
 // Buffer 0 holds the seed index per pixel (NONE where there is none), then
 // phase 0's result (the row of each pixel's column seed), then each seed's
@@ -21,6 +24,7 @@ layout(push_constant) uniform Pass {
     ivec2 size;
     int phase;
     uint first;
+    float scale;
 } pass;
 
 layout(set = 0, binding = 0) buffer Seeds {
@@ -142,6 +146,16 @@ void root(uint k) {
     colours[pixels + k] = (a != s && !earlier) ? 1u : 0u;
 }
 
+// Pixel k's squared distance to its seed plus one, scaled, in place of phase
+// 1's segment starts.
+void distance(uint k) {
+    int w = pass.size.x;
+    uint pixels = uint(w * pass.size.y);
+    uint packed = seeds[2u * pixels + colours[k]];
+    ivec2 d = ivec2(int(k) % w - int(packed & 0xFFFFu), int(k) / w - int(packed >> 16));
+    colours[pixels + k] = floatBitsToUint(float(d.x * d.x + d.y * d.y + 1) * pass.scale);
+}
+
 void main() {
     int k = int(gl_GlobalInvocationID.x);
     if (pass.phase == 0 && k < pass.size.x) {
@@ -153,5 +167,8 @@ void main() {
     uint pixel = pass.first + gl_GlobalInvocationID.x;
     if (pass.phase == 2 && pixel < uint(pass.size.x * pass.size.y)) {
         root(pixel);
+    }
+    if (pass.phase == 3 && pixel < uint(pass.size.x * pass.size.y)) {
+        distance(pixel);
     }
 }

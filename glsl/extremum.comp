@@ -76,7 +76,9 @@ void main() {
             hi = max(hi, v);
             at_lo = min(at_lo, v == want_lo ? index : 0xffffffffu);
             at_hi = min(at_hi, v == want_hi ? index : 0xffffffffu);
-            bool listed = (job.phase == 2 && v <= bar) || (job.phase == 3 && v >= bar);
+            // Near the maximum, depth 0 (a mask) is never listed.
+            bool listed = (job.phase == 2 && v <= bar)
+                || (job.phase == 3 && v >= bar && v > ordered(0.0));
             // The clamped rows repeat the last one: list it once.
             if (listed && y0 + r < y1) {
                 uint slot = atomicAdd(result.word[4], 1u);

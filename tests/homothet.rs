@@ -249,6 +249,103 @@ fn largest_empty_circle_against_brute_force() {
     }
 }
 
+/// The largest empty circle by brute force: centres in `region`, or in the
+/// sites' bounding box when it has no rings.
+fn brute_empty_circle(sites: &[DVec2], region: &Region) -> f64 {
+    let boundary = if region.rings.is_empty() {
+        let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+        let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+        Region {
+            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+        }
+    } else {
+        region.clone()
+    };
+    let e = edges(&boundary);
+    let on_edge = |c: DVec2| {
+        e.iter().any(|(a, b)| {
+            let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+            c.distance(*a + (*b - *a) * t) < 1e-9
+        })
+    };
+    oracle::largest_empty(
+        sites,
+        &[],
+        |v| v.length(),
+        &e,
+        |c| boundary.contains(c) || on_edge(c),
+    )
+    .1
+}
+
+/// Pictures from a few pixels (many sites, repeats, to a pixel) to fine ones,
+/// and regions that hold the sites or cut some off, so that both pixel stages
+/// (the distance transform of the snapped sites, cones where sites lie off the
+/// picture) meet clusters, lattices with many equal maxima and collinear sites.
+#[test]
+fn largest_empty_circle_on_every_kind_of_picture() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let lattice: Vec<DVec2> = (0..30)
+        .map(|k| DVec2::new((k % 6) as f64 * 20.0, (k / 6 % 5) as f64 * 16.0))
+        .collect();
+    let mut repeats = clustered(&mut rng, 20, 100.0, 80.0);
+    repeats.extend(repeats.clone());
+    let sets = [
+        ("clustered", clustered(&mut rng, 40, 100.0, 80.0)),
+        ("lattice", lattice),
+        ("repeats", repeats),
+        (
+            "collinear and one",
+            (0..8)
+                .map(|i| DVec2::new(10.0 * i as f64, 3.0 * i as f64))
+                .chain([DVec2::new(20.0, 60.0)])
+                .collect(),
+        ),
+    ];
+    let inner = Region {
+        rings: vec![vec![
+            DVec2::new(20.0, 10.0),
+            DVec2::new(75.0, 15.0),
+            DVec2::new(60.0, 55.0),
+        ]],
+    };
+    let wide = Region {
+        rings: vec![vec![
+            DVec2::new(-30.0, -20.0),
+            DVec2::new(130.0, -20.0),
+            DVec2::new(130.0, 100.0),
+            DVec2::new(-30.0, 100.0),
+        ]],
+    };
+    let regions = [
+        ("the box", Region::default()),
+        ("a triangle inside", inner),
+        ("a wider box", wide),
+        ("a square with a hole", square_with_hole()),
+    ];
+    for (name, sites) in &sets {
+        for (place, region) in &regions {
+            let truth = brute_empty_circle(sites, region);
+            for side in [6, 40, 300] {
+                let answer = largest_empty(&machine, sites, Unit::Circle, region, side)
+                    .unwrap_or_else(|e| panic!("{name} in {place} at {side} px: {e}"));
+                assert!(
+                    close(answer.exact.scale, truth),
+                    "{name} in {place} at {side} px: {} vs brute force {truth}",
+                    answer.exact.scale
+                );
+                assert!(
+                    (answer.pixel.scale - truth).abs() <= answer.pixel_bound + 1e-9,
+                    "{name} in {place} at {side} px: pixel {} vs {truth}, bound {}",
+                    answer.pixel.scale,
+                    answer.pixel_bound
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn largest_empty_polygon_against_brute_force() {
     let machine = machine();

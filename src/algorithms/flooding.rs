@@ -29,7 +29,7 @@ use serde::Serialize;
 
 use crate::{
     error::Result,
-    machine::{BufferKernel, Machine},
+    machine::{Buffer, BufferKernel, Image, Machine},
     reference::flooding::{check_seeds, neighbours, priority, Priority, Seed},
 };
 
@@ -86,6 +86,44 @@ fn colouring_and_roots(
     height: u32,
     seeds: &[Seed],
 ) -> Result<(Vec<u32>, Vec<usize>)> {
+    let pixels = width as usize * height as usize;
+    let output = colouring(machine, width, height, seeds, PixelPhase::Roots)?;
+    let words = output.read::<u32>(2 * pixels);
+    let roots = (0..pixels).filter(|&k| words[pixels + k] == 1).collect();
+    let mut labels = words;
+    labels.truncate(pixels);
+    Ok((labels, roots))
+}
+
+/// Writes into `depth` (a whole depth image) the squared distance of every pixel
+/// to its nearest seed (distinct pixels of the image) plus one, times `scale`,
+/// which must keep every value in [0, 1]: a distance picture above depth 0 (so
+/// that a mask at 0 stays below it) in one submission, by the
+/// colouring's passes and a fourth that turns labels into distances, copied
+/// into the depth buffer for the graphics passes that follow.
+pub fn euclidean_depth(machine: &Machine, seeds: &[Seed], depth: &Image, scale: f32) -> Result<()> {
+    let (w, h) = (depth.width(), depth.height());
+    colouring(machine, w, h, seeds, PixelPhase::Depth { depth, scale })?;
+    Ok(())
+}
+
+/// What the colouring's per-pixel pass does after the two colouring passes.
+enum PixelPhase<'a> {
+    /// Marks the debris roots in the output's second half.
+    Roots,
+    /// Writes scaled squared distances there and copies them into `depth`.
+    Depth { depth: &'a Image, scale: f32 },
+}
+
+/// The colouring's passes on the device (the output buffer: labels, then the
+/// per-pixel pass's words).
+fn colouring(
+    machine: &Machine,
+    width: u32,
+    height: u32,
+    seeds: &[Seed],
+    then: PixelPhase<'_>,
+) -> Result<Buffer> {
     check_seeds(width, height, seeds)?;
     // Squares of coordinates must fit 32 bits, and a row's invocation loops
     // at most 4 x width times (lavapipe stops a shader's loops at 65535).
@@ -105,23 +143,27 @@ fn colouring_and_roots(
     seed_buffer.write(&input);
     let output = machine.storage_buffer((2 * pixels * 4) as u64)?;
     let chunk = crate::machine::MAX_GROUPS * BufferKernel::EuclideanColouring.group();
+    let (phase, scale) = match then {
+        PixelPhase::Roots => (2, 0.0f32),
+        PixelPhase::Depth { scale, .. } => (3, scale),
+    };
     machine.with_compute_buffers([&seed_buffer, &output], |set| {
         machine.run(|pass| {
             let kernel = BufferKernel::EuclideanColouring;
-            pass.dispatch(kernel, set, width, &[width, height, 0, 0])?;
-            pass.dispatch(kernel, set, height, &[width, height, 1, 0])?;
+            let push = |phase: u32, first: u32| [width, height, phase, first, scale.to_bits()];
+            pass.dispatch(kernel, set, width, &push(0, 0))?;
+            pass.dispatch(kernel, set, height, &push(1, 0))?;
             for first in (0..pixels as u32).step_by(chunk as usize) {
                 let count = chunk.min(pixels as u32 - first);
-                pass.dispatch(kernel, set, count, &[width, height, 2, first])?;
+                pass.dispatch(kernel, set, count, &push(phase, first))?;
+            }
+            if let PixelPhase::Depth { depth, .. } = then {
+                pass.copy_depth_from_buffer(&output, 4 * pixels as u64, depth)?;
             }
             Ok(())
         })
     })?;
-    let words = output.read::<u32>(2 * pixels);
-    let roots = (0..pixels).filter(|&k| words[pixels + k] == 1).collect();
-    let mut labels = words;
-    labels.truncate(pixels);
-    Ok((labels, roots))
+    Ok(output)
 }
 
 /// The flooded colouring of `seeds` (distinct pixels of the texture).

@@ -103,15 +103,22 @@ impl Frame {
     }
 
     /// The world box `[lo, hi]` on a picture whose longer side has `side`
-    /// pixels (the other side follows the box's aspect ratio).
+    /// pixels; the shorter side takes the whole pixels that cover the box, so
+    /// every point of the box is within half a pixel's diagonal of a pixel
+    /// centre.
     pub fn fitting(side: u32, lo: DVec2, hi: DVec2) -> Result<Self> {
+        // Checks the box and the side.
+        let checked = Self::with_bbox(side, None, [lo.x, lo.y, hi.x, hi.y])?;
         let size = hi - lo;
-        let width = if size.x >= size.y {
-            side
-        } else {
-            ((side as f64 * size.x / size.y).round() as u32).max(1)
-        };
-        Self::with_bbox(width, None, [lo.x, lo.y, hi.x, hi.y])
+        let scale = side as f64 / size.max_element();
+        // A side that is whole up to rounding stays whole.
+        let cover = |l: f64| ((l * scale * (1.0 - 1e-12)).ceil() as u32).clamp(1, side);
+        Ok(Self {
+            width: cover(size.x),
+            height: cover(size.y),
+            scale,
+            ..checked
+        })
     }
 
     /// Pixel coordinates of a world point.

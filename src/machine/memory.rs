@@ -97,7 +97,9 @@ impl Image {
             });
         }
         let usage = if format.is_depth() {
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST
         } else {
             let storage = if format == Format::Rgba8Unorm {
                 vk::ImageUsageFlags::empty()

@@ -706,6 +706,55 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
+    /// Fills the depth of all of `image` from `buffer` (from byte `offset`, one
+    /// `f32` in [0, 1] per pixel, row-major), after the dispatches that wrote it:
+    /// a depth picture computed by a kernel, for the graphics passes that follow.
+    pub fn copy_depth_from_buffer(
+        &mut self,
+        buffer: &Buffer,
+        offset: u64,
+        image: &Image,
+    ) -> Result<()> {
+        let bytes = image.width() as u64 * image.height() as u64 * 4;
+        if !image.format().is_depth() || offset + bytes > buffer.size() {
+            return Err(Error::InvalidInput(
+                "a depth upload needs a depth image and a float per pixel".into(),
+            ));
+        }
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+            .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+        // SAFETY: recording state, outside a rendering pass.
+        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        self.use_image(image, Usage::TransferDst);
+        let region = vk::BufferImageCopy::default()
+            .buffer_offset(offset)
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(vk::ImageAspectFlags::DEPTH)
+                    .layer_count(1),
+            )
+            .image_extent(vk::Extent3D {
+                width: image.width(),
+                height: image.height(),
+                depth: 1,
+            });
+        // SAFETY: image in TRANSFER_DST layout, buffer large enough (checked).
+        unsafe {
+            self.device().cmd_copy_buffer_to_image(
+                self.cmd,
+                buffer.raw,
+                image.raw,
+                sync::layout(Usage::TransferDst),
+                &[region],
+            )
+        };
+        Ok(())
+    }
+
     /// Orders writes to storage buffers by copies and fragment shaders before the
     /// reads and writes that follow (outside a rendering pass).
     pub fn fragment_buffer_barrier(&mut self) {

@@ -12,6 +12,8 @@ pub enum Usage {
     DepthStencilAttachment,
     /// Source of a copy to the host.
     TransferSrc,
+    /// Destination of a copy from a buffer.
+    TransferDst,
     /// Read as a storage image by a compute pass (reductions).
     ComputeRead,
 }
@@ -51,6 +53,12 @@ fn access(usage: Usage) -> Access {
             access: vk::AccessFlags2::TRANSFER_READ,
             layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             writes: false,
+        },
+        Usage::TransferDst => Access {
+            stage: vk::PipelineStageFlags2::COPY,
+            access: vk::AccessFlags2::TRANSFER_WRITE,
+            layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            writes: true,
         },
         Usage::ComputeRead => Access {
             stage: vk::PipelineStageFlags2::COMPUTE_SHADER,

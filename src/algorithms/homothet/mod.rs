@@ -33,9 +33,10 @@ use crate::{
         Frame,
     },
     machine::{
-        ChannelMask, Clear, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Machine,
-        NearExtreme, Program, RasterState, RectDraw, StencilOp, StencilTest, Target,
+        ChannelMask, Clear, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Machine,
+        NearExtreme, PixelRect, Program, RasterState, RectDraw, StencilOp, StencilTest, Target,
     },
+    reference::flooding::Seed,
 };
 
 mod refine;
@@ -46,6 +47,7 @@ use refine::{
 };
 
 use super::{
+    flooding,
     higher_order::{draw_furthest, k_nearest, KNearestOptions},
     sites::draw_sites,
     voronoi::{draw_point_tiles, Accuracy, Speedup, VoronoiOptions},
@@ -119,12 +121,26 @@ pub struct Homothet {
     pub sites: Vec<u32>,
 }
 
+/// How the picture's values were made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PixelStage {
+    /// The envelope of cones, drawn with a depth test.
+    Cones,
+    /// The largest empty circle of points on the picture: the exact Euclidean
+    /// distance transform of the sites snapped to their pixels (the compute
+    /// passes of the digital Voronoi diagram), then the exact clearance at the
+    /// pixel centres it lists.
+    DistanceTransform,
+}
+
 /// The answer: what the picture says, the exact homothet, and how far apart they
 /// may be.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct HomothetAnswer {
     /// The pixel holding the envelope's extreme, and its depth as a scale.
     pub pixel: Homothet,
+    pub pixel_stage: PixelStage,
     pub exact: Homothet,
     /// Bound on |pixel scale − exact scale| from the pixel size: the gauge changes
     /// by at most this much over half a pixel's diagonal.
@@ -273,6 +289,7 @@ fn answer_of(
             sites: Vec::new(),
         },
         exact,
+        pixel_stage: PixelStage::Cones,
         pixel_bound,
         checked,
         tolerance: 0.0,
@@ -605,35 +622,76 @@ pub fn largest_empty(
     let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
     let (region, frame) = region_and_frame(region, (lo, hi), side)?;
     let metric = unit.cone_metric()?;
-    let options = VoronoiOptions {
-        metric,
-        speedup: Speedup::Local,
-        ..VoronoiOptions::exact(frame)
-    };
-    let region_mesh = region_triangles(&region, &frame);
+    let region_mesh = RegionMesh::new(&region, &frame);
     let bound = half_diagonal(&frame) * unit.lipschitz();
-    // Per tile: its highest depth and the pixels within twice the bound of it.
-    let mut tiles: Vec<(f32, Vec<usize>)> = Vec::new();
-    let mut keys = None;
-    draw_point_tiles(machine, sites, &options, true, |tile| {
-        keys = Some(tile.keys);
-        let within = 2.0 * bound * frame.scale;
-        let near = near_extreme(metric, tile.keys.scale, within, true);
-        let picture = (tile.ids, tile.depth, tile.x0, tile.y0, tile.inner);
-        tiles.extend(highest_in_region(
-            machine,
-            &frame,
-            &region_mesh,
-            picture,
-            near,
-        )?);
-        Ok(())
-    })?;
-    let depth = keys.expect("a picture has a tile");
-    let tiles: Vec<(f64, Vec<usize>)> = tiles
-        .into_iter()
-        .map(|(z, p)| (depth.distance(z), p))
-        .collect();
+    // A gauge of at most g is within Euclidean distance g · rmax.
+    let rmax = 1.0 / Metric::from(unit).euclidean_bounds().0;
+    let grid = PointGrid::new(sites);
+    let nearest = |c: DVec2| {
+        let (i, _) = grid.nearest(c).expect("sites exist");
+        let upper = unit.gauge(sites[i as usize] - c);
+        grid.around(c, upper * rmax)
+            .map(|j| unit.gauge(sites[j as usize] - c))
+            .fold(upper, f64::min)
+    };
+    // Per tile: its highest value and the pixels near it, exact at pixel centres.
+    let seeds = snapped_seeds(machine, sites, unit, &frame);
+    let stage = if seeds.is_some() {
+        PixelStage::DistanceTransform
+    } else {
+        PixelStage::Cones
+    };
+    let tiles = match seeds {
+        Some((seeds, moved)) => {
+            // A pixel's value is within `snap` of its clearance (rounding aside),
+            // so the best centre's pixel is listed; the exact clearances of the
+            // listed centres then keep those within twice the bound.
+            let snap = moved * (1.0 + 1e-9) / frame.scale;
+            let within = 2.0 * (bound + snap) * frame.scale;
+            let listed = listed_of_transform(machine, &seeds, &frame, &region_mesh, within)?;
+            let mut exact: Vec<(f64, usize)> = listed
+                .into_iter()
+                .map(|p| (nearest(pixel_centre(&frame, p)), p))
+                .collect();
+            exact.sort_by(|a, b| b.0.total_cmp(&a.0));
+            let top = exact.first().map_or(0.0, |e| e.0);
+            exact.retain(|e| e.0 >= top - 2.0 * bound);
+            let pixels: Vec<usize> = exact.into_iter().map(|e| e.1).collect();
+            if pixels.is_empty() {
+                Vec::new()
+            } else {
+                vec![(top, pixels)]
+            }
+        }
+        None => {
+            let options = VoronoiOptions {
+                metric,
+                speedup: Speedup::Local,
+                ..VoronoiOptions::exact(frame)
+            };
+            let mut tiles: Vec<(f32, Vec<usize>)> = Vec::new();
+            let mut keys = None;
+            draw_point_tiles(machine, sites, &options, true, |tile| {
+                keys = Some(tile.keys);
+                let within = 2.0 * bound * frame.scale;
+                let near = near_extreme(metric, tile.keys.scale, within, true);
+                let picture = (tile.ids, tile.depth, tile.x0, tile.y0, tile.inner);
+                tiles.extend(highest_in_region(
+                    machine,
+                    &frame,
+                    &region_mesh,
+                    picture,
+                    near,
+                )?);
+                Ok(())
+            })?;
+            let depth = keys.expect("a picture has a tile");
+            tiles
+                .into_iter()
+                .map(|(z, p)| (depth.distance(z), p))
+                .collect()
+        }
+    };
     let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
     if tiles.is_empty() {
         return Err(Error::InvalidInput(
@@ -645,18 +703,9 @@ pub fn largest_empty(
     let eps = rounding(unit, &frame, value);
     let pixel_bound = bound + eps;
     let goal = Goal::Largest;
-    // The best centre's pixel (or, masked, a neighbour) is among the near ones.
-    let window = (value - eps, value + 2.0 * bound + eps);
-    // A gauge of at most g is within Euclidean distance g · rmax.
-    let rmax = 1.0 / Metric::from(unit).euclidean_bounds().0;
-    let grid = PointGrid::new(sites);
-    let nearest = |c: DVec2| {
-        let (i, _) = grid.nearest(c).expect("sites exist");
-        let upper = unit.gauge(sites[i as usize] - c);
-        grid.around(c, upper * rmax)
-            .map(|j| unit.gauge(sites[j as usize] - c))
-            .fold(upper, f64::min)
-    };
+    // The best centre's pixel is among the near ones; a pixel left standing
+    // outside the region is within the bound of a centre inside it.
+    let window = (value - bound - eps, value + 2.0 * bound + eps);
     let (c, v, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
         // Every site that can be nearest at a centre in reach, and of them those
         // that can lie on the best homothet.
@@ -683,13 +732,10 @@ pub fn largest_empty(
     })
     .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
     let exact = homothet_at(sites, unit, c, v);
-    Ok(answer_of(
-        &frame,
-        centre,
-        value,
-        pixel_bound,
-        (exact, checked),
-    ))
+    Ok(HomothetAnswer {
+        pixel_stage: stage,
+        ..answer_of(&frame, centre, value, pixel_bound, (exact, checked))
+    })
 }
 
 /// The largest homothet of `unit` meeting none of `sites` (points, segments,
@@ -738,7 +784,7 @@ pub fn largest_empty_sites(
         distances: false,
         ..VoronoiOptions::exact(frame)
     };
-    let region_mesh = region_triangles(&region, &frame);
+    let region_mesh = RegionMesh::new(&region, &frame);
     let least_m = all
         .iter()
         .map(|s| s.multiplicative)
@@ -933,12 +979,17 @@ type Tile<'a> = (
 fn highest_in_region(
     machine: &Machine,
     frame: &Frame,
-    triangles: &[[f32; 3]],
+    region_mesh: &RegionMesh,
     (ids, depth, x0, y0, inner): Tile<'_>,
     near: NearExtreme,
 ) -> Result<Option<(f32, Vec<usize>)>> {
-    mask_outside(machine, ids, depth, triangles, x0, y0)?;
-    let highest = machine.depth_extremes(depth, Some(near))?;
+    mask_outside(machine, ids, depth, region_mesh, x0, y0)?;
+    let mut highest = machine.depth_extremes(depth, Some(near))?;
+    if highest.near_count > highest.near.len() {
+        // The list overflowed: ask again with room for every near pixel.
+        let capacity = highest.near_count as u32;
+        highest = machine.depth_extremes(depth, Some(NearExtreme { capacity, ..near }))?;
+    }
     let w = depth.width() as usize;
     let to_picture = |at: usize| {
         let (i, j) = ((at % w) as u32, (at / w) as u32);
@@ -952,6 +1003,66 @@ fn highest_in_region(
         let near = highest.near.iter().filter_map(|&a| to_picture(a));
         (highest.max, std::iter::once(at).chain(near).collect())
     }))
+}
+
+/// The sites' pixels (each once) and the farthest any site moved to its pixel
+/// (in pixels), when the largest empty circle may take its pixel stage from
+/// the distance transform: the device holds the picture whole and every site
+/// lies on it or within a pixel of it (the frame fits the box's shorter side
+/// to whole pixels). A pixel's distance to the snapped sites is within that
+/// move of its true clearance.
+fn snapped_seeds(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    frame: &Frame,
+) -> Option<(Vec<Seed>, f64)> {
+    let (w, h) = (frame.width, frame.height);
+    let side = flooding::MAX_SIDE.min(machine.max_picture_side());
+    if unit != Unit::Circle || w > side || h > side {
+        return None;
+    }
+    let far = DVec2::new((w - 1) as f64, (h - 1) as f64);
+    let mut taken = vec![false; w as usize * h as usize];
+    let mut seeds = Vec::new();
+    let mut moved2: f64 = 0.0;
+    for p in sites {
+        let q = frame.to_pixel(*p);
+        let pixel = q.round().clamp(DVec2::ZERO, far);
+        moved2 = moved2.max(q.distance_squared(pixel));
+        if moved2 > 1.0 {
+            return None;
+        }
+        let (i, j) = (pixel.x as u32, pixel.y as u32);
+        if !std::mem::replace(&mut taken[(j * w + i) as usize], true) {
+            seeds.push([i as i32, j as i32]);
+        }
+    }
+    Some((seeds, moved2.sqrt()))
+}
+
+/// The pixel stage of the largest empty circle by the exact Euclidean distance
+/// transform of the snapped sites (compute passes instead of cones): the
+/// region's pixels within `within` pixels of its highest value, the highest
+/// first.
+fn listed_of_transform(
+    machine: &Machine,
+    seeds: &[Seed],
+    frame: &Frame,
+    region_mesh: &RegionMesh,
+    within: f64,
+) -> Result<Vec<usize>> {
+    let (w, h) = (frame.width, frame.height);
+    let ids = machine.image(Format::R32Uint, w, h)?;
+    let depth = machine.image(Format::DepthStencil, w, h)?;
+    // Squared distances in pixels plus one, scaled into [0, 1]; the listing
+    // window on their roots is then a little wider than asked.
+    let scale = (1.0 / (w as f64 * w as f64 + h as f64 * h as f64)) as f32;
+    flooding::euclidean_depth(machine, seeds, &depth, scale)?;
+    let near = near_extreme(Metric::L2, scale as f64, within, true);
+    let picture = (&ids, &depth, 0, 0, PixelRect::of(&depth));
+    let highest = highest_in_region(machine, frame, region_mesh, picture, near)?;
+    Ok(highest.map(|(_, p)| p).unwrap_or_default())
 }
 
 /// The pixels of the tiles whose highest value is within `2 bound` of the
@@ -1113,50 +1224,82 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     p.distance(a + ab * t)
 }
 
-/// The region as triangles in picture pixels (fans from each ring's first vertex,
-/// filled by even-odd stencil parity), in the `[x, y, depth]` layout of
-/// [`Program::SiteFan`].
-fn region_triangles(region: &Region, frame: &Frame) -> Vec<[f32; 3]> {
-    let mut out = Vec::new();
-    for ring in &region.rings {
-        let p: Vec<DVec2> = ring.iter().map(|v| frame.to_pixel(*v)).collect();
-        for k in 1..p.len() - 1 {
-            for v in [p[0], p[k], p[k + 1]] {
-                out.push([v.x as f32, v.y as f32, 0.0]);
-            }
-        }
-    }
-    out
+/// The region in picture pixels for its stencil mask, as triangles in the
+/// `[x, y, depth]` layout of [`Program::SiteFan`]: fans from each ring's first
+/// vertex (filled by even-odd parity), and the band of pixels whose squares
+/// meet its boundary (each edge swept by a pixel's square, a hexagon).
+struct RegionMesh {
+    fans: Vec<[f32; 3]>,
+    band: Vec<[f32; 3]>,
 }
 
-/// Pushes every pixel outside the region to depth 0 (thesis §5.4.1): the
-/// region's fans invert the stencil's low bit, then a picture-wide rectangle at
-/// depth 0 is drawn where that bit is clear.
+impl RegionMesh {
+    fn new(region: &Region, frame: &Frame) -> Self {
+        let vertex = |v: DVec2| [v.x as f32, v.y as f32, 0.0];
+        let mut fans = Vec::new();
+        for ring in &region.rings {
+            let p: Vec<DVec2> = ring.iter().map(|v| frame.to_pixel(*v)).collect();
+            for k in 1..p.len() - 1 {
+                fans.extend([p[0], p[k], p[k + 1]].map(vertex));
+            }
+        }
+        let mut band = Vec::new();
+        for (a, b) in region.edges() {
+            let (a, b) = (frame.to_pixel(a), frame.to_pixel(b));
+            let corners: Vec<DVec2> = [a, b]
+                .iter()
+                .flat_map(|&e| {
+                    [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+                        .map(|(x, y)| e + DVec2::new(x, y))
+                })
+                .collect();
+            let hull: Vec<DVec2> = super::higher_order::convex_hull(&corners)
+                .into_iter()
+                .map(|i| corners[i as usize])
+                .collect();
+            for k in 1..hull.len() - 1 {
+                band.extend([hull[0], hull[k], hull[k + 1]].map(vertex));
+            }
+        }
+        Self { fans, band }
+    }
+}
+
+/// Pushes every pixel whose square misses the region to depth 0 (thesis
+/// §5.4.1, widened by the boundary's band so that every point of the region is
+/// within half a pixel's diagonal of a pixel left standing): the region's fans
+/// invert the stencil's low bit, the band sets the next, then a picture-wide
+/// rectangle at depth 0 is drawn where both are clear.
 fn mask_outside(
     machine: &Machine,
     ids: &crate::machine::Image,
     depth: &crate::machine::Image,
-    triangles: &[[f32; 3]],
+    region: &RegionMesh,
     x0: u32,
     y0: u32,
 ) -> Result<()> {
     let (w, h) = (depth.width(), depth.height());
-    let mut vertices = triangles.to_vec();
-    let count = vertices.len() as u32;
+    let mut vertices = region.fans.clone();
+    vertices.extend(&region.band);
     vertices.push([0.0; 3]);
     let mesh = machine.vertex_buffer(&vertices)?;
+    // Site ids, one per vertex.
     let zeros = machine.vertex_buffer(&vec![0u32; vertices.len()])?;
     let parity = RasterState {
         stencil: StencilTest::on_pass(Compare::Always, 1, 1, StencilOp::Invert),
         color_mask: ChannelMask::NONE,
         ..RasterState::OVERWRITE
     };
+    let banded = RasterState {
+        stencil: StencilTest::on_pass(Compare::Always, 2, 2, StencilOp::Replace),
+        ..parity
+    };
     let forbid = RasterState {
         depth: DepthTest {
             compare: Compare::Always,
             write: true,
         },
-        stencil: StencilTest::on_pass(Compare::Equal, 1, 0, StencilOp::Keep),
+        stencil: StencilTest::on_pass(Compare::Equal, 3, 0, StencilOp::Keep),
         color_mask: ChannelMask::NONE,
         ..RasterState::OVERWRITE
     };
@@ -1168,6 +1311,15 @@ fn mask_outside(
         levels: 1,
         metric: (0, 2.0),
     };
+    let draw = |first_vertex: usize, count: usize| ConeDraw {
+        mesh: &mesh,
+        first_vertex: first_vertex as u32,
+        vertex_count: count as u32,
+        instances: &zeros,
+        first_instance: 0,
+        instance_count: u32::from(count > 0),
+    };
+    let (fans, band) = (region.fans.len(), region.band.len());
     machine.run(|pass| {
         pass.begin(
             Target {
@@ -1184,14 +1336,18 @@ fn mask_outside(
             &parity,
             &DrawParams::default(),
             &push,
-            &ConeDraw {
-                mesh: &mesh,
-                first_vertex: 0,
-                vertex_count: count,
-                instances: &zeros,
-                first_instance: 0,
-                instance_count: u32::from(count > 0),
-            },
+            &draw(0, fans),
+        )?;
+        let reference = DrawParams {
+            stencil_reference: 2,
+            ..DrawParams::default()
+        };
+        pass.draw_cones(
+            Program::SiteFan,
+            &banded,
+            &reference,
+            &push,
+            &draw(fans, band),
         )?;
         pass.draw_rect(
             &forbid,

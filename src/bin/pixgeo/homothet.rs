@@ -7,7 +7,9 @@ use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::homothet::{self, Envelope, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+    algorithms::homothet::{
+        self, Envelope, HomothetAnswer, PixelStage, Region, Unit, DEFAULT_SIDE,
+    },
     geometry::{metric::Metric, site::Site},
     io::{picture::PngStream, sites},
     Machine,
@@ -191,9 +193,13 @@ fn report(answer: &HomothetAnswer, json: bool, what: &str) -> Result<()> {
     );
     println!("  determined by sites {:?}", e.sites);
     println!(
-        "  picture ({}x{}): centre ({:.4}, {:.4}), scale {:.6} (within {:.2e} of the exact one)",
+        "  picture ({}x{}, {}): centre ({:.4}, {:.4}), scale {:.6} (within {:.2e} of the exact one)",
         answer.width,
         answer.height,
+        match answer.pixel_stage {
+            PixelStage::Cones => "cones",
+            PixelStage::DistanceTransform => "distance transform",
+        },
         answer.pixel.centre[0],
         answer.pixel.centre[1],
         answer.pixel.scale,
