@@ -1,6 +1,6 @@
 #version 460
 // The dual of a colouring (Cao, Edelsbrunner and Tan 2015, Fig. 2): one
-// invocation per pixel corner, looking at the 2-by-2 pixels around it
+// invocation per pixel corner (a grid of them), looking at the 2-by-2 pixels around it
 // counter-clockwise (x right, y up). Four colours make two triangles; three
 // with the repeated colour on two side-neighbours make one (on a diagonal they
 // are a neck, and make none). Pixels beyond the texture have the dummy
@@ -10,7 +10,6 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform Dual {
     ivec2 size;
     uint capacity;
-    uint first;
 } dual;
 
 layout(set = 0, binding = 0) readonly buffer Labels {
@@ -37,12 +36,10 @@ void emit(uint slot, uvec3 t) {
 }
 
 void main() {
-    uint k = dual.first + gl_GlobalInvocationID.x;
-    uint corners = uint((dual.size.x + 1) * (dual.size.y + 1));
-    if (k < corners) {
-        // The corner at (x + 1/2, y + 1/2), x and y from -1.
-        int x = int(k % uint(dual.size.x + 1)) - 1;
-        int y = int(k / uint(dual.size.x + 1)) - 1;
+    // The corner at (x + 1/2, y + 1/2), x and y from -1.
+    int x = int(gl_GlobalInvocationID.x) - 1;
+    int y = int(gl_GlobalInvocationID.y) - 1;
+    if (x < dual.size.x) {
         uint c0 = colour(x, y);
         uint c1 = colour(x + 1, y);
         uint c2 = colour(x + 1, y + 1);

@@ -23,7 +23,6 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform Pass {
     ivec2 size;
     int phase;
-    uint first;
     float scale;
 } pass;
 
@@ -119,12 +118,12 @@ void row(int y) {
     }
 }
 
-// Whether pixel k of colour i is a root: not the seed, and no neighbour of
-// colour i comes before it in the order (squared distance, then x, then y).
-void root(uint k) {
+// Whether pixel a (index k) of colour i is a root: not the seed, and no
+// neighbour of colour i comes before it in the order (squared distance, then
+// x, then y).
+void root(ivec2 a, uint k) {
     int w = pass.size.x;
     uint pixels = uint(w * pass.size.y);
-    ivec2 a = ivec2(int(k) % w, int(k) / w);
     uint i = colours[k];
     uint packed = seeds[2u * pixels + i];
     ivec2 s = ivec2(int(packed & 0xFFFFu), int(packed >> 16));
@@ -148,11 +147,10 @@ void root(uint k) {
 
 // Pixel k's squared distance to its seed plus one, scaled, in place of phase
 // 1's segment starts.
-void distance(uint k) {
-    int w = pass.size.x;
-    uint pixels = uint(w * pass.size.y);
+void distance(ivec2 a, uint k) {
+    uint pixels = uint(pass.size.x * pass.size.y);
     uint packed = seeds[2u * pixels + colours[k]];
-    ivec2 d = ivec2(int(k) % w - int(packed & 0xFFFFu), int(k) / w - int(packed >> 16));
+    ivec2 d = a - ivec2(int(packed & 0xFFFFu), int(packed >> 16));
     colours[pixels + k] = floatBitsToUint(float(d.x * d.x + d.y * d.y + 1) * pass.scale);
 }
 
@@ -164,11 +162,14 @@ void main() {
     if (pass.phase == 1 && k < pass.size.y) {
         row(k);
     }
-    uint pixel = pass.first + gl_GlobalInvocationID.x;
-    if (pass.phase == 2 && pixel < uint(pass.size.x * pass.size.y)) {
-        root(pixel);
+    // Phases 2 and 3 run over a grid of the pixels.
+    ivec2 a = ivec2(gl_GlobalInvocationID.xy);
+    uint pixel = uint(a.y * pass.size.x + a.x);
+    bool inside = a.x < pass.size.x;
+    if (pass.phase == 2 && inside) {
+        root(a, pixel);
     }
-    if (pass.phase == 3 && pixel < uint(pass.size.x * pass.size.y)) {
-        distance(pixel);
+    if (pass.phase == 3 && inside) {
+        distance(a, pixel);
     }
 }

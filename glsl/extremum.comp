@@ -6,6 +6,9 @@
 // Phase 1 finds the first row-major index holding each extreme. Phase 2 (3)
 // lists the indices and values within `within` of the minimum (maximum), as
 // many as the list holds. A few words reach the host instead of the picture.
+// Phase 0 also leaves each strip's extremes after the list, so that the later
+// phases skip the strips that cannot hold what they look for: near an extreme
+// that is only a few strips.
 layout(local_size_x = 64) in;
 
 const int ROWS = 64;
@@ -26,7 +29,8 @@ layout(set = 0, binding = 0) readonly buffer Values {
 
 layout(set = 0, binding = 1) buffer Result {
     // minimum, maximum, first index of the minimum, of the maximum, the list's
-    // length, the list of (index, ordered value)
+    // length, the list of (index, ordered value), each strip's (minimum,
+    // maximum)
     uint word[];
 } result;
 
@@ -67,7 +71,16 @@ void main() {
             hi_bar = d_hi * d_hi * s;
         }
         uint bar = job.phase == 2 ? ordered(lo_bar) : ordered(hi_bar);
+        uint strip = 5u + 2u * job.capacity + 2u * id;
+        bool wanted = job.phase == 0;
+        if (job.phase > 0) {
+            uint strip_lo = result.word[strip];
+            uint strip_hi = result.word[strip + 1u];
+            wanted = (job.phase == 1 && (strip_lo == want_lo || strip_hi == want_hi))
+                || (job.phase == 2 && strip_lo <= bar) || (job.phase == 3 && strip_hi >= bar);
+        }
         // Unrolled: naga's SPIR-V reader loses values carried out of loops.
+        if (wanted) {
         [[unroll]] for (int r = 0; r < ROWS; ++r) {
             int y = min(y0 + r, y1 - 1);
             uint index = uint(y * job.size.x + x);
@@ -88,7 +101,10 @@ void main() {
                 }
             }
         }
+        }
         if (job.phase == 0) {
+            result.word[strip] = lo;
+            result.word[strip + 1u] = hi;
             atomicMin(result.word[0], lo);
             atomicMax(result.word[1], hi);
         } else if (job.phase == 1) {

@@ -142,7 +142,6 @@ fn colouring(
     let mut seed_buffer = machine.storage_buffer((input.len() * 4) as u64)?;
     seed_buffer.write(&input);
     let output = machine.storage_buffer((2 * pixels * 4) as u64)?;
-    let chunk = crate::machine::MAX_GROUPS * BufferKernel::EuclideanColouring.group();
     let (phase, scale) = match then {
         PixelPhase::Roots => (2, 0.0f32),
         PixelPhase::Depth { scale, .. } => (3, scale),
@@ -150,13 +149,10 @@ fn colouring(
     machine.with_compute_buffers([&seed_buffer, &output], |set| {
         machine.run(|pass| {
             let kernel = BufferKernel::EuclideanColouring;
-            let push = |phase: u32, first: u32| [width, height, phase, first, scale.to_bits()];
-            pass.dispatch(kernel, set, width, &push(0, 0))?;
-            pass.dispatch(kernel, set, height, &push(1, 0))?;
-            for first in (0..pixels as u32).step_by(chunk as usize) {
-                let count = chunk.min(pixels as u32 - first);
-                pass.dispatch(kernel, set, count, &push(phase, first))?;
-            }
+            let push = |phase: u32| [width, height, phase, scale.to_bits()];
+            pass.dispatch(kernel, set, width, &push(0))?;
+            pass.dispatch(kernel, set, height, &push(1))?;
+            pass.dispatch_grid(kernel, set, (width, height), &push(phase))?;
             if let PixelPhase::Depth { depth, .. } = then {
                 pass.copy_depth_from_buffer(&output, 4 * pixels as u64, depth)?;
             }
@@ -347,8 +343,6 @@ pub fn dualize(
     }
     let mut input = machine.storage_buffer((pixels * 4) as u64)?;
     input.write(labels);
-    let corners = (width as usize + 1) * (height as usize + 1);
-    let chunk = (crate::machine::MAX_GROUPS * BufferKernel::Dualize.group()) as usize;
     // A valid dual of n seeds has 2n - 2 triangles; room for more, and a rerun
     // with the count if even that is short.
     let seeds = labels
@@ -363,12 +357,8 @@ pub fn dualize(
         output.fill(0);
         machine.with_compute_buffers([&input, &output], |set| {
             machine.run(|pass| {
-                for first in (0..corners).step_by(chunk) {
-                    let count = chunk.min(corners - first) as u32;
-                    let push = [width, height, capacity as u32, first as u32];
-                    pass.dispatch(BufferKernel::Dualize, set, count, &push)?;
-                }
-                Ok(())
+                let push = [width, height, capacity as u32];
+                pass.dispatch_grid(BufferKernel::Dualize, set, (width + 1, height + 1), &push)
             })
         })?;
         let count = output.read::<u32>(1)[0] as usize;

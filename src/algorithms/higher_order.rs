@@ -782,9 +782,10 @@ pub fn furthest(
     frame: &Frame,
     metric: Metric,
 ) -> Result<Furthest> {
-    let drawn = draw_furthest(machine, sites, frame, metric)?;
-    let rect = PixelRect::of(&drawn.ids);
-    let labels = machine.read_u32(&drawn.ids, rect)?;
+    let drawn = draw_furthest(machine, sites, frame, metric, true)?;
+    let ids = drawn.ids.as_ref().expect("labels were asked for");
+    let rect = PixelRect::of(ids);
+    let labels = machine.read_u32(ids, rect)?;
     let depths = machine.read_f32(&drawn.depth, rect)?;
     let (metric, scale) = (drawn.metric, drawn.scale);
     let distances = distances_of(&depths, &labels, |z| {
@@ -801,8 +802,8 @@ pub fn furthest(
 
 /// The upper envelope of the sites' cones, still on the device.
 pub(crate) struct DrawnFurthest {
-    /// Furthest site per pixel.
-    pub ids: Image,
+    /// Furthest site per pixel, when asked for.
+    pub ids: Option<Image>,
     /// The envelope's keys times `scale`.
     pub depth: Image,
     pub scale: f64,
@@ -823,6 +824,7 @@ pub(crate) fn draw_furthest(
     sites: &[DVec2],
     frame: &Frame,
     metric: Metric,
+    labels: bool,
 ) -> Result<DrawnFurthest> {
     check_sites(sites)?;
     frame.check()?;
@@ -861,7 +863,9 @@ pub(crate) fn draw_furthest(
         .fold(1.0, f64::max)
         * 1.001;
     let scale = metric.key_scale(reach);
-    let ids = machine.image(Format::R32Uint, frame.width, frame.height)?;
+    let ids = labels
+        .then(|| machine.image(Format::R32Uint, frame.width, frame.height))
+        .transpose()?;
     let depth = machine.image(Format::Depth, frame.width, frame.height)?;
     let mesh = machine.vertex_buffer(&unit)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
@@ -894,11 +898,11 @@ pub(crate) fn draw_furthest(
     machine.run(|pass| {
         pass.begin(
             Target {
-                color: Some(&ids),
+                color: ids.as_ref(),
                 depth_stencil: Some(&depth),
             },
             Clear {
-                color: Some(ClearColor::Uint([u32::MAX; 4])),
+                color: ids.as_ref().map(|_| ClearColor::Uint([u32::MAX; 4])),
                 depth: Some(0.0),
                 stencil: None,
             },

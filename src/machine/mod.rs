@@ -531,7 +531,9 @@ impl Machine {
 
     /// The extremes of the depth buffer `depth` and where they are: the depth is
     /// copied to a storage buffer on the device and reduced there by
-    /// [`BufferKernel::Extremum`]; four words come back to the host.
+    /// [`BufferKernel::Extremum`], whose later passes visit only the strips of
+    /// the picture that can hold what they look for; four words (and the near
+    /// list) come back to the host.
     pub fn depth_extremes(
         &self,
         depth: &Image,
@@ -545,10 +547,12 @@ impl Machine {
         let (w, h) = (depth.width(), depth.height());
         let values = self.storage_buffer(4 * w as u64 * h as u64)?;
         let capacity = near.map_or(0, |n| n.capacity);
-        let mut result = self.storage_buffer(4 * (5 + 2 * capacity as u64))?;
-        result.write(&[u32::MAX, 0, u32::MAX, u32::MAX, 0]);
         // One invocation per strip of 64 rows of a column.
         let strips = w * h.div_ceil(64);
+        // The extremes, the list, each strip's extremes (written by phase 0).
+        let words = 5 + 2 * capacity as u64 + 2 * strips as u64;
+        let mut result = self.storage_buffer(4 * words)?;
+        result.write(&[u32::MAX, 0, u32::MAX, u32::MAX, 0]);
         let push = |phase: u32| {
             let within = near.map_or(0.0, |n| n.within);
             let squared = near.map_or(0.0, |n| n.squared_scale);

@@ -630,6 +630,37 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
+    /// Dispatches `kernel` over a `width` x `height` grid of invocations: rows of
+    /// workgroups, so that a kernel finds its pixel in `gl_GlobalInvocationID.xy`
+    /// instead of dividing an index by the width (integer division is slow on
+    /// CPU devices such as lavapipe).
+    pub fn dispatch_grid(
+        &mut self,
+        kernel: BufferKernel,
+        set: vk::DescriptorSet,
+        (width, height): (u32, u32),
+        push: &[u32],
+    ) -> Result<()> {
+        if self.rendering.is_some() {
+            return Err(Error::InvalidInput(
+                "dispatch inside a rendering pass".into(),
+            ));
+        }
+        if width == 0 || height == 0 {
+            return Ok(());
+        }
+        let groups = (width.div_ceil(kernel.group()), height);
+        if groups.0 > MAX_GROUPS || groups.1 > MAX_GROUPS {
+            return Err(Error::InvalidInput(format!(
+                "a {width}x{height} grid is more than {MAX_GROUPS} workgroups along a side"
+            )));
+        }
+        let pipeline = self.machine.pipelines.buffer_compute(kernel)?;
+        let layout = self.machine.pipelines.buffer_layout;
+        self.record_dispatch(pipeline, layout, set, push, groups);
+        Ok(())
+    }
+
     /// Records a compute dispatch ordered after earlier host writes, copies and
     /// dispatches, whose writes are visible to the host and to later work.
     fn record_dispatch(

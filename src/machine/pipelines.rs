@@ -115,12 +115,13 @@ pub enum BufferKernel {
     /// height, step, first pixel]`, one invocation per pixel).
     JumpFlood,
     /// The dual triangles of a colouring in buffer 0, appended to buffer 1
-    /// (push `[width, height, capacity, first corner]`, one invocation per
-    /// pixel corner).
+    /// (push `[width, height, capacity]`, one invocation per pixel corner, a
+    /// grid of (width + 1) x (height + 1)).
     Dualize,
     /// The exact Euclidean colouring of the seed map in buffer 0 into buffer 1
-    /// (both twice the pixels; push `[width, height, phase]`, one invocation
-    /// per column in phase 0, per row in phase 1).
+    /// (both twice the pixels; push `[width, height, phase, scale]`, one
+    /// invocation per column in phase 0, per row in phase 1, per pixel of a
+    /// grid in phases 2 and 3: debris roots, or scaled distances).
     EuclideanColouring,
 }
 
@@ -464,9 +465,11 @@ impl Pipelines {
                 | Program::Disc
                 | Program::RoofSides
         ) && !uint_target
+            && key.color.is_some()
         {
+            // Without a colour target a pass draws depth alone.
             return Err(Error::InvalidInput(
-                "cones write site ids and need an R32Uint colour target".into(),
+                "cones write site ids and need an R32Uint colour target (or none)".into(),
             ));
         }
         if key.program == Program::Disc && (uint_target || key.color.is_none()) {

@@ -187,7 +187,7 @@ pub fn enclose(
     // The sites drawn in the upper envelope are the only ones that can be
     // furthest (the hull's, for convex units).
     let (pixel, value, near_pixels, owners) = if k == n {
-        let drawn = draw_furthest(machine, sites, &frame, metric)?;
+        let drawn = draw_furthest(machine, sites, &frame, metric, false)?;
         // Every pixel that could be the optimum's: within twice the bound. L2
         // keys are squared distances (pixels); the others are distances.
         let lowest = machine.depth_extremes(
