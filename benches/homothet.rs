@@ -2,7 +2,8 @@
 //! picture, beside the exact CPU methods a user would otherwise pick, in the same
 //! run: Welzl's algorithm for the enclosing circle, and the largest empty circle
 //! from a Delaunay triangulation (`spade`): circumcentres inside the box, Voronoi
-//! edges crossing its sides, and its corners.
+//! edges crossing its sides, and its corners. `empty` runs twice: its default
+//! pixel stage (the distance transform) and the thesis's envelope of cones.
 //!
 //! `cargo bench --bench homothet` writes `target/homothet/homothet.md`.
 //! `HM_N=100,1000` sets the site counts, `HM_REPEATS` the repeats (median).
@@ -11,7 +12,7 @@ use std::path::PathBuf;
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::homothet::{enclose, largest_empty, Region, Unit},
+    algorithms::homothet::{enclose, largest_empty, largest_empty_by, PixelStage, Region, Unit},
     geometry::Frame,
     io::sites::random_sites,
     reference::homothet::welzl,
@@ -116,7 +117,7 @@ fn main() -> anyhow::Result<()> {
     largest_empty(&machine, &warm, Unit::Circle, &Region::default(), SIZE)?;
 
     let mut table = String::from(
-        "| n | pixgeo enclose (ms) | Welzl (ms) | enclose / Welzl | same radius | pixgeo empty (ms) | Delaunay (spade) (ms) | empty / Delaunay | same radius |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| n | pixgeo enclose (ms) | Welzl (ms) | enclose / Welzl | same radius | pixgeo empty (ms) | empty with cones (ms) | Delaunay (spade) (ms) | empty / Delaunay | cones / Delaunay | same radius |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
         let sites = random_sites(n, n as u64, &frame);
@@ -134,17 +135,31 @@ fn main() -> anyhow::Result<()> {
                 SIZE,
             )?)
         })?;
+        // The thesis's pixel stage, for comparison: the envelope of cones.
+        let (cones_e, c) = time(repeats, || {
+            Ok(largest_empty_by(
+                &machine,
+                &sites,
+                Unit::Circle,
+                &Region::default(),
+                SIZE,
+                Some(PixelStage::Cones),
+            )?)
+        })?;
         let (theirs_e, d) = time(repeats, || delaunay_empty_circle(&sites))?;
-        let same_empty = (e.exact.scale - d).abs() <= 1e-9 * d;
+        let same_empty = [e.exact.scale, c.exact.scale]
+            .iter()
+            .all(|r| (r - d).abs() <= 1e-9 * d);
         eprintln!(
-            "n = {n:>6}: enclose {ours:.1} ms, Welzl {theirs:.2} ms ({}); empty {ours_e:.1} ms, Delaunay {theirs_e:.1} ms ({}); radii {} / {} and {} / {}",
-            same_enclose, same_empty, a.exact.scale, w.radius, e.exact.scale, d
+            "n = {n:>6}: enclose {ours:.1} ms, Welzl {theirs:.2} ms ({}); empty {ours_e:.1} ms ({:?}), with cones {cones_e:.1} ms, Delaunay {theirs_e:.1} ms ({}); radii {} / {} and {} / {}",
+            same_enclose, e.pixel_stage, same_empty, a.exact.scale, w.radius, e.exact.scale, d
         );
         table += &format!(
-            "| {n} | {ours:.1} | {theirs:.2} | {:.1}× | {} | {ours_e:.1} | {theirs_e:.1} | {:.1}× | {} |\n",
+            "| {n} | {ours:.1} | {theirs:.2} | {:.1}× | {} | {ours_e:.1} | {cones_e:.1} | {theirs_e:.1} | {:.2}× | {:.2}× | {} |\n",
             ours / theirs,
             if same_enclose { "yes" } else { "no" },
             ours_e / theirs_e,
+            cones_e / theirs_e,
             if same_empty { "yes" } else { "no" },
         );
     }

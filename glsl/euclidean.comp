@@ -34,6 +34,7 @@ layout(set = 0, binding = 1) buffer Colours {
 };
 
 const uint NONE = 0xFFFFFFFFu;
+const int ROWS = 64;
 
 // The nearest seed's row along column x, for every row.
 void columns(int x) {
@@ -162,14 +163,20 @@ void main() {
     if (pass.phase == 1 && k < pass.size.y) {
         row(k);
     }
-    // Phases 2 and 3 run over a grid of the pixels.
-    ivec2 a = ivec2(gl_GlobalInvocationID.xy);
-    uint pixel = uint(a.y * pass.size.x + a.x);
-    bool inside = a.x < pass.size.x;
-    if (pass.phase == 2 && inside) {
-        root(a, pixel);
-    }
-    if (pass.phase == 3 && inside) {
-        distance(a, pixel);
+    // Phases 2 and 3: an invocation per strip of ROWS pixels of a column, over
+    // a grid of columns by strips (few workgroups: each costs a CPU device a
+    // call of its own).
+    ivec2 first = ivec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y * ROWS);
+    if (pass.phase >= 2 && first.x < pass.size.x) {
+        int rows = min(ROWS, pass.size.y - first.y);
+        for (int r = 0; r < rows; ++r) {
+            ivec2 a = first + ivec2(0, r);
+            uint pixel = uint(a.y * pass.size.x + a.x);
+            if (pass.phase == 2) {
+                root(a, pixel);
+            } else {
+                distance(a, pixel);
+            }
+        }
     }
 }

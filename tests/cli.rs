@@ -474,6 +474,39 @@ fn enclose_and_empty_print_exact_homothets() {
         stdout.contains("centre (3.125, 3), scale 3.125"),
         "{stdout}"
     );
+    assert!(stdout.contains("distance transform"), "{stdout}");
+    // Both pixel stages, asked for by name, reach the same exact answer.
+    for (stage, name) in [
+        ("cones", "\"cones\""),
+        ("transform", "\"distance_transform\""),
+    ] {
+        let (ok, stdout, stderr) = pixgeo(&[
+            "empty",
+            "--sites",
+            s,
+            "--region",
+            region.to_str().unwrap(),
+            "--pixel-stage",
+            stage,
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["pixel_stage"].to_string(), name, "{stdout}");
+        assert!((v["exact"]["scale"].as_f64().unwrap() - 3.125).abs() < 1e-9);
+    }
+    let kite = temp("kite.csv");
+    std::fs::write(&kite, "1,0\n0,1\n-1,0\n0,-2\n").unwrap();
+    let (ok, _, stderr) = pixgeo(&[
+        "empty",
+        "--sites",
+        s,
+        "--polygon",
+        kite.to_str().unwrap(),
+        "--pixel-stage",
+        "transform",
+    ]);
+    assert!(!ok && stderr.contains("use cones"), "{stderr}");
     let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--k", "9"]);
     assert!(!ok && stderr.contains("cannot enclose 9 of 3"), "{stderr}");
 }

@@ -152,7 +152,7 @@ fn colouring(
             let push = |phase: u32| [width, height, phase, scale.to_bits()];
             pass.dispatch(kernel, set, width, &push(0))?;
             pass.dispatch(kernel, set, height, &push(1))?;
-            pass.dispatch_grid(kernel, set, (width, height), &push(phase))?;
+            pass.dispatch_grid(kernel, set, (width, height.div_ceil(64)), &push(phase))?;
             if let PixelPhase::Depth { depth, .. } = then {
                 pass.copy_depth_from_buffer(&output, 4 * pixels as u64, depth)?;
             }
@@ -358,7 +358,8 @@ pub fn dualize(
         machine.with_compute_buffers([&input, &output], |set| {
             machine.run(|pass| {
                 let push = [width, height, capacity as u32];
-                pass.dispatch_grid(BufferKernel::Dualize, set, (width + 1, height + 1), &push)
+                let strips = (height + 1).div_ceil(64);
+                pass.dispatch_grid(BufferKernel::Dualize, set, (width + 1, strips), &push)
             })
         })?;
         let count = output.read::<u32>(1)[0] as usize;

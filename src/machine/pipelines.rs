@@ -115,13 +115,14 @@ pub enum BufferKernel {
     /// height, step, first pixel]`, one invocation per pixel).
     JumpFlood,
     /// The dual triangles of a colouring in buffer 0, appended to buffer 1
-    /// (push `[width, height, capacity]`, one invocation per pixel corner, a
-    /// grid of (width + 1) x (height + 1)).
+    /// (push `[width, height, capacity]`, one invocation per strip of 64 pixel
+    /// corners of a column, a grid of (width + 1) columns by strips).
     Dualize,
     /// The exact Euclidean colouring of the seed map in buffer 0 into buffer 1
     /// (both twice the pixels; push `[width, height, phase, scale]`, one
-    /// invocation per column in phase 0, per row in phase 1, per pixel of a
-    /// grid in phases 2 and 3: debris roots, or scaled distances).
+    /// invocation per column in phase 0, per row in phase 1, per strip of 64
+    /// rows of a column in phases 2 and 3 (a grid of columns by strips): debris
+    /// roots, or scaled distances).
     EuclideanColouring,
 }
 

@@ -617,6 +617,21 @@ pub fn largest_empty(
     region: &Region,
     side: u32,
 ) -> Result<HomothetAnswer> {
+    largest_empty_by(machine, sites, unit, region, side, None)
+}
+
+/// [`largest_empty`] with its pixel stage chosen: `None` takes the distance
+/// transform where it applies (circles, every site on the picture or within a
+/// pixel of it, a picture the device holds whole) and cones elsewhere; asking
+/// for the transform where it does not apply is an error.
+pub fn largest_empty_by(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    region: &Region,
+    side: u32,
+    stage: Option<PixelStage>,
+) -> Result<HomothetAnswer> {
     check_sites(sites)?;
     let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
@@ -635,7 +650,16 @@ pub fn largest_empty(
             .fold(upper, f64::min)
     };
     // Per tile: its highest value and the pixels near it, exact at pixel centres.
-    let seeds = snapped_seeds(machine, sites, unit, &frame);
+    let seeds = match stage {
+        Some(PixelStage::Cones) => None,
+        _ => snapped_seeds(machine, sites, unit, &frame),
+    };
+    if stage == Some(PixelStage::DistanceTransform) && seeds.is_none() {
+        return Err(Error::InvalidInput(format!(
+            "the distance transform takes circles, sites on the picture (within a pixel) and sides up to {}: use cones",
+            flooding::MAX_SIDE.min(machine.max_picture_side())
+        )));
+    }
     let stage = if seeds.is_some() {
         PixelStage::DistanceTransform
     } else {

@@ -10,7 +10,10 @@ use pixgeo::{
     algorithms::homothet::{
         self, Envelope, HomothetAnswer, PixelStage, Region, Unit, DEFAULT_SIDE,
     },
-    geometry::{metric::Metric, site::Site},
+    geometry::{
+        metric::Metric,
+        site::{Shape as ShapeKind, Site},
+    },
     io::{picture::PngStream, sites},
     Machine,
 };
@@ -129,6 +132,20 @@ pub struct EmptyArgs {
     /// sites (thesis §5.4.1).
     #[arg(long)]
     inside: bool,
+    /// How the picture is made for circles among points: `auto` (the default)
+    /// takes the exact distance transform of the sites snapped to their pixels
+    /// where it applies, `cones` draws the lower envelope of cones as the
+    /// thesis does, `transform` insists on the former. The refined answer is
+    /// the same.
+    #[arg(long, value_enum, default_value_t = StageChoice::Auto)]
+    pixel_stage: StageChoice,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum StageChoice {
+    Auto,
+    Cones,
+    Transform,
 }
 
 pub fn enclose(args: EncloseArgs) -> Result<()> {
@@ -153,8 +170,27 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
     };
     let machine = machine_on(args.shape.device.as_deref())?;
     let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
-    let answer =
-        homothet::largest_empty_sites(&machine, &shapes, unit, &region, args.inside, side)?;
+    let points: Option<Vec<DVec2>> = shapes
+        .iter()
+        .map(|s| match s.shape {
+            ShapeKind::Point(p) if s.is_plain_point() => Some(p),
+            _ => None,
+        })
+        .collect();
+    let stage = match args.pixel_stage {
+        StageChoice::Auto => None,
+        StageChoice::Cones => Some(PixelStage::Cones),
+        StageChoice::Transform => Some(PixelStage::DistanceTransform),
+    };
+    let answer = match points {
+        Some(points) if !args.inside => {
+            homothet::largest_empty_by(&machine, &points, unit, &region, side, stage)?
+        }
+        _ if args.pixel_stage == StageChoice::Transform => {
+            bail!("--pixel-stage transform takes unweighted points without --inside")
+        }
+        _ => homothet::largest_empty_sites(&machine, &shapes, unit, &region, args.inside, side)?,
+    };
     report(&answer, args.shape.json, "largest empty")?;
     args.shape
         .draw(&machine, &shapes, &answer, Envelope::Empty, &region)
