@@ -217,29 +217,7 @@ fn largest_empty_circle_against_brute_force() {
     let holed = square_with_hole();
     for (name, region) in [("bounding box", &plain), ("square with a hole", &holed)] {
         let answer = largest_empty(&machine, &sites, Unit::Circle, region, 256).unwrap();
-        let boundary = if region.rings.is_empty() {
-            let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
-            let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
-            Region {
-                rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
-            }
-        } else {
-            region.clone()
-        };
-        let e = edges(&boundary);
-        let on_edge = |c: DVec2| {
-            e.iter().any(|(a, b)| {
-                let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
-                c.distance(*a + (*b - *a) * t) < 1e-9
-            })
-        };
-        let (_, truth) = oracle::largest_empty(
-            &sites,
-            &[],
-            |v| v.length(),
-            &e,
-            |c| boundary.contains(c) || on_edge(c),
-        );
+        let truth = brute_empty_circle(&sites, region);
         assert!(
             close(answer.exact.scale, truth),
             "{name}: {} vs brute force {truth}",

@@ -609,31 +609,12 @@ impl<'m> Pass<'m> {
         invocations: u32,
         push: &[u32],
     ) -> Result<()> {
-        if self.rendering.is_some() {
-            return Err(Error::InvalidInput(
-                "dispatch inside a rendering pass".into(),
-            ));
-        }
-        if invocations == 0 {
-            return Ok(());
-        }
-        let groups = invocations.div_ceil(kernel.group());
-        if groups > MAX_GROUPS {
-            return Err(Error::InvalidInput(format!(
-                "{invocations} invocations in one dispatch: split it (at most {} each)",
-                MAX_GROUPS * kernel.group()
-            )));
-        }
-        let pipeline = self.machine.pipelines.buffer_compute(kernel)?;
-        let layout = self.machine.pipelines.buffer_layout;
-        self.record_dispatch(pipeline, layout, set, push, (groups, 1));
-        Ok(())
+        self.dispatch_grid(kernel, set, (invocations, 1), push)
     }
 
-    /// Dispatches `kernel` over a `width` x `height` grid of invocations: rows of
-    /// workgroups, so that a kernel finds its pixel in `gl_GlobalInvocationID.xy`
-    /// instead of dividing an index by the width (integer division is slow on
-    /// CPU devices such as lavapipe).
+    /// Dispatches `kernel` over a `width` x `height` grid of invocations (rows
+    /// of workgroups): a kernel finds its place in `gl_GlobalInvocationID.xy`,
+    /// for example a column and a strip of rows.
     pub fn dispatch_grid(
         &mut self,
         kernel: BufferKernel,
@@ -652,7 +633,7 @@ impl<'m> Pass<'m> {
         let groups = (width.div_ceil(kernel.group()), height);
         if groups.0 > MAX_GROUPS || groups.1 > MAX_GROUPS {
             return Err(Error::InvalidInput(format!(
-                "a {width}x{height} grid is more than {MAX_GROUPS} workgroups along a side"
+                "a {width}x{height} grid of invocations needs more than {MAX_GROUPS} workgroups along a side: split it"
             )));
         }
         let pipeline = self.machine.pipelines.buffer_compute(kernel)?;

@@ -1270,11 +1270,14 @@ impl RegionMesh {
         let mut band = Vec::new();
         for (a, b) in region.edges() {
             let (a, b) = (frame.to_pixel(a), frame.to_pixel(b));
+            // A hair more than half a pixel, so that a square that only
+            // touches the boundary still counts whatever the rasterizer's
+            // rule for centres on an edge.
+            let h = 0.5 + 1e-3;
             let corners: Vec<DVec2> = [a, b]
                 .iter()
                 .flat_map(|&e| {
-                    [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
-                        .map(|(x, y)| e + DVec2::new(x, y))
+                    [(-h, -h), (h, -h), (h, h), (-h, h)].map(|(x, y)| e + DVec2::new(x, y))
                 })
                 .collect();
             let hull: Vec<DVec2> = super::higher_order::convex_hull(&corners)
