@@ -1,9 +1,9 @@
 #version 460
 // The dual of a colouring (Cao, Edelsbrunner and Tan 2015, Fig. 2): one
 // invocation per strip of 64 pixel corners of a column, looking at the 2-by-2
-// pixels around each corner counter-clockwise (x right, y up). Four colours make two triangles; three
-// with the repeated colour on two side-neighbours make one (on a diagonal they
-// are a neck, and make none). Pixels beyond the texture have the dummy
+// pixels around each corner counter-clockwise (x right, y up). Four colours
+// make two triangles; three with the repeated colour on two side-neighbours
+// make one (on a diagonal they are a neck, and make none). Pixels beyond the texture have the dummy
 // vertex's colour. Triangles are appended with an atomic counter.
 layout(local_size_x = 64) in;
 

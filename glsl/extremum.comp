@@ -79,8 +79,8 @@ void main() {
             wanted = (job.phase == 1 && (strip_lo == want_lo || strip_hi == want_hi))
                 || (job.phase == 2 && strip_lo <= bar) || (job.phase == 3 && strip_hi >= bar);
         }
-        // Unrolled: naga's SPIR-V reader loses values carried out of loops.
         if (wanted) {
+        // Unrolled: naga's SPIR-V reader loses values carried out of loops.
         [[unroll]] for (int r = 0; r < ROWS; ++r) {
             int y = min(y0 + r, y1 - 1);
             uint index = uint(y * job.size.x + x);

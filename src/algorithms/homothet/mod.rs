@@ -699,7 +699,7 @@ pub fn largest_empty_by(
                 keys = Some(tile.keys);
                 let within = 2.0 * bound * frame.scale;
                 let near = near_extreme(metric, tile.keys.scale, within, true);
-                let picture = (tile.ids, tile.depth, tile.x0, tile.y0, tile.inner);
+                let picture = (Some(tile.ids), tile.depth, tile.x0, tile.y0, tile.inner);
                 tiles.extend(highest_in_region(
                     machine,
                     &frame,
@@ -779,6 +779,20 @@ pub fn largest_empty_sites(
     inside: bool,
     side: u32,
 ) -> Result<HomothetAnswer> {
+    largest_empty_sites_by(machine, sites, unit, region, inside, side, None)
+}
+
+/// [`largest_empty_sites`] with its pixel stage chosen, as for
+/// [`largest_empty_by`]: the distance transform takes plain points only.
+pub fn largest_empty_sites_by(
+    machine: &Machine,
+    sites: &[Site],
+    unit: Unit,
+    region: &Region,
+    inside: bool,
+    side: u32,
+    stage: Option<PixelStage>,
+) -> Result<HomothetAnswer> {
     check_general_sites(sites)?;
     if !inside && sites.iter().all(Site::is_plain_point) {
         let points: Vec<DVec2> = sites
@@ -788,7 +802,12 @@ pub fn largest_empty_sites(
                 _ => unreachable!("plain points"),
             })
             .collect();
-        return largest_empty(machine, &points, unit, region, side);
+        return largest_empty_by(machine, &points, unit, region, side, stage);
+    }
+    if stage == Some(PixelStage::DistanceTransform) {
+        return Err(Error::InvalidInput(
+            "the distance transform takes unweighted points without `inside`: use cones".into(),
+        ));
     }
     let bounds = sites
         .iter()
@@ -823,7 +842,7 @@ pub fn largest_empty_sites(
             squared_scale: 0.0,
             capacity: NEAR_PIXELS,
         };
-        let picture = (tile.ids, tile.depth, tile.x0, tile.y0, tile.inner);
+        let picture = (Some(tile.ids), tile.depth, tile.x0, tile.y0, tile.inner);
         if let Some((z, pixels)) = highest_in_region(machine, &frame, &region_mesh, picture, near)?
         {
             tiles.push((tile.keys.distance(z), pixels));
@@ -990,7 +1009,7 @@ fn region_and_frame(
 /// A drawn tile: ids, depth, its corner in the picture, the part that is
 /// picture.
 type Tile<'a> = (
-    &'a crate::machine::Image,
+    Option<&'a crate::machine::Image>,
     &'a crate::machine::Image,
     u32,
     u32,
@@ -1077,14 +1096,13 @@ fn listed_of_transform(
     within: f64,
 ) -> Result<Vec<usize>> {
     let (w, h) = (frame.width, frame.height);
-    let ids = machine.image(Format::R32Uint, w, h)?;
     let depth = machine.image(Format::DepthStencil, w, h)?;
     // Squared distances in pixels plus one, scaled into [0, 1]; the listing
     // window on their roots is then a little wider than asked.
     let scale = (1.0 / (w as f64 * w as f64 + h as f64 * h as f64)) as f32;
     flooding::euclidean_depth(machine, seeds, &depth, scale)?;
     let near = near_extreme(Metric::L2, scale as f64, within, true);
-    let picture = (&ids, &depth, 0, 0, PixelRect::of(&depth));
+    let picture = (None, &depth, 0, 0, PixelRect::of(&depth));
     let highest = highest_in_region(machine, frame, region_mesh, picture, near)?;
     Ok(highest.map(|(_, p)| p).unwrap_or_default())
 }
@@ -1299,7 +1317,7 @@ impl RegionMesh {
 /// rectangle at depth 0 is drawn where both are clear.
 fn mask_outside(
     machine: &Machine,
-    ids: &crate::machine::Image,
+    ids: Option<&crate::machine::Image>,
     depth: &crate::machine::Image,
     region: &RegionMesh,
     x0: u32,
@@ -1350,7 +1368,7 @@ fn mask_outside(
     machine.run(|pass| {
         pass.begin(
             Target {
-                color: Some(ids),
+                color: ids,
                 depth_stencil: Some(depth),
             },
             Clear {

@@ -10,10 +10,7 @@ use pixgeo::{
     algorithms::homothet::{
         self, Envelope, HomothetAnswer, PixelStage, Region, Unit, DEFAULT_SIDE,
     },
-    geometry::{
-        metric::Metric,
-        site::{Shape as ShapeKind, Site},
-    },
+    geometry::{metric::Metric, site::Site},
     io::{picture::PngStream, sites},
     Machine,
 };
@@ -170,27 +167,20 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
     };
     let machine = machine_on(args.shape.device.as_deref())?;
     let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
-    let points: Option<Vec<DVec2>> = shapes
-        .iter()
-        .map(|s| match s.shape {
-            ShapeKind::Point(p) if s.is_plain_point() => Some(p),
-            _ => None,
-        })
-        .collect();
     let stage = match args.pixel_stage {
         StageChoice::Auto => None,
         StageChoice::Cones => Some(PixelStage::Cones),
         StageChoice::Transform => Some(PixelStage::DistanceTransform),
     };
-    let answer = match points {
-        Some(points) if !args.inside => {
-            homothet::largest_empty_by(&machine, &points, unit, &region, side, stage)?
-        }
-        _ if args.pixel_stage == StageChoice::Transform => {
-            bail!("--pixel-stage transform takes unweighted points without --inside")
-        }
-        _ => homothet::largest_empty_sites(&machine, &shapes, unit, &region, args.inside, side)?,
-    };
+    let answer = homothet::largest_empty_sites_by(
+        &machine,
+        &shapes,
+        unit,
+        &region,
+        args.inside,
+        side,
+        stage,
+    )?;
     report(&answer, args.shape.json, "largest empty")?;
     args.shape
         .draw(&machine, &shapes, &answer, Envelope::Empty, &region)
