@@ -21,14 +21,18 @@ layout(push_constant) uniform Picture {
 #ifdef STAGE_FRAG
 #include "metric.glsl"
 
+#ifndef METRIC_KIND
+#define METRIC_KIND picture.metric
+#endif
+
 // The metric's key of offset d (metric.glsl).
 float metric_key(vec2 d) {
-    return metric_key_of(d, picture.metric, picture.metric_p);
+    return metric_key_of(d, METRIC_KIND, picture.metric_p);
 }
 
 // The key of a distance r (metric_key of an offset of that length).
 float metric_key_of_distance(float r) {
-    if (picture.metric == 0u) {
+    if (METRIC_KIND == 0u) {
         return r * r;
     }
     return r;
@@ -36,9 +40,9 @@ float metric_key_of_distance(float r) {
 
 // The largest a with a |x|_2 <= |x| for every offset x.
 float metric_euclidean_lower() {
-    if (picture.metric == 2u) {
+    if (METRIC_KIND == 2u) {
         return 0.70710677;
-    } else if (picture.metric == 3u && picture.metric_p > 2.0) {
+    } else if (METRIC_KIND == 3u && picture.metric_p > 2.0) {
         return pow(2.0, 1.0 / picture.metric_p - 0.5);
     }
     return 1.0;

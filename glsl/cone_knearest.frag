@@ -1,4 +1,5 @@
 // variants: EXACT FAN
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // k nearest sites per pixel in one pass: each fragment of a cone inserts its key
 // (distance, site id) into the pixel's list of the `levels` smallest

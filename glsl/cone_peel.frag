@@ -1,3 +1,4 @@
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // An exact cone peeled against the previous level (thesis §3.7): only fragments
 // deeper than the pixel's previous depth z take part, so the depth test LESS

@@ -1,4 +1,5 @@
 // variants: K1 K2 K4 K8 K16 K32
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // The k lowest layers of the cones binned to a screen tile (tiles.vert), per
 // fragment: a sorted list of (metric key, id) in registers, then one plain

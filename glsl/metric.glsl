@@ -1,6 +1,20 @@
 // Distance functions (src/geometry/metric.rs): kind 0 Euclidean, 1 L1,
 // 2 L-infinity, 3 L_p with exponent p.
 
+// Shaders built once per kind (variants METRIC_L2 METRIC_L1 METRIC_LINF
+// METRIC_LP) have the kind as the constant METRIC_KIND; the others read it from
+// their push constants. Lavapipe runs every side of a branch on a push constant,
+// so without the constant the L_p powers would cost the Euclidean cones too.
+#if defined(METRIC_L2)
+#define METRIC_KIND 0u
+#elif defined(METRIC_L1)
+#define METRIC_KIND 1u
+#elif defined(METRIC_LINF)
+#define METRIC_KIND 2u
+#elif defined(METRIC_LP)
+#define METRIC_KIND 3u
+#endif
+
 // The metric's key of offset d: a monotone function of its distance (the squared
 // distance for the Euclidean norm, the distance itself otherwise). Keys of
 // integer offsets are exact for kinds 0 to 2.

@@ -18,6 +18,10 @@ layout(push_constant) uniform Settle {
     uint channel;
 } settle;
 
+#ifndef METRIC_KIND
+#define METRIC_KIND settle.metric
+#endif
+
 // Each pixel's disc radius as a metric key: the key of its nearest site, 0 where
 // the pixel does not count (it is already the user's own).
 layout(set = 0, binding = 0) readonly buffer Radii {
@@ -26,7 +30,7 @@ layout(set = 0, binding = 0) readonly buffer Radii {
 
 // Whether the candidate at offset d from p lies in C(p) of radius key `key`.
 bool in_disc(ivec2 d, float key) {
-    return metric_key_of(vec2(d), settle.metric, settle.metric_p) < key;
+    return metric_key_of(vec2(d), METRIC_KIND, settle.metric_p) < key;
 }
 
 // A bound on the disc's reach along its centre row (a little beyond it, so that
@@ -34,7 +38,7 @@ bool in_disc(ivec2 d, float key) {
 int disc_bound(float key, int limit) {
     int m = -1;
     if (key > 0.0) {
-        float r = metric_distance_of_key(key, settle.metric, settle.metric_p);
+        float r = metric_distance_of_key(key, METRIC_KIND, settle.metric_p);
         m = int(min(r * 1.001 + 2.0, float(limit)));
     }
     return m;

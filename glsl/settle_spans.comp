@@ -1,3 +1,4 @@
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // pixgeo's span counting of the potential areas (thesis §3.12.3 on the device):
 // each source pixel walks the border of its disc row by row and adds +1 where the
@@ -37,7 +38,7 @@ void main() {
     int limit = max(settle.size.x, settle.size.y);
     int m = -1;
     if (key > 0.0) {
-        float r = metric_distance_of_key(key, settle.metric, settle.metric_p);
+        float r = metric_distance_of_key(key, METRIC_KIND, settle.metric_p);
         m = int(min(r, float(limit)));
         while (m < limit && in_disc(ivec2(m + 1, 0), key)) {
             ++m;

@@ -1,3 +1,4 @@
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // The weighted distance of a site of any shape, per fragment (thesis §3.8–3.9:
 // the roof of a segment, the straw hut of a circle, the sliced hut of an arc, with
@@ -19,7 +20,7 @@ layout(location = 0) out uint out_id;
 const float TAU = 6.28318530718;
 
 float norm(vec2 v) {
-    return metric_distance_of_key(metric_key(v), picture.metric, picture.metric_p);
+    return metric_distance_of_key(metric_key(v), METRIC_KIND, picture.metric_p);
 }
 
 // The smallest norm on the segment of offsets a + t (b - a), t in [0, 1]: closed
@@ -30,7 +31,7 @@ float norm(vec2 v) {
 float segment_norm(vec2 a, vec2 b) {
     vec2 e = b - a;
     float ee = dot(e, e);
-    if (picture.metric == 0u) {
+    if (METRIC_KIND == 0u) {
         float t = ee > 0.0 ? clamp(-dot(a, e) / ee, 0.0, 1.0) : 0.0;
         return length(a + t * e);
     }
@@ -44,7 +45,7 @@ float segment_norm(vec2 a, vec2 b) {
         }
     }
     // L-infinity is linear between the zeros and the diagonals |x| = |y|.
-    if (picture.metric == 2u) {
+    if (METRIC_KIND == 2u) {
         for (int sign = -1; sign <= 1; sign += 2) {
             float den = e.x - float(sign) * e.y;
             if (den != 0.0) {
@@ -56,7 +57,7 @@ float segment_norm(vec2 a, vec2 b) {
         }
     }
     // L1 and L-infinity are piecewise linear: their candidates are exact.
-    bool search = picture.metric == 3u && picture.metric_p >= 1.0;
+    bool search = METRIC_KIND == 3u && picture.metric_p >= 1.0;
     if (search && ee > 0.0) {
         float lo = 0.0;
         float hi = 1.0;
@@ -84,7 +85,7 @@ float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
     int n = max(2, int(ceil(float(SAMPLES) * span / TAU)));
     float step = span / float(n);
     // The two (convex metrics) or four (star-shaped balls) best samples.
-    int brackets = (picture.metric == 3u && picture.metric_p < 1.0) ? 4 : 2;
+    int brackets = (METRIC_KIND == 3u && picture.metric_p < 1.0) ? 4 : 2;
     float best_d[4] = float[4](3.0e38, 3.0e38, 3.0e38, 3.0e38);
     int best_k[4] = int[4](0, 0, 0, 0);
     for (int k = 0; k <= n; k++) {
@@ -105,8 +106,8 @@ float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
     float best = best_d[0];
     // Cusps where the offset lies along a kink ray of the ball: the axes for L1
     // and p < 1, the diagonals for L-infinity (src/geometry/site.rs).
-    bool axes = picture.metric == 1u || (picture.metric == 3u && picture.metric_p < 1.0);
-    if (axes || picture.metric == 2u) {
+    bool axes = METRIC_KIND == 1u || (METRIC_KIND == 3u && picture.metric_p < 1.0);
+    if (axes || METRIC_KIND == 2u) {
         vec2 d = p - c;
         for (int ray = 0; ray < 2; ray++) {
             vec2 v = axes ? (ray == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0))
@@ -152,7 +153,7 @@ void main() {
         d = norm(p - shape0.xy);
     } else if (kind == 1u) {
         d = segment_norm(shape0.xy - p, shape0.zw - p);
-    } else if (picture.metric != 0u) {
+    } else if (METRIC_KIND != 0u) {
         float span = kind == 2u ? TAU : min(shape1.y, TAU);
         d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, span);
     } else {

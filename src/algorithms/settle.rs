@@ -266,9 +266,13 @@ struct Push {
 }
 
 impl Push {
+    /// The kind of distance function and its exponent (`check` keeps polygons out).
+    fn metric_code(&self) -> (u32, f32) {
+        self.metric.shader_code().unwrap_or((0, 2.0))
+    }
+
     fn words(&self, first: u32, count: u32, channel: u32) -> [u32; 7] {
-        // `check` keeps polygons out.
-        let (kind, p) = self.metric.shader_code().unwrap_or((0, 2.0));
+        let (kind, p) = self.metric_code();
         [
             self.frame.width,
             self.frame.height,
@@ -293,17 +297,18 @@ fn count_spans(
     let mut differences = machine.storage_buffer(4 * pixels as u64)?;
     differences.fill(0);
     let start = Instant::now();
+    let kind = push.metric_code().0;
     machine.with_compute_buffers([radii, &differences], |set| {
         // About 64 submissions, for progress; each within one dispatch's limits.
         let step = pixels
             .div_ceil(64)
-            .clamp(1, MAX_GROUPS * BufferKernel::SettleSpans.group());
+            .clamp(1, MAX_GROUPS * BufferKernel::SettleSpans(0).group());
         let mut first = 0;
         while first < pixels {
             let count = step.min(pixels - first);
             machine.run(|pass| {
                 pass.dispatch(
-                    BufferKernel::SettleSpans,
+                    BufferKernel::SettleSpans(kind),
                     set,
                     count,
                     &push.words(first, count, 0),
@@ -384,7 +389,7 @@ fn count_faithful(
                 pass.begin(target, clear)?;
                 pass.bind_fragment_buffer(set);
                 pass.draw_instances(
-                    Program::SettleDisc,
+                    Program::SettleDisc(push.metric_code().0),
                     &state,
                     &params,
                     &push.words(first, count, channel),

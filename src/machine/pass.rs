@@ -366,8 +366,15 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
-    /// Binds the pipeline for `program` and `state` and sets the per-draw state.
-    fn bind(&mut self, program: Program, state: &RasterState, params: &DrawParams) -> Result<()> {
+    /// Binds the pipeline for `program` and `state` and sets the per-draw state;
+    /// `metric` is the kind of distance function the draw pushes (0 when none).
+    fn bind(
+        &mut self,
+        program: Program,
+        metric: u32,
+        state: &RasterState,
+        params: &DrawParams,
+    ) -> Result<()> {
         let r = self
             .rendering
             .as_ref()
@@ -375,7 +382,7 @@ impl<'m> Pass<'m> {
         let pipeline = self
             .machine
             .pipelines
-            .graphics(program, r.color, r.depth, state)?;
+            .graphics(program, metric, r.color, r.depth, state)?;
         let [x, y, w, h] = params.scissor.unwrap_or([0, 0, r.width, r.height]);
         let x = x.min(r.width);
         let y = y.min(r.height);
@@ -451,7 +458,7 @@ impl<'m> Pass<'m> {
         if draw.instance_count == 0 {
             return Ok(());
         }
-        self.bind(program, state, params)?;
+        self.bind(program, push.metric.0, state, params)?;
         self.push_cone_constants(push);
         let device = self.device();
         // SAFETY: buffers are alive until the submission completes (borrowed by the
@@ -487,7 +494,12 @@ impl<'m> Pass<'m> {
         if tiles == 0 {
             return Ok(());
         }
-        self.bind(Program::KNearestTiles(push.levels), state, params)?;
+        self.bind(
+            Program::KNearestTiles(push.levels),
+            push.metric.0,
+            state,
+            params,
+        )?;
         self.push_cone_constants(push);
         // SAFETY: inside a rendering pass with a bound pipeline; the vertex shader
         // reads its tile records from the bound storage buffer.
@@ -509,7 +521,7 @@ impl<'m> Pass<'m> {
         if count == 0 {
             return Ok(());
         }
-        self.bind(Program::Disc, state, params)?;
+        self.bind(Program::Disc, 0, state, params)?;
         self.push_cone_constants(push);
         let device = self.device();
         // SAFETY: the buffer is alive until the submission completes (borrowed by
@@ -543,7 +555,7 @@ impl<'m> Pass<'m> {
         params: &DrawParams,
         rect: &RectDraw,
     ) -> Result<()> {
-        self.bind(Program::Rect, state, params)?;
+        self.bind(Program::Rect, 0, state, params)?;
         let r = self
             .rendering
             .as_ref()
@@ -590,7 +602,11 @@ impl<'m> Pass<'m> {
         if count == 0 {
             return Ok(());
         }
-        self.bind(program, state, params)?;
+        let metric = match program {
+            Program::SettleDisc(kind) => kind,
+            _ => 0,
+        };
+        self.bind(program, metric, state, params)?;
         self.push_graphics(push);
         // SAFETY: inside a rendering pass with a bound pipeline that reads no
         // vertex buffers.

@@ -46,8 +46,9 @@ pub enum Program {
     KNearestTiles(u32),
     /// The settle point's discs (thesis §3.10.3): one square per source pixel,
     /// instanced without vertex buffers; the fragment shader keeps the disc and
-    /// reads each pixel's radius from the bound storage buffer.
-    SettleDisc,
+    /// reads each pixel's radius from the bound storage buffer. Built for the
+    /// given kind of distance function (`ConePush::metric`'s kind).
+    SettleDisc(u32),
     /// One rectangle per site of any shape with weights; the fragment writes the
     /// exact weighted distance (see [`crate::machine::SiteInstance`]).
     SiteExact,
@@ -67,6 +68,22 @@ pub enum Program {
 }
 
 impl Program {
+    /// Whether the fragment shader is built once per kind of distance function
+    /// (`glsl/common.glsl`, `METRIC_KIND`).
+    fn builds_per_metric(self) -> bool {
+        matches!(
+            self,
+            Program::ConeExact
+                | Program::SettleDisc(_)
+                | Program::ConeExactBatch
+                | Program::ConeKNearest
+                | Program::ConeKNearestFan
+                | Program::ConePeel
+                | Program::KNearestTiles(_)
+                | Program::SiteExact
+        )
+    }
+
     /// Whether the program's vertices come from vertex buffers (a mesh and
     /// per-instance data), rather than being made by its vertex shader.
     pub fn reads_vertex_buffers(self) -> bool {
@@ -74,7 +91,7 @@ impl Program {
             self,
             Program::Rect
                 | Program::KNearestTiles(_)
-                | Program::SettleDisc
+                | Program::SettleDisc(_)
                 | Program::Roof
                 | Program::RoofSides
         )
@@ -104,8 +121,10 @@ impl Kernel {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BufferKernel {
     /// The settle point's span counting: +1/-1 at the ends of every disc's rows,
-    /// one invocation per source pixel.
-    SettleSpans,
+    /// one invocation per source pixel, built for the given kind of distance
+    /// function (`ConePush::metric`'s kind).
+    SettleSpans(u32),
+
     /// Prefix sums along each row of a picture of `i32`, in place.
     RowPrefix,
     /// The extremes of a float picture and their first indices, in two phases
@@ -130,7 +149,7 @@ impl BufferKernel {
     /// Invocations per workgroup (the shader's `local_size_x`).
     pub fn group(self) -> u32 {
         match self {
-            BufferKernel::SettleSpans => 64,
+            BufferKernel::SettleSpans(_) => 64,
             BufferKernel::RowPrefix => 64,
             BufferKernel::Extremum => 64,
             BufferKernel::JumpFlood => 64,
@@ -139,15 +158,32 @@ impl BufferKernel {
         }
     }
 
-    fn shader(self) -> &'static str {
-        match self {
-            BufferKernel::SettleSpans => "settle_spans.comp",
+    fn shader(self) -> Result<String> {
+        let name = match self {
+            BufferKernel::SettleSpans(kind) => {
+                return Ok(format!("settle_spans.comp:{}", metric_build(kind)?))
+            }
             BufferKernel::RowPrefix => "row_prefix.comp",
             BufferKernel::Extremum => "extremum.comp",
             BufferKernel::JumpFlood => "jump_flood.comp",
             BufferKernel::Dualize => "dualize.comp",
             BufferKernel::EuclideanColouring => "euclidean.comp",
-        }
+        };
+        Ok(name.to_string())
+    }
+}
+
+/// The name of a shader's build for a kind of distance function
+/// (`glsl/metric.glsl`: 0 Euclidean, 1 L1, 2 L-infinity, 3 L_p).
+fn metric_build(kind: u32) -> Result<&'static str> {
+    match kind {
+        0 => Ok("metric_l2"),
+        1 => Ok("metric_l1"),
+        2 => Ok("metric_linf"),
+        3 => Ok("metric_lp"),
+        other => Err(Error::InvalidInput(format!(
+            "no distance function of kind {other}"
+        ))),
     }
 }
 
@@ -159,6 +195,9 @@ pub const COMPUTE_PUSH_BYTES: u32 = 32;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct GraphicsKey {
     program: Program,
+    /// The metric kind a metric-dependent fragment shader is built for
+    /// (`ConePush::metric`'s kind); `None` for the other programs.
+    metric: Option<u32>,
     color: Option<Format>,
     depth: Option<Format>,
     state: RasterState,
@@ -181,54 +220,6 @@ pub(crate) struct Pipelines {
     buffer_kernels: RefCell<HashMap<BufferKernel, vk::Pipeline>>,
 }
 
-const SHADERS: &[(&str, &[u32])] = &[
-    ("cone.vert", shaders::CONE_VERT),
-    ("cone_fan.frag", shaders::CONE_FAN_FRAG),
-    ("cone_exact.frag", shaders::CONE_EXACT_FRAG),
-    ("cone_batch.vert", shaders::CONE_BATCH_VERT),
-    ("cone_batch.frag", shaders::CONE_BATCH_FRAG),
-    (
-        "cone_knearest.frag:exact",
-        shaders::CONE_KNEAREST_FRAG_EXACT,
-    ),
-    ("cone_knearest.frag:fan", shaders::CONE_KNEAREST_FRAG_FAN),
-    ("cone_peel.frag", shaders::CONE_PEEL_FRAG),
-    ("peel_carry.frag", shaders::PEEL_CARRY_FRAG),
-    ("tiles.vert", shaders::TILES_VERT),
-    ("cone_tiles.frag:k1", shaders::CONE_TILES_FRAG_K1),
-    ("cone_tiles.frag:k2", shaders::CONE_TILES_FRAG_K2),
-    ("cone_tiles.frag:k4", shaders::CONE_TILES_FRAG_K4),
-    ("cone_tiles.frag:k8", shaders::CONE_TILES_FRAG_K8),
-    ("cone_tiles.frag:k16", shaders::CONE_TILES_FRAG_K16),
-    ("cone_tiles.frag:k32", shaders::CONE_TILES_FRAG_K32),
-    ("settle_disc.vert", shaders::SETTLE_DISC_VERT),
-    ("settle_disc.frag", shaders::SETTLE_DISC_FRAG),
-    ("site.vert", shaders::SITE_VERT),
-    ("site_exact.frag", shaders::SITE_EXACT_FRAG),
-    ("site_fan.vert", shaders::SITE_FAN_VERT),
-    ("site_fan.frag", shaders::SITE_FAN_FRAG),
-    ("disc.vert", shaders::DISC_VERT),
-    ("roof.vert", shaders::ROOF_VERT),
-    ("roof.frag:triangle", shaders::ROOF_FRAG_TRIANGLE),
-    ("roof.frag:sides", shaders::ROOF_FRAG_SIDES),
-    ("disc.frag", shaders::DISC_FRAG),
-    ("settle_spans.comp", shaders::SETTLE_SPANS_COMP),
-    ("row_prefix.comp", shaders::ROW_PREFIX_COMP),
-    ("extremum.comp", shaders::EXTREMUM_COMP),
-    ("jump_flood.comp", shaders::JUMP_FLOOD_COMP),
-    ("dualize.comp", shaders::DUALIZE_COMP),
-    ("euclidean.comp", shaders::EUCLIDEAN_COMP),
-    ("rect.vert", shaders::RECT_VERT),
-    ("rect.frag:uint", shaders::RECT_FRAG_UINT),
-    ("rect.frag:float", shaders::RECT_FRAG_FLOAT),
-    ("minmax:r32ui", shaders::MINMAX_COMP_R32UI),
-    ("minmax:r32f", shaders::MINMAX_COMP_R32F),
-    ("minmax:rgba32f", shaders::MINMAX_COMP_RGBA32F),
-    ("histogram:r32ui", shaders::HISTOGRAM_COMP_R32UI),
-    ("histogram:r32f", shaders::HISTOGRAM_COMP_R32F),
-    ("histogram:rgba32f", shaders::HISTOGRAM_COMP_RGBA32F),
-];
-
 impl Pipelines {
     pub fn new(ctx: &Arc<Context>) -> Result<Self> {
         let mut pipelines = Self {
@@ -245,7 +236,7 @@ impl Pipelines {
             buffer_kernels: RefCell::default(),
         };
         let device = &ctx.device;
-        for (name, code) in SHADERS {
+        for (name, code) in shaders::ALL {
             let info = vk::ShaderModuleCreateInfo::default().code(code);
             // SAFETY: SPIR-V compiled and validated by build.rs; destroyed in `Drop`.
             let module =
@@ -324,24 +315,27 @@ impl Pipelines {
     }
 
     fn module(&self, name: &str) -> vk::ShaderModule {
-        // Every name used below is listed in SHADERS; a missing one is a bug that
-        // the first draw of its program reveals.
+        // Every name used below is a build in `shaders::ALL`; a missing one is a
+        // bug that the first draw of its program reveals.
         *self
             .modules
             .get(name)
-            .unwrap_or_else(|| panic!("shader {name} is not in SHADERS"))
+            .unwrap_or_else(|| panic!("shader {name} is not built"))
     }
 
-    /// The pipeline for `program` drawing into `color` and `depth` with `state`.
+    /// The pipeline for `program` drawing into `color` and `depth` with `state`;
+    /// `metric` is the kind of distance function of the draw's push constants.
     pub fn graphics(
         &self,
         program: Program,
+        metric: u32,
         color: Option<Format>,
         depth: Option<Format>,
         state: &RasterState,
     ) -> Result<vk::Pipeline> {
         let key = GraphicsKey {
             program,
+            metric: program.builds_per_metric().then_some(metric),
             color,
             depth,
             state: *state,
@@ -440,7 +434,7 @@ impl Pipelines {
                 "disc.frag",
                 vk::PrimitiveTopology::TRIANGLE_STRIP,
             ),
-            Program::SettleDisc => (
+            Program::SettleDisc(_) => (
                 "settle_disc.vert",
                 "settle_disc.frag",
                 vk::PrimitiveTopology::TRIANGLE_STRIP,
@@ -462,7 +456,7 @@ impl Pipelines {
                 | Program::ConeKNearest
                 | Program::ConeKNearestFan
                 | Program::KNearestTiles(_)
-                | Program::SettleDisc
+                | Program::SettleDisc(_)
                 | Program::Disc
                 | Program::RoofSides
         ) && !uint_target
@@ -478,6 +472,10 @@ impl Pipelines {
                 "discs write a value to a float colour target".into(),
             ));
         }
+        let fragment = match key.metric {
+            None => fragment.to_string(),
+            Some(kind) => format!("{fragment}:{}", metric_build(kind)?),
+        };
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
@@ -485,7 +483,7 @@ impl Pipelines {
                 .name(c"main"),
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(self.module(fragment))
+                .module(self.module(&fragment))
                 .name(c"main"),
         ];
         let cone_bindings = [
@@ -702,8 +700,8 @@ impl Pipelines {
             }
         };
         let name = match kernel {
-            Kernel::MinMax => format!("minmax:{suffix}"),
-            Kernel::Histogram => format!("histogram:{suffix}"),
+            Kernel::MinMax => format!("minmax.comp:{suffix}"),
+            Kernel::Histogram => format!("histogram.comp:{suffix}"),
         };
         let pipeline = self.create_compute(&name, self.compute_layout)?;
         self.compute.borrow_mut().insert((kernel, format), pipeline);
@@ -715,7 +713,7 @@ impl Pipelines {
         if let Some(p) = self.buffer_kernels.borrow().get(&kernel) {
             return Ok(*p);
         }
-        let pipeline = self.create_compute(kernel.shader(), self.buffer_layout)?;
+        let pipeline = self.create_compute(&kernel.shader()?, self.buffer_layout)?;
         self.buffer_kernels.borrow_mut().insert(kernel, pipeline);
         Ok(pipeline)
     }
