@@ -124,7 +124,6 @@ pub enum BufferKernel {
     /// one invocation per source pixel, built for the given kind of distance
     /// function (`ConePush::metric`'s kind).
     SettleSpans(u32),
-
     /// Prefix sums along each row of a picture of `i32`, in place.
     RowPrefix,
     /// The extremes of a float picture and their first indices, in two phases
@@ -159,17 +158,16 @@ impl BufferKernel {
     }
 
     fn shader(self) -> Result<String> {
-        let name = match self {
+        Ok(match self {
             BufferKernel::SettleSpans(kind) => {
-                return Ok(format!("settle_spans.comp:{}", metric_build(kind)?))
+                format!("settle_spans.comp:{}", metric_build(kind)?)
             }
-            BufferKernel::RowPrefix => "row_prefix.comp",
-            BufferKernel::Extremum => "extremum.comp",
-            BufferKernel::JumpFlood => "jump_flood.comp",
-            BufferKernel::Dualize => "dualize.comp",
-            BufferKernel::EuclideanColouring => "euclidean.comp",
-        };
-        Ok(name.to_string())
+            BufferKernel::RowPrefix => "row_prefix.comp".into(),
+            BufferKernel::Extremum => "extremum.comp".into(),
+            BufferKernel::JumpFlood => "jump_flood.comp".into(),
+            BufferKernel::Dualize => "dualize.comp".into(),
+            BufferKernel::EuclideanColouring => "euclidean.comp".into(),
+        })
     }
 }
 
