@@ -1,4 +1,4 @@
-// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
+// variants: METRIC_L2 METRIC_ANY
 #version 460
 // The weighted distance of a site of any shape, per fragment (thesis §3.8–3.9:
 // the roof of a segment, the straw hut of a circle, the sliced hut of an arc, with
@@ -9,14 +9,9 @@
 //   kind 3 arc      centre shape0.xy, radius shape0.z, counter-clockwise from
 //                   angle shape1.x over shape1.y radians
 // The weighted distance is dist * weights.x + weights.y (world units).
+// The Euclidean build has the metric kind as a constant; METRIC_ANY reads it
+// from the push constants (src/machine/pipelines.rs, Program::metric_build).
 #include "common.glsl"
-// Only the Euclidean build has the kind as a constant: with it, lavapipe ran the
-// L1 and L-infinity segments 2.5 times slower than with the push constant
-// (measured), while the Euclidean sites gain from it.
-#ifndef METRIC_L2
-#undef METRIC_KIND
-#define METRIC_KIND picture.metric
-#endif
 
 layout(location = 0) flat in vec4 shape0;
 layout(location = 1) flat in vec4 shape1;

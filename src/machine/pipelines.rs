@@ -68,20 +68,24 @@ pub enum Program {
 }
 
 impl Program {
-    /// Whether the fragment shader is built once per kind of distance function
-    /// (`glsl/common.glsl`, `METRIC_KIND`).
-    fn builds_per_metric(self) -> bool {
-        matches!(
-            self,
+    /// The build of the fragment shader for the distance function of kind
+    /// `kind` (`glsl/metric.glsl`), as the kind it is built for or
+    /// [`ANY_METRIC`]; `None` for programs with a single build.
+    fn metric_build(self, kind: u32) -> Option<u32> {
+        match self {
+            // Only the Euclidean build has the kind as a constant: with it,
+            // lavapipe ran L1 and L-infinity segments 2.5 times slower than with
+            // the kind read at run time (measured).
+            Program::SiteExact => Some(if kind == 0 { 0 } else { ANY_METRIC }),
             Program::ConeExact
-                | Program::SettleDisc(_)
-                | Program::ConeExactBatch
-                | Program::ConeKNearest
-                | Program::ConeKNearestFan
-                | Program::ConePeel
-                | Program::KNearestTiles(_)
-                | Program::SiteExact
-        )
+            | Program::SettleDisc(_)
+            | Program::ConeExactBatch
+            | Program::ConeKNearest
+            | Program::ConeKNearestFan
+            | Program::ConePeel
+            | Program::KNearestTiles(_) => Some(kind),
+            _ => None,
+        }
     }
 
     /// Whether the program's vertices come from vertex buffers (a mesh and
@@ -160,7 +164,7 @@ impl BufferKernel {
     fn shader(self) -> Result<String> {
         Ok(match self {
             BufferKernel::SettleSpans(kind) => {
-                format!("settle_spans.comp:{}", metric_build(kind)?)
+                format!("settle_spans.comp:{}", build_name(kind)?)
             }
             BufferKernel::RowPrefix => "row_prefix.comp".into(),
             BufferKernel::Extremum => "extremum.comp".into(),
@@ -171,14 +175,20 @@ impl BufferKernel {
     }
 }
 
+/// The build of a metric-dependent shader that reads the kind of distance
+/// function from its push constants.
+const ANY_METRIC: u32 = u32::MAX;
+
 /// The name of a shader's build for a kind of distance function
-/// (`glsl/metric.glsl`: 0 Euclidean, 1 L1, 2 L-infinity, 3 L_p).
-fn metric_build(kind: u32) -> Result<&'static str> {
+/// (`glsl/metric.glsl`: 0 Euclidean, 1 L1, 2 L-infinity, 3 L_p), or for
+/// [`ANY_METRIC`].
+fn build_name(kind: u32) -> Result<&'static str> {
     match kind {
         0 => Ok("metric_l2"),
         1 => Ok("metric_l1"),
         2 => Ok("metric_linf"),
         3 => Ok("metric_lp"),
+        ANY_METRIC => Ok("metric_any"),
         other => Err(Error::InvalidInput(format!(
             "no distance function of kind {other}"
         ))),
@@ -193,8 +203,8 @@ pub const COMPUTE_PUSH_BYTES: u32 = 32;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct GraphicsKey {
     program: Program,
-    /// The metric kind a metric-dependent fragment shader is built for
-    /// (`ConePush::metric`'s kind); `None` for the other programs.
+    /// The build of a metric-dependent fragment shader
+    /// ([`Program::metric_build`]); `None` for the other programs.
     metric: Option<u32>,
     color: Option<Format>,
     depth: Option<Format>,
@@ -333,7 +343,7 @@ impl Pipelines {
     ) -> Result<vk::Pipeline> {
         let key = GraphicsKey {
             program,
-            metric: program.builds_per_metric().then_some(metric),
+            metric: program.metric_build(metric),
             color,
             depth,
             state: *state,
@@ -472,7 +482,7 @@ impl Pipelines {
         }
         let fragment = match key.metric {
             None => fragment.to_string(),
-            Some(kind) => format!("{fragment}:{}", metric_build(kind)?),
+            Some(kind) => format!("{fragment}:{}", build_name(kind)?),
         };
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
