@@ -1,12 +1,15 @@
-// variants: K1 K2 K4 K8 K16 K32
+// variants: K1 K2 K3 K4 K6 K8 K12 K16 K24 K32
 // variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // The k lowest layers of the cones binned to a screen tile (tiles.vert), per
 // fragment: a sorted list of (metric key, id) in registers, then one plain
-// store per level, since tiles do not overlap. Cones (binding 1, four words
-// each: x, y, squared truncation radius as float bits, site id) come sorted by
-// distance from the tile's centre, so the list mostly fills in order. Keys as in
-// cone_knearest.frag: ties by id, multiplicities kept.
+// store per level, since tiles do not overlap. Cones are texels of the records
+// image (x, y, squared truncation radius as float bits, site id; RECORD_ROW
+// texels to a row), sorted by distance from the tile's centre, so the list
+// mostly fills in order. Keys as in cone_knearest.frag: ties by id,
+// multiplicities kept. The records are an image rather than a storage buffer
+// because lavapipe loads a storage buffer lane by lane, an image with one
+// gather: four buffer loads per cone took half the time.
 #include "common.glsl"
 
 // The list's length is fixed per variant, so that the insertion below unrolls
@@ -16,12 +19,20 @@
 const uint LEVELS = 1u;
 #elif defined(K2)
 const uint LEVELS = 2u;
+#elif defined(K3)
+const uint LEVELS = 3u;
 #elif defined(K4)
 const uint LEVELS = 4u;
+#elif defined(K6)
+const uint LEVELS = 6u;
 #elif defined(K8)
 const uint LEVELS = 8u;
+#elif defined(K12)
+const uint LEVELS = 12u;
 #elif defined(K16)
 const uint LEVELS = 16u;
+#elif defined(K24)
+const uint LEVELS = 24u;
 #else
 const uint LEVELS = 32u;
 #endif
@@ -36,9 +47,10 @@ layout(std430, set = 0, binding = 0) writeonly buffer Levels {
     uint keys[];
 };
 
-layout(std430, set = 0, binding = 1) readonly buffer Tiles {
-    uint words[];
-} tiles;
+layout(set = 0, binding = 3, rgba32ui) uniform readonly uimage2D records;
+
+// Texels per row of the records image (higher_order.rs: RECORD_ROW).
+const uint RECORD_ROW = 4096u;
 
 bool before(float d2, uint id, float other_d2, uint other_id) {
     return d2 < other_d2 || (d2 == other_d2 && id < other_id);
@@ -53,8 +65,9 @@ void main() {
         best_id[l] = NO_SITE;
     }
     for (uint i = 0u; i < cones.y; i++) {
-        uint w = cones.x + 4u * i;
-        vec2 site = uintBitsToFloat(uvec2(tiles.words[w], tiles.words[w + 1u]));
+        uint r = cones.x + i;
+        uvec4 cone = imageLoad(records, ivec2(r % RECORD_ROW, r / RECORD_ROW));
+        vec2 site = uintBitsToFloat(cone.xy);
         // Cones come by distance from the tile's centre: once that distance, less
         // the pixel's own offset from the centre, passes the pixel's last key, no
         // later cone can enter the list.
@@ -64,8 +77,8 @@ void main() {
         }
         vec2 d = p - site;
         float d2 = metric_key(d);
-        uint id = tiles.words[w + 3u];
-        if (dot(d, d) > uintBitsToFloat(tiles.words[w + 2u])
+        uint id = cone.w;
+        if (dot(d, d) > uintBitsToFloat(cone.z)
             || !before(d2, id, best_d2[LEVELS - 1u], best_id[LEVELS - 1u])) {
             continue;
         }

@@ -1,8 +1,8 @@
 #version 460
 // One screen tile per instance, for fragment shaders that take the envelope of
 // all cones binned to the tile. Tile records (binding 1), six words each: the
-// first and last pixel centre (x0, y0, x1, y1 as float bits), the word index of
-// the tile's first cone and the number of cones.
+// first and last pixel centre (x0, y0, x1, y1 as float bits), the index of the
+// tile's first cone in the fragment shader's list and the number of cones.
 #include "common.glsl"
 
 layout(std430, set = 0, binding = 1) readonly buffer Tiles {

@@ -82,7 +82,7 @@ fn k_nearest_sites_match_the_definition() {
     let frame = Frame::pixels(97, 73).unwrap();
     for (name, sites) in cases(97, 73) {
         for speedup in SPEEDUPS {
-            for k in [1, 4] {
+            for k in [1, 4, 10] {
                 let d = k_nearest(
                     &m,
                     &sites,
@@ -99,6 +99,28 @@ fn k_nearest_sites_match_the_definition() {
             }
         }
     }
+}
+
+#[test]
+fn many_cones_fill_several_rows_of_records() {
+    // Picture-wide cones meet every screen tile: 70 tiles x 900 cones are
+    // fifteen rows of the fragment shader's records.
+    let m = machine();
+    let frame = Frame::pixels(160, 100).unwrap();
+    let sites = pixgeo::io::sites::random_sites(900, 7, &frame);
+    let d = k_nearest(
+        &m,
+        &sites,
+        &KNearestOptions {
+            frame,
+            k: 6,
+            metric: Metric::L2,
+            accuracy: Accuracy::Exact,
+            speedup: Speedup::None,
+        },
+    )
+    .unwrap();
+    assert_levels(&d, &sites, &frame, "900 picture-wide cones");
 }
 
 #[test]

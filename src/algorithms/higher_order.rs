@@ -282,6 +282,10 @@ impl Rim {
 /// Most levels a tile fragment keeps (`glsl/cone_tiles.frag`: MAX_LEVELS).
 const TILE_LEVELS: u32 = 32;
 
+/// Texels per row of the image that holds the tiles' cones
+/// (`glsl/cone_tiles.frag`: RECORD_ROW); every device has images this wide.
+const RECORD_ROW: usize = 4096;
+
 /// Side of a screen tile in pixels. Smaller tiles hold fewer cones per fragment
 /// but cost more rectangles and more binning.
 const TILE_SIDE: u32 = 16;
@@ -325,42 +329,75 @@ fn k_nearest_tiled(
     binned
         .par_iter_mut()
         .for_each(|list| list.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))));
-    let occupied: Vec<usize> = (0..tx * ty).filter(|&t| !binned[t].is_empty()).collect();
-    // Tile records (six words each), then the cones (four words each).
-    let mut words: Vec<u32> = Vec::with_capacity(6 * occupied.len());
-    let mut next = 6 * occupied.len() as u32;
-    for &t in &occupied {
+    // Tile records (six words each) for the vertex shader; the cones (one texel
+    // each) for the fragment shader, rows of RECORD_ROW texels. Every tile is
+    // drawn, those without cones too: its fragments write "no site", so the keys
+    // need no filling first.
+    let mut words: Vec<u32> = Vec::with_capacity(6 * binned.len());
+    let mut next = 0u32;
+    for (t, list) in binned.iter().enumerate() {
         let (lo, hi) = tile_rect(t);
         words.extend([lo.x, lo.y, hi.x, hi.y].map(|v| (v as f32).to_bits()));
-        words.extend([next, binned[t].len() as u32]);
-        next += 4 * binned[t].len() as u32;
+        words.extend([next, list.len() as u32]);
+        next += list.len() as u32;
     }
-    for &t in &occupied {
-        for &(_, c) in &binned[t] {
+    let rows = (next as usize).div_ceil(RECORD_ROW).max(1);
+    let most = machine.max_picture_side() as usize;
+    if rows > most {
+        return Err(Error::InvalidInput(format!(
+            "the cones of {k} levels meet screen tiles {next} times, more than this device \
+             holds ({}); use the speedup, fewer levels or a smaller picture",
+            most * RECORD_ROW
+        )));
+    }
+    let mut texels: Vec<[u32; 4]> = Vec::with_capacity(rows * RECORD_ROW);
+    for list in &binned {
+        texels.extend(list.iter().map(|&(_, c)| {
             let (id, p, r) = cones[c as usize];
-            words.extend([
+            [
                 (p.x as f32).to_bits(),
                 (p.y as f32).to_bits(),
                 ((r * r) as f32).to_bits(),
                 id,
-            ]);
-        }
+            ]
+        }));
     }
+    let width = if rows == 1 { texels.len().max(1) } else { RECORD_ROW };
+    texels.resize(rows * width, [0; 4]);
     stats.bounds_ms = ms(started);
 
     let started = Instant::now();
     let key_bytes = frame.len() as u64 * k as u64 * 8;
-    let mut keys = machine.readback_buffer(key_bytes)?;
-    keys.fill(0xFF);
+    let keys = machine.readback_buffer(key_bytes)?;
     let mut tiles = machine.readback_buffer(4 * words.len() as u64)?;
     tiles.write(&words);
-    draw_to_buffers(machine, &frame, &[&keys, &tiles], |pass| {
-        pass.draw_tiles(
-            &RasterState::OVERWRITE,
-            &DrawParams::default(),
-            &picture_push(&frame, k, options.metric),
-            occupied.len() as u32,
-        )
+    let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
+    upload.write(&texels);
+    let records = machine.image(Format::Rgba32Uint, width as u32, rows as u32)?;
+    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
+    machine.with_fragment_resources(&[&keys, &tiles], Some(&records), |set| {
+        machine.run(|pass| {
+            pass.upload_for_fragments(&upload, &records)?;
+            pass.begin(
+                Target {
+                    color: None,
+                    depth_stencil: Some(&depth),
+                },
+                Clear {
+                    color: None,
+                    depth: Some(1.0),
+                    stencil: None,
+                },
+            )?;
+            pass.bind_fragment_buffer(set);
+            pass.draw_tiles(
+                &RasterState::OVERWRITE,
+                &DrawParams::default(),
+                &picture_push(&frame, k, options.metric),
+                binned.len() as u32,
+            )?;
+            pass.end()
+        })
     })?;
     stats.render_ms = ms(started);
     Ok(read_keys(&keys, options, None, stats))

@@ -22,6 +22,10 @@ pub enum Format {
     R32Float,
     /// Four float counters per pixel (red, green, blue, alpha).
     Rgba32Float,
+    /// Four words per texel: records that fragment shaders read with
+    /// `imageLoad` (one vector load each on lavapipe, where storage-buffer
+    /// loads go lane by lane).
+    Rgba32Uint,
     /// A picture for people.
     Rgba8Unorm,
     /// The z buffer and the stencil.
@@ -37,6 +41,7 @@ impl Format {
             Format::R32Uint => vk::Format::R32_UINT,
             Format::R32Float => vk::Format::R32_SFLOAT,
             Format::Rgba32Float => vk::Format::R32G32B32A32_SFLOAT,
+            Format::Rgba32Uint => vk::Format::R32G32B32A32_UINT,
             Format::Rgba8Unorm => vk::Format::R8G8B8A8_UNORM,
             Format::DepthStencil => vk::Format::D32_SFLOAT_S8_UINT,
             Format::Depth => vk::Format::D32_SFLOAT,
@@ -46,7 +51,7 @@ impl Format {
     /// Bytes per pixel of one readback (for depth/stencil: the depth aspect).
     pub fn texel_bytes(self) -> u64 {
         match self {
-            Format::Rgba32Float => 16,
+            Format::Rgba32Float | Format::Rgba32Uint => 16,
             _ => 4,
         }
     }

@@ -41,7 +41,7 @@ pub use state::{
 
 use crate::error::{Error, Result, VkContext};
 use context::Context;
-use pipelines::{Kernel, Pipelines};
+use pipelines::{Kernel, Pipelines, GRAPHICS_RECORDS_BINDING};
 
 /// Per-channel minimum and maximum of a picture buffer (thesis §1.7, Fig. 1.12).
 /// Integer buffers report their values exactly (as `f64`); single-channel buffers
@@ -365,13 +365,14 @@ impl Machine {
         Ok(())
     }
 
-    /// Runs `f` with a descriptor set of `layout` holding `image` (compute
-    /// layouts: binding 0) and `buffers` (the bindings after it), freeing the set
+    /// Runs `f` with a descriptor set of `layout` holding `image` at its binding
+    /// and `buffers` at the bindings from `first_buffer` on, freeing the set
     /// afterwards (`f` runs its submissions to completion).
     fn with_set<R>(
         &self,
         layout: vk::DescriptorSetLayout,
-        image: Option<&Image>,
+        image: Option<(&Image, u32)>,
+        first_buffer: u32,
         buffers: &[&Buffer],
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
@@ -386,7 +387,7 @@ impl Machine {
             unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
         let image_info: Vec<_> = image
             .iter()
-            .map(|image| {
+            .map(|(image, _)| {
                 vk::DescriptorImageInfo::default()
                     .image_view(image.view)
                     .image_layout(vk::ImageLayout::GENERAL)
@@ -400,9 +401,7 @@ impl Machine {
                     .range(vk::WHOLE_SIZE)]
             })
             .collect();
-        // The compute layout has the image at binding 0 and the buffer at 1; the
-        // graphics layout its buffers from 0.
-        let first = image_info.len() as u32;
+        let first = first_buffer;
         let mut writes: Vec<vk::WriteDescriptorSet> = buffer_infos
             .iter()
             .enumerate()
@@ -414,11 +413,11 @@ impl Machine {
                     .buffer_info(info)
             })
             .collect();
-        if !image_info.is_empty() {
+        if let Some((_, binding)) = image {
             writes.push(
                 vk::WriteDescriptorSet::default()
                     .dst_set(set)
-                    .dst_binding(0)
+                    .dst_binding(binding)
                     .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                     .image_info(&image_info),
             );
@@ -438,7 +437,13 @@ impl Machine {
         buffer: &Buffer,
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
-        self.with_set(self.pipelines.compute_set_layout, Some(image), &[buffer], f)
+        self.with_set(
+            self.pipelines.compute_set_layout,
+            Some((image, 0)),
+            1,
+            &[buffer],
+            f,
+        )
     }
 
     /// Runs `f` with a descriptor set that gives vertex and fragment shaders
@@ -449,12 +454,24 @@ impl Machine {
         buffers: &[&Buffer],
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
+        self.with_fragment_resources(buffers, None, f)
+    }
+
+    /// As [`Machine::with_fragment_buffers`], with `records` as storage image 3
+    /// for fragment shaders to read (filled by [`Pass::upload_for_fragments`]).
+    pub fn with_fragment_resources<R>(
+        &self,
+        buffers: &[&Buffer],
+        records: Option<&Image>,
+        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
+    ) -> Result<R> {
         if buffers.is_empty() || buffers.len() > 3 {
             return Err(Error::InvalidInput(
                 "graphics programs take one to three storage buffers".into(),
             ));
         }
-        self.with_set(self.pipelines.graphics_set_layout, None, buffers, f)
+        let records = records.map(|image| (image, GRAPHICS_RECORDS_BINDING));
+        self.with_set(self.pipelines.graphics_set_layout, records, 0, buffers, f)
     }
 
     /// Runs `f` with a descriptor set that gives compute kernels
@@ -464,7 +481,7 @@ impl Machine {
         buffers: [&Buffer; 2],
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
-        self.with_set(self.pipelines.buffer_set_layout, None, &buffers, f)
+        self.with_set(self.pipelines.buffer_set_layout, None, 0, &buffers, f)
     }
 
     /// A host-visible storage buffer of `bytes` bytes, for kernels and fragment

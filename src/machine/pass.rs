@@ -723,7 +723,7 @@ impl<'m> Pass<'m> {
         offset: u64,
     ) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * 4;
-        if image.format() == Format::Rgba32Float || offset + bytes > buffer.size() {
+        if image.format().texel_bytes() != 4 || offset + bytes > buffer.size() {
             return Err(Error::InvalidInput(
                 "fragment buffer too small for the image".into(),
             ));
@@ -757,12 +757,40 @@ impl<'m> Pass<'m> {
         let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
         // SAFETY: recording state, outside a rendering pass.
         unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        self.record_upload(buffer, offset, image, vk::ImageAspectFlags::DEPTH);
+        Ok(())
+    }
+
+    /// Fills all of a colour `image` from the start of `buffer` (texels
+    /// row-major, as the host wrote them) for the fragment shaders that follow
+    /// to read with `imageLoad` (outside a rendering pass).
+    pub fn upload_for_fragments(&mut self, buffer: &Buffer, image: &Image) -> Result<()> {
+        let bytes = image.width() as u64 * image.height() as u64 * image.format().texel_bytes();
+        if image.format().is_depth() || bytes > buffer.size() {
+            return Err(Error::InvalidInput(
+                "an upload needs a colour image and a buffer that holds all of it".into(),
+            ));
+        }
+        self.record_upload(buffer, 0, image, vk::ImageAspectFlags::COLOR);
+        self.use_image(image, Usage::FragmentRead);
+        Ok(())
+    }
+
+    /// Records the copy of `buffer` from byte `offset` into `aspect` of all of
+    /// `image`.
+    fn record_upload(
+        &mut self,
+        buffer: &Buffer,
+        offset: u64,
+        image: &Image,
+        aspect: vk::ImageAspectFlags,
+    ) {
         self.use_image(image, Usage::TransferDst);
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
             .image_subresource(
                 vk::ImageSubresourceLayers::default()
-                    .aspect_mask(vk::ImageAspectFlags::DEPTH)
+                    .aspect_mask(aspect)
                     .layer_count(1),
             )
             .image_extent(vk::Extent3D {
@@ -780,7 +808,6 @@ impl<'m> Pass<'m> {
                 &[region],
             )
         };
-        Ok(())
     }
 
     /// Orders writes to storage buffers by copies and fragment shaders before the

@@ -199,6 +199,9 @@ fn build_name(kind: u32) -> Result<&'static str> {
 pub const GRAPHICS_PUSH_BYTES: u32 = 64;
 /// Bytes of push constants of the compute kernels.
 pub const COMPUTE_PUSH_BYTES: u32 = 32;
+/// The graphics layout's storage image (after its three storage buffers):
+/// records fragment shaders read with `imageLoad`.
+pub const GRAPHICS_RECORDS_BINDING: u32 = 3;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct GraphicsKey {
@@ -252,13 +255,19 @@ impl Pipelines {
             pipelines.modules.insert(name, module);
         }
 
-        let bindings = [0, 1, 2].map(|binding| {
+        let buffers = [0, 1, 2].map(|binding| {
             vk::DescriptorSetLayoutBinding::default()
                 .binding(binding)
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
         });
+        let records = vk::DescriptorSetLayoutBinding::default()
+            .binding(GRAPHICS_RECORDS_BINDING)
+            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT);
+        let bindings = [buffers[0], buffers[1], buffers[2], records];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; destroyed in `Drop`.
         pipelines.graphics_set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
@@ -409,9 +418,13 @@ impl Pipelines {
                 match levels {
                     0..=1 => "cone_tiles.frag:k1",
                     2 => "cone_tiles.frag:k2",
-                    3..=4 => "cone_tiles.frag:k4",
-                    5..=8 => "cone_tiles.frag:k8",
-                    9..=16 => "cone_tiles.frag:k16",
+                    3 => "cone_tiles.frag:k3",
+                    4 => "cone_tiles.frag:k4",
+                    5..=6 => "cone_tiles.frag:k6",
+                    7..=8 => "cone_tiles.frag:k8",
+                    9..=12 => "cone_tiles.frag:k12",
+                    13..=16 => "cone_tiles.frag:k16",
+                    17..=24 => "cone_tiles.frag:k24",
                     _ => "cone_tiles.frag:k32",
                 },
                 vk::PrimitiveTopology::TRIANGLE_LIST,

@@ -16,6 +16,8 @@ pub enum Usage {
     TransferDst,
     /// Read as a storage image by a compute pass (reductions).
     ComputeRead,
+    /// Read as a storage image by fragment shaders.
+    FragmentRead,
 }
 
 struct Access {
@@ -62,6 +64,12 @@ fn access(usage: Usage) -> Access {
         },
         Usage::ComputeRead => Access {
             stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+            access: vk::AccessFlags2::SHADER_STORAGE_READ,
+            layout: vk::ImageLayout::GENERAL,
+            writes: false,
+        },
+        Usage::FragmentRead => Access {
+            stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
             access: vk::AccessFlags2::SHADER_STORAGE_READ,
             layout: vk::ImageLayout::GENERAL,
             writes: false,
