@@ -170,10 +170,10 @@ pub fn k_nearest(
         )));
     }
     let started = Instant::now();
-    let (cones, mut stats) = level_cones(machine, sites, options);
     if tiled {
-        return k_nearest_tiled(machine, options, &cones, stats, started);
+        return k_nearest_tiled(machine, sites, options, started);
     }
+    let (cones, mut stats) = level_cones(machine, sites, options);
     // The mesh, each cone's outer radius, and the fan's error bound.
     let (program, mesh, outer) = match options.accuracy {
         Accuracy::Exact => (
@@ -290,45 +290,45 @@ const RECORD_ROW: usize = 4096;
 /// but cost more rectangles and more binning.
 const TILE_SIDE: u32 = 16;
 
-/// The k nearest sites of exact cones, binned to screen tiles: each tile is one
+/// The k nearest sites of exact cones, by screen tiles: each tile is one
 /// rectangle whose fragments keep the k lowest layers of the tile's cones in
 /// registers and store them once, so no pixel is written twice and no atomics
-/// are needed. A cone goes to every tile its disc meets, in order of distance
-/// from the tile's centre, so that the lists mostly fill nearest first.
+/// are needed. A tile's cones come in order of distance from its centre, so
+/// that the lists mostly fill nearest first. With per-site radii the lists come
+/// from the cells' bound directly ([`radius::k_tile_lists`]); otherwise a cone
+/// goes to every tile its disc meets.
 fn k_nearest_tiled(
     machine: &Machine,
+    sites: &[DVec2],
     options: &KNearestOptions,
-    cones: &[(u32, DVec2, f64)],
-    mut stats: KNearestStats,
     started: Instant,
 ) -> Result<KNearest> {
     let (frame, k) = (options.frame, options.k);
-    let (tx, ty) = (
-        frame.width.div_ceil(TILE_SIDE) as usize,
-        frame.height.div_ceil(TILE_SIDE) as usize,
-    );
-    let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
-    let tile_rect = |t: usize| {
-        let lo = DVec2::new((t % tx) as f64, (t / tx) as f64) * TILE_SIDE as f64;
-        (lo, (lo + (TILE_SIDE - 1) as f64).min(corner))
-    };
-    // Cones per tile, nearest to the tile's centre first.
-    let mut binned: Vec<Vec<(f64, u32)>> = vec![Vec::new(); tx * ty];
-    for (c, &(_, p, r)) in cones.iter().enumerate() {
-        let cell = |v: f64, n: usize| ((v / TILE_SIDE as f64).floor().max(0.0) as usize).min(n - 1);
-        for y in cell(p.y - r, ty)..=cell(p.y + r, ty) {
-            for x in cell(p.x - r, tx)..=cell(p.x + r, tx) {
-                let t = y * tx + x;
-                let (lo, hi) = tile_rect(t);
-                if distance2_to_rect(p, lo, hi) <= r * r {
-                    binned[t].push((p.distance_squared((lo + hi) * 0.5), c as u32));
-                }
-            }
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let tiles = if options.speedup == Speedup::Local {
+        let mut tiles = radius::k_tile_lists(
+            &pixels,
+            &frame,
+            k as usize,
+            TILE_SIDE,
+            options.metric.stretch(),
+        );
+        for (r, p) in tiles.radii.iter_mut().zip(&pixels) {
+            *r = (*r + 0.5).min(frame.farthest_pixel(*p) + 0.5);
         }
-    }
-    binned
-        .par_iter_mut()
-        .for_each(|list| list.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))));
+        tiles
+    } else {
+        let radii = k_radii(&pixels, &frame, k as usize, options.speedup, options.metric);
+        bin_to_tiles(&pixels, &frame, radii)
+    };
+    let cones = pixels
+        .iter()
+        .zip(&tiles.radii)
+        .enumerate()
+        .filter(|(_, (p, r))| **r > 0.0 && frame.distance_to_pixels(**p) <= **r)
+        .map(|(i, (p, r))| (i as u32, *p, *r));
+    let mut stats = cone_stats(machine, sites.len(), options.k, cones);
+    let binned = &tiles.lists;
     // Tile records (six words each) for the vertex shader; the cones (one texel
     // each) for the fragment shader, rows of RECORD_ROW texels. Every tile is
     // drawn, those without cones too: its fragments write "no site", so the keys
@@ -336,7 +336,7 @@ fn k_nearest_tiled(
     let mut words: Vec<u32> = Vec::with_capacity(6 * binned.len());
     let mut next = 0u32;
     for (t, list) in binned.iter().enumerate() {
-        let (lo, hi) = tile_rect(t);
+        let (lo, hi) = tiles.rect(t, &frame);
         words.extend([lo.x, lo.y, hi.x, hi.y].map(|v| (v as f32).to_bits()));
         words.extend([next, list.len() as u32]);
         next += list.len() as u32;
@@ -351,18 +351,22 @@ fn k_nearest_tiled(
         )));
     }
     let mut texels: Vec<[u32; 4]> = Vec::with_capacity(rows * RECORD_ROW);
-    for list in &binned {
-        texels.extend(list.iter().map(|&(_, c)| {
-            let (id, p, r) = cones[c as usize];
+    for list in binned {
+        texels.extend(list.iter().map(|&i| {
+            let (p, r) = (pixels[i as usize], tiles.radii[i as usize]);
             [
                 (p.x as f32).to_bits(),
                 (p.y as f32).to_bits(),
                 ((r * r) as f32).to_bits(),
-                id,
+                i,
             ]
         }));
     }
-    let width = if rows == 1 { texels.len().max(1) } else { RECORD_ROW };
+    let width = if rows == 1 {
+        texels.len().max(1)
+    } else {
+        RECORD_ROW
+    };
     texels.resize(rows * width, [0; 4]);
     stats.bounds_ms = ms(started);
 
@@ -539,19 +543,72 @@ fn level_cones(
         .filter(|(_, (p, r))| **r > 0.0 && frame.distance_to_pixels(**p) <= **r)
         .map(|(i, (p, r))| (i as u32, *p, *r))
         .collect();
+    let stats = cone_stats(machine, sites.len(), options.k, cones.iter().copied());
+    (cones, stats)
+}
+
+/// The statistics of the cones that are drawn.
+fn cone_stats(
+    machine: &Machine,
+    sites: usize,
+    levels: u32,
+    cones: impl Iterator<Item = (u32, DVec2, f64)>,
+) -> KNearestStats {
     let mut stats = KNearestStats {
         device: machine.device_name().to_string(),
-        sites: sites.len(),
-        levels: options.k,
-        cones: cones.len(),
+        sites,
+        levels,
+        radius_min: f64::INFINITY,
         ..Default::default()
     };
-    if !cones.is_empty() {
-        stats.radius_min = cones.iter().map(|c| c.2).fold(f64::INFINITY, f64::min);
-        stats.radius_max = cones.iter().map(|c| c.2).fold(0.0, f64::max);
-        stats.radius_mean = cones.iter().map(|c| c.2).sum::<f64>() / cones.len() as f64;
+    for (_, _, r) in cones {
+        stats.cones += 1;
+        stats.radius_min = stats.radius_min.min(r);
+        stats.radius_max = stats.radius_max.max(r);
+        stats.radius_mean += r;
     }
-    (cones, stats)
+    if stats.cones == 0 {
+        stats.radius_min = 0.0;
+    } else {
+        stats.radius_mean /= stats.cones as f64;
+    }
+    stats
+}
+
+/// Site indices per screen tile for cones of the given radii: a cone goes to
+/// every tile its disc meets, nearest to the tile's centre first.
+fn bin_to_tiles(pixels: &[DVec2], frame: &Frame, radii: Vec<f64>) -> radius::TileLists {
+    let mut tiles = radius::TileLists {
+        across: frame.width.div_ceil(TILE_SIDE) as usize,
+        side: TILE_SIDE,
+        ..Default::default()
+    };
+    let down = frame.height.div_ceil(TILE_SIDE) as usize;
+    let mut binned: Vec<Vec<(f64, u32)>> = vec![Vec::new(); tiles.across * down];
+    for (i, (&p, &r)) in pixels.iter().zip(&radii).enumerate() {
+        if r <= 0.0 || frame.distance_to_pixels(p) > r {
+            continue;
+        }
+        let cell = |v: f64, n: usize| ((v / TILE_SIDE as f64).floor().max(0.0) as usize).min(n - 1);
+        for y in cell(p.y - r, down)..=cell(p.y + r, down) {
+            for x in cell(p.x - r, tiles.across)..=cell(p.x + r, tiles.across) {
+                let t = y * tiles.across + x;
+                let (lo, hi) = tiles.rect(t, frame);
+                if distance2_to_rect(p, lo, hi) <= r * r {
+                    binned[t].push((p.distance_squared((lo + hi) * 0.5), i as u32));
+                }
+            }
+        }
+    }
+    tiles.lists = binned
+        .into_par_iter()
+        .map(|mut list| {
+            list.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            list.into_iter().map(|(_, i)| i).collect()
+        })
+        .collect();
+    tiles.radii = radii;
+    tiles
 }
 
 /// Computes every pixel's k nearest sites by the thesis's peeling (§3.7): level

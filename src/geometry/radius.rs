@@ -208,78 +208,153 @@ pub fn k_local_radii(
     stretch: f64,
 ) -> Vec<f64> {
     let stretch2 = stretch * stretch;
-    let k = k.max(1);
     // Whole pixels: then [lo, hi] below holds exactly the cell's pixel centres.
     let cell = cell.round().max(1.0);
     let bins = Grid::new(sites, frame, bin.max(cell));
     let nx = (frame.width as f64 / cell).ceil() as usize;
     let ny = (frame.height as f64 / cell).ceil() as usize;
     let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
-    // Squared radii: non-negative floats order like their bit patterns, so
-    // `fetch_max` on the bits is a maximum.
-    let radii: Vec<AtomicU64> = (0..sites.len()).map(|_| AtomicU64::new(0)).collect();
+    let radii = Radii::new(sites.len());
     (0..ny).into_par_iter().for_each_init(
         || (Vec::new(), Vec::new()),
-        |(seen, nearest), cy| {
+        |(candidates, nearest), cy| {
             for cx in 0..nx {
                 let lo = DVec2::new(cx as f64, cy as f64) * cell;
                 let hi = (lo + cell - 1.0).min(corner).max(lo);
-                let maxdist2 = |p: DVec2| farthest2_in_rect(p, lo, hi);
-                let rect = bins.bins_of(lo, hi);
-                // U(B)²: rings of bins until no farther ring can hold one of the k
-                // closest (a site in ring r is at least r - 1 bins away).
-                seen.clear();
-                nearest.clear();
-                let mut cover2 = f64::INFINITY;
-                let mut ring = 0;
-                while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < cover2 {
-                    bins.for_ring_bins(rect, ring, |_, _, indices, positions| {
-                        for (&i, &p) in indices.iter().zip(positions) {
-                            let d2 = maxdist2(p);
-                            seen.push((i, p));
-                            let at = nearest.partition_point(|&x| x < d2);
-                            if at < k {
-                                nearest.insert(at, d2);
-                                nearest.truncate(k);
-                            }
-                        }
-                    });
-                    if nearest.len() == k {
-                        cover2 = nearest[k - 1];
-                    }
-                    ring += 1;
-                }
-                // Candidates: every site within U(B) of the cell, stretched.
-                let cover2 = cover2 * stretch2;
-                let raise = |i: u32, p: DVec2| {
-                    if distance2_to_rect(p, lo, hi) <= cover2 {
-                        let need = cover2.min(maxdist2(p)).to_bits();
-                        // Most candidates do not raise the radius; a plain load is
-                        // far cheaper than fetch_max.
-                        let r = &radii[i as usize];
-                        if r.load(Ordering::Relaxed) < need {
-                            r.fetch_max(need, Ordering::Relaxed);
-                        }
-                    }
-                };
-                for &(i, p) in seen.iter() {
-                    raise(i, p);
-                }
-                while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) <= cover2 {
-                    bins.for_ring_bins(rect, ring, |_, _, indices, positions| {
-                        for (&i, &p) in indices.iter().zip(positions) {
-                            raise(i, p);
-                        }
-                    });
-                    ring += 1;
+                let cover2 = bins.k_candidates(lo, hi, k, stretch2, candidates, nearest);
+                for &(i, p) in candidates.iter() {
+                    radii.raise(i, cover2.min(farthest2_in_rect(p, lo, hi)));
                 }
             }
         },
     );
-    radii
-        .into_iter()
-        .map(|r| f64::from_bits(r.into_inner()).sqrt())
-        .collect()
+    radii.into_radii()
+}
+
+/// The sites that square screen tiles must consider for the k lowest layers,
+/// and the radii [`k_local_radii`] gives with cells of a quarter tile's side.
+#[derive(Clone, Debug, Default)]
+pub struct TileLists {
+    /// Tiles per row; tile `t` covers the pixel centres from
+    /// `(t % across, t / across) * side`, `side` pixels on each side (fewer at
+    /// the picture's right and bottom edges).
+    pub across: usize,
+    pub side: u32,
+    /// Per tile, the sites among the k nearest of one of its pixels (and maybe
+    /// others), nearest to the tile's centre first; ties by index.
+    pub lists: Vec<Vec<u32>>,
+    pub radii: Vec<f64>,
+}
+
+impl TileLists {
+    /// The first and last pixel centre of tile `t`.
+    pub fn rect(&self, t: usize, frame: &Frame) -> (DVec2, DVec2) {
+        let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
+        let lo = DVec2::new((t % self.across) as f64, (t / self.across) as f64) * self.side as f64;
+        (lo, (lo + (self.side - 1) as f64).min(corner))
+    }
+}
+
+/// [`k_local_radii`] computed tile by tile, which also gives each tile's list
+/// of sites directly. A tile's candidates are found once, by the same bound
+/// U(T) the cells use; every cell B inside the tile then takes its own U(B)
+/// from them: `maxdist(s, B) <= maxdist(s, T)` makes U(B) <= U(T) and puts every
+/// site with `mindist(s, B) <= U(B)` among the tile's candidates. A tile's list
+/// holds the candidates of its cells.
+pub fn k_tile_lists(
+    sites: &[DVec2],
+    frame: &Frame,
+    k: usize,
+    side: u32,
+    stretch: f64,
+) -> TileLists {
+    let stretch2 = stretch * stretch;
+    let k = k.max(1);
+    let side = side.max(1);
+    let across = frame.width.div_ceil(side) as usize;
+    let down = frame.height.div_ceil(side) as usize;
+    let (_, bin) = k_cell_and_bin(frame, sites.len(), k);
+    let bins = Grid::new(sites, frame, bin.max(side as f64));
+    let radii = Radii::new(sites.len());
+    let mut tiles = TileLists {
+        across,
+        side,
+        ..Default::default()
+    };
+    let cell = side.div_ceil(4).max(1) as f64;
+    tiles.lists = (0..across * down)
+        .into_par_iter()
+        .map_init(
+            || (Vec::new(), Vec::new(), Vec::new()),
+            |(candidates, nearest, keep), t| {
+                let (lo, hi) = tiles.rect(t, frame);
+                bins.k_candidates(lo, hi, k, stretch2, candidates, nearest);
+                keep.clear();
+                keep.resize(candidates.len(), false);
+                let mut y = lo.y;
+                while y <= hi.y {
+                    let mut x = lo.x;
+                    while x <= hi.x {
+                        let a = DVec2::new(x, y);
+                        let b = (a + cell - 1.0).min(hi);
+                        nearest.clear();
+                        nearest.extend(candidates.iter().map(|&(_, p)| farthest2_in_rect(p, a, b)));
+                        let cover2 = if nearest.len() >= k {
+                            *nearest.select_nth_unstable_by(k - 1, f64::total_cmp).1
+                        } else {
+                            f64::INFINITY
+                        } * stretch2;
+                        for (c, &(i, p)) in candidates.iter().enumerate() {
+                            if distance2_to_rect(p, a, b) <= cover2 {
+                                keep[c] = true;
+                                radii.raise(i, cover2.min(farthest2_in_rect(p, a, b)));
+                            }
+                        }
+                        x += cell;
+                    }
+                    y += cell;
+                }
+                let centre = (lo + hi) * 0.5;
+                let mut list: Vec<(f64, u32)> = candidates
+                    .iter()
+                    .zip(keep.iter())
+                    .filter(|(_, &keep)| keep)
+                    .map(|(&(i, p), _)| (p.distance_squared(centre), i))
+                    .collect();
+                list.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                list.into_iter().map(|(_, i)| i).collect()
+            },
+        )
+        .collect();
+    tiles.radii = radii.into_radii();
+    tiles
+}
+
+/// Radii raised from many threads: squared radii as bits, since non-negative
+/// floats order like their bit patterns, so `fetch_max` on them is a maximum.
+struct Radii(Vec<AtomicU64>);
+
+impl Radii {
+    fn new(n: usize) -> Self {
+        Self((0..n).map(|_| AtomicU64::new(0)).collect())
+    }
+
+    fn raise(&self, i: u32, need2: f64) {
+        let need = need2.to_bits();
+        // Most candidates do not raise the radius; a plain load is far cheaper
+        // than fetch_max.
+        let r = &self.0[i as usize];
+        if r.load(Ordering::Relaxed) < need {
+            r.fetch_max(need, Ordering::Relaxed);
+        }
+    }
+
+    fn into_radii(self) -> Vec<f64> {
+        self.0
+            .into_iter()
+            .map(|r| f64::from_bits(r.into_inner()).sqrt())
+            .collect()
+    }
 }
 
 /// Cell and bin sides for [`k_local_radii`]: the k-th neighbour is about
@@ -362,6 +437,59 @@ struct Grid {
 }
 
 impl Grid {
+    /// The candidates of the rectangle B = `[lo, hi]` for the k lowest layers
+    /// (see [`k_local_radii`]): into `candidates` every site within U(B) of B,
+    /// stretched; returns U(B)² times `stretch2` (infinite when there are fewer
+    /// than k sites). `nearest` is scratch.
+    fn k_candidates(
+        &self,
+        lo: DVec2,
+        hi: DVec2,
+        k: usize,
+        stretch2: f64,
+        candidates: &mut Vec<(u32, DVec2)>,
+        nearest: &mut Vec<f64>,
+    ) -> f64 {
+        let k = k.max(1);
+        let rect = self.bins_of(lo, hi);
+        // U(B)²: rings of bins until no farther ring can hold one of the k
+        // closest (a site in ring r is at least r - 1 bins away).
+        candidates.clear();
+        nearest.clear();
+        let mut cover2 = f64::INFINITY;
+        let mut ring = 0;
+        while ring <= self.max_ring() && ring_gap2(ring, self.cell) < cover2 {
+            self.for_ring_bins(rect, ring, |_, _, indices, positions| {
+                for (&i, &p) in indices.iter().zip(positions) {
+                    let d2 = farthest2_in_rect(p, lo, hi);
+                    candidates.push((i, p));
+                    let at = nearest.partition_point(|&x| x < d2);
+                    if at < k {
+                        nearest.insert(at, d2);
+                        nearest.truncate(k);
+                    }
+                }
+            });
+            if nearest.len() == k {
+                cover2 = nearest[k - 1];
+            }
+            ring += 1;
+        }
+        let cover2 = cover2 * stretch2;
+        candidates.retain(|&(_, p)| distance2_to_rect(p, lo, hi) <= cover2);
+        while ring <= self.max_ring() && ring_gap2(ring, self.cell) <= cover2 {
+            self.for_ring_bins(rect, ring, |_, _, indices, positions| {
+                for (&i, &p) in indices.iter().zip(positions) {
+                    if distance2_to_rect(p, lo, hi) <= cover2 {
+                        candidates.push((i, p));
+                    }
+                }
+            });
+            ring += 1;
+        }
+        cover2
+    }
+
     fn new(sites: &[DVec2], frame: &Frame, cell: f64) -> Self {
         let cell = cell.max(1.0);
         let nx = (frame.width as f64 / cell).ceil().max(1.0) as usize;
@@ -536,6 +664,48 @@ mod tests {
             "mean excess {}",
             excess / 300.0
         );
+    }
+
+    #[test]
+    fn tile_lists_hold_every_pixels_k_nearest() {
+        // Every site among a pixel's k nearest (ties included) is in its tile's
+        // list and within its radius; lists run nearest to the centre first.
+        let frame = Frame::pixels(75, 52).unwrap();
+        let mut sites = crate::io::sites::random_sites(60, 3, &frame);
+        sites.extend([DVec2::new(-9.0, 20.0), DVec2::new(30.0, 30.0)]);
+        sites.extend((0..9).map(|i| DVec2::new(60.0 + (i % 3) as f64, 40.0 + (i / 3) as f64)));
+        for (k, side, stretch) in [(1, 16, 1.0), (5, 16, 1.0), (12, 7, 1.0), (3, 16, 1.5)] {
+            let tiles = k_tile_lists(&sites, &frame, k, side, stretch);
+            for (t, list) in tiles.lists.iter().enumerate() {
+                let (lo, hi) = tiles.rect(t, &frame);
+                let centre = (lo + hi) * 0.5;
+                let d: Vec<f64> = list
+                    .iter()
+                    .map(|&i| sites[i as usize].distance_squared(centre))
+                    .collect();
+                assert!(
+                    d.windows(2).all(|w| w[0] <= w[1]),
+                    "k {k}: tile {t} out of order"
+                );
+                for y in lo.y as u32..=hi.y as u32 {
+                    for x in lo.x as u32..=hi.x as u32 {
+                        let q = DVec2::new(x as f64, y as f64);
+                        let mut by: Vec<f64> = sites.iter().map(|s| s.distance(q)).collect();
+                        by.sort_by(f64::total_cmp);
+                        let kth = by[k - 1];
+                        for (i, s) in sites.iter().enumerate() {
+                            if s.distance(q) <= kth {
+                                assert!(
+                                    list.contains(&(i as u32)),
+                                    "k {k}: pixel {q}: site {i} not in tile {t}"
+                                );
+                                assert!(s.distance(q) <= tiles.radii[i] + 1e-9);
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]
