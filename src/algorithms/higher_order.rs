@@ -235,7 +235,7 @@ pub fn k_nearest(
             vertex_depth_scale: vertex_scale as f32,
             ..picture_push(&frame, k, options.metric)
         };
-        draw_to_buffers(machine, &frame, &[&keys], |pass| {
+        draw_to_buffers(machine, &frame, &[&keys], None, |pass| {
             pass.draw_cones(
                 program,
                 &RasterState::OVERWRITE,
@@ -378,31 +378,20 @@ fn k_nearest_tiled(
     let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
     upload.write(&texels);
     let records = machine.image(Format::Rgba32Uint, width as u32, rows as u32)?;
-    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-    machine.with_fragment_resources(&[&keys, &tiles], Some(&records), |set| {
-        machine.run(|pass| {
-            pass.upload_for_fragments(&upload, &records)?;
-            pass.begin(
-                Target {
-                    color: None,
-                    depth_stencil: Some(&depth),
-                },
-                Clear {
-                    color: None,
-                    depth: Some(1.0),
-                    stencil: None,
-                },
-            )?;
-            pass.bind_fragment_buffer(set);
+    draw_to_buffers(
+        machine,
+        &frame,
+        &[&keys, &tiles],
+        Some((&upload, &records)),
+        |pass| {
             pass.draw_tiles(
                 &RasterState::OVERWRITE,
                 &DrawParams::default(),
                 &picture_push(&frame, k, options.metric),
                 binned.len() as u32,
-            )?;
-            pass.end()
-        })
-    })?;
+            )
+        },
+    )?;
     stats.render_ms = ms(started);
     Ok(read_keys(&keys, options, None, stats))
 }
@@ -433,16 +422,21 @@ fn picture_push(frame: &Frame, levels: u32, metric: Metric) -> ConePush {
 }
 
 /// Runs `draw` in a rendering pass over `frame` whose fragments write only the
-/// storage `buffers` (a depth buffer just gives the pass its size).
+/// storage `buffers` (a depth buffer just gives the pass its size), with
+/// `records` (an upload and the image it fills) for the fragments to read.
 fn draw_to_buffers(
     machine: &Machine,
     frame: &Frame,
     buffers: &[&Buffer],
+    records: Option<(&Buffer, &Image)>,
     draw: impl FnOnce(&mut Pass<'_>) -> Result<()>,
 ) -> Result<()> {
     let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-    machine.with_fragment_buffers(buffers, |set| {
+    machine.with_fragment_resources(buffers, records.map(|(_, image)| image), |set| {
         machine.run(|pass| {
+            if let Some((upload, image)) = records {
+                pass.upload_for_fragments(upload, image)?;
+            }
             pass.begin(
                 Target {
                     color: None,
