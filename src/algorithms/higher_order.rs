@@ -321,12 +321,7 @@ fn k_nearest_tiled(
         let radii = k_radii(&pixels, &frame, k as usize, options.speedup, options.metric);
         bin_to_tiles(&pixels, &frame, radii)
     };
-    let cones = pixels
-        .iter()
-        .zip(&tiles.radii)
-        .enumerate()
-        .filter(|(_, (p, r))| **r > 0.0 && frame.distance_to_pixels(**p) <= **r)
-        .map(|(i, (p, r))| (i as u32, *p, *r));
+    let cones = drawn_cones(&pixels, &tiles.radii, &frame);
     let mut stats = cone_stats(machine, sites.len(), options.k, cones);
     let binned = &tiles.lists;
     // Tile records (six words each) for the vertex shader; the cones (one texel
@@ -530,15 +525,24 @@ fn level_cones(
         options.speedup,
         options.metric,
     );
-    let cones: Vec<(u32, DVec2, f64)> = pixels
+    let cones: Vec<(u32, DVec2, f64)> = drawn_cones(&pixels, &radii, &frame).collect();
+    let stats = cone_stats(machine, sites.len(), options.k, cones.iter().copied());
+    (cones, stats)
+}
+
+/// The cones (site index, pixel position, radius) of these radii that reach
+/// the picture.
+fn drawn_cones<'a>(
+    pixels: &'a [DVec2],
+    radii: &'a [f64],
+    frame: &'a Frame,
+) -> impl Iterator<Item = (u32, DVec2, f64)> + 'a {
+    pixels
         .iter()
-        .zip(&radii)
+        .zip(radii)
         .enumerate()
         .filter(|(_, (p, r))| **r > 0.0 && frame.distance_to_pixels(**p) <= **r)
         .map(|(i, (p, r))| (i as u32, *p, *r))
-        .collect();
-    let stats = cone_stats(machine, sites.len(), options.k, cones.iter().copied());
-    (cones, stats)
 }
 
 /// The statistics of the cones that are drawn.
@@ -579,17 +583,14 @@ fn bin_to_tiles(pixels: &[DVec2], frame: &Frame, radii: Vec<f64>) -> radius::Til
     };
     let down = frame.height.div_ceil(TILE_SIDE) as usize;
     let mut binned: Vec<Vec<(f64, u32)>> = vec![Vec::new(); tiles.across * down];
-    for (i, (&p, &r)) in pixels.iter().zip(&radii).enumerate() {
-        if r <= 0.0 || frame.distance_to_pixels(p) > r {
-            continue;
-        }
+    for (i, p, r) in drawn_cones(pixels, &radii, frame) {
         let cell = |v: f64, n: usize| ((v / TILE_SIDE as f64).floor().max(0.0) as usize).min(n - 1);
         for y in cell(p.y - r, down)..=cell(p.y + r, down) {
             for x in cell(p.x - r, tiles.across)..=cell(p.x + r, tiles.across) {
                 let t = y * tiles.across + x;
                 let (lo, hi) = tiles.rect(t, frame);
                 if distance2_to_rect(p, lo, hi) <= r * r {
-                    binned[t].push((p.distance_squared((lo + hi) * 0.5), i as u32));
+                    binned[t].push((p.distance_squared((lo + hi) * 0.5), i));
                 }
             }
         }

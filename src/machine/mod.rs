@@ -401,14 +401,13 @@ impl Machine {
                     .range(vk::WHOLE_SIZE)]
             })
             .collect();
-        let first = first_buffer;
         let mut writes: Vec<vk::WriteDescriptorSet> = buffer_infos
             .iter()
             .enumerate()
             .map(|(k, info)| {
                 vk::WriteDescriptorSet::default()
                     .dst_set(set)
-                    .dst_binding(first + k as u32)
+                    .dst_binding(first_buffer + k as u32)
                     .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                     .buffer_info(info)
             })

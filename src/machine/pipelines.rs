@@ -219,7 +219,8 @@ pub(crate) struct Pipelines {
     modules: HashMap<&'static str, vk::ShaderModule>,
     pub graphics_layout: vk::PipelineLayout,
     /// Three storage buffers for vertex and fragment shaders (bindings 0, 1 and 2
-    /// of set 0); a program uses those it declares.
+    /// of set 0) and a storage image of records for fragment shaders (binding
+    /// 3); a program uses those it declares.
     pub graphics_set_layout: vk::DescriptorSetLayout,
     pub compute_set_layout: vk::DescriptorSetLayout,
     pub compute_layout: vk::PipelineLayout,
