@@ -103,8 +103,8 @@ fn k_nearest_sites_match_the_definition() {
 
 #[test]
 fn many_cones_fill_several_rows_of_records() {
-    // Picture-wide cones meet every screen tile: 70 tiles x 900 cones are
-    // fifteen rows of the fragment shader's records.
+    // Picture-wide cones meet every screen tile: 70 tiles x 900 cones fill
+    // sixteen rows of the fragment shader's records.
     let m = machine();
     let frame = Frame::pixels(160, 100).unwrap();
     let sites = pixgeo::io::sites::random_sites(900, 7, &frame);
