@@ -10,7 +10,6 @@ layout(std430, set = 0, binding = 1) readonly buffer Tiles {
 } tiles;
 
 layout(location = 0) flat out uvec2 cones;
-layout(location = 1) flat out vec3 tile;  // centre, half diagonal (pixels)
 
 void main() {
     uint t = uint(gl_InstanceIndex) * 6u;
@@ -21,6 +20,4 @@ void main() {
     vec2 corner = vec2(float((26u >> v) & 1u), float((52u >> v) & 1u));
     gl_Position = vec4(to_ndc(mix(lo, hi, corner)) , 0.0, 1.0);
     cones = uvec2(tiles.words[t + 4u], tiles.words[t + 5u]);
-    vec2 centre = (lo + hi) * 0.5;
-    tile = vec3(centre, distance(lo + 0.5, centre) * 1.0001 + 1e-3);
 }

@@ -6,11 +6,14 @@
 //! and a stencil that counts equal distances, 2k cone passes for k levels
 //! ([`k_nearest_peeled`]). pixgeo draws the cones once ([`k_nearest`]): exact
 //! cones are binned to screen tiles, and each tile's rectangle keeps, per
-//! fragment, the k smallest keys (squared distance, site id) of its cones
-//! (`glsl/cone_tiles.frag`); fan cones, or more levels than a tile keeps, insert
-//! their keys into per-pixel sorted lists with 64-bit atomic min
-//! (`glsl/cone_knearest.frag`). Equal distances are distinct keys, so
-//! multiplicities come out right, and ties are ordered by site id.
+//! fragment, the ids of the k nearest of its cones (`glsl/cone_tiles.frag`),
+//! whose distances the host computes; fan cones, or more levels than a tile
+//! keeps, insert keys (squared distance, site id) into per-pixel sorted lists
+//! with 64-bit atomic min (`glsl/cone_knearest.frag`). Equidistant sites each
+//! keep their own level, so multiplicities come out right, and the levels are
+//! ordered by distance, ties by site id. Where several sites are equally far at
+//! the k-th level, which of them is kept is fixed but not the lowest id in the
+//! tiled path: comparing ids there cost a fifth of its rendering.
 //!
 //! The furthest-site diagram is the lower envelope of cones turned upside down:
 //! one pass with the depth test GREATER. Only the vertices of the convex hull own
@@ -346,13 +349,20 @@ fn k_nearest_tiled(
         )));
     }
     let mut texels: Vec<[u32; 4]> = Vec::with_capacity(rows * RECORD_ROW);
-    for list in binned {
+    let lower = options.metric.euclidean_bounds().0;
+    for (t, list) in binned.iter().enumerate() {
+        let (lo, hi) = tiles.rect(t, &frame);
+        let (centre, half_diagonal) = ((lo + hi) / 2.0, (hi - lo).length() / 2.0);
         texels.extend(list.iter().map(|&i| {
-            let (p, r) = (pixels[i as usize], tiles.radii[i as usize]);
+            let p = pixels[i as usize];
+            // The smallest key any pixel of the tile can have for this site, a
+            // little less for the device's rounding.
+            let reach = ((p.distance(centre) - half_diagonal) * lower).max(0.0);
+            let reach_key = options.metric.key_of_distance(reach) * (1.0 - 1e-5);
             [
                 (p.x as f32).to_bits(),
                 (p.y as f32).to_bits(),
-                ((r * r) as f32).to_bits(),
+                (reach_key as f32).to_bits(),
                 i,
             ]
         }));
@@ -366,8 +376,7 @@ fn k_nearest_tiled(
     stats.bounds_ms = ms(started);
 
     let started = Instant::now();
-    let key_bytes = frame.len() as u64 * k as u64 * 8;
-    let keys = machine.readback_buffer(key_bytes)?;
+    let labels = machine.readback_buffer(frame.len() as u64 * k as u64 * 4)?;
     let mut tiles = machine.readback_buffer(4 * words.len() as u64)?;
     tiles.write(&words);
     let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
@@ -376,7 +385,7 @@ fn k_nearest_tiled(
     draw_to_buffers(
         machine,
         &frame,
-        &[&keys, &tiles],
+        &[&labels, &tiles],
         Some((&upload, &records)),
         |pass| {
             pass.draw_tiles(
@@ -388,7 +397,7 @@ fn k_nearest_tiled(
         },
     )?;
     stats.render_ms = ms(started);
-    Ok(read_keys(&keys, options, None, stats))
+    Ok(read_labels(&labels, &pixels, options, stats))
 }
 
 /// One instance of the cone programs (`glsl/cone.vert`): site `id` at pixel
@@ -485,6 +494,113 @@ fn read_keys(
         labels,
         distances,
         stats,
+    }
+}
+
+/// The levels from a buffer of `k` ids per pixel (nearest first, `u32::MAX` for
+/// none), with the distances computed from the sites' `pixels` positions (keys
+/// in double precision, rounded to float32) and each pixel's levels ordered by
+/// them, ties by id.
+fn read_labels(
+    ids: &Buffer,
+    pixels: &[DVec2],
+    options: &KNearestOptions,
+    mut stats: KNearestStats,
+) -> KNearest {
+    let started = Instant::now();
+    let (frame, k, metric) = (options.frame, options.k as usize, options.metric);
+    let width = frame.width as usize;
+    let ids: &[u32] = bytemuck::cast_slice(&ids.mapped()[..frame.len() * k * 4]);
+    let mut labels = vec![0u32; ids.len()];
+    let mut distances = vec![0f32; ids.len()];
+    let to_world = 1.0 / frame.scale;
+    let row = k * width;
+    ids.par_chunks(row)
+        .zip(labels.par_chunks_mut(row))
+        .zip(distances.par_chunks_mut(row))
+        .enumerate()
+        .for_each(|(j, ((ids, labels), distances))| {
+            labels.copy_from_slice(ids);
+            // L2 on its own: the metric's match out of the innermost loops.
+            let at = (pixels, j);
+            let to_world = to_world as f32;
+            match metric {
+                Metric::L2 => {
+                    level_distances(labels, distances, k, at, DVec2::length_squared, |key| {
+                        key.sqrt() * to_world
+                    })
+                }
+                _ => level_distances(
+                    labels,
+                    distances,
+                    k,
+                    at,
+                    |d| metric.key(d),
+                    |key| metric.distance_of_key(key as f64) as f32 * to_world,
+                ),
+            }
+        });
+    stats.readback_ms = ms(started);
+    KNearest {
+        width: frame.width,
+        height: frame.height,
+        k: options.k,
+        labels,
+        distances,
+        stats,
+    }
+}
+
+/// The distances in world units of row `j`'s levels (`k` per pixel), each
+/// pixel's levels ordered by them: first the metric's keys, by which the levels
+/// are ordered, then their distances in one pass over the row, which the
+/// compiler vectorizes (a square root per level cost as much as all else).
+fn level_distances(
+    labels: &mut [u32],
+    distances: &mut [f32],
+    k: usize,
+    (pixels, j): (&[DVec2], usize),
+    key: impl Fn(DVec2) -> f64,
+    distance_of_key: impl Fn(f32) -> f32,
+) {
+    let levels = labels
+        .chunks_exact_mut(k)
+        .zip(distances.chunks_exact_mut(k));
+    for (i, (labels, keys)) in levels.enumerate() {
+        let q = DVec2::new(i as f64, j as f64);
+        // Keys are not negative, so their bits order as integers.
+        let (mut sorted, mut last) = (true, 0u64);
+        for (d, &id) in keys.iter_mut().zip(labels.iter()) {
+            *d = pixels
+                .get(id as usize)
+                .map_or(f32::INFINITY, |&p| key(p - q) as f32);
+            let key = (d.to_bits() as u64) << 32 | id as u64;
+            sorted &= last <= key;
+            last = key;
+        }
+        if !sorted {
+            sort_levels(labels, keys);
+        }
+    }
+    for d in distances {
+        *d = distance_of_key(*d);
+    }
+}
+
+/// Orders one pixel's levels by key, ties by id: the device's order but for its
+/// rounding and the order of equal keys, so an insertion sort that mostly only
+/// looks.
+fn sort_levels(labels: &mut [u32], distances: &mut [f32]) {
+    for l in 1..labels.len() {
+        let (id, d) = (labels[l], distances[l]);
+        let mut m = l;
+        while m > 0 && (distances[m - 1], labels[m - 1]) > (d, id) {
+            labels[m] = labels[m - 1];
+            distances[m] = distances[m - 1];
+            m -= 1;
+        }
+        labels[m] = id;
+        distances[m] = d;
     }
 }
 
