@@ -197,6 +197,9 @@ struct Cone {
     /// Every owned pixel centre lies within this distance; fragments beyond it are
     /// discarded.
     radius: f64,
+    /// And inside this box, which batches draw (at most the radius's square).
+    lo: DVec2,
+    hi: DVec2,
 }
 
 /// How a cone is drawn; the order is the draw order.
@@ -582,10 +585,15 @@ fn cone_attempts(
         pixels
             .iter()
             .enumerate()
-            .map(|(i, p)| Cone {
-                site: *p,
-                id: i as u32,
-                radius: radius(i),
+            .map(|(i, p)| {
+                let r = radius(i);
+                Cone {
+                    site: *p,
+                    id: i as u32,
+                    radius: r,
+                    lo: p - r,
+                    hi: p + r,
+                }
             })
             .filter(|c| c.radius > 0.0 && frame.distance_to_pixels(c.site) <= c.radius)
             .collect()
@@ -600,8 +608,16 @@ fn cone_attempts(
             vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))]
         }
         Speedup::Local => {
-            let radii = radius::cell_radii(pixels, frame, radius::default_bin(frame, pixels.len()));
-            vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))]
+            let bounds =
+                radius::cell_bounds(pixels, frame, radius::default_bin(frame, pixels.len()));
+            let mut cones = cones_with(&|i| (bounds[i].radius + 0.5).min(picture_wide[i]));
+            // The region's box, half a pixel wider like the radius.
+            for cone in &mut cones {
+                let b = &bounds[cone.id as usize];
+                cone.lo = cone.lo.max(b.lo - 0.5);
+                cone.hi = cone.hi.min(b.hi + 0.5);
+            }
+            vec![(None, cones)]
         }
         Speedup::Quadtree => {
             let bounds = radius::quadtree_width_bounds(pixels, frame);
@@ -756,7 +772,7 @@ fn batches_of(shaped: &[Shaped]) -> Vec<ConeBatch> {
                 batch.ids[k] = cone.id;
                 // Half a pixel more, so that the rectangle's rasterization rules
                 // never drop a pixel centre on the rim.
-                let (lo, hi) = (p - r - 0.5, p + r + 0.5);
+                let (lo, hi) = (cone.lo - 0.5, cone.hi + 0.5);
                 batch.rect = [
                     batch.rect[0].min(lo.x as f32),
                     batch.rect[1].min(lo.y as f32),

@@ -137,6 +137,26 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
 /// to an empty quarter still reaches across it: the thesis's worst case costs only
 /// the cones that need the reach.
 pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
+    cell_bounds(sites, frame, bin)
+        .into_iter()
+        .map(|b| b.radius)
+        .collect()
+}
+
+/// Where a site's region lies within the picture: every pixel centre the site
+/// owns is within `radius` of it and inside the box `[lo, hi]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellBound {
+    pub radius: f64,
+    pub lo: DVec2,
+    pub hi: DVec2,
+}
+
+/// [`cell_radii`] with the bounding box of each clipped polygon, which holds the
+/// region's pixel centres as the radius does and is often half its square: a
+/// site is rarely at the centre of its region. A site whose region misses the
+/// picture gets radius 0 and an empty box at the site.
+pub fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
     let bins = Grid::new(sites, frame, bin);
     let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
     let picture = [
@@ -146,7 +166,7 @@ pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
         DVec2::new(0.0, corner.y),
     ];
     // Sites in bin order, so that neighbouring searches share cache lines.
-    let by_bin: Vec<f64> = bins
+    let by_bin: Vec<CellBound> = bins
         .position
         .par_iter()
         .map(|&s| {
@@ -175,14 +195,24 @@ pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
                 });
                 ring += 1;
             }
-            reach2.sqrt()
+            let (lo, hi) = polygon.bounding_box();
+            CellBound {
+                radius: reach2.sqrt(),
+                lo: s + lo,
+                hi: s + hi,
+            }
         })
         .collect();
-    let mut radii = vec![0.0; sites.len()];
-    for (&i, r) in bins.order.iter().zip(by_bin) {
-        radii[i as usize] = r;
+    let empty = |s: DVec2| CellBound {
+        radius: 0.0,
+        lo: s,
+        hi: s,
+    };
+    let mut bounds: Vec<CellBound> = sites.iter().map(|&s| empty(s)).collect();
+    for (&i, b) in bins.order.iter().zip(by_bin) {
+        bounds[i as usize] = b;
     }
-    radii
+    bounds
 }
 
 /// A radius per site for the k lowest layers of the arrangement (degree 1..k
@@ -384,6 +414,19 @@ impl Polygon {
         };
         polygon.corners[..4].copy_from_slice(&corners);
         polygon
+    }
+
+    /// The smallest and largest coordinates of the corners; both 0 when empty.
+    fn bounding_box(&self) -> (DVec2, DVec2) {
+        let corners = &self.corners[..self.len];
+        if corners.is_empty() {
+            return (DVec2::ZERO, DVec2::ZERO);
+        }
+        corners
+            .iter()
+            .fold((DVec2::MAX, DVec2::MIN), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            })
     }
 
     /// Squared distance of the farthest corner from the origin; 0 when empty.
@@ -599,7 +642,7 @@ mod tests {
     }
 
     #[test]
-    fn cell_radii_reach_every_owned_pixel() {
+    fn cell_bounds_hold_every_owned_pixel() {
         let frame = Frame::pixels(61, 47).unwrap();
         // Clustered in one quarter, a regular row, duplicates, a co-circular
         // lattice and sites outside the picture.
@@ -617,17 +660,22 @@ mod tests {
             DVec2::new(30.0, 47.2),
         ]);
         for bin in [1.0, 2.5, 7.0, 64.0] {
-            let radii = cell_radii(&sites, &frame, bin);
+            let bounds = cell_bounds(&sites, &frame, bin);
             for y in 0..47 {
                 for x in 0..61 {
                     let q = DVec2::new(x as f64, y as f64);
                     let d = nearest(&sites, q);
                     for (i, s) in sites.iter().enumerate() {
                         if ((*s - q).length() - d).abs() < 1e-12 {
+                            let b = &bounds[i];
                             assert!(
-                                d <= radii[i] + 1e-9,
+                                d <= b.radius + 1e-9,
                                 "bin {bin}: pixel {q} site {i} at {d} > {}",
-                                radii[i]
+                                b.radius
+                            );
+                            assert!(
+                                q.cmpge(b.lo - 1e-9).all() && q.cmple(b.hi + 1e-9).all(),
+                                "bin {bin}: pixel {q} of site {i} outside {b:?}"
                             );
                         }
                     }
