@@ -125,13 +125,11 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
 /// other site. Clipping the picture by the half-planes of *some* sites leaves a
 /// polygon that contains the region, so its farthest corner is a valid radius
 /// whichever sites were used, and it is the region's exact width (thesis Def. 3.2)
-/// once every Voronoi neighbour has cut. Sites are visited ring by ring of square
-/// bins of side `bin` (about one site each; sites outside the picture sit in the
-/// nearest border bin: projecting onto the picture never brings two points
-/// closer, so ring distances stay lower bounds). The search ends once every site
-/// not yet seen is at least twice the radius away: its bisector lies beyond the
-/// polygon. Half-planes are widened by a relative 1e-9 so that rounding can only
-/// enlarge a radius.
+/// once every Voronoi neighbour has cut. The cutters are the site's Delaunay
+/// neighbours ([`DelaunayNeighbours`]); a site the triangulation leaves out (a
+/// duplicate, every site of a collinear set) searches for them ring by ring of
+/// square bins of side `bin` instead ([`searched_bound`]). Half-planes are
+/// widened by a relative 1e-9 so that rounding can only enlarge a radius.
 ///
 /// Where sites are dense the radii shrink to the local spacing, while a site next
 /// to an empty quarter still reaches across it: the thesis's worst case costs only
@@ -157,62 +155,181 @@ pub struct CellBound {
 /// site is rarely at the centre of its region. A site whose region misses the
 /// picture gets radius 0 and an empty box at the site.
 pub fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
-    let bins = Grid::new(sites, frame, bin);
+    let picture = picture_corners(frame);
+    let neighbours = DelaunayNeighbours::of(sites, frame);
+    let mut bounds: Vec<Option<CellBound>> = (0..sites.len())
+        .into_par_iter()
+        .map(|s| {
+            let cutters = neighbours.of_site(s);
+            if cutters.is_empty() {
+                return None;
+            }
+            let site = sites[s];
+            let mut polygon = Polygon::new(picture.map(|v| v - site));
+            for &t in cutters {
+                let d = sites[t as usize] - site;
+                if d != DVec2::ZERO {
+                    polygon.clip(d, half_plane_limit(d));
+                }
+            }
+            Some(polygon.bound(site))
+        })
+        .collect();
+    let left_out: Vec<usize> = (0..sites.len()).filter(|&s| bounds[s].is_none()).collect();
+    if !left_out.is_empty() {
+        let bins = Grid::new(sites, frame, bin);
+        let searched: Vec<CellBound> = left_out
+            .par_iter()
+            .map(|&s| searched_bound(&bins, sites[s], &picture))
+            .collect();
+        for (s, b) in left_out.into_iter().zip(searched) {
+            bounds[s] = Some(b);
+        }
+    }
+    bounds.into_iter().flatten().collect()
+}
+
+/// The bound of [`cell_bounds`] for site `s`, its cutters searched ring by ring
+/// of square `bins` (about one site each; sites outside the picture sit in the
+/// nearest border bin: projecting onto the picture never brings two points
+/// closer, so ring distances stay lower bounds). The search ends once every site
+/// not yet seen is at least twice the radius away: its bisector lies beyond the
+/// polygon.
+fn searched_bound(bins: &Grid, s: DVec2, picture: &[DVec2; 4]) -> CellBound {
+    let mut polygon = Polygon::new(picture.map(|v| v - s));
+    let mut reach2 = polygon.farthest2();
+    let [bx, by, _, _] = bins.bins_of(s, s);
+    let mut ring = 0;
+    while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < 4.0 * reach2 {
+        bins.for_ring_bins([bx, by, bx, by], ring, |lo, hi, _, members| {
+            // A bin wholly at twice the radius or more cannot cut.
+            if reach2 == 0.0 || distance2_to_rect(s, lo, hi) >= 4.0 * reach2 {
+                return;
+            }
+            for &t in members {
+                let d = t - s;
+                let dd = d.length_squared();
+                if dd == 0.0 || dd >= 4.0 * reach2 {
+                    continue;
+                }
+                if polygon.clip(d, half_plane_limit(d)) {
+                    reach2 = polygon.farthest2();
+                }
+            }
+        });
+        ring += 1;
+    }
+    polygon.bound(s)
+}
+
+/// The picture's corner pixel centres.
+fn picture_corners(frame: &Frame) -> [DVec2; 4] {
     let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
-    let picture = [
+    [
         DVec2::ZERO,
         DVec2::new(corner.x, 0.0),
         corner,
         DVec2::new(0.0, corner.y),
-    ];
-    // Sites in bin order, so that neighbouring searches share cache lines.
-    let by_bin: Vec<CellBound> = bins
-        .position
-        .par_iter()
-        .map(|&s| {
-            // Corners relative to s.
-            let mut polygon = Polygon::new(picture.map(|v| v - s));
-            let mut reach2 = polygon.farthest2();
-            let [bx, by, _, _] = bins.bins_of(s, s);
-            let mut ring = 0;
-            while ring <= bins.max_ring() && ring_gap2(ring, bins.cell) < 4.0 * reach2 {
-                bins.for_ring_bins([bx, by, bx, by], ring, |lo, hi, _, members| {
-                    // A bin wholly at twice the radius or more cannot cut.
-                    if reach2 == 0.0 || distance2_to_rect(s, lo, hi) >= 4.0 * reach2 {
-                        return;
-                    }
-                    for &t in members {
-                        let d = t - s;
-                        let dd = d.length_squared();
-                        if dd == 0.0 || dd >= 4.0 * reach2 {
-                            continue;
-                        }
-                        // Keep v with v.d <= dd / 2, widened so rounding only enlarges.
-                        if polygon.clip(d, 0.5 * dd * (1.0 + 1e-9) + 1e-9) {
-                            reach2 = polygon.farthest2();
-                        }
-                    }
-                });
-                ring += 1;
-            }
-            let (lo, hi) = polygon.bounding_box();
-            CellBound {
-                radius: reach2.sqrt(),
-                lo: s + lo,
-                hi: s + hi,
-            }
+    ]
+}
+
+/// The half-plane nearer to a site than to a site `d` away from it, relative to
+/// the first: `v.d <= |d|² / 2`, widened so that rounding only enlarges it.
+fn half_plane_limit(d: DVec2) -> f64 {
+    0.5 * d.length_squared() * (1.0 + 1e-9) + 1e-9
+}
+
+/// Every site's Delaunay neighbours (delaunator), in compressed rows: those of
+/// site s are `list[start[s]..start[s + 1]]`. Sites the triangulation leaves
+/// out (duplicates, collinear sets) have none.
+///
+/// Many sites are triangulated in horizontal strips at once, one per thread,
+/// each with the sites within a few spacings beyond its edges: a site takes
+/// its neighbours from its own strip. Near an edge they may miss a neighbour
+/// or include a site that is none, which can only leave a polygon larger.
+struct DelaunayNeighbours {
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl DelaunayNeighbours {
+    /// Sites per strip below which one triangulation is quicker.
+    const STRIP_SITES: usize = 1500;
+
+    fn of(sites: &[DVec2], frame: &Frame) -> Self {
+        let strips =
+            (sites.len() / Self::STRIP_SITES).clamp(1, rayon::current_num_threads().max(1));
+        let height = frame.height as f64 / strips as f64;
+        let margin = 4.0 * (frame.len() as f64 / sites.len().max(1) as f64).sqrt();
+        let strip: Vec<usize> = sites
+            .iter()
+            .map(|p| ((p.y / height).floor().max(0.0) as usize).min(strips - 1))
+            .collect();
+        let edges: Vec<Vec<(u32, u32)>> = (0..strips)
+            .into_par_iter()
+            .map(|k| {
+                let (top, bottom) = (k as f64 * height, (k + 1) as f64 * height);
+                let members: Vec<u32> = (0..sites.len() as u32)
+                    .filter(|&i| {
+                        let y = sites[i as usize].y;
+                        strip[i as usize] == k
+                            || (k > 0 && y >= top - margin && y < top)
+                            || (k + 1 < strips && y >= bottom && y < bottom + margin)
+                    })
+                    .collect();
+                strip_edges(sites, &members, |i| strip[i as usize] == k)
+            })
+            .collect();
+        let mut start = vec![0u32; sites.len() + 1];
+        for &(a, _) in edges.iter().flatten() {
+            start[a as usize + 1] += 1;
+        }
+        for s in 0..sites.len() {
+            start[s + 1] += start[s];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0u32; start[sites.len()] as usize];
+        for &(a, b) in edges.iter().flatten() {
+            list[fill[a as usize] as usize] = b;
+            fill[a as usize] += 1;
+        }
+        Self { start, list }
+    }
+
+    fn of_site(&self, s: usize) -> &[u32] {
+        &self.list[self.start[s] as usize..self.start[s + 1] as usize]
+    }
+}
+
+/// The directed edges (a, b) of the Delaunay triangulation of the `members`
+/// (indices into `sites`) whose first end `owns` says to keep.
+fn strip_edges(sites: &[DVec2], members: &[u32], owns: impl Fn(u32) -> bool) -> Vec<(u32, u32)> {
+    let points: Vec<delaunator::Point> = members
+        .iter()
+        .map(|&i| {
+            let p = sites[i as usize];
+            delaunator::Point { x: p.x, y: p.y }
         })
         .collect();
-    let empty = |s: DVec2| CellBound {
-        radius: 0.0,
-        lo: s,
-        hi: s,
+    let triangulation = delaunator::triangulate(&points);
+    let (corners, twins) = (&triangulation.triangles, &triangulation.halfedges);
+    let mut edges = Vec::with_capacity(corners.len() + 64);
+    let mut keep = |a: usize, b: usize| {
+        let (a, b) = (members[a], members[b]);
+        if owns(a) {
+            edges.push((a, b));
+        }
     };
-    let mut bounds: Vec<CellBound> = sites.iter().map(|&s| empty(s)).collect();
-    for (&i, b) in bins.order.iter().zip(by_bin) {
-        bounds[i as usize] = b;
+    // Half-edge e runs from corners[e] to the next corner of its triangle; an
+    // edge of the hull has no twin, so its other direction is added here.
+    for e in 0..corners.len() {
+        let (a, b) = (corners[e], corners[delaunator::next_halfedge(e)]);
+        keep(a, b);
+        if twins[e] == delaunator::EMPTY {
+            keep(b, a);
+        }
     }
-    bounds
+    edges
 }
 
 /// A radius per site for the k lowest layers of the arrangement (degree 1..k
@@ -399,8 +516,10 @@ pub fn k_cell_and_bin(frame: &Frame, sites: usize, k: usize) -> (f64, f64) {
 /// A convex polygon of bounded size on the stack, with room for one clip.
 struct Polygon {
     len: usize,
-    corners: [DVec2; Polygon::CAPACITY],
-    scratch: [DVec2; Polygon::CAPACITY],
+    /// The corners are `buffers[current][..len]`; a clip writes the other buffer
+    /// and flips (no copy back).
+    current: usize,
+    buffers: [[DVec2; Polygon::CAPACITY]; 2],
 }
 
 impl Polygon {
@@ -409,16 +528,20 @@ impl Polygon {
     fn new(corners: [DVec2; 4]) -> Self {
         let mut polygon = Self {
             len: 4,
-            corners: [DVec2::ZERO; Self::CAPACITY],
-            scratch: [DVec2::ZERO; Self::CAPACITY],
+            current: 0,
+            buffers: [[DVec2::ZERO; Self::CAPACITY]; 2],
         };
-        polygon.corners[..4].copy_from_slice(&corners);
+        polygon.buffers[0][..4].copy_from_slice(&corners);
         polygon
+    }
+
+    fn corners(&self) -> &[DVec2] {
+        &self.buffers[self.current][..self.len]
     }
 
     /// The smallest and largest coordinates of the corners; both 0 when empty.
     fn bounding_box(&self) -> (DVec2, DVec2) {
-        let corners = &self.corners[..self.len];
+        let corners = self.corners();
         if corners.is_empty() {
             return (DVec2::ZERO, DVec2::ZERO);
         }
@@ -429,9 +552,19 @@ impl Polygon {
             })
     }
 
+    /// The radius and box of a polygon around `site` (corners relative to it).
+    fn bound(&self, site: DVec2) -> CellBound {
+        let (lo, hi) = self.bounding_box();
+        CellBound {
+            radius: self.farthest2().sqrt(),
+            lo: site + lo,
+            hi: site + hi,
+        }
+    }
+
     /// Squared distance of the farthest corner from the origin; 0 when empty.
     fn farthest2(&self) -> f64 {
-        self.corners[..self.len]
+        self.corners()
             .iter()
             .map(|v| v.length_squared())
             .fold(0.0, f64::max)
@@ -441,17 +574,21 @@ impl Polygon {
     /// was cut. A clip that would overflow the capacity is skipped, which only
     /// leaves the polygon larger.
     fn clip(&mut self, normal: DVec2, limit: f64) -> bool {
-        let corners = &self.corners[..self.len];
-        if self.len == Self::CAPACITY || corners.iter().all(|v| v.dot(normal) <= limit) {
+        if self.len == Self::CAPACITY || self.corners().iter().all(|v| v.dot(normal) <= limit) {
             return false;
         }
+        let [first, second] = &mut self.buffers;
+        let (from, to) = if self.current == 0 {
+            (&first[..self.len], second)
+        } else {
+            (&second[..self.len], first)
+        };
         let mut n = 0;
-        let scratch = &mut self.scratch;
-        clip_convex(corners, normal, limit, |v| {
-            scratch[n] = v;
+        clip_convex(from, normal, limit, |v| {
+            to[n] = v;
             n += 1;
         });
-        std::mem::swap(&mut self.corners, &mut self.scratch);
+        self.current = 1 - self.current;
         self.len = n;
         true
     }
@@ -678,6 +815,39 @@ mod tests {
                                 "bin {bin}: pixel {q} of site {i} outside {b:?}"
                             );
                         }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn cell_bounds_from_strips_hold_every_owned_pixel() {
+        // Enough sites for one triangulation per thread: a lattice across the
+        // strips' edge (co-circular everywhere), random sites, duplicates and
+        // a collinear run.
+        let frame = Frame::pixels(120, 90).unwrap();
+        let mut sites = crate::io::sites::random_sites(1800, 11, &frame);
+        sites.extend((0..1200).map(|i| DVec2::new((i % 40) as f64 * 3.0, 30.0 + (i / 40) as f64)));
+        sites.extend_from_within(..200);
+        sites.extend((0..100).map(|i| DVec2::new(i as f64 * 1.2, 45.0)));
+        let bounds = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()));
+        for y in 0..90 {
+            for x in 0..120 {
+                let q = DVec2::new(x as f64, y as f64);
+                let d = nearest(&sites, q);
+                for (i, s) in sites.iter().enumerate() {
+                    if ((*s - q).length() - d).abs() < 1e-12 {
+                        let b = &bounds[i];
+                        assert!(
+                            d <= b.radius + 1e-9,
+                            "pixel {q} site {i}: {d} > {}",
+                            b.radius
+                        );
+                        assert!(
+                            q.cmpge(b.lo - 1e-9).all() && q.cmple(b.hi + 1e-9).all(),
+                            "pixel {q} of site {i} outside {b:?}"
+                        );
                     }
                 }
             }
