@@ -118,31 +118,7 @@ pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
     out
 }
 
-/// A radius per site that its cone must reach: every pixel centre that site s owns
-/// lies within `radii[s]` of it; a site that owns no pixel centre may get 0.
-///
-/// The region of s is the intersection of the half-planes nearer to s than to each
-/// other site. Clipping the picture by the half-planes of *some* sites leaves a
-/// polygon that contains the region, so its farthest corner is a valid radius
-/// whichever sites were used, and it is the region's exact width (thesis Def. 3.2)
-/// once every Voronoi neighbour has cut. The cutters are the site's Delaunay
-/// neighbours ([`DelaunayNeighbours`]); a site the triangulation leaves out (a
-/// duplicate, every site of a collinear set) searches for them ring by ring of
-/// square bins of side `bin` instead ([`searched_bound`]). Half-planes are
-/// widened by a relative 1e-9 so that rounding can only enlarge a radius.
-///
-/// Where sites are dense the radii shrink to the local spacing, while a site next
-/// to an empty quarter still reaches across it: the thesis's worst case costs only
-/// the cones that need the reach.
-pub fn cell_radii(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<f64> {
-    cell_bounds(sites, frame, bin)
-        .into_iter()
-        .map(|b| b.radius)
-        .collect()
-}
-
-/// Where a site's region lies within the picture: every pixel centre the site
-/// owns is within `radius` of it and inside the box `[lo, hi]`.
+/// Where a site's region lies within the picture (see [`cell_bounds`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CellBound {
     pub radius: f64,
@@ -150,10 +126,25 @@ pub struct CellBound {
     pub hi: DVec2,
 }
 
-/// [`cell_radii`] with the bounding box of each clipped polygon, which holds the
-/// region's pixel centres as the radius does and is often half its square: a
-/// site is rarely at the centre of its region. A site whose region misses the
-/// picture gets radius 0 and an empty box at the site.
+/// Where each site's region lies within the picture: every pixel centre that
+/// site s owns lies within `radius` of it and inside the box `[lo, hi]`; a site
+/// whose region misses the picture gets radius 0 and an empty box at the site.
+///
+/// The region of s is the intersection of the half-planes nearer to s than to each
+/// other site. Clipping the picture by the half-planes of *some* sites leaves a
+/// polygon that contains the region, so its farthest corner is a valid radius
+/// and its bounding box a valid box whichever sites were used, and they are the
+/// region's exact width (thesis Def. 3.2) and box once every Voronoi neighbour
+/// has cut. The box is often half the radius's square: a site is rarely at the
+/// centre of its region. The cutters are the site's Delaunay neighbours
+/// (`DelaunayNeighbours`); a site the triangulation leaves out (a duplicate,
+/// every site of a collinear set) searches for them ring by ring of square bins
+/// of side `bin` instead (`searched_bound`). Half-planes are widened by a
+/// relative 1e-9 so that rounding can only enlarge a bound.
+///
+/// Where sites are dense the radii shrink to the local spacing, while a site next
+/// to an empty quarter still reaches across it: the thesis's worst case costs only
+/// the cones that need the reach.
 pub fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
     let picture = picture_corners(frame);
     let neighbours = DelaunayNeighbours::of(sites, frame);
@@ -759,7 +750,7 @@ impl Grid {
     }
 }
 
-/// The bin side for [`cell_radii`]: the mean site spacing, so that a bin holds
+/// The bin side for [`cell_bounds`]: the mean site spacing, so that a bin holds
 /// about one site (at least 2 pixels, and at most about 4 million bins).
 pub fn default_bin(frame: &Frame, sites: usize) -> f64 {
     let spacing = (frame.len() as f64 / sites.max(1) as f64).sqrt();
@@ -798,23 +789,34 @@ mod tests {
         ]);
         for bin in [1.0, 2.5, 7.0, 64.0] {
             let bounds = cell_bounds(&sites, &frame, bin);
-            for y in 0..47 {
-                for x in 0..61 {
-                    let q = DVec2::new(x as f64, y as f64);
-                    let d = nearest(&sites, q);
-                    for (i, s) in sites.iter().enumerate() {
-                        if ((*s - q).length() - d).abs() < 1e-12 {
-                            let b = &bounds[i];
-                            assert!(
-                                d <= b.radius + 1e-9,
-                                "bin {bin}: pixel {q} site {i} at {d} > {}",
-                                b.radius
-                            );
-                            assert!(
-                                q.cmpge(b.lo - 1e-9).all() && q.cmple(b.hi + 1e-9).all(),
-                                "bin {bin}: pixel {q} of site {i} outside {b:?}"
-                            );
-                        }
+            assert_bounds_hold_owned_pixels(&sites, &frame, &bounds, &format!("bin {bin}"));
+        }
+    }
+
+    /// Every pixel centre lies within the radius and inside the box of each of
+    /// its nearest sites.
+    fn assert_bounds_hold_owned_pixels(
+        sites: &[DVec2],
+        frame: &Frame,
+        bounds: &[CellBound],
+        what: &str,
+    ) {
+        for y in 0..frame.height {
+            for x in 0..frame.width {
+                let q = DVec2::new(x as f64, y as f64);
+                let d = nearest(sites, q);
+                for (i, s) in sites.iter().enumerate() {
+                    if ((*s - q).length() - d).abs() < 1e-12 {
+                        let b = &bounds[i];
+                        assert!(
+                            d <= b.radius + 1e-9,
+                            "{what}: pixel {q} site {i} at {d} > {}",
+                            b.radius
+                        );
+                        assert!(
+                            q.cmpge(b.lo - 1e-9).all() && q.cmple(b.hi + 1e-9).all(),
+                            "{what}: pixel {q} of site {i} outside {b:?}"
+                        );
                     }
                 }
             }
@@ -832,36 +834,20 @@ mod tests {
         sites.extend_from_within(..200);
         sites.extend((0..100).map(|i| DVec2::new(i as f64 * 1.2, 45.0)));
         let bounds = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()));
-        for y in 0..90 {
-            for x in 0..120 {
-                let q = DVec2::new(x as f64, y as f64);
-                let d = nearest(&sites, q);
-                for (i, s) in sites.iter().enumerate() {
-                    if ((*s - q).length() - d).abs() < 1e-12 {
-                        let b = &bounds[i];
-                        assert!(
-                            d <= b.radius + 1e-9,
-                            "pixel {q} site {i}: {d} > {}",
-                            b.radius
-                        );
-                        assert!(
-                            q.cmpge(b.lo - 1e-9).all() && q.cmple(b.hi + 1e-9).all(),
-                            "pixel {q} of site {i} outside {b:?}"
-                        );
-                    }
-                }
-            }
-        }
+        assert_bounds_hold_owned_pixels(&sites, &frame, &bounds, "strips");
     }
 
     #[test]
-    fn cell_radii_are_the_region_widths() {
+    fn cell_bounds_are_the_region_widths() {
         // Uniform sites: the radius is the farthest corner of the exact region, which
         // lies within a pixel diagonal of the farthest owned pixel centre unless
         // the corner sits in a sliver between pixel centres.
         let frame = Frame::pixels(200, 150).unwrap();
         let sites = crate::io::sites::random_sites(300, 7, &frame);
-        let radii = cell_radii(&sites, &frame, default_bin(&frame, sites.len()));
+        let radii: Vec<f64> = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()))
+            .iter()
+            .map(|b| b.radius)
+            .collect();
         let mut width = vec![0.0f64; sites.len()];
         for y in 0..150 {
             for x in 0..200 {
