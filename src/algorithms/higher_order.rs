@@ -513,7 +513,7 @@ fn read_labels(
     let ids: &[u32] = bytemuck::cast_slice(&ids.mapped()[..frame.len() * k * 4]);
     let mut labels = vec![0u32; ids.len()];
     let mut distances = vec![0f32; ids.len()];
-    let to_world = 1.0 / frame.scale;
+    let to_world = (1.0 / frame.scale) as f32;
     let row = k * width;
     ids.par_chunks(row)
         .zip(labels.par_chunks_mut(row))
@@ -523,7 +523,6 @@ fn read_labels(
             labels.copy_from_slice(ids);
             // L2 on its own: the metric's match out of the innermost loops.
             let at = (pixels, j);
-            let to_world = to_world as f32;
             match metric {
                 Metric::L2 => {
                     level_distances(labels, distances, k, at, DVec2::length_squared, |key| {

@@ -1,7 +1,31 @@
 //! A bucket grid over a point set for exact nearest-point queries: the check that
-//! turns a pixel answer into an exact one.
+//! turns a pixel answer into an exact one; and the counting sort that every
+//! bucketed structure of pixgeo is built with.
 
 use glam::DVec2;
+
+/// Items grouped by bucket (a counting sort, stable): those of bucket `b` are
+/// `grouped[start[b]..start[b + 1]]`, in the order `items` gives them. Returns
+/// `(start, grouped)`; `items` is walked twice.
+pub fn group_by_bucket<T: Copy + Default>(
+    buckets: usize,
+    items: impl Iterator<Item = (usize, T)> + Clone,
+) -> (Vec<u32>, Vec<T>) {
+    let mut start = vec![0u32; buckets + 1];
+    for (b, _) in items.clone() {
+        start[b + 1] += 1;
+    }
+    for b in 0..buckets {
+        start[b + 1] += start[b];
+    }
+    let mut fill = start.clone();
+    let mut grouped = vec![T::default(); start[buckets] as usize];
+    for (b, item) in items {
+        grouped[fill[b] as usize] = item;
+        fill[b] += 1;
+    }
+    (start, grouped)
+}
 
 /// Points binned into square buckets over their bounding box.
 pub struct PointGrid<'a> {
@@ -34,22 +58,12 @@ impl<'a> PointGrid<'a> {
             cell,
             nx,
             ny,
-            start: vec![0; nx * ny + 1],
-            order: vec![0; points.len()],
+            start: Vec::new(),
+            order: Vec::new(),
         };
-        for p in points {
-            let b = grid.bucket(*p);
-            grid.start[b + 1] += 1;
-        }
-        for b in 0..nx * ny {
-            grid.start[b + 1] += grid.start[b];
-        }
-        let mut fill = grid.start.clone();
-        for (i, p) in points.iter().enumerate() {
-            let b = grid.bucket(*p);
-            grid.order[fill[b] as usize] = i as u32;
-            fill[b] += 1;
-        }
+        let buckets = points.iter().map(|p| grid.bucket(*p));
+        (grid.start, grid.order) =
+            group_by_bucket(nx * ny, buckets.enumerate().map(|(i, b)| (b, i as u32)));
         grid
     }
 

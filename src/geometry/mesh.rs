@@ -12,6 +12,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
+use super::buckets::group_by_bucket;
 pub use super::triangulation::DUMMY;
 
 /// No triangle.
@@ -96,28 +97,20 @@ impl Mesh {
     pub fn new(points: Vec<DVec2>, triangles: Vec<[u32; 3]>) -> Result<Self, String> {
         let n = points.len();
         let slot = |v: u32| if v == DUMMY { n } else { v as usize };
+        if let Some((t, v)) = triangles
+            .iter()
+            .flat_map(|t| t.iter().map(move |&v| (t, v)))
+            .find(|&(_, v)| v != DUMMY && v as usize >= n)
+        {
+            return Err(format!("triangle {t:?} names vertex {v} of {n}"));
+        }
         // The edges leaving each vertex, as (triangle, edge) in CSR order.
-        let mut start = vec![0u32; n + 2];
-        for t in &triangles {
-            for &v in t {
-                if v != DUMMY && v as usize >= n {
-                    return Err(format!("triangle {t:?} names vertex {v} of {n}"));
-                }
-                start[slot(v) + 1] += 1;
-            }
-        }
-        for k in 1..start.len() {
-            start[k] += start[k - 1];
-        }
-        let mut fill = start.clone();
-        let mut leaving = vec![(0u32, 0u8); 3 * triangles.len()];
-        for (k, t) in triangles.iter().enumerate() {
-            for (e, &v) in t.iter().enumerate() {
-                let s = &mut fill[slot(v)];
-                leaving[*s as usize] = (k as u32, e as u8);
-                *s += 1;
-            }
-        }
+        let corners = triangles.iter().enumerate().flat_map(|(k, t)| {
+            t.iter()
+                .enumerate()
+                .map(move |(e, &v)| (slot(v), (k as u32, e as u8)))
+        });
+        let (start, leaving) = group_by_bucket(n + 1, corners);
         let edges_of = |v: u32| &leaving[start[slot(v)] as usize..start[slot(v) + 1] as usize];
         // Each edge's twin: the triangle and the twin's edge index there.
         let twins: Vec<([u32; 3], [u8; 3])> = triangles

@@ -12,6 +12,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::{
+    buckets::group_by_bucket,
     cell::clip_convex,
     frame::{distance2_to_rect, farthest2_in_rect},
     Frame,
@@ -271,19 +272,10 @@ impl DelaunayNeighbours {
                 strip_edges(sites, &members, |i| strip[i as usize] == k)
             })
             .collect();
-        let mut start = vec![0u32; sites.len() + 1];
-        for &(a, _) in edges.iter().flatten() {
-            start[a as usize + 1] += 1;
-        }
-        for s in 0..sites.len() {
-            start[s + 1] += start[s];
-        }
-        let mut fill = start.clone();
-        let mut list = vec![0u32; start[sites.len()] as usize];
-        for &(a, b) in edges.iter().flatten() {
-            list[fill[a as usize] as usize] = b;
-            fill[a as usize] += 1;
-        }
+        let (start, list) = group_by_bucket(
+            sites.len(),
+            edges.iter().flatten().map(|&(a, b)| (a as usize, b)),
+        );
         Self { start, list }
     }
 
@@ -670,20 +662,10 @@ impl Grid {
             let iy = ((p.y + 0.5) / cell).floor().clamp(0.0, (ny - 1) as f64) as usize;
             iy * nx + ix
         };
-        let mut start = vec![0u32; nx * ny + 1];
-        for p in sites {
-            start[index(*p) + 1] += 1;
-        }
-        for k in 0..nx * ny {
-            start[k + 1] += start[k];
-        }
-        let mut fill = start.clone();
-        let mut order = vec![0u32; sites.len()];
-        for (i, p) in sites.iter().enumerate() {
-            let k = index(*p);
-            order[fill[k] as usize] = i as u32;
-            fill[k] += 1;
-        }
+        let (start, order) = group_by_bucket(
+            nx * ny,
+            sites.iter().enumerate().map(|(i, p)| (index(*p), i as u32)),
+        );
         let position = order.iter().map(|&i| sites[i as usize]).collect();
         Self {
             cell,
