@@ -110,22 +110,31 @@ fn potential_areas_match_the_definition() {
 #[test]
 fn faithful_and_spans_count_alike() {
     let machine = common::machine();
-    let frame = Frame::pixels(96, 80).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
-    let rivals = common::uniform(&mut rng, 5, 96.0, 80.0);
-    for metric in [Metric::L2, Metric::Lp(0.5), Metric::LInf] {
-        let spans = gpu(&machine, &rivals, &[], frame, metric, SettleMethod::Spans);
-        let faithful = gpu(
-            &machine,
-            &rivals,
-            &[],
-            frame,
-            metric,
-            SettleMethod::Faithful,
-        );
-        assert_eq!(spans.area, faithful.area, "{metric}");
-        assert_eq!(spans.best, faithful.best);
-        assert_eq!(faithful.stats.readbacks, 2);
+    // Wide and tall: the spans along diagonals are clipped by both.
+    for (width, height) in [(96, 80), (40, 90)] {
+        let frame = Frame::pixels(width, height).unwrap();
+        let rivals = common::uniform(&mut rng, 5, width as f64, height as f64);
+        for metric in [
+            Metric::L2,
+            Metric::L1,
+            Metric::Lp(0.5),
+            Metric::Lp(3.0),
+            Metric::LInf,
+        ] {
+            let spans = gpu(&machine, &rivals, &[], frame, metric, SettleMethod::Spans);
+            let faithful = gpu(
+                &machine,
+                &rivals,
+                &[],
+                frame,
+                metric,
+                SettleMethod::Faithful,
+            );
+            assert_eq!(spans.area, faithful.area, "{metric} {width}x{height}");
+            assert_eq!(spans.best, faithful.best);
+            assert_eq!(faithful.stats.readbacks, 2);
+        }
     }
 }
 

@@ -146,7 +146,7 @@ fn colouring(
         PixelPhase::Roots => (2, 0.0f32),
         PixelPhase::Depth { scale, .. } => (3, scale),
     };
-    machine.with_compute_buffers([&seed_buffer, &output], |set| {
+    machine.with_compute_buffers(&[&seed_buffer, &output], |set| {
         machine.run(|pass| {
             let kernel = BufferKernel::EuclideanColouring;
             let push = |phase: u32| [width, height, phase, scale.to_bits()];
@@ -289,8 +289,8 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
         .filter(|&s| s > 0)
         .collect();
     let chunk = crate::machine::MAX_GROUPS * BufferKernel::JumpFlood.group();
-    machine.with_compute_buffers([&a, &b], |forward| {
-        machine.with_compute_buffers([&b, &a], |backward| {
+    machine.with_compute_buffers(&[&a, &b], |forward| {
+        machine.with_compute_buffers(&[&b, &a], |backward| {
             machine.run(|pass| {
                 for (k, &step) in steps.iter().enumerate() {
                     let set = if k % 2 == 0 { forward } else { backward };
@@ -355,7 +355,7 @@ pub fn dualize(
     loop {
         let mut output = machine.storage_buffer((4 + 12 * capacity) as u64)?;
         output.fill(0);
-        machine.with_compute_buffers([&input, &output], |set| {
+        machine.with_compute_buffers(&[&input, &output], |set| {
             machine.run(|pass| {
                 let push = [width, height, capacity as u32];
                 let strips = (height + 1).div_ceil(64);

@@ -14,11 +14,12 @@
 //!   the stencil counts covering discs with wrap-around and every 256th one adds
 //!   1/255 to a colour channel by blending (Fig. 3.49). After 255 wraps per
 //!   channel the next channel counts; after four the picture is read back.
-//! - [`SettleMethod::Spans`]: the idea of §3.12.3 on the device. Every disc adds
-//!   +1 where its span in a row starts and -1 after it ends, and a prefix sum
-//!   along each row yields the counts: work per disc is its height, not its
-//!   area. Each invocation of the compute pass walks one disc's border and adds
-//!   its span ends with atomics.
+//! - [`SettleMethod::Spans`]: the idea of §3.12.3 on the device. A span adds +1
+//!   where it starts and -1 after it ends, and prefix sums along it yield the
+//!   counts: work per disc grows with its radius, not its area. Each invocation
+//!   of the compute pass cuts one disc into a core and caps, spans along rows,
+//!   columns and diagonals (`glsl/settle_spans.comp`), and adds their ends with
+//!   atomics to seven difference pictures; a second kernel sums them.
 //!
 //! Disc radii are metric keys rounded up to the next float32: for L1, L2 and L∞
 //! the keys of integer offsets are exact integers, so the strict comparison
@@ -51,7 +52,7 @@ use super::voronoi::{voronoi, VoronoiOptions};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SettleMethod {
-    /// Row spans and prefix sums (§3.12.3) in a compute pass: the default.
+    /// Spans and prefix sums (§3.12.3) in a compute pass: the default.
     Spans,
     /// The thesis's discs counted by stencil wrap-around and blending (Fig. 3.49).
     Faithful,
@@ -285,6 +286,10 @@ impl Push {
     }
 }
 
+/// Difference pictures of the span counting (`glsl/settle_spans.comp`); the
+/// first ends up holding the counts.
+const SPAN_PICTURES: usize = 7;
+
 fn count_spans(
     machine: &Machine,
     radii: &crate::machine::Buffer,
@@ -294,11 +299,17 @@ fn count_spans(
 ) -> Result<Vec<u32>> {
     let frame = push.frame;
     let pixels = frame.len() as u32;
-    let mut differences = machine.storage_buffer(4 * pixels as u64)?;
-    differences.fill(0);
+    let pictures = (0..SPAN_PICTURES)
+        .map(|_| {
+            let mut picture = machine.storage_buffer(4 * pixels as u64)?;
+            picture.fill(0);
+            Ok(picture)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let buffers: Vec<_> = std::iter::once(radii).chain(&pictures).collect();
     let start = Instant::now();
     let kind = push.metric_code().0;
-    machine.with_compute_buffers([radii, &differences], |set| {
+    machine.with_compute_buffers(&buffers, |set| {
         // About 64 submissions, for progress; each within one dispatch's limits.
         let step = pixels
             .div_ceil(64)
@@ -318,17 +329,17 @@ fn count_spans(
             progress(first as u64, pixels as u64);
         }
         machine.run(|pass| {
-            pass.dispatch(
-                BufferKernel::RowPrefix,
-                set,
-                frame.height,
-                &[frame.width, frame.height],
-            )
+            let (w, h) = (frame.width, frame.height);
+            // Columns, the two kinds of diagonals, rows.
+            for (phase, lines) in [(0, w), (1, w + h - 1), (2, w + h - 1), (3, h)] {
+                pass.dispatch(BufferKernel::SettleSums, set, lines, &[w, h, phase])?;
+            }
+            Ok(())
         })
     })?;
     stats.count_ms = ms(start);
     let start = Instant::now();
-    let area = differences.read::<u32>(pixels as usize);
+    let area = pictures[0].read::<u32>(pixels as usize);
     stats.readback_ms = ms(start);
     Ok(area)
 }

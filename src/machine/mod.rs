@@ -33,7 +33,7 @@ pub use pass::{
     Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, SiteInstance,
     Target, MAX_GROUPS,
 };
-pub use pipelines::{BufferKernel, Program};
+pub use pipelines::{BufferKernel, Program, BUFFER_KERNEL_BINDINGS};
 pub use state::{
     Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams, LogicOp,
     RasterState, StencilOp, StencilTest,
@@ -144,7 +144,7 @@ impl Machine {
                 },
                 vk::DescriptorPoolSize {
                     ty: vk::DescriptorType::STORAGE_BUFFER,
-                    descriptor_count: 16,
+                    descriptor_count: 64,
                 },
             ];
             let info = vk::DescriptorPoolCreateInfo::default()
@@ -175,6 +175,11 @@ impl Machine {
         l.max_image_dimension2_d
             .min(l.max_framebuffer_width)
             .min(l.max_framebuffer_height)
+    }
+
+    /// The most bytes a shader may see of one storage buffer.
+    pub fn max_storage_buffer_bytes(&self) -> u64 {
+        self.ctx.properties.limits.max_storage_buffer_range as u64
     }
 
     /// Number of distinct graphics pipelines created so far.
@@ -474,13 +479,19 @@ impl Machine {
     }
 
     /// Runs `f` with a descriptor set that gives compute kernels
-    /// ([`BufferKernel`]) `buffers` as storage buffers 0 and 1.
+    /// ([`BufferKernel`]) `buffers` as storage buffers 0, 1, … (at most
+    /// [`BUFFER_KERNEL_BINDINGS`]).
     pub fn with_compute_buffers<R>(
         &self,
-        buffers: [&Buffer; 2],
+        buffers: &[&Buffer],
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
-        self.with_set(self.pipelines.buffer_set_layout, None, 0, &buffers, f)
+        if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
+            return Err(Error::InvalidInput(format!(
+                "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
+            )));
+        }
+        self.with_set(self.pipelines.buffer_set_layout, None, 0, buffers, f)
     }
 
     /// A host-visible storage buffer of `bytes` bytes, for kernels and fragment
@@ -574,7 +585,7 @@ impl Machine {
             let squared = near.map_or(0.0, |n| n.squared_scale);
             [w, h, phase, within.to_bits(), capacity, squared.to_bits()]
         };
-        self.with_compute_buffers([&values, &result], |set| {
+        self.with_compute_buffers(&[&values, &result], |set| {
             self.run(|pass| {
                 pass.feed_fragment_buffer(depth, &values, 0)?;
                 pass.dispatch(BufferKernel::Extremum, set, strips, &push(0))?;
@@ -609,7 +620,7 @@ impl Machine {
             let first = match first {
                 Some(i) => i,
                 None => {
-                    self.with_compute_buffers([&values, &result], |set| {
+                    self.with_compute_buffers(&[&values, &result], |set| {
                         self.run(|pass| {
                             pass.dispatch(BufferKernel::Extremum, set, strips, &push(1))
                         })

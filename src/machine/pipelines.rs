@@ -120,16 +120,23 @@ impl Kernel {
     }
 }
 
-/// Compute kernels over storage buffers (bindings 0 and 1 of the set that
+/// Storage buffers of the set that [`crate::machine::Machine::with_compute_buffers`]
+/// makes; a kernel uses those it declares.
+pub const BUFFER_KERNEL_BINDINGS: u32 = 8;
+
+/// Compute kernels over storage buffers (bindings 0, 1, … of the set that
 /// [`crate::machine::Machine::with_compute_buffers`] makes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BufferKernel {
-    /// The settle point's span counting: +1/-1 at the ends of every disc's rows,
-    /// one invocation per source pixel, built for the given kind of distance
-    /// function (`ConePush::metric`'s kind).
+    /// The settle point's span counting: every disc's parts into seven
+    /// difference pictures of `i32` in buffers 1 to 7, one invocation per source
+    /// pixel, built for the given kind of distance function
+    /// (`ConePush::metric`'s kind).
     SettleSpans(u32),
-    /// Prefix sums along each row of a picture of `i32`, in place.
-    RowPrefix,
+    /// The counts from those difference pictures, into the first (push
+    /// `[width, height, phase]`, one invocation per column, per diagonal, per
+    /// antidiagonal and per row in phases 0 to 3).
+    SettleSums,
     /// The extremes of a float picture and their first indices, in two phases
     /// (push `[width, height, phase]`, one invocation per 64 rows of a column).
     Extremum,
@@ -153,7 +160,7 @@ impl BufferKernel {
     pub fn group(self) -> u32 {
         match self {
             BufferKernel::SettleSpans(_) => 64,
-            BufferKernel::RowPrefix => 64,
+            BufferKernel::SettleSums => 64,
             BufferKernel::Extremum => 64,
             BufferKernel::JumpFlood => 64,
             BufferKernel::Dualize => 64,
@@ -166,7 +173,7 @@ impl BufferKernel {
             BufferKernel::SettleSpans(kind) => {
                 format!("settle_spans.comp:{}", build_name(kind)?)
             }
-            BufferKernel::RowPrefix => "row_prefix.comp".into(),
+            BufferKernel::SettleSums => "settle_sums.comp".into(),
             BufferKernel::Extremum => "extremum.comp".into(),
             BufferKernel::JumpFlood => "jump_flood.comp".into(),
             BufferKernel::Dualize => "dualize.comp".into(),
@@ -224,7 +231,7 @@ pub(crate) struct Pipelines {
     pub graphics_set_layout: vk::DescriptorSetLayout,
     pub compute_set_layout: vk::DescriptorSetLayout,
     pub compute_layout: vk::PipelineLayout,
-    /// Two storage buffers for compute kernels.
+    /// [`BUFFER_KERNEL_BINDINGS`] storage buffers for compute kernels.
     pub buffer_set_layout: vk::DescriptorSetLayout,
     pub buffer_layout: vk::PipelineLayout,
     graphics: RefCell<HashMap<GraphicsKey, vk::Pipeline>>,
@@ -311,13 +318,15 @@ impl Pipelines {
         pipelines.compute_layout =
             unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
 
-        let bindings = [0, 1].map(|binding| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(binding)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE)
-        });
+        let bindings: Vec<_> = (0..BUFFER_KERNEL_BINDINGS)
+            .map(|binding| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(binding)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; destroyed in `Drop`.
         pipelines.buffer_set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }

@@ -26,8 +26,9 @@ use crate::{input::Input, voronoi::Backend};
 /// to any existing site. Turned around, each pixel p lies in the regions of all
 /// candidates inside the disc around p whose radius is p's distance to its
 /// nearest site, so counting how many discs cover each pixel gives the whole map.
-/// `--method spans` (default) adds +1/-1 at the ends of every disc's rows in a
-/// compute pass and sums each row; `--method faithful` draws every disc and
+/// `--method spans` (default) cuts every disc into spans along rows, columns and
+/// diagonals, adds +1/-1 at their ends in a compute pass and sums along them;
+/// `--method faithful` draws every disc and
 /// counts with the stencil's wrap-around and blending, as the thesis did. Both
 /// give the same counts. With the Euclidean metric the best pixels are then
 /// refined to the exact region area of a real-valued position.
