@@ -2,10 +2,10 @@
 // 2 L-infinity, 3 L_p with exponent p.
 
 // Shaders built once per kind (variants METRIC_L2 METRIC_L1 METRIC_LINF
-// METRIC_LP) have the kind as the constant METRIC_KIND; the others (and the
-// METRIC_ANY builds) read it from their push constants. With the kind read at run time, exact Euclidean cones
+// METRIC_LP) have the kind as the constant METRIC_KIND; the others read it from
+// their push constants. With the kind read at run time, exact Euclidean cones
 // took about 3 times as long on lavapipe (measured): the L_p powers cost them
-// too.
+// too, as lavapipe runs every branch a fragment could take.
 #if defined(METRIC_L2)
 #define METRIC_KIND 0u
 #elif defined(METRIC_L1)

@@ -1,4 +1,5 @@
-// variants: METRIC_L2 METRIC_ANY
+// variants: POINT SEGMENT CURVE
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // The weighted distance of a site of any shape, per fragment (thesis §3.8–3.9:
 // the roof of a segment, the straw hut of a circle, the sliced hut of an arc, with
@@ -8,9 +9,11 @@
 //   kind 2 circle   centre shape0.xy, radius shape0.z
 //   kind 3 arc      centre shape0.xy, radius shape0.z, counter-clockwise from
 //                   angle shape1.x over shape1.y radians
-// The weighted distance is dist * weights.x + weights.y (world units).
-// The Euclidean build has the metric kind as a constant; METRIC_ANY reads it
-// from the push constants (src/machine/pipelines.rs, Program::metric_build).
+// The weighted distance is dist * weights.x + weights.y (world units). Each
+// build handles one shape (POINT, SEGMENT, or CURVE for circles and arcs):
+// lavapipe runs every branch a fragment could take, so one shader for all shapes
+// made every fragment pay for the curves' searches (L1 segments: 12 times
+// slower), and with the metric read at run time, for the L_p searches too.
 #include "common.glsl"
 
 layout(location = 0) flat in vec4 shape0;
@@ -149,13 +152,14 @@ float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
 
 void main() {
     vec2 p = fragment_pixel();
+#if defined(POINT)
+    float d = norm(p - shape0.xy);
+#elif defined(SEGMENT)
+    float d = segment_norm(shape0.xy - p, shape0.zw - p);
+#else
     uint kind = kind_id.x;
     float d;
-    if (kind == 0u) {
-        d = norm(p - shape0.xy);
-    } else if (kind == 1u) {
-        d = segment_norm(shape0.xy - p, shape0.zw - p);
-    } else if (METRIC_KIND != 0u) {
+    if (METRIC_KIND != 0u) {
         float span = kind == 2u ? TAU : min(shape1.y, TAU);
         d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, span);
     } else {
@@ -172,6 +176,7 @@ void main() {
             }
         }
     }
+#endif
     gl_FragDepth = (d * weights.x + weights.y) * picture.fragment_depth_scale;
     out_id = kind_id.y;
 }

@@ -28,7 +28,7 @@ use crate::{
     },
     machine::{
         Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Image, Machine, PixelRect,
-        Program, RasterState, SiteInstance, Target,
+        Program, RasterState, SiteInstance, SiteShape, Target,
     },
 };
 
@@ -174,7 +174,7 @@ pub(crate) fn draw_sites(
     // with per-vertex depths.
     let (draw, reach) = match options.accuracy {
         Accuracy::Exact => {
-            let instances: Vec<SiteInstance> = pixels
+            let mut instances: Vec<SiteInstance> = pixels
                 .iter()
                 .zip(&reaches)
                 .enumerate()
@@ -182,6 +182,8 @@ pub(crate) fn draw_sites(
                     r.map(|(rect, _)| instance(i as u32, s, rect, frame.scale, least_additive))
                 })
                 .collect();
+            // One draw per shape, each with its own program.
+            instances.sort_by_key(|i| SiteShape::of_kind(i.kind_id[0]) as u8);
             (SiteDraw::Exact(instances), envelope_reach)
         }
         Accuracy::Fan { .. } => {
@@ -287,23 +289,38 @@ pub(crate) fn draw_sites(
             let rects = (!visible.is_empty())
                 .then(|| machine.vertex_buffer(&visible))
                 .transpose()?;
-            let (program, first, second, vertex_count, instance_count) = match (&fans, &rects) {
-                (Some((vertices, ids, count)), _) => (
-                    Program::SiteFan,
-                    vertices,
-                    ids,
-                    *count,
-                    u32::from(*count > 0),
-                ),
-                (None, Some(rects)) => (
-                    Program::SiteExact,
-                    &mesh,
-                    rects,
-                    UNIT_SQUARE.len() as u32,
-                    visible.len() as u32,
-                ),
+            // (program, per-vertex buffer, per-instance buffer, vertices, first
+            // instance, instances) of each draw.
+            let draws: Vec<_> = match (&fans, &rects) {
+                (Some((vertices, ids, count)), _) => {
+                    vec![(
+                        Program::SiteFan,
+                        vertices,
+                        ids,
+                        *count,
+                        0,
+                        u32::from(*count > 0),
+                    )]
+                }
+                (None, Some(rects)) => visible
+                    .chunk_by(|a, b| {
+                        SiteShape::of_kind(a.kind_id[0]) == SiteShape::of_kind(b.kind_id[0])
+                    })
+                    .scan(0, |first, run| {
+                        let draw = (
+                            Program::SiteExact(SiteShape::of_kind(run[0].kind_id[0])),
+                            &mesh,
+                            rects,
+                            UNIT_SQUARE.len() as u32,
+                            *first,
+                            run.len() as u32,
+                        );
+                        *first += run.len() as u32;
+                        Some(draw)
+                    })
+                    .collect(),
                 // Nothing reaches the tile: it keeps the "no site" id.
-                (None, None) => (Program::SiteExact, &mesh, &mesh, 0, 0),
+                (None, None) => Vec::new(),
             };
             let push = ConePush {
                 picture_size: [tile_w as f32, tile_h as f32],
@@ -326,20 +343,24 @@ pub(crate) fn draw_sites(
                         stencil: Some(0),
                     },
                 )?;
-                pass.draw_cones(
-                    program,
-                    &RasterState::lower_envelope(),
-                    &DrawParams::default(),
-                    &push,
-                    &ConeDraw {
-                        mesh: first,
-                        first_vertex: 0,
-                        vertex_count,
-                        instances: second,
-                        first_instance: 0,
-                        instance_count,
-                    },
-                )?;
+                for &(program, mesh, instances, vertex_count, first_instance, instance_count) in
+                    &draws
+                {
+                    pass.draw_cones(
+                        program,
+                        &RasterState::lower_envelope(),
+                        &DrawParams::default(),
+                        &push,
+                        &ConeDraw {
+                            mesh,
+                            first_vertex: 0,
+                            vertex_count,
+                            instances,
+                            first_instance,
+                            instance_count,
+                        },
+                    )?;
+                }
                 pass.end()
             })?;
             visit(&DrawnTile {

@@ -33,7 +33,7 @@ pub use pass::{
     Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, SiteInstance,
     Target, MAX_GROUPS,
 };
-pub use pipelines::{BufferKernel, Program, BUFFER_KERNEL_BINDINGS};
+pub use pipelines::{BufferKernel, Program, SiteShape, BUFFER_KERNEL_BINDINGS};
 pub use state::{
     Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams, LogicOp,
     RasterState, StencilOp, StencilTest,

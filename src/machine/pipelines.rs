@@ -49,9 +49,11 @@ pub enum Program {
     /// reads each pixel's radius from the bound storage buffer. Built for the
     /// given kind of distance function (`ConePush::metric`'s kind).
     SettleDisc(u32),
-    /// One rectangle per site of any shape with weights; the fragment writes the
-    /// exact weighted distance (see [`crate::machine::SiteInstance`]).
-    SiteExact,
+    /// One rectangle per site with weights; the fragment writes the exact
+    /// weighted distance (see [`crate::machine::SiteInstance`]). Built for one
+    /// shape of site: the fragment shader then carries no other shape's code,
+    /// which lavapipe would run under masks.
+    SiteExact(SiteShape),
     /// Triangles of fan surfaces with per-vertex position, depth and site id
     /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
     SiteFan,
@@ -67,17 +69,34 @@ pub enum Program {
     Disc,
 }
 
+/// The shapes of sites that [`Program::SiteExact`] is built for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SiteShape {
+    Point,
+    Segment,
+    /// Circles and arcs.
+    Curve,
+}
+
+impl SiteShape {
+    /// The shape drawn for a [`crate::machine::SiteInstance`]'s kind (0 point, 1
+    /// segment, 2 circle, 3 arc).
+    pub fn of_kind(kind: u32) -> Self {
+        match kind {
+            0 => SiteShape::Point,
+            1 => SiteShape::Segment,
+            _ => SiteShape::Curve,
+        }
+    }
+}
+
 impl Program {
     /// The build of the fragment shader for the distance function of kind
-    /// `kind` (`glsl/metric.glsl`), as the kind it is built for or
-    /// [`ANY_METRIC`]; `None` for programs with a single build.
+    /// `kind` (`glsl/metric.glsl`); `None` for programs with a single build.
     fn metric_build(self, kind: u32) -> Option<u32> {
         match self {
-            // Only the Euclidean build has the kind as a constant: with it,
-            // lavapipe ran L1 and L-infinity segments 2.5 times slower than with
-            // the kind read at run time (measured).
-            Program::SiteExact => Some(if kind == 0 { 0 } else { ANY_METRIC }),
-            Program::ConeExact
+            Program::SiteExact(_)
+            | Program::ConeExact
             | Program::SettleDisc(_)
             | Program::ConeExactBatch
             | Program::ConeKNearest
@@ -182,20 +201,14 @@ impl BufferKernel {
     }
 }
 
-/// The build of a metric-dependent shader that reads the kind of distance
-/// function from its push constants.
-const ANY_METRIC: u32 = u32::MAX;
-
 /// The name of a shader's build for a kind of distance function
-/// (`glsl/metric.glsl`: 0 Euclidean, 1 L1, 2 L-infinity, 3 L_p), or for
-/// [`ANY_METRIC`].
+/// (`glsl/metric.glsl`: 0 Euclidean, 1 L1, 2 L-infinity, 3 L_p).
 fn build_name(kind: u32) -> Result<&'static str> {
     match kind {
         0 => Ok("metric_l2"),
         1 => Ok("metric_l1"),
         2 => Ok("metric_linf"),
         3 => Ok("metric_lp"),
-        ANY_METRIC => Ok("metric_any"),
         other => Err(Error::InvalidInput(format!(
             "no distance function of kind {other}"
         ))),
@@ -440,9 +453,13 @@ impl Pipelines {
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
 
-            Program::SiteExact => (
+            Program::SiteExact(shape) => (
                 "site.vert",
-                "site_exact.frag",
+                match shape {
+                    SiteShape::Point => "site_exact.frag:point",
+                    SiteShape::Segment => "site_exact.frag:segment",
+                    SiteShape::Curve => "site_exact.frag:curve",
+                },
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
             Program::SiteFan => (
@@ -634,7 +651,7 @@ impl Pipelines {
             Program::SiteFan => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&fan_bindings)
                 .vertex_attribute_descriptions(&fan_attributes),
-            Program::SiteExact => vk::PipelineVertexInputStateCreateInfo::default()
+            Program::SiteExact(_) => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&site_bindings)
                 .vertex_attribute_descriptions(&site_attributes),
             Program::ConeExactBatch => vk::PipelineVertexInputStateCreateInfo::default()
