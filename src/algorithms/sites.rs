@@ -21,6 +21,7 @@ use rayon::prelude::*;
 use crate::{
     error::{Error, Result},
     geometry::{
+        buckets::group_by_bucket,
         chain::{FanMeshes, MetricFan},
         metric::Metric,
         site::{check_general_sites, Shape, Site},
@@ -478,26 +479,31 @@ fn cull(
         (weighted(s, dlo), weighted(s, dhi), dhi)
     };
     // Sites binned by the cell of their box's centre.
-    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); cx * cy];
-    for (k, s) in sites.iter().enumerate() {
-        let (lo, hi) = s.bounds();
-        let c = 0.5 * (lo + hi);
-        bins[cell_of(c.y, cy) * cx + cell_of(c.x, cx)].push(k as u32);
-    }
+    let (bin_start, binned) = group_by_bucket(
+        cx * cy,
+        sites.iter().enumerate().map(|(k, s)| {
+            let (lo, hi) = s.bounds();
+            let c = 0.5 * (lo + hi);
+            (cell_of(c.y, cy) * cx + cell_of(c.x, cx), k as u32)
+        }),
+    );
+    let bin = |x: usize, y: usize| {
+        let b = y * cx + x;
+        &binned[bin_start[b] as usize..bin_start[b + 1] as usize]
+    };
     // Upper bounds from the sites of the nearest non-empty rings of bins.
     let upper: Vec<f64> = (0..cx * cy)
         .into_par_iter()
         .map(|c| {
-            let (i, j) = ((c % cx) as i64, (c / cx) as i64);
+            let (i, j) = (c % cx, c / cx);
+            let block = [i as i64, j as i64, i as i64, j as i64];
             let mut best = f64::INFINITY;
             for ring in 0..(cx.max(cy) as i64) {
-                for (x, y) in ring_cells(i, j, ring) {
-                    if x >= 0 && y >= 0 && (x as usize) < cx && (y as usize) < cy {
-                        for &k in &bins[y as usize * cx + x as usize] {
-                            best = best.min(range(&sites[k as usize], i as usize, j as usize).1);
-                        }
+                for_ring_cells((cx, cy), block, ring, |x, y| {
+                    for &k in bin(x, y) {
+                        best = best.min(range(&sites[k as usize], i, j).1);
                     }
-                }
+                });
                 // One more ring after the first find tightens the bound cheaply.
                 if best.is_finite() && ring >= 1 {
                     break;
@@ -512,23 +518,29 @@ fn cull(
         .par_iter()
         .map(|s| {
             let (blo, bhi) = s.bounds();
-            let (i0, j0) = (cell_of(blo.x, cx) as i64, cell_of(blo.y, cy) as i64);
-            let (i1, j1) = (cell_of(bhi.x, cx) as i64, cell_of(bhi.y, cy) as i64);
+            let block = [
+                cell_of(blo.x, cx) as i64,
+                cell_of(blo.y, cy) as i64,
+                cell_of(bhi.x, cx) as i64,
+                cell_of(bhi.y, cy) as i64,
+            ];
             let mut rect: Option<(DVec2, DVec2)> = None;
             let mut far = 0.0f64;
             for ring in 0..(cx.max(cy) as i64 + 1) {
                 // Cells of this ring are at least (ring - 1) cells from the box.
                 let gap = ((ring - 1).max(0) as f64) * side;
-                if weighted(s, a * gap) > reach {
+                let nearest = weighted(s, a * gap);
+                if nearest > reach {
                     break;
                 }
-                for (x, y) in box_ring_cells(i0, j0, i1, j1, ring) {
-                    if x < 0 || y < 0 || x as usize >= cx || y as usize >= cy {
-                        continue;
+                for_ring_cells((cx, cy), block, ring, |x, y| {
+                    let bound = upper[y * cx + x];
+                    // Most cells of the outer rings fail already on the ring's gap.
+                    if nearest > bound {
+                        return;
                     }
-                    let (x, y) = (x as usize, y as usize);
                     let (lo, _, d) = range(s, x, y);
-                    if lo <= upper[y * cx + x] {
+                    if lo <= bound {
                         let (p, q) = bounds_of(x, y);
                         far = far.max(d);
                         rect = Some(match rect {
@@ -536,7 +548,7 @@ fn cull(
                             Some((rp, rq)) => (rp.min(p), rq.max(q)),
                         });
                     }
-                }
+                });
             }
             // Half a pixel around the centres, so rasterization keeps the rim; a
             // pixel more of reach for the same reason.
@@ -590,23 +602,35 @@ fn picture_wide(
     (reaches, envelope)
 }
 
-/// The cells of ring `ring` around cell `(i, j)`.
-fn ring_cells(i: i64, j: i64, ring: i64) -> Vec<(i64, i64)> {
-    box_ring_cells(i, j, i, j, ring)
-}
-
-/// The cells at Chebyshev distance exactly `ring` from the block of cells
-/// `[i0, i1] x [j0, j1]`.
-fn box_ring_cells(i0: i64, j0: i64, i1: i64, j1: i64, ring: i64) -> Vec<(i64, i64)> {
-    if ring == 0 {
-        return (j0..=j1)
-            .flat_map(|y| (i0..=i1).map(move |x| (x, y)))
-            .collect();
-    }
+/// Visits the cells of a `grid` (columns, rows) at Chebyshev distance exactly
+/// `ring` from the block of cells `[i0, j0, i1, j1]`.
+fn for_ring_cells(
+    (cx, cy): (usize, usize),
+    [i0, j0, i1, j1]: [i64; 4],
+    ring: i64,
+    mut visit: impl FnMut(usize, usize),
+) {
     let (x0, x1, y0, y1) = (i0 - ring, i1 + ring, j0 - ring, j1 + ring);
-    let mut out: Vec<(i64, i64)> = (x0..=x1).flat_map(|x| [(x, y0), (x, y1)]).collect();
-    out.extend((y0 + 1..y1).flat_map(|y| [(x0, y), (x1, y)]));
-    out
+    let (cx, cy) = (cx as i64, cy as i64);
+    let columns = x0.max(0)..=x1.min(cx - 1);
+    let mut row = |y: i64| columns.clone().for_each(|x| visit(x as usize, y as usize));
+    if ring == 0 {
+        (y0.max(0)..=y1.min(cy - 1)).for_each(&mut row);
+        return;
+    }
+    // The top and bottom rows whole, the rows between at both ends.
+    for y in [y0, y1] {
+        if (0..cy).contains(&y) {
+            row(y);
+        }
+    }
+    for y in (y0 + 1).max(0)..=(y1 - 1).min(cy - 1) {
+        for x in [x0, x1] {
+            if (0..cx).contains(&x) {
+                visit(x as usize, y as usize);
+            }
+        }
+    }
 }
 
 /// The range of the site's shape distance over a box of half-extents `half`
