@@ -290,34 +290,37 @@ pub(crate) fn draw_sites(
             let rects = (!visible.is_empty())
                 .then(|| machine.vertex_buffer(&visible))
                 .transpose()?;
-            // (program, per-vertex buffer, per-instance buffer, vertices, first
-            // instance, instances) of each draw.
-            let draws: Vec<_> = match (&fans, &rects) {
-                (Some((vertices, ids, count)), _) => {
-                    vec![(
-                        Program::SiteFan,
-                        vertices,
-                        ids,
-                        *count,
-                        0,
-                        u32::from(*count > 0),
-                    )]
-                }
+            let draws: Vec<(Program, ConeDraw)> = match (&fans, &rects) {
+                (Some((vertices, ids, count)), _) => vec![(
+                    Program::SiteFan,
+                    ConeDraw {
+                        mesh: vertices,
+                        first_vertex: 0,
+                        vertex_count: *count,
+                        instances: ids,
+                        first_instance: 0,
+                        instance_count: u32::from(*count > 0),
+                    },
+                )],
+                // One draw per shape.
                 (None, Some(rects)) => visible
                     .chunk_by(|a, b| {
                         SiteShape::of_kind(a.kind_id[0]) == SiteShape::of_kind(b.kind_id[0])
                     })
                     .scan(0, |first, run| {
-                        let draw = (
-                            Program::SiteExact(SiteShape::of_kind(run[0].kind_id[0])),
-                            &mesh,
-                            rects,
-                            UNIT_SQUARE.len() as u32,
-                            *first,
-                            run.len() as u32,
-                        );
+                        let draw = ConeDraw {
+                            mesh: &mesh,
+                            first_vertex: 0,
+                            vertex_count: UNIT_SQUARE.len() as u32,
+                            instances: rects,
+                            first_instance: *first,
+                            instance_count: run.len() as u32,
+                        };
                         *first += run.len() as u32;
-                        Some(draw)
+                        Some((
+                            Program::SiteExact(SiteShape::of_kind(run[0].kind_id[0])),
+                            draw,
+                        ))
                     })
                     .collect(),
                 // Nothing reaches the tile: it keeps the "no site" id.
@@ -344,22 +347,13 @@ pub(crate) fn draw_sites(
                         stencil: Some(0),
                     },
                 )?;
-                for &(program, mesh, instances, vertex_count, first_instance, instance_count) in
-                    &draws
-                {
+                for (program, draw) in &draws {
                     pass.draw_cones(
-                        program,
+                        *program,
                         &RasterState::lower_envelope(),
                         &DrawParams::default(),
                         &push,
-                        &ConeDraw {
-                            mesh,
-                            first_vertex: 0,
-                            vertex_count,
-                            instances,
-                            first_instance,
-                            instance_count,
-                        },
+                        draw,
                     )?;
                 }
                 pass.end()
