@@ -256,4 +256,13 @@ fn bad_input_is_an_error() {
     assert!(run(&[], &[]).is_err());
     assert!(run(&[DVec2::new(f64::NAN, 1.0)], &[]).is_err());
     assert!(run(&[DVec2::ONE], &[DVec2::new(1.0, f64::INFINITY)]).is_err());
+    // Beyond one storage buffer's reach (lavapipe: 128 MB, 5792² counts).
+    if machine.max_storage_buffer_bytes() < 4 * 8192 * 8192 {
+        let huge = SettleOptions {
+            frame: Frame::pixels(8192, 8192).unwrap(),
+            ..options
+        };
+        let error = potential_areas(&machine, &[DVec2::ONE], &[], &huge, &mut |_, _| {});
+        assert!(error.unwrap_err().to_string().contains("smaller picture"));
+    }
 }

@@ -210,6 +210,18 @@ pub fn potential_areas(
             limit: side,
         });
     }
+    // Each of the span counting's difference pictures is one storage buffer.
+    let bytes = 4 * frame.len() as u64;
+    if options.method == SettleMethod::Spans && bytes > machine.max_storage_buffer_bytes() {
+        return Err(Error::InvalidInput(format!(
+            "span counting needs {} MB per picture of {}x{} counts; the device allows {} MB \
+             per buffer (use a smaller picture)",
+            bytes >> 20,
+            frame.width,
+            frame.height,
+            machine.max_storage_buffer_bytes() >> 20
+        )));
+    }
     let start = Instant::now();
     let diagram_options = VoronoiOptions {
         metric: options.metric,
@@ -299,9 +311,10 @@ fn count_spans(
 ) -> Result<Vec<u32>> {
     let frame = push.frame;
     let pixels = frame.len() as u32;
+    let bytes = 4 * pixels as u64;
     let pictures = (0..SPAN_PICTURES)
         .map(|_| {
-            let mut picture = machine.storage_buffer(4 * pixels as u64)?;
+            let mut picture = machine.storage_buffer(bytes)?;
             picture.fill(0);
             Ok(picture)
         })
