@@ -29,12 +29,12 @@ float metric_key_of(vec2 d, uint kind, float p) {
         return max(a.x, a.y);
     }
     // L_p: the distance itself, scaled by the larger coordinate so that large p
-    // neither overflows nor underflows float32.
+    // neither overflows nor underflows float32. The larger term is 1.
     float m = max(a.x, a.y);
     if (m == 0.0) {
         return 0.0;
     }
-    return m * pow(pow(a.x / m, p) + pow(a.y / m, p), 1.0 / p);
+    return m * pow(1.0 + pow(min(a.x, a.y) / m, p), 1.0 / p);
 }
 
 // The distance of a key.

@@ -213,12 +213,13 @@ impl Metric {
             Self::L1 => a.x + a.y,
             Self::LInf => a.x.max(a.y),
             Self::Lp(p) => {
-                // Scaled by the larger coordinate: no overflow for large p.
+                // Scaled by the larger coordinate: no overflow for large p. The
+                // larger term is 1 (as in glsl/metric.glsl, one power fewer).
                 let m = a.x.max(a.y);
                 if m == 0.0 {
                     0.0
                 } else {
-                    m * ((a.x / m).powf(p) + (a.y / m).powf(p)).powf(1.0 / p)
+                    m * (1.0 + (a.x.min(a.y) / m).powf(p)).powf(1.0 / p)
                 }
             }
             Self::Polygon(g) => g.of(d),
