@@ -25,7 +25,7 @@ use crate::{
     geometry::{
         chain,
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
-        frame::{check_sites, distance2_to_rect},
+        frame::{check_sites, distance2_to_rect, farthest2_in_rect},
         metric::Metric,
         radius, Frame,
     },
@@ -603,9 +603,38 @@ fn cone_attempts(
         Speedup::Local if metric != Metric::L2 => {
             // Other metrics' regions are not cut by straight bisectors: bound them
             // from the Euclidean cover, stretched by the metric's bounds.
-            let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), 1);
-            let radii = radius::k_local_radii(pixels, frame, 1, cell, bin, metric.stretch());
-            vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))]
+            let local_radii = || {
+                let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), 1);
+                radius::k_local_radii(pixels, frame, 1, cell, bin, metric.stretch())
+            };
+            // L1 and L∞ regions lie in boxes from their neighbours, clipped to the
+            // picture's pixel centres. The cover bounds the sites left without,
+            // and L∞'s boxes too: they hold diamonds, which it cuts.
+            let Some(boxes) = radius::region_boxes(pixels, frame, metric) else {
+                let radii = local_radii();
+                return vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))];
+            };
+            let radii =
+                (metric == Metric::LInf || boxes.iter().any(Option::is_none)).then(local_radii);
+            let (first, last) = frame.pixel_centres();
+            let clipped: Vec<Option<(DVec2, DVec2)>> = boxes
+                .iter()
+                .map(|b| b.map(|(lo, hi)| (lo.clamp(first, last), hi.clamp(first, last))))
+                .collect();
+            let mut cones = cones_with(&|i| {
+                let cover = radii.as_ref().map_or(f64::INFINITY, |r| r[i] + 0.5);
+                let corner = clipped[i].map_or(f64::INFINITY, |(lo, hi)| {
+                    farthest2_in_rect(pixels[i], lo, hi).sqrt() + 0.5
+                });
+                cover.min(corner).min(picture_wide[i])
+            });
+            for cone in &mut cones {
+                if let Some((lo, hi)) = clipped[cone.id as usize] {
+                    cone.lo = cone.lo.max(lo - 0.5);
+                    cone.hi = cone.hi.min(hi + 0.5);
+                }
+            }
+            vec![(None, cones)]
         }
         Speedup::Local => {
             let bounds =

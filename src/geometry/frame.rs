@@ -142,7 +142,7 @@ impl Frame {
     }
 
     /// The rectangle of pixel centres `[0, w-1] x [0, h-1]`, as its corners.
-    fn pixel_centres(&self) -> (DVec2, DVec2) {
+    pub(crate) fn pixel_centres(&self) -> (DVec2, DVec2) {
         let far = DVec2::new((self.width - 1) as f64, (self.height - 1) as f64);
         (DVec2::ZERO, far)
     }

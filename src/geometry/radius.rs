@@ -15,6 +15,7 @@ use super::{
     buckets::group_by_bucket,
     cell::clip_convex,
     frame::{distance2_to_rect, farthest2_in_rect},
+    metric::Metric,
     Frame,
 };
 
@@ -100,6 +101,82 @@ fn deepest_full_level(sites: &[DVec2], frame: &Frame, k: usize) -> (f64, Option<
         }
     }
     (side, full_level)
+}
+
+/// Boxes `[lo, hi]` that hold each site's region under L1 or L∞ (`None` for the
+/// other metrics), from its Delaunay neighbours (`DelaunayNeighbours`).
+///
+/// Under L1, a site t in the cone above s (|t.x - s.x| < t.y - s.y) is nearer
+/// than s to every point higher than (s.y + t.y + |t.x - s.x|) / 2: there the
+/// vertical offsets differ by more than the horizontal ones can make up. So that
+/// height bounds the region of s from above, the other three cones bound it
+/// likewise, and any set of sites gives a valid box (rounding aside, which the
+/// callers' half pixel covers). L∞ is L1 of the coordinates ((x + y) / 2,
+/// (x - y) / 2), where the same box becomes a diamond. A cone without a
+/// neighbour takes the neighbours' neighbours; a side still without one stays
+/// unbounded (infinite). A site the triangulation leaves out (a duplicate, every
+/// site of a collinear set) gets `None`.
+pub fn region_boxes(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+) -> Option<Vec<Option<(DVec2, DVec2)>>> {
+    // Coordinates in which the metric is L1.
+    let to: fn(DVec2) -> DVec2 = match metric {
+        Metric::L1 => |p| p,
+        Metric::LInf => |p| DVec2::new(p.x + p.y, p.x - p.y) * 0.5,
+        _ => return None,
+    };
+    let neighbours = DelaunayNeighbours::of(sites, frame);
+    let boxes = (0..sites.len())
+        .into_par_iter()
+        .map(|i| {
+            let s = to(sites[i]);
+            let ring = neighbours.of_site(i);
+            if ring.is_empty() {
+                return None;
+            }
+            let mut bounds = (DVec2::NEG_INFINITY, DVec2::INFINITY);
+            for &t in ring {
+                tighten_l1_box(&mut bounds, s, to(sites[t as usize]));
+            }
+            // A cone the neighbours miss often holds one of theirs.
+            if !(bounds.0.is_finite() && bounds.1.is_finite()) {
+                for &t in ring {
+                    for &u in neighbours.of_site(t as usize) {
+                        tighten_l1_box(&mut bounds, s, to(sites[u as usize]));
+                    }
+                }
+            }
+            let (lo, hi) = bounds;
+            Some(if metric == Metric::L1 {
+                (lo, hi)
+            } else {
+                // The diamond's box: x = u + v, y = u - v.
+                (
+                    DVec2::new(lo.x + lo.y, lo.x - hi.y),
+                    DVec2::new(hi.x + hi.y, hi.x - lo.y),
+                )
+            })
+        })
+        .collect();
+    Some(boxes)
+}
+
+/// Narrows the L1 box `(lo, hi)` of the region of s by a site t (see
+/// [`region_boxes`]).
+fn tighten_l1_box((lo, hi): &mut (DVec2, DVec2), s: DVec2, t: DVec2) {
+    let d = t - s;
+    let a = d.abs();
+    if a.x < d.y {
+        hi.y = hi.y.min(s.y + 0.5 * (d.y + a.x));
+    } else if a.x < -d.y {
+        lo.y = lo.y.max(s.y - 0.5 * (-d.y + a.x));
+    } else if a.y < d.x {
+        hi.x = hi.x.min(s.x + 0.5 * (d.x + a.y));
+    } else if a.y < -d.x {
+        lo.x = lo.x.max(s.x - 0.5 * (-d.x + a.y));
+    }
 }
 
 /// The radii of the thesis's retry loop: start a little above the lower bound
@@ -817,6 +894,51 @@ mod tests {
         sites.extend((0..100).map(|i| DVec2::new(i as f64 * 1.2, 45.0)));
         let bounds = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()));
         assert_bounds_hold_owned_pixels(&sites, &frame, &bounds, "strips");
+    }
+
+    #[test]
+    fn region_boxes_hold_every_owned_pixel() {
+        // Under L1 and L∞ (ties included, which fill whole areas): random sites,
+        // a lattice, a diagonal run, duplicates and sites outside the picture.
+        let frame = Frame::pixels(64, 48).unwrap();
+        let mut sites = crate::io::sites::random_sites(60, 5, &frame);
+        sites
+            .extend((0..12).map(|i| DVec2::new(8.0 * (i % 4) as f64, 30.0 + 6.0 * (i / 4) as f64)));
+        sites.extend((0..6).map(|i| DVec2::new(40.0 + 3.0 * i as f64, 3.0 * i as f64)));
+        sites.extend_from_within(..5);
+        sites.extend([DVec2::new(70.0, -6.0), DVec2::new(-4.0, 20.0)]);
+        for metric in [Metric::L1, Metric::LInf] {
+            let boxes = region_boxes(&sites, &frame, metric).unwrap();
+            let mut bounded = 0;
+            for y in 0..frame.height {
+                for x in 0..frame.width {
+                    let q = DVec2::new(x as f64, y as f64);
+                    let d = sites
+                        .iter()
+                        .map(|s| metric.distance(*s - q))
+                        .fold(f64::INFINITY, f64::min);
+                    for (i, s) in sites.iter().enumerate() {
+                        if let (true, Some((lo, hi))) = (metric.distance(*s - q) == d, boxes[i]) {
+                            assert!(
+                                q.cmpge(lo - 1e-9).all() && q.cmple(hi + 1e-9).all(),
+                                "{metric}: pixel {q} of site {i} outside {lo} .. {hi}"
+                            );
+                        }
+                    }
+                }
+            }
+            for (lo, hi) in boxes.iter().flatten() {
+                bounded += (lo.is_finite() && hi.is_finite()) as usize;
+            }
+            // The duplicates are left out.
+            assert!(boxes.iter().filter(|b| b.is_none()).count() >= 5);
+            // Sites inside the hull get boxes bounded on all four sides.
+            assert!(
+                bounded > sites.len() / 4,
+                "{metric}: {bounded} bounded boxes"
+            );
+        }
+        assert!(region_boxes(&sites, &frame, Metric::L2).is_none());
     }
 
     #[test]
