@@ -1,4 +1,4 @@
-// variants: POINT SEGMENT CURVE
+// variants: POINT SEGMENT CIRCLE ARC
 // variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // The weighted distance of a site of any shape, per fragment (thesis §3.8–3.9:
@@ -10,7 +10,7 @@
 //   kind 3 arc      centre shape0.xy, radius shape0.z, counter-clockwise from
 //                   angle shape1.x over shape1.y radians
 // The weighted distance is dist * weights.x + weights.y (world units). Each
-// build handles one shape (POINT, SEGMENT, or CURVE for circles and arcs):
+// build handles one shape (POINT, SEGMENT, CIRCLE or ARC):
 // lavapipe runs every branch a fragment could take, so one shader for all shapes
 // made every fragment pay for the curves' searches (L1 segments: 12 times
 // slower), and with the metric read at run time, for the L_p searches too.
@@ -156,17 +156,23 @@ void main() {
     float d = norm(p - shape0.xy);
 #elif defined(SEGMENT)
     float d = segment_norm(shape0.xy - p, shape0.zw - p);
-#else
-    uint kind = kind_id.x;
+#elif defined(CIRCLE)
     float d;
     if (METRIC_KIND != 0u) {
-        float span = kind == 2u ? TAU : min(shape1.y, TAU);
+        d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, TAU);
+    } else {
+        d = abs(length(p - shape0.xy) - shape0.z);
+    }
+#else
+    float d;
+    if (METRIC_KIND != 0u) {
+        float span = min(shape1.y, TAU);
         d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, span);
     } else {
         vec2 v = p - shape0.xy;
         float r = shape0.z;
         d = abs(length(v) - r);
-        if (kind == 3u && shape1.y < TAU && dot(v, v) > 0.0) {
+        if (shape1.y < TAU && dot(v, v) > 0.0) {
             float along = mod(atan(v.y, v.x) - shape1.x, TAU);
             if (along > shape1.y) {
                 vec2 e0 = shape0.xy + r * vec2(cos(shape1.x), sin(shape1.x));

@@ -74,8 +74,8 @@ pub enum Program {
 pub enum SiteShape {
     Point,
     Segment,
-    /// Circles and arcs.
-    Curve,
+    Circle,
+    Arc,
 }
 
 impl SiteShape {
@@ -85,7 +85,8 @@ impl SiteShape {
         match kind {
             0 => SiteShape::Point,
             1 => SiteShape::Segment,
-            _ => SiteShape::Curve,
+            2 => SiteShape::Circle,
+            _ => SiteShape::Arc,
         }
     }
 }
@@ -458,7 +459,8 @@ impl Pipelines {
                 match shape {
                     SiteShape::Point => "site_exact.frag:point",
                     SiteShape::Segment => "site_exact.frag:segment",
-                    SiteShape::Curve => "site_exact.frag:curve",
+                    SiteShape::Circle => "site_exact.frag:circle",
+                    SiteShape::Arc => "site_exact.frag:arc",
                 },
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
