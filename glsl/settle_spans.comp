@@ -24,8 +24,10 @@
 // with (s, s) in the disc: about 2.3 r.
 //
 // Lavapipe (Mesa 22.3) ends every loop of an invocation after 65535 iterations in
-// total; the walks below take at most three per row of the picture, so pictures
-// up to 16384 rows stay below that.
+// total. The walks below take at most about 2 m + 11 (m - A for A, m - A for
+// the caps beyond the sides, b for their half-widths, and the diagonal caps end
+// by k = 2 s + 2, where their middle point leaves the disc; s <= A), and m is
+// below the picture's longer side: sides up to 16384 pixels stay below that.
 #include "settle.glsl"
 
 layout(local_size_x = 64) in;
