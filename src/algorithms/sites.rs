@@ -21,7 +21,7 @@ use rayon::prelude::*;
 use crate::{
     error::{Error, Result},
     geometry::{
-        buckets::group_by_bucket,
+        buckets::{for_ring_cells, group_by_bucket},
         chain::{FanMeshes, MetricFan},
         metric::Metric,
         site::{check_general_sites, Shape, Site},
@@ -490,9 +490,9 @@ fn cull(
         .into_par_iter()
         .map(|c| {
             let (i, j) = (c % cx, c / cx);
-            let block = [i as i64, j as i64, i as i64, j as i64];
+            let block = [i as isize, j as isize, i as isize, j as isize];
             let mut best = f64::INFINITY;
-            for ring in 0..(cx.max(cy) as i64) {
+            for ring in 0..cx.max(cy) {
                 for_ring_cells((cx, cy), block, ring, |x, y| {
                     for &k in bin(x, y) {
                         best = best.min(range(&sites[k as usize], i, j).1);
@@ -513,16 +513,16 @@ fn cull(
         .map(|s| {
             let (blo, bhi) = s.bounds();
             let block = [
-                cell_of(blo.x, cx) as i64,
-                cell_of(blo.y, cy) as i64,
-                cell_of(bhi.x, cx) as i64,
-                cell_of(bhi.y, cy) as i64,
+                cell_of(blo.x, cx) as isize,
+                cell_of(blo.y, cy) as isize,
+                cell_of(bhi.x, cx) as isize,
+                cell_of(bhi.y, cy) as isize,
             ];
             let mut rect: Option<(DVec2, DVec2)> = None;
             let mut far = 0.0f64;
-            for ring in 0..(cx.max(cy) as i64 + 1) {
+            for ring in 0..cx.max(cy) + 1 {
                 // Cells of this ring are at least (ring - 1) cells from the box.
-                let gap = ((ring - 1).max(0) as f64) * side;
+                let gap = ring.saturating_sub(1) as f64 * side;
                 let nearest = weighted(s, a * gap);
                 if nearest > reach {
                     break;
@@ -594,37 +594,6 @@ fn picture_wide(
         })
         .fold(f64::INFINITY, f64::min);
     (reaches, envelope)
-}
-
-/// Visits the cells of a `grid` (columns, rows) at Chebyshev distance exactly
-/// `ring` from the block of cells `[i0, j0, i1, j1]`.
-fn for_ring_cells(
-    (cx, cy): (usize, usize),
-    [i0, j0, i1, j1]: [i64; 4],
-    ring: i64,
-    mut visit: impl FnMut(usize, usize),
-) {
-    let (x0, x1, y0, y1) = (i0 - ring, i1 + ring, j0 - ring, j1 + ring);
-    let (cx, cy) = (cx as i64, cy as i64);
-    let columns = x0.max(0)..=x1.min(cx - 1);
-    let mut row = |y: i64| columns.clone().for_each(|x| visit(x as usize, y as usize));
-    if ring == 0 {
-        (y0.max(0)..=y1.min(cy - 1)).for_each(&mut row);
-        return;
-    }
-    // The top and bottom rows whole, the rows between at both ends.
-    for y in [y0, y1] {
-        if (0..cy).contains(&y) {
-            row(y);
-        }
-    }
-    for y in (y0 + 1).max(0)..=(y1 - 1).min(cy - 1) {
-        for x in [x0, x1] {
-            if (0..cx).contains(&x) {
-                visit(x as usize, y as usize);
-            }
-        }
-    }
 }
 
 /// The range of the site's shape distance over a box of half-extents `half`

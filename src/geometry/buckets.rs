@@ -1,8 +1,33 @@
 //! A bucket grid over a point set for exact nearest-point queries: the check that
-//! turns a pixel answer into an exact one; and the counting sort that every
-//! bucketed structure of pixgeo is built with.
+//! turns a pixel answer into an exact one; the counting sort that every
+//! bucketed structure of pixgeo is built with, and the ring walk they search by.
 
 use glam::DVec2;
+
+/// Visits the cells `(x, y)` of an `nx` x `ny` grid at Chebyshev distance exactly
+/// `ring` from the block of cells `[x0, y0, x1, y1]` (ring 0: the block), row by
+/// row; cells outside the grid are skipped.
+pub fn for_ring_cells(
+    (nx, ny): (usize, usize),
+    [x0, y0, x1, y1]: [isize; 4],
+    ring: usize,
+    mut visit: impl FnMut(usize, usize),
+) {
+    let r = ring as isize;
+    let (nx, ny) = (nx as isize, ny as isize);
+    let columns = (x0 - r).max(0)..=(x1 + r).min(nx - 1);
+    for y in (y0 - r).max(0)..=(y1 + r).min(ny - 1) {
+        if r == 0 || y == y0 - r || y == y1 + r {
+            columns.clone().for_each(|x| visit(x as usize, y as usize));
+        } else {
+            for x in [x0 - r, x1 + r] {
+                if (0..nx).contains(&x) {
+                    visit(x as usize, y as usize);
+                }
+            }
+        }
+    }
+}
 
 /// Items grouped by bucket (a counting sort, stable): those of bucket `b` are
 /// `grouped[start[b]..start[b + 1]]`, in the order `items` gives them. Returns

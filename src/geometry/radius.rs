@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::{
-    buckets::group_by_bucket,
+    buckets::{for_ring_cells, group_by_bucket},
     cell::clip_convex,
     frame::{distance2_to_rect, farthest2_in_rect},
     metric::Metric,
@@ -775,16 +775,12 @@ impl Grid {
     /// coordinates, widened by half a pixel) and its sites.
     fn for_ring_bins(
         &self,
-        [x0, y0, x1, y1]: [isize; 4],
+        rect: [isize; 4],
         ring: usize,
         mut f: impl FnMut(DVec2, DVec2, &[u32], &[DVec2]),
     ) {
-        let r = ring as isize;
-        let mut bin = |x: isize, y: isize| {
-            if x < 0 || y < 0 || x >= self.nx as isize || y >= self.ny as isize {
-                return;
-            }
-            let k = y as usize * self.nx + x as usize;
+        for_ring_cells((self.nx, self.ny), rect, ring, |x, y| {
+            let k = y * self.nx + x;
             let (from, to) = (self.start[k] as usize, self.start[k + 1] as usize);
             let lo = DVec2::new(x as f64, y as f64) * self.cell - 0.5;
             f(
@@ -793,19 +789,7 @@ impl Grid {
                 &self.order[from..to],
                 &self.position[from..to],
             );
-        };
-        for y in y0 - r..=y1 + r {
-            if y == y0 - r || y == y1 + r {
-                for x in x0 - r..=x1 + r {
-                    bin(x, y);
-                }
-            } else {
-                bin(x0 - r, y);
-                if r > 0 || x1 > x0 {
-                    bin(x1 + r, y);
-                }
-            }
-        }
+        });
     }
 }
 
