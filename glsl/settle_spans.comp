@@ -87,60 +87,56 @@ void add_column_run(int x, int y0, int y1, int value) {
     }
 }
 
-// Row differences `value` at (c - y, y) for rows y0 .. y1.
-void add_falling_run(int c, int y0, int y1, int value) {
-    // x < 0 below row c: those ends stand at x = 0.
-    add_column_run(0, max(y0, c + 1), y1, value);
-    // x >= width above row c - width + 1: nothing.
-    y0 = max(max(y0, c - settle.size.x + 1), 0);
-    y1 = min(min(y1, c), settle.size.y - 1);
+// The lines x = c + dir y: dir -1 falls (x + y = c), dir 1 rises (x - y = c).
+// Their first and last rows inside the picture (empty if first > last).
+ivec2 line_rows(int c, int dir) {
+    ivec2 rows = dir > 0 ? ivec2(-c, settle.size.x - 1 - c) : ivec2(c - settle.size.x + 1, c);
+    return ivec2(max(rows.x, 0), min(rows.y, settle.size.y - 1));
+}
+
+void add_at_line(bool chord, int dir, int c, int y, int value) {
+    int k = at(c + dir * y, y);
+    if (chord && dir > 0) {
+        atomicAdd(rising_chords[k], value);
+    } else if (chord) {
+        atomicAdd(falling_chords[k], value);
+    } else if (dir > 0) {
+        atomicAdd(rising_runs[k], value);
+    } else {
+        atomicAdd(falling_runs[k], value);
+    }
+}
+
+// `value` at the points of line (c, dir) in rows y0 .. y1 inside the picture,
+// as differences along the line into its chords' or runs' picture.
+void add_line_span(bool chord, int dir, int c, int y0, int y1, int value) {
+    ivec2 rows = line_rows(c, dir);
+    y0 = max(y0, rows.x);
+    y1 = min(y1, rows.y);
     if (y0 <= y1) {
-        atomicAdd(falling_runs[at(c - y0, y0)], value);
-        if (y1 + 1 < settle.size.y && c - y1 - 1 >= 0) {
-            atomicAdd(falling_runs[at(c - y1 - 1, y1 + 1)], -value);
+        add_at_line(chord, dir, c, y0, value);
+        if (y1 < rows.y) {
+            add_at_line(chord, dir, c, y1 + 1, -value);
         }
     }
 }
 
-// Row differences `value` at (c + y, y) for rows y0 .. y1.
-void add_rising_run(int c, int y0, int y1, int value) {
-    add_column_run(0, y0, min(y1, -c - 1), value);
-    y0 = max(max(y0, -c), 0);
-    y1 = min(min(y1, settle.size.x - 1 - c), settle.size.y - 1);
-    if (y0 <= y1) {
-        atomicAdd(rising_runs[at(c + y0, y0)], value);
-        if (y1 + 1 < settle.size.y && c + y1 + 1 < settle.size.x) {
-            atomicAdd(rising_runs[at(c + y1 + 1, y1 + 1)], -value);
-        }
+// Row differences `value` at the points of line (c, dir) in rows y0 .. y1: the
+// run along the line, and where the line has left the picture to the left, a
+// run down column 0.
+void add_run(int dir, int c, int y0, int y1, int value) {
+    // x < 0 below row c (falling) or above row -c (rising).
+    if (dir > 0) {
+        add_column_run(0, y0, min(y1, -c - 1), value);
+    } else {
+        add_column_run(0, max(y0, c + 1), y1, value);
     }
+    add_line_span(false, dir, c, y0, y1, value);
 }
 
-// Pixels (c - y, y) for rows y0 .. y1, clipped to the picture.
-void add_falling_chord(int c, int y0, int y1) {
-    int first = max(0, c - settle.size.x + 1);
-    int last = min(settle.size.y - 1, c);
-    y0 = max(y0, first);
-    y1 = min(y1, last);
-    if (y0 <= y1) {
-        atomicAdd(falling_chords[at(c - y0, y0)], 1);
-        if (y1 < last) {
-            atomicAdd(falling_chords[at(c - y1 - 1, y1 + 1)], -1);
-        }
-    }
-}
-
-// Pixels (c + y, y) for rows y0 .. y1, clipped to the picture.
-void add_rising_chord(int c, int y0, int y1) {
-    int first = max(0, -c);
-    int last = min(settle.size.y - 1, settle.size.x - 1 - c);
-    y0 = max(y0, first);
-    y1 = min(y1, last);
-    if (y0 <= y1) {
-        atomicAdd(rising_chords[at(c + y0, y0)], 1);
-        if (y1 < last) {
-            atomicAdd(rising_chords[at(c + y1 + 1, y1 + 1)], -1);
-        }
-    }
+// Pixels of line (c, dir) in rows y0 .. y1, clipped to the picture.
+void add_chord(int dir, int c, int y0, int y1) {
+    add_line_span(true, dir, c, y0, y1, 1);
 }
 
 // The octagon |x| <= a, |y| <= a, |x| + |y| <= a + b around p.
@@ -154,11 +150,11 @@ void add_core(ivec2 p, int a, int b) {
     if (a > b) {
         // Rows b < y <= a: columns p.x - c + y .. p.x + c - y; the left ends
         // never pass the right edge, nor the right ends the left one.
-        add_rising_run(p.x - p.y - c, p.y + b + 1, p.y + a, 1);
-        add_falling_run(p.x + p.y + c + 1, p.y + b + 1, p.y + a, -1);
+        add_run(1, p.x - p.y - c, p.y + b + 1, p.y + a, 1);
+        add_run(-1, p.x + p.y + c + 1, p.y + b + 1, p.y + a, -1);
         // Rows -a <= y < -b: columns p.x - c - y .. p.x + c + y.
-        add_falling_run(p.x + p.y - c, p.y - a, p.y - b - 1, 1);
-        add_rising_run(p.x - p.y + c + 1, p.y - a, p.y - b - 1, -1);
+        add_run(-1, p.x + p.y - c, p.y - a, p.y - b - 1, 1);
+        add_run(1, p.x - p.y + c + 1, p.y - a, p.y - b - 1, -1);
     }
 }
 
@@ -236,9 +232,9 @@ void main() {
         while (!in_disc(ivec2(u, k - u), key)) {
             ++u;
         }
-        add_falling_chord(p.x + p.y + k, p.y + u, p.y + k - u);
-        add_falling_chord(p.x + p.y - k, p.y - k + u, p.y - u);
-        add_rising_chord(p.x - p.y + k, p.y - k + u, p.y - u);
-        add_rising_chord(p.x - p.y - k, p.y + u, p.y + k - u);
+        add_chord(-1, p.x + p.y + k, p.y + u, p.y + k - u);
+        add_chord(-1, p.x + p.y - k, p.y - k + u, p.y - u);
+        add_chord(1, p.x - p.y + k, p.y - k + u, p.y - u);
+        add_chord(1, p.x - p.y - k, p.y + u, p.y + k - u);
     }
 }
