@@ -610,10 +610,8 @@ fn cone_attempts(
             // L1 and L∞ regions lie in boxes from their neighbours, clipped to the
             // picture's pixel centres. The cover bounds the sites left without,
             // and L∞'s boxes too: they hold diamonds, which it cuts.
-            let Some(boxes) = radius::region_boxes(pixels, frame, metric) else {
-                let radii = local_radii();
-                return vec![(None, cones_with(&|i| (radii[i] + 0.5).min(picture_wide[i])))];
-            };
+            let boxes = radius::region_boxes(pixels, frame, metric)
+                .unwrap_or_else(|| vec![None; pixels.len()]);
             let radii =
                 (metric == Metric::LInf || boxes.iter().any(Option::is_none)).then(local_radii);
             let (first, last) = frame.pixel_centres();
