@@ -7,7 +7,8 @@
 //!
 //! `cargo bench --bench generalized` writes `target/generalized/generalized.md`.
 //! `GENERALIZED_N=100,2000` limits the site counts, `GENERALIZED_REPEATS` sets the
-//! repeats (median reported).
+//! repeats (median reported), `GENERALIZED_KINDS=lp,arcs` keeps the kinds whose
+//! name contains one of the words.
 
 use std::time::Instant;
 
@@ -123,6 +124,17 @@ fn main() -> anyhow::Result<()> {
         Kind::Circles,
         Kind::Arcs,
     ];
+    let wanted: Option<Vec<String>> = std::env::var("GENERALIZED_KINDS")
+        .ok()
+        .map(|s| s.split(',').map(|w| w.trim().to_string()).collect());
+    let kinds: Vec<Kind> = kinds
+        .into_iter()
+        .filter(|k| {
+            wanted
+                .as_ref()
+                .is_none_or(|w| w.iter().any(|w| k.name().contains(w.as_str())))
+        })
+        .collect();
     let modes = [("exact", Accuracy::Exact), ("fan ε=1", Accuracy::FAN)];
     let mut table = String::from(
         "| sites | mode | plain L2 points (ms) | generalization | ms | × L2 points |\n| --- | --- | --- | --- | --- | --- |\n",
@@ -152,7 +164,7 @@ fn main() -> anyhow::Result<()> {
                 Ok(median(times))
             };
             let base = time(None)?;
-            for kind in kinds {
+            for &kind in &kinds {
                 let t = time(Some(kind))?;
                 let line = format!(
                     "| {n} | {mode} | {base:.1} | {} | {t:.1} | {:.2} |\n",

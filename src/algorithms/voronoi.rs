@@ -194,9 +194,12 @@ pub struct Band {
 struct Cone {
     site: DVec2,
     id: u32,
-    /// Every owned pixel centre lies within this distance; fragments beyond it are
-    /// discarded.
+    /// Every owned pixel centre lies within this (Euclidean) distance; fragments
+    /// beyond it are discarded.
     radius: f64,
+    /// And within this distance in the diagram's metric (the radius for L2): the
+    /// metric ball a footprint must cover.
+    reach: f64,
     /// And inside this box, which batches draw (at most the radius's square).
     lo: DVec2,
     hi: DVec2,
@@ -209,6 +212,9 @@ enum Footprint {
     Batch,
     /// A regular polygon with this many corners (exact cones).
     Polygon(u32),
+    /// A polygon around another metric's ball (exact cones): the metric's circle
+    /// sampled at [`BALL_CORNERS`] equal angles (`chain::MetricFan::Uniform`).
+    Ball,
     /// A triangle fan of this many triangles (for other metrics: over the metric's
     /// circle sampled at equal angles).
     Fan(u32),
@@ -226,6 +232,13 @@ struct Shaped {
     outer_radius: f64,
 }
 
+/// Corners of an exact cone's footprint around another metric's ball: eight
+/// hug every L_p ball within 6% of its area for p in [0.5, 3] and within 50% for
+/// p = 0.3, where the regular polygon around the Euclidean disc that holds the
+/// ball takes up to 5 times the ball's area for p = 0.5 (0.67 r²), 26 times for
+/// p = 0.3.
+const BALL_CORNERS: u32 = 8;
+
 /// Exact cones per batch: the batch programs (`glsl/cone_batch.*`) take eight.
 const BATCH: usize = 8;
 
@@ -233,6 +246,13 @@ const BATCH: usize = 8;
 /// its cones, so one long cone would widen it for all eight; longer cones get a
 /// polygon of their own.
 const BATCH_RADIUS_LIMIT: f64 = 48.0;
+
+/// The same for L_p, whose keys cost two powers: a batch evaluates eight per
+/// fragment, a cone of its own one. Measured at 1024², whole L3 exact diagrams:
+/// 2000 sites (radii about 26) took 66–77 ms batched and 48–57 ms one cone at
+/// a time; 16000 (radii about 9) took 175 ms one at a time and 136 ms batched
+/// up to radius 12.
+const BATCH_RADIUS_LIMIT_LP: f64 = 12.0;
 
 /// Computes the Voronoi diagram of `sites` (world coordinates).
 pub fn voronoi(
@@ -504,12 +524,14 @@ pub(crate) fn draw_point_tiles(
             kind: match g.footprint {
                 Footprint::Batch => "batch",
                 Footprint::Polygon(_) => "polygon",
+                Footprint::Ball => "ball",
                 Footprint::Fan(_) => "fan",
                 Footprint::Chain(_) => "chain",
             },
             size: match g.footprint {
                 Footprint::Batch => BATCH as u32,
                 Footprint::Polygon(k) | Footprint::Fan(k) => k,
+                Footprint::Ball => BALL_CORNERS,
                 Footprint::Chain(level) => {
                     meshes
                         .unit_mesh(metric_fan(options.accuracy), chain::level_radius(level))
@@ -581,6 +603,7 @@ fn cone_attempts(
         .iter()
         .map(|p| frame.farthest_pixel(*p) + 0.5)
         .collect();
+    let b = metric.euclidean_bounds().1;
     let cones_with = |radius: &dyn Fn(usize) -> f64| -> Vec<Cone> {
         pixels
             .iter()
@@ -591,6 +614,7 @@ fn cone_attempts(
                     site: *p,
                     id: i as u32,
                     radius: r,
+                    reach: b * r,
                     lo: p - r,
                     hi: p + r,
                 }
@@ -601,33 +625,53 @@ fn cone_attempts(
     match speedup {
         Speedup::None => vec![(None, cones_with(&|i| picture_wide[i]))],
         Speedup::Local if metric != Metric::L2 => {
-            // Other metrics' regions are not cut by straight bisectors: bound them
-            // from the Euclidean cover, stretched by the metric's bounds.
-            let local_radii = || {
-                let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), 1);
-                radius::k_local_radii(pixels, frame, 1, cell, bin, metric.stretch())
-            };
             // L1 and L∞ regions lie in boxes from their neighbours, clipped to the
-            // picture's pixel centres. The cover bounds the sites left without,
-            // and L∞'s boxes too: they hold diamonds, which it cuts.
+            // picture's pixel centres.
             let boxes = radius::region_boxes(pixels, frame, metric)
                 .unwrap_or_else(|| vec![None; pixels.len()]);
-            let radii =
-                (metric == Metric::LInf || boxes.iter().any(Option::is_none)).then(local_radii);
             let (first, last) = frame.pixel_centres();
             let clipped: Vec<Option<(DVec2, DVec2)>> = boxes
                 .iter()
                 .map(|b| b.map(|(lo, hi)| (lo.clamp(first, last), hi.clamp(first, last))))
                 .collect();
+            // The other metrics, the sites left without a box, and L∞'s boxes
+            // (which hold diamonds) are bounded by the cover measured in the
+            // metric (radius::local_metric_radii), half a Euclidean pixel wider
+            // as for L2 (b / 2 in the metric); polygon gauges by the Euclidean
+            // cover, stretched. Each is (Euclidean radius, reach in the metric).
+            let covered = metric != Metric::L1 || boxes.iter().any(Option::is_none);
+            let a = metric.euclidean_bounds().0;
+            let cover: Vec<(f64, f64)> = if !covered {
+                vec![(f64::INFINITY, f64::INFINITY); pixels.len()]
+            } else if let Some(radii) = radius::local_metric_radii(pixels, frame, metric) {
+                radii
+                    .into_iter()
+                    .map(|r| ((r + 0.5 * b) / a, r + 0.5 * b))
+                    .collect()
+            } else {
+                let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), 1);
+                radius::k_local_radii(pixels, frame, 1, cell, bin, metric.stretch())
+                    .into_iter()
+                    .map(|r| (r + 0.5, b * (r + 0.5)))
+                    .collect()
+            };
             let mut cones = cones_with(&|i| {
-                let cover = radii.as_ref().map_or(f64::INFINITY, |r| r[i] + 0.5);
                 let corner = clipped[i].map_or(f64::INFINITY, |(lo, hi)| {
                     farthest2_in_rect(pixels[i], lo, hi).sqrt() + 0.5
                 });
-                cover.min(corner).min(picture_wide[i])
+                cover[i].0.min(corner).min(picture_wide[i])
             });
+            // A metric that grows with each coordinate and is 1 on the axes keeps
+            // each coordinate's offset within the reach.
+            let axes_bounded = !matches!(metric, Metric::Polygon(_));
             for cone in &mut cones {
-                if let Some((lo, hi)) = clipped[cone.id as usize] {
+                let (i, reach) = (cone.id as usize, cover[cone.id as usize].1);
+                cone.reach = cone.reach.min(reach);
+                if axes_bounded {
+                    cone.lo = cone.lo.max(cone.site - reach);
+                    cone.hi = cone.hi.min(cone.site + reach);
+                }
+                if let Some((lo, hi)) = clipped[i] {
                     cone.lo = cone.lo.max(lo - 0.5);
                     cone.hi = cone.hi.min(hi + 0.5);
                 }
@@ -690,14 +734,28 @@ fn shape_cones(
     metric: Metric,
     batch: bool,
 ) -> Vec<Shaped> {
+    let batch_radius_limit = match metric {
+        Metric::Lp(_) => BATCH_RADIUS_LIMIT_LP,
+        _ => BATCH_RADIUS_LIMIT,
+    };
+    // Measuring the sampled circle costs far more than scaling it.
+    let unit_ball_outer = match (accuracy, metric) {
+        (Accuracy::Exact, Metric::L1 | Metric::LInf | Metric::Lp(_)) => chain::MetricFan::Uniform {
+            corners: BALL_CORNERS,
+        }
+        .outer_radius_of_reach(metric, 1.0),
+        _ => 1.0,
+    };
     let mut shaped: Vec<Shaped> = cones
         .iter()
         .map(|cone| {
             let fan = |s: FanShape| (Footprint::Fan(s.triangles), s.outer_radius);
             let (footprint, outer_radius) = match accuracy {
                 Accuracy::Exact => {
-                    if batch && cone.radius < BATCH_RADIUS_LIMIT {
+                    if batch && cone.radius < batch_radius_limit {
                         (Footprint::Batch, cone.radius)
+                    } else if metric != Metric::L2 {
+                        (Footprint::Ball, cone.reach * unit_ball_outer)
                     } else {
                         let k = polygon_corners(cone.radius);
                         (
@@ -719,10 +777,10 @@ fn shape_cones(
                     triangles: Some(t), ..
                 } => (
                     Footprint::Fan(t),
-                    metric_fan(accuracy).outer_radius(metric, cone.radius),
+                    metric_fan(accuracy).outer_radius_of_reach(metric, cone.reach),
                 ),
                 Accuracy::Fan { .. } => {
-                    let outer = metric_fan(accuracy).outer_radius(metric, cone.radius);
+                    let outer = metric_fan(accuracy).outer_radius_of_reach(metric, cone.reach);
                     // L1 and L∞ chains are their exact circles at every radius.
                     let level = match metric {
                         Metric::L1 | Metric::LInf | Metric::Polygon(_) => 0,
@@ -951,6 +1009,15 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         let vertices = match g.footprint {
             Footprint::Batch => unreachable!("batched cones are drawn as batches"),
             Footprint::Polygon(k) => unit_footprint(k),
+            Footprint::Ball => draws
+                .meshes
+                .unit_mesh(
+                    chain::MetricFan::Uniform {
+                        corners: BALL_CORNERS,
+                    },
+                    1.0,
+                )
+                .to_vec(),
             Footprint::Fan(t) if draws.metric == Metric::L2 => unit_fan(t),
             Footprint::Fan(_) => draws
                 .meshes

@@ -281,7 +281,12 @@ impl MetricFan {
     /// covers the Euclidean disc of radius `r`: its inscribed `metric` ball has
     /// radius b r, b from the metric's bounds.
     pub fn outer_radius(self, metric: Metric, r: f64) -> f64 {
-        let reach = metric.euclidean_bounds().1 * r;
+        self.outer_radius_of_reach(metric, metric.euclidean_bounds().1 * r)
+    }
+
+    /// The outer radius of a cone that covers the `metric` ball of radius
+    /// `reach`.
+    pub fn outer_radius_of_reach(self, metric: Metric, reach: f64) -> f64 {
         match self {
             Self::Chain { epsilon } => reach + epsilon,
             Self::Uniform { corners } => {
