@@ -4,17 +4,14 @@
 // The weighted distance of a site of any shape, per fragment (thesis §3.8–3.9:
 // the roof of a segment, the straw hut of a circle, the sliced hut of an arc, with
 // the apex angle and height of its weights), written as depth:
-//   kind 0 point    shape0.xy
-//   kind 1 segment  shape0.xy to shape0.zw
-//   kind 2 circle   centre shape0.xy, radius shape0.z
-//   kind 3 arc      centre shape0.xy, radius shape0.z, counter-clockwise from
-//                   angle shape1.x over shape1.y radians
+// kind 0 point, 1 segment, 2 circle, 3 arc, shaped as site_distance.glsl reads.
 // The weighted distance is dist * weights.x + weights.y (world units). Each
 // build handles one shape (POINT, SEGMENT, CIRCLE or ARC):
 // lavapipe runs every branch a fragment could take, so one shader for all shapes
 // made every fragment pay for the curves' searches (L1 segments: 12 times
 // slower), and with the metric read at run time, for the L_p searches too.
 #include "common.glsl"
+#include "site_distance.glsl"
 
 layout(location = 0) flat in vec4 shape0;
 layout(location = 1) flat in vec4 shape1;
@@ -22,167 +19,8 @@ layout(location = 2) flat in vec2 weights;
 layout(location = 3) flat in uvec2 kind_id;
 layout(location = 0) out uint out_id;
 
-const float TAU = 6.28318530718;
-
-float norm(vec2 v) {
-    return metric_distance_of_key(metric_key(v), METRIC_KIND, picture.metric_p);
-}
-
-// The smallest norm on the segment of offsets a + t (b - a), t in [0, 1]: closed
-// form for L2; otherwise the ends and the zeros of each coordinate (the minimum
-// for L1, and for p < 1, where each |coordinate|^p is concave between its zeros),
-// the diagonals for L-infinity, and golden-section search for the other convex
-// L_p (src/geometry/chain.rs).
-float segment_norm(vec2 a, vec2 b) {
-    vec2 e = b - a;
-    float ee = dot(e, e);
-    if (METRIC_KIND == 0u) {
-        float t = ee > 0.0 ? clamp(-dot(a, e) / ee, 0.0, 1.0) : 0.0;
-        return length(a + t * e);
-    }
-    float best = min(norm(a), norm(b));
-    for (int axis = 0; axis < 2; axis++) {
-        if (e[axis] != 0.0) {
-            float t = -a[axis] / e[axis];
-            if (t > 0.0 && t < 1.0) {
-                best = min(best, norm(a + t * e));
-            }
-        }
-    }
-    // L-infinity is linear between the zeros and the diagonals |x| = |y|.
-    if (METRIC_KIND == 2u) {
-        for (int sign = -1; sign <= 1; sign += 2) {
-            float den = e.x - float(sign) * e.y;
-            if (den != 0.0) {
-                float t = (float(sign) * a.y - a.x) / den;
-                if (t > 0.0 && t < 1.0) {
-                    best = min(best, norm(a + t * e));
-                }
-            }
-        }
-    }
-    // L1 and L-infinity are piecewise linear: their candidates are exact.
-    bool search = METRIC_KIND == 3u && picture.metric_p >= 1.0;
-    if (search && ee > 0.0) {
-        float lo = 0.0;
-        float hi = 1.0;
-        const float g = 0.61803398875;
-        for (int i = 0; i < 40; i++) {
-            float m1 = hi - g * (hi - lo);
-            float m2 = lo + g * (hi - lo);
-            if (norm(a + m1 * e) <= norm(a + m2 * e)) {
-                hi = m2;
-            } else {
-                lo = m1;
-            }
-        }
-        best = min(best, norm(a + 0.5 * (lo + hi) * e));
-    }
-    return best;
-}
-
-// The metric distance from p to the arc of the circle around c of radius r from
-// angle a0 over span (radians): samples at equal angles, the best brackets
-// refined by golden-section search (src/geometry/site.rs, curve_distance).
-float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
-    const int SAMPLES = 32;
-    const int REFINEMENTS = 24;
-    int n = max(2, int(ceil(float(SAMPLES) * span / TAU)));
-    float step = span / float(n);
-    // The two (convex metrics) or four (star-shaped balls) best samples.
-    int brackets = (METRIC_KIND == 3u && picture.metric_p < 1.0) ? 4 : 2;
-    float best_d[4] = float[4](3.0e38, 3.0e38, 3.0e38, 3.0e38);
-    int best_k[4] = int[4](0, 0, 0, 0);
-    for (int k = 0; k <= n; k++) {
-        float a = a0 + step * float(k);
-        float d = norm(p - c - r * vec2(cos(a), sin(a)));
-        for (int b = 0; b < 4; b++) {
-            if (d < best_d[b]) {
-                for (int m = 3; m > b; m--) {
-                    best_d[m] = best_d[m - 1];
-                    best_k[m] = best_k[m - 1];
-                }
-                best_d[b] = d;
-                best_k[b] = k;
-                break;
-            }
-        }
-    }
-    float best = best_d[0];
-    // Cusps where the offset lies along a kink ray of the ball: the axes for L1
-    // and p < 1, the diagonals for L-infinity (src/geometry/site.rs).
-    bool axes = METRIC_KIND == 1u || (METRIC_KIND == 3u && picture.metric_p < 1.0);
-    if (axes || METRIC_KIND == 2u) {
-        vec2 d = p - c;
-        for (int ray = 0; ray < 2; ray++) {
-            vec2 v = axes ? (ray == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0))
-                          : (ray == 0 ? vec2(1.0, 1.0) : vec2(1.0, -1.0));
-            float s = (v.x * d.y - v.y * d.x) / (r * length(v));
-            if (abs(s) <= 1.0) {
-                float phi = atan(v.y, v.x);
-                for (int t = 0; t < 2; t++) {
-                    float a = phi + (t == 0 ? asin(s) : 3.14159265 - asin(s));
-                    if (mod(a - a0, TAU) <= span) {
-                        best = min(best, norm(p - c - r * vec2(cos(a), sin(a))));
-                    }
-                }
-            }
-        }
-    }
-    const float g = 0.61803398875;
-    for (int b = 0; b < brackets; b++) {
-        float lo = a0 + step * float(max(best_k[b] - 1, 0));
-        float hi = a0 + step * float(min(best_k[b] + 1, n));
-        for (int i = 0; i < REFINEMENTS; i++) {
-            float m1 = hi - g * (hi - lo);
-            float m2 = lo + g * (hi - lo);
-            float d1 = norm(p - c - r * vec2(cos(m1), sin(m1)));
-            float d2 = norm(p - c - r * vec2(cos(m2), sin(m2)));
-            if (d1 <= d2) {
-                hi = m2;
-            } else {
-                lo = m1;
-            }
-        }
-        float a = 0.5 * (lo + hi);
-        best = min(best, norm(p - c - r * vec2(cos(a), sin(a))));
-    }
-    return best;
-}
-
 void main() {
-    vec2 p = fragment_pixel();
-#if defined(POINT)
-    float d = norm(p - shape0.xy);
-#elif defined(SEGMENT)
-    float d = segment_norm(shape0.xy - p, shape0.zw - p);
-#elif defined(CIRCLE)
-    float d;
-    if (METRIC_KIND != 0u) {
-        d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, TAU);
-    } else {
-        d = abs(length(p - shape0.xy) - shape0.z);
-    }
-#else
-    float d;
-    if (METRIC_KIND != 0u) {
-        float span = min(shape1.y, TAU);
-        d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, span);
-    } else {
-        vec2 v = p - shape0.xy;
-        float r = shape0.z;
-        d = abs(length(v) - r);
-        if (shape1.y < TAU && dot(v, v) > 0.0) {
-            float along = mod(atan(v.y, v.x) - shape1.x, TAU);
-            if (along > shape1.y) {
-                vec2 e0 = shape0.xy + r * vec2(cos(shape1.x), sin(shape1.x));
-                float a1 = shape1.x + shape1.y;
-                vec2 e1 = shape0.xy + r * vec2(cos(a1), sin(a1));
-                d = min(length(p - e0), length(p - e1));
-            }
-        }
-    }
-#endif
+    float d = site_distance(fragment_pixel(), shape0, shape1);
     gl_FragDepth = (d * weights.x + weights.y) * picture.fragment_depth_scale;
     out_id = kind_id.y;
 }

@@ -28,14 +28,14 @@ use crate::{
         surface::{fan_surface, Triangles},
     },
     machine::{
-        Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Image, Machine, PixelRect,
-        Program, RasterState, SiteInstance, SiteShape, Target,
+        Buffer, Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Image, Machine,
+        PixelRect, Program, RasterState, SiteBatch, SiteInstance, SiteShape, Target,
     },
 };
 
 use super::voronoi::{
-    distances_of, drawn_accuracy, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats,
-    UNIT_SQUARE,
+    distances_of, drawn_accuracy, hilbert_index, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions,
+    VoronoiStats, BATCH, UNIT_SQUARE,
 };
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
@@ -185,7 +185,12 @@ pub(crate) fn draw_sites(
                 .collect();
             // One draw per shape, each with its own program.
             instances.sort_by_key(|i| SiteShape::of_kind(i.kind_id[0]) as u8);
-            (SiteDraw::Exact(instances), envelope_reach)
+            let (batches, singles) = if metric == Metric::L2 {
+                batch_sites(instances)
+            } else {
+                (Vec::new(), instances)
+            };
+            (SiteDraw::Exact { batches, singles }, envelope_reach)
         }
         Accuracy::Fan { .. } => {
             let fan = super::voronoi::metric_fan(options.accuracy);
@@ -235,7 +240,7 @@ pub(crate) fn draw_sites(
     let mesh = machine.vertex_buffer(&UNIT_SQUARE)?;
     // The fan surfaces' two per-vertex buffers, made once for every tile.
     let fans = match &draw {
-        SiteDraw::Exact(_) => None,
+        SiteDraw::Exact { .. } => None,
         SiteDraw::Fan(surfaces) => {
             let mut vertices: Vec<[f32; 3]> = Vec::new();
             let mut ids: Vec<u32> = Vec::new();
@@ -274,24 +279,30 @@ pub(crate) fn draw_sites(
                     (y0 + inner.height) as f32 - 0.5,
                 ],
             );
-            let visible: Vec<SiteInstance> = match &draw {
-                SiteDraw::Exact(instances) => instances
-                    .iter()
-                    .filter(|i| {
-                        i.rect[0] < hi[0]
-                            && i.rect[2] > lo[0]
-                            && i.rect[1] < hi[1]
-                            && i.rect[3] > lo[1]
-                    })
-                    .copied()
-                    .collect(),
-                SiteDraw::Fan(_) => Vec::new(),
+            let meets = |rect: &[f32; 4]| {
+                rect[0] < hi[0] && rect[2] > lo[0] && rect[1] < hi[1] && rect[3] > lo[1]
             };
-            let rects = (!visible.is_empty())
-                .then(|| machine.vertex_buffer(&visible))
+            let (batches, singles): (Vec<(SiteShape, SiteBatch)>, Vec<SiteInstance>) = match &draw {
+                SiteDraw::Exact { batches, singles } => (
+                    batches
+                        .iter()
+                        .filter(|(_, b)| meets(&b.rect))
+                        .copied()
+                        .collect(),
+                    singles.iter().filter(|i| meets(&i.rect)).copied().collect(),
+                ),
+                SiteDraw::Fan(_) => (Vec::new(), Vec::new()),
+            };
+            let batch_instances: Vec<SiteBatch> = batches.iter().map(|(_, b)| *b).collect();
+            let batch_buffer = (!batches.is_empty())
+                .then(|| machine.vertex_buffer(&batch_instances))
                 .transpose()?;
-            let draws: Vec<(Program, ConeDraw)> = match (&fans, &rects) {
-                (Some((vertices, ids, count)), _) => vec![(
+            let rects = (!singles.is_empty())
+                .then(|| machine.vertex_buffer(&singles))
+                .transpose()?;
+            let mut draws: Vec<(Program, ConeDraw)> = Vec::new();
+            if let Some((vertices, ids, count)) = &fans {
+                draws.push((
                     Program::SiteFan,
                     ConeDraw {
                         mesh: vertices,
@@ -301,31 +312,17 @@ pub(crate) fn draw_sites(
                         first_instance: 0,
                         instance_count: u32::from(*count > 0),
                     },
-                )],
-                // One draw per shape.
-                (None, Some(rects)) => visible
-                    .chunk_by(|a, b| {
-                        SiteShape::of_kind(a.kind_id[0]) == SiteShape::of_kind(b.kind_id[0])
-                    })
-                    .scan(0, |first, run| {
-                        let draw = ConeDraw {
-                            mesh: &mesh,
-                            first_vertex: 0,
-                            vertex_count: UNIT_SQUARE.len() as u32,
-                            instances: rects,
-                            first_instance: *first,
-                            instance_count: run.len() as u32,
-                        };
-                        *first += run.len() as u32;
-                        Some((
-                            Program::SiteExact(SiteShape::of_kind(run[0].kind_id[0])),
-                            draw,
-                        ))
-                    })
-                    .collect(),
-                // Nothing reaches the tile: it keeps the "no site" id.
-                (None, None) => Vec::new(),
-            };
+                ));
+            }
+            if let Some(buffer) = &batch_buffer {
+                let shapes = batches.iter().map(|(shape, _)| *shape);
+                draws.extend(rect_draws(&mesh, Program::SiteExactBatch, shapes, buffer));
+            }
+            if let Some(buffer) = &rects {
+                let shapes = singles.iter().map(|i| SiteShape::of_kind(i.kind_id[0]));
+                draws.extend(rect_draws(&mesh, Program::SiteExact, shapes, buffer));
+            }
+            // With nothing drawn the tile keeps the "no site" id.
             let push = ConePush {
                 picture_size: [tile_w as f32, tile_h as f32],
                 offset: [x0 as f32, y0 as f32],
@@ -383,10 +380,87 @@ pub(crate) fn draw_sites(
 
 /// What one diagram draws.
 enum SiteDraw {
-    /// One rectangle per site.
-    Exact(Vec<SiteInstance>),
+    /// Batches of small Euclidean sites and one rectangle per other site, both
+    /// sorted by shape.
+    Exact {
+        batches: Vec<(SiteShape, SiteBatch)>,
+        singles: Vec<SiteInstance>,
+    },
     /// Each site's fan surface with its error bound (world units).
     Fan(Vec<(u32, Triangles, f64)>),
+}
+
+/// One draw of `program` per run of a shape among the `instances` (rectangles
+/// of the unit square `mesh`), whose shapes in order are `shapes`.
+fn rect_draws<'a>(
+    mesh: &'a Buffer,
+    program: fn(SiteShape) -> Program,
+    shapes: impl Iterator<Item = SiteShape>,
+    instances: &'a Buffer,
+) -> Vec<(Program, ConeDraw<'a>)> {
+    let mut draws: Vec<(Program, ConeDraw<'a>)> = Vec::new();
+    for (k, shape) in shapes.enumerate() {
+        match draws.last_mut() {
+            Some((last, draw)) if *last == program(shape) => draw.instance_count += 1,
+            _ => draws.push((
+                program(shape),
+                ConeDraw {
+                    mesh,
+                    first_vertex: 0,
+                    vertex_count: UNIT_SQUARE.len() as u32,
+                    instances,
+                    first_instance: k as u32,
+                    instance_count: 1,
+                },
+            )),
+        }
+    }
+    draws
+}
+
+/// Largest side (pixels) of a batched site's rectangle: a batch's rectangle is
+/// the bounding box of its sites', so one large site would widen it for all
+/// eight.
+const BATCH_SIDE_LIMIT: f32 = 96.0;
+
+/// Splits Euclidean sites' rectangles (sorted by shape) into batches of up to
+/// eight neighbours along a Hilbert curve, for points, segments and circles with
+/// small rectangles, and the rest, drawn one by one.
+fn batch_sites(instances: Vec<SiteInstance>) -> (Vec<(SiteShape, SiteBatch)>, Vec<SiteInstance>) {
+    let (mut batched, singles): (Vec<SiteInstance>, Vec<SiteInstance>) =
+        instances.into_iter().partition(|i| {
+            SiteShape::of_kind(i.kind_id[0]) != SiteShape::Arc
+                && i.rect[2] - i.rect[0] <= BATCH_SIDE_LIMIT
+                && i.rect[3] - i.rect[1] <= BATCH_SIDE_LIMIT
+        });
+    batched.sort_by_cached_key(|i| {
+        let q = |v: f32| (v.max(0.0) as u32).min(65535);
+        let centre = |a: usize| q(0.5 * (i.rect[a] + i.rect[a + 2]));
+        (i.kind_id[0], hilbert_index(centre(0), centre(1)))
+    });
+    let mut batches = Vec::new();
+    for run in batched.chunk_by(|a, b| a.kind_id[0] == b.kind_id[0]) {
+        for chunk in run.chunks(BATCH) {
+            let mut batch = SiteBatch {
+                rect: [f32::MAX, f32::MAX, f32::MIN, f32::MIN],
+                shapes: [[0.0; 4]; BATCH],
+                weights: [[0.0; 2]; BATCH],
+                ids: [0; BATCH],
+            };
+            for k in 0..BATCH {
+                let site = &chunk[k.min(chunk.len() - 1)];
+                batch.shapes[k].copy_from_slice(&site.shape[..4]);
+                batch.weights[k] = site.weights;
+                batch.ids[k] = site.kind_id[1];
+                for a in 0..2 {
+                    batch.rect[a] = batch.rect[a].min(site.rect[a]);
+                    batch.rect[a + 2] = batch.rect[a + 2].max(site.rect[a + 2]);
+                }
+            }
+            batches.push((SiteShape::of_kind(chunk[0].kind_id[0]), batch));
+        }
+    }
+    (batches, singles)
 }
 
 fn ms(since: Instant) -> f64 {

@@ -240,7 +240,7 @@ struct Shaped {
 const BALL_CORNERS: u32 = 8;
 
 /// Exact cones per batch: the batch programs (`glsl/cone_batch.*`) take eight.
-const BATCH: usize = 8;
+pub(crate) const BATCH: usize = 8;
 
 /// Largest radius of a batched cone. A batch's rectangle is the bounding box of
 /// its cones, so one long cone would widen it for all eight; longer cones get a
@@ -810,7 +810,7 @@ fn shape_cones(
 
 /// Position of cell `(x, y)` along the Hilbert curve through a 2^16 x 2^16 grid:
 /// cells close along the curve are close in the plane.
-fn hilbert_index(mut x: u32, mut y: u32) -> u64 {
+pub(crate) fn hilbert_index(mut x: u32, mut y: u32) -> u64 {
     const SIDE: u32 = 1 << 16;
     let mut index = 0u64;
     let mut s = SIDE / 2;

@@ -93,6 +93,21 @@ pub struct SiteInstance {
     pub kind_id: [u32; 2],
 }
 
+/// One instance of [`crate::machine::Program::SiteExactBatch`]
+/// (`glsl/site_batch.vert`): up to eight sites of one shape drawn as one
+/// rectangle that covers all of theirs. Unused slots repeat a used one.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SiteBatch {
+    /// (min x, min y, max x, max y) in picture pixels.
+    pub rect: [f32; 4],
+    /// The first four shape words of each site ([`SiteInstance::shape`]).
+    pub shapes: [[f32; 4]; 8],
+    /// Each site's [`SiteInstance::weights`].
+    pub weights: [[f32; 2]; 8],
+    pub ids: [u32; 8],
+}
+
 /// Push constants of the cone programs (`glsl/common.glsl`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConePush {

@@ -54,6 +54,10 @@ pub enum Program {
     /// shape of site: the fragment shader then carries no other shape's code,
     /// which lavapipe would run under masks.
     SiteExact(SiteShape),
+    /// Up to eight Euclidean sites of one shape (not arcs) in one rectangle, the
+    /// envelope taken per fragment; see [`crate::machine::SiteBatch`]. Built for
+    /// the Euclidean metric only.
+    SiteExactBatch(SiteShape),
     /// Triangles of fan surfaces with per-vertex position, depth and site id
     /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
     SiteFan,
@@ -97,6 +101,7 @@ impl Program {
     fn metric_build(self, kind: u32) -> Option<u32> {
         match self {
             Program::SiteExact(_)
+            | Program::SiteExactBatch(_)
             | Program::ConeExact
             | Program::SettleDisc(_)
             | Program::ConeExactBatch
@@ -464,6 +469,18 @@ impl Pipelines {
                 },
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
+            Program::SiteExactBatch(shape) => (
+                "site_batch.vert",
+                match shape {
+                    SiteShape::Point => "site_batch.frag:point",
+                    SiteShape::Segment => "site_batch.frag:segment",
+                    SiteShape::Circle => "site_batch.frag:circle",
+                    SiteShape::Arc => {
+                        return Err(Error::InvalidInput("arcs are not drawn in batches".into()))
+                    }
+                },
+                vk::PrimitiveTopology::TRIANGLE_LIST,
+            ),
             Program::SiteFan => (
                 "site_fan.vert",
                 "site_fan.frag",
@@ -561,35 +578,38 @@ impl Pipelines {
                 .offset(16)
                 .format(vk::Format::R32_UINT),
         ];
-        let batch_bindings = [
-            cone_bindings[0],
-            vk::VertexInputBindingDescription::default()
-                .binding(1)
-                .stride(std::mem::size_of::<super::pass::ConeBatch>() as u32)
-                .input_rate(vk::VertexInputRate::INSTANCE),
-        ];
-        // glsl/cone_batch.vert: the rectangle, four vec4 of site pairs, two vec4 of
-        // squared radii, two uvec4 of ids.
-        let batch_attributes: Vec<_> = [
-            cone_attributes[0],
-            vk::VertexInputAttributeDescription::default()
-                .location(1)
-                .binding(1)
-                .format(vk::Format::R32G32B32A32_SFLOAT),
-        ]
-        .into_iter()
-        .chain((0..8).map(|k| {
-            vk::VertexInputAttributeDescription::default()
-                .location(2 + k)
-                .binding(1)
-                .offset(16 + 16 * k)
-                .format(if k < 6 {
-                    vk::Format::R32G32B32A32_SFLOAT
-                } else {
-                    vk::Format::R32G32B32A32_UINT
-                })
-        }))
-        .collect();
+        let instance_bindings = |stride: usize| {
+            [
+                cone_bindings[0],
+                vk::VertexInputBindingDescription::default()
+                    .binding(1)
+                    .stride(stride as u32)
+                    .input_rate(vk::VertexInputRate::INSTANCE),
+            ]
+        };
+        // Instances of consecutive vec4 words from location 1, unsigned from
+        // `first_uint` on: glsl/cone_batch.vert (the rectangle, four vec4 of site
+        // pairs, two of squared radii, two uvec4 of ids) and glsl/site_batch.vert
+        // (the rectangle, eight shapes, four vec4 of weight pairs, two of ids).
+        let vec4_attributes = |words: u32, first_uint: u32| -> Vec<_> {
+            std::iter::once(cone_attributes[0])
+                .chain((1..=words).map(|location| {
+                    vk::VertexInputAttributeDescription::default()
+                        .location(location)
+                        .binding(1)
+                        .offset(16 * (location - 1))
+                        .format(if location < first_uint {
+                            vk::Format::R32G32B32A32_SFLOAT
+                        } else {
+                            vk::Format::R32G32B32A32_UINT
+                        })
+                }))
+                .collect()
+        };
+        let batch_bindings = instance_bindings(std::mem::size_of::<super::pass::ConeBatch>());
+        let batch_attributes = vec4_attributes(9, 8);
+        let site_batch_bindings = instance_bindings(std::mem::size_of::<super::pass::SiteBatch>());
+        let site_batch_attributes = vec4_attributes(15, 14);
         let site_bindings = [
             cone_bindings[0],
             vk::VertexInputBindingDescription::default()
@@ -659,6 +679,9 @@ impl Pipelines {
             Program::ConeExactBatch => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&batch_bindings)
                 .vertex_attribute_descriptions(&batch_attributes),
+            Program::SiteExactBatch(_) => vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&site_batch_bindings)
+                .vertex_attribute_descriptions(&site_batch_attributes),
             program if !program.reads_vertex_buffers() => {
                 vk::PipelineVertexInputStateCreateInfo::default()
             }

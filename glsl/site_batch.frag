@@ -1,0 +1,51 @@
+// variants: POINT SEGMENT CIRCLE
+// variants: METRIC_L2
+#version 460
+// The lower envelope of a batch of sites (site_batch.vert): the lowest weighted
+// distance among its eight sites, each evaluated as site_exact.frag does. Earlier
+// sites win ties. Built for Euclidean points, segments and circles only: other
+// metrics' distances cost enough per site that a rectangle each is cheaper, and
+// arcs need a second vec4 of shape.
+#include "common.glsl"
+#include "site_distance.glsl"
+
+layout(location = 0) flat in vec4 shape_0;
+layout(location = 1) flat in vec4 shape_1;
+layout(location = 2) flat in vec4 shape_2;
+layout(location = 3) flat in vec4 shape_3;
+layout(location = 4) flat in vec4 shape_4;
+layout(location = 5) flat in vec4 shape_5;
+layout(location = 6) flat in vec4 shape_6;
+layout(location = 7) flat in vec4 shape_7;
+layout(location = 8) flat in vec4 weights_01;
+layout(location = 9) flat in vec4 weights_23;
+layout(location = 10) flat in vec4 weights_45;
+layout(location = 11) flat in vec4 weights_67;
+layout(location = 12) flat in uvec4 ids_0123;
+layout(location = 13) flat in uvec4 ids_4567;
+layout(location = 0) out uint out_id;
+
+float best = 3.0e38;
+uint best_id = 0u;
+
+void consider(vec2 p, vec4 shape, vec2 weights, uint id) {
+    float d = site_distance(p, shape, vec4(0.0)) * weights.x + weights.y;
+    if (d < best) {
+        best = d;
+        best_id = id;
+    }
+}
+
+void main() {
+    vec2 p = fragment_pixel();
+    consider(p, shape_0, weights_01.xy, ids_0123.x);
+    consider(p, shape_1, weights_01.zw, ids_0123.y);
+    consider(p, shape_2, weights_23.xy, ids_0123.z);
+    consider(p, shape_3, weights_23.zw, ids_0123.w);
+    consider(p, shape_4, weights_45.xy, ids_4567.x);
+    consider(p, shape_5, weights_45.zw, ids_4567.y);
+    consider(p, shape_6, weights_67.xy, ids_4567.z);
+    consider(p, shape_7, weights_67.zw, ids_4567.w);
+    gl_FragDepth = best * picture.fragment_depth_scale;
+    out_id = best_id;
+}
