@@ -3,8 +3,9 @@
 //   point    shape0.xy
 //   segment  shape0.xy to shape0.zw
 //   circle   centre shape0.xy, radius shape0.z
-//   arc      centre shape0.xy, radius shape0.z, counter-clockwise from angle
-//            shape1.x over shape1.y radians
+//   arc      centre shape0.xy, radius shape0.z, counter-clockwise over
+//            shape0.w radians from direction shape1.xy to direction shape1.zw
+//            (unit vectors of its ends' angles)
 // Included by site_exact.frag (one site per rectangle) and site_batch.frag
 // (eight).
 
@@ -149,21 +150,25 @@ float site_distance(vec2 p, vec4 shape0, vec4 shape1) {
     return abs(length(p - shape0.xy) - shape0.z);
 #else
     float d;
+    float span = shape0.w;
     if (METRIC_KIND != 0u) {
-        float span = min(shape1.y, TAU);
-        d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, span);
+        float start = atan(shape1.y, shape1.x);
+        d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, start, min(span, TAU));
     } else {
         vec2 v = p - shape0.xy;
         float r = shape0.z;
         d = abs(length(v) - r);
-        if (shape1.y < TAU && dot(v, v) > 0.0) {
-            float along = mod(atan(v.y, v.x) - shape1.x, TAU);
-            if (along > shape1.y) {
-                vec2 e0 = shape0.xy + r * vec2(cos(shape1.x), sin(shape1.x));
-                float a1 = shape1.x + shape1.y;
-                vec2 e1 = shape0.xy + r * vec2(cos(a1), sin(a1));
-                d = min(length(p - e0), length(p - e1));
-            }
+        // Outside the arc's wedge the nearest point is an end. The wedge is
+        // told by the side of each end's direction that v lies on (no angles
+        // per fragment): both sides for a span up to a half turn, either
+        // beyond.
+        vec2 u0 = shape1.xy;
+        vec2 u1 = shape1.zw;
+        bool after_start = u0.x * v.y - u0.y * v.x >= 0.0;
+        bool before_end = v.x * u1.y - v.y * u1.x >= 0.0;
+        bool inside = span <= 3.14159265 ? after_start && before_end : after_start || before_end;
+        if (span < TAU && dot(v, v) > 0.0 && !inside) {
+            d = min(length(v - r * u0), length(v - r * u1));
         }
     }
     return d;

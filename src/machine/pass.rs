@@ -86,6 +86,7 @@ impl PixelRect {
 pub struct SiteInstance {
     /// (min x, min y, max x, max y) in picture pixels.
     pub rect: [f32; 4],
+    /// shape0 and shape1 as `glsl/site_distance.glsl` reads them.
     pub shape: [f32; 8],
     /// (1 / (frame scale * m), a - the smallest a).
     pub weights: [f32; 2],
