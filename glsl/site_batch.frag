@@ -1,11 +1,10 @@
 // variants: POINT SEGMENT CIRCLE
-// variants: METRIC_L2
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF
 #version 460
 // The lower envelope of a batch of sites (site_batch.vert): the lowest weighted
 // distance among its eight sites, each evaluated as site_exact.frag does. Earlier
-// sites win ties. Built for Euclidean points, segments and circles only: other
-// metrics' distances cost enough per site that a rectangle each is cheaper, and
-// arcs need a second vec4 of shape.
+// sites win ties. Drawn for the sites whose distances cost a few operations
+// (src/algorithms/sites.rs, `batched`); arcs need a second vec4 of shape.
 #include "common.glsl"
 #include "site_distance.glsl"
 

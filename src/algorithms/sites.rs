@@ -185,11 +185,7 @@ pub(crate) fn draw_sites(
                 .collect();
             // One draw per shape, each with its own program.
             instances.sort_by_key(|i| SiteShape::of_kind(i.kind_id[0]) as u8);
-            let (batches, singles) = if metric == Metric::L2 {
-                batch_sites(instances)
-            } else {
-                (Vec::new(), instances)
-            };
+            let (batches, singles) = batch_sites(instances, metric);
             (SiteDraw::Exact { batches, singles }, envelope_reach)
         }
         Accuracy::Fan { .. } => {
@@ -423,13 +419,28 @@ fn rect_draws<'a>(
 /// eight.
 const BATCH_SIDE_LIMIT: f32 = 96.0;
 
-/// Splits Euclidean sites' rectangles (sorted by shape) into batches of up to
-/// eight neighbours along a Hilbert curve, for points, segments and circles with
-/// small rectangles, and the rest, drawn one by one.
-fn batch_sites(instances: Vec<SiteInstance>) -> (Vec<(SiteShape, SiteBatch)>, Vec<SiteInstance>) {
+/// Whether sites of `shape` under `metric` are drawn in batches: those whose
+/// distance costs a few operations (Euclidean points, segments and circles; L1
+/// and L∞ points and segments). A batch evaluates eight per fragment, so the
+/// searches of curves under other metrics and of L_p stay one to a rectangle.
+fn batched(metric: Metric, shape: SiteShape) -> bool {
+    match metric {
+        Metric::L2 => shape != SiteShape::Arc,
+        Metric::L1 | Metric::LInf => matches!(shape, SiteShape::Point | SiteShape::Segment),
+        _ => false,
+    }
+}
+
+/// Splits sites' rectangles (sorted by shape) into batches of up to eight
+/// neighbours along a Hilbert curve, for the shapes [`batched`] under `metric`
+/// with small rectangles, and the rest, drawn one by one.
+fn batch_sites(
+    instances: Vec<SiteInstance>,
+    metric: Metric,
+) -> (Vec<(SiteShape, SiteBatch)>, Vec<SiteInstance>) {
     let (mut batched, singles): (Vec<SiteInstance>, Vec<SiteInstance>) =
         instances.into_iter().partition(|i| {
-            SiteShape::of_kind(i.kind_id[0]) != SiteShape::Arc
+            batched(metric, SiteShape::of_kind(i.kind_id[0]))
                 && i.rect[2] - i.rect[0] <= BATCH_SIDE_LIMIT
                 && i.rect[3] - i.rect[1] <= BATCH_SIDE_LIMIT
         });

@@ -54,9 +54,9 @@ pub enum Program {
     /// shape of site: the fragment shader then carries no other shape's code,
     /// which lavapipe would run under masks.
     SiteExact(SiteShape),
-    /// Up to eight Euclidean sites of one shape (not arcs) in one rectangle, the
-    /// envelope taken per fragment; see [`crate::machine::SiteBatch`]. Built for
-    /// the Euclidean metric only.
+    /// Up to eight sites of one shape (not arcs) in one rectangle, the envelope
+    /// taken per fragment; see [`crate::machine::SiteBatch`]. Built for L2, L1
+    /// and L∞.
     SiteExactBatch(SiteShape),
     /// Triangles of fan surfaces with per-vertex position, depth and site id
     /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
@@ -537,6 +537,11 @@ impl Pipelines {
         if key.program == Program::Disc && (uint_target || key.color.is_none()) {
             return Err(Error::InvalidInput(
                 "discs write a value to a float colour target".into(),
+            ));
+        }
+        if matches!(key.program, Program::SiteExactBatch(_)) && key.metric == Some(3) {
+            return Err(Error::InvalidInput(
+                "L_p sites are not drawn in batches".into(),
             ));
         }
         let fragment = match key.metric {
