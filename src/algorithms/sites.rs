@@ -687,14 +687,19 @@ fn picture_wide(
 /// The range of the site's shape distance over a box of half-extents `half`
 /// around `centre`, from its value d there: d ± |half| for the L_p norms, and
 /// (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is subadditive. A polygon
-/// need be neither symmetric nor convex, and segments under other metrics are
-/// costly to measure: their range comes from the Euclidean one and the bounds
-/// a |x| <= |x| <= b |x| of the metric.
+/// need be neither symmetric nor convex, and curves under other metrics and
+/// segments under L_p are costly to measure: their range comes from the
+/// Euclidean one and the bounds a |x| <= |x| <= b |x| of the metric.
 fn spread(site: &Site, metric: Metric, centre: DVec2, half: DVec2) -> (f64, f64) {
     // Distances to extended shapes under other metrics need a search per
-    // evaluation; the Euclidean range is closed-form and, stretched, as rigorous.
-    let extended = !matches!(site.shape, Shape::Point(_));
-    if matches!(metric, Metric::Polygon(_)) || (extended && metric != Metric::L2) {
+    // evaluation (but L1 and L∞ segments, a few candidates); the Euclidean range
+    // is closed-form and, stretched, as rigorous.
+    let searched = match site.shape {
+        Shape::Point(_) => false,
+        Shape::Segment(..) => !matches!(metric, Metric::L2 | Metric::L1 | Metric::LInf),
+        _ => metric != Metric::L2,
+    };
+    if matches!(metric, Metric::Polygon(_)) || searched {
         let (a, b) = metric.euclidean_bounds();
         let (lo, hi) = spread(site, Metric::L2, centre, half);
         return (a * lo, b * hi);

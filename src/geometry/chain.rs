@@ -202,6 +202,9 @@ pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
         };
         return (at(t), a.length().max(b.length()));
     }
+    if matches!(metric, Metric::L1 | Metric::LInf) {
+        return (piecewise_linear_minimum(metric, a, b), at(0.0).max(at(1.0)));
+    }
     let mut cuts = vec![0.0, 1.0];
     for axis in 0..2 {
         let (u, v) = (a[axis], b[axis]);
@@ -212,16 +215,9 @@ pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
             }
         }
     }
-    // L1, L∞ and polygons are linear between the rays through their corners.
+    // Polygons are linear between the rays through their corners.
     let corners: &[DVec2] = match metric {
         Metric::Polygon(g) => &g.vertices,
-        Metric::L1 => &[DVec2::X, DVec2::Y, DVec2::NEG_X, DVec2::NEG_Y],
-        Metric::LInf => &[
-            DVec2::ONE,
-            DVec2::new(-1.0, 1.0),
-            DVec2::NEG_ONE,
-            DVec2::new(1.0, -1.0),
-        ],
         _ => &[],
     };
     if !corners.is_empty() {
@@ -251,6 +247,34 @@ pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
         hi = hi.max(at(t));
     }
     (lo, hi)
+}
+
+/// The smallest L1 or L∞ norm on the segment `a b`, without allocating (site
+/// bounds measure it for every cell a segment may reach): both norms are linear
+/// between the points where a coordinate vanishes and, for L∞, where
+/// |x| = |y|, so the smallest is at an end or at one of those.
+fn piecewise_linear_minimum(metric: Metric, a: DVec2, b: DVec2) -> f64 {
+    let e = b - a;
+    let mut best = metric.distance(a).min(metric.distance(b));
+    let mut at = |t: f64| {
+        if t > 0.0 && t < 1.0 {
+            best = best.min(metric.distance(a + e * t));
+        }
+    };
+    for axis in 0..2 {
+        if e[axis] != 0.0 {
+            at(-a[axis] / e[axis]);
+        }
+    }
+    if metric == Metric::LInf {
+        for sign in [1.0, -1.0] {
+            let den = e.x - sign * e.y;
+            if den != 0.0 {
+                at((sign * a.y - a.x) / den);
+            }
+        }
+    }
+    best
 }
 
 /// The minimum of a unimodal `h` on `[lo, hi]`.
@@ -399,6 +423,42 @@ pub fn level_radius(level: i32) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn segment_norm_ranges_match_dense_sampling() {
+        let mut seed = 3u64;
+        let mut coordinate = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 20.0
+        };
+        let metrics = [Metric::L1, Metric::LInf, Metric::L2, Metric::Lp(3.0)];
+        for case in 0..300 {
+            let a = DVec2::new(coordinate(), coordinate());
+            // Some segments along an axis or a diagonal, some through the origin.
+            let b = match case % 4 {
+                0 => DVec2::new(coordinate(), a.y),
+                1 => a + DVec2::splat(coordinate()),
+                2 => -a * 0.5,
+                _ => DVec2::new(coordinate(), coordinate()),
+            };
+            for metric in metrics {
+                let (lo, hi) = norm_range_on_segment(metric, a, b);
+                let steps = 20000;
+                let sampled =
+                    (0..=steps).map(|k| metric.distance(a + (b - a) * (k as f64 / steps as f64)));
+                let (slo, shi) =
+                    sampled.fold((f64::INFINITY, 0.0f64), |(l, h), d| (l.min(d), h.max(d)));
+                let step = 2.0 * metric.distance(b - a) / steps as f64;
+                assert!(
+                    lo <= slo + 1e-9 && lo >= slo - step,
+                    "{metric} {a} {b}: {lo} vs {slo}"
+                );
+                assert!((hi - shi).abs() <= 1e-9, "{metric} {a} {b}: {hi} vs {shi}");
+            }
+        }
+    }
 
     /// The thesis's tables (§3.6.1, §3.6.2): vertices and radii of the chains for
     /// ε = 1 on a 1000² picture.
