@@ -210,7 +210,8 @@ struct Cone {
 enum Footprint {
     /// One of up to [`BATCH`] nearby exact cones drawn as one rectangle.
     Batch,
-    /// A regular polygon with this many corners (exact cones).
+    /// A regular polygon with this many corners (exact cones; the square also
+    /// around L∞ and L_p balls for p >= 2).
     Polygon(u32),
     /// A polygon around another metric's ball (exact cones): the metric's circle
     /// sampled at [`BALL_CORNERS`] equal angles (`chain::MetricFan::Uniform`).
@@ -232,9 +233,9 @@ struct Shaped {
     outer_radius: f64,
 }
 
-/// Corners of an exact cone's footprint around another metric's ball: eight
-/// hug every L_p ball within 6% of its area for p in [0.5, 3] and within 50% for
-/// p = 0.3, where the regular polygon around the Euclidean disc that holds the
+/// Corners of an exact cone's footprint around another metric's ball (L1 and
+/// L_p for p < 2): eight hug every L_p ball within 6% of its area for p in
+/// [0.5, 3] and within 50% for p = 0.3, where the regular polygon around the Euclidean disc that holds the
 /// ball takes up to 5 times the ball's area for p = 0.5 (0.67 r²), 26 times for
 /// p = 0.3.
 const BALL_CORNERS: u32 = 8;
@@ -738,6 +739,10 @@ fn shape_cones(
         Metric::Lp(_) => BATCH_RADIUS_LIMIT_LP,
         _ => BATCH_RADIUS_LIMIT,
     };
+    // L∞ balls and L_p balls for p >= 2 fill 88% or more of their bounding
+    // square, which takes two triangles where the octagon takes eight (lavapipe
+    // spends about a microsecond on each).
+    let square_ball = matches!(metric, Metric::LInf) || matches!(metric, Metric::Lp(p) if p >= 2.0);
     // Measuring the sampled circle costs far more than scaling it.
     let unit_ball_outer = match (accuracy, metric) {
         (Accuracy::Exact, Metric::L1 | Metric::LInf | Metric::Lp(_)) => chain::MetricFan::Uniform {
@@ -754,6 +759,10 @@ fn shape_cones(
                 Accuracy::Exact => {
                     if batch && cone.radius < batch_radius_limit {
                         (Footprint::Batch, cone.radius)
+                    } else if square_ball {
+                        // The square of side 2 r around the centre: its corners
+                        // are r √2 away.
+                        (Footprint::Polygon(4), cone.reach * std::f64::consts::SQRT_2)
                     } else if metric != Metric::L2 {
                         (Footprint::Ball, cone.reach * unit_ball_outer)
                     } else {
