@@ -288,6 +288,51 @@ fn bad_requests_are_errors() {
         )
     });
     assert!(r.is_err());
+    // Sites are batched for points, segments and circles under L2, L1 and L∞:
+    // an arc or an L_p batch is refused.
+    let depth = m.image(Format::DepthStencil, 4, 4).unwrap();
+    let mesh = m.vertex_buffer(&[[0.0f32; 3]; 6]).unwrap();
+    let batch = SiteBatch {
+        rect: [0.0, 0.0, 4.0, 4.0],
+        shapes: [[1.0; 4]; 8],
+        weights: [[1.0, 0.0]; 8],
+        ids: [0; 8],
+    };
+    let instances = m.vertex_buffer(&[batch]).unwrap();
+    for (shape, metric) in [(SiteShape::Arc, (0, 2.0)), (SiteShape::Point, (3, 3.0))] {
+        let r = m.run(|p| {
+            p.begin(
+                Target {
+                    color: Some(&ids),
+                    depth_stencil: Some(&depth),
+                },
+                Clear::default(),
+            )?;
+            p.draw_cones(
+                Program::SiteExactBatch(shape),
+                &RasterState::lower_envelope(),
+                &DrawParams::default(),
+                &ConePush {
+                    picture_size: [4.0, 4.0],
+                    offset: [0.0, 0.0],
+                    vertex_depth_scale: 0.0,
+                    fragment_depth_scale: 1.0,
+                    levels: 1,
+                    metric,
+                },
+                &ConeDraw {
+                    mesh: &mesh,
+                    first_vertex: 0,
+                    vertex_count: 6,
+                    instances: &instances,
+                    first_instance: 0,
+                    instance_count: 1,
+                },
+            )?;
+            p.end()
+        });
+        assert!(r.is_err(), "{shape:?} with metric {metric:?}");
+    }
 }
 
 #[test]

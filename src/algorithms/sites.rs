@@ -376,8 +376,8 @@ pub(crate) fn draw_sites(
 
 /// What one diagram draws.
 enum SiteDraw {
-    /// Batches of small Euclidean sites and one rectangle per other site, both
-    /// sorted by shape.
+    /// Batches of small sites of the shapes [`batched`] under the metric, and
+    /// one rectangle per other site, both sorted by shape.
     Exact {
         batches: Vec<(SiteShape, SiteBatch)>,
         singles: Vec<SiteInstance>,

@@ -235,9 +235,9 @@ struct Shaped {
 
 /// Corners of an exact cone's footprint around another metric's ball (L1 and
 /// L_p for p < 2): eight hug every L_p ball within 6% of its area for p in
-/// [0.5, 3] and within 50% for p = 0.3, where the regular polygon around the Euclidean disc that holds the
-/// ball takes up to 5 times the ball's area for p = 0.5 (0.67 r²), 26 times for
-/// p = 0.3.
+/// [0.5, 3] and within 50% for p = 0.3, where the regular polygon around the
+/// Euclidean disc that holds the ball takes up to 5 times the ball's area for
+/// p = 0.5 (0.67 r²), 26 times for p = 0.3.
 const BALL_CORNERS: u32 = 8;
 
 /// Exact cones per batch: the batch programs (`glsl/cone_batch.*`) take eight.
@@ -742,13 +742,19 @@ fn shape_cones(
     // L∞ balls and L_p balls for p >= 2 fill 88% or more of their bounding
     // square, which takes two triangles where the octagon takes eight (lavapipe
     // spends about a microsecond on each).
-    let square_ball = matches!(metric, Metric::LInf) || matches!(metric, Metric::Lp(p) if p >= 2.0);
+    let square_ball = match metric {
+        Metric::LInf => true,
+        Metric::Lp(p) => p >= 2.0,
+        _ => false,
+    };
     // Measuring the sampled circle costs far more than scaling it.
     let unit_ball_outer = match (accuracy, metric) {
-        (Accuracy::Exact, Metric::L1 | Metric::LInf | Metric::Lp(_)) => chain::MetricFan::Uniform {
-            corners: BALL_CORNERS,
+        (Accuracy::Exact, Metric::L1 | Metric::Lp(_)) if !square_ball => {
+            chain::MetricFan::Uniform {
+                corners: BALL_CORNERS,
+            }
+            .outer_radius_of_reach(metric, 1.0)
         }
-        .outer_radius_of_reach(metric, 1.0),
         _ => 1.0,
     };
     let mut shaped: Vec<Shaped> = cones
