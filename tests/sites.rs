@@ -352,6 +352,37 @@ fn fans_of_every_site_stay_inside_their_bounds() {
 }
 
 #[test]
+fn arc_fans_reach_past_their_ends() {
+    // An arc's end cones are halves beyond its ends' radial lines: arcs alone,
+    // large and of every span (nearly none, a half turn, nearly a full one), so
+    // that most pixels take their distance from an end.
+    let m = common::machine();
+    let frame = Frame::pixels(96, 80).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let spans = [1e-3, 0.4, std::f64::consts::PI, 4.0, 6.2];
+    let sites: Vec<Site> = (0..10)
+        .map(|i| {
+            let start = rng.gen_range(0.0..std::f64::consts::TAU);
+            Site::new(Shape::Arc {
+                center: DVec2::new(rng.gen_range(0.0..96.0), rng.gen_range(0.0..80.0)),
+                radius: rng.gen_range(4.0..30.0),
+                start,
+                end: start + spans[i % spans.len()],
+            })
+        })
+        .collect();
+    for accuracy in [
+        Accuracy::FAN,
+        Accuracy::Fan {
+            epsilon: 1.0,
+            triangles: Some(6),
+        },
+    ] {
+        check_fan(&m, &sites, frame, Metric::L2, accuracy, "arcs");
+    }
+}
+
+#[test]
 fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
     // Thesis §3.12.1 for every site kind, weight and metric.
     let m = common::machine();

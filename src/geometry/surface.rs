@@ -83,6 +83,27 @@ impl Base {
         }
     }
 
+    /// The half of the cone at `apex` that faces `back`: the rim triangles whose
+    /// outward normal has a component along `back` of zero or more, and one more
+    /// on each side. The rim vertex where the normals turn lies within half a rim
+    /// step of the line through the apex across `back`, so with the extra
+    /// triangles the half-disc {d · back >= 0} is covered up to that line. A
+    /// star-shaped base keeps its whole cone.
+    fn half_cone(&self, apex: DVec2, back: DVec2, out: &mut Triangles) {
+        let n = self.rim.len();
+        let faces = |k: usize| {
+            let d = self.rim[(k + 1) % n] - self.rim[k];
+            DVec2::new(d.y, -d.x).dot(back) >= 0.0
+        };
+        let at = |v: DVec2| (apex + v).extend(self.height);
+        for k in 0..n {
+            if !self.convex || faces((k + n - 1) % n) || faces(k) || faces((k + 1) % n) {
+                let (u, v) = (self.rim[k], self.rim[(k + 1) % n]);
+                out.push([apex.extend(0.0), at(u), at(v)]);
+            }
+        }
+    }
+
     /// The quads the rulings sweep along the segment `a b` (no end cones).
     fn sweep(&self, a: DVec2, b: DVec2, out: &mut Triangles) {
         let e = b - a;
@@ -245,10 +266,16 @@ fn straw_hut(site: &Site, meshes: &FanMeshes, reach: f64, epsilon: f64) -> Trian
         }
     }
     if span < std::f64::consts::TAU || r == 0.0 {
-        let ends = [at(0, r), at(pieces, r)];
         let base = Base::new(meshes, MetricFan::Chain { epsilon }, reach);
-        for p in ends {
-            base.cone(p, &mut out);
+        if r == 0.0 {
+            base.cone(center, &mut out);
+        } else {
+            // An end serves only the pixels beyond its radial line, where the
+            // offset from it runs against the arc's direction at the start and
+            // along it at the end.
+            let tangent = |a: f64| DVec2::new(-a.sin(), a.cos());
+            base.half_cone(at(0, r), -tangent(start), &mut out);
+            base.half_cone(at(pieces, r), tangent(start + span), &mut out);
         }
     }
     out
