@@ -278,20 +278,20 @@ pub(crate) fn draw_sites(
             let meets = |rect: &[f32; 4]| {
                 rect[0] < hi[0] && rect[2] > lo[0] && rect[1] < hi[1] && rect[3] > lo[1]
             };
-            let (batches, singles): (Vec<(SiteShape, SiteBatch)>, Vec<SiteInstance>) = match &draw {
-                SiteDraw::Exact { batches, singles } => (
-                    batches
-                        .iter()
-                        .filter(|(_, b)| meets(&b.rect))
-                        .copied()
-                        .collect(),
-                    singles.iter().filter(|i| meets(&i.rect)).copied().collect(),
-                ),
-                SiteDraw::Fan(_) => (Vec::new(), Vec::new()),
-            };
-            let batch_instances: Vec<SiteBatch> = batches.iter().map(|(_, b)| *b).collect();
+            let ((batch_shapes, batches), singles): ((Vec<SiteShape>, Vec<SiteBatch>), Vec<_>) =
+                match &draw {
+                    SiteDraw::Exact { batches, singles } => (
+                        batches
+                            .iter()
+                            .filter(|(_, b)| meets(&b.rect))
+                            .copied()
+                            .unzip(),
+                        singles.iter().filter(|i| meets(&i.rect)).copied().collect(),
+                    ),
+                    SiteDraw::Fan(_) => Default::default(),
+                };
             let batch_buffer = (!batches.is_empty())
-                .then(|| machine.vertex_buffer(&batch_instances))
+                .then(|| machine.vertex_buffer(&batches))
                 .transpose()?;
             let rects = (!singles.is_empty())
                 .then(|| machine.vertex_buffer(&singles))
@@ -311,7 +311,7 @@ pub(crate) fn draw_sites(
                 ));
             }
             if let Some(buffer) = &batch_buffer {
-                let shapes = batches.iter().map(|(shape, _)| *shape);
+                let shapes = batch_shapes.iter().copied();
                 draws.extend(rect_draws(&mesh, Program::SiteExactBatch, shapes, buffer));
             }
             if let Some(buffer) = &rects {

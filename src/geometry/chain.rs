@@ -426,13 +426,9 @@ mod tests {
 
     #[test]
     fn segment_norm_ranges_match_dense_sampling() {
-        let mut seed = 3u64;
-        let mut coordinate = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 20.0
-        };
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let mut coordinate = || rng.gen_range(-10.0..10.0);
         let metrics = [Metric::L1, Metric::LInf, Metric::L2, Metric::Lp(3.0)];
         for case in 0..300 {
             let a = DVec2::new(coordinate(), coordinate());

@@ -1060,10 +1060,9 @@ mod tests {
         assert_bounds_hold_owned_pixels(&sites, &frame, &bounds, "strips");
     }
 
-    #[test]
-    fn region_boxes_hold_every_owned_pixel() {
-        // Under L1 and L∞ (ties included, which fill whole areas): random sites,
-        // a lattice, a diagonal run, duplicates and sites outside the picture.
+    /// A small picture with random sites, a lattice, a diagonal run, duplicates
+    /// and sites outside the picture.
+    fn awkward_sites() -> (Frame, Vec<DVec2>) {
         let frame = Frame::pixels(64, 48).unwrap();
         let mut sites = crate::io::sites::random_sites(60, 5, &frame);
         sites
@@ -1071,26 +1070,47 @@ mod tests {
         sites.extend((0..6).map(|i| DVec2::new(40.0 + 3.0 * i as f64, 3.0 * i as f64)));
         sites.extend_from_within(..5);
         sites.extend([DVec2::new(70.0, -6.0), DVec2::new(-4.0, 20.0)]);
-        for metric in [Metric::L1, Metric::LInf] {
-            let boxes = region_boxes(&sites, &frame, metric).unwrap();
-            let mut bounded = 0;
-            for y in 0..frame.height {
-                for x in 0..frame.width {
-                    let q = DVec2::new(x as f64, y as f64);
-                    let d = sites
-                        .iter()
-                        .map(|s| metric.distance(*s - q))
-                        .fold(f64::INFINITY, f64::min);
-                    for (i, s) in sites.iter().enumerate() {
-                        if let (true, Some((lo, hi))) = (metric.distance(*s - q) == d, boxes[i]) {
-                            assert!(
-                                q.cmpge(lo - 1e-9).all() && q.cmple(hi + 1e-9).all(),
-                                "{metric}: pixel {q} of site {i} outside {lo} .. {hi}"
-                            );
-                        }
+        (frame, sites)
+    }
+
+    /// Calls `f(q, i, d)` for every pixel centre q and each site i at its
+    /// smallest `metric` distance d (every one of them where several tie).
+    fn for_each_owner(
+        sites: &[DVec2],
+        frame: &Frame,
+        metric: Metric,
+        mut f: impl FnMut(DVec2, usize, f64),
+    ) {
+        for y in 0..frame.height {
+            for x in 0..frame.width {
+                let q = DVec2::new(x as f64, y as f64);
+                let distances: Vec<f64> = sites.iter().map(|s| metric.distance(*s - q)).collect();
+                let d = distances.iter().copied().fold(f64::INFINITY, f64::min);
+                for (i, &own) in distances.iter().enumerate() {
+                    if own == d {
+                        f(q, i, own);
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn region_boxes_hold_every_owned_pixel() {
+        // Under L1 and L∞ (ties included, which fill whole areas): random sites,
+        // a lattice, a diagonal run, duplicates and sites outside the picture.
+        let (frame, sites) = awkward_sites();
+        for metric in [Metric::L1, Metric::LInf] {
+            let boxes = region_boxes(&sites, &frame, metric).unwrap();
+            let mut bounded = 0;
+            for_each_owner(&sites, &frame, metric, |q, i, _| {
+                if let Some((lo, hi)) = boxes[i] {
+                    assert!(
+                        q.cmpge(lo - 1e-9).all() && q.cmple(hi + 1e-9).all(),
+                        "{metric}: pixel {q} of site {i} outside {lo} .. {hi}"
+                    );
+                }
+            });
             for (lo, hi) in boxes.iter().flatten() {
                 bounded += (lo.is_finite() && hi.is_finite()) as usize;
             }
@@ -1107,13 +1127,9 @@ mod tests {
 
     #[test]
     fn lp_table_bounds_the_distance_within_a_percent() {
-        let mut seed = 9u64;
-        let mut unit = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let mut unit = || rng.gen::<f64>();
         for p in [0.02, 0.3, 0.5, 1.0, 1.5, 3.0, 60.0] {
             let table = LpTable::new(p);
             let metric = Metric::Lp(p);
@@ -1146,13 +1162,7 @@ mod tests {
         // Every pixel centre lies within its nearest sites' radii (ties included),
         // measured in the metric: random sites, a lattice, a diagonal run,
         // duplicates and sites outside the picture.
-        let frame = Frame::pixels(64, 48).unwrap();
-        let mut sites = crate::io::sites::random_sites(60, 5, &frame);
-        sites
-            .extend((0..12).map(|i| DVec2::new(8.0 * (i % 4) as f64, 30.0 + 6.0 * (i / 4) as f64)));
-        sites.extend((0..6).map(|i| DVec2::new(40.0 + 3.0 * i as f64, 3.0 * i as f64)));
-        sites.extend_from_within(..5);
-        sites.extend([DVec2::new(70.0, -6.0), DVec2::new(-4.0, 20.0)]);
+        let (frame, sites) = awkward_sites();
         let metrics = [
             Metric::L2,
             Metric::L1,
@@ -1164,23 +1174,13 @@ mod tests {
         ];
         for metric in metrics {
             let radii = local_metric_radii(&sites, &frame, metric).unwrap();
-            for y in 0..frame.height {
-                for x in 0..frame.width {
-                    let q = DVec2::new(x as f64, y as f64);
-                    let d = sites
-                        .iter()
-                        .map(|s| metric.distance(*s - q))
-                        .fold(f64::INFINITY, f64::min);
-                    for (i, s) in sites.iter().enumerate() {
-                        let own = metric.distance(*s - q);
-                        assert!(
-                            own > d || own <= radii[i] * (1.0 + 1e-12),
-                            "{metric}: pixel {q} of site {i} at {own} beyond {}",
-                            radii[i]
-                        );
-                    }
-                }
-            }
+            for_each_owner(&sites, &frame, metric, |q, i, own| {
+                assert!(
+                    own <= radii[i] * (1.0 + 1e-12),
+                    "{metric}: pixel {q} of site {i} at {own} beyond {}",
+                    radii[i]
+                );
+            });
             // Far tighter than the stretched Euclidean cover where the stretch
             // is large (2.83 for L0.5, 2^9.5 for L0.1).
             let (cell, bin) = k_cell_and_bin(&frame, sites.len(), 1);
