@@ -8,7 +8,7 @@
 layout(location = 0) in vec3 unit_vertex;  // corner of the unit square
 layout(location = 1) in vec4 rect;         // (min x, min y, max x, max y)
 // Each site's shape0 (site_distance.glsl); its shape1 is unused by points,
-// segments and circles.
+// segments and circles. Arc k's shape0 and shape1 are shape_2k and shape_2k+1.
 layout(location = 2) in vec4 shape_0;
 layout(location = 3) in vec4 shape_1;
 layout(location = 4) in vec4 shape_2;

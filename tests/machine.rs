@@ -288,8 +288,8 @@ fn bad_requests_are_errors() {
         )
     });
     assert!(r.is_err());
-    // Sites are batched for points, segments and circles under L2, L1 and L∞:
-    // an arc or an L_p batch is refused.
+    // Sites are batched for points, segments and circles under L2, L1 and L∞,
+    // and Euclidean arcs: an L1 arc or an L_p batch is refused.
     let depth = m.image(Format::DepthStencil, 4, 4).unwrap();
     let mesh = m.vertex_buffer(&[[0.0f32; 3]; 6]).unwrap();
     let batch = SiteBatch {
@@ -299,7 +299,7 @@ fn bad_requests_are_errors() {
         ids: [0; 8],
     };
     let instances = m.vertex_buffer(&[batch]).unwrap();
-    for (shape, metric) in [(SiteShape::Arc, (0, 2.0)), (SiteShape::Point, (3, 3.0))] {
+    for (shape, metric) in [(SiteShape::Arc, (1, 1.0)), (SiteShape::Point, (3, 3.0))] {
         let r = m.run(|p| {
             p.begin(
                 Target {

@@ -35,9 +35,9 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        Buffer, ChannelMask, Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams,
-        Format, Image, Machine, Pass, PixelRect, Program, RasterState, RectDraw, StencilOp,
-        StencilTest, Target,
+        Buffer, ChannelMask, Clear, ClearColor, Compare, ConeDraw, ConeInstance, ConePush,
+        DepthTest, DrawParams, Format, Image, Machine, Pass, PixelRect, Program, RasterState,
+        RectDraw, StencilOp, StencilTest, Target,
     },
 };
 
@@ -214,15 +214,15 @@ pub fn k_nearest(
         }
         _ => (mesh, outer),
     };
-    let instances: Vec<[u32; 5]> = cones
+    let instances: Vec<ConeInstance> = cones
         .iter()
-        .map(|&(i, p, r)| cone_instance(i, p, outer.radius(r), r))
+        .map(|&(i, p, r)| ConeInstance::new(i, p.into(), outer.radius(r), r))
         .collect();
     // Fan heights map into the depth range by a power of two, which keeps them
     // exact; exact keys hold squared distances as they are.
     let reach = instances
         .iter()
-        .map(|c| f32::from_bits(c[2]) as f64)
+        .map(|c| c.site[2] as f64)
         .fold(1.0, f64::max)
         * 1.001;
     let vertex_scale = reach.log2().ceil().exp2().recip();
@@ -398,18 +398,6 @@ fn k_nearest_tiled(
     )?;
     stats.render_ms = ms(started);
     Ok(read_labels(&labels, &pixels, options, stats))
-}
-
-/// One instance of the cone programs (`glsl/cone.vert`): site `id` at pixel
-/// position `p`, rim radius `outer`, truncation radius `radius`.
-fn cone_instance(id: u32, p: DVec2, outer: f64, radius: f64) -> [u32; 5] {
-    [
-        (p.x as f32).to_bits(),
-        (p.y as f32).to_bits(),
-        (outer as f32).to_bits(),
-        (radius as f32).to_bits(),
-        id,
-    ]
 }
 
 /// Push constants for drawing on the whole `frame` with `levels` per pixel.
@@ -755,17 +743,17 @@ pub fn k_nearest_peeled(
     let (frame, k) = (options.frame, options.k);
     let started = Instant::now();
     let (cones, mut stats) = level_cones(machine, sites, options);
-    let instances: Vec<[u32; 5]> = cones
+    let instances: Vec<ConeInstance> = cones
         .iter()
         .map(|&(i, p, r)| {
-            cone_instance(
+            ConeInstance::new(
                 i,
-                p,
+                p.into(),
                 FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius,
                 r,
             )
         })
-        .chain(std::iter::once([0; 5]))
+        .chain(std::iter::once(bytemuck::Zeroable::zeroed()))
         .collect();
     let reach = cones.iter().map(|c| c.2).fold(1.0, f64::max) * 1.001;
     let metric = options.metric;
@@ -782,13 +770,12 @@ pub fn k_nearest_peeled(
     let instance_buffer = machine.vertex_buffer(&instances)?;
     // Step 2's footprint: a square around the picture's centre that covers it.
     let half = (w.max(h) as f64 / 2.0 + 1.0) * std::f64::consts::SQRT_2;
-    let carry = machine.vertex_buffer(&[[
-        ((w as f64 - 1.0) / 2.0) as f32,
-        ((h as f64 - 1.0) / 2.0) as f32,
-        half as f32,
-        half as f32,
-        0.0,
-    ]])?;
+    let carry = machine.vertex_buffer(&[ConeInstance::new(
+        0,
+        [(w as f64 - 1.0) / 2.0, (h as f64 - 1.0) / 2.0],
+        half,
+        half,
+    )])?;
     // The previous level: depth -1 (below every cone) and no site.
     let mut previous = machine.readback_buffer(8 * pixels as u64)?;
     let mut words = vec![(-1.0f32).to_bits(); pixels];
@@ -1048,7 +1035,7 @@ pub(crate) fn draw_furthest(
     };
     // Upside-down cones reach every pixel: a site's furthest region may lie
     // anywhere in the picture.
-    let instances: Vec<[u32; 5]> = owners
+    let instances: Vec<ConeInstance> = owners
         .iter()
         .map(|&i| {
             let p = pixels[i as usize];
@@ -1058,12 +1045,12 @@ pub(crate) fn draw_furthest(
                 Metric::Polygon(_) => metric.euclidean_bounds().1 * r,
                 _ => FanShape::with_triangles(r, FOOTPRINT_CORNERS).outer_radius,
             };
-            cone_instance(i, p, outer, r)
+            ConeInstance::new(i, p.into(), outer, r)
         })
         .collect();
     let reach = instances
         .iter()
-        .map(|c| f32::from_bits(c[3]) as f64)
+        .map(|c| c.site[3] as f64)
         .fold(1.0, f64::max)
         * 1.001;
     let scale = metric.key_scale(reach);

@@ -24,7 +24,7 @@ use crate::{
         buckets::{for_ring_cells, group_by_bucket},
         chain::{FanMeshes, MetricFan},
         metric::Metric,
-        site::{check_general_sites, Shape, Site},
+        site::{check_general_sites, ArcWedge, Shape, Site},
         surface::{fan_surface, Triangles},
     },
     machine::{
@@ -420,12 +420,13 @@ fn rect_draws<'a>(
 const BATCH_SIDE_LIMIT: f32 = 96.0;
 
 /// Whether sites of `shape` under `metric` are drawn in batches: those whose
-/// distance costs a few operations (Euclidean points, segments and circles; L1
-/// and L∞ points and segments). A batch evaluates eight per fragment, so the
-/// searches of curves under other metrics and of L_p stay one to a rectangle.
+/// distance costs a few operations (Euclidean points, segments, circles and
+/// arcs; L1 and L∞ points and segments). A batch evaluates eight per fragment
+/// (four arcs), so the searches of curves under other metrics and of L_p stay
+/// one to a rectangle.
 fn batched(metric: Metric, shape: SiteShape) -> bool {
     match metric {
-        Metric::L2 => shape != SiteShape::Arc,
+        Metric::L2 => true,
         Metric::L1 | Metric::LInf => matches!(shape, SiteShape::Point | SiteShape::Segment),
         _ => false,
     }
@@ -451,16 +452,21 @@ fn batch_sites(
     });
     let mut batches = Vec::new();
     for run in batched.chunk_by(|a, b| a.kind_id[0] == b.kind_id[0]) {
-        for chunk in run.chunks(BATCH) {
+        let shape = SiteShape::of_kind(run[0].kind_id[0]);
+        // An arc's shape takes two of the batch's shape slots.
+        let words = if shape == SiteShape::Arc { 2 } else { 1 };
+        for chunk in run.chunks(BATCH / words) {
             let mut batch = SiteBatch {
                 rect: [f32::MAX, f32::MAX, f32::MIN, f32::MIN],
                 shapes: [[0.0; 4]; BATCH],
                 weights: [[0.0; 2]; BATCH],
                 ids: [0; BATCH],
             };
-            for k in 0..BATCH {
+            for k in 0..BATCH / words {
                 let site = &chunk[k.min(chunk.len() - 1)];
-                batch.shapes[k].copy_from_slice(&site.shape[..4]);
+                for w in 0..words {
+                    batch.shapes[words * k + w].copy_from_slice(&site.shape[4 * w..][..4]);
+                }
                 batch.weights[k] = site.weights;
                 batch.ids[k] = site.kind_id[1];
                 for a in 0..2 {
@@ -468,7 +474,7 @@ fn batch_sites(
                     batch.rect[a + 2] = batch.rect[a + 2].max(site.rect[a + 2]);
                 }
             }
-            batches.push((SiteShape::of_kind(chunk[0].kind_id[0]), batch));
+            batches.push((shape, batch));
         }
     }
     (batches, singles)
@@ -555,9 +561,30 @@ fn cull(
         (lo, hi)
     };
     let weighted = |s: &Site, d: f64| d / (scale * s.multiplicative) + s.additive;
-    let range = |s: &Site, i: usize, j: usize| {
+    // Arcs are measured (in L2, see `spread`) many times each: their wedges
+    // once.
+    let wedges: Vec<Option<ArcWedge>> = sites
+        .iter()
+        .map(|s| match s.shape {
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => Some(ArcWedge::new(center, radius, start, end)),
+            _ => None,
+        })
+        .collect();
+    let range = |k: usize, i: usize, j: usize| {
         let (lo, hi) = bounds_of(i, j);
-        let (dlo, dhi) = spread(s, metric, 0.5 * (lo + hi), 0.5 * (hi - lo));
+        let s = &sites[k];
+        let (dlo, dhi) = spread(
+            s,
+            wedges[k].as_ref(),
+            metric,
+            0.5 * (lo + hi),
+            0.5 * (hi - lo),
+        );
         (weighted(s, dlo), weighted(s, dhi), dhi)
     };
     // Sites binned by the cell of their box's centre.
@@ -583,7 +610,7 @@ fn cull(
             for ring in 0..cx.max(cy) {
                 for_ring_cells((cx, cy), block, ring, |x, y| {
                     for &k in bin(x, y) {
-                        best = best.min(range(&sites[k as usize], i, j).1);
+                        best = best.min(range(k as usize, i, j).1);
                     }
                 });
                 // One more ring after the first find tightens the bound cheaply.
@@ -598,7 +625,8 @@ fn cull(
     let (a, _) = metric.euclidean_bounds();
     let reaches = sites
         .par_iter()
-        .map(|s| {
+        .enumerate()
+        .map(|(k, s)| {
             let (blo, bhi) = s.bounds();
             let block = [
                 cell_of(blo.x, cx) as isize,
@@ -621,7 +649,7 @@ fn cull(
                     if nearest > bound {
                         return;
                     }
-                    let (lo, _, d) = range(s, x, y);
+                    let (lo, _, d) = range(k, x, y);
                     if lo <= bound {
                         let (p, q) = bounds_of(x, y);
                         far = far.max(d);
@@ -690,7 +718,13 @@ fn picture_wide(
 /// need be neither symmetric nor convex, and curves under other metrics and
 /// segments under L_p are costly to measure: their range comes from the
 /// Euclidean one and the bounds a |x| <= |x| <= b |x| of the metric.
-fn spread(site: &Site, metric: Metric, centre: DVec2, half: DVec2) -> (f64, f64) {
+fn spread(
+    site: &Site,
+    wedge: Option<&ArcWedge>,
+    metric: Metric,
+    centre: DVec2,
+    half: DVec2,
+) -> (f64, f64) {
     // Distances to extended shapes under other metrics need a search per
     // evaluation (but L1 and L∞ segments, a few candidates); the Euclidean range
     // is closed-form and, stretched, as rigorous.
@@ -701,10 +735,13 @@ fn spread(site: &Site, metric: Metric, centre: DVec2, half: DVec2) -> (f64, f64)
     };
     if matches!(metric, Metric::Polygon(_)) || searched {
         let (a, b) = metric.euclidean_bounds();
-        let (lo, hi) = spread(site, Metric::L2, centre, half);
+        let (lo, hi) = spread(site, wedge, Metric::L2, centre, half);
         return (a * lo, b * hi);
     }
-    let d = site.distance_to_shape(metric, centre);
+    let d = match wedge {
+        Some(wedge) if metric == Metric::L2 => wedge.distance(centre),
+        _ => site.distance_to_shape(metric, centre),
+    };
     let h = metric.distance(half);
     match metric {
         Metric::Lp(p) if p < 1.0 => {

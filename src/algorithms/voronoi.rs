@@ -14,7 +14,7 @@
 //! delivered as bands of rows ([`voronoi_bands`]) so that no more than a band is
 //! ever held in memory.
 
-use std::time::Instant;
+use std::{f64::consts::TAU, time::Instant};
 
 use glam::DVec2;
 use rayon::prelude::*;
@@ -30,8 +30,8 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConePush, DepthTest,
-        DrawParams, Format, Image, Machine, PixelRect, Program, RasterState, StencilOp,
+        ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConeInstance, ConePush,
+        DepthTest, DrawParams, Format, Image, Machine, PixelRect, Program, RasterState, StencilOp,
         StencilTest, Target,
     },
 };
@@ -203,6 +203,18 @@ struct Cone {
     /// And inside this box, which batches draw (at most the radius's square).
     lo: DVec2,
     hi: DVec2,
+}
+
+impl Cone {
+    /// The box cut to the square of side 2 reach around the site, which holds
+    /// the metric's ball of that radius when the metric grows with each
+    /// coordinate (all but polygon gauges).
+    fn clip(&self) -> (DVec2, DVec2) {
+        (
+            self.lo.max(self.site - self.reach),
+            self.hi.min(self.site + self.reach),
+        )
+    }
 }
 
 /// How a cone is drawn; the order is the draw order.
@@ -642,18 +654,20 @@ fn cone_attempts(
             // cover, stretched. Each is (Euclidean radius, reach in the metric).
             let covered = metric != Metric::L1 || boxes.iter().any(Option::is_none);
             let a = metric.euclidean_bounds().0;
-            let cover: Vec<(f64, f64)> = if !covered {
-                vec![(f64::INFINITY, f64::INFINITY); pixels.len()]
-            } else if let Some(radii) = radius::local_metric_radii(pixels, frame, metric) {
-                radii
+            // Each with the box of the cover's cells the site may own a pixel of.
+            let everywhere = (DVec2::NEG_INFINITY, DVec2::INFINITY);
+            let cover: Vec<(f64, f64, (DVec2, DVec2))> = if !covered {
+                vec![(f64::INFINITY, f64::INFINITY, everywhere); pixels.len()]
+            } else if let Some(regions) = radius::local_metric_regions(pixels, frame, metric) {
+                regions
                     .into_iter()
-                    .map(|r| ((r + 0.5 * b) / a, r + 0.5 * b))
+                    .map(|r| ((r.reach + 0.5 * b) / a, r.reach + 0.5 * b, (r.lo, r.hi)))
                     .collect()
             } else {
                 let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), 1);
                 radius::k_local_radii(pixels, frame, 1, cell, bin, metric.stretch())
                     .into_iter()
-                    .map(|r| (r + 0.5, b * (r + 0.5)))
+                    .map(|r| (r + 0.5, b * (r + 0.5), everywhere))
                     .collect()
             };
             let mut cones = cones_with(&|i| {
@@ -666,13 +680,14 @@ fn cone_attempts(
             // each coordinate's offset within the reach.
             let axes_bounded = !matches!(metric, Metric::Polygon(_));
             for cone in &mut cones {
-                let (i, reach) = (cone.id as usize, cover[cone.id as usize].1);
+                let i = cone.id as usize;
+                let (_, reach, (lo, hi)) = cover[i];
                 cone.reach = cone.reach.min(reach);
                 if axes_bounded {
                     cone.lo = cone.lo.max(cone.site - reach);
                     cone.hi = cone.hi.min(cone.site + reach);
                 }
-                if let Some((lo, hi)) = clipped[i] {
+                for (lo, hi) in clipped[i].into_iter().chain([(lo, hi)]) {
                     cone.lo = cone.lo.max(lo - 0.5);
                     cone.hi = cone.hi.min(hi + 0.5);
                 }
@@ -747,15 +762,21 @@ fn shape_cones(
         Metric::Lp(p) => p >= 2.0,
         _ => false,
     };
-    // Measuring the sampled circle costs far more than scaling it.
-    let unit_ball_outer = match (accuracy, metric) {
+    // Measuring the sampled circle costs far more than scaling it: the ball
+    // footprint's outer radius and area at reach 1.
+    let (unit_ball_outer, unit_ball_area) = match (accuracy, metric) {
         (Accuracy::Exact, Metric::L1 | Metric::Lp(_)) if !square_ball => {
-            chain::MetricFan::Uniform {
+            let fan = chain::MetricFan::Uniform {
                 corners: BALL_CORNERS,
-            }
-            .outer_radius_of_reach(metric, 1.0)
+            };
+            let outer = fan.outer_radius_of_reach(metric, 1.0);
+            let rim = fan.unit_mesh(metric, 1.0);
+            let area = (1..rim.len() - 1)
+                .map(|k| f64::from(rim[k][0] * rim[k + 1][1] - rim[k + 1][0] * rim[k][1]) / 2.0)
+                .sum::<f64>();
+            (outer, area * outer * outer)
         }
-        _ => 1.0,
+        _ => (1.0, 0.0),
     };
     let mut shaped: Vec<Shaped> = cones
         .iter()
@@ -763,20 +784,32 @@ fn shape_cones(
             let fan = |s: FanShape| (Footprint::Fan(s.triangles), s.outer_radius);
             let (footprint, outer_radius) = match accuracy {
                 Accuracy::Exact => {
+                    // The square of side 2 reach around the site (its corners
+                    // reach √2 away), cut to the region's box: it holds the ball
+                    // of every metric that grows with each coordinate.
+                    let square = (Footprint::Polygon(4), cone.reach * std::f64::consts::SQRT_2);
+                    let (lo, hi) = cone.clip();
+                    let square_area = (hi - lo).max(DVec2::ZERO).element_product();
+                    let r = cone.reach;
                     if batch && cone.radius < batch_radius_limit {
                         (Footprint::Batch, cone.radius)
                     } else if square_ball {
-                        // The square of side 2 r around the centre: its corners
-                        // are r √2 away.
-                        (Footprint::Polygon(4), cone.reach * std::f64::consts::SQRT_2)
+                        square
                     } else if metric != Metric::L2 {
-                        (Footprint::Ball, cone.reach * unit_ball_outer)
+                        if square_area < unit_ball_area * r * r {
+                            square
+                        } else {
+                            (Footprint::Ball, r * unit_ball_outer)
+                        }
                     } else {
                         let k = polygon_corners(cone.radius);
-                        (
-                            Footprint::Polygon(k),
-                            FanShape::with_triangles(cone.radius, k).outer_radius,
-                        )
+                        let polygon = FanShape::with_triangles(cone.radius, k).outer_radius;
+                        let polygon_area = 0.5 * k as f64 * (TAU / k as f64).sin();
+                        if square_area < polygon_area * polygon * polygon {
+                            square
+                        } else {
+                            (Footprint::Polygon(k), polygon)
+                        }
                     }
                 }
                 Accuracy::Fan {
@@ -1046,18 +1079,24 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         ranges.push((mesh.len() as u32, vertices.len() as u32));
         mesh.extend(vertices);
     }
-    let instances: Vec<[u32; 5]> = visible
+    let instances: Vec<ConeInstance> = visible
         .iter()
         .map(|s| {
-            [
-                (s.cone.site.x as f32).to_bits(),
-                (s.cone.site.y as f32).to_bits(),
-                (s.outer_radius as f32).to_bits(),
-                (s.cone.radius as f32).to_bits(),
-                s.cone.id,
-            ]
+            let c = &s.cone;
+            let cone = ConeInstance::new(c.id, c.site.into(), s.outer_radius, c.radius);
+            match s.footprint {
+                // Clamping an axis-aligned square's corners cuts it exactly.
+                Footprint::Polygon(4) if draws.accuracy == Accuracy::Exact => {
+                    let (lo, hi) = c.clip();
+                    ConeInstance {
+                        clip: [lo.x, lo.y, hi.x, hi.y].map(|v| v as f32),
+                        ..cone
+                    }
+                }
+                _ => cone,
+            }
         })
-        .chain(std::iter::once([0; 5]))
+        .chain(std::iter::once(bytemuck::Zeroable::zeroed()))
         .collect();
     let push = ConePush {
         picture_size: [view.width as f32, view.height as f32],

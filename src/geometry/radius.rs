@@ -9,7 +9,7 @@ use glam::DVec2;
 
 use rayon::prelude::*;
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 use super::{
     buckets::{for_ring_cells, group_by_bucket},
@@ -414,15 +414,28 @@ pub fn k_local_radii(
     bin: f64,
     stretch: f64,
 ) -> Vec<f64> {
-    local_radii_by(sites, frame, k, cell, bin, Measure::euclidean(stretch))
+    local_regions_by(sites, frame, k, cell, bin, Measure::euclidean(stretch))
+        .into_iter()
+        .map(|r| r.reach)
+        .collect()
+}
+
+/// Where a site's region lies: every pixel centre the site owns is within
+/// `reach` of it (in the metric measured) and inside the box `[lo, hi]` of
+/// pixel centres (empty, `lo > hi`, for a site that owns none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    pub reach: f64,
+    pub lo: DVec2,
+    pub hi: DVec2,
 }
 
 /// [`k_local_radii`] for the nearest site under `metric`, as distances in the
-/// metric itself: every pixel centre that site s owns lies within `radii[s]` of
-/// it, measured by `metric`. Measured directly, which for p far from 2 is much
-/// tighter than stretching Euclidean bounds (L0.5 stretches them by 2.83).
-/// `None` for polygon gauges, which need not grow with each coordinate.
-pub fn local_metric_radii(sites: &[DVec2], frame: &Frame, metric: Metric) -> Option<Vec<f64>> {
+/// metric itself, with the box of the cells where each site may own a pixel.
+/// Measured directly, which for p far from 2 is much tighter than stretching
+/// Euclidean bounds (L0.5 stretches them by 2.83). `None` for polygon gauges,
+/// which need not grow with each coordinate.
+pub fn local_metric_regions(sites: &[DVec2], frame: &Frame, metric: Metric) -> Option<Vec<Region>> {
     // Cells twice as wide as for the Euclidean cover: at 16000 sites a quarter
     // of the cells halved the time of L_p bounds and of the whole L3 fan diagram
     // (radii 15% longer), and changed nothing at 2000.
@@ -433,17 +446,17 @@ pub fn local_metric_radii(sites: &[DVec2], frame: &Frame, metric: Metric) -> Opt
         _ => None,
     };
     Measure::native(metric, table.as_ref())
-        .map(|measure| local_radii_by(sites, frame, 1, cell, bin, measure))
+        .map(|measure| local_regions_by(sites, frame, 1, cell, bin, measure))
 }
 
-fn local_radii_by(
+fn local_regions_by(
     sites: &[DVec2],
     frame: &Frame,
     k: usize,
     cell: f64,
     bin: f64,
     measure: Measure,
-) -> Vec<f64> {
+) -> Vec<Region> {
     // Whole pixels: then [lo, hi] below holds exactly the cell's pixel centres.
     let cell = cell.round().max(1.0);
     let bins = Grid::new(sites, frame, bin.max(cell));
@@ -451,6 +464,7 @@ fn local_radii_by(
     let ny = (frame.height as f64 / cell).ceil() as usize;
     let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
     let radii = Radii::new(sites.len());
+    let boxes = CellBoxes::new(sites.len());
     (0..ny).into_par_iter().for_each_init(
         || (Vec::new(), Vec::new()),
         |(candidates, nearest), cy| {
@@ -460,11 +474,17 @@ fn local_radii_by(
                 let cover = bins.k_candidates(lo, hi, k, measure, candidates, nearest);
                 for &(i, p) in candidates.iter() {
                     radii.raise(i, measure.farthest_below(p, lo, hi, cover));
+                    boxes.include(i, cx as u32, cy as u32);
                 }
             }
         },
     );
-    radii.into_radii(measure.metric)
+    radii
+        .into_radii(measure.metric)
+        .into_iter()
+        .zip(boxes.into_boxes(cell, corner))
+        .map(|(reach, (lo, hi))| Region { reach, lo, hi })
+        .collect()
 }
 
 /// How [`Grid::k_candidates`] measures sites against rectangles: by the keys of
@@ -734,6 +754,53 @@ impl Radii {
             .into_iter()
             .map(|r| metric.distance_of_key(f64::from_bits(r.into_inner())))
             .collect()
+    }
+}
+
+/// Per site, the smallest and largest column and row of the cells it may own a
+/// pixel of, raised from many threads.
+struct CellBoxes(Vec<[AtomicU32; 4]>);
+
+impl CellBoxes {
+    fn new(n: usize) -> Self {
+        Self(
+            (0..n)
+                .map(|_| [u32::MAX, u32::MAX, 0, 0].map(AtomicU32::new))
+                .collect(),
+        )
+    }
+
+    fn include(&self, i: u32, cx: u32, cy: u32) {
+        let [x0, y0, x1, y1] = &self.0[i as usize];
+        // As in `Radii::raise`: plain loads first, most cells change nothing.
+        for (bound, v, lower) in [
+            (x0, cx, true),
+            (y0, cy, true),
+            (x1, cx, false),
+            (y1, cy, false),
+        ] {
+            let b = bound.load(Ordering::Relaxed);
+            if lower && v < b {
+                bound.fetch_min(v, Ordering::Relaxed);
+            } else if !lower && v > b {
+                bound.fetch_max(v, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// The boxes' pixel centres, for cells of side `cell` and the picture's last
+    /// pixel centre `corner`; `lo > hi` for a site in no cell.
+    fn into_boxes(self, cell: f64, corner: DVec2) -> impl Iterator<Item = (DVec2, DVec2)> {
+        self.0.into_iter().map(move |b| {
+            let [x0, y0, x1, y1] = b.map(|v| v.into_inner() as f64);
+            if x0 > x1 {
+                return (DVec2::ONE, DVec2::ZERO);
+            }
+            (
+                DVec2::new(x0, y0) * cell,
+                (DVec2::new(x1, y1) * cell + cell - 1.0).min(corner),
+            )
+        })
     }
 }
 
@@ -1158,10 +1225,10 @@ mod tests {
     }
 
     #[test]
-    fn metric_radii_hold_every_owned_pixel() {
+    fn metric_regions_hold_every_owned_pixel() {
         // Every pixel centre lies within its nearest sites' radii (ties included),
-        // measured in the metric: random sites, a lattice, a diagonal run,
-        // duplicates and sites outside the picture.
+        // measured in the metric, and inside their boxes: random sites, a
+        // lattice, a diagonal run, duplicates and sites outside the picture.
         let (frame, sites) = awkward_sites();
         let metrics = [
             Metric::L2,
@@ -1173,12 +1240,18 @@ mod tests {
             Metric::Lp(60.0),
         ];
         for metric in metrics {
-            let radii = local_metric_radii(&sites, &frame, metric).unwrap();
+            let regions = local_metric_regions(&sites, &frame, metric).unwrap();
+            let radii: Vec<f64> = regions.iter().map(|r| r.reach).collect();
             for_each_owner(&sites, &frame, metric, |q, i, own| {
                 assert!(
                     own <= radii[i] * (1.0 + 1e-12),
                     "{metric}: pixel {q} of site {i} at {own} beyond {}",
                     radii[i]
+                );
+                let Region { lo, hi, .. } = regions[i];
+                assert!(
+                    q.cmpge(lo).all() && q.cmple(hi).all(),
+                    "{metric}: pixel {q} of site {i} outside its box {lo}..{hi}"
                 );
             });
             // Far tighter than the stretched Euclidean cover where the stretch
@@ -1205,7 +1278,7 @@ mod tests {
             ],
             DVec2::ZERO,
         );
-        assert!(local_metric_radii(&sites, &frame, gauge.unwrap()).is_none());
+        assert!(local_metric_regions(&sites, &frame, gauge.unwrap()).is_none());
     }
 
     #[test]

@@ -223,6 +223,52 @@ pub fn ray_crossings(metric: Metric, d: DVec2, radius: f64) -> Vec<f64> {
     out
 }
 
+/// A Euclidean arc made ready for many distance queries: the directions of its
+/// ends, so that the side of each that a query lies on tells whether it faces the
+/// arc, with no angle per query (as `glsl/site_distance.glsl` does).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcWedge {
+    center: DVec2,
+    radius: f64,
+    span: f64,
+    start: DVec2,
+    end: DVec2,
+}
+
+impl ArcWedge {
+    pub fn new(center: DVec2, radius: f64, start: f64, end: f64) -> Self {
+        let direction = |a: f64| DVec2::new(a.cos(), a.sin());
+        Self {
+            center,
+            radius,
+            span: end - start,
+            start: direction(start),
+            end: direction(end),
+        }
+    }
+
+    /// The Euclidean distance from `q` to the arc.
+    pub fn distance(&self, q: DVec2) -> f64 {
+        let v = q - self.center;
+        let after_start = self.start.perp_dot(v) >= 0.0;
+        let before_end = v.perp_dot(self.end) >= 0.0;
+        // Both sides for a span up to a half turn, either beyond.
+        let inside = if self.span <= std::f64::consts::PI {
+            after_start && before_end
+        } else {
+            after_start || before_end
+        };
+        if inside || self.span >= TAU || v == DVec2::ZERO {
+            (v.length() - self.radius).abs()
+        } else {
+            let r = self.radius;
+            (v - r * self.start)
+                .length()
+                .min((v - r * self.end).length())
+        }
+    }
+}
+
 /// Whether the direction of angle `angle` lies on the arc from `start`
 /// counter-clockwise to `end`.
 pub fn on_arc(angle: f64, start: f64, end: f64) -> bool {
@@ -287,6 +333,55 @@ pub fn check_general_sites(sites: &[Site]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn arc_wedges_measure_as_the_definition() {
+        // Spans from none to more than a full turn, starts all around, queries
+        // near and far, on the ends' rays and at the centre.
+        let center = DVec2::new(1.5, -2.0);
+        for s in 0..12 {
+            let start = -7.0 + 1.3 * s as f64;
+            for span in [
+                0.0,
+                0.4,
+                1.5,
+                3.0,
+                std::f64::consts::PI,
+                3.3,
+                5.0,
+                TAU - 1e-9,
+                TAU,
+                7.5,
+            ] {
+                let end = start + span;
+                let radius = 3.0;
+                let wedge = ArcWedge::new(center, radius, start, end);
+                let arc = Site::new(Shape::Arc {
+                    center,
+                    radius,
+                    start,
+                    end,
+                });
+                let mut queries = vec![center];
+                for k in 0..40 {
+                    let a = 0.17 * k as f64;
+                    for r in [0.5, 2.9, 3.0, 4.0, 9.0] {
+                        queries.push(center + r * DVec2::new(a.cos(), a.sin()));
+                    }
+                }
+                for a in [start, end] {
+                    queries.push(center + 5.0 * DVec2::new(a.cos(), a.sin()));
+                }
+                for q in queries {
+                    let (fast, exact) = (wedge.distance(q), arc.distance(Metric::L2, q));
+                    assert!(
+                        (fast - exact).abs() <= 1e-9,
+                        "start {start} span {span} at {q}: {fast} vs {exact}"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn distances_of_each_shape() {

@@ -30,8 +30,8 @@ use ash::vk;
 pub use context::{DeviceChoice, MachineOptions};
 pub use memory::{Buffer, BufferKind, Format, Image};
 pub use pass::{
-    Clear, ClearColor, ConeBatch, ConeDraw, ConePush, Pass, PixelRect, RectDraw, SiteBatch,
-    SiteInstance, Target, MAX_GROUPS,
+    Clear, ClearColor, ConeBatch, ConeDraw, ConeInstance, ConePush, Pass, PixelRect, RectDraw,
+    SiteBatch, SiteInstance, Target, MAX_GROUPS,
 };
 pub use pipelines::{BufferKernel, Program, SiteShape, BUFFER_KERNEL_BINDINGS};
 pub use state::{

@@ -96,13 +96,15 @@ pub struct SiteInstance {
 
 /// One instance of [`crate::machine::Program::SiteExactBatch`]
 /// (`glsl/site_batch.vert`): up to eight sites of one shape drawn as one
-/// rectangle that covers all of theirs. Unused slots repeat a used one.
+/// rectangle that covers all of theirs, or up to four arcs, whose shapes take
+/// eight words. Unused slots repeat a used one.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SiteBatch {
     /// (min x, min y, max x, max y) in picture pixels.
     pub rect: [f32; 4],
-    /// The first four shape words of each site ([`SiteInstance::shape`]).
+    /// The first four shape words of each site ([`SiteInstance::shape`]); arc
+    /// k's eight in `shapes[2 k]` and `shapes[2 k + 1]`.
     pub shapes: [[f32; 4]; 8],
     /// Each site's [`SiteInstance::weights`].
     pub weights: [[f32; 2]; 8],
@@ -126,10 +128,36 @@ pub struct ConePush {
     pub metric: (u32, f32),
 }
 
+/// One cone of the programs that draw `glsl/cone.vert`: the unit mesh scaled to
+/// the outer radius around the site, its corners clamped into `clip`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ConeInstance {
+    /// Site x, y, outer radius and truncation radius, in picture pixels.
+    pub site: [f32; 4],
+    /// `(min x, min y, max x, max y)`: an exact cone's footprint is cut to this
+    /// rectangle. Clamping its corners cuts an axis-aligned square exactly;
+    /// other footprints, and fans (whose depth follows their corners), need a
+    /// rectangle that holds them whole.
+    pub clip: [f32; 4],
+    pub id: u32,
+}
+
+impl ConeInstance {
+    /// A cone drawn whole.
+    pub fn new(id: u32, site: [f64; 2], outer_radius: f64, radius: f64) -> Self {
+        Self {
+            site: [site[0], site[1], outer_radius, radius].map(|v| v as f32),
+            clip: [-f32::MAX, -f32::MAX, f32::MAX, f32::MAX],
+            id,
+        }
+    }
+}
+
 /// An instanced draw of cones: `vertex_count` vertices of the unit fan mesh from
 /// `first_vertex`, once per instance in `first_instance..first_instance + count`.
-/// The mesh holds `[f32; 3]` unit vertices (cos, sin, h); each instance is five
-/// 32-bit words: site x, y, outer radius, truncation radius (floats) and the site id.
+/// The mesh holds `[f32; 3]` unit vertices (cos, sin, h); for the programs of
+/// `glsl/cone.vert` the instances are [`ConeInstance`]s.
 #[derive(Clone, Copy)]
 pub struct ConeDraw<'a> {
     pub mesh: &'a Buffer,

@@ -475,8 +475,11 @@ impl Pipelines {
                     SiteShape::Point => "site_batch.frag:point",
                     SiteShape::Segment => "site_batch.frag:segment",
                     SiteShape::Circle => "site_batch.frag:circle",
+                    SiteShape::Arc if key.metric == Some(0) => "site_batch.frag:arc",
                     SiteShape::Arc => {
-                        return Err(Error::InvalidInput("arcs are not drawn in batches".into()))
+                        return Err(Error::InvalidInput(
+                            "only Euclidean arcs are drawn in batches".into(),
+                        ))
                     }
                 },
                 vk::PrimitiveTopology::TRIANGLE_LIST,
@@ -565,7 +568,7 @@ impl Pipelines {
                 .input_rate(vk::VertexInputRate::VERTEX),
             vk::VertexInputBindingDescription::default()
                 .binding(1)
-                .stride(20)
+                .stride(std::mem::size_of::<super::pass::ConeInstance>() as u32)
                 .input_rate(vk::VertexInputRate::INSTANCE),
         ];
         let cone_attributes = [
@@ -580,8 +583,13 @@ impl Pipelines {
             vk::VertexInputAttributeDescription::default()
                 .location(2)
                 .binding(1)
-                .offset(16)
+                .offset(32)
                 .format(vk::Format::R32_UINT),
+            vk::VertexInputAttributeDescription::default()
+                .location(3)
+                .binding(1)
+                .offset(16)
+                .format(vk::Format::R32G32B32A32_SFLOAT),
         ];
         let instance_bindings = |stride: usize| {
             [
