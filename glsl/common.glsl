@@ -13,7 +13,8 @@ layout(push_constant) uniform Picture {
     // cone_tiles.frag).
     uint levels;
     // The distance function of exact cones (geometry/metric.rs): 0 Euclidean,
-    // 1 L1, 2 L-infinity, 3 L_p with p = metric_p.
+    // 1 L1, 2 L-infinity, 3 L_p with p = metric_p, 4 the same with keys that are
+    // sums of powers (DepthKey).
     uint metric;
     float metric_p;
 } picture;
@@ -34,6 +35,8 @@ float metric_key(vec2 d) {
 float metric_key_of_distance(float r) {
     if (METRIC_KIND == 0u) {
         return r * r;
+    } else if (METRIC_KIND == 4u) {
+        return pow(r, picture.metric_p);
     }
     return r;
 }

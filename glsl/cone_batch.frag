@@ -1,4 +1,4 @@
-// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP METRIC_LP_SUM
 #version 460
 // The lower envelope of a batch of exact cones (cone_batch.vert): the metric's key
 // of the nearest site of the batch whose truncation radius (Euclidean) reaches

@@ -1,4 +1,4 @@
-// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP METRIC_LP_SUM
 #version 460
 // An exact cone: the depth is the metric's key of the offset from the site (the
 // squared Euclidean distance unless another metric is chosen), computed per

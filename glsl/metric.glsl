@@ -1,5 +1,6 @@
 // Distance functions (src/geometry/metric.rs): kind 0 Euclidean, 1 L1,
-// 2 L-infinity, 3 L_p with exponent p.
+// 2 L-infinity, 3 L_p with exponent p, 4 L_p with 2p a whole number (keys that
+// are sums of powers, for exact point cones: DepthKey).
 
 // Shaders built once per kind (variants METRIC_L2 METRIC_L1 METRIC_LINF
 // METRIC_LP) have the kind as the constant METRIC_KIND; the others read it from
@@ -14,11 +15,14 @@
 #define METRIC_KIND 2u
 #elif defined(METRIC_LP)
 #define METRIC_KIND 3u
+#elif defined(METRIC_LP_SUM)
+#define METRIC_KIND 4u
 #endif
 
 // The metric's key of offset d: a monotone function of its distance (the squared
-// distance for the Euclidean norm, the distance itself otherwise). Keys of
-// integer offsets are exact for kinds 0 to 2.
+// distance for the Euclidean norm, the sum of the coordinates' p-th powers for
+// kind 4, the distance itself otherwise). Keys of integer offsets are exact for
+// kinds 0 to 2, and for kind 4 with integer p while below 2^24.
 float metric_key_of(vec2 d, uint kind, float p) {
     vec2 a = abs(d);
     if (kind == 0u) {
@@ -27,6 +31,14 @@ float metric_key_of(vec2 d, uint kind, float p) {
         return a.x + a.y;
     } else if (kind == 2u) {
         return max(a.x, a.y);
+    } else if (kind == 4u) {
+        // |x|^p = |x|^(k / 2) for k = 2p: products, and a square root for odd k.
+        int k = int(2.0 * p + 0.5);
+        vec2 power = (k & 1) != 0 ? sqrt(a) : vec2(1.0);
+        for (int i = 0; i < k / 2; i++) {
+            power *= a;
+        }
+        return power.x + power.y;
     }
     // L_p: the distance itself, scaled by the larger coordinate so that large p
     // neither overflows nor underflows float32. The larger term is 1.
@@ -41,6 +53,8 @@ float metric_key_of(vec2 d, uint kind, float p) {
 float metric_distance_of_key(float key, uint kind, float p) {
     if (kind == 0u) {
         return sqrt(key);
+    } else if (kind == 4u) {
+        return pow(key, 1.0 / p);
     }
     return key;
 }

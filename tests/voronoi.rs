@@ -362,11 +362,14 @@ fn other_metrics_match_their_definition() {
     let m = machine();
     let frame = Frame::pixels(61, 47).unwrap();
     // p close to 0 and very large too.
+    // Power sums as keys for 2p whole (0.5, 1.5, 3, 4), distances otherwise.
     let metrics = [
         Metric::L1,
         Metric::LInf,
         Metric::Lp(0.5),
+        Metric::Lp(1.5),
         Metric::Lp(3.0),
+        Metric::Lp(4.0),
         Metric::Lp(0.1),
         Metric::Lp(60.0),
     ];
@@ -514,7 +517,9 @@ fn fans_of_other_metrics_stay_inside_their_bounds() {
 fn ties_count_the_sites_at_the_smallest_distance() {
     // Thesis §3.6.4: the second pass with the depth test EQUAL counts every site at
     // a pixel's smallest distance. Integer sites, so ties are exact: the L1 and
-    // L-infinity areas of equidistant points, lattice corners, duplicates.
+    // L-infinity areas of equidistant points, lattice corners, duplicates; and
+    // for L3, whose keys are sums of cubes, exact for integers, the lattice's
+    // mirror images (the oracle compares the cube sums, exact in f64 as well).
     let m = machine();
     let frame = Frame::pixels(48, 40).unwrap();
     let p = |x: f64, y: f64| DVec2::new(x, y);
@@ -531,7 +536,11 @@ fn ties_count_the_sites_at_the_smallest_distance() {
             vec![p(10.0, 10.0), p(10.0, 10.0), p(33.0, 25.0)],
         ),
     ];
-    for metric in [Metric::L2, Metric::L1, Metric::LInf] {
+    for metric in [Metric::L2, Metric::L1, Metric::LInf, Metric::Lp(3.0)] {
+        let order = |d: DVec2| match metric {
+            Metric::Lp(_) => d.x.abs().powi(3) + d.y.abs().powi(3),
+            _ => metric.distance(d),
+        };
         for (name, sites) in &inputs {
             let d = voronoi(
                 &m,
@@ -547,7 +556,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
             let mut tied = 0;
             for (k, &count) in d.ties.iter().enumerate() {
                 let q = p((k % 48) as f64, (k / 48) as f64);
-                let dists: Vec<f64> = sites.iter().map(|s| metric.distance(*s - q)).collect();
+                let dists: Vec<f64> = sites.iter().map(|s| order(*s - q)).collect();
                 let best = dists.iter().copied().fold(f64::INFINITY, f64::min);
                 let want = dists.iter().filter(|x| **x == best).count() as u32;
                 assert_eq!(count, want, "{metric} {name}: pixel {q}");

@@ -207,7 +207,7 @@ fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, side: u32) -> Result
         ..VoronoiOptions::exact(frame)
     };
     let mut centre = vec![false; w * h];
-    draw_point_tiles(machine, sites, &options, false, |tile| {
+    draw_point_tiles(machine, sites, &options, false, false, |tile| {
         let key = tile.keys.scale * r_px * r_px;
         let (tw, th) = (tile.ids.width(), tile.ids.height());
         if key <= 1.0 {

@@ -26,7 +26,7 @@ use crate::{
         chain,
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::{check_sites, distance2_to_rect, farthest2_in_rect},
-        metric::Metric,
+        metric::{DepthKey, Metric},
         radius, Frame,
     },
     machine::{
@@ -260,7 +260,11 @@ pub(crate) const BATCH: usize = 8;
 /// polygon of their own.
 const BATCH_RADIUS_LIMIT: f64 = 48.0;
 
-/// The same for L_p, whose keys cost two powers: a batch evaluates eight per
+/// A triangle's cost in fragments: lavapipe spends about a microsecond setting
+/// one up, as much as ~400 fragments.
+const TRIANGLE_FRAGMENTS: f64 = 400.0;
+
+/// The same for L_p whose keys cost powers (see `DepthKey`): a batch evaluates eight per
 /// fragment, a cone of its own one. Measured at 1024², whole L3 exact diagrams:
 /// 2000 sites (radii about 26) took 66–77 ms batched and 48–57 ms one cone at
 /// a time; 16000 (radii about 9) took 175 ms one at a time and 136 ms batched
@@ -313,7 +317,7 @@ pub fn voronoi_bands(
 ) -> Result<VoronoiStats> {
     let frame = options.frame;
     let mut band: Option<Band> = None;
-    let stats = draw_point_tiles(machine, sites, options, false, |tile| {
+    let stats = draw_point_tiles(machine, sites, options, false, true, |tile| {
         if tile.x0 == 0 {
             if let Some(done) = band.take() {
                 sink(done)?;
@@ -359,7 +363,8 @@ pub(crate) struct PointTile<'a> {
 /// How a diagram of points' depths map to distances.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PointDepth {
-    pub metric: Metric,
+    /// What exact cones wrote.
+    pub key: DepthKey,
     pub exact: bool,
     /// Depth units per key (exact) or per pixel of distance (fans).
     pub scale: f64,
@@ -370,7 +375,7 @@ impl PointDepth {
     /// The distance (world units) of a depth.
     pub fn distance(self, z: f32) -> f64 {
         let d = if self.exact {
-            self.metric.distance_of_key(z as f64 / self.scale)
+            self.key.distance(z as f64 / self.scale)
         } else {
             z as f64 / self.scale
         };
@@ -386,6 +391,7 @@ pub(crate) fn draw_point_tiles(
     sites: &[DVec2],
     options: &VoronoiOptions,
     stencil: bool,
+    power_keys: bool,
     mut visit: impl FnMut(&PointTile<'_>) -> Result<()>,
 ) -> Result<VoronoiStats> {
     check_sites(sites)?;
@@ -415,6 +421,17 @@ pub(crate) fn draw_point_tiles(
     let started = Instant::now();
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     let attempts = cone_attempts(&pixels, &frame, options.speedup, options.metric);
+    // Exact cones discard fragments beyond their radius.
+    let exact_reach = attempts
+        .iter()
+        .flat_map(|(_, cones)| cones)
+        .map(|c| c.radius)
+        .fold(1.0, f64::max)
+        * 1.001;
+    let key = match (power_keys, options.accuracy) {
+        (true, Accuracy::Exact) => DepthKey::for_cones(options.metric, exact_reach),
+        _ => DepthKey::Metric(options.metric),
+    };
     let shaped: Vec<Vec<Shaped>> = attempts
         .iter()
         .map(|(_, cones)| {
@@ -423,13 +440,26 @@ pub(crate) fn draw_point_tiles(
                 &frame,
                 options.accuracy,
                 options.metric,
+                key,
                 !options.ties,
             )
         })
         .collect();
     let batches: Vec<Vec<ConeBatch>> = shaped.iter().map(|s| batches_of(s)).collect();
-    // One depth scale for every tile and attempt: the largest cone's.
-    let scale = depth_scale(shaped.iter().flatten(), options.accuracy, options.metric);
+    // One depth scale for every tile and attempt, the largest cone's: fan
+    // heights reach the outer radius at the rim.
+    let reach = match options.accuracy {
+        Accuracy::Exact => exact_reach,
+        Accuracy::Fan { .. } => {
+            shaped
+                .iter()
+                .flatten()
+                .map(|s| s.outer_radius)
+                .fold(1.0, f64::max)
+                * 1.001
+        }
+    };
+    let scale = depth_scale(reach, options.accuracy, key);
     stats.bounds_ms = ms(started);
 
     let meshes = chain::FanMeshes::new(options.metric);
@@ -458,7 +488,7 @@ pub(crate) fn draw_point_tiles(
     };
 
     let keys = PointDepth {
-        metric: options.metric,
+        key,
         exact: options.accuracy == Accuracy::Exact,
         scale: if options.accuracy == Accuracy::Exact {
             scale.fragment
@@ -491,6 +521,7 @@ pub(crate) fn draw_point_tiles(
                     batches,
                     accuracy: options.accuracy,
                     metric: options.metric,
+                    key,
                     meshes: &meshes,
                     scale,
                     ties: options.ties,
@@ -748,10 +779,11 @@ fn shape_cones(
     frame: &Frame,
     accuracy: Accuracy,
     metric: Metric,
+    key: DepthKey,
     batch: bool,
 ) -> Vec<Shaped> {
-    let batch_radius_limit = match metric {
-        Metric::Lp(_) => BATCH_RADIUS_LIMIT_LP,
+    let batch_radius_limit = match (key, metric) {
+        (DepthKey::Metric(Metric::Lp(_)), _) => BATCH_RADIUS_LIMIT_LP,
         _ => BATCH_RADIUS_LIMIT,
     };
     // L∞ balls and L_p balls for p >= 2 fill 88% or more of their bounding
@@ -778,39 +810,51 @@ fn shape_cones(
         }
         _ => (1.0, 0.0),
     };
+    // An exact cone drawn on its own: its footprint, outer radius and cost in
+    // fragments, a triangle counting as TRIANGLE_FRAGMENTS. The square of side
+    // 2 reach around the site (its corners reach √2 away), cut to the region's
+    // box, holds the ball of every metric that grows with each coordinate.
+    let alone = |cone: &Cone| -> (Footprint, f64, f64) {
+        let (lo, hi) = cone.clip();
+        let square_area = (hi - lo).max(DVec2::ZERO).element_product();
+        let square = (
+            Footprint::Polygon(4),
+            cone.reach * std::f64::consts::SQRT_2,
+            square_area + 2.0 * TRIANGLE_FRAGMENTS,
+        );
+        let r = cone.reach;
+        let (footprint, outer, area) = if square_ball {
+            return square;
+        } else if metric != Metric::L2 {
+            (Footprint::Ball, r * unit_ball_outer, unit_ball_area * r * r)
+        } else {
+            let k = polygon_corners(cone.radius);
+            let outer = FanShape::with_triangles(cone.radius, k).outer_radius;
+            let area = 0.5 * k as f64 * (TAU / k as f64).sin() * outer * outer;
+            (Footprint::Polygon(k), outer, area)
+        };
+        let corners = match footprint {
+            Footprint::Polygon(k) => k,
+            _ => BALL_CORNERS,
+        };
+        let cost = area + (corners - 2) as f64 * TRIANGLE_FRAGMENTS;
+        if square.2 < cost {
+            square
+        } else {
+            (footprint, outer, cost)
+        }
+    };
     let mut shaped: Vec<Shaped> = cones
         .iter()
         .map(|cone| {
             let fan = |s: FanShape| (Footprint::Fan(s.triangles), s.outer_radius);
             let (footprint, outer_radius) = match accuracy {
+                Accuracy::Exact if batch && cone.radius < batch_radius_limit => {
+                    (Footprint::Batch, cone.radius)
+                }
                 Accuracy::Exact => {
-                    // The square of side 2 reach around the site (its corners
-                    // reach √2 away), cut to the region's box: it holds the ball
-                    // of every metric that grows with each coordinate.
-                    let square = (Footprint::Polygon(4), cone.reach * std::f64::consts::SQRT_2);
-                    let (lo, hi) = cone.clip();
-                    let square_area = (hi - lo).max(DVec2::ZERO).element_product();
-                    let r = cone.reach;
-                    if batch && cone.radius < batch_radius_limit {
-                        (Footprint::Batch, cone.radius)
-                    } else if square_ball {
-                        square
-                    } else if metric != Metric::L2 {
-                        if square_area < unit_ball_area * r * r {
-                            square
-                        } else {
-                            (Footprint::Ball, r * unit_ball_outer)
-                        }
-                    } else {
-                        let k = polygon_corners(cone.radius);
-                        let polygon = FanShape::with_triangles(cone.radius, k).outer_radius;
-                        let polygon_area = 0.5 * k as f64 * (TAU / k as f64).sin();
-                        if square_area < polygon_area * polygon * polygon {
-                            square
-                        } else {
-                            (Footprint::Polygon(k), polygon)
-                        }
-                    }
+                    let (footprint, outer, _) = alone(cone);
+                    (footprint, outer)
                 }
                 Accuracy::Fan {
                     triangles: Some(t), ..
@@ -849,10 +893,34 @@ fn shape_cones(
         let q = |v: f64| ((v + 0.5) / side * 65536.0).clamp(0.0, 65535.0) as u32;
         hilbert_index(q(p.x), q(p.y))
     };
-    shaped.sort_by_cached_key(|s| match s.footprint {
+    let order = |s: &Shaped| match s.footprint {
         Footprint::Batch => (s.footprint, curve(s.cone.site), s.cone.id),
         _ => (s.footprint, 0, s.cone.id),
-    });
+    };
+    shaped.sort_by_cached_key(order);
+    // Cheap keys batch wide cones where the batch's rectangle, evaluating
+    // every cone per fragment, costs less than the cones drawn alone. Whole
+    // batches leave, so the others keep their grouping.
+    if matches!(key, DepthKey::PowerSum(_)) {
+        let batched = shaped
+            .iter()
+            .take_while(|s| s.footprint == Footprint::Batch)
+            .count();
+        for chunk in shaped[..batched].chunks_mut(BATCH) {
+            let (lo, hi) = chunk
+                .iter()
+                .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), s| {
+                    (lo.min(s.cone.lo - 0.5), hi.max(s.cone.hi + 0.5))
+                });
+            let batch_cost = (hi - lo).element_product() * BATCH as f64;
+            if batch_cost > chunk.iter().map(|s| alone(&s.cone).2).sum::<f64>() {
+                for s in chunk.iter_mut() {
+                    (s.footprint, s.outer_radius, _) = alone(&s.cone);
+                }
+            }
+        }
+        shaped.sort_by_cached_key(order);
+    }
     shaped
 }
 
@@ -926,25 +994,14 @@ struct DepthScale {
     fragment: f64,
 }
 
-fn depth_scale<'a>(
-    cones: impl Iterator<Item = &'a Shaped>,
-    accuracy: Accuracy,
-    metric: Metric,
-) -> DepthScale {
-    // Exact cones discard fragments beyond their radius; fan heights reach the
-    // outer radius at the rim.
-    let reach = cones
-        .map(|s| match accuracy {
-            Accuracy::Exact => s.cone.radius,
-            Accuracy::Fan { .. } => s.outer_radius,
-        })
-        .fold(1.0, f64::max)
-        * 1.001;
+/// The scales for cones that reach no farther than `reach` (Euclidean): exact
+/// cones discard fragments beyond their radius; fan heights reach the outer
+/// radius at the rim.
+fn depth_scale(reach: f64, accuracy: Accuracy, key: DepthKey) -> DepthScale {
     match accuracy {
-        // A Euclidean reach r is at most b r in the metric.
         Accuracy::Exact => DepthScale {
             vertex: 0.0,
-            fragment: metric.key_scale(reach),
+            fragment: key.scale(reach),
         },
         Accuracy::Fan { .. } => DepthScale {
             vertex: reach.log2().ceil().exp2().recip(),
@@ -1019,6 +1076,8 @@ struct Draws<'a> {
     batches: &'a [ConeBatch],
     accuracy: Accuracy,
     metric: Metric,
+    /// What exact cones write.
+    key: DepthKey,
     /// Fan meshes of other metrics, made once for every tile and pass.
     meshes: &'a chain::FanMeshes,
     scale: DepthScale,
@@ -1105,7 +1164,7 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         fragment_depth_scale: draws.scale.fragment as f32,
         levels: 1,
         // Polygons are drawn as fans only (see `voronoi_bands`).
-        metric: draws.metric.shader_code().unwrap_or((0, 2.0)),
+        metric: draws.key.shader_code().unwrap_or((0, 2.0)),
     };
     let mesh_buffer = machine.vertex_buffer(&mesh)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;

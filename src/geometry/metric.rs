@@ -287,6 +287,66 @@ impl Metric {
     }
 }
 
+/// The key an exact point cone writes as its depth (`metric_key_of` in
+/// `glsl/metric.glsl`): the metric's own key, or, for L_p whose 2p is a whole
+/// number up to [`DepthKey::MAX_DOUBLED_P`], the sum of the coordinates' p-th
+/// powers (shader kind 4). That takes products and at most a square root per
+/// coordinate where the distance takes three powers, which on lavapipe are
+/// polynomials, and for integer p it is exact for integer offsets while below
+/// 2^24, so that ties between integer sites are exact ties.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DepthKey {
+    Metric(Metric),
+    PowerSum(f64),
+}
+
+impl DepthKey {
+    /// The largest 2p with power-sum keys: their products grow with it, and
+    /// keys of offsets up to 2^30 stay below float32's largest.
+    pub const MAX_DOUBLED_P: u32 = 8;
+
+    /// The key of exact cones of `metric` that reach no farther than Euclidean
+    /// `reach`: power sums where they apply.
+    pub fn for_cones(metric: Metric, reach: f64) -> Self {
+        match metric {
+            Metric::Lp(p)
+                if (2.0 * p).fract() == 0.0
+                    && 2.0 * p <= Self::MAX_DOUBLED_P as f64
+                    && reach < (1u64 << 30) as f64 =>
+            {
+                Self::PowerSum(p)
+            }
+            _ => Self::Metric(metric),
+        }
+    }
+
+    /// The shader's code: (kind, p).
+    pub fn shader_code(self) -> Option<(u32, f32)> {
+        match self {
+            Self::Metric(m) => m.shader_code(),
+            Self::PowerSum(p) => Some((4, p as f32)),
+        }
+    }
+
+    /// The distance of a key.
+    pub fn distance(self, key: f64) -> f64 {
+        match self {
+            Self::Metric(m) => m.distance_of_key(key),
+            Self::PowerSum(p) => key.max(0.0).powf(p.recip()),
+        }
+    }
+
+    /// The power of two that maps the keys of every offset within Euclidean
+    /// distance `reach` into the depth range [0, 1] (see [`Metric::key_scale`]).
+    pub fn scale(self, reach: f64) -> f64 {
+        match self {
+            Self::Metric(m) => m.key_scale(reach),
+            // Each coordinate is at most the reach.
+            Self::PowerSum(p) => (2.0 * reach.powf(p)).log2().ceil().exp2().recip(),
+        }
+    }
+}
+
 impl fmt::Display for Metric {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -208,13 +208,15 @@ impl BufferKernel {
 }
 
 /// The name of a shader's build for a kind of distance function
-/// (`glsl/metric.glsl`: 0 Euclidean, 1 L1, 2 L-infinity, 3 L_p).
+/// (`glsl/metric.glsl`: 0 Euclidean, 1 L1, 2 L-infinity, 3 L_p, 4 L_p with keys
+/// that are sums of powers, built for exact point cones only).
 fn build_name(kind: u32) -> Result<&'static str> {
     match kind {
         0 => Ok("metric_l2"),
         1 => Ok("metric_l1"),
         2 => Ok("metric_linf"),
         3 => Ok("metric_lp"),
+        4 => Ok("metric_lp_sum"),
         other => Err(Error::InvalidInput(format!(
             "no distance function of kind {other}"
         ))),
@@ -551,6 +553,13 @@ impl Pipelines {
             None => fragment.to_string(),
             Some(kind) => format!("{fragment}:{}", build_name(kind)?),
         };
+        if !self.modules.contains_key(fragment.as_str()) {
+            return Err(Error::InvalidInput(format!(
+                "{:?} has no build for distance kind {}",
+                key.program,
+                key.metric.unwrap_or(0)
+            )));
+        }
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)

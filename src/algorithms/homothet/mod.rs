@@ -695,7 +695,7 @@ pub fn largest_empty_by(
             };
             let mut tiles: Vec<(f32, Vec<usize>)> = Vec::new();
             let mut keys = None;
-            draw_point_tiles(machine, sites, &options, true, |tile| {
+            draw_point_tiles(machine, sites, &options, true, false, |tile| {
                 keys = Some(tile.keys);
                 let within = 2.0 * bound * frame.scale;
                 let near = near_extreme(metric, tile.keys.scale, within, true);
