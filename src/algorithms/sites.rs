@@ -652,7 +652,9 @@ fn cull(
                     let (lo, _, d) = range(k, x, y);
                     if lo <= bound {
                         let (p, q) = bounds_of(x, y);
-                        far = far.max(d);
+                        // The site owns a pixel of the cell only where its
+                        // weighted distance is at most the cell's bound.
+                        far = far.max(d.min((bound - s.additive) * scale * s.multiplicative));
                         rect = Some(match rect {
                             None => (p, q),
                             Some((rp, rq)) => (rp.min(p), rq.max(q)),
