@@ -651,14 +651,21 @@ fn cull(
                     }
                     let (lo, _, d) = range(k, x, y);
                     if lo <= bound {
-                        let (p, q) = bounds_of(x, y);
                         // The site owns a pixel of the cell only where its
-                        // weighted distance is at most the cell's bound.
-                        far = far.max(d.min((bound - s.additive) * scale * s.multiplicative));
-                        rect = Some(match rect {
-                            None => (p, q),
-                            Some((rp, rq)) => (rp.min(p), rq.max(q)),
-                        });
+                        // weighted distance is at most the cell's bound: within
+                        // that shape distance of the shape, and a Euclidean 1 / a
+                        // times that of its box.
+                        let owned = d.min((bound - s.additive) * scale * s.multiplicative);
+                        let grow = owned / a * (1.0 + 1e-9);
+                        let (p, q) = bounds_of(x, y);
+                        let (p, q) = (p.max(blo - grow), q.min(bhi + grow));
+                        if p.cmple(q).all() {
+                            far = far.max(owned);
+                            rect = Some(match rect {
+                                None => (p, q),
+                                Some((rp, rq)) => (rp.min(p), rq.max(q)),
+                            });
+                        }
                     }
                 });
             }
