@@ -289,7 +289,8 @@ fn bad_requests_are_errors() {
     });
     assert!(r.is_err());
     // Sites are batched for points, segments and circles under L2, L1 and L∞,
-    // and Euclidean arcs: an L1 arc or an L_p batch is refused.
+    // and Euclidean arcs: an L1 arc or an L_p batch is refused, as is a shader
+    // build that does not exist.
     let depth = m.image(Format::DepthStencil, 4, 4).unwrap();
     let mesh = m.vertex_buffer(&[[0.0f32; 3]; 6]).unwrap();
     let batch = SiteBatch {
@@ -299,7 +300,13 @@ fn bad_requests_are_errors() {
         ids: [0; 8],
     };
     let instances = m.vertex_buffer(&[batch]).unwrap();
-    for (shape, metric) in [(SiteShape::Arc, (1, 1.0)), (SiteShape::Point, (3, 3.0))] {
+    // Power-sum keys (kind 4) are built for exact point cones only.
+    let refused = [
+        (Program::SiteExactBatch(SiteShape::Arc), (1, 1.0)),
+        (Program::SiteExactBatch(SiteShape::Point), (3, 3.0)),
+        (Program::ConePeel, (4, 3.0)),
+    ];
+    for (program, metric) in refused {
         let r = m.run(|p| {
             p.begin(
                 Target {
@@ -309,7 +316,7 @@ fn bad_requests_are_errors() {
                 Clear::default(),
             )?;
             p.draw_cones(
-                Program::SiteExactBatch(shape),
+                program,
                 &RasterState::lower_envelope(),
                 &DrawParams::default(),
                 &ConePush {
@@ -331,7 +338,7 @@ fn bad_requests_are_errors() {
             )?;
             p.end()
         });
-        assert!(r.is_err(), "{shape:?} with metric {metric:?}");
+        assert!(r.is_err(), "{program:?} with metric {metric:?}");
     }
 }
 

@@ -772,8 +772,9 @@ fn polygon_corners(radius: f64) -> u32 {
 /// cones first, along a Hilbert curve so that a batch's cones are neighbours, then
 /// the others by footprint and site id.
 ///
-/// Without `batch` every exact cone gets a polygon of its own: counting ties
-/// needs each cone's own fragments.
+/// Without `batch` every exact cone gets a footprint of its own: counting ties
+/// needs each cone's own fragments. `key` is what exact cones write: keys that
+/// need powers batch only short cones.
 fn shape_cones(
     cones: &[Cone],
     frame: &Frame,
@@ -782,8 +783,8 @@ fn shape_cones(
     key: DepthKey,
     batch: bool,
 ) -> Vec<Shaped> {
-    let batch_radius_limit = match (key, metric) {
-        (DepthKey::Metric(Metric::Lp(_)), _) => BATCH_RADIUS_LIMIT_LP,
+    let batch_radius_limit = match key {
+        DepthKey::Metric(Metric::Lp(_)) => BATCH_RADIUS_LIMIT_LP,
         _ => BATCH_RADIUS_LIMIT,
     };
     // L∞ balls and L_p balls for p >= 2 fill 88% or more of their bounding
@@ -822,10 +823,11 @@ fn shape_cones(
             cone.reach * std::f64::consts::SQRT_2,
             square_area + 2.0 * TRIANGLE_FRAGMENTS,
         );
-        let r = cone.reach;
-        let (footprint, outer, area) = if square_ball {
+        if square_ball {
             return square;
-        } else if metric != Metric::L2 {
+        }
+        let r = cone.reach;
+        let (footprint, outer, area) = if metric != Metric::L2 {
             (Footprint::Ball, r * unit_ball_outer, unit_ball_area * r * r)
         } else {
             let k = polygon_corners(cone.radius);
