@@ -914,10 +914,12 @@ fn shape_cones(
                 .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), s| {
                     (lo.min(s.cone.lo - 0.5), hi.max(s.cone.hi + 0.5))
                 });
+            let singles: Vec<(Footprint, f64, f64)> =
+                chunk.iter().map(|s| alone(&s.cone)).collect();
             let batch_cost = (hi - lo).element_product() * BATCH as f64;
-            if batch_cost > chunk.iter().map(|s| alone(&s.cone).2).sum::<f64>() {
-                for s in chunk.iter_mut() {
-                    (s.footprint, s.outer_radius, _) = alone(&s.cone);
+            if batch_cost > singles.iter().map(|a| a.2).sum::<f64>() {
+                for (s, a) in chunk.iter_mut().zip(singles) {
+                    (s.footprint, s.outer_radius, _) = a;
                 }
             }
         }

@@ -1241,14 +1241,12 @@ mod tests {
         ];
         for metric in metrics {
             let regions = local_metric_regions(&sites, &frame, metric).unwrap();
-            let radii: Vec<f64> = regions.iter().map(|r| r.reach).collect();
             for_each_owner(&sites, &frame, metric, |q, i, own| {
+                let Region { reach, lo, hi } = regions[i];
                 assert!(
-                    own <= radii[i] * (1.0 + 1e-12),
-                    "{metric}: pixel {q} of site {i} at {own} beyond {}",
-                    radii[i]
+                    own <= reach * (1.0 + 1e-12),
+                    "{metric}: pixel {q} of site {i} at {own} beyond {reach}"
                 );
-                let Region { lo, hi, .. } = regions[i];
                 assert!(
                     q.cmpge(lo).all() && q.cmple(hi).all(),
                     "{metric}: pixel {q} of site {i} outside its box {lo}..{hi}"
@@ -1262,7 +1260,7 @@ mod tests {
                 .iter()
                 .map(|r| r * b)
                 .sum();
-            let native: f64 = radii.iter().sum();
+            let native: f64 = regions.iter().map(|r| r.reach).sum();
             if matches!(metric, Metric::Lp(p) if p < 1.0) {
                 assert!(
                     native < 0.5 * stretched,

@@ -69,15 +69,6 @@ impl Site {
     pub fn distance_to_shape(&self, metric: Metric, q: DVec2) -> f64 {
         match self.shape {
             Shape::Point(p) => metric.distance(q - p),
-            Shape::Segment(a, b) if metric == Metric::L2 => {
-                let e = b - a;
-                let t = if e == DVec2::ZERO {
-                    0.0
-                } else {
-                    ((q - a).dot(e) / e.length_squared()).clamp(0.0, 1.0)
-                };
-                q.distance(a + t * e)
-            }
             Shape::Segment(a, b) => norm_range_on_segment(metric, q - a, q - b).0,
             Shape::Circle { center, radius } if metric != Metric::L2 => {
                 curve_distance(metric, q, center, radius, 0.0, TAU)
