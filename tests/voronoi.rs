@@ -137,6 +137,26 @@ fn exact_mode_matches_the_definition() {
     }
 }
 
+/// Exact cones with local radii are found per screen tile from the sites whose
+/// boxes meet it; where those lists would be too long (here hundreds of sites
+/// on one spot, each owning the same wide region) the cones are drawn instead.
+/// Both give the definition.
+#[test]
+fn screen_tiles_and_their_fallback_match_the_definition() {
+    let m = machine();
+    let frame = Frame::pixels(64, 48).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let spread = uniform(&mut rng, 40, 64.0, 48.0);
+    let mut piled = uniform(&mut rng, 6, 64.0, 48.0);
+    piled.extend(std::iter::repeat_n(DVec2::new(20.25, 30.5), 300));
+    for (sites, drawn) in [(spread, "tiles"), (piled, "polygon")] {
+        let d = run(&m, &sites, frame, Accuracy::Exact, Speedup::Local);
+        assert_exact(&d, &sites, &frame, drawn);
+        let kinds: Vec<&str> = d.stats.groups.iter().map(|g| g.kind).collect();
+        assert_eq!(kinds, [drawn], "how the cones were drawn");
+    }
+}
+
 #[test]
 fn fan_mode_stays_inside_its_bounds() {
     let m = machine();

@@ -123,10 +123,12 @@ impl VoronoiOptions {
 /// How many cones were drawn with one kind of footprint.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct ConeGroup {
-    /// `batch` (exact cones drawn eight to a rectangle), `polygon` (an exact
-    /// cone's own footprint) or `fan`.
+    /// `tiles` (exact cones found per screen tile, not drawn), `batch` (exact
+    /// cones drawn eight to a rectangle), `polygon` (an exact cone's own
+    /// footprint), `ball`, `fan` or `chain`.
     pub kind: &'static str,
-    /// Corners of a polygon, triangles of a fan, 1 for a point.
+    /// The side of a screen tile in pixels, cones to a batch, corners of a
+    /// polygon or ball, triangles of a fan or chain.
     pub size: u32,
     pub cones: usize,
 }
@@ -432,17 +434,33 @@ pub(crate) fn draw_point_tiles(
         (true, Accuracy::Exact) => DepthKey::for_cones(options.metric, exact_reach),
         _ => DepthKey::Metric(options.metric),
     };
+    // Exact cones are found per screen tile where their boxes are tight (local
+    // radii) and ties need not count each cone's own fragments; their squares
+    // cut to the boxes are drawn where the tiles' lists would be too long.
+    let tiled =
+        options.accuracy == Accuracy::Exact && options.speedup == Speedup::Local && !options.ties;
     let shaped: Vec<Vec<Shaped>> = attempts
         .iter()
         .map(|(_, cones)| {
-            shape_cones(
-                cones,
-                &frame,
-                options.accuracy,
-                options.metric,
-                key,
-                !options.ties,
-            )
+            if tiled {
+                cones
+                    .iter()
+                    .map(|cone| Shaped {
+                        cone: *cone,
+                        footprint: Footprint::Polygon(4),
+                        outer_radius: cone.reach * std::f64::consts::SQRT_2,
+                    })
+                    .collect()
+            } else {
+                shape_cones(
+                    cones,
+                    &frame,
+                    options.accuracy,
+                    options.metric,
+                    key,
+                    !options.ties,
+                )
+            }
         })
         .collect();
     let batches: Vec<Vec<ConeBatch>> = shaped.iter().map(|s| batches_of(s)).collect();
@@ -498,6 +516,7 @@ pub(crate) fn draw_point_tiles(
         pixels_per_unit: frame.scale,
     };
     let mut final_attempt = 0;
+    let mut drawn_by_tiles = tiled;
     for y0 in (0..frame.height).step_by(tile_h as usize) {
         let band_h = tile_h.min(frame.height - y0);
         for x0 in (0..frame.width).step_by(tile_w as usize) {
@@ -525,8 +544,9 @@ pub(crate) fn draw_point_tiles(
                     meshes: &meshes,
                     scale,
                     ties: options.ties,
+                    tiled,
                 };
-                render(machine, &picture, &view, &draws)?;
+                drawn_by_tiles &= render(machine, &picture, &view, &draws)?;
                 final_attempt = final_attempt.max(k);
                 // Picture-wide and local radii cover every pixel by construction; the
                 // quadtree's radius is checked with minmax, the thesis's way: a pixel
@@ -562,30 +582,38 @@ pub(crate) fn draw_point_tiles(
         .filter_map(|(r, _)| *r)
         .collect();
     stats.cones = last.len();
-    stats.groups = groups_of(last)
-        .into_iter()
-        .map(|g| ConeGroup {
-            kind: match g.footprint {
-                Footprint::Batch => "batch",
-                Footprint::Polygon(_) => "polygon",
-                Footprint::Ball => "ball",
-                Footprint::Fan(_) => "fan",
-                Footprint::Chain(_) => "chain",
-            },
-            size: match g.footprint {
-                Footprint::Batch => BATCH as u32,
-                Footprint::Polygon(k) | Footprint::Fan(k) => k,
-                Footprint::Ball => BALL_CORNERS,
-                Footprint::Chain(level) => {
-                    meshes
-                        .unit_mesh(metric_fan(options.accuracy), chain::level_radius(level))
-                        .len() as u32
-                        - 2
-                }
-            },
-            cones: g.count as usize,
-        })
-        .collect();
+    stats.groups = if drawn_by_tiles {
+        vec![ConeGroup {
+            kind: "tiles",
+            size: NEAREST_TILE_SIDE,
+            cones: last.len(),
+        }]
+    } else {
+        groups_of(last)
+            .into_iter()
+            .map(|g| ConeGroup {
+                kind: match g.footprint {
+                    Footprint::Batch => "batch",
+                    Footprint::Polygon(_) => "polygon",
+                    Footprint::Ball => "ball",
+                    Footprint::Fan(_) => "fan",
+                    Footprint::Chain(_) => "chain",
+                },
+                size: match g.footprint {
+                    Footprint::Batch => BATCH as u32,
+                    Footprint::Polygon(k) | Footprint::Fan(k) => k,
+                    Footprint::Ball => BALL_CORNERS,
+                    Footprint::Chain(level) => {
+                        meshes
+                            .unit_mesh(metric_fan(options.accuracy), chain::level_radius(level))
+                            .len() as u32
+                            - 2
+                    }
+                },
+                cones: g.count as usize,
+            })
+            .collect()
+    };
     if !last.is_empty() {
         let radii = last.iter().map(|s| s.cone.radius);
         stats.radius_min = radii.clone().fold(f64::INFINITY, f64::min);
@@ -1087,6 +1115,9 @@ struct Draws<'a> {
     scale: DepthScale,
     /// Count the cones at each pixel's lowest depth in the stencil.
     ties: bool,
+    /// Take the envelope of exact cones per screen tile from the sites whose
+    /// box meets it ([`Program::NearestTiles`]) instead of drawing them.
+    tiled: bool,
 }
 
 /// The unit square as two triangles: the mesh of a batch's rectangle.
@@ -1099,8 +1130,138 @@ pub(crate) const UNIT_SQUARE: [[f32; 3]; 6] = [
     [0.0, 1.0, 0.0],
 ];
 
-/// Draws the lower envelope of the cones that reach `view` into the tile.
-fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'_>) -> Result<()> {
+/// Side of the screen tiles of [`Program::NearestTiles`]
+/// (`glsl/nearest_tiles.frag`: TILE_SIDE).
+const NEAREST_TILE_SIDE: u32 = 8;
+
+/// Texels per row of its records image (`glsl/nearest_tiles.frag`:
+/// RECORD_ROW); every device has images this wide.
+const RECORD_ROW: usize = 4096;
+
+/// The records of [`Program::NearestTiles`] for `view`: one texel per screen
+/// tile (its first site record and their number), then one per site binned to
+/// a tile (x, y as float bits, 0, id), a site going to every tile with a pixel
+/// centre in its box. `None` where the tiles would hold more sites than the
+/// view has pixels (64 per pixel): cones drawn alone then cost less.
+fn tile_records(view: &TileView, cones: &[Shaped]) -> Option<Vec<[u32; 4]>> {
+    let side = NEAREST_TILE_SIDE as usize;
+    let (across, down) = (
+        (view.width as usize).div_ceil(side),
+        (view.height as usize).div_ceil(side),
+    );
+    let last = DVec2::new(view.width as f64 - 1.0, view.height as f64 - 1.0);
+    // Each cone's tiles, first and last column and row.
+    let spans: Vec<Option<[usize; 4]>> = cones
+        .iter()
+        .map(|s| {
+            let (lo, hi) = s.cone.clip();
+            let first = (lo - view.origin).ceil().max(DVec2::ZERO);
+            let end = (hi - view.origin).floor().min(last);
+            (first.x <= end.x && first.y <= end.y)
+                .then(|| [first.x, first.y, end.x, end.y].map(|v| v as usize / side))
+        })
+        .collect();
+    let mut start = vec![0u32; across * down + 1];
+    for [x0, y0, x1, y1] in spans.iter().flatten() {
+        for y in *y0..=*y1 {
+            for t in &mut start[y * across + x0 + 1..=y * across + x1 + 1] {
+                *t += 1;
+            }
+        }
+    }
+    let tiles = across * down;
+    for t in 0..tiles {
+        start[t + 1] += start[t];
+    }
+    let binned = start[tiles] as usize;
+    if binned > (view.width as usize * view.height as usize) {
+        return None;
+    }
+    let mut texels = vec![[0u32; 4]; tiles + binned];
+    for t in 0..tiles {
+        texels[t] = [tiles as u32 + start[t], start[t + 1] - start[t], 0, 0];
+    }
+    let mut next: Vec<u32> = start[..tiles].to_vec();
+    for (s, span) in cones.iter().zip(&spans) {
+        let Some([x0, y0, x1, y1]) = *span else {
+            continue;
+        };
+        let site = [s.cone.site.x as f32, s.cone.site.y as f32];
+        let texel = [site[0].to_bits(), site[1].to_bits(), 0, s.cone.id];
+        for y in y0..=y1 {
+            for t in y * across + x0..=y * across + x1 {
+                texels[tiles + next[t] as usize] = texel;
+                next[t] += 1;
+            }
+        }
+    }
+    Some(texels)
+}
+
+/// Draws the lower envelope of exact cones into the tile from the screen
+/// tiles' lists of sites ([`tile_records`]); `false` where the lists would be
+/// too long.
+fn render_tiles(
+    machine: &Machine,
+    picture: &Picture,
+    view: &TileView,
+    draws: &Draws<'_>,
+    push: &ConePush,
+) -> Result<bool> {
+    let Some(mut texels) = tile_records(view, draws.cones) else {
+        return Ok(false);
+    };
+    let rows = texels.len().div_ceil(RECORD_ROW);
+    if rows > machine.max_picture_side() as usize {
+        return Ok(false);
+    }
+    let width = if rows == 1 { texels.len() } else { RECORD_ROW };
+    texels.resize(rows * width, [0; 4]);
+    let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
+    upload.write(&texels);
+    let records = machine.image(Format::Rgba32Uint, width as u32, rows as u32)?;
+    machine.with_fragment_resources(&[], Some(&records), |set| {
+        machine.run(|pass| {
+            pass.upload_for_fragments(&upload, &records)?;
+            pass.begin(
+                Target {
+                    color: Some(&picture.ids),
+                    depth_stencil: Some(&picture.depth),
+                },
+                Clear {
+                    color: Some(ClearColor::Uint([u32::MAX; 4])),
+                    depth: Some(1.0),
+                    stencil: None,
+                },
+            )?;
+            pass.bind_fragment_buffer(set);
+            pass.draw_nearest_tiles(&RasterState::lower_envelope(), &DrawParams::default(), push)?;
+            pass.end()
+        })
+    })?;
+    Ok(true)
+}
+
+/// Draws the lower envelope of the cones that reach `view` into the tile;
+/// whether it was found from screen tiles' lists of sites.
+fn render(
+    machine: &Machine,
+    picture: &Picture,
+    view: &TileView,
+    draws: &Draws<'_>,
+) -> Result<bool> {
+    let push = ConePush {
+        picture_size: [view.width as f32, view.height as f32],
+        offset: [view.origin.x as f32, view.origin.y as f32],
+        vertex_depth_scale: draws.scale.vertex as f32,
+        fragment_depth_scale: draws.scale.fragment as f32,
+        levels: 1,
+        // Polygons are drawn as fans only (see `voronoi_bands`).
+        metric: draws.key.shader_code().unwrap_or((0, 2.0)),
+    };
+    if draws.tiled && render_tiles(machine, picture, view, draws, &push)? {
+        return Ok(true);
+    }
     let batches: Vec<ConeBatch> = draws
         .batches
         .iter()
@@ -1161,15 +1322,6 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
         })
         .chain(std::iter::once(bytemuck::Zeroable::zeroed()))
         .collect();
-    let push = ConePush {
-        picture_size: [view.width as f32, view.height as f32],
-        offset: [view.origin.x as f32, view.origin.y as f32],
-        vertex_depth_scale: draws.scale.vertex as f32,
-        fragment_depth_scale: draws.scale.fragment as f32,
-        levels: 1,
-        // Polygons are drawn as fans only (see `voronoi_bands`).
-        metric: draws.key.shader_code().unwrap_or((0, 2.0)),
-    };
     let mesh_buffer = machine.vertex_buffer(&mesh)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
     let batch_buffer = if batches.is_empty() {
@@ -1247,7 +1399,8 @@ fn render(machine: &Machine, picture: &Picture, view: &TileView, draws: &Draws<'
             }
         }
         pass.end()
-    })
+    })?;
+    Ok(false)
 }
 
 /// Distances of a label map's pixels from their depths (infinity where no site

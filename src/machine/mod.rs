@@ -469,9 +469,9 @@ impl Machine {
         records: Option<&Image>,
         f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
     ) -> Result<R> {
-        if buffers.is_empty() || buffers.len() > 3 {
+        if (buffers.is_empty() && records.is_none()) || buffers.len() > 3 {
             return Err(Error::InvalidInput(
-                "graphics programs take one to three storage buffers".into(),
+                "graphics programs take up to three storage buffers and a records image, at least one of them".into(),
             ));
         }
         let records = records.map(|image| (image, GRAPHICS_RECORDS_BINDING));

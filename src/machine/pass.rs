@@ -525,6 +525,23 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
+    /// Draws the lower envelope of the sites binned to screen tiles with
+    /// [`Program::NearestTiles`]: one triangle over the target, the tiles and
+    /// their sites read from the records image of the bound set.
+    pub fn draw_nearest_tiles(
+        &mut self,
+        state: &RasterState,
+        params: &DrawParams,
+        push: &ConePush,
+    ) -> Result<()> {
+        self.bind(Program::NearestTiles, push.metric.0, state, params)?;
+        self.push_cone_constants(push);
+        // SAFETY: inside a rendering pass with a bound pipeline; the fragment
+        // shader reads the records image of the bound set.
+        unsafe { self.device().cmd_draw(self.cmd, 3, 1, 0, 0) };
+        Ok(())
+    }
+
     /// Draws `tiles` screen tiles with [`Program::KNearestTiles`] for
     /// `push.levels` levels, whose records come from the second storage buffer of
     /// the bound set.

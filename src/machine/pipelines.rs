@@ -26,6 +26,10 @@ pub enum Program {
     /// Up to eight exact cones in one bounding rectangle, the envelope taken per
     /// fragment; see [`crate::machine::ConeBatch`].
     ConeExactBatch,
+    /// The lower envelope of exact cones from screen-tile lists: one triangle
+    /// over the target, each fragment taking the nearest of the sites binned to
+    /// its tile, read from the records image (`glsl/nearest_tiles.frag`).
+    NearestTiles,
     /// Instanced exact cone footprints inserting `(squared distance, id)` keys into
     /// each pixel's sorted list of the k nearest, a storage buffer bound with
     /// [`crate::machine::Pass::bind_fragment_buffer`]; writes no attachment.
@@ -105,6 +109,7 @@ impl Program {
             | Program::ConeExact
             | Program::SettleDisc(_)
             | Program::ConeExactBatch
+            | Program::NearestTiles
             | Program::ConeKNearest
             | Program::ConeKNearestFan
             | Program::ConePeel
@@ -120,6 +125,7 @@ impl Program {
             self,
             Program::Rect
                 | Program::KNearestTiles(_)
+                | Program::NearestTiles
                 | Program::SettleDisc(_)
                 | Program::Roof
                 | Program::RoofSides
@@ -422,6 +428,11 @@ impl Pipelines {
             Program::ConeExactBatch => (
                 "cone_batch.vert",
                 "cone_batch.frag",
+                vk::PrimitiveTopology::TRIANGLE_LIST,
+            ),
+            Program::NearestTiles => (
+                "picture.vert",
+                "nearest_tiles.frag",
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
             Program::ConeKNearest => (

@@ -1,0 +1,50 @@
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP METRIC_LP_SUM
+#version 460
+// The lower envelope of exact cones without drawing the cones: one triangle
+// over the target (picture.vert), and each fragment takes the nearest of the
+// sites binned to its screen tile, every site whose region's box meets the
+// tile. A pixel's nearest site is among them, since its region holds the
+// pixel, so the envelope is exact without a truncation test. On a software
+// rasterizer this trades the setup of one footprint per cone, and the depth
+// test and writes of every overlapping fragment, for a short loop per pixel.
+//
+// Records are texels of an image (RECORD_ROW to a row): first one per tile,
+// row-major over the target's tiles of TILE_SIDE pixels, holding (first
+// record of the tile's sites, their number); then one per binned site
+// (x, y as float bits in picture pixels, unused, site id). An image rather
+// than a storage buffer because lavapipe loads images with one gather.
+#include "common.glsl"
+
+// Both as in src/algorithms/voronoi.rs (NEAREST_TILE_SIDE, RECORD_ROW).
+const uint TILE_SIDE = 8u;
+const uint RECORD_ROW = 4096u;
+
+layout(set = 0, binding = 3, rgba32ui) uniform readonly uimage2D records;
+layout(location = 0) out uint out_id;
+
+uvec4 record(uint r) {
+    return imageLoad(records, ivec2(r % RECORD_ROW, r / RECORD_ROW));
+}
+
+void main() {
+    uvec2 tile = uvec2(gl_FragCoord.xy) / TILE_SIDE;
+    uint across = (uint(picture.size.x) + TILE_SIDE - 1u) / TILE_SIDE;
+    uvec2 sites = record(tile.y * across + tile.x).xy;
+    if (sites.y == 0u) {
+        discard;
+    }
+    vec2 p = fragment_pixel();
+    float best = 3.0e38;
+    uint best_id = 0u;
+    // Earlier sites win ties, as earlier draws do.
+    for (uint r = sites.x; r < sites.x + sites.y; r++) {
+        uvec4 site = record(r);
+        float key = metric_key(p - uintBitsToFloat(site.xy));
+        if (key < best) {
+            best = key;
+            best_id = site.w;
+        }
+    }
+    gl_FragDepth = best * picture.fragment_depth_scale;
+    out_id = best_id;
+}
