@@ -30,9 +30,9 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConeInstance, ConePush,
-        DepthTest, DrawParams, Format, Image, Machine, PixelRect, Program, RasterState, StencilOp,
-        StencilTest, Target,
+        Buffer, ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConeInstance,
+        ConePush, DepthTest, DrawParams, Format, Image, Machine, PixelRect, Program, RasterState,
+        StencilOp, StencilTest, Target,
     },
 };
 
@@ -585,7 +585,7 @@ pub(crate) fn draw_point_tiles(
     stats.groups = if drawn_by_tiles {
         vec![ConeGroup {
             kind: "tiles",
-            size: NEAREST_TILE_SIDE,
+            size: SCREEN_TILE_SIDE,
             cones: last.len(),
         }]
     } else {
@@ -1132,70 +1132,120 @@ pub(crate) const UNIT_SQUARE: [[f32; 3]; 6] = [
 
 /// Side of the screen tiles of [`Program::NearestTiles`]
 /// (`glsl/nearest_tiles.frag`: TILE_SIDE).
-const NEAREST_TILE_SIDE: u32 = 8;
+const SCREEN_TILE_SIDE: u32 = 8;
 
 /// Texels per row of its records image (`glsl/nearest_tiles.frag`:
 /// RECORD_ROW); every device has images this wide.
 const RECORD_ROW: usize = 4096;
 
+/// Items binned to the screen tiles of a target: tile `t` (row-major, tiles of
+/// [`SCREEN_TILE_SIDE`] pixels) holds `items[start[t]..start[t + 1]]`.
+struct ScreenTiles {
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl ScreenTiles {
+    /// The tiles of a `width` x `height` target whose pixel (0, 0) is picture
+    /// pixel `origin`, item k going to every tile with a pixel centre in its box
+    /// `boxes[k]` (picture pixels). `None` where the tiles would hold more items
+    /// than the target has pixels (64 per pixel): drawing them costs less then.
+    fn bin(
+        origin: DVec2,
+        width: u32,
+        height: u32,
+        boxes: impl Iterator<Item = (DVec2, DVec2)>,
+    ) -> Option<Self> {
+        let side = SCREEN_TILE_SIDE as usize;
+        let across = (width as usize).div_ceil(side);
+        let tiles = across * (height as usize).div_ceil(side);
+        let last = DVec2::new(width as f64 - 1.0, height as f64 - 1.0);
+        // Each item's tiles: first and last column and row.
+        let spans: Vec<Option<[usize; 4]>> = boxes
+            .map(|(lo, hi)| {
+                let first = (lo - origin).ceil().max(DVec2::ZERO);
+                let end = (hi - origin).floor().min(last);
+                (first.x <= end.x && first.y <= end.y)
+                    .then(|| [first.x, first.y, end.x, end.y].map(|v| v as usize / side))
+            })
+            .collect();
+        let rows = |[x0, y0, x1, y1]: [usize; 4]| {
+            (y0..=y1).map(move |y| y * across + x0..=y * across + x1)
+        };
+        let mut start = vec![0u32; tiles + 1];
+        for span in spans.iter().flatten() {
+            for row in rows(*span) {
+                for t in row {
+                    start[t + 1] += 1;
+                }
+            }
+        }
+        for t in 0..tiles {
+            start[t + 1] += start[t];
+        }
+        if start[tiles] as u64 > width as u64 * height as u64 {
+            return None;
+        }
+        let mut next = start[..tiles].to_vec();
+        let mut items = vec![0u32; start[tiles] as usize];
+        for (k, span) in spans.into_iter().enumerate() {
+            for row in span.into_iter().flat_map(rows) {
+                for t in row {
+                    items[next[t] as usize] = k as u32;
+                    next[t] += 1;
+                }
+            }
+        }
+        Some(Self { start, items })
+    }
+
+    fn tiles(&self) -> usize {
+        self.start.len() - 1
+    }
+
+    /// The first item of tile `t` and the number of its items.
+    fn range(&self, t: usize) -> (u32, u32) {
+        (self.start[t], self.start[t + 1] - self.start[t])
+    }
+}
+
+/// A records image from `texels`, filled by the returned upload: rows of
+/// [`RECORD_ROW`] texels; `None` where the device cannot hold that many rows.
+fn records_image(machine: &Machine, mut texels: Vec<[u32; 4]>) -> Result<Option<(Buffer, Image)>> {
+    let rows = texels.len().div_ceil(RECORD_ROW).max(1);
+    if rows > machine.max_picture_side() as usize {
+        return Ok(None);
+    }
+    let width = if rows == 1 {
+        texels.len().max(1)
+    } else {
+        RECORD_ROW
+    };
+    texels.resize(rows * width, [0; 4]);
+    let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
+    upload.write(&texels);
+    let records = machine.image(Format::Rgba32Uint, width as u32, rows as u32)?;
+    Ok(Some((upload, records)))
+}
+
 /// The records of [`Program::NearestTiles`] for `view`: one texel per screen
 /// tile (its first site record and their number), then one per site binned to
 /// a tile (x, y as float bits, 0, id), a site going to every tile with a pixel
-/// centre in its box. `None` where the tiles would hold more sites than the
-/// view has pixels (64 per pixel): cones drawn alone then cost less.
+/// centre in its box. `None` where the lists would be too long.
 fn tile_records(view: &TileView, cones: &[Shaped]) -> Option<Vec<[u32; 4]>> {
-    let side = NEAREST_TILE_SIDE as usize;
-    let (across, down) = (
-        (view.width as usize).div_ceil(side),
-        (view.height as usize).div_ceil(side),
-    );
-    let last = DVec2::new(view.width as f64 - 1.0, view.height as f64 - 1.0);
-    // Each cone's tiles, first and last column and row.
-    let spans: Vec<Option<[usize; 4]>> = cones
-        .iter()
-        .map(|s| {
-            let (lo, hi) = s.cone.clip();
-            let first = (lo - view.origin).ceil().max(DVec2::ZERO);
-            let end = (hi - view.origin).floor().min(last);
-            (first.x <= end.x && first.y <= end.y)
-                .then(|| [first.x, first.y, end.x, end.y].map(|v| v as usize / side))
-        })
-        .collect();
-    let mut start = vec![0u32; across * down + 1];
-    for [x0, y0, x1, y1] in spans.iter().flatten() {
-        for y in *y0..=*y1 {
-            for t in &mut start[y * across + x0 + 1..=y * across + x1 + 1] {
-                *t += 1;
-            }
-        }
-    }
-    let tiles = across * down;
-    for t in 0..tiles {
-        start[t + 1] += start[t];
-    }
-    let binned = start[tiles] as usize;
-    if binned > (view.width as usize * view.height as usize) {
-        return None;
-    }
-    let mut texels = vec![[0u32; 4]; tiles + binned];
-    for t in 0..tiles {
-        texels[t] = [tiles as u32 + start[t], start[t + 1] - start[t], 0, 0];
-    }
-    let mut next: Vec<u32> = start[..tiles].to_vec();
-    for (s, span) in cones.iter().zip(&spans) {
-        let Some([x0, y0, x1, y1]) = *span else {
-            continue;
-        };
-        let site = [s.cone.site.x as f32, s.cone.site.y as f32];
-        let texel = [site[0].to_bits(), site[1].to_bits(), 0, s.cone.id];
-        for y in y0..=y1 {
-            for t in y * across + x0..=y * across + x1 {
-                texels[tiles + next[t] as usize] = texel;
-                next[t] += 1;
-            }
-        }
-    }
-    Some(texels)
+    let boxes = cones.iter().map(|s| s.cone.clip());
+    let bins = ScreenTiles::bin(view.origin, view.width, view.height, boxes)?;
+    let tiles = bins.tiles() as u32;
+    let headers = (0..bins.tiles()).map(|t| {
+        let (first, count) = bins.range(t);
+        [tiles + first, count, 0, 0]
+    });
+    let sites = bins.items.iter().map(|&k| {
+        let cone = &cones[k as usize].cone;
+        let site = [cone.site.x as f32, cone.site.y as f32];
+        [site[0].to_bits(), site[1].to_bits(), 0, cone.id]
+    });
+    Some(headers.chain(sites).collect())
 }
 
 /// Draws the lower envelope of exact cones into the tile from the screen
@@ -1208,18 +1258,12 @@ fn render_tiles(
     draws: &Draws<'_>,
     push: &ConePush,
 ) -> Result<bool> {
-    let Some(mut texels) = tile_records(view, draws.cones) else {
+    let Some(texels) = tile_records(view, draws.cones) else {
         return Ok(false);
     };
-    let rows = texels.len().div_ceil(RECORD_ROW);
-    if rows > machine.max_picture_side() as usize {
+    let Some((upload, records)) = records_image(machine, texels)? else {
         return Ok(false);
-    }
-    let width = if rows == 1 { texels.len() } else { RECORD_ROW };
-    texels.resize(rows * width, [0; 4]);
-    let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
-    upload.write(&texels);
-    let records = machine.image(Format::Rgba32Uint, width as u32, rows as u32)?;
+    };
     machine.with_fragment_resources(&[], Some(&records), |set| {
         machine.run(|pass| {
             pass.upload_for_fragments(&upload, &records)?;
