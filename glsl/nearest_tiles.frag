@@ -11,7 +11,8 @@
 // Records are texels of an image (RECORD_ROW to a row): first one per tile,
 // row-major over the target's tiles of TILE_SIDE pixels, holding (first
 // record of the tile's sites, their number); then one per binned site
-// (x, y as float bits in picture pixels, unused, site id). An image rather
+// (x, y in picture pixels, the smallest key of a pixel of the tile, all as
+// float bits, and the site id), each tile's by that smallest key. An image rather
 // than a storage buffer because lavapipe loads images with one gather.
 #include "common.glsl"
 
@@ -36,9 +37,14 @@ void main() {
     vec2 p = fragment_pixel();
     float best = 3.0e38;
     uint best_id = 0u;
-    // Earlier sites win ties, as earlier draws do.
+    // Sites come by the smallest key they can have in the tile: once that
+    // exceeds the nearest key so far, no later site can win. Earlier sites win
+    // ties.
     for (uint r = sites.x; r < sites.x + sites.y; r++) {
         uvec4 site = record(r);
+        if (uintBitsToFloat(site.z) > best) {
+            break;
+        }
         float key = metric_key(p - uintBitsToFloat(site.xy));
         if (key < best) {
             best = key;

@@ -1143,6 +1143,9 @@ const RECORD_ROW: usize = 4096;
 struct ScreenTiles {
     start: Vec<u32>,
     items: Vec<u32>,
+    across: usize,
+    /// The target's last pixel centre.
+    last: DVec2,
 }
 
 impl ScreenTiles {
@@ -1196,7 +1199,19 @@ impl ScreenTiles {
                 }
             }
         }
-        Some(Self { start, items })
+        Some(Self {
+            start,
+            items,
+            across,
+            last,
+        })
+    }
+
+    /// The first and last pixel centre of tile `t` (target pixels).
+    fn centres(&self, t: usize) -> (DVec2, DVec2) {
+        let side = SCREEN_TILE_SIDE as f64;
+        let lo = DVec2::new((t % self.across) as f64, (t / self.across) as f64) * side;
+        (lo, (lo + side - 1.0).min(self.last))
     }
 
     fn tiles(&self) -> usize {
@@ -1230,22 +1245,57 @@ fn records_image(machine: &Machine, mut texels: Vec<[u32; 4]>) -> Result<Option<
 
 /// The records of [`Program::NearestTiles`] for `view`: one texel per screen
 /// tile (its first site record and their number), then one per site binned to
-/// a tile (x, y as float bits, 0, id), a site going to every tile with a pixel
-/// centre in its box. `None` where the lists would be too long.
-fn tile_records(view: &TileView, cones: &[Shaped]) -> Option<Vec<[u32; 4]>> {
+/// a tile (x, y as float bits, the smallest key of a pixel of the tile from the
+/// site as float bits, id), a site going to every tile with a pixel centre in
+/// its box. Where keys take powers, each tile's sites come by that smallest
+/// key, so that a fragment can stop at the first that cannot beat its nearest;
+/// other keys cost less than the ordering (the smallest key is 0 then). `None`
+/// where the lists would be too long.
+fn tile_records(view: &TileView, cones: &[Shaped], key: DepthKey) -> Option<Vec<[u32; 4]>> {
+    let ordered = !matches!(
+        key,
+        DepthKey::Metric(Metric::L2 | Metric::L1 | Metric::LInf)
+    );
     let boxes = cones.iter().map(|s| s.cone.clip());
     let bins = ScreenTiles::bin(view.origin, view.width, view.height, boxes)?;
-    let tiles = bins.tiles() as u32;
-    let headers = (0..bins.tiles()).map(|t| {
+    let tiles = bins.tiles();
+    let mut texels: Vec<[u32; 4]> = Vec::with_capacity(tiles + bins.items.len());
+    texels.extend((0..tiles).map(|t| {
         let (first, count) = bins.range(t);
-        [tiles + first, count, 0, 0]
+        [tiles as u32 + first, count, 0, 0]
+    }));
+    texels.resize(tiles + bins.items.len(), [0; 4]);
+    let mut sites = &mut texels[tiles..];
+    let mut lists = Vec::with_capacity(tiles);
+    for t in 0..tiles {
+        let (list, rest) = sites.split_at_mut(bins.range(t).1 as usize);
+        lists.push(list);
+        sites = rest;
+    }
+    lists.into_par_iter().enumerate().for_each(|(t, list)| {
+        let (first, _) = bins.range(t);
+        let (lo, hi) = bins.centres(t);
+        let (lo, hi) = (lo + view.origin, hi + view.origin);
+        for (texel, &k) in list.iter_mut().zip(&bins.items[first as usize..]) {
+            let cone = &cones[k as usize].cone;
+            // The device's coordinates, and a margin for its rounding.
+            let site = DVec2::new(cone.site.x as f32 as f64, cone.site.y as f32 as f64);
+            let least = match ordered {
+                true => (key.of_offset(site - site.clamp(lo, hi)) * (1.0 - 1e-4)) as f32,
+                false => 0.0,
+            };
+            let [x, y] = [site.x as f32, site.y as f32];
+            *texel = [x.to_bits(), y.to_bits(), least.to_bits(), cone.id];
+        }
+        if ordered {
+            list.sort_unstable_by(|a, b| {
+                f32::from_bits(a[2])
+                    .total_cmp(&f32::from_bits(b[2]))
+                    .then(a[3].cmp(&b[3]))
+            });
+        }
     });
-    let sites = bins.items.iter().map(|&k| {
-        let cone = &cones[k as usize].cone;
-        let site = [cone.site.x as f32, cone.site.y as f32];
-        [site[0].to_bits(), site[1].to_bits(), 0, cone.id]
-    });
-    Some(headers.chain(sites).collect())
+    Some(texels)
 }
 
 /// Draws the lower envelope of exact cones into the tile from the screen
@@ -1258,7 +1308,7 @@ fn render_tiles(
     draws: &Draws<'_>,
     push: &ConePush,
 ) -> Result<bool> {
-    let Some(texels) = tile_records(view, draws.cones) else {
+    let Some(texels) = tile_records(view, draws.cones, draws.key) else {
         return Ok(false);
     };
     let Some((upload, records)) = records_image(machine, texels)? else {

@@ -320,6 +320,18 @@ impl DepthKey {
         }
     }
 
+    /// The key of offset `d`, as the shaders compute it.
+    pub fn of_offset(self, d: DVec2) -> f64 {
+        match self {
+            Self::Metric(m) => m.key(d),
+            // |x|^p as the square root's 2p-th power, as glsl/metric.glsl makes it.
+            Self::PowerSum(p) => {
+                let k = (2.0 * p) as i32;
+                d.x.abs().sqrt().powi(k) + d.y.abs().sqrt().powi(k)
+            }
+        }
+    }
+
     /// The shader's code: (kind, p).
     pub fn shader_code(self) -> Option<(u32, f32)> {
         match self {
