@@ -138,9 +138,9 @@ fn exact_mode_matches_the_definition() {
 }
 
 /// Exact cones with local radii are found per screen tile from the sites whose
-/// boxes meet it; where those lists would be too long (here hundreds of sites
-/// on one spot, each owning the same wide region) the cones are drawn instead.
-/// Both give the definition.
+/// boxes meet it (L_p: from each tile's candidates); where those lists would be
+/// too long (here hundreds of sites on one spot, each owning the same wide
+/// region) the cones are drawn instead. Both give the definition.
 #[test]
 fn screen_tiles_and_their_fallback_match_the_definition() {
     let m = machine();
@@ -149,11 +149,27 @@ fn screen_tiles_and_their_fallback_match_the_definition() {
     let spread = uniform(&mut rng, 40, 64.0, 48.0);
     let mut piled = uniform(&mut rng, 6, 64.0, 48.0);
     piled.extend(std::iter::repeat_n(DVec2::new(20.25, 30.5), 300));
-    for (sites, drawn) in [(spread, "tiles"), (piled, "polygon")] {
-        let d = run(&m, &sites, frame, Accuracy::Exact, Speedup::Local);
-        assert_exact(&d, &sites, &frame, drawn);
-        let kinds: Vec<&str> = d.stats.groups.iter().map(|g| g.kind).collect();
-        assert_eq!(kinds, [drawn], "how the cones were drawn");
+    for metric in [Metric::L2, Metric::Lp(3.0), Metric::Lp(0.7)] {
+        for (sites, drawn) in [(&spread, "tiles"), (&piled, "polygon")] {
+            let options = VoronoiOptions {
+                metric,
+                ..VoronoiOptions::exact(frame)
+            };
+            let d = voronoi(&m, sites, &options).unwrap();
+            let kinds: Vec<&str> = d.stats.groups.iter().map(|g| g.kind).collect();
+            assert_eq!(kinds, [drawn], "{metric}: how the cones were drawn");
+            let truth = nearest_distances_metric(sites, &frame, metric);
+            for (k, &label) in d.labels.iter().enumerate() {
+                let q = DVec2::new((k % 64) as f64, (k / 64) as f64);
+                assert_ne!(label, u32::MAX, "{metric} {drawn}: {q} uncovered");
+                let mine = metric.distance(sites[label as usize] - q);
+                assert!(
+                    mine <= truth[k] * (1.0 + 1e-4) + 1e-4,
+                    "{metric} {drawn}: pixel {q}: site {label} at {mine}, nearest {}",
+                    truth[k]
+                );
+            }
+        }
     }
 }
 

@@ -27,7 +27,8 @@ use crate::{
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
         frame::{check_sites, distance2_to_rect, farthest2_in_rect},
         metric::{DepthKey, Metric},
-        radius, Frame,
+        radius::{self, TileCandidates},
+        Frame,
     },
     machine::{
         Buffer, ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConeInstance,
@@ -422,7 +423,27 @@ pub(crate) fn draw_point_tiles(
 
     let started = Instant::now();
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let attempts = cone_attempts(&pixels, &frame, options.speedup, options.metric);
+    // Exact cones are found per screen tile where their boxes are tight (local
+    // radii) and ties need not count each cone's own fragments; their squares
+    // cut to the boxes are drawn where the tiles' lists would be too long.
+    let tiled =
+        options.accuracy == Accuracy::Exact && options.speedup == Speedup::Local && !options.ties;
+    // L_p tiles find their candidates directly, in fewer measurements than the
+    // regions' boxes take and with shorter lists; the regions' reaches come
+    // with them.
+    let candidates = match options.metric {
+        Metric::Lp(_) if tiled => {
+            radius::tile_candidates(&pixels, &frame, SCREEN_TILE_SIDE, options.metric)
+        }
+        _ => None,
+    };
+    let attempts = match &candidates {
+        Some(c) => vec![(
+            None,
+            reach_cones(&pixels, &frame, options.metric, &c.reaches),
+        )],
+        None => cone_attempts(&pixels, &frame, options.speedup, options.metric),
+    };
     // Exact cones discard fragments beyond their radius.
     let exact_reach = attempts
         .iter()
@@ -434,11 +455,6 @@ pub(crate) fn draw_point_tiles(
         (true, Accuracy::Exact) => DepthKey::for_cones(options.metric, exact_reach),
         _ => DepthKey::Metric(options.metric),
     };
-    // Exact cones are found per screen tile where their boxes are tight (local
-    // radii) and ties need not count each cone's own fragments; their squares
-    // cut to the boxes are drawn where the tiles' lists would be too long.
-    let tiled =
-        options.accuracy == Accuracy::Exact && options.speedup == Speedup::Local && !options.ties;
     let shaped: Vec<Vec<Shaped>> = attempts
         .iter()
         .map(|(_, cones)| {
@@ -486,8 +502,11 @@ pub(crate) fn draw_point_tiles(
     if max_tile == 0 {
         return Err(Error::InvalidInput("tile size must be at least 1".into()));
     }
-    // A band of rows is held on the host: keep it to about 2^26 pixels.
-    let band_rows = ((1u64 << 26) / frame.width as u64).max(1) as u32;
+    // A band of rows is held on the host: keep it to about 2^26 pixels, in
+    // whole screen tiles.
+    let band_rows =
+        ((1u64 << 26) / frame.width as u64) as u32 / SCREEN_TILE_SIDE * SCREEN_TILE_SIDE;
+    let band_rows = band_rows.max(1);
     let (tile_w, tile_h) = (
         max_tile.min(frame.width),
         max_tile.min(frame.height).min(band_rows),
@@ -515,6 +534,9 @@ pub(crate) fn draw_point_tiles(
         },
         pixels_per_unit: frame.scale,
     };
+    // Tile candidates are the picture's: the tiles of a view must be among them.
+    let aligned = |tile: u32, whole: u32| tile >= whole || tile % SCREEN_TILE_SIDE == 0;
+    let aligned = aligned(tile_w, frame.width) && aligned(tile_h, frame.height);
     let mut final_attempt = 0;
     let mut drawn_by_tiles = tiled;
     for y0 in (0..frame.height).step_by(tile_h as usize) {
@@ -545,6 +567,8 @@ pub(crate) fn draw_point_tiles(
                     scale,
                     ties: options.ties,
                     tiled,
+                    candidates: candidates.as_ref().filter(|_| aligned),
+                    sites: &pixels,
                 };
                 drawn_by_tiles &= render(machine, &picture, &view, &draws)?;
                 final_attempt = final_attempt.max(k);
@@ -663,6 +687,30 @@ fn ms(since: Instant) -> f64 {
 }
 
 /// The cones of each pass to try, with the quadtree radius a pass uses (if any).
+/// Cones of the `reaches` (in the metric) of L_p tile candidates, half a
+/// Euclidean pixel wider as other local radii are, each in the square of its
+/// reach.
+fn reach_cones(pixels: &[DVec2], frame: &Frame, metric: Metric, reaches: &[f64]) -> Vec<Cone> {
+    let (a, b) = metric.euclidean_bounds();
+    pixels
+        .iter()
+        .zip(reaches)
+        .enumerate()
+        .map(|(i, (p, r))| {
+            let reach = r + 0.5 * b;
+            Cone {
+                site: *p,
+                id: i as u32,
+                radius: (reach / a).min(frame.farthest_pixel(*p) + 0.5),
+                reach,
+                lo: p - reach,
+                hi: p + reach,
+            }
+        })
+        .filter(|c| frame.distance_to_pixels(c.site) <= c.radius)
+        .collect()
+}
+
 fn cone_attempts(
     pixels: &[DVec2],
     frame: &Frame,
@@ -1118,6 +1166,10 @@ struct Draws<'a> {
     /// Take the envelope of exact cones per screen tile from the sites whose
     /// box meets it ([`Program::NearestTiles`]) instead of drawing them.
     tiled: bool,
+    /// Or from each tile's candidates, found directly.
+    candidates: Option<&'a TileCandidates>,
+    /// Every site (picture pixels), by id.
+    sites: &'a [DVec2],
 }
 
 /// The unit square as two triangles: the mesh of a batch's rectangle.
@@ -1150,34 +1202,39 @@ struct ScreenTiles {
 
 impl ScreenTiles {
     /// The tiles of a `width` x `height` target whose pixel (0, 0) is picture
-    /// pixel `origin`, item k going to every tile with a pixel centre in its box
-    /// `boxes[k]` (picture pixels). `None` where the tiles would hold more items
-    /// than the target has pixels (64 per pixel): drawing them costs less then.
+    /// pixel `origin`, each `(id, lo, hi)` of `boxes` going to every tile with a
+    /// pixel centre in `[lo, hi]` (picture pixels). `None` where the tiles would
+    /// hold more items than the target has pixels (64 per pixel): drawing them
+    /// costs less then.
     fn bin(
         origin: DVec2,
         width: u32,
         height: u32,
-        boxes: impl Iterator<Item = (DVec2, DVec2)>,
+        boxes: impl Iterator<Item = (u32, DVec2, DVec2)>,
     ) -> Option<Self> {
         let side = SCREEN_TILE_SIDE as usize;
         let across = (width as usize).div_ceil(side);
         let tiles = across * (height as usize).div_ceil(side);
         let last = DVec2::new(width as f64 - 1.0, height as f64 - 1.0);
         // Each item's tiles: first and last column and row.
-        let spans: Vec<Option<[usize; 4]>> = boxes
-            .map(|(lo, hi)| {
+        let spans: Vec<(u32, [usize; 4])> = boxes
+            .filter_map(|(id, lo, hi)| {
                 let first = (lo - origin).ceil().max(DVec2::ZERO);
                 let end = (hi - origin).floor().min(last);
-                (first.x <= end.x && first.y <= end.y)
-                    .then(|| [first.x, first.y, end.x, end.y].map(|v| v as usize / side))
+                (first.x <= end.x && first.y <= end.y).then(|| {
+                    (
+                        id,
+                        [first.x, first.y, end.x, end.y].map(|v| v as usize / side),
+                    )
+                })
             })
             .collect();
         let rows = |[x0, y0, x1, y1]: [usize; 4]| {
             (y0..=y1).map(move |y| y * across + x0..=y * across + x1)
         };
         let mut start = vec![0u32; tiles + 1];
-        for span in spans.iter().flatten() {
-            for row in rows(*span) {
+        for &(_, span) in &spans {
+            for row in rows(span) {
                 for t in row {
                     start[t + 1] += 1;
                 }
@@ -1191,10 +1248,10 @@ impl ScreenTiles {
         }
         let mut next = start[..tiles].to_vec();
         let mut items = vec![0u32; start[tiles] as usize];
-        for (k, span) in spans.into_iter().enumerate() {
-            for row in span.into_iter().flat_map(rows) {
+        for (id, span) in spans {
+            for row in rows(span) {
                 for t in row {
-                    items[next[t] as usize] = k as u32;
+                    items[next[t] as usize] = id;
                     next[t] += 1;
                 }
             }
@@ -1204,6 +1261,47 @@ impl ScreenTiles {
             items,
             across,
             last,
+        })
+    }
+
+    /// The tiles of a `width` x `height` target whose pixel (0, 0) is picture
+    /// pixel `origin` (a multiple of the tile side), holding the `candidates`
+    /// of the picture's tiles; `None` where they would hold more items than the
+    /// target has pixels.
+    fn of_candidates(
+        candidates: &TileCandidates,
+        origin: DVec2,
+        width: u32,
+        height: u32,
+    ) -> Option<Self> {
+        let side = SCREEN_TILE_SIDE as usize;
+        let across = (width as usize).div_ceil(side);
+        let down = (height as usize).div_ceil(side);
+        let (x0, y0) = (origin.x as usize / side, origin.y as usize / side);
+        let picture_down = (candidates.start.len() - 1) / candidates.across;
+        let list = |t: usize| {
+            let (tx, ty) = (x0 + t % across, y0 + t / across);
+            if tx < candidates.across && ty < picture_down {
+                let k = ty * candidates.across + tx;
+                &candidates.items[candidates.start[k] as usize..candidates.start[k + 1] as usize]
+            } else {
+                &[]
+            }
+        };
+        let mut start = Vec::with_capacity(across * down + 1);
+        start.push(0u32);
+        for t in 0..across * down {
+            start.push(start[t] + list(t).len() as u32);
+        }
+        if start[across * down] as u64 > width as u64 * height as u64 {
+            return None;
+        }
+        let items = (0..across * down).flat_map(list).copied().collect();
+        Some(Self {
+            start,
+            items,
+            across,
+            last: DVec2::new(width as f64 - 1.0, height as f64 - 1.0),
         })
     }
 
@@ -1251,13 +1349,24 @@ fn records_image(machine: &Machine, mut texels: Vec<[u32; 4]>) -> Result<Option<
 /// key, so that a fragment can stop at the first that cannot beat its nearest;
 /// other keys cost less than the ordering (the smallest key is 0 then). `None`
 /// where the lists would be too long.
-fn tile_records(view: &TileView, cones: &[Shaped], key: DepthKey) -> Option<Vec<[u32; 4]>> {
+fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u32; 4]>> {
+    let key = draws.key;
     let ordered = !matches!(
         key,
         DepthKey::Metric(Metric::L2 | Metric::L1 | Metric::LInf)
     );
-    let boxes = cones.iter().map(|s| s.cone.clip());
-    let bins = ScreenTiles::bin(view.origin, view.width, view.height, boxes)?;
+    let bins = match draws.candidates {
+        Some(candidates) => {
+            ScreenTiles::of_candidates(candidates, view.origin, view.width, view.height)?
+        }
+        None => {
+            let boxes = draws.cones.iter().map(|s| {
+                let (lo, hi) = s.cone.clip();
+                (s.cone.id, lo, hi)
+            });
+            ScreenTiles::bin(view.origin, view.width, view.height, boxes)?
+        }
+    };
     let tiles = bins.tiles();
     let mut texels: Vec<[u32; 4]> = Vec::with_capacity(tiles + bins.items.len());
     texels.extend((0..tiles).map(|t| {
@@ -1276,16 +1385,15 @@ fn tile_records(view: &TileView, cones: &[Shaped], key: DepthKey) -> Option<Vec<
         let (first, _) = bins.range(t);
         let (lo, hi) = bins.centres(t);
         let (lo, hi) = (lo + view.origin, hi + view.origin);
-        for (texel, &k) in list.iter_mut().zip(&bins.items[first as usize..]) {
-            let cone = &cones[k as usize].cone;
+        for (texel, &id) in list.iter_mut().zip(&bins.items[first as usize..]) {
             // The device's coordinates, and a margin for its rounding.
-            let site = DVec2::new(cone.site.x as f32 as f64, cone.site.y as f32 as f64);
+            let site = draws.sites[id as usize].as_vec2().as_dvec2();
             let least = match ordered {
                 true => (key.of_offset(site - site.clamp(lo, hi)) * (1.0 - 1e-4)) as f32,
                 false => 0.0,
             };
             let [x, y] = [site.x as f32, site.y as f32];
-            *texel = [x.to_bits(), y.to_bits(), least.to_bits(), cone.id];
+            *texel = [x.to_bits(), y.to_bits(), least.to_bits(), id];
         }
         if ordered {
             list.sort_unstable_by(|a, b| {
@@ -1308,7 +1416,7 @@ fn render_tiles(
     draws: &Draws<'_>,
     push: &ConePush,
 ) -> Result<bool> {
-    let Some(texels) = tile_records(view, draws.cones, draws.key) else {
+    let Some(texels) = tile_records(view, draws) else {
         return Ok(false);
     };
     let Some((upload, records)) = records_image(machine, texels)? else {

@@ -449,6 +449,83 @@ pub fn local_metric_regions(sites: &[DVec2], frame: &Frame, metric: Metric) -> O
         .map(|measure| local_regions_by(sites, frame, 1, cell, bin, measure))
 }
 
+/// The sites that the square screen tiles of a picture must consider for their
+/// pixels' nearest site: every site within U(T) of tile T, where U(T) is the
+/// smallest distance within which some site holds the whole tile. Tile `t`
+/// covers the pixel centres from `(t % across, t / across) * side`, `side` on
+/// each side (fewer at the right and bottom edges).
+#[derive(Clone, Debug)]
+pub struct TileCandidates {
+    pub across: usize,
+    pub side: u32,
+    /// Tile `t`'s sites are `items[start[t]..start[t + 1]]`.
+    pub start: Vec<u32>,
+    pub items: Vec<u32>,
+    /// Per site, the farthest (in the metric) it may own a pixel: 0 where it
+    /// owns none.
+    pub reaches: Vec<f64>,
+}
+
+/// [`TileCandidates`] under `metric` (any but polygon gauges, `None` then), the
+/// sites in pixel coordinates: a tile's candidates are found as a cover cell's
+/// are ([`Grid::k_candidates`]), with no region bounded per site.
+pub fn tile_candidates(
+    sites: &[DVec2],
+    frame: &Frame,
+    side: u32,
+    metric: Metric,
+) -> Option<TileCandidates> {
+    let table = match metric {
+        Metric::Lp(p) => Some(LpTable::new(p)),
+        _ => None,
+    };
+    let measure = Measure::native(metric, table.as_ref())?;
+    let side = side.max(1);
+    let across = frame.width.div_ceil(side) as usize;
+    let down = frame.height.div_ceil(side) as usize;
+    let (_, bin) = k_cell_and_bin(frame, sites.len(), 1);
+    let bins = Grid::new(sites, frame, bin.max(side as f64));
+    let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
+    let radii = Radii::new(sites.len());
+    // One row of tiles per task: their lists' lengths and items.
+    let rows: Vec<(Vec<u32>, Vec<u32>)> = (0..down)
+        .into_par_iter()
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(candidates, nearest), ty| {
+                let (mut counts, mut items) = (Vec::with_capacity(across), Vec::new());
+                for tx in 0..across {
+                    let lo = DVec2::new(tx as f64, ty as f64) * side as f64;
+                    let hi = (lo + (side - 1) as f64).min(corner);
+                    let cover = bins.k_candidates(lo, hi, 1, measure, candidates, nearest);
+                    counts.push(candidates.len() as u32);
+                    for &(i, p) in candidates.iter() {
+                        radii.raise(i, measure.farthest_below(p, lo, hi, cover));
+                        items.push(i);
+                    }
+                }
+                (counts, items)
+            },
+        )
+        .collect();
+    let mut start = Vec::with_capacity(across * down + 1);
+    start.push(0u32);
+    let mut items = Vec::with_capacity(rows.iter().map(|r| r.1.len()).sum());
+    for (counts, row) in rows {
+        for c in counts {
+            start.push(start[start.len() - 1] + c);
+        }
+        items.extend(row);
+    }
+    Some(TileCandidates {
+        across,
+        side,
+        start,
+        items,
+        reaches: radii.into_radii(metric),
+    })
+}
+
 fn local_regions_by(
     sites: &[DVec2],
     frame: &Frame,
