@@ -8,6 +8,9 @@
 //! label is a nearest site. Three ways to size the cones: [`Speedup::None`]
 //! (picture-wide cones, Hoff et al.), [`Speedup::Quadtree`] (the thesis's width
 //! bounds with minmax-detected retries) and [`Speedup::Local`] (a radius per site).
+//! With local radii, exact diagrams draw no cones at all: each fragment of one
+//! picture-wide triangle takes the nearest of the sites listed for its screen
+//! tile ([`Program::NearestTiles`]), the sites that can own one of its pixels.
 //!
 //! Pictures larger than one device image (or than [`VoronoiOptions::max_tile`])
 //! are rendered tile by tile, each tile drawing only the cones that reach it, and
