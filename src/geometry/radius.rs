@@ -468,7 +468,7 @@ pub struct TileCandidates {
 
 /// [`TileCandidates`] under `metric` (any but polygon gauges, `None` then), the
 /// sites in pixel coordinates: a tile's candidates are found as a cover cell's
-/// are ([`Grid::k_candidates`]), with no region bounded per site.
+/// are (`Grid::k_candidates`), with no region bounded per site.
 pub fn tile_candidates(
     sites: &[DVec2],
     frame: &Frame,
