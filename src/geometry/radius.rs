@@ -487,31 +487,52 @@ pub fn tile_candidates(
     let bins = Grid::new(sites, frame, bin.max(side as f64));
     let corner = DVec2::new((frame.width - 1) as f64, (frame.height - 1) as f64);
     let radii = Radii::new(sites.len());
-    // One row of tiles per task: their lists' lengths and items.
-    let rows: Vec<(Vec<u32>, Vec<u32>)> = (0..down)
+    // Blocks of BLOCK x BLOCK tiles search the grid once; each tile then takes
+    // its own U(T) and list from the block's candidates (a site that can own a
+    // pixel of the tile, or that holds the whole tile nearest, is one of them:
+    // U(T) <= U(B)). One row of blocks per task: per tile row, the lists'
+    // lengths and items.
+    const BLOCK: usize = 2;
+    let rows: Vec<Vec<(Vec<u32>, Vec<u32>)>> = (0..down.div_ceil(BLOCK))
         .into_par_iter()
         .map_init(
             || (Vec::new(), Vec::new()),
-            |(candidates, nearest), ty| {
-                let (mut counts, mut items) = (Vec::with_capacity(across), Vec::new());
-                for tx in 0..across {
-                    let lo = DVec2::new(tx as f64, ty as f64) * side as f64;
-                    let hi = (lo + (side - 1) as f64).min(corner);
-                    let cover = bins.k_candidates(lo, hi, 1, measure, candidates, nearest);
-                    counts.push(candidates.len() as u32);
-                    for &(i, p) in candidates.iter() {
-                        radii.raise(i, measure.farthest_below(p, lo, hi, cover));
-                        items.push(i);
+            |(candidates, nearest), by| {
+                let rows = (BLOCK * by..(BLOCK * (by + 1)).min(down)).len();
+                let mut out = vec![(Vec::with_capacity(across), Vec::new()); rows];
+                for bx in 0..across.div_ceil(BLOCK) {
+                    let tile_lo =
+                        |t: [usize; 2]| DVec2::new(t[0] as f64, t[1] as f64) * side as f64;
+                    let lo = tile_lo([BLOCK * bx, BLOCK * by]);
+                    let hi = (lo + (BLOCK as u32 * side - 1) as f64).min(corner);
+                    bins.k_candidates(lo, hi, 1, measure, candidates, nearest);
+                    for (r, (counts, items)) in out.iter_mut().enumerate() {
+                        for tx in BLOCK * bx..(BLOCK * (bx + 1)).min(across) {
+                            let lo = tile_lo([tx, BLOCK * by + r]);
+                            let hi = (lo + (side - 1) as f64).min(corner);
+                            let cover = candidates
+                                .iter()
+                                .map(|&(_, p)| measure.farthest_below(p, lo, hi, f64::INFINITY))
+                                .fold(f64::INFINITY, f64::min);
+                            let before = items.len();
+                            for &(i, p) in candidates.iter() {
+                                if measure.nearest_within(p, lo, hi, cover) {
+                                    radii.raise(i, measure.farthest_below(p, lo, hi, cover));
+                                    items.push(i);
+                                }
+                            }
+                            counts.push((items.len() - before) as u32);
+                        }
                     }
                 }
-                (counts, items)
+                out
             },
         )
         .collect();
     let mut start = Vec::with_capacity(across * down + 1);
     start.push(0u32);
-    let mut items = Vec::with_capacity(rows.iter().map(|r| r.1.len()).sum());
-    for (counts, row) in rows {
+    let mut items = Vec::with_capacity(rows.iter().flatten().map(|r| r.1.len()).sum());
+    for (counts, row) in rows.into_iter().flatten() {
         for c in counts {
             start.push(start[start.len() - 1] + c);
         }
@@ -1157,6 +1178,59 @@ mod tests {
         for bin in [1.0, 2.5, 7.0, 64.0] {
             let bounds = cell_bounds(&sites, &frame, bin);
             assert_bounds_hold_owned_pixels(&sites, &frame, &bounds, &format!("bin {bin}"));
+        }
+    }
+
+    /// Every nearest site of a pixel (under the metric) is in its tile's list,
+    /// and reaches it.
+    #[test]
+    fn tile_candidates_list_every_owner() {
+        let frame = Frame::pixels(61, 47).unwrap();
+        // Clustered, a regular row, duplicates and sites outside the picture.
+        let mut sites: Vec<DVec2> = (0..40)
+            .map(|i| DVec2::new((i * 7 % 23) as f64 * 0.9, (i * 11 % 19) as f64 * 1.1))
+            .collect();
+        sites.extend((0..6).map(|i| DVec2::new(10.0 * i as f64, 40.0)));
+        sites.extend([
+            DVec2::new(80.0, -10.0),
+            DVec2::new(-3.0, 30.0),
+            DVec2::new(30.0, 47.2),
+            DVec2::new(30.0, 47.2),
+        ]);
+        for metric in [Metric::L2, Metric::L1, Metric::Lp(0.5), Metric::Lp(3.0)] {
+            for side in [1, 8, 13] {
+                let tiles = tile_candidates(&sites, &frame, side, metric).unwrap();
+                for y in 0..frame.height {
+                    for x in 0..frame.width {
+                        let q = DVec2::new(x as f64, y as f64);
+                        let d = sites
+                            .iter()
+                            .map(|s| metric.distance(*s - q))
+                            .fold(f64::INFINITY, f64::min);
+                        let t = (y / side) as usize * tiles.across + (x / side) as usize;
+                        let list =
+                            &tiles.items[tiles.start[t] as usize..tiles.start[t + 1] as usize];
+                        // Equal distances may round either way in the
+                        // bounds: one of the nearest suffices.
+                        let listed = list
+                            .iter()
+                            .map(|&i| (metric.distance(sites[i as usize] - q), i as usize))
+                            .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+                        assert!(
+                            listed.0 <= d * (1.0 + 1e-12),
+                            "{metric} side {side}: pixel {q}: nearest listed at {}, nearest at {d}",
+                            listed.0
+                        );
+                        assert!(
+                            listed.0 <= tiles.reaches[listed.1] * (1.0 + 1e-9),
+                            "{metric} side {side}: pixel {q}: site {} at {} beyond {}",
+                            listed.1,
+                            listed.0,
+                            tiles.reaches[listed.1]
+                        );
+                    }
+                }
+            }
         }
     }
 
