@@ -2,21 +2,23 @@
 #version 460
 // The lower envelope of exact cones without drawing the cones: one triangle
 // over the target (picture.vert), and each fragment takes the nearest of the
-// sites binned to its screen tile, every site whose region's box meets the
-// tile. A pixel's nearest site is among them, since its region holds the
-// pixel, so the envelope is exact without a truncation test. On a software
-// rasterizer this trades the setup of one footprint per cone, and the depth
-// test and writes of every overlapping fragment, for a short loop per pixel.
+// sites listed for its screen tile: every site whose region's box meets the
+// tile, or under L_p every site within the tile's cover bound. A pixel's
+// nearest site is among them, so the envelope is exact without a truncation
+// test. On a software rasterizer this trades the setup of one footprint per
+// cone, and the depth test and writes of every overlapping fragment, for a
+// short loop per pixel.
 //
 // Records are texels of an image (RECORD_ROW to a row): first one per tile,
 // row-major over the target's tiles of TILE_SIDE pixels, holding (first
-// record of the tile's sites, their number); then one per binned site
-// (x, y in picture pixels, the smallest key of a pixel of the tile, all as
-// float bits, and the site id), each tile's by that smallest key. An image rather
-// than a storage buffer because lavapipe loads images with one gather.
+// record of the tile's sites, their number); then one per listed site (x, y
+// in picture pixels and the smallest key of a pixel of the tile, as float
+// bits, and the site id), each tile's by that smallest key (all 0 where keys
+// are cheap). An image rather than a storage buffer because lavapipe loads
+// images with one gather.
 #include "common.glsl"
 
-// Both as in src/algorithms/voronoi.rs (NEAREST_TILE_SIDE, RECORD_ROW).
+// Both as in src/algorithms/voronoi.rs (SCREEN_TILE_SIDE, RECORD_ROW).
 const uint TILE_SIDE = 8u;
 const uint RECORD_ROW = 4096u;
 
@@ -38,15 +40,16 @@ void main() {
     float best = 3.0e38;
     uint best_id = 0u;
     // Sites come by the smallest key they can have in the tile: once that
-    // exceeds the nearest key so far, no later site can win. Earlier sites win
-    // ties.
+    // exceeds the nearest key so far, no later site can win. Of equal keys the
+    // smallest id wins, whatever the order of the list, so that every tiling
+    // of the picture resolves ties alike.
     for (uint r = sites.x; r < sites.x + sites.y; r++) {
         uvec4 site = record(r);
         if (uintBitsToFloat(site.z) > best) {
             break;
         }
         float key = metric_key(p - uintBitsToFloat(site.xy));
-        if (key < best) {
+        if (key < best || (key == best && site.w < best_id)) {
             best = key;
             best_id = site.w;
         }

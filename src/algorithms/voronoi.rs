@@ -689,7 +689,6 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
-/// The cones of each pass to try, with the quadtree radius a pass uses (if any).
 /// Cones of the `reaches` (in the metric) of L_p tile candidates, half a
 /// Euclidean pixel wider as other local radii are, each in the square of its
 /// reach.
@@ -714,6 +713,7 @@ fn reach_cones(pixels: &[DVec2], frame: &Frame, metric: Metric, reaches: &[f64])
         .collect()
 }
 
+/// The cones of each pass to try, with the quadtree radius a pass uses (if any).
 fn cone_attempts(
     pixels: &[DVec2],
     frame: &Frame,
@@ -1277,6 +1277,7 @@ impl ScreenTiles {
         width: u32,
         height: u32,
     ) -> Option<Self> {
+        debug_assert_eq!(candidates.side, SCREEN_TILE_SIDE);
         let side = SCREEN_TILE_SIDE as usize;
         let across = (width as usize).div_ceil(side);
         let down = (height as usize).div_ceil(side);
