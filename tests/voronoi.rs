@@ -138,9 +138,9 @@ fn exact_mode_matches_the_definition() {
 }
 
 /// Exact cones with local radii are found per screen tile from the sites whose
-/// boxes meet it (L_p: from each tile's candidates); where those lists would be
-/// too long (here hundreds of sites on one spot, each owning the same wide
-/// region) the cones are drawn instead. Both give the definition.
+/// boxes meet it (L∞ and L_p: from each tile's candidates); where those lists
+/// would be too long (here hundreds of sites on one spot, each owning the same
+/// wide region) the cones are drawn instead. Both give the definition.
 #[test]
 fn screen_tiles_and_their_fallback_match_the_definition() {
     let m = machine();
@@ -149,7 +149,7 @@ fn screen_tiles_and_their_fallback_match_the_definition() {
     let spread = uniform(&mut rng, 40, 64.0, 48.0);
     let mut piled = uniform(&mut rng, 6, 64.0, 48.0);
     piled.extend(std::iter::repeat_n(DVec2::new(20.25, 30.5), 300));
-    for metric in [Metric::L2, Metric::Lp(3.0), Metric::Lp(0.7)] {
+    for metric in [Metric::L2, Metric::LInf, Metric::Lp(3.0), Metric::Lp(0.7)] {
         for (sites, drawn) in [(&spread, "tiles"), (&piled, "polygon")] {
             let options = VoronoiOptions {
                 metric,

@@ -431,11 +431,12 @@ pub(crate) fn draw_point_tiles(
     // cut to the boxes are drawn where the tiles' lists would be too long.
     let tiled =
         options.accuracy == Accuracy::Exact && options.speedup == Speedup::Local && !options.ties;
-    // L_p tiles find their candidates directly, in fewer measurements than the
-    // regions' boxes take and with shorter lists; the regions' reaches come
-    // with them.
+    // L_p and L∞ tiles find their candidates directly, in fewer measurements
+    // than the regions' boxes take (L∞'s boxes hold diamonds) and with shorter
+    // lists; the regions' reaches come with them. L1's boxes from Delaunay
+    // neighbours cost less.
     let candidates = match options.metric {
-        Metric::Lp(_) if tiled => {
+        Metric::Lp(_) | Metric::LInf if tiled => {
             radius::tile_candidates(&pixels, &frame, SCREEN_TILE_SIDE, options.metric)
         }
         _ => None,
@@ -689,7 +690,7 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
-/// Cones of the `reaches` (in the metric) of L_p tile candidates, half a
+/// Cones of the `reaches` (in the metric) of tile candidates, half a
 /// Euclidean pixel wider as other local radii are, each in the square of its
 /// reach.
 fn reach_cones(pixels: &[DVec2], frame: &Frame, metric: Metric, reaches: &[f64]) -> Vec<Cone> {

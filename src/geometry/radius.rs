@@ -1197,7 +1197,13 @@ mod tests {
             DVec2::new(30.0, 47.2),
             DVec2::new(30.0, 47.2),
         ]);
-        for metric in [Metric::L2, Metric::L1, Metric::Lp(0.5), Metric::Lp(3.0)] {
+        for metric in [
+            Metric::L2,
+            Metric::L1,
+            Metric::LInf,
+            Metric::Lp(0.5),
+            Metric::Lp(3.0),
+        ] {
             for side in [1, 8, 13] {
                 let tiles = tile_candidates(&sites, &frame, side, metric).unwrap();
                 for y in 0..frame.height {
