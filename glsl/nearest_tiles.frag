@@ -3,11 +3,11 @@
 // The lower envelope of exact cones without drawing the cones: one triangle
 // over the target (picture.vert), and each fragment takes the nearest of the
 // sites listed for its screen tile: every site whose region's box meets the
-// tile, or under L_p every site within the tile's cover bound. A pixel's
-// nearest site is among them, so the envelope is exact without a truncation
-// test. On a software rasterizer this trades the setup of one footprint per
-// cone, and the depth test and writes of every overlapping fragment, for a
-// short loop per pixel.
+// tile, or under L_p and L-infinity every site within the tile's cover bound.
+// A pixel's nearest site is among them, so the envelope is exact without a
+// truncation test. On a software rasterizer this trades the setup of one
+// footprint per cone, and the depth test and writes of every overlapping
+// fragment, for a short loop per pixel.
 //
 // Records are texels of an image (RECORD_ROW to a row): first one per tile,
 // row-major over the target's tiles of TILE_SIDE pixels, holding (first
