@@ -1181,8 +1181,8 @@ mod tests {
         }
     }
 
-    /// Every nearest site of a pixel (under the metric) is in its tile's list,
-    /// and reaches it.
+    /// A nearest site of every pixel (under the metric) is in its tile's list,
+    /// and reaches the pixel.
     #[test]
     fn tile_candidates_list_every_owner() {
         let frame = Frame::pixels(61, 47).unwrap();
