@@ -35,8 +35,8 @@ use crate::{
     },
     machine::{
         Buffer, ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConeInstance,
-        ConePush, DepthTest, DrawParams, Format, Image, Machine, PixelRect, Program, RasterState,
-        StencilOp, StencilTest, Target,
+        ConePush, DepthTest, DrawParams, Format, Image, Machine, Pass, PixelRect, Program,
+        RasterState, StencilOp, StencilTest, Target,
     },
 };
 
@@ -1123,6 +1123,24 @@ struct Picture {
     depth: Image,
 }
 
+impl Picture {
+    /// Begins rendering into the tile, its ids cleared to "no site", its depths
+    /// to the farthest, and its stencil to 0 where `stencil`.
+    fn begin(&self, pass: &mut Pass<'_>, stencil: bool) -> Result<()> {
+        pass.begin(
+            Target {
+                color: Some(&self.ids),
+                depth_stencil: Some(&self.depth),
+            },
+            Clear {
+                color: Some(ClearColor::Uint([u32::MAX; 4])),
+                depth: Some(1.0),
+                stencil: stencil.then_some(0),
+            },
+        )
+    }
+}
+
 /// The part of the picture a tile image shows: pixel `(i, j)` of the tile image is
 /// pixel `origin + (i, j)` of the picture.
 #[derive(Clone, Copy, Debug)]
@@ -1430,17 +1448,7 @@ fn render_tiles(
     machine.with_fragment_resources(&[], Some(&records), |set| {
         machine.run(|pass| {
             pass.upload_for_fragments(&upload, &records)?;
-            pass.begin(
-                Target {
-                    color: Some(&picture.ids),
-                    depth_stencil: Some(&picture.depth),
-                },
-                Clear {
-                    color: Some(ClearColor::Uint([u32::MAX; 4])),
-                    depth: Some(1.0),
-                    stencil: None,
-                },
-            )?;
+            picture.begin(pass, false)?;
             pass.bind_fragment_buffer(set);
             pass.draw_nearest_tiles(&RasterState::lower_envelope(), &DrawParams::default(), push)?;
             pass.end()
@@ -1539,17 +1547,7 @@ fn render(
     let state = RasterState::lower_envelope();
     let params = DrawParams::default();
     machine.run(|pass| {
-        pass.begin(
-            Target {
-                color: Some(&picture.ids),
-                depth_stencil: Some(&picture.depth),
-            },
-            Clear {
-                color: Some(ClearColor::Uint([u32::MAX; 4])),
-                depth: Some(1.0),
-                stencil: draws.ties.then_some(0),
-            },
-        )?;
+        picture.begin(pass, draws.ties)?;
         if let Some(batch_buffer) = &batch_buffer {
             pass.draw_cones(
                 Program::ConeExactBatch,

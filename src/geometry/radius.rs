@@ -1185,18 +1185,7 @@ mod tests {
     /// and reaches the pixel.
     #[test]
     fn tile_candidates_list_every_owner() {
-        let frame = Frame::pixels(61, 47).unwrap();
-        // Clustered, a regular row, duplicates and sites outside the picture.
-        let mut sites: Vec<DVec2> = (0..40)
-            .map(|i| DVec2::new((i * 7 % 23) as f64 * 0.9, (i * 11 % 19) as f64 * 1.1))
-            .collect();
-        sites.extend((0..6).map(|i| DVec2::new(10.0 * i as f64, 40.0)));
-        sites.extend([
-            DVec2::new(80.0, -10.0),
-            DVec2::new(-3.0, 30.0),
-            DVec2::new(30.0, 47.2),
-            DVec2::new(30.0, 47.2),
-        ]);
+        let (frame, sites) = awkward_sites();
         for metric in [
             Metric::L2,
             Metric::L1,
