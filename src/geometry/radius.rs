@@ -208,42 +208,38 @@ pub struct CellBound {
 /// site s owns lies within `radius` of it and inside the box `[lo, hi]`; a site
 /// whose region misses the picture gets radius 0 and an empty box at the site.
 ///
-/// The region of s is the intersection of the half-planes nearer to s than to each
-/// other site. Clipping the picture by the half-planes of *some* sites leaves a
-/// polygon that contains the region, so its farthest corner is a valid radius
-/// and its bounding box a valid box whichever sites were used, and they are the
-/// region's exact width (thesis Def. 3.2) and box once every Voronoi neighbour
-/// has cut. The box is often half the radius's square: a site is rarely at the
-/// centre of its region. The cutters are the site's Delaunay neighbours
-/// (`DelaunayNeighbours`); a site the triangulation leaves out (a duplicate,
-/// every site of a collinear set) searches for them ring by ring of square bins
-/// of side `bin` instead (`searched_bound`). Half-planes are widened by a
-/// relative 1e-9 so that rounding can only enlarge a bound.
+/// The region of s within a Delaunay triangulation of any sites including s
+/// (a strip of them, see [`delaunay_strips`]) contains its region among all
+/// sites. Where s is inside the triangulation, that region is the polygon of
+/// the circumcentres of its triangles: where they lie in the picture, their box
+/// is the site's box, and their largest circumradius a radius. Both are the region's
+/// exact box and width (thesis Def. 3.2) when the strip holds its Voronoi
+/// neighbours; the box is often half the radius's square, since a site is
+/// rarely at the centre of its region. Circumcentres are widened by a relative
+/// 1e-9 of their conditioning, so that rounding can only enlarge a bound, and
+/// a strip whose triangulation is not Delaunay within that margin is not
+/// trusted (see [`strip_cell_bounds`]).
+///
+/// The region of a site on the strip's hull is unbounded, and others cross the
+/// picture's edge: the picture is clipped instead by the half-planes nearer to
+/// s than to each of its neighbours, which leaves a polygon that contains the
+/// region whichever sites cut. A site the triangulation leaves out (a duplicate, every site of a
+/// collinear set) searches for its cutters ring by ring of square bins of side
+/// `bin` (`searched_bound`).
 ///
 /// Where sites are dense the radii shrink to the local spacing, while a site next
 /// to an empty quarter still reaches across it: the thesis's worst case costs only
 /// the cones that need the reach.
 pub fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
     let picture = picture_corners(frame);
-    let neighbours = DelaunayNeighbours::of(sites, frame);
-    let mut bounds: Vec<Option<CellBound>> = (0..sites.len())
-        .into_par_iter()
-        .map(|s| {
-            let cutters = neighbours.of_site(s);
-            if cutters.is_empty() {
-                return None;
-            }
-            let site = sites[s];
-            let mut polygon = Polygon::new(picture.map(|v| v - site));
-            for &t in cutters {
-                let d = sites[t as usize] - site;
-                if d != DVec2::ZERO {
-                    polygon.clip(d, half_plane_limit(d));
-                }
-            }
-            Some(polygon.bound(site))
-        })
-        .collect();
+    let mut bounds: Vec<Option<CellBound>> = vec![None; sites.len()];
+    for strip in delaunay_strips(sites, frame, |strip| {
+        strip_cell_bounds(sites, strip, &picture)
+    }) {
+        for (s, b) in strip {
+            bounds[s as usize] = Some(b);
+        }
+    }
     let left_out: Vec<usize> = (0..sites.len()).filter(|&s| bounds[s].is_none()).collect();
     if !left_out.is_empty() {
         let bins = Grid::new(sites, frame, bin);
@@ -256,6 +252,145 @@ pub fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
         }
     }
     bounds.into_iter().flatten().collect()
+}
+
+/// The bounds of [`cell_bounds`] for the sites a strip owns and triangulates.
+///
+/// The circumcentres describe the regions only if the triangulation is
+/// Delaunay: every edge is checked (each triangle's circle holds neither
+/// opposite corner, within the margin), and a strip that fails clips every
+/// site by its neighbours instead, as it does the sites on its hull.
+fn strip_cell_bounds(
+    sites: &[DVec2],
+    strip: &Strip<'_>,
+    picture: &[DVec2; 4],
+) -> Vec<(u32, CellBound)> {
+    let (corners, twins) = (
+        &strip.triangulation.triangles,
+        &strip.triangulation.halfedges,
+    );
+    let points: Vec<DVec2> = strip.members.iter().map(|&i| sites[i as usize]).collect();
+    let circles: Vec<Circumcircle> = corners
+        .chunks_exact(3)
+        .map(|t| Circumcircle::of(points[t[0]], points[t[1]], points[t[2]]))
+        .collect();
+    // Per member: the box of its triangles' circumcentres and their largest
+    // circumradius (widened), whether it is in a triangle, and whether its
+    // region is unbounded, crosses the picture's edge or is not to be trusted.
+    let mut boxes = vec![(DVec2::INFINITY, DVec2::NEG_INFINITY, 0.0f64); points.len()];
+    let mut in_triangle = vec![false; points.len()];
+    let mut open = vec![false; points.len()];
+    for (t, circle) in corners.chunks_exact(3).zip(&circles) {
+        for &c in t {
+            in_triangle[c] = true;
+            let (lo, hi, r) = &mut boxes[c];
+            *lo = lo.min(circle.centre - circle.error);
+            *hi = hi.max(circle.centre + circle.error);
+            *r = r.max(circle.radius + circle.error);
+        }
+    }
+    let mut delaunay = circles.iter().all(|c| c.error.is_finite());
+    for e in 0..corners.len() {
+        let twin = twins[e];
+        if twin == delaunator::EMPTY {
+            open[corners[e]] = true;
+            open[corners[delaunator::next_halfedge(e)]] = true;
+        } else if e < twin {
+            // One side's test answers for both.
+            delaunay &= !circles[e / 3].holds(points[corners[delaunator::prev_halfedge(twin)]]);
+        }
+    }
+    let (first, last) = (picture[0], picture[2]);
+    for (open, (lo, hi, _)) in open.iter_mut().zip(&boxes) {
+        *open |= !(delaunay && lo.cmpge(first).all() && hi.cmple(last).all());
+    }
+    // The cutters of the open members: their neighbours in the triangulation.
+    let mut cutters: Vec<(usize, usize)> = Vec::new();
+    for e in 0..corners.len() {
+        let (a, b) = (corners[e], corners[delaunator::next_halfedge(e)]);
+        if open[a] {
+            cutters.push((a, b));
+        }
+        if open[b] && twins[e] == delaunator::EMPTY {
+            cutters.push((b, a));
+        }
+    }
+    cutters.sort_unstable();
+    let mut bounds: Vec<(u32, CellBound)> = cutters
+        .chunk_by(|x, y| x.0 == y.0)
+        .filter(|run| strip.owns(strip.members[run[0].0]))
+        .map(|run| {
+            let site = points[run[0].0];
+            let bound = clipped_bound(site, run.iter().map(|&(_, c)| points[c]), picture);
+            (strip.members[run[0].0], bound)
+        })
+        .collect();
+    bounds.extend(
+        (0..points.len())
+            .filter(|&m| in_triangle[m] && !open[m] && strip.owns(strip.members[m]))
+            .map(|m| {
+                let (lo, hi, radius) = boxes[m];
+                (strip.members[m], CellBound { radius, lo, hi })
+            }),
+    );
+    bounds
+}
+
+/// A triangle's circumcircle with a bound on its rounding error (infinite for
+/// a degenerate triangle).
+struct Circumcircle {
+    centre: DVec2,
+    radius: f64,
+    error: f64,
+}
+
+impl Circumcircle {
+    fn of(a: DVec2, b: DVec2, c: DVec2) -> Self {
+        let (u, v) = (b - a, c - a);
+        let d = 2.0 * u.perp_dot(v);
+        let (uu, vv) = (u.length_squared(), v.length_squared());
+        let offset = DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d;
+        // The offset divides terms of size |v| uu + |u| vv by d: its error grows
+        // with that ratio (a flat triangle's is large), and with the coordinates.
+        let spread = u.abs().max(v.abs()).max_element();
+        let conditioning = 2.0 * spread * (uu + vv) / d.abs();
+        let error = 1e-9 * (conditioning + a.abs().max_element() + 1.0);
+        if offset.is_finite() && error.is_finite() {
+            Self {
+                centre: a + offset,
+                radius: offset.length(),
+                error,
+            }
+        } else {
+            Self {
+                centre: a,
+                radius: 0.0,
+                error: f64::INFINITY,
+            }
+        }
+    }
+
+    /// Whether `p` lies inside the circle by more than its error.
+    fn holds(&self, p: DVec2) -> bool {
+        (p - self.centre).length() < self.radius - 2.0 * self.error
+    }
+}
+
+/// The bound of a polygon from the picture's corners (relative to `site`)
+/// clipped by the half-planes nearer to `site` than to each of `cutters`.
+fn clipped_bound(
+    site: DVec2,
+    cutters: impl Iterator<Item = DVec2>,
+    picture: &[DVec2; 4],
+) -> CellBound {
+    let mut polygon = Polygon::new(picture.map(|v| v - site));
+    for t in cutters {
+        let d = t - site;
+        if d != DVec2::ZERO {
+            polygon.clip(d, half_plane_limit(d));
+        }
+    }
+    polygon.bound(site)
 }
 
 /// The bound of [`cell_bounds`] for site `s`, its cutters searched ring by ring
@@ -308,47 +443,18 @@ fn half_plane_limit(d: DVec2) -> f64 {
     0.5 * d.length_squared() * (1.0 + 1e-9) + 1e-9
 }
 
-/// Every site's Delaunay neighbours (delaunator), in compressed rows: those of
-/// site s are `list[start[s]..start[s + 1]]`. Sites the triangulation leaves
-/// out (duplicates, collinear sets) have none.
-///
-/// Many sites are triangulated in horizontal strips at once, one per thread,
-/// each with the sites within a few spacings beyond its edges: a site takes
-/// its neighbours from its own strip. Near an edge they may miss a neighbour
-/// or include a site that is none, which can only leave a polygon larger.
+/// Every site's Delaunay neighbours (delaunator, in strips: see
+/// [`delaunay_strips`]), in compressed rows: those of site s are
+/// `list[start[s]..start[s + 1]]`. Sites the triangulation leaves out
+/// (duplicates, collinear sets) have none.
 struct DelaunayNeighbours {
     start: Vec<u32>,
     list: Vec<u32>,
 }
 
 impl DelaunayNeighbours {
-    /// Sites per strip below which one triangulation is quicker.
-    const STRIP_SITES: usize = 1500;
-
     fn of(sites: &[DVec2], frame: &Frame) -> Self {
-        let strips =
-            (sites.len() / Self::STRIP_SITES).clamp(1, rayon::current_num_threads().max(1));
-        let height = frame.height as f64 / strips as f64;
-        let margin = 4.0 * (frame.len() as f64 / sites.len().max(1) as f64).sqrt();
-        let strip: Vec<usize> = sites
-            .iter()
-            .map(|p| ((p.y / height).floor().max(0.0) as usize).min(strips - 1))
-            .collect();
-        let edges: Vec<Vec<(u32, u32)>> = (0..strips)
-            .into_par_iter()
-            .map(|k| {
-                let (top, bottom) = (k as f64 * height, (k + 1) as f64 * height);
-                let members: Vec<u32> = (0..sites.len() as u32)
-                    .filter(|&i| {
-                        let y = sites[i as usize].y;
-                        strip[i as usize] == k
-                            || (k > 0 && y >= top - margin && y < top)
-                            || (k + 1 < strips && y >= bottom && y < bottom + margin)
-                    })
-                    .collect();
-                strip_edges(sites, &members, |i| strip[i as usize] == k)
-            })
-            .collect();
+        let edges = delaunay_strips(sites, frame, strip_edges);
         let (start, list) = group_by_bucket(
             sites.len(),
             edges.iter().flatten().map(|&(a, b)| (a as usize, b)),
@@ -361,22 +467,82 @@ impl DelaunayNeighbours {
     }
 }
 
-/// The directed edges (a, b) of the Delaunay triangulation of the `members`
-/// (indices into `sites`) whose first end `owns` says to keep.
-fn strip_edges(sites: &[DVec2], members: &[u32], owns: impl Fn(u32) -> bool) -> Vec<(u32, u32)> {
-    let points: Vec<delaunator::Point> = members
+/// A horizontal strip of the sites, triangulated: the sites it owns and those
+/// within a few spacings beyond its edges (`members`, indices into the sites).
+struct Strip<'a> {
+    index: usize,
+    /// Each site's strip.
+    strip_of: &'a [usize],
+    members: Vec<u32>,
+    /// Of the members (`triangles` index `members`).
+    triangulation: delaunator::Triangulation,
+}
+
+impl Strip<'_> {
+    fn owns(&self, site: u32) -> bool {
+        self.strip_of[site as usize] == self.index
+    }
+}
+
+/// Sites per strip below which one triangulation is quicker.
+const STRIP_SITES: usize = 1500;
+
+/// `each` of the strips many sites are triangulated in, one per thread, at
+/// once. A site takes what it needs from its own strip: near an edge its
+/// triangles may miss a site beyond the margin, which can only leave its region
+/// in the strip larger than among all sites.
+fn delaunay_strips<T: Send>(
+    sites: &[DVec2],
+    frame: &Frame,
+    each: impl Fn(&Strip<'_>) -> T + Sync,
+) -> Vec<T> {
+    let strips = (sites.len() / STRIP_SITES).clamp(1, rayon::current_num_threads().max(1));
+    let height = frame.height as f64 / strips as f64;
+    let margin = 4.0 * (frame.len() as f64 / sites.len().max(1) as f64).sqrt();
+    let strip_of: Vec<usize> = sites
         .iter()
-        .map(|&i| {
-            let p = sites[i as usize];
-            delaunator::Point { x: p.x, y: p.y }
-        })
+        .map(|p| ((p.y / height).floor().max(0.0) as usize).min(strips - 1))
         .collect();
-    let triangulation = delaunator::triangulate(&points);
-    let (corners, twins) = (&triangulation.triangles, &triangulation.halfedges);
+    (0..strips)
+        .into_par_iter()
+        .map(|k| {
+            let (top, bottom) = (k as f64 * height, (k + 1) as f64 * height);
+            let members: Vec<u32> = (0..sites.len() as u32)
+                .filter(|&i| {
+                    let y = sites[i as usize].y;
+                    strip_of[i as usize] == k
+                        || (k > 0 && y >= top - margin && y < top)
+                        || (k + 1 < strips && y >= bottom && y < bottom + margin)
+                })
+                .collect();
+            let points: Vec<delaunator::Point> = members
+                .iter()
+                .map(|&i| {
+                    let p = sites[i as usize];
+                    delaunator::Point { x: p.x, y: p.y }
+                })
+                .collect();
+            each(&Strip {
+                index: k,
+                strip_of: &strip_of,
+                triangulation: delaunator::triangulate(&points),
+                members,
+            })
+        })
+        .collect()
+}
+
+/// The directed edges (a, b) of a strip's triangulation (site indices) whose
+/// first end the strip owns.
+fn strip_edges(strip: &Strip<'_>) -> Vec<(u32, u32)> {
+    let (corners, twins) = (
+        &strip.triangulation.triangles,
+        &strip.triangulation.halfedges,
+    );
     let mut edges = Vec::with_capacity(corners.len() + 64);
     let mut keep = |a: usize, b: usize| {
-        let (a, b) = (members[a], members[b]);
-        if owns(a) {
+        let (a, b) = (strip.members[a], strip.members[b]);
+        if strip.owns(a) {
             edges.push((a, b));
         }
     };
@@ -1271,6 +1437,70 @@ mod tests {
         sites.extend((0..100).map(|i| DVec2::new(i as f64 * 1.2, 45.0)));
         let bounds = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()));
         assert_bounds_hold_owned_pixels(&sites, &frame, &bounds, "strips");
+    }
+
+    #[test]
+    fn cell_bounds_are_the_region_boxes() {
+        // Every site's box is its region's (clipped by every other site) box
+        // within the picture, whether from circumcentres or clipping, up to
+        // the margins for rounding.
+        let frame = Frame::pixels(200, 150).unwrap();
+        let sites = crate::io::sites::random_sites(300, 3, &frame);
+        let bounds = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()));
+        let picture = picture_corners(&frame);
+        let mut inside = 0;
+        for (i, b) in bounds.iter().enumerate() {
+            let exact = clipped_bound(sites[i], sites.iter().copied(), &picture);
+            assert!(
+                (b.lo - exact.lo).abs().max_element() < 1e-4
+                    && (b.hi - exact.hi).abs().max_element() < 1e-4,
+                "site {i}: {b:?} against {exact:?}"
+            );
+            inside += usize::from(b.lo.cmpgt(picture[0]).all() && b.hi.cmplt(picture[2]).all());
+        }
+        assert!(inside > 200, "only {inside} regions inside the picture");
+    }
+
+    #[test]
+    fn a_triangulation_that_is_not_delaunay_is_not_trusted() {
+        // A lattice is co-circular everywhere, so its triangulation takes either
+        // diagonal of each square; jittered by up to 4 pixels, many of its
+        // triangles are wrong.
+        let frame = Frame::pixels(80, 80).unwrap();
+        let lattice: Vec<DVec2> = (0..64)
+            .map(|i| DVec2::new((i % 8) as f64 * 10.0 + 4.0, (i / 8) as f64 * 10.0 + 4.0))
+            .collect();
+        let points: Vec<delaunator::Point> = lattice
+            .iter()
+            .map(|p| delaunator::Point { x: p.x, y: p.y })
+            .collect();
+        let jitter = crate::io::sites::random_sites(64, 9, &Frame::pixels(2, 2).unwrap());
+        let sites: Vec<DVec2> = lattice
+            .iter()
+            .zip(&jitter)
+            .map(|(p, j)| *p + (*j - 0.5) * 8.0)
+            .collect();
+        let strip_of = vec![0; sites.len()];
+        let strip = Strip {
+            index: 0,
+            strip_of: &strip_of,
+            members: (0..sites.len() as u32).collect(),
+            triangulation: delaunator::triangulate(&points),
+        };
+        let mut bounds = vec![
+            CellBound {
+                radius: 0.0,
+                lo: DVec2::ZERO,
+                hi: DVec2::ZERO
+            };
+            sites.len()
+        ];
+        let strip_bounds = strip_cell_bounds(&sites, &strip, &picture_corners(&frame));
+        assert_eq!(strip_bounds.len(), sites.len());
+        for (i, b) in strip_bounds {
+            bounds[i as usize] = b;
+        }
+        assert_bounds_hold_owned_pixels(&sites, &frame, &bounds, "jittered lattice");
     }
 
     /// A small picture with random sites, a lattice, a diagonal run, duplicates
