@@ -534,9 +534,9 @@ type Reach = ([f32; 4], f64);
 ///
 /// Cells of about half the sites' spacing: a cell's upper bound is the smallest
 /// largest-distance of the sites binned near it (any subset of the sites bounds
-/// the envelope from above); a site then visits the rings of cells around its box
-/// until even the ring's nearest point is beyond the largest upper bound, keeping
-/// the cells where its smallest distance can reach the cell's bound.
+/// the envelope from above); a site then visits the cells that the largest
+/// upper bound reaches from its box, keeping those where its smallest distance
+/// can reach the cell's bound.
 fn cull(
     sites: &[Site],
     width: u32,
@@ -635,26 +635,26 @@ fn cull(
         .enumerate()
         .map(|(k, s)| {
             let (blo, bhi) = s.bounds();
-            let block = [
-                cell_of(blo.x, cx) as isize,
-                cell_of(blo.y, cy) as isize,
-                cell_of(bhi.x, cx) as isize,
-                cell_of(bhi.y, cy) as isize,
-            ];
+            // Where the cell's bound is its weighted distance, the shape distance.
+            let limit_of = |bound: f64| (bound - s.additive) * scale * s.multiplicative;
+            // No cell's bound is above the largest: the site owns no pixel
+            // farther than this (Euclidean) from its box.
+            let widest = limit_of(reach) / a * (1.0 + 1e-9);
+            if widest.is_nan() || widest < 0.0 {
+                return None;
+            }
+            let columns = cell_of(blo.x - widest, cx)..=cell_of(bhi.x + widest, cx);
             let mut rect: Option<(DVec2, DVec2)> = None;
             let mut far = 0.0f64;
-            for ring in 0..cx.max(cy) + 1 {
-                // Cells of this ring are at least (ring - 1) cells from the box.
-                let gap = ring.saturating_sub(1) as f64 * side;
-                let nearest = weighted(s, a * gap);
-                if nearest > reach {
-                    break;
-                }
-                for_ring_cells((cx, cy), block, ring, |x, y| {
+            for y in cell_of(blo.y - widest, cy)..=cell_of(bhi.y + widest, cy) {
+                for x in columns.clone() {
                     let bound = upper[y * cx + x];
-                    // Most cells of the outer rings fail already on the ring's gap.
-                    if nearest > bound {
-                        return;
+                    let limit = limit_of(bound);
+                    // Most cells fail on the gap between them and the site's box.
+                    let (p, q) = bounds_of(x, y);
+                    let gap = (p - bhi).max(blo - q).max(DVec2::ZERO);
+                    if limit < 0.0 || a * a * gap.length_squared() > limit * limit * (1.0 + 1e-9) {
+                        continue;
                     }
                     let (lo, _, d) = range(k, x, y);
                     if lo <= bound {
@@ -662,9 +662,8 @@ fn cull(
                         // weighted distance is at most the cell's bound: within
                         // that shape distance of the shape, and a Euclidean 1 / a
                         // times that of its box.
-                        let owned = d.min((bound - s.additive) * scale * s.multiplicative);
+                        let owned = d.min(limit);
                         let grow = owned / a * (1.0 + 1e-9);
-                        let (p, q) = bounds_of(x, y);
                         let (p, q) = (p.max(blo - grow), q.min(bhi + grow));
                         if p.cmple(q).all() {
                             far = far.max(owned);
@@ -674,7 +673,7 @@ fn cull(
                             });
                         }
                     }
-                });
+                }
             }
             // Half a pixel around the centres, so rasterization keeps the rim; a
             // pixel more of reach for the same reason.

@@ -69,6 +69,14 @@ impl Site {
     pub fn distance_to_shape(&self, metric: Metric, q: DVec2) -> f64 {
         match self.shape {
             Shape::Point(p) => metric.distance(q - p),
+            Shape::Segment(a, b) if metric == Metric::L2 => {
+                let e = b - a;
+                let t = match e == DVec2::ZERO {
+                    true => 0.0,
+                    false => ((q - a).dot(e) / e.length_squared()).clamp(0.0, 1.0),
+                };
+                (q - a - e * t).length()
+            }
             Shape::Segment(a, b) => norm_range_on_segment(metric, q - a, q - b).0,
             Shape::Circle { center, radius } if metric != Metric::L2 => {
                 curve_distance(metric, q, center, radius, 0.0, TAU)
