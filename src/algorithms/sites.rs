@@ -23,6 +23,7 @@ use crate::{
     geometry::{
         buckets::{for_ring_cells, group_by_bucket},
         chain::{FanMeshes, MetricFan},
+        frame::distance2_to_rect,
         metric::Metric,
         site::{check_general_sites, ArcWedge, Shape, Site},
         surface::{fan_surface, Triangles},
@@ -585,13 +586,12 @@ fn cull(
     let range = |k: usize, i: usize, j: usize| {
         let (lo, hi) = bounds_of(i, j);
         let s = &sites[k];
-        let (dlo, dhi) = spread(
-            s,
-            wedges[k].as_ref(),
-            metric,
-            0.5 * (lo + hi),
-            0.5 * (hi - lo),
-        );
+        // Only arcs read their wedge (the others' would cost a cache miss).
+        let wedge = match s.shape {
+            Shape::Arc { .. } => wedges[k].as_ref(),
+            _ => None,
+        };
+        let (dlo, dhi) = spread(s, wedge, metric, 0.5 * (lo + hi), 0.5 * (hi - lo));
         (weighted(s, dlo), weighted(s, dhi), dhi)
     };
     // Sites binned by the cell of their box's centre.
@@ -607,17 +607,27 @@ fn cull(
         let b = y * cx + x;
         &binned[bin_start[b] as usize..bin_start[b + 1] as usize]
     };
+    let (a, _) = metric.euclidean_bounds();
     // Upper bounds from the sites of the nearest non-empty rings of bins.
     let upper: Vec<f64> = (0..cx * cy)
         .into_par_iter()
         .map(|c| {
             let (i, j) = (c % cx, c / cx);
             let block = [i as isize, j as isize, i as isize, j as isize];
+            let (lo, hi) = bounds_of(i, j);
+            let centre = 0.5 * (lo + hi);
             let mut best = f64::INFINITY;
             for ring in 0..cx.max(cy) {
                 for_ring_cells((cx, cy), block, ring, |x, y| {
                     for &k in bin(x, y) {
-                        best = best.min(range(k as usize, i, j).1);
+                        // A site whose box is already too far cannot lower the
+                        // bound: its largest distance exceeds a times that gap.
+                        let s = &sites[k as usize];
+                        let (blo, bhi) = s.bounds();
+                        let gap = distance2_to_rect(centre, blo, bhi).sqrt();
+                        if weighted(s, a * gap) < best {
+                            best = best.min(range(k as usize, i, j).1);
+                        }
                     }
                 });
                 // One more ring after the first find tightens the bound cheaply.
@@ -629,7 +639,6 @@ fn cull(
         })
         .collect();
     let reach = upper.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let (a, _) = metric.euclidean_bounds();
     let reaches = sites
         .par_iter()
         .enumerate()
