@@ -349,11 +349,12 @@ impl Circumcircle {
         let (u, v) = (b - a, c - a);
         let d = 2.0 * u.perp_dot(v);
         let (uu, vv) = (u.length_squared(), v.length_squared());
-        let offset = DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d;
+        let inverse = 1.0 / d;
+        let offset = DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) * inverse;
         // The offset divides terms of size |v| uu + |u| vv by d: its error grows
         // with that ratio (a flat triangle's is large), and with the coordinates.
         let spread = u.abs().max(v.abs()).max_element();
-        let conditioning = 2.0 * spread * (uu + vv) / d.abs();
+        let conditioning = 2.0 * spread * (uu + vv) * inverse.abs();
         let error = 1e-9 * (conditioning + a.abs().max_element() + 1.0);
         if offset.is_finite() && error.is_finite() {
             Self {
@@ -372,7 +373,8 @@ impl Circumcircle {
 
     /// Whether `p` lies inside the circle by more than its error.
     fn holds(&self, p: DVec2) -> bool {
-        (p - self.centre).length() < self.radius - 2.0 * self.error
+        let inner = self.radius - 2.0 * self.error;
+        inner > 0.0 && (p - self.centre).length_squared() < inner * inner
     }
 }
 
