@@ -737,8 +737,11 @@ fn picture_wide(
 }
 
 /// The range of the site's shape distance over a box of half-extents `half`
-/// around `centre`, from its value d there: d ± |half| for the L_p norms, and
-/// (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is subadditive. A polygon
+/// around `centre`. A point's is exact under the L_p norms, which grow with
+/// each coordinate's size: the box's nearest and farthest offsets from it.
+/// Other shapes' comes from the value d at the centre: d ± |half| for the L_p
+/// norms, and (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is
+/// subadditive. A polygon
 /// need be neither symmetric nor convex, and curves under other metrics and
 /// segments under L_p are costly to measure: their range comes from the
 /// Euclidean one and the bounds a |x| <= |x| <= b |x| of the metric.
@@ -757,6 +760,15 @@ fn spread(
         Shape::Segment(..) => !matches!(metric, Metric::L2 | Metric::L1 | Metric::LInf),
         _ => metric != Metric::L2,
     };
+    if let (Shape::Point(p), Metric::L2 | Metric::L1 | Metric::LInf | Metric::Lp(_)) =
+        (site.shape, metric)
+    {
+        let offset = (p - centre).abs();
+        return (
+            metric.distance((offset - half).max(DVec2::ZERO)),
+            metric.distance(offset + half),
+        );
+    }
     if matches!(metric, Metric::Polygon(_)) || searched {
         let (a, b) = metric.euclidean_bounds();
         let (lo, hi) = spread(site, wedge, Metric::L2, centre, half);
