@@ -741,10 +741,10 @@ fn picture_wide(
 /// each coordinate's size: the box's nearest and farthest offsets from it.
 /// Other shapes' comes from the value d at the centre: d ± |half| for the L_p
 /// norms, and (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is
-/// subadditive. A polygon
-/// need be neither symmetric nor convex, and curves under other metrics and
-/// segments under L_p are costly to measure: their range comes from the
-/// Euclidean one and the bounds a |x| <= |x| <= b |x| of the metric.
+/// subadditive. A polygon need be neither symmetric nor convex, and curves
+/// under other metrics and segments under L_p are costly to measure: their
+/// range comes from the Euclidean one and the bounds a |x| <= |x| <= b |x| of
+/// the metric.
 fn spread(
     site: &Site,
     wedge: Option<&ArcWedge>,

@@ -211,21 +211,21 @@ pub struct CellBound {
 /// The region of s within a Delaunay triangulation of any sites including s
 /// (a strip of them, see [`delaunay_strips`]) contains its region among all
 /// sites. Where s is inside the triangulation, that region is the polygon of
-/// the circumcentres of its triangles: where they lie in the picture, their box
-/// is the site's box, and their largest circumradius a radius. Both are the region's
-/// exact box and width (thesis Def. 3.2) when the strip holds its Voronoi
-/// neighbours; the box is often half the radius's square, since a site is
-/// rarely at the centre of its region. Circumcentres are widened by a relative
-/// 1e-9 of their conditioning, so that rounding can only enlarge a bound, and
-/// a strip whose triangulation is not Delaunay within that margin is not
-/// trusted (see [`strip_cell_bounds`]).
+/// the circumcentres of its triangles: where they lie in the picture, their
+/// box is the site's box, and their largest circumradius a radius. Both are
+/// the region's exact box and width (thesis Def. 3.2) when the strip holds its
+/// Voronoi neighbours; the box is often half the radius's square, since a site
+/// is rarely at the centre of its region. Circumcentres are widened by a
+/// relative 1e-9 of their conditioning, so that rounding can only enlarge a
+/// bound, and a strip whose triangulation is not Delaunay within that margin
+/// is not trusted (see [`strip_cell_bounds`]).
 ///
 /// The region of a site on the strip's hull is unbounded, and others cross the
 /// picture's edge: the picture is clipped instead by the half-planes nearer to
 /// s than to each of its neighbours, which leaves a polygon that contains the
-/// region whichever sites cut. A site the triangulation leaves out (a duplicate, every site of a
-/// collinear set) searches for its cutters ring by ring of square bins of side
-/// `bin` (`searched_bound`).
+/// region whichever sites cut. A site the triangulation leaves out (a
+/// duplicate, every site of a collinear set) searches for its cutters ring by
+/// ring of square bins of side `bin` (`searched_bound`).
 ///
 /// Where sites are dense the radii shrink to the local spacing, while a site next
 /// to an empty quarter still reaches across it: the thesis's worst case costs only
@@ -1466,8 +1466,8 @@ mod tests {
     #[test]
     fn a_triangulation_that_is_not_delaunay_is_not_trusted() {
         // A lattice is co-circular everywhere, so its triangulation takes either
-        // diagonal of each square; jittered by up to 4 pixels, many of its
-        // triangles are wrong.
+        // diagonal of each square; with its sites moved by up to 8 pixels
+        // (of 10 between them), many of those triangles are wrong.
         let frame = Frame::pixels(80, 80).unwrap();
         let lattice: Vec<DVec2> = (0..64)
             .map(|i| DVec2::new((i % 8) as f64 * 10.0 + 4.0, (i / 8) as f64 * 10.0 + 4.0))
