@@ -69,9 +69,47 @@ float segment_norm(vec2 a, vec2 b) {
 }
 
 // The metric distance from p to the arc of the circle around c of radius r from
-// angle a0 over span (radians): samples at equal angles, the best brackets
-// refined by golden-section search (src/geometry/site.rs, curve_distance).
+// angle a0 over span (radians): under L1 and L-infinity the smallest over a few
+// candidates, otherwise samples at equal angles, the best brackets refined by
+// golden-section search (src/geometry/site.rs, curve_distance).
 float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
+    float best = 3.0e38;
+    // Cusps where the offset lies along a kink ray of the ball: the axes for L1
+    // and p < 1, the diagonals for L-infinity (src/geometry/site.rs).
+    bool axes = METRIC_KIND == 1u || (METRIC_KIND == 3u && picture.metric_p < 1.0);
+    if (axes || METRIC_KIND == 2u) {
+        vec2 d = p - c;
+        for (int ray = 0; ray < 2; ray++) {
+            vec2 v = axes ? (ray == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0))
+                          : (ray == 0 ? vec2(1.0, 1.0) : vec2(1.0, -1.0));
+            float s = (v.x * d.y - v.y * d.x) / (r * length(v));
+            if (abs(s) <= 1.0) {
+                float phi = atan(v.y, v.x);
+                for (int t = 0; t < 2; t++) {
+                    float a = phi + (t == 0 ? asin(s) : 3.14159265 - asin(s));
+                    if (mod(a - a0, TAU) <= span) {
+                        best = min(best, norm(p - c - r * vec2(cos(a), sin(a))));
+                    }
+                }
+            }
+        }
+    }
+    // L1 and L-infinity balls are piecewise linear: the smallest distance is at
+    // an end, a cusp, or where a side of the ball touches the circle, whose
+    // normal there is the side's (src/geometry/site.rs).
+    if (METRIC_KIND == 1u || METRIC_KIND == 2u) {
+        float first = METRIC_KIND == 1u ? 0.78539816 : 0.0;
+        vec2 normal = vec2(cos(first), sin(first));
+        for (int k = 0; k < 4; k++) {
+            if (mod(first + 1.57079633 * float(k) - a0, TAU) <= span) {
+                best = min(best, norm(p - c - r * normal));
+            }
+            normal = vec2(-normal.y, normal.x);
+        }
+        float a1 = a0 + span;
+        best = min(best, norm(p - c - r * vec2(cos(a0), sin(a0))));
+        return min(best, norm(p - c - r * vec2(cos(a1), sin(a1))));
+    }
     const int SAMPLES = 32;
     const int REFINEMENTS = 24;
     int n = max(2, int(ceil(float(SAMPLES) * span / TAU)));
@@ -95,27 +133,7 @@ float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
             }
         }
     }
-    float best = best_d[0];
-    // Cusps where the offset lies along a kink ray of the ball: the axes for L1
-    // and p < 1, the diagonals for L-infinity (src/geometry/site.rs).
-    bool axes = METRIC_KIND == 1u || (METRIC_KIND == 3u && picture.metric_p < 1.0);
-    if (axes || METRIC_KIND == 2u) {
-        vec2 d = p - c;
-        for (int ray = 0; ray < 2; ray++) {
-            vec2 v = axes ? (ray == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0))
-                          : (ray == 0 ? vec2(1.0, 1.0) : vec2(1.0, -1.0));
-            float s = (v.x * d.y - v.y * d.x) / (r * length(v));
-            if (abs(s) <= 1.0) {
-                float phi = atan(v.y, v.x);
-                for (int t = 0; t < 2; t++) {
-                    float a = phi + (t == 0 ? asin(s) : 3.14159265 - asin(s));
-                    if (mod(a - a0, TAU) <= span) {
-                        best = min(best, norm(p - c - r * vec2(cos(a), sin(a))));
-                    }
-                }
-            }
-        }
-    }
+    best = min(best, best_d[0]);
     const float g = 0.61803398875;
     for (int b = 0; b < brackets; b++) {
         float lo = a0 + step * float(max(best_k[b] - 1, 0));

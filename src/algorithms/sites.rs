@@ -741,10 +741,9 @@ fn picture_wide(
 /// each coordinate's size: the box's nearest and farthest offsets from it.
 /// Other shapes' comes from the value d at the centre: d ± |half| for the L_p
 /// norms, and (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is
-/// subadditive. A polygon need be neither symmetric nor convex, and curves
-/// under other metrics and segments under L_p are costly to measure: their
-/// range comes from the Euclidean one and the bounds a |x| <= |x| <= b |x| of
-/// the metric.
+/// subadditive. A polygon need be neither symmetric nor convex, and segments
+/// and curves under L_p are costly to measure: their range comes from the
+/// Euclidean one and the bounds a |x| <= |x| <= b |x| of the metric.
 fn spread(
     site: &Site,
     wedge: Option<&ArcWedge>,
@@ -753,12 +752,11 @@ fn spread(
     half: DVec2,
 ) -> (f64, f64) {
     // Distances to extended shapes under other metrics need a search per
-    // evaluation (but L1 and L∞ segments, a few candidates); the Euclidean range
+    // evaluation (but under L1 and L∞, a few candidates); the Euclidean range
     // is closed-form and, stretched, as rigorous.
     let searched = match site.shape {
         Shape::Point(_) => false,
-        Shape::Segment(..) => !matches!(metric, Metric::L2 | Metric::L1 | Metric::LInf),
-        _ => metric != Metric::L2,
+        _ => !matches!(metric, Metric::L2 | Metric::L1 | Metric::LInf),
     };
     if let (Shape::Point(p), Metric::L2 | Metric::L1 | Metric::LInf | Metric::Lp(_)) =
         (site.shape, metric)

@@ -156,9 +156,10 @@ const CURVE_BRACKETS: usize = 4;
 const CURVE_REFINEMENTS: usize = 40;
 
 /// The `metric` distance from `q` to the arc of the circle around `center` from
-/// angle `start` over `span`: the smallest of samples at equal angles, the four
-/// best refined by golden-section search between their neighbours. Along the
-/// circle a norm's distance has a valley on each side of `q`; star-shaped balls
+/// angle `start` over `span`: under L1 and L∞ exactly, the smallest over a few
+/// candidates; otherwise the smallest of samples at equal angles, the four best
+/// refined by golden-section search between their neighbours. Along the circle
+/// a norm's distance has a valley on each side of `q`; star-shaped balls
 /// (p < 1, star polygons) may add valleys at their spikes, which the extra
 /// brackets cover. The tests compare it with dense sampling.
 pub fn curve_distance(
@@ -173,6 +174,20 @@ pub fn curve_distance(
     if radius == 0.0 || span <= 0.0 {
         return at(start);
     }
+    let on_arc = |a: &f64| (a - start).rem_euclid(TAU) <= span;
+    let cusps = ray_crossings(metric, q - center, radius);
+    if let Some(first) = facet_angle(metric) {
+        // Piecewise linear balls: the smallest distance is at an end, where the
+        // offset lies along a corner ray, or where a side of the ball touches
+        // the circle (the circle's normal is the side's).
+        let sides = (0..4).map(|k| first + k as f64 * std::f64::consts::FRAC_PI_2);
+        return [start, start + span]
+            .into_iter()
+            .chain(cusps.into_iter().filter(on_arc))
+            .chain(sides.filter(on_arc))
+            .map(at)
+            .fold(f64::INFINITY, f64::min);
+    }
     let n = ((CURVE_SAMPLES as f64 * span / TAU).ceil() as usize).max(2);
     let step = span / n as f64;
     let samples: Vec<f64> = (0..=n).map(|k| at(start + step * k as f64)).collect();
@@ -183,10 +198,8 @@ pub fn curve_distance(
     // Cusps: where the offset to the curve lies along a ray through a corner of
     // the unit ball (the axes for p < 1, where the valleys are too narrow for any
     // sampling).
-    for a in ray_crossings(metric, q - center, radius) {
-        if (a - start).rem_euclid(TAU) <= span {
-            best = best.min(at(a));
-        }
+    for a in cusps.into_iter().filter(on_arc) {
+        best = best.min(at(a));
     }
     for &k in order.iter().take(CURVE_BRACKETS) {
         let mut lo = start + step * (k as f64 - 1.0).max(0.0);
@@ -202,6 +215,16 @@ pub fn curve_distance(
         best = best.min(at(0.5 * (lo + hi)));
     }
     best
+}
+
+/// For the piecewise linear balls of L1 and L∞, the angle of the first of the
+/// normals of their four sides (the others follow at right angles).
+fn facet_angle(metric: Metric) -> Option<f64> {
+    match metric {
+        Metric::L1 => Some(std::f64::consts::FRAC_PI_4),
+        Metric::LInf => Some(0.0),
+        _ => None,
+    }
 }
 
 /// The rays along which the metric's distance has a kink: the corners of L1,
