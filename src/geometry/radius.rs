@@ -209,7 +209,7 @@ pub struct CellBound {
 /// whose region misses the picture gets radius 0 and an empty box at the site.
 ///
 /// The region of s within a Delaunay triangulation of any sites including s
-/// (a strip of them, see [`delaunay_strips`]) contains its region among all
+/// (a strip of them, see `delaunay_strips`) contains its region among all
 /// sites. Where s is inside the triangulation, that region is the polygon of
 /// the circumcentres of its triangles: where they lie in the picture, their
 /// box is the site's box, and their largest circumradius a radius. Both are
@@ -218,7 +218,7 @@ pub struct CellBound {
 /// is rarely at the centre of its region. Circumcentres are widened by a
 /// relative 1e-9 of their conditioning, so that rounding can only enlarge a
 /// bound, and a strip whose triangulation is not Delaunay within that margin
-/// is not trusted (see [`strip_cell_bounds`]).
+/// is not trusted (see `strip_cell_bounds`).
 ///
 /// The region of a site on the strip's hull is unbounded, and others cross the
 /// picture's edge: the picture is clipped instead by the half-planes nearer to
