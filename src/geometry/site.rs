@@ -6,7 +6,7 @@
 //! Every shape works with every metric: the distance to a segment is the smallest
 //! norm on the segment of offsets ([`super::chain::norm_range_on_segment`]); to a
 //! circle or arc it is closed-form for L2 and found by [`curve_distance`]
-//! otherwise. Circles and arcs are Euclidean circles whatever the metric.
+//! otherwise (among a few candidates under L1 and L∞). Circles and arcs are Euclidean circles whatever the metric.
 
 use std::f64::consts::TAU;
 
