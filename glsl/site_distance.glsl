@@ -99,7 +99,7 @@ float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
     // normal there is the side's (src/geometry/site.rs).
     if (METRIC_KIND == 1u || METRIC_KIND == 2u) {
         float first = METRIC_KIND == 1u ? 0.78539816 : 0.0;
-        vec2 normal = vec2(cos(first), sin(first));
+        vec2 normal = METRIC_KIND == 1u ? vec2(0.70710678) : vec2(1.0, 0.0);
         for (int k = 0; k < 4; k++) {
             if (mod(first + 1.57079633 * float(k) - a0, TAU) <= span) {
                 best = min(best, norm(p - c - r * normal));

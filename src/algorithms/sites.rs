@@ -751,13 +751,6 @@ fn spread(
     centre: DVec2,
     half: DVec2,
 ) -> (f64, f64) {
-    // Distances to extended shapes under other metrics need a search per
-    // evaluation (but under L1 and L∞, a few candidates); the Euclidean range
-    // is closed-form and, stretched, as rigorous.
-    let searched = match site.shape {
-        Shape::Point(_) => false,
-        _ => !matches!(metric, Metric::L2 | Metric::L1 | Metric::LInf),
-    };
     if let (Shape::Point(p), Metric::L2 | Metric::L1 | Metric::LInf | Metric::Lp(_)) =
         (site.shape, metric)
     {
@@ -767,7 +760,11 @@ fn spread(
             metric.distance(offset + half),
         );
     }
-    if matches!(metric, Metric::Polygon(_)) || searched {
+    // Distances to extended shapes under other metrics need a search per
+    // evaluation (but under L1 and L∞, a few candidates), and polygon gauges
+    // bound nothing by their value at the centre; the Euclidean range is
+    // closed-form and, stretched, as rigorous.
+    if !matches!(metric, Metric::L2 | Metric::L1 | Metric::LInf) {
         let (a, b) = metric.euclidean_bounds();
         let (lo, hi) = spread(site, wedge, Metric::L2, centre, half);
         return (a * lo, b * hi);
