@@ -10,12 +10,15 @@
 // fragment, for a short loop per pixel.
 //
 // Records are texels of an image (RECORD_ROW to a row): first one per tile,
-// row-major over the target's tiles of TILE_SIDE pixels, holding (first
-// record of the tile's sites, their number); then one per listed site (x, y
-// in picture pixels and the smallest key of a pixel of the tile, as float
-// bits, and the site id), each tile's by that smallest key (all 0 where keys
-// are cheap). An image rather than a storage buffer because lavapipe loads
-// images with one gather.
+// row-major over the target's tiles of TILE_SIDE pixels, holding (first texel
+// of the tile's sites, their number); then the tiles' sites. Where keys take
+// powers (METRIC_LP*), a texel per site: x, y in picture pixels and the
+// smallest key of a pixel of the tile from the site, as float bits, and the
+// site id, each tile's by that smallest key. Else two per pair of sites, by
+// id: (x, y, x, y) as float bits and (0, 0, id, id), a tile with an odd number
+// repeating its last, so that the loop reads ids only for the nearest. An
+// image rather than a storage buffer because lavapipe loads images with one
+// gather.
 #include "common.glsl"
 
 // Both as in src/algorithms/voronoi.rs (SCREEN_TILE_SIDE, RECORD_ROW).
@@ -29,6 +32,10 @@ uvec4 record(uint r) {
     return imageLoad(records, ivec2(r % RECORD_ROW, r / RECORD_ROW));
 }
 
+#if defined(METRIC_LP) || defined(METRIC_LP_SUM)
+#define ORDERED
+#endif
+
 void main() {
     uvec2 tile = uvec2(gl_FragCoord.xy) / TILE_SIDE;
     uint across = (uint(picture.size.x) + TILE_SIDE - 1u) / TILE_SIDE;
@@ -38,6 +45,7 @@ void main() {
     }
     vec2 p = fragment_pixel();
     float best = 3.0e38;
+#ifdef ORDERED
     uint best_id = 0u;
     // Sites come by the smallest key they can have in the tile: once that
     // exceeds the nearest key so far, no later site can win. Of equal keys the
@@ -54,6 +62,27 @@ void main() {
             best_id = site.w;
         }
     }
+#else
+    // Sites come by id: the first of equal keys has the smallest, whatever
+    // the tiling of the picture. The pair of the nearest (its first texel,
+    // from the tile's first) and which of the two it is (the low bit).
+    uint best_slot = 0u;
+    for (uint r = sites.x; r < sites.x + sites.y; r += 2u) {
+        vec4 xy = uintBitsToFloat(record(r));
+        float key = metric_key(p - xy.xy);
+        if (key < best) {
+            best = key;
+            best_slot = r - sites.x;
+        }
+        key = metric_key(p - xy.zw);
+        if (key < best) {
+            best = key;
+            best_slot = (r - sites.x) | 1u;
+        }
+    }
+    uvec4 ids = record(sites.x + (best_slot & ~1u) + 1u);
+    uint best_id = (best_slot & 1u) == 0u ? ids.z : ids.w;
+#endif
     gl_FragDepth = best * picture.fragment_depth_scale;
     out_id = best_id;
 }

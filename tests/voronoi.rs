@@ -611,6 +611,24 @@ fn ties_count_the_sites_at_the_smallest_distance() {
                 tied += (want > 1) as usize;
             }
             assert!(tied > 0, "{metric} {name}: no ties to count");
+            // Without the count, the smallest index of the tied sites wins,
+            // whatever order a screen tile lists them in.
+            let d = voronoi(
+                &m,
+                sites,
+                &VoronoiOptions {
+                    metric,
+                    ..VoronoiOptions::exact(frame)
+                },
+            )
+            .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
+            for (k, &label) in d.labels.iter().enumerate() {
+                let q = p((k % 48) as f64, (k / 48) as f64);
+                let dists: Vec<f64> = sites.iter().map(|s| order(*s - q)).collect();
+                let best = dists.iter().copied().fold(f64::INFINITY, f64::min);
+                let first = dists.iter().position(|x| *x == best).unwrap() as u32;
+                assert_eq!(label, first, "{metric} {name}: pixel {q}");
+            }
         }
     }
     // Fans have no exact ties to count.

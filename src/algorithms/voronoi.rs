@@ -1365,13 +1365,15 @@ fn records_image(machine: &Machine, mut texels: Vec<[u32; 4]>) -> Result<Option<
 }
 
 /// The records of [`Program::NearestTiles`] for `view`: one texel per screen
-/// tile (its first site record and their number), then one per site binned to
-/// a tile (x, y as float bits, the smallest key of a pixel of the tile from the
-/// site as float bits, id), a site going to every tile with a pixel centre in
-/// its box. Where keys take powers, each tile's sites come by that smallest
-/// key, so that a fragment can stop at the first that cannot beat its nearest;
-/// other keys cost less than the ordering (the smallest key is 0 then). `None`
-/// where the lists would be too long.
+/// tile (its first site texel and its number of sites), then its sites, a site
+/// going to every tile with a pixel centre in its box. Where keys take powers,
+/// each tile's sites come by the smallest key of a pixel of the tile from them,
+/// so that a fragment can stop at the first that cannot beat its nearest: a
+/// texel per site (x, y as float bits, that key as float bits, id). Other keys
+/// cost less than the ordering, and their sites come by id, so that a fragment
+/// needs ids only for its nearest: two texels per pair of sites (x, y, x, y as
+/// float bits; 0, 0, id, id), a tile with an odd number repeating its last.
+/// `None` where the lists would be too long.
 fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u32; 4]>> {
     let key = draws.key;
     let ordered = !matches!(
@@ -1391,41 +1393,66 @@ fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u32; 4]>> {
         }
     };
     let tiles = bins.tiles();
-    let mut texels: Vec<[u32; 4]> = Vec::with_capacity(tiles + bins.items.len());
+    let site_texels = |t: usize| {
+        let count = bins.range(t).1 as usize;
+        if ordered {
+            count
+        } else {
+            2 * count.div_ceil(2)
+        }
+    };
+    let mut texels: Vec<[u32; 4]> = Vec::with_capacity(tiles + bins.items.len() + tiles);
+    let mut next = tiles;
     texels.extend((0..tiles).map(|t| {
-        let (first, count) = bins.range(t);
-        [tiles as u32 + first, count, 0, 0]
+        let first = next as u32;
+        next += site_texels(t);
+        [first, bins.range(t).1, 0, 0]
     }));
-    texels.resize(tiles + bins.items.len(), [0; 4]);
+    texels.resize(next, [0; 4]);
     let mut sites = &mut texels[tiles..];
     let mut lists = Vec::with_capacity(tiles);
     for t in 0..tiles {
-        let (list, rest) = sites.split_at_mut(bins.range(t).1 as usize);
+        let (list, rest) = sites.split_at_mut(site_texels(t));
         lists.push(list);
         sites = rest;
     }
-    lists.into_par_iter().enumerate().for_each(|(t, list)| {
-        let (first, _) = bins.range(t);
-        let (lo, hi) = bins.centres(t);
-        let (lo, hi) = (lo + view.origin, hi + view.origin);
-        for (texel, &id) in list.iter_mut().zip(&bins.items[first as usize..]) {
-            // The device's coordinates, and a margin for its rounding.
-            let site = draws.sites[id as usize].as_vec2().as_dvec2();
-            let least = match ordered {
-                true => (key.of_offset(site - site.clamp(lo, hi)) * (1.0 - 1e-4)) as f32,
-                false => 0.0,
-            };
-            let [x, y] = [site.x as f32, site.y as f32];
-            *texel = [x.to_bits(), y.to_bits(), least.to_bits(), id];
-        }
-        if ordered {
-            list.sort_unstable_by(|a, b| {
-                f32::from_bits(a[2])
-                    .total_cmp(&f32::from_bits(b[2]))
-                    .then(a[3].cmp(&b[3]))
-            });
-        }
-    });
+    lists
+        .into_par_iter()
+        .enumerate()
+        .for_each_init(Vec::new, |entries, (t, list)| {
+            let (first, count) = bins.range(t);
+            let (lo, hi) = bins.centres(t);
+            let (lo, hi) = (lo + view.origin, hi + view.origin);
+            entries.clear();
+            entries.extend(
+                bins.items[first as usize..(first + count) as usize]
+                    .iter()
+                    .map(|&id| {
+                        // The device's coordinates, and a margin for its rounding.
+                        let site = draws.sites[id as usize].as_vec2();
+                        let least = match ordered {
+                            true => {
+                                let site = site.as_dvec2();
+                                (key.of_offset(site - site.clamp(lo, hi)) * (1.0 - 1e-4)) as f32
+                            }
+                            false => 0.0,
+                        };
+                        (least, id, site)
+                    }),
+            );
+            entries.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            if ordered {
+                for (&(least, id, site), texel) in entries.iter().zip(list) {
+                    *texel = [site.x.to_bits(), site.y.to_bits(), least.to_bits(), id];
+                }
+            } else {
+                for (pair, texels) in entries.chunks(2).zip(list.chunks_exact_mut(2)) {
+                    let (a, b) = (pair[0], pair[pair.len() - 1]);
+                    texels[0] = [a.2.x, a.2.y, b.2.x, b.2.y].map(f32::to_bits);
+                    texels[1] = [0, 0, a.1, b.1];
+                }
+            }
+        });
     Some(texels)
 }
 
