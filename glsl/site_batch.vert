@@ -1,7 +1,7 @@
 #version 460
 // Up to eight sites of one shape in one rectangle, the bounding box of their own
-// (site.vert draws one site per rectangle): lavapipe pays about a microsecond
-// per triangle, as much as hundreds of fragments, so small sites share one.
+// (site.vert draws one site per rectangle): lavapipe sets up and bins every
+// triangle, as costly as many fragments, so small sites share one.
 // The fragment keeps the lowest weighted distance (site_batch.frag).
 #include "common.glsl"
 

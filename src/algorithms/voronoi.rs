@@ -266,8 +266,8 @@ pub(crate) const BATCH: usize = 8;
 /// polygon of their own.
 const BATCH_RADIUS_LIMIT: f64 = 48.0;
 
-/// A triangle's cost in fragments: lavapipe spends about a microsecond setting
-/// one up, as much as ~400 fragments.
+/// A triangle's cost in fragments: lavapipe sets up and bins each one (a few
+/// tenths of a microsecond for a small one), which outweighs many fragments.
 const TRIANGLE_FRAGMENTS: f64 = 400.0;
 
 /// The same for L_p whose keys cost powers (see `DepthKey`): a batch evaluates eight per
@@ -837,7 +837,7 @@ fn cone_attempts(
 
 /// Corners of a long exact cone's footprint polygon, a regular K-gon around the
 /// disc it must cover: K - 2 triangles of area `K tan(pi / K) r²`. On lavapipe a
-/// triangle costs about a microsecond of setup, as much as ~400 fragments, so
+/// triangle costs as much as many fragments (`TRIANGLE_FRAGMENTS`), so
 /// hexagons (3.5 r²) give way to octagons (3.3 r²) only where the saved fragments
 /// pay for the two extra triangles.
 fn polygon_corners(radius: f64) -> u32 {
@@ -869,7 +869,7 @@ fn shape_cones(
     };
     // L∞ balls and L_p balls for p >= 2 fill 88% or more of their bounding
     // square, which takes two triangles where the octagon takes eight (lavapipe
-    // spends about a microsecond on each).
+    // sets up and bins each).
     let square_ball = match metric {
         Metric::LInf => true,
         Metric::Lp(p) => p >= 2.0,
