@@ -530,14 +530,21 @@ fn instance(id: u32, s: &Site, rect: [f32; 4], scale: f64, least_additive: f64) 
 /// it may have where it wins.
 type Reach = ([f32; 4], f64);
 
+/// Side of the site cull's blocks, in cells (see `cull`). Blocks of 4 took the
+/// cull's site pass at 16000 sites (medians of six) from 10.7 to 8.8 ms for
+/// weighted points, whose reach varies with their weights; arcs 10.2 → 9.3,
+/// circles 8.6 → 8.3, segments unchanged.
+const CULL_BLOCK: usize = 4;
+
 /// Each site's [`Reach`], `None` where it wins nowhere, and an upper bound on the
 /// envelope over the picture.
 ///
 /// Cells of about half the sites' spacing: a cell's upper bound is the smallest
 /// largest-distance of the sites binned near it (any subset of the sites bounds
 /// the envelope from above); a site then visits the cells that the largest
-/// upper bound reaches from its box, keeping those where its smallest distance
-/// can reach the cell's bound.
+/// upper bound reaches from its box, skipping blocks of cells whose largest
+/// bound it cannot reach, and keeping the cells where its smallest distance can
+/// reach the cell's bound.
 fn cull(
     sites: &[Site],
     width: u32,
@@ -639,6 +646,14 @@ fn cull(
         })
         .collect();
     let reach = upper.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // The largest bound in each block of CULL_BLOCK x CULL_BLOCK cells: a site
+    // skips a block beyond its reach there without visiting the cells.
+    let blocks_across = cx.div_ceil(CULL_BLOCK);
+    let mut block_bounds = vec![f64::NEG_INFINITY; blocks_across * cy.div_ceil(CULL_BLOCK)];
+    for (c, &bound) in upper.iter().enumerate() {
+        let b = c / cx / CULL_BLOCK * blocks_across + c % cx / CULL_BLOCK;
+        block_bounds[b] = block_bounds[b].max(bound);
+    }
     let reaches = sites
         .par_iter()
         .enumerate()
@@ -652,34 +667,56 @@ fn cull(
             if widest.is_nan() || widest < 0.0 {
                 return None;
             }
-            let columns = cell_of(blo.x - widest, cx)..=cell_of(bhi.x + widest, cx);
+            // Whether the pixel centres [p, q] lie beyond a shape distance of
+            // `limit` from the site: a Euclidean 1 / a times that from its box.
+            let beyond = |limit: f64, p: DVec2, q: DVec2| {
+                let gap = (p - bhi).max(blo - q).max(DVec2::ZERO);
+                limit < 0.0 || a * a * gap.length_squared() > limit * limit * (1.0 + 1e-9)
+            };
             let mut rect: Option<(DVec2, DVec2)> = None;
             let mut far = 0.0f64;
-            for y in cell_of(blo.y - widest, cy)..=cell_of(bhi.y + widest, cy) {
-                for x in columns.clone() {
-                    let bound = upper[y * cx + x];
-                    let limit = limit_of(bound);
-                    // Most cells fail on the gap between them and the site's box.
-                    let (p, q) = bounds_of(x, y);
-                    let gap = (p - bhi).max(blo - q).max(DVec2::ZERO);
-                    if limit < 0.0 || a * a * gap.length_squared() > limit * limit * (1.0 + 1e-9) {
+            let mut visit = |x: usize, y: usize| {
+                let bound = upper[y * cx + x];
+                let limit = limit_of(bound);
+                // Most cells fail on the gap between them and the site's box.
+                let (p, q) = bounds_of(x, y);
+                if beyond(limit, p, q) {
+                    return;
+                }
+                let (lo, _, d) = range(k, x, y);
+                if lo <= bound {
+                    // The site owns a pixel of the cell only where its
+                    // weighted distance is at most the cell's bound: within
+                    // that shape distance of the shape, and a Euclidean 1 / a
+                    // times that of its box.
+                    let owned = d.min(limit);
+                    let grow = owned / a * (1.0 + 1e-9);
+                    let (p, q) = (p.max(blo - grow), q.min(bhi + grow));
+                    if p.cmple(q).all() {
+                        far = far.max(owned);
+                        rect = Some(match rect {
+                            None => (p, q),
+                            Some((rp, rq)) => (rp.min(p), rq.max(q)),
+                        });
+                    }
+                }
+            };
+            let (x0, x1) = (cell_of(blo.x - widest, cx), cell_of(bhi.x + widest, cx));
+            let (y0, y1) = (cell_of(blo.y - widest, cy), cell_of(bhi.y + widest, cy));
+            for j in y0 / CULL_BLOCK..=y1 / CULL_BLOCK {
+                for i in x0 / CULL_BLOCK..=x1 / CULL_BLOCK {
+                    let (columns, rows) = (
+                        CULL_BLOCK * i..(CULL_BLOCK * (i + 1)).min(cx),
+                        CULL_BLOCK * j..(CULL_BLOCK * (j + 1)).min(cy),
+                    );
+                    let (p, _) = bounds_of(columns.start, rows.start);
+                    let (_, q) = bounds_of(columns.end - 1, rows.end - 1);
+                    if beyond(limit_of(block_bounds[j * blocks_across + i]), p, q) {
                         continue;
                     }
-                    let (lo, _, d) = range(k, x, y);
-                    if lo <= bound {
-                        // The site owns a pixel of the cell only where its
-                        // weighted distance is at most the cell's bound: within
-                        // that shape distance of the shape, and a Euclidean 1 / a
-                        // times that of its box.
-                        let owned = d.min(limit);
-                        let grow = owned / a * (1.0 + 1e-9);
-                        let (p, q) = (p.max(blo - grow), q.min(bhi + grow));
-                        if p.cmple(q).all() {
-                            far = far.max(owned);
-                            rect = Some(match rect {
-                                None => (p, q),
-                                Some((rp, rq)) => (rp.min(p), rq.max(q)),
-                            });
+                    for y in rows.start.max(y0)..rows.end.min(y1 + 1) {
+                        for x in columns.start.max(x0)..columns.end.min(x1 + 1) {
+                            visit(x, y);
                         }
                     }
                 }
