@@ -187,6 +187,17 @@ pub fn norm_range(metric: Metric, polygon: &[DVec2]) -> (f64, f64) {
         })
 }
 
+/// The Euclidean distance from `p` to the segment `a b` (a point where a = b).
+pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let e = b - a;
+    let t = if e == DVec2::ZERO {
+        0.0
+    } else {
+        ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0)
+    };
+    (p - a - e * t).length()
+}
+
 /// The smallest and largest `metric` norm on the segment `a b`. The segment
 /// splits where a coordinate vanishes; on each piece the norm is convex for
 /// p ≥ 1 (largest at an end, smallest found by golden-section search) and, for
@@ -194,13 +205,10 @@ pub fn norm_range(metric: Metric, polygon: &[DVec2]) -> (f64, f64) {
 pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
     let at = |t: f64| metric.distance(a + (b - a) * t);
     if metric == Metric::L2 {
-        let e = b - a;
-        let t = if e == DVec2::ZERO {
-            0.0
-        } else {
-            (-a.dot(e) / e.length_squared()).clamp(0.0, 1.0)
-        };
-        return (at(t), a.length().max(b.length()));
+        return (
+            segment_distance(DVec2::ZERO, a, b),
+            a.length().max(b.length()),
+        );
     }
     if matches!(metric, Metric::L1 | Metric::LInf) {
         return (piecewise_linear_minimum(metric, a, b), at(0.0).max(at(1.0)));

@@ -6,13 +6,17 @@
 //! Every shape works with every metric: the distance to a segment is the smallest
 //! norm on the segment of offsets ([`super::chain::norm_range_on_segment`]); to a
 //! circle or arc it is closed-form for L2 and found by [`curve_distance`]
-//! otherwise (among a few candidates under L1 and L∞). Circles and arcs are Euclidean circles whatever the metric.
+//! otherwise (among a few candidates under L1 and L∞). Circles and arcs are
+//! Euclidean circles whatever the metric.
 
 use std::f64::consts::TAU;
 
 use glam::DVec2;
 
-use super::{chain::norm_range_on_segment, metric::Metric};
+use super::{
+    chain::{norm_range_on_segment, segment_distance},
+    metric::Metric,
+};
 use crate::error::{Error, Result};
 
 /// The geometric part of a site, in world coordinates.
@@ -69,14 +73,7 @@ impl Site {
     pub fn distance_to_shape(&self, metric: Metric, q: DVec2) -> f64 {
         match self.shape {
             Shape::Point(p) => metric.distance(q - p),
-            Shape::Segment(a, b) if metric == Metric::L2 => {
-                let e = b - a;
-                let t = match e == DVec2::ZERO {
-                    true => 0.0,
-                    false => ((q - a).dot(e) / e.length_squared()).clamp(0.0, 1.0),
-                };
-                (q - a - e * t).length()
-            }
+            Shape::Segment(a, b) if metric == Metric::L2 => segment_distance(q, a, b),
             Shape::Segment(a, b) => norm_range_on_segment(metric, q - a, q - b).0,
             Shape::Circle { center, radius } if metric != Metric::L2 => {
                 curve_distance(metric, q, center, radius, 0.0, TAU)

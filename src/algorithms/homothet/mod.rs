@@ -27,6 +27,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         buckets::PointGrid,
+        chain::segment_distance,
         frame::check_sites,
         metric::{Gauge, Metric},
         site::{check_general_sites, Shape, Site},
@@ -1258,12 +1259,6 @@ fn kth_gauge(sites: &[DVec2], unit: Unit, c: DVec2, k: usize) -> Option<f64> {
     let mut g: Vec<f64> = sites.iter().map(|s| unit.gauge(*s - c)).collect();
     let (_, kth, _) = g.select_nth_unstable_by(k - 1, f64::total_cmp);
     Some(*kth)
-}
-
-fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-    p.distance(a + ab * t)
 }
 
 /// The region in picture pixels for its stencil mask, as triangles in the
