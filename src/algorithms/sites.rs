@@ -11,7 +11,16 @@
 //! their largest weighted distance in the cell) and a site is drawn over the cells
 //! where its smallest weighted distance is at most that bound. Distances to a set
 //! change by at most the metric's size of the step (for p < 1, their p-th powers
-//! by the p-th power of it), which bounds both from the cell's centre.
+//! by the p-th power of it), which bounds both from the cell's centre; Euclidean
+//! segments and circles are bounded exactly.
+//!
+//! Euclidean sites in exact mode are not drawn at all: the same cells, one per
+//! 8-pixel screen tile where sites are dense, list the sites that may win in
+//! them by their smallest distance there, and one triangle over the picture
+//! takes each pixel's lowest distance from its tile's list, stopping at the
+//! first site that cannot win (`glsl/site_tiles.frag`), as the point diagrams
+//! do. A pixel then evaluates a few sites instead of every site whose
+//! rectangle covers it.
 
 use std::time::Instant;
 
@@ -22,7 +31,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         buckets::{for_ring_cells, group_by_bucket},
-        chain::{FanMeshes, MetricFan},
+        chain::{segment_distance, FanMeshes, MetricFan},
         frame::distance2_to_rect,
         metric::Metric,
         site::{check_general_sites, ArcWedge, Shape, Site},
@@ -35,8 +44,8 @@ use crate::{
 };
 
 use super::voronoi::{
-    distances_of, drawn_accuracy, hilbert_index, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions,
-    VoronoiStats, BATCH, UNIT_SQUARE,
+    distances_of, drawn_accuracy, hilbert_index, records_image, Accuracy, Speedup, VoronoiDiagram,
+    VoronoiOptions, VoronoiStats, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
 };
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
@@ -148,16 +157,36 @@ pub(crate) fn draw_sites(
         .iter()
         .map(|s| s.to_pixels(|p| frame.to_pixel(p), frame.scale))
         .collect();
+    let least_additive = sites
+        .iter()
+        .map(|s| s.additive)
+        .fold(f64::INFINITY, f64::min);
+    // Euclidean exact sites are found per screen tile where the picture takes one
+    // tile image; their rectangles are drawn where the lists would be too long.
+    let one_image = frame.width <= max_tile && frame.height <= max_tile;
+    if options.accuracy == Accuracy::Exact
+        && options.speedup == Speedup::Local
+        && metric == Metric::L2
+        && one_image
+    {
+        let tiled = draw_site_tiles(
+            machine,
+            &pixels,
+            options,
+            least_additive,
+            started,
+            &mut visit,
+        )?;
+        if let Some(drawn) = tiled {
+            return Ok(drawn);
+        }
+    }
     let (reaches, envelope_reach) = match options.speedup {
         Speedup::None => picture_wide(&pixels, frame.width, frame.height, metric, frame.scale),
         Speedup::Local | Speedup::Quadtree => {
             cull(&pixels, frame.width, frame.height, metric, frame.scale)
         }
     };
-    let least_additive = sites
-        .iter()
-        .map(|s| s.additive)
-        .fold(f64::INFINITY, f64::min);
     let mut stats = VoronoiStats {
         device: machine.device_name().to_string(),
         sites: sites.len(),
@@ -375,6 +404,236 @@ pub(crate) fn draw_sites(
     ))
 }
 
+/// The diagram of Euclidean sites (pixels) in exact mode from screen tiles
+/// ([`Program::SiteTiles`]), one pass per shape: each cell of [`CellBounds`]
+/// lists the sites whose smallest weighted distance over it is within its
+/// bound, by that distance, and each screen tile reads its cell's list. `None`
+/// where the lists would be too long.
+fn draw_site_tiles(
+    machine: &Machine,
+    pixels: &[Site],
+    options: &VoronoiOptions,
+    least_additive: f64,
+    started: Instant,
+    visit: &mut impl FnMut(&DrawnTile<'_>) -> Result<()>,
+) -> Result<Option<(VoronoiStats, SiteDepth)>> {
+    let frame = options.frame;
+    let (width, height) = (frame.width, frame.height);
+    // Cells of one screen tile where sites are dense, of 2 x 2 or 4 x 4 where
+    // they are sparse: the cells' bounds then cost less to find, and tiles share
+    // their cell's list.
+    let spacing = (width as f64 * height as f64 / pixels.len() as f64).sqrt();
+    let per_cell: u32 = if spacing < 24.0 {
+        1
+    } else if spacing < 64.0 {
+        2
+    } else {
+        4
+    };
+    let side = (SCREEN_TILE_SIDE * per_cell) as f64;
+    let cells = CellBounds::new(pixels, width, height, Metric::L2, frame.scale, side);
+    // Per site: its cells with its smallest weighted distance there, and the
+    // largest shape distance where it may win.
+    let owned: Vec<(Vec<(u32, f64)>, f64)> = (0..pixels.len())
+        .into_par_iter()
+        .map(|k| {
+            let mut its = Vec::new();
+            let mut far = 0.0f64;
+            cells.owned_cells(k, |owned| {
+                let (x, y) = owned.cell;
+                its.push(((y * cells.across + x) as u32, owned.least));
+                far = far.max(owned.distance);
+            });
+            (its, far)
+        })
+        .collect();
+    let cell_count = cells.across * cells.down;
+    let span = (cells.reach - least_additive).max(1e-30) * 1.001;
+    let depth_scale = span.log2().ceil().exp2().recip();
+    let mut stats = VoronoiStats {
+        device: machine.device_name().to_string(),
+        sites: pixels.len(),
+        cones: owned.iter().filter(|(its, _)| !its.is_empty()).count(),
+        passes: 1,
+        tiles: 1,
+        ..Default::default()
+    };
+    let drawn: Vec<f64> = owned
+        .iter()
+        .filter(|(its, _)| !its.is_empty())
+        .map(|(_, far)| far + 1.0)
+        .collect();
+    if !drawn.is_empty() {
+        stats.radius_min = drawn.iter().copied().fold(f64::INFINITY, f64::min);
+        stats.radius_max = drawn.iter().copied().fold(0.0, f64::max);
+        stats.radius_mean = drawn.iter().sum::<f64>() / drawn.len() as f64;
+    }
+    // One pass per shape present: its records. Each site's texels, made once:
+    // its shape words, then its weights (the smallest distance and id go with
+    // each entry).
+    const SHAPES: [SiteShape; 4] = [
+        SiteShape::Point,
+        SiteShape::Segment,
+        SiteShape::Circle,
+        SiteShape::Arc,
+    ];
+    let words: Vec<([[u32; 4]; 2], [u32; 2])> = pixels
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let i = instance(k as u32, s, [0.0; 4], frame.scale, least_additive);
+            let bits = |w: &[f32]| [w[0], w[1], w[2], w[3]].map(f32::to_bits);
+            (
+                [bits(&i.shape[..4]), bits(&i.shape[4..])],
+                i.weights.map(f32::to_bits),
+            )
+        })
+        .collect();
+    // Entries (smallest distance, site) by shape, then by cell.
+    let (start, entries) = group_by_bucket(
+        SHAPES.len() * cell_count,
+        owned.iter().enumerate().flat_map(|(k, (its, _))| {
+            let shape = site_shape(&pixels[k]) as usize;
+            its.iter()
+                .map(move |&(c, least)| (shape * cell_count + c as usize, (least, k as u32)))
+        }),
+    );
+    let mut passes = Vec::new();
+    for (s, shape) in SHAPES.into_iter().enumerate() {
+        let (first, last) = (
+            start[s * cell_count] as usize,
+            start[(s + 1) * cell_count] as usize,
+        );
+        if first == last {
+            continue;
+        }
+        let words_per_site = if shape == SiteShape::Arc { 3 } else { 2 };
+        if (last - first) * words_per_site > (width as usize * height as usize) * 64 {
+            return Ok(None);
+        }
+        let range =
+            |c: usize| start[s * cell_count + c] as usize..start[s * cell_count + c + 1] as usize;
+        // A header per screen tile: its cell's list.
+        let across = width.div_ceil(SCREEN_TILE_SIDE) as usize;
+        let screen = across * height.div_ceil(SCREEN_TILE_SIDE) as usize;
+        let mut texels = vec![[0u32; 4]; screen + words_per_site * (last - first)];
+        let (headers, lists) = texels.split_at_mut(screen);
+        let per_cell = per_cell as usize;
+        for (t, header) in headers.iter_mut().enumerate() {
+            let cell = (t / across / per_cell) * cells.across + t % across / per_cell;
+            let r = range(cell);
+            let at = screen + words_per_site * (r.start - first);
+            *header = [at as u32, r.len() as u32, 0, 0];
+        }
+        // Each cell's sites by their smallest distance there (ties by id).
+        let mut rest = lists;
+        let mut cell_lists = Vec::with_capacity(cell_count);
+        for c in 0..cell_count {
+            let (list, tail) = rest.split_at_mut(words_per_site * range(c).len());
+            cell_lists.push((c, list));
+            rest = tail;
+        }
+        cell_lists
+            .into_par_iter()
+            .for_each_init(Vec::new, |sorted, (c, list)| {
+                sorted.clear();
+                sorted.extend_from_slice(&entries[range(c)]);
+                sorted
+                    .sort_unstable_by(|a: &(f64, u32), b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                for (&(least, k), texels) in
+                    sorted.iter().zip(list.chunks_exact_mut(words_per_site))
+                {
+                    let (shape_words, weights) = &words[k as usize];
+                    // The device's distances round: a margin keeps a site that may
+                    // tie in the list.
+                    let least = ((least - least_additive) * (1.0 - 1e-5) - 1e-6) as f32;
+                    texels[..words_per_site - 1]
+                        .copy_from_slice(&shape_words[..words_per_site - 1]);
+                    texels[words_per_site - 1] = [weights[0], weights[1], least.to_bits(), k];
+                }
+            });
+        match records_image(machine, texels)? {
+            Some(records) => passes.push((shape, records)),
+            None => return Ok(None),
+        }
+    }
+    stats.passes = passes.len().max(1) as u32;
+    stats.bounds_ms = ms(started);
+
+    let started = Instant::now();
+    let ids = machine.image(Format::R32Uint, width, height)?;
+    let depth = machine.image(Format::DepthStencil, width, height)?;
+    let push = ConePush {
+        picture_size: [width as f32, height as f32],
+        offset: [0.0, 0.0],
+        vertex_depth_scale: 0.0,
+        fragment_depth_scale: depth_scale as f32,
+        levels: 1,
+        metric: (0, 2.0),
+    };
+    let target = Target {
+        color: Some(&ids),
+        depth_stencil: Some(&depth),
+    };
+    let clear = Clear {
+        color: Some(ClearColor::Uint([u32::MAX; 4])),
+        depth: Some(1.0),
+        stencil: Some(0),
+    };
+    if passes.is_empty() {
+        machine.run(|pass| {
+            pass.begin(target, clear)?;
+            pass.end()
+        })?;
+    }
+    for (k, (shape, (upload, records))) in passes.iter().enumerate() {
+        machine.with_fragment_resources(&[], Some(records), |set| {
+            machine.run(|pass| {
+                pass.upload_for_fragments(upload, records)?;
+                // Later shapes draw over the earlier ones' envelope.
+                pass.begin(target, if k == 0 { clear } else { Clear::default() })?;
+                pass.bind_fragment_buffer(set);
+                pass.draw_site_tiles(
+                    *shape,
+                    &RasterState::lower_envelope(),
+                    &DrawParams::default(),
+                    &push,
+                )?;
+                pass.end()
+            })
+        })?;
+    }
+    let keys = SiteDepth {
+        scale: depth_scale,
+        least_additive,
+    };
+    visit(&DrawnTile {
+        ids: &ids,
+        depth: &depth,
+        x0: 0,
+        y0: 0,
+        inner: PixelRect {
+            x: 0,
+            y: 0,
+            width,
+            height,
+        },
+        keys,
+    })?;
+    stats.render_ms = ms(started);
+    Ok(Some((stats, keys)))
+}
+
+/// The shape a site is drawn as.
+fn site_shape(site: &Site) -> SiteShape {
+    match site.shape {
+        Shape::Point(_) => SiteShape::Point,
+        Shape::Segment(..) => SiteShape::Segment,
+        Shape::Circle { .. } => SiteShape::Circle,
+        Shape::Arc { .. } => SiteShape::Arc,
+    }
+}
+
 /// What one diagram draws.
 enum SiteDraw {
     /// Batches of small sites of the shapes [`batched`] under the metric, and
@@ -539,12 +798,8 @@ const CULL_BLOCK: usize = 4;
 /// Each site's [`Reach`], `None` where it wins nowhere, and an upper bound on the
 /// envelope over the picture.
 ///
-/// Cells of about half the sites' spacing: a cell's upper bound is the smallest
-/// largest-distance of the sites binned near it (any subset of the sites bounds
-/// the envelope from above); a site then visits the cells that the largest
-/// upper bound reaches from its box, skipping blocks of cells whose largest
-/// bound it cannot reach, and keeping the cells where its smallest distance can
-/// reach the cell's bound.
+/// Cells of about half the sites' spacing ([`CellBounds`]); a site's rectangle
+/// holds the cells it may own a pixel of, each cut to where the site can reach.
 fn cull(
     sites: &[Site],
     width: u32,
@@ -564,163 +819,20 @@ fn cull(
         .max(spacing / 8.0)
         .clamp(3.0, 64.0)
         .floor();
-    let (cx, cy) = (
-        (width as f64 / side).ceil() as usize,
-        (height as f64 / side).ceil() as usize,
-    );
-    let cell_of = |v: f64, n: usize| ((v / side).floor().max(0.0) as usize).min(n - 1);
-    // Cell (i, j) holds the pixel centres [i side, (i + 1) side) (clipped).
-    let bounds_of = |i: usize, j: usize| {
-        let lo = DVec2::new(i as f64 * side, j as f64 * side);
-        let hi = (lo + side - 1.0).min(DVec2::new(width as f64 - 1.0, height as f64 - 1.0));
-        (lo, hi)
-    };
-    let weighted = |s: &Site, d: f64| d / (scale * s.multiplicative) + s.additive;
-    // Arcs are measured (in L2, see `spread`) many times each: their wedges
-    // once.
-    let wedges: Vec<Option<ArcWedge>> = sites
-        .iter()
-        .map(|s| match s.shape {
-            Shape::Arc {
-                center,
-                radius,
-                start,
-                end,
-            } => Some(ArcWedge::new(center, radius, start, end)),
-            _ => None,
-        })
-        .collect();
-    let range = |k: usize, i: usize, j: usize| {
-        let (lo, hi) = bounds_of(i, j);
-        let s = &sites[k];
-        // Only arcs read their wedge (the others' would cost a cache miss).
-        let wedge = match s.shape {
-            Shape::Arc { .. } => wedges[k].as_ref(),
-            _ => None,
-        };
-        let (dlo, dhi) = spread(s, wedge, metric, 0.5 * (lo + hi), 0.5 * (hi - lo));
-        (weighted(s, dlo), weighted(s, dhi), dhi)
-    };
-    // Sites binned by the cell of their box's centre.
-    let (bin_start, binned) = group_by_bucket(
-        cx * cy,
-        sites.iter().enumerate().map(|(k, s)| {
-            let (lo, hi) = s.bounds();
-            let c = 0.5 * (lo + hi);
-            (cell_of(c.y, cy) * cx + cell_of(c.x, cx), k as u32)
-        }),
-    );
-    let bin = |x: usize, y: usize| {
-        let b = y * cx + x;
-        &binned[bin_start[b] as usize..bin_start[b + 1] as usize]
-    };
-    let (a, _) = metric.euclidean_bounds();
-    // Upper bounds from the sites of the nearest non-empty rings of bins.
-    let upper: Vec<f64> = (0..cx * cy)
+    let cells = CellBounds::new(sites, width, height, metric, scale, side);
+    let reaches = (0..sites.len())
         .into_par_iter()
-        .map(|c| {
-            let (i, j) = (c % cx, c / cx);
-            let block = [i as isize, j as isize, i as isize, j as isize];
-            let (lo, hi) = bounds_of(i, j);
-            let centre = 0.5 * (lo + hi);
-            let mut best = f64::INFINITY;
-            for ring in 0..cx.max(cy) {
-                for_ring_cells((cx, cy), block, ring, |x, y| {
-                    for &k in bin(x, y) {
-                        // A site whose box is already too far cannot lower the
-                        // bound: its largest distance exceeds a times that gap.
-                        let s = &sites[k as usize];
-                        let (blo, bhi) = s.bounds();
-                        let gap = distance2_to_rect(centre, blo, bhi).sqrt();
-                        if weighted(s, a * gap) < best {
-                            best = best.min(range(k as usize, i, j).1);
-                        }
-                    }
-                });
-                // One more ring after the first find tightens the bound cheaply.
-                if best.is_finite() && ring >= 1 {
-                    break;
-                }
-            }
-            best
-        })
-        .collect();
-    let reach = upper.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    // The largest bound in each block of CULL_BLOCK x CULL_BLOCK cells: a site
-    // skips a block beyond its reach there without visiting the cells.
-    let blocks_across = cx.div_ceil(CULL_BLOCK);
-    let mut block_bounds = vec![f64::NEG_INFINITY; blocks_across * cy.div_ceil(CULL_BLOCK)];
-    for (c, &bound) in upper.iter().enumerate() {
-        let b = c / cx / CULL_BLOCK * blocks_across + c % cx / CULL_BLOCK;
-        block_bounds[b] = block_bounds[b].max(bound);
-    }
-    let reaches = sites
-        .par_iter()
-        .enumerate()
-        .map(|(k, s)| {
-            let (blo, bhi) = s.bounds();
-            // Where the cell's bound is its weighted distance, the shape distance.
-            let limit_of = |bound: f64| (bound - s.additive) * scale * s.multiplicative;
-            // No cell's bound is above the largest: the site owns no pixel
-            // farther than this (Euclidean) from its box.
-            let widest = limit_of(reach) / a * (1.0 + 1e-9);
-            if widest.is_nan() || widest < 0.0 {
-                return None;
-            }
-            // Whether the pixel centres [p, q] lie beyond a shape distance of
-            // `limit` from the site: a Euclidean 1 / a times that from its box.
-            let beyond = |limit: f64, p: DVec2, q: DVec2| {
-                let gap = (p - bhi).max(blo - q).max(DVec2::ZERO);
-                limit < 0.0 || a * a * gap.length_squared() > limit * limit * (1.0 + 1e-9)
-            };
+        .map(|k| {
             let mut rect: Option<(DVec2, DVec2)> = None;
             let mut far = 0.0f64;
-            let mut visit = |x: usize, y: usize| {
-                let bound = upper[y * cx + x];
-                let limit = limit_of(bound);
-                // Most cells fail on the gap between them and the site's box.
-                let (p, q) = bounds_of(x, y);
-                if beyond(limit, p, q) {
-                    return;
-                }
-                let (lo, _, d) = range(k, x, y);
-                if lo <= bound {
-                    // The site owns a pixel of the cell only where its
-                    // weighted distance is at most the cell's bound: within
-                    // that shape distance of the shape, and a Euclidean 1 / a
-                    // times that of its box.
-                    let owned = d.min(limit);
-                    let grow = owned / a * (1.0 + 1e-9);
-                    let (p, q) = (p.max(blo - grow), q.min(bhi + grow));
-                    if p.cmple(q).all() {
-                        far = far.max(owned);
-                        rect = Some(match rect {
-                            None => (p, q),
-                            Some((rp, rq)) => (rp.min(p), rq.max(q)),
-                        });
-                    }
-                }
-            };
-            let (x0, x1) = (cell_of(blo.x - widest, cx), cell_of(bhi.x + widest, cx));
-            let (y0, y1) = (cell_of(blo.y - widest, cy), cell_of(bhi.y + widest, cy));
-            for j in y0 / CULL_BLOCK..=y1 / CULL_BLOCK {
-                for i in x0 / CULL_BLOCK..=x1 / CULL_BLOCK {
-                    let (columns, rows) = (
-                        CULL_BLOCK * i..(CULL_BLOCK * (i + 1)).min(cx),
-                        CULL_BLOCK * j..(CULL_BLOCK * (j + 1)).min(cy),
-                    );
-                    let (p, _) = bounds_of(columns.start, rows.start);
-                    let (_, q) = bounds_of(columns.end - 1, rows.end - 1);
-                    if beyond(limit_of(block_bounds[j * blocks_across + i]), p, q) {
-                        continue;
-                    }
-                    for y in rows.start.max(y0)..rows.end.min(y1 + 1) {
-                        for x in columns.start.max(x0)..columns.end.min(x1 + 1) {
-                            visit(x, y);
-                        }
-                    }
-                }
-            }
+            cells.owned_cells(k, |owned| {
+                far = far.max(owned.distance);
+                let (p, q) = owned.rect;
+                rect = Some(match rect {
+                    None => (p, q),
+                    Some((rp, rq)) => (rp.min(p), rq.max(q)),
+                });
+            });
             // Half a pixel around the centres, so rasterization keeps the rim; a
             // pixel more of reach for the same reason.
             rect.map(|(p, q)| {
@@ -734,7 +846,262 @@ fn cull(
             })
         })
         .collect();
-    (reaches, reach)
+    (reaches, cells.reach)
+}
+
+/// The picture in square cells, each with an upper bound on the weighted
+/// envelope over it: the smallest largest-distance of the sites binned near it
+/// (any subset of the sites bounds the envelope from above).
+struct CellBounds<'a> {
+    sites: &'a [Site],
+    metric: Metric,
+    scale: f64,
+    /// Cell (i, j) holds the pixel centres [i side, (i + 1) side) (clipped).
+    side: f64,
+    across: usize,
+    down: usize,
+    corner: DVec2,
+    /// Arcs are measured (in L2, see `spread`) many times each: their wedges
+    /// once.
+    wedges: Vec<Option<ArcWedge>>,
+    upper: Vec<f64>,
+    /// The largest bound in each block of CULL_BLOCK x CULL_BLOCK cells: a site
+    /// skips a block beyond its reach there without visiting the cells.
+    block_bounds: Vec<f64>,
+    /// The largest bound of all.
+    reach: f64,
+}
+
+/// A cell a site may own a pixel of (see [`CellBounds::owned_cells`]).
+struct OwnedCell {
+    /// Column and row.
+    cell: (usize, usize),
+    /// The site's smallest weighted distance there.
+    least: f64,
+    /// Its largest shape distance (pixels) where it may win there.
+    distance: f64,
+    /// The cell's pixel centres cut to where the site can reach.
+    rect: (DVec2, DVec2),
+}
+
+impl<'a> CellBounds<'a> {
+    fn new(
+        sites: &'a [Site],
+        width: u32,
+        height: u32,
+        metric: Metric,
+        scale: f64,
+        side: f64,
+    ) -> Self {
+        let (across, down) = (
+            (width as f64 / side).ceil() as usize,
+            (height as f64 / side).ceil() as usize,
+        );
+        let wedges = sites
+            .iter()
+            .map(|s| match s.shape {
+                Shape::Arc {
+                    center,
+                    radius,
+                    start,
+                    end,
+                } => Some(ArcWedge::new(center, radius, start, end)),
+                _ => None,
+            })
+            .collect();
+        let mut cells = Self {
+            sites,
+            metric,
+            scale,
+            side,
+            across,
+            down,
+            corner: DVec2::new(width as f64 - 1.0, height as f64 - 1.0),
+            wedges,
+            upper: Vec::new(),
+            block_bounds: Vec::new(),
+            reach: 0.0,
+        };
+        // Sites binned by their box's centre, in bins of about their spacing
+        // (no smaller than the cells): a cell's search then visits few empty
+        // bins.
+        let spacing = (width as f64 * height as f64 / sites.len() as f64).sqrt();
+        let bin_side = side.max(spacing);
+        let (bins_across, bins_down) = (
+            (width as f64 / bin_side).ceil() as usize,
+            (height as f64 / bin_side).ceil() as usize,
+        );
+        let bin_of = |v: f64, n: usize| ((v / bin_side).floor().max(0.0) as usize).min(n - 1);
+        let (bin_start, binned) = group_by_bucket(
+            bins_across * bins_down,
+            sites.iter().enumerate().map(|(k, s)| {
+                let (lo, hi) = s.bounds();
+                let c = 0.5 * (lo + hi);
+                (
+                    bin_of(c.y, bins_down) * bins_across + bin_of(c.x, bins_across),
+                    k as u32,
+                )
+            }),
+        );
+        let bin = |x: usize, y: usize| {
+            let b = y * bins_across + x;
+            &binned[bin_start[b] as usize..bin_start[b + 1] as usize]
+        };
+        let (a, _) = metric.euclidean_bounds();
+        // Upper bounds from the sites of the nearest non-empty rings of bins.
+        let cells_ref = &cells;
+        let upper: Vec<f64> = (0..across * down)
+            .into_par_iter()
+            .map(|c| {
+                let (i, j) = (c % across, c / across);
+                let (lo, hi) = cells_ref.bounds_of(i, j);
+                let block = [
+                    bin_of(lo.x, bins_across),
+                    bin_of(lo.y, bins_down),
+                    bin_of(hi.x, bins_across),
+                    bin_of(hi.y, bins_down),
+                ]
+                .map(|b| b as isize);
+                let centre = 0.5 * (lo + hi);
+                let mut best = f64::INFINITY;
+                for ring in 0..bins_across.max(bins_down) {
+                    for_ring_cells((bins_across, bins_down), block, ring, |x, y| {
+                        for &k in bin(x, y) {
+                            // A site whose box is already too far cannot lower the
+                            // bound: its largest distance exceeds a times that gap.
+                            let s = &sites[k as usize];
+                            let (blo, bhi) = s.bounds();
+                            let gap = distance2_to_rect(centre, blo, bhi).sqrt();
+                            if cells_ref.weighted(s, a * gap) < best {
+                                best = best.min(cells_ref.range(k as usize, i, j).1);
+                            }
+                        }
+                    });
+                    // One more ring after the first find tightens the bound cheaply.
+                    if best.is_finite() && ring >= 1 {
+                        break;
+                    }
+                }
+                best
+            })
+            .collect();
+        let blocks_across = across.div_ceil(CULL_BLOCK);
+        let mut block_bounds = vec![f64::NEG_INFINITY; blocks_across * down.div_ceil(CULL_BLOCK)];
+        for (c, &bound) in upper.iter().enumerate() {
+            let b = c / across / CULL_BLOCK * blocks_across + c % across / CULL_BLOCK;
+            block_bounds[b] = block_bounds[b].max(bound);
+        }
+        cells.reach = upper.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        cells.upper = upper;
+        cells.block_bounds = block_bounds;
+        cells
+    }
+
+    fn cell_of(&self, v: f64, n: usize) -> usize {
+        ((v / self.side).floor().max(0.0) as usize).min(n - 1)
+    }
+
+    /// Cell (i, j)'s first and last pixel centres.
+    fn bounds_of(&self, i: usize, j: usize) -> (DVec2, DVec2) {
+        let lo = DVec2::new(i as f64 * self.side, j as f64 * self.side);
+        (lo, (lo + self.side - 1.0).min(self.corner))
+    }
+
+    fn weighted(&self, s: &Site, d: f64) -> f64 {
+        d / (self.scale * s.multiplicative) + s.additive
+    }
+
+    /// Site k's smallest and largest weighted distance over cell (i, j), and
+    /// its largest shape distance there.
+    fn range(&self, k: usize, i: usize, j: usize) -> (f64, f64, f64) {
+        let (lo, hi) = self.bounds_of(i, j);
+        let s = &self.sites[k];
+        // Only arcs read their wedge (the others' would cost a cache miss).
+        let wedge = match s.shape {
+            Shape::Arc { .. } => self.wedges[k].as_ref(),
+            _ => None,
+        };
+        let (dlo, dhi) = spread(s, wedge, self.metric, 0.5 * (lo + hi), 0.5 * (hi - lo));
+        (self.weighted(s, dlo), self.weighted(s, dhi), dhi)
+    }
+
+    /// Visits each cell that site k may own a pixel of: the cells the largest
+    /// upper bound reaches from its box, skipping blocks of cells whose largest
+    /// bound it cannot reach, where its smallest distance can reach the cell's
+    /// bound.
+    fn owned_cells(&self, k: usize, mut visit: impl FnMut(OwnedCell)) {
+        let s = &self.sites[k];
+        let (a, _) = self.metric.euclidean_bounds();
+        let (blo, bhi) = s.bounds();
+        // Where the cell's bound is its weighted distance, the shape distance.
+        let limit_of = |bound: f64| (bound - s.additive) * self.scale * s.multiplicative;
+        // No cell's bound is above the largest: the site owns no pixel
+        // farther than this (Euclidean) from its box.
+        let widest = limit_of(self.reach) / a * (1.0 + 1e-9);
+        if widest.is_nan() || widest < 0.0 {
+            return;
+        }
+        // Whether the pixel centres [p, q] lie beyond a shape distance of
+        // `limit` from the site: a Euclidean 1 / a times that from its box.
+        let beyond = |limit: f64, p: DVec2, q: DVec2| {
+            let gap = (p - bhi).max(blo - q).max(DVec2::ZERO);
+            limit < 0.0 || a * a * gap.length_squared() > limit * limit * (1.0 + 1e-9)
+        };
+        let mut cell = |x: usize, y: usize| {
+            let bound = self.upper[y * self.across + x];
+            let limit = limit_of(bound);
+            // Most cells fail on the gap between them and the site's box.
+            let (p, q) = self.bounds_of(x, y);
+            if beyond(limit, p, q) {
+                return;
+            }
+            let (least, _, d) = self.range(k, x, y);
+            if least <= bound {
+                // The site owns a pixel of the cell only where its weighted
+                // distance is at most the cell's bound: within that shape
+                // distance of the shape, and a Euclidean 1 / a times that of
+                // its box.
+                let distance = d.min(limit);
+                let grow = distance / a * (1.0 + 1e-9);
+                let rect = (p.max(blo - grow), q.min(bhi + grow));
+                if rect.0.cmple(rect.1).all() {
+                    visit(OwnedCell {
+                        cell: (x, y),
+                        least,
+                        distance,
+                        rect,
+                    });
+                }
+            }
+        };
+        let (x0, x1) = (
+            self.cell_of(blo.x - widest, self.across),
+            self.cell_of(bhi.x + widest, self.across),
+        );
+        let (y0, y1) = (
+            self.cell_of(blo.y - widest, self.down),
+            self.cell_of(bhi.y + widest, self.down),
+        );
+        let blocks_across = self.across.div_ceil(CULL_BLOCK);
+        for j in y0 / CULL_BLOCK..=y1 / CULL_BLOCK {
+            for i in x0 / CULL_BLOCK..=x1 / CULL_BLOCK {
+                let (columns, rows) = (
+                    CULL_BLOCK * i..(CULL_BLOCK * (i + 1)).min(self.across),
+                    CULL_BLOCK * j..(CULL_BLOCK * (j + 1)).min(self.down),
+                );
+                let (p, _) = self.bounds_of(columns.start, rows.start);
+                let (_, q) = self.bounds_of(columns.end - 1, rows.end - 1);
+                if beyond(limit_of(self.block_bounds[j * blocks_across + i]), p, q) {
+                    continue;
+                }
+                for y in rows.start.max(y0)..rows.end.min(y1 + 1) {
+                    for x in columns.start.max(x0)..columns.end.min(x1 + 1) {
+                        cell(x, y);
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// Every site over the whole picture (no speedup), reaching the farthest pixel:
@@ -773,6 +1140,49 @@ fn picture_wide(
     (reaches, envelope)
 }
 
+/// The range of the Euclidean distance to the segment `a b` over the box
+/// `[lo, hi]`: the distance is convex, so largest at a corner; the smallest is 0
+/// where the segment meets the box, else at an end of the segment or a corner
+/// of the box (the nearest points of two convex polygons include a vertex).
+fn segment_spread(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> (f64, f64) {
+    let corners = [lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)];
+    let to_corners = corners.map(|c| segment_distance(c, a, b));
+    let largest = to_corners.into_iter().fold(0.0, f64::max);
+    // Liang-Barsky: the part of the segment inside the box.
+    let e = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (q, p) in [(a - lo, -e), (hi - a, e)] {
+        for axis in 0..2 {
+            if p[axis] == 0.0 {
+                if q[axis] < 0.0 {
+                    t0 = 2.0;
+                }
+            } else {
+                let t = q[axis] / p[axis];
+                if p[axis] < 0.0 {
+                    t0 = t0.max(t);
+                } else {
+                    t1 = t1.min(t);
+                }
+            }
+        }
+    }
+    if t0 <= t1 {
+        return widened(0.0, largest);
+    }
+    let to_box = |p: DVec2| (p - p.clamp(lo, hi)).length();
+    let least = to_corners
+        .into_iter()
+        .chain([to_box(a), to_box(b)])
+        .fold(f64::INFINITY, f64::min);
+    widened(least, largest)
+}
+
+/// A range widened past the rounding of the distances that found it.
+fn widened(least: f64, largest: f64) -> (f64, f64) {
+    (least * (1.0 - 1e-12), largest * (1.0 + 1e-12))
+}
+
 /// The range of the site's shape distance over a box of half-extents `half`
 /// around `centre`. A point's is exact under the L_p norms, which grow with
 /// each coordinate's size: the box's nearest and farthest offsets from it.
@@ -805,6 +1215,25 @@ fn spread(
         let (a, b) = metric.euclidean_bounds();
         let (lo, hi) = spread(site, wedge, Metric::L2, centre, half);
         return (a * lo, b * hi);
+    }
+    if metric == Metric::L2 {
+        match site.shape {
+            Shape::Segment(a, b) => return segment_spread(a, b, centre - half, centre + half),
+            Shape::Circle { center, radius } => {
+                // The distance to the centre spans [near, far] over the box.
+                let offset = (center - centre).abs();
+                let near = (offset - half).max(DVec2::ZERO).length();
+                let far = (offset + half).length();
+                let (a, b) = ((near - radius).abs(), (far - radius).abs());
+                let least = if near <= radius && radius <= far {
+                    0.0
+                } else {
+                    a.min(b)
+                };
+                return widened(least, a.max(b));
+            }
+            _ => {}
+        }
     }
     let d = match wedge {
         Some(wedge) if metric == Metric::L2 => wedge.distance(centre),

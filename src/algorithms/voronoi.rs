@@ -1204,13 +1204,14 @@ pub(crate) const UNIT_SQUARE: [[f32; 3]; 6] = [
     [0.0, 1.0, 0.0],
 ];
 
-/// Side of the screen tiles of [`Program::NearestTiles`]
-/// (`glsl/nearest_tiles.frag`: TILE_SIDE).
-const SCREEN_TILE_SIDE: u32 = 8;
+/// Side of the screen tiles of [`Program::NearestTiles`] and
+/// [`Program::SiteTiles`] (`glsl/nearest_tiles.frag`, `glsl/site_tiles.frag`:
+/// TILE_SIDE).
+pub(crate) const SCREEN_TILE_SIDE: u32 = 8;
 
-/// Texels per row of its records image (`glsl/nearest_tiles.frag`:
-/// RECORD_ROW); every device has images this wide.
-const RECORD_ROW: usize = 4096;
+/// Texels per row of their records images (`glsl/nearest_tiles.frag`,
+/// `glsl/site_tiles.frag`: RECORD_ROW); every device has images this wide.
+pub(crate) const RECORD_ROW: usize = 4096;
 
 /// Items binned to the screen tiles of a target: tile `t` (row-major, tiles of
 /// [`SCREEN_TILE_SIDE`] pixels) holds `items[start[t]..start[t + 1]]`.
@@ -1347,7 +1348,10 @@ impl ScreenTiles {
 
 /// A records image from `texels`, filled by the returned upload: rows of
 /// [`RECORD_ROW`] texels; `None` where the device cannot hold that many rows.
-fn records_image(machine: &Machine, mut texels: Vec<[u32; 4]>) -> Result<Option<(Buffer, Image)>> {
+pub(crate) fn records_image(
+    machine: &Machine,
+    mut texels: Vec<[u32; 4]>,
+) -> Result<Option<(Buffer, Image)>> {
     let rows = texels.len().div_ceil(RECORD_ROW).max(1);
     if rows > machine.max_picture_side() as usize {
         return Ok(None);

@@ -6,7 +6,7 @@ use ash::vk;
 
 use super::{
     memory::{Buffer, Format, Image},
-    pipelines::{BufferKernel, Kernel, Program},
+    pipelines::{BufferKernel, Kernel, Program, SiteShape},
     state::{DrawParams, RasterState},
     sync::{self, Usage},
     Machine,
@@ -534,7 +534,32 @@ impl<'m> Pass<'m> {
         params: &DrawParams,
         push: &ConePush,
     ) -> Result<()> {
-        self.bind(Program::NearestTiles, push.metric.0, state, params)?;
+        self.draw_over_target(Program::NearestTiles, state, params, push)
+    }
+
+    /// Draws the lower envelope of Euclidean sites of `shape` listed per screen
+    /// tile with [`Program::SiteTiles`]: one triangle over the target, the tiles
+    /// and their sites read from the records image of the bound set.
+    pub fn draw_site_tiles(
+        &mut self,
+        shape: SiteShape,
+        state: &RasterState,
+        params: &DrawParams,
+        push: &ConePush,
+    ) -> Result<()> {
+        self.draw_over_target(Program::SiteTiles(shape), state, params, push)
+    }
+
+    /// One triangle over the target with `program`, whose fragment shader reads
+    /// the records image of the bound set.
+    fn draw_over_target(
+        &mut self,
+        program: Program,
+        state: &RasterState,
+        params: &DrawParams,
+        push: &ConePush,
+    ) -> Result<()> {
+        self.bind(program, push.metric.0, state, params)?;
         self.push_cone_constants(push);
         // SAFETY: inside a rendering pass with a bound pipeline; the fragment
         // shader reads the records image of the bound set.

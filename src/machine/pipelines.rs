@@ -62,6 +62,11 @@ pub enum Program {
     /// taken per fragment; see [`crate::machine::SiteBatch`]. Built for L2, L1
     /// and L∞.
     SiteExactBatch(SiteShape),
+    /// The lower envelope of Euclidean sites of one shape from screen-tile
+    /// lists: one triangle over the target, each fragment taking the lowest
+    /// weighted distance of the sites listed for its tile, read from the
+    /// records image (`glsl/site_tiles.frag`).
+    SiteTiles(SiteShape),
     /// Triangles of fan surfaces with per-vertex position, depth and site id
     /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
     SiteFan,
@@ -106,6 +111,7 @@ impl Program {
         match self {
             Program::SiteExact(_)
             | Program::SiteExactBatch(_)
+            | Program::SiteTiles(_)
             | Program::ConeExact
             | Program::SettleDisc(_)
             | Program::ConeExactBatch
@@ -126,6 +132,7 @@ impl Program {
             Program::Rect
                 | Program::KNearestTiles(_)
                 | Program::NearestTiles
+                | Program::SiteTiles(_)
                 | Program::SettleDisc(_)
                 | Program::Roof
                 | Program::RoofSides
@@ -494,6 +501,16 @@ impl Pipelines {
                             "only Euclidean arcs are drawn in batches".into(),
                         ))
                     }
+                },
+                vk::PrimitiveTopology::TRIANGLE_LIST,
+            ),
+            Program::SiteTiles(shape) => (
+                "picture.vert",
+                match shape {
+                    SiteShape::Point => "site_tiles.frag:point",
+                    SiteShape::Segment => "site_tiles.frag:segment",
+                    SiteShape::Circle => "site_tiles.frag:circle",
+                    SiteShape::Arc => "site_tiles.frag:arc",
                 },
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
