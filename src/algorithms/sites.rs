@@ -973,7 +973,8 @@ impl<'a> CellBounds<'a> {
                             let (blo, bhi) = s.bounds();
                             let gap = distance2_to_rect(centre, blo, bhi).sqrt();
                             if cells_ref.weighted(s, a * gap) < best {
-                                best = best.min(cells_ref.range(k as usize, i, j).1);
+                                let (_, largest, _) = cells_ref.range(k as usize, i, j, false);
+                                best = best.min(largest);
                             }
                         }
                     });
@@ -1012,8 +1013,8 @@ impl<'a> CellBounds<'a> {
     }
 
     /// Site k's smallest and largest weighted distance over cell (i, j), and
-    /// its largest shape distance there.
-    fn range(&self, k: usize, i: usize, j: usize) -> (f64, f64, f64) {
+    /// its largest shape distance there; exact where `spread` can be.
+    fn range(&self, k: usize, i: usize, j: usize, exact: bool) -> (f64, f64, f64) {
         let (lo, hi) = self.bounds_of(i, j);
         let s = &self.sites[k];
         // Only arcs read their wedge (the others' would cost a cache miss).
@@ -1021,7 +1022,14 @@ impl<'a> CellBounds<'a> {
             Shape::Arc { .. } => self.wedges[k].as_ref(),
             _ => None,
         };
-        let (dlo, dhi) = spread(s, wedge, self.metric, 0.5 * (lo + hi), 0.5 * (hi - lo));
+        let (dlo, dhi) = spread(
+            s,
+            wedge,
+            self.metric,
+            0.5 * (lo + hi),
+            0.5 * (hi - lo),
+            exact,
+        );
         (self.weighted(s, dlo), self.weighted(s, dhi), dhi)
     }
 
@@ -1033,6 +1041,7 @@ impl<'a> CellBounds<'a> {
         let s = &self.sites[k];
         let (a, _) = self.metric.euclidean_bounds();
         let (blo, bhi) = s.bounds();
+        let refine = self.metric == Metric::L2 && matches!(s.shape, Shape::Segment(..));
         // Where the cell's bound is its weighted distance, the shape distance.
         let limit_of = |bound: f64| (bound - s.additive) * self.scale * s.multiplicative;
         // No cell's bound is above the largest: the site owns no pixel
@@ -1055,7 +1064,14 @@ impl<'a> CellBounds<'a> {
             if beyond(limit, p, q) {
                 return;
             }
-            let (least, _, d) = self.range(k, x, y);
+            // Where the exact range costs more, the quick one first: most
+            // cells it rules out.
+            let quick = self.range(k, x, y, false);
+            let (least, _, d) = match refine {
+                true if quick.0 > bound => return,
+                true => self.range(k, x, y, true),
+                false => quick,
+            };
             if least <= bound {
                 // The site owns a pixel of the cell only where its weighted
                 // distance is at most the cell's bound: within that shape
@@ -1186,6 +1202,8 @@ fn widened(least: f64, largest: f64) -> (f64, f64) {
 /// The range of the site's shape distance over a box of half-extents `half`
 /// around `centre`. A point's is exact under the L_p norms, which grow with
 /// each coordinate's size: the box's nearest and farthest offsets from it.
+/// Euclidean circles' is exact, and segments' where `exact` (four distances
+/// and a clip instead of one).
 /// Other shapes' comes from the value d at the centre: d ± |half| for the L_p
 /// norms, and (d^p ± |half|^p)^(1/p) for p < 1, whose p-th power is
 /// subadditive. A polygon need be neither symmetric nor convex, and segments
@@ -1197,6 +1215,7 @@ fn spread(
     metric: Metric,
     centre: DVec2,
     half: DVec2,
+    exact: bool,
 ) -> (f64, f64) {
     if let (Shape::Point(p), Metric::L2 | Metric::L1 | Metric::LInf | Metric::Lp(_)) =
         (site.shape, metric)
@@ -1213,12 +1232,14 @@ fn spread(
     // closed-form and, stretched, as rigorous.
     if !matches!(metric, Metric::L2 | Metric::L1 | Metric::LInf) {
         let (a, b) = metric.euclidean_bounds();
-        let (lo, hi) = spread(site, wedge, Metric::L2, centre, half);
+        let (lo, hi) = spread(site, wedge, Metric::L2, centre, half, exact);
         return (a * lo, b * hi);
     }
     if metric == Metric::L2 {
         match site.shape {
-            Shape::Segment(a, b) => return segment_spread(a, b, centre - half, centre + half),
+            Shape::Segment(a, b) if exact => {
+                return segment_spread(a, b, centre - half, centre + half)
+            }
             Shape::Circle { center, radius } => {
                 // The distance to the centre spans [near, far] over the box.
                 let offset = (center - centre).abs();
@@ -1246,5 +1267,73 @@ fn spread(
             ((dp - hp).max(0.0).powf(1.0 / p), (dp + hp).powf(1.0 / p))
         }
         _ => ((d - h).max(0.0), d + h),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The exact ranges of Euclidean segments and circles over a box hold every
+    /// distance from a fine grid of its points, and reach within a grid step of
+    /// the grid's extremes; the quick ranges hold them too.
+    #[test]
+    fn ranges_over_a_box_hold_its_distances() {
+        let frame = crate::geometry::Frame::pixels(64, 64).unwrap();
+        let ends = crate::io::sites::random_sites(120, 11, &frame);
+        let (centre, half) = (DVec2::new(30.0, 33.0), DVec2::new(3.5, 3.5));
+        let mut sites: Vec<Site> = ends
+            .chunks_exact(2)
+            .map(|e| Site::new(Shape::Segment(e[0], e[1])))
+            .collect();
+        // Through the box, along its side, from inside, and a point-like one.
+        sites.extend([
+            Site::new(Shape::Segment(
+                DVec2::new(0.0, 33.0),
+                DVec2::new(60.0, 33.0),
+            )),
+            Site::new(Shape::Segment(
+                DVec2::new(26.5, 0.0),
+                DVec2::new(26.5, 60.0),
+            )),
+            Site::new(Shape::Segment(
+                DVec2::new(31.0, 34.0),
+                DVec2::new(50.0, 50.0),
+            )),
+            Site::new(Shape::Segment(
+                DVec2::new(10.0, 10.0),
+                DVec2::new(10.0, 10.0),
+            )),
+        ]);
+        sites.extend(ends.iter().take(20).enumerate().map(|(i, &c)| {
+            Site::new(Shape::Circle {
+                center: c,
+                radius: 2.0 * i as f64,
+            })
+        }));
+        let steps = 56;
+        for site in &sites {
+            let (mut near, mut far) = (f64::INFINITY, 0.0f64);
+            for i in 0..=steps {
+                for j in 0..=steps {
+                    let t = DVec2::new(i as f64, j as f64) / steps as f64;
+                    let p = centre - half + 2.0 * half * t;
+                    let d = site.distance_to_shape(Metric::L2, p);
+                    near = near.min(d);
+                    far = far.max(d);
+                }
+            }
+            let step = 2.0 * half.length() / steps as f64;
+            for exact in [true, false] {
+                let (lo, hi) = spread(site, None, Metric::L2, centre, half, exact);
+                assert!(
+                    lo <= near && hi >= far,
+                    "{site:?}: [{lo}, {hi}] against [{near}, {far}]"
+                );
+                if exact {
+                    assert!(near - lo <= step && hi - far <= step, "{site:?}: not tight");
+                }
+            }
+        }
     }
 }
