@@ -493,7 +493,8 @@ fn draw_site_tiles(
     let (start, entries) = group_by_bucket(
         SHAPES.len() * cell_count,
         owned.iter().enumerate().flat_map(|(k, (its, _))| {
-            let shape = site_shape(&pixels[k]) as usize;
+            let shape = SHAPES.iter().position(|&s| s == site_shape(&pixels[k]));
+            let shape = shape.expect("every shape has a pass");
             its.iter()
                 .map(move |&(c, least)| (shape * cell_count + c as usize, (least, k as u32)))
         }),
@@ -1287,23 +1288,12 @@ mod tests {
             .map(|e| Site::new(Shape::Segment(e[0], e[1])))
             .collect();
         // Through the box, along its side, from inside, and a point-like one.
+        let segment = |a: [f64; 2], b: [f64; 2]| Site::new(Shape::Segment(a.into(), b.into()));
         sites.extend([
-            Site::new(Shape::Segment(
-                DVec2::new(0.0, 33.0),
-                DVec2::new(60.0, 33.0),
-            )),
-            Site::new(Shape::Segment(
-                DVec2::new(26.5, 0.0),
-                DVec2::new(26.5, 60.0),
-            )),
-            Site::new(Shape::Segment(
-                DVec2::new(31.0, 34.0),
-                DVec2::new(50.0, 50.0),
-            )),
-            Site::new(Shape::Segment(
-                DVec2::new(10.0, 10.0),
-                DVec2::new(10.0, 10.0),
-            )),
+            segment([0.0, 33.0], [60.0, 33.0]),
+            segment([26.5, 0.0], [26.5, 60.0]),
+            segment([31.0, 34.0], [50.0, 50.0]),
+            segment([10.0, 10.0], [10.0, 10.0]),
         ]);
         sites.extend(ends.iter().take(20).enumerate().map(|(i, &c)| {
             Site::new(Shape::Circle {
