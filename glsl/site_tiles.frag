@@ -1,12 +1,12 @@
 // variants: POINT SEGMENT CIRCLE ARC
-// variants: METRIC_L2
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF
 #version 460
 // The lower envelope of sites of one shape without drawing them: one triangle
 // over the target (picture.vert), and each fragment takes the lowest weighted
 // distance of the sites listed for its screen tile, every site whose smallest
 // weighted distance over the tile is within the tile's cover bound (the
 // smallest largest weighted distance of a site there), evaluated as
-// site_batch.frag does.
+// site_exact.frag does (under L2, L1 or L-infinity).
 //
 // Records are texels of an image (RECORD_ROW to a row): first one per tile,
 // row-major over the target's tiles of TILE_SIDE pixels, holding (first texel

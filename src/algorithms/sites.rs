@@ -14,7 +14,7 @@
 //! by the p-th power of it), which bounds both from the cell's centre; Euclidean
 //! segments and circles are bounded exactly.
 //!
-//! Euclidean sites in exact mode are not drawn at all: the same cells, one per
+//! Sites under L2, L1 and L∞ in exact mode are not drawn at all: the same cells, one per
 //! 8-pixel screen tile where sites are dense, list the sites that may win in
 //! them by their smallest distance there, and one triangle over the picture
 //! takes each pixel's lowest distance from its tile's list, stopping at the
@@ -161,12 +161,20 @@ pub(crate) fn draw_sites(
         .iter()
         .map(|s| s.additive)
         .fold(f64::INFINITY, f64::min);
-    // Euclidean exact sites are found per screen tile where the picture takes one
-    // tile image; their rectangles are drawn where the lists would be too long.
+    // Exact sites under L2 are found per screen tile where the picture takes one
+    // tile image, and under L1 and L∞ where some are segments or curves (their
+    // points alone cost less in batches: weighted L∞ points at 2000 sites
+    // 13.4 → 19.5 ms); their rectangles are drawn where the lists would be too
+    // long.
     let one_image = frame.width <= max_tile && frame.height <= max_tile;
+    let listed = match metric {
+        Metric::L2 => true,
+        Metric::L1 | Metric::LInf => sites.iter().any(|s| !matches!(s.shape, Shape::Point(_))),
+        _ => false,
+    };
     if options.accuracy == Accuracy::Exact
         && options.speedup == Speedup::Local
-        && metric == Metric::L2
+        && listed
         && one_image
     {
         let tiled = draw_site_tiles(
@@ -404,7 +412,7 @@ pub(crate) fn draw_sites(
     ))
 }
 
-/// The diagram of Euclidean sites (pixels) in exact mode from screen tiles
+/// The diagram of sites (pixels) under L2, L1 or L∞ in exact mode from screen tiles
 /// ([`Program::SiteTiles`]), one pass per shape: each cell of [`CellBounds`]
 /// lists the sites whose smallest weighted distance over it is within its
 /// bound, by that distance, and each screen tile reads its cell's list. `None`
@@ -431,7 +439,8 @@ fn draw_site_tiles(
         4
     };
     let side = (SCREEN_TILE_SIDE * per_cell) as f64;
-    let cells = CellBounds::new(pixels, width, height, Metric::L2, frame.scale, side);
+    let metric = options.metric;
+    let cells = CellBounds::new(pixels, width, height, metric, frame.scale, side);
     // Per site: its cells with its smallest weighted distance there, and the
     // largest shape distance where it may win.
     let owned: Vec<(Vec<(u32, f64)>, f64)> = (0..pixels.len())
@@ -570,7 +579,7 @@ fn draw_site_tiles(
         vertex_depth_scale: 0.0,
         fragment_depth_scale: depth_scale as f32,
         levels: 1,
-        metric: (0, 2.0),
+        metric: metric.shader_code().unwrap_or((0, 2.0)),
     };
     let target = Target {
         color: Some(&ids),

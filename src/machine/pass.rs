@@ -537,7 +537,7 @@ impl<'m> Pass<'m> {
         self.draw_over_target(Program::NearestTiles, state, params, push)
     }
 
-    /// Draws the lower envelope of Euclidean sites of `shape` listed per screen
+    /// Draws the lower envelope of sites of `shape` (under L2, L1 or L∞) listed per screen
     /// tile with [`Program::SiteTiles`]: one triangle over the target, the tiles
     /// and their sites read from the records image of the bound set.
     pub fn draw_site_tiles(

@@ -62,8 +62,8 @@ pub enum Program {
     /// taken per fragment; see [`crate::machine::SiteBatch`]. Built for L2, L1
     /// and L∞.
     SiteExactBatch(SiteShape),
-    /// The lower envelope of Euclidean sites of one shape from screen-tile
-    /// lists: one triangle over the target, each fragment taking the lowest
+    /// The lower envelope of sites of one shape under L2, L1 or L∞ from
+    /// screen-tile lists: one triangle over the target, each fragment taking the lowest
     /// weighted distance of the sites listed for its tile, read from the
     /// records image (`glsl/site_tiles.frag`).
     SiteTiles(SiteShape),
