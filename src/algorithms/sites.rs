@@ -14,13 +14,13 @@
 //! by the p-th power of it), which bounds both from the cell's centre; Euclidean
 //! segments and circles are bounded exactly.
 //!
-//! Sites under L2, L1 and L∞ in exact mode are not drawn at all: the same cells, one per
-//! 8-pixel screen tile where sites are dense, list the sites that may win in
-//! them by their smallest distance there, and one triangle over the picture
-//! takes each pixel's lowest distance from its tile's list, stopping at the
-//! first site that cannot win (`glsl/site_tiles.frag`), as the point diagrams
-//! do. A pixel then evaluates a few sites instead of every site whose
-//! rectangle covers it.
+//! In exact mode sites under L2 (and under L1 and L∞ where some are segments or
+//! curves) are not drawn at all: the same cells, one per 8-pixel screen tile
+//! where sites are dense, list the sites that may win in them by their smallest
+//! distance there, and one triangle over the picture takes each pixel's lowest
+//! distance from its tile's list, stopping at the first site that cannot win
+//! (`glsl/site_tiles.frag`), as the point diagrams do. A pixel then evaluates a
+//! few sites instead of every site whose rectangle covers it.
 
 use std::time::Instant;
 
@@ -412,8 +412,8 @@ pub(crate) fn draw_sites(
     ))
 }
 
-/// The diagram of sites (pixels) under L2, L1 or L∞ in exact mode from screen tiles
-/// ([`Program::SiteTiles`]), one pass per shape: each cell of [`CellBounds`]
+/// The diagram of sites (pixels) under L2, L1 or L∞ in exact mode from screen
+/// tiles ([`Program::SiteTiles`]), one pass per shape: each cell of [`CellBounds`]
 /// lists the sites whose smallest weighted distance over it is within its
 /// bound, by that distance, and each screen tile reads its cell's list. `None`
 /// where the lists would be too long.
