@@ -195,19 +195,8 @@ pub(crate) fn draw_sites(
             cull(&pixels, frame.width, frame.height, metric, frame.scale)
         }
     };
-    let mut stats = VoronoiStats {
-        device: machine.device_name().to_string(),
-        sites: sites.len(),
-        cones: reaches.iter().filter(|r| r.is_some()).count(),
-        passes: 1,
-        ..Default::default()
-    };
     let drawn: Vec<f64> = reaches.iter().flatten().map(|(_, r)| *r).collect();
-    if !drawn.is_empty() {
-        stats.radius_min = drawn.iter().copied().fold(f64::INFINITY, f64::min);
-        stats.radius_max = drawn.iter().copied().fold(0.0, f64::max);
-        stats.radius_mean = drawn.iter().sum::<f64>() / drawn.len() as f64;
-    }
+    let mut stats = site_stats(machine, sites.len(), &drawn);
     let weighted = |s: &Site, d: f64| d / (frame.scale * s.multiplicative) + s.additive;
     // Exact sites are rectangles with per-fragment distances; fans are triangles
     // with per-vertex depths.
@@ -259,9 +248,7 @@ pub(crate) fn draw_sites(
             (SiteDraw::Fan(surfaces), reach)
         }
     };
-    // A power of two maps the envelope's range into [0, 1).
-    let span = (reach - least_additive).max(1e-30) * 1.001;
-    let depth_scale = span.log2().ceil().exp2().recip();
+    let depth_scale = depth_scale_of(reach, least_additive);
     stats.bounds_ms = ms(started);
 
     let started = Instant::now();
@@ -457,26 +444,17 @@ fn draw_site_tiles(
         })
         .collect();
     let cell_count = cells.across * cells.down;
-    let span = (cells.reach - least_additive).max(1e-30) * 1.001;
-    let depth_scale = span.log2().ceil().exp2().recip();
-    let mut stats = VoronoiStats {
-        device: machine.device_name().to_string(),
-        sites: pixels.len(),
-        cones: owned.iter().filter(|(its, _)| !its.is_empty()).count(),
-        passes: 1,
-        tiles: 1,
-        ..Default::default()
-    };
+    let depth_scale = depth_scale_of(cells.reach, least_additive);
+    // A pixel more of reach, as the rectangles take.
     let drawn: Vec<f64> = owned
         .iter()
         .filter(|(its, _)| !its.is_empty())
         .map(|(_, far)| far + 1.0)
         .collect();
-    if !drawn.is_empty() {
-        stats.radius_min = drawn.iter().copied().fold(f64::INFINITY, f64::min);
-        stats.radius_max = drawn.iter().copied().fold(0.0, f64::max);
-        stats.radius_mean = drawn.iter().sum::<f64>() / drawn.len() as f64;
-    }
+    let mut stats = VoronoiStats {
+        tiles: 1,
+        ..site_stats(machine, pixels.len(), &drawn)
+    };
     // One pass per shape present: its records. Each site's texels, made once:
     // its shape words, then its weights (the smallest distance and id go with
     // each entry).
@@ -632,6 +610,31 @@ fn draw_site_tiles(
     })?;
     stats.render_ms = ms(started);
     Ok(Some((stats, keys)))
+}
+
+/// A diagram's statistics before drawing: `reaches` are the largest shape
+/// distances (pixels) of the sites drawn.
+fn site_stats(machine: &Machine, sites: usize, reaches: &[f64]) -> VoronoiStats {
+    let mut stats = VoronoiStats {
+        device: machine.device_name().to_string(),
+        sites,
+        cones: reaches.len(),
+        passes: 1,
+        ..Default::default()
+    };
+    if !reaches.is_empty() {
+        stats.radius_min = reaches.iter().copied().fold(f64::INFINITY, f64::min);
+        stats.radius_max = reaches.iter().copied().fold(0.0, f64::max);
+        stats.radius_mean = reaches.iter().sum::<f64>() / reaches.len() as f64;
+    }
+    stats
+}
+
+/// The power of two that maps weighted distances from the smallest additive
+/// weight up to the envelope's `reach` into [0, 1) as depths.
+fn depth_scale_of(reach: f64, least_additive: f64) -> f64 {
+    let span = (reach - least_additive).max(1e-30) * 1.001;
+    span.log2().ceil().exp2().recip()
 }
 
 /// The shape a site is drawn as.
