@@ -35,7 +35,7 @@ use crate::{
         frame::distance2_to_rect,
         metric::Metric,
         site::{check_general_sites, ArcWedge, Shape, Site},
-        surface::{fan_surface, Triangles},
+        surface::{fan_surface, FanSurface},
     },
     machine::{
         Buffer, Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Image, Machine,
@@ -218,7 +218,7 @@ pub(crate) fn draw_sites(
         Accuracy::Fan { .. } => {
             let fan = super::voronoi::metric_fan(options.accuracy);
             let meshes = FanMeshes::new(metric);
-            let surfaces: Vec<(u32, Triangles, f64)> = pixels
+            let surfaces: Vec<(u32, FanSurface)> = pixels
                 .par_iter()
                 .zip(&reaches)
                 .enumerate()
@@ -231,20 +231,26 @@ pub(crate) fn draw_sites(
                             },
                             uniform => uniform,
                         };
-                        let (t, error) = fan_surface(s, &meshes, fan, reach);
-                        (i as u32, t, error / s.multiplicative)
+                        (i as u32, fan_surface(s, &meshes, fan, reach))
                     })
                 })
                 .collect();
+            // A folded surface's distances are its values' magnitudes.
             let reach = surfaces
                 .iter()
-                .flat_map(|(i, t, _)| {
+                .flat_map(|(i, f)| {
                     let s = &pixels[*i as usize];
-                    t.iter().flatten().map(move |v| weighted(s, v.z))
+                    f.triangles
+                        .iter()
+                        .flatten()
+                        .map(move |v| weighted(s, v.z.abs()))
                 })
                 .fold(least_additive, f64::max);
-            stats.distance_error_bound =
-                surfaces.iter().map(|(_, _, e)| *e).fold(0.0, f64::max) / frame.scale;
+            stats.distance_error_bound = surfaces
+                .iter()
+                .map(|(i, f)| f.error / pixels[*i as usize].multiplicative)
+                .fold(0.0, f64::max)
+                / frame.scale;
             (SiteDraw::Fan(surfaces), reach)
         }
     };
@@ -259,29 +265,31 @@ pub(crate) fn draw_sites(
     // The stencil is left for the visitor (a region mask, for instance).
     let depth = machine.image(Format::DepthStencil, tile_w, tile_h)?;
     let mesh = machine.vertex_buffer(&UNIT_SQUARE)?;
-    // The fan surfaces' two per-vertex buffers, made once for every tile.
+    // The fan surfaces' per-vertex buffers, plain and folded, made once for
+    // every tile.
+    let depth_of = |s: &Site, z: f64| ((weighted(s, z) - least_additive) * depth_scale) as f32;
     let fans = match &draw {
-        SiteDraw::Exact { .. } => None,
+        SiteDraw::Exact { .. } => Vec::new(),
         SiteDraw::Fan(surfaces) => {
-            let mut vertices: Vec<[f32; 3]> = Vec::new();
-            let mut ids: Vec<u32> = Vec::new();
-            for (i, triangles, _) in surfaces {
+            let mut plain = FanBuffers::<3>::default();
+            let mut folded = FanBuffers::<4>::default();
+            for (i, surface) in surfaces {
                 let s = &pixels[*i as usize];
-                for v in triangles.iter().flatten() {
-                    let depth = (weighted(s, v.z) - least_additive) * depth_scale;
-                    vertices.push([v.x as f32, v.y as f32, depth as f32]);
-                    ids.push(*i);
+                let zero = depth_of(s, 0.0);
+                for (k, triangle) in surface.triangles.iter().enumerate() {
+                    for v in triangle {
+                        let (x, y, depth) = (v.x as f32, v.y as f32, depth_of(s, v.z));
+                        match k < surface.folded {
+                            false => plain.push([x, y, depth], *i),
+                            true => folded.push([x, y, depth, zero], *i),
+                        }
+                    }
                 }
             }
-            let count = vertices.len() as u32;
-            // Vulkan buffers cannot be empty.
-            vertices.push([0.0; 3]);
-            ids.push(0);
-            Some((
-                machine.vertex_buffer(&vertices)?,
-                machine.vertex_buffer(&ids)?,
-                count,
-            ))
+            vec![
+                plain.upload(machine, Program::SiteFan)?,
+                folded.upload(machine, Program::SiteFanFolded)?,
+            ]
         }
     };
     for y0 in (0..frame.height).step_by(tile_h as usize) {
@@ -322,9 +330,9 @@ pub(crate) fn draw_sites(
                 .then(|| machine.vertex_buffer(&singles))
                 .transpose()?;
             let mut draws: Vec<(Program, ConeDraw)> = Vec::new();
-            if let Some((vertices, ids, count)) = &fans {
+            for (program, vertices, ids, count) in &fans {
                 draws.push((
-                    Program::SiteFan,
+                    *program,
                     ConeDraw {
                         mesh: vertices,
                         first_vertex: 0,
@@ -647,6 +655,41 @@ fn site_shape(site: &Site) -> SiteShape {
     }
 }
 
+/// Fan vertices of N words (see [`Program::SiteFan`] and
+/// [`Program::SiteFanFolded`]) with their sites' ids.
+#[derive(Default)]
+struct FanBuffers<const N: usize> {
+    vertices: Vec<[f32; N]>,
+    ids: Vec<u32>,
+}
+
+impl<const N: usize> FanBuffers<N>
+where
+    [f32; N]: bytemuck::Pod,
+{
+    fn push(&mut self, vertex: [f32; N], id: u32) {
+        self.vertices.push(vertex);
+        self.ids.push(id);
+    }
+
+    /// The two vertex buffers for `program` and the vertices' count.
+    fn upload(
+        mut self,
+        machine: &Machine,
+        program: Program,
+    ) -> Result<(Program, Buffer, Buffer, u32)> {
+        let count = self.vertices.len() as u32;
+        // Vulkan buffers cannot be empty.
+        self.push([0.0; N], 0);
+        Ok((
+            program,
+            machine.vertex_buffer(&self.vertices)?,
+            machine.vertex_buffer(&self.ids)?,
+            count,
+        ))
+    }
+}
+
 /// What one diagram draws.
 enum SiteDraw {
     /// Batches of small sites of the shapes [`batched`] under the metric, and
@@ -655,8 +698,8 @@ enum SiteDraw {
         batches: Vec<(SiteShape, SiteBatch)>,
         singles: Vec<SiteInstance>,
     },
-    /// Each site's fan surface with its error bound (world units).
-    Fan(Vec<(u32, Triangles, f64)>),
+    /// Each site's fan surface.
+    Fan(Vec<(u32, FanSurface)>),
 }
 
 /// One draw of `program` per run of a shape among the `instances` (rectangles

@@ -22,8 +22,22 @@ use super::{
 };
 
 /// The surface's triangles, three vertices each: picture position (pixels) and
-/// the metric distance to the site's shape at that vertex (pixels, unweighted).
+/// the metric distance to the site's shape at that vertex (pixels, unweighted),
+/// or on a [folded](FanSurface::folded) surface a signed value whose magnitude
+/// is the distance.
 pub type Triangles = Vec<[DVec3; 3]>;
+
+/// A site's fan surface ([`fan_surface`]).
+pub struct FanSurface {
+    pub triangles: Triangles,
+    /// Bound on the error (pixels of shape distance), either way.
+    pub error: f64,
+    /// How many of the first triangles are folded: their distance is the
+    /// magnitude of the interpolated value, taken per fragment (the straw hut
+    /// of a circle or arc as one cone whose apex lies r below the plane, see
+    /// `straw_hut`). Only they pay for a fragment-written depth.
+    pub folded: usize,
+}
 
 /// The fan base of one cone: rim vertices relative to the apex and their height.
 struct Base {
@@ -137,20 +151,20 @@ impl Base {
 }
 
 /// The fan surface of `site` (pixel coordinates) out to shape distance `reach`,
-/// and a bound on its error (pixels of shape distance): the fan's own
-/// overestimate, plus the chords' deviation for circles and arcs, which may err
-/// either way. For a chain fan of error ε the chords get half of ε.
-pub fn fan_surface(
-    site: &Site,
-    meshes: &FanMeshes,
-    fan: MetricFan,
-    reach: f64,
-) -> (Triangles, f64) {
+/// with a bound on its error: the fan's own overestimate, plus the chords'
+/// deviation for circles and arcs, which may err either way. For a chain fan
+/// of error ε the chords get half of ε.
+pub fn fan_surface(site: &Site, meshes: &FanMeshes, fan: MetricFan, reach: f64) -> FanSurface {
     let metric = meshes.metric();
     let b = metric.euclidean_bounds().1;
     let curved = matches!(site.shape, Shape::Circle { .. } | Shape::Arc { .. });
     if let (true, Metric::L2, MetricFan::Chain { epsilon }) = (curved, metric, fan) {
-        return (straw_hut(site, meshes, reach, epsilon), epsilon);
+        let (triangles, folded) = straw_hut(site, meshes, reach, epsilon);
+        return FanSurface {
+            triangles,
+            error: epsilon,
+            folded,
+        };
     }
     let (fan, chord) = match fan {
         MetricFan::Chain { epsilon } if curved => (
@@ -197,7 +211,11 @@ pub fn fan_surface(
     for w in polyline.windows(2) {
         base.sweep(w[0], w[1], &mut out);
     }
-    (out, fan_error + chord * b)
+    FanSurface {
+        triangles: out,
+        error: fan_error + chord * b,
+        folded: 0,
+    }
 }
 
 /// Points of the circle of `radius` around `center` from angle `start` over
@@ -224,12 +242,18 @@ fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> 
         .collect()
 }
 
-/// The thesis's straw hut (L2): over the arc's wedge the distance is |ρ − r|, a
-/// cone rising inwards to the centre and one rising outwards, sampled at angles
-/// close enough that the chords at the outer radius stay within ε (so the hut
-/// errs by at most ε either way); an arc adds the cones of its two ends, which
-/// serve the pixels outside its wedge (the sliced hut of §3.9).
-fn straw_hut(site: &Site, meshes: &FanMeshes, reach: f64, epsilon: f64) -> Triangles {
+/// The thesis's straw hut (L2), folded: over the arc's wedge the distance is
+/// |ρ − r|, the magnitude of one cone over the centre whose apex lies r below
+/// the plane, so each piece of the wedge is one triangle instead of the
+/// thesis's three (a cone rising inwards to the centre and a ring rising
+/// outwards); lavapipe's time goes with the triangles (circles at 16000 sites
+/// 193 → 130 ms of drawing). The pieces' angles keep the chords at the outer
+/// radius within ε. Outside the circle the fan overestimates ρ by at most ε;
+/// inside, its larger ρ gives |ρ − r| within that of the truth, so the hut
+/// errs by at most ε either way. An arc adds the cones of its two ends, which
+/// serve the pixels outside its wedge (the sliced hut of §3.9); their values
+/// are never negative.
+fn straw_hut(site: &Site, meshes: &FanMeshes, reach: f64, epsilon: f64) -> (Triangles, usize) {
     let (center, r, start, span) = match site.shape {
         Shape::Circle { center, radius } => (center, radius, 0.0, std::f64::consts::TAU),
         Shape::Arc {
@@ -255,16 +279,14 @@ fn straw_hut(site: &Site, meshes: &FanMeshes, reach: f64, epsilon: f64) -> Trian
     let mut out = Triangles::new();
     if span > 0.0 && r > 0.0 {
         for k in 0..pieces {
-            let (i0, i1) = (at(k, r).extend(0.0), at(k + 1, r).extend(0.0));
             let (o0, o1) = (
                 at(k, outer).extend(outer - r),
                 at(k + 1, outer).extend(outer - r),
             );
-            out.push([center.extend(r), i0, i1]);
-            out.push([i0, o0, o1]);
-            out.push([i0, o1, i1]);
+            out.push([center.extend(-r), o0, o1]);
         }
     }
+    let folded = out.len();
     if span < std::f64::consts::TAU || r == 0.0 {
         let base = Base::new(meshes, MetricFan::Chain { epsilon }, reach);
         if r == 0.0 {
@@ -278,5 +300,5 @@ fn straw_hut(site: &Site, meshes: &FanMeshes, reach: f64, epsilon: f64) -> Trian
             base.half_cone(at(pieces, r), tangent(start + span), &mut out);
         }
     }
-    out
+    (out, folded)
 }

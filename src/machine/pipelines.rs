@@ -70,6 +70,10 @@ pub enum Program {
     /// Triangles of fan surfaces with per-vertex position, depth and site id
     /// (two per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
     SiteFan,
+    /// [`Program::SiteFan`] for folded surfaces: vertices `[x, y, depth of a
+    /// signed value, depth of zero]`, and each fragment's depth is the zero's
+    /// plus the magnitude of the value's difference from it.
+    SiteFanFolded,
     /// Saddle roofs over pairs of sites (thesis §7.3), one per instance without
     /// vertex buffers, reading the sites (`f64` pairs) and the site drawn in each
     /// pixel from storage buffers 0 and 1: the area as depth, the pair as colour.
@@ -515,8 +519,13 @@ impl Pipelines {
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
             Program::SiteFan => (
-                "site_fan.vert",
-                "site_fan.frag",
+                "site_fan.vert:plain",
+                "site_fan.frag:plain",
+                vk::PrimitiveTopology::TRIANGLE_LIST,
+            ),
+            Program::SiteFanFolded => (
+                "site_fan.vert:folded",
+                "site_fan.frag:folded",
                 vk::PrimitiveTopology::TRIANGLE_LIST,
             ),
             Program::Roof => (
@@ -708,6 +717,20 @@ impl Pipelines {
                 .stride(4)
                 .input_rate(vk::VertexInputRate::VERTEX),
         ];
+        let folded_attributes = [
+            vk::VertexInputAttributeDescription::default()
+                .location(0)
+                .binding(0)
+                .format(vk::Format::R32G32B32A32_SFLOAT),
+            fan_attributes[1],
+        ];
+        let folded_bindings = [
+            vk::VertexInputBindingDescription::default()
+                .binding(0)
+                .stride(16)
+                .input_rate(vk::VertexInputRate::VERTEX),
+            fan_bindings[1],
+        ];
         let disc_bindings = [vk::VertexInputBindingDescription::default()
             .binding(0)
             .stride(16)
@@ -723,6 +746,9 @@ impl Pipelines {
             Program::SiteFan => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&fan_bindings)
                 .vertex_attribute_descriptions(&fan_attributes),
+            Program::SiteFanFolded => vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&folded_bindings)
+                .vertex_attribute_descriptions(&folded_attributes),
             Program::SiteExact(_) => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&site_bindings)
                 .vertex_attribute_descriptions(&site_attributes),
