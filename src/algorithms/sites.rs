@@ -24,7 +24,7 @@
 
 use std::time::Instant;
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use crate::{
@@ -266,26 +266,35 @@ pub(crate) fn draw_sites(
     let depth = machine.image(Format::DepthStencil, tile_w, tile_h)?;
     let mesh = machine.vertex_buffer(&UNIT_SQUARE)?;
     // The fan surfaces' per-vertex buffers, plain and folded, made once for
-    // every tile.
+    // every tile. Triangles that leave the picture come last: lavapipe clips
+    // a run of vertices holding one through its slow general path
+    // (circles at 16000 sites 106-122 → 71-92 ms of drawing without them).
     let depth_of = |s: &Site, z: f64| ((weighted(s, z) - least_additive) * depth_scale) as f32;
+    let (right, bottom) = (frame.width as f64 - 0.5, frame.height as f64 - 0.5);
+    let inside = |v: &DVec3| v.x >= -0.5 && v.y >= -0.5 && v.x <= right && v.y <= bottom;
     let fans = match &draw {
         SiteDraw::Exact { .. } => Vec::new(),
         SiteDraw::Fan(surfaces) => {
-            let mut plain = FanBuffers::<3>::default();
-            let mut folded = FanBuffers::<4>::default();
+            let mut plain = [FanBuffers::<3>::default(), FanBuffers::default()];
+            let mut folded = [FanBuffers::<4>::default(), FanBuffers::default()];
             for (i, surface) in surfaces {
                 let s = &pixels[*i as usize];
                 let zero = depth_of(s, 0.0);
                 for (k, triangle) in surface.triangles.iter().enumerate() {
+                    let leaves = usize::from(!triangle.iter().all(inside));
                     for v in triangle {
                         let (x, y, depth) = (v.x as f32, v.y as f32, depth_of(s, v.z));
                         match k < surface.folded {
-                            false => plain.push([x, y, depth], *i),
-                            true => folded.push([x, y, depth, zero], *i),
+                            false => plain[leaves].push([x, y, depth], *i),
+                            true => folded[leaves].push([x, y, depth, zero], *i),
                         }
                     }
                 }
             }
+            let [mut plain, leaving] = plain;
+            plain.append(leaving);
+            let [mut folded, leaving] = folded;
+            folded.append(leaving);
             vec![
                 plain.upload(machine, Program::SiteFan)?,
                 folded.upload(machine, Program::SiteFanFolded)?,
@@ -670,6 +679,11 @@ where
     fn push(&mut self, vertex: [f32; N], id: u32) {
         self.vertices.push(vertex);
         self.ids.push(id);
+    }
+
+    fn append(&mut self, mut other: Self) {
+        self.vertices.append(&mut other.vertices);
+        self.ids.append(&mut other.ids);
     }
 
     /// The two vertex buffers for `program` and the vertices' count.
