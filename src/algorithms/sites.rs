@@ -1018,44 +1018,56 @@ impl<'a> CellBounds<'a> {
             &binned[bin_start[b] as usize..bin_start[b + 1] as usize]
         };
         let (a, _) = metric.euclidean_bounds();
-        // Upper bounds from the sites of the nearest non-empty rings of bins.
+        // Upper bounds from the sites of the nearest non-empty rings of bins,
+        // row by row: each cell starts from its left neighbour's best site,
+        // whose bound is usually near its own, so that the gap test skips most
+        // of the others.
         let cells_ref = &cells;
-        let upper: Vec<f64> = (0..across * down)
-            .into_par_iter()
-            .map(|c| {
-                let (i, j) = (c % across, c / across);
-                let (lo, hi) = cells_ref.bounds_of(i, j);
-                let block = [
-                    bin_of(lo.x, bins_across),
-                    bin_of(lo.y, bins_down),
-                    bin_of(hi.x, bins_across),
-                    bin_of(hi.y, bins_down),
-                ]
-                .map(|b| b as isize);
-                let centre = 0.5 * (lo + hi);
-                let mut best = f64::INFINITY;
-                for ring in 0..bins_across.max(bins_down) {
-                    for_ring_cells((bins_across, bins_down), block, ring, |x, y| {
-                        for &k in bin(x, y) {
-                            // A site whose box is already too far cannot lower the
-                            // bound: its largest distance exceeds a times that gap.
-                            let s = &sites[k as usize];
-                            let (blo, bhi) = s.bounds();
-                            let gap = distance2_to_rect(centre, blo, bhi).sqrt();
-                            if cells_ref.weighted(s, a * gap) < best {
-                                let (_, largest, _) = cells_ref.range(k as usize, i, j, false);
-                                best = best.min(largest);
+        let mut upper = vec![0.0; across * down];
+        upper
+            .par_chunks_mut(across)
+            .enumerate()
+            .for_each(|(j, row)| {
+                let mut hint: Option<usize> = None;
+                for (i, bound) in row.iter_mut().enumerate() {
+                    let (lo, hi) = cells_ref.bounds_of(i, j);
+                    let block = [
+                        bin_of(lo.x, bins_across),
+                        bin_of(lo.y, bins_down),
+                        bin_of(hi.x, bins_across),
+                        bin_of(hi.y, bins_down),
+                    ]
+                    .map(|b| b as isize);
+                    let centre = 0.5 * (lo + hi);
+                    let (mut best, mut best_site) = match hint {
+                        Some(k) => (cells_ref.range(k, i, j, false).1, k),
+                        None => (f64::INFINITY, 0),
+                    };
+                    for ring in 0..bins_across.max(bins_down) {
+                        for_ring_cells((bins_across, bins_down), block, ring, |x, y| {
+                            for &k in bin(x, y) {
+                                // A site whose box is already too far cannot lower the
+                                // bound: its largest distance exceeds a times that gap.
+                                let s = &sites[k as usize];
+                                let (blo, bhi) = s.bounds();
+                                let gap = distance2_to_rect(centre, blo, bhi).sqrt();
+                                if cells_ref.weighted(s, a * gap) < best {
+                                    let (_, largest, _) = cells_ref.range(k as usize, i, j, false);
+                                    if largest < best {
+                                        (best, best_site) = (largest, k as usize);
+                                    }
+                                }
                             }
+                        });
+                        // One more ring after the first find tightens the bound cheaply.
+                        if best.is_finite() && ring >= 1 {
+                            break;
                         }
-                    });
-                    // One more ring after the first find tightens the bound cheaply.
-                    if best.is_finite() && ring >= 1 {
-                        break;
                     }
+                    hint = best.is_finite().then_some(best_site);
+                    *bound = best;
                 }
-                best
-            })
-            .collect();
+            });
         let blocks_across = across.div_ceil(CULL_BLOCK);
         let mut block_bounds = vec![f64::NEG_INFINITY; blocks_across * down.div_ceil(CULL_BLOCK)];
         for (c, &bound) in upper.iter().enumerate() {
