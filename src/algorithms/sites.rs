@@ -1043,9 +1043,11 @@ impl<'a> CellBounds<'a> {
                         Some(k) => (cells_ref.range(k, i, j, false).1, k),
                         None => (f64::INFINITY, 0),
                     };
+                    let mut found = false;
                     for ring in 0..bins_across.max(bins_down) {
                         for_ring_cells((bins_across, bins_down), block, ring, |x, y| {
                             for &k in bin(x, y) {
+                                found = true;
                                 // A site whose box is already too far cannot lower the
                                 // bound: its largest distance exceeds a times that gap.
                                 let s = &sites[k as usize];
@@ -1059,8 +1061,9 @@ impl<'a> CellBounds<'a> {
                                 }
                             }
                         });
-                        // One more ring after the first find tightens the bound cheaply.
-                        if best.is_finite() && ring >= 1 {
+                        // One more ring after the first find tightens the bound
+                        // cheaply (the hint is no find: it may lie far off).
+                        if found && ring >= 1 {
                             break;
                         }
                     }
