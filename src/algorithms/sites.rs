@@ -237,15 +237,16 @@ pub(crate) fn draw_sites(
                 .collect();
             // A folded surface's distances are its values' magnitudes.
             let reach = surfaces
-                .iter()
-                .flat_map(|(i, f)| {
+                .par_iter()
+                .map(|(i, f)| {
                     let s = &pixels[*i as usize];
                     f.triangles
                         .iter()
                         .flatten()
-                        .map(move |v| weighted(s, v.z.abs()))
+                        .map(|v| weighted(s, v.z.abs()))
+                        .fold(least_additive, f64::max)
                 })
-                .fold(least_additive, f64::max);
+                .reduce(|| least_additive, f64::max);
             stats.distance_error_bound = surfaces
                 .iter()
                 .map(|(i, f)| f.error / pixels[*i as usize].multiplicative)
