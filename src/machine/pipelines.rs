@@ -717,20 +717,12 @@ impl Pipelines {
                 .stride(4)
                 .input_rate(vk::VertexInputRate::VERTEX),
         ];
+        // Folded fans: four words a vertex.
         let folded_attributes = [
-            vk::VertexInputAttributeDescription::default()
-                .location(0)
-                .binding(0)
-                .format(vk::Format::R32G32B32A32_SFLOAT),
+            fan_attributes[0].format(vk::Format::R32G32B32A32_SFLOAT),
             fan_attributes[1],
         ];
-        let folded_bindings = [
-            vk::VertexInputBindingDescription::default()
-                .binding(0)
-                .stride(16)
-                .input_rate(vk::VertexInputRate::VERTEX),
-            fan_bindings[1],
-        ];
+        let folded_bindings = [fan_bindings[0].stride(16), fan_bindings[1]];
         let disc_bindings = [vk::VertexInputBindingDescription::default()
             .binding(0)
             .stride(16)
