@@ -247,10 +247,10 @@ fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> 
 /// the plane, so each piece of the wedge is one triangle instead of the
 /// thesis's three (a cone rising inwards to the centre and a ring rising
 /// outwards); lavapipe's time goes with the triangles (circles at 16000 sites
-/// 193 → 130 ms of drawing). The pieces' angles keep the chords at the outer
-/// radius within ε. Outside the circle the fan overestimates ρ by at most ε;
-/// inside, its larger ρ gives |ρ − r| within that of the truth, so the hut
-/// errs by at most ε either way. An arc adds the cones of its two ends, which
+/// 118-157 → 104-116 ms of drawing). The pieces' angles keep the chords at
+/// the outer radius within ε, so the fan's ρ exceeds the true one by at most
+/// ε everywhere, and |ρ − r| moves by no more than ρ does: the hut errs by at
+/// most ε either way. An arc adds the cones of its two ends, which
 /// serve the pixels outside its wedge (the sliced hut of §3.9); their values
 /// are never negative.
 fn straw_hut(site: &Site, meshes: &FanMeshes, reach: f64, epsilon: f64) -> (Triangles, usize) {
