@@ -183,7 +183,7 @@ fn bad_input_fails_with_a_message() {
         std::fs::write(&bad, "[[1, 2], [3]]").unwrap();
         let s = |p: &PathBuf| p.to_str().unwrap().to_string();
         vec![
-            (vec!["--sites".into(), s(&empty)], "empty"),
+            (vec!["--sites".into(), s(&empty)], "no sites"),
             (vec!["--sites".into(), s(&nan)], "non-finite"),
             (vec!["--sites".into(), s(&bad)], "site 1"),
             (

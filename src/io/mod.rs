@@ -2,5 +2,6 @@
 #![forbid(unsafe_code)]
 
 pub mod npy;
+pub mod output;
 pub mod picture;
 pub mod sites;

@@ -6,6 +6,7 @@ use std::{fs::File, io::BufWriter, path::Path};
 
 use npyz::WriterBuilder;
 
+use super::output::OutputFile;
 use crate::error::{Error, Result};
 
 fn io_error(path: &Path, source: std::io::Error) -> Error {
@@ -17,15 +18,16 @@ fn io_error(path: &Path, source: std::io::Error) -> Error {
 
 /// An `.npy` file being written value by value in row-major order.
 pub struct NpyStream<T: npyz::Serialize + npyz::AutoSerialize + Copy> {
-    path: std::path::PathBuf,
+    output: OutputFile,
     writer: npyz::NpyWriter<T, BufWriter<File>>,
     remaining: u64,
 }
 
 impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
-    /// Creates `path` for an array of `shape`.
+    /// Creates `path` (named `*.npy`) for an array of `shape`; the file appears
+    /// only when [`NpyStream::finish`] succeeds.
     pub fn create(path: &Path, shape: &[u64]) -> Result<Self> {
-        let file = File::create(path).map_err(|e| io_error(path, e))?;
+        let (output, file) = OutputFile::create(path, "npy", "arrays")?;
         let writer = npyz::WriteOptions::new()
             .default_dtype()
             .shape(shape)
@@ -33,7 +35,7 @@ impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
             .begin_nd()
             .map_err(|e| io_error(path, e))?;
         Ok(Self {
-            path: path.to_path_buf(),
+            output,
             writer,
             remaining: shape.iter().product(),
         })
@@ -44,13 +46,13 @@ impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
         if data.len() as u64 > self.remaining {
             return Err(Error::InvalidInput(format!(
                 "{}: more values than the array's shape holds",
-                self.path.display()
+                self.output.path().display()
             )));
         }
         self.remaining -= data.len() as u64;
         self.writer
             .extend(data.iter().copied())
-            .map_err(|e| io_error(&self.path, e))
+            .map_err(|e| io_error(self.output.path(), e))
     }
 
     /// Finishes the file; every value of the shape must have been written.
@@ -58,11 +60,14 @@ impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
         if self.remaining != 0 {
             return Err(Error::InvalidInput(format!(
                 "{}: {} values missing",
-                self.path.display(),
+                self.output.path().display(),
                 self.remaining
             )));
         }
-        self.writer.finish().map_err(|e| io_error(&self.path, e))
+        self.writer
+            .finish()
+            .map_err(|e| io_error(self.output.path(), e))?;
+        self.output.commit()
     }
 }
 
@@ -90,4 +95,57 @@ pub fn read<T: npyz::Deserialize>(path: &Path) -> Result<(Vec<u64>, Vec<T>)> {
     let shape = array.shape().to_vec();
     let data = array.into_vec().map_err(|e| io_error(path, e))?;
     Ok((shape, data))
+}
+
+/// Reads a numeric `.npy` array (floats or integers of any width) as `f64`.
+pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
+    let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
+    let parse = |e: std::io::Error| Error::Parse {
+        path: path.to_path_buf(),
+        message: format!("not a NumPy array: {e}"),
+    };
+    let array = npyz::NpyFile::new(&bytes[..]).map_err(parse)?;
+    let shape = array.shape().to_vec();
+    let fortran = array.order() == npyz::Order::Fortran;
+    let descr = array.dtype().descr();
+    let values = match descr.trim_start_matches(['<', '|', '=']) {
+        "f8" => array.into_vec::<f64>().map_err(parse)?,
+        "f4" => widen(array.into_vec::<f32>().map_err(parse)?),
+        "i8" => {
+            let wide = array.into_vec::<i64>().map_err(parse)?;
+            // Beyond 2^53 an integer has no f64 of its own: refuse, never round.
+            if let Some(v) = wide.iter().find(|v| v.unsigned_abs() > 1 << 53) {
+                return Err(Error::Parse {
+                    path: path.to_path_buf(),
+                    message: format!("{v} is beyond 2^53 and would not be read exactly"),
+                });
+            }
+            wide.into_iter().map(|v| v as f64).collect()
+        }
+        "i4" => widen(array.into_vec::<i32>().map_err(parse)?),
+        "u4" => widen(array.into_vec::<u32>().map_err(parse)?),
+        "i2" => widen(array.into_vec::<i16>().map_err(parse)?),
+        "u2" => widen(array.into_vec::<u16>().map_err(parse)?),
+        _ => {
+            return Err(Error::Parse {
+                path: path.to_path_buf(),
+                message: format!(
+                    "arrays of dtype {descr} are not read: use float64, float32 or little-endian integers"
+                ),
+            })
+        }
+    };
+    if fortran && shape.len() == 2 {
+        // Column-major on disk: give the rows in order.
+        let (rows, columns) = (shape[0] as usize, shape[1] as usize);
+        let row_major = (0..rows * columns)
+            .map(|k| values[(k % columns) * rows + k / columns])
+            .collect();
+        return Ok((shape, row_major));
+    }
+    Ok((shape, values))
+}
+
+fn widen<T: Into<f64>>(values: Vec<T>) -> Vec<f64> {
+    values.into_iter().map(Into::into).collect()
 }

@@ -1,10 +1,11 @@
 //! Pictures for people: a label map with one colour per region and the sites drawn
 //! on top, written as PNG row band by row band.
 
-use std::{fs::File, io::BufWriter, path::Path};
+use std::{fs::File, path::Path};
 
 use glam::DVec2;
 
+use super::output::OutputFile;
 use crate::error::{Error, Result};
 
 /// A bright, distinct colour for site `id` (golden-ratio hues); black for "no site".
@@ -80,22 +81,22 @@ pub fn label_rows(
 
 /// A PNG picture written row band by row band.
 pub struct PngStream {
-    path: std::path::PathBuf,
-    writer: png::StreamWriter<'static, BufWriter<File>>,
+    output: OutputFile,
+    writer: png::StreamWriter<'static, File>,
 }
 
 impl PngStream {
-    /// Creates an RGB picture of `width` x `height` at `path`.
+    /// Creates an RGB picture of `width` x `height` at `path` (named `*.png`);
+    /// the file appears only when [`PngStream::finish`] succeeds.
     pub fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
         let err = |e: png::EncodingError| Error::Io {
             path: path.to_path_buf(),
             source: std::io::Error::other(e),
         };
-        let file = File::create(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
+        // The encoder writes whole chunks, so the file is left unbuffered: every
+        // write error reaches `write` or `finish` instead of a buffer's `Drop`.
+        let (output, file) = OutputFile::create(path, "png", "pictures")?;
+        let mut encoder = png::Encoder::new(file, width, height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         let writer = encoder
@@ -103,17 +104,14 @@ impl PngStream {
             .map_err(err)?
             .into_stream_writer()
             .map_err(err)?;
-        Ok(Self {
-            path: path.to_path_buf(),
-            writer,
-        })
+        Ok(Self { output, writer })
     }
 
     /// Appends RGB rows.
     pub fn write(&mut self, rgb: &[u8]) -> Result<()> {
         use std::io::Write;
         self.writer.write_all(rgb).map_err(|source| Error::Io {
-            path: self.path.clone(),
+            path: self.output.path().to_path_buf(),
             source,
         })
     }
@@ -121,8 +119,9 @@ impl PngStream {
     /// Finishes the file; every row must have been written.
     pub fn finish(self) -> Result<()> {
         self.writer.finish().map_err(|e| Error::Io {
-            path: self.path.clone(),
+            path: self.output.path().to_path_buf(),
             source: std::io::Error::other(e),
-        })
+        })?;
+        self.output.commit()
     }
 }

@@ -1,7 +1,17 @@
-//! Site files: CSV (`x,y` per line, optional header, optional weight columns
-//! `m,a`) and JSON (`[[x, y], ...]`, `[{"x": .., "y": ..}, ...]`, sites of every
-//! shape such as `{"segment": [[x1, y1], [x2, y2]], "m": 2}`, or any of these under
-//! a `"sites"` key), and seeded random sites.
+//! Site files, read by their extension:
+//! - `.csv` (or `.txt`): `x,y` per line; weight columns only under a header that
+//!   names them (`x,y,m,a`), since a third unnamed column could mean anything;
+//! - `.json`: `[[x, y], ...]`, `[{"x": .., "y": ..}, ...]`, sites of every shape
+//!   such as `{"segment": [[x1, y1], [x2, y2]], "m": 2}`, any of these under a
+//!   `"sites"` key, or GeoJSON;
+//! - `.geojson`: Point, MultiPoint, LineString and MultiLineString geometries
+//!   (bare, in Features or in a FeatureCollection), weights from the properties
+//!   `m` and `a`;
+//! - `.npy`: an n×2 (`x, y`), n×3 (`x, y, m`) or n×4 (`x, y, m, a`) array of
+//!   floats or integers.
+//!
+//! Numbers are read bit for bit: the site is the number the file spells.
+//! Also: seeded random sites.
 
 use std::path::Path;
 
@@ -18,8 +28,38 @@ use crate::{
     },
 };
 
-/// Reads unweighted point sites from a `.json` file or a CSV file (any other
-/// extension); weights and other shapes are an error naming the site.
+/// The formats a site file may have, told by its extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SiteFormat {
+    Csv,
+    Json,
+    GeoJson,
+    Npy,
+}
+
+impl SiteFormat {
+    /// The format of `path` by its extension; an unknown one is an error.
+    pub fn of(path: &Path) -> Result<Self> {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("csv" | "txt") => Ok(Self::Csv),
+            Some("json") => Ok(Self::Json),
+            Some("geojson") => Ok(Self::GeoJson),
+            Some("npy") => Ok(Self::Npy),
+            _ => Err(Error::Parse {
+                path: path.to_path_buf(),
+                message: "unknown site file format: name it .csv, .txt, .json, .geojson or .npy"
+                    .into(),
+            }),
+        }
+    }
+}
+
+/// Reads unweighted point sites; weights and other shapes are an error naming
+/// the site.
 pub fn read_sites(path: &Path) -> Result<Vec<DVec2>> {
     read_general_sites(path)?
         .iter()
@@ -34,57 +74,102 @@ pub fn read_sites(path: &Path) -> Result<Vec<DVec2>> {
         .collect()
 }
 
-/// Reads sites of every shape and weight from a `.json` or CSV file.
+/// Reads sites of every shape and weight; a file without sites is an error.
 pub fn read_general_sites(path: &Path) -> Result<Vec<Site>> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let is_json = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let parsed = if is_json {
-        parse_json(&text)
-    } else {
-        parse_csv(&text)
-    };
-    parsed.map_err(|message| Error::Parse {
-        path: path.to_path_buf(),
-        message,
-    })
-}
-
-/// Reads a polygon for `--metric polygon:FILE`: its vertices as a point site
-/// file (around the kernel point at the origin), or JSON `{"vertices": [[x, y],
-/// ...], "kernel": [x, y]}`. Returns the vertices and the kernel point.
-pub fn read_polygon(path: &Path) -> Result<(Vec<DVec2>, DVec2)> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
     let failed = |message: String| Error::Parse {
         path: path.to_path_buf(),
         message,
     };
-    let value: Option<Value> = serde_json::from_str(&text).ok();
-    let (vertices, kernel) = match value {
-        Some(Value::Object(o)) if o.contains_key("vertices") => {
-            let vertices =
-                serde_json::to_string(&o["vertices"]).map_err(|e| failed(e.to_string()))?;
+    let format = SiteFormat::of(path)?;
+    let sites = if format == SiteFormat::Npy {
+        let (shape, values) = super::npy::read_f64(path)?;
+        sites_from_array(&shape, &values).map_err(failed)?
+    } else {
+        let text = read_text(path)?;
+        match format {
+            SiteFormat::Csv => parse_csv(&text),
+            SiteFormat::Json => parse_json(&text),
+            _ => parse_geojson(&text),
+        }
+        .map_err(failed)?
+    };
+    if sites.is_empty() {
+        return Err(failed("the file holds no sites".into()));
+    }
+    Ok(sites)
+}
+
+fn read_text(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    String::from_utf8(bytes).map_err(|e| Error::Parse {
+        path: path.to_path_buf(),
+        message: format!(
+            "not UTF-8 text (byte {}); site files are CSV, JSON, GeoJSON or .npy",
+            e.utf8_error().valid_up_to()
+        ),
+    })
+}
+
+/// Sites from an n×2, n×3 or n×4 array, row-major: `x, y[, m[, a]]`.
+pub fn sites_from_array(shape: &[u64], values: &[f64]) -> Result<Vec<Site>, String> {
+    let columns = match shape {
+        [_, c @ 2..=4] => *c as usize,
+        _ => {
+            return Err(format!(
+                "an array of shape {shape:?}: site arrays are n×2 (x, y), n×3 (x, y, m) or n×4 (x, y, m, a)"
+            ))
+        }
+    };
+    Ok(values
+        .chunks_exact(columns)
+        .map(|row| {
+            let mut site = Site::point(DVec2::new(row[0], row[1]));
+            if columns > 2 {
+                site.multiplicative = row[2];
+            }
+            if columns > 3 {
+                site.additive = row[3];
+            }
+            site
+        })
+        .collect())
+}
+
+/// Reads a polygon for `--metric polygon:FILE`: its vertices as a point site
+/// file (around the kernel point at the origin), or a `.json` file
+/// `{"vertices": [[x, y], ...], "kernel": [x, y]}`. Returns the vertices and
+/// the kernel point.
+pub fn read_polygon(path: &Path) -> Result<(Vec<DVec2>, DVec2)> {
+    let failed = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let format = SiteFormat::of(path)?;
+    let object = if format == SiteFormat::Json {
+        match serde_json::from_str::<Value>(&read_text(path)?) {
+            Ok(Value::Object(o)) if o.contains_key("vertices") => Some(o),
+            Ok(_) => None,
+            Err(e) => return Err(failed(format!("JSON: {e}"))),
+        }
+    } else {
+        None
+    };
+    let (vertices, kernel) = match object {
+        Some(o) => {
+            let vertices = match &o["vertices"] {
+                Value::Array(a) => json_list(a).map_err(failed)?,
+                v => return Err(failed(format!("vertices must be [[x, y], ...], found {v}"))),
+            };
             let kernel = match o.get("kernel") {
                 None => DVec2::ZERO,
-                Some(Value::Array(k)) if k.len() == 2 => DVec2::new(
-                    k[0].as_f64()
-                        .ok_or_else(|| failed("kernel x is not a number".into()))?,
-                    k[1].as_f64()
-                        .ok_or_else(|| failed("kernel y is not a number".into()))?,
-                ),
-                Some(k) => return Err(failed(format!("kernel must be [x, y], found {k}"))),
+                Some(k) => json_pair(k).map_err(|e| failed(format!("kernel: {e}")))?,
             };
-            (parse_json(&vertices).map_err(failed)?, kernel)
+            (vertices, kernel)
         }
-        Some(_) => (parse_json(&text).map_err(failed)?, DVec2::ZERO),
-        None => (parse_csv(&text).map_err(failed)?, DVec2::ZERO),
+        None => (read_general_sites(path)?, DVec2::ZERO),
     };
     let points = vertices
         .iter()
@@ -96,9 +181,62 @@ pub fn read_polygon(path: &Path) -> Result<(Vec<DVec2>, DVec2)> {
     Ok((points, kernel))
 }
 
-/// Parses CSV text: `x,y` and optionally the multiplicative weight `m` and the
-/// additive weight `a` per record; a first record that is not numeric is a
-/// header. Empty lines and lines starting with `#` are skipped.
+/// The columns of a CSV file: where `x`, `y` and the weights `m`, `a` stand.
+struct CsvColumns {
+    names: Vec<&'static str>,
+}
+
+impl CsvColumns {
+    /// Columns named by a header line.
+    fn from_header(fields: &csv::StringRecord, line: u64) -> Result<Self, String> {
+        let mut names = Vec::new();
+        for field in fields {
+            let name = match field.to_ascii_lowercase().as_str() {
+                "x" => "x",
+                "y" => "y",
+                "m" => "m",
+                "a" => "a",
+                _ => {
+                    return Err(format!(
+                        "line {line}: column `{field}` is not one pixgeo reads; name the columns x, y and optionally m (multiplicative weight) and a (additive weight)"
+                    ))
+                }
+            };
+            if names.contains(&name) {
+                return Err(format!("line {line}: column `{name}` appears twice"));
+            }
+            names.push(name);
+        }
+        if !names.contains(&"x") || !names.contains(&"y") {
+            return Err(format!("line {line}: the header needs columns x and y"));
+        }
+        Ok(Self { names })
+    }
+
+    /// Columns of a file without a header: `x,y` only.
+    fn positional(count: usize, line: u64) -> Result<Self, String> {
+        if count != 2 {
+            return Err(format!(
+                "line {line}: {count} columns without a header; a file without a header has two columns x,y, and weights need a header line naming them, e.g. `x,y,m,a`"
+            ));
+        }
+        Ok(Self {
+            names: vec!["x", "y"],
+        })
+    }
+}
+
+/// A header line is names: every field starts with a letter or `_` and is not
+/// a number (`nan` and `inf` are numbers).
+fn is_header(fields: &csv::StringRecord) -> bool {
+    fields.iter().all(|f| {
+        f.parse::<f64>().is_err() && f.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+    })
+}
+
+/// Parses CSV text: `x,y` per record, or the columns a header names (`x`, `y`,
+/// and the multiplicative weight `m` and additive weight `a`). Empty lines and
+/// lines starting with `#` are skipped.
 pub fn parse_csv(text: &str) -> Result<Vec<Site>, String> {
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
@@ -106,6 +244,7 @@ pub fn parse_csv(text: &str) -> Result<Vec<Site>, String> {
         .trim(csv::Trim::All)
         .flexible(true)
         .from_reader(text.as_bytes());
+    let mut columns: Option<CsvColumns> = None;
     let mut sites = Vec::new();
     for (index, record) in reader.records().enumerate() {
         let record = record.map_err(|e| format!("CSV: {e}"))?;
@@ -113,31 +252,141 @@ pub fn parse_csv(text: &str) -> Result<Vec<Site>, String> {
         if record.iter().all(|f| f.is_empty()) {
             continue;
         }
-        let numbers: Vec<Result<f64, _>> = record.iter().map(str::parse::<f64>).collect();
-        if index == 0 && numbers.iter().any(|n| n.is_err()) {
-            continue; // header
-        }
-        if !(2..=4).contains(&record.len()) {
+        let columns = match &columns {
+            Some(c) => c,
+            None if is_header(&record) => {
+                columns = Some(CsvColumns::from_header(&record, line)?);
+                continue;
+            }
+            None => columns.insert(CsvColumns::positional(record.len(), line)?),
+        };
+        if record.len() != columns.names.len() {
             return Err(format!(
-                "line {line}: expected 2 to 4 columns `x,y[,m[,a]]`, found {}",
+                "line {line}: expected {} columns ({}), found {}",
+                columns.names.len(),
+                columns.names.join(","),
                 record.len()
             ));
         }
-        let column = |k: usize, name: &str| {
-            numbers[k]
-                .clone()
-                .map_err(|_| format!("line {line}: {name} `{}` is not a number", &record[k]))
-        };
-        let mut site = Site::point(DVec2::new(column(0, "x")?, column(1, "y")?));
-        if record.len() > 2 {
-            site.multiplicative = column(2, "m")?;
+        let mut site = Site::point(DVec2::ZERO);
+        let mut point = DVec2::ZERO;
+        for (k, (field, name)) in record.iter().zip(&columns.names).enumerate() {
+            let value: f64 = field.parse().map_err(|_| {
+                format!(
+                    "line {line}, column {} ({name}): `{field}` is not a number",
+                    k + 1
+                )
+            })?;
+            match *name {
+                "x" => point.x = value,
+                "y" => point.y = value,
+                "m" => site.multiplicative = value,
+                _ => site.additive = value,
+            }
         }
-        if record.len() > 3 {
-            site.additive = column(3, "a")?;
-        }
+        site.shape = Shape::Point(point);
         sites.push(site);
     }
     Ok(sites)
+}
+
+/// Parses GeoJSON text: Point, MultiPoint, LineString (one segment site per
+/// edge) and MultiLineString geometries, bare, in a Feature (whose properties
+/// `m` and `a` weigh its sites) or in a FeatureCollection.
+pub fn parse_geojson(text: &str) -> Result<Vec<Site>, String> {
+    let value: Value = serde_json::from_str(text).map_err(|e| format!("JSON: {e}"))?;
+    let mut sites = Vec::new();
+    geojson_object(&value, (1.0, 0.0), &mut sites)?;
+    Ok(sites)
+}
+
+fn geojson_object(v: &Value, weights: (f64, f64), out: &mut Vec<Site>) -> Result<(), String> {
+    let kind = v.get("type").and_then(Value::as_str).unwrap_or_default();
+    let coordinates = || {
+        v.get("coordinates")
+            .ok_or_else(|| format!("a {kind} needs \"coordinates\""))
+    };
+    let positions = |v: &Value| -> Result<Vec<DVec2>, String> {
+        match v {
+            Value::Array(a) => a.iter().map(geojson_position).collect(),
+            _ => Err(format!("{kind} coordinates must be an array of positions")),
+        }
+    };
+    let weigh = |shape| Site {
+        shape,
+        multiplicative: weights.0,
+        additive: weights.1,
+    };
+    let line = |points: Vec<DVec2>, out: &mut Vec<Site>| {
+        if points.len() < 2 {
+            return Err(format!("a {kind} needs at least two positions"));
+        }
+        out.extend(points.windows(2).map(|w| weigh(Shape::Segment(w[0], w[1]))));
+        Ok(())
+    };
+    match kind {
+        "FeatureCollection" => match v.get("features") {
+            Some(Value::Array(features)) => features.iter().enumerate().try_for_each(|(i, f)| {
+                geojson_object(f, weights, out).map_err(|e| format!("feature {i}: {e}"))
+            }),
+            _ => Err("a FeatureCollection needs a \"features\" array".into()),
+        },
+        "Feature" => {
+            let property = |name: &str, default: f64| {
+                match v.get("properties").and_then(|p| p.get(name)) {
+                    None | Some(Value::Null) => Ok(default),
+                    Some(p) => p
+                        .as_f64()
+                        .ok_or_else(|| format!("property {name} must be a number, found {p}")),
+                }
+            };
+            let weights = (property("m", 1.0)?, property("a", 0.0)?);
+            match v.get("geometry") {
+                Some(g) if !g.is_null() => geojson_object(g, weights, out),
+                _ => Err("a Feature without a geometry".into()),
+            }
+        }
+        "GeometryCollection" => match v.get("geometries") {
+            Some(Value::Array(gs)) => gs.iter().try_for_each(|g| geojson_object(g, weights, out)),
+            _ => Err("a GeometryCollection needs a \"geometries\" array".into()),
+        },
+        "Point" => {
+            out.push(weigh(Shape::Point(geojson_position(coordinates()?)?)));
+            Ok(())
+        }
+        "MultiPoint" => {
+            out.extend(positions(coordinates()?)?.into_iter().map(|p| weigh(Shape::Point(p))));
+            Ok(())
+        }
+        "LineString" => line(positions(coordinates()?)?, out),
+        "MultiLineString" => match coordinates()? {
+            Value::Array(lines) => lines.iter().try_for_each(|l| line(positions(l)?, out)),
+            _ => Err("MultiLineString coordinates must be an array of lines".into()),
+        },
+        "" => Err("a GeoJSON object needs a \"type\"".into()),
+        other => Err(format!(
+            "GeoJSON {other} is not a site geometry pixgeo reads (Point, MultiPoint, LineString, MultiLineString)"
+        )),
+    }
+}
+
+/// A GeoJSON position `[x, y]` or `[x, y, z]`; the plane takes x and y.
+fn geojson_position(v: &Value) -> Result<DVec2, String> {
+    match v {
+        Value::Array(c) if c.len() == 2 || c.len() == 3 => json_pair(&Value::Array(c[..2].to_vec())),
+        _ => Err(format!("a position must be [x, y] or [x, y, z], found {v}")),
+    }
+}
+
+/// `[x, y]` of two numbers.
+fn json_pair(v: &Value) -> Result<DVec2, String> {
+    match v {
+        Value::Array(xy) if xy.len() == 2 => match (xy[0].as_f64(), xy[1].as_f64()) {
+            (Some(x), Some(y)) => Ok(DVec2::new(x, y)),
+            _ => Err(format!("[x, y] must hold two numbers, found {v}")),
+        },
+        _ => Err(format!("expected [x, y], found {v}")),
+    }
 }
 
 /// Parses JSON text in one of the accepted shapes.
@@ -145,12 +394,21 @@ pub fn parse_json(text: &str) -> Result<Vec<Site>, String> {
     let value: Value = serde_json::from_str(text).map_err(|e| format!("JSON: {e}"))?;
     let list = match &value {
         Value::Array(a) => a,
+        Value::Object(o) if o.contains_key("type") => {
+            let mut sites = Vec::new();
+            geojson_object(&value, (1.0, 0.0), &mut sites)?;
+            return Ok(sites);
+        }
         Value::Object(o) => match o.get("sites") {
             Some(Value::Array(a)) => a,
-            _ => return Err("JSON object needs a \"sites\" array".into()),
+            _ => return Err("JSON object needs a \"sites\" array (or a GeoJSON \"type\")".into()),
         },
         _ => return Err("JSON must be an array of sites or an object with \"sites\"".into()),
     };
+    json_list(list)
+}
+
+fn json_list(list: &[Value]) -> Result<Vec<Site>, String> {
     list.iter()
         .enumerate()
         .map(|(i, v)| json_site(v).map_err(|e| format!("site {i}: {e}, found {v}")))
@@ -240,13 +498,89 @@ mod tests {
         assert_eq!(a, vec![pt(1.0, 2.0), pt(3.5, -4.0), pt(50.0, 6.0)]);
         assert_eq!(parse_csv("1,2\n").unwrap(), vec![pt(1.0, 2.0)]);
         assert!(parse_csv("1,2\n3,x\n").unwrap_err().contains("line 2"));
-        assert!(parse_csv("1,2,3,4,5\n").unwrap_err().contains("5"));
-        // Weight columns.
-        let w = parse_csv("x,y,m,a\n1,2,3,-4\n5,6,0.5\n").unwrap();
+        assert!(parse_csv("x,y\n1,2,3,4,5\n").unwrap_err().contains("5"));
+        // Weight columns by their names, in any order.
+        let w = parse_csv("x,y,m,a\n1,2,3,-4\n").unwrap();
         assert_eq!((w[0].multiplicative, w[0].additive), (3.0, -4.0));
-        assert_eq!((w[1].multiplicative, w[1].additive), (0.5, 0.0));
+        let w = parse_csv("a,Y,x\n-4,2,1\n").unwrap();
+        assert_eq!((w[0].shape, w[0].additive), (Shape::Point(DVec2::new(1.0, 2.0)), -4.0));
         // NaN parses; the algorithms reject it with the site's index.
         assert!(matches!(parse_csv("nan,1\n").unwrap()[0].shape, Shape::Point(p) if p.x.is_nan()));
+    }
+
+    #[test]
+    fn csv_never_guesses() {
+        // A column pixgeo does not read is named, not taken for a weight.
+        assert!(parse_csv("x,y,id\n1,2,3\n").unwrap_err().contains("`id`"));
+        // A third column without a header is ambiguous.
+        assert!(parse_csv("1,2,3\n").unwrap_err().contains("header"));
+        // A malformed first row is an error, not a header.
+        let e = parse_csv("1,2x\n3,4\n5,6\n").unwrap_err();
+        assert!(e.contains("line 1, column 2 (y): `2x`"), "{e}");
+        assert!(parse_csv("x,x\n1,2\n").unwrap_err().contains("twice"));
+        assert!(parse_csv("x,m\n1,2\n").unwrap_err().contains("x and y"));
+    }
+
+    #[test]
+    fn numbers_are_read_bit_for_bit() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..2000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let v = f64::from_bits(state);
+            if !v.is_finite() {
+                continue;
+            }
+            let text = format!("{v:?}");
+            let csv = parse_csv(&format!("{text},{text}\n")).unwrap();
+            let json = parse_json(&format!("[[{text}, {text}]]")).unwrap();
+            let geo = parse_geojson(&format!(r#"{{"type":"Point","coordinates":[{text},{text}]}}"#))
+                .unwrap();
+            for site in [&csv[0], &json[0], &geo[0]] {
+                assert!(matches!(site.shape, Shape::Point(p) if p.x.to_bits() == v.to_bits()));
+            }
+        }
+        // The case that once moved by one unit in the last place.
+        let json = parse_json("[[3.7974166882130675, 0]]").unwrap();
+        assert!(matches!(json[0].shape, Shape::Point(p) if p.x == 3.7974166882130675));
+    }
+
+    #[test]
+    fn geojson_geometries() {
+        let sites = parse_geojson(
+            r#"{"type": "FeatureCollection", "features": [
+                {"type": "Feature", "properties": {"m": 2}, "geometry": {"type": "Point", "coordinates": [1, 2]}},
+                {"type": "Feature", "properties": null, "geometry": {"type": "MultiPoint", "coordinates": [[3, 4], [5, 6, 7]]}},
+                {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[0, 0], [1, 0], [1, 1]]}}]}"#,
+        )
+        .unwrap();
+        assert_eq!(sites.len(), 5);
+        assert_eq!(sites[0].multiplicative, 2.0);
+        assert!(matches!(sites[2].shape, Shape::Point(p) if p == DVec2::new(5.0, 6.0)));
+        assert!(matches!(sites[4].shape, Shape::Segment(a, b) if a == DVec2::X && b == DVec2::ONE));
+        assert!(parse_geojson(r#"{"type": "Polygon", "coordinates": []}"#)
+            .unwrap_err()
+            .contains("Polygon"));
+        assert!(parse_geojson(r#"{"type": "LineString", "coordinates": [[0, 0]]}"#).is_err());
+        // GeoJSON in a .json file is read as GeoJSON.
+        assert_eq!(parse_json(r#"{"type": "Point", "coordinates": [1, 2]}"#).unwrap().len(), 1);
+    }
+
+    #[test]
+    fn arrays_of_two_to_four_columns() {
+        let s = sites_from_array(&[2, 3], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]).unwrap();
+        assert_eq!(s[1].multiplicative, 6.0);
+        assert!(sites_from_array(&[2, 5], &[0.0; 10]).is_err());
+        assert!(sites_from_array(&[4], &[0.0; 4]).is_err());
+    }
+
+    #[test]
+    fn formats_by_extension() {
+        assert_eq!(SiteFormat::of(Path::new("a.GeoJSON")).unwrap(), SiteFormat::GeoJson);
+        assert_eq!(SiteFormat::of(Path::new("a.npy")).unwrap(), SiteFormat::Npy);
+        assert!(SiteFormat::of(Path::new("a.xlsx")).is_err());
+        assert!(SiteFormat::of(Path::new("sites")).is_err());
     }
 
     #[test]

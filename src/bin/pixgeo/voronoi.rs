@@ -211,6 +211,7 @@ fn parse_speedup(s: &str) -> Result<Speedup, String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    check_options(&args)?;
     let (frame, general) = args.input.frame_and_general_sites()?;
     if general.iter().any(|s| !s.is_plain_point()) {
         return general_sites(&args, &general, frame);
@@ -234,9 +235,6 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         args.speedup
     };
-    if args.peel && args.degree.is_none() && args.order.is_none() {
-        bail!("--peel computes the levels of --degree or --order");
-    }
     if args.method != Method::Cones {
         return seed_pixels(&args, &sites, frame);
     }
@@ -285,12 +283,7 @@ pub fn run(args: Args) -> Result<()> {
         .transpose()?;
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     // Distances come in world units; contours are drawn in those units too.
-    let contour_step = match args.contours {
-        Some(step) if !(step > 0.0 && step.is_finite()) => {
-            bail!("--contours needs a positive step, not {step}")
-        }
-        step => step.map(|s| s as f32),
-    };
+    let contour_step = args.contours.map(|s| s as f32);
     // A tiled picture shows its progress, band by band, on a terminal.
     let mut progress: Option<ProgressBar> = None;
     let show_progress = !args.json && std::io::stderr().is_terminal();
@@ -374,10 +367,45 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// Refuses options that contradict each other or that this run would ignore.
+fn check_options(args: &Args) -> Result<()> {
+    pixgeo::io::output::check_distinct(
+        [
+            ("-o", &args.output),
+            ("--labels", &args.labels),
+            ("--distance", &args.distance),
+            ("--ties", &args.ties),
+        ]
+        .into_iter()
+        .filter_map(|(name, p)| Some((name, p.as_deref()?))),
+    )?;
+    if let Some(step) = args.contours {
+        if !(step > 0.0 && step.is_finite()) {
+            bail!("--contours needs a positive step, not {step}");
+        }
+        if args.output.is_none() {
+            bail!("--contours draws on the picture: give -o PICTURE.png");
+        }
+    }
+    if args.each_level && args.output.is_none() {
+        bail!("--each-level writes pictures beside -o: give -o PICTURE.png");
+    }
+    if args.peel && args.degree.is_none() && args.order.is_none() {
+        bail!("--peel computes the levels of --degree or --order");
+    }
+    if !(args.epsilon > 0.0 && args.epsilon.is_finite()) {
+        bail!("--epsilon needs a positive distance in pixels, not {}", args.epsilon);
+    }
+    Ok(())
+}
+
 /// The diagram of weighted points, segments, circles and arcs (thesis §3.8–3.9).
 fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
-    if args.degree.is_some() || args.order.is_some() || args.furthest {
-        bail!("--degree, --order and --furthest take unweighted points; these sites have weights or shapes");
+    if args.degree.is_some() || args.order.is_some() || args.furthest || args.peel {
+        bail!("--degree, --order, --furthest and --peel take unweighted points; these sites have weights or shapes");
+    }
+    if args.method != Method::Cones {
+        bail!("--method flood and jfa flood from unweighted points' pixels; these sites have weights or shapes (use --method cones)");
     }
     let backend = Backend::choose(args.device.as_deref())?;
     let accuracy = match args.mode {
@@ -518,12 +546,7 @@ fn whole_picture(
     }
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
     let (w, h) = (frame.width as u64, frame.height as u64);
-    let contour_step = match args.contours {
-        Some(step) if !(step > 0.0 && step.is_finite()) => {
-            bail!("--contours needs a positive step, not {step}")
-        }
-        step => step.map(|s| s as f32),
-    };
+    let contour_step = args.contours.map(|s| s as f32);
     // One picture of labels (and their distances for contours).
     let draw = |path: &std::path::Path, labels: &[u32], distances: &[f32]| -> Result<()> {
         let mut png = PngStream::create(path, frame.width, frame.height)?;
