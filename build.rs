@@ -152,7 +152,11 @@ fn compile(
         );
     }
     let bytes = fs::read(spv).expect("glslc output");
-    assert!(bytes.len() % 4 == 0, "{}: SPIR-V is not whole words", path.display());
+    assert!(
+        bytes.len() % 4 == 0,
+        "{}: SPIR-V is not whole words",
+        path.display()
+    );
     bytes
         .chunks_exact(4)
         .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))

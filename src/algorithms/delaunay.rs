@@ -36,6 +36,7 @@ use crate::{
     geometry::{
         frame::{check_sites, distinct_by},
         mesh::{orient, Mesh},
+        scale,
         triangulation::{validate, Validity, DUMMY},
     },
     machine::Machine,
@@ -148,24 +149,43 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
-/// The smallest value q · 2^k (q in 4..=7) at least `x`: products of small
-/// integers and such a value are exact.
+/// The smallest value q · 2^k (q in 4..=8) at least `x`, for a positive normal
+/// `x`: products of small integers and such a value are exact.
 fn three_bit_ceil(x: f64) -> f64 {
     let k = x.log2().floor() as i32 - 2;
     (4..=8)
         .map(|q| q as f64 * 2f64.powi(k))
         .find(|&c| c >= x)
-        .expect("8 · 2^k exceeds x")
+        .unwrap_or(8.0 * 2f64.powi(k))
 }
 
 /// The Delaunay triangulation of `points` (at least three, not all on one
-/// line; repeated points are reported and dropped).
+/// line; repeated points are reported and dropped). Any finite coordinates are
+/// taken exactly: points whose magnitudes would overflow or underflow the exact
+/// predicates are triangulated scaled by a power of two, which changes no
+/// triangle.
 pub fn delaunay(
     machine: &Machine,
     points: &[DVec2],
     options: &DelaunayOptions,
 ) -> Result<Delaunay> {
     check_sites(points)?;
+    let k = scale::predicate_exponent(points)?;
+    if k == 0 {
+        return triangulate(machine, points, options);
+    }
+    let mut result = triangulate(machine, &scale::scaled(points, k), options)?;
+    let d = &mut result.digital;
+    d.origin = DVec2::new(
+        scale::times_power_of_two(d.origin.x, -k),
+        scale::times_power_of_two(d.origin.y, -k),
+    );
+    d.cell = scale::times_power_of_two(d.cell, -k);
+    result.stats.cell = d.cell;
+    Ok(result)
+}
+
+fn triangulate(machine: &Machine, points: &[DVec2], options: &DelaunayOptions) -> Result<Delaunay> {
     // Triangles (about two per point) are numbered in 32 bits too.
     if points.len() >= u32::MAX as usize / 2 {
         return Err(Error::InvalidInput("too many points".into()));
@@ -176,7 +196,7 @@ pub fn delaunay(
     });
     let side = options.grid.unwrap_or_else(|| default_grid(points.len()));
     // The texture comes out at most two pixels wider than the grid.
-    if side + 2 > crate::algorithms::flooding::MAX_SIDE {
+    if side > crate::algorithms::flooding::MAX_SIDE - 2 {
         return Err(Error::InvalidInput(format!(
             "a grid of {side} pixels is larger than {}",
             crate::algorithms::flooding::MAX_SIDE - 2
@@ -187,7 +207,13 @@ pub fn delaunay(
             "a grid of {side} pixels leaves no room inside its {MARGIN}-pixel margins"
         )));
     }
-    let span = (hi - lo).max_element().max(f64::MIN_POSITIVE);
+    let span = (hi - lo).max_element();
+    if span == 0.0 {
+        return Err(Error::InvalidInput(format!(
+            "all {} points are one point: a triangulation needs three distinct points not on one line",
+            points.len()
+        )));
+    }
     let cell = three_bit_ceil(span / (side - 2 * MARGIN - 1) as f64);
     let first = (lo / cell).floor() - MARGIN as f64;
     let origin = first * cell;

@@ -67,7 +67,7 @@ impl Frame {
         let [xmin, ymin, xmax, ymax] = bbox;
         if !bbox.iter().all(|v| v.is_finite()) || xmax <= xmin || ymax <= ymin {
             return Err(Error::InvalidInput(format!(
-                "bbox {xmin},{ymin},{xmax},{ymax}: need finite XMIN < XMAX and YMIN < YMAX"
+                "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?}: need finite XMIN < XMAX and YMIN < YMAX"
             )));
         }
         if width == 0 {
@@ -75,8 +75,25 @@ impl Frame {
                 "picture width must be at least 1".into(),
             ));
         }
-        let scale = width as f64 / (xmax - xmin);
-        let natural = (ymax - ymin) * scale;
+        let (dx, dy) = (xmax - xmin, ymax - ymin);
+        if !(dx.is_finite() && dy.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?} is wider than the largest float: its sides must be finite"
+            )));
+        }
+        let scale = width as f64 / dx;
+        let natural = dy * scale;
+        if !(scale.is_normal() && natural.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?} cannot be mapped onto {width} pixels: its scale {scale:e} pixels per unit is out of range"
+            )));
+        }
+        if height.is_none() && natural > Self::MAX_SIDE as f64 {
+            return Err(Error::InvalidInput(format!(
+                "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?} at width {width} gives a height of {natural:.0} pixels, more than {}: give a wider picture or a flatter box",
+                Self::MAX_SIDE
+            )));
+        }
         let height = match height {
             Some(h) => {
                 if (h as f64 - natural).abs() > 1.0 {

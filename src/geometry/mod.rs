@@ -12,6 +12,7 @@ pub mod frame;
 pub mod mesh;
 pub mod metric;
 pub mod radius;
+pub mod scale;
 pub mod site;
 pub mod surface;
 pub mod triangulation;

@@ -288,6 +288,11 @@ pub fn validate(points: &[DVec2], triangles: &[[u32; 3]]) -> Validity {
 ///   triangulation of the convex hull means Delaunay.
 pub fn check_delaunay(points: &[DVec2], triangles: &[[u32; 3]], expected: &[u32]) -> Vec<String> {
     let mut problems = Vec::new();
+    // The predicates' signs are those of the points scaled into their range.
+    let points = &match super::scale::predicate_exponent(points) {
+        Ok(k) => super::scale::scaled(points, k),
+        Err(e) => return vec![e.to_string()],
+    };
     let p = |v: u32| points[v as usize];
     let mut owner: HashMap<(u32, u32), usize> = HashMap::with_capacity(3 * triangles.len());
     let mut area = 0.0;

@@ -155,7 +155,8 @@ mod tests {
 
     #[test]
     fn a_full_device_is_an_error() {
-        let (out, mut file) = OutputFile::create(Path::new("/dev/full"), "png", "pictures").unwrap();
+        let (out, mut file) =
+            OutputFile::create(Path::new("/dev/full"), "png", "pictures").unwrap();
         assert!(file.write_all(b"x").is_err());
         out.commit().unwrap();
     }

@@ -373,7 +373,9 @@ fn geojson_object(v: &Value, weights: (f64, f64), out: &mut Vec<Site>) -> Result
 /// A GeoJSON position `[x, y]` or `[x, y, z]`; the plane takes x and y.
 fn geojson_position(v: &Value) -> Result<DVec2, String> {
     match v {
-        Value::Array(c) if c.len() == 2 || c.len() == 3 => json_pair(&Value::Array(c[..2].to_vec())),
+        Value::Array(c) if c.len() == 2 || c.len() == 3 => {
+            json_pair(&Value::Array(c[..2].to_vec()))
+        }
         _ => Err(format!("a position must be [x, y] or [x, y, z], found {v}")),
     }
 }
@@ -503,7 +505,10 @@ mod tests {
         let w = parse_csv("x,y,m,a\n1,2,3,-4\n").unwrap();
         assert_eq!((w[0].multiplicative, w[0].additive), (3.0, -4.0));
         let w = parse_csv("a,Y,x\n-4,2,1\n").unwrap();
-        assert_eq!((w[0].shape, w[0].additive), (Shape::Point(DVec2::new(1.0, 2.0)), -4.0));
+        assert_eq!(
+            (w[0].shape, w[0].additive),
+            (Shape::Point(DVec2::new(1.0, 2.0)), -4.0)
+        );
         // NaN parses; the algorithms reject it with the site's index.
         assert!(matches!(parse_csv("nan,1\n").unwrap()[0].shape, Shape::Point(p) if p.x.is_nan()));
     }
@@ -535,8 +540,10 @@ mod tests {
             let text = format!("{v:?}");
             let csv = parse_csv(&format!("{text},{text}\n")).unwrap();
             let json = parse_json(&format!("[[{text}, {text}]]")).unwrap();
-            let geo = parse_geojson(&format!(r#"{{"type":"Point","coordinates":[{text},{text}]}}"#))
-                .unwrap();
+            let geo = parse_geojson(&format!(
+                r#"{{"type":"Point","coordinates":[{text},{text}]}}"#
+            ))
+            .unwrap();
             for site in [&csv[0], &json[0], &geo[0]] {
                 assert!(matches!(site.shape, Shape::Point(p) if p.x.to_bits() == v.to_bits()));
             }
@@ -564,7 +571,12 @@ mod tests {
             .contains("Polygon"));
         assert!(parse_geojson(r#"{"type": "LineString", "coordinates": [[0, 0]]}"#).is_err());
         // GeoJSON in a .json file is read as GeoJSON.
-        assert_eq!(parse_json(r#"{"type": "Point", "coordinates": [1, 2]}"#).unwrap().len(), 1);
+        assert_eq!(
+            parse_json(r#"{"type": "Point", "coordinates": [1, 2]}"#)
+                .unwrap()
+                .len(),
+            1
+        );
     }
 
     #[test]
@@ -577,7 +589,10 @@ mod tests {
 
     #[test]
     fn formats_by_extension() {
-        assert_eq!(SiteFormat::of(Path::new("a.GeoJSON")).unwrap(), SiteFormat::GeoJson);
+        assert_eq!(
+            SiteFormat::of(Path::new("a.GeoJSON")).unwrap(),
+            SiteFormat::GeoJson
+        );
         assert_eq!(SiteFormat::of(Path::new("a.npy")).unwrap(), SiteFormat::Npy);
         assert!(SiteFormat::of(Path::new("a.xlsx")).is_err());
         assert!(SiteFormat::of(Path::new("sites")).is_err());

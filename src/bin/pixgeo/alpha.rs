@@ -75,20 +75,25 @@ pub fn run(args: Args) -> Result<()> {
     let side = args.size.unwrap_or(DEFAULT_SIDE);
     let hull = alpha_hull::alpha_hull(&machine, &points, args.alpha, method, side)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&hull)?);
+        outln!("{}", serde_json::to_string_pretty(&hull)?);
     } else {
         let radius = hull
             .radius
             .map_or("the convex hull".to_string(), |r| format!("radius {r}"));
-        println!(
+        outln!(
             "alpha {} ({radius}, method {}): {} of {}x{} pixels inside, {} discs drawn",
-            hull.alpha, hull.method, hull.inside, hull.width, hull.height, hull.discs
+            hull.alpha,
+            hull.method,
+            hull.inside,
+            hull.width,
+            hull.height,
+            hull.discs
         );
         if !hull.boundary_sites.is_empty() {
-            println!("  boundary sites {:?}", hull.boundary_sites);
+            outln!("  boundary sites {:?}", hull.boundary_sites);
         }
         if hull.alpha < 0.0 {
-            println!(
+            outln!(
                 "  {} inside pixels lie within {} of the picture border, where the hull may be overestimated",
                 hull.uncertain, hull.border_band
             );

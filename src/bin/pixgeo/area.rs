@@ -99,20 +99,20 @@ fn solve(c: &Common, solver: Solver, what: &str) -> Result<()> {
 
 fn report(answer: &AreaAnswer, points: &[DVec2], json: bool, what: &str) -> Result<()> {
     if json {
-        println!("{}", serde_json::to_string_pretty(answer)?);
+        outln!("{}", serde_json::to_string_pretty(answer)?);
         return Ok(());
     }
     let which = match answer.extreme {
         Extreme::Smallest => "smallest",
         Extreme::Largest => "largest",
     };
-    println!("{which} {what}: area {}", answer.area);
+    outln!("{which} {what}: area {}", answer.area);
     for &i in &answer.sites {
         let p = points[i as usize];
-        println!("  site {i}: ({}, {})", p.x, p.y);
+        outln!("  site {i}: ({}, {})", p.x, p.y);
     }
     if answer.decided_by == "pixels" {
-        println!(
+        outln!(
             "  {} roofs on {}x{} pixels proposed area {:.6e}; {} searched exactly",
             answer.roofs,
             answer.width,
@@ -121,7 +121,7 @@ fn report(answer: &AreaAnswer, points: &[DVec2], json: bool, what: &str) -> Resu
             answer.checked
         );
     } else {
-        println!("  decided by {}", answer.decided_by);
+        outln!("  decided by {}", answer.decided_by);
     }
     Ok(())
 }

@@ -55,7 +55,8 @@ pub struct Args {
     output: Option<PathBuf>,
     /// Longest side of the PNG in pixels (each texture pixel is drawn as a
     /// square block).
-    #[arg(long, default_value_t = 1024, value_name = "PIXELS")]
+    #[arg(long, default_value_t = 1024, value_name = "PIXELS",
+          value_parser = clap::value_parser!(u32).range(1..=16384))]
     picture_size: u32,
     /// Texture pixels along the longer side of the bounding box (default: about
     /// √n, at least 64; the pixel side is rounded up to a 3-bit mantissa, so
@@ -106,7 +107,7 @@ pub fn run(args: Args) -> Result<()> {
             "check": problems,
             "stats": result.stats,
         });
-        println!("{}", serde_json::to_string(&mesh)?);
+        outln!("{}", serde_json::to_string(&mesh)?);
     } else {
         report(&result, points.len(), problems.as_deref());
     }
@@ -121,20 +122,20 @@ pub fn run(args: Args) -> Result<()> {
 fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
     let s = &result.stats;
     let f = &s.flooding;
-    println!(
+    outln!(
         "{n} points ({} repeated, dropped): {} Delaunay triangles",
         result.duplicates.len(),
         result.triangles.len()
     );
-    println!(
-        "  grid {}x{} ({} per pixel): {} seeds, {} points shared a pixel",
+    outln!(
+        "  grid {}x{} ({:?} per pixel): {} seeds, {} points shared a pixel",
         s.width,
         s.height,
         s.cell,
         s.seeds,
         s.points - s.seeds
     );
-    println!(
+    outln!(
         "  colouring {:.1} ms, repair {:.1} ms ({} debris pixels recoloured), dualization {:.1} ms ({} triangles)",
         f.colour_ms,
         f.debris_ms + f.repair_ms,
@@ -142,7 +143,7 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
         s.dualize_ms,
         s.digital_triangles
     );
-    println!(
+    outln!(
         "  shifting {:.1} ms ({} hull flips, {} seeds moved, {} taken out), insertion {:.1} ms ({} points, {} flips), flips {:.1} ms ({})",
         s.shift_ms,
         s.hull_flips,
@@ -155,21 +156,24 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
         s.delaunay_flips
     );
     if let Some(why) = &s.incremental {
-        println!("  built by insertion alone: {why}");
+        outln!("  built by insertion alone: {why}");
     }
     if let Some(v) = &result.digital_validity {
         if v.is_valid() {
-            println!(
+            outln!(
                 "  digital triangulation valid: V {} E {} F {}, V - E + F = {}",
-                v.vertices, v.edges, v.triangles, v.euler_characteristic
+                v.vertices,
+                v.edges,
+                v.triangles,
+                v.euler_characteristic
             );
         } else {
-            println!("  digital triangulation NOT valid: {:?}", v.problems);
+            outln!("  digital triangulation NOT valid: {:?}", v.problems);
         }
     }
     match problems {
-        Some([]) => println!("  check: counter-clockwise, half-edges paired, hull convex, areas add up, every edge locally Delaunay"),
-        Some(p) => println!("  check FAILED: {p:?}"),
+        Some([]) => outln!("  check: counter-clockwise, half-edges paired, hull convex, areas add up, every edge locally Delaunay"),
+        Some(p) => outln!("  check FAILED: {p:?}"),
         None => {}
     }
 }

@@ -156,14 +156,14 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
             "blue_to_red": answer_json(&h.b_to_a, &blue, &red, ["blue", "red"]),
             "device": machine.device_name(),
         });
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        outln!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
-        println!("Hausdorff distance {}", h.distance);
-        println!(
+        outln!("Hausdorff distance {}", h.distance);
+        outln!(
             "red to blue: {}",
             describe(&h.a_to_b, &red, &blue, ["red", "blue"])
         );
-        println!(
+        outln!(
             "blue to red: {}",
             describe(&h.b_to_a, &blue, &red, ["blue", "red"])
         );
@@ -226,9 +226,9 @@ fn print_answer(
     if common.json {
         let mut summary = answer_json(answer, sets[0], sets[1], names.json);
         summary["device"] = json!(machine.device_name());
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        outln!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
-        println!("{what} {}", describe(answer, sets[0], sets[1], names.text));
+        outln!("{what} {}", describe(answer, sets[0], sets[1], names.text));
     }
     Ok(())
 }

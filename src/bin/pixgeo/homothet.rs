@@ -209,16 +209,18 @@ fn read_region(path: &Path) -> Result<Region> {
 
 fn report(answer: &HomothetAnswer, json: bool, what: &str) -> Result<()> {
     if json {
-        println!("{}", serde_json::to_string_pretty(answer)?);
+        outln!("{}", serde_json::to_string_pretty(answer)?);
         return Ok(());
     }
     let e = &answer.exact;
-    println!(
+    outln!(
         "{what} homothet: centre ({}, {}), scale {}",
-        e.centre[0], e.centre[1], e.scale
+        e.centre[0],
+        e.centre[1],
+        e.scale
     );
-    println!("  determined by sites {:?}", e.sites);
-    println!(
+    outln!("  determined by sites {:?}", e.sites);
+    outln!(
         "  picture ({}x{}, {}): centre ({:.4}, {:.4}), scale {:.6} (within {:.2e} of the exact one)",
         answer.width,
         answer.height,

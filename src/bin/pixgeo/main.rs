@@ -1,5 +1,12 @@
 //! The pixgeo command-line tool.
 
+/// `println!` for answers: a reader that has gone (`| head`) ends the program
+/// quietly, as other Unix tools do; stdout that cannot be written (a full disk)
+/// is an error with a non-zero exit.
+macro_rules! outln {
+    ($($arg:tt)*) => { $crate::answer_line(format_args!($($arg)*)) };
+}
+
 mod alpha;
 mod area;
 mod delaunay;
@@ -41,6 +48,23 @@ enum Command {
     Quadrangle(area::QuadrangleArgs),
     Delaunay(Box<delaunay::Args>),
     Gallery(gallery::Args),
+}
+
+fn answer_line(line: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let written = out
+        .write_fmt(line)
+        .and_then(|()| out.write_all(b"\n"))
+        .and_then(|()| out.flush());
+    match written {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => {
+            eprintln!("Error: writing the answer to stdout: {e}");
+            std::process::exit(1);
+        }
+    }
 }
 
 fn main() -> anyhow::Result<()> {

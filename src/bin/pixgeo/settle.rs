@@ -159,7 +159,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let summary = summary(&map, &frame, refined.as_ref(), backend.name(), &args);
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        outln!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         print_summary(&summary);
     }
@@ -215,21 +215,28 @@ fn summary(
 
 fn print_summary(s: &Value) {
     let settle = &s["settle"];
-    println!(
+    outln!(
         "settle point: pixel {} = {} wins {} pixels (area {:.6})",
-        settle["pixel"], settle["point"], settle["area_pixels"], settle["area"]
+        settle["pixel"],
+        settle["point"],
+        settle["area_pixels"],
+        settle["area"]
     );
     if s["ties"].as_u64().unwrap_or(0) > 1 {
-        println!("{} pixels tie for the largest potential area", s["ties"]);
+        outln!("{} pixels tie for the largest potential area", s["ties"]);
     }
     if let Some(r) = s["refined"].as_object() {
-        println!(
+        outln!(
             "refined: {} wins an exact area of {:.6} ({:.3} square pixels; {:.3} at pixel {})",
-            r["point"], r["area"], r["area_pixels"], r["start_area_pixels"], r["start_pixel"]
+            r["point"],
+            r["area"],
+            r["area_pixels"],
+            r["start_area_pixels"],
+            r["start_pixel"]
         );
     }
     let stats = &s["stats"];
-    println!(
+    outln!(
         "{} on {}: radii {:.1} ms, counting {:.1} ms, readback {:.1} ms",
         s["method"].as_str().unwrap_or_default(),
         s["device"].as_str().unwrap_or_default(),

@@ -344,7 +344,7 @@ pub fn run(args: Args) -> Result<()> {
             "speedup": speedup,
             "stats": s,
         });
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        outln!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         eprintln!(
             "{} sites, {}x{} pixels on {}: {} cone(s), {} tile(s), {} pass(es), radius \
@@ -394,7 +394,10 @@ fn check_options(args: &Args) -> Result<()> {
         bail!("--peel computes the levels of --degree or --order");
     }
     if !(args.epsilon > 0.0 && args.epsilon.is_finite()) {
-        bail!("--epsilon needs a positive distance in pixels, not {}", args.epsilon);
+        bail!(
+            "--epsilon needs a positive distance in pixels, not {}",
+            args.epsilon
+        );
     }
     Ok(())
 }
@@ -489,7 +492,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
             "mode": mode_name(args),
             "stats": d.stats,
         });
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        outln!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         eprintln!(
             "{} sites, {}x{} pixels on {}: {} drawn, {:.1} ms rendering",
@@ -672,7 +675,7 @@ fn whole_picture(
         })
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        outln!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         eprintln!(
             "{} sites, {}x{} pixels on {}",
@@ -823,7 +826,7 @@ fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
         "jfa"
     };
     if args.json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&json!({
                 "method": method,

@@ -1,0 +1,64 @@
+//! Exact scaling by powers of two, so that the exact predicates (`robust`'s
+//! orientation and incircle tests) see coordinates whose products neither
+//! overflow (coordinates past about 1e154) nor underflow (below about 1e-154).
+//! Orientation and incircle signs, and so every triangulation, are the same for
+//! points scaled by a power of two; the scaling itself is exact unless one set
+//! holds coordinates more than about 1e300 apart in ratio, which is refused.
+
+use glam::DVec2;
+
+use crate::error::{Error, Result};
+
+/// `x · 2^k`, exact where the result is a normal number; two steps, since 2^k
+/// alone may not be one.
+pub fn times_power_of_two(x: f64, k: i32) -> f64 {
+    x * 2f64.powi(k / 2) * 2f64.powi(k - k / 2)
+}
+
+/// The power of two that brings the points' largest coordinate near 1; 0 when
+/// it is already within 2^±200, where the predicates are exact.
+pub fn predicate_exponent(points: &[DVec2]) -> Result<i32> {
+    let largest = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+    if largest == 0.0 || (2f64.powi(-200)..2f64.powi(200)).contains(&largest) {
+        return Ok(0);
+    }
+    let k = -(largest.log2().floor() as i32);
+    let exact = |x: f64| times_power_of_two(times_power_of_two(x, k), -k) == x;
+    match points.iter().position(|p| !exact(p.x) || !exact(p.y)) {
+        None => Ok(k),
+        Some(i) => Err(Error::InvalidInput(format!(
+            "point {i} ({:?}, {:?}) is too small beside the largest coordinate {largest:e} to be \
+             kept exactly in one frame: coordinates may span at most about 1e300 in ratio",
+            points[i].x, points[i].y
+        ))),
+    }
+}
+
+/// The points scaled by `2^k`.
+pub fn scaled(points: &[DVec2], k: i32) -> Vec<DVec2> {
+    points
+        .iter()
+        .map(|p| DVec2::new(times_power_of_two(p.x, k), times_power_of_two(p.y, k)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scaling_is_exact_or_refused() {
+        let tiny = [DVec2::new(1e-310, 3e-310), DVec2::new(5e-324, 0.0)];
+        let k = predicate_exponent(&tiny).unwrap();
+        assert!(k > 1000);
+        let up = scaled(&tiny, k);
+        assert_eq!(scaled(&up, -k), tiny);
+        let huge = [DVec2::new(1e300, -1.7e308), DVec2::new(3.0, 0.5)];
+        let k = predicate_exponent(&huge).unwrap();
+        assert_eq!(scaled(&scaled(&huge, k), -k), huge);
+        assert_eq!(predicate_exponent(&[DVec2::new(1.0, 2.0)]).unwrap(), 0);
+        assert!(predicate_exponent(&[DVec2::new(1e300, 0.0), DVec2::new(1e-300, 0.0)]).is_err());
+    }
+}
