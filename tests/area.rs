@@ -50,7 +50,18 @@ fn inputs() -> Vec<(&'static str, Vec<DVec2>)> {
                 .map(|k| DVec2::new((k % 7 * 10) as f64, (k / 7 * 10) as f64))
                 .collect(),
         ),
+        // Unit lattices, whose collinear triples once made the pixels propose
+        // slivers and hide the unit-area quadrangles.
+        ("lattice 5x4", lattice(5, 4, 1.0)),
+        ("lattice 10x10", lattice(10, 10, 1.0)),
+        ("lattice 6x6 at 1e-7", lattice(6, 6, 1e-7)),
     ]
+}
+
+fn lattice(columns: u32, rows: u32, step: f64) -> Vec<DVec2> {
+    (0..columns * rows)
+        .map(|k| DVec2::new((k % columns) as f64 * step, (k / columns) as f64 * step))
+        .collect()
 }
 
 fn assert_close(name: &str, got: f64, want: f64) {
@@ -118,6 +129,21 @@ fn quadrangles_match_exhaustive_search() {
             );
             assert_close(name, triangle_area(p, q, l) + triangle_area(p, q, r), want);
         }
+    }
+}
+
+#[test]
+fn quadrangles_on_lattice_subsets_match_exhaustive_search() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for round in 0..12 {
+        let full = lattice(6, 5, [1.0, 3.0, 0.25][round % 3]);
+        let sites: Vec<DVec2> = full.into_iter().filter(|_| rng.gen_bool(0.6)).collect();
+        let Some((_, want)) = oracle::extremal_quadrangle(&sites, false) else {
+            continue;
+        };
+        let answer = extremal_quadrangle(&machine, &sites, Extreme::Smallest, 64).unwrap();
+        assert_close(&format!("lattice subset {round}"), answer.area, want);
     }
 }
 

@@ -338,42 +338,53 @@ pub fn extremal_quadrangle(
             sums.push((a + b, k));
         }
     }
-    let pixel_best = sums
-        .iter()
-        .map(|s| s.0)
-        .reduce(|a, b| if extreme.improves(b, Some(a)) { b } else { a })
-        .ok_or_else(|| {
-            Error::InvalidInput(
-                "no diagonal has sites on both sides; this is a pixgeo bug, please report it with the sites"
-                    .into(),
-            )
-        })?;
+    // Pairs in the order of their pixel sums, searched exactly over every site
+    // until no pair's sum, less its rounding, can beat the best exact one. A
+    // pixel sum may be too good (a site on the diagonal's line, which makes
+    // no quadrangle, rounds to a sliver on one side), never worse by more than
+    // rounding, so the pair that wins is always reached.
+    match extreme {
+        Extreme::Smallest => sums.sort_by(|a, b| a.0.total_cmp(&b.0)),
+        Extreme::Largest => sums.sort_by(|a, b| b.0.total_cmp(&a.0)),
+    }
+    let pixel_best = sums.first().map(|s| s.0).ok_or_else(|| {
+        Error::InvalidInput(
+            "no diagonal has sites on both sides; this is a pixgeo bug, please report it with the sites"
+                .into(),
+        )
+    })?;
     let reduce_ms = ms(started);
     let started = Instant::now();
-    // Pairs within rounding of the best, searched exactly over every site.
-    let slack = 1e-6 * pixel_best + 1e-9 / px2;
+    let slack = |sum: f64| 1e-6 * sum.abs() + 1e-9 / px2;
     let mut best: Option<(Vec<u32>, f64)> = None;
     let mut checked = 0;
     for &(sum, k) in &sums {
-        let close = match extreme {
-            Extreme::Smallest => sum <= pixel_best + slack,
-            Extreme::Largest => sum >= pixel_best - slack,
-        };
-        if !close {
-            continue;
+        if let Some((_, area)) = &best {
+            let hopeless = match extreme {
+                Extreme::Smallest => sum - slack(sum) > *area,
+                Extreme::Largest => sum + slack(sum) < *area,
+            };
+            if hopeless {
+                break;
+            }
         }
         checked += 1;
         let (i, j) = pair_of(k);
         if let [Some((l, a)), Some((r, b))] =
             sides_of(&points, i as usize, j as usize, extreme == Extreme::Largest)
         {
-            let v = [i, r, j, l].map(|x| chosen[x as usize]).to_vec();
             if extreme.improves(a + b, best.as_ref().map(|b| b.1)) {
+                let v = [i, r, j, l].map(|x| chosen[x as usize]).to_vec();
                 best = Some((v, a + b));
             }
         }
     }
-    let (vertices, area) = best.expect("the best pair has sites on both sides");
+    let (vertices, area) = best.ok_or_else(|| {
+        Error::InvalidInput(
+            "no diagonal has sites strictly on both sides; this is a pixgeo bug, please report it with the sites"
+                .into(),
+        )
+    })?;
     Ok(AreaAnswer {
         extreme,
         sites: vertices,
