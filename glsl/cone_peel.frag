@@ -1,9 +1,9 @@
 // variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
 #version 460
 // An exact cone peeled against the previous level (thesis §3.7): only fragments
-// deeper than the pixel's previous depth z take part, so the depth test LESS
-// finds the next layer of the arrangement. Also counts equal distances (step 3),
-// drawn there with the depth test EQUAL and the stencil incrementing.
+// after the pixel's previous (depth z, site) in the order (distance, site id)
+// take part, so the depth test LESS, over cones drawn in the order of their ids,
+// finds the next layer and names equally far sites on levels of their own.
 #include "common.glsl"
 #include "peel.glsl"
 
@@ -18,7 +18,9 @@ void main() {
         discard;
     }
     float depth = metric_key(d) * picture.fragment_depth_scale;
-    if (depth <= uintBitsToFloat(previous.words[pixel_index()])) {
+    uint p = pixel_index();
+    float before = uintBitsToFloat(previous.words[p]);
+    if (depth < before || (depth == before && id <= previous.words[pixel_count() + p])) {
         discard;
     }
     gl_FragDepth = depth;

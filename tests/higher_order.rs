@@ -29,21 +29,10 @@ fn close(a: f64, b: f64) -> bool {
 /// Level by level: the distance is the definition's l-th smallest (with
 /// multiplicity), the label a site at that distance, and no site twice per pixel.
 fn assert_levels(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str) {
-    assert_levels_with(d, sites, frame, what, true);
+    assert_levels_in(d, sites, frame, what, Metric::L2);
 }
 
-fn assert_levels_with(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str, distinct: bool) {
-    assert_levels_in(d, sites, frame, what, distinct, Metric::L2);
-}
-
-fn assert_levels_in(
-    d: &KNearest,
-    sites: &[DVec2],
-    frame: &Frame,
-    what: &str,
-    distinct: bool,
-    metric: Metric,
-) {
+fn assert_levels_in(d: &KNearest, sites: &[DVec2], frame: &Frame, what: &str, metric: Metric) {
     let truth = k_nearest_by_metric(sites, frame, d.k as usize, metric);
     let w = frame.width as usize;
     for (p, expected) in truth.iter().enumerate() {
@@ -67,7 +56,7 @@ fn assert_levels_in(
                         distances[l]
                     );
                     assert!(
-                        !distinct || !labels[..l].contains(&label),
+                        !labels[..l].contains(&label),
                         "{what}: pixel {q}: site {label} twice"
                     );
                 }
@@ -449,8 +438,8 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
 
 #[test]
 fn the_thesis_peeling_gives_the_same_levels() {
-    // Two depth buffers and a stencil (thesis §3.7): the same distances, equal
-    // distances counted by the stencil; a repeated distance keeps its first site.
+    // Two depth buffers (thesis §3.7), ties peeled by site id: the same
+    // distances, and equally far sites each on a level of their own.
     let m = machine();
     let frame = Frame::pixels(60, 50).unwrap();
     let lattice: Vec<DVec2> = (0..100)
@@ -469,13 +458,7 @@ fn the_thesis_peeling_gives_the_same_levels() {
             };
             let d = k_nearest_peeled(&m, &sites, &options)
                 .unwrap_or_else(|e| panic!("{name} {speedup:?}: {e}"));
-            assert_levels_with(
-                &d,
-                &sites,
-                &frame,
-                &format!("peeled {name} {speedup:?}"),
-                false,
-            );
+            assert_levels(&d, &sites, &frame, &format!("peeled {name} {speedup:?}"));
         }
     }
 }
@@ -499,7 +482,7 @@ fn other_metrics_give_their_k_nearest() {
                     let what = format!("{metric} {name} {speedup:?} k={k}");
                     let d =
                         k_nearest(&m, &sites, &options).unwrap_or_else(|e| panic!("{what}: {e}"));
-                    assert_levels_in(&d, &sites, &frame, &what, true, metric);
+                    assert_levels_in(&d, &sites, &frame, &what, metric);
                 }
                 let options = KNearestOptions {
                     frame,
@@ -514,7 +497,6 @@ fn other_metrics_give_their_k_nearest() {
                     &sites,
                     &frame,
                     &format!("peeled {metric} {name}"),
-                    false,
                     metric,
                 );
             }

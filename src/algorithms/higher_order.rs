@@ -3,8 +3,8 @@
 //! order-k diagram), and the furthest site (§3.7.1).
 //!
 //! The thesis peels the arrangement of cones level by level with two depth buffers
-//! and a stencil that counts equal distances, 2k cone passes for k levels
-//! ([`k_nearest_peeled`]). pixgeo draws the cones once ([`k_nearest`]): exact
+//! ([`k_nearest_peeled`], one cone pass a level, ties between equally far sites
+//! peeled in the order of their ids). pixgeo draws the cones once ([`k_nearest`]): exact
 //! cones are binned to screen tiles, and each tile's rectangle keeps, per
 //! fragment, the ids of the k nearest of its cones (`glsl/cone_tiles.frag`),
 //! whose distances the host computes; fan cones, or more levels than a tile
@@ -35,9 +35,8 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        Buffer, ChannelMask, Clear, ClearColor, Compare, ConeDraw, ConeInstance, ConePush,
-        DepthTest, DrawParams, Format, Image, Machine, Pass, PixelRect, Program, RasterState,
-        RectDraw, StencilOp, StencilTest, Target,
+        Buffer, Clear, ClearColor, Compare, ConeDraw, ConeInstance, ConePush, DepthTest,
+        DrawParams, Format, Image, Machine, Pass, PixelRect, Program, RasterState, Target,
     },
 };
 
@@ -710,25 +709,19 @@ fn bin_to_tiles(pixels: &[DVec2], frame: &Frame, radii: Vec<f64>) -> radius::Til
 }
 
 /// Computes every pixel's k nearest sites by the thesis's peeling (§3.7): level
-/// by level, the cones are drawn against the previous level's depth z, held in a
-/// storage buffer, so that the depth test LESS finds the next layer, and the
-/// stencil counts how often a distance repeats. Four steps per level:
+/// by level, the cones are drawn against the previous level's depth z and site,
+/// held in a storage buffer, and only fragments after that level in the order
+/// (distance, site id) take part, so that the depth test LESS, over cones drawn
+/// in the order of their ids, finds the next layer.
 ///
-/// 1. cones where the count is 0: fragments deeper than z, depth test LESS;
-/// 2. picture-wide where the count is not 0: the level repeats z and its site,
-///    and the pixel is marked so that step 3 passes it by;
-/// 3. cones again where unmarked, depth test EQUAL: the stencil counts the sites
-///    at the new distance;
-/// 4. picture-wide: marks cleared, the count decremented, one use spent.
+/// The thesis's second depth test keeps fragments strictly deeper than z and
+/// counts equally far sites with the stencil, repeating the first one's site on
+/// each of their levels; ordering ties by id instead names every equally far
+/// site on a level of its own, so that the sets of the order-k diagram hold k
+/// distinct sites. The levels equal [`k_nearest`]'s, ties included up to the
+/// k-th level's choice among equally far sites.
 ///
-/// The thesis marks step 2's pixels by setting z to infinity; here the stencil's
-/// top bit marks them and its low seven bits count, because a shader that writes
-/// depth runs before the stencil test and could not write z only where the
-/// count is not 0. Multiplicities above 127 wrap.
-///
-/// Exact cones only. Where a distance repeats, the thesis keeps the site of its
-/// first level, so unlike [`k_nearest`] a site may be named on several levels;
-/// the distances are the same.
+/// Exact cones only.
 pub fn k_nearest_peeled(
     machine: &Machine,
     sites: &[DVec2],
@@ -766,16 +759,7 @@ pub fn k_nearest_peeled(
     let ids = machine.image(Format::R32Uint, w, h)?;
     let depth = machine.image(Format::DepthStencil, w, h)?;
     let octagon = machine.vertex_buffer(&unit_footprint(FOOTPRINT_CORNERS))?;
-    let square = machine.vertex_buffer(&unit_footprint(4))?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
-    // Step 2's footprint: a square around the picture's centre that covers it.
-    let half = (w.max(h) as f64 / 2.0 + 1.0) * std::f64::consts::SQRT_2;
-    let carry = machine.vertex_buffer(&[ConeInstance::new(
-        0,
-        [(w as f64 - 1.0) / 2.0, (h as f64 - 1.0) / 2.0],
-        half,
-        half,
-    )])?;
     // The previous level: depth -1 (below every cone) and no site.
     let mut previous = machine.readback_buffer(8 * pixels as u64)?;
     let mut words = vec![(-1.0f32).to_bits(); pixels];
@@ -785,43 +769,11 @@ pub fn k_nearest_peeled(
         fragment_depth_scale: scale as f32,
         ..picture_push(&frame, k, metric)
     };
-    // Stencil bits: the low seven count, the top one marks step 2's pixels.
-    const COUNT: u8 = 0x7f;
-    const MARK: u8 = 0x80;
-    let stencil = StencilTest::on_pass;
     let register = RasterState {
         depth: DepthTest {
             compare: Compare::Less,
             write: true,
         },
-        stencil: stencil(Compare::Equal, COUNT, 0, StencilOp::Keep),
-        ..RasterState::OVERWRITE
-    };
-    let repeat = RasterState {
-        depth: DepthTest {
-            compare: Compare::Always,
-            write: true,
-        },
-        stencil: stencil(Compare::NotEqual, COUNT, MARK, StencilOp::Replace),
-        ..RasterState::OVERWRITE
-    };
-    let count = RasterState {
-        depth: DepthTest {
-            compare: Compare::Equal,
-            write: false,
-        },
-        stencil: stencil(Compare::Equal, MARK, COUNT, StencilOp::IncrementClamp),
-        color_mask: ChannelMask::NONE,
-        ..RasterState::OVERWRITE
-    };
-    let unmark = RasterState {
-        stencil: stencil(Compare::Always, 0, MARK, StencilOp::Replace),
-        color_mask: ChannelMask::NONE,
-        ..RasterState::OVERWRITE
-    };
-    let spend = RasterState {
-        stencil: stencil(Compare::Always, 0, COUNT, StencilOp::DecrementClamp),
-        color_mask: ChannelMask::NONE,
         ..RasterState::OVERWRITE
     };
     let draw = |buffer, vertices, instances, count| ConeDraw {
@@ -838,21 +790,11 @@ pub fn k_nearest_peeled(
         &instance_buffer,
         cones.len() as u32,
     );
-    let carry_draw = draw(&square, 4, &carry, 1);
     let target = Target {
         color: Some(&ids),
         depth_stencil: Some(&depth),
     };
-    let keep = Clear {
-        color: None,
-        depth: None,
-        stencil: None,
-    };
     let params = DrawParams::default();
-    let marking = DrawParams {
-        stencil_reference: MARK,
-        ..DrawParams::default()
-    };
     let mut labels = vec![u32::MAX; pixels * k as usize];
     let mut distances = vec![f32::INFINITY; pixels * k as usize];
     let to_world = (1.0 / frame.scale) as f32;
@@ -863,21 +805,11 @@ pub fn k_nearest_peeled(
                 let fresh = Clear {
                     color: Some(ClearColor::Uint([u32::MAX; 4])),
                     depth: Some(1.0),
-                    stencil: (level == 0).then_some(0),
+                    stencil: None,
                 };
                 pass.begin(target, fresh)?;
                 pass.bind_fragment_buffer(set);
                 pass.draw_cones(Program::ConePeel, &register, &params, &push, &cones_draw)?;
-                pass.end()?;
-                pass.begin(target, keep)?;
-                pass.draw_cones(Program::PeelCarry, &repeat, &marking, &push, &carry_draw)?;
-                pass.end()?;
-                pass.begin(target, keep)?;
-                pass.draw_cones(Program::ConePeel, &count, &params, &push, &cones_draw)?;
-                pass.end()?;
-                pass.begin(target, keep)?;
-                pass.draw_rect(&unmark, &params, &RectDraw::full_picture(w, h))?;
-                pass.draw_rect(&spend, &params, &RectDraw::full_picture(w, h))?;
                 pass.end()?;
                 // This level becomes the next one's z and sites.
                 pass.feed_fragment_buffer(&depth, &previous, 0)?;

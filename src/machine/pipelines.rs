@@ -37,12 +37,9 @@ pub enum Program {
     /// [`Program::ConeKNearest`] with triangle-fan cones: the key's distance is the
     /// fan's interpolated height.
     ConeKNearestFan,
-    /// Exact cones peeled against the previous level held in the fragment storage
-    /// buffer (thesis §3.7, steps 1 and 3).
+    /// Exact cones peeled against the previous level's depth and site, held in
+    /// the fragment storage buffer (thesis §3.7).
     ConePeel,
-    /// Step 2 of the peeling: a picture-wide footprint that carries the previous
-    /// level's depth and site where multiplicity is left.
-    PeelCarry,
     /// One rectangle per screen tile whose fragments keep the k lowest layers of
     /// the cones binned to the tile (tile records and cones in the second storage
     /// buffer, keys written to the first). The number is the longest list the
@@ -459,11 +456,6 @@ impl Pipelines {
             Program::ConePeel => (
                 "cone.vert",
                 "cone_peel.frag",
-                vk::PrimitiveTopology::TRIANGLE_FAN,
-            ),
-            Program::PeelCarry => (
-                "cone.vert",
-                "peel_carry.frag",
                 vk::PrimitiveTopology::TRIANGLE_FAN,
             ),
             Program::KNearestTiles(levels) => (

@@ -154,10 +154,10 @@ pub struct Args {
     each_level: bool,
 
     /// With --degree or --order: compute the levels the thesis's way (§3.7), by
-    /// peeling the cones level by level against the previous depth with the
-    /// stencil counting equal distances (four steps per level), instead of
-    /// pixgeo's one pass over screen tiles. Same distances; a repeated distance keeps the
-    /// site of its first level.
+    /// peeling the cones level by level against the previous level's depth and
+    /// site (one cone pass a level; equally far sites peeled in the order of their
+    /// ids), instead of pixgeo's one pass over screen tiles. Same distances, and
+    /// every level names a different site.
     #[arg(long)]
     peel: bool,
 
