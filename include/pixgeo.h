@@ -31,8 +31,8 @@ typedef enum PixgeoStatus {
 typedef enum PixgeoDevice {
   // `PIXGEO_DEVICE` if set, else a GPU if present, else lavapipe.
   PIXGEO_DEVICE_AUTO = 0,
-  // A software device (lavapipe).
-  PIXGEO_DEVICE_CPU = 1,
+  // Mesa's software Vulkan device (lavapipe).
+  PIXGEO_DEVICE_LAVAPIPE = 1,
   // A hardware GPU.
   PIXGEO_DEVICE_GPU = 2,
 } PixgeoDevice;
@@ -94,7 +94,8 @@ typedef struct PixgeoContext PixgeoContext;
 
 // Options of [`pixgeo_context_create`].
 typedef struct PixgeoContextOptions {
-  enum PixgeoDevice device;
+  // A [`PixgeoDevice`]; other values are an invalid argument.
+  uint32_t device;
   // Enable the Khronos validation layer; any message fails the call.
   bool validation;
 } PixgeoContextOptions;
@@ -111,8 +112,10 @@ typedef struct PixgeoVoronoiOptions {
   // pixel (i, j) is centred at world point (i, j).
   bool use_bbox;
   double bbox[4];
-  // The distance function (both accuracy modes take every metric).
-  enum PixgeoMetric metric;
+  // The distance function, a [`PixgeoMetric`] (both accuracy modes take
+  // every metric). Enumerations are read as integers: a value outside the
+  // enumeration is an invalid argument.
+  uint32_t metric;
   // The exponent of [`PixgeoMetric::Lp`].
   double metric_p;
   // The vertices `{x0, y0, x1, y1, ...}` of [`PixgeoMetric::Polygon`]'s unit
@@ -120,12 +123,14 @@ typedef struct PixgeoVoronoiOptions {
   const double *polygon;
   size_t polygon_count;
   double kernel[2];
-  enum PixgeoAccuracy accuracy;
+  // A [`PixgeoAccuracy`].
+  uint32_t accuracy;
   // Distance error bound of fan mode, pixels.
   double epsilon;
   // Triangles per fan cone; 0 = the fewest for `epsilon`.
   uint32_t triangles;
-  enum PixgeoSpeedup speedup;
+  // A [`PixgeoSpeedup`].
+  uint32_t speedup;
   // Largest tile side in pixels; 0 = as large as the device allows.
   uint32_t max_tile;
 } PixgeoVoronoiOptions;
@@ -133,7 +138,8 @@ typedef struct PixgeoVoronoiOptions {
 // A site of any shape with weights (thesis §3.8–3.9): its weighted distance is
 // the distance to the shape divided by `multiplicative` (> 0) plus `additive`.
 typedef struct PixgeoSite {
-  enum PixgeoSiteKind kind;
+  // A [`PixgeoSiteKind`].
+  uint32_t kind;
   // World coordinates, as [`PixgeoSiteKind`] lays them out; unused ones ignored.
   double coords[5];
   double multiplicative;
@@ -387,7 +393,7 @@ enum PixgeoStatus pixgeo_settle(struct PixgeoContext *ctx,
                                 const double *own,
                                 size_t own_count,
                                 const struct PixgeoVoronoiOptions *options,
-                                enum PixgeoSettleMethod method,
+                                uint32_t method,
                                 uint32_t *area,
                                 struct PixgeoSettle *out);
 

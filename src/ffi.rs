@@ -65,8 +65,8 @@ pub enum PixgeoStatus {
 pub enum PixgeoDevice {
     /// `PIXGEO_DEVICE` if set, else a GPU if present, else lavapipe.
     Auto = 0,
-    /// A software device (lavapipe).
-    Cpu = 1,
+    /// Mesa's software Vulkan device (lavapipe).
+    Lavapipe = 1,
     /// A hardware GPU.
     Gpu = 2,
 }
@@ -75,7 +75,8 @@ pub enum PixgeoDevice {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PixgeoContextOptions {
-    pub device: PixgeoDevice,
+    /// A [`PixgeoDevice`]; other values are an invalid argument.
+    pub device: u32,
     /// Enable the Khronos validation layer; any message fails the call.
     pub validation: bool,
 }
@@ -131,8 +132,10 @@ pub struct PixgeoVoronoiOptions {
     /// pixel (i, j) is centred at world point (i, j).
     pub use_bbox: bool,
     pub bbox: [f64; 4],
-    /// The distance function (both accuracy modes take every metric).
-    pub metric: PixgeoMetric,
+    /// The distance function, a [`PixgeoMetric`] (both accuracy modes take
+    /// every metric). Enumerations are read as integers: a value outside the
+    /// enumeration is an invalid argument.
+    pub metric: u32,
     /// The exponent of [`PixgeoMetric::Lp`].
     pub metric_p: f64,
     /// The vertices `{x0, y0, x1, y1, ...}` of [`PixgeoMetric::Polygon`]'s unit
@@ -140,12 +143,14 @@ pub struct PixgeoVoronoiOptions {
     pub polygon: *const f64,
     pub polygon_count: usize,
     pub kernel: [f64; 2],
-    pub accuracy: PixgeoAccuracy,
+    /// A [`PixgeoAccuracy`].
+    pub accuracy: u32,
     /// Distance error bound of fan mode, pixels.
     pub epsilon: f64,
     /// Triangles per fan cone; 0 = the fewest for `epsilon`.
     pub triangles: u32,
-    pub speedup: PixgeoSpeedup,
+    /// A [`PixgeoSpeedup`].
+    pub speedup: u32,
     /// Largest tile side in pixels; 0 = as large as the device allows.
     pub max_tile: u32,
 }
@@ -170,7 +175,8 @@ pub enum PixgeoSiteKind {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixgeoSite {
-    pub kind: PixgeoSiteKind,
+    /// A [`PixgeoSiteKind`].
+    pub kind: u32,
     /// World coordinates, as [`PixgeoSiteKind`] lays them out; unused ones ignored.
     pub coords: [f64; 5],
     pub multiplicative: f64,
@@ -340,9 +346,14 @@ pub unsafe extern "C" fn pixgeo_context_create(
         if let Some(o) = options {
             machine_options.validation = o.validation;
             match o.device {
-                PixgeoDevice::Auto => {}
-                PixgeoDevice::Cpu => machine_options.device = DeviceChoice::Cpu,
-                PixgeoDevice::Gpu => machine_options.device = DeviceChoice::Gpu,
+                0 => {}
+                1 => machine_options.device = DeviceChoice::Lavapipe,
+                2 => machine_options.device = DeviceChoice::Gpu,
+                other => {
+                    return Err(Error::InvalidInput(format!(
+                        "device {other} is not a PixgeoDevice (0 auto, 1 lavapipe, 2 gpu)"
+                    )))
+                }
             }
         }
         Machine::new(&machine_options)
@@ -423,15 +434,15 @@ pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> Pix
         height,
         use_bbox: false,
         bbox: [0.0; 4],
-        metric: PixgeoMetric::L2,
+        metric: PixgeoMetric::L2 as u32,
         metric_p: 2.0,
         polygon: ptr::null(),
         polygon_count: 0,
         kernel: [0.0; 2],
-        accuracy: PixgeoAccuracy::Exact,
+        accuracy: PixgeoAccuracy::Exact as u32,
         epsilon: 1.0,
         triangles: 0,
-        speedup: PixgeoSpeedup::Local,
+        speedup: PixgeoSpeedup::Local as u32,
         max_tile: 0,
     }
 }
@@ -520,7 +531,7 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
         let (frame, accuracy, speedup) = picture_of(&o)?;
         // SAFETY: `sites` holds `count` sites (caller contract).
         let given = unsafe { std::slice::from_raw_parts(sites, count) };
-        let sites = sites_of(given);
+        let sites = sites_of(given)?;
         let options = VoronoiOptions {
             frame,
             metric: metric_of(&o)?,
@@ -544,32 +555,36 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
 }
 
 /// The library's sites for the C ones.
-fn sites_of(given: &[PixgeoSite]) -> Vec<Site> {
+fn sites_of(given: &[PixgeoSite]) -> Result<Vec<Site>, (PixgeoStatus, String)> {
     given
         .iter()
-        .map(|s| {
+        .enumerate()
+        .map(|(i, s)| {
             let c = s.coords;
             let shape = match s.kind {
-                PixgeoSiteKind::Point => Shape::Point(DVec2::new(c[0], c[1])),
-                PixgeoSiteKind::Segment => {
-                    Shape::Segment(DVec2::new(c[0], c[1]), DVec2::new(c[2], c[3]))
-                }
-                PixgeoSiteKind::Circle => Shape::Circle {
+                0 => Shape::Point(DVec2::new(c[0], c[1])),
+                1 => Shape::Segment(DVec2::new(c[0], c[1]), DVec2::new(c[2], c[3])),
+                2 => Shape::Circle {
                     center: DVec2::new(c[0], c[1]),
                     radius: c[2],
                 },
-                PixgeoSiteKind::Arc => Shape::Arc {
+                3 => Shape::Arc {
                     center: DVec2::new(c[0], c[1]),
                     radius: c[2],
                     start: c[3],
                     end: c[4],
                 },
+                other => {
+                    return Err(invalid(format!(
+                        "site {i}: kind {other} is not a PixgeoSiteKind (0 point, 1 segment, 2 circle, 3 arc)"
+                    )))
+                }
             };
-            Site {
+            Ok(Site {
                 shape,
                 multiplicative: s.multiplicative,
                 additive: s.additive,
-            }
+            })
         })
         .collect()
 }
@@ -585,16 +600,26 @@ fn picture_of(
     }
     .map_err(failed)?;
     let accuracy = match o.accuracy {
-        PixgeoAccuracy::Exact => Accuracy::Exact,
-        PixgeoAccuracy::Fan => Accuracy::Fan {
+        0 => Accuracy::Exact,
+        1 => Accuracy::Fan {
             epsilon: o.epsilon,
             triangles: (o.triangles > 0).then_some(o.triangles),
         },
+        other => {
+            return Err(invalid(format!(
+                "accuracy {other} is not a PixgeoAccuracy (0 exact, 1 fan)"
+            )))
+        }
     };
     let speedup = match o.speedup {
-        PixgeoSpeedup::Local => Speedup::Local,
-        PixgeoSpeedup::Quadtree => Speedup::Quadtree,
-        PixgeoSpeedup::None => Speedup::None,
+        0 => Speedup::Local,
+        1 => Speedup::Quadtree,
+        2 => Speedup::None,
+        other => {
+            return Err(invalid(format!(
+                "speedup {other} is not a PixgeoSpeedup (0 local, 1 quadtree, 2 none)"
+            )))
+        }
     };
     Ok((frame, accuracy, speedup))
 }
@@ -602,15 +627,20 @@ fn picture_of(
 /// The distance function that `options` name.
 fn metric_of(o: &PixgeoVoronoiOptions) -> Result<Metric, (PixgeoStatus, String)> {
     Ok(match o.metric {
-        PixgeoMetric::L2 => Metric::L2,
-        PixgeoMetric::L1 => Metric::L1,
-        PixgeoMetric::LInf => Metric::LInf,
-        PixgeoMetric::Lp => Metric::lp(o.metric_p).map_err(invalid)?,
-        PixgeoMetric::Polygon => {
+        0 => Metric::L2,
+        1 => Metric::L1,
+        2 => Metric::LInf,
+        3 => Metric::lp(o.metric_p).map_err(invalid)?,
+        4 => {
             // SAFETY: `polygon` is null or holds `2 * polygon_count` doubles
             // (caller contract of every call taking options).
             let vertices = unsafe { points(o.polygon, o.polygon_count) }?;
             Metric::polygon(&vertices, DVec2::from(o.kernel)).map_err(invalid)?
+        }
+        other => {
+            return Err(invalid(format!(
+                "metric {other} is not a PixgeoMetric (0 L2, 1 L1, 2 L-infinity, 3 L_p, 4 polygon)"
+            )))
         }
     })
 }
@@ -882,7 +912,7 @@ pub unsafe extern "C" fn pixgeo_enclose(
         // SAFETY: as documented (caller contract).
         let (unit, side) = unsafe { homothet_options(options) }?;
         // SAFETY: `sites` holds `count` sites (caller contract).
-        let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) });
+        let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) })?;
         let answer =
             homothet::enclose_sites(&context.machine, &given, unit, k, side).map_err(failed)?;
         homothet_into(out, &answer)
@@ -921,7 +951,7 @@ pub unsafe extern "C" fn pixgeo_empty(
         // SAFETY: as documented (caller contract).
         let (unit, side) = unsafe { homothet_options(options) }?;
         // SAFETY: `sites` holds `count` sites (caller contract).
-        let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) });
+        let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) })?;
         let mut region = Region::default();
         if ring_count > 0 {
             if ring_sizes.is_null() {
@@ -968,7 +998,7 @@ pub unsafe extern "C" fn pixgeo_settle(
     own: *const f64,
     own_count: usize,
     options: *const PixgeoVoronoiOptions,
-    method: PixgeoSettleMethod,
+    method: u32,
     area: *mut u32,
     out: *mut PixgeoSettle,
 ) -> PixgeoStatus {
@@ -989,8 +1019,13 @@ pub unsafe extern "C" fn pixgeo_settle(
             unsafe { points(own, own_count) }?
         };
         let method = match method {
-            PixgeoSettleMethod::Spans => SettleMethod::Spans,
-            PixgeoSettleMethod::Faithful => SettleMethod::Faithful,
+            0 => SettleMethod::Spans,
+            1 => SettleMethod::Faithful,
+            other => {
+                return Err(invalid(format!(
+                    "method {other} is not a PixgeoSettleMethod (0 spans, 1 faithful)"
+                )))
+            }
         };
         let options = SettleOptions {
             frame,

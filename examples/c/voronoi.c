@@ -295,6 +295,35 @@ int main(void) {
     bad_weight.multiplicative = 0.0;
     status = pixgeo_voronoi_sites(ctx, &bad_weight, 1, &options, labels, NULL);
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "zero weight accepted");
+    PixgeoSite bad_kind = shapes[0];
+    bad_kind.kind = 9;
+    status = pixgeo_voronoi_sites(ctx, &bad_kind, 1, &options, labels, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "site kind 9 accepted");
+
+    /* Enumerations are integers: values outside them are refused, never read. */
+    PixgeoVoronoiOptions odd = pixgeo_voronoi_options_default(W, H);
+    odd.metric = 77;
+    CHECK(pixgeo_voronoi(ctx, xy, N, &odd, labels, NULL) == PIXGEO_STATUS_INVALID_ARGUMENT,
+          "metric 77 accepted");
+    odd = pixgeo_voronoi_options_default(W, H);
+    odd.accuracy = 77;
+    CHECK(pixgeo_voronoi(ctx, xy, N, &odd, labels, NULL) == PIXGEO_STATUS_INVALID_ARGUMENT,
+          "accuracy 77 accepted");
+    odd = pixgeo_voronoi_options_default(W, H);
+    odd.speedup = (uint32_t)-3;
+    CHECK(pixgeo_voronoi(ctx, xy, N, &odd, labels, NULL) == PIXGEO_STATUS_INVALID_ARGUMENT,
+          "speedup -3 accepted");
+    CHECK(strstr(pixgeo_context_last_error(ctx), "PixgeoSpeedup") != NULL, "message: %s",
+          pixgeo_context_last_error(ctx));
+    odd = pixgeo_voronoi_options_default(W, H);
+    CHECK(pixgeo_settle(ctx, xy, N, NULL, 0, &odd, 5, NULL, &settle) ==
+              PIXGEO_STATUS_INVALID_ARGUMENT,
+          "settle method 5 accepted");
+    PixgeoContextOptions odd_device = {42, false};
+    PixgeoContext *no_ctx = NULL;
+    CHECK(pixgeo_context_create(&odd_device, &no_ctx) == PIXGEO_STATUS_INVALID_ARGUMENT &&
+              no_ctx == NULL,
+          "device 42 accepted");
 
     /* Errors come back as status codes with a message. */
     status = pixgeo_voronoi(ctx, NULL, N, &options, labels, NULL);

@@ -18,10 +18,13 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 /// How the machine picks its device.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum DeviceChoice {
-    /// A GPU if one is present, otherwise the CPU (lavapipe).
+    /// A GPU if one is present, otherwise lavapipe.
     #[default]
     Auto,
-    /// A software device (lavapipe).
+    /// Mesa's software Vulkan device, lavapipe (`lavapipe`, `llvmpipe`).
+    Lavapipe,
+    /// `cpu`: the thesis's CPU pixel algorithms, which the `voronoi` and `settle`
+    /// commands offer; no Vulkan device, so a machine refuses it.
     Cpu,
     /// A hardware GPU; an error if there is none.
     Gpu,
@@ -32,8 +35,8 @@ pub enum DeviceChoice {
 }
 
 impl DeviceChoice {
-    /// Reads `PIXGEO_DEVICE`: `auto`, `cpu` (or `lavapipe`), `gpu`, an index, or part
-    /// of a device name.
+    /// Reads `PIXGEO_DEVICE`: `auto`, `lavapipe`, `gpu`, an index, or part of a
+    /// device name (or `cpu`, which names no Vulkan device).
     pub fn from_env() -> Self {
         match std::env::var("PIXGEO_DEVICE") {
             Ok(v) => Self::parse(&v),
@@ -46,7 +49,8 @@ impl DeviceChoice {
         let t = text.trim();
         match t.to_ascii_lowercase().as_str() {
             "" | "auto" => Self::Auto,
-            "cpu" | "lavapipe" | "llvmpipe" => Self::Cpu,
+            "lavapipe" | "llvmpipe" => Self::Lavapipe,
+            "cpu" => Self::Cpu,
             "gpu" => Self::Gpu,
             _ => t
                 .parse()
@@ -364,9 +368,16 @@ fn choose_device(
     let is_gpu = |t: vk::PhysicalDeviceType| rank(t) <= 2;
     let found = match choice {
         DeviceChoice::Auto => candidates.iter().min_by_key(|(_, p)| rank(p.device_type)),
-        DeviceChoice::Cpu => candidates
+        DeviceChoice::Lavapipe => candidates
             .iter()
             .find(|(_, p)| p.device_type == vk::PhysicalDeviceType::CPU),
+        DeviceChoice::Cpu => {
+            return Err(Error::NoDevice(
+                "`cpu` names the thesis's CPU pixel algorithms, which only `voronoi` and \
+                 `settle` have; for Mesa's software Vulkan device say `lavapipe`"
+                    .into(),
+            ))
+        }
         DeviceChoice::Gpu => candidates
             .iter()
             .filter(|(_, p)| is_gpu(p.device_type))

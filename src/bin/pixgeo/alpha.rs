@@ -60,7 +60,8 @@ pub struct Args {
     /// Print the result as JSON.
     #[arg(long)]
     json: bool,
-    /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
+    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
+    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
     #[arg(long)]
     device: Option<String>,
 }

@@ -21,7 +21,8 @@ pub struct Args {
     /// Directory to write the pictures, their site files and index.html into.
     dir: PathBuf,
 
-    /// Device: auto, cpu, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
+    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
+    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
     #[arg(long)]
     device: Option<String>,
 }
