@@ -100,6 +100,54 @@ fn ordinary_diagrams_match_the_definition_with_every_speedup() {
 }
 
 #[test]
+fn curves_are_refused_in_exact_mode_and_bounded_in_fan_mode() {
+    // The distance to a circle under a gauge is curved: chords cannot promise
+    // the nearest of two nearly equidistant sites, so exact mode refuses, and
+    // fan mode's chords cost the gauge's steepest slope per pixel of deviation,
+    // which for a non-convex star exceeds its largest radius ratio.
+    let m = machine();
+    let frame = Frame::pixels(96, 80).unwrap();
+    let (_, star) = polygons().remove(0);
+    let mut sites: Vec<Site> = cases(96, 80)
+        .remove(0)
+        .1
+        .into_iter()
+        .map(Site::point)
+        .collect();
+    for (k, r) in [3.0, 9.5, 17.0, 30.0].into_iter().enumerate() {
+        let mut circle = Site::point(DVec2::ZERO);
+        circle.shape = Shape::Circle {
+            center: DVec2::new(15.0 + 22.0 * k as f64, 20.0 + 13.0 * k as f64),
+            radius: r,
+        };
+        sites.push(circle);
+    }
+    let exact = VoronoiOptions {
+        metric: star,
+        ..VoronoiOptions::exact(frame)
+    };
+    let refused = voronoi_sites(&m, &sites, &exact).unwrap_err().to_string();
+    assert!(refused.contains("--device cpu"), "{refused}");
+    let truth = nearest_weighted_distances(&sites, &frame, star);
+    let fan = VoronoiOptions {
+        accuracy: Accuracy::FAN,
+        ..exact
+    };
+    let d = voronoi_sites(&m, &sites, &fan).unwrap();
+    let bound = d.stats.distance_error_bound;
+    for (k, &label) in d.labels.iter().enumerate() {
+        let q = DVec2::new((k % 96) as f64, (k / 96) as f64);
+        let mine = sites[label as usize].distance(star, q);
+        let depth = d.distances[k] as f64;
+        assert!(
+            (depth - truth[k]).abs() <= bound + 1e-2 && mine <= truth[k] + 2.0 * bound + 1e-2,
+            "pixel {q}: site {label} at {mine}, map {depth}, nearest {}, bound {bound}",
+            truth[k]
+        );
+    }
+}
+
+#[test]
 fn levels_furthest_and_cpu_match_the_definition() {
     let m = machine();
     let frame = Frame::pixels(53, 41).unwrap();

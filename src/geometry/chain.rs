@@ -344,17 +344,32 @@ impl MetricFan {
         }
     }
 
-    /// The largest distance overestimate of cones covering Euclidean radii up
-    /// to `r`.
+    /// The largest distance error of cones covering Euclidean radii up to `r`:
+    /// the fan's own overestimate, plus, under L_p with p < 1, what the
+    /// rasterizer's snapping of vertices to its subpixel grid costs, which
+    /// there grows with the distance (see [`Metric::displacement_error`]);
+    /// under norms and polygons snapping moves a distance by at most a few
+    /// thousandths of a pixel, like float rounding.
     pub fn error_bound(self, metric: Metric, r: f64) -> f64 {
-        match self {
+        let fan = match self {
             // A polygon's chain is the polygon: exact.
             Self::Chain { .. } if matches!(metric, Metric::Polygon(_)) => 0.0,
             Self::Chain { epsilon } => epsilon,
             Self::Uniform { .. } => self.outer_radius(metric, r) - metric.euclidean_bounds().1 * r,
+        };
+        match metric {
+            Metric::Lp(p) if p < 1.0 => {
+                fan + metric.displacement_error(metric.euclidean_bounds().1 * r, VERTEX_SNAP)
+            }
+            _ => fan,
         }
     }
 }
+
+/// How far (Euclidean, pixels) the rasterizer may move a vertex: Vulkan
+/// devices snap to a subpixel grid of at least 8 bits (1/256 pixel), so half a
+/// step in each axis.
+pub const VERTEX_SNAP: f64 = std::f64::consts::SQRT_2 / 512.0;
 
 /// A unit fan mesh (see [`unit_fan_over`]), shared.
 pub type UnitMesh = Arc<Vec<[f32; 3]>>;

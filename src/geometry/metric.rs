@@ -60,6 +60,19 @@ impl Gauge {
         (v.perp_dot(q - p) / p.perp_dot(q)).max(0.0)
     }
 
+    /// The gauge's Lipschitz constant: on each edge's sector the gauge is linear
+    /// with gradient length 1 / (the edge line's distance from the origin), so
+    /// the largest of those.
+    pub fn lipschitz(&self) -> f64 {
+        let n = self.vertices.len();
+        (0..n)
+            .map(|k| {
+                let (p, q) = (self.vertices[k], self.vertices[(k + 1) % n]);
+                (q - p).length() / p.perp_dot(q).abs()
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Whether the polygon is convex (a norm, when also symmetric).
     pub fn is_convex(&self) -> bool {
         self.convex
@@ -264,6 +277,36 @@ impl Metric {
             Self::Lp(p) => (2f64.powf(1.0 / p - 0.5), 1.0),
             // |x| / (largest radius) <= gauge <= |x| / (smallest radius).
             Self::Polygon(g) => (1.0 / g.radii.1, 1.0 / g.radii.0),
+        }
+    }
+
+    /// The most a distance of at most `reach` grows when its site moves by the
+    /// Euclidean `delta`. A norm or a polygon's gauge is Lipschitz; L_p with
+    /// p < 1 has no triangle inequality, only d(x + y)^p <= d(x)^p + d(y)^p, so
+    /// near its spikes a small move costs more the farther the point is.
+    pub fn displacement_error(self, reach: f64, delta: f64) -> f64 {
+        match self {
+            Self::Lp(p) if p < 1.0 => {
+                let moved = self.euclidean_bounds().1 * delta;
+                (reach.powf(p) + moved.powf(p)).powf(1.0 / p) - reach
+            }
+            Self::Polygon(g) => g.lipschitz() * delta,
+            _ => self.euclidean_bounds().1 * delta,
+        }
+    }
+
+    /// The largest Euclidean move of a site whose [`Metric::displacement_error`]
+    /// at `reach` stays within `error`.
+    pub fn displacement_within(self, reach: f64, error: f64) -> f64 {
+        match self {
+            Self::Lp(p) if p < 1.0 && reach > 0.0 => {
+                // (reach + error)^p - reach^p, without cancellation.
+                let gap = reach.powf(p) * (p * (error / reach).ln_1p()).exp_m1();
+                gap.powf(1.0 / p) / self.euclidean_bounds().1
+            }
+            Self::Lp(p) if p < 1.0 => error / self.euclidean_bounds().1,
+            Self::Polygon(g) => error / g.lipschitz(),
+            _ => error / self.euclidean_bounds().1,
         }
     }
 

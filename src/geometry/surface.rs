@@ -166,18 +166,25 @@ pub fn fan_surface(site: &Site, meshes: &FanMeshes, fan: MetricFan, reach: f64) 
             folded,
         };
     }
+    // The chords' Euclidean deviation from the curve moves the nearest point of
+    // the site; what that costs in distance depends on the metric: for a norm
+    // or a polygon's gauge the chords take half of ε, while for L_p with p < 1
+    // the cost grows with the reach (see `Metric::displacement_error`) and the
+    // bound reported is the one that holds, above ε.
     let (fan, chord) = match fan {
         MetricFan::Chain { epsilon } if curved => (
             MetricFan::Chain {
                 epsilon: epsilon / 2.0,
             },
-            epsilon / (2.0 * b),
+            metric.displacement_within(0.0, epsilon / 2.0),
         ),
         MetricFan::Chain { .. } => (fan, 0.0),
         MetricFan::Uniform { .. } => (fan, 0.5 / b),
     };
-    let base = Base::new(meshes, fan, reach + chord * b);
-    let fan_error = fan.error_bound(metric, (reach + chord * b) / b);
+    let outer = reach + chord * b;
+    let base = Base::new(meshes, fan, outer);
+    let fan_error = fan.error_bound(metric, outer / b);
+    let chord_error = metric.displacement_error(outer, chord);
     let mut out = Triangles::new();
     let polyline = match site.shape {
         Shape::Point(p) => vec![p],
@@ -213,7 +220,7 @@ pub fn fan_surface(site: &Site, meshes: &FanMeshes, fan: MetricFan, reach: f64) 
     }
     FanSurface {
         triangles: out,
-        error: fan_error + chord * b,
+        error: fan_error + chord_error,
         folded: 0,
     }
 }

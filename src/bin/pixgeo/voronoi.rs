@@ -64,7 +64,8 @@ pub struct Args {
     /// "kernel": [x, y]}`), star-shaped around its kernel (§3.6.5). Every metric
     /// works in both modes (fans over the thesis's polygonal chains), for every
     /// kind of diagram, and with --device cpu; --ties and --peel take the L_p
-    /// metrics.
+    /// metrics. Circles and arcs under a polygon take fan mode or --device cpu
+    /// (exact); under L_p with p < 1 their fans' bound grows with the reach.
     #[arg(long, default_value = "l2", value_parser = Metric::parse)]
     metric: Metric,
 
