@@ -59,6 +59,20 @@ pub fn voronoi_sites(
     sites: &[Site],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
+    // The distance to a curve under a polygon's gauge is curved: chords,
+    // however fine, may name the wrong one of two nearly equidistant sites.
+    let curved = sites
+        .iter()
+        .any(|s| matches!(s.shape, Shape::Circle { .. } | Shape::Arc { .. }));
+    if curved && matches!(options.metric, Metric::Polygon(_)) && options.accuracy == Accuracy::Exact
+    {
+        return Err(Error::InvalidInput(
+            "circles and arcs under a polygon metric have no exact drawing on a Vulkan device: \
+             use the CPU algorithm (--device cpu), which is exact, or fan mode, whose error \
+             bound is reported"
+                .into(),
+        ));
+    }
     let frame = options.frame;
     let width = frame.width as usize;
     let mut labels = vec![u32::MAX; frame.len()];
@@ -125,21 +139,14 @@ pub(crate) fn draw_sites(
     options: &VoronoiOptions,
     mut visit: impl FnMut(&DrawnTile<'_>) -> Result<()>,
 ) -> Result<(VoronoiStats, SiteDepth)> {
-    let curved = sites
-        .iter()
-        .any(|s| matches!(s.shape, Shape::Circle { .. } | Shape::Arc { .. }));
     let accuracy = match (options.metric, options.accuracy) {
-        // Fans over a polygon are exact for points and segments; the distance
-        // to a curve under a polygon's gauge is curved, and chords, however
-        // fine, may name the wrong one of two nearly equidistant sites.
-        (Metric::Polygon(_), Accuracy::Exact) if curved => {
-            return Err(Error::InvalidInput(
-                "circles and arcs under a polygon metric have no exact drawing on a Vulkan \
-                 device: use the CPU algorithm (--device cpu), which is exact, or fan mode, \
-                 whose error bound is reported"
-                    .into(),
-            ))
-        }
+        // Fans over a polygon are exact for points and segments; circles and arcs
+        // take chords within a thousandth of a pixel (which is why
+        // `voronoi_sites` refuses them in exact mode).
+        (Metric::Polygon(_), Accuracy::Exact) => Accuracy::Fan {
+            epsilon: 1e-3,
+            triangles: None,
+        },
         (metric, accuracy) => drawn_accuracy(metric, accuracy),
     };
     let options = &VoronoiOptions {

@@ -75,18 +75,18 @@ pub struct Args {
     #[arg(long, default_value = "exact", value_parser = parse_mode)]
     mode: ModeArg,
 
-    /// Distance error bound in pixels for `--mode fan`.
-    #[arg(long, default_value_t = 1.0)]
-    epsilon: f64,
+    /// Distance error bound in pixels for `--mode fan` (default 1).
+    #[arg(long)]
+    epsilon: Option<f64>,
 
     /// How far cones reach: `local` (a radius per site from its neighbourhood),
     /// `quadtree` (thesis §3.5: one radius from the quadtree, retried while minmax
-    /// finds uncovered pixels), or `none` (picture-wide cones).
-    #[arg(long, default_value = "local", value_parser = parse_speedup)]
-    speedup: Speedup,
+    /// finds uncovered pixels), or `none` (picture-wide cones). Default: local.
+    #[arg(long, value_parser = parse_speedup)]
+    speedup: Option<Speedup>,
 
     /// Same as `--speedup none`.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "speedup")]
     no_speedup: bool,
 
     /// Write a PNG picture: one colour per region, sites as dots.
@@ -224,22 +224,11 @@ pub fn run(args: Args) -> Result<()> {
             _ => unreachable!("plain points"),
         })
         .collect();
-    let accuracy = match args.mode {
-        ModeArg::Exact => Accuracy::Exact,
-        ModeArg::Fan(triangles) => Accuracy::Fan {
-            epsilon: args.epsilon,
-            triangles,
-        },
-    };
-    let speedup = if args.no_speedup {
-        Speedup::None
-    } else {
-        args.speedup
-    };
+    let (accuracy, speedup) = (args.accuracy(), args.speedup());
     if args.method != Method::Cones {
         return seed_pixels(&args, &sites, frame);
     }
-    let backend = Backend::choose(args.device.as_deref())?;
+    let backend = args.backend()?;
     let kind = match (args.degree, args.order, args.furthest) {
         (Some(k), _, _) => Kind::Degree(k),
         (_, Some(k), _) => Kind::Order(k),
@@ -394,13 +383,61 @@ fn check_options(args: &Args) -> Result<()> {
     if args.peel && args.degree.is_none() && args.order.is_none() {
         bail!("--peel computes the levels of --degree or --order");
     }
-    if !(args.epsilon > 0.0 && args.epsilon.is_finite()) {
-        bail!(
-            "--epsilon needs a positive distance in pixels, not {}",
-            args.epsilon
-        );
+    if let Some(epsilon) = args.epsilon {
+        if !(epsilon > 0.0 && epsilon.is_finite()) {
+            bail!("--epsilon needs a positive distance in pixels, not {epsilon}");
+        }
+        if !matches!(args.mode, ModeArg::Fan(None)) {
+            bail!("--epsilon sizes the fans of --mode fan (fan:T fixes their triangles instead)");
+        }
     }
     Ok(())
+}
+
+impl Args {
+    fn accuracy(&self) -> Accuracy {
+        match self.mode {
+            ModeArg::Exact => Accuracy::Exact,
+            ModeArg::Fan(triangles) => Accuracy::Fan {
+                epsilon: self.epsilon.unwrap_or(1.0),
+                triangles,
+            },
+        }
+    }
+
+    /// Where to compute; the CPU pixel algorithms refuse the cones' options.
+    fn backend(&self) -> Result<Backend> {
+        let backend = Backend::choose(self.device.as_deref())?;
+        if matches!(backend, Backend::Cpu) {
+            self.refuse_cone_options("the exact CPU pixel algorithm")?;
+        }
+        Ok(backend)
+    }
+
+    fn speedup(&self) -> Speedup {
+        if self.no_speedup {
+            Speedup::None
+        } else {
+            self.speedup.unwrap_or(Speedup::Local)
+        }
+    }
+
+    /// Refuses the options that shape cones on a path that draws none: the
+    /// CPU pixel algorithms and flooding.
+    fn refuse_cone_options(&self, path: &str) -> Result<()> {
+        let given = [
+            ("--mode fan", !matches!(self.mode, ModeArg::Exact)),
+            ("--speedup", self.speedup.is_some() || self.no_speedup),
+            ("--max-tile", self.max_tile.is_some()),
+            ("--ties", self.ties.is_some()),
+        ];
+        match given.iter().find(|(_, set)| *set) {
+            Some((name, _)) => {
+                bail!("{name} shapes the cones of a Vulkan device; {path} draws none")
+            }
+            None => Ok(()),
+        }
+    }
 }
 
 /// The diagram of weighted points, segments, circles and arcs (thesis §3.8–3.9).
@@ -411,23 +448,12 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
     if args.method != Method::Cones {
         bail!("--method flood and jfa flood from unweighted points' pixels; these sites have weights or shapes (use --method cones)");
     }
-    let backend = Backend::choose(args.device.as_deref())?;
-    let accuracy = match args.mode {
-        ModeArg::Exact => Accuracy::Exact,
-        ModeArg::Fan(triangles) => Accuracy::Fan {
-            epsilon: args.epsilon,
-            triangles,
-        },
-    };
+    let backend = args.backend()?;
     let options = VoronoiOptions {
         frame,
         metric: args.metric,
-        accuracy,
-        speedup: if args.no_speedup {
-            Speedup::None
-        } else {
-            args.speedup
-        },
+        accuracy: args.accuracy(),
+        speedup: args.speedup(),
         distances: true,
         ties: args.ties.is_some(),
         max_tile: args.max_tile,
@@ -435,9 +461,6 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
     let d = match backend {
         Backend::Gpu(machine) => voronoi_sites(&machine, sites, &options)?,
         Backend::Cpu => {
-            if args.ties.is_some() || args.max_tile.is_some() {
-                bail!("--ties and --max-tile apply to diagrams on a Vulkan device");
-            }
             let started = std::time::Instant::now();
             let (labels, distances) = cpu::voronoi_sites(sites, &frame, args.metric)?;
             VoronoiDiagram {
@@ -515,7 +538,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
 fn mode_name(args: &Args) -> String {
     match args.mode {
         ModeArg::Exact => "exact".to_string(),
-        ModeArg::Fan(None) => format!("fan (epsilon {})", args.epsilon),
+        ModeArg::Fan(None) => format!("fan (epsilon {})", args.epsilon.unwrap_or(1.0)),
         ModeArg::Fan(Some(t)) => format!("fan:{t}"),
     }
 }
@@ -616,12 +639,7 @@ fn whole_picture(
                     higher_order::k_nearest(machine, sites, &options)?
                 }
             }
-            Backend::Cpu => {
-                if accuracy != Accuracy::Exact {
-                    bail!("--mode fan draws cones on a Vulkan device; the CPU pixel algorithm is exact");
-                }
-                cpu::k_nearest(sites, &frame, k, args.metric)?
-            }
+            Backend::Cpu => cpu::k_nearest(sites, &frame, k, args.metric)?,
         };
         let shape = if kind == Kind::Ordinary {
             vec![h, w]
@@ -757,6 +775,7 @@ fn level_path(path: &std::path::Path, level: u32) -> PathBuf {
 
 /// `--method flood` and `--method jfa`: label maps of the sites' pixels.
 fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
+    args.refuse_cone_options("flooding")?;
     if args.degree.is_some() || args.order.is_some() || args.furthest || args.ties.is_some() {
         bail!("--method flood and jfa make the nearest-site map only (no --degree, --order, --furthest or --ties)");
     }
