@@ -503,3 +503,25 @@ fn other_metrics_give_their_k_nearest() {
         }
     }
 }
+
+#[test]
+fn the_cpu_growth_skips_to_far_sites() {
+    // Sites 1e8 pixels out grow through no ring that misses the picture: as
+    // fast as near ones, and exact (in f64, which the GPU's f32 is not there).
+    let frame = Frame::pixels(64, 64).unwrap();
+    let sites = [
+        DVec2::new(-1e8, 5.0),
+        DVec2::new(1e8, 30.0),
+        DVec2::new(2e8, -3e8),
+    ];
+    let started = std::time::Instant::now();
+    let d = cpu::k_nearest(&sites, &frame, 2, Metric::L2).unwrap();
+    assert!(started.elapsed().as_secs() < 5);
+    assert_levels(&d, &sites, &frame, "far sites on the CPU");
+    assert!(
+        cpu::k_nearest(&[DVec2::new(1e12, 0.0)], &frame, 1, Metric::L2)
+            .unwrap_err()
+            .to_string()
+            .contains("pixels from the picture")
+    );
+}

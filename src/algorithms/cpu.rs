@@ -37,6 +37,9 @@ use super::higher_order::{
 /// How far a site may lie from the pixel centre it grows from.
 const SLACK: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
+/// The largest ring radius, in pixels: its square fits in 64 bits with room.
+const MAX_RING: f64 = 1e9;
+
 /// Rows per band: enough bands for every thread, few enough to share the sites.
 const BAND_ROWS: u32 = 32;
 
@@ -101,6 +104,27 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
         .iter()
         .map(|p| frame.farthest_pixel(p.round()))
         .fold(0.0, f64::max);
+    // Ring radii are squared in 64 bits.
+    if reach > MAX_RING {
+        return Err(Error::InvalidInput(format!(
+            "a site lies {reach:.3e} pixels from the picture; the CPU pixel algorithm \
+             grows sites at most {MAX_RING:e} pixels (use a Vulkan device)"
+        )));
+    }
+    // The rings of radius in [near, far] of a site touch the picture; radii
+    // that no site's ring touches are skipped, so a far site costs what a
+    // near one does.
+    let mut spans: Vec<(i64, i64)> = pixels
+        .iter()
+        .map(|p| {
+            let c = p.round();
+            (
+                (frame.distance_to_pixels(c).floor() as i64 - 1).max(0),
+                frame.farthest_pixel(c).ceil() as i64 + 1,
+            )
+        })
+        .collect();
+    spans.sort_unstable();
     let mut keys = vec![(f64::INFINITY, u32::MAX); w * h * ku];
     // A pixel's list can hold at most this many sites.
     let full = ku.min(sites.len());
@@ -108,7 +132,21 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
     let lower = metric.euclidean_bounds().0;
     // Ring r of the offset table holds the offsets of length in (r - 1, r]; the
     // sites visit it row by row of the band.
-    for r in 0..=reach.ceil() as i64 + 1 {
+    let (mut r, mut span) = (0i64, 0usize);
+    let mut far = -1i64;
+    while r <= reach.ceil() as i64 + 1 {
+        while span < spans.len() && spans[span].0 <= r {
+            far = far.max(spans[span].1);
+            span += 1;
+        }
+        if r > far {
+            // No ring of this radius reaches the picture: on to the next site's.
+            match spans.get(span) {
+                Some(&(near, _)) => r = near,
+                None => break,
+            }
+            continue;
+        }
         keys.par_chunks_mut(BAND_ROWS as usize * w * ku)
             .zip(done.par_iter_mut())
             .enumerate()
@@ -147,6 +185,7 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
         if done.iter().all(|d| *d) {
             break;
         }
+        r += 1;
     }
     let to_world = 1.0 / frame.scale;
     let (labels, distances) = keys
