@@ -187,6 +187,7 @@ pub fn k_nearest(
             epsilon,
             triangles: None,
         } => {
+            crate::geometry::cone::check_fan_size(stats.radius_max, epsilon)?;
             let t = FanShape::for_distance_error(stats.radius_max, epsilon).triangles;
             stats.triangles = t;
             stats.distance_error_bound = epsilon / frame.scale;

@@ -29,6 +29,7 @@ use rayon::prelude::*;
 
 use crate::{
     error::{Error, Result},
+    geometry::cone::check_fan_size,
     geometry::{
         buckets::{for_ring_cells, group_by_bucket},
         chain::{segment_distance, FanMeshes, MetricFan},
@@ -233,6 +234,15 @@ pub(crate) fn draw_sites(
         Accuracy::Fan { .. } => {
             let fan = super::voronoi::metric_fan(options.accuracy);
             let meshes = FanMeshes::new(metric);
+            if let MetricFan::Chain { epsilon } = fan {
+                for (s, r) in pixels.iter().zip(&reaches) {
+                    if let Some((_, reach)) = r {
+                        let (lo, hi) = s.bounds();
+                        let size = (hi - lo).length() / 2.0;
+                        check_fan_size(reach + size, epsilon * s.multiplicative)?;
+                    }
+                }
+            }
             let surfaces: Vec<(u32, FanSurface)> = pixels
                 .par_iter()
                 .zip(&reaches)

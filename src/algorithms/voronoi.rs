@@ -27,7 +27,10 @@ use crate::{
     error::{Error, Result},
     geometry::{
         chain,
-        cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
+        cone::{
+            check_fan_size, fan_distance_error, unit_fan, unit_footprint, FanShape,
+            MAX_FAN_TRIANGLES, MIN_FAN_EPSILON,
+        },
         frame::{check_sites, distance2_to_rect, farthest2_in_rect},
         metric::{DepthKey, Metric},
         radius::{self, TileCandidates},
@@ -60,19 +63,21 @@ impl Accuracy {
         triangles: None,
     };
 
-    /// A clear error for a fan without a positive ε or with fewer than three
-    /// triangles.
+    /// A clear error for a fan without a finite ε of at least
+    /// [`MIN_FAN_EPSILON`] pixels, or with fewer than 3 or more than
+    /// [`MAX_FAN_TRIANGLES`] triangles.
     pub fn check(self) -> Result<()> {
         if let Self::Fan { epsilon, triangles } = self {
-            if !(epsilon > 0.0 && epsilon.is_finite()) {
+            if !(epsilon >= MIN_FAN_EPSILON && epsilon.is_finite()) {
                 return Err(Error::InvalidInput(format!(
-                    "fan epsilon {epsilon} must be positive"
+                    "fan epsilon {epsilon:?} must be a finite distance of at least {MIN_FAN_EPSILON} \
+                     pixels (the rasterizer's subpixel grid is 1/256 pixel)"
                 )));
             }
-            if triangles.is_some_and(|t| t < 3) {
-                return Err(Error::InvalidInput(
-                    "a fan needs at least 3 triangles".into(),
-                ));
+            if triangles.is_some_and(|t| !(3..=MAX_FAN_TRIANGLES).contains(&t)) {
+                return Err(Error::InvalidInput(format!(
+                    "a fan has 3 to {MAX_FAN_TRIANGLES} triangles"
+                )));
             }
         }
         Ok(())
@@ -455,6 +460,13 @@ pub(crate) fn draw_point_tiles(
         .map(|c| c.radius)
         .fold(1.0, f64::max)
         * 1.001;
+    if let Accuracy::Fan {
+        epsilon,
+        triangles: None,
+    } = options.accuracy
+    {
+        check_fan_size(exact_reach, epsilon)?;
+    }
     let key = match (power_keys, options.accuracy) {
         (true, Accuracy::Exact) => DepthKey::for_cones(options.metric, exact_reach),
         _ => DepthKey::Metric(options.metric),

@@ -17,6 +17,32 @@ pub fn triangles_for_distance_error(radius: f64, epsilon: f64) -> u32 {
     (t as u32).max(3)
 }
 
+/// The most triangles a fan may have. Past it a fan resolves nothing a
+/// picture shows (at radius 1000 its error is below a millionth of a pixel),
+/// and one such fan per site would exhaust memory.
+pub const MAX_FAN_TRIANGLES: u32 = 1 << 16;
+
+/// The smallest distance error a fan may be asked for, in pixels: below the
+/// rasterizer's subpixel grid (1/256 pixel) a finer fan changes no pixel.
+pub const MIN_FAN_EPSILON: f64 = 1e-3;
+
+/// Refuses a fan of error `epsilon` that would need more than
+/// [`MAX_FAN_TRIANGLES`] at `radius`.
+pub fn check_fan_size(radius: f64, epsilon: f64) -> crate::Result<()> {
+    let needed = if epsilon >= radius {
+        3.0
+    } else {
+        (PI / ((radius - epsilon) / radius).acos()).ceil()
+    };
+    if needed > MAX_FAN_TRIANGLES as f64 {
+        return Err(crate::Error::InvalidInput(format!(
+            "a fan within {epsilon} pixels at radius {radius:.1} needs {needed:.0} triangles, more \
+             than {MAX_FAN_TRIANGLES}: give a larger epsilon, or use exact mode"
+        )));
+    }
+    Ok(())
+}
+
 /// The worst distance overestimate of a fan with `triangles` whose inscribed circle
 /// has radius `radius`: `radius (1 / cos(pi / T) - 1)`.
 pub fn fan_distance_error(radius: f64, triangles: u32) -> f64 {
