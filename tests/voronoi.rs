@@ -139,8 +139,9 @@ fn exact_mode_matches_the_definition() {
 
 /// Exact cones with local radii are found per screen tile from the sites whose
 /// boxes meet it (L∞ and L_p: from each tile's candidates); where those lists
-/// would be too long (here hundreds of sites on one spot, each owning the same
-/// wide region) the cones are drawn instead. Both give the definition.
+/// would be too long (here hundreds of sites on a tiny circle, each owning a
+/// wedge out to the picture's edge) the cones are drawn instead. Both give the
+/// definition.
 #[test]
 fn screen_tiles_and_their_fallback_match_the_definition() {
     let m = machine();
@@ -148,7 +149,10 @@ fn screen_tiles_and_their_fallback_match_the_definition() {
     let mut rng = ChaCha8Rng::seed_from_u64(31);
     let spread = uniform(&mut rng, 40, 64.0, 48.0);
     let mut piled = uniform(&mut rng, 6, 64.0, 48.0);
-    piled.extend(std::iter::repeat_n(DVec2::new(20.25, 30.5), 300));
+    piled.extend((0..1000).map(|k| {
+        let a = std::f64::consts::TAU * k as f64 / 1000.0;
+        DVec2::new(20.25 + 1e-3 * a.cos(), 30.5 + 1e-3 * a.sin())
+    }));
     for metric in [Metric::L2, Metric::LInf, Metric::Lp(3.0), Metric::Lp(0.7)] {
         for (sites, drawn) in [(&spread, "tiles"), (&piled, "polygon")] {
             let options = VoronoiOptions {
@@ -629,4 +633,25 @@ fn ties_count_the_sites_at_the_smallest_distance() {
         ..VoronoiOptions::exact(frame)
     };
     assert!(voronoi(&m, &[DVec2::ZERO], &fan).is_err());
+}
+
+#[test]
+fn repeated_sites_cost_nothing_and_the_first_wins() {
+    // Equal sites are merged up front; every pixel names the first of the
+    // equal nearest sites, as it names the smallest id among equidistant ones.
+    let m = machine();
+    let frame = Frame::pixels(64, 48).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let distinct = uniform(&mut rng, 25, 64.0, 48.0);
+    let sites: Vec<DVec2> = (0..4000).map(|k| distinct[(k * 7 + k / 13) % 25]).collect();
+    let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    assert_eq!(d.stats.sites, 4000);
+    let truth = nearest_distances_metric(&sites, &frame, Metric::L2);
+    for (k, &label) in d.labels.iter().enumerate() {
+        let q = DVec2::new((k % 64) as f64, (k / 64) as f64);
+        let at = sites[label as usize];
+        assert!((at.distance(q) - truth[k]).abs() < 1e-9, "pixel {q}");
+        let first = sites.iter().position(|s| *s == at).unwrap();
+        assert_eq!(label as usize, first, "pixel {q}");
+    }
 }

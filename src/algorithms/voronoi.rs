@@ -31,7 +31,7 @@ use crate::{
             check_fan_size, fan_distance_error, unit_fan, unit_footprint, FanShape,
             MAX_FAN_TRIANGLES, MIN_FAN_EPSILON,
         },
-        frame::{check_sites, distance2_to_rect, farthest2_in_rect},
+        frame::{check_sites, distance2_to_rect, distinct_by, farthest2_in_rect},
         metric::{DepthKey, Metric},
         radius::{self, TileCandidates},
         Frame,
@@ -325,6 +325,35 @@ pub fn voronoi_bands(
     sites: &[DVec2],
     options: &VoronoiOptions,
     mut sink: impl FnMut(Band) -> Result<()>,
+) -> Result<VoronoiStats> {
+    // Equal sites stand the same cone, and the first of them (the smallest id)
+    // wins every pixel any of them would: the others are dropped up front, so
+    // repeats cost nothing. Counting ties counts them, so it keeps them all.
+    if !options.ties {
+        check_sites(sites)?;
+        let (mut kept, repeats) = distinct_by(sites, 0..sites.len() as u32, |_| ());
+        if !repeats.is_empty() {
+            kept.sort_unstable();
+            let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+            let mut stats = distinct_bands(machine, &distinct, options, &mut |mut band| {
+                for label in band.labels.iter_mut().filter(|l| **l != u32::MAX) {
+                    *label = kept[*label as usize];
+                }
+                sink(band)
+            })?;
+            stats.sites = sites.len();
+            return Ok(stats);
+        }
+    }
+    distinct_bands(machine, sites, options, &mut sink)
+}
+
+/// [`voronoi_bands`] of sites that are distinct, or whose ties are counted.
+fn distinct_bands(
+    machine: &Machine,
+    sites: &[DVec2],
+    options: &VoronoiOptions,
+    sink: &mut dyn FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
     let frame = options.frame;
     let mut band: Option<Band> = None;
