@@ -195,7 +195,7 @@ pub fn check_sites(sites: &[DVec2]) -> Result<()> {
     }
     if let Some((i, p)) = sites.iter().enumerate().find(|(_, p)| !p.is_finite()) {
         return Err(Error::InvalidInput(format!(
-            "site {i} has a non-finite coordinate ({}, {})",
+            "site {i} has a non-finite coordinate ({:?}, {:?})",
             p.x, p.y
         )));
     }
