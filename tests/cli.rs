@@ -577,7 +577,7 @@ fn triangle_and_quadrangle_print_exact_areas() {
         "{stdout}"
     );
     let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "0"]);
-    assert!(!ok && stderr.contains("picture side 0"), "{stderr}");
+    assert!(!ok && stderr.contains("0 is not in 2..=16384"), "{stderr}");
 }
 
 #[test]

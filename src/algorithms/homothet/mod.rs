@@ -621,6 +621,13 @@ pub fn largest_empty(
     largest_empty_by(machine, sites, unit, region, side, None)
 }
 
+/// More pixels near the largest value than this, and the picture is too coarse
+/// for the sites: the exact search would cost more than a finer picture.
+const MAX_NEAR_PIXELS: usize = 1024;
+
+/// The side up to which a coarse picture is refined.
+const MAX_REFINED_SIDE: u32 = 4096;
+
 /// [`largest_empty`] with its pixel stage chosen: `None` takes the distance
 /// transform where it applies (circles, every site on the picture or within a
 /// pixel of it, a picture the device holds whole) and cones elsewhere; asking
@@ -634,6 +641,7 @@ pub fn largest_empty_by(
     stage: Option<PixelStage>,
 ) -> Result<HomothetAnswer> {
     check_sites(sites)?;
+    let finer = |side| largest_empty_by(machine, sites, unit, region, side, stage);
     let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
     let (region, frame) = region_and_frame(region, (lo, hi), side)?;
@@ -724,6 +732,13 @@ pub fn largest_empty_by(
         ));
     }
     let near_pixels = near_top(&tiles, value, bound);
+    // Sites denser than the picture resolves leave most pixels near the top,
+    // and the exact search around each would cost cubic time in the sites
+    // there: the picture is made finer instead (the answer does not depend on
+    // it), up to a side the device holds.
+    if near_pixels.len() > MAX_NEAR_PIXELS && side < MAX_REFINED_SIDE {
+        return finer(side * 2);
+    }
     let centre = pixel_centre(&frame, near_pixels[0]);
     let eps = rounding(unit, &frame, value);
     let pixel_bound = bound + eps;
