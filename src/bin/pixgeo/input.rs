@@ -112,3 +112,29 @@ fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
     }
     Ok(arr)
 }
+
+/// Refuses arrays that cannot fit on their disk, before any work: a 100000²
+/// label raster is 40 GB.
+pub fn check_room(arrays: &[&std::path::Path], width: u32, height: u32) -> Result<()> {
+    let each = width as u64 * height as u64 * 4 + 128;
+    let needed = each * arrays.len() as u64;
+    for path in arrays {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => std::path::Path::new("."),
+        };
+        // A folder that cannot be asked is left to the write's own error.
+        if let Ok(free) = fs4::available_space(dir) {
+            if free < needed {
+                bail!(
+                    "{}: {width}x{height} arrays need {:.1} GB and {} has {:.1} GB free",
+                    path.display(),
+                    needed as f64 / 1e9,
+                    dir.display(),
+                    free as f64 / 1e9
+                );
+            }
+        }
+    }
+    Ok(())
+}

@@ -214,6 +214,11 @@ fn parse_speedup(s: &str) -> Result<Speedup, String> {
 pub fn run(args: Args) -> Result<()> {
     check_options(&args)?;
     let (frame, general) = args.input.frame_and_general_sites()?;
+    let arrays: Vec<&std::path::Path> = [&args.labels, &args.distance, &args.ties]
+        .into_iter()
+        .filter_map(|p| p.as_deref())
+        .collect();
+    crate::input::check_room(&arrays, frame.width, frame.height)?;
     if general.iter().any(|s| !s.is_plain_point()) {
         return general_sites(&args, &general, frame);
     }
