@@ -137,3 +137,28 @@ fn empty_or_invalid_sets_are_clear_errors() {
     assert!(diameter(&m, &[], None).is_err());
     assert!(max_distance(&m, &[DVec2::new(f64::NAN, 1.0)], &a, None).is_err());
 }
+
+#[test]
+fn extreme_coordinates_keep_exact_distances() {
+    // Squares of coordinates past 1e154 overflow and those of 1e-310 vanish:
+    // the sets are scaled by a power of two, which changes no pair.
+    let m = machine();
+    let huge = [
+        DVec2::new(1e300, 1e300),
+        DVec2::new(-1e300, -1e300),
+        DVec2::new(0.0, 5e299),
+    ];
+    let d = diameter(&m, &huge, None).unwrap();
+    assert_eq!(d.pair.distance, 2f64.sqrt() * 2e300);
+    let tiny = [
+        DVec2::new(1e-310, 0.0),
+        DVec2::new(3e-310, 0.0),
+        DVec2::new(0.0, 2e-310),
+    ];
+    let d = diameter(&m, &tiny, None).unwrap();
+    assert!(
+        (d.pair.distance - 13f64.sqrt() * 1e-310).abs() < 1e-322,
+        "{}",
+        d.pair.distance
+    );
+}

@@ -39,7 +39,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         frame::{check_sites, distinct_by, lexicographic},
-        Frame,
+        scale, Frame,
     },
     machine::{
         Buffer, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image, Machine,
@@ -112,6 +112,49 @@ fn ms(since: Instant) -> f64 {
 
 /// The smallest or largest triangle with three of `sites` as vertices.
 pub fn extremal_triangle(
+    machine: &Machine,
+    sites: &[DVec2],
+    extreme: Extreme,
+    side: u32,
+) -> Result<AreaAnswer> {
+    in_range(sites, |sites| {
+        triangle_in_range(machine, sites, extreme, side)
+    })
+}
+
+/// Runs `answer` on the sites scaled by a power of two into the range where
+/// areas (products of coordinates) neither overflow nor underflow, and scales
+/// its areas back: the vertices are the same and the area exact to rounding;
+/// an area beyond the largest float is refused.
+fn in_range(
+    sites: &[DVec2],
+    answer: impl FnOnce(&[DVec2]) -> Result<AreaAnswer>,
+) -> Result<AreaAnswer> {
+    check_sites(sites)?;
+    let k = scale::predicate_exponent(sites)?;
+    if k == 0 {
+        return answer(sites);
+    }
+    let mut found = answer(&scale::scaled(sites, k))?;
+    let back = |area: f64| scale::times_power_of_two(area, -2 * k);
+    found.area = back(found.area);
+    found.pixel_area = found.pixel_area.map(back);
+    found.bound = found.bound.map(back);
+    if !found.area.is_finite() {
+        return Err(Error::InvalidInput(format!(
+            "the {}'s area is beyond the largest float ({:e})",
+            if found.sites.len() == 3 {
+                "triangle"
+            } else {
+                "quadrangle"
+            },
+            f64::MAX
+        )));
+    }
+    Ok(found)
+}
+
+fn triangle_in_range(
     machine: &Machine,
     sites: &[DVec2],
     extreme: Extreme,
@@ -270,6 +313,17 @@ pub fn extremal_triangle(
 /// diagonal with one vertex strictly on each side (sites on the diagonal's
 /// line make no quadrangle with it).
 pub fn extremal_quadrangle(
+    machine: &Machine,
+    sites: &[DVec2],
+    extreme: Extreme,
+    side: u32,
+) -> Result<AreaAnswer> {
+    in_range(sites, |sites| {
+        quadrangle_in_range(machine, sites, extreme, side)
+    })
+}
+
+fn quadrangle_in_range(
     machine: &Machine,
     sites: &[DVec2],
     extreme: Extreme,

@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
-    geometry::{buckets::PointGrid, frame::check_sites, metric::Metric, Frame},
+    geometry::{buckets::PointGrid, frame::check_sites, metric::Metric, scale, Frame},
     machine::Machine,
 };
 
@@ -102,6 +102,28 @@ fn picture_error(frame: &Frame, d: f64) -> f64 {
     d * 1e-5 + 1e-3 / frame.scale
 }
 
+/// Runs `answer` on the two sets scaled by a power of two into the range where
+/// squared distances neither overflow nor underflow (coordinates past 1e154
+/// or closer than 1e-154), and scales its distances back: the pair is the same
+/// and the distance exact to rounding.
+fn in_range(
+    a: &[DVec2],
+    b: &[DVec2],
+    answer: impl FnOnce(&[DVec2], &[DVec2]) -> Result<Answer>,
+) -> Result<Answer> {
+    check_sets(&[("first set", a), ("second set", b)])?;
+    let both: Vec<DVec2> = a.iter().chain(b).copied().collect();
+    let k = scale::predicate_exponent(&both)?;
+    if k == 0 {
+        return answer(a, b);
+    }
+    let mut found = answer(&scale::scaled(a, k), &scale::scaled(b, k))?;
+    for pair in [&mut found.pair, &mut found.picture_pair] {
+        pair.distance = scale::times_power_of_two(pair.distance, -k);
+    }
+    Ok(found)
+}
+
 fn check_sets(sets: &[(&str, &[DVec2])]) -> Result<()> {
     for (name, set) in sets {
         check_sites(set).map_err(|e| Error::InvalidInput(format!("{name}: {e}")))?;
@@ -167,7 +189,15 @@ pub fn directed_hausdorff(
     b: &[DVec2],
     side: Option<u32>,
 ) -> Result<Answer> {
-    check_sets(&[("first set", a), ("second set", b)])?;
+    in_range(a, b, |a, b| directed_in_range(machine, a, b, side))
+}
+
+fn directed_in_range(
+    machine: &Machine,
+    a: &[DVec2],
+    b: &[DVec2],
+    side: Option<u32>,
+) -> Result<Answer> {
     let side = side.unwrap_or_else(|| default_side(machine, b.len()));
     let frame = frame_around(&[a, b], side)?;
     let diagram = voronoi(machine, b, &VoronoiOptions::exact(frame))?;
@@ -220,7 +250,15 @@ pub fn max_distance(
     b: &[DVec2],
     side: Option<u32>,
 ) -> Result<Answer> {
-    check_sets(&[("first set", a), ("second set", b)])?;
+    in_range(a, b, |a, b| max_distance_in_range(machine, a, b, side))
+}
+
+fn max_distance_in_range(
+    machine: &Machine,
+    a: &[DVec2],
+    b: &[DVec2],
+    side: Option<u32>,
+) -> Result<Answer> {
     let side = side.unwrap_or_else(|| default_side(machine, convex_hull(b).len()));
     let frame = frame_around(&[a, b], side)?;
     let diagram = furthest(machine, b, &frame, Metric::L2)?;
