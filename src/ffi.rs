@@ -284,13 +284,43 @@ fn status_of(error: &Error) -> PixgeoStatus {
     }
 }
 
+thread_local! {
+    /// Whether this thread is inside a call from C, and where its last panic
+    /// happened.
+    static IN_CALL: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    static PANIC_AT: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+/// Runs a call from C: a panic comes back as `Err`, and the host's stderr gets
+/// no message or backtrace from it (the message goes to the error string).
+/// Panics outside calls from C still reach the hook that was there before.
+fn guarded<T>(f: impl FnOnce() -> T) -> std::thread::Result<T> {
+    static QUIET_HOOK: std::sync::Once = std::sync::Once::new();
+    QUIET_HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if IN_CALL.get() {
+                let at = info.location().map(|l| l.to_string()).unwrap_or_default();
+                PANIC_AT.with_borrow_mut(|p| *p = at);
+            } else {
+                previous(info);
+            }
+        }));
+    });
+    let outer = IN_CALL.replace(true);
+    let outcome = catch_unwind(AssertUnwindSafe(f));
+    IN_CALL.set(outer);
+    outcome
+}
+
 fn panic_text(payload: Box<dyn std::any::Any + Send>) -> String {
     let what = payload
         .downcast_ref::<&str>()
         .map(|s| s.to_string())
         .or_else(|| payload.downcast_ref::<String>().cloned())
         .unwrap_or_else(|| "unknown panic".into());
-    format!("pixgeo panicked (a bug, please report it): {what}")
+    let at = PANIC_AT.with_borrow(|p| p.clone());
+    format!("pixgeo panicked (a bug, please report it) at {at}: {what}")
 }
 
 /// Runs `f` on the context, recording its error message there.
@@ -303,7 +333,7 @@ fn with_context(
     let Some(context) = (unsafe { ctx.as_mut() }) else {
         return PixgeoStatus::InvalidArgument;
     };
-    let outcome = catch_unwind(AssertUnwindSafe(|| f(context)));
+    let outcome = guarded(|| f(context));
     let (status, text) = match outcome {
         Ok(Ok(())) => (PixgeoStatus::Ok, String::new()),
         Ok(Err(e)) => e,
@@ -341,7 +371,7 @@ pub unsafe extern "C" fn pixgeo_context_create(
     unsafe { *out = ptr::null_mut() };
     // SAFETY: `options` is null or valid (caller contract).
     let options = unsafe { options.as_ref() }.copied();
-    let outcome = catch_unwind(|| {
+    let outcome = guarded(|| {
         let mut machine_options = MachineOptions::from_env();
         if let Some(o) = options {
             machine_options.validation = o.validation;
@@ -394,7 +424,7 @@ pub unsafe extern "C" fn pixgeo_context_destroy(ctx: *mut PixgeoContext) {
         // SAFETY: the pointer came from `Box::into_raw` in `pixgeo_context_create`
         // and is destroyed once (caller contract).
         let context = unsafe { Box::from_raw(ctx) };
-        let _ = catch_unwind(AssertUnwindSafe(move || drop(context)));
+        let _ = guarded(move || drop(context));
     }
 }
 
@@ -1109,4 +1139,17 @@ pub unsafe extern "C" fn pixgeo_delaunay(
         }
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_in_a_call_becomes_its_message() {
+        let payload = guarded(|| panic!("boom")).unwrap_err();
+        let text = panic_text(payload);
+        assert!(text.contains("boom") && text.contains("ffi.rs"), "{text}");
+        assert!(!IN_CALL.get());
+    }
 }
