@@ -98,22 +98,14 @@ fn c_example_builds_runs_and_checks_its_results() {
     assert!(stdout.contains("all checks passed"), "{stdout}");
 }
 
-/// memcheck: no invalid access and no leak of pixgeo's, after suppressing the
-/// reports `examples/c/valgrind.supp` explains (the validation layer is off: under
-/// valgrind it would take minutes).
+/// memcheck through `examples/c/memcheck`: no invalid access and no leak of
+/// pixgeo's, after suppressing the reports `examples/c/valgrind.supp` explains
+/// (the validation layer is off: under valgrind it would take minutes).
 #[test]
 fn c_example_is_clean_under_valgrind() {
     let exe = build_c_example();
-    let suppressions = Path::new(MANIFEST).join("examples/c/valgrind.supp");
-    let out = Command::new("valgrind")
-        .args([
-            "--tool=memcheck",
-            "--leak-check=full",
-            "--keep-debuginfo=yes",
-            "--errors-for-leak-kinds=definite,indirect",
-            "--error-exitcode=3",
-        ])
-        .arg(format!("--suppressions={}", suppressions.display()))
+    // The command the example ships, so that a user's run is the tests' run.
+    let out = Command::new(Path::new(MANIFEST).join("examples/c/memcheck"))
         .arg(&exe)
         .env_remove("PIXGEO_VALIDATION")
         .output()
