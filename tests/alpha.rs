@@ -94,7 +94,9 @@ fn positive_alpha_with_the_hull_walk_is_the_definition() {
     let machine = machine();
     for (name, sites) in inputs() {
         let mec = pixgeo::reference::homothet::welzl(&sites).radius;
-        for factor in [1.0, 1.2, 3.0] {
+        // Up to discs so large that their caps are thinner than the picture resolves
+        // (computed as the convex hull).
+        for factor in [1.0, 1.2, 3.0, 1e7] {
             let radius = mec * factor;
             let hull = alpha_hull(&machine, &sites, 1.0 / radius, AlphaMethod::Hull, SIDE).unwrap();
             let tau = 1e-3 / hull.frame.scale;
@@ -113,7 +115,11 @@ fn positive_alpha_with_the_hull_walk_is_the_definition() {
                 );
             }
             assert!(checked > hull.pixels.len() / 2);
-            assert!(hull.inside > 0, "{name}: the hull has pixels");
+            // Collinear sites under huge discs make a lens thinner than a pixel.
+            assert!(
+                hull.inside > 0 || name == "collinear",
+                "{name}: the hull has pixels"
+            );
             assert!(!hull.boundary_sites.is_empty());
         }
     }

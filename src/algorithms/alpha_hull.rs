@@ -138,11 +138,28 @@ pub fn alpha_hull(
     }
     if alpha < 0.0 {
         negative(machine, sites, alpha, side)
-    } else if alpha == 0.0 {
-        convex(machine, sites, side)
+    } else if alpha == 0.0 || bulge_below_resolution(sites, alpha, side) {
+        let hull = convex(machine, sites, side)?;
+        Ok(AlphaHull {
+            alpha,
+            radius: (alpha != 0.0).then(|| 1.0 / alpha),
+            ..hull
+        })
     } else {
         positive(machine, sites, alpha, method, side)
     }
+}
+
+/// Whether discs of radius 1/α bulge past the convex hull by less than a
+/// thousandth of a pixel: over a chord d a disc's cap is d² α / 8 deep. The
+/// α-hull is then the convex hull to within that band outside its edges, and
+/// is computed so: drawn in float32, discs that large (from about 1e5 pixels
+/// across) err by more than their caps are deep.
+fn bulge_below_resolution(sites: &[DVec2], alpha: f64, side: u32) -> bool {
+    let (lo, hi) = bounds(sites);
+    let chord = (hi - lo).length();
+    let pixel = (hi - lo).max_element() / side as f64;
+    chord * chord * alpha / 8.0 < 1e-3 * pixel
 }
 
 fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
