@@ -29,15 +29,26 @@ pub enum Error {
     /// The picture (or one image of the device) is larger than allowed.
     #[error("picture {width}x{height} is too large: sides of at most {limit} pixels")]
     PictureTooLarge { width: u32, height: u32, limit: u32 },
-    /// A file could not be read or written.
-    #[error("{path}: {source}")]
+    /// A file could not be read or written. The OS error is in the message,
+    /// not a separate source, so that a chain of causes names it once.
+    #[error("{path}: {cause}")]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A file was read but its content is malformed.
     #[error("{path}: {message}")]
     Parse { path: PathBuf, message: String },
+}
+
+impl Error {
+    /// Names what an invalid input was (`first set: site 3 ...`), once.
+    pub(crate) fn about(self, what: &str) -> Self {
+        match self {
+            Self::InvalidInput(message) => Self::InvalidInput(format!("{what}: {message}")),
+            other => other,
+        }
+    }
 }
 
 /// Result with pixgeo's [`Error`].

@@ -126,7 +126,7 @@ fn in_range(
 
 fn check_sets(sets: &[(&str, &[DVec2])]) -> Result<()> {
     for (name, set) in sets {
-        check_sites(set).map_err(|e| Error::InvalidInput(format!("{name}: {e}")))?;
+        check_sites(set).map_err(|e| e.about(name))?;
     }
     Ok(())
 }

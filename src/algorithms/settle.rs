@@ -140,9 +140,9 @@ fn check(rivals: &[DVec2], own: &[DVec2], frame: &Frame, metric: Metric) -> Resu
                 .into(),
         ));
     }
-    check_sites(rivals).map_err(|e| Error::InvalidInput(format!("rival sites: {e}")))?;
+    check_sites(rivals).map_err(|e| e.about("rival sites"))?;
     if !own.is_empty() {
-        check_sites(own).map_err(|e| Error::InvalidInput(format!("own sites: {e}")))?;
+        check_sites(own).map_err(|e| e.about("own sites"))?;
     }
     Ok(())
 }

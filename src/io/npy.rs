@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 fn io_error(path: &Path, source: std::io::Error) -> Error {
     Error::Io {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     }
 }
 

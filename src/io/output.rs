@@ -30,7 +30,7 @@ impl OutputFile {
         check_extension(path, extension, what)?;
         let io = |source| Error::Io {
             path: path.to_path_buf(),
-            source,
+            cause: source,
         };
         let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
         if special {
@@ -72,7 +72,7 @@ impl OutputFile {
                 let _ = std::fs::remove_file(&temporary);
                 Error::Io {
                     path: self.target.clone(),
-                    source,
+                    cause: source,
                 }
             })?;
         }

@@ -91,7 +91,7 @@ impl PngStream {
     pub fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
         let err = |e: png::EncodingError| Error::Io {
             path: path.to_path_buf(),
-            source: std::io::Error::other(e),
+            cause: std::io::Error::other(e),
         };
         // The encoder writes whole chunks, so the file is left unbuffered: every
         // write error reaches `write` or `finish` instead of a buffer's `Drop`.
@@ -112,7 +112,7 @@ impl PngStream {
         use std::io::Write;
         self.writer.write_all(rgb).map_err(|source| Error::Io {
             path: self.output.path().to_path_buf(),
-            source,
+            cause: source,
         })
     }
 
@@ -120,7 +120,7 @@ impl PngStream {
     pub fn finish(self) -> Result<()> {
         self.writer.finish().map_err(|e| Error::Io {
             path: self.output.path().to_path_buf(),
-            source: std::io::Error::other(e),
+            cause: std::io::Error::other(e),
         })?;
         self.output.commit()
     }

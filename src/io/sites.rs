@@ -102,7 +102,7 @@ pub fn read_general_sites(path: &Path) -> Result<Vec<Site>> {
 fn read_text(path: &Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     String::from_utf8(bytes).map_err(|e| Error::Parse {
         path: path.to_path_buf(),

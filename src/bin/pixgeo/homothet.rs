@@ -196,6 +196,12 @@ fn read_region(path: &Path) -> Result<Region> {
             .map(|ring| serde_json::from_value::<Vec<[f64; 2]>>(ring.clone()))
             .collect::<Result<Vec<_>, _>>()
             .with_context(|| format!("{}: rings are lists of [x, y]", path.display()))?;
+        if rings.iter().all(|r| r.len() < 3) {
+            bail!(
+                "{}: the region needs a ring of at least three points (leave out --region for the sites' bounding box)",
+                path.display()
+            );
+        }
         return Ok(Region {
             rings: rings
                 .into_iter()
