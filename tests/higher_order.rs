@@ -518,10 +518,13 @@ fn the_cpu_growth_skips_to_far_sites() {
     let d = cpu::k_nearest(&sites, &frame, 2, Metric::L2).unwrap();
     assert!(started.elapsed().as_secs() < 5);
     assert_levels(&d, &sites, &frame, "far sites on the CPU");
-    assert!(
-        cpu::k_nearest(&[DVec2::new(1e12, 0.0)], &frame, 1, Metric::L2)
-            .unwrap_err()
-            .to_string()
-            .contains("pixels from the picture")
-    );
+    // Past 1e9 pixels the nearest site comes from the search by blocks; more
+    // levels are refused.
+    let farther = [DVec2::new(1e12, 0.0), DVec2::new(-1e12, 3.0)];
+    let d = cpu::k_nearest(&farther, &frame, 1, Metric::L2).unwrap();
+    assert_levels(&d, &farther, &frame, "sites 1e12 out on the CPU");
+    assert!(cpu::k_nearest(&farther, &frame, 2, Metric::L2)
+        .unwrap_err()
+        .to_string()
+        .contains("pixels from the picture"));
 }

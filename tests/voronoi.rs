@@ -655,3 +655,19 @@ fn repeated_sites_cost_nothing_and_the_first_wins() {
         assert_eq!(label as usize, first, "pixel {q}");
     }
 }
+
+#[test]
+fn sites_beyond_float32_are_refused_on_the_device() {
+    // Sites 1e8 pixels out own pixels whose distances float32 cannot tell
+    // apart: refused, pointing at the CPU algorithm, which is exact in f64.
+    let m = machine();
+    let frame = Frame::pixels(64, 64).unwrap();
+    let far = [DVec2::new(-1e8, 5.0), DVec2::new(1e8, 30.0)];
+    let e = voronoi(&m, &far, &VoronoiOptions::exact(frame)).unwrap_err();
+    assert!(e.to_string().contains("--device cpu"), "{e}");
+    let d = pixgeo::algorithms::cpu::k_nearest(&far, &frame, 1, Metric::L2).unwrap();
+    // At x = 0 the first site is nearer exactly where y < 17.5.
+    for j in 0..64 {
+        assert_eq!(d.labels[j * 64], u32::from(j >= 18), "row {j}");
+    }
+}

@@ -104,11 +104,30 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
         .iter()
         .map(|p| frame.farthest_pixel(p.round()))
         .fold(0.0, f64::max);
-    // Ring radii are squared in 64 bits.
+    // Ring radii are squared in 64 bits; farther sites' nearest-site maps take
+    // the search by blocks instead.
+    if reach > MAX_RING && k == 1 {
+        let points: Vec<Site> = sites.iter().map(|&p| Site::point(p)).collect();
+        let (labels, distances) = voronoi_sites(&points, frame, metric)?;
+        return Ok(KNearest {
+            width: frame.width,
+            height: frame.height,
+            k,
+            labels,
+            distances,
+            stats: KNearestStats {
+                device: "cpu".into(),
+                sites: sites.len(),
+                levels: k,
+                render_ms: started.elapsed().as_secs_f64() * 1e3,
+                ..Default::default()
+            },
+        });
+    }
     if reach > MAX_RING {
         return Err(Error::InvalidInput(format!(
             "a site lies {reach:.3e} pixels from the picture; the CPU pixel algorithm \
-             grows sites at most {MAX_RING:e} pixels (use a Vulkan device)"
+             grows sites at most {MAX_RING:e} pixels for more than the nearest site"
         )));
     }
     // The rings of radius in [near, far] of a site touch the picture; radii

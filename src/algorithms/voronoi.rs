@@ -43,6 +43,11 @@ use crate::{
     },
 };
 
+/// The farthest (pixels) an exact cone may reach: float32 positions and
+/// distances there are good to about a sixtieth of a pixel, and farther out
+/// two sites' distances could tie or swap by more.
+pub const MAX_EXACT_REACH: f64 = (1u32 << 18) as f64;
+
 /// How cones are drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Accuracy {
@@ -489,6 +494,14 @@ pub(crate) fn draw_point_tiles(
         .map(|c| c.radius)
         .fold(1.0, f64::max)
         * 1.001;
+    if options.accuracy == Accuracy::Exact && exact_reach > MAX_EXACT_REACH {
+        return Err(Error::InvalidInput(format!(
+            "sites lie up to {exact_reach:.3e} pixels from pixels they own: the device's \
+             float32 resolves distances there to {:.2e} pixels, not exactly (up to {MAX_EXACT_REACH} \
+             pixels it resolves a sixtieth); use the CPU algorithm (--device cpu), exact in f64",
+            exact_reach * f32::EPSILON as f64
+        )));
+    }
     if let Accuracy::Fan {
         epsilon,
         triangles: None,
