@@ -112,240 +112,96 @@ fn every_command_refuses_bad_input_clearly() {
             cases.push((args, expect));
         }
     }
-    let owned = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    let specific: &[(&[&str], &str)] = &[
+    // Each line: the arguments, split at spaces, and what the message must say.
+    let specific: &[(&str, &str)] = &[
         // Degenerate sets where a command needs more.
-        (&["delaunay", "--sites", "one.csv"], "one point"),
-        (&["delaunay", "--sites", "same.csv"], "one point"),
-        (&["delaunay", "--sites", "line.csv"], "one line"),
-        (&["delaunay", "--random", "1"], "one point"),
-        (&["triangle", "--sites", "one.csv"], "three"),
-        (&["quadrangle", "--sites", "line.csv"], "four distinct"),
+        ("delaunay --sites one.csv", "one point"),
+        ("delaunay --sites same.csv", "one point"),
+        ("delaunay --sites line.csv", "one line"),
+        ("delaunay --random 1", "one point"),
+        ("triangle --sites one.csv", "three"),
+        ("quadrangle --sites line.csv", "four distinct"),
         // Numbers beyond reason.
+        ("delaunay --random 10 --grid 4294967295", "larger than"),
         (
-            &["delaunay", "--random", "10", "--grid", "4294967295"],
-            "larger than",
-        ),
-        (
-            &[
-                "delaunay",
-                "--random",
-                "10",
-                "-o",
-                "out.png",
-                "--picture-size",
-                "100000",
-            ],
+            "delaunay --random 10 -o out.png --picture-size 100000",
             "100000",
         ),
+        ("voronoi --random 5 --size 0 --labels out.npy", "at least 1"),
         (
-            &[
-                "voronoi", "--random", "5", "--size", "0", "--labels", "out.npy",
-            ],
-            "at least 1",
-        ),
-        (
-            &[
-                "voronoi", "--random", "5", "--size", "99999999", "--labels", "out.npy",
-            ],
+            "voronoi --random 5 --size 99999999 --labels out.npy",
             "too large",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--bbox",
-                "-1e308,-1e308,1e308,1e308",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --bbox -1e308,-1e308,1e308,1e308 --labels out.npy",
             "finite",
         ),
         (
-            &[
-                "settle",
-                "--random",
-                "5",
-                "--bbox",
-                "-1e308,-1e308,1e308,1e308",
-                "--area",
-                "out.npy",
-            ],
+            "settle --random 5 --bbox -1e308,-1e308,1e308,1e308 --area out.npy",
             "finite",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--bbox",
-                "0,0,1,1e9",
-                "--size",
-                "64",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --bbox 0,0,1,1e9 --size 64 --labels out.npy",
             "height",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--mode",
-                "fan:100000000",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --mode fan:100000000 --labels out.npy",
             "65536",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--mode",
-                "fan",
-                "--epsilon",
-                "1e-300",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --mode fan --epsilon 1e-300 --labels out.npy",
             "epsilon",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--mode",
-                "fan",
-                "--epsilon",
-                "nan",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --mode fan --epsilon nan --labels out.npy",
             "epsilon",
         ),
-        (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--contours",
-                "0",
-                "-o",
-                "out.png",
-            ],
-            "positive",
-        ),
+        ("voronoi --random 5 --contours 0 -o out.png", "positive"),
         // Options that contradict each other or would be ignored.
         (
-            &[
-                "voronoi", "--random", "5", "--labels", "out.npy", "-o", "out.npy",
-            ],
+            "voronoi --random 5 --labels out.npy -o out.npy",
             "both name",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--labels",
-                "out.npy",
-                "--distance",
-                "out.npy",
-            ],
+            "voronoi --random 5 --labels out.npy --distance out.npy",
             "both name",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--epsilon",
-                "2",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --epsilon 2 --labels out.npy",
             "--mode fan",
         ),
-        (&["voronoi", "--random", "5", "--contours", "4"], "-o"),
+        ("voronoi --random 5 --contours 4", "-o"),
+        ("voronoi --random 5 --degree 2 --each-level", "-o"),
         (
-            &["voronoi", "--random", "5", "--degree", "2", "--each-level"],
-            "-o",
-        ),
-        (
-            &["voronoi", "--random", "5", "--peel", "--labels", "out.npy"],
+            "voronoi --random 5 --peel --labels out.npy",
             "--degree or --order",
         ),
         (
-            &[
-                "voronoi", "--random", "5", "--device", "cpu", "--mode", "fan", "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --device cpu --mode fan --labels out.npy",
             "exact",
         ),
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--method",
-                "flood",
-                "--speedup",
-                "quadtree",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --method flood --speedup quadtree --labels out.npy",
             "flooding",
         ),
-        (
-            &[
-                "hausdorff",
-                "--red",
-                "ok.csv",
-                "--blue",
-                "ok.csv",
-                "--device",
-                "cpu",
-            ],
-            "CPU",
-        ),
-        (&["delaunay", "--random", "20", "--device", "cpu"], "CPU"),
+        ("hausdorff --red ok.csv --blue ok.csv --device cpu", "CPU"),
+        ("delaunay --random 20 --device cpu", "CPU"),
         // Outputs named for another format.
-        (&["voronoi", "--random", "5", "-o", "out.jpg"], ".png"),
-        (&["voronoi", "--random", "5", "--labels", "out.txt"], ".npy"),
-        (&["settle", "--random", "5", "--area", "out.png"], ".npy"),
-        (
-            &[
-                "alpha", "--sites", "ok.csv", "--alpha", "0.01", "--mask", "out.csv",
-            ],
-            ".npy",
-        ),
+        ("voronoi --random 5 -o out.jpg", ".png"),
+        ("voronoi --random 5 --labels out.txt", ".npy"),
+        ("settle --random 5 --area out.png", ".npy"),
+        ("alpha --sites ok.csv --alpha 0.01 --mask out.csv", ".npy"),
         // Outputs that cannot be written.
-        (
-            &["voronoi", "--random", "5", "-o", "no/such/dir/out.png"],
-            "no/such/dir",
-        ),
-        (&["voronoi", "--random", "5", "-o", "/dev/full"], "No space"),
+        ("voronoi --random 5 -o no/such/dir/out.png", "no/such/dir"),
+        ("voronoi --random 5 -o /dev/full", "No space"),
         // Environment.
         (
-            &[
-                "voronoi",
-                "--random",
-                "5",
-                "--device",
-                "no-such-device",
-                "--labels",
-                "out.npy",
-            ],
+            "voronoi --random 5 --device no-such-device --labels out.npy",
             "no-such-device",
         ),
     ];
     for (args, expect) in specific {
-        cases.push((owned(args), expect));
+        cases.push((args.split(' ').map(str::to_string).collect(), expect));
     }
     let mut failures = Vec::new();
     for (args, expect) in &cases {

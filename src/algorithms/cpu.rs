@@ -109,20 +109,7 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
     if reach > MAX_RING && k == 1 {
         let points: Vec<Site> = sites.iter().map(|&p| Site::point(p)).collect();
         let (labels, distances) = voronoi_sites(&points, frame, metric)?;
-        return Ok(KNearest {
-            width: frame.width,
-            height: frame.height,
-            k,
-            labels,
-            distances,
-            stats: KNearestStats {
-                device: "cpu".into(),
-                sites: sites.len(),
-                levels: k,
-                render_ms: started.elapsed().as_secs_f64() * 1e3,
-                ..Default::default()
-            },
-        });
+        return Ok(levels(frame, k, sites.len(), started, labels, distances));
     }
     if reach > MAX_RING {
         return Err(Error::InvalidInput(format!(
@@ -217,7 +204,19 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
             }
         })
         .unzip();
-    Ok(KNearest {
+    Ok(levels(frame, k, sites.len(), started, labels, distances))
+}
+
+/// The levels' maps as the CPU computed them.
+fn levels(
+    frame: &Frame,
+    k: u32,
+    sites: usize,
+    started: std::time::Instant,
+    labels: Vec<u32>,
+    distances: Vec<f32>,
+) -> KNearest {
+    KNearest {
         width: frame.width,
         height: frame.height,
         k,
@@ -225,12 +224,12 @@ pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Resu
         distances,
         stats: KNearestStats {
             device: "cpu".into(),
-            sites: sites.len(),
+            sites,
             levels: k,
             render_ms: started.elapsed().as_secs_f64() * 1e3,
             ..Default::default()
         },
-    })
+    }
 }
 
 /// Inserts `key` into the sorted list `list` if it is among its smallest.
