@@ -157,6 +157,10 @@ fn every_command_refuses_bad_input_clearly() {
             "epsilon",
         ),
         ("voronoi --random 5 --contours 0 -o out.png", "positive"),
+        (
+            "voronoi --random 5 --metric lp:1e-9 --labels out.npy",
+            "0.01",
+        ),
         // Options that contradict each other or would be ignored.
         (
             "voronoi --random 5 --labels out.npy -o out.npy",

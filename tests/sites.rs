@@ -541,3 +541,30 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
     };
     check_fan_with(&m, &sites, &fan, "fan tiles");
 }
+
+#[test]
+fn additive_weights_far_apart_keep_float32_in_range() {
+    // A weight of -1e18 wins everywhere; a weight shared by all changes no
+    // label. Neither may stretch the depths past float32's resolution.
+    let m = common::machine();
+    let frame = Frame::pixels(64, 48).unwrap();
+    let heavy = [
+        weighted(Shape::Point(DVec2::new(10.0, 10.0)), 1.0, -1e18),
+        weighted(Shape::Point(DVec2::new(40.0, 40.0)), 1.0, 0.0),
+    ];
+    let d = voronoi_sites(&m, &heavy, &VoronoiOptions::exact(frame)).unwrap();
+    assert!(d.labels.iter().all(|&l| l == 0));
+    assert!(d.distances.iter().all(|&x| x == -1e18));
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let sites = random_sites(&mut rng, 20, &[0, 1], true, 64.0, 48.0);
+    let shifted: Vec<Site> = sites
+        .iter()
+        .map(|s| Site {
+            additive: s.additive + 1e9,
+            ..*s
+        })
+        .collect();
+    let a = voronoi_sites(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    let b = voronoi_sites(&m, &shifted, &VoronoiOptions::exact(frame)).unwrap();
+    assert_eq!(a.labels, b.labels);
+}

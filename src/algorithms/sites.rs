@@ -74,6 +74,35 @@ pub fn voronoi_sites(
                 .into(),
         ));
     }
+    check_general_sites(sites)?;
+    // A site whose additive weight alone exceeds another's whole weighted
+    // distance over the picture wins nowhere, and a weight common to all
+    // changes no label: left in, either would stretch the depth range past
+    // float32's resolution. The rest is drawn with the least weight at 0, and
+    // the distances get it back.
+    let kept = winners_by_weight(sites, &options.frame, options.metric);
+    let shift = kept
+        .iter()
+        .map(|&i| sites[i as usize].additive)
+        .fold(f64::INFINITY, f64::min);
+    if kept.len() < sites.len() || (shift != 0.0 && shift.is_finite()) {
+        let chosen: Vec<Site> = kept
+            .iter()
+            .map(|&i| Site {
+                additive: sites[i as usize].additive - shift,
+                ..sites[i as usize]
+            })
+            .collect();
+        let mut d = voronoi_sites(machine, &chosen, options)?;
+        for label in d.labels.iter_mut().filter(|l| **l != u32::MAX) {
+            *label = kept[*label as usize];
+        }
+        for distance in &mut d.distances {
+            *distance = (*distance as f64 + shift) as f32;
+        }
+        d.stats.sites = sites.len();
+        return Ok(d);
+    }
     let frame = options.frame;
     let width = frame.width as usize;
     let mut labels = vec![u32::MAX; frame.len()];
@@ -106,6 +135,33 @@ pub fn voronoi_sites(
         ties: Vec::new(),
         stats,
     })
+}
+
+/// The sites that may win some pixel by their additive weights: the site of
+/// the smallest additive weight bounds the envelope everywhere by that weight
+/// plus its farthest weighted distance from the picture, and a site whose
+/// weight alone exceeds the bound wins nowhere.
+fn winners_by_weight(sites: &[Site], frame: &crate::geometry::Frame, metric: Metric) -> Vec<u32> {
+    let Some(least) = sites
+        .iter()
+        .min_by(|a, b| a.additive.total_cmp(&b.additive))
+    else {
+        return Vec::new();
+    };
+    let corners = [
+        frame.to_world(DVec2::splat(-0.5)),
+        frame.to_world(DVec2::new(
+            frame.width as f64 - 0.5,
+            frame.height as f64 - 0.5,
+        )),
+    ];
+    let (lo, hi) = least.bounds();
+    let farthest =
+        (corners[0].min(corners[1]).min(lo) - corners[0].max(corners[1]).max(hi)).length();
+    let bound = least.additive + metric.euclidean_bounds().1 * farthest / least.multiplicative;
+    (0..sites.len() as u32)
+        .filter(|&i| sites[i as usize].additive <= bound)
+        .collect()
 }
 
 /// One drawn tile of a diagram of sites: its images (ids, and depth with a clear

@@ -133,6 +133,13 @@ impl Metric {
         if p.is_nan() || p <= 0.0 {
             return Err(format!("L_p needs p > 0, not {p}"));
         }
+        // The distance of (1, 1) is 2^(1/p): below p = 0.01 a picture's
+        // distances pass float32's range.
+        if p < 0.01 {
+            return Err(format!(
+                "L_p takes p of at least 0.01, not {p:?}: the distance of (1, 1) is 2^(1/p), beyond float32's range below that"
+            ));
+        }
         Ok(match p {
             1.0 => Self::L1,
             2.0 => Self::L2,
