@@ -37,7 +37,8 @@ enum Method {
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// Point sites: CSV `x,y` per line (optional header) or JSON.
+    /// Point sites: `.csv` (`x,y` per line, optional header `x,y`), `.json`,
+    /// `.geojson` or `.npy` (n×2), read by extension.
     #[arg(long, value_name = "FILE")]
     sites: PathBuf,
     /// α: negative for the union of empty discs of radius -1/α, positive for

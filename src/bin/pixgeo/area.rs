@@ -50,7 +50,8 @@ pub struct QuadrangleArgs {
 
 #[derive(ClapArgs)]
 struct Common {
-    /// Point sites: CSV `x,y` per line (optional header) or JSON.
+    /// Point sites: `.csv` (`x,y` per line, optional header `x,y`), `.json`,
+    /// `.geojson` or `.npy` (n×2), read by extension.
     #[arg(long, value_name = "FILE")]
     sites: PathBuf,
     /// The largest area instead of the smallest.

@@ -33,7 +33,8 @@ use crate::distances::machine_on;
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// Points: CSV `x,y` per line (optional header) or JSON `[[x, y], ...]`.
+    /// Points: `.csv` (`x,y` per line, optional header `x,y`), `.json`
+    /// (`[[x, y], ...]`), `.geojson` or `.npy` (n×2), read by extension.
     #[arg(long, value_name = "FILE", required_unless_present = "random")]
     sites: Option<PathBuf>,
     /// Use N uniformly random points in a 1000 x 1000 square instead.

@@ -60,7 +60,8 @@ pub fn machine_on(device: Option<&str>) -> Result<Machine> {
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct HausdorffArgs {
-    /// The red points: CSV `x,y` per line or JSON, like --sites of voronoi.
+    /// The red points: a point file (`.csv`, `.json`, `.geojson`, `.npy`), like
+    /// --sites of voronoi.
     #[arg(long, value_name = "FILE")]
     red: PathBuf,
     /// The blue points.
@@ -79,7 +80,7 @@ pub struct HausdorffArgs {
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct DiameterArgs {
-    /// The points: CSV `x,y` per line or JSON.
+    /// The points: a point file (`.csv`, `.json`, `.geojson`, `.npy`).
     #[arg(long, value_name = "FILE")]
     sites: PathBuf,
     #[command(flatten)]

@@ -16,12 +16,14 @@ use pixgeo::{
 /// The sites and the picture they are drawn on.
 #[derive(ClapArgs)]
 pub struct Input {
-    /// Site file: CSV with `x,y` per line (optional header; `pixgeo voronoi` also
-    /// reads weight columns `x,y,m,a`) or JSON (`[[x, y], ...]` or
-    /// `{"sites": [...]}`; `pixgeo voronoi` also reads `{"segment": [[x1, y1],
-    /// [x2, y2]]}`, `{"circle": {"center": [x, y], "radius": r}}`, `{"arc":
-    /// {"center": [x, y], "radius": r, "start": a0, "end": a1}}` and weights
-    /// `"m"`, `"a"` on any site).
+    /// Site file, read by its extension: `.csv`/`.txt` (`x,y` per line, or the
+    /// columns a header names: `x`, `y` and the weights `m`, `a`), `.json`
+    /// (`[[x, y], ...]` or `{"sites": [...]}`; `pixgeo voronoi` also reads
+    /// `{"segment": [[x1, y1], [x2, y2]]}`, `{"circle": {"center": [x, y],
+    /// "radius": r}}`, `{"arc": {"center": [x, y], "radius": r, "start": a0,
+    /// "end": a1}}` and weights `"m"`, `"a"` on any site), `.geojson` (Point,
+    /// MultiPoint, LineString, MultiLineString) or `.npy` (n×2 x, y; n×3 adds m;
+    /// n×4 adds a).
     #[arg(long, value_name = "FILE", conflicts_with = "random")]
     sites: Option<PathBuf>,
 
