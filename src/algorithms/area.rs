@@ -136,10 +136,11 @@ fn in_range(
         return answer(sites);
     }
     let mut found = answer(&scale::scaled(sites, k))?;
-    let back = |area: f64| scale::times_power_of_two(area, -2 * k);
-    found.area = back(found.area);
-    found.pixel_area = found.pixel_area.map(back);
-    found.bound = found.bound.map(back);
+    // Areas are products of two coordinates: 2^k each.
+    let back = -2 * k;
+    found.area = scale::times_power_of_two(found.area, back);
+    found.pixel_area = found.pixel_area.map(|a| scale::times_power_of_two(a, back));
+    found.bound = found.bound.map(|a| scale::times_power_of_two(a, back));
     if !found.area.is_finite() {
         return Err(Error::InvalidInput(format!(
             "the {}'s area is beyond the largest float ({:e})",
