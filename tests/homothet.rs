@@ -750,3 +750,17 @@ fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
         answer.exact.scale
     );
 }
+
+#[test]
+fn more_levels_than_kept_are_refused_by_name() {
+    // k-enclosing reads the k-th nearest level, of which at most 256 are kept;
+    // holding every site reads the furthest-site envelope instead.
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let sites = uniform(&mut rng, 300, 100.0, 100.0);
+    let e = enclose(&machine, &sites, Unit::Circle, 280, 128)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("at most 256 levels"), "{e}");
+    assert!(enclose(&machine, &sites, Unit::Circle, 300, 128).is_ok());
+}

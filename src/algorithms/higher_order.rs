@@ -955,7 +955,7 @@ pub(crate) fn draw_furthest(
     let side = machine.max_picture_side();
     if frame.width > side || frame.height > side {
         return Err(Error::InvalidInput(format!(
-            "furthest-site diagrams are drawn in one image of at most {side}x{side} pixels on this device"
+            "the upper envelope is drawn in one image of at most {side}x{side} pixels on this device"
         )));
     }
     let owners = furthest_candidates(sites, &convex_hull(sites), metric);

@@ -49,7 +49,7 @@ use refine::{
 
 use super::{
     flooding,
-    higher_order::{draw_furthest, k_nearest, KNearestOptions},
+    higher_order::{draw_furthest, k_nearest, KNearestOptions, MAX_LEVELS},
     sites::draw_sites,
     voronoi::{draw_point_tiles, Accuracy, Speedup, VoronoiOptions},
 };
@@ -180,6 +180,12 @@ pub fn enclose(
     if k > n {
         return Err(Error::InvalidInput(format!(
             "cannot enclose {k} of {n} sites"
+        )));
+    }
+    if k < n && k > MAX_LEVELS as usize {
+        return Err(Error::InvalidInput(format!(
+            "holding {k} of {n} sites reads the {k}-th nearest site of every pixel, and pixgeo \
+             keeps at most {MAX_LEVELS} levels: k takes 1 to {MAX_LEVELS}, or all {n} sites"
         )));
     }
     let frame = enclosing_frame(sites, unit, side, k)?;

@@ -100,8 +100,9 @@ impl Shape {
 pub struct EncloseArgs {
     #[command(flatten)]
     shape: Shape,
-    /// Hold at least K sites (smallest k-enclosing homothet, thesis §4.4.1).
-    #[arg(long, value_name = "K")]
+    /// Hold at least K sites (smallest k-enclosing homothet, thesis §4.4.1):
+    /// 1 to 256, or all the sites (the default).
+    #[arg(long, value_name = "K", value_parser = parse_k)]
     k: Option<usize>,
 }
 
@@ -185,6 +186,13 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
     report(&answer, args.shape.json, "largest empty")?;
     args.shape
         .draw(&machine, &shapes, &answer, Envelope::Empty, &region)
+}
+
+fn parse_k(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(k) if k >= 1 => Ok(k),
+        _ => Err(format!("`{text}`: K counts the sites to hold, at least 1")),
+    }
 }
 
 fn read_region(path: &Path) -> Result<Region> {
