@@ -302,16 +302,12 @@ impl Metric {
         }
     }
 
-    /// The largest Euclidean move of a site whose [`Metric::displacement_error`]
-    /// at `reach` stays within `error`.
-    pub fn displacement_within(self, reach: f64, error: f64) -> f64 {
+    /// The largest Euclidean move of a site that changes distances near it by
+    /// at most `error`: the inverse of the metric's Lipschitz constant (for
+    /// L_p with p < 1 that holds at distance 0 only; see
+    /// [`Metric::displacement_error`] for farther).
+    pub fn displacement_within(self, error: f64) -> f64 {
         match self {
-            Self::Lp(p) if p < 1.0 && reach > 0.0 => {
-                // (reach + error)^p - reach^p, without cancellation.
-                let gap = reach.powf(p) * (p * (error / reach).ln_1p()).exp_m1();
-                gap.powf(1.0 / p) / self.euclidean_bounds().1
-            }
-            Self::Lp(p) if p < 1.0 => error / self.euclidean_bounds().1,
             Self::Polygon(g) => error / g.lipschitz(),
             _ => error / self.euclidean_bounds().1,
         }

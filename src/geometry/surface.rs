@@ -176,7 +176,7 @@ pub fn fan_surface(site: &Site, meshes: &FanMeshes, fan: MetricFan, reach: f64) 
             MetricFan::Chain {
                 epsilon: epsilon / 2.0,
             },
-            metric.displacement_within(0.0, epsilon / 2.0),
+            metric.displacement_within(epsilon / 2.0),
         ),
         MetricFan::Chain { .. } => (fan, 0.0),
         MetricFan::Uniform { .. } => (fan, 0.5 / b),
