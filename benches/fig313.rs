@@ -227,7 +227,10 @@ fn markdown(
     for c in &CONFIGS {
         s.push_str(&format!(" {} |", c.name));
     }
-    s.push_str(" scipy EDT + indices | exact CPU bucket search (2 threads) | scipy / default |\n|");
+    s.push_str(&format!(
+        " scipy EDT + indices | exact CPU bucket search ({} threads) | scipy / default |\n|",
+        rayon::current_num_threads()
+    ));
     s.push_str(&"---|".repeat(CONFIGS.len() + 4));
     s.push('\n');
     for (k, n) in ns.iter().enumerate() {

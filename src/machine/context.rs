@@ -5,7 +5,7 @@
 use std::{
     ffi::{c_void, CStr},
     mem::ManuallyDrop,
-    sync::Mutex,
+    sync::{Mutex, OnceLock},
 };
 
 use ash::vk;
@@ -80,7 +80,6 @@ impl MachineOptions {
 
 /// The shared Vulkan context. Dropped last: after every image, buffer and pipeline.
 pub(crate) struct Context {
-    _entry: ash::Entry,
     pub instance: ash::Instance,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     /// Boxed so its address is stable for the messenger's user-data pointer.
@@ -101,10 +100,7 @@ pub(crate) struct Context {
 
 impl Context {
     pub fn new(options: &MachineOptions) -> Result<Self> {
-        // SAFETY: loading the system's Vulkan loader library; its entry points are
-        // only called through ash's typed wrappers.
-        let entry = unsafe { ash::Entry::load() }
-            .map_err(|e| Error::NoVulkan(format!("cannot load libvulkan ({e})")))?;
+        let entry = vulkan_loader()?;
 
         let mut layers = Vec::new();
         let mut extensions = Vec::new();
@@ -142,6 +138,7 @@ impl Context {
                 result,
             },
         })?;
+        keep_loaded(entry, &create, options.validation);
         // From here on, `partial` destroys the instance if a later step fails.
         let mut partial = Partial {
             instance: Some(&instance),
@@ -151,7 +148,7 @@ impl Context {
 
         let messages: Box<Mutex<Vec<String>>> = Box::default();
         let debug = if options.validation {
-            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let loader = ash::ext::debug_utils::Instance::new(entry, &instance);
             let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
                 .message_severity(
                     vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
@@ -257,7 +254,6 @@ impl Context {
 
         std::mem::forget(partial);
         let context = Self {
-            _entry: entry,
             instance,
             debug,
             messages,
@@ -305,6 +301,32 @@ impl Drop for Context {
             self.instance.destroy_instance(None);
         }
     }
+}
+
+/// The Vulkan loader, loaded once and kept for the process's life: NVIDIA's driver
+/// refuses new instances (ERROR_INCOMPATIBLE_DRIVER) after being unloaded and
+/// loaded again many times, as a loader per machine did.
+fn vulkan_loader() -> Result<&'static ash::Entry> {
+    static LOADER: OnceLock<std::result::Result<ash::Entry, String>> = OnceLock::new();
+    // SAFETY: loading the system's Vulkan loader library; its entry points are
+    // only called through ash's typed wrappers, and it is never unloaded.
+    LOADER
+        .get_or_init(|| unsafe { ash::Entry::load() }.map_err(|e| e.to_string()))
+        .as_ref()
+        .map_err(|e| Error::NoVulkan(format!("cannot load libvulkan ({e})")))
+}
+
+/// Creates, once per process and layer set, an instance that is never destroyed,
+/// so the driver's and the layers' libraries stay loaded: NVIDIA's driver with the
+/// validation layer refuses new instances (ERROR_INCOMPATIBLE_DRIVER) once they
+/// have been unloaded and loaded again a few dozen times.
+fn keep_loaded(entry: &ash::Entry, create: &vk::InstanceCreateInfo, validation: bool) {
+    static KEPT: [OnceLock<Option<ash::Instance>>; 2] = [OnceLock::new(), OnceLock::new()];
+    KEPT[usize::from(validation)].get_or_init(|| {
+        // SAFETY: the create info and the strings it points to outlive the call; the
+        // instance is kept, unused, until the process ends.
+        unsafe { entry.create_instance(create, None) }.ok()
+    });
 }
 
 /// Destroys what `Context::new` created so far if a later step fails.
