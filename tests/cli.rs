@@ -16,6 +16,35 @@ fn pixgeo(args: &[&str]) -> (bool, String, String) {
     )
 }
 
+/// A `--json` answer: the envelope checked against docs/schema/envelope.json and
+/// its result against docs/schema/COMMAND.json; returns the envelope's result.
+fn answer(stdout: &str, command: &str) -> serde_json::Value {
+    let envelope = enveloped(stdout, command);
+    envelope["result"].clone()
+}
+
+/// The whole envelope of a `--json` answer, checked as [`answer`] does.
+fn enveloped(stdout: &str, command: &str) -> serde_json::Value {
+    let schema = |name: &str| -> serde_json::Value {
+        let path = format!("{}/docs/schema/{name}.json", env!("CARGO_MANIFEST_DIR"));
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap()
+    };
+    let v: serde_json::Value = serde_json::from_str(stdout).unwrap();
+    let check = |schema: &serde_json::Value, value: &serde_json::Value, what: &str| {
+        let validator = jsonschema::validator_for(schema).unwrap();
+        let errors: Vec<String> = validator
+            .iter_errors(value)
+            .map(|e| e.to_string())
+            .collect();
+        assert!(errors.is_empty(), "{what}: {errors:?}\n{stdout}");
+    };
+    check(&schema("envelope"), &v, "envelope");
+    check(&schema(command), &v["result"], command);
+    assert_eq!(v["command"], command);
+    assert_eq!(v["pixgeo_version"], env!("CARGO_PKG_VERSION"));
+    v
+}
+
 fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("pixgeo-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -42,9 +71,10 @@ fn voronoi_writes_picture_arrays_and_json() {
         "--json",
     ]);
     assert!(ok, "{stderr}");
-    let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    assert_eq!(summary["width"], 64);
-    assert_eq!(summary["stats"]["sites"], 3);
+    let envelope = enveloped(&stdout, "voronoi");
+    assert_eq!(envelope["frame"]["width"], 64);
+    assert_eq!(envelope["result"]["stats"]["sites"], 3);
+    assert!(envelope["timings_ms"]["render"].is_number());
     let (shape, l): (Vec<u64>, Vec<u32>) = npy::read(&labels).unwrap();
     assert_eq!(shape, vec![48, 64]);
     // Pixel (i, j) is centred at world (i, j): (10, 10) belongs to site 0.
@@ -160,9 +190,10 @@ fn random_sites_with_bbox_and_fan_mode() {
         "--json",
     ]);
     assert!(ok, "{stderr}");
-    let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let envelope = enveloped(&stdout, "voronoi");
+    let (frame, summary) = (&envelope["frame"], &envelope["result"]);
     assert_eq!(
-        (summary["width"].clone(), summary["height"].clone()),
+        (frame["width"].clone(), frame["height"].clone()),
         (80.into(), 40.into())
     );
     let group = &summary["stats"]["groups"][0];
@@ -340,14 +371,14 @@ fn distance_commands_answer_with_the_pair() {
     let (r, b) = (red.to_str().unwrap(), blue.to_str().unwrap());
     let (ok, stdout, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", b, "--json"]);
     assert!(ok, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let v = answer(&stdout, "hausdorff");
     // Blue (3, 4) is sqrt(18) from red (0, 1), its nearest.
     assert_eq!(v["hausdorff"], 18f64.sqrt());
     assert_eq!(v["blue_to_red"]["blue"]["index"], 1);
     assert_eq!(v["blue_to_red"]["red"]["index"], 2);
     let (ok, stdout, stderr) = pixgeo(&["diameter", "--sites", b, "--json"]);
     assert!(ok, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let v = answer(&stdout, "diameter");
     assert_eq!(v["distance"], (9.0f64 + 3.5 * 3.5).sqrt());
     let (ok, stdout, stderr) = pixgeo(&["maxdist", "--red", r, "--blue", b]);
     assert!(ok, "{stderr}");
@@ -409,7 +440,7 @@ fn settle_answers_with_the_same_map_on_every_path() {
         args.extend_from_slice(extra);
         let (ok, stdout, stderr) = pixgeo(&args);
         assert!(ok, "{stderr}");
-        let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let summary = answer(&stdout, "settle");
         let (shape, a): (Vec<u64>, Vec<u32>) = npy::read(&area).unwrap();
         assert_eq!(shape, vec![48, 64]);
         let img = image::open(&png).unwrap();
@@ -451,7 +482,7 @@ fn enclose_and_empty_print_exact_homothets() {
     let s = sites.to_str().unwrap();
     let (ok, stdout, stderr) = pixgeo(&["enclose", "--sites", s, "--json", "--size", "128"]);
     assert!(ok, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let v = answer(&stdout, "enclose");
     // The right triangle's smallest circle is on its hypotenuse: radius 2.5.
     assert!(
         (v["exact"]["scale"].as_f64().unwrap() - 2.5).abs() < 1e-9,
@@ -491,7 +522,7 @@ fn enclose_and_empty_print_exact_homothets() {
             "--json",
         ]);
         assert!(ok, "{stderr}");
-        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let v = answer(&stdout, "empty");
         assert_eq!(v["pixel_stage"].to_string(), name, "{stdout}");
         assert!((v["exact"]["scale"].as_f64().unwrap() - 3.125).abs() < 1e-9);
     }
@@ -532,7 +563,7 @@ fn alpha_writes_mask_picture_and_json() {
         "--json",
     ]);
     assert!(ok, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let v = answer(&stdout, "alpha");
     let (w, h) = (v["width"].as_u64().unwrap(), v["height"].as_u64().unwrap());
     let (shape, inside) = npy::read::<u8>(&mask).unwrap();
     assert_eq!(shape, vec![h, w]);
@@ -561,7 +592,7 @@ fn triangle_and_quadrangle_print_exact_areas() {
     let s = sites.to_str().unwrap();
     let (ok, stdout, stderr) = pixgeo(&["triangle", "--sites", s, "--json", "--size", "64"]);
     assert!(ok, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let v = answer(&stdout, "triangle");
     // (0,0), (10,10), (5,5.5): half of |10 * 5.5 - 10 * 5| = 2.5.
     assert_eq!(v["area"].as_f64().unwrap(), 2.5, "{stdout}");
     let (ok, stdout, stderr) = pixgeo(&["triangle", "--sites", s, "--max", "--size", "64"]);
@@ -600,7 +631,7 @@ fn voronoi_floods_and_jump_floods_seed_pixels() {
             "--json",
         ]);
         assert!(ok, "{stderr}");
-        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let v = answer(&stdout, "voronoi");
         assert_eq!(v["method"], method);
         let (shape, map) = npy::read::<u32>(&labels).unwrap();
         assert_eq!(shape, vec![48, 64]);
@@ -661,7 +692,7 @@ fn delaunay_writes_triangle_files_json_and_a_picture() {
 
     let (ok, stdout, _) = pixgeo(&["delaunay", "--sites", sites.to_str().unwrap(), "--json"]);
     assert!(ok);
-    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let json = answer(&stdout, "delaunay");
     assert_eq!(json["triangles"].as_array().unwrap().len(), header[0]);
     assert_eq!(json["duplicates"][0], serde_json::json!([200, 0]));
 
@@ -670,4 +701,43 @@ fn delaunay_writes_triangle_files_json_and_a_picture() {
     assert!(!ok && stderr.contains("one line"), "{stderr}");
     let (ok, _, stderr) = pixgeo(&["delaunay"]);
     assert!(!ok && stderr.contains("--sites"), "{stderr}");
+}
+
+#[test]
+fn every_json_answer_is_the_envelope_its_schema_describes() {
+    let sites = temp("envelope.csv");
+    std::fs::write(&sites, "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n1,2\n3,2.5\n").unwrap();
+    let s = sites.to_str().unwrap();
+    let runs: [&[&str]; 15] = [
+        &["voronoi", "--random", "6", "--size", "32"],
+        &["voronoi", "--random", "6", "--size", "32", "--order", "2"],
+        &[
+            "voronoi", "--random", "6", "--size", "32", "--degree", "2", "--peel",
+        ],
+        &["voronoi", "--random", "6", "--size", "32", "--furthest"],
+        &[
+            "voronoi", "--random", "6", "--size", "32", "--method", "jfa",
+        ],
+        &["settle", "--random", "6", "--size", "32"],
+        &["hausdorff", "--red", s, "--blue", s],
+        &["diameter", "--sites", s],
+        &["maxdist", "--red", s, "--blue", s],
+        &["enclose", "--sites", s],
+        &["empty", "--sites", s],
+        &["alpha", "--sites", s, "--alpha", "0"],
+        &["triangle", "--sites", s, "--max"],
+        &["quadrangle", "--sites", s],
+        &["delaunay", "--sites", s],
+    ];
+    for run in runs {
+        let mut args = run.to_vec();
+        args.push("--json");
+        let (ok, stdout, stderr) = pixgeo(&args);
+        assert!(ok, "{run:?}: {stderr}");
+        let envelope = enveloped(&stdout, run[0]);
+        let picture = ["voronoi", "settle"].contains(&run[0]);
+        assert_eq!(envelope["frame"].is_object(), picture, "{run:?}");
+        let named = stdout.matches("\"device\"").count();
+        assert_eq!(named, 1, "{run:?}: the device is named once");
+    }
 }

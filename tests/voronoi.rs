@@ -671,3 +671,26 @@ fn sites_beyond_float32_are_refused_on_the_device() {
         assert_eq!(d.labels[j * 64], u32::from(j >= 18), "row {j}");
     }
 }
+
+#[test]
+fn far_sites_under_quadtree_fans_answer_or_are_refused() {
+    // A quadtree cone reaches the farthest pixel its square might own: past
+    // MAX_FAN_TRIANGLES that fan is refused before any memory is taken.
+    let m = machine();
+    let frame = Frame::pixels(24, 24).unwrap();
+    let sites = [
+        DVec2::new(3.0, 4.0),
+        DVec2::new(20.0, 21.0),
+        DVec2::new(1e15, -1e15),
+        DVec2::new(-1e300, 1e300),
+    ];
+    let options = VoronoiOptions {
+        accuracy: Accuracy::FAN,
+        speedup: Speedup::Quadtree,
+        ..VoronoiOptions::exact(frame)
+    };
+    match voronoi(&m, &sites, &options) {
+        Ok(d) => assert!(d.labels.iter().all(|&l| l < 2)),
+        Err(e) => assert!(e.to_string().contains("triangles"), "{e}"),
+    }
+}

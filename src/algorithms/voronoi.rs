@@ -537,6 +537,16 @@ pub(crate) fn draw_point_tiles(
             }
         })
         .collect();
+    // A cone sized by the quadtree may reach past every pixel a site owns.
+    if let Some(t) = shaped.iter().flatten().find_map(|s| match s.footprint {
+        Footprint::Fan(t) if t > MAX_FAN_TRIANGLES => Some(t),
+        _ => None,
+    }) {
+        return Err(Error::InvalidInput(format!(
+            "a fan cone would need {t} triangles, more than {MAX_FAN_TRIANGLES}: \
+             give a larger epsilon, or use exact mode"
+        )));
+    }
     let batches: Vec<Vec<ConeBatch>> = shaped.iter().map(|s| batches_of(s)).collect();
     // One depth scale for every tile and attempt, the largest cone's: fan
     // heights reach the outer radius at the rim.

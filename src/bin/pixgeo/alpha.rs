@@ -1,5 +1,6 @@
 //! `pixgeo alpha`: the α-hull of a point set (thesis ch. 6).
 
+use crate::envelope;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -77,7 +78,7 @@ pub fn run(args: Args) -> Result<()> {
     let side = args.size.unwrap_or(DEFAULT_SIDE);
     let hull = alpha_hull::alpha_hull(&machine, &points, args.alpha, method, side)?;
     if args.json {
-        outln!("{}", serde_json::to_string_pretty(&hull)?);
+        envelope::print("alpha", machine.device_name(), None, &hull)?;
     } else {
         let radius = hull
             .radius

@@ -1,6 +1,7 @@
 //! `pixgeo triangle` and `pixgeo quadrangle`: the smallest or largest triangle
 //! and quadrangle with vertices among the sites (thesis ch. 7).
 
+use crate::envelope;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -96,14 +97,13 @@ fn solve(c: &Common, solver: Solver, what: &str) -> Result<()> {
     let machine = machine_on(c.device.as_deref())?;
     let side = c.size.unwrap_or(default_side(points.len()));
     let answer = solver(&machine, &points, c.extreme(), side)?;
-    report(&answer, &points, c.json, what)
+    if c.json {
+        return envelope::print(what, machine.device_name(), None, &answer);
+    }
+    report(&answer, &points, what)
 }
 
-fn report(answer: &AreaAnswer, points: &[DVec2], json: bool, what: &str) -> Result<()> {
-    if json {
-        outln!("{}", serde_json::to_string_pretty(answer)?);
-        return Ok(());
-    }
+fn report(answer: &AreaAnswer, points: &[DVec2], what: &str) -> Result<()> {
     let which = match answer.extreme {
         Extreme::Smallest => "smallest",
         Extreme::Largest => "largest",

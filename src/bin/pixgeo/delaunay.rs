@@ -1,6 +1,7 @@
 //! `pixgeo delaunay`: the Delaunay triangulation of points from their digital
 //! Voronoi diagram (Cao, Edelsbrunner and Tan 2015).
 
+use crate::envelope;
 use std::{io::Write, path::PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -108,7 +109,7 @@ pub fn run(args: Args) -> Result<()> {
             "check": problems,
             "stats": result.stats,
         });
-        outln!("{}", serde_json::to_string(&mesh)?);
+        envelope::print("delaunay", machine.device_name(), None, &mesh)?;
     } else {
         report(&result, points.len(), problems.as_deref());
     }

@@ -13,6 +13,8 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
+use crate::envelope;
+
 /// Options every distance command shares.
 #[derive(ClapArgs)]
 pub struct Common {
@@ -115,7 +117,7 @@ fn read(path: &std::path::Path, what: &str) -> Result<Vec<DVec2>> {
 fn answer_json(answer: &Answer, from: &[DVec2], to: &[DVec2], names: [&str; 2]) -> Value {
     let point = |set: &[DVec2], i: u32| {
         let p = set[i as usize];
-        json!({ "index": i, "x": p.x, "y": p.y })
+        json!({ "index": i, "point": [p.x, p.y] })
     };
     json!({
         "distance": answer.pair.distance,
@@ -156,9 +158,8 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
             "hausdorff": h.distance,
             "red_to_blue": answer_json(&h.a_to_b, &red, &blue, ["red", "blue"]),
             "blue_to_red": answer_json(&h.b_to_a, &blue, &red, ["blue", "red"]),
-            "device": machine.device_name(),
         });
-        outln!("{}", serde_json::to_string_pretty(&summary)?);
+        envelope::print("hausdorff", machine.device_name(), None, &summary)?;
     } else {
         outln!("Hausdorff distance {}", h.distance);
         outln!(
@@ -184,7 +185,7 @@ pub fn diameter(args: DiameterArgs) -> Result<()> {
     print_answer(
         &args.common,
         &machine,
-        "diameter",
+        ["diameter", "diameter"],
         &d,
         [&points, &points],
         names,
@@ -203,7 +204,7 @@ pub fn maxdist(args: MaxDistArgs) -> Result<()> {
     print_answer(
         &args.common,
         &machine,
-        "maximum distance",
+        ["maxdist", "maximum distance"],
         &d,
         [&red, &blue],
         names,
@@ -220,15 +221,14 @@ struct Names {
 fn print_answer(
     common: &Common,
     machine: &Machine,
-    what: &str,
+    [command, what]: [&str; 2],
     answer: &Answer,
     sets: [&[DVec2]; 2],
     names: Names,
 ) -> Result<()> {
     if common.json {
-        let mut summary = answer_json(answer, sets[0], sets[1], names.json);
-        summary["device"] = json!(machine.device_name());
-        outln!("{}", serde_json::to_string_pretty(&summary)?);
+        let summary = answer_json(answer, sets[0], sets[1], names.json);
+        envelope::print(command, machine.device_name(), None, &summary)?;
     } else {
         outln!("{what} {}", describe(answer, sets[0], sets[1], names.text));
     }

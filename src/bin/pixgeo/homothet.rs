@@ -1,6 +1,7 @@
 //! `pixgeo enclose` and `pixgeo empty`: the smallest enclosing and the largest
 //! empty homothet of a circle or a star-shaped polygon (thesis ch. 4 and 5).
 
+use crate::envelope;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -154,7 +155,11 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
     let k = args.k.unwrap_or(0);
     let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
-    report(&answer, args.shape.json, "smallest enclosing")?;
+    let json = args
+        .shape
+        .json
+        .then_some(("enclose", machine.device_name()));
+    report(&answer, json, "smallest enclosing")?;
     let envelope = Envelope::Enclosing { k };
     args.shape
         .draw(&machine, &shapes, &answer, envelope, &Region::default())
@@ -183,7 +188,8 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         side,
         stage,
     )?;
-    report(&answer, args.shape.json, "largest empty")?;
+    let json = args.shape.json.then_some(("empty", machine.device_name()));
+    report(&answer, json, "largest empty")?;
     args.shape
         .draw(&machine, &shapes, &answer, Envelope::Empty, &region)
 }
@@ -222,10 +228,9 @@ fn read_region(path: &Path) -> Result<Region> {
     })
 }
 
-fn report(answer: &HomothetAnswer, json: bool, what: &str) -> Result<()> {
-    if json {
-        outln!("{}", serde_json::to_string_pretty(answer)?);
-        return Ok(());
+fn report(answer: &HomothetAnswer, json: Option<(&str, &str)>, what: &str) -> Result<()> {
+    if let Some((command, device)) = json {
+        return envelope::print(command, device, None, answer);
     }
     let e = &answer.exact;
     outln!(

@@ -11,6 +11,7 @@ mod alpha;
 mod area;
 mod delaunay;
 mod distances;
+mod envelope;
 mod gallery;
 mod homothet;
 mod input;

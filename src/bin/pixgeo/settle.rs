@@ -1,5 +1,6 @@
 //! `pixgeo settle`: where a new site would win the largest Voronoi region.
 
+use crate::envelope;
 use std::{io::IsTerminal, path::PathBuf};
 
 use anyhow::{bail, Result};
@@ -157,9 +158,9 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.output {
         write_picture(path, &map, &frame, &rivals, &own)?;
     }
-    let summary = summary(&map, &frame, refined.as_ref(), backend.name(), &args);
+    let summary = summary(&map, &frame, refined.as_ref(), &args);
     if args.json {
-        outln!("{}", serde_json::to_string_pretty(&summary)?);
+        envelope::print("settle", backend.name(), Some(&frame), &summary)?;
     } else {
         print_summary(&summary);
     }
@@ -173,27 +174,18 @@ fn pixel_of(map: &PotentialAreas, k: usize) -> [u32; 2] {
     ]
 }
 
-fn summary(
-    map: &PotentialAreas,
-    frame: &Frame,
-    refined: Option<&Refined>,
-    device: &str,
-    args: &Args,
-) -> Value {
+fn summary(map: &PotentialAreas, frame: &Frame, refined: Option<&Refined>, args: &Args) -> Value {
     let world = |p: DVec2| frame.to_world(p).to_array();
     let pixel_area = 1.0 / (frame.scale * frame.scale);
     let best = pixel_of(map, map.best[0]);
     let best_point = DVec2::new(best[0] as f64, best[1] as f64);
     json!({
-        "device": device,
         "method": if map.stats.device == "cpu" {
             "spans (cpu)".to_string()
         } else {
             format!("{:?}", args.method).to_lowercase()
         },
         "metric": args.metric.to_string(),
-        "width": frame.width,
-        "height": frame.height,
         "settle": {
             "pixel": best,
             "point": world(best_point),
@@ -239,7 +231,7 @@ fn print_summary(s: &Value) {
     outln!(
         "{} on {}: radii {:.1} ms, counting {:.1} ms, readback {:.1} ms",
         s["method"].as_str().unwrap_or_default(),
-        s["device"].as_str().unwrap_or_default(),
+        stats["device"].as_str().unwrap_or_default(),
         stats["radii_ms"].as_f64().unwrap_or(0.0),
         stats["count_ms"].as_f64().unwrap_or(0.0),
         stats["readback_ms"].as_f64().unwrap_or(0.0)

@@ -1,6 +1,7 @@
 //! `pixgeo voronoi`: the Voronoi diagram of point sites, and of weighted sites,
 //! segments, circles and arcs.
 
+use crate::envelope;
 use std::{io::IsTerminal, path::PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -332,14 +333,12 @@ pub fn run(args: Args) -> Result<()> {
     let s = &stats;
     if args.json {
         let summary = json!({
-            "width": frame.width,
-            "height": frame.height,
             "metric": args.metric.to_string(),
             "mode": mode_name(&args),
             "speedup": speedup,
             "stats": s,
         });
-        outln!("{}", serde_json::to_string_pretty(&summary)?);
+        envelope::print("voronoi", machine.device_name(), Some(&frame), &summary)?;
     } else {
         eprintln!(
             "{} sites, {}x{} pixels on {}: {} cone(s), {} tile(s), {} pass(es), radius \
@@ -463,6 +462,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
         ties: args.ties.is_some(),
         max_tile: args.max_tile,
     };
+    let device = backend.name().to_string();
     let d = match backend {
         Backend::Gpu(machine) => voronoi_sites(&machine, sites, &options)?,
         Backend::Cpu => {
@@ -515,13 +515,11 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
     }
     if args.json {
         let summary = json!({
-            "width": frame.width,
-            "height": frame.height,
             "metric": args.metric.to_string(),
             "mode": mode_name(args),
             "stats": d.stats,
         });
-        outln!("{}", serde_json::to_string_pretty(&summary)?);
+        envelope::print("voronoi", &device, Some(&frame), &summary)?;
     } else {
         eprintln!(
             "{} sites, {}x{} pixels on {}: {} drawn, {:.1} ms rendering",
@@ -616,10 +614,7 @@ fn whole_picture(
             draw(path, &f.labels, &f.distances)?;
         }
         json!({
-            "width": frame.width,
-            "height": frame.height,
             "kind": "furthest",
-            "device": backend.name(),
             "sites": sites.len(),
             "hull": f.hull.len(),
         })
@@ -686,8 +681,6 @@ fn whole_picture(
             }
         }
         json!({
-            "width": frame.width,
-            "height": frame.height,
             "kind": match kind {
                 Kind::Ordinary => "ordinary",
                 Kind::Order(_) => "order",
@@ -699,7 +692,7 @@ fn whole_picture(
         })
     };
     if args.json {
-        outln!("{}", serde_json::to_string_pretty(&summary)?);
+        envelope::print("voronoi", backend.name(), Some(&frame), &summary)?;
     } else {
         eprintln!(
             "{} sites, {}x{} pixels on {}",
@@ -851,18 +844,13 @@ fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
         "jfa"
     };
     if args.json {
-        outln!(
-            "{}",
-            serde_json::to_string_pretty(&json!({
-                "method": method,
-                "device": machine.device_name(),
-                "sites": sites.len(),
-                "width": w,
-                "height": h,
-                "ms": elapsed,
-                "stats": stats,
-            }))?
-        );
+        let summary = json!({
+            "method": method,
+            "sites": sites.len(),
+            "total_ms": elapsed,
+            "stats": stats,
+        });
+        envelope::print("voronoi", machine.device_name(), Some(&frame), &summary)?;
     } else {
         eprintln!(
             "{method}: {} sites on {w}x{h} pixels in {elapsed:.1} ms",
