@@ -12,7 +12,9 @@ use pixgeo::{
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    reference::{area as area_oracle, higher_order::k_nearest_by_metric},
+    reference::{
+        area as area_oracle, higher_order::k_nearest_by_metric, voronoi::nearest_distances_metric,
+    },
 };
 use proptest::{
     prelude::*,
@@ -125,6 +127,11 @@ fn in_pixels(sites: &[DVec2], frame: &Frame) -> Vec<DVec2> {
     sites.iter().map(|s| frame.to_pixel(*s)).collect()
 }
 
+/// The W×H picture in pixel units, where the oracles work.
+fn pixel_frame() -> Frame {
+    Frame::pixels(W, H).unwrap()
+}
+
 fn pixel(k: usize) -> DVec2 {
     DVec2::new((k % W as usize) as f64, (k / W as usize) as f64)
 }
@@ -160,7 +167,7 @@ fn linf_quadtree_labels_the_nearest_site() {
     let options = VoronoiOptions {
         metric: Metric::LInf,
         speedup: Speedup::Quadtree,
-        ..VoronoiOptions::exact(Frame::pixels(W, H).unwrap())
+        ..VoronoiOptions::exact(pixel_frame())
     };
     let d = voronoi(&m, &sites, &options).unwrap();
     // Pixel (0, 0): site 1 at L∞ distance 24, site 2 at 28.
@@ -171,7 +178,9 @@ fn exact_diagrams(metrics: &[Metric], speedups: &[Speedup]) {
     let m = common::machine();
     run(96, |sites, frame| {
         let px = in_pixels(&sites, &frame);
+        let world = frame.to_world(DVec2::ONE).x - frame.to_world(DVec2::ZERO).x;
         for &metric in metrics {
+            let truth = nearest_distances_metric(&px, &pixel_frame(), metric);
             for &speedup in speedups {
                 let options = VoronoiOptions {
                     metric,
@@ -180,10 +189,8 @@ fn exact_diagrams(metrics: &[Metric], speedups: &[Speedup]) {
                 };
                 let d = voronoi(&m, &sites, &options)
                     .map_err(|e| TestCaseError::fail(format!("{metric} {speedup:?}: {e}")))?;
-                let world = frame.to_world(DVec2::ONE).x - frame.to_world(DVec2::ZERO).x;
                 for (k, &label) in d.labels.iter().enumerate() {
-                    let q = pixel(k);
-                    let best = nearest(&px, q, metric);
+                    let (q, best) = (pixel(k), truth[k]);
                     prop_assert_ne!(label, u32::MAX, "{} {:?}: {} uncovered", metric, speedup, q);
                     let mine = metric.distance(px[label as usize] - q);
                     let tol = 1e-3 * (1.0 + best);
@@ -218,6 +225,7 @@ fn fan_diagrams_keep_their_bound_on_every_pixel() {
     let m = common::machine();
     run(96, |sites, frame| {
         let px = in_pixels(&sites, &frame);
+        let truth = nearest_distances_metric(&px, &pixel_frame(), Metric::L2);
         for epsilon in [1.0, 0.25] {
             let options = VoronoiOptions {
                 accuracy: Accuracy::Fan {
@@ -229,8 +237,7 @@ fn fan_diagrams_keep_their_bound_on_every_pixel() {
             let d = voronoi(&m, &sites, &options)
                 .map_err(|e| TestCaseError::fail(format!("fan {epsilon}: {e}")))?;
             for (k, &label) in d.labels.iter().enumerate() {
-                let q = pixel(k);
-                let best = nearest(&px, q, Metric::L2);
+                let (q, best) = (pixel(k), truth[k]);
                 prop_assert_ne!(label, u32::MAX);
                 // The fan's ε, plus the rasterizer's subpixel snapping.
                 let mine = (px[label as usize] - q).length();
@@ -254,9 +261,8 @@ fn k_nearest_levels_with_and_without_peeling() {
     let m = common::machine();
     run(96, |sites, frame| {
         let px = in_pixels(&sites, &frame);
-        let pixel_frame = Frame::pixels(W, H).unwrap();
         for k in [1, 3] {
-            let truth = k_nearest_by_metric(&px, &pixel_frame, k, Metric::L2);
+            let truth = k_nearest_by_metric(&px, &pixel_frame(), k, Metric::L2);
             let options = KNearestOptions {
                 frame,
                 k: k as u32,
