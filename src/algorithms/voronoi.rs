@@ -891,7 +891,15 @@ fn cone_attempts(
                 upper: bounds.upper.map(|u| u * stretch),
                 ..bounds
             };
-            radius::retry_radii(&bounds, widest)
+            // Coverage certifies a radius for Euclidean cones alone: under another
+            // metric a pixel's nearest site may lie `stretch` times farther
+            // (Euclidean) than the site whose cone covered it. Only the upper
+            // bound, stretched, holds every region.
+            let mut radii = radius::retry_radii(&bounds, widest);
+            if metric != Metric::L2 {
+                radii.drain(..radii.len() - 1);
+            }
+            radii
                 .into_iter()
                 .map(|r| (Some(r), cones_with(&|i| (r + 0.5).min(picture_wide[i]))))
                 .collect()
