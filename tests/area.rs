@@ -3,7 +3,10 @@
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::area::{extremal_quadrangle, extremal_triangle, Extreme},
+    algorithms::area::{
+        extremal_quadrangle, extremal_quadrangle_with_progress, extremal_triangle,
+        extremal_triangle_with_progress, Extreme,
+    },
     reference::area::{self as oracle, triangle_area},
     Error,
 };
@@ -185,4 +188,32 @@ fn too_few_sites_are_clear_errors() {
         let set: std::collections::HashSet<_> = a.sites.iter().collect();
         assert_eq!(set.len(), 3, "{:?}", a.sites);
     }
+}
+
+#[test]
+fn progress_runs_to_the_end_over_many_submissions() {
+    // 600 sites: 179700 pairs, drawn in 11 submissions and reduced.
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let sites = uniform(&mut rng, 600, 300.0, 300.0);
+    let mut seen: Vec<(u64, u64)> = Vec::new();
+    let with =
+        extremal_quadrangle_with_progress(&machine, &sites, Extreme::Smallest, 256, &mut |d, t| {
+            seen.push((d, t))
+        })
+        .unwrap();
+    let plain = extremal_quadrangle(&machine, &sites, Extreme::Smallest, 256).unwrap();
+    assert_eq!((with.area, with.sites), (plain.area, plain.sites));
+    let total = 2 * 600 * 599 / 2;
+    assert!(seen.iter().all(|&(_, t)| t == total), "{seen:?}");
+    assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0), "{seen:?}");
+    assert!(seen.len() > 11, "{} reports", seen.len());
+    let mut seen = Vec::new();
+    extremal_triangle_with_progress(&machine, &sites, Extreme::Largest, 256, &mut |d, t| {
+        seen.push((d, t))
+    })
+    .unwrap();
+    // The largest triangle's roofs are those of the hull's pairs.
+    let &(done, total) = seen.last().unwrap();
+    assert!(done == total && total > 0, "{seen:?}");
 }

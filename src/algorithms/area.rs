@@ -117,8 +117,19 @@ pub fn extremal_triangle(
     extreme: Extreme,
     side: u32,
 ) -> Result<AreaAnswer> {
+    extremal_triangle_with_progress(machine, sites, extreme, side, &mut |_, _| {})
+}
+
+/// [`extremal_triangle`], calling `progress(done, total)` as the roofs are drawn.
+pub fn extremal_triangle_with_progress(
+    machine: &Machine,
+    sites: &[DVec2],
+    extreme: Extreme,
+    side: u32,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<AreaAnswer> {
     in_range(sites, |sites| {
-        triangle_in_range(machine, sites, extreme, side)
+        triangle_in_range(machine, sites, extreme, side, progress)
     })
 }
 
@@ -160,6 +171,7 @@ fn triangle_in_range(
     sites: &[DVec2],
     extreme: Extreme,
     side: u32,
+    progress: &mut dyn FnMut(u64, u64),
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
     check_sites(sites)?;
@@ -215,7 +227,7 @@ fn triangle_in_range(
     let frame = roofs.frame;
     let prepare_ms = ms(started);
     let started = Instant::now();
-    let (depth, pairs) = roofs.draw_triangles()?;
+    let (depth, pairs) = roofs.draw_triangles(progress)?;
     let draw_ms = ms(started);
     let started = Instant::now();
     let near = machine.depth_extremes(
@@ -319,8 +331,20 @@ pub fn extremal_quadrangle(
     extreme: Extreme,
     side: u32,
 ) -> Result<AreaAnswer> {
+    extremal_quadrangle_with_progress(machine, sites, extreme, side, &mut |_, _| {})
+}
+
+/// [`extremal_quadrangle`], calling `progress(done, total)` as the roofs are
+/// drawn and their sides reduced.
+pub fn extremal_quadrangle_with_progress(
+    machine: &Machine,
+    sites: &[DVec2],
+    extreme: Extreme,
+    side: u32,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<AreaAnswer> {
     in_range(sites, |sites| {
-        quadrangle_in_range(machine, sites, extreme, side)
+        quadrangle_in_range(machine, sites, extreme, side, progress)
     })
 }
 
@@ -329,6 +353,7 @@ fn quadrangle_in_range(
     sites: &[DVec2],
     extreme: Extreme,
     side: u32,
+    progress: &mut dyn FnMut(u64, u64),
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
     check_sites(sites)?;
@@ -357,12 +382,14 @@ fn quadrangle_in_range(
     let px2 = frame.scale * frame.scale;
     let prepare_ms = ms(started);
     let started = Instant::now();
-    let keys = roofs.draw_sides()?;
+    let pairs = roofs.count();
+    // Half the work is drawing, half reducing the sides.
+    let total = 2 * pairs as u64;
+    let keys = roofs.draw_sides(&mut |done, _| progress(done, total))?;
     let draw_ms = ms(started);
     let started = Instant::now();
     // Per pair: the best site on each side, from the pixels and from the sites
     // that share a pixel (exactly).
-    let pairs = roofs.count();
     let to_area = |key: u64| roofs.area_of_depth(f32::from_bits((key >> 32) as u32));
     let empty = match extreme {
         Extreme::Smallest => u64::MAX,
@@ -370,6 +397,9 @@ fn quadrangle_in_range(
     };
     let mut sums: Vec<(f64, u32)> = Vec::new();
     for k in 0..pairs as u32 {
+        if k % (1 << 16) == 0 {
+            progress((pairs + k as usize) as u64, total);
+        }
         let (i, j) = pair_of(k);
         let (p, q) = (points[i as usize], points[j as usize]);
         let mut side_best = [0usize, 1].map(|s| {
@@ -731,6 +761,9 @@ impl<'m> Roofs<'m> {
 
     /// One instanced pass of every pair's roof (`segment`: only over the
     /// segment's strip) into `target`, the fragment shader reading `buffers`.
+    /// Every pair's roof, in about 64 submissions so that `progress(done,
+    /// total)` can tell how far the drawing is.
+    #[allow(clippy::too_many_arguments)]
     fn draw_roofs(
         &self,
         program: Program,
@@ -739,28 +772,37 @@ impl<'m> Roofs<'m> {
         clear: Clear,
         buffers: &[&Buffer],
         segment: bool,
+        progress: &mut dyn FnMut(u64, u64),
     ) -> Result<()> {
         let push = self.push(segment);
+        let count = self.count() as u32;
+        let chunk = count.div_ceil(64).max(1 << 14);
         self.machine.with_fragment_buffers(buffers, |set| {
-            self.machine.run(|pass| {
-                pass.begin(target, clear)?;
-                pass.bind_fragment_buffer(set);
-                pass.draw_instances(
-                    program,
-                    state,
-                    &DrawParams::default(),
-                    &push,
-                    4,
-                    self.count() as u32,
-                )?;
-                pass.end()
-            })
+            // At least one submission, which clears the target.
+            for first in (0..count.max(1)).step_by(chunk as usize) {
+                let last = (first + chunk).min(count);
+                self.machine.run(|pass| {
+                    pass.begin(target, if first == 0 { clear } else { Clear::default() })?;
+                    pass.bind_fragment_buffer(set);
+                    pass.draw_instances(
+                        program,
+                        state,
+                        &DrawParams::default(),
+                        &push,
+                        4,
+                        first..last,
+                    )?;
+                    pass.end()
+                })?;
+                progress(last as u64, count as u64);
+            }
+            Ok(())
         })
     }
 
     /// Every pair's roof with the depth test keeping the extreme: the depth
     /// ([`Roofs::area_of_depth`]) and the pair picture.
-    fn draw_triangles(&self) -> Result<(Image, Image)> {
+    fn draw_triangles(&self, progress: &mut dyn FnMut(u64, u64)) -> Result<(Image, Image)> {
         let machine = self.machine;
         let (w, h) = (self.frame.width, self.frame.height);
         let depth = machine.image(Format::Depth, w, h)?;
@@ -788,13 +830,14 @@ impl<'m> Roofs<'m> {
             },
             &[&self.sites, &self.owners],
             true,
+            progress,
         )?;
         Ok((depth, pairs))
     }
 
     /// Every pair's roof keeping, per pair and side, the extreme (area bits,
     /// site) key; returns the keys, two per pair (left, right).
-    fn draw_sides(&self) -> Result<Vec<u64>> {
+    fn draw_sides(&self, progress: &mut dyn FnMut(u64, u64)) -> Result<Vec<u64>> {
         let machine = self.machine;
         let (w, h) = (self.frame.width, self.frame.height);
         let slots = 2 * self.count();
@@ -818,6 +861,7 @@ impl<'m> Roofs<'m> {
             },
             &[&self.sites, &self.owners, &best],
             false,
+            progress,
         )?;
         Ok(best.read(slots))
     }

@@ -418,7 +418,7 @@ fn count_faithful(
                     &params,
                     &push.words(first, count, channel),
                     4,
-                    count,
+                    0..count,
                 )?;
                 pass.end()
             })?;

@@ -668,9 +668,9 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
-    /// Draws `count` instances of a program that makes its own vertices (such as
+    /// Draws the `instances` of a program that makes its own vertices (such as
     /// [`Program::SettleDisc`]): `vertex_count` vertices each, with `push` as its
-    /// push constants.
+    /// push constants. `gl_InstanceIndex` counts from `instances.start`.
     pub fn draw_instances(
         &mut self,
         program: Program,
@@ -678,14 +678,14 @@ impl<'m> Pass<'m> {
         params: &DrawParams,
         push: &[u32],
         vertex_count: u32,
-        count: u32,
+        instances: std::ops::Range<u32>,
     ) -> Result<()> {
         if program.reads_vertex_buffers() {
             return Err(Error::InvalidInput(format!(
                 "{program:?} draws from vertex buffers"
             )));
         }
-        if count == 0 {
+        if instances.is_empty() {
             return Ok(());
         }
         let metric = match program {
@@ -696,7 +696,15 @@ impl<'m> Pass<'m> {
         self.push_graphics(push);
         // SAFETY: inside a rendering pass with a bound pipeline that reads no
         // vertex buffers.
-        unsafe { self.device().cmd_draw(self.cmd, vertex_count, count, 0, 0) };
+        unsafe {
+            self.device().cmd_draw(
+                self.cmd,
+                vertex_count,
+                instances.len() as u32,
+                0,
+                instances.start,
+            )
+        };
         Ok(())
     }
 

@@ -2,6 +2,7 @@
 //! and quadrangle with vertices among the sites (thesis ch. 7).
 
 use crate::envelope;
+use crate::progress::Progress;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -83,20 +84,33 @@ impl Common {
 }
 
 pub fn triangle(args: TriangleArgs) -> Result<()> {
-    solve(&args.common, area::extremal_triangle, "triangle")
+    solve(
+        &args.common,
+        area::extremal_triangle_with_progress,
+        "triangle",
+    )
 }
 
 pub fn quadrangle(args: QuadrangleArgs) -> Result<()> {
-    solve(&args.common, area::extremal_quadrangle, "quadrangle")
+    solve(
+        &args.common,
+        area::extremal_quadrangle_with_progress,
+        "quadrangle",
+    )
 }
 
-type Solver = fn(&Machine, &[DVec2], Extreme, u32) -> pixgeo::Result<AreaAnswer>;
+type Solver =
+    fn(&Machine, &[DVec2], Extreme, u32, &mut dyn FnMut(u64, u64)) -> pixgeo::Result<AreaAnswer>;
 
 fn solve(c: &Common, solver: Solver, what: &str) -> Result<()> {
     let points = sites::read_sites(&c.sites)?;
     let machine = machine_on(c.device.as_deref())?;
     let side = c.size.unwrap_or(default_side(points.len()));
-    let answer = solver(&machine, &points, c.extreme(), side)?;
+    let progress = Progress::new(&format!("{what}: roofs of site pairs"), c.json);
+    let answer = solver(&machine, &points, c.extreme(), side, &mut |done, total| {
+        progress.report(done, total)
+    })?;
+    drop(progress);
     if c.json {
         return envelope::print(what, machine.device_name(), None, &answer);
     }

@@ -15,6 +15,7 @@ mod envelope;
 mod gallery;
 mod homothet;
 mod input;
+mod progress;
 mod settle;
 mod voronoi;
 

@@ -1,12 +1,11 @@
 //! `pixgeo settle`: where a new site would win the largest Voronoi region.
 
 use crate::envelope;
-use std::{io::IsTerminal, path::PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{bail, Result};
 use clap::{Args as ClapArgs, ValueEnum};
 use glam::DVec2;
-use indicatif::{ProgressBar, ProgressStyle};
 use pixgeo::{
     algorithms::settle::{
         potential_areas, potential_areas_cpu, refine, PotentialAreas, Refined, SettleMethod,
@@ -17,7 +16,7 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
-use crate::{input::Input, voronoi::Backend};
+use crate::{input::Input, progress::Progress, voronoi::Backend};
 
 /// Finds the settle point (thesis §3.10): the place where a new site, added to
 /// the existing ones (a rival's stores, say), would own the largest Voronoi
@@ -107,29 +106,18 @@ pub fn run(args: Args) -> Result<()> {
         MethodArg::Faithful => SettleMethod::Faithful,
     };
     let backend = Backend::choose(args.device.as_deref())?;
-    let bar = (!args.json && std::io::stderr().is_terminal()).then(|| {
-        ProgressBar::new(1).with_style(
-            ProgressStyle::with_template("{msg} {bar:40} {percent}% {elapsed}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        )
-    });
     let map = match &backend {
         Backend::Gpu(machine) => {
-            if let Some(bar) = &bar {
-                bar.set_message(format!("counting discs ({method:?})").to_lowercase());
-            }
+            let message = format!("counting discs ({method:?})").to_lowercase();
+            let progress = Progress::new(&message, args.json);
             let options = SettleOptions {
                 frame,
                 metric: args.metric,
                 method,
             };
-            let mut progress = |done: u64, total: u64| {
-                if let Some(bar) = &bar {
-                    bar.set_length(total);
-                    bar.set_position(done);
-                }
-            };
-            potential_areas(machine, &rivals, &own, &options, &mut progress)?
+            potential_areas(machine, &rivals, &own, &options, &mut |done, total| {
+                progress.report(done, total)
+            })?
         }
         Backend::Cpu => {
             if args.method == MethodArg::Faithful {
@@ -138,9 +126,6 @@ pub fn run(args: Args) -> Result<()> {
             potential_areas_cpu(&rivals, &own, &frame, args.metric)?
         }
     };
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
     let refined = if args.metric == Metric::L2 && args.refine_from > 0 {
         Some(refine(
             &rivals,
