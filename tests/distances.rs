@@ -162,3 +162,28 @@ fn extreme_coordinates_keep_exact_distances() {
         d.pair.distance
     );
 }
+
+#[test]
+fn repeated_points_are_checked_once() {
+    // 100000 copies of one point against a few others: the repeats change no
+    // distance, the pair names first indices, and one point is checked.
+    let m = machine();
+    let mut a = vec![DVec2::new(3.5, 4.25); 100_000];
+    a.push(DVec2::new(-7.0, 2.0));
+    let b = vec![
+        DVec2::new(0.0, 0.0),
+        DVec2::new(9.0, 9.0),
+        DVec2::new(0.0, 0.0),
+    ];
+    let h = hausdorff(&m, &a, &b, None).unwrap();
+    assert_eq!(h.a_to_b.pair.distance, brute_directed(&a, &b));
+    assert_eq!(h.b_to_a.pair.distance, brute_directed(&b, &a));
+    assert_eq!((h.a_to_b.pair.from, h.a_to_b.pair.to), (100_000, 0));
+    assert_eq!(h.b_to_a.pair.to, 0);
+    assert!(h.a_to_b.checked <= 2 && h.b_to_a.checked <= 2, "{h:?}");
+    let d = diameter(&m, &a, None).unwrap();
+    assert_eq!(
+        (d.pair.from, d.pair.to, d.pair.distance),
+        (0, 100_000, a[0].distance(a[100_000]))
+    );
+}

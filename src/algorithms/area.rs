@@ -38,7 +38,7 @@ use crate::{
     algorithms::higher_order::convex_hull,
     error::{Error, Result},
     geometry::{
-        frame::{check_sites, distinct_by, lexicographic},
+        frame::{check_sites, first_of_each},
         scale, Frame,
     },
     machine::{
@@ -181,7 +181,7 @@ fn triangle_in_range(
             sites.len()
         )));
     }
-    let distinct = distinct_sites(sites);
+    let distinct = first_of_each(sites);
     let ordered = |v: [u32; 3]| counter_clockwise(sites, v.to_vec());
     if extreme == Extreme::Smallest {
         if let Some((a, b)) = duplicate_pair(sites, &distinct) {
@@ -357,7 +357,7 @@ fn quadrangle_in_range(
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
     check_sites(sites)?;
-    let distinct = distinct_sites(sites);
+    let distinct = first_of_each(sites);
     let hull = convex_hull(sites);
     if distinct.len() < 4 || hull.len() < 3 {
         return Err(Error::InvalidInput(format!(
@@ -507,13 +507,6 @@ fn decided(extreme: Extreme, sites: Vec<u32>, area: f64, by: &'static str) -> Ar
         reduce_ms: 0.0,
         exact_ms: 0.0,
     }
-}
-
-/// The first index of each distinct position, in index order.
-fn distinct_sites(sites: &[DVec2]) -> Vec<u32> {
-    let mut kept = distinct_by(sites, 0..sites.len() as u32, lexicographic).0;
-    kept.sort_unstable();
-    kept
 }
 
 /// Two sites at one position, if any.

@@ -16,7 +16,12 @@ use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
-    geometry::{buckets::PointGrid, frame::check_sites, metric::Metric, scale, Frame},
+    geometry::{
+        buckets::PointGrid,
+        frame::{check_sites, first_of_each},
+        metric::Metric,
+        scale, Frame,
+    },
     machine::Machine,
 };
 
@@ -102,24 +107,33 @@ fn picture_error(frame: &Frame, d: f64) -> f64 {
     d * 1e-5 + 1e-3 / frame.scale
 }
 
-/// Runs `answer` on the two sets scaled by a power of two into the range where
-/// squared distances neither overflow nor underflow (coordinates past 1e154
-/// or closer than 1e-154), and scales its distances back: the pair is the same
-/// and the distance exact to rounding.
+/// Runs `answer` on the two sets' distinct points (repeats change no distance,
+/// and a point repeated 10⁵ times would be checked 10⁵ times), scaled by a power
+/// of two into the range where squared distances neither overflow nor underflow
+/// (coordinates past 1e154 or closer than 1e-154). The pair names each point by
+/// its first index in its set, and its distance is scaled back, exact to rounding.
 fn in_range(
     a: &[DVec2],
     b: &[DVec2],
     answer: impl FnOnce(&[DVec2], &[DVec2]) -> Result<Answer>,
 ) -> Result<Answer> {
     check_sets(&[("first set", a), ("second set", b)])?;
-    let both: Vec<DVec2> = a.iter().chain(b).copied().collect();
+    let (a_kept, b_kept) = (first_of_each(a), first_of_each(b));
+    let pick = |set: &[DVec2], kept: &[u32]| -> Vec<DVec2> {
+        kept.iter().map(|&i| set[i as usize]).collect()
+    };
+    let (a, b) = (pick(a, &a_kept), pick(b, &b_kept));
+    let both: Vec<DVec2> = a.iter().chain(&b).copied().collect();
     let k = scale::predicate_exponent(&both)?;
-    if k == 0 {
-        return answer(a, b);
-    }
-    let mut found = answer(&scale::scaled(a, k), &scale::scaled(b, k))?;
+    let mut found = if k == 0 {
+        answer(&a, &b)?
+    } else {
+        answer(&scale::scaled(&a, k), &scale::scaled(&b, k))?
+    };
     for pair in [&mut found.pair, &mut found.picture_pair] {
         pair.distance = scale::times_power_of_two(pair.distance, -k);
+        pair.from = a_kept[pair.from as usize];
+        pair.to = b_kept[pair.to as usize];
     }
     Ok(found)
 }

@@ -219,6 +219,13 @@ pub fn lexicographic(p: DVec2) -> (i64, i64) {
     (key(p.x), key(p.y))
 }
 
+/// The first index of each distinct point of `points`, in increasing order.
+pub fn first_of_each(points: &[DVec2]) -> Vec<u32> {
+    let mut kept = distinct_by(points, 0..points.len() as u32, lexicographic).0;
+    kept.sort_unstable();
+    kept
+}
+
 /// The distinct points among `indices`: sorted by `key`, the first index of
 /// each run of equal points kept (−0.0 equals 0.0). Returns the kept indices in
 /// key order, and the others as (dropped, kept), sorted.
