@@ -741,3 +741,24 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
         assert_eq!(named, 1, "{run:?}: the device is named once");
     }
 }
+
+#[test]
+fn sites_beyond_memory_are_refused_up_front() {
+    // Under a 1.5 GB address-space limit, 5 million sites (about 2.6 GB of
+    // work) are an error with exit 1, not an abort partway through.
+    let command = format!(
+        "ulimit -v 1500000 && exec '{}' voronoi --random 5000000 --size 64 --device cpu",
+        env!("CARGO_BIN_EXE_pixgeo")
+    );
+    let out = Command::new("bash")
+        .args(["-c", &command])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("5000000 sites need about 2.6 GB"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

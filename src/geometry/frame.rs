@@ -205,7 +205,26 @@ pub fn check_sites(sites: &[DVec2]) -> Result<()> {
             sites.len()
         )));
     }
-    Ok(())
+    check_memory_for(sites.len())
+}
+
+/// Host memory an algorithm may take per site, at most: the ordinary Voronoi
+/// diagram's cones, footprints and sort keys (docs/tuning.md has the figures).
+pub const MEMORY_PER_SITE: usize = 512;
+
+/// Refuses `n` sites when the process cannot have [`MEMORY_PER_SITE`] bytes for
+/// each, as an error rather than an abort partway through: the memory is
+/// reserved, untouched, and given back.
+fn check_memory_for(n: usize) -> Result<()> {
+    let bytes = n.saturating_mul(MEMORY_PER_SITE);
+    let mut probe: Vec<u8> = Vec::new();
+    probe.try_reserve_exact(bytes).map_err(|_| {
+        Error::InvalidInput(format!(
+            "{n} sites need about {:.1} GB of memory ({MEMORY_PER_SITE} bytes a site), \
+             more than this process can have",
+            bytes as f64 / 1e9
+        ))
+    })
 }
 
 /// A key that orders finite coordinates as numbers, with −0.0 equal to 0.0,
