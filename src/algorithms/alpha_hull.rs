@@ -32,6 +32,7 @@
 //! every site.
 
 use glam::DVec2;
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::{
@@ -429,6 +430,11 @@ fn draw_discs(
     machine.read_f32(&image, PixelRect::of(&image))
 }
 
+/// The fewest pixels the pixel method's hull may span: its picture must hold
+/// every disc centre, 1/α around the sites, which leaves the hull itself a
+/// smaller part of the picture as 1/α grows.
+const MIN_PIXEL_HULL: f64 = 4.0;
+
 /// The centre of the circle of radius `radius` through `s` and `t` on the left
 /// of the direction s → t, if the two are at most a diameter apart.
 fn centre_left_of(s: DVec2, t: DVec2, radius: f64) -> Option<DVec2> {
@@ -555,15 +561,22 @@ fn positive(
                 0.0,
                 side,
             )?;
-            let r_px = (radius * frame.scale) as f32;
-            let discs: Vec<[f32; 4]> = circles
-                .centres
+            let r_px = radius * frame.scale;
+            let centres: Vec<DVec2> = circles.centres.iter().map(|c| frame.to_pixel(*c)).collect();
+            // Float32 places a far centre within a few of its ulps: discs that
+            // much smaller mark what is surely inside, that much larger what
+            // is surely outside, and the pixels between are decided in f64.
+            let far = centres
                 .iter()
-                .map(|c| {
-                    let c = frame.to_pixel(*c);
-                    [c.x as f32, c.y as f32, r_px, 1.0]
-                })
-                .collect();
+                .fold(0.0, |m: f64, c| m.max(c.abs().max_element()));
+            let slack = 8.0 * f32::EPSILON as f64 * (far + r_px) + 1e-3;
+            let discs_of = |r: f64| -> Vec<[f32; 4]> {
+                centres
+                    .iter()
+                    .map(|c| [c.x as f32, c.y as f32, r as f32, 1.0])
+                    .collect()
+            };
+            let discs = discs_of(r_px);
             let pixels = if circles.centres.is_empty() {
                 // One distinct site: the hull is that point.
                 let at = frame.to_pixel(sites[circles.boundary[0] as usize]);
@@ -581,12 +594,22 @@ fn positive(
                     })
                     .collect()
             } else {
-                let counts = draw_discs(machine, &frame, &discs, true)?;
+                let inner = draw_discs(machine, &frame, &discs_of(r_px - slack), true)?;
+                let outer = draw_discs(machine, &frame, &discs_of(r_px + slack), true)?;
                 let k = discs.len() as f32;
-                counts
-                    .iter()
-                    .map(|&c| {
-                        if c == k {
+                let w = frame.width as usize;
+                let in_every_disc = |q: DVec2| {
+                    centres
+                        .iter()
+                        .all(|c| q.distance_squared(*c) <= r_px * r_px)
+                };
+                inner
+                    .par_iter()
+                    .zip(&outer)
+                    .enumerate()
+                    .map(|(p, (&i, &o))| {
+                        let q = DVec2::new((p % w) as f64, (p / w) as f64);
+                        if i == k || (o == k && in_every_disc(q)) {
                             class::INSIDE
                         } else {
                             class::OUTSIDE
@@ -613,6 +636,14 @@ fn positive(
                 0.0,
                 side,
             )?;
+            let hull_px = 2.0 * circles.mec_radius * frame.scale;
+            if hull_px < MIN_PIXEL_HULL {
+                return Err(Error::InvalidInput(format!(
+                    "the pixel method's picture reaches 1/α = {radius:e} around the sites, \
+                     so their hull spans {hull_px:.2} of its {side} pixels (at least \
+                     {MIN_PIXEL_HULL} needed): use the hull method, a larger α or a larger size"
+                )));
+            }
             let r_px = (radius * frame.scale) as f32;
             let around_sites: Vec<[f32; 4]> = sites
                 .iter()
