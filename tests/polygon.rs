@@ -250,3 +250,38 @@ fn unsupported_combinations_are_clear_errors() {
         pixgeo::algorithms::settle::potential_areas_cpu(&[DVec2::ZERO], &[], &frame, metric);
     assert!(settle.is_err());
 }
+
+#[test]
+fn polygons_of_every_size_float32_holds_and_no_other() {
+    // Distances go through float32: a polygon 1e39 across gave distances below
+    // its smallest normal number, and 4024 of 4096 pixels the wrong site.
+    let m = common::machine();
+    let frame = Frame::pixels(64, 64).unwrap();
+    let sites = [
+        DVec2::new(1.0, 2.0),
+        DVec2::new(5.0, 7.0),
+        DVec2::new(9.0, 1.0),
+    ];
+    let square = |e: f64| {
+        let v = [(e, 0.0), (0.0, e), (-e, 0.0), (0.0, -e)];
+        Metric::polygon(&v.map(|(x, y)| DVec2::new(x, y)), DVec2::ZERO)
+    };
+    for e in [1e-19, 1e19] {
+        let metric = square(e).unwrap();
+        let truth = nearest_distances_metric(&sites, &frame, metric);
+        let options = VoronoiOptions {
+            metric,
+            ..VoronoiOptions::exact(frame)
+        };
+        let d = voronoi(&m, &sites, &options).unwrap();
+        for (k, &label) in d.labels.iter().enumerate() {
+            let q = DVec2::new((k % 64) as f64, (k / 64) as f64);
+            let mine = metric.distance(sites[label as usize] - q);
+            assert!(mine <= truth[k] * (1.0 + 1e-6), "{e}: pixel {q}");
+        }
+    }
+    for e in [1e-21, 1e21, 1e39] {
+        let err = square(e).unwrap_err();
+        assert!(err.contains("scale the polygon"), "{err}");
+    }
+}

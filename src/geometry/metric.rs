@@ -79,6 +79,9 @@ impl Gauge {
     }
 }
 
+/// The nearest and farthest a polygon metric's boundary may lie from its kernel.
+const POLYGON_SIZES: (f64, f64) = (1e-20, 1e20);
+
 /// Polygons used as metrics live for the whole program (so that [`Metric`] stays
 /// a plain copyable value); each distinct polygon is kept once.
 fn intern(gauge: Gauge) -> &'static Gauge {
@@ -198,6 +201,17 @@ impl Metric {
             .map(|k| super::chain::norm_range_on_segment(Self::L2, v[k], v[(k + 1) % n]).0)
             .fold(f64::INFINITY, f64::min);
         let far = v.iter().map(|p| p.length()).fold(0.0, f64::max);
+        // Distances in pixels are then up to 2^24 / near and down to 1 / far, which
+        // float32 holds with room to spare in this range.
+        if near < POLYGON_SIZES.0 || far > POLYGON_SIZES.1 {
+            return Err(format!(
+                "the polygon's boundary lies {near:e} to {far:e} from its kernel point; \
+                 distances go through float32, which holds polygons from {:e} to {:e} \
+                 across: scale the polygon (its distances scale inversely, its diagram \
+                 stays the same)",
+                POLYGON_SIZES.0, POLYGON_SIZES.1
+            ));
+        }
         let convex = (0..n)
             .all(|k| (v[(k + 1) % n] - v[k]).perp_dot(v[(k + 2) % n] - v[(k + 1) % n]) >= 0.0);
         Ok(Self::Polygon(intern(Gauge {
