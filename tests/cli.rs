@@ -762,3 +762,69 @@ fn sites_beyond_memory_are_refused_up_front() {
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn point_commands_share_one_grammar_for_their_sites() {
+    // --random N --seed S and --sites - (CSV on stdin) wherever points are read.
+    let file = temp("grammar.csv");
+    let csv = "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n1,2.5\n";
+    std::fs::write(&file, csv).unwrap();
+    let stdin = |args: &[&str]| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_pixgeo"))
+            .args(args)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        use std::io::Write;
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(csv.as_bytes())
+            .unwrap();
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let f = file.to_str().unwrap();
+    for command in [
+        &["triangle"][..],
+        &["quadrangle", "--max"],
+        &["diameter"],
+        &["alpha", "--alpha", "0"],
+        &["delaunay"],
+    ] {
+        fn with<'a>(command: &[&'a str], sites: &[&'a str]) -> Vec<&'a str> {
+            let mut args = command.to_vec();
+            args.extend_from_slice(sites);
+            args.push("--json");
+            args
+        }
+        let (ok, from_file, stderr) = pixgeo(&with(command, &["--sites", f]));
+        assert!(ok, "{command:?}: {stderr}");
+        let from_stdin = stdin(&with(command, &["--sites", "-"]));
+        assert_eq!(
+            answer(&from_stdin, command[0]),
+            answer(&from_file, command[0])
+        );
+        let (ok, a, stderr) = pixgeo(&with(command, &["--random", "40", "--seed", "7"]));
+        assert!(ok, "{command:?}: {stderr}");
+        let (_, b, _) = pixgeo(&with(command, &["--random", "40", "--seed", "7"]));
+        let (_, c, _) = pixgeo(&with(command, &["--random", "40", "--seed", "8"]));
+        let (a, b, c) = (
+            answer(&a, command[0]),
+            answer(&b, command[0]),
+            answer(&c, command[0]),
+        );
+        assert_eq!(a, b, "{command:?}: one seed, one answer");
+        assert_ne!(a, c, "{command:?}: another seed, other points");
+        let (ok, _, stderr) = pixgeo(command);
+        assert!(!ok && stderr.contains("--sites"), "{command:?}: {stderr}");
+    }
+}

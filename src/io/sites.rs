@@ -28,6 +28,9 @@ use crate::{
     },
 };
 
+/// The path that names standard input.
+pub const STDIN: &str = "-";
+
 /// The formats a site file may have, told by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SiteFormat {
@@ -39,7 +42,11 @@ pub enum SiteFormat {
 
 impl SiteFormat {
     /// The format of `path` by its extension; an unknown one is an error.
+    /// `-`, standard input, is CSV.
     pub fn of(path: &Path) -> Result<Self> {
+        if path == Path::new(STDIN) {
+            return Ok(Self::Csv);
+        }
         let extension = path
             .extension()
             .and_then(|e| e.to_str())
@@ -100,7 +107,13 @@ pub fn read_general_sites(path: &Path) -> Result<Vec<Site>> {
 }
 
 fn read_text(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+    let bytes = if path == Path::new(STDIN) {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes).map(|_| bytes)
+    } else {
+        std::fs::read(path)
+    };
+    let bytes = bytes.map_err(|source| Error::Io {
         path: path.to_path_buf(),
         cause: source,
     })?;

@@ -1,16 +1,15 @@
 //! `pixgeo alpha`: the α-hull of a point set (thesis ch. 6).
 
-use crate::envelope;
 use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Args as ClapArgs, ValueEnum};
 use pixgeo::{
     algorithms::alpha_hull::{self, AlphaMethod, DEFAULT_SIDE},
-    io::{npy, picture::PngStream, sites},
+    io::{npy, picture::PngStream},
 };
 
-use crate::distances::machine_on;
+use crate::{distances::machine_on, envelope, input::Points};
 
 #[derive(Clone, Copy, ValueEnum)]
 enum Method {
@@ -38,10 +37,8 @@ enum Method {
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// Point sites: `.csv` (`x,y` per line, optional header `x,y`), `.json`,
-    /// `.geojson` or `.npy` (n×2), read by extension.
-    #[arg(long, value_name = "FILE")]
-    sites: PathBuf,
+    #[command(flatten)]
+    points: Points,
     /// α: negative for the union of empty discs of radius -1/α, positive for
     /// the intersection of discs of radius 1/α, 0 for the convex hull.
     #[arg(long, allow_negative_numbers = true)]
@@ -69,7 +66,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let points = sites::read_sites(&args.sites)?;
+    let points = args.points.read()?;
     let machine = machine_on(args.device.as_deref())?;
     let method = match args.method {
         Method::Hull => AlphaMethod::Hull,

@@ -1,20 +1,15 @@
 //! `pixgeo triangle` and `pixgeo quadrangle`: the smallest or largest triangle
 //! and quadrangle with vertices among the sites (thesis ch. 7).
 
-use crate::envelope;
-use crate::progress::Progress;
-use std::path::PathBuf;
-
 use anyhow::Result;
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::area::{self, default_side, AreaAnswer, Extreme},
-    io::sites,
     Machine,
 };
 
-use crate::distances::machine_on;
+use crate::{distances::machine_on, envelope, input::Points, progress::Progress};
 
 /// The smallest (or, with --max, largest) triangle with three sites as
 /// vertices. A saddle roof over every pair of sites, its height the area of
@@ -52,10 +47,8 @@ pub struct QuadrangleArgs {
 
 #[derive(ClapArgs)]
 struct Common {
-    /// Point sites: `.csv` (`x,y` per line, optional header `x,y`), `.json`,
-    /// `.geojson` or `.npy` (n×2), read by extension.
-    #[arg(long, value_name = "FILE")]
-    sites: PathBuf,
+    #[command(flatten)]
+    points: Points,
     /// The largest area instead of the smallest.
     #[arg(long)]
     max: bool,
@@ -103,7 +96,7 @@ type Solver =
     fn(&Machine, &[DVec2], Extreme, u32, &mut dyn FnMut(u64, u64)) -> pixgeo::Result<AreaAnswer>;
 
 fn solve(c: &Common, solver: Solver, what: &str) -> Result<()> {
-    let points = sites::read_sites(&c.sites)?;
+    let points = c.points.read()?;
     let machine = machine_on(c.device.as_deref())?;
     let side = c.size.unwrap_or(default_side(points.len()));
     let progress = Progress::new(&format!("{what}: roofs of site pairs"), c.json);

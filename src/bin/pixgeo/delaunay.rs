@@ -1,7 +1,6 @@
 //! `pixgeo delaunay`: the Delaunay triangulation of points from their digital
 //! Voronoi diagram (Cao, Edelsbrunner and Tan 2015).
 
-use crate::envelope;
 use std::{io::Write, path::PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -9,11 +8,11 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::delaunay::{self, Delaunay, DelaunayOptions},
-    geometry::{triangulation::check_delaunay, Frame},
-    io::{picture::PngStream, sites},
+    geometry::triangulation::check_delaunay,
+    io::picture::PngStream,
 };
 
-use crate::distances::machine_on;
+use crate::{distances::machine_on, envelope, input::Points};
 
 /// The Delaunay triangulation of points, from a digital Voronoi diagram.
 ///
@@ -34,16 +33,8 @@ use crate::distances::machine_on;
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// Points: `.csv` (`x,y` per line, optional header `x,y`), `.json`
-    /// (`[[x, y], ...]`), `.geojson` or `.npy` (n×2), read by extension.
-    #[arg(long, value_name = "FILE", required_unless_present = "random")]
-    sites: Option<PathBuf>,
-    /// Use N uniformly random points in a 1000 x 1000 square instead.
-    #[arg(long, value_name = "N", conflicts_with = "sites")]
-    random: Option<usize>,
-    /// Seed of --random.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    points: Points,
     /// Write the triangulation in Triangle's formats: PREFIX.node (every input
     /// point, numbered from 0) and PREFIX.ele (counter-clockwise triangles).
     #[arg(long, value_name = "PREFIX")]
@@ -77,11 +68,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let points = match (&args.sites, args.random) {
-        (Some(path), _) => sites::read_sites(path)?,
-        (None, Some(n)) => sites::random_sites(n, args.seed, &Frame::pixels(1000, 1000)?),
-        (None, None) => bail!("give --sites FILE or --random N"),
-    };
+    let points = args.points.read()?;
     let machine = machine_on(args.device.as_deref())?;
     let options = DelaunayOptions {
         grid: args.grid,

@@ -13,7 +13,7 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
-use crate::envelope;
+use crate::{envelope, input::Points};
 
 /// Options every distance command shares.
 #[derive(ClapArgs)]
@@ -82,9 +82,8 @@ pub struct HausdorffArgs {
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct DiameterArgs {
-    /// The points: a point file (`.csv`, `.json`, `.geojson`, `.npy`).
-    #[arg(long, value_name = "FILE")]
-    sites: PathBuf,
+    #[command(flatten)]
+    points: Points,
     #[command(flatten)]
     common: Common,
 }
@@ -175,7 +174,7 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
 }
 
 pub fn diameter(args: DiameterArgs) -> Result<()> {
-    let points = read(&args.sites, "")?;
+    let points = args.points.read()?;
     let machine = args.common.machine()?;
     let d = distances::diameter(&machine, &points, args.common.size)?;
     let names = Names {

@@ -1,7 +1,6 @@
 //! `pixgeo enclose` and `pixgeo empty`: the smallest enclosing and the largest
 //! empty homothet of a circle or a star-shaped polygon (thesis ch. 4 and 5).
 
-use crate::envelope;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -17,7 +16,7 @@ use pixgeo::{
 };
 use serde_json::Value;
 
-use crate::distances::machine_on;
+use crate::{distances::machine_on, envelope};
 
 /// The shape and the picture, shared by both commands.
 #[derive(ClapArgs)]

@@ -23,7 +23,7 @@ pub struct Input {
     /// "radius": r}}`, `{"arc": {"center": [x, y], "radius": r, "start": a0,
     /// "end": a1}}` and weights `"m"`, `"a"` on any site), `.geojson` (Point,
     /// MultiPoint, LineString, MultiLineString) or `.npy` (n×2 x, y; n×3 adds m;
-    /// n×4 adds a).
+    /// n×4 adds a). `-` reads CSV from stdin.
     #[arg(long, value_name = "FILE", conflicts_with = "random")]
     sites: Option<PathBuf>,
 
@@ -77,6 +77,38 @@ impl Input {
             _ => bail!("give the sites: --sites FILE or --random N"),
         };
         Ok((frame, sites))
+    }
+}
+
+/// Point sites, for the commands that take points alone and size their own
+/// picture: a file or random points.
+#[derive(ClapArgs)]
+pub struct Points {
+    /// Points, read by extension: `.csv`/`.txt` (`x,y` per line, optional header
+    /// `x,y`), `.json` (`[[x, y], ...]`), `.geojson` (Point, MultiPoint,
+    /// LineString, MultiLineString) or `.npy` (n×2); `-` reads CSV from stdin.
+    #[arg(long, value_name = "FILE", required_unless_present = "random")]
+    sites: Option<PathBuf>,
+    /// Use N uniformly random points in the square [0, 1000]² instead.
+    #[arg(long, value_name = "N", conflicts_with = "sites")]
+    random: Option<usize>,
+    /// Seed of --random.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+impl Points {
+    pub fn read(&self) -> Result<Vec<DVec2>> {
+        match (&self.sites, self.random) {
+            (Some(path), _) => Ok(sites::read_sites(path)?),
+            (None, Some(n)) if n > 0 => Ok(sites::random_sites(
+                n,
+                self.seed,
+                &Frame::pixels(1000, 1000)?,
+            )),
+            (None, Some(_)) => bail!("--random needs at least one point"),
+            (None, None) => bail!("give the points: --sites FILE or --random N"),
+        }
     }
 }
 

@@ -1,6 +1,5 @@
 //! `pixgeo settle`: where a new site would win the largest Voronoi region.
 
-use crate::envelope;
 use std::path::PathBuf;
 
 use anyhow::{bail, Result};
@@ -16,7 +15,7 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
-use crate::{input::Input, progress::Progress, voronoi::Backend};
+use crate::{envelope, input::Input, progress::Progress, voronoi::Backend};
 
 /// Finds the settle point (thesis §3.10): the place where a new site, added to
 /// the existing ones (a rival's stores, say), would own the largest Voronoi

@@ -1,7 +1,6 @@
 //! `pixgeo voronoi`: the Voronoi diagram of point sites, and of weighted sites,
 //! segments, circles and arcs.
 
-use crate::envelope;
 use std::{io::IsTerminal, path::PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -25,7 +24,7 @@ use pixgeo::{
 };
 use serde_json::json;
 
-use crate::input::Input;
+use crate::{envelope, input::Input};
 
 /// Computes the Voronoi diagram of point sites: which site is nearest to every
 /// pixel, and how far it is.
