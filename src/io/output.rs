@@ -88,6 +88,26 @@ impl Drop for OutputFile {
     }
 }
 
+/// Writes a text file through an [`OutputFile`]: `body` writes into a buffer,
+/// which is flushed, so that every write error is seen, before the file is put
+/// in place.
+pub fn write_text(
+    path: &Path,
+    extension: &str,
+    what: &str,
+    body: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let (output, file) = OutputFile::create(path, extension, what)?;
+    let mut buffer = std::io::BufWriter::new(file);
+    body(&mut buffer)
+        .and_then(|()| std::io::Write::flush(&mut buffer))
+        .map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            cause: source,
+        })?;
+    output.commit()
+}
+
 /// Refuses a file name whose extension does not say the format written into
 /// it: `-o map.jpg` would otherwise hold PNG bytes.
 pub fn check_extension(path: &Path, extension: &str, what: &str) -> Result<()> {

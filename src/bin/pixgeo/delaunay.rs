@@ -1,15 +1,15 @@
 //! `pixgeo delaunay`: the Delaunay triangulation of points from their digital
 //! Voronoi diagram (Cao, Edelsbrunner and Tan 2015).
 
-use std::{io::Write, path::PathBuf};
+use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::delaunay::{self, Delaunay, DelaunayOptions},
     geometry::triangulation::check_delaunay,
-    io::picture::PngStream,
+    io::{output, picture::PngStream},
 };
 
 use crate::{distances::machine_on, envelope, input::Points};
@@ -178,23 +178,19 @@ fn write_triangle_files(
         p.push(ext);
         PathBuf::from(p)
     };
-    let node = path(".node");
-    let mut w = std::io::BufWriter::new(
-        std::fs::File::create(&node).with_context(|| format!("creating {}", node.display()))?,
-    );
-    writeln!(w, "{} 2 0 0", points.len())?;
-    for (i, p) in points.iter().enumerate() {
-        writeln!(w, "{i} {:?} {:?}", p.x, p.y)?;
-    }
-    w.flush()?;
-    let ele = path(".ele");
-    let mut w = std::io::BufWriter::new(
-        std::fs::File::create(&ele).with_context(|| format!("creating {}", ele.display()))?,
-    );
-    writeln!(w, "{} 3 0", result.triangles.len())?;
-    for (k, t) in result.triangles.iter().enumerate() {
-        writeln!(w, "{k} {} {} {}", t[0], t[1], t[2])?;
-    }
-    w.flush()?;
+    output::write_text(&path(".node"), "node", "--out", |w| {
+        writeln!(w, "{} 2 0 0", points.len())?;
+        for (i, p) in points.iter().enumerate() {
+            writeln!(w, "{i} {:?} {:?}", p.x, p.y)?;
+        }
+        Ok(())
+    })?;
+    output::write_text(&path(".ele"), "ele", "--out", |w| {
+        writeln!(w, "{} 3 0", result.triangles.len())?;
+        for (k, t) in result.triangles.iter().enumerate() {
+            writeln!(w, "{k} {} {} {}", t[0], t[1], t[2])?;
+        }
+        Ok(())
+    })?;
     Ok(())
 }
