@@ -828,3 +828,37 @@ fn point_commands_share_one_grammar_for_their_sites() {
         assert!(!ok && stderr.contains("--sites"), "{command:?}: {stderr}");
     }
 }
+
+#[test]
+fn files_written_are_reported_and_quiet_says_nothing() {
+    let (png, mask) = (temp("q.png"), temp("q.npy"));
+    let (p, m) = (png.to_str().unwrap(), mask.to_str().unwrap());
+    let args = [
+        "alpha", "--random", "30", "--alpha", "0", "-o", p, "--mask", m,
+    ];
+    let (ok, _, stderr) = pixgeo(&args);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains(&format!("wrote {p}")) && stderr.contains(&format!("wrote {m}")),
+        "{stderr}"
+    );
+    for command in [
+        &args[..],
+        &["voronoi", "--random", "5", "--size", "32", "-o", p, "-q"],
+        &[
+            "delaunay",
+            "--random",
+            "30",
+            "--out",
+            p.trim_end_matches(".png"),
+            "--quiet",
+        ],
+    ] {
+        let mut with = command.to_vec();
+        if command[0] == "alpha" {
+            with.push("-q");
+        }
+        let (ok, _, stderr) = pixgeo(&with);
+        assert!(ok && stderr.is_empty(), "{with:?}: {stderr}");
+    }
+}

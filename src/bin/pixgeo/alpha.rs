@@ -108,5 +108,6 @@ pub fn run(args: Args) -> Result<()> {
         png.write(&alpha_hull::picture(&hull, &points))?;
         png.finish()?;
     }
+    crate::wrote([args.mask.as_deref(), args.output.as_deref()]);
     Ok(())
 }

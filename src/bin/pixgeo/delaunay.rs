@@ -87,6 +87,7 @@ pub fn run(args: Args) -> Result<()> {
         png.write(&rgb)?;
         png.finish()?;
     }
+    crate::wrote([args.output.as_deref()]);
     if args.json {
         let mesh = serde_json::json!({
             "points": points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
@@ -178,19 +179,22 @@ fn write_triangle_files(
         p.push(ext);
         PathBuf::from(p)
     };
-    output::write_text(&path(".node"), "node", "--out", |w| {
+    let node = path(".node");
+    output::write_text(&node, "node", "--out", |w| {
         writeln!(w, "{} 2 0 0", points.len())?;
         for (i, p) in points.iter().enumerate() {
             writeln!(w, "{i} {:?} {:?}", p.x, p.y)?;
         }
         Ok(())
     })?;
-    output::write_text(&path(".ele"), "ele", "--out", |w| {
+    let ele = path(".ele");
+    output::write_text(&ele, "ele", "--out", |w| {
         writeln!(w, "{} 3 0", result.triangles.len())?;
         for (k, t) in result.triangles.iter().enumerate() {
             writeln!(w, "{k} {} {} {}", t[0], t[1], t[2])?;
         }
         Ok(())
     })?;
+    crate::wrote([Some(node.as_path()), Some(ele.as_path())]);
     Ok(())
 }

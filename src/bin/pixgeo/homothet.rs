@@ -68,6 +68,7 @@ impl Shape {
         let mut png = PngStream::create(path, width, height)?;
         png.write(&rgb)?;
         png.finish()?;
+        crate::wrote([Some(path.as_path())]);
         Ok(())
     }
 

@@ -7,6 +7,11 @@ macro_rules! outln {
     ($($arg:tt)*) => { $crate::answer_line(format_args!($($arg)*)) };
 }
 
+/// `eprintln!` for messages other than errors: silent under `-q`.
+macro_rules! note {
+    ($($arg:tt)*) => { if !$crate::quiet() { eprintln!($($arg)*) } };
+}
+
 mod alpha;
 mod area;
 mod delaunay;
@@ -34,6 +39,24 @@ use clap::{Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// No messages on stderr but errors: no summaries, no files-written lines,
+    /// no progress bars. Answers still go to stdout.
+    #[arg(short, long, global = true)]
+    quiet: bool,
+}
+
+/// Set once from `-q`, before any command runs.
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+fn quiet() -> bool {
+    QUIET.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Tells which files a command wrote (each `Some` output path), unless `-q`.
+fn wrote<'a>(paths: impl IntoIterator<Item = Option<&'a std::path::Path>>) {
+    for path in paths.into_iter().flatten() {
+        note!("wrote {}", path.display());
+    }
 }
 
 #[derive(Subcommand)]
@@ -70,7 +93,9 @@ fn answer_line(line: std::fmt::Arguments) {
 }
 
 fn main() -> anyhow::Result<()> {
-    match Cli::parse().command {
+    let cli = Cli::parse();
+    QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
+    match cli.command {
         Command::Voronoi(args) => voronoi::run(*args),
         Command::Hausdorff(args) => distances::hausdorff(args),
         Command::Diameter(args) => distances::diameter(args),

@@ -10,9 +10,9 @@ pub struct Progress {
 }
 
 impl Progress {
-    /// A bar named `message`, unless stderr is no terminal or `json` is set.
+    /// A bar named `message`, unless stderr is no terminal, `json` is set, or `-q`.
     pub fn new(message: &str, json: bool) -> Self {
-        let bar = (!json && std::io::stderr().is_terminal()).then(|| {
+        let bar = (!json && !crate::quiet() && std::io::stderr().is_terminal()).then(|| {
             ProgressBar::new(1)
                 .with_style(
                     ProgressStyle::with_template("{msg} {bar:40} {percent}% {elapsed}")

@@ -142,6 +142,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.output {
         write_picture(path, &map, &frame, &rivals, &own)?;
     }
+    crate::wrote([args.area.as_deref(), args.output.as_deref()]);
     let summary = summary(&map, &frame, refined.as_ref(), &args);
     if args.json {
         envelope::print("settle", backend.name(), Some(&frame), &summary)?;

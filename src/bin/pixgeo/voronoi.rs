@@ -212,7 +212,14 @@ fn parse_speedup(s: &str) -> Result<Speedup, String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    check_options(&args)?;
+    diagram(&args)?;
+    // Options a diagram would not write are refused up front: each given was written.
+    crate::wrote([&args.output, &args.labels, &args.distance, &args.ties].map(|p| p.as_deref()));
+    Ok(())
+}
+
+fn diagram(args: &Args) -> Result<()> {
+    check_options(args)?;
     let (frame, general) = args.input.frame_and_general_sites()?;
     let arrays: Vec<&std::path::Path> = [&args.labels, &args.distance, &args.ties]
         .into_iter()
@@ -220,7 +227,7 @@ pub fn run(args: Args) -> Result<()> {
         .collect();
     crate::input::check_room(&arrays, frame.width, frame.height)?;
     if general.iter().any(|s| !s.is_plain_point()) {
-        return general_sites(&args, &general, frame);
+        return general_sites(args, &general, frame);
     }
     let sites: Vec<DVec2> = general
         .iter()
@@ -231,7 +238,7 @@ pub fn run(args: Args) -> Result<()> {
         .collect();
     let (accuracy, speedup) = (args.accuracy(), args.speedup());
     if args.method != Method::Cones {
-        return seed_pixels(&args, &sites, frame);
+        return seed_pixels(args, &sites, frame);
     }
     let backend = args.backend()?;
     let kind = match (args.degree, args.order, args.furthest) {
@@ -242,7 +249,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let machine = match &backend {
         Backend::Gpu(machine) if kind == Kind::Ordinary => machine,
-        _ => return whole_picture(&args, &backend, &sites, frame, accuracy, speedup, kind),
+        _ => return whole_picture(args, &backend, &sites, frame, accuracy, speedup, kind),
     };
     let options = VoronoiOptions {
         frame,
@@ -281,7 +288,7 @@ pub fn run(args: Args) -> Result<()> {
     let contour_step = args.contours.map(|s| s as f32);
     // A tiled picture shows its progress, band by band, on a terminal.
     let mut progress: Option<ProgressBar> = None;
-    let show_progress = !args.json && std::io::stderr().is_terminal();
+    let show_progress = !args.json && !crate::quiet() && std::io::stderr().is_terminal();
     let stats = voronoi_bands(machine, &sites, &options, |band| {
         if show_progress && band.height < frame.height {
             let bar = progress.get_or_insert_with(|| {
@@ -333,13 +340,13 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         let summary = json!({
             "metric": args.metric.to_string(),
-            "mode": mode_name(&args),
+            "mode": mode_name(args),
             "speedup": speedup,
             "stats": s,
         });
         envelope::print("voronoi", machine.device_name(), Some(&frame), &summary)?;
     } else {
-        eprintln!(
+        note!(
             "{} sites, {}x{} pixels on {}: {} cone(s), {} tile(s), {} pass(es), radius \
              {:.1}..{:.1}, {:.1} ms rendering",
             s.sites,
@@ -353,9 +360,6 @@ pub fn run(args: Args) -> Result<()> {
             s.radius_max,
             s.render_ms
         );
-        if let Some(p) = &args.output {
-            eprintln!("wrote {}", p.display());
-        }
     }
     Ok(())
 }
@@ -520,7 +524,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
         });
         envelope::print("voronoi", &device, Some(&frame), &summary)?;
     } else {
-        eprintln!(
+        note!(
             "{} sites, {}x{} pixels on {}: {} drawn, {:.1} ms rendering",
             d.stats.sites,
             frame.width,
@@ -529,9 +533,6 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
             d.stats.cones,
             d.stats.render_ms
         );
-        if let Some(p) = &args.output {
-            eprintln!("wrote {}", p.display());
-        }
     }
     Ok(())
 }
@@ -670,11 +671,9 @@ fn whole_picture(
                 draw(path, &d.level_labels(k - 1), &last)?;
                 if args.each_level {
                     for l in 0..k {
-                        draw(
-                            &level_path(path, l + 1),
-                            &d.level_labels(l),
-                            &d.level_distances(l),
-                        )?;
+                        let level = level_path(path, l + 1);
+                        draw(&level, &d.level_labels(l), &d.level_distances(l))?;
+                        crate::wrote([Some(level.as_path())]);
                     }
                 }
             }
@@ -693,16 +692,13 @@ fn whole_picture(
     if args.json {
         envelope::print("voronoi", backend.name(), Some(&frame), &summary)?;
     } else {
-        eprintln!(
+        note!(
             "{} sites, {}x{} pixels on {}",
             sites.len(),
             frame.width,
             frame.height,
             backend.name()
         );
-        if let Some(p) = &args.output {
-            eprintln!("wrote {}", p.display());
-        }
     }
     Ok(())
 }
@@ -733,7 +729,7 @@ impl Backend {
         match Machine::new(&options) {
             Ok(machine) => Ok(Self::Gpu(Box::new(machine))),
             Err(pixgeo::Error::NoVulkan(why)) => {
-                eprintln!("note: no Vulkan driver ({why}); using the CPU pixel algorithms");
+                note!("note: no Vulkan driver ({why}); using the CPU pixel algorithms");
                 Ok(Self::Cpu)
             }
             Err(e) => Err(e).context("starting the pixel machine"),
@@ -851,7 +847,7 @@ fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
         });
         envelope::print("voronoi", machine.device_name(), Some(&frame), &summary)?;
     } else {
-        eprintln!(
+        note!(
             "{method}: {} sites on {w}x{h} pixels in {elapsed:.1} ms",
             sites.len()
         );
