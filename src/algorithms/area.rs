@@ -5,7 +5,7 @@
 //! third vertex's distance to the line pq. A saddle roof over p and q — an
 //! upside-down roof whose ridge is that line, with the apex angle §7.3.2
 //! chooses — is therefore exactly as high as that area over every point. All
-//! pairs' roofs are drawn in one pass, instanced; the depth test keeps, at
+//! pairs' roofs are drawn instanced, in one depth test that keeps, at
 //! each site's pixel, the lowest roof (the smallest triangle with that site as
 //! a vertex) and the colour names its pair. A roof never marks its own two
 //! sites, and covers only the strip beside its own segment: a triangle is
@@ -752,10 +752,9 @@ impl<'m> Roofs<'m> {
         ]
     }
 
-    /// One instanced pass of every pair's roof (`segment`: only over the
-    /// segment's strip) into `target`, the fragment shader reading `buffers`.
-    /// Every pair's roof, in about 64 submissions so that `progress(done,
-    /// total)` can tell how far the drawing is.
+    /// Every pair's roof (`segment`: only over the segment's strip) into
+    /// `target`, the fragment shader reading `buffers`: instanced, in about 64
+    /// submissions so that `progress(done, total)` can tell how far it is.
     #[allow(clippy::too_many_arguments)]
     fn draw_roofs(
         &self,
