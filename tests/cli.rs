@@ -799,6 +799,8 @@ fn point_commands_share_one_grammar_for_their_sites() {
         &["diameter"],
         &["alpha", "--alpha", "0"],
         &["delaunay"],
+        &["enclose"],
+        &["empty"],
     ] {
         fn with<'a>(command: &[&'a str], sites: &[&'a str]) -> Vec<&'a str> {
             let mut args = command.to_vec();

@@ -16,15 +16,13 @@ use pixgeo::{
 };
 use serde_json::Value;
 
-use crate::{distances::machine_on, envelope};
+use crate::{distances::machine_on, envelope, input::Points};
 
 /// The shape and the picture, shared by both commands.
 #[derive(ClapArgs)]
 pub struct Shape {
-    /// The sites: points as CSV `x,y` per line, or JSON with segments, circles
-    /// and arcs too (as for `pixgeo voronoi --sites`).
-    #[arg(long, value_name = "FILE")]
-    sites: PathBuf,
+    #[command(flatten)]
+    sites: Points,
     /// The homothets' shape: a polygon star-shaped around its kernel point (a
     /// point file of its vertices around the kernel at the origin, or JSON
     /// `{"vertices": [[x, y], ...], "kernel": [x, y]}`). Default: a circle.
@@ -149,7 +147,7 @@ enum StageChoice {
 }
 
 pub fn enclose(args: EncloseArgs) -> Result<()> {
-    let shapes = sites::read_general_sites(&args.shape.sites)?;
+    let shapes = args.shape.sites.read_general()?;
     let unit = args.shape.unit()?;
     let machine = machine_on(args.shape.device.as_deref())?;
     let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
@@ -166,7 +164,7 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
 }
 
 pub fn empty(args: EmptyArgs) -> Result<()> {
-    let shapes = sites::read_general_sites(&args.shape.sites)?;
+    let shapes = args.shape.sites.read_general()?;
     let unit = args.shape.unit()?;
     let region = match &args.region {
         None => Region::default(),

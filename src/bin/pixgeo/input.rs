@@ -84,9 +84,11 @@ impl Input {
 /// picture: a file or random points.
 #[derive(ClapArgs)]
 pub struct Points {
-    /// Points, read by extension: `.csv`/`.txt` (`x,y` per line, optional header
-    /// `x,y`), `.json` (`[[x, y], ...]`), `.geojson` (Point, MultiPoint,
-    /// LineString, MultiLineString) or `.npy` (n×2); `-` reads CSV from stdin.
+    /// Sites, read by extension: `.csv`/`.txt` (`x,y` per line, optional header
+    /// `x,y`), `.json` (`[[x, y], ...]`; `enclose` and `empty` also take
+    /// segments, circles and arcs, as `voronoi` does), `.geojson` (Point,
+    /// MultiPoint, LineString, MultiLineString) or `.npy` (n×2); `-` reads CSV
+    /// from stdin.
     #[arg(long, value_name = "FILE", required_unless_present = "random")]
     sites: Option<PathBuf>,
     /// Use N uniformly random points in the square [0, 1000]² instead.
@@ -98,16 +100,31 @@ pub struct Points {
 }
 
 impl Points {
+    /// Unweighted points; other sites are an error.
     pub fn read(&self) -> Result<Vec<DVec2>> {
-        match (&self.sites, self.random) {
-            (Some(path), _) => Ok(sites::read_sites(path)?),
-            (None, Some(n)) if n > 0 => Ok(sites::random_sites(
+        match &self.sites {
+            Some(path) => Ok(sites::read_sites(path)?),
+            None => self.random(),
+        }
+    }
+
+    /// Sites of every shape and weight.
+    pub fn read_general(&self) -> Result<Vec<Site>> {
+        match &self.sites {
+            Some(path) => Ok(sites::read_general_sites(path)?),
+            None => Ok(self.random()?.into_iter().map(Site::point).collect()),
+        }
+    }
+
+    fn random(&self) -> Result<Vec<DVec2>> {
+        match self.random {
+            Some(n) if n > 0 => Ok(sites::random_sites(
                 n,
                 self.seed,
                 &Frame::pixels(1000, 1000)?,
             )),
-            (None, Some(_)) => bail!("--random needs at least one point"),
-            (None, None) => bail!("give the points: --sites FILE or --random N"),
+            Some(_) => bail!("--random needs at least one point"),
+            None => bail!("give the points: --sites FILE or --random N"),
         }
     }
 }
