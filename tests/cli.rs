@@ -608,7 +608,7 @@ fn triangle_and_quadrangle_print_exact_areas() {
         "{stdout}"
     );
     let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "0"]);
-    assert!(!ok && stderr.contains("0 is not in 2..=16384"), "{stderr}");
+    assert!(!ok && stderr.contains("2 to 16384 pixels, not 0"), "{stderr}");
 }
 
 #[test]
@@ -862,5 +862,31 @@ fn files_written_are_reported_and_quiet_says_nothing() {
         }
         let (ok, _, stderr) = pixgeo(&with);
         assert!(ok && stderr.is_empty(), "{with:?}: {stderr}");
+    }
+}
+
+#[test]
+fn size_is_the_longer_side_where_the_sites_set_the_box() {
+    let sites = temp("size.csv");
+    std::fs::write(&sites, "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n").unwrap();
+    let s = sites.to_str().unwrap();
+    for command in [
+        &["triangle", "--sites", s][..],
+        &["diameter", "--sites", s],
+        &["hausdorff", "--red", s, "--blue", s],
+        &["alpha", "--sites", s, "--alpha", "0"],
+        &["enclose", "--sites", s],
+    ] {
+        let mut args = command.to_vec();
+        args.extend(["--size", "64x64"]);
+        let (ok, _, stderr) = pixgeo(&args);
+        assert!(
+            !ok && stderr.contains("give the longer side's pixels"),
+            "{args:?}: {stderr}"
+        );
+        let mut args = command.to_vec();
+        args.extend(["--size", "64"]);
+        let (ok, _, stderr) = pixgeo(&args);
+        assert!(ok, "{args:?}: {stderr}");
     }
 }

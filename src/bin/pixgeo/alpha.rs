@@ -54,7 +54,7 @@ pub struct Args {
     #[arg(long, value_name = "NPY")]
     mask: Option<PathBuf>,
     /// Picture side in pixels along the longer axis (default 512).
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(2..=16384))]
+    #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
     size: Option<u32>,
     /// Print the result as JSON.
     #[arg(long)]

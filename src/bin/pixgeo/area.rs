@@ -55,7 +55,7 @@ struct Common {
     /// Picture side in pixels along the longer axis (default: 8 √n, from 64 to
     /// 1024). Sites that share a pixel are searched on the CPU; the answer is
     /// exact either way.
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(2..=16384))]
+    #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
     size: Option<u32>,
     /// Print the answer as JSON.
     #[arg(long)]

@@ -20,7 +20,7 @@ use crate::{envelope, input::Points};
 pub struct Common {
     /// Picture side in pixels (default: about 4·sqrt(n), 256 to 4096). A coarser
     /// picture only means more points are checked exactly; the answer stays exact.
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(2..=16384))]
+    #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
     size: Option<u32>,
 
     /// Print the answer as JSON.

@@ -37,7 +37,7 @@ pub struct Shape {
     output: Option<PathBuf>,
     /// Picture side in pixels along the longer axis (default 512). A finer
     /// picture gives a closer candidate; the refined answer is exact either way.
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(2..=16384))]
+    #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
     size: Option<u32>,
     /// Print the answer as JSON.
     #[arg(long)]

@@ -129,6 +129,26 @@ impl Points {
     }
 }
 
+/// `--size` of the commands that fit their picture to the sites: the longer
+/// side's pixels, 2 to 16384. `WxH` is refused by name, since the sites' box
+/// sets the other side.
+pub fn parse_side(s: &str) -> Result<u32, String> {
+    if s.contains(['x', 'X']) {
+        return Err(
+            "this command fits its picture to the sites: give the longer side's pixels, one number"
+                .into(),
+        );
+    }
+    let side: u32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a pixel count"))?;
+    if !(2..=16384).contains(&side) {
+        return Err(format!("the picture side is 2 to 16384 pixels, not {side}"));
+    }
+    Ok(side)
+}
+
 fn parse_size(s: &str) -> Result<(u32, Option<u32>), String> {
     let parse = |t: &str| -> Result<u32, String> {
         let v: u32 = t
