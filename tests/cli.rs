@@ -608,7 +608,10 @@ fn triangle_and_quadrangle_print_exact_areas() {
         "{stdout}"
     );
     let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "0"]);
-    assert!(!ok && stderr.contains("2 to 16384 pixels, not 0"), "{stderr}");
+    assert!(
+        !ok && stderr.contains("2 to 16384 pixels, not 0"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -888,5 +891,23 @@ fn size_is_the_longer_side_where_the_sites_set_the_box() {
         args.extend(["--size", "64"]);
         let (ok, _, stderr) = pixgeo(&args);
         assert!(ok, "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn a_bad_point_set_is_named_as_the_user_named_it() {
+    let (bad, good) = (temp("red-nan.csv"), temp("blue.csv"));
+    std::fs::write(&bad, "x,y\n1,nan\n").unwrap();
+    std::fs::write(&good, "x,y\n0,0\n1,1\n").unwrap();
+    let (b, g) = (bad.to_str().unwrap(), good.to_str().unwrap());
+    for (args, name) in [
+        (["hausdorff", "--red", b, "--blue", g], "the red points"),
+        (["maxdist", "--red", g, "--blue", b], "the blue points"),
+    ] {
+        let (ok, _, stderr) = pixgeo(&args);
+        assert!(
+            !ok && stderr.contains(name) && stderr.contains("non-finite"),
+            "{stderr}"
+        );
     }
 }

@@ -8,6 +8,7 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::distances::{self, Answer},
+    geometry::frame::check_sites,
     io::sites,
     machine::{DeviceChoice, Machine, MachineOptions},
 };
@@ -108,8 +109,11 @@ pub struct MaxDistArgs {
     common: Common,
 }
 
+/// The `what` points, checked here so that an error names them as the user did.
 fn read(path: &std::path::Path, what: &str) -> Result<Vec<DVec2>> {
-    sites::read_sites(path).with_context(|| format!("reading the {what} points"))
+    let points = sites::read_sites(path).with_context(|| format!("reading the {what} points"))?;
+    check_sites(&points).with_context(|| format!("the {what} points"))?;
+    Ok(points)
 }
 
 /// An answer as JSON: the pair with its indices and coordinates.
