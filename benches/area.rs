@@ -1,7 +1,7 @@
 //! Smallest and largest triangles and quadrangles (thesis ch. 7) on pixgeo's
-//! default picture for n sites (`AREA_SIZE` sets another), beside the exact CPU methods in the same run: exhaustive search (a
-//! tight f64 loop, as a user would write it) and, for the smallest triangle, the
-//! O(n² log n) rotational sweep.
+//! default picture for n sites (`AREA_SIZE` sets another), beside the exact CPU
+//! methods in the same run: exhaustive search (a tight f64 loop, as a user would
+//! write it) and pixgeo's exact O(n² log n) rotational sweep.
 //!
 //! `cargo bench --bench area` writes `target/area/area.md`. `AREA_N=100,500`
 //! sets the site counts, `AREA_REPEATS` the repeats (median).
@@ -12,11 +12,11 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         area::{default_side, extremal_quadrangle, extremal_triangle, Extreme},
+        area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
         higher_order::convex_hull,
     },
     geometry::Frame,
     io::sites::random_sites,
-    reference::area::smallest_triangle_sweep,
     Machine,
 };
 
@@ -110,7 +110,7 @@ fn main() -> anyhow::Result<()> {
         "| n | hull | pixgeo (ms) | exhaustive (ms) | hull + exhaustive (ms) | exhaustive / pixgeo | pixgeo / hull + exhaustive | same area |\n|---|---|---|---|---|---|---|---|\n",
     );
     let mut quadrangles = String::from(
-        "| n | pixgeo smallest (ms) | draw (ms) | exhaustive O(n³) (ms) | exhaustive / pixgeo | same area | pixgeo largest (ms) | exhaustive O(n³) (ms) | exhaustive / pixgeo | same area |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| n | roofs smallest (ms) | draw (ms) | sweep (ms) | exhaustive O(n³) (ms) | exhaustive / roofs | roofs / sweep | same area | roofs largest (ms) | exhaustive O(n³) (ms) | exhaustive / roofs | same area |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
         let sites = random_sites(n, n as u64, &frame);
@@ -124,7 +124,7 @@ fn main() -> anyhow::Result<()> {
         })?;
         let (brute, b) = time(repeats, || Ok(exhaustive_triangle(&sites, false)))?;
         let (sweep, s) = time(repeats, || {
-            Ok(smallest_triangle_sweep(&sites).expect("n >= 3").1)
+            Ok(extremal_triangle_sweep(&sites, Extreme::Smallest, &mut |_, _| {})?.area)
         })?;
         eprintln!(
             "n = {n}: smallest triangle {ours:.1} ms ({:.1}/{:.1}/{:.1}/{:.1}), exhaustive {brute:.1} ms, sweep {sweep:.1} ms; areas {} {b} {s}",
@@ -181,6 +181,9 @@ fn main() -> anyhow::Result<()> {
                 )?)
             })?;
             let (brute, b) = time(repeats, || Ok(exhaustive_quadrangle(&sites, false)))?;
+            let (sweep, s) = time(repeats, || {
+                Ok(extremal_quadrangle_sweep(&sites, Extreme::Smallest, &mut |_, _| {})?.area)
+            })?;
             let (ours_max, c) = time(repeats, || {
                 Ok(extremal_quadrangle(
                     &machine,
@@ -195,10 +198,11 @@ fn main() -> anyhow::Result<()> {
                 a.area, c.area
             );
             quadrangles += &format!(
-                "| {n} | {ours:.1} | {:.1} | {brute:.1} | {:.2}× | {} | {ours_max:.1} | {brute_max:.1} | {:.2}× | {} |\n",
+                "| {n} | {ours:.1} | {:.1} | {sweep:.1} | {brute:.1} | {:.2}× | {:.0}× | {} | {ours_max:.1} | {brute_max:.1} | {:.2}× | {} |\n",
                 a.draw_ms,
                 brute / ours,
-                same(a.area, b),
+                ours / sweep,
+                if same(a.area, b) == "yes" && same(s, b) == "yes" { "yes" } else { "no" },
                 brute_max / ours_max,
                 same(c.area, d),
             );

@@ -5,8 +5,9 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::area::{
         extremal_quadrangle, extremal_quadrangle_with_progress, extremal_triangle,
-        extremal_triangle_with_progress, Extreme,
+        extremal_triangle_with_progress, AreaAnswer, Extreme,
     },
+    algorithms::area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
     reference::area::{self as oracle, triangle_area},
     Error,
 };
@@ -67,6 +68,30 @@ fn lattice(columns: u32, rows: u32, step: f64) -> Vec<DVec2> {
         .collect()
 }
 
+/// Both methods: the roofs (on pixels, then exact) and the sweep.
+const METHODS: [&str; 2] = ["roofs", "sweep"];
+
+fn triangle_by(method: &str, machine: &pixgeo::Machine, sites: &[DVec2], e: Extreme) -> AreaAnswer {
+    match method {
+        "roofs" => extremal_triangle(machine, sites, e, SIDE),
+        _ => extremal_triangle_sweep(sites, e, &mut |_, _| {}),
+    }
+    .unwrap()
+}
+
+fn quadrangle_by(
+    method: &str,
+    machine: &pixgeo::Machine,
+    sites: &[DVec2],
+    e: Extreme,
+) -> AreaAnswer {
+    match method {
+        "roofs" => extremal_quadrangle(machine, sites, e, SIDE),
+        _ => extremal_quadrangle_sweep(sites, e, &mut |_, _| {}),
+    }
+    .unwrap()
+}
+
 fn assert_close(name: &str, got: f64, want: f64) {
     assert!(
         (got - want).abs() <= 1e-9 * (1.0 + want.abs()),
@@ -78,9 +103,13 @@ fn assert_close(name: &str, got: f64, want: f64) {
 fn triangles_match_exhaustive_search() {
     let machine = machine();
     for (name, sites) in inputs() {
-        for extreme in [Extreme::Smallest, Extreme::Largest] {
+        for (extreme, method) in [Extreme::Smallest, Extreme::Largest]
+            .into_iter()
+            .flat_map(|e| METHODS.map(|m| (e, m)))
+        {
             let largest = extreme == Extreme::Largest;
-            let answer = extremal_triangle(&machine, &sites, extreme, SIDE).unwrap();
+            let name = &format!("{name} ({method})");
+            let answer = triangle_by(method, &machine, &sites, extreme);
             let (_, want) = oracle::extremal_triangle(&sites, largest).unwrap();
             assert_close(name, answer.area, want);
             // The named sites make that area.
@@ -92,10 +121,14 @@ fn triangles_match_exhaustive_search() {
                 .iter()
                 .collect::<std::collections::HashSet<_>>();
             assert_eq!(distinct.len(), 3, "{name}: {:?}", answer.sites);
-            if ["collinear", "duplicates", "lattice"].contains(&name) && !largest {
+            if ["collinear", "duplicates", "lattice"]
+                .iter()
+                .any(|n| name.starts_with(&format!("{n} ")))
+                && !largest
+            {
                 assert_eq!(answer.area, 0.0, "{name}");
             }
-            if name == "uniform" && !largest {
+            if name == "uniform (roofs)" && !largest {
                 // The thesis's pigeonhole bound (§7.3.3): area <= W H / (n - 2).
                 let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
                 let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
@@ -104,7 +137,7 @@ fn triangles_match_exhaustive_search() {
                 assert!(bound <= box_area / (sites.len() - 2) as f64 * (1.0 + 1e-5));
                 assert!(answer.area <= bound);
             }
-            if name == "crowded" && !largest && answer.decided_by == "pixels" {
+            if name == "crowded (roofs)" && !largest && answer.decided_by == "pixels" {
                 assert!(answer.shared > 0, "{name}: sites share pixels");
             }
         }
@@ -118,9 +151,13 @@ fn quadrangles_match_exhaustive_search() {
         let mut distinct = sites.clone();
         distinct.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
         distinct.dedup();
-        for extreme in [Extreme::Smallest, Extreme::Largest] {
+        for (extreme, method) in [Extreme::Smallest, Extreme::Largest]
+            .into_iter()
+            .flat_map(|e| METHODS.map(|m| (e, m)))
+        {
             let largest = extreme == Extreme::Largest;
-            let answer = extremal_quadrangle(&machine, &sites, extreme, SIDE).unwrap();
+            let name = &format!("{name} ({method})");
+            let answer = quadrangle_by(method, &machine, &sites, extreme);
             let (_, want) = oracle::extremal_quadrangle(&distinct, largest).unwrap();
             assert_close(name, answer.area, want);
             // p, r, q, l: r right of p -> q, l left of it, areas adding up.
@@ -158,6 +195,36 @@ fn the_rotational_sweep_matches_exhaustive_search() {
         let (_, sweep) = oracle::smallest_triangle_sweep(&sites).unwrap();
         let (_, want) = oracle::extremal_triangle(&sites, false).unwrap();
         assert_close("sweep", sweep, want);
+    }
+}
+
+#[test]
+fn the_exact_sweep_orders_directions_rounding_cannot_tell_apart() {
+    // A lattice nudged by a few units in the last place: pairs that are
+    // parallel, and pairs that miss being parallel by 1e-16, side by side.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for round in 0..6 {
+        let nudge = [0.0, f64::EPSILON, 4.0 * f64::EPSILON][round % 3];
+        let sites: Vec<DVec2> = lattice(6, 6, 1.0 + round as f64)
+            .into_iter()
+            .filter_map(|p| {
+                let k = rng.gen_range(-2..=2) as f64;
+                rng.gen_bool(0.7)
+                    .then(|| p + DVec2::new(p.y * nudge * k, 0.0))
+            })
+            .collect();
+        for extreme in [Extreme::Smallest, Extreme::Largest] {
+            let largest = extreme == Extreme::Largest;
+            let name = format!("nudged lattice {round} {extreme:?}");
+            if let Some((_, want)) = oracle::extremal_triangle(&sites, largest) {
+                let got = extremal_triangle_sweep(&sites, extreme, &mut |_, _| {}).unwrap();
+                assert_close(&name, got.area, want);
+            }
+            if let Some((_, want)) = oracle::extremal_quadrangle(&sites, largest) {
+                let got = extremal_quadrangle_sweep(&sites, extreme, &mut |_, _| {}).unwrap();
+                assert_close(&name, got.area, want);
+            }
+        }
     }
 }
 

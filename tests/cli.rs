@@ -4,7 +4,7 @@ use std::{path::PathBuf, process::Command};
 
 use pixgeo::io::npy;
 
-fn pixgeo(args: &[&str]) -> (bool, String, String) {
+fn pixgeo<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> (bool, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_pixgeo"))
         .args(args)
         .output()
@@ -587,29 +587,42 @@ fn alpha_writes_mask_picture_and_json() {
 #[test]
 fn triangle_and_quadrangle_print_exact_areas() {
     let sites = temp("area.csv");
+    let s = sites.to_str().unwrap();
     // A unit square's corners and a point just off its diagonal.
     std::fs::write(&sites, "x,y\n0,0\n10,0\n10,10\n0,10\n5,5.5\n").unwrap();
-    let s = sites.to_str().unwrap();
-    let (ok, stdout, stderr) = pixgeo(&["triangle", "--sites", s, "--json", "--size", "64"]);
-    assert!(ok, "{stderr}");
-    let v = answer(&stdout, "triangle");
-    // (0,0), (10,10), (5,5.5): half of |10 * 5.5 - 10 * 5| = 2.5.
-    assert_eq!(v["area"].as_f64().unwrap(), 2.5, "{stdout}");
-    let (ok, stdout, stderr) = pixgeo(&["triangle", "--sites", s, "--max", "--size", "64"]);
-    assert!(ok, "{stderr}");
-    assert!(
-        stdout.starts_with("largest triangle: area 50\n"),
-        "{stdout}"
-    );
-    let (ok, stdout, stderr) = pixgeo(&["quadrangle", "--sites", s, "--max", "--size", "64"]);
-    assert!(ok, "{stderr}");
-    assert!(
-        stdout.starts_with("largest quadrangle: area 100\n"),
-        "{stdout}"
-    );
+    // The sweep by default, the thesis's roofs on a Vulkan device.
+    for device in [&[][..], &["--device", "lavapipe", "--size", "64"]] {
+        let with = |args: &[&str]| -> Vec<String> {
+            args.iter().chain(device).map(|a| a.to_string()).collect()
+        };
+        let (ok, stdout, stderr) = pixgeo(&with(&["triangle", "--sites", s, "--json"]));
+        assert!(ok, "{stderr}");
+        let v = answer(&stdout, "triangle");
+        // (0,0), (10,10), (5,5.5): half of |10 * 5.5 - 10 * 5| = 2.5.
+        assert_eq!(v["area"].as_f64().unwrap(), 2.5, "{stdout}");
+        let by = if device.is_empty() { "sweep" } else { "pixels" };
+        assert_eq!(v["decided_by"], by, "{stdout}");
+        let (ok, stdout, stderr) = pixgeo(&with(&["triangle", "--sites", s, "--max"]));
+        assert!(ok, "{stderr}");
+        assert!(
+            stdout.starts_with("largest triangle: area 50\n"),
+            "{stdout}"
+        );
+        let (ok, stdout, stderr) = pixgeo(&with(&["quadrangle", "--sites", s, "--max"]));
+        assert!(ok, "{stderr}");
+        assert!(
+            stdout.starts_with("largest quadrangle: area 100\n"),
+            "{stdout}"
+        );
+    }
     let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "0"]);
     assert!(
         !ok && stderr.contains("2 to 16384 pixels, not 0"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "64"]);
+    assert!(
+        !ok && stderr.contains("the cpu sweep draws none"),
         "{stderr}"
     );
 }
@@ -874,7 +887,7 @@ fn size_is_the_longer_side_where_the_sites_set_the_box() {
     std::fs::write(&sites, "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n").unwrap();
     let s = sites.to_str().unwrap();
     for command in [
-        &["triangle", "--sites", s][..],
+        &["triangle", "--sites", s, "--device", "lavapipe"][..],
         &["diameter", "--sites", s],
         &["hausdorff", "--red", s, "--blue", s],
         &["alpha", "--sites", s, "--alpha", "0"],

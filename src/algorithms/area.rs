@@ -64,7 +64,7 @@ pub enum Extreme {
 }
 
 impl Extreme {
-    fn improves(self, area: f64, best: Option<f64>) -> bool {
+    pub(crate) fn improves(self, area: f64, best: Option<f64>) -> bool {
         match (best, self) {
             (None, _) => true,
             (Some(b), Extreme::Smallest) => area < b,
@@ -137,7 +137,7 @@ pub fn extremal_triangle_with_progress(
 /// areas (products of coordinates) neither overflow nor underflow, and scales
 /// its areas back: the vertices are the same and the area exact to rounding;
 /// an area beyond the largest float is refused.
-fn in_range(
+pub(crate) fn in_range(
     sites: &[DVec2],
     answer: impl FnOnce(&[DVec2]) -> Result<AreaAnswer>,
 ) -> Result<AreaAnswer> {
@@ -181,27 +181,12 @@ fn triangle_in_range(
             sites.len()
         )));
     }
+    if let Some(answer) = degenerate_triangle(sites, extreme) {
+        return Ok(answer);
+    }
     let distinct = first_of_each(sites);
     let ordered = |v: [u32; 3]| counter_clockwise(sites, v.to_vec());
-    if extreme == Extreme::Smallest {
-        if let Some((a, b)) = duplicate_pair(sites, &distinct) {
-            let c = (0..sites.len() as u32)
-                .find(|&c| c != a && c != b)
-                .expect("n >= 3");
-            return Ok(decided(extreme, vec![a, b, c], 0.0, "duplicates"));
-        }
-    }
     let hull = convex_hull(sites);
-    if hull.len() < 3 {
-        // All sites on a line (or at one point): every triangle has area 0.
-        let mut v = hull.clone();
-        v.extend(
-            (0..sites.len() as u32)
-                .filter(|c| !hull.contains(c))
-                .take(3 - v.len()),
-        );
-        return Ok(decided(extreme, v, 0.0, "collinear"));
-    }
     let chosen = match extreme {
         Extreme::Smallest => distinct,
         Extreme::Largest => hull.clone(),
@@ -489,7 +474,36 @@ fn quadrangle_in_range(
     })
 }
 
-fn decided(extreme: Extreme, sites: Vec<u32>, area: f64, by: &'static str) -> AreaAnswer {
+/// The answer when two sites coincide (the smallest triangle) or all sites lie
+/// on a line: area 0 either way.
+pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Option<AreaAnswer> {
+    if extreme == Extreme::Smallest {
+        if let Some((a, b)) = duplicate_pair(sites, &first_of_each(sites)) {
+            let c = (0..sites.len() as u32)
+                .find(|&c| c != a && c != b)
+                .expect("n >= 3");
+            return Some(decided(extreme, vec![a, b, c], 0.0, "duplicates"));
+        }
+    }
+    let hull = convex_hull(sites);
+    if hull.len() < 3 {
+        let mut v = hull.clone();
+        v.extend(
+            (0..sites.len() as u32)
+                .filter(|c| !hull.contains(c))
+                .take(3 - v.len()),
+        );
+        return Some(decided(extreme, v, 0.0, "collinear"));
+    }
+    None
+}
+
+pub(crate) fn decided(
+    extreme: Extreme,
+    sites: Vec<u32>,
+    area: f64,
+    by: &'static str,
+) -> AreaAnswer {
     AreaAnswer {
         extreme,
         sites,
@@ -526,7 +540,7 @@ fn duplicate_pair(sites: &[DVec2], distinct: &[u32]) -> Option<(u32, u32)> {
 
 /// The vertices sorted counter-clockwise around their centroid, starting at the
 /// smallest index.
-fn counter_clockwise(sites: &[DVec2], mut v: Vec<u32>) -> Vec<u32> {
+pub(crate) fn counter_clockwise(sites: &[DVec2], mut v: Vec<u32>) -> Vec<u32> {
     let c = v.iter().map(|&i| sites[i as usize]).sum::<DVec2>() / v.len() as f64;
     v.sort_by(|&a, &b| {
         let angle = |i: u32| {

@@ -170,7 +170,7 @@ pub fn delaunay(
     options: &DelaunayOptions,
 ) -> Result<Delaunay> {
     check_sites(points)?;
-    let k = scale::predicate_exponent(points)?;
+    let k = scale::incircle_exponent(points)?;
     if k == 0 {
         return triangulate(machine, points, options);
     }

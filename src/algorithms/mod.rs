@@ -3,6 +3,7 @@
 
 pub mod alpha_hull;
 pub mod area;
+pub mod area_sweep;
 pub mod cpu;
 pub mod delaunay;
 pub mod distances;

@@ -15,6 +15,7 @@ pub mod radius;
 pub mod scale;
 pub mod site;
 pub mod surface;
+pub mod sweep;
 pub mod triangulation;
 
 pub use frame::Frame;

@@ -289,7 +289,7 @@ pub fn validate(points: &[DVec2], triangles: &[[u32; 3]]) -> Validity {
 pub fn check_delaunay(points: &[DVec2], triangles: &[[u32; 3]], expected: &[u32]) -> Vec<String> {
     let mut problems = Vec::new();
     // The predicates' signs are those of the points scaled into their range.
-    let points = &match super::scale::predicate_exponent(points) {
+    let points = &match super::scale::incircle_exponent(points) {
         Ok(k) => super::scale::scaled(points, k),
         Err(e) => return vec![e.to_string()],
     };

@@ -5,11 +5,14 @@ use anyhow::Result;
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::area::{self, default_side, AreaAnswer, Extreme},
+    algorithms::{
+        area::{self, default_side, AreaAnswer, Extreme},
+        area_sweep,
+    },
     Machine,
 };
 
-use crate::{distances::machine_on, envelope, input::Points, progress::Progress};
+use crate::{envelope, input::Points, progress::Progress, voronoi::Backend};
 
 /// The smallest (or, with --max, largest) triangle with three sites as
 /// vertices. A saddle roof over every pair of sites, its height the area of
@@ -52,16 +55,18 @@ struct Common {
     /// The largest area instead of the smallest.
     #[arg(long)]
     max: bool,
-    /// Picture side in pixels along the longer axis (default: 8 √n, from 64 to
-    /// 1024). Sites that share a pixel are searched on the CPU; the answer is
-    /// exact either way.
+    /// The roofs' picture side in pixels along the longer axis (default: 8 √n,
+    /// from 64 to 1024); Vulkan devices only. Sites that share a pixel are
+    /// searched on the CPU; the answer is exact either way.
     #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
     size: Option<u32>,
     /// Print the answer as JSON.
     #[arg(long)]
     json: bool,
-    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
-    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
+    /// Where to compute: `cpu` runs the rotational sweep, exact in O(n² log n)
+    /// however closely the sites crowd; auto, lavapipe, gpu, an index or part of
+    /// a name draw the thesis's roofs on that Vulkan device, which cost far more
+    /// (docs/benchmarks.md). Default: PIXGEO_DEVICE, else cpu.
     #[arg(long)]
     device: Option<String>,
 }
@@ -80,6 +85,7 @@ pub fn triangle(args: TriangleArgs) -> Result<()> {
     solve(
         &args.common,
         area::extremal_triangle_with_progress,
+        area_sweep::extremal_triangle_sweep,
         "triangle",
     )
 }
@@ -88,24 +94,48 @@ pub fn quadrangle(args: QuadrangleArgs) -> Result<()> {
     solve(
         &args.common,
         area::extremal_quadrangle_with_progress,
+        area_sweep::extremal_quadrangle_sweep,
         "quadrangle",
     )
 }
 
-type Solver =
+type Roofs =
     fn(&Machine, &[DVec2], Extreme, u32, &mut dyn FnMut(u64, u64)) -> pixgeo::Result<AreaAnswer>;
+type Sweep = fn(&[DVec2], Extreme, &mut dyn FnMut(u64, u64)) -> pixgeo::Result<AreaAnswer>;
 
-fn solve(c: &Common, solver: Solver, what: &str) -> Result<()> {
+fn solve(c: &Common, roofs: Roofs, sweep: Sweep, what: &str) -> Result<()> {
     let points = c.points.read()?;
-    let machine = machine_on(c.device.as_deref())?;
-    let side = c.size.unwrap_or(default_side(points.len()));
-    let progress = Progress::new(&format!("{what}: roofs of site pairs"), c.json);
-    let answer = solver(&machine, &points, c.extreme(), side, &mut |done, total| {
-        progress.report(done, total)
-    })?;
-    drop(progress);
+    let device = c
+        .device
+        .clone()
+        .or_else(|| std::env::var("PIXGEO_DEVICE").ok())
+        .unwrap_or_else(|| "cpu".into());
+    let backend = Backend::choose(Some(&device))?;
+    let (answer, device) = match &backend {
+        Backend::Gpu(machine) => {
+            let side = c.size.unwrap_or(default_side(points.len()));
+            let progress = Progress::new(&format!("{what}: roofs of site pairs"), c.json);
+            let answer = roofs(machine, &points, c.extreme(), side, &mut |done, total| {
+                progress.report(done, total)
+            })?;
+            (answer, machine.device_name())
+        }
+        Backend::Cpu => {
+            if c.size.is_some() {
+                anyhow::bail!(
+                    "--size sets the roofs' picture; the cpu sweep draws none (name a Vulkan \
+                     device with --device to draw the roofs)"
+                );
+            }
+            let progress = Progress::new(&format!("{what}: sweep over site pairs"), c.json);
+            let answer = sweep(&points, c.extreme(), &mut |done, total| {
+                progress.report(done, total)
+            })?;
+            (answer, "cpu (rotational sweep)")
+        }
+    };
     if c.json {
-        return envelope::print(what, machine.device_name(), None, &answer);
+        return envelope::print(what, device, None, &answer);
     }
     report(&answer, &points, what)
 }
@@ -127,6 +157,11 @@ fn report(answer: &AreaAnswer, points: &[DVec2], what: &str) -> Result<()> {
             answer.width,
             answer.height,
             answer.pixel_area.unwrap_or(f64::NAN),
+            answer.checked
+        );
+    } else if answer.decided_by == "sweep" {
+        outln!(
+            "  the rotational sweep met {} lines through two or more sites",
             answer.checked
         );
     } else {
