@@ -1,0 +1,272 @@
+"""Planar geometry by rendering: Voronoi diagrams as lower envelopes of cones.
+
+pixgeo draws one cone per site with a depth test on a Vulkan device (Mesa's
+lavapipe where there is no GPU), so every pixel gets its nearest site and the
+distance to it. Arrays go in and come out in NumPy's conventions: points are
+``(n, 2)`` float arrays, rasters ``(H, W)`` arrays with row 0 at the bottom of
+the frame (the smallest y).
+
+A device is made on first use and reused; calls from several threads are safe
+(one at a time per device). Bad input raises ``ValueError`` with pixgeo's own
+message; a missing driver or a failing device raises ``RuntimeError``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from . import _pixgeo
+
+__version__ = _pixgeo.__version__
+
+NO_SITE = 2**32 - 1
+"""The label of a pixel with no site (``labels`` are uint32)."""
+
+__all__ = [
+    "NO_SITE",
+    "Frame",
+    "Diagram",
+    "Triangulation",
+    "Circle",
+    "voronoi",
+    "k_nearest",
+    "furthest",
+    "delaunay",
+    "hausdorff",
+    "diameter",
+    "enclosing_circle",
+    "largest_empty_circle",
+    "smallest_triangle",
+    "largest_triangle",
+    "smallest_quadrangle",
+    "largest_quadrangle",
+]
+
+
+@dataclass(frozen=True)
+class Frame:
+    """The picture and the world rectangle it shows.
+
+    Pixel ``(i, j)`` (column i, row j) is centred at world point
+    ``origin + (i + 0.5, j + 0.5) / scale``.
+    """
+
+    width: int
+    height: int
+    origin: Tuple[float, float]
+    scale: float
+
+    def pixel_centres(self) -> Tuple[np.ndarray, np.ndarray]:
+        """World x (W,) and y (H,) of the pixel centres."""
+        x = self.origin[0] + (np.arange(self.width) + 0.5) / self.scale
+        y = self.origin[1] + (np.arange(self.height) + 0.5) / self.scale
+        return x, y
+
+
+@dataclass(frozen=True)
+class Diagram:
+    """A label raster, the distances to the labelled sites, and their frame.
+
+    ``labels`` is uint32 ``(H, W)`` (``(H, W, k)`` for :func:`k_nearest`), with
+    :data:`NO_SITE` where no site is; ``distances`` is float32 in world units.
+    """
+
+    labels: np.ndarray
+    distances: np.ndarray
+    frame: Frame
+
+
+@dataclass(frozen=True)
+class Triangulation:
+    """Counter-clockwise triangles ``(m, 3)`` as indices into the points, and
+    the repeated points ``(d, 2)`` as (dropped, kept) pairs."""
+
+    simplices: np.ndarray
+    duplicates: np.ndarray
+
+
+@dataclass(frozen=True)
+class Circle:
+    """A circle's centre and radius, and the points on it."""
+
+    centre: Tuple[float, float]
+    radius: float
+    sites: Tuple[int, ...]
+
+
+def _points(a, name: str) -> np.ndarray:
+    """An (n, 2) C-contiguous float64 copy-or-view of ``a``; ValueError otherwise."""
+    try:
+        p = np.asarray(a)
+    except Exception as e:  # ragged lists and the like
+        raise ValueError(f"{name}: not an array of points ({e})") from None
+    if p.dtype.kind not in "fiu" or p.dtype.kind == "c":
+        raise ValueError(f"{name}: points must be real numbers, not dtype {p.dtype}")
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise ValueError(f"{name}: points must have shape (n, 2), not {p.shape}")
+    return np.ascontiguousarray(p, dtype=np.float64)
+
+
+def _shape(shape) -> Tuple[int, int]:
+    try:
+        h, w = (int(s) for s in shape)
+    except (TypeError, ValueError):
+        raise ValueError(f"shape must be (height, width), not {shape!r}") from None
+    if h < 1 or w < 1 or h >= 2**32 or w >= 2**32:
+        raise ValueError(f"shape {shape!r}: sides must be at least 1")
+    return h, w
+
+
+def _bbox(bbox) -> Optional[Tuple[float, float, float, float]]:
+    if bbox is None:
+        return None
+    b = tuple(float(v) for v in bbox)
+    if len(b) != 4:
+        raise ValueError(f"bbox must be (xmin, ymin, xmax, ymax), not {bbox!r}")
+    return b
+
+
+def _frame(t) -> Frame:
+    w, h, ox, oy, scale = t
+    return Frame(w, h, (ox, oy), scale)
+
+
+def voronoi(
+    sites,
+    shape: Sequence[int],
+    *,
+    bbox=None,
+    metric: str = "l2",
+    mode: str = "exact",
+    device: Optional[str] = None,
+) -> Diagram:
+    """The Voronoi diagram of ``sites`` as a label and distance raster.
+
+    ``shape`` is ``(H, W)``. Without ``bbox`` world and pixel coordinates
+    agree (pixel (i, j) centred at (i, j)); with ``bbox = (xmin, ymin, xmax,
+    ymax)`` that rectangle fills the picture (pixels are square, so H must
+    match its aspect ratio to within a pixel). ``metric`` is ``l2``, ``l1``,
+    ``linf`` or ``lp:P``; ``mode`` is ``exact`` (every pixel's nearest site,
+    ties to the smaller index) or the thesis's triangle fans, ``fan`` (distance
+    error within a pixel) or ``fan:T``. ``device``: ``auto``, ``lavapipe``,
+    ``gpu``, an index or part of a name (default: ``PIXGEO_DEVICE``).
+    """
+    h, w = _shape(shape)
+    labels, distances, frame = _pixgeo.voronoi(
+        _points(sites, "sites"), w, h, _bbox(bbox), metric, mode, device
+    )
+    return Diagram(labels, distances, _frame(frame))
+
+
+def k_nearest(
+    sites,
+    shape: Sequence[int],
+    k: int,
+    *,
+    bbox=None,
+    metric: str = "l2",
+    mode: str = "exact",
+    device: Optional[str] = None,
+) -> Diagram:
+    """Every pixel's k nearest sites, nearest first: labels and distances of
+    shape ``(H, W, k)``; :data:`NO_SITE` (and inf) where fewer than k sites
+    exist. Arguments as for :func:`voronoi`."""
+    h, w = _shape(shape)
+    if int(k) < 1:
+        raise ValueError(f"k must be at least 1, not {k!r}")
+    labels, distances, frame = _pixgeo.k_nearest(
+        _points(sites, "sites"), w, h, int(k), _bbox(bbox), metric, mode, device
+    )
+    return Diagram(labels, distances, _frame(frame))
+
+
+def furthest(
+    sites,
+    shape: Sequence[int],
+    *,
+    bbox=None,
+    metric: str = "l2",
+    device: Optional[str] = None,
+) -> Diagram:
+    """The furthest-site diagram: every pixel's farthest site and the distance
+    to it. Arguments as for :func:`voronoi`."""
+    h, w = _shape(shape)
+    labels, distances, frame = _pixgeo.furthest(
+        _points(sites, "sites"), w, h, _bbox(bbox), metric, device
+    )
+    return Diagram(labels, distances, _frame(frame))
+
+
+def delaunay(points, *, device: Optional[str] = None) -> Triangulation:
+    """The Delaunay triangulation by flooding (Cao, Edelsbrunner and Tan):
+    counter-clockwise triangles as indices into ``points``, the same triangles
+    as ``scipy.spatial.Delaunay(points).simplices`` up to order where no four
+    points are co-circular. Repeated points are dropped and reported."""
+    simplices, duplicates = _pixgeo.delaunay(_points(points, "points"), device)
+    return Triangulation(simplices.astype(np.intp), duplicates.astype(np.intp))
+
+
+def hausdorff(a, b, *, device: Optional[str] = None) -> Tuple[float, int, int]:
+    """The Hausdorff distance between point sets ``a`` and ``b``, exact, and
+    the pair that attains it: ``(distance, index in a, index in b)``."""
+    d, ab, ba = _pixgeo.hausdorff(_points(a, "a"), _points(b, "b"), device)
+    if ab[0] >= ba[0]:
+        return (d, ab[1], ab[2])
+    return (d, ba[2], ba[1])
+
+
+def diameter(points, *, device: Optional[str] = None) -> Tuple[float, int, int]:
+    """The largest distance between two of the points, exact: ``(distance, i, j)``."""
+    return tuple(_pixgeo.diameter(_points(points, "points"), device))
+
+
+def _circle(t) -> Circle:
+    x, y, r, sites = t
+    return Circle((x, y), r, tuple(sites))
+
+
+def enclosing_circle(points, *, device: Optional[str] = None) -> Circle:
+    """The smallest circle holding every point (exact, by Welzl's algorithm on
+    the candidates the picture leaves)."""
+    return _circle(_pixgeo.enclosing_circle(_points(points, "points"), device))
+
+
+def largest_empty_circle(
+    points, *, region: Optional[Sequence] = None, device: Optional[str] = None
+) -> Circle:
+    """The largest circle holding none of the points, its centre inside
+    ``region`` (a sequence of rings, each an (m, 2) array, even-odd; default:
+    the points' bounding box). Exact."""
+    rings = [] if region is None else [_points(r, "region ring") for r in region]
+    return _circle(_pixgeo.largest_empty_circle(_points(points, "points"), rings, device))
+
+
+def _polygon(points, corners: int, largest: bool) -> Tuple[np.ndarray, float]:
+    vertices, area = _pixgeo.extremal_polygon(_points(points, "points"), corners, largest)
+    return vertices.astype(np.intp), area
+
+
+def smallest_triangle(points) -> Tuple[np.ndarray, float]:
+    """The smallest-area triangle with vertices among the points: its vertex
+    indices counter-clockwise and its area, exact (rotational sweep,
+    O(n² log n))."""
+    return _polygon(points, 3, False)
+
+
+def largest_triangle(points) -> Tuple[np.ndarray, float]:
+    """The largest-area triangle with vertices among the points, exact."""
+    return _polygon(points, 3, True)
+
+
+def smallest_quadrangle(points) -> Tuple[np.ndarray, float]:
+    """The smallest quadrangle with vertices among the points: a diagonal with
+    one vertex strictly on each side; indices counter-clockwise, area."""
+    return _polygon(points, 4, False)
+
+
+def largest_quadrangle(points) -> Tuple[np.ndarray, float]:
+    """The largest quadrangle with vertices among the points, exact."""
+    return _polygon(points, 4, True)

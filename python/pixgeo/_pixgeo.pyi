@@ -1,0 +1,39 @@
+"""The native layer under :mod:`pixgeo`; call the functions of :mod:`pixgeo` instead."""
+
+from typing import List, Optional, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Frame = Tuple[int, int, float, float, float]
+_Pair = Tuple[float, int, int]
+_Circle = Tuple[float, float, float, List[int]]
+_Points = npt.NDArray[np.float64]
+_BBox = Optional[Tuple[float, float, float, float]]
+
+def voronoi(
+    sites: _Points, width: int, height: int, bbox: _BBox, metric_name: str, mode: str,
+    device: Optional[str],
+) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float32], _Frame]: ...
+def k_nearest(
+    sites: _Points, width: int, height: int, k: int, bbox: _BBox, metric_name: str,
+    mode: str, device: Optional[str],
+) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float32], _Frame]: ...
+def furthest(
+    sites: _Points, width: int, height: int, bbox: _BBox, metric_name: str,
+    device: Optional[str],
+) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float32], _Frame]: ...
+def delaunay(
+    points: _Points, device: Optional[str]
+) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.uint32]]: ...
+def hausdorff(a: _Points, b: _Points, device: Optional[str]) -> Tuple[float, _Pair, _Pair]: ...
+def diameter(p: _Points, device: Optional[str]) -> _Pair: ...
+def enclosing_circle(p: _Points, device: Optional[str]) -> _Circle: ...
+def largest_empty_circle(
+    p: _Points, region: List[_Points], device: Optional[str]
+) -> _Circle: ...
+def extremal_polygon(
+    p: _Points, corners: int, largest: bool
+) -> Tuple[npt.NDArray[np.uint32], float]: ...

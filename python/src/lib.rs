@@ -1,0 +1,372 @@
+//! `pixgeo._pixgeo`: the thin native layer under the `pixgeo` Python package.
+//! Arrays arrive already checked for shape and dtype by `pixgeo/__init__.py`;
+//! pixgeo checks the values. The GIL is released while pixgeo works.
+
+use std::sync::{Arc, Mutex, OnceLock};
+
+use glam::DVec2;
+use numpy::{
+    ndarray::{Array2, Array3},
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2,
+};
+use pixgeo::{
+    algorithms::{
+        area::Extreme,
+        area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
+        delaunay::{delaunay as triangulate, DelaunayOptions},
+        distances::{self, Pair},
+        higher_order::{self, KNearestOptions},
+        homothet::{self, Region, Unit, DEFAULT_SIDE},
+        voronoi::{self as diagram, Accuracy, Speedup, VoronoiOptions},
+    },
+    geometry::{metric::Metric, Frame},
+    machine::DeviceChoice,
+    Error, Machine, MachineOptions,
+};
+use pyo3::{
+    exceptions::{PyRuntimeError, PyValueError},
+    prelude::*,
+};
+
+/// One machine per device name, made on first use and shared; a mutex keeps
+/// one call at a time on each.
+type Shared = Arc<Mutex<Machine>>;
+
+fn machine(device: Option<&str>) -> PyResult<Shared> {
+    static MACHINES: OnceLock<Mutex<Vec<(String, Shared)>>> = OnceLock::new();
+    let key = device.unwrap_or("").to_string();
+    let mut machines = MACHINES
+        .get_or_init(Default::default)
+        .lock()
+        .map_err(|_| PyRuntimeError::new_err("a pixgeo call panicked"))?;
+    if let Some((_, m)) = machines.iter().find(|(k, _)| *k == key) {
+        return Ok(m.clone());
+    }
+    let mut options = MachineOptions::from_env();
+    if let Some(d) = device {
+        options.device = DeviceChoice::parse(d);
+    }
+    let m = Arc::new(Mutex::new(Machine::new(&options).map_err(to_py)?));
+    machines.push((key, m.clone()));
+    Ok(m)
+}
+
+/// Runs `work` on the device's machine with the GIL released.
+fn on_machine<T: Send>(
+    py: Python<'_>,
+    device: Option<&str>,
+    work: impl FnOnce(&Machine) -> pixgeo::Result<T> + Send,
+) -> PyResult<T> {
+    let shared = py.detach(|| machine(device))?;
+    py.detach(|| {
+        let m = shared
+            .lock()
+            .map_err(|_| PyRuntimeError::new_err("a pixgeo call panicked"))?;
+        work(&m).map_err(to_py)
+    })
+}
+
+/// Bad input is a `ValueError` with pixgeo's message; the rest (no driver,
+/// device failures) a `RuntimeError`.
+fn to_py(e: Error) -> PyErr {
+    match e {
+        Error::InvalidInput(_) | Error::PictureTooLarge { .. } => {
+            PyValueError::new_err(e.to_string())
+        }
+        _ => PyRuntimeError::new_err(e.to_string()),
+    }
+}
+
+fn points(a: &PyReadonlyArray2<'_, f64>) -> Vec<DVec2> {
+    a.as_array()
+        .rows()
+        .into_iter()
+        .map(|r| DVec2::new(r[0], r[1]))
+        .collect()
+}
+
+fn frame(width: u32, height: u32, bbox: Option<[f64; 4]>) -> PyResult<Frame> {
+    match bbox {
+        None => Frame::pixels(width, height),
+        Some(b) => Frame::with_bbox(width, Some(height), b),
+    }
+    .map_err(to_py)
+}
+
+fn metric(text: &str) -> PyResult<Metric> {
+    Metric::parse(text).map_err(PyValueError::new_err)
+}
+
+fn accuracy(mode: &str) -> PyResult<Accuracy> {
+    let fan = |triangles| Accuracy::Fan {
+        epsilon: 1.0,
+        triangles,
+    };
+    match mode {
+        "exact" => Ok(Accuracy::Exact),
+        "fan" => Ok(fan(None)),
+        _ => match mode.strip_prefix("fan:").map(str::parse::<u32>) {
+            Some(Ok(t)) => Ok(fan(Some(t))),
+            _ => Err(PyValueError::new_err(format!(
+                "unknown mode {mode:?}: use \"exact\", \"fan\" or \"fan:T\" (T triangles)"
+            ))),
+        },
+    }
+}
+
+/// (width, height, origin x, origin y, pixels per world unit).
+type FrameTuple = (u32, u32, f64, f64, f64);
+
+fn frame_tuple(f: &Frame) -> FrameTuple {
+    (f.width, f.height, f.origin.x, f.origin.y, f.scale)
+}
+
+fn raster<T: numpy::Element>(
+    py: Python<'_>,
+    values: Vec<T>,
+    height: u32,
+    width: u32,
+) -> PyResult<Bound<'_, PyArray2<T>>> {
+    let a = Array2::from_shape_vec((height as usize, width as usize), values)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
+type Rasters<'py> = (
+    Bound<'py, PyArray2<u32>>,
+    Bound<'py, PyArray2<f32>>,
+    FrameTuple,
+);
+
+type Levels<'py> = (
+    Bound<'py, PyArray3<u32>>,
+    Bound<'py, PyArray3<f32>>,
+    FrameTuple,
+);
+
+/// Triangles (m, 3) and repeated points (dropped, kept).
+type Triangulation<'py> = (Bound<'py, PyArray2<u32>>, Bound<'py, PyArray2<u32>>);
+
+#[pyfunction]
+#[pyo3(signature = (sites, width, height, bbox, metric_name, mode, device))]
+#[allow(clippy::too_many_arguments)]
+fn voronoi<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    width: u32,
+    height: u32,
+    bbox: Option<[f64; 4]>,
+    metric_name: &str,
+    mode: &str,
+    device: Option<&str>,
+) -> PyResult<Rasters<'py>> {
+    let sites = points(&sites);
+    let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
+    options.metric = metric(metric_name)?;
+    options.accuracy = accuracy(mode)?;
+    let d = on_machine(py, device, |m| diagram::voronoi(m, &sites, &options))?;
+    Ok((
+        raster(py, d.labels, d.height, d.width)?,
+        raster(py, d.distances, d.height, d.width)?,
+        frame_tuple(&options.frame),
+    ))
+}
+
+#[pyfunction]
+#[pyo3(signature = (sites, width, height, k, bbox, metric_name, mode, device))]
+#[allow(clippy::too_many_arguments)]
+fn k_nearest<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    width: u32,
+    height: u32,
+    k: u32,
+    bbox: Option<[f64; 4]>,
+    metric_name: &str,
+    mode: &str,
+    device: Option<&str>,
+) -> PyResult<Levels<'py>> {
+    let sites = points(&sites);
+    let options = KNearestOptions {
+        frame: frame(width, height, bbox)?,
+        k,
+        metric: metric(metric_name)?,
+        accuracy: accuracy(mode)?,
+        speedup: Speedup::Local,
+    };
+    let d = on_machine(py, device, |m| higher_order::k_nearest(m, &sites, &options))?;
+    let shape = (d.height as usize, d.width as usize, d.k as usize);
+    let wrong = |e: numpy::ndarray::ShapeError| PyRuntimeError::new_err(e.to_string());
+    Ok((
+        Array3::from_shape_vec(shape, d.labels)
+            .map_err(wrong)?
+            .into_pyarray(py),
+        Array3::from_shape_vec(shape, d.distances)
+            .map_err(wrong)?
+            .into_pyarray(py),
+        frame_tuple(&options.frame),
+    ))
+}
+
+#[pyfunction]
+#[pyo3(signature = (sites, width, height, bbox, metric_name, device))]
+fn furthest<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    width: u32,
+    height: u32,
+    bbox: Option<[f64; 4]>,
+    metric_name: &str,
+    device: Option<&str>,
+) -> PyResult<Rasters<'py>> {
+    let sites = points(&sites);
+    let f = frame(width, height, bbox)?;
+    let m = metric(metric_name)?;
+    let d = on_machine(py, device, |machine| {
+        higher_order::furthest(machine, &sites, &f, m)
+    })?;
+    Ok((
+        raster(py, d.labels, d.height, d.width)?,
+        raster(py, d.distances, d.height, d.width)?,
+        frame_tuple(&f),
+    ))
+}
+
+/// Counter-clockwise triangles (m, 3) and the repeated points (dropped, kept).
+#[pyfunction]
+#[pyo3(signature = (points, device))]
+fn delaunay<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    device: Option<&str>,
+) -> PyResult<Triangulation<'py>> {
+    let p = self::points(&points);
+    let options = DelaunayOptions {
+        grid: None,
+        check: false,
+    };
+    let d = on_machine(py, device, |m| triangulate(m, &p, &options))?;
+    let triangles = Array2::from_shape_vec(
+        (d.triangles.len(), 3),
+        d.triangles.iter().flatten().copied().collect(),
+    )
+    .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let duplicates = Array2::from_shape_vec(
+        (d.duplicates.len(), 2),
+        d.duplicates.iter().flatten().copied().collect(),
+    )
+    .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok((triangles.into_pyarray(py), duplicates.into_pyarray(py)))
+}
+
+/// (distance, index in the first set, index in the second).
+type PairTuple = (f64, u32, u32);
+
+fn pair(p: Pair) -> PairTuple {
+    (p.distance, p.from, p.to)
+}
+
+/// The Hausdorff distance, then each directed answer.
+#[pyfunction]
+#[pyo3(signature = (a, b, device))]
+fn hausdorff<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray2<'py, f64>,
+    device: Option<&str>,
+) -> PyResult<(f64, PairTuple, PairTuple)> {
+    let (a, b) = (points(&a), points(&b));
+    let h = on_machine(py, device, |m| distances::hausdorff(m, &a, &b, None))?;
+    Ok((h.distance, pair(h.a_to_b.pair), pair(h.b_to_a.pair)))
+}
+
+#[pyfunction]
+#[pyo3(signature = (p, device))]
+fn diameter<'py>(
+    py: Python<'py>,
+    p: PyReadonlyArray2<'py, f64>,
+    device: Option<&str>,
+) -> PyResult<PairTuple> {
+    let p = points(&p);
+    let d = on_machine(py, device, |m| distances::diameter(m, &p, None))?;
+    Ok(pair(d.pair))
+}
+
+/// (centre x, centre y, radius, the sites on the circle).
+type Circle = (f64, f64, f64, Vec<u32>);
+
+#[pyfunction]
+#[pyo3(signature = (p, device))]
+fn enclosing_circle<'py>(
+    py: Python<'py>,
+    p: PyReadonlyArray2<'py, f64>,
+    device: Option<&str>,
+) -> PyResult<Circle> {
+    let p = points(&p);
+    let h = on_machine(py, device, |m| {
+        homothet::enclose(m, &p, Unit::Circle, 0, DEFAULT_SIDE)
+    })?;
+    let e = h.exact;
+    Ok((e.centre[0], e.centre[1], e.scale, e.sites))
+}
+
+/// The largest circle free of the points, its centre in `region`'s rings
+/// (even-odd) or, with none, the points' bounding box.
+#[pyfunction]
+#[pyo3(signature = (p, region, device))]
+fn largest_empty_circle<'py>(
+    py: Python<'py>,
+    p: PyReadonlyArray2<'py, f64>,
+    region: Vec<PyReadonlyArray2<'py, f64>>,
+    device: Option<&str>,
+) -> PyResult<Circle> {
+    let p = points(&p);
+    let region = Region {
+        rings: region.iter().map(points).collect(),
+    };
+    let h = on_machine(py, device, |m| {
+        homothet::largest_empty(m, &p, Unit::Circle, &region, DEFAULT_SIDE)
+    })?;
+    let e = h.exact;
+    Ok((e.centre[0], e.centre[1], e.scale, e.sites))
+}
+
+/// The smallest or largest triangle (3 vertices) or quadrangle (4) by the
+/// exact rotational sweep: (vertex indices counter-clockwise, area).
+#[pyfunction]
+#[pyo3(signature = (p, corners, largest))]
+fn extremal_polygon<'py>(
+    py: Python<'py>,
+    p: PyReadonlyArray2<'py, f64>,
+    corners: u32,
+    largest: bool,
+) -> PyResult<(Bound<'py, PyArray1<u32>>, f64)> {
+    let p = points(&p);
+    let extreme = if largest {
+        Extreme::Largest
+    } else {
+        Extreme::Smallest
+    };
+    let answer = py
+        .detach(|| match corners {
+            3 => extremal_triangle_sweep(&p, extreme, &mut |_, _| {}),
+            _ => extremal_quadrangle_sweep(&p, extreme, &mut |_, _| {}),
+        })
+        .map_err(to_py)?;
+    Ok((answer.sites.into_pyarray(py), answer.area))
+}
+
+#[pymodule]
+fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(voronoi, m)?)?;
+    m.add_function(wrap_pyfunction!(k_nearest, m)?)?;
+    m.add_function(wrap_pyfunction!(furthest, m)?)?;
+    m.add_function(wrap_pyfunction!(delaunay, m)?)?;
+    m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
+    m.add_function(wrap_pyfunction!(diameter, m)?)?;
+    m.add_function(wrap_pyfunction!(enclosing_circle, m)?)?;
+    m.add_function(wrap_pyfunction!(largest_empty_circle, m)?)?;
+    m.add_function(wrap_pyfunction!(extremal_polygon, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,231 @@
+"""pixgeo from Python against scipy and brute force, on random and degenerate
+inputs: duplicates, collinear points, lattices, sites outside the frame, bbox
+frames."""
+
+import threading
+
+import numpy as np
+import pytest
+from scipy.spatial import Delaunay, cKDTree
+from scipy.spatial.distance import directed_hausdorff
+
+import pixgeo
+
+
+def lattice(step=7.0, n=6, offset=(3.0, 2.0)):
+    g = np.stack(np.meshgrid(np.arange(n), np.arange(n)), -1).reshape(-1, 2)
+    return g * step + np.asarray(offset)
+
+
+def inputs():
+    rng = np.random.default_rng(7)
+    random = rng.uniform(0, 64, (40, 2))
+    duplicates = np.concatenate([random[:10], random[:4]])
+    collinear = np.stack([np.linspace(-5, 70, 9), np.linspace(3, 50, 9)], -1)
+    outside = rng.uniform(-80, 150, (25, 2))
+    return {
+        "random": random,
+        "duplicates": duplicates,
+        "collinear": collinear,
+        "lattice": lattice(),
+        "outside": outside,
+    }
+
+
+def pixel_centres(frame):
+    x, y = frame.pixel_centres()
+    xx, yy = np.meshgrid(x, y)
+    return np.stack([xx.ravel(), yy.ravel()], -1)
+
+
+def brute_nearest(sites, query):
+    d = np.linalg.norm(query[:, None, :] - sites[None, :, :], axis=-1)
+    return d.min(axis=1), d
+
+
+@pytest.mark.parametrize("name", list(inputs()))
+@pytest.mark.parametrize("bbox", [None, (-10.0, -20.0, 90.0, 60.0)])
+def test_voronoi_labels_the_nearest_site(name, bbox):
+    sites = inputs()[name]
+    shape = (48, 60)
+    d = pixgeo.voronoi(sites, shape, bbox=bbox)
+    assert d.labels.shape == shape and d.labels.dtype == np.uint32
+    assert d.distances.shape == shape and d.distances.dtype == np.float32
+    query = pixel_centres(d.frame)
+    best, all_d = brute_nearest(sites, query)
+    labels = d.labels.ravel()
+    # The labelled site is a nearest one (ties to any of them), and the
+    # distance is the exact one in float32.
+    chosen = all_d[np.arange(len(query)), labels]
+    np.testing.assert_allclose(chosen, best, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(d.distances.ravel(), best, rtol=1e-6, atol=1e-5)
+    # cKDTree agrees wherever the nearest site is unique.
+    dist, idx = cKDTree(sites).query(query, k=2)
+    unique = dist[:, 1] - dist[:, 0] > 1e-9
+    assert np.array_equal(labels[unique], idx[unique, 0])
+
+
+def test_frame_places_pixels_in_the_bbox():
+    d = pixgeo.voronoi([[0.0, 0.0], [10.0, 5.0]], (50, 100), bbox=(0, 0, 10, 5))
+    assert d.frame.width == 100 and d.frame.height == 50
+    x, y = d.frame.pixel_centres()
+    assert x[0] == pytest.approx(0.05) and x[-1] == pytest.approx(9.95)
+    assert y[0] == pytest.approx(0.05) and y[-1] == pytest.approx(4.95)
+    # Row 0 is the smallest y: the bottom-left pixel is site 0's.
+    assert d.labels[0, 0] == 0 and d.labels[-1, -1] == 1
+
+
+def test_other_metrics_and_fans():
+    sites = inputs()["random"]
+    query = None
+    for metric, order in [("l1", 1), ("linf", np.inf), ("lp:3", 3)]:
+        d = pixgeo.voronoi(sites, (32, 40), metric=metric)
+        query = pixel_centres(d.frame)
+        dist = np.linalg.norm(query[:, None, :] - sites[None], ord=order, axis=-1)
+        chosen = dist[np.arange(len(query)), d.labels.ravel()]
+        np.testing.assert_allclose(chosen, dist.min(axis=1), rtol=1e-9, atol=1e-9)
+    fan = pixgeo.voronoi(sites, (32, 40), mode="fan")
+    best, _ = brute_nearest(sites, query)
+    # Fans of the thesis: within a pixel of the true distance.
+    assert np.all(np.abs(fan.distances.ravel() - best) <= 1.0 + 1e-4)
+
+
+def test_k_nearest_and_furthest():
+    sites = inputs()["random"][:12]
+    d = pixgeo.k_nearest(sites, (24, 30), 3)
+    assert d.labels.shape == (24, 30, 3)
+    query = pixel_centres(d.frame)
+    dist, _ = cKDTree(sites).query(query, k=3)
+    np.testing.assert_allclose(d.distances.reshape(-1, 3), dist, rtol=1e-5, atol=1e-4)
+    many = pixgeo.k_nearest(sites[:2], (8, 8), 3)
+    assert np.all(many.labels[..., 2] == pixgeo.NO_SITE)
+    assert np.all(np.isinf(many.distances[..., 2]))
+    f = pixgeo.furthest(sites, (24, 30))
+    all_d = np.linalg.norm(query[:, None] - sites[None], axis=-1)
+    chosen = all_d[np.arange(len(query)), f.labels.ravel()]
+    np.testing.assert_allclose(chosen, all_d.max(axis=1), rtol=1e-12)
+
+
+def triangles(simplices):
+    return {tuple(sorted(t)) for t in np.asarray(simplices).tolist()}
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_delaunay_matches_scipy(seed):
+    points = np.random.default_rng(seed).uniform(-1e3, 1e3, (300, 2))
+    ours = pixgeo.delaunay(points)
+    assert triangles(ours.simplices) == triangles(Delaunay(points).simplices)
+    # Counter-clockwise.
+    a, b, c = (points[ours.simplices[:, k]] for k in range(3))
+    cross = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+    assert np.all(cross > 0)
+
+
+def test_delaunay_reports_repeated_points():
+    points = np.array([[0, 0], [4, 0], [0, 3], [4, 0], [5, 5], [1, 4]], dtype=float)
+    t = pixgeo.delaunay(points)
+    assert t.duplicates.tolist() == [[3, 1]]
+    kept = np.array([0, 1, 2, 4, 5])
+    assert triangles(t.simplices) == triangles(kept[Delaunay(points[kept]).simplices])
+
+
+@pytest.mark.parametrize("name", ["random", "duplicates", "lattice", "outside"])
+def test_hausdorff_and_diameter_are_exact(name):
+    a = inputs()[name]
+    b = np.random.default_rng(3).uniform(0, 64, (30, 2))
+    want = max(directed_hausdorff(a, b)[0], directed_hausdorff(b, a)[0])
+    d, i, j = pixgeo.hausdorff(a, b)
+    assert d == pytest.approx(want, rel=1e-12)
+    assert np.linalg.norm(a[i] - b[j]) == pytest.approx(want, rel=1e-12)
+    dist = np.linalg.norm(a[:, None] - a[None], axis=-1)
+    d, i, j = pixgeo.diameter(a)
+    assert d == pytest.approx(dist.max(), rel=1e-12)
+    assert dist[i, j] == pytest.approx(d, rel=1e-12)
+
+
+def test_circles():
+    square = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [1, 1]], dtype=float)
+    c = pixgeo.enclosing_circle(square)
+    assert c.centre == pytest.approx((1.0, 1.0)) and c.radius == pytest.approx(2**0.5)
+    e = pixgeo.largest_empty_circle(square)
+    # Centred at an edge midpoint of the box, touching two corners and the middle.
+    assert e.radius == pytest.approx(1.0)
+    region = [np.array([[0, 0], [2, 0], [2, 2], [0, 2]], dtype=float)]
+    assert pixgeo.largest_empty_circle(square, region=region).radius == pytest.approx(1.0)
+
+
+def brute_triangle(p, largest):
+    n = len(p)
+    best = None
+    for i in range(n):
+        for j in range(i + 1, n):
+            d = p[j] - p[i]
+            for k in range(j + 1, n):
+                e = p[k] - p[i]
+                area = abs(d[0] * e[1] - d[1] * e[0]) / 2
+                if best is None or (area > best if largest else area < best):
+                    best = area
+    return best
+
+
+@pytest.mark.parametrize("name", ["random", "lattice", "collinear", "duplicates"])
+def test_extremal_triangles(name):
+    p = inputs()[name][:20]
+    for largest, f in [(False, pixgeo.smallest_triangle), (True, pixgeo.largest_triangle)]:
+        v, area = f(p)
+        assert len(set(v.tolist())) == 3
+        assert area == pytest.approx(brute_triangle(p, largest), abs=1e-12)
+
+
+def test_quadrangles():
+    p = lattice(1.0, 4, (0.0, 0.0))
+    v, area = pixgeo.smallest_quadrangle(p)
+    assert area == pytest.approx(1.0) and len(v) == 4
+    v, area = pixgeo.largest_quadrangle(p)
+    assert area == pytest.approx(9.0)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: pixgeo.voronoi([[0, 0], [1, np.nan]], (8, 8)), "non-finite"),
+        (lambda: pixgeo.voronoi(np.zeros((0, 2)), (8, 8)), "empty"),
+        (lambda: pixgeo.voronoi(np.zeros((3, 3)), (8, 8)), "shape (n, 2)"),
+        (lambda: pixgeo.voronoi([["a", "b"]], (8, 8)), "real numbers"),
+        (lambda: pixgeo.voronoi([[0, 0]], (8,)), "(height, width)"),
+        (lambda: pixgeo.voronoi([[0, 0]], (0, 8)), "at least 1"),
+        (lambda: pixgeo.voronoi([[0, 0]], (8, 8), metric="l7x"), "metric"),
+        (lambda: pixgeo.voronoi([[0, 0]], (8, 8), mode="fast"), "unknown mode"),
+        (lambda: pixgeo.voronoi([[0, 0]], (8, 8), bbox=(1, 1, 0, 0)), "XMIN < XMAX"),
+        (lambda: pixgeo.k_nearest([[0, 0]], (8, 8), 0), "k must be"),
+        (lambda: pixgeo.delaunay([[0, 0], [1, 1]]), "three"),
+        (lambda: pixgeo.smallest_triangle([[0, 0], [1, 1]]), "three sites"),
+        (lambda: pixgeo.hausdorff([[0, 0]], [[np.inf, 0]]), "non-finite"),
+    ],
+)
+def test_bad_input_raises_value_error(call, message):
+    with pytest.raises(ValueError, match=None) as e:
+        call()
+    assert message in str(e.value), str(e.value)
+
+
+def test_an_unknown_device_is_a_runtime_error():
+    with pytest.raises(RuntimeError):
+        pixgeo.voronoi([[0, 0]], (8, 8), device="no-such-device-anywhere")
+
+
+def test_calls_from_several_threads_agree():
+    sites = inputs()["random"]
+    want = pixgeo.voronoi(sites, (40, 40)).labels
+    results = [None] * 4
+
+    def work(k):
+        results[k] = pixgeo.voronoi(sites, (40, 40)).labels
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for r in results:
+        assert np.array_equal(r, want)
