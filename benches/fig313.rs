@@ -104,6 +104,7 @@ fn main() -> anyhow::Result<()> {
                 distances: false,
                 ties: false,
                 max_tile: None,
+                window: None,
             },
         )?;
     }
@@ -133,6 +134,7 @@ fn main() -> anyhow::Result<()> {
                 distances: false,
                 ties: false,
                 max_tile: None,
+                window: None,
             };
             let mut total = Vec::new();
             let mut render = Vec::new();

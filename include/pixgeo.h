@@ -133,6 +133,10 @@ typedef struct PixgeoVoronoiOptions {
   uint32_t speedup;
   // Largest tile side in pixels; 0 = as large as the device allows.
   uint32_t max_tile;
+  // `{x0, y0, width, height}`: compute only this window of the picture's
+  // pixels (bit for bit the whole diagram's there), and write `width *
+  // height` values; a width of 0 means the whole picture. Point sites only.
+  uint32_t window[4];
 } PixgeoVoronoiOptions;
 
 // A site of any shape with weights (thesis §3.8–3.9): its weighted distance is
@@ -238,7 +242,8 @@ struct PixgeoVoronoiOptions pixgeo_voronoi_options_default(uint32_t width, uint3
 // The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
 // coordinates). Writes the nearest site's index per pixel to `labels` and, if
 // `distances` is not null, its distance (world units) to `distances`; both are
-// caller-owned arrays of `width * height` values, row-major (`[j * width + i]`).
+// caller-owned arrays of `width * height` values (the window's, with one),
+// row-major (`[j * width + i]`).
 // `UINT32_MAX` marks a pixel with no site (never with the default options).
 //
 // # Safety

@@ -35,7 +35,7 @@ use crate::{
         site::{Shape, Site},
         Frame,
     },
-    machine::{DeviceChoice, Machine, MachineOptions},
+    machine::{DeviceChoice, Machine, MachineOptions, PixelRect},
     Error,
 };
 
@@ -153,6 +153,10 @@ pub struct PixgeoVoronoiOptions {
     pub speedup: u32,
     /// Largest tile side in pixels; 0 = as large as the device allows.
     pub max_tile: u32,
+    /// `{x0, y0, width, height}`: compute only this window of the picture's
+    /// pixels (bit for bit the whole diagram's there), and write `width *
+    /// height` values; a width of 0 means the whole picture. Point sites only.
+    pub window: [u32; 4],
 }
 
 /// The shape of a [`PixgeoSite`].
@@ -474,13 +478,15 @@ pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> Pix
         triangles: 0,
         speedup: PixgeoSpeedup::Local as u32,
         max_tile: 0,
+        window: [0; 4],
     }
 }
 
 /// The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
 /// coordinates). Writes the nearest site's index per pixel to `labels` and, if
 /// `distances` is not null, its distance (world units) to `distances`; both are
-/// caller-owned arrays of `width * height` values, row-major (`[j * width + i]`).
+/// caller-owned arrays of `width * height` values (the window's, with one),
+/// row-major (`[j * width + i]`).
 /// `UINT32_MAX` marks a pixel with no site (never with the default options).
 ///
 /// # Safety
@@ -514,16 +520,18 @@ pub unsafe extern "C" fn pixgeo_voronoi(
             distances: !distances.is_null(),
             ties: false,
             max_tile: (o.max_tile > 0).then_some(o.max_tile),
+            window: window_of(&o),
         };
-        let pixels = frame.len();
+        let window = options.window_rect().map_err(failed)?;
+        let pixels = window.width as usize * window.height as usize;
         // SAFETY: caller-owned arrays of `width * height` values (caller contract).
         let labels = unsafe { std::slice::from_raw_parts_mut(labels, pixels) };
         let mut distances = (!distances.is_null())
             // SAFETY: as above.
             .then(|| unsafe { std::slice::from_raw_parts_mut(distances, pixels) });
-        let width = frame.width as usize;
+        let width = window.width as usize;
         voronoi_bands(&context.machine, &sites, &options, |band| {
-            let start = band.y0 as usize * width;
+            let start = (band.y0 - window.y) as usize * width;
             labels[start..start + band.labels.len()].copy_from_slice(&band.labels);
             if let Some(d) = distances.as_mut() {
                 d[start..start + band.distances.len()].copy_from_slice(&band.distances);
@@ -570,6 +578,7 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
             distances: !distances.is_null(),
             ties: false,
             max_tile: (o.max_tile > 0).then_some(o.max_tile),
+            window: window_of(&o),
         };
         let d = voronoi_sites(&context.machine, &sites, &options).map_err(failed)?;
         // SAFETY: caller-owned arrays of `width * height` values.
@@ -581,6 +590,17 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
                 .copy_from_slice(&d.distances);
         }
         Ok(())
+    })
+}
+
+/// The window of the options, if any (width 0: the whole picture).
+fn window_of(o: &PixgeoVoronoiOptions) -> Option<PixelRect> {
+    let [x, y, width, height] = o.window;
+    (width > 0).then_some(PixelRect {
+        x,
+        y,
+        width,
+        height,
     })
 }
 

@@ -172,6 +172,60 @@ fn voronoi_reads_weights_and_shapes() {
 }
 
 #[test]
+fn voronoi_windows_tile_into_the_whole_picture() {
+    let sites = temp("window.csv");
+    std::fs::write(
+        &sites,
+        "x,y\n10,10\n50.5,20\n30,45\n0,0\n63,47\n31,23\n-20,30\n",
+    )
+    .unwrap();
+    let s = sites.to_str().unwrap();
+    let whole = temp("whole.npy");
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        s,
+        "--size",
+        "64x48",
+        "--labels",
+        whole.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (_, l): (Vec<u64>, Vec<u32>) = npy::read(&whole).unwrap();
+    // Two windows side by side are the whole picture, column for column.
+    let mut halves = Vec::new();
+    for (window, name) in [("0,0,25,48", "w0.npy"), ("25,0,39,48", "w1.npy")] {
+        let out = temp(name);
+        let args = [
+            "voronoi", "--sites", s, "--size", "64x48", "--window", window,
+        ];
+        let (ok, _, stderr) = pixgeo(&[&args[..], &["--labels", out.to_str().unwrap()]].concat());
+        assert!(ok, "{stderr}");
+        let (shape, v): (Vec<u64>, Vec<u32>) = npy::read(&out).unwrap();
+        assert_eq!(shape[0], 48);
+        halves.push((shape[1] as usize, v));
+    }
+    for j in 0..48 {
+        let row = [&halves[0].1[j * 25..][..25], &halves[1].1[j * 39..][..39]].concat();
+        assert_eq!(row, l[j * 64..][..64], "row {j}");
+    }
+    for (window, message) in [
+        ("60,0,10,10", "inside the 64x48 picture"),
+        ("1,2,3", "four numbers"),
+        ("a,b,c,d", "whole pixels"),
+    ] {
+        let (ok, _, stderr) = pixgeo(&[
+            "voronoi", "--sites", s, "--size", "64x48", "--window", window,
+        ]);
+        assert!(!ok && stderr.contains(message), "{window}: {stderr}");
+    }
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi", "--sites", s, "--size", "64x48", "--window", "0,0,8,8", "--device", "cpu",
+    ]);
+    assert!(!ok && stderr.contains("--window takes"), "{stderr}");
+}
+
+#[test]
 fn random_sites_with_bbox_and_fan_mode() {
     let (ok, stdout, stderr) = pixgeo(&[
         "voronoi",

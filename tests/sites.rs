@@ -537,6 +537,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
     let fan = VoronoiOptions {
         accuracy: Accuracy::FAN,
         max_tile: Some(16),
+        window: None,
         ..VoronoiOptions::exact(frame)
     };
     check_fan_with(&m, &sites, &fan, "fan tiles");

@@ -5,6 +5,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions},
     geometry::{cone::bisector_deviation, metric::Metric, Frame},
+    machine::PixelRect,
     reference::voronoi::{nearest_distances_metric, nearest_sites_brute_force},
     Machine,
 };
@@ -34,6 +35,7 @@ fn run(
             distances: true,
             ties: false,
             max_tile: None,
+            window: None,
         },
     )
     .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
@@ -290,6 +292,7 @@ fn bad_input_is_a_clear_error() {
         distances: true,
         ties: false,
         max_tile: None,
+        window: None,
     };
     let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
     assert!(err(&[]).contains("empty"));
@@ -352,6 +355,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
             distances: true,
             ties: false,
             max_tile,
+            window: None,
         };
         let whole = voronoi(&m, &sites, &options(None)).unwrap();
         assert_eq!(whole.stats.tiles, 1);
@@ -389,9 +393,122 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         distances: true,
         ties: false,
         max_tile: Some(50),
+        window: None,
     };
     let d = voronoi(&m, &sites, &fan).unwrap();
     assert_fan(&d, &sites, &frame, 1.0, None, "fan tiles");
+}
+
+#[test]
+fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
+    let m = machine();
+    let (w, h) = (150u32, 110u32);
+    let frame = Frame::with_bbox(w, Some(h), [-3.0, -2.0, 12.0, 9.0]).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    // Random sites, an integer lattice (exact ties everywhere), repeats and
+    // sites outside the frame.
+    let mut sites = uniform(&mut rng, 60, 15.0, 11.0)
+        .into_iter()
+        .map(|p| p - DVec2::new(3.0, 2.0))
+        .collect::<Vec<_>>();
+    sites.extend((0..20).map(|k| DVec2::new((k % 5) as f64 * 2.0, (k / 5) as f64 * 2.0)));
+    sites.extend([sites[3], DVec2::new(-9.0, 4.0), DVec2::new(20.0, 20.0)]);
+    let runs = [
+        (Speedup::Local, Metric::L2, Accuracy::Exact, false),
+        (Speedup::Quadtree, Metric::L2, Accuracy::Exact, false),
+        (Speedup::Local, Metric::L1, Accuracy::Exact, true),
+        (Speedup::Local, Metric::Lp(3.0), Accuracy::Exact, false),
+    ];
+    for (speedup, metric, accuracy, ties) in runs {
+        let options = |window| VoronoiOptions {
+            frame,
+            metric,
+            accuracy,
+            speedup,
+            distances: true,
+            ties,
+            max_tile: Some(48),
+            window,
+        };
+        let whole = voronoi(&m, &sites, &options(None)).unwrap();
+        // Cut the picture at random columns and rows into windows.
+        let cuts = |side: u32, rng: &mut ChaCha8Rng| {
+            let mut c: Vec<u32> = (0..3).map(|_| rng.gen_range(1..side)).collect();
+            c.extend([0, side]);
+            c.sort_unstable();
+            c.dedup();
+            c
+        };
+        let (xs, ys) = (cuts(w, &mut rng), cuts(h, &mut rng));
+        let mut covered = 0;
+        for y in ys.windows(2) {
+            for x in xs.windows(2) {
+                let window = PixelRect {
+                    x: x[0],
+                    y: y[0],
+                    width: x[1] - x[0],
+                    height: y[1] - y[0],
+                };
+                let part = voronoi(&m, &sites, &options(Some(window))).unwrap();
+                assert_eq!((part.width, part.height), (window.width, window.height));
+                for j in 0..window.height {
+                    let row = |v: &[u32], width: u32, x0: u32, y0: u32| {
+                        let at = ((y0 + j) * width + x0) as usize;
+                        v[at..at + window.width as usize].to_vec()
+                    };
+                    let what =
+                        format!("{metric} {accuracy:?} {speedup:?} window {window:?} row {j}");
+                    assert_eq!(
+                        row(&part.labels, window.width, 0, 0),
+                        row(&whole.labels, w, x[0], y[0]),
+                        "{what}"
+                    );
+                    let at = ((y[0] + j) * w + x[0]) as usize;
+                    let want = &whole.distances[at..at + window.width as usize];
+                    let got =
+                        &part.distances[(j * window.width) as usize..][..window.width as usize];
+                    assert!(
+                        want.iter()
+                            .zip(got)
+                            .all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "{what}: distances"
+                    );
+                    if ties {
+                        assert_eq!(
+                            row(&part.ties, window.width, 0, 0),
+                            row(&whole.ties, w, x[0], y[0]),
+                            "{what}"
+                        );
+                    }
+                }
+                covered += window.width * window.height;
+            }
+        }
+        assert_eq!(covered, w * h);
+    }
+    // A window must lie inside the picture.
+    for bad in [
+        (0, 0, 0, 5),
+        (140, 0, 20, 5),
+        (0, 100, 5, 11),
+        (u32::MAX, 0, 2, 2),
+    ] {
+        let window = PixelRect {
+            x: bad.0,
+            y: bad.1,
+            width: bad.2,
+            height: bad.3,
+        };
+        let options = VoronoiOptions {
+            window: Some(window),
+            ..VoronoiOptions::exact(frame)
+        };
+        let err = voronoi(&m, &sites, &options).unwrap_err();
+        assert!(
+            err.to_string().contains("inside the 150x110 picture"),
+            "{err}"
+        );
+    }
 }
 
 #[test]
@@ -592,6 +709,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
                     metric,
                     ties: true,
                     max_tile: Some(20),
+                    window: None,
                     ..VoronoiOptions::exact(frame)
                 },
             )

@@ -71,6 +71,23 @@ int main(void) {
     CHECK(status == PIXGEO_STATUS_OK, "tiled: %s", pixgeo_context_last_error(ctx));
     CHECK(memcmp(tiled, labels, sizeof(uint32_t) * W * H) == 0, "tiled labels differ");
 
+    /* A window (x0, y0, width, height) is the whole diagram's pixels there. */
+    options = pixgeo_voronoi_options_default(W, H);
+    options.window[0] = 13;
+    options.window[1] = 7;
+    options.window[2] = 40;
+    options.window[3] = 30;
+    status = pixgeo_voronoi(ctx, xy, N, &options, tiled, NULL);
+    CHECK(status == PIXGEO_STATUS_OK, "window: %s", pixgeo_context_last_error(ctx));
+    wrong = 0;
+    for (int j = 0; j < 30; j++)
+        for (int i = 0; i < 40; i++)
+            if (tiled[j * 40 + i] != labels[(j + 7) * W + i + 13]) wrong++;
+    CHECK(wrong == 0, "%d window pixels differ from the whole diagram", wrong);
+    options.window[2] = W; /* leaves the picture */
+    CHECK(pixgeo_voronoi(ctx, xy, N, &options, tiled, NULL) == PIXGEO_STATUS_INVALID_ARGUMENT,
+          "a window past the picture is refused");
+
     /* Fan cones with 6 triangles stay within their error bound (< 0.16 r). */
     options = pixgeo_voronoi_options_default(W, H);
     options.accuracy = PIXGEO_ACCURACY_FAN;

@@ -29,6 +29,7 @@ __all__ = [
     "NO_SITE",
     "Frame",
     "Diagram",
+    "frame",
     "Triangulation",
     "Circle",
     "voronoi",
@@ -142,6 +143,7 @@ def voronoi(
     metric: str = "l2",
     mode: str = "exact",
     device: Optional[str] = None,
+    window: Optional[Sequence[int]] = None,
 ) -> Diagram:
     """The Voronoi diagram of ``sites`` as a label and distance raster.
 
@@ -153,12 +155,36 @@ def voronoi(
     ties to the smaller index) or the thesis's triangle fans, ``fan`` (distance
     error within a pixel) or ``fan:T``. ``device``: ``auto``, ``lavapipe``,
     ``gpu``, an index or part of a name (default: ``PIXGEO_DEVICE``).
+
+    ``window = (x0, y0, width, height)`` computes only those pixels of the
+    picture (exact mode): the arrays are ``(height, width)`` and equal the whole
+    diagram's there bit for bit, so windows computed apart tile into it
+    (:func:`pixgeo.dask.voronoi` does that on a cluster).
     """
     h, w = _shape(shape)
     labels, distances, frame = _pixgeo.voronoi(
-        _points(sites, "sites"), w, h, _bbox(bbox), metric, mode, device
+        _points(sites, "sites"), w, h, _bbox(bbox), metric, mode, device, _window(window)
     )
     return Diagram(labels, distances, _frame(frame))
+
+
+def _window(window) -> Optional[Tuple[int, int, int, int]]:
+    if window is None:
+        return None
+    try:
+        v = tuple(int(x) for x in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"window must be (x0, y0, width, height), not {window!r}") from None
+    if len(v) != 4 or min(v) < 0 or max(v) >= 2**32:
+        raise ValueError(f"window must be four pixel counts (x0, y0, width, height), not {window!r}")
+    return v
+
+
+def frame(shape: Sequence[int], *, bbox=None) -> Frame:
+    """The frame :func:`voronoi` uses for ``shape`` and ``bbox``, computed
+    without drawing."""
+    h, w = _shape(shape)
+    return _frame(_pixgeo.frame_of(w, h, _bbox(bbox)))
 
 
 def k_nearest(

@@ -13,9 +13,10 @@ _Circle = Tuple[float, float, float, List[int]]
 _Points = npt.NDArray[np.float64]
 _BBox = Optional[Tuple[float, float, float, float]]
 
+def frame_of(width: int, height: int, bbox: _BBox) -> _Frame: ...
 def voronoi(
     sites: _Points, width: int, height: int, bbox: _BBox, metric_name: str, mode: str,
-    device: Optional[str],
+    device: Optional[str], window: Optional[Tuple[int, int, int, int]] = None,
 ) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float32], _Frame]: ...
 def k_nearest(
     sites: _Points, width: int, height: int, k: int, bbox: _BBox, metric_name: str,

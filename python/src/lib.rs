@@ -20,7 +20,7 @@ use pixgeo::{
         voronoi::{self as diagram, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    machine::DeviceChoice,
+    machine::{DeviceChoice, PixelRect},
     Error, Machine, MachineOptions,
 };
 use pyo3::{
@@ -147,8 +147,17 @@ type Levels<'py> = (
 /// Triangles (m, 3) and repeated points (dropped, kept).
 type Triangulation<'py> = (Bound<'py, PyArray2<u32>>, Bound<'py, PyArray2<u32>>);
 
+/// The frame of a `width` x `height` picture, without drawing anything.
 #[pyfunction]
-#[pyo3(signature = (sites, width, height, bbox, metric_name, mode, device))]
+#[pyo3(signature = (width, height, bbox))]
+fn frame_of(width: u32, height: u32, bbox: Option<[f64; 4]>) -> PyResult<FrameTuple> {
+    Ok(frame_tuple(&frame(width, height, bbox)?))
+}
+
+/// The diagram, or with `window = (x0, y0, width, height)` only those pixels of
+/// it, bit for bit.
+#[pyfunction]
+#[pyo3(signature = (sites, width, height, bbox, metric_name, mode, device, window=None))]
 #[allow(clippy::too_many_arguments)]
 fn voronoi<'py>(
     py: Python<'py>,
@@ -159,11 +168,18 @@ fn voronoi<'py>(
     metric_name: &str,
     mode: &str,
     device: Option<&str>,
+    window: Option<[u32; 4]>,
 ) -> PyResult<Rasters<'py>> {
     let sites = points(&sites);
     let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
     options.metric = metric(metric_name)?;
     options.accuracy = accuracy(mode)?;
+    options.window = window.map(|[x, y, width, height]| PixelRect {
+        x,
+        y,
+        width,
+        height,
+    });
     let d = on_machine(py, device, |m| diagram::voronoi(m, &sites, &options))?;
     Ok((
         raster(py, d.labels, d.height, d.width)?,
@@ -358,6 +374,7 @@ fn extremal_polygon<'py>(
 
 #[pymodule]
 fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(frame_of, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi, m)?)?;
     m.add_function(wrap_pyfunction!(k_nearest, m)?)?;
     m.add_function(wrap_pyfunction!(furthest, m)?)?;

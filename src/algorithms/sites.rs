@@ -60,6 +60,13 @@ pub fn voronoi_sites(
     sites: &[Site],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
+    if options.window.is_some() {
+        return Err(Error::InvalidInput(
+            "windows take point sites: compute segments, circles, arcs and weighted sites \
+             on the whole picture"
+                .into(),
+        ));
+    }
     // The distance to a curve under a polygon's gauge is curved: chords,
     // however fine, may name the wrong one of two nearly equidistant sites.
     let curved = sites

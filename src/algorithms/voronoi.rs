@@ -117,6 +117,11 @@ pub struct VoronoiOptions {
     pub ties: bool,
     /// Largest tile side in pixels; `None` = as large as the device allows.
     pub max_tile: Option<u32>,
+    /// Only this rectangle of the frame's pixels: the diagram's pixels there,
+    /// bit for bit, ties included, drawn from the cones that reach it, so that
+    /// windows computed apart (on other machines) tile into the whole diagram.
+    /// Exact mode only. `None`: the whole frame.
+    pub window: Option<PixelRect>,
 }
 
 impl VoronoiOptions {
@@ -130,7 +135,42 @@ impl VoronoiOptions {
             distances: true,
             ties: false,
             max_tile: None,
+            window: None,
         }
+    }
+
+    /// The window's pixels in the frame: the whole frame without one; an error
+    /// for a window that is empty or leaves the frame.
+    pub fn window_rect(&self) -> Result<PixelRect> {
+        let f = self.frame;
+        let Some(w) = self.window else {
+            return Ok(PixelRect {
+                x: 0,
+                y: 0,
+                width: f.width,
+                height: f.height,
+            });
+        };
+        if self.accuracy != Accuracy::Exact {
+            return Err(Error::InvalidInput(
+                "a window takes exact mode: a fan's interpolated depths round by where its \
+                 tile lies, so fan windows would not match the whole diagram bit for bit"
+                    .into(),
+            ));
+        }
+        let inside = |at: u32, len: u32, side: u32| at.checked_add(len).is_some_and(|e| e <= side);
+        if w.width == 0
+            || w.height == 0
+            || !inside(w.x, w.width, f.width)
+            || !inside(w.y, w.height, f.height)
+        {
+            return Err(Error::InvalidInput(format!(
+                "window {},{},{},{} (x0,y0,width,height) must be a nonempty rectangle inside the \
+                 {}x{} picture",
+                w.x, w.y, w.width, w.height, f.width, f.height
+            )));
+        }
+        Ok(w)
     }
 }
 
@@ -293,7 +333,7 @@ pub fn voronoi(
     sites: &[DVec2],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
-    let frame = options.frame;
+    let window = options.window_rect()?;
     let mut labels = Vec::new();
     let mut distances = Vec::new();
     let mut ties = Vec::new();
@@ -311,8 +351,8 @@ pub fn voronoi(
         Ok(())
     })?;
     Ok(VoronoiDiagram {
-        width: frame.width,
-        height: frame.height,
+        width: window.width,
+        height: window.height,
         labels,
         distances,
         ties,
@@ -360,14 +400,14 @@ fn distinct_bands(
     options: &VoronoiOptions,
     sink: &mut dyn FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
-    let frame = options.frame;
+    let window = options.window_rect()?;
     let mut band: Option<Band> = None;
     let stats = draw_point_tiles(machine, sites, options, false, true, |tile| {
-        if tile.x0 == 0 {
+        if tile.x0 == window.x {
             if let Some(done) = band.take() {
                 sink(done)?;
             }
-            let pixels = tile.inner.height as usize * frame.width as usize;
+            let pixels = tile.inner.height as usize * window.width as usize;
             band = Some(Band {
                 y0: tile.y0,
                 height: tile.inner.height,
@@ -384,8 +424,10 @@ fn distinct_bands(
                 },
             });
         }
-        let band = band.as_mut().expect("a band begins at x = 0");
-        read_tile(machine, tile, &frame, options, band)
+        let band = band
+            .as_mut()
+            .expect("a band begins at the window's left edge");
+        read_tile(machine, tile, &window, options, band)
     })?;
     if let Some(done) = band {
         sink(done)?;
@@ -575,9 +617,10 @@ pub(crate) fn draw_point_tiles(
     let band_rows =
         ((1u64 << 26) / frame.width as u64) as u32 / SCREEN_TILE_SIDE * SCREEN_TILE_SIDE;
     let band_rows = band_rows.max(1);
+    let window = options.window_rect()?;
     let (tile_w, tile_h) = (
-        max_tile.min(frame.width),
-        max_tile.min(frame.height).min(band_rows),
+        max_tile.min(window.width),
+        max_tile.min(window.height).min(band_rows),
     );
     let picture = Picture {
         ids: machine.image(Format::R32Uint, tile_w, tile_h)?,
@@ -604,16 +647,20 @@ pub(crate) fn draw_point_tiles(
     };
     // Tile candidates are the picture's: the tiles of a view must be among them.
     let aligned = |tile: u32, whole: u32| tile >= whole || tile % SCREEN_TILE_SIDE == 0;
-    let aligned = aligned(tile_w, frame.width) && aligned(tile_h, frame.height);
+    let aligned = aligned(tile_w, window.width)
+        && aligned(tile_h, window.height)
+        && window.x % SCREEN_TILE_SIDE == 0
+        && window.y % SCREEN_TILE_SIDE == 0;
     let mut final_attempt = 0;
     let mut drawn_by_tiles = tiled;
-    for y0 in (0..frame.height).step_by(tile_h as usize) {
-        let band_h = tile_h.min(frame.height - y0);
-        for x0 in (0..frame.width).step_by(tile_w as usize) {
+    let (x_end, y_end) = (window.x + window.width, window.y + window.height);
+    for y0 in (window.y..y_end).step_by(tile_h as usize) {
+        let band_h = tile_h.min(y_end - y0);
+        for x0 in (window.x..x_end).step_by(tile_w as usize) {
             let inner = PixelRect {
                 x: 0,
                 y: 0,
-                width: tile_w.min(frame.width - x0),
+                width: tile_w.min(x_end - x0),
                 height: band_h,
             };
             let view = TileView {
@@ -1736,12 +1783,12 @@ pub(crate) fn distances_of(
 fn read_tile(
     machine: &Machine,
     tile: &PointTile<'_>,
-    frame: &Frame,
+    window: &PixelRect,
     options: &VoronoiOptions,
     band: &mut Band,
 ) -> Result<()> {
-    let (inner, x0) = (tile.inner, tile.x0 as usize);
-    let (width, w) = (frame.width as usize, inner.width as usize);
+    let (inner, x0) = (tile.inner, (tile.x0 - window.x) as usize);
+    let (width, w) = (window.width as usize, inner.width as usize);
     machine.read_u32_into(tile.ids, inner, &mut band.labels[x0..], width)?;
     if options.ties {
         machine.read_stencil_into(tile.depth, inner, &mut band.ties[x0..], width)?;

@@ -20,7 +20,7 @@ use pixgeo::{
         Frame,
     },
     io::{npy, npy::NpyStream, picture, picture::PngStream},
-    machine::{DeviceChoice, Machine, MachineOptions},
+    machine::{DeviceChoice, Machine, MachineOptions, PixelRect},
 };
 use serde_json::json;
 
@@ -125,6 +125,13 @@ pub struct Args {
     #[arg(long, value_name = "PIXELS")]
     max_tile: Option<u32>,
 
+    /// Compute only this window of the picture: X0,Y0,W,H in pixels, row 0 at the
+    /// bottom. Its pixels are the whole diagram's there, bit for bit, ties
+    /// included, so windows computed apart (on other machines) tile into the
+    /// whole; outputs are W x H. Ordinary diagrams of points on a Vulkan device.
+    #[arg(long, value_name = "X0,Y0,W,H", value_parser = parse_window)]
+    window: Option<PixelRect>,
+
     /// Where to compute: `cpu` runs the thesis's CPU pixel algorithms (§3.12,
     /// exact, no Vulkan needed); `auto`, `gpu`, `lavapipe`, an index or part of a
     /// name picks a Vulkan device (default: PIXGEO_DEVICE, else a GPU if present,
@@ -200,6 +207,31 @@ fn parse_mode(s: &str) -> Result<ModeArg, String> {
     }
 }
 
+fn parse_window(s: &str) -> Result<PixelRect, String> {
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<u32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("`{s}`: a window is X0,Y0,W,H in whole pixels"))?;
+    match v[..] {
+        [x, y, width, height] => Ok(PixelRect {
+            x,
+            y,
+            width,
+            height,
+        }),
+        _ => Err(format!("`{s}`: a window is four numbers, X0,Y0,W,H")),
+    }
+}
+
+/// Refuses --window where this run computes the whole picture.
+fn refuse_window(args: &Args, what: &str) -> Result<()> {
+    if args.window.is_some() {
+        bail!("--window takes the ordinary diagram of points on a Vulkan device; {what} is computed whole");
+    }
+    Ok(())
+}
+
 fn parse_speedup(s: &str) -> Result<Speedup, String> {
     match s {
         "local" => Ok(Speedup::Local),
@@ -259,10 +291,12 @@ fn diagram(args: &Args) -> Result<()> {
         distances: args.distance.is_some() || args.contours.is_some(),
         ties: args.ties.is_some(),
         max_tile: args.max_tile,
+        window: args.window,
     };
+    let window = options.window_rect()?;
 
     // Outputs are streamed band by band as the tiles come in.
-    let shape = [frame.height as u64, frame.width as u64];
+    let shape = [window.height as u64, window.width as u64];
     let mut labels = args
         .labels
         .as_deref()
@@ -281,18 +315,19 @@ fn diagram(args: &Args) -> Result<()> {
     let mut png = args
         .output
         .as_deref()
-        .map(|p| PngStream::create(p, frame.width, frame.height))
+        .map(|p| PngStream::create(p, window.width, window.height))
         .transpose()?;
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let corner = DVec2::new(window.x as f64, window.y as f64);
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p) - corner).collect();
     // Distances come in world units; contours are drawn in those units too.
     let contour_step = args.contours.map(|s| s as f32);
     // A tiled picture shows its progress, band by band, on a terminal.
     let mut progress: Option<ProgressBar> = None;
     let show_progress = !args.json && !crate::quiet() && std::io::stderr().is_terminal();
     let stats = voronoi_bands(machine, &sites, &options, |band| {
-        if show_progress && band.height < frame.height {
+        if show_progress && band.height < window.height {
             let bar = progress.get_or_insert_with(|| {
-                ProgressBar::new(frame.height as u64).with_style(
+                ProgressBar::new(window.height as u64).with_style(
                     ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left")
                         .unwrap_or_else(|_| ProgressStyle::default_bar()),
                 )
@@ -314,11 +349,11 @@ fn diagram(args: &Args) -> Result<()> {
                 step,
                 line: (1.0 / frame.scale) as f32,
             });
-            let mut rgb =
-                picture::label_rows(&band.labels, frame.width, band.y0, &pixels, contours);
+            let rows = band.y0 - window.y;
+            let mut rgb = picture::label_rows(&band.labels, window.width, rows, &pixels, contours);
             // Areas of equidistant points (Figs. 3.32, 3.33): darker, hatched.
             for (k, (px, count)) in rgb.chunks_exact_mut(3).zip(&band.ties).enumerate() {
-                let (i, j) = (k % frame.width as usize, k / frame.width as usize);
+                let (i, j) = (k % window.width as usize, k / window.width as usize);
                 if *count > 1 {
                     let dim = if (i + j) % 4 < 2 { 0.35 } else { 0.6 };
                     px.iter_mut().for_each(|v| *v = (*v as f32 * dim) as u8);
@@ -449,6 +484,7 @@ impl Args {
 
 /// The diagram of weighted points, segments, circles and arcs (thesis §3.8–3.9).
 fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
+    refuse_window(args, "a diagram of weighted or extended sites")?;
     if args.degree.is_some() || args.order.is_some() || args.furthest || args.peel {
         bail!("--degree, --order, --furthest and --peel take unweighted points; these sites have weights or shapes");
     }
@@ -464,6 +500,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
         distances: true,
         ties: args.ties.is_some(),
         max_tile: args.max_tile,
+        window: None,
     };
     let device = backend.name().to_string();
     let d = match backend {
@@ -566,6 +603,7 @@ fn whole_picture(
     speedup: Speedup,
     kind: Kind,
 ) -> Result<()> {
+    refuse_window(args, "this diagram")?;
     if args.ties.is_some() {
         bail!("--ties counts equal distances of ordinary diagrams on a Vulkan device");
     }
@@ -768,6 +806,7 @@ fn level_path(path: &std::path::Path, level: u32) -> PathBuf {
 
 /// `--method flood` and `--method jfa`: label maps of the sites' pixels.
 fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
+    refuse_window(args, "a flooded diagram")?;
     args.refuse_cone_options("flooding")?;
     if args.degree.is_some() || args.order.is_some() || args.furthest || args.ties.is_some() {
         bail!("--method flood and jfa make the nearest-site map only (no --degree, --order, --furthest or --ties)");
