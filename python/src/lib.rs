@@ -16,7 +16,7 @@ use pixgeo::{
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
         higher_order::{self, KNearestOptions},
-        homothet::{self, Region, Unit, DEFAULT_SIDE},
+        homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
         voronoi::{self as diagram, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
@@ -311,6 +311,11 @@ fn diameter<'py>(
 /// (centre x, centre y, radius, the sites on the circle).
 type Circle = (f64, f64, f64, Vec<u32>);
 
+fn circle(h: HomothetAnswer) -> Circle {
+    let e = h.exact;
+    (e.centre[0], e.centre[1], e.scale, e.sites)
+}
+
 #[pyfunction]
 #[pyo3(signature = (p, device))]
 fn enclosing_circle<'py>(
@@ -322,8 +327,7 @@ fn enclosing_circle<'py>(
     let h = on_machine(py, device, |m| {
         homothet::enclose(m, &p, Unit::Circle, 0, DEFAULT_SIDE)
     })?;
-    let e = h.exact;
-    Ok((e.centre[0], e.centre[1], e.scale, e.sites))
+    Ok(circle(h))
 }
 
 /// The largest circle free of the points, its centre in `region`'s rings
@@ -343,8 +347,7 @@ fn largest_empty_circle<'py>(
     let h = on_machine(py, device, |m| {
         homothet::largest_empty(m, &p, Unit::Circle, &region, DEFAULT_SIDE)
     })?;
-    let e = h.exact;
-    Ok((e.centre[0], e.centre[1], e.scale, e.sites))
+    Ok(circle(h))
 }
 
 /// The smallest or largest triangle (3 vertices) or quadrangle (4) by the

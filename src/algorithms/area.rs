@@ -341,22 +341,7 @@ fn quadrangle_in_range(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
-    check_sites(sites)?;
-    let distinct = first_of_each(sites);
-    let hull = convex_hull(sites);
-    if distinct.len() < 4 || hull.len() < 3 {
-        return Err(Error::InvalidInput(format!(
-            "a quadrangle needs four distinct sites, not all on a line; there are {} distinct",
-            distinct.len()
-        )));
-    }
-    let chosen = match extreme {
-        Extreme::Smallest => distinct,
-        // The largest quadrangle's vertices are hull vertices; a triangular hull
-        // needs one more site.
-        Extreme::Largest if hull.len() >= 4 => hull.clone(),
-        Extreme::Largest => distinct,
-    };
+    let (chosen, hull) = quadrangle_candidates(sites, extreme)?;
     let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
     let bound = match extreme {
         Extreme::Smallest => neighbour_quadrangle(&points),
@@ -472,6 +457,29 @@ fn quadrangle_in_range(
         reduce_ms,
         exact_ms: ms(started),
     })
+}
+
+/// The sites a quadrangle's vertices are searched among (the distinct ones;
+/// for the largest, the hull's vertices where there are four), and the hull; an
+/// error for fewer than four distinct sites or all on a line.
+pub(crate) fn quadrangle_candidates(
+    sites: &[DVec2],
+    extreme: Extreme,
+) -> Result<(Vec<u32>, Vec<u32>)> {
+    check_sites(sites)?;
+    let distinct = first_of_each(sites);
+    let hull = convex_hull(sites);
+    if distinct.len() < 4 || hull.len() < 3 {
+        return Err(Error::InvalidInput(format!(
+            "a quadrangle needs four distinct sites, not all on a line; there are {} distinct",
+            distinct.len()
+        )));
+    }
+    let chosen = match extreme {
+        Extreme::Largest if hull.len() >= 4 => hull.clone(),
+        _ => distinct,
+    };
+    Ok((chosen, hull))
 }
 
 /// The answer when two sites coincide (the smallest triangle) or all sites lie

@@ -13,7 +13,10 @@ use glam::DVec2;
 
 use crate::{
     algorithms::{
-        area::{counter_clockwise, decided, degenerate_triangle, in_range, AreaAnswer, Extreme},
+        area::{
+            counter_clockwise, decided, degenerate_triangle, in_range, quadrangle_candidates,
+            AreaAnswer, Extreme,
+        },
         higher_order::convex_hull,
     },
     error::{Error, Result},
@@ -84,19 +87,7 @@ pub fn extremal_quadrangle_sweep(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<AreaAnswer> {
     in_range(sites, |sites| {
-        check_sites(sites)?;
-        let distinct = first_of_each(sites);
-        let hull = convex_hull(sites);
-        if distinct.len() < 4 || hull.len() < 3 {
-            return Err(Error::InvalidInput(format!(
-                "a quadrangle needs four distinct sites, not all on a line; there are {} distinct",
-                distinct.len()
-            )));
-        }
-        let chosen = match extreme {
-            Extreme::Largest if hull.len() >= 4 => hull,
-            _ => distinct,
-        };
+        let (chosen, _) = quadrangle_candidates(sites, extreme)?;
         sweep(sites, &chosen, extreme, progress, |order, line, offer| {
             let n = order.len();
             if line.start == 0 || line.end == n {
