@@ -40,6 +40,10 @@ __all__ = [
     "diameter",
     "enclosing_circle",
     "largest_empty_circle",
+    "AlphaHull",
+    "Settle",
+    "alpha_hull",
+    "settle",
     "smallest_triangle",
     "largest_triangle",
     "smallest_quadrangle",
@@ -142,6 +146,7 @@ def voronoi(
     bbox=None,
     metric: str = "l2",
     mode: str = "exact",
+    weights=None,
     device: Optional[str] = None,
     window: Optional[Sequence[int]] = None,
 ) -> Diagram:
@@ -156,16 +161,37 @@ def voronoi(
     error within a pixel) or ``fan:T``. ``device``: ``auto``, ``lavapipe``,
     ``gpu``, an index or part of a name (default: ``PIXGEO_DEVICE``).
 
+    ``weights`` is ``(n,)`` multiplicative weights m or ``(n, 2)`` rows
+    ``(m, a)``: a site's distance is divided by m > 0, then a is added (thesis
+    §3.8); ``distances`` are then the weighted ones.
+
     ``window = (x0, y0, width, height)`` computes only those pixels of the
     picture (exact mode): the arrays are ``(height, width)`` and equal the whole
     diagram's there bit for bit, so windows computed apart tile into it
     (:func:`pixgeo.dask.voronoi` does that on a cluster).
     """
     h, w = _shape(shape)
-    labels, distances, frame = _pixgeo.voronoi(
-        _points(sites, "sites"), w, h, _bbox(bbox), metric, mode, device, _window(window)
-    )
+    points = _points(sites, "sites")
+    if weights is None:
+        labels, distances, frame = _pixgeo.voronoi(
+            points, w, h, _bbox(bbox), metric, mode, device, _window(window)
+        )
+    else:
+        if window is not None:
+            raise ValueError("windows take unweighted points; give weights or a window")
+        labels, distances, frame = _pixgeo.voronoi_weighted(
+            points, _weights(weights, len(points)), w, h, _bbox(bbox), metric, mode, device
+        )
     return Diagram(labels, distances, _frame(frame))
+
+
+def _weights(weights, n: int) -> np.ndarray:
+    wt = np.asarray(weights, dtype=np.float64)
+    if wt.shape == (n,):
+        wt = np.stack([wt, np.zeros(n)], -1)
+    if wt.shape != (n, 2):
+        raise ValueError(f"weights must have shape ({n},) or ({n}, 2) for (m, a), not {wt.shape}")
+    return np.ascontiguousarray(wt)
 
 
 def _window(window) -> Optional[Tuple[int, int, int, int]]:
@@ -268,6 +294,72 @@ def largest_empty_circle(
     the points' bounding box). Exact."""
     rings = [] if region is None else [_points(r, "region ring") for r in region]
     return _circle(_pixgeo.largest_empty_circle(_points(points, "points"), rings, device))
+
+
+@dataclass(frozen=True)
+class AlphaHull:
+    """An α-hull's pixels (True inside), the picture fitted to it, the sites on
+    its boundary counter-clockwise (hull method and α = 0), and the method."""
+
+    inside: np.ndarray
+    frame: Frame
+    boundary: Tuple[int, ...]
+    method: str
+
+
+def alpha_hull(
+    points, alpha: float, *, side: int = 512, method: str = "hull", device: Optional[str] = None
+) -> AlphaHull:
+    """The α-hull of the points (thesis ch. 6): α = 0 the convex hull, α > 0 the
+    intersection of discs of radius 1/α holding every point, α < 0 the
+    complement of the empty discs of radius 1/|α|. The picture is fitted to
+    where the hull can be, ``side`` pixels along its longer axis; ``method``
+    (α > 0) is ``hull`` (circles through hull points) or ``pixels``."""
+    classes, frame, boundary, used = _pixgeo.alpha_hull_of(
+        _points(points, "points"), float(alpha), int(side), method, device
+    )
+    return AlphaHull(classes == 1, _frame(frame), tuple(boundary), used)
+
+
+@dataclass(frozen=True)
+class Settle:
+    """The potential-area map (pixels a new site at each pixel would win), its
+    largest value, and the exact settle point ``(x, y, area)`` in world units
+    (L2 only; ``None`` otherwise)."""
+
+    area: np.ndarray
+    frame: Frame
+    best_area: int
+    refined: Optional[Tuple[float, float, float]]
+
+
+def settle(
+    sites,
+    shape: Sequence[int],
+    *,
+    own=None,
+    bbox=None,
+    metric: str = "l2",
+    refine_from: int = 8,
+    device: Optional[str] = None,
+) -> Settle:
+    """Where a new store wins the largest market among rival ``sites``
+    (thesis §3.11.3), not counting pixels that ``own`` stores already hold:
+    the map on the picture, then under L2 an exact compass search from the
+    ``refine_from`` best pixels."""
+    h, w = _shape(shape)
+    own = np.zeros((0, 2)) if own is None else own
+    area, frame, best, refined = _pixgeo.settle(
+        _points(sites, "sites"),
+        _points(own, "own"),
+        w,
+        h,
+        _bbox(bbox),
+        metric,
+        int(refine_from),
+        device,
+    )
+    return Settle(area, _frame(frame), best, refined)
 
 
 def _polygon(points, corners: int, largest: bool) -> Tuple[np.ndarray, float]:

@@ -38,3 +38,14 @@ def largest_empty_circle(
 def extremal_polygon(
     p: _Points, corners: int, largest: bool
 ) -> Tuple[npt.NDArray[np.uint32], float]: ...
+def voronoi_weighted(
+    sites: _Points, weights: _Points, width: int, height: int, bbox: _BBox, metric_name: str,
+    mode: str, device: Optional[str],
+) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float32], _Frame]: ...
+def alpha_hull_of(
+    p: _Points, alpha: float, side: int, method: str, device: Optional[str]
+) -> Tuple[npt.NDArray[np.uint8], _Frame, List[int], str]: ...
+def settle(
+    rivals: _Points, own: _Points, width: int, height: int, bbox: _BBox, metric_name: str,
+    refine_from: int, device: Optional[str],
+) -> Tuple[npt.NDArray[np.uint32], _Frame, int, Optional[Tuple[float, float, float]]]: ...

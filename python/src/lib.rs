@@ -11,15 +11,18 @@ use numpy::{
 };
 use pixgeo::{
     algorithms::{
+        alpha_hull::{self, AlphaMethod},
         area::Extreme,
         area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+        settle::{potential_areas, refine, SettleMethod, SettleOptions},
+        sites::voronoi_sites,
         voronoi::{self as diagram, Accuracy, Speedup, VoronoiOptions},
     },
-    geometry::{metric::Metric, Frame},
+    geometry::{metric::Metric, site::Site, Frame},
     machine::{DeviceChoice, PixelRect},
     Error, Machine, MachineOptions,
 };
@@ -185,6 +188,125 @@ fn voronoi<'py>(
         raster(py, d.labels, d.height, d.width)?,
         raster(py, d.distances, d.height, d.width)?,
         frame_tuple(&options.frame),
+    ))
+}
+
+/// The diagram of points weighted by `weights` rows (m, a): distances divided
+/// by m, then a added (thesis §3.8).
+#[pyfunction]
+#[pyo3(signature = (sites, weights, width, height, bbox, metric_name, mode, device))]
+#[allow(clippy::too_many_arguments)]
+fn voronoi_weighted<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    weights: PyReadonlyArray2<'py, f64>,
+    width: u32,
+    height: u32,
+    bbox: Option<[f64; 4]>,
+    metric_name: &str,
+    mode: &str,
+    device: Option<&str>,
+) -> PyResult<Rasters<'py>> {
+    let sites: Vec<Site> = points(&sites)
+        .into_iter()
+        .zip(points(&weights))
+        .map(|(p, w)| Site {
+            multiplicative: w.x,
+            additive: w.y,
+            ..Site::point(p)
+        })
+        .collect();
+    let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
+    options.metric = metric(metric_name)?;
+    options.accuracy = accuracy(mode)?;
+    let d = on_machine(py, device, |m| voronoi_sites(m, &sites, &options))?;
+    Ok((
+        raster(py, d.labels, d.height, d.width)?,
+        raster(py, d.distances, d.height, d.width)?,
+        frame_tuple(&options.frame),
+    ))
+}
+
+/// The α-hull on a picture fitted to it: pixel classes, the frame, the
+/// boundary sites (hull method and α = 0) and the method used.
+#[pyfunction]
+#[pyo3(signature = (p, alpha, side, method, device))]
+fn alpha_hull_of<'py>(
+    py: Python<'py>,
+    p: PyReadonlyArray2<'py, f64>,
+    alpha: f64,
+    side: u32,
+    method: &str,
+    device: Option<&str>,
+) -> PyResult<(Bound<'py, PyArray2<u8>>, FrameTuple, Vec<u32>, &'static str)> {
+    let p = points(&p);
+    let method = match method {
+        "hull" => AlphaMethod::Hull,
+        "pixels" => AlphaMethod::Pixels,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "unknown method {method:?}: use \"hull\" or \"pixels\""
+            )))
+        }
+    };
+    let h = on_machine(py, device, |m| {
+        alpha_hull::alpha_hull(m, &p, alpha, method, side)
+    })?;
+    let f = (h.width, h.height, h.origin[0], h.origin[1], h.scale);
+    Ok((
+        raster(py, h.pixels, h.height, h.width)?,
+        f,
+        h.boundary_sites,
+        h.method,
+    ))
+}
+
+/// The potential-area map of a new site among `rivals` (not counting what
+/// `own` stores hold), its largest value, and under L2 the exact settle point
+/// refined from the best pixels: (x, y, area) in world units.
+#[pyfunction]
+#[pyo3(signature = (rivals, own, width, height, bbox, metric_name, refine_from, device))]
+#[allow(clippy::too_many_arguments)]
+fn settle<'py>(
+    py: Python<'py>,
+    rivals: PyReadonlyArray2<'py, f64>,
+    own: PyReadonlyArray2<'py, f64>,
+    width: u32,
+    height: u32,
+    bbox: Option<[f64; 4]>,
+    metric_name: &str,
+    refine_from: usize,
+    device: Option<&str>,
+) -> PyResult<(
+    Bound<'py, PyArray2<u32>>,
+    FrameTuple,
+    u32,
+    Option<(f64, f64, f64)>,
+)> {
+    let (rivals, own) = (points(&rivals), points(&own));
+    let options = SettleOptions {
+        frame: frame(width, height, bbox)?,
+        metric: metric(metric_name)?,
+        method: SettleMethod::Spans,
+    };
+    let f = options.frame;
+    let map = on_machine(py, device, |m| {
+        potential_areas(m, &rivals, &own, &options, &mut |_, _| {})
+    })?;
+    let refined = if options.metric == Metric::L2 && refine_from > 0 {
+        let r = py
+            .detach(|| refine(&rivals, &own, &f, &map.leaders(refine_from)))
+            .map_err(to_py)?;
+        let at = f.to_world(DVec2::from(r.position));
+        Some((at.x, at.y, r.area / (f.scale * f.scale)))
+    } else {
+        None
+    };
+    Ok((
+        raster(py, map.area, map.height, map.width)?,
+        frame_tuple(&f),
+        map.best_area,
+        refined,
     ))
 }
 
@@ -379,6 +501,9 @@ fn extremal_polygon<'py>(
 fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frame_of, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi, m)?)?;
+    m.add_function(wrap_pyfunction!(voronoi_weighted, m)?)?;
+    m.add_function(wrap_pyfunction!(alpha_hull_of, m)?)?;
+    m.add_function(wrap_pyfunction!(settle, m)?)?;
     m.add_function(wrap_pyfunction!(k_nearest, m)?)?;
     m.add_function(wrap_pyfunction!(furthest, m)?)?;
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;

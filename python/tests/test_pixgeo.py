@@ -229,3 +229,51 @@ def test_calls_from_several_threads_agree():
         t.join()
     for r in results:
         assert np.array_equal(r, want)
+
+
+@pytest.mark.parametrize("shape_of_weights", ["m", "m,a"])
+def test_weighted_voronoi_matches_the_weighted_distance(shape_of_weights):
+    rng = np.random.default_rng(5)
+    sites = rng.uniform(0, 40, (12, 2))
+    m = rng.uniform(0.5, 2.0, 12)
+    a = rng.uniform(0, 5, 12) if shape_of_weights == "m,a" else np.zeros(12)
+    weights = m if shape_of_weights == "m" else np.stack([m, a], -1)
+    d = pixgeo.voronoi(sites, (40, 40), weights=weights)
+    q = pixel_centres(d.frame)
+    dist = np.linalg.norm(q[:, None] - sites[None], axis=-1) / m + a
+    best = dist.min(axis=1)
+    chosen = dist[np.arange(len(q)), d.labels.ravel()]
+    np.testing.assert_allclose(chosen, best, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(d.distances.ravel(), best, rtol=1e-5, atol=1e-4)
+    with pytest.raises(ValueError, match="weights must have shape"):
+        pixgeo.voronoi(sites, (8, 8), weights=np.ones(3))
+    with pytest.raises(ValueError, match="windows take unweighted"):
+        pixgeo.voronoi(sites, (8, 8), weights=m, window=(0, 0, 2, 2))
+
+
+def test_convex_hull_as_alpha_zero():
+    from scipy.spatial import ConvexHull
+
+    p = np.random.default_rng(8).uniform(0, 100, (40, 2))
+    h = pixgeo.alpha_hull(p, 0.0, side=128)
+    hull = ConvexHull(p)
+    assert set(h.boundary) == set(hull.vertices.tolist())
+    q = pixel_centres(h.frame)
+    # Signed distance to the hull: the largest facet offset (negative inside).
+    signed = (q @ hull.equations[:, :2].T + hull.equations[:, 2]).max(axis=1)
+    clear = np.abs(signed) > 1.0 / h.frame.scale
+    assert clear.mean() > 0.9
+    assert np.array_equal(h.inside.ravel()[clear], signed[clear] < 0)
+
+
+def test_settle_counts_the_pixels_a_new_site_wins():
+    rivals = np.random.default_rng(4).uniform(0, 24, (5, 2)) + 0.123
+    s = pixgeo.settle(rivals, (24, 24))
+    q = pixel_centres(s.frame)
+    nearest_rival = np.linalg.norm(q[:, None] - rivals[None], axis=-1).min(axis=1)
+    to_new = np.linalg.norm(q[:, None] - q[None], axis=-1)
+    want = (to_new < nearest_rival[None, :]).sum(axis=1)
+    assert np.array_equal(s.area.ravel(), want)
+    assert s.best_area == want.max()
+    x, y, area = s.refined
+    assert 0 <= x <= 24 and 0 <= y <= 24 and area > 0
