@@ -227,6 +227,9 @@ fn voronoi_weighted<'py>(
     ))
 }
 
+/// Pixel classes, the frame, the boundary sites and the method used.
+type Hull<'py> = (Bound<'py, PyArray2<u8>>, FrameTuple, Vec<u32>, &'static str);
+
 /// The α-hull on a picture fitted to it: pixel classes, the frame, the
 /// boundary sites (hull method and α = 0) and the method used.
 #[pyfunction]
@@ -238,7 +241,7 @@ fn alpha_hull_of<'py>(
     side: u32,
     method: &str,
     device: Option<&str>,
-) -> PyResult<(Bound<'py, PyArray2<u8>>, FrameTuple, Vec<u32>, &'static str)> {
+) -> PyResult<Hull<'py>> {
     let p = points(&p);
     let method = match method {
         "hull" => AlphaMethod::Hull,
@@ -261,6 +264,14 @@ fn alpha_hull_of<'py>(
     ))
 }
 
+/// The map, its frame, its largest value and the refined point.
+type SettleMap<'py> = (
+    Bound<'py, PyArray2<u32>>,
+    FrameTuple,
+    u32,
+    Option<(f64, f64, f64)>,
+);
+
 /// The potential-area map of a new site among `rivals` (not counting what
 /// `own` stores hold), its largest value, and under L2 the exact settle point
 /// refined from the best pixels: (x, y, area) in world units.
@@ -277,12 +288,7 @@ fn settle<'py>(
     metric_name: &str,
     refine_from: usize,
     device: Option<&str>,
-) -> PyResult<(
-    Bound<'py, PyArray2<u32>>,
-    FrameTuple,
-    u32,
-    Option<(f64, f64, f64)>,
-)> {
+) -> PyResult<SettleMap<'py>> {
     let (rivals, own) = (points(&rivals), points(&own));
     let options = SettleOptions {
         frame: frame(width, height, bbox)?,
