@@ -9,6 +9,14 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+// The library's version, `MAJOR.MINOR.PATCH`; the header's
+// `PIXGEO_VERSION_*` are the version it was generated with.
+#define PIXGEO_VERSION_MAJOR 0
+
+#define PIXGEO_VERSION_MINOR 1
+
+#define PIXGEO_VERSION_PATCH 0
+
 // Result of every call.
 typedef enum PixgeoStatus {
   PIXGEO_STATUS_OK = 0,
@@ -210,6 +218,11 @@ extern "C" {
 // writable storage for one pointer.
 enum PixgeoStatus pixgeo_context_create(const struct PixgeoContextOptions *options,
                                         struct PixgeoContext **out);
+
+// The version of the library loaded, as `"MAJOR.MINOR.PATCH"`: compare it
+// with the header's `PIXGEO_VERSION_*` to catch a mismatched install. A
+// static string; do not free it.
+const char *pixgeo_version(void);
 
 // Why the last [`pixgeo_context_create`] on this thread failed ("" if it did
 // not). Valid until the next create call on this thread.

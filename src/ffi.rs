@@ -410,6 +410,20 @@ pub unsafe extern "C" fn pixgeo_context_create(
     status
 }
 
+/// The library's version, `MAJOR.MINOR.PATCH`; the header's
+/// `PIXGEO_VERSION_*` are the version it was generated with.
+pub const PIXGEO_VERSION_MAJOR: u32 = 0;
+pub const PIXGEO_VERSION_MINOR: u32 = 1;
+pub const PIXGEO_VERSION_PATCH: u32 = 0;
+
+/// The version of the library loaded, as `"MAJOR.MINOR.PATCH"`: compare it
+/// with the header's `PIXGEO_VERSION_*` to catch a mismatched install. A
+/// static string; do not free it.
+#[no_mangle]
+pub extern "C" fn pixgeo_version() -> *const c_char {
+    concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
+}
+
 /// Why the last [`pixgeo_context_create`] on this thread failed ("" if it did
 /// not). Valid until the next create call on this thread.
 #[no_mangle]
@@ -1171,5 +1185,15 @@ mod tests {
         let text = panic_text(payload);
         assert!(text.contains("boom") && text.contains("ffi.rs"), "{text}");
         assert!(!IN_CALL.get());
+    }
+
+    #[test]
+    fn the_header_version_is_the_crate_version() {
+        let header =
+            format!("{PIXGEO_VERSION_MAJOR}.{PIXGEO_VERSION_MINOR}.{PIXGEO_VERSION_PATCH}");
+        assert_eq!(header, env!("CARGO_PKG_VERSION"));
+        // SAFETY: a static NUL-terminated string.
+        let loaded = unsafe { std::ffi::CStr::from_ptr(pixgeo_version()) };
+        assert_eq!(loaded.to_str().unwrap(), header);
     }
 }

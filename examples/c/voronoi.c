@@ -39,6 +39,13 @@ int main(void) {
     }
     printf("device: %s\n", pixgeo_context_device_name(ctx));
 
+    /* The library loaded is the one this header describes. */
+    char version[32];
+    snprintf(version, sizeof version, "%d.%d.%d", PIXGEO_VERSION_MAJOR, PIXGEO_VERSION_MINOR,
+             PIXGEO_VERSION_PATCH);
+    CHECK(strcmp(pixgeo_version(), version) == 0, "library %s, header %s", pixgeo_version(),
+          version);
+
     /* Sites: some inside, one on the border, one outside the picture. */
     const double xy[2 * N] = {10, 10, 50.5, 20, 30, 45, 0, 0, 63, 47, 31.25, 23.75, -20, 30};
     uint32_t *labels = malloc(sizeof(uint32_t) * W * H);

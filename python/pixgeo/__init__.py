@@ -103,7 +103,7 @@ class Circle:
 
 
 def _points(a, name: str) -> np.ndarray:
-    """An (n, 2) C-contiguous float64 copy-or-view of ``a``; ValueError otherwise."""
+    """An (n, 2) C-contiguous, aligned float64 copy-or-view of ``a``; ValueError otherwise."""
     try:
         p = np.asarray(a)
     except Exception as e:  # ragged lists and the like
@@ -112,7 +112,8 @@ def _points(a, name: str) -> np.ndarray:
         raise ValueError(f"{name}: points must be real numbers, not dtype {p.dtype}")
     if p.ndim != 2 or p.shape[1] != 2:
         raise ValueError(f"{name}: points must have shape (n, 2), not {p.shape}")
-    return np.ascontiguousarray(p, dtype=np.float64)
+    # Aligned too: arrays unpickled from a buffer (as Dask sends them) may not be.
+    return np.require(p, dtype=np.float64, requirements=["C_CONTIGUOUS", "ALIGNED"])
 
 
 def _shape(shape) -> Tuple[int, int]:
@@ -191,7 +192,7 @@ def _weights(weights, n: int) -> np.ndarray:
         wt = np.stack([wt, np.zeros(n)], -1)
     if wt.shape != (n, 2):
         raise ValueError(f"weights must have shape ({n},) or ({n}, 2) for (m, a), not {wt.shape}")
-    return np.ascontiguousarray(wt)
+    return np.require(wt, requirements=["C_CONTIGUOUS", "ALIGNED"])
 
 
 def _window(window) -> Optional[Tuple[int, int, int, int]]:

@@ -42,8 +42,9 @@ def _block(
     """One window: labels in the low 32 bits, the distance's float32 bits in
     the high ones, so that both rasters come from one task."""
     (y0, y1), (x0, x1) = block_info[None]["array-location"]
+    # The sites arrive unpickled from a buffer, perhaps unaligned.
     labels, distances, _ = _pixgeo.voronoi(
-        sites, width, height, bbox, metric, mode, device, (x0, y0, x1 - x0, y1 - y0)
+        _points(sites, "sites"), width, height, bbox, metric, mode, device, (x0, y0, x1 - x0, y1 - y0)
     )
     return labels.astype(np.uint64) | (distances.view(np.uint32).astype(np.uint64) << 32)
 

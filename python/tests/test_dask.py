@@ -67,14 +67,15 @@ def test_a_local_cluster_computes_the_same_diagram(client, tmp_path):
     got = pixgeo.dask.voronoi(s, shape, bbox=bbox, chunks=(64, 100))
     assert got.labels.chunks == ((64, 64, 64, 18), (100, 100, 70))
     assert got.frame == want.frame
-    labels, distances = dask.compute(got.labels, got.distances)
+    # A bounded wait: a worker that died mid-task would leave the task pending.
+    labels, distances = (f.result(timeout=300) for f in client.compute([got.labels, got.distances]))
     assert labels.dtype == np.uint32 and distances.dtype == np.float32
     assert np.array_equal(labels, want.labels)
     assert np.array_equal(distances.view(np.uint32), want.distances.view(np.uint32))
     assert len(client.scheduler_info()["workers"]) == 2
     # A Zarr round trip gives the same arrays.
     store = str(tmp_path / "labels.zarr")
-    got.labels.to_zarr(store)
+    client.compute(got.labels.to_zarr(store, compute=False)).result(timeout=300)
     back = zarr.open_array(store, mode="r")
     assert back.shape == shape
     assert np.array_equal(back[:], want.labels)

@@ -277,3 +277,13 @@ def test_settle_counts_the_pixels_a_new_site_wins():
     assert s.best_area == want.max()
     x, y, area = s.refined
     assert 0 <= x <= 24 and 0 <= y <= 24 and area > 0
+
+
+def test_unaligned_arrays_are_read():
+    # A float64 view one byte into a buffer, as unpickled buffers can be.
+    raw = np.zeros(8 * 20 + 1, dtype=np.uint8)
+    sites = raw[1:].view(np.float64).reshape(10, 2)
+    sites[:] = np.random.default_rng(2).uniform(0, 16, (10, 2))
+    assert not sites.flags.aligned
+    d = pixgeo.voronoi(sites, (16, 16))
+    assert np.array_equal(d.labels, pixgeo.voronoi(sites.copy(), (16, 16)).labels)
