@@ -9,7 +9,8 @@ however it is chunked. Install with ``pip install ./python[dask]``.
 The same code runs on any Dask cluster (``LocalCluster``, dask-jobqueue,
 Kubernetes): each worker process makes its own device on first use, a GPU where
 the worker has one (``PIXGEO_DEVICE=gpu`` in the worker's environment, one
-worker per GPU), lavapipe otherwise.
+worker per GPU), lavapipe otherwise (then one worker per core, with
+``LP_NUM_THREADS=1``).
 """
 
 from __future__ import annotations
