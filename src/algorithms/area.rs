@@ -174,14 +174,7 @@ fn triangle_in_range(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
-    check_sites(sites)?;
-    if sites.len() < 3 {
-        return Err(Error::InvalidInput(format!(
-            "a triangle needs three sites; there are {}",
-            sites.len()
-        )));
-    }
-    if let Some(answer) = degenerate_triangle(sites, extreme) {
+    if let Some(answer) = degenerate_triangle(sites, extreme)? {
         return Ok(answer);
     }
     let distinct = first_of_each(sites);
@@ -483,14 +476,21 @@ pub(crate) fn quadrangle_candidates(
 }
 
 /// The answer when two sites coincide (the smallest triangle) or all sites lie
-/// on a line: area 0 either way.
-pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Option<AreaAnswer> {
+/// on a line: area 0 either way; an error for bad sites or fewer than three.
+pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Result<Option<AreaAnswer>> {
+    check_sites(sites)?;
+    if sites.len() < 3 {
+        return Err(Error::InvalidInput(format!(
+            "a triangle needs three sites; there are {}",
+            sites.len()
+        )));
+    }
     if extreme == Extreme::Smallest {
         if let Some((a, b)) = duplicate_pair(sites, &first_of_each(sites)) {
             let c = (0..sites.len() as u32)
                 .find(|&c| c != a && c != b)
                 .expect("n >= 3");
-            return Some(decided(extreme, vec![a, b, c], 0.0, "duplicates"));
+            return Ok(Some(decided(extreme, vec![a, b, c], 0.0, "duplicates")));
         }
     }
     let hull = convex_hull(sites);
@@ -501,9 +501,9 @@ pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Option<A
                 .filter(|c| !hull.contains(c))
                 .take(3 - v.len()),
         );
-        return Some(decided(extreme, v, 0.0, "collinear"));
+        return Ok(Some(decided(extreme, v, 0.0, "collinear")));
     }
-    None
+    Ok(None)
 }
 
 pub(crate) fn decided(

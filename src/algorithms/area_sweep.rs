@@ -20,10 +20,7 @@ use crate::{
         higher_order::convex_hull,
     },
     error::{Error, Result},
-    geometry::{
-        frame::{check_sites, first_of_each},
-        sweep::for_each_line,
-    },
+    geometry::{frame::first_of_each, sweep::for_each_line},
     reference::area::triangle_area,
 };
 
@@ -34,14 +31,7 @@ pub fn extremal_triangle_sweep(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<AreaAnswer> {
     in_range(sites, |sites| {
-        check_sites(sites)?;
-        if sites.len() < 3 {
-            return Err(Error::InvalidInput(format!(
-                "a triangle needs three sites; there are {}",
-                sites.len()
-            )));
-        }
-        if let Some(answer) = degenerate_triangle(sites, extreme) {
+        if let Some(answer) = degenerate_triangle(sites, extreme)? {
             return Ok(answer);
         }
         let chosen = match extreme {
