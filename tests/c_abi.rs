@@ -12,9 +12,9 @@ fn generated_header() -> String {
     // Only the ABI module: the rest of the crate is not part of the C interface.
     cbindgen::Builder::new()
         .with_config(config)
-        .with_src(root.join("src/ffi.rs"))
+        .with_src(root.join("src/ffi/mod.rs"))
         .generate()
-        .expect("cbindgen parses src/ffi.rs")
+        .expect("cbindgen parses src/ffi/")
         .write(&mut out);
     String::from_utf8(out).expect("UTF-8 header")
 }
@@ -29,7 +29,7 @@ fn header_matches_the_code() {
     let current = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         current == fresh,
-        "include/pixgeo.h is out of date with src/ffi.rs: run PIXGEO_BLESS=1 cargo test --test c_abi"
+        "include/pixgeo.h is out of date with src/ffi/: run PIXGEO_BLESS=1 cargo test --test c_abi"
     );
 }
 
