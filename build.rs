@@ -22,6 +22,7 @@ use std::{
 };
 
 fn main() {
+    shared_library_name();
     let glsl_dir = Path::new("glsl");
     println!("cargo:rerun-if-changed=glsl");
     println!("cargo:rerun-if-env-changed=GLSLC");
@@ -179,4 +180,21 @@ fn validate(words: &[u32], stage: naga::ShaderStage, name: &str) {
     )
     .validate(&module)
     .unwrap_or_else(|e| panic!("{name}: naga validation failed: {e:?}"));
+}
+
+/// The C library's SONAME: `libpixgeo.so.MAJOR`, or `libpixgeo.so.0.MINOR`
+/// before 1.0, since 0.x versions break compatibility at each minor release.
+/// `tools/install` reads it back from the library to make its links.
+fn shared_library_name() {
+    if env::var("CARGO_CFG_TARGET_OS").as_deref() != Ok("linux") {
+        return;
+    }
+    let major = env::var("CARGO_PKG_VERSION_MAJOR").expect("CARGO_PKG_VERSION_MAJOR");
+    let minor = env::var("CARGO_PKG_VERSION_MINOR").expect("CARGO_PKG_VERSION_MINOR");
+    let version = if major == "0" {
+        format!("0.{minor}")
+    } else {
+        major
+    };
+    println!("cargo:rustc-cdylib-link-arg=-Wl,-soname,libpixgeo.so.{version}");
 }

@@ -33,6 +33,11 @@ typedef enum PixgeoStatus {
   PIXGEO_STATUS_TOO_LARGE = 5,
   // pixgeo panicked: a bug; the message says where.
   PIXGEO_STATUS_PANIC = 6,
+  // A band callback returned non-zero, which stopped the call.
+  PIXGEO_STATUS_STOPPED = 7,
+  // An output array's capacity is smaller than the answer; the answer's
+  // sizes were written, so the call can be repeated with room enough.
+  PIXGEO_STATUS_BUFFER_TOO_SMALL = 8,
 } PixgeoStatus;
 
 // Which device a context uses.
@@ -97,11 +102,57 @@ typedef enum PixgeoSettleMethod {
   PIXGEO_SETTLE_METHOD_FAITHFUL = 1,
 } PixgeoSettleMethod;
 
+// How [`pixgeo_flood`] colours the picture.
+typedef enum PixgeoFloodMethod {
+  // Flooding in the paper's total order: every region connected, its dual
+  // a valid triangulation.
+  PIXGEO_FLOOD_METHOD_FLOOD = 0,
+  // Jump flooding (Rong and Tan 2006): fast, a few pixels given a farther
+  // site.
+  PIXGEO_FLOOD_METHOD_JUMP_FLOOD = 1,
+} PixgeoFloodMethod;
+
+// Which extreme [`pixgeo_triangle`] and [`pixgeo_quadrangle`] find.
+typedef enum PixgeoExtreme {
+  PIXGEO_EXTREME_SMALLEST = 0,
+  PIXGEO_EXTREME_LARGEST = 1,
+} PixgeoExtreme;
+
+// How [`pixgeo_triangle`] and [`pixgeo_quadrangle`] search.
+typedef enum PixgeoAreaMethod {
+  // The exact rotational sweep on the CPU, O(n² log n) (default).
+  PIXGEO_AREA_METHOD_SWEEP = 0,
+  // The thesis's roofs, one per pair of sites, drawn on the context's
+  // device, then an exact search of the pixels' candidates.
+  PIXGEO_AREA_METHOD_ROOFS = 1,
+} PixgeoAreaMethod;
+
+// How [`pixgeo_alpha_hull`] computes a hull for α > 0.
+typedef enum PixgeoAlphaMethod {
+  // Circles through consecutive points of the convex hull (default).
+  PIXGEO_ALPHA_METHOD_HULL = 0,
+  // Two intersections of discs by counting, on the device alone.
+  PIXGEO_ALPHA_METHOD_PIXELS = 1,
+} PixgeoAlphaMethod;
+
+// What a pixel of an α-hull's picture is.
+typedef enum PixgeoAlphaClass {
+  PIXGEO_ALPHA_CLASS_OUTSIDE = 0,
+  PIXGEO_ALPHA_CLASS_INSIDE = 1,
+  // α < 0: at least 1/|α| from every site. α > 0 with the pixels method: the
+  // centre of a disc holding every site.
+  PIXGEO_ALPHA_CLASS_CENTRE = 2,
+  // α < 0: erased by a disc around the rim of the centres.
+  PIXGEO_ALPHA_CLASS_DISC = 3,
+} PixgeoAlphaClass;
+
 // A pixel machine and the message of its last failed call.
 typedef struct PixgeoContext PixgeoContext;
 
 // Options of [`pixgeo_context_create`].
 typedef struct PixgeoContextOptions {
+  // `sizeof(PixgeoContextOptions)`, set by [`pixgeo_context_options_default`].
+  uint32_t struct_size;
   // A [`PixgeoDevice`]; other values are an invalid argument.
   uint32_t device;
   // Enable the Khronos validation layer; any message fails the call.
@@ -112,6 +163,8 @@ typedef struct PixgeoContextOptions {
 // Valid options have `polygon` pointing at `2 * polygon_count` doubles when the
 // metric is [`PixgeoMetric::Polygon`].
 typedef struct PixgeoVoronoiOptions {
+  // `sizeof(PixgeoVoronoiOptions)`, set by [`pixgeo_voronoi_options_default`].
+  uint32_t struct_size;
   // Picture size in pixels.
   uint32_t width;
   uint32_t height;
@@ -158,6 +211,26 @@ typedef struct PixgeoSite {
   double additive;
 } PixgeoSite;
 
+// Rows `y0 .. y0 + height` of a diagram, columns `x0 .. x0 + width` (the
+// whole width, or the window's), row-major, handed to a
+// [`PixgeoBandCallback`]; the arrays are valid during the callback only.
+typedef struct PixgeoBand {
+  uint32_t x0;
+  uint32_t y0;
+  uint32_t width;
+  uint32_t height;
+  const uint32_t *labels;
+  // Distances in world units; null unless asked for.
+  const float *distances;
+  // How many sites are at the smallest distance from each pixel (thesis
+  // §3.6.4); null unless asked for.
+  const uint32_t *ties;
+} PixgeoBand;
+
+// Receives each band in turn, top to bottom; returns 0 to go on, anything
+// else to stop the call with [`PixgeoStatus::Stopped`].
+typedef int32_t (*PixgeoBandCallback)(const struct PixgeoBand *band, void *user_data);
+
 // Two points, one of each set (indices into the sets as passed), and their exact
 // distance: the answer of the distance functions.
 typedef struct PixgeoPair {
@@ -168,6 +241,8 @@ typedef struct PixgeoPair {
 
 // The shape and picture of [`pixgeo_enclose`] and [`pixgeo_empty`].
 typedef struct PixgeoHomothetOptions {
+  // `sizeof(PixgeoHomothetOptions)`, set by [`pixgeo_homothet_options_default`].
+  uint32_t struct_size;
   // The polygon's vertices `{x0, y0, x1, y1, ...}` around `kernel`, star-shaped
   // around it; null for circles.
   const double *polygon;
@@ -204,6 +279,62 @@ typedef struct PixgeoSettle {
   double refined_area;
 } PixgeoSettle;
 
+// Options of [`pixgeo_triangle`] and [`pixgeo_quadrangle`]; start from
+// [`pixgeo_area_options_default`].
+typedef struct PixgeoAreaOptions {
+  // `sizeof(PixgeoAreaOptions)`, set by [`pixgeo_area_options_default`].
+  uint32_t struct_size;
+  // A [`PixgeoExtreme`].
+  uint32_t extreme;
+  // A [`PixgeoAreaMethod`].
+  uint32_t method;
+  // The roofs' picture side in pixels along the longer axis (0: about 8√n).
+  uint32_t side;
+} PixgeoAreaOptions;
+
+// An extremal triangle or quadrangle: its `vertex_count` (3 or 4) vertices as
+// site indices, counter-clockwise, and its exact area (world units squared).
+typedef struct PixgeoPolygonAnswer {
+  uint32_t sites[4];
+  uint32_t vertex_count;
+  double area;
+} PixgeoPolygonAnswer;
+
+// Options of [`pixgeo_alpha_hull`]; start from [`pixgeo_alpha_options_default`].
+typedef struct PixgeoAlphaOptions {
+  // `sizeof(PixgeoAlphaOptions)`, set by [`pixgeo_alpha_options_default`].
+  uint32_t struct_size;
+  // α: 0 the convex hull, > 0 discs of radius 1/α holding every site, < 0
+  // discs of radius 1/|α| holding none.
+  double alpha;
+  // A [`PixgeoAlphaMethod`].
+  uint32_t method;
+  // Picture side in pixels along the longer axis (0: 512); the picture is
+  // fitted to where the hull can be.
+  uint32_t side;
+} PixgeoAlphaOptions;
+
+// The picture of an α-hull and what was found on it.
+typedef struct PixgeoAlphaHull {
+  uint32_t width;
+  uint32_t height;
+  // World point at the picture's corner (-0.5, -0.5), and pixels per world unit.
+  double origin[2];
+  double scale;
+  // 1/|α| in world units; NaN for the convex hull.
+  double radius;
+  // Pixels inside the hull.
+  size_t inside;
+  // α > 0 by the hull method, and α = 0: the number of sites on the hull's
+  // boundary.
+  size_t boundary_count;
+  // α < 0: pixels within this distance (world units) of the border may be
+  // inside only because discs centred beyond it are not drawn; `uncertain`
+  // of the inside pixels lie there.
+  double border_band;
+  size_t uncertain;
+} PixgeoAlphaHull;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -227,6 +358,10 @@ const char *pixgeo_version(void);
 // Why the last [`pixgeo_context_create`] on this thread failed ("" if it did
 // not). Valid until the next create call on this thread.
 const char *pixgeo_create_error(void);
+
+// Options that choose the device as `PIXGEO_DEVICE` would (auto), without
+// validation.
+struct PixgeoContextOptions pixgeo_context_options_default(void);
 
 // Releases a context and every device object it holds. Null is ignored.
 //
@@ -336,6 +471,24 @@ enum PixgeoStatus pixgeo_furthest(struct PixgeoContext *ctx,
                                   uint32_t *labels,
                                   float *distances);
 
+// The Voronoi diagram of [`pixgeo_voronoi`], streamed in bands of rows to
+// `callback`, so that a picture larger than memory can be written as it is
+// made. With `distances` each band carries distances; with `ties` (exact
+// mode) the number of sites tied at each pixel's smallest distance.
+// `user_data` is passed through.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+// valid options; `callback` is safe to call with a band and `user_data`.
+enum PixgeoStatus pixgeo_voronoi_bands(struct PixgeoContext *ctx,
+                                       const double *xy,
+                                       size_t count,
+                                       const struct PixgeoVoronoiOptions *options,
+                                       bool distances,
+                                       bool ties,
+                                       PixgeoBandCallback callback,
+                                       void *user_data);
+
 // The Hausdorff distance between point sets `a` and `b` (thesis §3.11.1), both
 // directed distances, exact: `*a_to_b` gets the point of `a` farthest from its
 // nearest point of `b` (`from` in `a`, `to` in `b`), `*b_to_a` the converse.
@@ -374,6 +527,25 @@ enum PixgeoStatus pixgeo_max_distance(struct PixgeoContext *ctx,
                                       const double *b,
                                       size_t b_count,
                                       struct PixgeoPair *out);
+
+// The digital Voronoi diagram of `count` point sites `xy`, grown from the
+// pixel each lies in: writes `width * height` labels, row-major. Only the
+// picture's size and bounding box of `options` apply (the metric is
+// Euclidean). A site outside the picture, or two in one pixel, is an invalid
+// argument.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+// valid options; `labels` has room for `width * height` values.
+enum PixgeoStatus pixgeo_flood(struct PixgeoContext *ctx,
+                               const double *xy,
+                               size_t count,
+                               const struct PixgeoVoronoiOptions *options,
+                               uint32_t method,
+                               uint32_t *labels);
+
+// Circles on a picture of the default side.
+struct PixgeoHomothetOptions pixgeo_homothet_options_default(void);
 
 // The smallest homothet of a circle or polygon (thesis ch. 4) holding every
 // one of the `count` sites (points, segments, circles, arcs; unweighted), or
@@ -436,6 +608,57 @@ enum PixgeoStatus pixgeo_settle(struct PixgeoContext *ctx,
                                 uint32_t method,
                                 uint32_t *area,
                                 struct PixgeoSettle *out);
+
+// The smallest, by the sweep.
+struct PixgeoAreaOptions pixgeo_area_options_default(void);
+
+// The smallest or largest triangle with three of the `count` points `xy` as
+// vertices, exact.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+// valid options; `out` points to a writable answer.
+enum PixgeoStatus pixgeo_triangle(struct PixgeoContext *ctx,
+                                  const double *xy,
+                                  size_t count,
+                                  const struct PixgeoAreaOptions *options,
+                                  struct PixgeoPolygonAnswer *out);
+
+// The smallest or largest quadrangle (simple, possibly not convex) with four
+// of the `count` points `xy` as vertices, exact.
+//
+// # Safety
+// As [`pixgeo_triangle`].
+enum PixgeoStatus pixgeo_quadrangle(struct PixgeoContext *ctx,
+                                    const double *xy,
+                                    size_t count,
+                                    const struct PixgeoAreaOptions *options,
+                                    struct PixgeoPolygonAnswer *out);
+
+// The convex hull (α = 0) by the hull method on a picture of the default side.
+struct PixgeoAlphaOptions pixgeo_alpha_options_default(void);
+
+// The α-hull of the `count` points `xy` (thesis §3.12). `*out` always gets the
+// picture's size and the counts. Unless null, `pixels` receives a
+// [`PixgeoAlphaClass`] per pixel (`width * height`, row-major) and `boundary`
+// the boundary's site indices, counter-clockwise; when either's capacity is
+// too small the call returns [`PixgeoStatus::BufferTooSmall`] with `*out`
+// filled in, to be repeated with room enough.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+// valid options; `out` points to a writable answer; `pixels` is null or has
+// room for `pixels_capacity` bytes, `boundary` null or room for
+// `boundary_capacity` values.
+enum PixgeoStatus pixgeo_alpha_hull(struct PixgeoContext *ctx,
+                                    const double *xy,
+                                    size_t count,
+                                    const struct PixgeoAlphaOptions *options,
+                                    struct PixgeoAlphaHull *out,
+                                    uint8_t *pixels,
+                                    size_t pixels_capacity,
+                                    uint32_t *boundary,
+                                    size_t boundary_capacity);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -4,8 +4,10 @@
  * caller can get. Exits 0 when every check
  * passes.
  *
- *   cc -std=c11 -I include examples/c/voronoi.c -L target/debug -lpixgeo \
- *      -Wl,-rpath,$PWD/target/debug -o voronoi-c && ./voronoi-c
+ *   tools/install ~/.local
+ *   export PKG_CONFIG_PATH=~/.local/lib/pkgconfig LD_LIBRARY_PATH=~/.local/lib
+ *   cc -std=c11 examples/c/voronoi.c $(pkg-config --cflags --libs pixgeo) -lm -o voronoi-c
+ *   ./voronoi-c
  */
 #include <math.h>
 #include <stdio.h>
@@ -28,7 +30,7 @@ static int failures = 0;
 enum { W = 64, H = 48, N = 7 };
 
 int main(void) {
-    PixgeoContextOptions context_options = {PIXGEO_DEVICE_AUTO, false};
+    PixgeoContextOptions context_options = pixgeo_context_options_default();
     const char *validation = getenv("PIXGEO_VALIDATION");
     context_options.validation = validation != NULL && strcmp(validation, "1") == 0;
 
@@ -206,7 +208,8 @@ int main(void) {
         {PIXGEO_SITE_KIND_POINT, {4, 0}, 1, 0},
         {PIXGEO_SITE_KIND_POINT, {0, 3}, 1, 0},
     };
-    PixgeoHomothetOptions circle = {NULL, 0, {0, 0}, 128};
+    PixgeoHomothetOptions circle = pixgeo_homothet_options_default(); /* a circle */
+    circle.side = 128;
     PixgeoHomothet homothet;
     status = pixgeo_enclose(ctx, corners, 3, &circle, 0, &homothet);
     CHECK(status == PIXGEO_STATUS_OK && fabs(homothet.scale - 2.5) < 1e-9 &&
@@ -343,7 +346,8 @@ int main(void) {
     CHECK(pixgeo_settle(ctx, xy, N, NULL, 0, &odd, 5, NULL, &settle) ==
               PIXGEO_STATUS_INVALID_ARGUMENT,
           "settle method 5 accepted");
-    PixgeoContextOptions odd_device = {42, false};
+    PixgeoContextOptions odd_device = pixgeo_context_options_default();
+    odd_device.device = 42;
     PixgeoContext *no_ctx = NULL;
     CHECK(pixgeo_context_create(&odd_device, &no_ctx) == PIXGEO_STATUS_INVALID_ARGUMENT &&
               no_ctx == NULL,

@@ -55,6 +55,15 @@ pub fn default_side(n: usize) -> u32 {
     (8.0 * (n as f64).sqrt()).clamp(64.0, 1024.0) as u32
 }
 
+/// An extremal search drawn with the roofs: machine, sites, extreme, picture
+/// side, progress (`extremal_triangle_with_progress`, `extremal_quadrangle_with_progress`).
+pub type RoofSearch =
+    fn(&Machine, &[DVec2], Extreme, u32, &mut dyn FnMut(u64, u64)) -> Result<AreaAnswer>;
+
+/// An extremal search by the rotational sweep: sites, extreme, progress
+/// (`extremal_triangle_sweep`, `extremal_quadrangle_sweep`).
+pub type SweepSearch = fn(&[DVec2], Extreme, &mut dyn FnMut(u64, u64)) -> Result<AreaAnswer>;
+
 /// Which extreme to find.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]

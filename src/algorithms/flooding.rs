@@ -27,8 +27,11 @@ use std::{cmp::Reverse, collections::BinaryHeap, time::Instant};
 
 use serde::Serialize;
 
+use glam::DVec2;
+
 use crate::{
-    error::Result,
+    error::{Error, Result},
+    geometry::Frame,
     machine::{Buffer, BufferKernel, Image, Machine},
     reference::flooding::{check_seeds, neighbours, priority, Priority, Seed},
 };
@@ -64,6 +67,31 @@ fn ms(since: Instant) -> f64 {
 
 /// The longest texture side the Euclidean colouring takes.
 pub const MAX_SIDE: u32 = 16_000;
+
+/// The seeds of point `sites` on `frame`'s pixels: the pixel each lies in. A
+/// site outside the picture, or two in one pixel, is refused, since flooding
+/// grows one region from each seed pixel.
+pub fn seeds_of(frame: &Frame, sites: &[DVec2]) -> Result<Vec<Seed>> {
+    let mut seen = std::collections::HashMap::new();
+    let mut seeds = Vec::with_capacity(sites.len());
+    for (i, p) in sites.iter().enumerate() {
+        let c = frame.to_pixel(*p).round();
+        if !(c.x >= 0.0 && c.y >= 0.0 && c.x < frame.width as f64 && c.y < frame.height as f64) {
+            return Err(Error::InvalidInput(format!(
+                "site {i} at {p} lies outside the picture; flooding starts from the sites' pixels"
+            )));
+        }
+        let seed = [c.x as i32, c.y as i32];
+        if let Some(j) = seen.insert(seed, i) {
+            return Err(Error::InvalidInput(format!(
+                "sites {j} and {i} fall in pixel {seed:?}; flooding needs one site per pixel \
+                 (use a larger picture)"
+            )));
+        }
+        seeds.push(seed);
+    }
+    Ok(seeds)
+}
 
 /// The Euclidean colouring of `seeds` on the device, ties broken by the
 /// total order: the nearest seed, then the smallest (x, y). Two compute
@@ -128,7 +156,7 @@ fn colouring(
     // Squares of coordinates must fit 32 bits, and a row's invocation loops
     // at most 4 x width times (lavapipe stops a shader's loops at 65535).
     if width > MAX_SIDE || height > MAX_SIDE {
-        return Err(crate::error::Error::InvalidInput(format!(
+        return Err(Error::InvalidInput(format!(
             "the Euclidean colouring takes sides up to {MAX_SIDE}: {width}x{height} is larger"
         )));
     }
@@ -269,7 +297,7 @@ pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Resu
 pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Result<Vec<u32>> {
     check_seeds(width, height, seeds)?;
     if width >= 1 << 16 || height >= 1 << 16 {
-        return Err(crate::error::Error::InvalidInput(format!(
+        return Err(Error::InvalidInput(format!(
             "jump flooding packs seed positions in 16 bits: {width}x{height} is too large"
         )));
     }
@@ -336,7 +364,7 @@ pub fn dualize(
 ) -> Result<Vec<[u32; 3]>> {
     let pixels = width as usize * height as usize;
     if labels.len() != pixels || pixels == 0 {
-        return Err(crate::error::Error::InvalidInput(format!(
+        return Err(Error::InvalidInput(format!(
             "{} labels for a {width}x{height} texture",
             labels.len()
         )));

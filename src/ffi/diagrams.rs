@@ -1,5 +1,7 @@
 //! Diagrams: nearest, k nearest and furthest sites per pixel.
 
+use std::{ffi::c_void, ptr};
+
 use super::*;
 use crate::algorithms::{
     higher_order::{self, KNearestOptions},
@@ -32,7 +34,7 @@ pub unsafe extern "C" fn pixgeo_voronoi(
             return Err(invalid("xy, options and labels must not be null"));
         }
         // SAFETY: non-null and valid (caller contract).
-        let o = unsafe { *options };
+        let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
         let (frame, accuracy, speedup) = picture_of(&o)?;
         let metric = metric_of(&o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
@@ -90,7 +92,7 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
             return Err(invalid("sites, options and labels must not be null"));
         }
         // SAFETY: non-null and valid (caller contract).
-        let o = unsafe { *options };
+        let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
         let (frame, accuracy, speedup) = picture_of(&o)?;
         // SAFETY: `sites` holds `count` sites (caller contract).
         let given = unsafe { std::slice::from_raw_parts(sites, count) };
@@ -145,7 +147,7 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
             return Err(invalid("options and labels must not be null"));
         }
         // SAFETY: non-null and valid (caller contract).
-        let o = unsafe { *options };
+        let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
         if o.max_tile != 0 {
             return Err(invalid(
                 "k nearest sites are drawn whole: max_tile must be 0",
@@ -198,7 +200,7 @@ pub unsafe extern "C" fn pixgeo_furthest(
             return Err(invalid("options and labels must not be null"));
         }
         // SAFETY: non-null and valid (caller contract).
-        let o = unsafe { &*options };
+        let o = &unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
         let metric = metric_of(o)?;
         let (frame, _, _) = picture_of(o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
@@ -214,4 +216,104 @@ pub unsafe extern "C" fn pixgeo_furthest(
         }
         Ok(())
     })
+}
+
+/// Rows `y0 .. y0 + height` of a diagram, columns `x0 .. x0 + width` (the
+/// whole width, or the window's), row-major, handed to a
+/// [`PixgeoBandCallback`]; the arrays are valid during the callback only.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PixgeoBand {
+    pub x0: u32,
+    pub y0: u32,
+    pub width: u32,
+    pub height: u32,
+    pub labels: *const u32,
+    /// Distances in world units; null unless asked for.
+    pub distances: *const f32,
+    /// How many sites are at the smallest distance from each pixel (thesis
+    /// §3.6.4); null unless asked for.
+    pub ties: *const u32,
+}
+
+/// Receives each band in turn, top to bottom; returns 0 to go on, anything
+/// else to stop the call with [`PixgeoStatus::Stopped`].
+pub type PixgeoBandCallback =
+    Option<unsafe extern "C" fn(band: *const PixgeoBand, user_data: *mut c_void) -> i32>;
+
+/// The Voronoi diagram of [`pixgeo_voronoi`], streamed in bands of rows to
+/// `callback`, so that a picture larger than memory can be written as it is
+/// made. With `distances` each band carries distances; with `ties` (exact
+/// mode) the number of sites tied at each pixel's smallest distance.
+/// `user_data` is passed through.
+///
+/// # Safety
+/// `ctx` is a live context; `xy` holds `2 * count` doubles; `options` points to
+/// valid options; `callback` is safe to call with a band and `user_data`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn pixgeo_voronoi_bands(
+    ctx: *mut PixgeoContext,
+    xy: *const f64,
+    count: usize,
+    options: *const PixgeoVoronoiOptions,
+    distances: bool,
+    ties: bool,
+    callback: PixgeoBandCallback,
+    user_data: *mut c_void,
+) -> PixgeoStatus {
+    with_context(ctx, |context| {
+        let Some(callback) = callback else {
+            return Err(invalid("callback must not be null"));
+        };
+        // SAFETY: null or valid (caller contract).
+        let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
+        let (frame, accuracy, speedup) = picture_of(&o)?;
+        // SAFETY: `xy` holds `2 * count` doubles (caller contract).
+        let sites = unsafe { points(xy, count) }?;
+        let options = VoronoiOptions {
+            frame,
+            metric: metric_of(&o)?,
+            accuracy,
+            speedup,
+            distances,
+            ties,
+            max_tile: (o.max_tile > 0).then_some(o.max_tile),
+            window: window_of(&o),
+        };
+        let window = options.window_rect().map_err(failed)?;
+        let mut stopped = false;
+        let outcome = voronoi_bands(&context.machine, &sites, &options, |band| {
+            let view = PixgeoBand {
+                x0: window.x,
+                y0: band.y0,
+                width: window.width,
+                height: band.height,
+                labels: band.labels.as_ptr(),
+                distances: or_null(&band.distances),
+                ties: or_null(&band.ties),
+            };
+            // SAFETY: the callback is safe to call (caller contract); the band's
+            // arrays live until it returns.
+            if unsafe { callback(&view, user_data) } != 0 {
+                stopped = true;
+                return Err(Error::InvalidInput("stopped by the band callback".into()));
+            }
+            Ok(())
+        });
+        match outcome {
+            Ok(_) => Ok(()),
+            Err(e) if stopped => Err((PixgeoStatus::Stopped, e.to_string())),
+            Err(e) => Err(failed(e)),
+        }
+    })
+}
+
+/// An array's data, or null for an empty one (an output not asked for).
+fn or_null<T>(values: &[T]) -> *const T {
+    if values.is_empty() {
+        ptr::null()
+    } else {
+        values.as_ptr()
+    }
 }

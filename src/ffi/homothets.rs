@@ -12,6 +12,8 @@ use crate::{
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixgeoHomothetOptions {
+    /// `sizeof(PixgeoHomothetOptions)`, set by [`pixgeo_homothet_options_default`].
+    pub struct_size: u32,
     /// The polygon's vertices `{x0, y0, x1, y1, ...}` around `kernel`, star-shaped
     /// around it; null for circles.
     pub polygon: *const f64,
@@ -19,6 +21,18 @@ pub struct PixgeoHomothetOptions {
     pub kernel: [f64; 2],
     /// Picture side in pixels along the longer axis (0: 512).
     pub side: u32,
+}
+
+/// Circles on a picture of the default side.
+#[no_mangle]
+pub extern "C" fn pixgeo_homothet_options_default() -> PixgeoHomothetOptions {
+    PixgeoHomothetOptions {
+        struct_size: struct_size::<PixgeoHomothetOptions>(),
+        polygon: std::ptr::null(),
+        polygon_count: 0,
+        kernel: [0.0; 2],
+        side: 0,
+    }
 }
 
 /// A homothet `centre + scale · Q`: the exact one, the picture's candidate, the
@@ -43,9 +57,7 @@ unsafe fn homothet_options(
     options: *const PixgeoHomothetOptions,
 ) -> Result<(Unit, u32), (PixgeoStatus, String)> {
     // SAFETY: null or valid (caller contract).
-    let Some(o) = (unsafe { options.as_ref() }) else {
-        return Err(invalid("options must not be null"));
-    };
+    let o = unsafe { read_options(options, "pixgeo_homothet_options_default") }?;
     let unit = if o.polygon.is_null() {
         Unit::Circle
     } else {

@@ -30,16 +30,20 @@ use crate::{
 mod delaunay;
 mod diagrams;
 mod distances;
+mod flooding;
 mod homothets;
 mod options;
 mod settle;
+mod shapes;
 
 pub use delaunay::*;
 pub use diagrams::*;
 pub use distances::*;
+pub use flooding::*;
 pub use homothets::*;
 pub use options::*;
 pub use settle::*;
+pub use shapes::*;
 
 /// Result of every call.
 #[repr(C)]
@@ -59,6 +63,11 @@ pub enum PixgeoStatus {
     TooLarge = 5,
     /// pixgeo panicked: a bug; the message says where.
     Panic = 6,
+    /// A band callback returned non-zero, which stopped the call.
+    Stopped = 7,
+    /// An output array's capacity is smaller than the answer; the answer's
+    /// sizes were written, so the call can be repeated with room enough.
+    BufferTooSmall = 8,
 }
 
 /// Which device a context uses.
@@ -77,6 +86,8 @@ pub enum PixgeoDevice {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PixgeoContextOptions {
+    /// `sizeof(PixgeoContextOptions)`, set by [`pixgeo_context_options_default`].
+    pub struct_size: u32,
     /// A [`PixgeoDevice`]; other values are an invalid argument.
     pub device: u32,
     /// Enable the Khronos validation layer; any message fails the call.
@@ -195,11 +206,12 @@ pub unsafe extern "C" fn pixgeo_context_create(
     }
     // SAFETY: `out` is non-null and writable (caller contract).
     unsafe { *out = ptr::null_mut() };
-    // SAFETY: `options` is null or valid (caller contract).
-    let options = unsafe { options.as_ref() }.copied();
     let outcome = guarded(|| {
         let mut machine_options = MachineOptions::from_env();
-        if let Some(o) = options {
+        if !options.is_null() {
+            // SAFETY: non-null and valid (caller contract).
+            let o = unsafe { read_options(options, "pixgeo_context_options_default") }
+                .map_err(|(_, text)| Error::InvalidInput(text))?;
             machine_options.validation = o.validation;
             match o.device {
                 0 => {}
@@ -253,6 +265,17 @@ pub extern "C" fn pixgeo_create_error() -> *const c_char {
     CREATE_ERROR.with(|c| c.borrow().as_ptr())
 }
 
+/// Options that choose the device as `PIXGEO_DEVICE` would (auto), without
+/// validation.
+#[no_mangle]
+pub extern "C" fn pixgeo_context_options_default() -> PixgeoContextOptions {
+    PixgeoContextOptions {
+        struct_size: struct_size::<PixgeoContextOptions>(),
+        device: PixgeoDevice::Auto as u32,
+        validation: false,
+    }
+}
+
 /// Releases a context and every device object it holds. Null is ignored.
 ///
 /// # Safety
@@ -303,7 +326,7 @@ mod tests {
     fn a_panic_in_a_call_becomes_its_message() {
         let payload = guarded(|| panic!("boom")).unwrap_err();
         let text = panic_text(payload);
-        assert!(text.contains("boom") && text.contains("ffi.rs"), "{text}");
+        assert!(text.contains("boom") && text.contains("src/ffi/"), "{text}");
         assert!(!IN_CALL.get());
     }
 

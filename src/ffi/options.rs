@@ -86,6 +86,8 @@ pub enum PixgeoSpeedup {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PixgeoVoronoiOptions {
+    /// `sizeof(PixgeoVoronoiOptions)`, set by [`pixgeo_voronoi_options_default`].
+    pub struct_size: u32,
     /// Picture size in pixels.
     pub width: u32,
     pub height: u32,
@@ -126,6 +128,7 @@ pub struct PixgeoVoronoiOptions {
 #[no_mangle]
 pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> PixgeoVoronoiOptions {
     PixgeoVoronoiOptions {
+        struct_size: struct_size::<PixgeoVoronoiOptions>(),
         width,
         height,
         use_bbox: false,
@@ -266,4 +269,44 @@ pub(super) unsafe fn points(
         .chunks_exact(2)
         .map(|p| DVec2::new(p[0], p[1]))
         .collect())
+}
+
+/// The size C's `sizeof` gives an options struct: its `struct_size`.
+pub(super) fn struct_size<T>() -> u32 {
+    std::mem::size_of::<T>() as u32
+}
+
+/// Options a caller made with `default_fn` (and then changed), checked by the
+/// `struct_size` they start with. Only this version's size exists so far; when
+/// a struct grows, the sizes of its older versions will be read as a prefix of
+/// it over the defaults.
+///
+/// # Safety
+/// `options` is null or points to a `T` whose first field is its `u32`
+/// `struct_size`, readable for `struct_size` bytes.
+pub(super) unsafe fn read_options<T: Copy>(
+    options: *const T,
+    default_fn: &str,
+) -> Result<T, (PixgeoStatus, String)> {
+    if options.is_null() {
+        return Err(invalid("options must not be null"));
+    }
+    // SAFETY: every options struct starts with its `u32` struct_size (caller
+    // contract), and the pointer is non-null.
+    let size = unsafe { options.cast::<u32>().read_unaligned() };
+    let expected = struct_size::<T>();
+    if size == 0 {
+        return Err(invalid(format!(
+            "options have struct_size 0: start them from {default_fn}()"
+        )));
+    }
+    if size != expected {
+        return Err(invalid(format!(
+            "options have struct_size {size}, but this library's are {expected} bytes: the \
+             header and the library come from different pixgeo versions (compare \
+             PIXGEO_VERSION_* with pixgeo_version())"
+        )));
+    }
+    // SAFETY: non-null, and `size` matches `T` (caller contract).
+    Ok(unsafe { options.read() })
 }

@@ -65,7 +65,7 @@ pub unsafe extern "C" fn pixgeo_settle(
             return Err(invalid("options and out must not be null"));
         }
         // SAFETY: non-null and valid (caller contract).
-        let o = unsafe { *options };
+        let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
         let (frame, _, _) = picture_of(&o)?;
         let metric = metric_of(&o)?;
         // SAFETY: sizes as documented (caller contract).

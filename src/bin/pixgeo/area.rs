@@ -4,12 +4,9 @@
 use anyhow::Result;
 use clap::Args as ClapArgs;
 use glam::DVec2;
-use pixgeo::{
-    algorithms::{
-        area::{self, default_side, AreaAnswer, Extreme},
-        area_sweep,
-    },
-    Machine,
+use pixgeo::algorithms::{
+    area::{self, default_side, AreaAnswer, Extreme, RoofSearch, SweepSearch},
+    area_sweep,
 };
 
 use crate::{envelope, input::Points, progress::Progress, voronoi::Backend};
@@ -99,11 +96,7 @@ pub fn quadrangle(args: QuadrangleArgs) -> Result<()> {
     )
 }
 
-type Roofs =
-    fn(&Machine, &[DVec2], Extreme, u32, &mut dyn FnMut(u64, u64)) -> pixgeo::Result<AreaAnswer>;
-type Sweep = fn(&[DVec2], Extreme, &mut dyn FnMut(u64, u64)) -> pixgeo::Result<AreaAnswer>;
-
-fn solve(c: &Common, roofs: Roofs, sweep: Sweep, what: &str) -> Result<()> {
+fn solve(c: &Common, roofs: RoofSearch, sweep: SweepSearch, what: &str) -> Result<()> {
     let points = c.points.read()?;
     let device = c
         .device

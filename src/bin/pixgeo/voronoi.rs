@@ -814,21 +814,7 @@ fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
     if args.metric != Metric::L2 {
         bail!("--method flood and jfa are Euclidean");
     }
-    let mut seen = std::collections::HashMap::new();
-    let mut seeds = Vec::with_capacity(sites.len());
-    for (i, p) in sites.iter().enumerate() {
-        let c = frame.to_pixel(*p).round();
-        if !(c.x >= 0.0 && c.y >= 0.0 && c.x < frame.width as f64 && c.y < frame.height as f64) {
-            bail!(
-                "site {i} at {p} lies outside the picture; flooding starts from the sites' pixels"
-            );
-        }
-        let seed = [c.x as i32, c.y as i32];
-        if let Some(j) = seen.insert(seed, i) {
-            bail!("sites {j} and {i} fall in pixel {seed:?}; flooding needs one site per pixel (use a larger --size)");
-        }
-        seeds.push(seed);
-    }
+    let seeds = pixgeo::algorithms::flooding::seeds_of(&frame, sites)?;
     let machine = crate::distances::machine_on(args.device.as_deref())?;
     let started = std::time::Instant::now();
     let (labels, stats) = match args.method {
