@@ -2,8 +2,10 @@
 
 use std::path::PathBuf;
 
-/// Everything a pixgeo call can fail with.
+/// Everything a pixgeo call can fail with. New kinds of failure may be added,
+/// so a `match` needs a `_` arm.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// The Vulkan loader or a driver is missing.
     #[error("no Vulkan driver: {0}. On Debian/Ubuntu install libvulkan1 and mesa-vulkan-drivers (tools/setup does)")]
@@ -11,18 +13,19 @@ pub enum Error {
     /// No device matched the request (`PIXGEO_DEVICE`) or none has what pixgeo needs.
     #[error("no suitable Vulkan device: {0}")]
     NoDevice(String),
-    /// A Vulkan call failed.
-    #[error("Vulkan call {call} failed: {result}")]
+    /// A Vulkan call failed: `code` is its `VkResult`, `name` that code's name.
+    #[error("Vulkan call {call} failed: {name}")]
     Vulkan {
         call: &'static str,
-        result: ash::vk::Result,
+        code: i32,
+        name: String,
     },
     /// The Khronos validation layer reported problems (only with `PIXGEO_VALIDATION=1`).
     #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
     Validation(Vec<String>),
-    /// Device memory could not be allocated.
+    /// Device memory could not be allocated (the allocator's message).
     #[error("device memory: {0}")]
-    Memory(#[from] gpu_allocator::AllocationError),
+    Memory(String),
     /// The input is not something pixgeo can compute with.
     #[error("invalid input: {0}")]
     InvalidInput(String),
@@ -42,6 +45,20 @@ pub enum Error {
 }
 
 impl Error {
+    /// The failure of the Vulkan call `call`.
+    pub(crate) fn vulkan(call: &'static str, result: ash::vk::Result) -> Self {
+        Self::Vulkan {
+            call,
+            code: result.as_raw(),
+            name: result.to_string(),
+        }
+    }
+
+    /// A failure of the device memory allocator.
+    pub(crate) fn memory(error: gpu_allocator::AllocationError) -> Self {
+        Self::Memory(error.to_string())
+    }
+
     /// Names what an invalid input was (`first set: site 3 ...`), once.
     pub(crate) fn about(self, what: &str) -> Self {
         match self {
@@ -61,6 +78,6 @@ pub(crate) trait VkContext<T> {
 
 impl<T> VkContext<T> for ash::prelude::VkResult<T> {
     fn vk(self, call: &'static str) -> Result<T> {
-        self.map_err(|result| Error::Vulkan { call, result })
+        self.map_err(|result| Error::vulkan(call, result))
     }
 }

@@ -51,6 +51,11 @@ pub mod geometry;
 pub mod io;
 pub mod machine;
 pub mod reference;
+mod simple;
 
 pub use error::{Error, Result};
 pub use machine::{Machine, MachineOptions};
+pub use simple::{
+    alpha_hull, delaunay, diameter, enclosing_circle, extremal_quadrangle, extremal_triangle,
+    furthest, hausdorff, k_nearest, largest_empty_circle, settle, voronoi, with_default_machine,
+};

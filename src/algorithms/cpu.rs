@@ -219,6 +219,7 @@ fn levels(
     KNearest {
         width: frame.width,
         height: frame.height,
+        frame: *frame,
         k,
         labels,
         distances,
@@ -280,6 +281,7 @@ pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthe
     Ok(Furthest {
         width: frame.width,
         height: frame.height,
+        frame: *frame,
         labels,
         distances,
         hull,

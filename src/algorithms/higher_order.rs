@@ -70,6 +70,19 @@ pub struct KNearestOptions {
     pub speedup: Speedup,
 }
 
+impl KNearestOptions {
+    /// `k` levels of exact Euclidean distances on `frame`, with local radii.
+    pub fn exact(frame: Frame, k: u32) -> Self {
+        Self {
+            frame,
+            k,
+            metric: Metric::L2,
+            accuracy: Accuracy::Exact,
+            speedup: Speedup::Local,
+        }
+    }
+}
+
 /// How the diagram was made.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct KNearestStats {
@@ -97,6 +110,8 @@ pub struct KNearestStats {
 pub struct KNearest {
     pub width: u32,
     pub height: u32,
+    /// The picture: [`Frame::to_world`] maps its pixels to world points.
+    pub frame: Frame,
     pub k: u32,
     /// `labels[(j * width + i) * k + l]`: the (l+1)-th nearest site of pixel (i, j);
     /// `u32::MAX` where fewer than l+1 sites exist.
@@ -478,6 +493,7 @@ fn read_keys(
     KNearest {
         width: frame.width,
         height: frame.height,
+        frame,
         k,
         labels,
         distances,
@@ -531,6 +547,7 @@ fn read_labels(
     KNearest {
         width: frame.width,
         height: frame.height,
+        frame,
         k: options.k,
         labels,
         distances,
@@ -832,6 +849,7 @@ pub fn k_nearest_peeled(
     Ok(KNearest {
         width: w,
         height: h,
+        frame,
         k,
         labels,
         distances,
@@ -890,6 +908,8 @@ pub(crate) fn furthest_candidates(sites: &[DVec2], hull: &[u32], metric: Metric)
 pub struct Furthest {
     pub width: u32,
     pub height: u32,
+    /// The picture: [`Frame::to_world`] maps its pixels to world points.
+    pub frame: Frame,
     /// Furthest site per pixel, row-major.
     pub labels: Vec<u32>,
     /// Distance to it in world units.
@@ -918,6 +938,7 @@ pub fn furthest(
     Ok(Furthest {
         width: frame.width,
         height: frame.height,
+        frame: *frame,
         labels,
         distances,
         hull: drawn.owners,

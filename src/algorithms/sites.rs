@@ -137,6 +137,8 @@ pub fn voronoi_sites(
     Ok(VoronoiDiagram {
         width: frame.width,
         height: frame.height,
+        frame,
+        window: PixelRect::sized(frame.width, frame.height),
         labels,
         distances,
         ties: Vec::new(),

@@ -144,12 +144,7 @@ impl VoronoiOptions {
     pub fn window_rect(&self) -> Result<PixelRect> {
         let f = self.frame;
         let Some(w) = self.window else {
-            return Ok(PixelRect {
-                x: 0,
-                y: 0,
-                width: f.width,
-                height: f.height,
-            });
+            return Ok(PixelRect::sized(f.width, f.height));
         };
         if self.accuracy != Accuracy::Exact {
             return Err(Error::InvalidInput(
@@ -220,8 +215,14 @@ pub struct VoronoiStats {
 /// A Voronoi diagram on a picture.
 #[derive(Clone, Debug)]
 pub struct VoronoiDiagram {
+    /// The arrays' size: the window's, or the whole picture's.
     pub width: u32,
     pub height: u32,
+    /// The whole picture: [`Frame::to_world`] maps its pixels to world points.
+    pub frame: Frame,
+    /// The pixels of `frame` the arrays hold: array pixel (i, j) is the frame's
+    /// pixel (window.x + i, window.y + j).
+    pub window: PixelRect,
     /// Nearest site per pixel, row-major (`[j][i]`); `u32::MAX` where no site is.
     pub labels: Vec<u32>,
     /// Distance to that site in world units, row-major; empty unless
@@ -353,6 +354,8 @@ pub fn voronoi(
     Ok(VoronoiDiagram {
         width: window.width,
         height: window.height,
+        frame: options.frame,
+        window,
         labels,
         distances,
         ties,

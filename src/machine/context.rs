@@ -133,10 +133,7 @@ impl Context {
             vk::Result::ERROR_INCOMPATIBLE_DRIVER => {
                 Error::NoVulkan("the loader found no Vulkan 1.3 driver".into())
             }
-            result => Error::Vulkan {
-                call: "vkCreateInstance",
-                result,
-            },
+            result => Error::vulkan("vkCreateInstance", result),
         })?;
         keep_loaded(entry, &create, options.validation);
         // From here on, `partial` destroys the instance if a later step fails.
@@ -250,7 +247,8 @@ impl Context {
             debug_settings: Default::default(),
             buffer_device_address: false,
             allocation_sizes: Default::default(),
-        })?;
+        })
+        .map_err(Error::memory)?;
 
         std::mem::forget(partial);
         let context = Self {

@@ -145,13 +145,16 @@ impl Image {
         };
         // SAFETY: `raw` is a valid image of this device.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation = ctx.allocator().allocate(&AllocationCreateDesc {
-            name: "pixgeo image",
-            requirements,
-            location: MemoryLocation::GpuOnly,
-            linear: false,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-        })?;
+        let allocation = ctx
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name: "pixgeo image",
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(Error::memory)?;
         // SAFETY: memory allocated for this image's requirements, bound once.
         unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindImageMemory")?;
@@ -250,13 +253,16 @@ impl Buffer {
         };
         // SAFETY: `raw` is a valid buffer of this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = ctx.allocator().allocate(&AllocationCreateDesc {
-            name: "pixgeo buffer",
-            requirements,
-            location,
-            linear: true,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-        })?;
+        let allocation = ctx
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name: "pixgeo buffer",
+                requirements,
+                location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(Error::memory)?;
         // SAFETY: memory allocated for this buffer's requirements, bound once.
         unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindBufferMemory")?;

@@ -47,6 +47,16 @@ pub struct PixelRect {
 }
 
 impl PixelRect {
+    /// `width` x `height` pixels from the corner (0, 0).
+    pub fn sized(width: u32, height: u32) -> Self {
+        Self {
+            x: 0,
+            y: 0,
+            width,
+            height,
+        }
+    }
+
     /// The whole of `image`.
     pub fn of(image: &Image) -> Self {
         Self {

@@ -810,10 +810,7 @@ impl Pipelines {
                 .device
                 .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
         }
-        .map_err(|(_, result)| Error::Vulkan {
-            call: "vkCreateGraphicsPipelines",
-            result,
-        })?;
+        .map_err(|(_, result)| Error::vulkan("vkCreateGraphicsPipelines", result))?;
         Ok(pipelines[0])
     }
 
@@ -865,10 +862,7 @@ impl Pipelines {
                 .device
                 .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
         }
-        .map_err(|(_, result)| Error::Vulkan {
-            call: "vkCreateComputePipelines",
-            result,
-        })?;
+        .map_err(|(_, result)| Error::vulkan("vkCreateComputePipelines", result))?;
         Ok(pipelines[0])
     }
 

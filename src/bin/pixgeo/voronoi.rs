@@ -511,6 +511,8 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
             VoronoiDiagram {
                 width: frame.width,
                 height: frame.height,
+                frame,
+                window: PixelRect::sized(frame.width, frame.height),
                 labels,
                 distances,
                 ties: Vec::new(),
