@@ -25,6 +25,7 @@ use pixgeo::{
 use rayon::prelude::*;
 
 mod common {
+    pub mod report;
     pub mod timing;
 }
 use common::timing::{env_list, time};
@@ -186,7 +187,7 @@ fn main() -> anyhow::Result<()> {
         "Alpha hulls of n uniform random points in a 1000² box, {SIZE}² picture, device {}; median of {repeats}.\n\n{table}",
         machine.device_name()
     );
-    std::fs::write(out_dir.join("alpha.md"), &text)?;
+    common::report::write(&out_dir, "alpha", &text, machine.device_name())?;
     println!("{text}");
     Ok(())
 }

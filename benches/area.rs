@@ -22,6 +22,7 @@ use pixgeo::{
 
 /// The picture side: `AREA_SIZE`, else pixgeo's default for n sites.
 mod common {
+    pub mod report;
     pub mod timing;
 }
 use common::timing::{env_list, time};
@@ -213,7 +214,7 @@ fn main() -> anyhow::Result<()> {
          Smallest triangle:\n\n{smallest}\nLargest triangle:\n\n{largest}\nQuadrangles:\n\n{quadrangles}",
         machine.device_name()
     );
-    std::fs::write(out_dir.join("area.md"), &text)?;
+    common::report::write(&out_dir, "area", &text, machine.device_name())?;
     println!("{text}");
     Ok(())
 }

@@ -18,6 +18,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 mod common {
+    pub mod report;
     pub mod timing;
 }
 use common::timing::{env_list, time};
@@ -147,7 +148,7 @@ fn main() -> anyhow::Result<()> {
         "Delaunay triangulations of n uniform random points in the unit square, device {}; median of {repeats}. Phases in ms; the grid is pixgeo's default (about one pixel per point).\n\n{table}\nWhat each phase had to fix:\n\n{fixes}",
         machine.device_name()
     );
-    std::fs::write(out_dir.join("delaunay.md"), &text)?;
+    common::report::write(&out_dir, "delaunay", &text, machine.device_name())?;
     println!("{text}");
     Ok(())
 }

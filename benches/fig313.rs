@@ -15,7 +15,7 @@ use common::plot::{Series, PALETTE};
 use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
-    geometry::{metric::Metric, Frame},
+    geometry::Frame,
     io::{npy, sites::random_sites},
     reference::voronoi::nearest_sites_grid,
     Machine,
@@ -24,6 +24,7 @@ use plotters::style::RGBColor;
 
 mod common {
     pub mod plot;
+    pub mod report;
 }
 
 const SIZE: u32 = 1024;
@@ -96,16 +97,10 @@ fn main() -> anyhow::Result<()> {
         voronoi(
             &machine,
             &warm,
-            &VoronoiOptions {
-                frame,
-                metric: Metric::L2,
-                accuracy: c.accuracy,
-                speedup: c.speedup,
-                distances: false,
-                ties: false,
-                max_tile: None,
-                window: None,
-            },
+            &VoronoiOptions::exact(frame)
+                .accuracy(c.accuracy)
+                .speedup(c.speedup)
+                .distances(false),
         )?;
     }
 
@@ -126,16 +121,10 @@ fn main() -> anyhow::Result<()> {
                 continue;
             }
             // Labels only, like the peers: the label map is what they compute.
-            let opts = VoronoiOptions {
-                frame,
-                metric: Metric::L2,
-                accuracy: c.accuracy,
-                speedup: c.speedup,
-                distances: false,
-                ties: false,
-                max_tile: None,
-                window: None,
-            };
+            let opts = VoronoiOptions::exact(frame)
+                .accuracy(c.accuracy)
+                .speedup(c.speedup)
+                .distances(false);
             let mut total = Vec::new();
             let mut render = Vec::new();
             let reps = if c.speedup == Speedup::None {
@@ -200,10 +189,9 @@ fn main() -> anyhow::Result<()> {
     };
 
     let table = markdown(&machine, &ns, &rows, &cpu_ms, &scipy_ms, repeats);
-    std::fs::write(out_dir.join("fig313.md"), &table)?;
+    common::report::write(&out_dir, "fig313", &table, machine.device_name())?;
     println!("{table}");
     plot(&out_dir.join("fig313.png"), &ns, &rows, &cpu_ms, &scipy_ms)?;
-    eprintln!("wrote {}", out_dir.join("fig313.md").display());
     Ok(())
 }
 

@@ -11,6 +11,10 @@
 //! repeats (median reported), `GENERALIZED_KINDS=lp,arcs` keeps the kinds whose
 //! name contains one of the words.
 
+mod common {
+    pub mod report;
+}
+
 use std::time::Instant;
 
 use glam::DVec2;
@@ -145,12 +149,10 @@ fn main() -> anyhow::Result<()> {
         for (mode, accuracy) in modes {
             // One diagram: plain points without a kind.
             let run = |kind: Option<Kind>, sites: &Option<Vec<Site>>| -> anyhow::Result<f64> {
-                let options = VoronoiOptions {
-                    metric: kind.map_or(Metric::L2, Kind::metric),
-                    accuracy,
-                    distances: false,
-                    ..VoronoiOptions::exact(frame)
-                };
+                let options = VoronoiOptions::exact(frame)
+                    .metric(kind.map_or(Metric::L2, Kind::metric))
+                    .accuracy(accuracy)
+                    .distances(false);
                 let started = Instant::now();
                 match sites {
                     Some(s) => drop(voronoi_sites(&machine, s, &options)?),
@@ -187,7 +189,7 @@ fn main() -> anyhow::Result<()> {
         "# Generalized Voronoi diagrams, {SIZE}² pixels, {} ({repeats} runs, median)\n\nThesis: about 50 ms for any generalization at 2000 sites (2003 GPU).\n\n{table}",
         machine.device_name()
     );
-    std::fs::write(dir.join("generalized.md"), &text)?;
+    common::report::write(&dir, "generalized", &text, machine.device_name())?;
     println!("{text}");
     Ok(())
 }

@@ -18,7 +18,7 @@ use pixgeo::{
         cpu,
         distances::hausdorff,
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
-        voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
+        voronoi::{voronoi, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
     io::{npy, sites::random_sites},
@@ -28,6 +28,7 @@ use plotters::style::RGBColor;
 
 mod common {
     pub mod plot;
+    pub mod report;
 }
 
 const SIZE: u32 = 1024;
@@ -74,13 +75,7 @@ fn main() -> anyhow::Result<()> {
     ];
     let warm = random_sites(100, 0, &frame);
     voronoi(&machine, &warm, &VoronoiOptions::exact(frame))?;
-    let order = |speedup| KNearestOptions {
-        frame,
-        k: LEVELS,
-        metric: Metric::L2,
-        accuracy: Accuracy::Exact,
-        speedup,
-    };
+    let order = |speedup| KNearestOptions::exact(frame, LEVELS).speedup(speedup);
     k_nearest(&machine, &warm, &order(Speedup::Local))?;
 
     // rows[n] = (times per speedup, one diagram)
@@ -112,10 +107,7 @@ fn main() -> anyhow::Result<()> {
         })?;
         eprintln!("n = {n:>5}  order {LEVELS}, CPU pixel algorithm    {on_cpu:>9.1} ms");
         times.push(Some(on_cpu));
-        let opts = VoronoiOptions {
-            distances: false,
-            ..VoronoiOptions::exact(frame)
-        };
+        let opts = VoronoiOptions::exact(frame).distances(false);
         let one = time(repeats, || {
             voronoi(&machine, &sites, &opts)?;
             Ok(())
@@ -217,7 +209,7 @@ fn main() -> anyhow::Result<()> {
             None => md.push_str(&format!("| {m} | {t:.1} | — | — | — |\n")),
         }
     }
-    std::fs::write(out_dir.join("higher_order.md"), &md)?;
+    common::report::write(&out_dir, "higher_order", &md, machine.device_name())?;
     println!("{md}");
 
     let mut series: Vec<Series> = columns
@@ -250,6 +242,5 @@ fn main() -> anyhow::Result<()> {
         "number of sites n (log scale)",
         &series,
     )?;
-    eprintln!("wrote {}", out_dir.join("higher_order.md").display());
     Ok(())
 }

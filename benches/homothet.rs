@@ -21,6 +21,7 @@ use pixgeo::{
 use spade::{DelaunayTriangulation, HierarchyHintGenerator, Point2, Triangulation};
 
 mod common {
+    pub mod report;
     pub mod timing;
 }
 use common::timing::{env_list, time};
@@ -167,7 +168,7 @@ fn main() -> anyhow::Result<()> {
         "Smallest enclosing and largest empty circle of n uniform random points, {SIZE}² picture, device {}; median of {repeats}.\n\n{table}",
         machine.device_name()
     );
-    std::fs::write(out_dir.join("homothet.md"), &text)?;
+    common::report::write(&out_dir, "homothet", &text, machine.device_name())?;
     println!("{text}");
     Ok(())
 }

@@ -23,6 +23,7 @@ use pixgeo::{
 
 mod common {
     pub mod plot;
+    pub mod report;
 }
 
 const SIZE: u32 = 1024;
@@ -48,11 +49,7 @@ fn gpu(
     frame: Frame,
     method: SettleMethod,
 ) -> anyhow::Result<(f64, PotentialAreas)> {
-    let options = SettleOptions {
-        frame,
-        metric: Metric::L2,
-        method,
-    };
+    let options = SettleOptions::new(frame).method(method);
     timed(|| {
         Ok(potential_areas(
             machine,
@@ -149,7 +146,7 @@ fn main() -> anyhow::Result<()> {
         });
     }
     md += "\nThesis (2003 GPU, 1024²): about 10 s for 100 sites, 4 minutes for 2 sites.\n";
-    std::fs::write(out_dir.join("settle.md"), &md)?;
+    common::report::write(&out_dir, "settle", &md, machine.device_name())?;
     println!("{md}");
     common::plot::plot(
         &out_dir.join("fig353.png"),
@@ -157,6 +154,5 @@ fn main() -> anyhow::Result<()> {
         "number of sites n (log scale)",
         &series,
     )?;
-    eprintln!("wrote {}", out_dir.join("settle.md").display());
     Ok(())
 }

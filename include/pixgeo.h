@@ -157,6 +157,10 @@ typedef struct PixgeoContextOptions {
   uint32_t device;
   // Enable the Khronos validation layer; any message fails the call.
   bool validation;
+  // Null, or a device named as `PIXGEO_DEVICE` and the command line's
+  // `--device` name one (`auto`, `lavapipe`, `gpu`, an index, or part of a
+  // device's name), in place of `device`. Read during the call.
+  const char *device_name;
 } PixgeoContextOptions;
 
 // Options of [`pixgeo_voronoi`]; start from [`pixgeo_voronoi_options_default`].

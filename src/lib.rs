@@ -4,9 +4,10 @@
 //! one cone per site with a depth test paints every pixel with its nearest site
 //! (M. Denny, *Algorithmic Geometry via Graphics Hardware*, 2003). pixgeo runs that
 //! machine on Vulkan ([`machine`]), builds the surfaces it draws in [`geometry`],
-//! writes the problems on it in [`algorithms`], checks every result against the
-//! CPU definitions in [`mod@reference`], reads and writes files in [`io`], and
-//! offers all of it to C hosts through [`ffi`].
+//! writes the problems on it in [`algorithms`], reads and writes files in
+//! [`io`], and offers all of it to C hosts through [`ffi`]. The tests check every
+//! result against brute-force definitions in `reference` (the `reference`
+//! feature), which are not part of the interface.
 //!
 //! # The thesis's model and the machine's types
 //!
@@ -50,6 +51,7 @@ pub mod ffi;
 pub mod geometry;
 pub mod io;
 pub mod machine;
+#[cfg(feature = "reference")]
 pub mod reference;
 mod simple;
 

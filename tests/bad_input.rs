@@ -123,10 +123,7 @@ fn every_command_refuses_bad_input_clearly() {
         ("quadrangle --sites line.csv", "four distinct"),
         // Numbers beyond reason.
         ("delaunay --random 10 --grid 4294967295", "larger than"),
-        (
-            "delaunay --random 10 -o out.png --picture-size 100000",
-            "100000",
-        ),
+        ("delaunay --random 10 -o out.png --size 100000", "100000"),
         ("voronoi --random 5 --size 0 --labels out.npy", "at least 1"),
         (
             "voronoi --random 5 --size 99999999 --labels out.npy",

@@ -592,7 +592,7 @@ fn enclose_and_empty_print_exact_homothets() {
         "transform",
     ]);
     assert!(!ok && stderr.contains("use cones"), "{stderr}");
-    let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--k", "9"]);
+    let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--order", "9"]);
     assert!(!ok && stderr.contains("cannot enclose 9 of 3"), "{stderr}");
 }
 
@@ -736,7 +736,7 @@ fn delaunay_writes_triangle_files_json_and_a_picture() {
         "delaunay",
         "--sites",
         sites.to_str().unwrap(),
-        "--out",
+        "--triangle",
         prefix.to_str().unwrap(),
         "-o",
         png.to_str().unwrap(),
@@ -805,7 +805,8 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
         let (ok, stdout, stderr) = pixgeo(&args);
         assert!(ok, "{run:?}: {stderr}");
         let envelope = enveloped(&stdout, run[0]);
-        let picture = ["voronoi", "settle"].contains(&run[0]);
+        // Every command that draws says on what; the sweep draws nothing.
+        let picture = !["triangle", "quadrangle"].contains(&run[0]);
         assert_eq!(envelope["frame"].is_object(), picture, "{run:?}");
         let named = stdout.matches("\"device\"").count();
         assert_eq!(named, 1, "{run:?}: the device is named once");
@@ -921,7 +922,7 @@ fn files_written_are_reported_and_quiet_says_nothing() {
             "delaunay",
             "--random",
             "30",
-            "--out",
+            "--triangle",
             p.trim_end_matches(".png"),
             "--quiet",
         ],

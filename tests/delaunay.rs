@@ -64,10 +64,7 @@ fn spade_triangles(points: &[DVec2]) -> Vec<[u32; 3]> {
 }
 
 fn checked() -> DelaunayOptions {
-    DelaunayOptions {
-        check: true,
-        ..Default::default()
-    }
+    DelaunayOptions::default().check(true)
 }
 
 #[test]
@@ -95,10 +92,7 @@ fn crowded_grids_insert_what_shares_a_pixel() {
     let points: Vec<DVec2> = (0..4000)
         .map(|_| DVec2::new(rng.gen::<f64>() * 10.0, rng.gen::<f64>() * 10.0))
         .collect();
-    let options = DelaunayOptions {
-        grid: Some(64),
-        check: true,
-    };
+    let options = DelaunayOptions::default().grid(Some(64)).check(true);
     let result = triangulate("crowded", &points, &options, false);
     assert!(result.stats.inserted > 2000, "{:?}", result.stats);
     assert_eq!(
@@ -197,10 +191,7 @@ fn tiny_inputs_and_every_grid_size() {
     assert!(invalid > 0);
     let points = common::uniform(&mut rng, 700, 10.0, 3.0);
     for grid in [10, 16, 40, 100, 1000] {
-        let options = DelaunayOptions {
-            grid: Some(grid),
-            check: true,
-        };
+        let options = DelaunayOptions::default().grid(Some(grid)).check(true);
         let result = triangulate("grid", &points, &options, true);
         assert_eq!(
             common::canonical(result.triangles),
@@ -236,10 +227,7 @@ fn bad_input_is_a_clear_error() {
     let error = delaunay(
         &machine,
         &[p(0.0, 0.0), p(1.0, 0.0), p(0.0, 1.0)],
-        &DelaunayOptions {
-            grid: Some(5),
-            check: false,
-        },
+        &DelaunayOptions::default().grid(Some(5)),
     )
     .unwrap_err()
     .to_string();
@@ -268,7 +256,7 @@ fn hundreds_of_degenerate_sets_on_every_kind_of_grid() {
             })
             .collect();
         let grid = [None, Some(10), Some(16), Some(33), Some(200)][rng.gen_range(0..5)];
-        let options = DelaunayOptions { grid, check: false };
+        let options = DelaunayOptions::default().grid(grid);
         let result = match delaunay(&machine, &points, &options) {
             Ok(result) => result,
             Err(e) => {

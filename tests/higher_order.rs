@@ -75,13 +75,7 @@ fn k_nearest_sites_match_the_definition() {
                 let d = k_nearest(
                     &m,
                     &sites,
-                    &KNearestOptions {
-                        frame,
-                        k,
-                        metric: Metric::L2,
-                        accuracy: Accuracy::Exact,
-                        speedup,
-                    },
+                    &KNearestOptions::exact(frame, k).speedup(speedup),
                 )
                 .unwrap_or_else(|e| panic!("{name} {speedup:?} k={k}: {e}"));
                 assert_levels(&d, &sites, &frame, &format!("{name} {speedup:?} k={k}"));
@@ -100,13 +94,7 @@ fn many_cones_fill_several_rows_of_records() {
     let d = k_nearest(
         &m,
         &sites,
-        &KNearestOptions {
-            frame,
-            k: 6,
-            metric: Metric::L2,
-            accuracy: Accuracy::Exact,
-            speedup: Speedup::None,
-        },
+        &KNearestOptions::exact(frame, 6).speedup(Speedup::None),
     )
     .unwrap();
     assert_levels(&d, &sites, &frame, "900 picture-wide cones");
@@ -118,18 +106,7 @@ fn long_lists_insert_with_atomics() {
     let m = machine();
     let frame = Frame::pixels(24, 20).unwrap();
     let (_, sites) = cases(24, 20).remove(0);
-    let d = k_nearest(
-        &m,
-        &sites,
-        &KNearestOptions {
-            frame,
-            k: 40,
-            metric: Metric::L2,
-            accuracy: Accuracy::Exact,
-            speedup: Speedup::Local,
-        },
-    )
-    .unwrap();
+    let d = k_nearest(&m, &sites, &KNearestOptions::exact(frame, 40)).unwrap();
     assert_levels(&d, &sites, &frame, "k=40");
 }
 
@@ -156,13 +133,10 @@ fn fan_levels_stay_inside_their_bound() {
             let d = k_nearest(
                 &m,
                 &sites,
-                &KNearestOptions {
-                    frame,
-                    k,
-                    metric,
-                    accuracy,
-                    speedup,
-                },
+                &KNearestOptions::exact(frame, k)
+                    .metric(metric)
+                    .accuracy(accuracy)
+                    .speedup(speedup),
             )
             .unwrap();
             let bound = d.stats.distance_error_bound;
@@ -195,13 +169,7 @@ fn equal_distances_keep_their_multiplicity() {
         let d = k_nearest(
             &m,
             &sites,
-            &KNearestOptions {
-                frame,
-                k: 12,
-                metric: Metric::L2,
-                accuracy: Accuracy::Exact,
-                speedup,
-            },
+            &KNearestOptions::exact(frame, 12).speedup(speedup),
         )
         .unwrap();
         assert_levels(&d, &sites, &frame, &format!("lattice {speedup:?}"));
@@ -222,18 +190,7 @@ fn more_levels_than_sites_stay_empty() {
         DVec2::new(20.5, 11.0),
         DVec2::new(3.0, 4.0),
     ];
-    let d = k_nearest(
-        &m,
-        &sites,
-        &KNearestOptions {
-            frame,
-            k: 5,
-            metric: Metric::L2,
-            accuracy: Accuracy::Exact,
-            speedup: Speedup::Local,
-        },
-    )
-    .unwrap();
+    let d = k_nearest(&m, &sites, &KNearestOptions::exact(frame, 5)).unwrap();
     assert_levels(&d, &sites, &frame, "three sites, five levels");
 }
 
@@ -243,18 +200,7 @@ fn order_sets_are_the_sets_of_nearest_sites() {
     let frame = Frame::pixels(64, 48).unwrap();
     let (_, sites) = cases(64, 48).remove(0);
     let k = 3;
-    let d = k_nearest(
-        &m,
-        &sites,
-        &KNearestOptions {
-            frame,
-            k,
-            metric: Metric::L2,
-            accuracy: Accuracy::Exact,
-            speedup: Speedup::Local,
-        },
-    )
-    .unwrap();
+    let d = k_nearest(&m, &sites, &KNearestOptions::exact(frame, k)).unwrap();
     let sets = d.order_sets();
     let truth = k_nearest_brute_force(&sites, &frame, k as usize);
     for (p, expected) in truth.iter().enumerate() {
@@ -358,13 +304,7 @@ fn bad_input_is_a_clear_error() {
     let m = machine();
     let frame = Frame::pixels(10, 10).unwrap();
     let sites = [DVec2::new(1.0, 1.0)];
-    let opts = |k| KNearestOptions {
-        frame,
-        k,
-        metric: Metric::L2,
-        accuracy: Accuracy::Exact,
-        speedup: Speedup::Local,
-    };
+    let opts = |k| KNearestOptions::exact(frame, k);
     assert!(k_nearest(&m, &sites, &opts(0)).is_err());
     assert!(k_nearest(&m, &sites, &opts(100_000)).is_err());
     assert!(k_nearest(&m, &[], &opts(2)).is_err());
@@ -405,18 +345,8 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                         }
                     }
                 }
-                let g = k_nearest(
-                    &m,
-                    &sites,
-                    &KNearestOptions {
-                        frame,
-                        k,
-                        metric,
-                        accuracy: Accuracy::Exact,
-                        speedup: Speedup::Local,
-                    },
-                )
-                .unwrap();
+                let g = k_nearest(&m, &sites, &KNearestOptions::exact(frame, k).metric(metric))
+                    .unwrap();
                 for (a, b) in c.distances.iter().zip(&g.distances) {
                     assert!(
                         a == b || close(*a as f64, *b as f64),
@@ -449,13 +379,7 @@ fn the_thesis_peeling_gives_the_same_levels() {
     inputs.push(("lattice 6x5", lattice));
     for (name, sites) in inputs {
         for speedup in [Speedup::Quadtree, Speedup::Local] {
-            let options = KNearestOptions {
-                frame,
-                k: 5,
-                metric: Metric::L2,
-                accuracy: Accuracy::Exact,
-                speedup,
-            };
+            let options = KNearestOptions::exact(frame, 5).speedup(speedup);
             let d = k_nearest_peeled(&m, &sites, &options)
                 .unwrap_or_else(|e| panic!("{name} {speedup:?}: {e}"));
             assert_levels(&d, &sites, &frame, &format!("peeled {name} {speedup:?}"));
@@ -472,25 +396,17 @@ fn other_metrics_give_their_k_nearest() {
         for (name, sites) in cases(50, 40).into_iter().take(3) {
             for speedup in [Speedup::Quadtree, Speedup::Local] {
                 for k in [3, 33] {
-                    let options = KNearestOptions {
-                        frame,
-                        k,
-                        metric,
-                        accuracy: Accuracy::Exact,
-                        speedup,
-                    };
+                    let options = KNearestOptions::exact(frame, k)
+                        .metric(metric)
+                        .speedup(speedup);
                     let what = format!("{metric} {name} {speedup:?} k={k}");
                     let d =
                         k_nearest(&m, &sites, &options).unwrap_or_else(|e| panic!("{what}: {e}"));
                     assert_levels_in(&d, &sites, &frame, &what, metric);
                 }
-                let options = KNearestOptions {
-                    frame,
-                    k: 3,
-                    metric,
-                    accuracy: Accuracy::Exact,
-                    speedup,
-                };
+                let options = KNearestOptions::exact(frame, 3)
+                    .metric(metric)
+                    .speedup(speedup);
                 let d = k_nearest_peeled(&m, &sites, &options).unwrap();
                 assert_levels_in(
                     &d,

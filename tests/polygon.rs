@@ -71,12 +71,10 @@ fn ordinary_diagrams_match_the_definition_with_every_speedup() {
                     let d = voronoi(
                         &m,
                         &sites,
-                        &VoronoiOptions {
-                            metric,
-                            speedup,
-                            accuracy,
-                            ..VoronoiOptions::exact(frame)
-                        },
+                        &VoronoiOptions::exact(frame)
+                            .metric(metric)
+                            .speedup(speedup)
+                            .accuracy(accuracy),
                     )
                     .unwrap_or_else(|e| panic!("{what}: {e}"));
                     // The fan over the polygon is its distance: no error bound.
@@ -122,17 +120,11 @@ fn curves_are_refused_in_exact_mode_and_bounded_in_fan_mode() {
         };
         sites.push(circle);
     }
-    let exact = VoronoiOptions {
-        metric: star,
-        ..VoronoiOptions::exact(frame)
-    };
+    let exact = VoronoiOptions::exact(frame).metric(star);
     let refused = voronoi_sites(&m, &sites, &exact).unwrap_err().to_string();
     assert!(refused.contains("--device cpu"), "{refused}");
     let truth = nearest_weighted_distances(&sites, &frame, star);
-    let fan = VoronoiOptions {
-        accuracy: Accuracy::FAN,
-        ..exact
-    };
+    let fan = exact.accuracy(Accuracy::FAN);
     let d = voronoi_sites(&m, &sites, &fan).unwrap();
     let bound = d.stats.distance_error_bound;
     for (k, &label) in d.labels.iter().enumerate() {
@@ -156,13 +148,7 @@ fn levels_furthest_and_cpu_match_the_definition() {
             let what = format!("{name} {case}");
             let k = 3;
             let truth = k_nearest_by_metric(&sites, &frame, k, metric);
-            let options = KNearestOptions {
-                frame,
-                k: k as u32,
-                metric,
-                accuracy: Accuracy::Exact,
-                speedup: Speedup::Local,
-            };
+            let options = KNearestOptions::exact(frame, k as u32).metric(metric);
             let g = k_nearest(&m, &sites, &options).unwrap_or_else(|e| panic!("{what}: {e}"));
             let c = cpu::k_nearest(&sites, &frame, k as u32, metric).unwrap();
             for (p, expected) in truth.iter().enumerate() {
@@ -214,11 +200,9 @@ fn weighted_points_and_segments_match_the_definition() {
             let d = voronoi_sites(
                 &m,
                 &sites,
-                &VoronoiOptions {
-                    metric,
-                    accuracy,
-                    ..VoronoiOptions::exact(frame)
-                },
+                &VoronoiOptions::exact(frame)
+                    .metric(metric)
+                    .accuracy(accuracy),
             )
             .unwrap_or_else(|e| panic!("{name}: {e}"));
             for (k, &label) in d.labels.iter().enumerate() {
@@ -240,11 +224,7 @@ fn unsupported_combinations_are_clear_errors() {
     let m = machine();
     let frame = Frame::pixels(16, 16).unwrap();
     let (_, metric) = polygons().remove(0);
-    let ties = VoronoiOptions {
-        metric,
-        ties: true,
-        ..VoronoiOptions::exact(frame)
-    };
+    let ties = VoronoiOptions::exact(frame).metric(metric).ties(true);
     assert!(voronoi(&m, &[DVec2::ZERO], &ties).is_err());
     let settle =
         pixgeo::algorithms::settle::potential_areas_cpu(&[DVec2::ZERO], &[], &frame, metric);
@@ -269,10 +249,7 @@ fn polygons_of_every_size_float32_holds_and_no_other() {
     for e in [1e-19, 1e19] {
         let metric = square(e).unwrap();
         let truth = nearest_distances_metric(&sites, &frame, metric);
-        let options = VoronoiOptions {
-            metric,
-            ..VoronoiOptions::exact(frame)
-        };
+        let options = VoronoiOptions::exact(frame).metric(metric);
         let d = voronoi(&m, &sites, &options).unwrap();
         for (k, &label) in d.labels.iter().enumerate() {
             let q = DVec2::new((k % 64) as f64, (k / 64) as f64);

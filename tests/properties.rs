@@ -163,11 +163,9 @@ fn linf_quadtree_labels_the_nearest_site() {
         DVec2::new(24.0, 22.0),
         DVec2::new(28.0, 14.0),
     ];
-    let options = VoronoiOptions {
-        metric: Metric::LInf,
-        speedup: Speedup::Quadtree,
-        ..VoronoiOptions::exact(pixel_frame())
-    };
+    let options = VoronoiOptions::exact(pixel_frame())
+        .metric(Metric::LInf)
+        .speedup(Speedup::Quadtree);
     let d = voronoi(&m, &sites, &options).unwrap();
     // Pixel (0, 0): site 1 at L∞ distance 24, site 2 at 28.
     assert_eq!(d.labels[0], 1);
@@ -181,11 +179,7 @@ fn exact_diagrams(metrics: &[Metric], speedups: &[Speedup]) {
         for &metric in metrics {
             let truth = nearest_distances_metric(&px, &pixel_frame(), metric);
             for &speedup in speedups {
-                let options = VoronoiOptions {
-                    metric,
-                    speedup,
-                    ..VoronoiOptions::exact(frame)
-                };
+                let options = VoronoiOptions::exact(frame).metric(metric).speedup(speedup);
                 let d = voronoi(&m, &sites, &options)
                     .map_err(|e| TestCaseError::fail(format!("{metric} {speedup:?}: {e}")))?;
                 for (k, &label) in d.labels.iter().enumerate() {
@@ -226,13 +220,10 @@ fn fan_diagrams_keep_their_bound_on_every_pixel() {
         let px = in_pixels(&sites, &frame);
         let truth = nearest_distances_metric(&px, &pixel_frame(), Metric::L2);
         for epsilon in [1.0, 0.25] {
-            let options = VoronoiOptions {
-                accuracy: Accuracy::Fan {
-                    epsilon,
-                    triangles: None,
-                },
-                ..VoronoiOptions::exact(frame)
-            };
+            let options = VoronoiOptions::exact(frame).accuracy(Accuracy::Fan {
+                epsilon,
+                triangles: None,
+            });
             let d = voronoi(&m, &sites, &options)
                 .map_err(|e| TestCaseError::fail(format!("fan {epsilon}: {e}")))?;
             for (k, &label) in d.labels.iter().enumerate() {
@@ -262,13 +253,7 @@ fn k_nearest_levels_with_and_without_peeling() {
         let px = in_pixels(&sites, &frame);
         for k in [1, 3] {
             let truth = k_nearest_by_metric(&px, &pixel_frame(), k, Metric::L2);
-            let options = KNearestOptions {
-                frame,
-                k: k as u32,
-                metric: Metric::L2,
-                accuracy: Accuracy::Exact,
-                speedup: Speedup::Local,
-            };
+            let options = KNearestOptions::exact(frame, k as u32);
             for peeled in [false, true] {
                 let d = if peeled {
                     k_nearest_peeled(&m, &sites, &options)

@@ -14,7 +14,7 @@ use pixgeo::{
         distances::{diameter, hausdorff},
         higher_order::{furthest, k_nearest, KNearestOptions},
         homothet::{enclose, largest_empty, Region, Unit},
-        settle::{potential_areas, SettleMethod, SettleOptions},
+        settle::{potential_areas, SettleOptions},
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
@@ -70,11 +70,9 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
         voronoi(m, p, &VoronoiOptions::exact(frame)).map(|_| ())
     });
     no_panic("voronoi fan", &p, || {
-        let options = VoronoiOptions {
-            accuracy: Accuracy::FAN,
-            speedup: Speedup::Quadtree,
-            ..VoronoiOptions::exact(frame)
-        };
+        let options = VoronoiOptions::exact(frame)
+            .accuracy(Accuracy::FAN)
+            .speedup(Speedup::Quadtree);
         voronoi(m, p, &options).map(|_| ())
     });
     no_panic("bbox frame", &(p, scalar), || {
@@ -82,13 +80,7 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
             .and_then(|f| voronoi(m, p, &VoronoiOptions::exact(f)).map(|_| ()))
     });
     no_panic("k_nearest", &p, || {
-        let options = KNearestOptions {
-            frame,
-            k: 2,
-            metric: Metric::L2,
-            accuracy: Accuracy::Exact,
-            speedup: Speedup::Local,
-        };
+        let options = KNearestOptions::exact(frame, 2);
         k_nearest(m, p, &options).map(|_| ())
     });
     no_panic("cpu k_nearest", &p, || {
@@ -120,11 +112,7 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
         largest_empty(m, p, Unit::Circle, &Region { rings: Vec::new() }, 32).map(|_| ())
     });
     no_panic("settle", &(p, q), || {
-        let options = SettleOptions {
-            frame,
-            metric: Metric::L2,
-            method: SettleMethod::Spans,
-        };
+        let options = SettleOptions::new(frame);
         potential_areas(m, p, q, &options, &mut |_, _| {}).map(|_| ())
     });
 }

@@ -24,11 +24,7 @@ fn gpu(
     metric: Metric,
     method: SettleMethod,
 ) -> PotentialAreas {
-    let options = SettleOptions {
-        frame,
-        metric,
-        method,
-    };
+    let options = SettleOptions::new(frame).metric(metric).method(method);
     potential_areas(machine, rivals, own, &options, &mut |_, _| {}).unwrap()
 }
 
@@ -245,11 +241,7 @@ fn refinement_improves_on_the_pixel() {
 fn bad_input_is_an_error() {
     let machine = common::machine();
     let frame = Frame::pixels(16, 16).unwrap();
-    let options = SettleOptions {
-        frame,
-        metric: Metric::L2,
-        method: SettleMethod::Spans,
-    };
+    let options = SettleOptions::new(frame);
     let run = |rivals: &[DVec2], own: &[DVec2]| {
         potential_areas(&machine, rivals, own, &options, &mut |_, _| {})
     };
@@ -258,10 +250,7 @@ fn bad_input_is_an_error() {
     assert!(run(&[DVec2::ONE], &[DVec2::new(1.0, f64::INFINITY)]).is_err());
     // Beyond one storage buffer's reach (lavapipe: 128 MB, 5792² counts).
     if machine.max_storage_buffer_bytes() < 4 * 8192 * 8192 {
-        let huge = SettleOptions {
-            frame: Frame::pixels(8192, 8192).unwrap(),
-            ..options
-        };
+        let huge = options.frame(Frame::pixels(8192, 8192).unwrap());
         let error = potential_areas(&machine, &[DVec2::ONE], &[], &huge, &mut |_, _| {});
         assert!(error.unwrap_err().to_string().contains("smaller picture"));
     }

@@ -124,11 +124,7 @@ fn check_with(
     let d = voronoi_sites(
         m,
         sites,
-        &VoronoiOptions {
-            metric,
-            speedup,
-            ..VoronoiOptions::exact(frame)
-        },
+        &VoronoiOptions::exact(frame).metric(metric).speedup(speedup),
     )
     .unwrap_or_else(|e| panic!("{what}: {e}"));
     let truth = nearest_weighted_distances(sites, &frame, metric);
@@ -235,13 +231,10 @@ fn bad_sites_are_clear_errors() {
         center: DVec2::ZERO,
         radius: 3.0,
     });
-    let fan = VoronoiOptions {
-        accuracy: Accuracy::Fan {
-            epsilon: 0.0,
-            triangles: None,
-        },
-        ..options
-    };
+    let fan = options.accuracy(Accuracy::Fan {
+        epsilon: 0.0,
+        triangles: None,
+    });
     assert!(voronoi_sites(&m, &[circle], &fan).is_err());
     let mut zero = circle;
     zero.multiplicative = 0.0;
@@ -260,11 +253,9 @@ fn check_fan(
     accuracy: Accuracy,
     what: &str,
 ) {
-    let options = VoronoiOptions {
-        metric,
-        accuracy,
-        ..VoronoiOptions::exact(frame)
-    };
+    let options = VoronoiOptions::exact(frame)
+        .metric(metric)
+        .accuracy(accuracy);
     check_fan_with(m, sites, &options, what);
 }
 
@@ -428,15 +419,7 @@ fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                 truth[k]
             );
         }
-        let g = voronoi_sites(
-            &m,
-            &sites,
-            &VoronoiOptions {
-                metric,
-                ..VoronoiOptions::exact(frame)
-            },
-        )
-        .unwrap();
+        let g = voronoi_sites(&m, &sites, &VoronoiOptions::exact(frame).metric(metric)).unwrap();
         let steep = if matches!(metric, Metric::Lp(p) if p < 1.0) {
             10.0
         } else {
@@ -475,10 +458,7 @@ fn circles_and_arcs_under_every_metric() {
         let sites = random_sites(&mut rng, 10, &[2, 3, 0, 2, 3], true, 48.0, 36.0);
         if matches!(metric, Metric::Polygon(_)) {
             // Curved under a gauge: no exact drawing, refused (tests/polygon.rs).
-            let exact = VoronoiOptions {
-                metric,
-                ..VoronoiOptions::exact(frame)
-            };
+            let exact = VoronoiOptions::exact(frame).metric(metric);
             assert!(voronoi_sites(&m, &sites, &exact).is_err());
         } else {
             check(&m, &sites, frame, metric, &format!("curves {metric}"));
@@ -518,15 +498,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         Site::point(p(-25.0, 20.0)),
     ]);
     let run = |max_tile| {
-        voronoi_sites(
-            &m,
-            &sites,
-            &VoronoiOptions {
-                max_tile,
-                ..VoronoiOptions::exact(frame)
-            },
-        )
-        .unwrap()
+        voronoi_sites(&m, &sites, &VoronoiOptions::exact(frame).max_tile(max_tile)).unwrap()
     };
     let (whole, tiled) = (run(None), run(Some(16)));
     assert_eq!(whole.stats.tiles, 1);
@@ -534,12 +506,9 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
     assert_eq!(whole.labels, tiled.labels);
     assert_eq!(whole.distances, tiled.distances);
     // Fans are interpolated per tile: bounded the same way in every tile.
-    let fan = VoronoiOptions {
-        accuracy: Accuracy::FAN,
-        max_tile: Some(16),
-        window: None,
-        ..VoronoiOptions::exact(frame)
-    };
+    let fan = VoronoiOptions::exact(frame)
+        .accuracy(Accuracy::FAN)
+        .max_tile(Some(16));
     check_fan_with(&m, &sites, &fan, "fan tiles");
 }
 

@@ -27,16 +27,9 @@ fn run(
     voronoi(
         m,
         sites,
-        &VoronoiOptions {
-            frame,
-            metric: Metric::L2,
-            accuracy,
-            speedup,
-            distances: true,
-            ties: false,
-            max_tile: None,
-            window: None,
-        },
+        &VoronoiOptions::exact(frame)
+            .accuracy(accuracy)
+            .speedup(speedup),
     )
     .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
 }
@@ -157,10 +150,7 @@ fn screen_tiles_and_their_fallback_match_the_definition() {
     }));
     for metric in [Metric::L2, Metric::LInf, Metric::Lp(3.0), Metric::Lp(0.7)] {
         for (sites, drawn) in [(&spread, "tiles"), (&piled, "polygon")] {
-            let options = VoronoiOptions {
-                metric,
-                ..VoronoiOptions::exact(frame)
-            };
+            let options = VoronoiOptions::exact(frame).metric(metric);
             let d = voronoi(&m, sites, &options).unwrap();
             let kinds: Vec<&str> = d.stats.groups.iter().map(|g| g.kind).collect();
             assert_eq!(kinds, [drawn], "{metric}: how the cones were drawn");
@@ -284,16 +274,7 @@ fn bounding_box_maps_world_to_pixels() {
 fn bad_input_is_a_clear_error() {
     let m = machine();
     let frame = Frame::pixels(16, 16).unwrap();
-    let opts = VoronoiOptions {
-        frame,
-        metric: Metric::L2,
-        accuracy: Accuracy::Exact,
-        speedup: Speedup::Local,
-        distances: true,
-        ties: false,
-        max_tile: None,
-        window: None,
-    };
+    let opts = VoronoiOptions::exact(frame);
     let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
     assert!(err(&[]).contains("empty"));
     assert!(err(&[DVec2::new(f64::NAN, 1.0)]).contains("non-finite"));
@@ -303,15 +284,12 @@ fn bad_input_is_a_clear_error() {
         width: Frame::MAX_SIDE + 1,
         ..frame
     };
-    let e = voronoi(&m, &[DVec2::ZERO], &VoronoiOptions { frame: big, ..opts }).unwrap_err();
+    let e = voronoi(&m, &[DVec2::ZERO], &opts.frame(big)).unwrap_err();
     assert!(matches!(e, pixgeo::Error::PictureTooLarge { .. }), "{e}");
-    let bad_fan = VoronoiOptions {
-        accuracy: Accuracy::Fan {
-            epsilon: 0.0,
-            triangles: None,
-        },
-        ..opts
-    };
+    let bad_fan = opts.accuracy(Accuracy::Fan {
+        epsilon: 0.0,
+        triangles: None,
+    });
     assert!(voronoi(&m, &[DVec2::ZERO], &bad_fan).is_err());
 }
 
@@ -347,15 +325,11 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         (Speedup::Local, Metric::Lp(3.0)),
     ];
     for (speedup, metric) in runs {
-        let options = |max_tile| VoronoiOptions {
-            frame,
-            metric,
-            accuracy: Accuracy::Exact,
-            speedup,
-            distances: true,
-            ties: false,
-            max_tile,
-            window: None,
+        let options = |max_tile| {
+            VoronoiOptions::exact(frame)
+                .metric(metric)
+                .speedup(speedup)
+                .max_tile(max_tile)
         };
         let whole = voronoi(&m, &sites, &options(None)).unwrap();
         assert_eq!(whole.stats.tiles, 1);
@@ -385,16 +359,9 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         }
     }
     // Fan cones are bounded the same way in every tile.
-    let fan = VoronoiOptions {
-        frame,
-        metric: Metric::L2,
-        accuracy: Accuracy::FAN,
-        speedup: Speedup::Local,
-        distances: true,
-        ties: false,
-        max_tile: Some(50),
-        window: None,
-    };
+    let fan = VoronoiOptions::exact(frame)
+        .accuracy(Accuracy::FAN)
+        .max_tile(Some(50));
     let d = voronoi(&m, &sites, &fan).unwrap();
     assert_fan(&d, &sites, &frame, 1.0, None, "fan tiles");
 }
@@ -420,15 +387,14 @@ fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
         (Speedup::Local, Metric::Lp(3.0), Accuracy::Exact, false),
     ];
     for (speedup, metric, accuracy, ties) in runs {
-        let options = |window| VoronoiOptions {
-            frame,
-            metric,
-            accuracy,
-            speedup,
-            distances: true,
-            ties,
-            max_tile: Some(48),
-            window,
+        let options = |window| {
+            VoronoiOptions::exact(frame)
+                .metric(metric)
+                .accuracy(accuracy)
+                .speedup(speedup)
+                .ties(ties)
+                .max_tile(Some(48))
+                .window(window)
         };
         let whole = voronoi(&m, &sites, &options(None)).unwrap();
         // Cut the picture at random columns and rows into windows.
@@ -499,10 +465,7 @@ fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
             width: bad.2,
             height: bad.3,
         };
-        let options = VoronoiOptions {
-            window: Some(window),
-            ..VoronoiOptions::exact(frame)
-        };
+        let options = VoronoiOptions::exact(frame).window(Some(window));
         let err = voronoi(&m, &sites, &options).unwrap_err();
         assert!(
             err.to_string().contains("inside the 150x110 picture"),
@@ -549,11 +512,7 @@ fn other_metrics_match_their_definition() {
                 let d = voronoi(
                     &m,
                     &sites,
-                    &VoronoiOptions {
-                        metric,
-                        speedup,
-                        ..VoronoiOptions::exact(frame)
-                    },
+                    &VoronoiOptions::exact(frame).metric(metric).speedup(speedup),
                 )
                 .unwrap_or_else(|e| panic!("{metric} {name} {speedup:?}: {e}"));
                 for (k, &label) in d.labels.iter().enumerate() {
@@ -635,12 +594,10 @@ fn fans_of_other_metrics_stay_inside_their_bounds() {
                 let d = voronoi(
                     &m,
                     &sites,
-                    &VoronoiOptions {
-                        metric,
-                        accuracy,
-                        speedup,
-                        ..VoronoiOptions::exact(frame)
-                    },
+                    &VoronoiOptions::exact(frame)
+                        .metric(metric)
+                        .accuracy(accuracy)
+                        .speedup(speedup),
                 )
                 .unwrap_or_else(|e| panic!("{what}: {e}"));
                 let bound = d.stats.distance_error_bound;
@@ -705,13 +662,10 @@ fn ties_count_the_sites_at_the_smallest_distance() {
             let d = voronoi(
                 &m,
                 sites,
-                &VoronoiOptions {
-                    metric,
-                    ties: true,
-                    max_tile: Some(20),
-                    window: None,
-                    ..VoronoiOptions::exact(frame)
-                },
+                &VoronoiOptions::exact(frame)
+                    .metric(metric)
+                    .ties(true)
+                    .max_tile(Some(20)),
             )
             .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
             let mut tied = 0;
@@ -726,15 +680,8 @@ fn ties_count_the_sites_at_the_smallest_distance() {
             assert!(tied > 0, "{metric} {name}: no ties to count");
             // Without the count, the smallest index of the tied sites wins,
             // whatever order a screen tile lists them in.
-            let d = voronoi(
-                &m,
-                sites,
-                &VoronoiOptions {
-                    metric,
-                    ..VoronoiOptions::exact(frame)
-                },
-            )
-            .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
+            let d = voronoi(&m, sites, &VoronoiOptions::exact(frame).metric(metric))
+                .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
             for (k, &label) in d.labels.iter().enumerate() {
                 let q = p((k % 48) as f64, (k / 48) as f64);
                 let dists: Vec<f64> = sites.iter().map(|s| order(*s - q)).collect();
@@ -745,11 +692,9 @@ fn ties_count_the_sites_at_the_smallest_distance() {
         }
     }
     // Fans have no exact ties to count.
-    let fan = VoronoiOptions {
-        ties: true,
-        accuracy: Accuracy::FAN,
-        ..VoronoiOptions::exact(frame)
-    };
+    let fan = VoronoiOptions::exact(frame)
+        .ties(true)
+        .accuracy(Accuracy::FAN);
     assert!(voronoi(&m, &[DVec2::ZERO], &fan).is_err());
 }
 
@@ -802,11 +747,9 @@ fn far_sites_under_quadtree_fans_answer_or_are_refused() {
         DVec2::new(1e15, -1e15),
         DVec2::new(-1e300, 1e300),
     ];
-    let options = VoronoiOptions {
-        accuracy: Accuracy::FAN,
-        speedup: Speedup::Quadtree,
-        ..VoronoiOptions::exact(frame)
-    };
+    let options = VoronoiOptions::exact(frame)
+        .accuracy(Accuracy::FAN)
+        .speedup(Speedup::Quadtree);
     match voronoi(&m, &sites, &options) {
         Ok(d) => assert!(d.labels.iter().all(|&l| l < 2)),
         Err(e) => assert!(e.to_string().contains("triangles"), "{e}"),

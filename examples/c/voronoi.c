@@ -352,6 +352,19 @@ int main(void) {
     CHECK(pixgeo_context_create(&odd_device, &no_ctx) == PIXGEO_STATUS_INVALID_ARGUMENT &&
               no_ctx == NULL,
           "device 42 accepted");
+    /* Devices are named as PIXGEO_DEVICE and the command line's --device name them. */
+    PixgeoContextOptions named = pixgeo_context_options_default();
+    named.validation = context_options.validation;
+    named.device_name = "lavapipe";
+    PixgeoContext *soft = NULL;
+    CHECK(pixgeo_context_create(&named, &soft) == PIXGEO_STATUS_OK &&
+              strstr(pixgeo_context_device_name(soft), "llvmpipe") != NULL,
+          "device_name lavapipe: %s", pixgeo_create_error());
+    pixgeo_context_destroy(soft);
+    named.device_name = "cpu";
+    CHECK(pixgeo_context_create(&named, &soft) == PIXGEO_STATUS_INVALID_ARGUMENT &&
+              strstr(pixgeo_create_error(), "Vulkan device") != NULL,
+          "device_name cpu: %s", pixgeo_create_error());
 
     /* Errors come back as status codes with a message. */
     status = pixgeo_voronoi(ctx, NULL, N, &options, labels, NULL);

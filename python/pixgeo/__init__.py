@@ -309,7 +309,7 @@ class AlphaHull:
 
 
 def alpha_hull(
-    points, alpha: float, *, side: int = 512, method: str = "hull", device: Optional[str] = None
+    points, alpha: float, *, side: int = 1024, method: str = "hull", device: Optional[str] = None
 ) -> AlphaHull:
     """The α-hull of the points (thesis ch. 6): α = 0 the convex hull, α > 0 the
     intersection of discs of radius 1/α holding every point, α < 0 the

@@ -18,9 +18,9 @@ use pixgeo::{
         distances::{self, Pair},
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
-        settle::{potential_areas, refine, SettleMethod, SettleOptions},
+        settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
-        voronoi::{self as diagram, Accuracy, Speedup, VoronoiOptions},
+        voronoi::{self as diagram, Accuracy, VoronoiOptions},
     },
     geometry::{metric::Metric, site::Site, Frame},
     machine::{DeviceChoice, PixelRect},
@@ -290,11 +290,7 @@ fn settle<'py>(
     device: Option<&str>,
 ) -> PyResult<SettleMap<'py>> {
     let (rivals, own) = (points(&rivals), points(&own));
-    let options = SettleOptions {
-        frame: frame(width, height, bbox)?,
-        metric: metric(metric_name)?,
-        method: SettleMethod::Spans,
-    };
+    let options = SettleOptions::new(frame(width, height, bbox)?).metric(metric(metric_name)?);
     let f = options.frame;
     let map = on_machine(py, device, |m| {
         potential_areas(m, &rivals, &own, &options, &mut |_, _| {})
@@ -331,13 +327,9 @@ fn k_nearest<'py>(
     device: Option<&str>,
 ) -> PyResult<Levels<'py>> {
     let sites = points(&sites);
-    let options = KNearestOptions {
-        frame: frame(width, height, bbox)?,
-        k,
-        metric: metric(metric_name)?,
-        accuracy: accuracy(mode)?,
-        speedup: Speedup::Local,
-    };
+    let options = KNearestOptions::exact(frame(width, height, bbox)?, k)
+        .metric(metric(metric_name)?)
+        .accuracy(accuracy(mode)?);
     let d = on_machine(py, device, |m| higher_order::k_nearest(m, &sites, &options))?;
     let shape = (d.height as usize, d.width as usize, d.k as usize);
     let wrong = |e: numpy::ndarray::ShapeError| PyRuntimeError::new_err(e.to_string());
@@ -385,10 +377,7 @@ fn delaunay<'py>(
     device: Option<&str>,
 ) -> PyResult<Triangulation<'py>> {
     let p = self::points(&points);
-    let options = DelaunayOptions {
-        grid: None,
-        check: false,
-    };
+    let options = DelaunayOptions::default();
     let d = on_machine(py, device, |m| triangulate(m, &p, &options))?;
     let triangles = Array2::from_shape_vec(
         (d.triangles.len(), 3),

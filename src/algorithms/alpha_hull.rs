@@ -41,16 +41,16 @@ use crate::{
         voronoi::{draw_point_tiles, VoronoiOptions},
     },
     error::{Error, Result},
+    geometry::circle::welzl,
     geometry::{frame::check_sites, Frame},
     machine::{
         Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Image,
         Machine, Pass, PixelRect, Program, RasterState, RectDraw, Target,
     },
-    reference::homothet::welzl,
 };
 
 /// Picture side (pixels, longer axis) when none is given.
-pub const DEFAULT_SIDE: u32 = 512;
+pub const DEFAULT_SIDE: u32 = Frame::DEFAULT_SIDE;
 
 /// How a hull for α > 0 is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

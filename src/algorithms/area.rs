@@ -37,6 +37,7 @@ use serde::Serialize;
 use crate::{
     algorithms::higher_order::convex_hull,
     error::{Error, Result},
+    geometry::triangle::{cross, sides_of, triangle_area},
     geometry::{
         frame::{check_sites, first_of_each},
         scale, Frame,
@@ -45,7 +46,6 @@ use crate::{
         Buffer, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image, Machine,
         NearExtreme, PixelRect, Program, RasterState, Target,
     },
-    reference::area::{cross, sides_of, triangle_area},
 };
 
 /// The picture side (pixels, longer axis) for `n` sites when none is given:
@@ -103,6 +103,10 @@ pub struct AreaAnswer {
     pub shared: usize,
     pub width: u32,
     pub height: u32,
+    /// The roofs' picture; `None` where none was drawn (the sweep, or an
+    /// answer decided before drawing).
+    #[serde(skip)]
+    pub frame: Option<Frame>,
     /// What decided the answer: `pixels`, `neighbours` (a triangle of
     /// neighbouring sites has area 0), `duplicates` (two sites coincide) or
     /// `collinear` (all sites on a line).
@@ -301,6 +305,7 @@ fn triangle_in_range(
         shared: shared.len(),
         width: frame.width,
         height: frame.height,
+        frame: Some(frame),
         decided_by: "pixels",
         prepare_ms,
         draw_ms,
@@ -453,6 +458,7 @@ fn quadrangle_in_range(
         shared: roofs.shared.len(),
         width: frame.width,
         height: frame.height,
+        frame: Some(frame),
         decided_by: "pixels",
         prepare_ms,
         draw_ms,
@@ -532,6 +538,7 @@ pub(crate) fn decided(
         shared: 0,
         width: 0,
         height: 0,
+        frame: None,
         decided_by: by,
         prepare_ms: 0.0,
         draw_ms: 0.0,

@@ -20,8 +20,8 @@ use crate::{
         higher_order::convex_hull,
     },
     error::{Error, Result},
+    geometry::triangle::triangle_area,
     geometry::{frame::first_of_each, sweep::for_each_line},
-    reference::area::triangle_area,
 };
 
 /// The smallest or largest triangle with three of `sites` as vertices.

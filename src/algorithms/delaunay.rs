@@ -33,14 +33,15 @@ use serde::Serialize;
 use crate::{
     algorithms::flooding::{dualize, flood, FloodingStats},
     error::{Error, Result},
+    geometry::seed::Seed,
     geometry::{
         frame::{check_sites, distinct_by},
         mesh::{orient, Mesh},
         scale,
         triangulation::{validate, Validity, DUMMY},
+        Frame,
     },
     machine::Machine,
-    reference::flooding::Seed,
 };
 
 /// Empty pixels kept around the points, so that the outside never pinches a
@@ -49,12 +50,23 @@ pub const MARGIN: u32 = 4;
 
 /// How to triangulate.
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct DelaunayOptions {
     /// Texture pixels along the longer side of the bounding box (margins
     /// included); `None` chooses [`default_grid`].
     pub grid: Option<u32>,
     /// Check conditions I–III on the digital triangulation.
     pub check: bool,
+}
+
+impl DelaunayOptions {
+    pub fn grid(self, grid: Option<u32>) -> Self {
+        Self { grid, ..self }
+    }
+
+    pub fn check(self, check: bool) -> Self {
+        Self { check, ..self }
+    }
 }
 
 /// The texture side from the number of points, as GPU-DT chooses it: about
@@ -143,6 +155,16 @@ impl DigitalDiagram {
     pub fn to_pixels(&self, p: DVec2) -> DVec2 {
         (p - self.origin) / self.cell
     }
+
+    /// The texture as a [`Frame`] over the input's coordinates.
+    pub fn frame(&self) -> Frame {
+        Frame {
+            width: self.width,
+            height: self.height,
+            origin: self.origin - DVec2::splat(0.5 * self.cell),
+            scale: 1.0 / self.cell,
+        }
+    }
 }
 
 fn ms(since: Instant) -> f64 {
@@ -169,12 +191,23 @@ pub fn delaunay(
     points: &[DVec2],
     options: &DelaunayOptions,
 ) -> Result<Delaunay> {
+    delaunay_with_progress(machine, points, options, &mut |_, _| {})
+}
+
+/// [`delaunay`], calling `progress(done, STEPS)` as each of its five steps
+/// ends: flooding, dualization, moving the seeds, insertion, flips.
+pub fn delaunay_with_progress(
+    machine: &Machine,
+    points: &[DVec2],
+    options: &DelaunayOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Delaunay> {
     check_sites(points)?;
     let k = scale::incircle_exponent(points)?;
     if k == 0 {
-        return triangulate(machine, points, options);
+        return triangulate(machine, points, options, progress);
     }
-    let mut result = triangulate(machine, &scale::scaled(points, k), options)?;
+    let mut result = triangulate(machine, &scale::scaled(points, k), options, progress)?;
     let d = &mut result.digital;
     d.origin = DVec2::new(
         scale::times_power_of_two(d.origin.x, -k),
@@ -185,7 +218,15 @@ pub fn delaunay(
     Ok(result)
 }
 
-fn triangulate(machine: &Machine, points: &[DVec2], options: &DelaunayOptions) -> Result<Delaunay> {
+/// The steps [`delaunay_with_progress`] reports.
+pub const STEPS: u64 = 5;
+
+fn triangulate(
+    machine: &Machine,
+    points: &[DVec2],
+    options: &DelaunayOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Delaunay> {
     // Triangles (about two per point) are numbered in 32 bits too.
     if points.len() >= u32::MAX as usize / 2 {
         return Err(Error::InvalidInput("too many points".into()));
@@ -268,9 +309,11 @@ fn triangulate(machine: &Machine, points: &[DVec2], options: &DelaunayOptions) -
     // 2–3. Flooding and its dual.
     let flooding = flood(machine, width, height, &seeds)?;
     stats.flooding = flooding.stats.clone();
+    progress(1, STEPS);
     let started = Instant::now();
     let dual = dualize(machine, &flooding.labels, width, height)?;
     stats.dualize_ms = ms(started);
+    progress(2, STEPS);
     stats.digital_triangles = dual.len();
     let to_point = |v: u32| {
         if v == DUMMY {
@@ -322,6 +365,7 @@ fn triangulate(machine: &Machine, points: &[DVec2], options: &DelaunayOptions) -
         }
     }
     stats.shift_ms = ms(started);
+    progress(3, STEPS);
 
     // 5. Insertion, each point walking from its pixel's seed.
     let started = Instant::now();
@@ -360,6 +404,7 @@ fn triangulate(machine: &Machine, points: &[DVec2], options: &DelaunayOptions) -
         }
     };
     stats.insert_ms = ms(started);
+    progress(4, STEPS);
 
     // 6. Lawson's flips.
     let started = Instant::now();
@@ -371,6 +416,7 @@ fn triangulate(machine: &Machine, points: &[DVec2], options: &DelaunayOptions) -
         .map(|t| t.map(|v| unique[v as usize]))
         .collect();
     stats.flip_ms = ms(started);
+    progress(5, STEPS);
     Ok(Delaunay {
         triangles,
         duplicates,

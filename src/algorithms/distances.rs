@@ -51,6 +51,9 @@ pub struct Answer {
     /// Size of the picture used.
     pub width: u32,
     pub height: u32,
+    /// The picture used, over the points' world coordinates.
+    #[serde(skip)]
+    pub frame: Frame,
 }
 
 /// The Hausdorff distance both ways and the larger of the two.
@@ -130,6 +133,8 @@ fn in_range(
     } else {
         answer(&scale::scaled(&a, k), &scale::scaled(&b, k))?
     };
+    found.frame.origin *= 2f64.powi(-k);
+    found.frame.scale *= 2f64.powi(k);
     for pair in [&mut found.pair, &mut found.picture_pair] {
         pair.distance = scale::times_power_of_two(pair.distance, -k);
         pair.from = a_kept[pair.from as usize];
@@ -192,6 +197,7 @@ fn refine(
         checked: candidates.len(),
         width: frame.width,
         height: frame.height,
+        frame: *frame,
     })
 }
 

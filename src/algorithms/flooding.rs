@@ -31,9 +31,9 @@ use glam::DVec2;
 
 use crate::{
     error::{Error, Result},
+    geometry::seed::{check_seeds, neighbours, priority, Priority, Seed, NONE},
     geometry::Frame,
     machine::{Buffer, BufferKernel, Image, Machine},
-    reference::flooding::{check_seeds, neighbours, priority, Priority, Seed},
 };
 
 /// How the flooding went.
@@ -162,7 +162,7 @@ fn colouring(
     }
     let pixels = width as usize * height as usize;
     // The seed map, room for the column pass, the seeds' packed positions.
-    let mut input = vec![crate::reference::flooding::NONE; 2 * pixels + seeds.len()];
+    let mut input = vec![NONE; 2 * pixels + seeds.len()];
     for (i, s) in seeds.iter().enumerate() {
         input[s[1] as usize * width as usize + s[0] as usize] = i as u32;
         input[2 * pixels + i] = s[0] as u32 | (s[1] as u32) << 16;
@@ -338,7 +338,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
     })?;
     let result = if steps.len() % 2 == 1 { &b } else { &a };
     // The seed at each seed pixel, to turn positions back into indices.
-    let mut seed_at = vec![crate::reference::flooding::NONE; pixels];
+    let mut seed_at = vec![NONE; pixels];
     for (i, s) in seeds.iter().enumerate() {
         seed_at[(s[1] as u32 * width + s[0] as u32) as usize] = i as u32;
     }
@@ -346,7 +346,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
         .read::<u32>(pixels)
         .into_iter()
         .map(|p| match p {
-            NO_SEED => crate::reference::flooding::NONE,
+            NO_SEED => NONE,
             p => seed_at[((p >> 16) * width + (p & 0xFFFF)) as usize],
         })
         .collect())
@@ -376,7 +376,7 @@ pub fn dualize(
     let seeds = labels
         .iter()
         .copied()
-        .filter(|&l| l != crate::reference::flooding::NONE)
+        .filter(|&l| l != NONE)
         .max()
         .map_or(0, |m| m as usize + 1);
     let mut capacity = 2 * seeds + 64;

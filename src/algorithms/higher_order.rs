@@ -52,8 +52,10 @@ pub const MAX_LEVELS: u32 = 256;
 /// is refused rather than exhausting memory.
 const MAX_KEY_BYTES: u64 = 4 << 30;
 
-/// What to compute.
+/// What to compute: start from [`KNearestOptions::exact`] and change what
+/// differs, by field or by setter.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct KNearestOptions {
     pub frame: Frame,
     /// Levels per pixel: the 1st to the k-th nearest site.
@@ -80,6 +82,33 @@ impl KNearestOptions {
             accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
         }
+    }
+
+    pub fn frame(self, frame: Frame) -> Self {
+        Self { frame, ..self }
+    }
+
+    pub fn k(self, k: u32) -> Self {
+        Self { k, ..self }
+    }
+
+    pub fn metric(self, metric: Metric) -> Self {
+        Self { metric, ..self }
+    }
+
+    pub fn accuracy(self, accuracy: Accuracy) -> Self {
+        Self { accuracy, ..self }
+    }
+
+    pub fn speedup(self, speedup: Speedup) -> Self {
+        Self { speedup, ..self }
+    }
+}
+
+impl Default for KNearestOptions {
+    /// The 3 nearest sites, exact, on 1024 x 1024 pixels.
+    fn default() -> Self {
+        Self::exact(Frame::pixels(1024, 1024).expect("a valid picture"), 3)
     }
 }
 

@@ -60,10 +60,41 @@ pub enum SettleMethod {
 
 /// What to compute.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SettleOptions {
     pub frame: Frame,
     pub metric: Metric,
     pub method: SettleMethod,
+}
+
+impl SettleOptions {
+    /// Euclidean, counted by row spans, on `frame`.
+    pub fn new(frame: Frame) -> Self {
+        Self {
+            frame,
+            metric: Metric::L2,
+            method: SettleMethod::Spans,
+        }
+    }
+
+    pub fn frame(self, frame: Frame) -> Self {
+        Self { frame, ..self }
+    }
+
+    pub fn metric(self, metric: Metric) -> Self {
+        Self { metric, ..self }
+    }
+
+    pub fn method(self, method: SettleMethod) -> Self {
+        Self { method, ..self }
+    }
+}
+
+impl Default for SettleOptions {
+    /// On 1024 x 1024 pixels.
+    fn default() -> Self {
+        Self::new(Frame::pixels(1024, 1024).expect("a valid picture"))
+    }
 }
 
 /// How the map was made.

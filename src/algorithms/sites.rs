@@ -244,9 +244,8 @@ pub(crate) fn draw_sites(
         .fold(f64::INFINITY, f64::min);
     // Exact sites under L2 are found per screen tile where the picture takes one
     // tile image, and under L1 and L∞ where some are segments or curves (their
-    // points alone cost less in batches: weighted L∞ points at 2000 sites
-    // 13.4 → 19.5 ms); their rectangles are drawn where the lists would be too
-    // long.
+    // points alone cost less in batches, docs/tuning.md); their rectangles are
+    // drawn where the lists would be too long.
     let one_image = frame.width <= max_tile && frame.height <= max_tile;
     let listed = match metric {
         Metric::L2 => true,
@@ -358,8 +357,7 @@ pub(crate) fn draw_sites(
     let mesh = machine.vertex_buffer(&UNIT_SQUARE)?;
     // The fan surfaces' per-vertex buffers, plain and folded, made once for
     // every tile. Triangles that leave the picture come last: lavapipe clips
-    // a run of vertices holding one through its slow general path
-    // (circles at 16000 sites 118-147 → 77-109 ms of drawing).
+    // a run of vertices holding one through its slow general path.
     let depth_of = |s: &Site, z: f64| ((weighted(s, z) - least_additive) * depth_scale) as f32;
     let (right, bottom) = (frame.width as f64 - 0.5, frame.height as f64 - 0.5);
     let inside = |v: &DVec3| v.x >= -0.5 && v.y >= -0.5 && v.x <= right && v.y <= bottom;
@@ -950,10 +948,9 @@ fn instance(id: u32, s: &Site, rect: [f32; 4], scale: f64, least_additive: f64) 
 /// it may have where it wins.
 type Reach = ([f32; 4], f64);
 
-/// Side of the site cull's blocks, in cells (see `cull`). Blocks of 4 took the
-/// cull's site pass at 16000 sites (medians of six) from 10.7 to 8.8 ms for
-/// weighted points, whose reach varies with their weights; arcs 10.2 → 9.3,
-/// circles 8.6 → 8.3, segments unchanged.
+/// Side of the site cull's blocks, in cells (see `cull`): blocks of 4 shorten
+/// the site pass most for weighted points, whose reach varies with their
+/// weights (docs/tuning.md, "Measured choices").
 const CULL_BLOCK: usize = 4;
 
 /// Each site's [`Reach`], `None` where it wins nowhere, and an upper bound on the
@@ -969,12 +966,11 @@ fn cull(
     scale: f64,
 ) -> (Vec<Option<Reach>>, f64) {
     let spacing = (width as f64 * height as f64 / sites.len() as f64).sqrt();
-    // At 16000 sites cells of a third of the spacing took 27-35 ms of bounds
-    // for weights and segments, a half 21-25 ms, with the rectangles only a
-    // little larger (whole segment diagrams 66 -> 51-53 ms). Few sites have
-    // few cells to walk: down to 16 pixels, but no less than an eighth of the
-    // spacing (a cell's walk to its nearest site stays short), keeps their
-    // rectangles near their regions (circles at 100 sites 15 -> 13 ms).
+    // Cells of half the spacing bound faster than a third, with rectangles
+    // only a little larger. Few sites have few cells to walk: down to 16
+    // pixels, but no less than an eighth of the spacing (a cell's walk to its
+    // nearest site stays short), keeps their rectangles near their regions.
+    // The measurements are in docs/tuning.md, "Measured choices".
     let side = (spacing / 2.0)
         .min(16.0)
         .max(spacing / 8.0)

@@ -102,8 +102,12 @@ pub enum Speedup {
     Local,
 }
 
-/// What to compute.
+/// What to compute. Start from [`VoronoiOptions::exact`] (or `default()`, a
+/// 1024 x 1024 picture) and change what differs, by field or by setter:
+/// `VoronoiOptions::exact(frame).metric(Metric::L1).ties(true)`. New fields
+/// may be added, so the struct is not built by a literal outside pixgeo.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct VoronoiOptions {
     pub frame: Frame,
     /// The distance function (thesis §3.6); metrics other than L2 need exact mode.
@@ -139,6 +143,38 @@ impl VoronoiOptions {
         }
     }
 
+    pub fn frame(self, frame: Frame) -> Self {
+        Self { frame, ..self }
+    }
+
+    pub fn metric(self, metric: Metric) -> Self {
+        Self { metric, ..self }
+    }
+
+    pub fn accuracy(self, accuracy: Accuracy) -> Self {
+        Self { accuracy, ..self }
+    }
+
+    pub fn speedup(self, speedup: Speedup) -> Self {
+        Self { speedup, ..self }
+    }
+
+    pub fn distances(self, distances: bool) -> Self {
+        Self { distances, ..self }
+    }
+
+    pub fn ties(self, ties: bool) -> Self {
+        Self { ties, ..self }
+    }
+
+    pub fn max_tile(self, max_tile: Option<u32>) -> Self {
+        Self { max_tile, ..self }
+    }
+
+    pub fn window(self, window: Option<PixelRect>) -> Self {
+        Self { window, ..self }
+    }
+
     /// The window's pixels in the frame: the whole frame without one; an error
     /// for a window that is empty or leaves the frame.
     pub fn window_rect(&self) -> Result<PixelRect> {
@@ -166,6 +202,14 @@ impl VoronoiOptions {
             )));
         }
         Ok(w)
+    }
+}
+
+impl Default for VoronoiOptions {
+    /// Exact labels and distances on 1024 x 1024 pixels, pixel (i, j) centred
+    /// at world (i, j).
+    fn default() -> Self {
+        Self::exact(Frame::pixels(1024, 1024).expect("a valid picture"))
     }
 }
 
@@ -322,10 +366,8 @@ const BATCH_RADIUS_LIMIT: f64 = 48.0;
 const TRIANGLE_FRAGMENTS: f64 = 400.0;
 
 /// The same for L_p whose keys cost powers (see `DepthKey`): a batch evaluates eight per
-/// fragment, a cone of its own one. Measured at 1024², whole L3 exact diagrams:
-/// 2000 sites (radii about 26) took 66–77 ms batched and 48–57 ms one cone at
-/// a time; 16000 (radii about 9) took 175 ms one at a time and 136 ms batched
-/// up to radius 12.
+/// fragment, a cone of its own one, so only small cones batch (docs/tuning.md,
+/// "Measured choices").
 const BATCH_RADIUS_LIMIT_LP: f64 = 12.0;
 
 /// Computes the Voronoi diagram of `sites` (world coordinates).

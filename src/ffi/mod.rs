@@ -92,6 +92,10 @@ pub struct PixgeoContextOptions {
     pub device: u32,
     /// Enable the Khronos validation layer; any message fails the call.
     pub validation: bool,
+    /// Null, or a device named as `PIXGEO_DEVICE` and the command line's
+    /// `--device` name one (`auto`, `lavapipe`, `gpu`, an index, or part of a
+    /// device's name), in place of `device`. Read during the call.
+    pub device_name: *const c_char,
 }
 
 /// A pixel machine and the message of its last failed call.
@@ -223,6 +227,23 @@ pub unsafe extern "C" fn pixgeo_context_create(
                     )))
                 }
             }
+            if !o.device_name.is_null() {
+                // SAFETY: a NUL-terminated string when not null (caller contract).
+                let name = unsafe { std::ffi::CStr::from_ptr(o.device_name) };
+                let name = name
+                    .to_str()
+                    .map_err(|_| Error::InvalidInput("device_name is not UTF-8".into()))?;
+                machine_options.device = match DeviceChoice::parse(name) {
+                    DeviceChoice::Cpu => {
+                        return Err(Error::InvalidInput(
+                            "device_name `cpu` names the command line's CPU algorithms; a \
+                             context needs a Vulkan device (lavapipe is the software one)"
+                                .into(),
+                        ))
+                    }
+                    choice => choice,
+                };
+            }
         }
         Machine::new(&machine_options)
     });
@@ -273,6 +294,7 @@ pub extern "C" fn pixgeo_context_options_default() -> PixgeoContextOptions {
         struct_size: struct_size::<PixgeoContextOptions>(),
         device: PixgeoDevice::Auto as u32,
         validation: false,
+        device_name: ptr::null(),
     }
 }
 

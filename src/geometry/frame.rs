@@ -22,6 +22,10 @@ impl Frame {
     /// device, which holds integers exactly up to 2^24.
     pub const MAX_SIDE: u32 = 1 << 24;
 
+    /// The picture side, in pixels along the longer axis, wherever none is
+    /// given: the command line's `--size`, C's `side` 0, Python's defaults.
+    pub const DEFAULT_SIDE: u32 = 1024;
+
     /// World = pixel coordinates: pixel (i, j) centred at world (i, j).
     pub fn pixels(width: u32, height: u32) -> Result<Self> {
         let frame = Self {

@@ -6,6 +6,7 @@
 pub mod buckets;
 pub mod cell;
 pub mod chain;
+pub mod circle;
 pub mod cone;
 pub mod flips;
 pub mod frame;
@@ -13,9 +14,11 @@ pub mod mesh;
 pub mod metric;
 pub mod radius;
 pub mod scale;
+pub mod seed;
 pub mod site;
 pub mod surface;
 pub mod sweep;
+pub mod triangle;
 pub mod triangulation;
 
 pub use frame::Frame;

@@ -937,9 +937,8 @@ pub fn k_tile_lists(
 /// How L_p keys are bounded: where 2p is whole (up to
 /// [`DepthKey::MAX_DOUBLED_P`], as the shaders' power-sum keys), as the sum of
 /// the coordinates' p-th powers, from products and a square root; else as
-/// distances from an [`LpTable`]. The sums took the bounds of exact L3
-/// diagrams from 6.2 to 2.4 ms at 2000 sites and from 11.3 to 9.0 ms at 16000
-/// (L0.5: 7.4 → 6.6 and 26.0 → 23.5 ms), building no table.
+/// distances from an [`LpTable`]. The sums build no table, and bound faster
+/// (docs/tuning.md, "Measured choices").
 #[derive(Debug)]
 enum LpKeys {
     Table(LpTable),

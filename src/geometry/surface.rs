@@ -253,8 +253,8 @@ fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> 
 /// |ρ − r|, the magnitude of one cone over the centre whose apex lies r below
 /// the plane, so each piece of the wedge is one triangle instead of the
 /// thesis's three (a cone rising inwards to the centre and a ring rising
-/// outwards); lavapipe's time goes with the triangles (circles at 16000 sites
-/// 118-157 → 104-116 ms of drawing). The pieces' angles keep the chords at
+/// outwards); lavapipe's time goes with the triangles (docs/tuning.md,
+/// "Measured choices"). The pieces' angles keep the chords at
 /// the outer radius within ε, so the fan's ρ exceeds the true one by at most
 /// ε everywhere, and |ρ − r| moves by no more than ρ does: the hut errs by at
 /// most ε either way. An arc adds the cones of its two ends, which

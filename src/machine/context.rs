@@ -62,6 +62,7 @@ impl DeviceChoice {
 
 /// Options for creating a machine.
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct MachineOptions {
     pub device: DeviceChoice,
     /// Enable the Khronos validation layer; every message becomes an error.
@@ -75,6 +76,14 @@ impl MachineOptions {
             device: DeviceChoice::from_env(),
             validation: std::env::var("PIXGEO_VALIDATION").is_ok_and(|v| v == "1"),
         }
+    }
+
+    pub fn device(self, device: DeviceChoice) -> Self {
+        Self { device, ..self }
+    }
+
+    pub fn validation(self, validation: bool) -> Self {
+        Self { validation, ..self }
     }
 }
 

@@ -7,16 +7,7 @@
 
 use glam::DVec2;
 
-/// Twice the signed area of the triangle (o, a, b), with the exact sign.
-pub fn cross(o: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
-    robust::orient2d(c(o), c(a), c(b))
-}
-
-/// The area of triangle (a, b, c).
-pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    0.5 * cross(a, b, c).abs()
-}
+pub use crate::geometry::triangle::{cross, sides_of, triangle_area};
 
 /// The smallest (`largest` false) or largest triangle over all triples of
 /// sites: its sites and area. `None` for fewer than three sites.
@@ -31,34 +22,6 @@ pub fn extremal_triangle(sites: &[DVec2], largest: bool) -> Option<([u32; 3], f6
                     best = Some(([i as u32, j as u32, k as u32], area));
                 }
             }
-        }
-    }
-    best
-}
-
-/// The best site strictly on each side of the line p → q (left, right): the
-/// nearest (`largest` false) or farthest, with its triangle's area.
-pub fn sides_of(sites: &[DVec2], p: usize, q: usize, largest: bool) -> [Option<(u32, f64)>; 2] {
-    let mut best = [None, None];
-    for (s, &x) in sites.iter().enumerate() {
-        let c = cross(sites[p], sites[q], x);
-        if c == 0.0 {
-            continue;
-        }
-        let side = usize::from(c < 0.0);
-        let area = 0.5 * c.abs();
-        let better = match best[side] {
-            None => true,
-            Some((_, b)) => {
-                if largest {
-                    area > b
-                } else {
-                    area < b
-                }
-            }
-        };
-        if better {
-            best[side] = Some((s as u32, area));
         }
     }
     best

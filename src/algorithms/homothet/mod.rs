@@ -25,6 +25,7 @@ use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
+    geometry::seed::Seed,
     geometry::{
         buckets::PointGrid,
         chain::segment_distance,
@@ -37,7 +38,6 @@ use crate::{
         ChannelMask, Clear, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Machine,
         NearExtreme, PixelRect, Program, RasterState, RectDraw, StencilOp, StencilTest, Target,
     },
-    reference::flooding::Seed,
 };
 
 mod refine;
@@ -161,7 +161,7 @@ pub struct HomothetAnswer {
 }
 
 /// Picture side (pixels along the longer axis) used when none is given.
-pub const DEFAULT_SIDE: u32 = 512;
+pub const DEFAULT_SIDE: u32 = Frame::DEFAULT_SIDE;
 
 /// The smallest homothet of `unit` holding at least `k` of the point `sites`
 /// (every site when `k` is 0 or the number of sites); exact, from Welzl's

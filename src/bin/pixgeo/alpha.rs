@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::{Args as ClapArgs, ValueEnum};
 use pixgeo::{
-    algorithms::alpha_hull::{self, AlphaMethod, DEFAULT_SIDE},
+    algorithms::alpha_hull::{self, AlphaMethod},
     io::{npy, picture::PngStream},
 };
 
@@ -53,9 +53,9 @@ pub struct Args {
     /// Write the hull as a NumPy uint8 array [height, width]: 1 inside, 0 outside.
     #[arg(long, value_name = "NPY")]
     mask: Option<PathBuf>,
-    /// Picture side in pixels along the longer axis (default 512).
-    #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
-    size: Option<u32>,
+    /// Picture side in pixels along the longer axis (default 1024).
+    #[arg(long, value_name = "PIXELS", default_value_t = pixgeo::geometry::Frame::DEFAULT_SIDE, value_parser = crate::input::parse_side)]
+    size: u32,
     /// Print the result as JSON.
     #[arg(long)]
     json: bool,
@@ -72,10 +72,10 @@ pub fn run(args: Args) -> Result<()> {
         Method::Hull => AlphaMethod::Hull,
         Method::Pixels => AlphaMethod::Pixels,
     };
-    let side = args.size.unwrap_or(DEFAULT_SIDE);
+    let side = args.size;
     let hull = alpha_hull::alpha_hull(&machine, &points, args.alpha, method, side)?;
     if args.json {
-        envelope::print("alpha", machine.device_name(), None, &hull)?;
+        envelope::print("alpha", machine.device_name(), Some(&hull.frame), &hull)?;
     } else {
         let radius = hull
             .radius

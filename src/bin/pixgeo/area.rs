@@ -52,8 +52,9 @@ struct Common {
     /// The largest area instead of the smallest.
     #[arg(long)]
     max: bool,
-    /// The roofs' picture side in pixels along the longer axis (default: 8 √n,
-    /// from 64 to 1024); Vulkan devices only. Sites that share a pixel are
+    /// The roofs' picture side in pixels along the longer axis; Vulkan devices
+    /// only. Its default is the one not 1024: 8 √n, from 64 to 1024, since
+    /// each of the n² roofs covers the picture. Sites that share a pixel are
     /// searched on the CPU; the answer is exact either way.
     #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
     size: Option<u32>,
@@ -128,7 +129,7 @@ fn solve(c: &Common, roofs: RoofSearch, sweep: SweepSearch, what: &str) -> Resul
         }
     };
     if c.json {
-        return envelope::print(what, device, None, &answer);
+        return envelope::print(what, device, answer.frame.as_ref(), &answer);
     }
     report(&answer, &points, what)
 }

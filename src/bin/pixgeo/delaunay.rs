@@ -12,7 +12,7 @@ use pixgeo::{
     io::{output, picture::PngStream},
 };
 
-use crate::{distances::machine_on, envelope, input::Points};
+use crate::{distances::machine_on, envelope, input::Points, progress::Progress};
 
 /// The Delaunay triangulation of points, from a digital Voronoi diagram.
 ///
@@ -27,7 +27,7 @@ use crate::{distances::machine_on, envelope, input::Points};
 ///
 /// Examples:
 ///
-///   pixgeo delaunay --sites points.csv --out mesh        # mesh.node, mesh.ele
+///   pixgeo delaunay --sites points.csv --triangle mesh   # mesh.node, mesh.ele
 ///   pixgeo delaunay --random 2000 -o fig3.png --check
 ///   pixgeo delaunay --sites points.csv --json > mesh.json
 #[derive(ClapArgs)]
@@ -38,7 +38,7 @@ pub struct Args {
     /// Write the triangulation in Triangle's formats: PREFIX.node (every input
     /// point, numbered from 0) and PREFIX.ele (counter-clockwise triangles).
     #[arg(long, value_name = "PREFIX")]
-    out: Option<PathBuf>,
+    triangle: Option<PathBuf>,
     /// Print the mesh as JSON: points, triangles, duplicates, phase statistics.
     #[arg(long)]
     json: bool,
@@ -46,11 +46,11 @@ pub struct Args {
     /// (like the paper's Fig. 3).
     #[arg(short = 'o', long = "output", value_name = "PNG")]
     output: Option<PathBuf>,
-    /// Longest side of the PNG in pixels (each texture pixel is drawn as a
-    /// square block).
-    #[arg(long, default_value_t = 1024, value_name = "PIXELS",
+    /// The PNG's longer side in pixels (default 1024; each texture pixel is
+    /// drawn as a square block).
+    #[arg(long, default_value_t = pixgeo::geometry::Frame::DEFAULT_SIDE, value_name = "PIXELS",
           value_parser = clap::value_parser!(u32).range(1..=16384))]
-    picture_size: u32,
+    size: u32,
     /// Texture pixels along the longer side of the bounding box (default: about
     /// √n, at least 64; the pixel side is rounded up to a 3-bit mantissa, so
     /// the texture can come out up to a fifth smaller). Any size gives the same triangulation; it changes
@@ -70,19 +70,21 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let points = args.points.read()?;
     let machine = machine_on(args.device.as_deref())?;
-    let options = DelaunayOptions {
-        grid: args.grid,
-        check: args.check,
+    let options = DelaunayOptions::default().grid(args.grid).check(args.check);
+    let result = {
+        let progress = Progress::new("delaunay: flooding, duals, insertion, flips", args.json);
+        delaunay::delaunay_with_progress(&machine, &points, &options, &mut |done, total| {
+            progress.report(done, total)
+        })?
     };
-    let result = delaunay::delaunay(&machine, &points, &options)?;
     let problems = args
         .check
         .then(|| check_delaunay(&points, &result.triangles, &result.distinct()));
-    if let Some(prefix) = &args.out {
+    if let Some(prefix) = &args.triangle {
         write_triangle_files(prefix, &points, &result)?;
     }
     if let Some(path) = &args.output {
-        let (w, h, rgb) = delaunay::picture(&result, &points, args.picture_size);
+        let (w, h, rgb) = delaunay::picture(&result, &points, args.size);
         let mut png = PngStream::create(path, w, h)?;
         png.write(&rgb)?;
         png.finish()?;
@@ -97,7 +99,8 @@ pub fn run(args: Args) -> Result<()> {
             "check": problems,
             "stats": result.stats,
         });
-        envelope::print("delaunay", machine.device_name(), None, &mesh)?;
+        let texture = result.digital.frame();
+        envelope::print("delaunay", machine.device_name(), Some(&texture), &mesh)?;
     } else {
         report(&result, points.len(), problems.as_deref());
     }
@@ -180,7 +183,7 @@ fn write_triangle_files(
         PathBuf::from(p)
     };
     let node = path(".node");
-    output::write_text(&node, "node", "--out", |w| {
+    output::write_text(&node, "node", "--triangle", |w| {
         writeln!(w, "{} 2 0 0", points.len())?;
         for (i, p) in points.iter().enumerate() {
             writeln!(w, "{i} {:?} {:?}", p.x, p.y)?;
@@ -188,7 +191,7 @@ fn write_triangle_files(
         Ok(())
     })?;
     let ele = path(".ele");
-    output::write_text(&ele, "ele", "--out", |w| {
+    output::write_text(&ele, "ele", "--triangle", |w| {
         writeln!(w, "{} 3 0", result.triangles.len())?;
         for (k, t) in result.triangles.iter().enumerate() {
             writeln!(w, "{k} {} {} {}", t[0], t[1], t[2])?;

@@ -19,10 +19,10 @@ use crate::{envelope, input::Points};
 /// Options every distance command shares.
 #[derive(ClapArgs)]
 pub struct Common {
-    /// Picture side in pixels (default: about 4·sqrt(n), 256 to 4096). A coarser
+    /// Picture side in pixels along the longer axis (default 1024). A coarser
     /// picture only means more points are checked exactly; the answer stays exact.
-    #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
-    size: Option<u32>,
+    #[arg(long, value_name = "PIXELS", default_value_t = pixgeo::geometry::Frame::DEFAULT_SIDE, value_parser = crate::input::parse_side)]
+    size: u32,
 
     /// Print the answer as JSON.
     #[arg(long)]
@@ -155,14 +155,19 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
     let red = read(&args.red, "red")?;
     let blue = read(&args.blue, "blue")?;
     let machine = args.common.machine()?;
-    let h = distances::hausdorff(&machine, &red, &blue, args.common.size)?;
+    let h = distances::hausdorff(&machine, &red, &blue, Some(args.common.size))?;
     if args.common.json {
         let summary = json!({
             "hausdorff": h.distance,
             "red_to_blue": answer_json(&h.a_to_b, &red, &blue, ["red", "blue"]),
             "blue_to_red": answer_json(&h.b_to_a, &blue, &red, ["blue", "red"]),
         });
-        envelope::print("hausdorff", machine.device_name(), None, &summary)?;
+        envelope::print(
+            "hausdorff",
+            machine.device_name(),
+            Some(&h.a_to_b.frame),
+            &summary,
+        )?;
     } else {
         outln!("Hausdorff distance {}", h.distance);
         outln!(
@@ -180,7 +185,7 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
 pub fn diameter(args: DiameterArgs) -> Result<()> {
     let points = args.points.read()?;
     let machine = args.common.machine()?;
-    let d = distances::diameter(&machine, &points, args.common.size)?;
+    let d = distances::diameter(&machine, &points, Some(args.common.size))?;
     let names = Names {
         json: ["first", "second"],
         text: ["point", "point"],
@@ -199,7 +204,7 @@ pub fn maxdist(args: MaxDistArgs) -> Result<()> {
     let red = read(&args.red, "red")?;
     let blue = read(&args.blue, "blue")?;
     let machine = args.common.machine()?;
-    let d = distances::max_distance(&machine, &red, &blue, args.common.size)?;
+    let d = distances::max_distance(&machine, &red, &blue, Some(args.common.size))?;
     let names = Names {
         json: ["red", "blue"],
         text: ["red", "blue"],
@@ -231,7 +236,12 @@ fn print_answer(
 ) -> Result<()> {
     if common.json {
         let summary = answer_json(answer, sets[0], sets[1], names.json);
-        envelope::print(command, machine.device_name(), None, &summary)?;
+        envelope::print(
+            command,
+            machine.device_name(),
+            Some(&answer.frame),
+            &summary,
+        )?;
     } else {
         outln!("{what} {}", describe(answer, sets[0], sets[1], names.text));
     }

@@ -396,7 +396,7 @@ fn entries() -> Vec<Entry> {
             title: "Delaunay triangulation from a digital Voronoi diagram",
             caption: "Flooding colours the texture so that every region is connected,                       and its dual is a valid triangulation of the seeds (Cao,                       Edelsbrunner and Tan 2015, Fig. 3); the seeds then move to                       their true positions, the points that shared a pixel are                       inserted, and flips make it Delaunay.",
             sites: None,
-            args: &["--random", "200", "--grid", "60", "--picture-size", "640"],
+            args: &["--random", "200", "--grid", "60", "--size", "640"],
         },
     ]
 }

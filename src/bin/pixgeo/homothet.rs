@@ -7,9 +7,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::homothet::{
-        self, Envelope, HomothetAnswer, PixelStage, Region, Unit, DEFAULT_SIDE,
-    },
+    algorithms::homothet::{self, Envelope, HomothetAnswer, PixelStage, Region, Unit},
     geometry::{metric::Metric, site::Site},
     io::{picture::PngStream, sites},
     Machine,
@@ -35,10 +33,10 @@ pub struct Shape {
     /// and its centre in yellow (thesis Figs. 4.1, 5.1).
     #[arg(short = 'o', long = "output", value_name = "PNG")]
     output: Option<PathBuf>,
-    /// Picture side in pixels along the longer axis (default 512). A finer
+    /// Picture side in pixels along the longer axis (default 1024). A finer
     /// picture gives a closer candidate; the refined answer is exact either way.
-    #[arg(long, value_name = "PIXELS", value_parser = crate::input::parse_side)]
-    size: Option<u32>,
+    #[arg(long, value_name = "PIXELS", default_value_t = pixgeo::geometry::Frame::DEFAULT_SIDE, value_parser = crate::input::parse_side)]
+    size: u32,
     /// Print the answer as JSON.
     #[arg(long)]
     json: bool,
@@ -93,7 +91,7 @@ impl Shape {
 /// Example:
 ///
 ///   pixgeo enclose --sites towns.csv --json
-///   pixgeo enclose --sites towns.csv --polygon triangle.csv --k 10
+///   pixgeo enclose --sites towns.csv --polygon triangle.csv --order 10
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct EncloseArgs {
@@ -102,7 +100,7 @@ pub struct EncloseArgs {
     /// Hold at least K sites (smallest k-enclosing homothet, thesis §4.4.1):
     /// 1 to 256, or all the sites (the default).
     #[arg(long, value_name = "K", value_parser = parse_k)]
-    k: Option<usize>,
+    order: Option<usize>,
 }
 
 /// The largest homothet of a circle or polygon containing no site, its centre in
@@ -150,8 +148,8 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let shapes = args.shape.sites.read_general()?;
     let unit = args.shape.unit()?;
     let machine = machine_on(args.shape.device.as_deref())?;
-    let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
-    let k = args.k.unwrap_or(0);
+    let side = args.shape.size;
+    let k = args.order.unwrap_or(0);
     let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
     let json = args
         .shape
@@ -171,7 +169,7 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         Some(path) => read_region(path)?,
     };
     let machine = machine_on(args.shape.device.as_deref())?;
-    let side = args.shape.size.unwrap_or(DEFAULT_SIDE);
+    let side = args.shape.size;
     let stage = match args.pixel_stage {
         StageChoice::Auto => None,
         StageChoice::Cones => Some(PixelStage::Cones),
@@ -228,7 +226,7 @@ fn read_region(path: &Path) -> Result<Region> {
 
 fn report(answer: &HomothetAnswer, json: Option<(&str, &str)>, what: &str) -> Result<()> {
     if let Some((command, device)) = json {
-        return envelope::print(command, device, None, answer);
+        return envelope::print(command, device, Some(&answer.frame), answer);
     }
     let e = &answer.exact;
     outln!(

@@ -35,8 +35,8 @@ pub struct Input {
     #[arg(long, default_value_t = 1)]
     seed: u64,
 
-    /// Picture size in pixels: `W` (square, or with --bbox the height follows the
-    /// box's aspect ratio) or `WxH`.
+    /// Picture size in pixels: `N`, the longer side (a square picture, or with
+    /// --bbox the other side follows the box's aspect ratio), or `WxH`.
     #[arg(long, default_value = "1024", value_parser = parse_size)]
     size: (u32, Option<u32>),
 
@@ -63,9 +63,14 @@ impl Input {
     /// The picture's frame and sites of every shape and weight.
     pub fn frame_and_general_sites(&self) -> Result<(Frame, Vec<Site>)> {
         let (width, height) = self.size;
-        let frame = match self.bbox {
-            Some(b) => Frame::with_bbox(width, height, b)?,
-            None => Frame::pixels(width, height.unwrap_or(width))?,
+        let frame = match (self.bbox, height) {
+            // A tall box: N is its height, and the width follows.
+            (Some(b), None) if b[3] - b[1] > b[2] - b[0] && b[2] > b[0] => {
+                let across = (width as f64 * (b[2] - b[0]) / (b[3] - b[1])).round();
+                Frame::with_bbox(across.max(1.0) as u32, Some(width), b)?
+            }
+            (Some(b), _) => Frame::with_bbox(width, height, b)?,
+            (None, _) => Frame::pixels(width, height.unwrap_or(width))?,
         };
         let sites = match (&self.sites, self.random) {
             (Some(path), None) => sites::read_general_sites(path)?,

@@ -109,11 +109,7 @@ pub fn run(args: Args) -> Result<()> {
         Backend::Gpu(machine) => {
             let message = format!("counting discs ({method:?})").to_lowercase();
             let progress = Progress::new(&message, args.json);
-            let options = SettleOptions {
-                frame,
-                metric: args.metric,
-                method,
-            };
+            let options = SettleOptions::new(frame).metric(args.metric).method(method);
             potential_areas(machine, &rivals, &own, &options, &mut |done, total| {
                 progress.report(done, total)
             })?

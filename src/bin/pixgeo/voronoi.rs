@@ -1,12 +1,11 @@
 //! `pixgeo voronoi`: the Voronoi diagram of point sites, and of weighted sites,
 //! segments, circles and arcs.
 
-use std::{io::IsTerminal, path::PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
-use indicatif::{ProgressBar, ProgressStyle};
 use pixgeo::{
     algorithms::{
         cpu,
@@ -24,7 +23,7 @@ use pixgeo::{
 };
 use serde_json::json;
 
-use crate::{envelope, input::Input};
+use crate::{envelope, input::Input, progress::Progress};
 
 /// Computes the Voronoi diagram of point sites: which site is nearest to every
 /// pixel, and how far it is.
@@ -283,16 +282,14 @@ fn diagram(args: &Args) -> Result<()> {
         Backend::Gpu(machine) if kind == Kind::Ordinary => machine,
         _ => return whole_picture(args, &backend, &sites, frame, accuracy, speedup, kind),
     };
-    let options = VoronoiOptions {
-        frame,
-        metric: args.metric,
-        accuracy,
-        speedup,
-        distances: args.distance.is_some() || args.contours.is_some(),
-        ties: args.ties.is_some(),
-        max_tile: args.max_tile,
-        window: args.window,
-    };
+    let options = VoronoiOptions::exact(frame)
+        .metric(args.metric)
+        .accuracy(accuracy)
+        .speedup(speedup)
+        .distances(args.distance.is_some() || args.contours.is_some())
+        .ties(args.ties.is_some())
+        .max_tile(args.max_tile)
+        .window(args.window);
     let window = options.window_rect()?;
 
     // Outputs are streamed band by band as the tiles come in.
@@ -321,19 +318,13 @@ fn diagram(args: &Args) -> Result<()> {
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p) - corner).collect();
     // Distances come in world units; contours are drawn in those units too.
     let contour_step = args.contours.map(|s| s as f32);
-    // A tiled picture shows its progress, band by band, on a terminal.
-    let mut progress: Option<ProgressBar> = None;
-    let show_progress = !args.json && !crate::quiet() && std::io::stderr().is_terminal();
+    // A tiled picture shows its progress, band by band.
+    let progress = Progress::new("voronoi: rows of tiles", args.json);
     let stats = voronoi_bands(machine, &sites, &options, |band| {
-        if show_progress && band.height < window.height {
-            let bar = progress.get_or_insert_with(|| {
-                ProgressBar::new(window.height as u64).with_style(
-                    ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left")
-                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-                )
-            });
-            bar.inc(band.height as u64);
-        }
+        progress.report(
+            (band.y0 + band.height - window.y) as u64,
+            window.height as u64,
+        );
         if let Some(out) = labels.as_mut() {
             out.write(&band.labels)?;
         }
@@ -363,9 +354,7 @@ fn diagram(args: &Args) -> Result<()> {
         }
         Ok(())
     })?;
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
+    drop(progress);
     labels.map(NpyStream::finish).transpose()?;
     distances.map(NpyStream::finish).transpose()?;
     ties.map(NpyStream::finish).transpose()?;
@@ -492,16 +481,12 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
         bail!("--method flood and jfa flood from unweighted points' pixels; these sites have weights or shapes (use --method cones)");
     }
     let backend = args.backend()?;
-    let options = VoronoiOptions {
-        frame,
-        metric: args.metric,
-        accuracy: args.accuracy(),
-        speedup: args.speedup(),
-        distances: true,
-        ties: args.ties.is_some(),
-        max_tile: args.max_tile,
-        window: None,
-    };
+    let options = VoronoiOptions::exact(frame)
+        .metric(args.metric)
+        .accuracy(args.accuracy())
+        .speedup(args.speedup())
+        .ties(args.ties.is_some())
+        .max_tile(args.max_tile);
     let device = backend.name().to_string();
     let d = match backend {
         Backend::Gpu(machine) => voronoi_sites(&machine, sites, &options)?,
@@ -666,13 +651,10 @@ fn whole_picture(
         };
         let d = match backend {
             Backend::Gpu(machine) => {
-                let options = KNearestOptions {
-                    frame,
-                    k,
-                    metric: args.metric,
-                    accuracy,
-                    speedup,
-                };
+                let options = KNearestOptions::exact(frame, k)
+                    .metric(args.metric)
+                    .accuracy(accuracy)
+                    .speedup(speedup);
                 if args.peel {
                     higher_order::k_nearest_peeled(machine, sites, &options)?
                 } else {
