@@ -120,6 +120,17 @@ impl AlphaHull {
 
 /// The α-hull of `sites` on a picture whose longer side has `side` pixels, fitted
 /// to where the hull can be; `method` chooses the algorithm for α > 0.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::algorithms::alpha_hull::{alpha_hull, AlphaMethod};
+///
+/// let sites = [DVec2::ZERO, DVec2::new(10.0, 0.0), DVec2::new(10.0, 10.0), DVec2::new(0.0, 10.0)];
+/// // Discs of radius 20 holding every site: a square with bulging sides.
+/// let hull = pixgeo::with_default_machine(|m| alpha_hull(m, &sites, 0.05, AlphaMethod::Hull, 256))?;
+/// assert_eq!(hull.boundary_sites.len(), 4);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn alpha_hull(
     machine: &Machine,
     sites: &[DVec2],

@@ -124,6 +124,17 @@ fn ms(since: Instant) -> f64 {
 }
 
 /// The smallest or largest triangle with three of `sites` as vertices.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::algorithms::area::{extremal_triangle, Extreme};
+///
+/// let sites = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(0.0, 3.0), DVec2::new(1.0, 1.0)];
+/// // The thesis's roofs, on a 64-pixel picture.
+/// let t = pixgeo::with_default_machine(|m| extremal_triangle(m, &sites, Extreme::Smallest, 64))?;
+/// assert_eq!(t.area, 1.5); // (0, 0), (0, 3), (1, 1)
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn extremal_triangle(
     machine: &Machine,
     sites: &[DVec2],

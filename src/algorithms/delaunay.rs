@@ -186,6 +186,17 @@ fn three_bit_ceil(x: f64) -> f64 {
 /// taken exactly: points whose magnitudes would overflow or underflow the exact
 /// predicates are triangulated scaled by a power of two, which changes no
 /// triangle.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::algorithms::delaunay::{delaunay, DelaunayOptions};
+///
+/// let points: Vec<DVec2> = (0..100).map(|i| DVec2::new((i % 10) as f64, (i / 10) as f64 * 1.1)).collect();
+/// let options = DelaunayOptions::default().grid(Some(32));
+/// let mesh = pixgeo::with_default_machine(|m| delaunay(m, &points, &options))?;
+/// assert_eq!(mesh.triangles.len(), 2 * 9 * 9); // a lattice of 10 x 10 points
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn delaunay(
     machine: &Machine,
     points: &[DVec2],

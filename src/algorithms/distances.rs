@@ -264,6 +264,17 @@ pub fn hausdorff(
 /// The largest distance from a point of `a` to a point of `b`, read off the
 /// furthest-site diagram of `b` (thesis §3.11.3). Only hull vertices of either set
 /// can be the answer's ends.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::algorithms::distances::max_distance;
+///
+/// let red = [DVec2::ZERO, DVec2::X];
+/// let blue = [DVec2::new(4.0, 3.0), DVec2::Y];
+/// let far = pixgeo::with_default_machine(|m| max_distance(m, &red, &blue, None))?;
+/// assert_eq!((far.pair.from, far.pair.to, far.pair.distance), (0, 0, 5.0));
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn max_distance(
     machine: &Machine,
     a: &[DVec2],

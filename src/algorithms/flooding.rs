@@ -191,6 +191,15 @@ fn colouring(
 }
 
 /// The flooded colouring of `seeds` (distinct pixels of the texture).
+///
+/// ```
+/// use pixgeo::algorithms::flooding::flood;
+///
+/// let seeds = [[2, 2], [12, 3], [7, 9]];
+/// let f = pixgeo::with_default_machine(|m| flood(m, 16, 12, &seeds))?;
+/// assert_eq!(f.labels[9 * 16 + 7], 2); // each seed's pixel is its own
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Result<Flooding> {
     let mut stats = FloodingStats::default();
     let started = Instant::now();

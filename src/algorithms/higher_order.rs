@@ -178,6 +178,17 @@ impl KNearest {
 }
 
 /// Computes every pixel's k nearest sites (world coordinates).
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{algorithms::higher_order::{k_nearest, KNearestOptions}, geometry::{metric::Metric, Frame}};
+///
+/// let sites = [DVec2::new(1.0, 1.0), DVec2::new(7.0, 1.0), DVec2::new(4.0, 6.0)];
+/// let options = KNearestOptions::exact(Frame::pixels(8, 8)?, 3).metric(Metric::LInf);
+/// let near = pixgeo::with_default_machine(|m| k_nearest(m, &sites, &options))?;
+/// assert_eq!(near.level_labels(2)[0], 1); // the farthest of pixel (0, 0)
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn k_nearest(
     machine: &Machine,
     sites: &[DVec2],

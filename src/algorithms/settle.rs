@@ -224,6 +224,17 @@ fn round_up_f32(x: f64) -> f32 {
 /// The potential-area map of a new site among `rivals`, not counting pixels that
 /// `own` stores already hold (world coordinates), on the pixel machine.
 /// `progress(done, total)` is called as the counting proceeds.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{algorithms::settle::{potential_areas, SettleOptions}, geometry::Frame};
+///
+/// let rivals = [DVec2::new(5.0, 5.0), DVec2::new(58.0, 42.0)];
+/// let options = SettleOptions::new(Frame::pixels(64, 48)?);
+/// let map = pixgeo::with_default_machine(|m| potential_areas(m, &rivals, &[], &options, &mut |_, _| {}))?;
+/// assert!(map.best_area > 0 && map.area.len() == 64 * 48);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn potential_areas(
     machine: &Machine,
     rivals: &[DVec2],

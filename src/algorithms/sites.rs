@@ -55,6 +55,21 @@ use super::voronoi::{
 /// sites' fan surfaces ([`crate::geometry::surface`]) give a distance diagram
 /// within the reported bound. Pictures larger than the device's image size (or
 /// than `max_tile`) are drawn tile by tile.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{
+///     algorithms::{sites::voronoi_sites, voronoi::VoronoiOptions},
+///     geometry::{site::{Shape, Site}, Frame},
+/// };
+///
+/// let road = Site::new(Shape::Segment(DVec2::new(0.0, 10.0), DVec2::new(31.0, 10.0)));
+/// let town = Site { multiplicative: 2.0, ..Site::point(DVec2::new(16.0, 2.0)) };
+/// let options = VoronoiOptions::exact(Frame::pixels(32, 16)?);
+/// let d = pixgeo::with_default_machine(|m| voronoi_sites(m, &[road, town], &options))?;
+/// assert_eq!(d.labels[15 * 32], 0); // the bottom-left corner is nearest the road
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn voronoi_sites(
     machine: &Machine,
     sites: &[Site],

@@ -371,6 +371,17 @@ const TRIANGLE_FRAGMENTS: f64 = 400.0;
 const BATCH_RADIUS_LIMIT_LP: f64 = 12.0;
 
 /// Computes the Voronoi diagram of `sites` (world coordinates).
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{algorithms::voronoi::{voronoi, VoronoiOptions}, geometry::{metric::Metric, Frame}};
+///
+/// let sites = [DVec2::new(2.0, 2.0), DVec2::new(6.0, 2.0)];
+/// let options = VoronoiOptions::exact(Frame::pixels(9, 5)?).metric(Metric::L1).ties(true);
+/// let d = pixgeo::with_default_machine(|m| voronoi(m, &sites, &options))?;
+/// assert_eq!(d.ties[2 * 9 + 4], 2); // pixel (4, 2) is as near to both
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn voronoi(
     machine: &Machine,
     sites: &[DVec2],
@@ -410,6 +421,23 @@ pub fn voronoi(
 /// large as the device (or [`VoronoiOptions::max_tile`]) allows, so only one band
 /// is held at a time. The result does not depend on the tiling: every tile draws the
 /// cones that reach it in the same order, so even ties resolve alike.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{algorithms::voronoi::{voronoi_bands, VoronoiOptions}, geometry::Frame};
+///
+/// let sites = [DVec2::new(100.0, 50.0), DVec2::new(900.0, 700.0)];
+/// let options = VoronoiOptions::exact(Frame::pixels(1000, 800)?).max_tile(Some(256));
+/// let mut rows = 0;
+/// pixgeo::with_default_machine(|m| {
+///     voronoi_bands(m, &sites, &options, |band| {
+///         rows += band.height; // write band.labels to a file here
+///         Ok(())
+///     })
+/// })?;
+/// assert_eq!(rows, 800);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn voronoi_bands(
     machine: &Machine,
     sites: &[DVec2],

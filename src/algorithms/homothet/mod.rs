@@ -167,6 +167,17 @@ pub const DEFAULT_SIDE: u32 = Frame::DEFAULT_SIDE;
 /// (every site when `k` is 0 or the number of sites); exact, from Welzl's
 /// algorithm (circles, all sites) or the points where three of the candidate
 /// sites' distance pieces meet.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::algorithms::homothet::{enclose, Unit, DEFAULT_SIDE};
+///
+/// let sites = [DVec2::ZERO, DVec2::new(10.0, 0.0), DVec2::new(5.0, 1.0), DVec2::new(50.0, 50.0)];
+/// // The smallest circle holding at least 3 of the 4 sites.
+/// let c = pixgeo::with_default_machine(|m| enclose(m, &sites, Unit::Circle, 3, DEFAULT_SIDE))?;
+/// assert!((c.exact.scale - 5.0).abs() < 1e-9);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn enclose(
     machine: &Machine,
     sites: &[DVec2],
@@ -617,6 +628,19 @@ impl Region {
 /// The largest homothet of `unit` containing none of the point `sites`, its
 /// centre in `region` (empty: the sites' bounding box); exact, from the points
 /// where three of the candidate sites' distance pieces or region edges meet.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::algorithms::homothet::{largest_empty, Region, Unit, DEFAULT_SIDE};
+///
+/// let sites = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(0.0, 3.0)];
+/// let square = Region { rings: vec![vec![DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(4.0, 4.0), DVec2::new(0.0, 4.0)]] };
+/// let c = pixgeo::with_default_machine(|m| largest_empty(m, &sites, Unit::Circle, &square, DEFAULT_SIDE))?;
+/// // On the top side, as far from (0, 3) as from (4, 0): farther than the corner (4, 4).
+/// assert_eq!(c.exact.centre, [3.875, 4.0]);
+/// assert!(c.exact.scale > 4.0);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
 pub fn largest_empty(
     machine: &Machine,
     sites: &[DVec2],
