@@ -5,7 +5,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions},
     geometry::{cone::bisector_deviation, metric::Metric, Frame},
-    machine::PixelRect,
+    machine::{MachineOptions, PixelRect},
     reference::voronoi::{nearest_distances_metric, nearest_sites_brute_force},
     Machine,
 };
@@ -754,4 +754,57 @@ fn far_sites_under_quadtree_fans_answer_or_are_refused() {
         Ok(d) => assert!(d.labels.iter().all(|&l| l < 2)),
         Err(e) => assert!(e.to_string().contains("triangles"), "{e}"),
     }
+}
+
+#[test]
+fn pipelines_are_kept_between_machines_and_a_broken_cache_file_is_ignored() {
+    let folder = std::env::temp_dir().join(format!("pixgeo-cache-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&folder);
+    let options = MachineOptions::from_env().pipeline_cache(Some(folder.clone()));
+    let sites = [
+        DVec2::new(3.0, 4.0),
+        DVec2::new(20.0, 9.0),
+        DVec2::new(11.0, 25.0),
+    ];
+    let diagram = |machine: &Machine| {
+        voronoi(
+            machine,
+            &sites,
+            &VoronoiOptions::exact(Frame::pixels(32, 32).unwrap()),
+        )
+        .unwrap()
+    };
+    let cache_file = || {
+        let files: Vec<_> = std::fs::read_dir(&folder).unwrap().flatten().collect();
+        assert_eq!(
+            files.len(),
+            1,
+            "one file per device and driver, no temporaries"
+        );
+        files[0].path()
+    };
+
+    let first = diagram(&Machine::new(&options).unwrap());
+    let written = std::fs::read(cache_file()).unwrap();
+    assert!(
+        written.len() >= 32,
+        "at least the header vkGetPipelineCacheData writes"
+    );
+    assert_eq!(&written[..4], &32u32.to_le_bytes());
+
+    assert_eq!(
+        diagram(&Machine::new(&options).unwrap()).labels,
+        first.labels
+    );
+
+    std::fs::write(cache_file(), b"not a pipeline cache").unwrap();
+    assert_eq!(
+        diagram(&Machine::new(&options).unwrap()).labels,
+        first.labels
+    );
+    assert_eq!(
+        &std::fs::read(cache_file()).unwrap()[..4],
+        &32u32.to_le_bytes()
+    );
+    std::fs::remove_dir_all(&folder).unwrap();
 }

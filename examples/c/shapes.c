@@ -13,18 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "check.h"
 #include "pixgeo.h"
-
-static int failures = 0;
-
-#define CHECK(cond, ...)                             \
-    do {                                             \
-        if (!(cond)) {                               \
-            fprintf(stderr, "FAILED: " __VA_ARGS__); \
-            fprintf(stderr, "\n");                   \
-            failures++;                              \
-        }                                            \
-    } while (0)
 
 enum { W = 40, H = 30, LATTICE = 12, N = 11 };
 

@@ -14,18 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "check.h"
 #include "pixgeo.h"
-
-static int failures = 0;
-
-#define CHECK(cond, ...)                        \
-    do {                                        \
-        if (!(cond)) {                          \
-            fprintf(stderr, "FAILED: " __VA_ARGS__); \
-            fprintf(stderr, "\n");              \
-            failures++;                         \
-        }                                       \
-    } while (0)
 
 enum { W = 64, H = 48, N = 7 };
 

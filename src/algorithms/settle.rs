@@ -118,6 +118,8 @@ pub struct SettleStats {
 pub struct PotentialAreas {
     pub width: u32,
     pub height: u32,
+    /// The picture: [`Frame::to_world`] maps its pixels to world points.
+    pub frame: Frame,
     /// Pixels a new site at each pixel would win, row-major.
     pub area: Vec<u32>,
     /// The largest potential area.
@@ -139,6 +141,7 @@ impl PotentialAreas {
         Self {
             width: frame.width,
             height: frame.height,
+            frame: *frame,
             area,
             best_area,
             best,

@@ -6,7 +6,7 @@ use super::*;
 use crate::algorithms::{
     higher_order::{self, KNearestOptions},
     sites::voronoi_sites,
-    voronoi::{voronoi_bands, VoronoiOptions},
+    voronoi::voronoi_bands,
 };
 
 /// The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
@@ -35,20 +35,9 @@ pub unsafe extern "C" fn pixgeo_voronoi(
         }
         // SAFETY: non-null and valid (caller contract).
         let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
-        let (frame, accuracy, speedup) = picture_of(&o)?;
-        let metric = metric_of(&o)?;
+        let options = voronoi_options(&o, !distances.is_null(), false)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let options = VoronoiOptions {
-            frame,
-            metric,
-            accuracy,
-            speedup,
-            distances: !distances.is_null(),
-            ties: false,
-            max_tile: (o.max_tile > 0).then_some(o.max_tile),
-            window: window_of(&o),
-        };
         let window = options.window_rect().map_err(failed)?;
         let pixels = window.width as usize * window.height as usize;
         // SAFETY: caller-owned arrays of `width * height` values (caller contract).
@@ -93,29 +82,13 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
         }
         // SAFETY: non-null and valid (caller contract).
         let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
-        let (frame, accuracy, speedup) = picture_of(&o)?;
+        let options = voronoi_options(&o, !distances.is_null(), false)?;
         // SAFETY: `sites` holds `count` sites (caller contract).
         let given = unsafe { std::slice::from_raw_parts(sites, count) };
         let sites = sites_of(given)?;
-        let options = VoronoiOptions {
-            frame,
-            metric: metric_of(&o)?,
-            accuracy,
-            speedup,
-            distances: !distances.is_null(),
-            ties: false,
-            max_tile: (o.max_tile > 0).then_some(o.max_tile),
-            window: window_of(&o),
-        };
         let d = voronoi_sites(&context.machine, &sites, &options).map_err(failed)?;
-        // SAFETY: caller-owned arrays of `width * height` values.
-        unsafe { std::slice::from_raw_parts_mut(labels, d.labels.len()) }
-            .copy_from_slice(&d.labels);
-        if !distances.is_null() {
-            // SAFETY: as above.
-            unsafe { std::slice::from_raw_parts_mut(distances, d.distances.len()) }
-                .copy_from_slice(&d.distances);
-        }
+        // SAFETY: the caller's arrays have room for the answer (caller contract).
+        unsafe { write_diagram(&d.labels, labels, &d.distances, distances) };
         Ok(())
     })
 }
@@ -168,14 +141,8 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
             },
         )
         .map_err(failed)?;
-        // SAFETY: caller-owned arrays of `width * height * k` values.
-        unsafe { std::slice::from_raw_parts_mut(labels, d.labels.len()) }
-            .copy_from_slice(&d.labels);
-        if !distances.is_null() {
-            // SAFETY: as above.
-            unsafe { std::slice::from_raw_parts_mut(distances, d.distances.len()) }
-                .copy_from_slice(&d.distances);
-        }
+        // SAFETY: the caller's arrays have room for the answer (caller contract).
+        unsafe { write_diagram(&d.labels, labels, &d.distances, distances) };
         Ok(())
     })
 }
@@ -206,14 +173,8 @@ pub unsafe extern "C" fn pixgeo_furthest(
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
         let f = higher_order::furthest(&context.machine, &sites, &frame, metric).map_err(failed)?;
-        // SAFETY: caller-owned arrays of `width * height` values.
-        unsafe { std::slice::from_raw_parts_mut(labels, f.labels.len()) }
-            .copy_from_slice(&f.labels);
-        if !distances.is_null() {
-            // SAFETY: as above.
-            unsafe { std::slice::from_raw_parts_mut(distances, f.distances.len()) }
-                .copy_from_slice(&f.distances);
-        }
+        // SAFETY: the caller's arrays have room for the answer (caller contract).
+        unsafe { write_diagram(&f.labels, labels, &f.distances, distances) };
         Ok(())
     })
 }
@@ -268,19 +229,9 @@ pub unsafe extern "C" fn pixgeo_voronoi_bands(
         };
         // SAFETY: null or valid (caller contract).
         let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
-        let (frame, accuracy, speedup) = picture_of(&o)?;
+        let options = voronoi_options(&o, distances, ties)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let options = VoronoiOptions {
-            frame,
-            metric: metric_of(&o)?,
-            accuracy,
-            speedup,
-            distances,
-            ties,
-            max_tile: (o.max_tile > 0).then_some(o.max_tile),
-            window: window_of(&o),
-        };
         let window = options.window_rect().map_err(failed)?;
         let mut stopped = false;
         let outcome = voronoi_bands(&context.machine, &sites, &options, |band| {

@@ -6,7 +6,7 @@ use glam::DVec2;
 
 use super::*;
 use crate::{
-    algorithms::voronoi::{Accuracy, Speedup},
+    algorithms::voronoi::{Accuracy, Speedup, VoronoiOptions},
     geometry::{
         metric::Metric,
         site::{Shape, Site},
@@ -309,4 +309,43 @@ pub(super) unsafe fn read_options<T: Copy>(
     }
     // SAFETY: non-null, and `size` matches `T` (caller contract).
     Ok(unsafe { options.read() })
+}
+
+/// The library's options for the diagram `o` describes, with distances and
+/// ties as asked.
+pub(super) fn voronoi_options(
+    o: &PixgeoVoronoiOptions,
+    distances: bool,
+    ties: bool,
+) -> Result<VoronoiOptions, (PixgeoStatus, String)> {
+    let (frame, accuracy, speedup) = picture_of(o)?;
+    Ok(VoronoiOptions::exact(frame)
+        .metric(metric_of(o)?)
+        .accuracy(accuracy)
+        .speedup(speedup)
+        .distances(distances)
+        .ties(ties)
+        .max_tile((o.max_tile > 0).then_some(o.max_tile))
+        .window(window_of(o)))
+}
+
+/// Copies a diagram's labels to `to_labels`, and its distances to
+/// `to_distances` unless that is null.
+///
+/// # Safety
+/// `to_labels` has room for `labels.len()` values; `to_distances` is null or
+/// has room for `distances.len()`.
+pub(super) unsafe fn write_diagram(
+    labels: &[u32],
+    to_labels: *mut u32,
+    distances: &[f32],
+    to_distances: *mut f32,
+) {
+    // SAFETY: room for `labels.len()` values (caller contract).
+    unsafe { std::slice::from_raw_parts_mut(to_labels, labels.len()) }.copy_from_slice(labels);
+    if !to_distances.is_null() {
+        // SAFETY: room for `distances.len()` values (caller contract).
+        unsafe { std::slice::from_raw_parts_mut(to_distances, distances.len()) }
+            .copy_from_slice(distances);
+    }
 }

@@ -5,6 +5,7 @@
 use std::{
     ffi::{c_void, CStr},
     mem::ManuallyDrop,
+    path::PathBuf,
     sync::{Mutex, OnceLock},
 };
 
@@ -67,14 +68,20 @@ pub struct MachineOptions {
     pub device: DeviceChoice,
     /// Enable the Khronos validation layer; every message becomes an error.
     pub validation: bool,
+    /// The folder that keeps compiled pipelines between processes; `None`
+    /// keeps them for this machine's life only.
+    pub pipeline_cache: Option<PathBuf>,
 }
 
 impl MachineOptions {
-    /// `PIXGEO_DEVICE` and `PIXGEO_VALIDATION=1` from the environment.
+    /// `PIXGEO_DEVICE`, `PIXGEO_VALIDATION=1` and `PIXGEO_CACHE_DIR` from the
+    /// environment; without `PIXGEO_CACHE_DIR` pipelines are kept in
+    /// `$XDG_CACHE_HOME/pixgeo` or `~/.cache/pixgeo`, and an empty one keeps none.
     pub fn from_env() -> Self {
         Self {
             device: DeviceChoice::from_env(),
             validation: std::env::var("PIXGEO_VALIDATION").is_ok_and(|v| v == "1"),
+            pipeline_cache: user_cache_dir(),
         }
     }
 
@@ -85,6 +92,26 @@ impl MachineOptions {
     pub fn validation(self, validation: bool) -> Self {
         Self { validation, ..self }
     }
+
+    pub fn pipeline_cache(self, folder: Option<PathBuf>) -> Self {
+        Self {
+            pipeline_cache: folder,
+            ..self
+        }
+    }
+}
+
+/// `PIXGEO_CACHE_DIR`, else the user's cache folder; `None` when it is set
+/// empty or no home is known.
+fn user_cache_dir() -> Option<PathBuf> {
+    if let Some(dir) = std::env::var_os("PIXGEO_CACHE_DIR") {
+        return (!dir.is_empty()).then(|| PathBuf::from(dir));
+    }
+    let base = std::env::var_os("XDG_CACHE_HOME")
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
+    Some(base.join("pixgeo"))
 }
 
 /// The shared Vulkan context. Dropped last: after every image, buffer and pipeline.

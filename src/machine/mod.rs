@@ -10,6 +10,7 @@
 //! | read back a rectangle | [`Machine::read_u32`], [`Machine::read_f32`] |
 //! | minmax, histogram | [`Machine::minmax`], [`Machine::histogram`] (compute) |
 
+mod cache;
 mod context;
 mod conv;
 mod memory;
@@ -117,7 +118,7 @@ impl Machine {
         let command_pool =
             unsafe { device.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
         let mut machine = Self {
-            pipelines: Pipelines::new(&ctx)?,
+            pipelines: Pipelines::new(&ctx, options.pipeline_cache.as_deref())?,
             command_pool,
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
@@ -246,6 +247,7 @@ impl Machine {
             device.reset_fences(&[self.fence]).vk("vkResetFences")?;
         }
         self.ctx.check_validation()?;
+        self.pipelines.cache.save();
         Ok(value)
     }
 

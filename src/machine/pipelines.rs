@@ -1,11 +1,12 @@
 //! Shader programs and the pipeline cache: each distinct (program, targets, raster
 //! state) becomes one `VkPipeline`, created on first use.
 
-use std::{cell::RefCell, collections::HashMap, sync::Arc};
+use std::{cell::RefCell, collections::HashMap, path::Path, sync::Arc};
 
 use ash::vk;
 
 use super::{
+    cache::PipelineCache,
     context::Context,
     conv,
     memory::Format,
@@ -258,6 +259,7 @@ struct GraphicsKey {
 
 pub(crate) struct Pipelines {
     ctx: Arc<Context>,
+    pub cache: PipelineCache,
     modules: HashMap<&'static str, vk::ShaderModule>,
     pub graphics_layout: vk::PipelineLayout,
     /// Three storage buffers for vertex and fragment shaders (bindings 0, 1 and 2
@@ -275,9 +277,10 @@ pub(crate) struct Pipelines {
 }
 
 impl Pipelines {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, cache_folder: Option<&Path>) -> Result<Self> {
         let mut pipelines = Self {
             ctx: ctx.clone(),
+            cache: PipelineCache::open(ctx, cache_folder)?,
             modules: HashMap::new(),
             graphics_layout: vk::PipelineLayout::null(),
             graphics_set_layout: vk::DescriptorSetLayout::null(),
@@ -808,9 +811,10 @@ impl Pipelines {
         let pipelines = unsafe {
             self.ctx
                 .device
-                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+                .create_graphics_pipelines(self.cache.handle, &[info], None)
         }
         .map_err(|(_, result)| Error::vulkan("vkCreateGraphicsPipelines", result))?;
+        self.cache.grew();
         Ok(pipelines[0])
     }
 
@@ -860,9 +864,10 @@ impl Pipelines {
         let pipelines = unsafe {
             self.ctx
                 .device
-                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+                .create_compute_pipelines(self.cache.handle, &[info], None)
         }
         .map_err(|(_, result)| Error::vulkan("vkCreateComputePipelines", result))?;
+        self.cache.grew();
         Ok(pipelines[0])
     }
 
