@@ -374,11 +374,11 @@ fn convex(machine: &Machine, sites: &[DVec2], side: u32) -> Result<AlphaHull> {
 }
 
 /// One rendering pass into `image` alone, cleared to `clear` first.
-fn draw_on(
+fn draw_on<'r>(
     machine: &Machine,
-    image: &Image,
+    image: &'r Image,
     clear: ClearColor,
-    draw: impl FnOnce(&mut Pass<'_>) -> Result<()>,
+    draw: impl FnOnce(&mut Pass<'_, 'r>) -> Result<()>,
 ) -> Result<()> {
     machine.run(|pass| {
         pass.begin(

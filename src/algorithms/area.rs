@@ -818,27 +818,25 @@ impl<'m> Roofs<'m> {
         let push = self.push(segment);
         let count = self.count() as u32;
         let chunk = count.div_ceil(64).max(1 << 14);
-        self.machine.with_fragment_buffers(buffers, |set| {
-            // At least one submission, which clears the target.
-            for first in (0..count.max(1)).step_by(chunk as usize) {
-                let last = (first + chunk).min(count);
-                self.machine.run(|pass| {
-                    pass.begin(target, if first == 0 { clear } else { Clear::default() })?;
-                    pass.bind_fragment_buffer(set);
-                    pass.draw_instances(
-                        program,
-                        state,
-                        &DrawParams::default(),
-                        &push,
-                        4,
-                        first..last,
-                    )?;
-                    pass.end()
-                })?;
-                progress(last as u64, count as u64);
-            }
-            Ok(())
-        })
+        // At least one submission, which clears the target.
+        for first in (0..count.max(1)).step_by(chunk as usize) {
+            let last = (first + chunk).min(count);
+            self.machine.run(|pass| {
+                pass.bind_fragment_buffers(buffers, None)?;
+                pass.begin(target, if first == 0 { clear } else { Clear::default() })?;
+                pass.draw_instances(
+                    program,
+                    state,
+                    &DrawParams::default(),
+                    &push,
+                    4,
+                    first..last,
+                )?;
+                pass.end()
+            })?;
+            progress(last as u64, count as u64);
+        }
+        Ok(())
     }
 
     /// Every pair's roof with the depth test keeping the extreme: the depth

@@ -174,18 +174,17 @@ fn colouring(
         PixelPhase::Roots => (2, 0.0f32),
         PixelPhase::Depth { scale, .. } => (3, scale),
     };
-    machine.with_compute_buffers(&[&seed_buffer, &output], |set| {
-        machine.run(|pass| {
-            let kernel = BufferKernel::EuclideanColouring;
-            let push = |phase: u32| [width, height, phase, scale.to_bits()];
-            pass.dispatch(kernel, set, width, &push(0))?;
-            pass.dispatch(kernel, set, height, &push(1))?;
-            pass.dispatch_grid(kernel, set, (width, height.div_ceil(64)), &push(phase))?;
-            if let PixelPhase::Depth { depth, .. } = then {
-                pass.copy_depth_from_buffer(&output, 4 * pixels as u64, depth)?;
-            }
-            Ok(())
-        })
+    machine.run(|pass| {
+        let kernel = BufferKernel::EuclideanColouring;
+        let buffers = [&seed_buffer, &output];
+        let push = |phase: u32| [width, height, phase, scale.to_bits()];
+        pass.dispatch(kernel, &buffers, width, &push(0))?;
+        pass.dispatch(kernel, &buffers, height, &push(1))?;
+        pass.dispatch_grid(kernel, &buffers, (width, height.div_ceil(64)), &push(phase))?;
+        if let PixelPhase::Depth { depth, .. } = then {
+            pass.copy_depth_from_buffer(&output, 4 * pixels as u64, depth)?;
+        }
+        Ok(())
     })?;
     Ok(output)
 }
@@ -326,24 +325,20 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
         .filter(|&s| s > 0)
         .collect();
     let chunk = crate::machine::MAX_GROUPS * BufferKernel::JumpFlood.group();
-    machine.with_compute_buffers(&[&a, &b], |forward| {
-        machine.with_compute_buffers(&[&b, &a], |backward| {
-            machine.run(|pass| {
-                for (k, &step) in steps.iter().enumerate() {
-                    let set = if k % 2 == 0 { forward } else { backward };
-                    for first in (0..pixels as u32).step_by(chunk as usize) {
-                        let count = chunk.min(pixels as u32 - first);
-                        pass.dispatch(
-                            BufferKernel::JumpFlood,
-                            set,
-                            count,
-                            &[width, height, step, first],
-                        )?;
-                    }
-                }
-                Ok(())
-            })
-        })
+    machine.run(|pass| {
+        for (k, &step) in steps.iter().enumerate() {
+            let buffers = if k % 2 == 0 { [&a, &b] } else { [&b, &a] };
+            for first in (0..pixels as u32).step_by(chunk as usize) {
+                let count = chunk.min(pixels as u32 - first);
+                pass.dispatch(
+                    BufferKernel::JumpFlood,
+                    &buffers,
+                    count,
+                    &[width, height, step, first],
+                )?;
+            }
+        }
+        Ok(())
     })?;
     let result = if steps.len() % 2 == 1 { &b } else { &a };
     // The seed at each seed pixel, to turn positions back into indices.
@@ -392,12 +387,15 @@ pub fn dualize(
     loop {
         let mut output = machine.storage_buffer((4 + 12 * capacity) as u64)?;
         output.fill(0);
-        machine.with_compute_buffers(&[&input, &output], |set| {
-            machine.run(|pass| {
-                let push = [width, height, capacity as u32];
-                let strips = (height + 1).div_ceil(64);
-                pass.dispatch_grid(BufferKernel::Dualize, set, (width + 1, strips), &push)
-            })
+        machine.run(|pass| {
+            let push = [width, height, capacity as u32];
+            let strips = (height + 1).div_ceil(64);
+            pass.dispatch_grid(
+                BufferKernel::Dualize,
+                &[&input, &output],
+                (width + 1, strips),
+                &push,
+            )
         })?;
         let count = output.read::<u32>(1)[0] as usize;
         if count <= capacity {

@@ -293,7 +293,8 @@ pub fn k_nearest(
             vertex_depth_scale: vertex_scale as f32,
             ..picture_push(&frame, k, options.metric)
         };
-        draw_to_buffers(machine, &frame, &[&keys], None, |pass| {
+        let depth = machine.image(Format::Depth, frame.width, frame.height)?;
+        draw_to_buffers(machine, &depth, &[&keys], None, |pass| {
             pass.draw_cones(
                 program,
                 &RasterState::OVERWRITE,
@@ -437,9 +438,10 @@ fn k_nearest_tiled(
     let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
     upload.write(&texels);
     let records = machine.image(Format::Rgba32Uint, width as u32, rows as u32)?;
+    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
     draw_to_buffers(
         machine,
-        &frame,
+        &depth,
         &[&labels, &tiles],
         Some((&upload, &records)),
         |pass| {
@@ -468,37 +470,34 @@ fn picture_push(frame: &Frame, levels: u32, metric: Metric) -> ConePush {
     }
 }
 
-/// Runs `draw` in a rendering pass over `frame` whose fragments write only the
-/// storage `buffers` (a depth buffer just gives the pass its size), with
-/// `records` (an upload and the image it fills) for the fragments to read.
-fn draw_to_buffers(
+/// Runs `draw` in a rendering pass over the picture of `depth` (which just
+/// gives the pass its size) whose fragments write only the storage `buffers`,
+/// with `records` (an upload and the image it fills) for the fragments to read.
+fn draw_to_buffers<'r>(
     machine: &Machine,
-    frame: &Frame,
-    buffers: &[&Buffer],
-    records: Option<(&Buffer, &Image)>,
-    draw: impl FnOnce(&mut Pass<'_>) -> Result<()>,
+    depth: &'r Image,
+    buffers: &[&'r Buffer],
+    records: Option<(&'r Buffer, &'r Image)>,
+    draw: impl FnOnce(&mut Pass<'_, 'r>) -> Result<()>,
 ) -> Result<()> {
-    let depth = machine.image(Format::Depth, frame.width, frame.height)?;
-    machine.with_fragment_resources(buffers, records.map(|(_, image)| image), |set| {
-        machine.run(|pass| {
-            if let Some((upload, image)) = records {
-                pass.upload_for_fragments(upload, image)?;
-            }
-            pass.begin(
-                Target {
-                    color: None,
-                    depth_stencil: Some(&depth),
-                },
-                Clear {
-                    color: None,
-                    depth: Some(1.0),
-                    stencil: None,
-                },
-            )?;
-            pass.bind_fragment_buffer(set);
-            draw(pass)?;
-            pass.end()
-        })
+    machine.run(|pass| {
+        if let Some((upload, image)) = records {
+            pass.upload_for_fragments(upload, image)?;
+        }
+        pass.bind_fragment_buffers(buffers, records.map(|(_, image)| image))?;
+        pass.begin(
+            Target {
+                color: None,
+                depth_stencil: Some(depth),
+            },
+            Clear {
+                color: None,
+                depth: Some(1.0),
+                stencil: None,
+            },
+        )?;
+        draw(pass)?;
+        pass.end()
     })
 }
 
@@ -858,21 +857,19 @@ pub fn k_nearest_peeled(
     let to_world = (1.0 / frame.scale) as f32;
     let unscale = (1.0 / scale) as f32;
     for level in 0..k as usize {
-        machine.with_fragment_buffers(&[&previous], |set| {
-            machine.run(|pass| {
-                let fresh = Clear {
-                    color: Some(ClearColor::Uint([u32::MAX; 4])),
-                    depth: Some(1.0),
-                    stencil: None,
-                };
-                pass.begin(target, fresh)?;
-                pass.bind_fragment_buffer(set);
-                pass.draw_cones(Program::ConePeel, &register, &params, &push, &cones_draw)?;
-                pass.end()?;
-                // This level becomes the next one's z and sites.
-                pass.feed_fragment_buffer(&depth, &previous, 0)?;
-                pass.feed_fragment_buffer(&ids, &previous, 4 * pixels as u64)
-            })
+        machine.run(|pass| {
+            let fresh = Clear {
+                color: Some(ClearColor::Uint([u32::MAX; 4])),
+                depth: Some(1.0),
+                stencil: None,
+            };
+            pass.bind_fragment_buffers(&[&previous], None)?;
+            pass.begin(target, fresh)?;
+            pass.draw_cones(Program::ConePeel, &register, &params, &push, &cones_draw)?;
+            pass.end()?;
+            // This level becomes the next one's z and sites.
+            pass.feed_fragment_buffer(&depth, &previous, 0)?;
+            pass.feed_fragment_buffer(&ids, &previous, 4 * pixels as u64)
         })?;
         let rect = PixelRect::of(&ids);
         let level_ids = machine.read_u32(&ids, rect)?;

@@ -367,33 +367,31 @@ fn count_spans(
     let buffers: Vec<_> = std::iter::once(radii).chain(&pictures).collect();
     let start = Instant::now();
     let kind = push.metric_code().0;
-    machine.with_compute_buffers(&buffers, |set| {
-        // About 64 submissions, for progress; each within one dispatch's limits.
-        let step = pixels
-            .div_ceil(64)
-            .clamp(1, MAX_GROUPS * BufferKernel::SettleSpans(0).group());
-        let mut first = 0;
-        while first < pixels {
-            let count = step.min(pixels - first);
-            machine.run(|pass| {
-                pass.dispatch(
-                    BufferKernel::SettleSpans(kind),
-                    set,
-                    count,
-                    &push.words(first, count, 0),
-                )
-            })?;
-            first += count;
-            progress(first as u64, pixels as u64);
-        }
+    // About 64 submissions, for progress; each within one dispatch's limits.
+    let step = pixels
+        .div_ceil(64)
+        .clamp(1, MAX_GROUPS * BufferKernel::SettleSpans(0).group());
+    let mut first = 0;
+    while first < pixels {
+        let count = step.min(pixels - first);
         machine.run(|pass| {
-            let (w, h) = (frame.width, frame.height);
-            // Columns, the two kinds of diagonals, rows.
-            for (phase, lines) in [(0, w), (1, w + h - 1), (2, w + h - 1), (3, h)] {
-                pass.dispatch(BufferKernel::SettleSums, set, lines, &[w, h, phase])?;
-            }
-            Ok(())
-        })
+            pass.dispatch(
+                BufferKernel::SettleSpans(kind),
+                &buffers,
+                count,
+                &push.words(first, count, 0),
+            )
+        })?;
+        first += count;
+        progress(first as u64, pixels as u64);
+    }
+    machine.run(|pass| {
+        let (w, h) = (frame.width, frame.height);
+        // Columns, the two kinds of diagonals, rows.
+        for (phase, lines) in [(0, w), (1, w + h - 1), (2, w + h - 1), (3, h)] {
+            pass.dispatch(BufferKernel::SettleSums, &buffers, lines, &[w, h, phase])?;
+        }
+        Ok(())
     })?;
     stats.count_ms = ms(start);
     let start = Instant::now();
@@ -443,49 +441,46 @@ fn count_faithful(
     let mut rgba = vec![0u32; pixels as usize];
     let mut count_ms = 0.0;
     let mut readback_ms = 0.0;
-    machine.with_fragment_buffers(&[radii], |set| {
-        let mut first = 0;
-        let mut channel = 0;
-        while first < pixels {
-            let count = DISCS_PER_CHANNEL.min(pixels - first);
-            let clear = Clear {
-                color: (channel == 0).then_some(ClearColor::Float([0.0; 4])),
-                depth: (first == 0).then_some(1.0),
-                stencil: (first == 0).then_some(1),
-            };
+    let mut first = 0;
+    let mut channel = 0;
+    while first < pixels {
+        let count = DISCS_PER_CHANNEL.min(pixels - first);
+        let clear = Clear {
+            color: (channel == 0).then_some(ClearColor::Float([0.0; 4])),
+            depth: (first == 0).then_some(1.0),
+            stencil: (first == 0).then_some(1),
+        };
+        let start = Instant::now();
+        machine.run(|pass| {
+            pass.bind_fragment_buffers(&[radii], None)?;
+            pass.begin(target, clear)?;
+            pass.draw_instances(
+                Program::SettleDisc(push.metric_code().0),
+                &state,
+                &params,
+                &push.words(first, count, channel),
+                4,
+                0..count,
+            )?;
+            pass.end()
+        })?;
+        count_ms += ms(start);
+        first += count;
+        channel += 1;
+        if channel == 4 || first == pixels {
             let start = Instant::now();
-            machine.run(|pass| {
-                pass.begin(target, clear)?;
-                pass.bind_fragment_buffer(set);
-                pass.draw_instances(
-                    Program::SettleDisc(push.metric_code().0),
-                    &state,
-                    &params,
-                    &push.words(first, count, channel),
-                    4,
-                    0..count,
-                )?;
-                pass.end()
-            })?;
-            count_ms += ms(start);
-            first += count;
-            channel += 1;
-            if channel == 4 || first == pixels {
-                let start = Instant::now();
-                let rect = PixelRect::of(&color);
-                machine.read_u32_into(&color, rect, &mut rgba, w as usize)?;
-                total.par_iter_mut().zip(&rgba).for_each(|(t, &c)| {
-                    let wraps: u32 = c.to_le_bytes().iter().map(|&b| b as u32).sum();
-                    *t += 256 * wraps;
-                });
-                stats.readbacks += 1;
-                readback_ms += ms(start);
-                channel = 0;
-            }
-            progress(first as u64, pixels as u64);
+            let rect = PixelRect::of(&color);
+            machine.read_u32_into(&color, rect, &mut rgba, w as usize)?;
+            total.par_iter_mut().zip(&rgba).for_each(|(t, &c)| {
+                let wraps: u32 = c.to_le_bytes().iter().map(|&b| b as u32).sum();
+                *t += 256 * wraps;
+            });
+            stats.readbacks += 1;
+            readback_ms += ms(start);
+            channel = 0;
         }
-        Ok(())
-    })?;
+        progress(first as u64, pixels as u64);
+    }
     // The hits since the last wrap: the stencil started at 1.
     let start = Instant::now();
     machine.read_stencil_into(

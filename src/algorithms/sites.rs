@@ -696,20 +696,18 @@ fn draw_site_tiles(
         })?;
     }
     for (k, (shape, (upload, records))) in passes.iter().enumerate() {
-        machine.with_fragment_resources(&[], Some(records), |set| {
-            machine.run(|pass| {
-                pass.upload_for_fragments(upload, records)?;
-                // Later shapes draw over the earlier ones' envelope.
-                pass.begin(target, if k == 0 { clear } else { Clear::default() })?;
-                pass.bind_fragment_buffer(set);
-                pass.draw_site_tiles(
-                    *shape,
-                    &RasterState::lower_envelope(),
-                    &DrawParams::default(),
-                    &push,
-                )?;
-                pass.end()
-            })
+        machine.run(|pass| {
+            pass.upload_for_fragments(upload, records)?;
+            // Later shapes draw over the earlier ones' envelope.
+            pass.bind_fragment_buffers(&[], Some(records))?;
+            pass.begin(target, if k == 0 { clear } else { Clear::default() })?;
+            pass.draw_site_tiles(
+                *shape,
+                &RasterState::lower_envelope(),
+                &DrawParams::default(),
+                &push,
+            )?;
+            pass.end()
         })?;
     }
     let keys = SiteDepth {

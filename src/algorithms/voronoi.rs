@@ -1318,7 +1318,7 @@ struct Picture {
 impl Picture {
     /// Begins rendering into the tile, its ids cleared to "no site", its depths
     /// to the farthest, and its stencil to 0 where `stencil`.
-    fn begin(&self, pass: &mut Pass<'_>, stencil: bool) -> Result<()> {
+    fn begin<'r>(&'r self, pass: &mut Pass<'_, 'r>, stencil: bool) -> Result<()> {
         pass.begin(
             Target {
                 color: Some(&self.ids),
@@ -1668,14 +1668,12 @@ fn render_tiles(
     let Some((upload, records)) = records_image(machine, texels)? else {
         return Ok(false);
     };
-    machine.with_fragment_resources(&[], Some(&records), |set| {
-        machine.run(|pass| {
-            pass.upload_for_fragments(&upload, &records)?;
-            picture.begin(pass, false)?;
-            pass.bind_fragment_buffer(set);
-            pass.draw_nearest_tiles(&RasterState::lower_envelope(), &DrawParams::default(), push)?;
-            pass.end()
-        })
+    machine.run(|pass| {
+        pass.upload_for_fragments(&upload, &records)?;
+        pass.bind_fragment_buffers(&[], Some(&records))?;
+        picture.begin(pass, false)?;
+        pass.draw_nearest_tiles(&RasterState::lower_envelope(), &DrawParams::default(), push)?;
+        pass.end()
     })?;
     Ok(true)
 }

@@ -10,7 +10,10 @@ use gpu_allocator::{
     MemoryLocation,
 };
 
-use super::{context::Context, sync::Usage};
+use super::{
+    context::Context,
+    sync::{BufferUse, Usage},
+};
 use crate::error::{Error, Result, VkContext};
 
 /// Pixel formats of the picture's buffers (thesis Fig. 1.2).
@@ -221,6 +224,8 @@ pub struct Buffer {
     pub(crate) raw: vk::Buffer,
     allocation: Option<Allocation>,
     size: u64,
+    /// How the run being recorded last used it (`Host` between runs).
+    pub(crate) last_use: Cell<BufferUse>,
 }
 
 impl Buffer {
@@ -250,6 +255,7 @@ impl Buffer {
             raw,
             allocation: None,
             size,
+            last_use: Cell::new(BufferUse::Host),
         };
         // SAFETY: `raw` is a valid buffer of this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };

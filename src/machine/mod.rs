@@ -13,6 +13,7 @@
 mod cache;
 mod context;
 mod conv;
+mod descriptors;
 mod memory;
 mod pass;
 mod pipelines;
@@ -42,7 +43,8 @@ pub use state::{
 
 use crate::error::{Error, Result, VkContext};
 use context::Context;
-use pipelines::{Kernel, Pipelines, GRAPHICS_RECORDS_BINDING};
+use descriptors::DescriptorSets;
+use pipelines::{Kernel, Pipelines};
 
 /// Per-channel minimum and maximum of a picture buffer (thesis §1.7, Fig. 1.12).
 /// Integer buffers report their values exactly (as `f64`); single-channel buffers
@@ -101,7 +103,7 @@ pub struct Machine {
     command_pool: vk::CommandPool,
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
-    descriptor_pool: vk::DescriptorPool,
+    descriptors: DescriptorSets,
     scratch: std::cell::RefCell<Option<Buffer>>,
     ctx: Arc<Context>,
 }
@@ -122,7 +124,7 @@ impl Machine {
             command_pool,
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
-            descriptor_pool: vk::DescriptorPool::null(),
+            descriptors: DescriptorSets::new(&ctx),
             scratch: Default::default(),
             ctx: ctx.clone(),
         };
@@ -138,23 +140,6 @@ impl Machine {
             machine.fence = device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
                 .vk("vkCreateFence")?;
-            let sizes = [
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_IMAGE,
-                    descriptor_count: 16,
-                },
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_BUFFER,
-                    descriptor_count: 64,
-                },
-            ];
-            let info = vk::DescriptorPoolCreateInfo::default()
-                .flags(vk::DescriptorPoolCreateFlags::FREE_DESCRIPTOR_SET)
-                .max_sets(16)
-                .pool_sizes(&sizes);
-            machine.descriptor_pool = device
-                .create_descriptor_pool(&info, None)
-                .vk("vkCreateDescriptorPool")?;
         }
         ctx.check_validation()?;
         Ok(machine)
@@ -213,7 +198,41 @@ impl Machine {
 
     /// Records the passes of `record` into one command buffer, submits it and waits.
     /// With validation on, any message reported meanwhile makes this an error.
-    pub fn run<R>(&self, record: impl FnOnce(&mut Pass<'_>) -> Result<R>) -> Result<R> {
+    ///
+    /// Every image and buffer a pass uses is borrowed for `'r`, which outlasts
+    /// the call, so none can be dropped before the submission has completed:
+    ///
+    /// ```compile_fail
+    /// # use pixgeo::machine::*;
+    /// # fn main() -> pixgeo::Result<()> {
+    /// let machine = Machine::from_env()?;
+    /// machine.run(|pass| {
+    ///     // Dropped at the closure's end, before the submission:
+    ///     let picture = machine.image(Format::R32Uint, 4, 4)?;
+    ///     let target = Target { color: Some(&picture), depth_stencil: None };
+    ///     pass.begin(target, Clear::default())?;
+    ///     pass.end()
+    /// })?;
+    /// # Ok(())
+    /// # }
+    /// ```
+    ///
+    /// Made before the run, it lives long enough:
+    ///
+    /// ```
+    /// # use pixgeo::machine::*;
+    /// # fn main() -> pixgeo::Result<()> {
+    /// let machine = Machine::from_env()?;
+    /// let picture = machine.image(Format::R32Uint, 4, 4)?;
+    /// machine.run(|pass| {
+    ///     let target = Target { color: Some(&picture), depth_stencil: None };
+    ///     pass.begin(target, Clear::default())?;
+    ///     pass.end()
+    /// })?;
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn run<'r, R>(&self, record: impl FnOnce(&mut Pass<'_, 'r>) -> Result<R>) -> Result<R> {
         let device = &self.ctx.device;
         let cmd = self.command_buffer;
         let begin = vk::CommandBufferBeginInfo::default()
@@ -229,10 +248,18 @@ impl Machine {
         }
         let recorded = {
             let mut pass = Pass::new(self, cmd);
-            record(&mut pass)
+            let recorded = record(&mut pass);
+            pass.finish();
+            recorded
         };
         pass::end_commands(device, cmd)?;
-        let value = recorded?;
+        let value = match recorded {
+            Ok(value) => value,
+            Err(e) => {
+                self.descriptors.release()?;
+                return Err(e);
+            }
+        };
         let cmds = [cmd];
         let submit = vk::SubmitInfo::default().command_buffers(&cmds);
         // SAFETY: the command buffer is fully recorded; the fence is unsignalled and
@@ -246,6 +273,7 @@ impl Machine {
                 .vk("vkWaitForFences")?;
             device.reset_fences(&[self.fence]).vk("vkResetFences")?;
         }
+        self.descriptors.release()?;
         self.ctx.check_validation()?;
         self.pipelines.cache.save();
         Ok(value)
@@ -372,130 +400,6 @@ impl Machine {
         Ok(())
     }
 
-    /// Runs `f` with a descriptor set of `layout` holding `image` at its binding
-    /// and `buffers` at the bindings from `first_buffer` on, freeing the set
-    /// afterwards (`f` runs its submissions to completion).
-    fn with_set<R>(
-        &self,
-        layout: vk::DescriptorSetLayout,
-        image: Option<(&Image, u32)>,
-        first_buffer: u32,
-        buffers: &[&Buffer],
-        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
-    ) -> Result<R> {
-        let device = &self.ctx.device;
-        let layouts = [layout];
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(self.descriptor_pool)
-            .set_layouts(&layouts);
-        // SAFETY: pool and layout are valid; the set is freed below after the run
-        // that used it has completed.
-        let set =
-            unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
-        let image_info: Vec<_> = image
-            .iter()
-            .map(|(image, _)| {
-                vk::DescriptorImageInfo::default()
-                    .image_view(image.view)
-                    .image_layout(vk::ImageLayout::GENERAL)
-            })
-            .collect();
-        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
-            .iter()
-            .map(|b| {
-                [vk::DescriptorBufferInfo::default()
-                    .buffer(b.raw)
-                    .range(vk::WHOLE_SIZE)]
-            })
-            .collect();
-        let mut writes: Vec<vk::WriteDescriptorSet> = buffer_infos
-            .iter()
-            .enumerate()
-            .map(|(k, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(first_buffer + k as u32)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        if let Some((_, binding)) = image {
-            writes.push(
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(binding)
-                    .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                    .image_info(&image_info),
-            );
-        }
-        // SAFETY: the set is not in use; infos outlive the call.
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
-        let result = f(set);
-        // SAFETY: `f` ran its submission to completion (`run` waits).
-        unsafe { device.free_descriptor_sets(self.descriptor_pool, &[set]) }
-            .vk("vkFreeDescriptorSets")?;
-        result
-    }
-
-    fn with_descriptor_set<R>(
-        &self,
-        image: &Image,
-        buffer: &Buffer,
-        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
-    ) -> Result<R> {
-        self.with_set(
-            self.pipelines.compute_set_layout,
-            Some((image, 0)),
-            1,
-            &[buffer],
-            f,
-        )
-    }
-
-    /// Runs `f` with a descriptor set that gives vertex and fragment shaders
-    /// `buffers` as storage buffers 0, 1, 2 (at most three); bind it in a pass with
-    /// [`Pass::bind_fragment_buffer`].
-    pub fn with_fragment_buffers<R>(
-        &self,
-        buffers: &[&Buffer],
-        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
-    ) -> Result<R> {
-        self.with_fragment_resources(buffers, None, f)
-    }
-
-    /// As [`Machine::with_fragment_buffers`], with `records` as storage image 3
-    /// for fragment shaders to read (filled by [`Pass::upload_for_fragments`]).
-    pub fn with_fragment_resources<R>(
-        &self,
-        buffers: &[&Buffer],
-        records: Option<&Image>,
-        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
-    ) -> Result<R> {
-        if (buffers.is_empty() && records.is_none()) || buffers.len() > 3 {
-            return Err(Error::InvalidInput(
-                "graphics programs take up to three storage buffers and a records image, at least one of them".into(),
-            ));
-        }
-        let records = records.map(|image| (image, GRAPHICS_RECORDS_BINDING));
-        self.with_set(self.pipelines.graphics_set_layout, records, 0, buffers, f)
-    }
-
-    /// Runs `f` with a descriptor set that gives compute kernels
-    /// ([`BufferKernel`]) `buffers` as storage buffers 0, 1, … (at most
-    /// [`BUFFER_KERNEL_BINDINGS`]).
-    pub fn with_compute_buffers<R>(
-        &self,
-        buffers: &[&Buffer],
-        f: impl FnOnce(vk::DescriptorSet) -> Result<R>,
-    ) -> Result<R> {
-        if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
-            return Err(Error::InvalidInput(format!(
-                "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
-            )));
-        }
-        self.with_set(self.pipelines.buffer_set_layout, None, 0, buffers, f)
-    }
-
     /// A host-visible storage buffer of `bytes` bytes, for kernels and fragment
     /// shaders to read and write and the host to fill and read.
     pub fn storage_buffer(&self, bytes: u64) -> Result<Buffer> {
@@ -530,9 +434,7 @@ impl Machine {
         };
         let mut buffer = self.readback_buffer(32)?;
         buffer.write(&[u32::MAX, u32::MAX, u32::MAX, u32::MAX, 0, 0, 0, 0]);
-        self.with_descriptor_set(image, &buffer, |set| {
-            self.run(|pass| pass.reduce(Kernel::MinMax, image, rect, set, &[]))
-        })?;
+        self.run(|pass| pass.reduce(Kernel::MinMax, image, rect, &buffer, &[]))?;
         let raw: Vec<u32> = buffer.read(8);
         let decode = |u: u32| -> f64 {
             if float {
@@ -587,21 +489,13 @@ impl Machine {
             let squared = near.map_or(0.0, |n| n.squared_scale);
             [w, h, phase, within.to_bits(), capacity, squared.to_bits()]
         };
-        self.with_compute_buffers(&[&values, &result], |set| {
-            self.run(|pass| {
-                pass.feed_fragment_buffer(depth, &values, 0)?;
-                pass.dispatch(BufferKernel::Extremum, set, strips, &push(0))?;
-                match near {
-                    // The list holds the extremes' pixels (with their values).
-                    Some(n) => pass.dispatch(
-                        BufferKernel::Extremum,
-                        set,
-                        strips,
-                        &push(2 + u32::from(n.maximum)),
-                    ),
-                    None => pass.dispatch(BufferKernel::Extremum, set, strips, &push(1)),
-                }
-            })
+        let buffers = [&values, &result];
+        self.run(|pass| {
+            pass.feed_fragment_buffer(depth, &values, 0)?;
+            pass.dispatch(BufferKernel::Extremum, &buffers, strips, &push(0))?;
+            // With a list, it holds the extremes' pixels (with their values).
+            let phase = near.map_or(1, |n| 2 + u32::from(n.maximum));
+            pass.dispatch(BufferKernel::Extremum, &buffers, strips, &push(phase))
         })?;
         let raw: Vec<u32> = result.read(5 + 2 * capacity as usize);
         let near_count = raw[4] as usize;
@@ -622,10 +516,8 @@ impl Machine {
             let first = match first {
                 Some(i) => i,
                 None => {
-                    self.with_compute_buffers(&[&values, &result], |set| {
-                        self.run(|pass| {
-                            pass.dispatch(BufferKernel::Extremum, set, strips, &push(1))
-                        })
+                    self.run(|pass| {
+                        pass.dispatch(BufferKernel::Extremum, &buffers, strips, &push(1))
                     })?;
                     let again: Vec<u32> = result.read(4);
                     if n.maximum {
@@ -685,16 +577,14 @@ impl Machine {
         };
         let mut buffer = self.readback_buffer(4 * bins.bins as u64)?;
         buffer.write(&vec![0u32; bins.bins as usize]);
-        self.with_descriptor_set(image, &buffer, |set| {
-            self.run(|pass| {
-                pass.reduce(
-                    Kernel::Histogram,
-                    image,
-                    rect,
-                    set,
-                    &[bins.channel, bins.bins, low, width],
-                )
-            })
+        self.run(|pass| {
+            pass.reduce(
+                Kernel::Histogram,
+                image,
+                rect,
+                &buffer,
+                &[bins.channel, bins.bins, low, width],
+            )
         })?;
         Ok(buffer.read(bins.bins as usize))
     }
@@ -707,7 +597,6 @@ impl Drop for Machine {
         unsafe {
             let device = &self.ctx.device;
             let _ = device.device_wait_idle();
-            device.destroy_descriptor_pool(self.descriptor_pool, None);
             device.destroy_fence(self.fence, None);
             device.destroy_command_pool(self.command_pool, None);
         }

@@ -6,9 +6,11 @@ use ash::vk;
 
 use super::{
     memory::{Buffer, Format, Image},
-    pipelines::{BufferKernel, Kernel, Program, SiteShape},
+    pipelines::{
+        BufferKernel, Kernel, Program, SiteShape, BUFFER_KERNEL_BINDINGS, GRAPHICS_RECORDS_BINDING,
+    },
     state::{DrawParams, RasterState},
-    sync::{self, Usage},
+    sync::{self, BufferUse, Usage},
     Machine,
 };
 use crate::error::{Error, Result, VkContext};
@@ -242,23 +244,70 @@ struct Rendering {
 /// Workgroups one dispatch may have in x on every Vulkan device.
 pub const MAX_GROUPS: u32 = 65535;
 
-/// Records commands for one submission.
-pub struct Pass<'m> {
+/// Records commands for one submission of [`Machine::run`] on the machine
+/// `'m`; every image and buffer it is given is borrowed for `'r`, past the
+/// submission's end.
+pub struct Pass<'m, 'r> {
     pub(crate) machine: &'m Machine,
     pub(crate) cmd: vk::CommandBuffer,
     rendering: Option<Rendering>,
-    /// Fragment shaders of the open rendering pass write a storage buffer that the
-    /// host reads afterwards.
-    fragment_buffer: bool,
+    /// The buffers used so far, each once: at the end of the run their writes
+    /// are made visible to the host and they return to `BufferUse::Host`.
+    buffers: Vec<&'r Buffer>,
 }
 
-impl<'m> Pass<'m> {
+impl<'m, 'r> Pass<'m, 'r> {
     pub(crate) fn new(machine: &'m Machine, cmd: vk::CommandBuffer) -> Self {
         Self {
             machine,
             cmd,
             rendering: None,
-            fragment_buffer: false,
+            buffers: Vec::new(),
+        }
+    }
+
+    /// Declares that `buffer` is used as `usage` from here on; records the
+    /// barrier its last use needs. Inside a rendering pass no barrier can be
+    /// recorded, so a use that needs one there is an error.
+    fn use_buffer(&mut self, buffer: &'r Buffer, usage: BufferUse) -> Result<()> {
+        let from = buffer.last_use.get();
+        if let Some(barrier) = sync::buffer_barrier(buffer.raw, from, usage) {
+            if self.rendering.is_some() {
+                return Err(Error::InvalidInput(format!(
+                    "a buffer last used as {from:?} is used as {usage:?} inside a rendering pass: use it before `begin`"
+                )));
+            }
+            let barriers = [barrier];
+            let dep = vk::DependencyInfo::default().buffer_memory_barriers(&barriers);
+            // SAFETY: recording state, outside a rendering pass.
+            unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        }
+        if from == BufferUse::Host && !self.buffers.iter().any(|b| std::ptr::eq(*b, buffer)) {
+            self.buffers.push(buffer);
+        }
+        buffer.last_use.set(usage);
+        Ok(())
+    }
+
+    /// Ends the run's recording: closes a rendering pass left open, and makes
+    /// the device's writes to every buffer used visible to the host.
+    pub(crate) fn finish(&mut self) {
+        if self.rendering.take().is_some() {
+            // SAFETY: close a pass the caller left open so the buffer can end.
+            unsafe { self.device().cmd_end_rendering(self.cmd) };
+        }
+        let barriers: Vec<_> = self
+            .buffers
+            .iter()
+            .filter_map(|b| sync::buffer_barrier(b.raw, b.last_use.get(), BufferUse::Host))
+            .collect();
+        if !barriers.is_empty() {
+            let dep = vk::DependencyInfo::default().buffer_memory_barriers(&barriers);
+            // SAFETY: recording state, outside a rendering pass.
+            unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        }
+        for b in self.buffers.drain(..) {
+            b.last_use.set(BufferUse::Host);
         }
     }
 
@@ -281,7 +330,7 @@ impl<'m> Pass<'m> {
     }
 
     /// Begins rendering into `target`, clearing what `clear` names.
-    pub fn begin(&mut self, target: Target<'_>, clear: Clear) -> Result<()> {
+    pub fn begin(&mut self, target: Target<'r>, clear: Clear) -> Result<()> {
         if self.rendering.is_some() {
             return Err(Error::InvalidInput(
                 "a rendering pass is already open".into(),
@@ -411,12 +460,6 @@ impl<'m> Pass<'m> {
         }
         // SAFETY: a rendering pass was begun in this command buffer.
         unsafe { self.device().cmd_end_rendering(self.cmd) };
-        if std::mem::take(&mut self.fragment_buffer) {
-            self.host_barrier(
-                vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            );
-        }
         Ok(())
     }
 
@@ -478,11 +521,37 @@ impl<'m> Pass<'m> {
         };
     }
 
-    /// Binds a set from [`Machine::with_fragment_buffers`] for the draws that follow.
-    pub fn bind_fragment_buffer(&mut self, set: vk::DescriptorSet) {
-        self.fragment_buffer = true;
-        let layout = self.machine.pipelines.graphics_layout;
-        // SAFETY: the set matches the graphics layout's set 0 and outlives the run.
+    /// Gives the vertex and fragment shaders of the draws that follow
+    /// `buffers` as storage buffers 0, 1, 2 (at most three) and `records` as
+    /// storage image 3 (filled by [`Pass::upload_for_fragments`]).
+    pub fn bind_fragment_buffers(
+        &mut self,
+        buffers: &[&'r Buffer],
+        records: Option<&'r Image>,
+    ) -> Result<()> {
+        if (buffers.is_empty() && records.is_none()) || buffers.len() > 3 {
+            return Err(Error::InvalidInput(
+                "graphics programs take up to three storage buffers and a records image, at least one of them".into(),
+            ));
+        }
+        if self.rendering.is_some() {
+            return Err(Error::InvalidInput(
+                "bind fragment buffers before `begin`, where their barriers can be recorded".into(),
+            ));
+        }
+        for &buffer in buffers {
+            self.use_buffer(buffer, BufferUse::GraphicsStorage)?;
+        }
+        let pipelines = &self.machine.pipelines;
+        let set = self.machine.descriptors.set(
+            pipelines.graphics_set_layout,
+            records.map(|image| (image, GRAPHICS_RECORDS_BINDING)),
+            0,
+            buffers,
+        )?;
+        let layout = pipelines.graphics_layout;
+        // SAFETY: the set matches the graphics layout's set 0 and lives until
+        // the run has completed.
         unsafe {
             self.device().cmd_bind_descriptor_sets(
                 self.cmd,
@@ -493,6 +562,7 @@ impl<'m> Pass<'m> {
                 &[],
             )
         };
+        Ok(())
     }
 
     /// Draws instanced cones (a "display list" translated per site, thesis §3.3).
@@ -502,7 +572,7 @@ impl<'m> Pass<'m> {
         state: &RasterState,
         params: &DrawParams,
         push: &ConePush,
-        draw: &ConeDraw<'_>,
+        draw: &ConeDraw<'r>,
     ) -> Result<()> {
         if !program.reads_vertex_buffers() || program == Program::Disc {
             return Err(Error::InvalidInput(
@@ -512,11 +582,13 @@ impl<'m> Pass<'m> {
         if draw.instance_count == 0 {
             return Ok(());
         }
+        self.use_buffer(draw.mesh, BufferUse::VertexInput)?;
+        self.use_buffer(draw.instances, BufferUse::VertexInput)?;
         self.bind(program, push.metric.0, state, params)?;
         self.push_cone_constants(push);
         let device = self.device();
-        // SAFETY: buffers are alive until the submission completes (borrowed by the
-        // caller of `Machine::run`); counts are within the buffers.
+        // SAFETY: buffers are borrowed for 'r, past the submission's end; counts
+        // are within the buffers.
         unsafe {
             device.cmd_bind_vertex_buffers(
                 self.cmd,
@@ -611,17 +683,18 @@ impl<'m> Pass<'m> {
         state: &RasterState,
         params: &DrawParams,
         push: &ConePush,
-        discs: &Buffer,
+        discs: &'r Buffer,
         count: u32,
     ) -> Result<()> {
         if count == 0 {
             return Ok(());
         }
+        self.use_buffer(discs, BufferUse::VertexInput)?;
         self.bind(Program::Disc, 0, state, params)?;
         self.push_cone_constants(push);
         let device = self.device();
-        // SAFETY: the buffer is alive until the submission completes (borrowed by
-        // the caller of `Machine::run`) and holds `count` instances.
+        // SAFETY: the buffer is borrowed for 'r, past the submission's end, and
+        // holds `count` instances.
         unsafe {
             device.cmd_bind_vertex_buffers(self.cmd, 0, &[discs.raw], &[0]);
             device.cmd_draw(self.cmd, 4, count, 0, 0);
@@ -718,18 +791,19 @@ impl<'m> Pass<'m> {
         Ok(())
     }
 
-    /// Records `kernel` over `invocations` invocations (one dimension) with the
-    /// storage buffers of `set` ([`Machine::with_compute_buffers`]), ordered after
+    /// Records `kernel` over `invocations` invocations (one dimension) with
+    /// `buffers` as its storage buffers 0, 1, … (at most
+    /// [`BUFFER_KERNEL_BINDINGS`]), ordered after
     /// earlier host writes, copies and dispatches, and visible to the host and to
     /// later work afterwards.
     pub fn dispatch(
         &mut self,
         kernel: BufferKernel,
-        set: vk::DescriptorSet,
+        buffers: &[&'r Buffer],
         invocations: u32,
         push: &[u32],
     ) -> Result<()> {
-        self.dispatch_grid(kernel, set, (invocations, 1), push)
+        self.dispatch_grid(kernel, buffers, (invocations, 1), push)
     }
 
     /// Dispatches `kernel` over a `width` x `height` grid of invocations (rows
@@ -738,10 +812,15 @@ impl<'m> Pass<'m> {
     pub fn dispatch_grid(
         &mut self,
         kernel: BufferKernel,
-        set: vk::DescriptorSet,
+        buffers: &[&'r Buffer],
         (width, height): (u32, u32),
         push: &[u32],
     ) -> Result<()> {
+        if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
+            return Err(Error::InvalidInput(format!(
+                "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
+            )));
+        }
         if self.rendering.is_some() {
             return Err(Error::InvalidInput(
                 "dispatch inside a rendering pass".into(),
@@ -756,14 +835,21 @@ impl<'m> Pass<'m> {
                 "a {width}x{height} grid of invocations needs more than {MAX_GROUPS} workgroups along a side: split it"
             )));
         }
-        let pipeline = self.machine.pipelines.buffer_compute(kernel)?;
-        let layout = self.machine.pipelines.buffer_layout;
-        self.record_dispatch(pipeline, layout, set, push, groups);
+        for &buffer in buffers {
+            self.use_buffer(buffer, BufferUse::ComputeStorage)?;
+        }
+        let pipelines = &self.machine.pipelines;
+        let pipeline = pipelines.buffer_compute(kernel)?;
+        let set = self
+            .machine
+            .descriptors
+            .set(pipelines.buffer_set_layout, None, 0, buffers)?;
+        self.record_dispatch(pipeline, pipelines.buffer_layout, set, push, groups);
         Ok(())
     }
 
-    /// Records a compute dispatch ordered after earlier host writes, copies and
-    /// dispatches, whose writes are visible to the host and to later work.
+    /// Records a compute dispatch; its buffers' and images' barriers are
+    /// already recorded.
     fn record_dispatch(
         &mut self,
         pipeline: vk::Pipeline,
@@ -772,28 +858,10 @@ impl<'m> Pass<'m> {
         push: &[u32],
         groups: (u32, u32),
     ) {
-        let stages = vk::PipelineStageFlags2::HOST
-            | vk::PipelineStageFlags2::COPY
-            | vk::PipelineStageFlags2::COMPUTE_SHADER;
-        let before = [vk::MemoryBarrier2::default()
-            .src_stage_mask(stages)
-            .src_access_mask(
-                vk::AccessFlags2::HOST_WRITE
-                    | vk::AccessFlags2::TRANSFER_WRITE
-                    | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            )
-            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            )];
         let device = self.device();
         // SAFETY: recording state outside a rendering pass; the set matches the
-        // layout and outlives the run; push fits the layout's range.
+        // layout and lives until the run has completed; push fits the layout's range.
         unsafe {
-            device.cmd_pipeline_barrier2(
-                self.cmd,
-                &vk::DependencyInfo::default().memory_barriers(&before),
-            );
             device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
             device.cmd_bind_descriptor_sets(
                 self.cmd,
@@ -812,18 +880,14 @@ impl<'m> Pass<'m> {
             );
             device.cmd_dispatch(self.cmd, groups.0, groups.1, 1);
         }
-        self.host_barrier(
-            vk::PipelineStageFlags2::COMPUTE_SHADER,
-            vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        );
     }
 
     /// Copies all of `image` (for depth/stencil: its depth) into `buffer` from byte
     /// `offset`, row-major, for fragment shaders of later passes to read.
     pub fn feed_fragment_buffer(
         &mut self,
-        image: &Image,
-        buffer: &Buffer,
+        image: &'r Image,
+        buffer: &'r Buffer,
         offset: u64,
     ) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * 4;
@@ -832,10 +896,7 @@ impl<'m> Pass<'m> {
                 "fragment buffer too small for the image".into(),
             ));
         }
-        self.fragment_buffer_barrier();
-        self.record_copy(image, PixelRect::of(image), buffer, offset);
-        self.fragment_buffer_barrier();
-        Ok(())
+        self.record_copy(image, PixelRect::of(image), buffer, offset)
     }
 
     /// Fills the depth of all of `image` from `buffer` (from byte `offset`, one
@@ -843,9 +904,9 @@ impl<'m> Pass<'m> {
     /// a depth picture computed by a kernel, for the graphics passes that follow.
     pub fn copy_depth_from_buffer(
         &mut self,
-        buffer: &Buffer,
+        buffer: &'r Buffer,
         offset: u64,
-        image: &Image,
+        image: &'r Image,
     ) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * 4;
         if !image.format().is_depth() || offset + bytes > buffer.size() {
@@ -853,29 +914,20 @@ impl<'m> Pass<'m> {
                 "a depth upload needs a depth image and a float per pixel".into(),
             ));
         }
-        let barrier = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::COPY)
-            .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
-        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
-        // SAFETY: recording state, outside a rendering pass.
-        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
-        self.record_upload(buffer, offset, image, vk::ImageAspectFlags::DEPTH);
-        Ok(())
+        self.record_upload(buffer, offset, image, vk::ImageAspectFlags::DEPTH)
     }
 
     /// Fills all of a colour `image` from the start of `buffer` (texels
     /// row-major, as the host wrote them) for the fragment shaders that follow
     /// to read with `imageLoad` (outside a rendering pass).
-    pub fn upload_for_fragments(&mut self, buffer: &Buffer, image: &Image) -> Result<()> {
+    pub fn upload_for_fragments(&mut self, buffer: &'r Buffer, image: &'r Image) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * image.format().texel_bytes();
         if image.format().is_depth() || bytes > buffer.size() {
             return Err(Error::InvalidInput(
                 "an upload needs a colour image and a buffer that holds all of it".into(),
             ));
         }
-        self.record_upload(buffer, 0, image, vk::ImageAspectFlags::COLOR);
+        self.record_upload(buffer, 0, image, vk::ImageAspectFlags::COLOR)?;
         self.use_image(image, Usage::FragmentRead);
         Ok(())
     }
@@ -884,11 +936,12 @@ impl<'m> Pass<'m> {
     /// `image`.
     fn record_upload(
         &mut self,
-        buffer: &Buffer,
+        buffer: &'r Buffer,
         offset: u64,
         image: &Image,
         aspect: vk::ImageAspectFlags,
-    ) {
+    ) -> Result<()> {
+        self.use_buffer(buffer, BufferUse::TransferSrc)?;
         self.use_image(image, Usage::TransferDst);
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
@@ -912,66 +965,48 @@ impl<'m> Pass<'m> {
                 &[region],
             )
         };
-    }
-
-    /// Orders writes to storage buffers by copies and fragment shaders before the
-    /// reads and writes that follow (outside a rendering pass).
-    pub fn fragment_buffer_barrier(&mut self) {
-        let stages = vk::PipelineStageFlags2::COPY | vk::PipelineStageFlags2::FRAGMENT_SHADER;
-        let barrier = [vk::MemoryBarrier2::default()
-            .src_stage_mask(stages)
-            .src_access_mask(
-                vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            )
-            .dst_stage_mask(stages)
-            .dst_access_mask(
-                vk::AccessFlags2::TRANSFER_WRITE
-                    | vk::AccessFlags2::SHADER_STORAGE_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            )];
-        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
-        // SAFETY: recording state, outside a rendering pass.
-        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        Ok(())
     }
 
     /// Copies `rect` of `image` (for depth/stencil: its depth) into `buffer`,
     /// row-major, tightly packed.
     pub fn copy_to_buffer(
         &mut self,
-        image: &Image,
+        image: &'r Image,
         rect: PixelRect,
-        buffer: &Buffer,
+        buffer: &'r Buffer,
     ) -> Result<()> {
         rect.check_inside(image)?;
         let bytes = rect.width as u64 * rect.height as u64 * image.format().texel_bytes();
         if bytes > buffer.size() {
             return Err(Error::InvalidInput("readback buffer too small".into()));
         }
-        self.record_copy(image, rect, buffer, 0);
-        self.host_barrier(
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        );
-        Ok(())
+        self.record_copy(image, rect, buffer, 0)
     }
 
     /// Records the copy of `rect` of `image` into `buffer` at byte `offset`.
-    fn record_copy(&mut self, image: &Image, rect: PixelRect, buffer: &Buffer, offset: u64) {
+    fn record_copy(
+        &mut self,
+        image: &Image,
+        rect: PixelRect,
+        buffer: &'r Buffer,
+        offset: u64,
+    ) -> Result<()> {
         let aspect = if image.format().is_depth() {
             vk::ImageAspectFlags::DEPTH
         } else {
             vk::ImageAspectFlags::COLOR
         };
-        self.record_aspect_copy(image, rect, buffer, offset, aspect);
+        self.record_aspect_copy(image, rect, buffer, offset, aspect)
     }
 
     /// Copies the stencil of `rect` of a depth/stencil `image` into `buffer`, one
     /// byte per pixel, row-major, tightly packed.
     pub fn copy_stencil_to_buffer(
         &mut self,
-        image: &Image,
+        image: &'r Image,
         rect: PixelRect,
-        buffer: &Buffer,
+        buffer: &'r Buffer,
     ) -> Result<()> {
         rect.check_inside(image)?;
         if !image.format().has_stencil() || rect.width as u64 * rect.height as u64 > buffer.size() {
@@ -979,22 +1014,18 @@ impl<'m> Pass<'m> {
                 "stencil readback needs a DepthStencil image and room for a byte per pixel".into(),
             ));
         }
-        self.record_aspect_copy(image, rect, buffer, 0, vk::ImageAspectFlags::STENCIL);
-        self.host_barrier(
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        );
-        Ok(())
+        self.record_aspect_copy(image, rect, buffer, 0, vk::ImageAspectFlags::STENCIL)
     }
 
     fn record_aspect_copy(
         &mut self,
         image: &Image,
         rect: PixelRect,
-        buffer: &Buffer,
+        buffer: &'r Buffer,
         offset: u64,
         aspect: vk::ImageAspectFlags,
-    ) {
+    ) -> Result<()> {
+        self.use_buffer(buffer, BufferUse::TransferDst)?;
         self.use_image(image, Usage::TransferSrc);
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
@@ -1023,18 +1054,7 @@ impl<'m> Pass<'m> {
                 &[region],
             )
         };
-    }
-
-    /// Makes writes of `stage` visible to the host after the submission.
-    fn host_barrier(&mut self, stage: vk::PipelineStageFlags2, access: vk::AccessFlags2) {
-        let barrier = [vk::MemoryBarrier2::default()
-            .src_stage_mask(stage)
-            .src_access_mask(access)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
-        // SAFETY: recording state.
-        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        Ok(())
     }
 
     /// Records a reduction kernel over `rect` of `image` writing into `result`
@@ -1042,13 +1062,20 @@ impl<'m> Pass<'m> {
     pub(crate) fn reduce(
         &mut self,
         kernel: Kernel,
-        image: &Image,
+        image: &'r Image,
         rect: PixelRect,
-        set: vk::DescriptorSet,
+        result: &'r Buffer,
         extra_push: &[u32],
     ) -> Result<()> {
         rect.check_inside(image)?;
         let pipeline = self.machine.pipelines.compute(kernel, image.format())?;
+        self.use_buffer(result, BufferUse::ComputeStorage)?;
+        let set = self.machine.descriptors.set(
+            self.machine.pipelines.compute_set_layout,
+            Some((image, 0)),
+            1,
+            &[result],
+        )?;
         self.use_image(image, Usage::ComputeRead);
         let mut words = vec![rect.x, rect.y, rect.width, rect.height];
         words.extend_from_slice(extra_push);
@@ -1061,15 +1088,6 @@ impl<'m> Pass<'m> {
             kernel.groups(rect.width, rect.height),
         );
         Ok(())
-    }
-}
-
-impl Drop for Pass<'_> {
-    fn drop(&mut self) {
-        if self.rendering.take().is_some() {
-            // SAFETY: close a pass the caller left open so the buffer can end.
-            unsafe { self.device().cmd_end_rendering(self.cmd) };
-        }
     }
 }
 

@@ -33,7 +33,7 @@ pub enum Program {
     NearestTiles,
     /// Instanced exact cone footprints inserting `(squared distance, id)` keys into
     /// each pixel's sorted list of the k nearest, a storage buffer bound with
-    /// [`crate::machine::Pass::bind_fragment_buffer`]; writes no attachment.
+    /// [`crate::machine::Pass::bind_fragment_buffers`]; writes no attachment.
     ConeKNearest,
     /// [`Program::ConeKNearest`] with triangle-fan cones: the key's distance is the
     /// fan's interpolated height.
@@ -160,12 +160,12 @@ impl Kernel {
     }
 }
 
-/// Storage buffers of the set that [`crate::machine::Machine::with_compute_buffers`]
-/// makes; a kernel uses those it declares.
+/// Storage buffers a kernel may take in [`crate::machine::Pass::dispatch`];
+/// a kernel uses those it declares.
 pub const BUFFER_KERNEL_BINDINGS: u32 = 8;
 
-/// Compute kernels over storage buffers (bindings 0, 1, … of the set that
-/// [`crate::machine::Machine::with_compute_buffers`] makes).
+/// Compute kernels over storage buffers (bindings 0, 1, … in the order
+/// [`crate::machine::Pass::dispatch`] is given them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BufferKernel {
     /// The settle point's span counting: every disc's parts into seven

@@ -1,5 +1,6 @@
-//! Barriers derived from declared use: each image records its last `Usage`, and
-//! `image_barrier` turns a change of use into the one barrier it needs.
+//! Barriers derived from declared use: each image records its last `Usage` and
+//! each buffer its last `BufferUse`, and `image_barrier` and `buffer_barrier`
+//! turn a change of use into the one barrier it needs.
 
 use ash::vk;
 
@@ -105,4 +106,87 @@ pub fn image_barrier(
 /// The layout an image has while used as `usage`.
 pub fn layout(usage: Usage) -> vk::ImageLayout {
     access(usage).layout
+}
+
+/// What a pass does with a buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BufferUse {
+    /// Written or read by the host between runs: a submission makes host
+    /// writes visible, and each run ends by making device writes visible to it.
+    Host,
+    /// Vertices or instances of draws.
+    VertexInput,
+    /// Storage read and written by vertex and fragment shaders.
+    GraphicsStorage,
+    /// Storage read and written by compute kernels.
+    ComputeStorage,
+    /// Source of a copy into an image.
+    TransferSrc,
+    /// Destination of a copy from an image.
+    TransferDst,
+}
+
+fn buffer_access(usage: BufferUse) -> Access {
+    let (stage, access, writes) = match usage {
+        // The host writes only between runs, after the fence.
+        BufferUse::Host => (
+            vk::PipelineStageFlags2::HOST,
+            vk::AccessFlags2::HOST_READ,
+            false,
+        ),
+        BufferUse::VertexInput => (
+            vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT,
+            vk::AccessFlags2::VERTEX_ATTRIBUTE_READ,
+            false,
+        ),
+        BufferUse::GraphicsStorage => (
+            vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            true,
+        ),
+        BufferUse::ComputeStorage => (
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            true,
+        ),
+        BufferUse::TransferSrc => (
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+            false,
+        ),
+        BufferUse::TransferDst => (
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_WRITE,
+            true,
+        ),
+    };
+    Access {
+        stage,
+        access,
+        layout: vk::ImageLayout::UNDEFINED,
+        writes,
+    }
+}
+
+/// The barrier that orders a buffer's use as `from` before its use as `to`, or
+/// `None` when neither writes, or when the host wrote it before the
+/// submission (which the submission itself makes visible).
+pub fn buffer_barrier(
+    buffer: vk::Buffer,
+    from: BufferUse,
+    to: BufferUse,
+) -> Option<vk::BufferMemoryBarrier2<'static>> {
+    let (a, b) = (buffer_access(from), buffer_access(to));
+    if from == BufferUse::Host || (!a.writes && !b.writes) {
+        return None;
+    }
+    Some(
+        vk::BufferMemoryBarrier2::default()
+            .src_stage_mask(a.stage)
+            .src_access_mask(a.access)
+            .dst_stage_mask(b.stage)
+            .dst_access_mask(b.access)
+            .buffer(buffer)
+            .size(vk::WHOLE_SIZE),
+    )
 }
