@@ -810,7 +810,58 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
         assert_eq!(envelope["frame"].is_object(), picture, "{run:?}");
         let named = stdout.matches("\"device\"").count();
         assert_eq!(named, 1, "{run:?}: the device is named once");
+        // What draws on the device says how long its passes took there.
+        let passes = envelope["gpu_ms"].as_object().unwrap();
+        assert_eq!(!passes.is_empty(), picture, "{run:?}: {passes:?}");
     }
+}
+
+#[test]
+fn trace_holds_the_host_phases_and_the_device_passes() {
+    let trace = temp("trace.json");
+    let (ok, stdout, stderr) = pixgeo(&[
+        "voronoi",
+        "--random",
+        "50",
+        "--size",
+        "64",
+        "--json",
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains(&format!("wrote {}", trace.display())));
+    let envelope = enveloped(&stdout, "voronoi");
+    let events: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&trace).unwrap()).unwrap();
+    let spans: Vec<&serde_json::Value> = events["traceEvents"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["ph"] == "X")
+        .collect();
+    let on = |tid: u64| spans.iter().filter(move |e| e["tid"] == tid);
+    assert!(on(1).any(|e| e["name"] == "pixgeo voronoi"));
+    assert!(on(1).any(|e| e["name"] == "run"));
+    // Every pass the envelope times is on the device's track, and no other.
+    let mut traced: Vec<String> = on(2).map(|e| e["name"].as_str().unwrap().into()).collect();
+    traced.sort();
+    traced.dedup();
+    let timed: Vec<String> = envelope["gpu_ms"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .cloned()
+        .collect();
+    assert_eq!(traced, timed);
+    assert!(spans.iter().all(|e| e["dur"].as_f64().unwrap() >= 0.0));
+
+    let (ok, _, stderr) = pixgeo(&["voronoi", "--random", "5", "--trace", "/nonexistent/t.json"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("writing the trace /nonexistent/t.json"),
+        "{stderr}"
+    );
 }
 
 #[test]

@@ -416,3 +416,70 @@ fn depth_extremes_find_the_extreme_pixels_and_those_near_them() {
     // Everything but the ten low pixels is within 0.5 of the maximum.
     assert_eq!(high.near_count, W as usize * H as usize - 10);
 }
+
+#[test]
+fn a_profiler_labels_and_times_every_pass_and_run() {
+    let profiler = Profiler::new();
+    let m = Machine::new(&MachineOptions::from_env().profiler(Some(profiler.clone())))
+        .expect("a Vulkan device (run tools/setup)");
+    let ids = m.image(Format::R32Uint, W, H).unwrap();
+    m.run(|p| {
+        let target = Target {
+            color: Some(&ids),
+            depth_stencil: None,
+        };
+        p.begin(target, Clear::default())?;
+        p.end()?;
+        p.begin(target, Clear::default())?;
+        let full = RectDraw::full_picture(W, H).uint([5, 0, 0, 0]);
+        p.draw_rect(
+            &RasterState::lower_envelope(),
+            &DrawParams::default(),
+            &full,
+        )?;
+        p.end()
+    })
+    .unwrap();
+    let counts = m.minmax(&ids, PixelRect::of(&ids)).unwrap();
+    assert_eq!(counts.max[0], 5.0);
+    assert_eq!(m.read_u32(&ids, PixelRect::of(&ids)).unwrap()[0], 5);
+
+    let timeline = profiler.timeline();
+    let labels: Vec<&str> = timeline.passes.iter().map(|p| p.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        [
+            "render: clear",
+            "render: Rect",
+            "reduce MinMax",
+            "copy to buffer"
+        ]
+    );
+    // One host span per run: the drawing, the reduction, the readback.
+    assert_eq!(timeline.host.len(), 3);
+    for pass in &timeline.passes {
+        let ms = pass.gpu_ms.expect("lavapipe and GPUs write timestamps");
+        assert!(ms.is_finite() && ms >= 0.0, "{pass:?}");
+        assert!(
+            pass.start_ms.is_finite() && pass.start_ms >= 0.0,
+            "{pass:?}"
+        );
+    }
+    let by_pass = timeline.gpu_ms_by_pass();
+    assert_eq!(by_pass.len(), 4);
+
+    let trace = timeline.chrome_trace();
+    let events = trace["traceEvents"].as_array().unwrap();
+    let spans = events.iter().filter(|e| e["ph"] == "X").count();
+    assert_eq!(spans, timeline.passes.len() + timeline.host.len());
+    assert!(events
+        .iter()
+        .any(|e| e["name"] == "reduce MinMax" && e["tid"] == 2));
+
+    // A machine without a profiler records nothing anywhere.
+    let before = profiler.timeline();
+    let other = machine();
+    let picture = other.image(Format::R32Uint, W, H).unwrap();
+    other.minmax(&picture, PixelRect::of(&picture)).unwrap();
+    assert_eq!(profiler.timeline(), before);
+}

@@ -12,6 +12,7 @@ use std::{
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
+use super::profile::Profiler;
 use crate::error::{Error, Result, VkContext};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -71,6 +72,9 @@ pub struct MachineOptions {
     /// The folder that keeps compiled pipelines between processes; `None`
     /// keeps them for this machine's life only.
     pub pipeline_cache: Option<PathBuf>,
+    /// Times every pass on the device and every run on the host into this
+    /// profiler's timeline; `None` times nothing (passes are labelled always).
+    pub profiler: Option<Profiler>,
 }
 
 impl MachineOptions {
@@ -82,6 +86,7 @@ impl MachineOptions {
             device: DeviceChoice::from_env(),
             validation: std::env::var("PIXGEO_VALIDATION").is_ok_and(|v| v == "1"),
             pipeline_cache: user_cache_dir(),
+            profiler: None,
         }
     }
 
@@ -98,6 +103,10 @@ impl MachineOptions {
             pipeline_cache: folder,
             ..self
         }
+    }
+
+    pub fn profiler(self, profiler: Option<Profiler>) -> Self {
+        Self { profiler, ..self }
     }
 }
 
@@ -120,6 +129,13 @@ pub(crate) struct Context {
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     /// Boxed so its address is stable for the messenger's user-data pointer.
     messages: Box<Mutex<Vec<String>>>,
+    /// Labels and object names, where the loader offers debug utils.
+    debug_utils: Option<ash::ext::debug_utils::Device>,
+    /// Nanoseconds per timestamp tick of the queue; `None` where its queue
+    /// writes no timestamps.
+    pub timestamp_period: Option<f32>,
+    /// The valid bits of a timestamp.
+    pub timestamp_mask: u64,
     pub device: ash::Device,
     pub queue: vk::Queue,
     pub queue_family: u32,
@@ -153,6 +169,16 @@ impl Context {
                 ));
             }
             layers.push(VALIDATION_LAYER.as_ptr());
+        }
+        // Labels and object names for debuggers and profilers, and the
+        // validation layer's messages: the loader or the layer offers them.
+        // SAFETY: plain enumeration call on a valid entry.
+        let debug_utils = options.validation
+            || unsafe { entry.enumerate_instance_extension_properties(None) }
+                .vk("vkEnumerateInstanceExtensionProperties")?
+                .iter()
+                .any(|e| e.extension_name_as_c_str().ok() == Some(ash::ext::debug_utils::NAME));
+        if debug_utils {
             extensions.push(ash::ext::debug_utils::NAME.as_ptr());
         }
 
@@ -221,6 +247,10 @@ impl Context {
             .ok_or_else(|| {
                 Error::NoDevice(format!("{device_name} has no graphics+compute queue"))
             })? as u32;
+        let timestamp_bits = families[queue_family as usize].timestamp_valid_bits;
+        let timestamp_period = (timestamp_bits > 0 && properties.limits.timestamp_period > 0.0)
+            .then_some(properties.limits.timestamp_period);
+        let timestamp_mask = u64::MAX >> (64 - timestamp_bits.clamp(1, 64));
 
         let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
         let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
@@ -286,11 +316,16 @@ impl Context {
         })
         .map_err(Error::memory)?;
 
+        let debug_utils =
+            debug_utils.then(|| ash::ext::debug_utils::Device::new(&instance, &device));
         std::mem::forget(partial);
         let context = Self {
             instance,
             debug,
             messages,
+            debug_utils,
+            timestamp_period,
+            timestamp_mask,
 
             device,
             queue,
@@ -313,6 +348,44 @@ impl Context {
             Ok(())
         } else {
             Err(Error::Validation(std::mem::take(&mut *messages)))
+        }
+    }
+
+    /// Names `handle` for debuggers and the validation layer's messages.
+    pub fn name_object<H: vk::Handle>(&self, handle: H, name: &str) {
+        let (Some(utils), Ok(name)) = (&self.debug_utils, std::ffi::CString::new(name)) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&name);
+        // SAFETY: `handle` is a live object of this device; a name that cannot
+        // be set only loses a debugging aid.
+        let _ = unsafe { utils.set_debug_utils_object_name(&info) };
+    }
+
+    /// Opens a labelled region of `cmd` (closed by [`Context::end_label`]).
+    pub fn begin_label(&self, cmd: vk::CommandBuffer, label: &str) {
+        if let (Some(utils), Ok(label)) = (&self.debug_utils, std::ffi::CString::new(label)) {
+            let info = vk::DebugUtilsLabelEXT::default().label_name(&label);
+            // SAFETY: `cmd` is recording; the label outlives the call.
+            unsafe { utils.cmd_begin_debug_utils_label(cmd, &info) };
+        }
+    }
+
+    pub fn end_label(&self, cmd: vk::CommandBuffer) {
+        if let Some(utils) = &self.debug_utils {
+            // SAFETY: `cmd` is recording and has a region open (`begin_label`).
+            unsafe { utils.cmd_end_debug_utils_label(cmd) };
+        }
+    }
+
+    /// Marks one command of `cmd` with `label`.
+    pub fn insert_label(&self, cmd: vk::CommandBuffer, label: &str) {
+        if let (Some(utils), Ok(label)) = (&self.debug_utils, std::ffi::CString::new(label)) {
+            let info = vk::DebugUtilsLabelEXT::default().label_name(&label);
+            // SAFETY: `cmd` is recording; the label outlives the call.
+            unsafe { utils.cmd_insert_debug_utils_label(cmd, &info) };
         }
     }
 

@@ -170,6 +170,9 @@ impl Image {
         // SAFETY: the image is bound to memory; the view is destroyed in `Drop`.
         image.view =
             unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        let name = format!("{format:?} {width}x{height}");
+        ctx.name_object(raw, &name);
+        ctx.name_object(image.view, &name);
         Ok(image)
     }
 
@@ -250,6 +253,7 @@ impl Buffer {
         let device = &ctx.device;
         // SAFETY: valid create info; the buffer is destroyed in `Drop`.
         let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        ctx.name_object(raw, &format!("{kind:?} {size} bytes"));
         let mut buffer = Self {
             ctx: ctx.clone(),
             raw,

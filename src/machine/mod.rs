@@ -17,6 +17,7 @@ mod descriptors;
 mod memory;
 mod pass;
 mod pipelines;
+mod profile;
 pub mod state;
 mod sync;
 
@@ -36,6 +37,7 @@ pub use pass::{
     SiteBatch, SiteInstance, Target, MAX_GROUPS,
 };
 pub use pipelines::{BufferKernel, Program, SiteShape, BUFFER_KERNEL_BINDINGS};
+pub use profile::{HostSpan, PassSpan, Phase, Profiler, Timeline};
 pub use state::{
     Blend, BlendFactor, BlendOp, ChannelMask, ColorUpdate, Compare, DepthTest, DrawParams, LogicOp,
     RasterState, StencilOp, StencilTest,
@@ -45,6 +47,7 @@ use crate::error::{Error, Result, VkContext};
 use context::Context;
 use descriptors::DescriptorSets;
 use pipelines::{Kernel, Pipelines};
+use profile::Sections;
 
 /// Per-channel minimum and maximum of a picture buffer (thesis §1.7, Fig. 1.12).
 /// Integer buffers report their values exactly (as `f64`); single-channel buffers
@@ -105,6 +108,10 @@ pub struct Machine {
     fence: vk::Fence,
     descriptors: DescriptorSets,
     scratch: std::cell::RefCell<Option<Buffer>>,
+    /// The labelled (and, with a profiler, timed) sections of the run being
+    /// recorded.
+    sections: std::cell::RefCell<Sections>,
+    profiler: Option<Profiler>,
     ctx: Arc<Context>,
 }
 
@@ -126,6 +133,8 @@ impl Machine {
             fence: vk::Fence::null(),
             descriptors: DescriptorSets::new(&ctx),
             scratch: Default::default(),
+            sections: Sections::new(&ctx, options.profiler.is_some()).into(),
+            profiler: options.profiler.clone(),
             ctx: ctx.clone(),
         };
         let alloc = vk::CommandBufferAllocateInfo::default()
@@ -141,6 +150,7 @@ impl Machine {
                 .create_fence(&vk::FenceCreateInfo::default(), None)
                 .vk("vkCreateFence")?;
         }
+        ctx.name_object(machine.command_buffer, "pixgeo run");
         ctx.check_validation()?;
         Ok(machine)
     }
@@ -233,6 +243,8 @@ impl Machine {
     /// # }
     /// ```
     pub fn run<'r, R>(&self, record: impl FnOnce(&mut Pass<'_, 'r>) -> Result<R>) -> Result<R> {
+        let started = std::time::Instant::now();
+        self.sections.borrow_mut().clear();
         let device = &self.ctx.device;
         let cmd = self.command_buffer;
         let begin = vk::CommandBufferBeginInfo::default()
@@ -262,6 +274,7 @@ impl Machine {
         };
         let cmds = [cmd];
         let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        let submitted = std::time::Instant::now();
         // SAFETY: the command buffer is fully recorded; the fence is unsignalled and
         // reset after waiting, so the next run starts from the same state.
         unsafe {
@@ -276,6 +289,10 @@ impl Machine {
         self.descriptors.release()?;
         self.ctx.check_validation()?;
         self.pipelines.cache.save();
+        if let Some(profiler) = &self.profiler {
+            profiler.record_passes(self.sections.borrow().spans(profiler, submitted)?);
+            profiler.record_host("run", started, std::time::Instant::now());
+        }
         Ok(value)
     }
 

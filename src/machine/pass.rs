@@ -239,6 +239,20 @@ struct Rendering {
     depth: Option<Format>,
     width: u32,
     height: u32,
+    /// The programs drawn so far, each once, which name the pass.
+    programs: Vec<Program>,
+}
+
+impl Rendering {
+    /// The pass's label in a profile: `render: ConeFan+Rect`, or `render: clear`.
+    fn label(&self) -> String {
+        let programs: Vec<String> = self.programs.iter().map(|p| format!("{p:?}")).collect();
+        if programs.is_empty() {
+            "render: clear".into()
+        } else {
+            format!("render: {}", programs.join("+"))
+        }
+    }
 }
 
 /// Workgroups one dispatch may have in x on every Vulkan device.
@@ -292,9 +306,10 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// Ends the run's recording: closes a rendering pass left open, and makes
     /// the device's writes to every buffer used visible to the host.
     pub(crate) fn finish(&mut self) {
-        if self.rendering.take().is_some() {
+        if let Some(rendering) = self.rendering.take() {
             // SAFETY: close a pass the caller left open so the buffer can end.
             unsafe { self.device().cmd_end_rendering(self.cmd) };
+            let _ = self.end_section(Some(rendering.label()));
         }
         let barriers: Vec<_> = self
             .buffers
@@ -313,6 +328,15 @@ impl<'m, 'r> Pass<'m, 'r> {
 
     fn device(&self) -> &ash::Device {
         &self.machine.ctx.device
+    }
+
+    /// Opens a labelled (and, with a profiler, timed) section of the run.
+    fn begin_section(&mut self, label: &str) -> Result<()> {
+        self.machine.sections.borrow_mut().begin(self.cmd, label)
+    }
+
+    fn end_section(&mut self, label: Option<String>) -> Result<()> {
+        self.machine.sections.borrow_mut().end(self.cmd, label)
     }
 
     /// Declares that `image` is used as `usage` from here on; records the barrier.
@@ -353,12 +377,13 @@ impl<'m, 'r> Pass<'m, 'r> {
                 ));
             }
         }
+        if target.color.is_some_and(|c| c.format().is_depth()) {
+            return Err(Error::InvalidInput(
+                "colour target has a depth format".into(),
+            ));
+        }
+        self.begin_section(&format!("render {width}x{height}"))?;
         if let Some(c) = target.color {
-            if c.format().is_depth() {
-                return Err(Error::InvalidInput(
-                    "colour target has a depth format".into(),
-                ));
-            }
             if clear.color.is_some() {
                 c.last_use.set(Usage::Undefined);
             }
@@ -449,18 +474,19 @@ impl<'m, 'r> Pass<'m, 'r> {
             depth: target.depth_stencil.map(|d| d.format()),
             width,
             height,
+            programs: Vec::new(),
         });
         Ok(())
     }
 
     /// Ends the rendering pass begun with [`Pass::begin`].
     pub fn end(&mut self) -> Result<()> {
-        if self.rendering.take().is_none() {
+        let Some(rendering) = self.rendering.take() else {
             return Err(Error::InvalidInput("no rendering pass is open".into()));
-        }
+        };
         // SAFETY: a rendering pass was begun in this command buffer.
         unsafe { self.device().cmd_end_rendering(self.cmd) };
-        Ok(())
+        self.end_section(Some(rendering.label()))
     }
 
     /// Binds the pipeline for `program` and `state` and sets the per-draw state;
@@ -493,6 +519,14 @@ impl<'m, 'r> Pass<'m, 'r> {
                 height: h.min(r.height - y),
             },
         };
+        if !r.programs.contains(&program) {
+            if let Some(r) = self.rendering.as_mut() {
+                r.programs.push(program);
+            }
+        }
+        self.machine
+            .ctx
+            .insert_label(self.cmd, &format!("draw {program:?}"));
         let device = self.device();
         // SAFETY: inside a rendering pass whose formats match the pipeline's.
         unsafe {
@@ -844,8 +878,10 @@ impl<'m, 'r> Pass<'m, 'r> {
             .machine
             .descriptors
             .set(pipelines.buffer_set_layout, None, 0, buffers)?;
-        self.record_dispatch(pipeline, pipelines.buffer_layout, set, push, groups);
-        Ok(())
+        let layout = pipelines.buffer_layout;
+        self.begin_section(&format!("dispatch {kernel:?}"))?;
+        self.record_dispatch(pipeline, layout, set, push, groups);
+        self.end_section(None)
     }
 
     /// Records a compute dispatch; its buffers' and images' barriers are
@@ -943,6 +979,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         self.use_buffer(buffer, BufferUse::TransferSrc)?;
         self.use_image(image, Usage::TransferDst);
+        self.begin_section("upload")?;
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
             .image_subresource(
@@ -965,7 +1002,7 @@ impl<'m, 'r> Pass<'m, 'r> {
                 &[region],
             )
         };
-        Ok(())
+        self.end_section(None)
     }
 
     /// Copies `rect` of `image` (for depth/stencil: its depth) into `buffer`,
@@ -1027,6 +1064,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         self.use_buffer(buffer, BufferUse::TransferDst)?;
         self.use_image(image, Usage::TransferSrc);
+        self.begin_section("copy to buffer")?;
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
             .image_subresource(
@@ -1054,7 +1092,7 @@ impl<'m, 'r> Pass<'m, 'r> {
                 &[region],
             )
         };
-        Ok(())
+        self.end_section(None)
     }
 
     /// Records a reduction kernel over `rect` of `image` writing into `result`
@@ -1080,6 +1118,7 @@ impl<'m, 'r> Pass<'m, 'r> {
         let mut words = vec![rect.x, rect.y, rect.width, rect.height];
         words.extend_from_slice(extra_push);
         let layout = self.machine.pipelines.compute_layout;
+        self.begin_section(&format!("reduce {kernel:?}"))?;
         self.record_dispatch(
             pipeline,
             layout,
@@ -1087,7 +1126,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             &words,
             kernel.groups(rect.width, rect.height),
         );
-        Ok(())
+        self.end_section(None)
     }
 }
 

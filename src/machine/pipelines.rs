@@ -298,6 +298,7 @@ impl Pipelines {
             // SAFETY: SPIR-V compiled and validated by build.rs; destroyed in `Drop`.
             let module =
                 unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+            ctx.name_object(module, name);
             pipelines.modules.insert(name, module);
         }
 
@@ -815,6 +816,8 @@ impl Pipelines {
         }
         .map_err(|(_, result)| Error::vulkan("vkCreateGraphicsPipelines", result))?;
         self.cache.grew();
+        self.ctx
+            .name_object(pipelines[0], &format!("{:?}", key.program));
         Ok(pipelines[0])
     }
 
@@ -868,6 +871,7 @@ impl Pipelines {
         }
         .map_err(|(_, result)| Error::vulkan("vkCreateComputePipelines", result))?;
         self.cache.grew();
+        self.ctx.name_object(pipelines[0], shader);
         Ok(pipelines[0])
     }
 

@@ -42,7 +42,7 @@ impl Common {
 
 /// The pixel machine on `device` (else as PIXGEO_DEVICE says).
 pub fn machine_on(device: Option<&str>) -> Result<Machine> {
-    let mut options = MachineOptions::from_env();
+    let mut options = MachineOptions::from_env().profiler(Some(crate::profiler().clone()));
     if let Some(d) = device {
         options.device = DeviceChoice::parse(d);
     }

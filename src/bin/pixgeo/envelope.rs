@@ -3,11 +3,12 @@
 //! ```text
 //! {"schema": "pixgeo/1", "pixgeo_version", "command", "device",
 //!  "frame": {"width", "height", "bbox", "origin", "scale", "y_axis"} or null,
-//!  "timings_ms": {...}, "result": {...}}
+//!  "timings_ms": {...}, "gpu_ms": {...}, "result": {...}}
 //! ```
 //!
 //! A command hands over its answer as it serializes; the envelope lifts the
-//! answer's `*_ms` timings into `timings_ms`, so a result holds answers only.
+//! answer's `*_ms` timings into `timings_ms`, so a result holds answers only;
+//! `gpu_ms` holds the device's milliseconds by pass.
 
 use anyhow::Result;
 use pixgeo::geometry::Frame;
@@ -28,7 +29,14 @@ pub fn print(
     frame: Option<&Frame>,
     result: &impl Serialize,
 ) -> Result<()> {
-    let envelope = wrap(command, device, frame, serde_json::to_value(result)?);
+    let gpu_ms = crate::profiler().timeline().gpu_ms_by_pass();
+    let envelope = wrap(
+        command,
+        device,
+        frame,
+        serde_json::to_value(result)?,
+        serde_json::to_value(gpu_ms)?,
+    );
     let line = serde_json::to_string(&envelope)?;
     if line.len() > ONE_LINE_FROM {
         outln!("{line}");
@@ -38,7 +46,13 @@ pub fn print(
     Ok(())
 }
 
-fn wrap(command: &str, device: &str, frame: Option<&Frame>, mut result: Value) -> Value {
+fn wrap(
+    command: &str,
+    device: &str,
+    frame: Option<&Frame>,
+    mut result: Value,
+    gpu_ms: Value,
+) -> Value {
     let mut timings = Map::new();
     lift_timings(&mut result, "", &mut timings);
     drop_device(&mut result, device);
@@ -49,6 +63,7 @@ fn wrap(command: &str, device: &str, frame: Option<&Frame>, mut result: Value) -
         "device": device,
         "frame": frame.map(frame_json),
         "timings_ms": timings,
+        "gpu_ms": gpu_ms,
         "result": result,
     })
 }
@@ -110,6 +125,7 @@ mod tests {
             "llvmpipe",
             Some(&frame),
             json!({"sites": 3, "render_ms": 1.5, "stats": {"render_ms": 2, "draw_ms": 3, "device": "llvmpipe"}}),
+            json!({"render: ConeFan": 0.5}),
         );
         assert_eq!(v["schema"], "pixgeo/1");
         assert_eq!(
@@ -117,6 +133,7 @@ mod tests {
             json!({"render": 1.5, "stats.render": 2, "draw": 3})
         );
         assert_eq!(v["result"], json!({"sites": 3, "stats": {}}));
+        assert_eq!(v["gpu_ms"], json!({"render: ConeFan": 0.5}));
         assert_eq!(v["frame"]["bbox"], json!([0.0, 0.0, 8.0, 4.0]));
         assert_eq!(v["frame"]["scale"], json!(0.5));
     }

@@ -43,6 +43,18 @@ struct Cli {
     /// no progress bars. Answers still go to stdout.
     #[arg(short, long, global = true)]
     quiet: bool,
+    /// Write a Chrome trace of the run to FILE (open it in Perfetto or
+    /// chrome://tracing): the host's phases and runs, and each pass on the
+    /// device, labelled by what it drew or dispatched.
+    #[arg(long, global = true, value_name = "FILE")]
+    trace: Option<std::path::PathBuf>,
+}
+
+/// Every machine the command starts records into this: its passes' device
+/// times go into `--json`'s `gpu_ms` and the `--trace` file.
+fn profiler() -> &'static pixgeo::machine::Profiler {
+    static PROFILER: std::sync::OnceLock<pixgeo::machine::Profiler> = std::sync::OnceLock::new();
+    PROFILER.get_or_init(pixgeo::machine::Profiler::new)
 }
 
 /// Set once from `-q`, before any command runs.
@@ -95,7 +107,39 @@ fn answer_line(line: std::fmt::Arguments) {
 fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
-    match cli.command {
+    let phase = profiler().phase(format!("pixgeo {}", cli.command.name()));
+    let done = run(cli.command);
+    drop(phase);
+    if let Some(path) = &cli.trace {
+        let trace = profiler().timeline().chrome_trace();
+        std::fs::write(path, serde_json::to_string(&trace)?)
+            .map_err(|e| anyhow::anyhow!("writing the trace {}: {e}", path.display()))?;
+        wrote([Some(path.as_path())]);
+    }
+    done
+}
+
+impl Command {
+    fn name(&self) -> &'static str {
+        match self {
+            Command::Voronoi(_) => "voronoi",
+            Command::Hausdorff(_) => "hausdorff",
+            Command::Diameter(_) => "diameter",
+            Command::Maxdist(_) => "maxdist",
+            Command::Settle(_) => "settle",
+            Command::Enclose(_) => "enclose",
+            Command::Empty(_) => "empty",
+            Command::Alpha(_) => "alpha",
+            Command::Triangle(_) => "triangle",
+            Command::Quadrangle(_) => "quadrangle",
+            Command::Delaunay(_) => "delaunay",
+            Command::Gallery(_) => "gallery",
+        }
+    }
+}
+
+fn run(command: Command) -> anyhow::Result<()> {
+    match command {
         Command::Voronoi(args) => voronoi::run(*args),
         Command::Hausdorff(args) => distances::hausdorff(args),
         Command::Diameter(args) => distances::diameter(args),

@@ -738,7 +738,7 @@ impl Backend {
     /// choice is a Vulkan device. Without a Vulkan driver the CPU algorithms step
     /// in, with a notice.
     pub fn choose(device: Option<&str>) -> Result<Self> {
-        let mut options = MachineOptions::from_env();
+        let mut options = MachineOptions::from_env().profiler(Some(crate::profiler().clone()));
         let wanted = device
             .map(str::to_string)
             .or_else(|| std::env::var("PIXGEO_DEVICE").ok());

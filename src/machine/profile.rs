@@ -1,0 +1,314 @@
+//! What a GPU researcher sees of the machine's work.
+//!
+//! Every section of a run (a rendering pass, a dispatch, a copy) carries a
+//! debug-utils label, and every draw inside a rendering pass a label of its
+//! program, so RenderDoc or Nsight show the thesis's steps by name. Images,
+//! buffers, pipelines and shader modules carry object names.
+//!
+//! A machine given a [`Profiler`] also times each section on the device with
+//! timestamp queries, and each run on the host; the [`Timeline`] sums the
+//! device's milliseconds by pass and writes a Chrome trace (Perfetto opens it).
+
+use std::{
+    collections::BTreeMap,
+    sync::{Arc, Mutex},
+    time::Instant,
+};
+
+use ash::vk;
+use serde_json::{json, Value};
+
+use super::context::Context;
+use crate::error::{Result, VkContext};
+
+/// One section of a run as the device timed it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassSpan {
+    /// What the section did: `render: ConeFan`, `dispatch JumpFlood`, ….
+    pub label: String,
+    /// When it began, in milliseconds since the profiler was made: the host's
+    /// time at the submission plus the device's time since the submission's
+    /// first timestamp (the two clocks are aligned once per submission).
+    pub start_ms: f64,
+    /// Its duration on the device; `None` where the queue has no timestamps.
+    pub gpu_ms: Option<f64>,
+}
+
+/// A span of host time: a machine's run (record, submit and wait), or a phase
+/// the caller marks with [`Profiler::phase`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct HostSpan {
+    pub name: String,
+    /// Milliseconds since the profiler was made.
+    pub start_ms: f64,
+    pub ms: f64,
+}
+
+/// What a [`Profiler`] has recorded.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Timeline {
+    pub passes: Vec<PassSpan>,
+    pub host: Vec<HostSpan>,
+}
+
+impl Timeline {
+    /// The device's milliseconds summed by pass label (sections the device did
+    /// not time are left out).
+    pub fn gpu_ms_by_pass(&self) -> BTreeMap<String, f64> {
+        let mut sums = BTreeMap::new();
+        for pass in &self.passes {
+            if let Some(ms) = pass.gpu_ms {
+                *sums.entry(pass.label.clone()).or_insert(0.0) += ms;
+            }
+        }
+        sums
+    }
+
+    /// The timeline in the Chrome trace event format: the host's spans on one
+    /// track and the device's passes on another, in microseconds.
+    pub fn chrome_trace(&self) -> Value {
+        let track = |tid: u32, name: &str| json!({"name": "thread_name", "ph": "M", "pid": 1, "tid": tid, "args": {"name": name}});
+        let mut events = vec![track(1, "host"), track(2, "device")];
+        for span in &self.host {
+            events.push(json!({
+                "name": span.name, "ph": "X", "pid": 1, "tid": 1,
+                "ts": span.start_ms * 1e3, "dur": span.ms * 1e3,
+            }));
+        }
+        for pass in &self.passes {
+            if let Some(ms) = pass.gpu_ms {
+                events.push(json!({
+                    "name": pass.label, "ph": "X", "pid": 1, "tid": 2,
+                    "ts": pass.start_ms * 1e3, "dur": ms * 1e3,
+                }));
+            }
+        }
+        json!({"traceEvents": events, "displayTimeUnit": "ms"})
+    }
+}
+
+/// Records what the machines it is given do; clones share one timeline, so
+/// one profiler can watch several machines and the caller's own phases.
+#[derive(Clone, Debug)]
+pub struct Profiler {
+    started: Instant,
+    timeline: Arc<Mutex<Timeline>>,
+}
+
+impl Default for Profiler {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Profiler {
+    pub fn new() -> Self {
+        Self {
+            started: Instant::now(),
+            timeline: Arc::default(),
+        }
+    }
+
+    /// A copy of what has been recorded so far.
+    pub fn timeline(&self) -> Timeline {
+        self.lock().clone()
+    }
+
+    /// Marks a host phase that lasts until the returned guard is dropped.
+    pub fn phase(&self, name: impl Into<String>) -> Phase<'_> {
+        Phase {
+            profiler: self,
+            name: name.into(),
+            started: Instant::now(),
+        }
+    }
+
+    pub(crate) fn ms_since_start(&self, at: Instant) -> f64 {
+        at.saturating_duration_since(self.started).as_secs_f64() * 1e3
+    }
+
+    pub(crate) fn record_host(&self, name: impl Into<String>, from: Instant, to: Instant) {
+        let span = HostSpan {
+            name: name.into(),
+            start_ms: self.ms_since_start(from),
+            ms: to.saturating_duration_since(from).as_secs_f64() * 1e3,
+        };
+        self.lock().host.push(span);
+    }
+
+    pub(crate) fn record_passes(&self, passes: impl IntoIterator<Item = PassSpan>) {
+        self.lock().passes.extend(passes);
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Timeline> {
+        self.timeline.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// A host phase in progress; recorded when dropped.
+pub struct Phase<'p> {
+    profiler: &'p Profiler,
+    name: String,
+    started: Instant,
+}
+
+impl Drop for Phase<'_> {
+    fn drop(&mut self) {
+        let name = std::mem::take(&mut self.name);
+        self.profiler
+            .record_host(name, self.started, Instant::now());
+    }
+}
+
+/// Timestamp queries in pools of this many.
+const POOL_QUERIES: u32 = 256;
+
+/// The sections of the run being recorded and the query pools that time them:
+/// section `s` writes queries `2s` (start) and `2s + 1` (end).
+pub(crate) struct Sections {
+    ctx: Arc<Context>,
+    /// Time each section on the device.
+    timed: bool,
+    pools: Vec<vk::QueryPool>,
+    /// Pools reset in this run's command buffer so far.
+    reset: usize,
+    labels: Vec<String>,
+    open: bool,
+}
+
+impl Sections {
+    pub fn new(ctx: &Arc<Context>, timed: bool) -> Self {
+        Self {
+            ctx: ctx.clone(),
+            timed: timed && ctx.timestamp_period.is_some(),
+            pools: Vec::new(),
+            reset: 0,
+            labels: Vec::new(),
+            open: false,
+        }
+    }
+
+    /// Starts a run's recording.
+    pub fn clear(&mut self) {
+        self.labels.clear();
+        self.reset = 0;
+        self.open = false;
+    }
+
+    /// Opens a section labelled `label` (outside a rendering pass, where query
+    /// pools can be reset).
+    pub fn begin(&mut self, cmd: vk::CommandBuffer, label: &str) -> Result<()> {
+        debug_assert!(!self.open, "sections do not nest");
+        if self.timed {
+            let query = 2 * self.labels.len() as u32;
+            self.write(cmd, query, vk::PipelineStageFlags2::TOP_OF_PIPE)?;
+        }
+        self.ctx.begin_label(cmd, label);
+        self.labels.push(label.to_string());
+        self.open = true;
+        Ok(())
+    }
+
+    /// Closes the open section; `label` replaces the one it was opened with
+    /// when the section's content is known only at its end.
+    pub fn end(&mut self, cmd: vk::CommandBuffer, label: Option<String>) -> Result<()> {
+        if !self.open {
+            return Ok(());
+        }
+        self.open = false;
+        if let (Some(label), Some(last)) = (label, self.labels.last_mut()) {
+            *last = label;
+        }
+        if self.timed {
+            let query = 2 * (self.labels.len() as u32 - 1) + 1;
+            self.write(cmd, query, vk::PipelineStageFlags2::ALL_COMMANDS)?;
+        }
+        self.ctx.end_label(cmd);
+        Ok(())
+    }
+
+    /// Writes timestamp `query` after the work of `stage` before it, resetting
+    /// its pool first if this run has not yet.
+    fn write(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        query: u32,
+        stage: vk::PipelineStageFlags2,
+    ) -> Result<()> {
+        let pool = (query / POOL_QUERIES) as usize;
+        while self.pools.len() <= pool {
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::TIMESTAMP)
+                .query_count(POOL_QUERIES);
+            // SAFETY: valid create info; destroyed in `Drop`.
+            let created = unsafe { self.ctx.device.create_query_pool(&info, None) }
+                .vk("vkCreateQueryPool")?;
+            self.ctx.name_object(created, "pixgeo timestamps");
+            self.pools.push(created);
+        }
+        let device = &self.ctx.device;
+        while self.reset <= pool {
+            // SAFETY: recording state outside a rendering pass; no query of the
+            // pool is in use by this command buffer yet.
+            unsafe { device.cmd_reset_query_pool(cmd, self.pools[self.reset], 0, POOL_QUERIES) };
+            self.reset += 1;
+        }
+        // SAFETY: the query was reset above in this command buffer.
+        unsafe { device.cmd_write_timestamp2(cmd, stage, self.pools[pool], query % POOL_QUERIES) };
+        Ok(())
+    }
+
+    /// After the run's submission has completed: each section's span, the
+    /// device's clock aligned to `submitted` on the profiler's.
+    pub fn spans(&self, profiler: &Profiler, submitted: Instant) -> Result<Vec<PassSpan>> {
+        let start_ms = profiler.ms_since_start(submitted);
+        let Some(period_ns) = self.ctx.timestamp_period.filter(|_| self.timed) else {
+            return Ok(self
+                .labels
+                .iter()
+                .map(|label| PassSpan {
+                    label: label.clone(),
+                    start_ms,
+                    gpu_ms: None,
+                })
+                .collect());
+        };
+        let queries = 2 * self.labels.len();
+        let mut stamps = vec![0u64; queries];
+        for (chunk, pool) in stamps.chunks_mut(POOL_QUERIES as usize).zip(&self.pools) {
+            // SAFETY: the queries were written by the completed submission.
+            unsafe {
+                self.ctx.device.get_query_pool_results(
+                    *pool,
+                    0,
+                    chunk,
+                    vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                )
+            }
+            .vk("vkGetQueryPoolResults")?;
+        }
+        let ms = |ticks: u64| ticks as f64 * period_ns as f64 * 1e-6;
+        let first = stamps.first().copied().unwrap_or(0);
+        Ok(self
+            .labels
+            .iter()
+            .zip(stamps.chunks_exact(2))
+            .map(|(label, pair)| PassSpan {
+                label: label.clone(),
+                start_ms: start_ms + ms(pair[0].wrapping_sub(first) & self.ctx.timestamp_mask),
+                gpu_ms: Some(ms(pair[1].wrapping_sub(pair[0]) & self.ctx.timestamp_mask)),
+            })
+            .collect())
+    }
+}
+
+impl Drop for Sections {
+    fn drop(&mut self) {
+        // SAFETY: the machine has waited for all work; each pool is destroyed once.
+        unsafe {
+            for pool in &self.pools {
+                self.ctx.device.destroy_query_pool(*pool, None);
+            }
+        }
+    }
+}
