@@ -19,7 +19,6 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::alpha_hull::{alpha_hull, hull_circles, AlphaHull, AlphaMethod},
     geometry::{buckets::PointGrid, Frame},
-    io::sites::random_sites,
     Machine,
 };
 use rayon::prelude::*;
@@ -128,7 +127,7 @@ fn main() -> anyhow::Result<()> {
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());
     let world = Frame::pixels(1000, 1000)?;
-    let warm = random_sites(100, 1, &world);
+    let warm = world.random_points(100, 1);
     alpha_hull(&machine, &warm, -0.02, AlphaMethod::Hull, SIZE)?;
     alpha_hull(&machine, &warm, 1.0 / 2000.0, AlphaMethod::Pixels, SIZE)?;
 
@@ -136,7 +135,7 @@ fn main() -> anyhow::Result<()> {
         "| n | r = -1/α | pixgeo α < 0 (ms) | CPU definition (ms) | pixgeo / CPU | pixels differing | R = 1/α | pixgeo hull walk (ms) | pixgeo pixels only (ms) | CPU circles (ms) | hull walk / CPU | pixels differing (walk, pixels only) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
-        let sites = random_sites(n, n as u64, &world);
+        let sites = world.random_points(n, n as u64);
         // Empty discs twice the mean spacing across; holding discs half again
         // the smallest enclosing circle.
         let r = (1e6 / n as f64).sqrt();

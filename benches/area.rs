@@ -16,7 +16,6 @@ use pixgeo::{
         higher_order::convex_hull,
     },
     geometry::Frame,
-    io::sites::random_sites,
     Machine,
 };
 
@@ -98,7 +97,7 @@ fn main() -> anyhow::Result<()> {
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());
     let frame = Frame::pixels(1000, 1000)?;
-    let warm = random_sites(50, 1, &frame);
+    let warm = frame.random_points(50, 1);
     for extreme in [Extreme::Smallest, Extreme::Largest] {
         extremal_triangle(&machine, &warm, extreme, size(50))?;
         extremal_quadrangle(&machine, &warm, extreme, size(50))?;
@@ -114,7 +113,7 @@ fn main() -> anyhow::Result<()> {
         "| n | roofs smallest (ms) | draw (ms) | sweep (ms) | exhaustive O(n³) (ms) | exhaustive / roofs | roofs / sweep | same area | roofs largest (ms) | exhaustive O(n³) (ms) | exhaustive / roofs | same area |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
-        let sites = random_sites(n, n as u64, &frame);
+        let sites = frame.random_points(n, n as u64);
         let (ours, a) = time(repeats, || {
             Ok(extremal_triangle(
                 &machine,

@@ -16,7 +16,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     geometry::Frame,
-    io::{npy, sites::random_sites},
+    io::npy,
     reference::voronoi::nearest_sites_grid,
     Machine,
 };
@@ -92,7 +92,7 @@ fn main() -> anyhow::Result<()> {
     eprintln!("device: {}", machine.device_name());
 
     // Warm up every pipeline: lavapipe compiles shaders on first draw.
-    let warm = random_sites(100, 0, &frame);
+    let warm = frame.random_points(100, 0);
     for c in &CONFIGS {
         voronoi(
             &machine,
@@ -109,7 +109,7 @@ fn main() -> anyhow::Result<()> {
     let mut cpu_ms = Vec::new();
     let mut site_files = Vec::new();
     for &n in &ns {
-        let sites = random_sites(n, n as u64, &frame);
+        let sites = frame.random_points(n, n as u64);
         let file = out_dir.join(format!("sites_{n}.npy"));
         let flat: Vec<f64> = sites.iter().flat_map(|p| [p.x, p.y]).collect();
         npy::write(&file, &[n as u64, 2], &flat)?;

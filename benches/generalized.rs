@@ -28,7 +28,6 @@ use pixgeo::{
         site::{Shape, Site},
         Frame,
     },
-    io::sites::random_sites,
     Machine,
 };
 
@@ -145,7 +144,7 @@ fn main() -> anyhow::Result<()> {
         "| sites | mode | plain L2 points (ms) | generalization | ms | × L2 points |\n| --- | --- | --- | --- | --- | --- |\n",
     );
     for &n in &ns {
-        let positions = random_sites(n, 1, &frame);
+        let positions = frame.random_points(n, 1);
         for (mode, accuracy) in modes {
             // One diagram: plain points without a kind.
             let run = |kind: Option<Kind>, sites: &Option<Vec<Site>>| -> anyhow::Result<f64> {

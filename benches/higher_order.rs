@@ -21,7 +21,7 @@ use pixgeo::{
         voronoi::{voronoi, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    io::{npy, sites::random_sites},
+    io::npy,
     Machine,
 };
 use plotters::style::RGBColor;
@@ -73,7 +73,7 @@ fn main() -> anyhow::Result<()> {
         ("quadtree (Thm. 3.3)", Speedup::Quadtree),
         ("no speedup", Speedup::None),
     ];
-    let warm = random_sites(100, 0, &frame);
+    let warm = frame.random_points(100, 0);
     voronoi(&machine, &warm, &VoronoiOptions::exact(frame))?;
     let order = |speedup| KNearestOptions::exact(frame, LEVELS).speedup(speedup);
     k_nearest(&machine, &warm, &order(Speedup::Local))?;
@@ -81,7 +81,7 @@ fn main() -> anyhow::Result<()> {
     // rows[n] = (times per speedup, one diagram)
     let mut rows: Vec<(Vec<Option<f64>>, f64)> = Vec::new();
     for &n in &ns {
-        let sites = random_sites(n, n as u64, &frame);
+        let sites = frame.random_points(n, n as u64);
         let mut times = Vec::new();
         for (name, speedup) in speedups {
             if speedup == Speedup::None && n > NO_SPEEDUP_MAX_N {
@@ -121,8 +121,8 @@ fn main() -> anyhow::Result<()> {
     let mut ours = Vec::new();
     for &m in &sets {
         let box_frame = Frame::pixels(1000, 1000)?;
-        let a = random_sites(m, 2 * m as u64, &box_frame);
-        let b = random_sites(m, 2 * m as u64 + 1, &box_frame);
+        let a = box_frame.random_points(m, 2 * m as u64);
+        let b = box_frame.random_points(m, 2 * m as u64 + 1);
         for (name, set) in [("a", &a), ("b", &b)] {
             let file = out_dir.join(format!("hausdorff_{m}_{name}.npy"));
             let flat: Vec<f64> = set.iter().flat_map(|p: &DVec2| [p.x, p.y]).collect();

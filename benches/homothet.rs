@@ -14,7 +14,6 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::homothet::{enclose, largest_empty, largest_empty_by, PixelStage, Region, Unit},
     geometry::Frame,
-    io::sites::random_sites,
     reference::homothet::welzl,
     Machine,
 };
@@ -113,7 +112,7 @@ fn main() -> anyhow::Result<()> {
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());
     let frame = Frame::pixels(1000, 1000)?;
-    let warm = random_sites(100, 1, &frame);
+    let warm = frame.random_points(100, 1);
     enclose(&machine, &warm, Unit::Circle, 0, SIZE)?;
     largest_empty(&machine, &warm, Unit::Circle, &Region::default(), SIZE)?;
 
@@ -121,7 +120,7 @@ fn main() -> anyhow::Result<()> {
         "| n | pixgeo enclose (ms) | Welzl (ms) | enclose / Welzl | same radius | pixgeo empty (ms) | empty with cones (ms) | Delaunay (spade) (ms) | empty / Delaunay | cones / Delaunay | same radius |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
-        let sites = random_sites(n, n as u64, &frame);
+        let sites = frame.random_points(n, n as u64);
         let (ours, a) = time(repeats, || {
             Ok(enclose(&machine, &sites, Unit::Circle, 0, SIZE)?)
         })?;

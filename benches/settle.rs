@@ -17,7 +17,6 @@ use pixgeo::{
         potential_areas, potential_areas_cpu, PotentialAreas, SettleMethod, SettleOptions,
     },
     geometry::{metric::Metric, Frame},
-    io::sites::random_sites,
     Machine,
 };
 
@@ -71,7 +70,7 @@ fn main() -> anyhow::Result<()> {
     let frame = Frame::pixels(SIZE, SIZE)?;
     gpu(
         &machine,
-        &random_sites(50, 0, &frame),
+        &frame.random_points(50, 0),
         Frame::pixels(64, 64)?,
         SettleMethod::Spans,
     )?;
@@ -87,7 +86,7 @@ fn main() -> anyhow::Result<()> {
     let mut spans_points = Vec::new();
     let mut cpu_points = Vec::new();
     for &n in &ns {
-        let sites = random_sites(n, 1, &frame);
+        let sites = frame.random_points(n, 1);
         let (t_spans, spans) = gpu(&machine, &sites, frame, SettleMethod::Spans)?;
         let (t_cpu, cpu) = timed(|| Ok(potential_areas_cpu(&sites, &[], &frame, Metric::L2)?))?;
         anyhow::ensure!(spans.area == cpu.area, "n = {n}: the CPU variant disagrees");
@@ -123,7 +122,7 @@ fn main() -> anyhow::Result<()> {
         );
         let mut points = Vec::new();
         for &n in &ns {
-            let sites = random_sites(n, 1, &frame);
+            let sites = frame.random_points(n, 1);
             let (t_faithful, faithful) = gpu(&machine, &sites, frame, SettleMethod::Faithful)?;
             let (t_spans, spans) = gpu(&machine, &sites, frame, SettleMethod::Spans)?;
             anyhow::ensure!(

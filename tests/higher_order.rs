@@ -90,7 +90,7 @@ fn many_cones_fill_several_rows_of_records() {
     // sixteen rows of the fragment shader's records.
     let m = machine();
     let frame = Frame::pixels(160, 100).unwrap();
-    let sites = pixgeo::io::sites::random_sites(900, 7, &frame);
+    let sites = frame.random_points(900, 7);
     let d = k_nearest(
         &m,
         &sites,

@@ -97,7 +97,7 @@ fn frame(width: u32, height: u32, bbox: Option<[f64; 4]>) -> PyResult<Frame> {
 }
 
 fn metric(text: &str) -> PyResult<Metric> {
-    Metric::parse(text).map_err(PyValueError::new_err)
+    pixgeo::io::sites::parse_metric(text).map_err(PyValueError::new_err)
 }
 
 fn accuracy(mode: &str) -> PyResult<Accuracy> {

@@ -28,6 +28,10 @@
 //! arithmetic. A pixel shows one site; sites that share a pixel with another
 //! are searched on the CPU: every triangle with such a site as a vertex, and
 //! such sites on the sides of every diagonal.
+//!
+//! The file is long because the triangles and quadrangles, smallest and largest,
+//! share the roofs' passes, the exact search of sites that share a pixel, and the
+//! answer types.
 
 use std::time::Instant;
 

@@ -18,6 +18,10 @@
 //! The furthest-site diagram is the lower envelope of cones turned upside down:
 //! one pass with the depth test GREATER. Only the vertices of the convex hull own
 //! furthest regions, so only their cones are drawn.
+//!
+//! The file is long because it holds the three routes to the k nearest (peeling,
+//! screen tiles, per-pixel lists) and the furthest-site diagram, which share tile
+//! lists, keys and readback.
 
 use std::time::Instant;
 

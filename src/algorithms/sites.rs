@@ -21,6 +21,9 @@
 //! distance from its tile's list, stopping at the first site that cannot win
 //! (`glsl/site_tiles.frag`), as the point diagrams do. A pixel then evaluates a
 //! few sites instead of every site whose rectangle covers it.
+//!
+//! The file is long because each of the four shapes of site takes its own fans,
+//! batches, tile lists and exact rectangles, and they share one driver.
 
 use std::time::Instant;
 
@@ -1465,7 +1468,7 @@ mod tests {
     #[test]
     fn ranges_over_a_box_hold_its_distances() {
         let frame = crate::geometry::Frame::pixels(64, 64).unwrap();
-        let ends = crate::io::sites::random_sites(120, 11, &frame);
+        let ends = frame.random_points(120, 11);
         let (centre, half) = (DVec2::new(30.0, 33.0), DVec2::new(3.5, 3.5));
         let mut sites: Vec<Site> = ends
             .chunks_exact(2)

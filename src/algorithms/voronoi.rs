@@ -16,6 +16,10 @@
 //! are rendered tile by tile, each tile drawing only the cones that reach it, and
 //! delivered as bands of rows ([`voronoi_bands`]) so that no more than a band is
 //! ever held in memory.
+//!
+//! The file is long: besides the point diagram it holds the cone machinery the
+//! other envelopes import (footprint sizing, batching, Hilbert order, screen tiles
+//! and the records image), which is to become an envelope module of its own.
 
 use std::{f64::consts::TAU, time::Instant};
 

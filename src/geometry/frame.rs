@@ -2,6 +2,8 @@
 //! pixel coordinates (i, j); without a bounding box, world = pixel coordinates.
 
 use glam::DVec2;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 use crate::error::{Error, Result};
 
@@ -25,6 +27,20 @@ impl Frame {
     /// The picture side, in pixels along the longer axis, wherever none is
     /// given: the command line's `--size`, C's `side` 0, Python's defaults.
     pub const DEFAULT_SIDE: u32 = 1024;
+
+    /// `n` points drawn uniformly over the world rectangle the picture shows,
+    /// the same for the same `seed` (the command line's `--random N --seed S`).
+    pub fn random_points(&self, n: usize, seed: u64) -> Vec<DVec2> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let lo = self.to_world(DVec2::splat(-0.5));
+        let hi = self.to_world(DVec2::new(
+            self.width as f64 - 0.5,
+            self.height as f64 - 0.5,
+        ));
+        (0..n)
+            .map(|_| DVec2::new(rng.gen_range(lo.x..hi.x), rng.gen_range(lo.y..hi.y)))
+            .collect()
+    }
 
     /// World = pixel coordinates: pixel (i, j) centred at world (i, j).
     pub fn pixels(width: u32, height: u32) -> Result<Self> {

@@ -99,15 +99,14 @@ fn intern(gauge: Gauge) -> &'static Gauge {
 }
 
 impl Metric {
-    /// Parses `l2`, `l1`, `linf`, `lp:P` (P a positive number; `lp:1`, `lp:2`
-    /// and `lp:inf` name the special cases) or `polygon:FILE` (the polygon's
-    /// vertices as a site file, around the kernel point at the origin, or JSON
-    /// `{"vertices": [...], "kernel": [x, y]}`).
+    /// Parses `l2`, `l1`, `linf` or `lp:P` (P a positive number; `lp:1`, `lp:2`
+    /// and `lp:inf` name the special cases). `polygon:FILE` names a file, which
+    /// [`crate::io::sites::parse_metric`] reads.
     pub fn parse(text: &str) -> Result<Self, String> {
-        if let Some(path) = text.trim().strip_prefix("polygon:") {
-            let (vertices, kernel) = crate::io::sites::read_polygon(std::path::Path::new(path))
-                .map_err(|e| e.to_string())?;
-            return Self::polygon(&vertices, kernel);
+        if text.trim().starts_with("polygon:") {
+            return Err(format!(
+                "`{text}` names a file: read it with pixgeo::io::sites::parse_metric"
+            ));
         }
         let t = text.trim().to_ascii_lowercase();
         let named = match t.as_str() {

@@ -4,6 +4,11 @@
 //!
 //! All coordinates here are pixel coordinates; pixel centres are the integer points
 //! of `[0, w-1] x [0, h-1]`.
+//!
+//! The file is long (about 1,350 lines and 440 of tests) because every bound that
+//! limits a cone lives here and shares these conventions: the quadtree bound, the
+//! Delaunay cell bounds, the L_p tile candidates, the k-nearest tile lists and the
+//! grid.
 
 use glam::DVec2;
 
@@ -1465,7 +1470,7 @@ mod tests {
         // strips' edge (co-circular everywhere), random sites, duplicates and
         // a collinear run.
         let frame = Frame::pixels(120, 90).unwrap();
-        let mut sites = crate::io::sites::random_sites(1800, 11, &frame);
+        let mut sites = frame.random_points(1800, 11);
         sites.extend((0..1200).map(|i| DVec2::new((i % 40) as f64 * 3.0, 30.0 + (i / 40) as f64)));
         sites.extend_from_within(..200);
         sites.extend((0..100).map(|i| DVec2::new(i as f64 * 1.2, 45.0)));
@@ -1479,7 +1484,7 @@ mod tests {
         // within the picture, whether from circumcentres or clipping, up to
         // the margins for rounding.
         let frame = Frame::pixels(200, 150).unwrap();
-        let sites = crate::io::sites::random_sites(300, 3, &frame);
+        let sites = frame.random_points(300, 3);
         let bounds = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()));
         let picture = picture_corners(&frame);
         let mut inside = 0;
@@ -1508,7 +1513,7 @@ mod tests {
             .iter()
             .map(|p| delaunator::Point { x: p.x, y: p.y })
             .collect();
-        let jitter = crate::io::sites::random_sites(64, 9, &Frame::pixels(2, 2).unwrap());
+        let jitter = Frame::pixels(2, 2).unwrap().random_points(64, 9);
         let sites: Vec<DVec2> = lattice
             .iter()
             .zip(&jitter)
@@ -1541,7 +1546,7 @@ mod tests {
     /// and sites outside the picture.
     fn awkward_sites() -> (Frame, Vec<DVec2>) {
         let frame = Frame::pixels(64, 48).unwrap();
-        let mut sites = crate::io::sites::random_sites(60, 5, &frame);
+        let mut sites = frame.random_points(60, 5);
         sites
             .extend((0..12).map(|i| DVec2::new(8.0 * (i % 4) as f64, 30.0 + 6.0 * (i / 4) as f64)));
         sites.extend((0..6).map(|i| DVec2::new(40.0 + 3.0 * i as f64, 3.0 * i as f64)));
@@ -1695,7 +1700,7 @@ mod tests {
         // lies within a pixel diagonal of the farthest owned pixel centre unless
         // the corner sits in a sliver between pixel centres.
         let frame = Frame::pixels(200, 150).unwrap();
-        let sites = crate::io::sites::random_sites(300, 7, &frame);
+        let sites = frame.random_points(300, 7);
         let radii: Vec<f64> = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()))
             .iter()
             .map(|b| b.radius)
@@ -1727,7 +1732,7 @@ mod tests {
         // Every site among a pixel's k nearest (ties included) is in its tile's
         // list and within its radius; lists run nearest to the centre first.
         let frame = Frame::pixels(75, 52).unwrap();
-        let mut sites = crate::io::sites::random_sites(60, 3, &frame);
+        let mut sites = frame.random_points(60, 3);
         sites.extend([DVec2::new(-9.0, 20.0), DVec2::new(30.0, 30.0)]);
         sites.extend((0..9).map(|i| DVec2::new(60.0 + (i % 3) as f64, 40.0 + (i / 3) as f64)));
         for (k, side, stretch) in [(1, 16, 1.0), (5, 16, 1.0), (12, 7, 1.0), (3, 16, 1.5)] {

@@ -11,20 +11,18 @@
 //!   floats or integers.
 //!
 //! Numbers are read bit for bit: the site is the number the file spells.
-//! Also: seeded random sites.
+//! Also: the `--metric` grammar, whose `polygon:FILE` is read here.
 
 use std::path::Path;
 
 use glam::DVec2;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use serde_json::Value;
 
 use crate::{
     error::{Error, Result},
     geometry::{
+        metric::Metric,
         site::{Shape, Site},
-        Frame,
     },
 };
 
@@ -149,6 +147,19 @@ pub fn sites_from_array(shape: &[u64], values: &[f64]) -> Result<Vec<Site>, Stri
             site
         })
         .collect())
+}
+
+/// A distance function as the command line's `--metric` names it: what
+/// [`Metric::parse`] reads, or `polygon:FILE`, the polygon read by
+/// [`read_polygon`].
+pub fn parse_metric(text: &str) -> std::result::Result<Metric, String> {
+    match text.trim().strip_prefix("polygon:") {
+        Some(path) => {
+            let (vertices, kernel) = read_polygon(Path::new(path)).map_err(|e| e.to_string())?;
+            Metric::polygon(&vertices, kernel)
+        }
+        None => Metric::parse(text),
+    }
 }
 
 /// Reads a polygon for `--metric polygon:FILE`: its vertices as a point site
@@ -488,23 +499,30 @@ fn json_site(v: &Value) -> Result<Site, String> {
     })
 }
 
-/// `n` sites uniformly distributed over the world rectangle the frame shows,
-/// reproducible from `seed`.
-pub fn random_sites(n: usize, seed: u64, frame: &Frame) -> Vec<DVec2> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let lo = frame.to_world(DVec2::splat(-0.5));
-    let hi = frame.to_world(DVec2::new(
-        frame.width as f64 - 0.5,
-        frame.height as f64 - 0.5,
-    ));
-    (0..n)
-        .map(|_| DVec2::new(rng.gen_range(lo.x..hi.x), rng.gen_range(lo.y..hi.y)))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn metrics_are_named_or_read_from_a_polygon_file() {
+        assert_eq!(parse_metric("l1"), Ok(Metric::L1));
+        assert_eq!(parse_metric(" lp:3 "), Ok(Metric::Lp(3.0)));
+        let path = std::env::temp_dir().join(format!("pixgeo-diamond-{}.json", std::process::id()));
+        std::fs::write(
+            &path,
+            r#"{"vertices": [[2, 1], [1, 2], [0, 1], [1, 0]], "kernel": [1, 1]}"#,
+        )
+        .unwrap();
+        let named = format!("polygon:{}", path.display());
+        let diamond = parse_metric(&named).unwrap();
+        // The unit ball is the L1 ball: the same distances.
+        for d in [DVec2::new(3.0, -1.5), DVec2::new(-0.25, 2.0)] {
+            assert!((diamond.distance(d) - Metric::L1.distance(d)).abs() < 1e-12);
+        }
+        assert!(Metric::parse(&named).unwrap_err().contains("parse_metric"));
+        std::fs::remove_file(&path).unwrap();
+        assert!(parse_metric("polygon:/nonexistent.json").is_err());
+    }
 
     #[test]
     fn csv_with_and_without_header() {

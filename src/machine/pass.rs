@@ -1,6 +1,9 @@
 //! Recording work for the machine: rendering into the picture's buffers, copies and
 //! compute dispatches. A `Pass` records into one command buffer; `Machine::run`
 //! submits it and waits.
+//!
+//! The file is long because every command the machine records goes through one
+//! type, which tracks the open rendering pass and each resource's last use.
 
 use ash::vk;
 

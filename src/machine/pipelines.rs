@@ -1,5 +1,8 @@
 //! Shader programs and the pipeline cache: each distinct (program, targets, raster
 //! state) becomes one `VkPipeline`, created on first use.
+//!
+//! The file is long because each program's stages, topology and vertex layout are
+//! spelled out in one `match`, beside the shader builds they name.
 
 use std::{cell::RefCell, collections::HashMap, path::Path, sync::Arc};
 

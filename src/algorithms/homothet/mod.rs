@@ -19,6 +19,9 @@
 //!   distance pieces (or region edges) meet, evaluated exactly against all sites;
 //! - weights and curves: a branch and bound on the exact distances, to a stated
 //!   gap.
+//!
+//! The file is long because the three searches above share their candidate
+//! generation and exact evaluation; the refinement lives in `refine.rs`.
 
 use glam::DVec2;
 use serde::Serialize;

@@ -74,7 +74,8 @@ impl Input {
         };
         let sites = match (&self.sites, self.random) {
             (Some(path), None) => sites::read_general_sites(path)?,
-            (None, Some(n)) if n > 0 => sites::random_sites(n, self.seed, &frame)
+            (None, Some(n)) if n > 0 => frame
+                .random_points(n, self.seed)
                 .into_iter()
                 .map(Site::point)
                 .collect(),
@@ -123,11 +124,7 @@ impl Points {
 
     fn random(&self) -> Result<Vec<DVec2>> {
         match self.random {
-            Some(n) if n > 0 => Ok(sites::random_sites(
-                n,
-                self.seed,
-                &Frame::pixels(1000, 1000)?,
-            )),
+            Some(n) if n > 0 => Ok(Frame::pixels(1000, 1000)?.random_points(n, self.seed)),
             Some(_) => bail!("--random needs at least one point"),
             None => bail!("give the points: --sites FILE or --random N"),
         }

@@ -53,7 +53,7 @@ pub struct Args {
 
     /// Distance function: `l2`, `l1`, `linf` or `lp:P` (any P > 0; the disc is
     /// the metric's ball). The exact refinement is Euclidean only.
-    #[arg(long, default_value = "l2", value_parser = Metric::parse)]
+    #[arg(long, default_value = "l2", value_parser = pixgeo::io::sites::parse_metric)]
     metric: Metric,
 
     /// How the discs are counted (on a Vulkan device).

@@ -65,7 +65,7 @@ pub struct Args {
     /// kind of diagram, and with --device cpu; --ties and --peel take the L_p
     /// metrics. Circles and arcs under a polygon take fan mode or --device cpu
     /// (exact); under L_p with p < 1 their fans' bound grows with the reach.
-    #[arg(long, default_value = "l2", value_parser = Metric::parse)]
+    #[arg(long, default_value = "l2", value_parser = pixgeo::io::sites::parse_metric)]
     metric: Metric,
 
     /// Accuracy: `exact` writes the exact distance per pixel (labels are nearest
