@@ -42,14 +42,14 @@ use crate::{
         surface::{fan_surface, FanSurface},
     },
     machine::{
-        Buffer, Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Image, Machine,
-        PixelRect, Program, RasterState, SiteBatch, SiteInstance, SiteShape, Target,
+        Buffer, Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Machine, PixelRect,
+        Program, RasterState, SiteBatch, SiteInstance, SiteShape, Target,
     },
 };
 
 use super::voronoi::{
-    distances_of, drawn_accuracy, hilbert_index, records_image, Accuracy, Speedup, VoronoiDiagram,
-    VoronoiOptions, VoronoiStats, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
+    distances_of, drawn_accuracy, hilbert_index, records_image, Accuracy, DrawnTile, Speedup,
+    VoronoiDiagram, VoronoiOptions, VoronoiStats, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
 };
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
@@ -191,17 +191,6 @@ fn winners_by_weight(sites: &[Site], frame: &crate::geometry::Frame, metric: Met
         .collect()
 }
 
-/// One drawn tile of a diagram of sites: its images (ids, and depth with a clear
-/// stencil), where it lies in the picture and the part of it that is picture.
-pub(crate) struct DrawnTile<'a> {
-    pub ids: &'a Image,
-    pub depth: &'a Image,
-    pub x0: u32,
-    pub y0: u32,
-    pub inner: PixelRect,
-    pub keys: SiteDepth,
-}
-
 /// How depths of a diagram of sites map to weighted distances (world units).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SiteDepth {
@@ -221,7 +210,7 @@ pub(crate) fn draw_sites(
     machine: &Machine,
     sites: &[Site],
     options: &VoronoiOptions,
-    mut visit: impl FnMut(&DrawnTile<'_>) -> Result<()>,
+    mut visit: impl FnMut(&DrawnTile<'_, SiteDepth>) -> Result<()>,
 ) -> Result<(VoronoiStats, SiteDepth)> {
     let accuracy = match (options.metric, options.accuracy) {
         // Fans over a polygon are exact for points and segments; circles and arcs
@@ -534,7 +523,7 @@ fn draw_site_tiles(
     options: &VoronoiOptions,
     least_additive: f64,
     started: Instant,
-    visit: &mut impl FnMut(&DrawnTile<'_>) -> Result<()>,
+    visit: &mut impl FnMut(&DrawnTile<'_, SiteDepth>) -> Result<()>,
 ) -> Result<Option<(VoronoiStats, SiteDepth)>> {
     let frame = options.frame;
     let (width, height) = (frame.width, frame.height);

@@ -512,8 +512,10 @@ fn distinct_bands(
     Ok(stats)
 }
 
-/// One drawn tile of a diagram of points, still on the device.
-pub(crate) struct PointTile<'a> {
+/// One drawn tile of a diagram, still on the device; `K` says how its depths
+/// map to distances: [`PointDepth`] for points, `SiteDepth` for sites with
+/// weights and shapes.
+pub(crate) struct DrawnTile<'a, K> {
     pub ids: &'a Image,
     /// Depth, and (when asked for, or with ties) a stencil.
     pub depth: &'a Image,
@@ -521,7 +523,7 @@ pub(crate) struct PointTile<'a> {
     pub y0: u32,
     /// The part of the tile image that is picture.
     pub inner: PixelRect,
-    pub keys: PointDepth,
+    pub keys: K,
 }
 
 /// How a diagram of points' depths map to distances.
@@ -556,7 +558,7 @@ pub(crate) fn draw_point_tiles(
     options: &VoronoiOptions,
     stencil: bool,
     power_keys: bool,
-    mut visit: impl FnMut(&PointTile<'_>) -> Result<()>,
+    mut visit: impl FnMut(&DrawnTile<'_, PointDepth>) -> Result<()>,
 ) -> Result<VoronoiStats> {
     check_sites(sites)?;
     options.frame.check()?;
@@ -780,7 +782,7 @@ pub(crate) fn draw_point_tiles(
             }
             stats.render_ms += ms(started);
             let started = Instant::now();
-            visit(&PointTile {
+            visit(&DrawnTile {
                 ids: &picture.ids,
                 depth: &picture.depth,
                 x0,
@@ -1857,7 +1859,7 @@ pub(crate) fn distances_of(
 /// depths into distances in world units.
 fn read_tile(
     machine: &Machine,
-    tile: &PointTile<'_>,
+    tile: &DrawnTile<'_, PointDepth>,
     window: &PixelRect,
     options: &VoronoiOptions,
     band: &mut Band,
