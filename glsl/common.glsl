@@ -1,4 +1,4 @@
-// Push constants shared by the cone programs (see src/machine/pass.rs, ConePush).
+// Push constants shared by the cone programs (see src/algorithms/cones.rs, ConePush).
 layout(push_constant) uniform Picture {
     // Target size in pixels.
     vec2 size;

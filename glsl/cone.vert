@@ -2,7 +2,7 @@
 // One cone per instance: a unit triangle fan (apex h = 0, rim h = 1), or the
 // footprint polygon of an exact cone, scaled to the site's outer radius,
 // translated to the site and clamped into the rectangle that holds its region
-// (ConeInstance in src/machine/pass.rs).
+// (ConeInstance in src/algorithms/cones.rs).
 #include "common.glsl"
 
 layout(location = 0) in vec3 unit_vertex;  // (cos, sin, h)

@@ -17,7 +17,7 @@
 //! | z buffer and stencil | an image of [`machine::Format::DepthStencil`] (or `Depth` alone) |
 //! | state of the raster pipeline: depth, stencil, blending or logic op, write masks | [`machine::RasterState`], a plain value; each distinct one becomes a cached `VkPipeline` |
 //! | stencil reference, blend constant, scissor rectangle | [`machine::DrawParams`], set per draw |
-//! | a set of triangles entering the pipeline | [`machine::Pass::draw_cones`] (instanced fans, one per site) and [`machine::Pass::draw_rect`] |
+//! | a set of triangles entering the pipeline | [`algorithms::cones::draw_cones`] (instanced fans, one per site) and [`machine::Pass::draw_rect`] |
 //! | display list translated per site | one unit fan mesh drawn instanced with a per-site buffer |
 //! | cone bases of other metrics (§3.6) | [`geometry::chain`]: the polygonal chains of L_p circles, polygons as unit balls ([`geometry::metric::Metric::Polygon`]) |
 //! | roofs, straw huts, weighted cones (§3.8–3.9) | [`geometry::surface`] (fan mode) and the per-fragment weighted distance of [`algorithms::sites`] (exact mode) |

@@ -1,6 +1,10 @@
 //! The pixel machine's tests, blending, logic ops, readback and reductions, each
 //! checked against what the thesis's model says the pixel must hold.
 
+use pixgeo::algorithms::cones::{
+    draw_cones, ConeDraw, ConeInstance, ConePush, SiteBatch, SiteShape, CONE_EXACT, CONE_PEEL,
+    SITE_EXACT_BATCH,
+};
 use pixgeo::machine::*;
 
 fn machine() -> Machine {
@@ -302,9 +306,9 @@ fn bad_requests_are_errors() {
     let instances = m.vertex_buffer(&[batch]).unwrap();
     // Power-sum keys (kind 4) are built for exact point cones only.
     let refused = [
-        (Program::SiteExactBatch(SiteShape::Arc), (1, 1.0)),
-        (Program::SiteExactBatch(SiteShape::Point), (3, 3.0)),
-        (Program::ConePeel, (4, 3.0)),
+        (&SITE_EXACT_BATCH[SiteShape::Arc as usize], (1, 1.0)),
+        (&SITE_EXACT_BATCH[SiteShape::Point as usize], (3, 3.0)),
+        (&CONE_PEEL, (4, 3.0)),
     ];
     for (program, metric) in refused {
         let r = m.run(|p| {
@@ -315,7 +319,8 @@ fn bad_requests_are_errors() {
                 },
                 Clear::default(),
             )?;
-            p.draw_cones(
+            draw_cones(
+                p,
                 program,
                 &RasterState::lower_envelope(),
                 &DrawParams::default(),
@@ -325,7 +330,7 @@ fn bad_requests_are_errors() {
                     vertex_depth_scale: 0.0,
                     fragment_depth_scale: 1.0,
                     levels: 1,
-                    metric,
+                    metric: metric.into(),
                 },
                 &ConeDraw {
                     mesh: &mesh,
@@ -338,7 +343,67 @@ fn bad_requests_are_errors() {
             )?;
             p.end()
         });
-        assert!(r.is_err(), "{program:?} with metric {metric:?}");
+        assert!(r.is_err(), "{} with metric {metric:?}", program.name);
+    }
+    // A draw must give its program's push bytes and vertex buffers, and a
+    // program writing ids needs an integer target.
+    let floats = m.image(Format::R32Float, 4, 4).unwrap();
+    let push = ConePush {
+        picture_size: [4.0, 4.0],
+        offset: [0.0, 0.0],
+        vertex_depth_scale: 0.0,
+        fragment_depth_scale: 1.0,
+        levels: 1,
+        metric: (0, 2.0).into(),
+    };
+    let cones = m
+        .vertex_buffer(&[ConeInstance::new(0, [1.0, 1.0], 2.0, 2.0)])
+        .unwrap();
+    let draws = [
+        (
+            &ids,
+            &bytemuck::bytes_of(&push)[..8],
+            vec![&mesh, &cones],
+            "push",
+        ),
+        (
+            &ids,
+            bytemuck::bytes_of(&push),
+            vec![&mesh],
+            "vertex buffers",
+        ),
+        (
+            &floats,
+            bytemuck::bytes_of(&push),
+            vec![&mesh, &cones],
+            "needs a",
+        ),
+    ];
+    for (target, push, buffers, refusal) in draws {
+        let r = m.run(|p| {
+            p.begin(
+                Target {
+                    color: Some(target),
+                    depth_stencil: None,
+                },
+                Clear::default(),
+            )?;
+            p.draw(
+                &RasterState::OVERWRITE,
+                &DrawParams::default(),
+                &Draw {
+                    program: &CONE_EXACT,
+                    variant: 0,
+                    push,
+                    vertex_buffers: &buffers,
+                    vertices: 0..6,
+                    instances: 0..1,
+                },
+            )?;
+            p.end()
+        });
+        let message = r.err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(message.contains(refusal), "{refusal}: {message}");
     }
 }
 

@@ -37,6 +37,7 @@ use serde::Serialize;
 
 use crate::{
     algorithms::{
+        cones::{draw_cones, ConeDraw, ConePush, SITE_FAN},
         higher_order::convex_hull,
         voronoi::{draw_point_tiles, VoronoiOptions},
     },
@@ -44,8 +45,9 @@ use crate::{
     geometry::circle::welzl,
     geometry::{frame::check_sites, Frame},
     machine::{
-        Clear, ClearColor, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Image,
-        Machine, Pass, PixelRect, Program, RasterState, RectDraw, Target,
+        shaders, Clear, ClearColor, Compare, DepthTest, Draw, DrawParams, Format, Fragments,
+        GraphicsProgram, Image, Machine, Pass, PixelRect, RasterState, RectDraw, Target, Topology,
+        VertexAttribute, VertexBuffer, VertexFormat,
     },
 };
 
@@ -342,8 +344,9 @@ fn convex(machine: &Machine, sites: &[DVec2], side: u32) -> Result<AlphaHull> {
     let mesh = machine.vertex_buffer(&triangles)?;
     let ones = machine.vertex_buffer(&vec![1u32; triangles.len()])?;
     draw_on(machine, &image, ClearColor::Uint([0; 4]), |pass| {
-        pass.draw_cones(
-            Program::SiteFan,
+        draw_cones(
+            pass,
+            &SITE_FAN,
             &RasterState::OVERWRITE,
             &DrawParams::default(),
             &picture_push(w, h),
@@ -396,6 +399,25 @@ fn draw_on<'r>(
     })
 }
 
+/// Closed discs, one per instance of `[x, y, radius, value]` in pixels (the
+/// value written to a float target).
+static DISC: GraphicsProgram = GraphicsProgram::new(
+    "Disc",
+    shaders::DISC_VERT,
+    Fragments::One(shaders::DISC_FRAG),
+    Topology::TriangleStrip,
+    &[VertexBuffer {
+        stride: std::mem::size_of::<[f32; 4]>() as u32,
+        per_instance: true,
+        attributes: &[VertexAttribute {
+            location: 0,
+            offset: 0,
+            format: VertexFormat::F32x4,
+        }],
+    }],
+    std::mem::size_of::<ConePush>(),
+);
+
 fn picture_push(width: u32, height: u32) -> ConePush {
     ConePush {
         picture_size: [width as f32, height as f32],
@@ -403,7 +425,7 @@ fn picture_push(width: u32, height: u32) -> ConePush {
         vertex_depth_scale: 0.0,
         fragment_depth_scale: 0.0,
         levels: 1,
-        metric: (0, 2.0),
+        metric: (0, 2.0).into(),
     }
 }
 
@@ -430,12 +452,17 @@ fn draw_discs(
     };
     let buffer = machine.vertex_buffer(&instances)?;
     draw_on(machine, &image, ClearColor::Float([0.0; 4]), |pass| {
-        pass.draw_discs(
+        pass.draw(
             &state,
             &DrawParams::default(),
-            &picture_push(w, h),
-            &buffer,
-            discs.len() as u32,
+            &Draw {
+                program: &DISC,
+                variant: 0,
+                push: bytemuck::bytes_of(&picture_push(w, h)),
+                vertex_buffers: &[&buffer],
+                vertices: 0..4,
+                instances: 0..discs.len() as u32,
+            },
         )
     })?;
     machine.read_f32(&image, PixelRect::of(&image))

@@ -47,10 +47,38 @@ use crate::{
         scale, Frame,
     },
     machine::{
-        Buffer, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image, Machine,
-        NearExtreme, PixelRect, Program, RasterState, Target,
+        shaders, Buffer, Clear, ClearColor, Compare, DepthTest, Draw, DrawParams, Format,
+        Fragments, GraphicsProgram, Image, Machine, NearExtreme, PixelRect, RasterState, Target,
+        Topology,
     },
 };
+
+/// Push constants of the roof programs (`glsl/roof.glsl`): `[width, height,
+/// bound, depth per area, maximum, segment]`.
+type RoofWords = [u32; 6];
+
+/// Saddle roofs over pairs of sites (thesis §7.3), one per instance without
+/// vertex buffers, reading the sites (`f64` pairs) and the site drawn in each
+/// pixel from storage buffers 0 and 1: the area as depth, the pair as colour.
+static ROOF: GraphicsProgram = GraphicsProgram::new(
+    "Roof",
+    shaders::ROOF_VERT,
+    Fragments::One(shaders::ROOF_FRAG_TRIANGLE),
+    Topology::TriangleStrip,
+    &[],
+    std::mem::size_of::<RoofWords>(),
+);
+
+/// [`ROOF`] keeping per pair and side of its line the nearest (or farthest)
+/// site in storage buffer 2; writes no attachment.
+static ROOF_SIDES: GraphicsProgram = GraphicsProgram::new(
+    "RoofSides",
+    shaders::ROOF_VERT,
+    Fragments::One(shaders::ROOF_FRAG_SIDES),
+    Topology::TriangleStrip,
+    &[],
+    std::mem::size_of::<RoofWords>(),
+);
 
 /// The picture side (pixels, longer axis) for `n` sites when none is given:
 /// about 64 pixels per site, so that few sites share a pixel (those are
@@ -793,7 +821,7 @@ impl<'m> Roofs<'m> {
 
     /// The roof programs' push constants (`glsl/roof.glsl`): areas there are in
     /// pixels squared.
-    fn push(&self, segment: bool) -> [u32; 6] {
+    fn push(&self, segment: bool) -> RoofWords {
         let depth_per_pixel_area = self.depth_per_area / (self.frame.scale * self.frame.scale);
         [
             (self.frame.width as f32).to_bits(),
@@ -811,7 +839,7 @@ impl<'m> Roofs<'m> {
     #[allow(clippy::too_many_arguments)]
     fn draw_roofs(
         &self,
-        program: Program,
+        program: &'static GraphicsProgram,
         state: &RasterState,
         target: Target<'_>,
         clear: Clear,
@@ -828,13 +856,17 @@ impl<'m> Roofs<'m> {
             self.machine.run(|pass| {
                 pass.bind_fragment_buffers(buffers, None)?;
                 pass.begin(target, if first == 0 { clear } else { Clear::default() })?;
-                pass.draw_instances(
-                    program,
+                pass.draw(
                     state,
                     &DrawParams::default(),
-                    &push,
-                    4,
-                    first..last,
+                    &Draw {
+                        program,
+                        variant: 0,
+                        push: bytemuck::bytes_of(&push),
+                        vertex_buffers: &[],
+                        vertices: 0..4,
+                        instances: first..last,
+                    },
                 )?;
                 pass.end()
             })?;
@@ -860,7 +892,7 @@ impl<'m> Roofs<'m> {
         });
         // A triangle is found by its longest edge's roof: the segment's strip.
         self.draw_roofs(
-            Program::Roof,
+            &ROOF,
             &state,
             Target {
                 color: Some(&pairs),
@@ -892,7 +924,7 @@ impl<'m> Roofs<'m> {
         let depth = machine.image(Format::Depth, w, h)?;
         // A quadrangle's diagonal need not be its longest edge: the whole line.
         self.draw_roofs(
-            Program::RoofSides,
+            &ROOF_SIDES,
             &RasterState::OVERWRITE,
             Target {
                 color: None,

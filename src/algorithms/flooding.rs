@@ -33,8 +33,36 @@ use crate::{
     error::{Error, Result},
     geometry::seed::{check_seeds, neighbours, priority, Priority, Seed, NONE},
     geometry::Frame,
-    machine::{Buffer, BufferKernel, Image, Machine},
+    machine::{shaders, Buffer, ComputeProgram, Image, Machine},
 };
+
+/// The exact Euclidean colouring of the seed map in buffer 0 into buffer 1
+/// (both twice the pixels; push `[width, height, phase, scale]`, one
+/// invocation per column in phase 0, per row in phase 1, per strip of 64 rows
+/// of a column in phases 2 and 3 (a grid of columns by strips): debris roots,
+/// or scaled distances).
+static EUCLIDEAN_COLOURING: ComputeProgram = ComputeProgram::new(
+    "EuclideanColouring",
+    shaders::EUCLIDEAN_COMP,
+    std::mem::size_of::<[u32; 4]>(),
+);
+
+/// One pass of jump flooding from buffer 0 into buffer 1 (push `[width,
+/// height, step, first pixel]`, one invocation per pixel).
+static JUMP_FLOOD: ComputeProgram = ComputeProgram::new(
+    "JumpFlood",
+    shaders::JUMP_FLOOD_COMP,
+    std::mem::size_of::<[u32; 4]>(),
+);
+
+/// The dual triangles of a colouring in buffer 0, appended to buffer 1 (push
+/// `[width, height, capacity]`, one invocation per strip of 64 pixel corners
+/// of a column, a grid of (width + 1) columns by strips).
+static DUALIZE: ComputeProgram = ComputeProgram::new(
+    "Dualize",
+    shaders::DUALIZE_COMP,
+    std::mem::size_of::<[u32; 3]>(),
+);
 
 /// How the flooding went.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -175,12 +203,13 @@ fn colouring(
         PixelPhase::Depth { scale, .. } => (3, scale),
     };
     machine.run(|pass| {
-        let kernel = BufferKernel::EuclideanColouring;
+        let kernel = &EUCLIDEAN_COLOURING;
         let buffers = [&seed_buffer, &output];
         let push = |phase: u32| [width, height, phase, scale.to_bits()];
-        pass.dispatch(kernel, &buffers, width, &push(0))?;
-        pass.dispatch(kernel, &buffers, height, &push(1))?;
-        pass.dispatch_grid(kernel, &buffers, (width, height.div_ceil(64)), &push(phase))?;
+        pass.dispatch(kernel, &buffers, width, bytemuck::bytes_of(&push(0)))?;
+        pass.dispatch(kernel, &buffers, height, bytemuck::bytes_of(&push(1)))?;
+        let grid = (width, height.div_ceil(64));
+        pass.dispatch_grid(kernel, &buffers, grid, bytemuck::bytes_of(&push(phase)))?;
         if let PixelPhase::Depth { depth, .. } = then {
             pass.copy_depth_from_buffer(&output, 4 * pixels as u64, depth)?;
         }
@@ -324,17 +353,17 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
     let steps: Vec<u32> = std::iter::successors(Some(side / 2), |s| (*s > 1).then_some(s / 2))
         .filter(|&s| s > 0)
         .collect();
-    let chunk = crate::machine::MAX_GROUPS * BufferKernel::JumpFlood.group();
+    let chunk = crate::machine::MAX_GROUPS * JUMP_FLOOD.group();
     machine.run(|pass| {
         for (k, &step) in steps.iter().enumerate() {
             let buffers = if k % 2 == 0 { [&a, &b] } else { [&b, &a] };
             for first in (0..pixels as u32).step_by(chunk as usize) {
                 let count = chunk.min(pixels as u32 - first);
                 pass.dispatch(
-                    BufferKernel::JumpFlood,
+                    &JUMP_FLOOD,
                     &buffers,
                     count,
-                    &[width, height, step, first],
+                    bytemuck::bytes_of(&[width, height, step, first]),
                 )?;
             }
         }
@@ -391,10 +420,10 @@ pub fn dualize(
             let push = [width, height, capacity as u32];
             let strips = (height + 1).div_ceil(64);
             pass.dispatch_grid(
-                BufferKernel::Dualize,
+                &DUALIZE,
                 &[&input, &output],
                 (width + 1, strips),
-                &push,
+                bytemuck::bytes_of(&push),
             )
         })?;
         let count = output.read::<u32>(1)[0] as usize;

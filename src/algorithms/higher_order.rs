@@ -39,9 +39,14 @@ use crate::{
         radius, Frame,
     },
     machine::{
-        Buffer, Clear, ClearColor, Compare, ConeDraw, ConeInstance, ConePush, DepthTest,
-        DrawParams, Format, Image, Machine, Pass, PixelRect, Program, RasterState, Target,
+        Buffer, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image, Machine, Pass,
+        PixelRect, RasterState, Target,
     },
+};
+
+use super::cones::{
+    draw_cones, draw_k_nearest_tiles, ConeDraw, ConeInstance, ConePush, CONE_EXACT, CONE_FAN,
+    CONE_K_NEAREST, CONE_K_NEAREST_FAN, CONE_PEEL,
 };
 
 use super::voronoi::{distances_of, drawn_accuracy, metric_fan, Accuracy, Speedup};
@@ -238,7 +243,7 @@ pub fn k_nearest(
     // The mesh, each cone's outer radius, and the fan's error bound.
     let (program, mesh, outer) = match options.accuracy {
         Accuracy::Exact => (
-            Program::ConeKNearest,
+            &CONE_K_NEAREST,
             unit_footprint(FOOTPRINT_CORNERS),
             Rim::Circumscribed(FOOTPRINT_CORNERS),
         ),
@@ -250,14 +255,14 @@ pub fn k_nearest(
             let t = FanShape::for_distance_error(stats.radius_max, epsilon).triangles;
             stats.triangles = t;
             stats.distance_error_bound = epsilon / frame.scale;
-            (Program::ConeKNearestFan, unit_fan(t), Rim::Beyond(epsilon))
+            (&CONE_K_NEAREST_FAN, unit_fan(t), Rim::Beyond(epsilon))
         }
         Accuracy::Fan {
             triangles: Some(t), ..
         } => {
             stats.triangles = t;
             stats.distance_error_bound = fan_distance_error(stats.radius_max, t) / frame.scale;
-            (Program::ConeKNearestFan, unit_fan(t), Rim::Circumscribed(t))
+            (&CONE_K_NEAREST_FAN, unit_fan(t), Rim::Circumscribed(t))
         }
     };
     // Other metrics' fans: one mesh over the chain (or sample) of the widest cone.
@@ -299,7 +304,8 @@ pub fn k_nearest(
         };
         let depth = machine.image(Format::Depth, frame.width, frame.height)?;
         draw_to_buffers(machine, &depth, &[&keys], None, |pass| {
-            pass.draw_cones(
+            draw_cones(
+                pass,
                 program,
                 &RasterState::OVERWRITE,
                 &DrawParams::default(),
@@ -449,7 +455,8 @@ fn k_nearest_tiled(
         &[&labels, &tiles],
         Some((&upload, &records)),
         |pass| {
-            pass.draw_tiles(
+            draw_k_nearest_tiles(
+                pass,
                 &RasterState::OVERWRITE,
                 &DrawParams::default(),
                 &picture_push(&frame, k, options.metric),
@@ -470,7 +477,7 @@ fn picture_push(frame: &Frame, levels: u32, metric: Metric) -> ConePush {
         fragment_depth_scale: 0.0,
         levels,
         // Exact programs never see a polygon (drawn as fans instead).
-        metric: metric.shader_code().unwrap_or((0, 2.0)),
+        metric: metric.shader_code().unwrap_or((0, 2.0)).into(),
     }
 }
 
@@ -869,7 +876,7 @@ pub fn k_nearest_peeled(
             };
             pass.bind_fragment_buffers(&[&previous], None)?;
             pass.begin(target, fresh)?;
-            pass.draw_cones(Program::ConePeel, &register, &params, &push, &cones_draw)?;
+            draw_cones(pass, &CONE_PEEL, &register, &params, &push, &cones_draw)?;
             pass.end()?;
             // This level becomes the next one's z and sites.
             pass.feed_fragment_buffer(&depth, &previous, 0)?;
@@ -1025,8 +1032,8 @@ pub(crate) fn draw_furthest(
     // A polygon's distance is drawn exactly by the fan over the polygon; the other
     // metrics' cones evaluate the distance per fragment.
     let (program, unit) = match metric {
-        Metric::Polygon(g) => (Program::ConeFan, unit_fan_over(&g.vertices, 1.0)),
-        _ => (Program::ConeExact, unit_footprint(FOOTPRINT_CORNERS)),
+        Metric::Polygon(g) => (&CONE_FAN, unit_fan_over(&g.vertices, 1.0)),
+        _ => (&CONE_EXACT, unit_footprint(FOOTPRINT_CORNERS)),
     };
     // Upside-down cones reach every pixel: a site's furthest region may lie
     // anywhere in the picture.
@@ -1097,7 +1104,8 @@ pub(crate) fn draw_furthest(
             if scissor.is_some_and(|r| r[2] == 0 || r[3] == 0) {
                 continue;
             }
-            pass.draw_cones(
+            draw_cones(
+                pass,
                 program,
                 &state,
                 &DrawParams {

@@ -4,6 +4,7 @@
 pub mod alpha_hull;
 pub mod area;
 pub mod area_sweep;
+pub mod cones;
 pub mod cpu;
 pub mod delaunay;
 pub mod distances;

@@ -40,13 +40,54 @@ use crate::{
     error::{Error, Result},
     geometry::{cell, frame::check_sites, metric::Metric, Frame},
     machine::{
-        Blend, BufferKernel, ChannelMask, Clear, ClearColor, ColorUpdate, Compare, DepthTest,
-        DrawParams, Format, Machine, PixelRect, Program, RasterState, StencilOp, StencilTest,
-        Target, MAX_GROUPS,
+        shaders, Blend, ChannelMask, Clear, ClearColor, ColorUpdate, Compare, ComputeProgram,
+        DepthTest, Draw, DrawParams, Format, Fragments, GraphicsProgram, Machine, PixelRect,
+        RasterState, StencilOp, StencilTest, Target, Topology, MAX_GROUPS,
     },
 };
 
 use super::voronoi::{voronoi, VoronoiOptions};
+
+/// Push constants of the settle programs (`glsl/settle.glsl`): `[width,
+/// height, metric kind, p, first, count, channel]`.
+type SettleWords = [u32; 7];
+
+/// The settle point's discs (thesis §3.10.3): one square per source pixel,
+/// instanced without vertex buffers; the fragment shader keeps the disc and
+/// reads each pixel's radius from the bound storage buffer. Its fragment
+/// builds follow the distance function's kind.
+static SETTLE_DISC: GraphicsProgram = GraphicsProgram::new(
+    "SettleDisc",
+    shaders::SETTLE_DISC_VERT,
+    Fragments::ByVariant(&shaders::SETTLE_DISC_FRAG),
+    Topology::TriangleStrip,
+    &[],
+    std::mem::size_of::<SettleWords>(),
+);
+
+/// The span counting: every disc's parts into seven difference pictures of
+/// `i32` in buffers 1 to 7, one invocation per source pixel, by the distance
+/// function's kind.
+static SETTLE_SPANS: [ComputeProgram; 4] = {
+    const fn spans(name: &'static str, shader: crate::machine::Shader) -> ComputeProgram {
+        ComputeProgram::new(name, shader, std::mem::size_of::<SettleWords>())
+    }
+    [
+        spans("SettleSpans(L2)", shaders::SETTLE_SPANS_COMP[0]),
+        spans("SettleSpans(L1)", shaders::SETTLE_SPANS_COMP[1]),
+        spans("SettleSpans(LInf)", shaders::SETTLE_SPANS_COMP[2]),
+        spans("SettleSpans(Lp)", shaders::SETTLE_SPANS_COMP[3]),
+    ]
+};
+
+/// The counts from those difference pictures, into the first (push `[width,
+/// height, phase]`, one invocation per column, per diagonal, per antidiagonal
+/// and per row in phases 0 to 3).
+static SETTLE_SUMS: ComputeProgram = ComputeProgram::new(
+    "SettleSums",
+    shaders::SETTLE_SUMS_COMP,
+    std::mem::size_of::<[u32; 3]>(),
+);
 
 /// How the discs are counted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -329,7 +370,7 @@ impl Push {
         self.metric.shader_code().unwrap_or((0, 2.0))
     }
 
-    fn words(&self, first: u32, count: u32, channel: u32) -> [u32; 7] {
+    fn words(&self, first: u32, count: u32, channel: u32) -> SettleWords {
         let (kind, p) = self.metric_code();
         [
             self.frame.width,
@@ -370,16 +411,21 @@ fn count_spans(
     // About 64 submissions, for progress; each within one dispatch's limits.
     let step = pixels
         .div_ceil(64)
-        .clamp(1, MAX_GROUPS * BufferKernel::SettleSpans(0).group());
+        .clamp(1, MAX_GROUPS * SETTLE_SPANS[0].group());
     let mut first = 0;
     while first < pixels {
         let count = step.min(pixels - first);
         machine.run(|pass| {
+            let kernel = SETTLE_SPANS.get(kind as usize).ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "settle spans are not built for distance kind {kind}"
+                ))
+            })?;
             pass.dispatch(
-                BufferKernel::SettleSpans(kind),
+                kernel,
                 &buffers,
                 count,
-                &push.words(first, count, 0),
+                bytemuck::bytes_of(&push.words(first, count, 0)),
             )
         })?;
         first += count;
@@ -389,7 +435,12 @@ fn count_spans(
         let (w, h) = (frame.width, frame.height);
         // Columns, the two kinds of diagonals, rows.
         for (phase, lines) in [(0, w), (1, w + h - 1), (2, w + h - 1), (3, h)] {
-            pass.dispatch(BufferKernel::SettleSums, &buffers, lines, &[w, h, phase])?;
+            pass.dispatch(
+                &SETTLE_SUMS,
+                &buffers,
+                lines,
+                bytemuck::bytes_of(&[w, h, phase]),
+            )?;
         }
         Ok(())
     })?;
@@ -454,13 +505,17 @@ fn count_faithful(
         machine.run(|pass| {
             pass.bind_fragment_buffers(&[radii], None)?;
             pass.begin(target, clear)?;
-            pass.draw_instances(
-                Program::SettleDisc(push.metric_code().0),
+            pass.draw(
                 &state,
                 &params,
-                &push.words(first, count, channel),
-                4,
-                0..count,
+                &Draw {
+                    program: &SETTLE_DISC,
+                    variant: push.metric_code().0,
+                    push: bytemuck::bytes_of(&push.words(first, count, channel)),
+                    vertex_buffers: &[],
+                    vertices: 0..4,
+                    instances: 0..count,
+                },
             )?;
             pass.end()
         })?;

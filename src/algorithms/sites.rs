@@ -42,9 +42,14 @@ use crate::{
         surface::{fan_surface, FanSurface},
     },
     machine::{
-        Buffer, Clear, ClearColor, ConeDraw, ConePush, DrawParams, Format, Machine, PixelRect,
-        Program, RasterState, SiteBatch, SiteInstance, SiteShape, Target,
+        Buffer, Clear, ClearColor, DrawParams, Format, GraphicsProgram, Machine, PixelRect,
+        RasterState, Target,
     },
+};
+
+use super::cones::{
+    draw_cones, draw_over_target, ConeDraw, ConePush, SiteBatch, SiteInstance, SiteShape,
+    SITE_EXACT, SITE_EXACT_BATCH, SITE_FAN, SITE_FAN_FOLDED, SITE_TILES,
 };
 
 use super::voronoi::{
@@ -392,8 +397,8 @@ pub(crate) fn draw_sites(
             let [mut folded, leaving] = folded;
             folded.append(leaving);
             vec![
-                plain.upload(machine, Program::SiteFan)?,
-                folded.upload(machine, Program::SiteFanFolded)?,
+                plain.upload(machine, &SITE_FAN)?,
+                folded.upload(machine, &SITE_FAN_FOLDED)?,
             ]
         }
     };
@@ -434,7 +439,7 @@ pub(crate) fn draw_sites(
             let rects = (!singles.is_empty())
                 .then(|| machine.vertex_buffer(&singles))
                 .transpose()?;
-            let mut draws: Vec<(Program, ConeDraw)> = Vec::new();
+            let mut draws: Vec<(&'static GraphicsProgram, ConeDraw)> = Vec::new();
             for (program, vertices, ids, count) in &fans {
                 draws.push((
                     *program,
@@ -450,11 +455,11 @@ pub(crate) fn draw_sites(
             }
             if let Some(buffer) = &batch_buffer {
                 let shapes = batch_shapes.iter().copied();
-                draws.extend(rect_draws(&mesh, Program::SiteExactBatch, shapes, buffer));
+                draws.extend(rect_draws(&mesh, &SITE_EXACT_BATCH, shapes, buffer));
             }
             if let Some(buffer) = &rects {
                 let shapes = singles.iter().map(|i| SiteShape::of_kind(i.kind_id[0]));
-                draws.extend(rect_draws(&mesh, Program::SiteExact, shapes, buffer));
+                draws.extend(rect_draws(&mesh, &SITE_EXACT, shapes, buffer));
             }
             // With nothing drawn the tile keeps the "no site" id.
             let push = ConePush {
@@ -464,7 +469,7 @@ pub(crate) fn draw_sites(
                 fragment_depth_scale: depth_scale as f32,
                 levels: 1,
                 // Polygons are drawn as fans (see above).
-                metric: metric.shader_code().unwrap_or((0, 2.0)),
+                metric: metric.shader_code().unwrap_or((0, 2.0)).into(),
             };
             machine.run(|pass| {
                 pass.begin(
@@ -479,8 +484,9 @@ pub(crate) fn draw_sites(
                     },
                 )?;
                 for (program, draw) in &draws {
-                    pass.draw_cones(
-                        *program,
+                    draw_cones(
+                        pass,
+                        program,
                         &RasterState::lower_envelope(),
                         &DrawParams::default(),
                         &push,
@@ -513,7 +519,7 @@ pub(crate) fn draw_sites(
 }
 
 /// The diagram of sites (pixels) under L2, L1 or L∞ in exact mode from screen
-/// tiles ([`Program::SiteTiles`]), one pass per shape: each cell of [`CellBounds`]
+/// tiles ([`SITE_TILES`]), one pass per shape: each cell of [`CellBounds`]
 /// lists the sites whose smallest weighted distance over it is within its
 /// bound, by that distance, and each screen tile reads its cell's list. `None`
 /// where the lists would be too long.
@@ -670,7 +676,7 @@ fn draw_site_tiles(
         vertex_depth_scale: 0.0,
         fragment_depth_scale: depth_scale as f32,
         levels: 1,
-        metric: metric.shader_code().unwrap_or((0, 2.0)),
+        metric: metric.shader_code().unwrap_or((0, 2.0)).into(),
     };
     let target = Target {
         color: Some(&ids),
@@ -693,8 +699,9 @@ fn draw_site_tiles(
             // Later shapes draw over the earlier ones' envelope.
             pass.bind_fragment_buffers(&[], Some(records))?;
             pass.begin(target, if k == 0 { clear } else { Clear::default() })?;
-            pass.draw_site_tiles(
-                *shape,
+            draw_over_target(
+                pass,
+                &SITE_TILES[*shape as usize],
                 &RasterState::lower_envelope(),
                 &DrawParams::default(),
                 &push,
@@ -758,8 +765,8 @@ fn site_shape(site: &Site) -> SiteShape {
     }
 }
 
-/// Fan vertices of N words (see [`Program::SiteFan`] and
-/// [`Program::SiteFanFolded`]) with their sites' ids.
+/// Fan vertices of N words (see [`SITE_FAN`] and
+/// [`SITE_FAN_FOLDED`]) with their sites' ids.
 #[derive(Default)]
 struct FanBuffers<const N: usize> {
     vertices: Vec<[f32; N]>,
@@ -784,8 +791,8 @@ where
     fn upload(
         mut self,
         machine: &Machine,
-        program: Program,
-    ) -> Result<(Program, Buffer, Buffer, u32)> {
+        program: &'static GraphicsProgram,
+    ) -> Result<(&'static GraphicsProgram, Buffer, Buffer, u32)> {
         let count = self.vertices.len() as u32;
         // Vulkan buffers cannot be empty.
         self.push([0.0; N], 0);
@@ -814,16 +821,17 @@ enum SiteDraw {
 /// of the unit square `mesh`), whose shapes in order are `shapes`.
 fn rect_draws<'a>(
     mesh: &'a Buffer,
-    program: fn(SiteShape) -> Program,
+    programs: &'static [GraphicsProgram; 4],
     shapes: impl Iterator<Item = SiteShape>,
     instances: &'a Buffer,
-) -> Vec<(Program, ConeDraw<'a>)> {
-    let mut draws: Vec<(Program, ConeDraw<'a>)> = Vec::new();
+) -> Vec<(&'static GraphicsProgram, ConeDraw<'a>)> {
+    let mut draws: Vec<(&'static GraphicsProgram, ConeDraw<'a>)> = Vec::new();
     for (k, shape) in shapes.enumerate() {
+        let program = &programs[shape as usize];
         match draws.last_mut() {
-            Some((last, draw)) if *last == program(shape) => draw.instance_count += 1,
+            Some((last, draw)) if std::ptr::eq(*last, program) => draw.instance_count += 1,
             _ => draws.push((
-                program(shape),
+                program,
                 ConeDraw {
                     mesh,
                     first_vertex: 0,

@@ -10,7 +10,7 @@
 //! bounds with minmax-detected retries) and [`Speedup::Local`] (a radius per site).
 //! With local radii, exact diagrams draw no cones at all: each fragment of one
 //! picture-wide triangle takes the nearest of the sites listed for its screen
-//! tile ([`Program::NearestTiles`]), the sites that can own one of its pixels.
+//! tile ([`NEAREST_TILES`]), the sites that can own one of its pixels.
 //!
 //! Pictures larger than one device image (or than [`VoronoiOptions::max_tile`])
 //! are rendered tile by tile, each tile drawing only the cones that reach it, and
@@ -41,10 +41,14 @@ use crate::{
         Frame,
     },
     machine::{
-        Buffer, ChannelMask, Clear, ClearColor, Compare, ConeBatch, ConeDraw, ConeInstance,
-        ConePush, DepthTest, DrawParams, Format, Image, Machine, Pass, PixelRect, Program,
-        RasterState, StencilOp, StencilTest, Target,
+        Buffer, ChannelMask, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image,
+        Machine, Pass, PixelRect, RasterState, StencilOp, StencilTest, Target,
     },
+};
+
+use super::cones::{
+    draw_cones, draw_over_target, ConeBatch, ConeDraw, ConeInstance, ConePush, CONE_EXACT,
+    CONE_EXACT_BATCH, CONE_FAN, NEAREST_TILES,
 };
 
 /// The farthest (pixels) an exact cone may reach: float32 positions and
@@ -1384,7 +1388,7 @@ struct Draws<'a> {
     /// Count the cones at each pixel's lowest depth in the stencil.
     ties: bool,
     /// Take the envelope of exact cones per screen tile from the sites whose
-    /// box meets it ([`Program::NearestTiles`]) instead of drawing them.
+    /// box meets it ([`NEAREST_TILES`]) instead of drawing them.
     tiled: bool,
     /// Or from each tile's candidates, found directly.
     candidates: Option<&'a TileCandidates>,
@@ -1402,8 +1406,8 @@ pub(crate) const UNIT_SQUARE: [[f32; 3]; 6] = [
     [0.0, 1.0, 0.0],
 ];
 
-/// Side of the screen tiles of [`Program::NearestTiles`] and
-/// [`Program::SiteTiles`] (`glsl/nearest_tiles.frag`, `glsl/site_tiles.frag`:
+/// Side of the screen tiles of [`NEAREST_TILES`] and
+/// [`super::cones::SITE_TILES`] (`glsl/nearest_tiles.frag`, `glsl/site_tiles.frag`:
 /// TILE_SIDE).
 pub(crate) const SCREEN_TILE_SIDE: u32 = 8;
 
@@ -1566,7 +1570,7 @@ pub(crate) fn records_image(
     Ok(Some((upload, records)))
 }
 
-/// The records of [`Program::NearestTiles`] for `view`: one texel per screen
+/// The records of [`NEAREST_TILES`] for `view`: one texel per screen
 /// tile (its first site texel and its number of sites), then its sites, a site
 /// going to every tile with a pixel centre in its box. Where keys take powers,
 /// each tile's sites come by the smallest key of a pixel of the tile from them,
@@ -1678,7 +1682,13 @@ fn render_tiles(
         pass.upload_for_fragments(&upload, &records)?;
         pass.bind_fragment_buffers(&[], Some(&records))?;
         picture.begin(pass, false)?;
-        pass.draw_nearest_tiles(&RasterState::lower_envelope(), &DrawParams::default(), push)?;
+        draw_over_target(
+            pass,
+            &NEAREST_TILES,
+            &RasterState::lower_envelope(),
+            &DrawParams::default(),
+            push,
+        )?;
         pass.end()
     })?;
     Ok(true)
@@ -1699,7 +1709,7 @@ fn render(
         fragment_depth_scale: draws.scale.fragment as f32,
         levels: 1,
         // Polygons are drawn as fans only (see `voronoi_bands`).
-        metric: draws.key.shader_code().unwrap_or((0, 2.0)),
+        metric: draws.key.shader_code().unwrap_or((0, 2.0)).into(),
     };
     if draws.tiled && render_tiles(machine, picture, view, draws, &push)? {
         return Ok(true);
@@ -1776,8 +1786,9 @@ fn render(
     machine.run(|pass| {
         picture.begin(pass, draws.ties)?;
         if let Some(batch_buffer) = &batch_buffer {
-            pass.draw_cones(
-                Program::ConeExactBatch,
+            draw_cones(
+                pass,
+                &CONE_EXACT_BATCH,
                 &state,
                 &params,
                 &push,
@@ -1811,10 +1822,11 @@ fn render(
         for state in passes {
             for (g, &(first_vertex, vertex_count)) in groups.iter().zip(&ranges) {
                 let program = match draws.accuracy {
-                    Accuracy::Exact => Program::ConeExact,
-                    Accuracy::Fan { .. } => Program::ConeFan,
+                    Accuracy::Exact => &CONE_EXACT,
+                    Accuracy::Fan { .. } => &CONE_FAN,
                 };
-                pass.draw_cones(
+                draw_cones(
+                    pass,
                     program,
                     state,
                     &params,

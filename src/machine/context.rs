@@ -25,8 +25,8 @@ pub enum DeviceChoice {
     Auto,
     /// Mesa's software Vulkan device, lavapipe (`lavapipe`, `llvmpipe`).
     Lavapipe,
-    /// `cpu`: the thesis's CPU pixel algorithms, which the `voronoi` and `settle`
-    /// commands offer; no Vulkan device, so a machine refuses it.
+    /// `cpu`: no Vulkan device; algorithms with a path on the host run it, and
+    /// a machine refuses it.
     Cpu,
     /// A hardware GPU; an error if there is none.
     Gpu,
@@ -261,8 +261,8 @@ impl Context {
         unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
         let logic_op = supported.features.logic_op;
         let float64 = supported.features.shader_float64 == vk::TRUE;
-        // The k nearest sites per pixel: fragments store their lists in storage
-        // buffers, and fan cones insert 64-bit keys with atomic min.
+        // Per-pixel lists: fragments store them in storage buffers, and some
+        // insert 64-bit keys with atomic min.
         let fragment_stores = supported.features.fragment_stores_and_atomics == vk::TRUE;
         let fragment_atomics64 = fragment_stores
             && supported.features.shader_int64 == vk::TRUE
@@ -288,8 +288,8 @@ impl Context {
             .shader_float64(float64);
         let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
             .shader_buffer_int64_atomics(fragment_atomics64);
-        // maintenance4 relaxes interface matching: a fan cone's fragment shader
-        // ignores the site position the vertex shader passes to exact cones.
+        // maintenance4 relaxes interface matching: a fragment shader may ignore
+        // an output its vertex shader passes to other fragment shaders.
         let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true)
@@ -502,8 +502,8 @@ fn choose_device(
             .find(|(_, p)| p.device_type == vk::PhysicalDeviceType::CPU),
         DeviceChoice::Cpu => {
             return Err(Error::NoDevice(
-                "`cpu` names the thesis's CPU pixel algorithms, which only `voronoi` and \
-                 `settle` have; for Mesa's software Vulkan device say `lavapipe`"
+                "`cpu` names no Vulkan device, only the host paths some algorithms \
+                 have; for Mesa's software Vulkan device say `lavapipe`"
                     .into(),
             ))
         }

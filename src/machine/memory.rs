@@ -19,7 +19,7 @@ use crate::error::{Error, Result, VkContext};
 /// Pixel formats of the picture's buffers (thesis Fig. 1.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {
-    /// Site ids; logic operations work on it.
+    /// Integer labels; logic operations work on it.
     R32Uint,
     /// One float counter or distance per pixel.
     R32Float,

@@ -9,9 +9,9 @@ use ash::vk;
 
 use super::{
     memory::{Buffer, Format, Image},
-    pipelines::{
-        BufferKernel, Kernel, Program, SiteShape, BUFFER_KERNEL_BINDINGS, GRAPHICS_RECORDS_BINDING,
-    },
+    pipelines::{Kernel, BUFFER_KERNEL_BINDINGS, GRAPHICS_RECORDS_BINDING},
+    program::{ComputeProgram, Fragments, GraphicsProgram, Output, Topology},
+    shaders,
     state::{DrawParams, RasterState},
     sync::{self, BufferUse, Usage},
     Machine,
@@ -94,109 +94,6 @@ impl PixelRect {
     }
 }
 
-/// One site of [`crate::machine::Program::SiteExact`] (`glsl/site.vert`): its
-/// rectangle, shape words, weights, kind and id.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct SiteInstance {
-    /// (min x, min y, max x, max y) in picture pixels.
-    pub rect: [f32; 4],
-    /// shape0 and shape1 as `glsl/site_distance.glsl` reads them.
-    pub shape: [f32; 8],
-    /// (1 / (frame scale * m), a - the smallest a).
-    pub weights: [f32; 2],
-    /// Kind (0 point, 1 segment, 2 circle, 3 arc) and site id.
-    pub kind_id: [u32; 2],
-}
-
-/// One instance of [`crate::machine::Program::SiteExactBatch`]
-/// (`glsl/site_batch.vert`): up to eight sites of one shape drawn as one
-/// rectangle that covers all of theirs, or up to four arcs, whose shapes take
-/// eight words. Unused slots repeat a used one.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct SiteBatch {
-    /// (min x, min y, max x, max y) in picture pixels.
-    pub rect: [f32; 4],
-    /// The first four shape words of each site ([`SiteInstance::shape`]); arc
-    /// k's eight in `shapes[2 k]` and `shapes[2 k + 1]`.
-    pub shapes: [[f32; 4]; 8],
-    /// Each site's [`SiteInstance::weights`].
-    pub weights: [[f32; 2]; 8],
-    pub ids: [u32; 8],
-}
-
-/// Push constants of the cone programs (`glsl/common.glsl`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ConePush {
-    /// Size of the target in pixels.
-    pub picture_size: [f32; 2],
-    /// The picture pixel shown at the target's pixel (0, 0): a tile's origin.
-    pub offset: [f32; 2],
-    pub vertex_depth_scale: f32,
-    pub fragment_depth_scale: f32,
-    /// Length of each pixel's list of nearest sites, for the k-nearest programs
-    /// (else unused).
-    pub levels: u32,
-    /// The distance function of exact cones, as `Metric::shader_code` gives it:
-    /// kind (0 Euclidean, 1 L1, 2 L-infinity, 3 L_p) and p.
-    pub metric: (u32, f32),
-}
-
-/// One cone of the programs that draw `glsl/cone.vert`: the unit mesh scaled to
-/// the outer radius around the site, its corners clamped into `clip`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ConeInstance {
-    /// Site x, y, outer radius and truncation radius, in picture pixels.
-    pub site: [f32; 4],
-    /// `(min x, min y, max x, max y)`: an exact cone's footprint is cut to this
-    /// rectangle. Clamping its corners cuts an axis-aligned square exactly;
-    /// other footprints, and fans (whose depth follows their corners), need a
-    /// rectangle that holds them whole.
-    pub clip: [f32; 4],
-    pub id: u32,
-}
-
-impl ConeInstance {
-    /// A cone drawn whole.
-    pub fn new(id: u32, site: [f64; 2], outer_radius: f64, radius: f64) -> Self {
-        Self {
-            site: [site[0], site[1], outer_radius, radius].map(|v| v as f32),
-            clip: [-f32::MAX, -f32::MAX, f32::MAX, f32::MAX],
-            id,
-        }
-    }
-}
-
-/// An instanced draw of cones: `vertex_count` vertices of the unit fan mesh from
-/// `first_vertex`, once per instance in `first_instance..first_instance + count`.
-/// The mesh holds `[f32; 3]` unit vertices (cos, sin, h); for the programs of
-/// `glsl/cone.vert` the instances are [`ConeInstance`]s.
-#[derive(Clone, Copy)]
-pub struct ConeDraw<'a> {
-    pub mesh: &'a Buffer,
-    pub first_vertex: u32,
-    pub vertex_count: u32,
-    pub instances: &'a Buffer,
-    pub first_instance: u32,
-    pub instance_count: u32,
-}
-
-/// One instance of [`Program::ConeExactBatch`]: up to eight exact cones drawn as
-/// one rectangle that covers all their footprints. Unused slots repeat a used one.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ConeBatch {
-    /// Pixel coordinates `(min x, min y, max x, max y)` of the rectangle.
-    pub rect: [f32; 4],
-    /// Site positions, two per group of four: `x0, y0, x1, y1, x2, ...`.
-    pub sites: [f32; 16],
-    /// Squared truncation radii.
-    pub radii2: [f32; 8],
-    pub ids: [u32; 8],
-}
-
 /// A rectangle in world coordinates with constant depth and colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RectDraw {
@@ -237,23 +134,61 @@ impl RectDraw {
     }
 }
 
+/// One draw of a program: `variant` chooses its fragment build (see
+/// [`Fragments`]), `push` holds its push
+/// constants, and `vertex_buffers` feed its declared vertex buffers in order.
+#[derive(Clone)]
+pub struct Draw<'a, 'r> {
+    pub program: &'static GraphicsProgram,
+    pub variant: u32,
+    pub push: &'a [u8],
+    pub vertex_buffers: &'a [&'r Buffer],
+    /// Vertices drawn per instance: per-vertex buffers are read from
+    /// `vertices.start`.
+    pub vertices: std::ops::Range<u32>,
+    /// Instances drawn: per-instance buffers and `gl_InstanceIndex` count
+    /// from `instances.start`.
+    pub instances: std::ops::Range<u32>,
+}
+
+/// Push constants of `glsl/rect.vert` and `glsl/rect.frag`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct RectPush {
+    size: [f32; 2],
+    lo: [f32; 2],
+    hi: [f32; 2],
+    depth: f32,
+    pad: u32,
+    value: [f32; 4],
+}
+
+/// The machine's one program of its own: [`Pass::draw_rect`].
+static RECT: GraphicsProgram = GraphicsProgram::new(
+    "Rect",
+    shaders::RECT_VERT,
+    Fragments::ByVariant(&shaders::RECT_FRAG),
+    Topology::TriangleStrip,
+    &[],
+    std::mem::size_of::<RectPush>(),
+);
+
 struct Rendering {
     color: Option<Format>,
     depth: Option<Format>,
     width: u32,
     height: u32,
-    /// The programs drawn so far, each once, which name the pass.
-    programs: Vec<Program>,
+    /// The names of the programs drawn so far, each once, which name the pass.
+    programs: Vec<&'static str>,
 }
 
 impl Rendering {
-    /// The pass's label in a profile: `render: ConeFan+Rect`, or `render: clear`.
+    /// The pass's label in a profile: `render: A+B` by the programs' names, or `render: clear`.
     fn label(&self) -> String {
-        let programs: Vec<String> = self.programs.iter().map(|p| format!("{p:?}")).collect();
-        if programs.is_empty() {
+        if self.programs.is_empty() {
             "render: clear".into()
         } else {
-            format!("render: {}", programs.join("+"))
+            format!("render: {}", self.programs.join("+"))
         }
     }
 }
@@ -492,23 +427,52 @@ impl<'m, 'r> Pass<'m, 'r> {
         self.end_section(Some(rendering.label()))
     }
 
-    /// Binds the pipeline for `program` and `state` and sets the per-draw state;
-    /// `metric` is the kind of distance function the draw pushes (0 when none).
+    /// Binds the pipeline for `program`'s build for `variant` and `state`, sets
+    /// the per-draw state and pushes `push`.
     fn bind(
         &mut self,
-        program: Program,
-        metric: u32,
+        program: &'static GraphicsProgram,
+        variant: u32,
         state: &RasterState,
         params: &DrawParams,
+        push: &[u8],
     ) -> Result<()> {
         let r = self
             .rendering
             .as_ref()
             .ok_or_else(|| Error::InvalidInput("draw outside a rendering pass".into()))?;
+        if push.len() != program.push_bytes as usize {
+            return Err(Error::InvalidInput(format!(
+                "{} takes {} bytes of push constants, not {}",
+                program.name,
+                program.push_bytes,
+                push.len()
+            )));
+        }
+        let fragment = program.fragment(variant).ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "{} has no build for variant {variant}",
+                program.name
+            ))
+        })?;
+        let uint_target = r.color == Some(Format::R32Uint);
+        let fits = match fragment.output {
+            Output::None => true,
+            Output::Uint => r.color.is_none() || uint_target,
+            Output::Float => r.color.is_none() || !uint_target,
+        };
+        if !fits {
+            return Err(Error::InvalidInput(format!(
+                "{} writes {} values and needs a {} colour target (or none)",
+                program.name,
+                if uint_target { "float" } else { "integer" },
+                if uint_target { "float" } else { "R32Uint" },
+            )));
+        }
         let pipeline = self
             .machine
             .pipelines
-            .graphics(program, metric, r.color, r.depth, state)?;
+            .graphics(program, fragment, r.color, r.depth, state)?;
         let [x, y, w, h] = params.scissor.unwrap_or([0, 0, r.width, r.height]);
         let x = x.min(r.width);
         let y = y.min(r.height);
@@ -522,14 +486,14 @@ impl<'m, 'r> Pass<'m, 'r> {
                 height: h.min(r.height - y),
             },
         };
-        if !r.programs.contains(&program) {
+        if !r.programs.contains(&program.name) {
             if let Some(r) = self.rendering.as_mut() {
-                r.programs.push(program);
+                r.programs.push(program.name);
             }
         }
         self.machine
             .ctx
-            .insert_label(self.cmd, &format!("draw {program:?}"));
+            .insert_label(self.cmd, &format!("draw {}", program.name));
         let device = self.device();
         // SAFETY: inside a rendering pass whose formats match the pipeline's.
         unsafe {
@@ -541,21 +505,19 @@ impl<'m, 'r> Pass<'m, 'r> {
                 params.stencil_reference.into(),
             );
             device.cmd_set_blend_constants(self.cmd, &params.blend_constant);
+            if !push.is_empty() {
+                // The program's push bytes fit the layout's range (checked
+                // when it was declared).
+                device.cmd_push_constants(
+                    self.cmd,
+                    self.machine.pipelines.graphics_layout,
+                    vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                    0,
+                    push,
+                );
+            }
         }
         Ok(())
-    }
-
-    fn push_graphics(&mut self, words: &[u32]) {
-        // SAFETY: the layout's range covers VERTEX|FRAGMENT and at least these bytes.
-        unsafe {
-            self.device().cmd_push_constants(
-                self.cmd,
-                self.machine.pipelines.graphics_layout,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                0,
-                bytemuck::cast_slice(words),
-            )
-        };
     }
 
     /// Gives the vertex and fragment shaders of the draws that follow
@@ -602,156 +564,48 @@ impl<'m, 'r> Pass<'m, 'r> {
         Ok(())
     }
 
-    /// Draws instanced cones (a "display list" translated per site, thesis §3.3).
-    pub fn draw_cones(
+    /// Draws `draw.program` (thesis §1.5: a set of triangles entering the
+    /// pipeline) with `state`: its vertex buffers bound in order, the vertices
+    /// and instances of `draw`'s ranges.
+    pub fn draw(
         &mut self,
-        program: Program,
         state: &RasterState,
         params: &DrawParams,
-        push: &ConePush,
-        draw: &ConeDraw<'r>,
+        draw: &Draw<'_, 'r>,
     ) -> Result<()> {
-        if !program.reads_vertex_buffers() || program == Program::Disc {
-            return Err(Error::InvalidInput(
-                "draw_cones needs a cone program".into(),
-            ));
+        let program = draw.program;
+        if draw.vertex_buffers.len() != program.vertex_buffers.len() {
+            return Err(Error::InvalidInput(format!(
+                "{} reads {} vertex buffers, not {}",
+                program.name,
+                program.vertex_buffers.len(),
+                draw.vertex_buffers.len()
+            )));
         }
-        if draw.instance_count == 0 {
+        if draw.vertices.is_empty() || draw.instances.is_empty() {
             return Ok(());
         }
-        self.use_buffer(draw.mesh, BufferUse::VertexInput)?;
-        self.use_buffer(draw.instances, BufferUse::VertexInput)?;
-        self.bind(program, push.metric.0, state, params)?;
-        self.push_cone_constants(push);
+        for &buffer in draw.vertex_buffers {
+            self.use_buffer(buffer, BufferUse::VertexInput)?;
+        }
+        self.bind(program, draw.variant, state, params, draw.push)?;
+        let raw: Vec<vk::Buffer> = draw.vertex_buffers.iter().map(|b| b.raw).collect();
         let device = self.device();
-        // SAFETY: buffers are borrowed for 'r, past the submission's end; counts
-        // are within the buffers.
+        // SAFETY: inside a rendering pass with a bound pipeline that reads these
+        // buffers, borrowed for 'r, past the submission's end.
         unsafe {
-            device.cmd_bind_vertex_buffers(
-                self.cmd,
-                0,
-                &[draw.mesh.raw, draw.instances.raw],
-                &[0, 0],
-            );
+            if !raw.is_empty() {
+                device.cmd_bind_vertex_buffers(self.cmd, 0, &raw, &vec![0; raw.len()]);
+            }
             device.cmd_draw(
                 self.cmd,
-                draw.vertex_count,
-                draw.instance_count,
-                draw.first_vertex,
-                draw.first_instance,
+                draw.vertices.len() as u32,
+                draw.instances.len() as u32,
+                draw.vertices.start,
+                draw.instances.start,
             );
         }
         Ok(())
-    }
-
-    /// Draws the lower envelope of the sites binned to screen tiles with
-    /// [`Program::NearestTiles`]: one triangle over the target, the tiles and
-    /// their sites read from the records image of the bound set.
-    pub fn draw_nearest_tiles(
-        &mut self,
-        state: &RasterState,
-        params: &DrawParams,
-        push: &ConePush,
-    ) -> Result<()> {
-        self.draw_over_target(Program::NearestTiles, state, params, push)
-    }
-
-    /// Draws the lower envelope of sites of `shape` (under L2, L1 or L∞) listed per screen
-    /// tile with [`Program::SiteTiles`]: one triangle over the target, the tiles
-    /// and their sites read from the records image of the bound set.
-    pub fn draw_site_tiles(
-        &mut self,
-        shape: SiteShape,
-        state: &RasterState,
-        params: &DrawParams,
-        push: &ConePush,
-    ) -> Result<()> {
-        self.draw_over_target(Program::SiteTiles(shape), state, params, push)
-    }
-
-    /// One triangle over the target with `program`, whose fragment shader reads
-    /// the records image of the bound set.
-    fn draw_over_target(
-        &mut self,
-        program: Program,
-        state: &RasterState,
-        params: &DrawParams,
-        push: &ConePush,
-    ) -> Result<()> {
-        self.bind(program, push.metric.0, state, params)?;
-        self.push_cone_constants(push);
-        // SAFETY: inside a rendering pass with a bound pipeline; the fragment
-        // shader reads the records image of the bound set.
-        unsafe { self.device().cmd_draw(self.cmd, 3, 1, 0, 0) };
-        Ok(())
-    }
-
-    /// Draws `tiles` screen tiles with [`Program::KNearestTiles`] for
-    /// `push.levels` levels, whose records come from the second storage buffer of
-    /// the bound set.
-    pub fn draw_tiles(
-        &mut self,
-        state: &RasterState,
-        params: &DrawParams,
-        push: &ConePush,
-        tiles: u32,
-    ) -> Result<()> {
-        if tiles == 0 {
-            return Ok(());
-        }
-        self.bind(
-            Program::KNearestTiles(push.levels),
-            push.metric.0,
-            state,
-            params,
-        )?;
-        self.push_cone_constants(push);
-        // SAFETY: inside a rendering pass with a bound pipeline; the vertex shader
-        // reads its tile records from the bound storage buffer.
-        unsafe { self.device().cmd_draw(self.cmd, 6, tiles, 0, 0) };
-        Ok(())
-    }
-
-    /// Draws `count` closed discs with [`Program::Disc`] from `discs`, a buffer
-    /// of `[x, y, radius, value]` in the target's pixel coordinates (as placed by
-    /// `push.picture_size` and `push.offset`), into a float colour target.
-    pub fn draw_discs(
-        &mut self,
-        state: &RasterState,
-        params: &DrawParams,
-        push: &ConePush,
-        discs: &'r Buffer,
-        count: u32,
-    ) -> Result<()> {
-        if count == 0 {
-            return Ok(());
-        }
-        self.use_buffer(discs, BufferUse::VertexInput)?;
-        self.bind(Program::Disc, 0, state, params)?;
-        self.push_cone_constants(push);
-        let device = self.device();
-        // SAFETY: the buffer is borrowed for 'r, past the submission's end, and
-        // holds `count` instances.
-        unsafe {
-            device.cmd_bind_vertex_buffers(self.cmd, 0, &[discs.raw], &[0]);
-            device.cmd_draw(self.cmd, 4, count, 0, 0);
-        }
-        Ok(())
-    }
-
-    fn push_cone_constants(&mut self, push: &ConePush) {
-        let words = [
-            push.picture_size[0].to_bits(),
-            push.picture_size[1].to_bits(),
-            push.offset[0].to_bits(),
-            push.offset[1].to_bits(),
-            push.vertex_depth_scale.to_bits(),
-            push.fragment_depth_scale.to_bits(),
-            push.levels,
-            push.metric.0,
-            push.metric.1.to_bits(),
-        ];
-        self.push_graphics(&words);
     }
 
     /// Draws an axis-aligned rectangle of constant depth and colour.
@@ -761,71 +615,36 @@ impl<'m, 'r> Pass<'m, 'r> {
         params: &DrawParams,
         rect: &RectDraw,
     ) -> Result<()> {
-        self.bind(Program::Rect, 0, state, params)?;
-        let r = self
+        let (width, height) = self
             .rendering
             .as_ref()
             .map(|r| (r.width, r.height))
             .unwrap_or((1, 1));
-        let v = rect.value.map(f32::to_bits);
-        let words = [
-            (r.0 as f32).to_bits(),
-            (r.1 as f32).to_bits(),
-            rect.lo[0].to_bits(),
-            rect.lo[1].to_bits(),
-            rect.hi[0].to_bits(),
-            rect.hi[1].to_bits(),
-            rect.depth.to_bits(),
-            0,
-            v[0],
-            v[1],
-            v[2],
-            v[3],
-        ];
-        self.push_graphics(&words);
-        // SAFETY: inside a rendering pass with a bound pipeline.
-        unsafe { self.device().cmd_draw(self.cmd, 4, 1, 0, 0) };
-        Ok(())
-    }
-
-    /// Draws the `instances` of a program that makes its own vertices (such as
-    /// [`Program::SettleDisc`]): `vertex_count` vertices each, with `push` as its
-    /// push constants. `gl_InstanceIndex` counts from `instances.start`.
-    pub fn draw_instances(
-        &mut self,
-        program: Program,
-        state: &RasterState,
-        params: &DrawParams,
-        push: &[u32],
-        vertex_count: u32,
-        instances: std::ops::Range<u32>,
-    ) -> Result<()> {
-        if program.reads_vertex_buffers() {
-            return Err(Error::InvalidInput(format!(
-                "{program:?} draws from vertex buffers"
-            )));
-        }
-        if instances.is_empty() {
-            return Ok(());
-        }
-        let metric = match program {
-            Program::SettleDisc(kind) => kind,
-            _ => 0,
+        let uint_target = self
+            .rendering
+            .as_ref()
+            .is_some_and(|r| r.color == Some(Format::R32Uint));
+        let push = RectPush {
+            size: [width as f32, height as f32],
+            lo: rect.lo,
+            hi: rect.hi,
+            depth: rect.depth,
+            pad: 0,
+            value: rect.value,
         };
-        self.bind(program, metric, state, params)?;
-        self.push_graphics(push);
-        // SAFETY: inside a rendering pass with a bound pipeline that reads no
-        // vertex buffers.
-        unsafe {
-            self.device().cmd_draw(
-                self.cmd,
-                vertex_count,
-                instances.len() as u32,
-                0,
-                instances.start,
-            )
-        };
-        Ok(())
+        self.draw(
+            state,
+            params,
+            &Draw {
+                program: &RECT,
+                // rect.frag's builds: UINT, FLOAT.
+                variant: if uint_target { 0 } else { 1 },
+                push: bytemuck::bytes_of(&push),
+                vertex_buffers: &[],
+                vertices: 0..4,
+                instances: 0..1,
+            },
+        )
     }
 
     /// Records `kernel` over `invocations` invocations (one dimension) with
@@ -835,10 +654,10 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// later work afterwards.
     pub fn dispatch(
         &mut self,
-        kernel: BufferKernel,
+        kernel: &'static ComputeProgram,
         buffers: &[&'r Buffer],
         invocations: u32,
-        push: &[u32],
+        push: &[u8],
     ) -> Result<()> {
         self.dispatch_grid(kernel, buffers, (invocations, 1), push)
     }
@@ -848,11 +667,19 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// for example a column and a strip of rows.
     pub fn dispatch_grid(
         &mut self,
-        kernel: BufferKernel,
+        kernel: &'static ComputeProgram,
         buffers: &[&'r Buffer],
         (width, height): (u32, u32),
-        push: &[u32],
+        push: &[u8],
     ) -> Result<()> {
+        if push.len() != kernel.push_bytes as usize {
+            return Err(Error::InvalidInput(format!(
+                "{} takes {} bytes of push constants, not {}",
+                kernel.name,
+                kernel.push_bytes,
+                push.len()
+            )));
+        }
         if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
             return Err(Error::InvalidInput(format!(
                 "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
@@ -882,7 +709,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             .descriptors
             .set(pipelines.buffer_set_layout, None, 0, buffers)?;
         let layout = pipelines.buffer_layout;
-        self.begin_section(&format!("dispatch {kernel:?}"))?;
+        self.begin_section(&format!("dispatch {}", kernel.name))?;
         self.record_dispatch(pipeline, layout, set, push, groups);
         self.end_section(None)
     }
@@ -894,7 +721,7 @@ impl<'m, 'r> Pass<'m, 'r> {
         pipeline: vk::Pipeline,
         layout: vk::PipelineLayout,
         set: vk::DescriptorSet,
-        push: &[u32],
+        push: &[u8],
         groups: (u32, u32),
     ) {
         let device = self.device();
@@ -910,13 +737,7 @@ impl<'m, 'r> Pass<'m, 'r> {
                 &[set],
                 &[],
             );
-            device.cmd_push_constants(
-                self.cmd,
-                layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::cast_slice(push),
-            );
+            device.cmd_push_constants(self.cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, push);
             device.cmd_dispatch(self.cmd, groups.0, groups.1, 1);
         }
     }
@@ -1126,7 +947,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             pipeline,
             layout,
             set,
-            &words,
+            bytemuck::cast_slice(&words),
             kernel.groups(rect.width, rect.height),
         );
         self.end_section(None)

@@ -24,7 +24,7 @@ use crate::error::{Result, VkContext};
 /// One section of a run as the device timed it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassSpan {
-    /// What the section did: `render: ConeFan`, `dispatch JumpFlood`, ….
+    /// What the section did: `render: A+B`, `dispatch K`, … by the programs' names.
     pub label: String,
     /// When it began, in milliseconds since the profiler was made: the host's
     /// time at the submission plus the device's time since the submission's

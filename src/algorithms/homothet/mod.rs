@@ -38,10 +38,12 @@ use crate::{
         Frame,
     },
     machine::{
-        ChannelMask, Clear, Compare, ConeDraw, ConePush, DepthTest, DrawParams, Format, Machine,
-        NearExtreme, PixelRect, Program, RasterState, RectDraw, StencilOp, StencilTest, Target,
+        ChannelMask, Clear, Compare, DepthTest, DrawParams, Format, Machine, NearExtreme,
+        PixelRect, RasterState, RectDraw, StencilOp, StencilTest, Target,
     },
 };
+
+use crate::algorithms::cones::{draw_cones, ConeDraw, ConePush, SITE_FAN};
 
 mod refine;
 
@@ -1310,7 +1312,7 @@ fn kth_gauge(sites: &[DVec2], unit: Unit, c: DVec2, k: usize) -> Option<f64> {
 }
 
 /// The region in picture pixels for its stencil mask, as triangles in the
-/// `[x, y, depth]` layout of [`Program::SiteFan`]: fans from each ring's first
+/// `[x, y, depth]` layout of [`SITE_FAN`]: fans from each ring's first
 /// vertex (filled by even-odd parity), and the band of pixels whose squares
 /// meet its boundary (each edge swept by a pixel's square, a hexagon).
 struct RegionMesh {
@@ -1397,7 +1399,7 @@ fn mask_outside(
         vertex_depth_scale: 0.0,
         fragment_depth_scale: 0.0,
         levels: 1,
-        metric: (0, 2.0),
+        metric: (0, 2.0).into(),
     };
     let draw = |first_vertex: usize, count: usize| ConeDraw {
         mesh: &mesh,
@@ -1419,8 +1421,9 @@ fn mask_outside(
                 ..Clear::default()
             },
         )?;
-        pass.draw_cones(
-            Program::SiteFan,
+        draw_cones(
+            pass,
+            &SITE_FAN,
             &parity,
             &DrawParams::default(),
             &push,
@@ -1430,8 +1433,9 @@ fn mask_outside(
             stencil_reference: 2,
             ..DrawParams::default()
         };
-        pass.draw_cones(
-            Program::SiteFan,
+        draw_cones(
+            pass,
+            &SITE_FAN,
             &banded,
             &reference,
             &push,
