@@ -9,7 +9,9 @@ use std::{
 };
 
 fn dir() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pixgeo-bad-{}", std::process::id()));
+    // Cargo's folder for integration tests' files: reused by each run, removed
+    // by `cargo clean`.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bad_input");
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

@@ -1,6 +1,9 @@
 //! The command line: outputs that load, and clear errors with a non-zero exit.
 
-use std::{path::PathBuf, process::Command};
+use std::{
+    path::{Path, PathBuf},
+    process::Command,
+};
 
 use pixgeo::io::npy;
 
@@ -46,7 +49,9 @@ fn enveloped(stdout: &str, command: &str) -> serde_json::Value {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pixgeo-cli-{}", std::process::id()));
+    // Cargo's folder for integration tests' files: reused by each run, removed
+    // by `cargo clean`.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli");
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }

@@ -143,7 +143,7 @@ proptest! {
         no_panic("csv", &text, || parse_csv(&text).map(|_| ()));
         no_panic("json", &text, || parse_json(&text).map(|_| ()));
         no_panic("geojson", &text, || parse_geojson(&text).map(|_| ()));
-        let dir = std::env::temp_dir().join(format!("pixgeo-fuzz-{}", std::process::id()));
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("robustness");
         std::fs::create_dir_all(&dir).unwrap();
         let file = dir.join("sites.npy");
         std::fs::write(&file, &bytes).unwrap();

@@ -49,7 +49,8 @@ use super::cones::{
     CONE_K_NEAREST, CONE_K_NEAREST_FAN, CONE_PEEL,
 };
 
-use super::voronoi::{distances_of, drawn_accuracy, metric_fan, Accuracy, Speedup};
+use super::envelope::distances_of;
+use super::voronoi::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 
 /// Corners of the polygon drawn around each cone's disc.
 const FOOTPRINT_CORNERS: u32 = 8;

@@ -8,6 +8,7 @@ pub mod cones;
 pub mod cpu;
 pub mod delaunay;
 pub mod distances;
+pub(crate) mod envelope;
 pub mod flooding;
 pub mod higher_order;
 pub mod homothet;

@@ -29,6 +29,9 @@
 //!
 //! Pixels that already belong to one of the user's own stores ("successful
 //! stores", §3.10.3) get radius 0 and add nothing.
+//!
+//! The file is long because both methods live here, with the programs they
+//! declare, beside the disc radii and the answer they share.
 
 use std::time::Instant;
 

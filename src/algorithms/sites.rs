@@ -52,9 +52,12 @@ use super::cones::{
     SITE_EXACT, SITE_EXACT_BATCH, SITE_FAN, SITE_FAN_FOLDED, SITE_TILES,
 };
 
+use super::envelope::{
+    distances_of, hilbert_index, records_image, DepthMap, DrawnTile, BATCH, SCREEN_TILE_SIDE,
+    UNIT_SQUARE,
+};
 use super::voronoi::{
-    distances_of, drawn_accuracy, hilbert_index, records_image, Accuracy, DrawnTile, Speedup,
-    VoronoiDiagram, VoronoiOptions, VoronoiStats, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
+    drawn_accuracy, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats,
 };
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
@@ -196,27 +199,14 @@ fn winners_by_weight(sites: &[Site], frame: &crate::geometry::Frame, metric: Met
         .collect()
 }
 
-/// How depths of a diagram of sites map to weighted distances (world units).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct SiteDepth {
-    pub scale: f64,
-    pub least_additive: f64,
-}
-
-impl SiteDepth {
-    pub fn distance(self, z: f32) -> f64 {
-        z as f64 / self.scale + self.least_additive
-    }
-}
-
 /// Draws the lower envelope of the sites' distance surfaces tile by tile, handing
 /// each tile to `visit` while it is on the device.
 pub(crate) fn draw_sites(
     machine: &Machine,
     sites: &[Site],
     options: &VoronoiOptions,
-    mut visit: impl FnMut(&DrawnTile<'_, SiteDepth>) -> Result<()>,
-) -> Result<(VoronoiStats, SiteDepth)> {
+    mut visit: impl FnMut(&DrawnTile<'_>) -> Result<()>,
+) -> Result<(VoronoiStats, DepthMap)> {
     let accuracy = match (options.metric, options.accuracy) {
         // Fans over a polygon are exact for points and segments; circles and arcs
         // take chords within a thousandth of a pixel (which is why
@@ -501,9 +491,11 @@ pub(crate) fn draw_sites(
                 x0,
                 y0,
                 inner,
-                keys: SiteDepth {
+                keys: DepthMap {
+                    key: None,
                     scale: depth_scale,
-                    least_additive,
+                    pixels_per_unit: 1.0,
+                    offset: least_additive,
                 },
             })?;
         }
@@ -511,9 +503,11 @@ pub(crate) fn draw_sites(
     stats.render_ms = ms(started);
     Ok((
         stats,
-        SiteDepth {
+        DepthMap {
+            key: None,
             scale: depth_scale,
-            least_additive,
+            pixels_per_unit: 1.0,
+            offset: least_additive,
         },
     ))
 }
@@ -529,8 +523,8 @@ fn draw_site_tiles(
     options: &VoronoiOptions,
     least_additive: f64,
     started: Instant,
-    visit: &mut impl FnMut(&DrawnTile<'_, SiteDepth>) -> Result<()>,
-) -> Result<Option<(VoronoiStats, SiteDepth)>> {
+    visit: &mut impl FnMut(&DrawnTile<'_>) -> Result<()>,
+) -> Result<Option<(VoronoiStats, DepthMap)>> {
     let frame = options.frame;
     let (width, height) = (frame.width, frame.height);
     // Cells of one screen tile where sites are dense, of 2 x 2 or 4 x 4 where
@@ -709,9 +703,11 @@ fn draw_site_tiles(
             pass.end()
         })?;
     }
-    let keys = SiteDepth {
+    let keys = DepthMap {
+        key: None,
         scale: depth_scale,
-        least_additive,
+        pixels_per_unit: 1.0,
+        offset: least_additive,
     };
     visit(&DrawnTile {
         ids: &ids,

@@ -41,9 +41,13 @@ use crate::{
         Frame,
     },
     machine::{
-        Buffer, ChannelMask, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image,
-        Machine, Pass, PixelRect, RasterState, StencilOp, StencilTest, Target,
+        ChannelMask, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image, Machine,
+        Pass, PixelRect, RasterState, StencilOp, StencilTest, Target,
     },
+};
+
+use super::envelope::{
+    hilbert_index, records_image, DepthMap, DrawnTile, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
 };
 
 use super::cones::{
@@ -361,9 +365,6 @@ struct Shaped {
 /// p = 0.5 (0.67 r²), 26 times for p = 0.3.
 const BALL_CORNERS: u32 = 8;
 
-/// Exact cones per batch: the batch programs (`glsl/cone_batch.*`) take eight.
-pub(crate) const BATCH: usize = 8;
-
 /// Largest radius of a batched cone. A batch's rectangle is the bounding box of
 /// its cones, so one long cone would widen it for all eight; longer cones get a
 /// polygon of their own.
@@ -516,43 +517,6 @@ fn distinct_bands(
     Ok(stats)
 }
 
-/// One drawn tile of a diagram, still on the device; `K` says how its depths
-/// map to distances: [`PointDepth`] for points, `SiteDepth` for sites with
-/// weights and shapes.
-pub(crate) struct DrawnTile<'a, K> {
-    pub ids: &'a Image,
-    /// Depth, and (when asked for, or with ties) a stencil.
-    pub depth: &'a Image,
-    pub x0: u32,
-    pub y0: u32,
-    /// The part of the tile image that is picture.
-    pub inner: PixelRect,
-    pub keys: K,
-}
-
-/// How a diagram of points' depths map to distances.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct PointDepth {
-    /// What exact cones wrote.
-    pub key: DepthKey,
-    pub exact: bool,
-    /// Depth units per key (exact) or per pixel of distance (fans).
-    pub scale: f64,
-    pub pixels_per_unit: f64,
-}
-
-impl PointDepth {
-    /// The distance (world units) of a depth.
-    pub fn distance(self, z: f32) -> f64 {
-        let d = if self.exact {
-            self.key.distance(z as f64 / self.scale)
-        } else {
-            z as f64 / self.scale
-        };
-        d / self.pixels_per_unit
-    }
-}
-
 /// Draws the Voronoi diagram of points tile by tile, handing each tile to
 /// `visit` while it is on the device (tiles of a row of tiles left to right, rows
 /// top to bottom). `stencil` asks for a stencil in the depth image.
@@ -562,7 +526,7 @@ pub(crate) fn draw_point_tiles(
     options: &VoronoiOptions,
     stencil: bool,
     power_keys: bool,
-    mut visit: impl FnMut(&DrawnTile<'_, PointDepth>) -> Result<()>,
+    mut visit: impl FnMut(&DrawnTile<'_>) -> Result<()>,
 ) -> Result<VoronoiStats> {
     check_sites(sites)?;
     options.frame.check()?;
@@ -718,15 +682,12 @@ pub(crate) fn draw_point_tiles(
         )?,
     };
 
-    let keys = PointDepth {
-        key,
-        exact: options.accuracy == Accuracy::Exact,
-        scale: if options.accuracy == Accuracy::Exact {
-            scale.fragment
-        } else {
-            scale.vertex
-        },
+    let exact = options.accuracy == Accuracy::Exact;
+    let keys = DepthMap {
+        key: exact.then_some(key),
+        scale: if exact { scale.fragment } else { scale.vertex },
         pixels_per_unit: frame.scale,
+        offset: 0.0,
     };
     // Tile candidates are the picture's: the tiles of a view must be among them.
     let aligned = |tile: u32, whole: u32| tile >= whole || tile % SCREEN_TILE_SIDE == 0;
@@ -1210,29 +1171,6 @@ fn shape_cones(
     shaped
 }
 
-/// Position of cell `(x, y)` along the Hilbert curve through a 2^16 x 2^16 grid:
-/// cells close along the curve are close in the plane.
-pub(crate) fn hilbert_index(mut x: u32, mut y: u32) -> u64 {
-    const SIDE: u32 = 1 << 16;
-    let mut index = 0u64;
-    let mut s = SIDE / 2;
-    while s > 0 {
-        let rx = u32::from(x & s != 0);
-        let ry = u32::from(y & s != 0);
-        index += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
-        // Rotate the quadrant so that the sub-curve starts where the last ended.
-        if ry == 0 {
-            if rx == 1 {
-                x = SIDE - 1 - x;
-                y = SIDE - 1 - y;
-            }
-            std::mem::swap(&mut x, &mut y);
-        }
-        s /= 2;
-    }
-    index
-}
-
 /// Instances of the batch program: the batched cones (a prefix of `shaped`) in
 /// runs of [`BATCH`], each with the bounding box of its cones' footprints. The
 /// last batch repeats its last cone to fill its slots.
@@ -1396,25 +1334,6 @@ struct Draws<'a> {
     sites: &'a [DVec2],
 }
 
-/// The unit square as two triangles: the mesh of a batch's rectangle.
-pub(crate) const UNIT_SQUARE: [[f32; 3]; 6] = [
-    [0.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [1.0, 1.0, 0.0],
-    [0.0, 1.0, 0.0],
-];
-
-/// Side of the screen tiles of [`NEAREST_TILES`] and
-/// [`super::cones::SITE_TILES`] (`glsl/nearest_tiles.frag`, `glsl/site_tiles.frag`:
-/// TILE_SIDE).
-pub(crate) const SCREEN_TILE_SIDE: u32 = 8;
-
-/// Texels per row of their records images (`glsl/nearest_tiles.frag`,
-/// `glsl/site_tiles.frag`: RECORD_ROW); every device has images this wide.
-pub(crate) const RECORD_ROW: usize = 4096;
-
 /// Items binned to the screen tiles of a target: tile `t` (row-major, tiles of
 /// [`SCREEN_TILE_SIDE`] pixels) holds `items[start[t]..start[t + 1]]`.
 struct ScreenTiles {
@@ -1546,28 +1465,6 @@ impl ScreenTiles {
     fn range(&self, t: usize) -> (u32, u32) {
         (self.start[t], self.start[t + 1] - self.start[t])
     }
-}
-
-/// A records image from `texels`, filled by the returned upload: rows of
-/// [`RECORD_ROW`] texels; `None` where the device cannot hold that many rows.
-pub(crate) fn records_image(
-    machine: &Machine,
-    mut texels: Vec<[u32; 4]>,
-) -> Result<Option<(Buffer, Image)>> {
-    let rows = texels.len().div_ceil(RECORD_ROW).max(1);
-    if rows > machine.max_picture_side() as usize {
-        return Ok(None);
-    }
-    let width = if rows == 1 {
-        texels.len().max(1)
-    } else {
-        RECORD_ROW
-    };
-    texels.resize(rows * width, [0; 4]);
-    let mut upload = machine.readback_buffer(16 * texels.len() as u64)?;
-    upload.write(&texels);
-    let records = machine.image(Format::Rgba32Uint, width as u32, rows as u32)?;
-    Ok(Some((upload, records)))
 }
 
 /// The records of [`NEAREST_TILES`] for `view`: one texel per screen
@@ -1847,31 +1744,11 @@ fn render(
     Ok(false)
 }
 
-/// Distances of a label map's pixels from their depths (infinity where no site
-/// is): the depth-to-distance step every diagram's readback shares.
-pub(crate) fn distances_of(
-    depths: &[f32],
-    labels: &[u32],
-    distance: impl Fn(f32) -> f64 + Sync,
-) -> Vec<f32> {
-    depths
-        .par_iter()
-        .zip(labels)
-        .map(|(z, id)| {
-            if *id == u32::MAX {
-                f32::INFINITY
-            } else {
-                distance(*z) as f32
-            }
-        })
-        .collect()
-}
-
 /// Reads the picture part of a tile into `band` at the tile's column, turning
 /// depths into distances in world units.
 fn read_tile(
     machine: &Machine,
-    tile: &DrawnTile<'_, PointDepth>,
+    tile: &DrawnTile<'_>,
     window: &PixelRect,
     options: &VoronoiOptions,
     band: &mut Band,

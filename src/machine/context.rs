@@ -502,8 +502,9 @@ fn choose_device(
             .find(|(_, p)| p.device_type == vk::PhysicalDeviceType::CPU),
         DeviceChoice::Cpu => {
             return Err(Error::NoDevice(
-                "`cpu` names no Vulkan device, only the host paths some algorithms \
-                 have; for Mesa's software Vulkan device say `lavapipe`"
+                "`cpu` names the CPU pixel algorithms, not a Vulkan device, and only \
+                 some commands have them (their --device help says so); for Mesa's \
+                 software Vulkan device say `lavapipe`"
                     .into(),
             ))
         }

@@ -24,7 +24,7 @@ mod progress;
 mod settle;
 mod voronoi;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 /// Planar geometry computed by rendering: Voronoi diagrams as the lower envelope of
 /// cones drawn with a depth test (M. Denny, Algorithmic Geometry via Graphics
@@ -105,9 +105,11 @@ fn answer_line(line: std::fmt::Arguments) {
 }
 
 fn main() -> anyhow::Result<()> {
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
-    let phase = profiler().phase(format!("pixgeo {}", cli.command.name()));
+    let name = matches.subcommand_name().unwrap_or_default();
+    let phase = profiler().phase(format!("pixgeo {name}"));
     let done = run(cli.command);
     drop(phase);
     if let Some(path) = &cli.trace {
@@ -117,25 +119,6 @@ fn main() -> anyhow::Result<()> {
         wrote([Some(path.as_path())]);
     }
     done
-}
-
-impl Command {
-    fn name(&self) -> &'static str {
-        match self {
-            Command::Voronoi(_) => "voronoi",
-            Command::Hausdorff(_) => "hausdorff",
-            Command::Diameter(_) => "diameter",
-            Command::Maxdist(_) => "maxdist",
-            Command::Settle(_) => "settle",
-            Command::Enclose(_) => "enclose",
-            Command::Empty(_) => "empty",
-            Command::Alpha(_) => "alpha",
-            Command::Triangle(_) => "triangle",
-            Command::Quadrangle(_) => "quadrangle",
-            Command::Delaunay(_) => "delaunay",
-            Command::Gallery(_) => "gallery",
-        }
-    }
 }
 
 fn run(command: Command) -> anyhow::Result<()> {
