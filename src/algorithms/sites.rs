@@ -53,8 +53,8 @@ use super::cones::{
 };
 
 use super::envelope::{
-    distances_of, hilbert_index, records_image, DepthMap, DrawnTile, BATCH, SCREEN_TILE_SIDE,
-    UNIT_SQUARE,
+    distances_of, hilbert_index, records_image, DepthMap, DrawnTile, Tiling, BATCH,
+    SCREEN_TILE_SIDE, UNIT_SQUARE,
 };
 use super::voronoi::{
     drawn_accuracy, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats,
@@ -230,11 +230,8 @@ pub(crate) fn draw_sites(
             "equal distances are counted for unweighted points only".into(),
         ));
     }
-    let side = machine.max_picture_side();
-    let max_tile = options.max_tile.unwrap_or(side).min(side);
-    if max_tile == 0 {
-        return Err(Error::InvalidInput("tile size must be at least 1".into()));
-    }
+    let window = PixelRect::sized(frame.width, frame.height);
+    let tiling = Tiling::new(machine, options.max_tile, window, u32::MAX)?;
     let started = Instant::now();
     let pixels: Vec<Site> = sites
         .iter()
@@ -248,7 +245,7 @@ pub(crate) fn draw_sites(
     // tile image, and under L1 and L∞ where some are segments or curves (their
     // points alone cost less in batches, docs/tuning.md); their rectangles are
     // drawn where the lists would be too long.
-    let one_image = frame.width <= max_tile && frame.height <= max_tile;
+    let one_image = tiling.is_single();
     let listed = match metric {
         Metric::L2 => true,
         Metric::L1 | Metric::LInf => sites.iter().any(|s| !matches!(s.shape, Shape::Point(_))),
@@ -352,7 +349,7 @@ pub(crate) fn draw_sites(
     let started = Instant::now();
     // Tiles as large as the device (or `max_tile`) allows; each draws the
     // rectangles that meet it, or every fan triangle (the rasterizer clips them).
-    let (tile_w, tile_h) = (max_tile.min(frame.width), max_tile.min(frame.height));
+    let (tile_w, tile_h) = (tiling.tile_w, tiling.tile_h);
     let ids = machine.image(Format::R32Uint, tile_w, tile_h)?;
     // The stencil is left for the visitor (a region mask, for instance).
     let depth = machine.image(Format::DepthStencil, tile_w, tile_h)?;
@@ -392,113 +389,105 @@ pub(crate) fn draw_sites(
             ]
         }
     };
-    for y0 in (0..frame.height).step_by(tile_h as usize) {
-        for x0 in (0..frame.width).step_by(tile_w as usize) {
-            stats.tiles += 1;
-            let inner = PixelRect {
-                x: 0,
-                y: 0,
-                width: tile_w.min(frame.width - x0),
-                height: tile_h.min(frame.height - y0),
+    for (x0, y0, inner) in tiling.tiles() {
+        stats.tiles += 1;
+        let (lo, hi) = (
+            [x0 as f32 - 0.5, y0 as f32 - 0.5],
+            [
+                (x0 + inner.width) as f32 - 0.5,
+                (y0 + inner.height) as f32 - 0.5,
+            ],
+        );
+        let meets = |rect: &[f32; 4]| {
+            rect[0] < hi[0] && rect[2] > lo[0] && rect[1] < hi[1] && rect[3] > lo[1]
+        };
+        let ((batch_shapes, batches), singles): ((Vec<SiteShape>, Vec<SiteBatch>), Vec<_>) =
+            match &draw {
+                SiteDraw::Exact { batches, singles } => (
+                    batches
+                        .iter()
+                        .filter(|(_, b)| meets(&b.rect))
+                        .copied()
+                        .unzip(),
+                    singles.iter().filter(|i| meets(&i.rect)).copied().collect(),
+                ),
+                SiteDraw::Fan(_) => Default::default(),
             };
-            let (lo, hi) = (
-                [x0 as f32 - 0.5, y0 as f32 - 0.5],
-                [
-                    (x0 + inner.width) as f32 - 0.5,
-                    (y0 + inner.height) as f32 - 0.5,
-                ],
-            );
-            let meets = |rect: &[f32; 4]| {
-                rect[0] < hi[0] && rect[2] > lo[0] && rect[1] < hi[1] && rect[3] > lo[1]
-            };
-            let ((batch_shapes, batches), singles): ((Vec<SiteShape>, Vec<SiteBatch>), Vec<_>) =
-                match &draw {
-                    SiteDraw::Exact { batches, singles } => (
-                        batches
-                            .iter()
-                            .filter(|(_, b)| meets(&b.rect))
-                            .copied()
-                            .unzip(),
-                        singles.iter().filter(|i| meets(&i.rect)).copied().collect(),
-                    ),
-                    SiteDraw::Fan(_) => Default::default(),
-                };
-            let batch_buffer = (!batches.is_empty())
-                .then(|| machine.vertex_buffer(&batches))
-                .transpose()?;
-            let rects = (!singles.is_empty())
-                .then(|| machine.vertex_buffer(&singles))
-                .transpose()?;
-            let mut draws: Vec<(&'static GraphicsProgram, ConeDraw)> = Vec::new();
-            for (program, vertices, ids, count) in &fans {
-                draws.push((
-                    *program,
-                    ConeDraw {
-                        mesh: vertices,
-                        first_vertex: 0,
-                        vertex_count: *count,
-                        instances: ids,
-                        first_instance: 0,
-                        instance_count: u32::from(*count > 0),
-                    },
-                ));
-            }
-            if let Some(buffer) = &batch_buffer {
-                let shapes = batch_shapes.iter().copied();
-                draws.extend(rect_draws(&mesh, &SITE_EXACT_BATCH, shapes, buffer));
-            }
-            if let Some(buffer) = &rects {
-                let shapes = singles.iter().map(|i| SiteShape::of_kind(i.kind_id[0]));
-                draws.extend(rect_draws(&mesh, &SITE_EXACT, shapes, buffer));
-            }
-            // With nothing drawn the tile keeps the "no site" id.
-            let push = ConePush {
-                picture_size: [tile_w as f32, tile_h as f32],
-                offset: [x0 as f32, y0 as f32],
-                vertex_depth_scale: 0.0,
-                fragment_depth_scale: depth_scale as f32,
-                levels: 1,
-                // Polygons are drawn as fans (see above).
-                metric: metric.shader_code().unwrap_or((0, 2.0)).into(),
-            };
-            machine.run(|pass| {
-                pass.begin(
-                    Target {
-                        color: Some(&ids),
-                        depth_stencil: Some(&depth),
-                    },
-                    Clear {
-                        color: Some(ClearColor::Uint([u32::MAX; 4])),
-                        depth: Some(1.0),
-                        stencil: Some(0),
-                    },
-                )?;
-                for (program, draw) in &draws {
-                    draw_cones(
-                        pass,
-                        program,
-                        &RasterState::lower_envelope(),
-                        &DrawParams::default(),
-                        &push,
-                        draw,
-                    )?;
-                }
-                pass.end()
-            })?;
-            visit(&DrawnTile {
-                ids: &ids,
-                depth: &depth,
-                x0,
-                y0,
-                inner,
-                keys: DepthMap {
-                    key: None,
-                    scale: depth_scale,
-                    pixels_per_unit: 1.0,
-                    offset: least_additive,
+        let batch_buffer = (!batches.is_empty())
+            .then(|| machine.vertex_buffer(&batches))
+            .transpose()?;
+        let rects = (!singles.is_empty())
+            .then(|| machine.vertex_buffer(&singles))
+            .transpose()?;
+        let mut draws: Vec<(&'static GraphicsProgram, ConeDraw)> = Vec::new();
+        for (program, vertices, ids, count) in &fans {
+            draws.push((
+                *program,
+                ConeDraw {
+                    mesh: vertices,
+                    first_vertex: 0,
+                    vertex_count: *count,
+                    instances: ids,
+                    first_instance: 0,
+                    instance_count: u32::from(*count > 0),
                 },
-            })?;
+            ));
         }
+        if let Some(buffer) = &batch_buffer {
+            let shapes = batch_shapes.iter().copied();
+            draws.extend(rect_draws(&mesh, &SITE_EXACT_BATCH, shapes, buffer));
+        }
+        if let Some(buffer) = &rects {
+            let shapes = singles.iter().map(|i| SiteShape::of_kind(i.kind_id[0]));
+            draws.extend(rect_draws(&mesh, &SITE_EXACT, shapes, buffer));
+        }
+        // With nothing drawn the tile keeps the "no site" id.
+        let push = ConePush {
+            picture_size: [tile_w as f32, tile_h as f32],
+            offset: [x0 as f32, y0 as f32],
+            vertex_depth_scale: 0.0,
+            fragment_depth_scale: depth_scale as f32,
+            levels: 1,
+            // Polygons are drawn as fans (see above).
+            metric: metric.shader_code().unwrap_or((0, 2.0)).into(),
+        };
+        machine.run(|pass| {
+            pass.begin(
+                Target {
+                    color: Some(&ids),
+                    depth_stencil: Some(&depth),
+                },
+                Clear {
+                    color: Some(ClearColor::Uint([u32::MAX; 4])),
+                    depth: Some(1.0),
+                    stencil: Some(0),
+                },
+            )?;
+            for (program, draw) in &draws {
+                draw_cones(
+                    pass,
+                    program,
+                    &RasterState::lower_envelope(),
+                    &DrawParams::default(),
+                    &push,
+                    draw,
+                )?;
+            }
+            pass.end()
+        })?;
+        visit(&DrawnTile {
+            ids: &ids,
+            depth: &depth,
+            x0,
+            y0,
+            inner,
+            keys: DepthMap {
+                key: None,
+                scale: depth_scale,
+                pixels_per_unit: 1.0,
+                offset: least_additive,
+            },
+        })?;
     }
     stats.render_ms = ms(started);
     Ok((

@@ -47,7 +47,7 @@ use crate::{
 };
 
 use super::envelope::{
-    hilbert_index, records_image, DepthMap, DrawnTile, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
+    hilbert_index, records_image, DepthMap, DrawnTile, Tiling, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
 };
 
 use super::cones::{
@@ -654,21 +654,13 @@ pub(crate) fn draw_point_tiles(
     stats.bounds_ms = ms(started);
 
     let meshes = chain::FanMeshes::new(options.metric);
-    let side = machine.max_picture_side();
-    let max_tile = options.max_tile.unwrap_or(side).min(side);
-    if max_tile == 0 {
-        return Err(Error::InvalidInput("tile size must be at least 1".into()));
-    }
     // A band of rows is held on the host: keep it to about 2^26 pixels, in
     // whole screen tiles.
     let band_rows =
         ((1u64 << 26) / frame.width as u64) as u32 / SCREEN_TILE_SIDE * SCREEN_TILE_SIDE;
-    let band_rows = band_rows.max(1);
     let window = options.window_rect()?;
-    let (tile_w, tile_h) = (
-        max_tile.min(window.width),
-        max_tile.min(window.height).min(band_rows),
-    );
+    let tiling = Tiling::new(machine, options.max_tile, window, band_rows)?;
+    let (tile_w, tile_h) = (tiling.tile_w, tiling.tile_h);
     let picture = Picture {
         ids: machine.image(Format::R32Uint, tile_w, tile_h)?,
         depth: machine.image(
@@ -697,66 +689,56 @@ pub(crate) fn draw_point_tiles(
         && window.y % SCREEN_TILE_SIDE == 0;
     let mut final_attempt = 0;
     let mut drawn_by_tiles = tiled;
-    let (x_end, y_end) = (window.x + window.width, window.y + window.height);
-    for y0 in (window.y..y_end).step_by(tile_h as usize) {
-        let band_h = tile_h.min(y_end - y0);
-        for x0 in (window.x..x_end).step_by(tile_w as usize) {
-            let inner = PixelRect {
-                x: 0,
-                y: 0,
-                width: tile_w.min(x_end - x0),
-                height: band_h,
+    for (x0, y0, inner) in tiling.tiles() {
+        let view = TileView {
+            origin: DVec2::new(x0 as f64, y0 as f64),
+            width: tile_w,
+            height: tile_h,
+        };
+        stats.tiles += 1;
+        let started = Instant::now();
+        for (k, (cones, batches)) in shaped.iter().zip(&batches).enumerate() {
+            stats.passes += 1;
+            let draws = Draws {
+                cones,
+                batches,
+                accuracy: options.accuracy,
+                metric: options.metric,
+                key,
+                meshes: &meshes,
+                scale,
+                ties: options.ties,
+                tiled,
+                candidates: candidates.as_ref().filter(|_| aligned),
+                sites: &pixels,
             };
-            let view = TileView {
-                origin: DVec2::new(x0 as f64, y0 as f64),
-                width: tile_w,
-                height: tile_h,
-            };
-            stats.tiles += 1;
-            let started = Instant::now();
-            for (k, (cones, batches)) in shaped.iter().zip(&batches).enumerate() {
-                stats.passes += 1;
-                let draws = Draws {
-                    cones,
-                    batches,
-                    accuracy: options.accuracy,
-                    metric: options.metric,
-                    key,
-                    meshes: &meshes,
-                    scale,
-                    ties: options.ties,
-                    tiled,
-                    candidates: candidates.as_ref().filter(|_| aligned),
-                    sites: &pixels,
-                };
-                drawn_by_tiles &= render(machine, &picture, &view, &draws)?;
-                final_attempt = final_attempt.max(k);
-                // Picture-wide and local radii cover every pixel by construction; the
-                // quadtree's radius is checked with minmax, the thesis's way: a pixel
-                // no truncated cone reached keeps the "no site" id, the largest value.
-                let covered = options.speedup != Speedup::Quadtree
-                    || machine.minmax(&picture.ids, inner)?.max[0] < u32::MAX as f64;
-                if covered {
-                    break;
-                }
-                if k + 1 == shaped.len() {
-                    return Err(Error::InvalidInput(
+            drawn_by_tiles &= render(machine, &picture, &view, &draws)?;
+            final_attempt = final_attempt.max(k);
+            // Picture-wide and local radii cover every pixel by construction; the
+            // quadtree's radius is checked with minmax, the thesis's way: a pixel
+            // no truncated cone reached keeps the "no site" id, the largest value.
+            let covered = options.speedup != Speedup::Quadtree
+                || machine.minmax(&picture.ids, inner)?.max[0] < u32::MAX as f64;
+            if covered {
+                break;
+            }
+            if k + 1 == shaped.len() {
+                return Err(Error::InvalidInput(
                         "cones left pixels uncovered; this is a pixgeo bug, please report it with the sites".into(),
                     ));
-                }
             }
-            stats.render_ms += ms(started);
-            let started = Instant::now();
-            visit(&DrawnTile {
-                ids: &picture.ids,
-                depth: &picture.depth,
-                x0,
-                y0,
-                inner,
-                keys,
-            })?;
-            stats.readback_ms += ms(started);
         }
+        stats.render_ms += ms(started);
+        let started = Instant::now();
+        visit(&DrawnTile {
+            ids: &picture.ids,
+            depth: &picture.depth,
+            x0,
+            y0,
+            inner,
+            keys,
+        })?;
+        stats.readback_ms += ms(started);
     }
 
     let last = &shaped[final_attempt];
