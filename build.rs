@@ -211,6 +211,43 @@ fn reflect(module: &naga::Module, stage: naga::ShaderStage, key: &str) -> String
             .unwrap();
         }
     }
+    // What passes between the stages: a vertex shader's outputs, a fragment
+    // shader's inputs, by location.
+    let mut varyings = String::new();
+    let mut passed: Vec<_> = match stage {
+        naga::ShaderStage::Vertex => entry
+            .function
+            .result
+            .iter()
+            .flat_map(|r| located(r.ty, &r.binding))
+            .collect(),
+        naga::ShaderStage::Fragment => entry
+            .function
+            .arguments
+            .iter()
+            .flat_map(|a| located(a.ty, &a.binding))
+            .collect(),
+        _ => Vec::new(),
+    };
+    passed.sort();
+    for (location, ty) in passed {
+        let inner = &module.types[ty].inner;
+        let kind = match inner.scalar_kind() {
+            Some(naga::ScalarKind::Uint) => "Uint",
+            Some(naga::ScalarKind::Sint) => "Sint",
+            Some(naga::ScalarKind::Float) => "Float",
+            _ => panic!("{key}: location {location} passes neither numbers nor vectors"),
+        };
+        let components = match inner {
+            naga::TypeInner::Vector { size, .. } => *size as u32,
+            _ => 1,
+        };
+        write!(
+            varyings,
+            "Varying {{ location: {location}, kind: Kind::{kind}, components: {components} }}, "
+        )
+        .unwrap();
+    }
     let output = match stage {
         naga::ShaderStage::Fragment => entry
             .function
@@ -231,7 +268,7 @@ fn reflect(module: &naga::Module, stage: naga::ShaderStage, key: &str) -> String
         _ => "Compute",
     };
     format!(
-        "stage: Stage::{stage}, push_bytes: {push_bytes}, inputs: &[{inputs}], output: {output}, group: {}",
+        "stage: Stage::{stage}, push_bytes: {push_bytes}, inputs: &[{inputs}], varyings: &[{varyings}], output: {output}, group: {}",
         entry.workgroup_size[0]
     )
 }

@@ -196,3 +196,79 @@ impl Tiling {
             })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_cover_the_window_once_row_by_row() {
+        for (window, tile_w, tile_h) in [
+            (
+                PixelRect {
+                    x: 0,
+                    y: 0,
+                    width: 10,
+                    height: 7,
+                },
+                3,
+                2,
+            ),
+            (
+                PixelRect {
+                    x: 8,
+                    y: 16,
+                    width: 33,
+                    height: 20,
+                },
+                33,
+                20,
+            ),
+            (
+                PixelRect {
+                    x: 5,
+                    y: 2,
+                    width: 1,
+                    height: 9,
+                },
+                1,
+                4,
+            ),
+            (
+                PixelRect {
+                    x: 0,
+                    y: 0,
+                    width: 64,
+                    height: 64,
+                },
+                16,
+                64,
+            ),
+        ] {
+            let tiling = Tiling {
+                window,
+                tile_w,
+                tile_h,
+            };
+            let mut covered = vec![0u32; (window.width * window.height) as usize];
+            let mut last = (0, 0);
+            for (x0, y0, inner) in tiling.tiles() {
+                assert!((y0, x0) >= last, "row by row, left to right");
+                last = (y0, x0);
+                assert!(inner.width <= tile_w && inner.height <= tile_h);
+                for y in y0..y0 + inner.height {
+                    for x in x0..x0 + inner.width {
+                        let (i, j) = (x - window.x, y - window.y);
+                        covered[(j * window.width + i) as usize] += 1;
+                    }
+                }
+            }
+            assert!(
+                covered.iter().all(|&c| c == 1),
+                "{window:?} in {tile_w}x{tile_h}"
+            );
+            let single = tile_w == window.width && tile_h == window.height;
+            assert_eq!(tiling.is_single(), single);
+        }
+    }
+}

@@ -67,6 +67,24 @@ pub struct VertexInput {
     pub format: VertexFormat,
 }
 
+/// The type of the numbers a value passed between stages holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    Float,
+    Uint,
+    Sint,
+}
+
+/// A value passed from the vertex to the fragment shader, as naga reflects
+/// it: a vertex shader's output or a fragment shader's input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Varying {
+    pub location: u32,
+    pub kind: Kind,
+    /// 1 for a number, else the vector's length.
+    pub components: u32,
+}
+
 /// What a fragment shader writes to colour attachment 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Output {
@@ -87,6 +105,8 @@ pub struct Shader {
     pub push_bytes: u32,
     /// Vertex shaders: the inputs it reads, by location.
     pub inputs: &'static [VertexInput],
+    /// Vertex shaders: what they pass on; fragment shaders: what they read.
+    pub varyings: &'static [Varying],
     /// Fragment shaders: what it writes to colour attachment 0.
     pub output: Output,
     /// Compute shaders: invocations per workgroup along x.
@@ -179,6 +199,29 @@ impl GraphicsProgram {
     /// );
     /// ```
     ///
+    /// Nor does a fragment shader reading what its vertex shader does not pass
+    /// (disc.vert passes a `vec4` at location 0, cone_fan.frag reads a `uint`):
+    ///
+    /// ```compile_fail,E0080
+    /// use pixgeo::machine::{
+    ///     shaders, Fragments, GraphicsProgram, Topology, VertexAttribute, VertexBuffer,
+    ///     VertexFormat,
+    /// };
+    ///
+    /// static DISCS: GraphicsProgram = GraphicsProgram::new(
+    ///     "Discs",
+    ///     shaders::DISC_VERT,
+    ///     Fragments::One(shaders::CONE_FAN_FRAG),
+    ///     Topology::TriangleStrip,
+    ///     &[VertexBuffer {
+    ///         stride: 16,
+    ///         per_instance: true,
+    ///         attributes: &[VertexAttribute { location: 0, offset: 0, format: VertexFormat::F32x4 }],
+    ///     }],
+    ///     36,
+    /// );
+    /// ```
+    ///
     /// Nor does leaving a vertex input unfed (cone.vert reads four):
     ///
     /// ```compile_fail,E0080
@@ -232,6 +275,24 @@ impl GraphicsProgram {
                 fragment_builds[f].push_bytes == 0 || fragment_builds[f].push_bytes == push_bytes,
                 "a fragment build's push constants differ in size from the program's"
             );
+            let reads = fragment_builds[f].varyings;
+            let mut r = 0;
+            while r < reads.len() {
+                let mut passed = false;
+                let mut w = 0;
+                while w < vertex.varyings.len() {
+                    let out = vertex.varyings[w];
+                    passed |= out.location == reads[r].location
+                        && out.kind as u32 == reads[r].kind as u32
+                        && out.components == reads[r].components;
+                    w += 1;
+                }
+                assert!(
+                    passed,
+                    "a fragment build reads a location its vertex shader does not pass with that type"
+                );
+                r += 1;
+            }
             f += 1;
         }
         let mut b = 0;
