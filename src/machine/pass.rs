@@ -441,14 +441,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             .rendering
             .as_ref()
             .ok_or_else(|| Error::InvalidInput("draw outside a rendering pass".into()))?;
-        if push.len() != program.push_bytes as usize {
-            return Err(Error::InvalidInput(format!(
-                "{} takes {} bytes of push constants, not {}",
-                program.name,
-                program.push_bytes,
-                push.len()
-            )));
-        }
+        check_push(program.name, program.push_bytes, push)?;
         let fragment = program.fragment(variant).ok_or_else(|| {
             Error::InvalidInput(format!(
                 "{} has no build for variant {variant}",
@@ -589,13 +582,12 @@ impl<'m, 'r> Pass<'m, 'r> {
             self.use_buffer(buffer, BufferUse::VertexInput)?;
         }
         self.bind(program, draw.variant, state, params, draw.push)?;
-        let raw: Vec<vk::Buffer> = draw.vertex_buffers.iter().map(|b| b.raw).collect();
         let device = self.device();
         // SAFETY: inside a rendering pass with a bound pipeline that reads these
         // buffers, borrowed for 'r, past the submission's end.
         unsafe {
-            if !raw.is_empty() {
-                device.cmd_bind_vertex_buffers(self.cmd, 0, &raw, &vec![0; raw.len()]);
+            for (binding, buffer) in (0u32..).zip(draw.vertex_buffers) {
+                device.cmd_bind_vertex_buffers(self.cmd, binding, &[buffer.raw], &[0]);
             }
             device.cmd_draw(
                 self.cmd,
@@ -672,14 +664,7 @@ impl<'m, 'r> Pass<'m, 'r> {
         (width, height): (u32, u32),
         push: &[u8],
     ) -> Result<()> {
-        if push.len() != kernel.push_bytes as usize {
-            return Err(Error::InvalidInput(format!(
-                "{} takes {} bytes of push constants, not {}",
-                kernel.name,
-                kernel.push_bytes,
-                push.len()
-            )));
-        }
+        check_push(kernel.name, kernel.push_bytes, push)?;
         if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
             return Err(Error::InvalidInput(format!(
                 "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
@@ -952,6 +937,17 @@ impl<'m, 'r> Pass<'m, 'r> {
         );
         self.end_section(None)
     }
+}
+
+/// Refuses push constants of another size than the program's.
+fn check_push(program: &str, bytes: u32, push: &[u8]) -> Result<()> {
+    if push.len() == bytes as usize {
+        return Ok(());
+    }
+    Err(Error::InvalidInput(format!(
+        "{program} takes {bytes} bytes of push constants, not {}",
+        push.len()
+    )))
 }
 
 /// Ends a command buffer, mapping the error.
