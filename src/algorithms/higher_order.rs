@@ -50,7 +50,7 @@ use super::cones::{
 };
 
 use super::envelope::distances_of;
-use super::voronoi::{drawn_accuracy, metric_fan, Accuracy, Speedup};
+use super::envelope::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 
 /// Corners of the polygon drawn around each cone's disc.
 const FOOTPRINT_CORNERS: u32 = 8;

@@ -53,12 +53,10 @@ use super::cones::{
 };
 
 use super::envelope::{
-    distances_of, hilbert_index, records_image, DepthMap, DrawnTile, Tiling, BATCH,
-    SCREEN_TILE_SIDE, UNIT_SQUARE,
+    distances_of, drawn_accuracy, hilbert_index, metric_fan, records_image, Accuracy, DepthMap,
+    DrawnTile, Speedup, Tiling, Tuning, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
 };
-use super::voronoi::{
-    drawn_accuracy, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats,
-};
+use super::voronoi::{VoronoiDiagram, VoronoiOptions, VoronoiStats};
 
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
 /// every pixel labelled with a site of smallest weighted distance, and the
@@ -291,11 +289,11 @@ pub(crate) fn draw_sites(
                 .collect();
             // One draw per shape, each with its own program.
             instances.sort_by_key(|i| SiteShape::of_kind(i.kind_id[0]) as u8);
-            let (batches, singles) = batch_sites(instances, metric);
+            let (batches, singles) = batch_sites(instances, metric, &Tuning::of(machine)?);
             (SiteDraw::Exact { batches, singles }, envelope_reach)
         }
         Accuracy::Fan { .. } => {
-            let fan = super::voronoi::metric_fan(options.accuracy);
+            let fan = metric_fan(options.accuracy);
             let meshes = FanMeshes::new(metric);
             if let MetricFan::Chain { epsilon } = fan {
                 for (s, r) in pixels.iter().zip(&reaches) {
@@ -831,11 +829,6 @@ fn rect_draws<'a>(
     draws
 }
 
-/// Largest side (pixels) of a batched site's rectangle: a batch's rectangle is
-/// the bounding box of its sites', so one large site would widen it for all
-/// eight.
-const BATCH_SIDE_LIMIT: f32 = 96.0;
-
 /// Whether sites of `shape` under `metric` are drawn in batches: those whose
 /// distance costs a few operations (Euclidean points, segments, circles and
 /// arcs; L1 and L∞ points and segments). A batch evaluates eight per fragment
@@ -851,16 +844,20 @@ fn batched(metric: Metric, shape: SiteShape) -> bool {
 
 /// Splits sites' rectangles (sorted by shape) into batches of up to eight
 /// neighbours along a Hilbert curve, for the shapes [`batched`] under `metric`
-/// with small rectangles, and the rest, drawn one by one.
+/// with small rectangles, and the rest, drawn one by one. A batch's rectangle
+/// is the bounding box of its sites', so one large site would widen it for all
+/// eight: a batched site's rectangle is no larger than a batched cone's square.
 fn batch_sites(
     instances: Vec<SiteInstance>,
     metric: Metric,
+    tuning: &Tuning,
 ) -> (Vec<(SiteShape, SiteBatch)>, Vec<SiteInstance>) {
+    let side_limit = (2.0 * tuning.batch_radius) as f32;
     let (mut batched, singles): (Vec<SiteInstance>, Vec<SiteInstance>) =
         instances.into_iter().partition(|i| {
             batched(metric, SiteShape::of_kind(i.kind_id[0]))
-                && i.rect[2] - i.rect[0] <= BATCH_SIDE_LIMIT
-                && i.rect[3] - i.rect[1] <= BATCH_SIDE_LIMIT
+                && i.rect[2] - i.rect[0] <= side_limit
+                && i.rect[3] - i.rect[1] <= side_limit
         });
     batched.sort_by_cached_key(|i| {
         let q = |v: f32| (v.max(0.0) as u32).min(65535);

@@ -113,6 +113,16 @@ pub struct Bins {
     pub bins: u32,
 }
 
+/// The kind of device a machine drives: drawing choices that weigh a
+/// triangle against fragments are measured for each.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DeviceClass {
+    /// A rasterizer on the CPU, such as Mesa's lavapipe.
+    Software,
+    /// A discrete, integrated or virtual GPU.
+    Gpu,
+}
+
 /// The pixel machine: one Vulkan device with its queue, pipeline cache and the
 /// means to submit passes and read results back.
 pub struct Machine {
@@ -177,6 +187,14 @@ impl Machine {
     /// The device's name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
     pub fn device_name(&self) -> &str {
         &self.ctx.device_name
+    }
+
+    /// Whether the device rasterizes on the CPU or is a GPU.
+    pub fn device_class(&self) -> DeviceClass {
+        match self.ctx.properties.device_type {
+            vk::PhysicalDeviceType::CPU => DeviceClass::Software,
+            _ => DeviceClass::Gpu,
+        }
     }
 
     /// The largest picture side the device allows.

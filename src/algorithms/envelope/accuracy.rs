@@ -1,0 +1,89 @@
+//! How cones are drawn (fans within ε, or exact per fragment) and how far
+//! they reach.
+
+use serde::Serialize;
+
+use crate::{
+    error::{Error, Result},
+    geometry::{
+        chain,
+        cone::{MAX_FAN_TRIANGLES, MIN_FAN_EPSILON},
+        metric::Metric,
+    },
+};
+
+/// How cones are drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Accuracy {
+    /// Triangle fans. With `triangles: None` each cone gets the fewest triangles for
+    /// an ε distance diagram at its own radius; `Some(T)` fixes T for every cone.
+    Fan {
+        epsilon: f64,
+        triangles: Option<u32>,
+    },
+    /// The exact distance per fragment.
+    Exact,
+}
+
+impl Accuracy {
+    /// Fans for a distance diagram within one pixel.
+    pub const FAN: Self = Self::Fan {
+        epsilon: 1.0,
+        triangles: None,
+    };
+
+    /// A clear error for a fan without a finite ε of at least
+    /// [`MIN_FAN_EPSILON`] pixels, or with fewer than 3 or more than
+    /// [`MAX_FAN_TRIANGLES`] triangles.
+    pub fn check(self) -> Result<()> {
+        if let Self::Fan { epsilon, triangles } = self {
+            if !(epsilon >= MIN_FAN_EPSILON && epsilon.is_finite()) {
+                return Err(Error::InvalidInput(format!(
+                    "fan epsilon {epsilon:?} must be a finite distance of at least {MIN_FAN_EPSILON} \
+                     pixels (the rasterizer's subpixel grid is 1/256 pixel)"
+                )));
+            }
+            if triangles.is_some_and(|t| !(3..=MAX_FAN_TRIANGLES).contains(&t)) {
+                return Err(Error::InvalidInput(format!(
+                    "a fan has 3 to {MAX_FAN_TRIANGLES} triangles"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How far cones reach.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Speedup {
+    /// Every cone covers the whole picture.
+    None,
+    /// One radius for all cones from the quadtree (thesis §3.5); uncovered pixels
+    /// are found with minmax and the cones redrawn larger.
+    Quadtree,
+    /// A radius per site from the sites around it.
+    Local,
+}
+
+/// The accuracy a diagram is drawn with: a polygon's distance is piecewise
+/// linear, so the fan over the polygon itself is exact, and is what exact mode
+/// draws; every other metric as asked.
+pub(crate) fn drawn_accuracy(metric: Metric, accuracy: Accuracy) -> Accuracy {
+    match (metric, accuracy) {
+        (Metric::Polygon(_), Accuracy::Exact) => Accuracy::FAN,
+        _ => accuracy,
+    }
+}
+
+/// How fans of metrics other than L2 are built for `accuracy` (a fan mode).
+pub(crate) fn metric_fan(accuracy: Accuracy) -> chain::MetricFan {
+    match accuracy {
+        Accuracy::Fan {
+            triangles: Some(corners),
+            ..
+        } => chain::MetricFan::Uniform { corners },
+        Accuracy::Fan { epsilon, .. } => chain::MetricFan::Chain { epsilon },
+        Accuracy::Exact => unreachable!("exact cones have no fan"),
+    }
+}
