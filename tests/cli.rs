@@ -783,7 +783,10 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
     let sites = temp("envelope.csv");
     std::fs::write(&sites, "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n1,2\n3,2.5\n").unwrap();
     let s = sites.to_str().unwrap();
-    let runs: [&[&str]; 15] = [
+    let mask = temp("envelope-mask.npy");
+    npy::write(&mask, &[2, 3], &[0u8, 1, 0, 0, 0, 1]).unwrap();
+    let mask = mask.to_str().unwrap();
+    let runs: [&[&str]; 16] = [
         &["voronoi", "--random", "6", "--size", "32"],
         &["voronoi", "--random", "6", "--size", "32", "--order", "2"],
         &[
@@ -803,6 +806,7 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
         &["triangle", "--sites", s, "--max"],
         &["quadrangle", "--sites", s],
         &["delaunay", "--sites", s],
+        &["transform", "--mask", mask],
     ];
     for run in runs {
         let mut args = run.to_vec();
@@ -810,8 +814,8 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
         let (ok, stdout, stderr) = pixgeo(&args);
         assert!(ok, "{run:?}: {stderr}");
         let envelope = enveloped(&stdout, run[0]);
-        // Every command that draws says on what; the sweep draws nothing.
-        let picture = !["triangle", "quadrangle"].contains(&run[0]);
+        // Every command that draws says on what; the sweeps draw nothing.
+        let picture = !["triangle", "quadrangle", "transform"].contains(&run[0]);
         assert_eq!(envelope["frame"].is_object(), picture, "{run:?}");
         let named = stdout.matches("\"device\"").count();
         assert_eq!(named, 1, "{run:?}: the device is named once");
@@ -1034,4 +1038,79 @@ fn a_bad_point_set_is_named_as_the_user_named_it() {
             "{stderr}"
         );
     }
+}
+
+#[test]
+fn transform_reads_png_and_npy_masks_and_writes_scipy_layout() {
+    let (w, h) = (7u32, 5u32);
+    let features = [(1u32, 2u32), (5, 4)]; // (column, row)
+    let png = temp("mask.png");
+    let mut picture = image::GrayImage::new(w, h);
+    for &(x, y) in &features {
+        picture.put_pixel(x, y, image::Luma([200]));
+    }
+    picture.save(&png).unwrap();
+    let (d, i) = (temp("transform-d.npy"), temp("transform-i.npy"));
+    let (ok, stdout, stderr) = pixgeo(&[
+        "transform",
+        "--mask",
+        png.to_str().unwrap(),
+        "--distance",
+        d.to_str().unwrap(),
+        "--indices",
+        i.to_str().unwrap(),
+        "--sampling",
+        "2,1",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("2 feature pixels"), "{stdout}");
+    let (shape, distances) = npy::read::<f64>(&d).unwrap();
+    assert_eq!(shape, [5, 7]);
+    let (shape, indices) = npy::read::<i32>(&i).unwrap();
+    assert_eq!(shape, [2, 5, 7]);
+    for y in 0..h {
+        for x in 0..w {
+            let p = (y * w + x) as usize;
+            let offset = |&(fx, fy): &(u32, u32)| {
+                let (dy, dx) = (2.0 * (y as f64 - fy as f64), x as f64 - fx as f64);
+                (dy * dy + dx * dx).sqrt()
+            };
+            let nearest = features.iter().map(offset).fold(f64::INFINITY, f64::min);
+            assert_eq!(distances[p], nearest, "pixel ({x}, {y})");
+            let (row, column) = (indices[p] as u32, indices[35 + p] as u32);
+            assert_eq!(offset(&(column, row)), nearest, "pixel ({x}, {y})");
+        }
+    }
+
+    // No feature: infinite distances and -1 indices; L1 from an .npy mask.
+    let empty = temp("empty-mask.npy");
+    npy::write(&empty, &[2, 2], &[0.0f64; 4]).unwrap();
+    let (ok, stdout, _) = pixgeo(&[
+        "transform",
+        "--mask",
+        empty.to_str().unwrap(),
+        "--indices",
+        i.to_str().unwrap(),
+    ]);
+    assert!(ok && stdout.contains("no feature"), "{stdout}");
+    assert_eq!(npy::read::<i32>(&i).unwrap().1, [-1; 8]);
+
+    for (args, message) in [
+        (vec!["--sampling", "0,1", "--json"], "above 0"),
+        (vec![], "nothing to write"),
+        (vec!["--distance", "d.png"], "name the file *.npy"),
+        (
+            vec!["--metric", "lp:0.5", "--sampling", "1,2", "--json"],
+            "equal sampling",
+        ),
+    ] {
+        let mut run = vec!["transform", "--mask", png.to_str().unwrap()];
+        run.extend(args);
+        let (ok, _, stderr) = pixgeo(&run);
+        assert!(!ok && stderr.contains(message), "{run:?}: {stderr}");
+    }
+    let cube = temp("cube-mask.npy");
+    npy::write(&cube, &[2, 2, 2], &[1u8; 8]).unwrap();
+    let (ok, _, stderr) = pixgeo(&["transform", "--mask", cube.to_str().unwrap(), "--json"]);
+    assert!(!ok && stderr.contains("2-D array"), "{stderr}");
 }

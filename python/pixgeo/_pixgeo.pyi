@@ -14,6 +14,9 @@ _Points = npt.NDArray[np.float64]
 _BBox = Optional[Tuple[float, float, float, float]]
 
 def frame_of(width: int, height: int, bbox: _BBox) -> _Frame: ...
+def distance_transform(
+    features: npt.NDArray[np.bool_], sampling: Tuple[float, float], metric_name: str
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32]]: ...
 def voronoi(
     sites: _Points, width: int, height: int, bbox: _BBox, metric_name: str, mode: str,
     device: Optional[str], window: Optional[Tuple[int, int, int, int]] = None,

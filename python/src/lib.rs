@@ -20,6 +20,7 @@ use pixgeo::{
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
+        transform::{distance_transform as transform_of, TransformOptions},
         voronoi::{self as diagram, Accuracy, VoronoiOptions},
     },
     geometry::{metric::Metric, site::Site, Frame},
@@ -149,6 +150,42 @@ type Levels<'py> = (
 
 /// Triangles (m, 3) and repeated points (dropped, kept).
 type Triangulation<'py> = (Bound<'py, PyArray2<u32>>, Bound<'py, PyArray2<u32>>);
+
+/// Distances (H, W), and the (row, column) planes (2, H, W) of each pixel's
+/// nearest feature.
+type Transformed<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<i32>>);
+
+/// Distances (H, W) to the nearest `features` pixel and its (row, column)
+/// (2, H, W): -1 and infinity where there is no feature.
+#[pyfunction]
+#[pyo3(signature = (features, sampling, metric_name))]
+fn distance_transform<'py>(
+    py: Python<'py>,
+    features: numpy::PyReadonlyArray2<'py, bool>,
+    sampling: [f64; 2],
+    metric_name: &str,
+) -> PyResult<Transformed<'py>> {
+    let (h, w) = features.as_array().dim();
+    let side = |n: usize| {
+        u32::try_from(n).map_err(|_| PyValueError::new_err(format!("a side of {n} is too long")))
+    };
+    let (width, height) = (side(w)?, side(h)?);
+    let mask: Vec<bool> = features.as_array().iter().copied().collect();
+    let options = TransformOptions::new()
+        .metric(metric(metric_name)?)
+        .sampling(sampling);
+    let t = py
+        .detach(|| transform_of(&mask, width, height, &options))
+        .map_err(to_py)?;
+    let mut planes = t.feature_rows;
+    planes.extend_from_slice(&t.feature_columns);
+    let indices = Array3::from_shape_vec((2, h, w), planes)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok((
+        raster(py, t.distances, height, width)?,
+        indices.into_pyarray(py),
+    ))
+}
 
 /// The frame of a `width` x `height` picture, without drawing anything.
 #[pyfunction]
@@ -495,6 +532,7 @@ fn extremal_polygon<'py>(
 #[pymodule]
 fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frame_of, m)?)?;
+    m.add_function(wrap_pyfunction!(distance_transform, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi_weighted, m)?)?;
     m.add_function(wrap_pyfunction!(alpha_hull_of, m)?)?;

@@ -14,4 +14,5 @@ pub mod higher_order;
 pub mod homothet;
 pub mod settle;
 pub mod sites;
+pub mod transform;
 pub mod voronoi;

@@ -1,6 +1,7 @@
-//! Ways in and out: site files, NumPy arrays, pictures.
+//! Ways in and out: site files, rasters of features, NumPy arrays, pictures.
 #![forbid(unsafe_code)]
 
+pub mod mask;
 pub mod npy;
 pub mod output;
 pub mod picture;

@@ -108,7 +108,8 @@ pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
     let shape = array.shape().to_vec();
     let fortran = array.order() == npyz::Order::Fortran;
     let descr = array.dtype().descr();
-    let values = match descr.trim_start_matches(['<', '|', '=']) {
+    // `descr` is the header's Python literal, quotes included: `'<f8'`.
+    let values = match descr.trim_matches('\'').trim_start_matches(['<', '|', '=']) {
         "f8" => array.into_vec::<f64>().map_err(parse)?,
         "f4" => widen(array.into_vec::<f32>().map_err(parse)?),
         "i8" => {
@@ -126,11 +127,14 @@ pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
         "u4" => widen(array.into_vec::<u32>().map_err(parse)?),
         "i2" => widen(array.into_vec::<i16>().map_err(parse)?),
         "u2" => widen(array.into_vec::<u16>().map_err(parse)?),
+        "u1" => widen(array.into_vec::<u8>().map_err(parse)?),
+        "i1" => widen(array.into_vec::<i8>().map_err(parse)?),
+        "b1" => widen(array.into_vec::<bool>().map_err(parse)?),
         _ => {
             return Err(Error::Parse {
                 path: path.to_path_buf(),
                 message: format!(
-                    "arrays of dtype {descr} are not read: use float64, float32 or little-endian integers"
+                    "arrays of dtype {descr} are not read: use float64, float32, bool or little-endian integers"
                 ),
             })
         }
@@ -148,4 +152,28 @@ pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
 
 fn widen<T: Into<f64>>(values: Vec<T>) -> Vec<f64> {
     values.into_iter().map(Into::into).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_dtype_read_as_f64_comes_back() {
+        let dir = std::env::temp_dir().join(format!("pixgeo-npy-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.npy");
+        write(&path, &[2, 2], &[1.5f64, -2.0, 0.0, 1e300]).unwrap();
+        assert_eq!(
+            read_f64(&path).unwrap(),
+            (vec![2, 2], vec![1.5, -2.0, 0.0, 1e300])
+        );
+        write(&path, &[3], &[0u8, 7, 255]).unwrap();
+        assert_eq!(read_f64(&path).unwrap().1, [0.0, 7.0, 255.0]);
+        write(&path, &[2], &[true, false]).unwrap();
+        assert_eq!(read_f64(&path).unwrap().1, [1.0, 0.0]);
+        write(&path, &[2], &[-3i32, 4]).unwrap();
+        assert_eq!(read_f64(&path).unwrap().1, [-3.0, 4.0]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -22,6 +22,7 @@ mod homothet;
 mod input;
 mod progress;
 mod settle;
+mod transform;
 mod voronoi;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
@@ -84,6 +85,7 @@ enum Command {
     Triangle(area::TriangleArgs),
     Quadrangle(area::QuadrangleArgs),
     Delaunay(Box<delaunay::Args>),
+    Transform(transform::Args),
     Gallery(gallery::Args),
 }
 
@@ -134,6 +136,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Triangle(args) => area::triangle(args),
         Command::Quadrangle(args) => area::quadrangle(args),
         Command::Delaunay(args) => delaunay::run(*args),
+        Command::Transform(args) => transform::run(args),
         Command::Gallery(args) => gallery::run(args),
     }
 }

@@ -1,5 +1,9 @@
 //! `pixgeo voronoi`: the Voronoi diagram of point sites, and of weighted sites,
 //! segments, circles and arcs.
+//!
+//! The file is long because one command holds every diagram's route (points,
+//! sites, the k nearest, the CPU algorithms, seed pixels) and their outputs,
+//! with the checks that refuse options a route does not take.
 
 use std::path::PathBuf;
 

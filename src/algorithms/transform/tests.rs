@@ -1,0 +1,149 @@
+//! The transforms against brute force: every pixel against every feature pixel,
+//! on random, sparse, dense, lattice and degenerate masks, under every metric.
+
+use glam::DVec2;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::*;
+
+/// Every pixel's smallest distance to a feature pixel, by brute force.
+fn brute_force(mask: &[bool], w: usize, metric: Metric, [sy, sx]: [f64; 2]) -> Vec<f64> {
+    let features: Vec<usize> = (0..mask.len()).filter(|&i| mask[i]).collect();
+    (0..mask.len())
+        .map(|p| {
+            features
+                .iter()
+                .map(|&f| {
+                    let dx = (p % w) as f64 - (f % w) as f64;
+                    let dy = (p / w) as f64 - (f / w) as f64;
+                    metric.distance(DVec2::new(dx * sx, dy * sy))
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+fn masks() -> Vec<(String, usize, usize, Vec<bool>)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut out = Vec::new();
+    for (w, h) in [(1, 1), (1, 9), (9, 1), (17, 13), (32, 24)] {
+        for density in [0.0, 0.02, 0.3, 0.9, 1.0] {
+            let mask = (0..w * h).map(|_| rng.gen_bool(density)).collect();
+            out.push((format!("{w}x{h} random {density}"), w, h, mask));
+        }
+        let mut single = vec![false; w * h];
+        single[rng.gen_range(0..w * h)] = true;
+        out.push((format!("{w}x{h} single"), w, h, single));
+        let lattice = (0..w * h)
+            .map(|i| i % w % 4 == 1 && i / w % 3 == 2)
+            .collect();
+        out.push((format!("{w}x{h} lattice"), w, h, lattice));
+        let diagonal = (0..w * h).map(|i| i % w == i / w).collect();
+        out.push((format!("{w}x{h} diagonal"), w, h, diagonal));
+    }
+    out
+}
+
+fn metrics() -> Vec<Metric> {
+    let hexagon: Vec<DVec2> = (0..6)
+        .map(|k| DVec2::from_angle(k as f64 * std::f64::consts::TAU / 6.0 + 0.2) * 1.5)
+        .collect();
+    vec![
+        Metric::L2,
+        Metric::L1,
+        Metric::LInf,
+        Metric::Lp(3.0),
+        Metric::Lp(1.5),
+        Metric::Lp(0.5),
+        Metric::polygon(&hexagon, DVec2::new(0.1, -0.2)).unwrap(),
+    ]
+}
+
+/// Distances within a relative 1e-12 of brute force (L_p's powers round), and
+/// each pixel's feature a feature pixel at that distance.
+fn check(name: &str, mask: &[bool], w: usize, h: usize, options: &TransformOptions) {
+    let t = distance_transform(mask, w as u32, h as u32, options).unwrap();
+    let expected = brute_force(mask, w, options.metric, options.sampling);
+    let exact = matches!(options.metric, Metric::L2 | Metric::L1 | Metric::LInf);
+    for (p, (&d, &e)) in t.distances.iter().zip(&expected).enumerate() {
+        let what = format!(
+            "{name}, {}, {:?}: pixel {p}",
+            options.metric, options.sampling
+        );
+        if e.is_infinite() {
+            assert!(d.is_infinite() && t.feature_rows[p] == -1, "{what}");
+            assert_eq!(t.feature_columns[p], -1, "{what}");
+            continue;
+        }
+        let close = if exact {
+            d == e
+        } else {
+            (d - e).abs() <= 1e-12 * e.max(1.0)
+        };
+        assert!(close, "{what}: {d} against {e}");
+        let (row, column) = (t.feature_rows[p] as usize, t.feature_columns[p] as usize);
+        assert!(mask[row * w + column], "{what}: not a feature");
+    }
+}
+
+#[test]
+fn every_metric_matches_brute_force() {
+    for (name, w, h, mask) in masks() {
+        for metric in metrics() {
+            check(&name, &mask, w, h, &TransformOptions::new().metric(metric));
+        }
+    }
+}
+
+#[test]
+fn separable_metrics_take_anisotropic_sampling() {
+    for (name, w, h, mask) in masks() {
+        for metric in [Metric::L2, Metric::L1, Metric::LInf, Metric::Lp(3.0)] {
+            for sampling in [[2.0, 1.0], [0.3, 1.7], [1.0, 1e-3]] {
+                let options = TransformOptions::new().metric(metric).sampling(sampling);
+                check(&name, &mask, w, h, &options);
+            }
+        }
+    }
+}
+
+#[test]
+fn equal_sampling_scales_other_metrics() {
+    let (name, w, h, mask) = masks().swap_remove(25);
+    for metric in &metrics()[5..] {
+        let options = TransformOptions::new().metric(*metric).sampling([2.5, 2.5]);
+        check(&name, &mask, w, h, &options);
+    }
+}
+
+#[test]
+fn bad_input_is_refused() {
+    let mask = vec![true; 6];
+    let refused = |w, h, options: TransformOptions| {
+        distance_transform(&mask, w, h, &options)
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(refused(4, 2, TransformOptions::new()).contains("needs 8 values"));
+    assert!(refused(0, 6, TransformOptions::new()).contains("raster"));
+    for sampling in [
+        [0.0, 1.0],
+        [1.0, f64::NAN],
+        [-1.0, 1.0],
+        [f64::INFINITY, 1.0],
+    ] {
+        let error = refused(3, 2, TransformOptions::new().sampling(sampling));
+        assert!(error.contains("sampling"), "{error}");
+    }
+    let error = refused(3, 2, TransformOptions::new().metric(Metric::Lp(-2.0)));
+    assert!(error.contains("p > 0"), "{error}");
+    let error = refused(
+        3,
+        2,
+        TransformOptions::new()
+            .metric(Metric::Lp(0.5))
+            .sampling([1.0, 2.0]),
+    );
+    assert!(error.contains("equal sampling"), "{error}");
+}

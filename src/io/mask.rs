@@ -1,0 +1,90 @@
+//! Rasters of features: a pixel is a feature where its value is not zero.
+//! Read from a 2-D `.npy` array of any numeric or bool dtype, or from a PNG
+//! (grey or colour, any depth; a pixel is a feature where any colour channel
+//! is not zero, whatever its alpha). Row 0 is the array's first row, the
+//! picture's top row.
+
+use std::{io::BufReader, path::Path};
+
+use crate::error::{Error, Result};
+
+/// A raster of features, row-major.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mask {
+    pub width: u32,
+    pub height: u32,
+    pub features: Vec<bool>,
+}
+
+/// Reads a mask from `path`, by its extension: `.npy` or `.png`.
+pub fn read_mask(path: &Path) -> Result<Mask> {
+    let parse = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("npy") => {
+            let (shape, values) = super::npy::read_f64(path)?;
+            let [height, width] = shape[..] else {
+                return Err(parse(format!(
+                    "a mask is a 2-D array (rows, columns), not of shape {shape:?}"
+                )));
+            };
+            if values.iter().any(|v| v.is_nan()) {
+                return Err(parse(
+                    "NaN is neither a feature nor background: give 0 or non-zero values".into(),
+                ));
+            }
+            mask(width, height, values.iter().map(|&v| v != 0.0).collect()).map_err(parse)
+        }
+        Some("png") => {
+            let file = std::fs::File::open(path).map_err(|e| Error::Io {
+                path: path.to_path_buf(),
+                cause: e,
+            })?;
+            let mut decoder = png::Decoder::new(BufReader::new(file));
+            decoder.set_transformations(png::Transformations::normalize_to_color8());
+            let mut reader = decoder
+                .read_info()
+                .map_err(|e| parse(format!("not a PNG picture: {e}")))?;
+            let size = reader
+                .output_buffer_size()
+                .ok_or_else(|| parse("the picture is too large to read".into()))?;
+            let mut pixels = vec![0u8; size];
+            let info = reader
+                .next_frame(&mut pixels)
+                .map_err(|e| parse(format!("not a PNG picture: {e}")))?;
+            let channels = info.color_type.samples();
+            // Grey and grey-alpha have one colour channel, RGB and RGBA three.
+            let colours = if channels >= 3 { 3 } else { 1 };
+            let features = pixels[..info.buffer_size()]
+                .chunks_exact(info.line_size)
+                .flat_map(|row| {
+                    row[..info.width as usize * channels]
+                        .chunks_exact(channels)
+                        .map(|p| p[..colours].iter().any(|&c| c != 0))
+                })
+                .collect();
+            mask(info.width as u64, info.height as u64, features).map_err(parse)
+        }
+        _ => Err(parse(
+            "a mask is read from .npy or .png (by the file's extension)".into(),
+        )),
+    }
+}
+
+fn mask(width: u64, height: u64, features: Vec<bool>) -> std::result::Result<Mask, String> {
+    if width == 0 || height == 0 {
+        return Err(format!("the mask is empty ({height} x {width})"));
+    }
+    let side = |n: u64| u32::try_from(n).map_err(|_| format!("a side of {n} pixels is too long"));
+    Ok(Mask {
+        width: side(width)?,
+        height: side(height)?,
+        features,
+    })
+}
