@@ -664,6 +664,28 @@ enum PixgeoStatus pixgeo_alpha_hull(struct PixgeoContext *ctx,
                                     uint32_t *boundary,
                                     size_t boundary_capacity);
 
+// The distance and feature transform of a `width` x `height` raster (the
+// picture size of `options`): `mask` holds `width * height` bytes, row-major,
+// non-zero at feature pixels. Writes each pixel's distance to the nearest
+// feature pixel (`distances`, infinity where there is none) and that pixel's
+// row and column (`feature_rows`, `feature_columns`, -1 where there is none);
+// any of the three may be null to skip it. The metric of `options` applies,
+// its bounding box does not. `sampling` is null (1, 1) or `{rows, columns}`,
+// the spacing of rows and of columns: any for L2, L1, L-infinity and L_p with
+// p >= 1, equal for the others. Exact; computed on the CPU.
+//
+// # Safety
+// `ctx` is a live context; `mask` holds `width * height` bytes; `options`
+// points to valid options; `sampling` is null or holds 2 doubles; each output
+// is null or has room for `width * height` values.
+enum PixgeoStatus pixgeo_distance_transform(struct PixgeoContext *ctx,
+                                            const uint8_t *mask,
+                                            const struct PixgeoVoronoiOptions *options,
+                                            const double *sampling,
+                                            double *distances,
+                                            int32_t *feature_rows,
+                                            int32_t *feature_columns);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

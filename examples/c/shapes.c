@@ -1,7 +1,7 @@
 /* A C host using the rest of pixgeo: a diagram streamed in bands with its ties,
- * flooding and jump flooding, the smallest and largest triangles and
- * quadrangles, and α-hulls, each checked against brute force, and the
- * options' struct_size guard. Exits 0 when every check passes.
+ * flooding and jump flooding, a raster's distance transform, the smallest and
+ * largest triangles and quadrangles, and α-hulls, each checked against brute
+ * force, and the options' struct_size guard. Exits 0 when every check passes.
  *
  *   tools/install ~/.local
  *   export PKG_CONFIG_PATH=~/.local/lib/pkgconfig LD_LIBRARY_PATH=~/.local/lib
@@ -164,6 +164,41 @@ int main(void) {
               method, own, nearest);
     }
     free(flooded);
+
+    /* The distance and feature transform of a raster, anisotropic, against
+     * brute force; a spacing of 0 is refused. */
+    {
+        unsigned char mask[W * H] = {0};
+        mask[3 * W + 5] = mask[20 * W + 31] = mask[29 * W + 0] = 1;
+        PixgeoVoronoiOptions raster = pixgeo_voronoi_options_default(W, H);
+        const double sampling[2] = {2.0, 0.5};
+        double *d = malloc(sizeof(double) * W * H);
+        int32_t *rows = malloc(sizeof(int32_t) * W * H);
+        int32_t *columns = malloc(sizeof(int32_t) * W * H);
+        status = pixgeo_distance_transform(ctx, mask, &raster, sampling, d, rows, columns);
+        CHECK(status == PIXGEO_STATUS_OK, "transform: %s", pixgeo_context_last_error(ctx));
+        int wrong = 0;
+        for (int j = 0; j < H; j++) {
+            for (int i = 0; i < W; i++) {
+                double best = INFINITY;
+                for (int k = 0; k < W * H; k++) {
+                    if (mask[k]) best = fmin(best, hypot(2.0 * (j - k / W), 0.5 * (i - k % W)));
+                }
+                int r = rows[j * W + i], c = columns[j * W + i];
+                wrong += d[j * W + i] != best || !mask[r * W + c] ||
+                         hypot(2.0 * (j - r), 0.5 * (i - c)) != best;
+            }
+        }
+        CHECK(wrong == 0, "transform: %d pixels wrong", wrong);
+        const double flat[2] = {0.0, 1.0};
+        CHECK(pixgeo_distance_transform(ctx, mask, &raster, flat, d, NULL, NULL) ==
+                      PIXGEO_STATUS_INVALID_ARGUMENT &&
+                  strstr(pixgeo_context_last_error(ctx), "sampling") != NULL,
+              "a spacing of 0: %s", pixgeo_context_last_error(ctx));
+        free(d);
+        free(rows);
+        free(columns);
+    }
 
     /* Triangles and quadrangles against every subset. */
     double p[2 * N];

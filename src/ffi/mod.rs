@@ -35,6 +35,7 @@ mod homothets;
 mod options;
 mod settle;
 mod shapes;
+mod transform;
 
 pub use delaunay::*;
 pub use diagrams::*;
@@ -44,6 +45,7 @@ pub use homothets::*;
 pub use options::*;
 pub use settle::*;
 pub use shapes::*;
+pub use transform::*;
 
 /// Result of every call.
 #[repr(C)]
