@@ -1082,6 +1082,31 @@ fn transform_reads_png_and_npy_masks_and_writes_scipy_layout() {
         }
     }
 
+    // Each pixel's nearest component: the two features are two components,
+    // numbered by their first pixel row by row.
+    let (c, picture) = (temp("transform-c.npy"), temp("transform.png"));
+    let (ok, stdout, stderr) = pixgeo(&[
+        "transform",
+        "--mask",
+        png.to_str().unwrap(),
+        "--components",
+        c.to_str().unwrap(),
+        "-o",
+        picture.to_str().unwrap(),
+    ]);
+    assert!(ok && stdout.contains("in 2 components"), "{stdout}{stderr}");
+    let (shape, components) = npy::read::<u32>(&c).unwrap();
+    assert_eq!(shape, [5, 7]);
+    for (p, &component) in components.iter().enumerate() {
+        let (x, y) = (p as u32 % w, p as u32 / w);
+        let d = |&(fx, fy): &(u32, u32)| (x as f64 - fx as f64).hypot(y as f64 - fy as f64);
+        let (first, second) = (d(&features[0]), d(&features[1]));
+        if first != second {
+            assert_eq!(component, u32::from(second < first), "pixel ({x}, {y})");
+        }
+    }
+    assert!(image::open(&picture).is_ok());
+
     // No feature: infinite distances and -1 indices; L1 from an .npy mask.
     let empty = temp("empty-mask.npy");
     npy::write(&empty, &[2, 2], &[0.0f64; 4]).unwrap();

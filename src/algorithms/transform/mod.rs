@@ -14,9 +14,17 @@
 //! Voronoi diagram of the feature pixels, grown on the CPU (thesis §3.12), with
 //! equal sampling on both axes.
 //!
+//! Each pixel may also take the connected feature component it is nearest to
+//! ([`components`], [`Transform::at_nearest`]): the Voronoi diagram of the
+//! obstacles in a raster.
+//!
 //! Rasters are row-major, row 0 first, as NumPy holds them.
 
 use rayon::prelude::*;
+
+mod components;
+
+pub use components::{components, NO_COMPONENT};
 
 use crate::{
     error::{Error, Result},
@@ -70,6 +78,23 @@ pub struct Transform {
     pub feature_rows: Vec<i32>,
     /// And its column.
     pub feature_columns: Vec<i32>,
+}
+
+impl Transform {
+    /// Each pixel's value of `per_pixel` (row-major, one per pixel) at its
+    /// nearest feature pixel; `none` where the raster has no feature. With
+    /// [`components`]' labels, every pixel gets the component it is nearest to.
+    pub fn at_nearest<T: Copy + Send + Sync>(&self, per_pixel: &[T], none: T) -> Vec<T> {
+        let w = self.width as usize;
+        self.feature_rows
+            .par_iter()
+            .zip(&self.feature_columns)
+            .map(|(&row, &column)| match row {
+                -1 => none,
+                row => per_pixel[row as usize * w + column as usize],
+            })
+            .collect()
+    }
 }
 
 /// No feature pixel.

@@ -147,3 +147,66 @@ fn bad_input_is_refused() {
     );
     assert!(error.contains("equal sampling"), "{error}");
 }
+
+/// Components by flood fill from each unlabelled feature pixel in scan order.
+fn flood_components(mask: &[bool], w: usize) -> Vec<u32> {
+    let h = mask.len() / w;
+    let mut labels = vec![NO_COMPONENT; mask.len()];
+    let mut next = 0;
+    for start in 0..mask.len() {
+        if !mask[start] || labels[start] != NO_COMPONENT {
+            continue;
+        }
+        let mut stack = vec![start];
+        labels[start] = next;
+        while let Some(p) = stack.pop() {
+            let (x, y) = ((p % w) as i64, (p / w) as i64);
+            for (dx, dy) in (-1..=1).flat_map(|dx| (-1..=1).map(move |dy| (dx, dy))) {
+                let (qx, qy) = (x + dx, y + dy);
+                if qx < 0 || qy < 0 || qx >= w as i64 || qy >= h as i64 {
+                    continue;
+                }
+                let q = qy as usize * w + qx as usize;
+                if mask[q] && labels[q] == NO_COMPONENT {
+                    labels[q] = next;
+                    stack.push(q);
+                }
+            }
+        }
+        next += 1;
+    }
+    labels
+}
+
+#[test]
+fn components_match_a_flood_fill_and_pixels_take_their_nearest() {
+    for (name, w, h, mask) in masks() {
+        let (labels, count) = components(&mask, w);
+        let expected = flood_components(&mask, w);
+        assert_eq!(labels, expected, "{name}");
+        assert_eq!(
+            count,
+            expected
+                .iter()
+                .filter(|&&l| l != NO_COMPONENT)
+                .max()
+                .map_or(0, |m| m + 1),
+            "{name}"
+        );
+        let t = distance_transform(&mask, w as u32, h as u32, &TransformOptions::new()).unwrap();
+        let nearest = t.at_nearest(&labels, NO_COMPONENT);
+        for (p, (&component, &d)) in nearest.iter().zip(&t.distances).enumerate() {
+            // The component of some feature pixel at the smallest distance.
+            let at = |f: usize| {
+                let (dx, dy) = (
+                    (p % w) as f64 - (f % w) as f64,
+                    (p / w) as f64 - (f / w) as f64,
+                );
+                (dx * dx + dy * dy).sqrt()
+            };
+            let found = (0..w * h).any(|f| mask[f] && labels[f] == component && at(f) == d);
+            let none = component == NO_COMPONENT && d.is_infinite();
+            assert!(found || none, "{name}: pixel {p}");
+        }
+    }
+}

@@ -398,15 +398,28 @@ fn entries() -> Vec<Entry> {
             sites: None,
             args: &["--random", "200", "--grid", "60", "--size", "640"],
         },
+        Entry {
+            command: "transform",
+            picture: "transform.png",
+            title: "Distance transform and the Voronoi diagram of obstacles",
+            caption: "Every pixel of a raster takes its exact distance to the nearest                       obstacle pixel (darker farther, a band every tenth of the                       largest) and the colour of the obstacle it is nearest to:                       a pass down the columns, then the lower envelope of the                       columns' parabolas along each row (Meijster et al. 2000).",
+            sites: None,
+            args: &["--mask", "obstacles.png"],
+        },
     ]
 }
 
-/// The files the homothet entries read besides their sites.
-const EXTRA_FILES: [(&str, &str); 2] = [
-    ("kite.csv", "x,y\n1,0\n0,1.2\n-0.6,0\n0,-0.5\n"),
+/// The files the entries read besides their sites: the homothets' units and
+/// region, and the transform's mask.
+const EXTRA_FILES: [(&str, &[u8]); 3] = [
+    ("kite.csv", b"x,y\n1,0\n0,1.2\n-0.6,0\n0,-0.5\n"),
     (
         "county.json",
-        "[[[0, 0], [100, 0], [100, 100], [0, 100]], [[30, 30], [70, 30], [70, 70], [30, 70]]]\n",
+        b"[[[0, 0], [100, 0], [100, 100], [0, 100]], [[30, 30], [70, 30], [70, 70], [30, 70]]]\n",
+    ),
+    (
+        "obstacles.png",
+        include_bytes!("../../../examples/data/obstacles.png"),
     ),
 ];
 
@@ -517,7 +530,10 @@ pub fn run(args: Args) -> Result<()> {
             Command::Empty(a) => crate::homothet::empty(a)?,
             Command::Alpha(a) => crate::alpha::run(a)?,
             Command::Delaunay(a) => crate::delaunay::run(*a)?,
-            _ => unreachable!("the gallery runs voronoi, enclose, empty, alpha and delaunay"),
+            Command::Transform(a) => crate::transform::run(a)?,
+            _ => unreachable!(
+                "the gallery runs voronoi, enclose, empty, alpha, delaunay and transform"
+            ),
         }
         let _ = write!(
             html,

@@ -5,9 +5,14 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use pixgeo::{
-    algorithms::transform::{distance_transform, TransformOptions},
+    algorithms::transform::{components, distance_transform, TransformOptions, NO_COMPONENT},
     geometry::metric::Metric,
-    io::{mask::read_mask, npy, output::check_distinct},
+    io::{
+        mask::read_mask,
+        npy,
+        output::{check_distinct, check_extension},
+        picture::{site_color, PngStream},
+    },
 };
 use serde_json::json;
 
@@ -43,6 +48,17 @@ pub struct Args {
     /// row then its column (SciPy's layout); -1 where the mask has no feature.
     #[arg(long, value_name = "FILE.npy")]
     indices: Option<PathBuf>,
+    /// Write the connected feature component (8-connected, numbered 0, 1, ...
+    /// by its first pixel, row by row) each pixel is nearest to: uint32, (rows,
+    /// columns), 4294967295 where the mask has no feature. The Voronoi diagram
+    /// of the obstacles.
+    #[arg(long, value_name = "FILE.npy")]
+    components: Option<PathBuf>,
+    /// Draw a PNG: each pixel in the colour of the feature component it is
+    /// nearest to, darker with the distance, and bands every tenth of the
+    /// largest distance; the features black.
+    #[arg(short = 'o', long = "output", value_name = "PNG")]
+    output: Option<PathBuf>,
     /// Distance function: `l2`, `l1`, `linf`, `lp:P` or `polygon:FILE` (see
     /// `pixgeo voronoi --help`).
     #[arg(long, default_value = "l2", value_parser = pixgeo::io::sites::parse_metric)]
@@ -77,19 +93,27 @@ fn parse_sampling(text: &str) -> Result<[f64; 2], String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if args.distance.is_none() && args.indices.is_none() && !args.json {
-        bail!("nothing to write: give --distance FILE.npy, --indices FILE.npy or --json");
+    let outputs = [
+        ("--distance", &args.distance, "npy", "distances"),
+        ("--indices", &args.indices, "npy", "indices"),
+        ("--components", &args.components, "npy", "components"),
+        ("-o", &args.output, "png", "pictures"),
+    ];
+    if outputs.iter().all(|(_, path, _, _)| path.is_none()) && !args.json {
+        bail!(
+            "nothing to write: give --distance FILE.npy, --indices FILE.npy, \
+             --components FILE.npy, -o PNG or --json"
+        );
     }
-    let outputs = [("--distance", &args.distance), ("--indices", &args.indices)];
-    for ((_, path), what) in outputs.iter().zip(["distances", "indices"]) {
+    for (_, path, extension, what) in outputs {
         if let Some(path) = path {
-            pixgeo::io::output::check_extension(path, "npy", what)?;
+            check_extension(path, extension, what)?;
         }
     }
     check_distinct(
         outputs
             .iter()
-            .filter_map(|(flag, path)| path.as_deref().map(|p| (*flag, p)))
+            .filter_map(|(flag, path, _, _)| path.as_deref().map(|p| (*flag, p)))
             .chain([("--mask", args.mask.as_path())]),
     )?;
     let mask = read_mask(&args.mask)?;
@@ -108,19 +132,47 @@ pub fn run(args: Args) -> Result<()> {
         indices.extend_from_slice(&t.feature_columns);
         npy::write(path, &[2, h, w], &indices)?;
     }
-    crate::wrote([args.distance.as_deref(), args.indices.as_deref()]);
-    let features = mask.features.iter().filter(|&&f| f).count();
+    let (labels, count) = components(&mask.features, mask.width as usize);
     let largest = t
         .distances
         .iter()
         .copied()
         .filter(|d| d.is_finite())
         .fold(0.0, f64::max);
+    if args.components.is_some() || args.output.is_some() {
+        let nearest = t.at_nearest(&labels, NO_COMPONENT);
+        if let Some(path) = &args.components {
+            npy::write(path, &[h, w], &nearest)?;
+        }
+        if let Some(path) = &args.output {
+            let shade = |d: f64| {
+                let f = d / largest.max(f64::MIN_POSITIVE);
+                let band = if (f * 10.0).fract() < 0.04 { 0.8 } else { 1.0 };
+                (1.0 - 0.6 * f) * band
+            };
+            let rgb: Vec<u8> = nearest
+                .iter()
+                .zip(&mask.features)
+                .zip(&t.distances)
+                .flat_map(|((&c, &feature), &d)| match (feature, c) {
+                    (true, _) => [0; 3],
+                    (false, NO_COMPONENT) => [255; 3],
+                    (false, c) => site_color(c).map(|v| (v as f64 * shade(d)) as u8),
+                })
+                .collect();
+            let mut png = PngStream::create(path, t.width, t.height)?;
+            png.write(&rgb)?;
+            png.finish()?;
+        }
+    }
+    crate::wrote(outputs.iter().map(|(_, path, _, _)| path.as_deref()));
+    let features = mask.features.iter().filter(|&&f| f).count();
     if args.json {
         let answer = json!({
             "width": t.width,
             "height": t.height,
             "features": features,
+            "components": count,
             "metric": args.metric.to_string(),
             "sampling": args.sampling,
             "largest_distance": (features > 0).then_some(largest),
@@ -135,7 +187,8 @@ pub fn run(args: Args) -> Result<()> {
         );
     } else {
         outln!(
-            "{} x {} raster, {features} feature pixels: largest {} distance {largest}",
+            "{} x {} raster, {features} feature pixels in {count} components: largest {} \
+             distance {largest}",
             t.width,
             t.height,
             args.metric
