@@ -142,7 +142,9 @@ pub fn distance_transform(
     if let Metric::Lp(p) = metric {
         Metric::lp(p).map_err(Error::InvalidInput)?;
     }
-    let (feature_rows, feature_columns) = match Combine::of(metric) {
+    // The longest and the shortest offsets the keys must hold.
+    let range = [sy.min(sx), (w as f64 * sx).max(h as f64 * sy)];
+    let (feature_rows, feature_columns) = match Combine::of(metric, range) {
         Some(combine) => separable(features, w, h, [sy, sx], combine),
         None if sy == sx => grown(features, width, height, metric)?,
         None => {
@@ -195,12 +197,17 @@ enum Combine {
 }
 
 impl Combine {
-    fn of(metric: Metric) -> Option<Self> {
+    /// How `metric` separates, for offsets from `shortest` to `longest`:
+    /// L_p's powers of them must stay within f64's range (p up to about
+    /// 60 over 2^16 pixels); larger p take the grown diagram, whose keys scale.
+    fn of(metric: Metric, [shortest, longest]: [f64; 2]) -> Option<Self> {
         match metric {
             Metric::L2 => Some(Self::Squares),
             Metric::L1 => Some(Self::Sum),
             Metric::LInf => Some(Self::Max),
-            Metric::Lp(p) if p >= 1.0 => Some(Self::Powers(p)),
+            Metric::Lp(p) if p >= 1.0 && p * longest.log2() < 1000.0 => {
+                (p * shortest.log2() > -1000.0).then_some(Self::Powers(p))
+            }
             _ => None,
         }
     }

@@ -118,6 +118,26 @@ fn equal_sampling_scales_other_metrics() {
 }
 
 #[test]
+fn large_exponents_keep_their_keys_in_range() {
+    // 400 * log2(57) passes f64's exponent: these take the grown diagram.
+    let (name, w, h, mask) = masks().swap_remove(26);
+    for metric in [Metric::Lp(400.0), Metric::Lp(80.0)] {
+        check(&name, &mask, w, h, &TransformOptions::new().metric(metric));
+    }
+    let error = distance_transform(
+        &mask,
+        w as u32,
+        h as u32,
+        &TransformOptions::new()
+            .metric(Metric::Lp(400.0))
+            .sampling([1.0, 2.0]),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("equal sampling"), "{error}");
+}
+
+#[test]
 fn bad_input_is_refused() {
     let mask = vec![true; 6];
     let refused = |w, h, options: TransformOptions| {
