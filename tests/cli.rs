@@ -1134,6 +1134,41 @@ fn transform_reads_png_and_npy_masks_and_writes_scipy_layout() {
         let (ok, _, stderr) = pixgeo(&run);
         assert!(!ok && stderr.contains(message), "{run:?}: {stderr}");
     }
+    // The medial axis of a bar of 7 free rows between two rows of features.
+    let (bar, axis) = (temp("bar-mask.npy"), temp("bar-axis.npy"));
+    let border: Vec<u8> = (0..20 * 9)
+        .map(|p| u8::from(p % 20 == 0 || p % 20 == 19 || p / 20 == 0 || p / 20 == 8))
+        .collect();
+    npy::write(&bar, &[9, 20], &border).unwrap();
+    let run = [
+        "transform",
+        "--mask",
+        bar.to_str().unwrap(),
+        "--medial-axis",
+    ];
+    let (ok, stdout, stderr) = pixgeo(&[&run[..], &[axis.to_str().unwrap(), "--json"]].concat());
+    assert!(
+        ok && stdout.contains("\"medial_axis_pixels\""),
+        "{stdout}{stderr}"
+    );
+    let (shape, on) = npy::read::<bool>(&axis).unwrap();
+    assert_eq!(shape, [9, 20]);
+    for x in 8..12 {
+        let rows: Vec<usize> = (0..9).filter(|&y| on[y * 20 + x]).collect();
+        assert_eq!(rows, [4], "column {x}");
+    }
+    let (ok, _, stderr) =
+        pixgeo(&[&run[..], &[axis.to_str().unwrap(), "--prune-angle", "200"]].concat());
+    assert!(!ok && stderr.contains("pruning"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&[
+        "transform",
+        "--mask",
+        bar.to_str().unwrap(),
+        "--prune",
+        "2",
+        "--json",
+    ]);
+    assert!(!ok && stderr.contains("--medial-axis"), "{stderr}");
     let cube = temp("cube-mask.npy");
     npy::write(&cube, &[2, 2, 2], &[1u8; 8]).unwrap();
     let (ok, _, stderr) = pixgeo(&["transform", "--mask", cube.to_str().unwrap(), "--json"]);

@@ -17,6 +17,10 @@ def frame_of(width: int, height: int, bbox: _BBox) -> _Frame: ...
 def distance_transform(
     features: npt.NDArray[np.bool_], sampling: Tuple[float, float], metric_name: str
 ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32]]: ...
+def medial_axis(
+    features: npt.NDArray[np.bool_], sampling: Tuple[float, float], metric_name: str,
+    length: float, angle: float,
+) -> Tuple[npt.NDArray[np.bool_], npt.NDArray[np.float64]]: ...
 def voronoi(
     sites: _Points, width: int, height: int, bbox: _BBox, metric_name: str, mode: str,
     device: Optional[str], window: Optional[Tuple[int, int, int, int]] = None,

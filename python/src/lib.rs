@@ -20,7 +20,10 @@ use pixgeo::{
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
-        transform::{distance_transform as transform_of, TransformOptions},
+        transform::{
+            distance_transform as transform_of, medial_axis as axis_of, Pruning, Transform,
+            TransformOptions,
+        },
         voronoi::{self as diagram, Accuracy, VoronoiOptions},
     },
     geometry::{metric::Metric, site::Site, Frame},
@@ -155,16 +158,13 @@ type Triangulation<'py> = (Bound<'py, PyArray2<u32>>, Bound<'py, PyArray2<u32>>)
 /// nearest feature.
 type Transformed<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<i32>>);
 
-/// Distances (H, W) to the nearest `features` pixel and its (row, column)
-/// (2, H, W): -1 and infinity where there is no feature.
-#[pyfunction]
-#[pyo3(signature = (features, sampling, metric_name))]
-fn distance_transform<'py>(
-    py: Python<'py>,
-    features: numpy::PyReadonlyArray2<'py, bool>,
+/// The transform of a (H, W) `features` raster, with its options.
+fn transform(
+    py: Python<'_>,
+    features: numpy::PyReadonlyArray2<'_, bool>,
     sampling: [f64; 2],
     metric_name: &str,
-) -> PyResult<Transformed<'py>> {
+) -> PyResult<(Transform, TransformOptions)> {
     let (h, w) = features.as_array().dim();
     let side = |n: usize| {
         u32::try_from(n).map_err(|_| PyValueError::new_err(format!("a side of {n} is too long")))
@@ -177,13 +177,53 @@ fn distance_transform<'py>(
     let t = py
         .detach(|| transform_of(&mask, width, height, &options))
         .map_err(to_py)?;
+    Ok((t, options))
+}
+
+/// Distances (H, W) to the nearest `features` pixel and its (row, column)
+/// (2, H, W): -1 and infinity where there is no feature.
+#[pyfunction]
+#[pyo3(signature = (features, sampling, metric_name))]
+fn distance_transform<'py>(
+    py: Python<'py>,
+    features: numpy::PyReadonlyArray2<'py, bool>,
+    sampling: [f64; 2],
+    metric_name: &str,
+) -> PyResult<Transformed<'py>> {
+    let (t, _) = transform(py, features, sampling, metric_name)?;
+    let (h, w) = (t.height as usize, t.width as usize);
     let mut planes = t.feature_rows;
     planes.extend_from_slice(&t.feature_columns);
     let indices = Array3::from_shape_vec((2, h, w), planes)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok((
-        raster(py, t.distances, height, width)?,
+        raster(py, t.distances, t.height, t.width)?,
         indices.into_pyarray(py),
+    ))
+}
+
+/// A medial axis (H, W) and the distances (H, W).
+type Axis<'py> = (Bound<'py, PyArray2<bool>>, Bound<'py, PyArray2<f64>>);
+
+/// The medial axis (H, W) of the pixels that are not `features`, pruned by
+/// `length` and `angle`, and the distances (H, W).
+#[pyfunction]
+#[pyo3(signature = (features, sampling, metric_name, length, angle))]
+fn medial_axis<'py>(
+    py: Python<'py>,
+    features: numpy::PyReadonlyArray2<'py, bool>,
+    sampling: [f64; 2],
+    metric_name: &str,
+    length: f64,
+    angle: f64,
+) -> PyResult<Axis<'py>> {
+    let (t, options) = transform(py, features, sampling, metric_name)?;
+    let axis = py
+        .detach(|| axis_of(&t, &options, Pruning { length, angle }))
+        .map_err(to_py)?;
+    Ok((
+        raster(py, axis, t.height, t.width)?,
+        raster(py, t.distances, t.height, t.width)?,
     ))
 }
 
@@ -533,6 +573,7 @@ fn extremal_polygon<'py>(
 fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frame_of, m)?)?;
     m.add_function(wrap_pyfunction!(distance_transform, m)?)?;
+    m.add_function(wrap_pyfunction!(medial_axis, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi_weighted, m)?)?;
     m.add_function(wrap_pyfunction!(alpha_hull_of, m)?)?;

@@ -76,3 +76,70 @@ def test_l1_and_linf_equal_cdt(name, metric, scipy_metric):
     expected = ndimage.distance_transform_cdt(input, metric=scipy_metric)
     d = pixgeo.distance_transform_edt(input, metric=metric)
     np.testing.assert_array_equal(d, expected)
+
+
+def shapes():
+    h, w = 120, 160
+    y, x = np.mgrid[:h, :w]
+    blobs = ndimage.gaussian_filter(np.random.default_rng(1).random((h, w)), 6)
+    return {
+        "disk": (y - 60) ** 2 + (x - 80) ** 2 < 50**2,
+        "bar": (y > 20) & (y < 60) & (x > 10) & (x < 150),
+        "ellipse": ((y - 60) / 40) ** 2 + ((x - 80) / 70) ** 2 < 1,
+        "ring": ((y - 60) ** 2 + (x - 80) ** 2 < 55**2) & ((y - 60) ** 2 + (x - 80) ** 2 > 20**2),
+        "L": ((y > 10) & (y < 40) & (x > 10) & (x < 140)) | ((y > 10) & (y < 110) & (x > 10) & (x < 45)),
+        "blobs": blobs > np.median(blobs),
+    }
+
+
+@pytest.mark.parametrize("name", list(shapes()))
+def test_medial_axis_beside_skimage(name):
+    """skimage thins the shape in the order of the distances and keeps it
+    connected; pixgeo's integer medial axis keeps the pixels between features
+    far apart and seen under a wide angle, from the exact feature transform.
+    So skimage's axis lies along pixgeo's: 85% or more of its pixels within
+    1.5 pixels of pixgeo's, the rest on the spurs that keep it connected and
+    branches into blunt corners, which pixgeo prunes. pixgeo's may keep a few
+    lone pixels where a digital curve's lattice points tie, and more axis
+    where skimage's thinning has stopped, in the middle of a disk (skimage
+    keeps 2 pixels there) and along an ellipse's blunt ends."""
+    from skimage.morphology import medial_axis
+
+    image = shapes()[name]
+    ours, d = pixgeo.medial_axis(image, return_distance=True)
+    theirs = medial_axis(image, rng=0)
+    assert ours.dtype == bool and ours.shape == image.shape
+    assert not ours[~image].any()
+    np.testing.assert_array_equal(d, ndimage.distance_transform_edt(image))
+    near_ours = ndimage.distance_transform_edt(~ours)[theirs] <= 1.5
+    near_theirs = ndimage.distance_transform_edt(~theirs)[ours] <= 1.5
+    assert near_ours.mean() >= 0.85, near_ours.mean()
+    if name == "disk":
+        assert ours[60, 80] and ours.sum() <= 20
+    else:
+        assert near_theirs.mean() >= 0.8, near_theirs.mean()
+    if name == "bar":
+        # 39 free rows: the axis is the middle one, away from the corners.
+        np.testing.assert_array_equal(ours[:, 60:100], theirs[:, 60:100])
+        assert ours[40, 60:100].all() and ours[:, 60:100].sum() == 40
+
+
+def test_medial_axis_options():
+    image = shapes()["L"]
+    bar = image & (np.mgrid[:120, :160][0] < 40)
+    # A mask counts only the pixels non-zero in it too.
+    np.testing.assert_array_equal(
+        pixgeo.medial_axis(image, mask=bar), pixgeo.medial_axis(bar)
+    )
+    # Sampling stretches the rows: the bar's axis stays in its middle row.
+    stretched = pixgeo.medial_axis(bar, sampling=(3.0, 1.0))
+    assert stretched[25, 60:90].all() and stretched[:, 60:90].sum() == 30
+    # Less pruning keeps more.
+    loose = pixgeo.medial_axis(image, prune=1.0, prune_angle=0.0)
+    assert loose.sum() > pixgeo.medial_axis(image).sum()
+    assert (loose | ~pixgeo.medial_axis(image)).all()
+    for bad in ({"prune": -1.0}, {"prune_angle": 200.0}):
+        with pytest.raises(ValueError, match="pruning"):
+            pixgeo.medial_axis(image, **bad)
+    with pytest.raises(ValueError):
+        pixgeo.medial_axis(image, mask=np.ones((2, 2)))

@@ -16,15 +16,17 @@
 //!
 //! Each pixel may also take the connected feature component it is nearest to
 //! ([`components`], [`Transform::at_nearest`]): the Voronoi diagram of the
-//! obstacles in a raster.
+//! obstacles in a raster; and the free space's medial axis ([`medial_axis`]).
 //!
 //! Rasters are row-major, row 0 first, as NumPy holds them.
 
 use rayon::prelude::*;
 
 mod components;
+mod medial_axis;
 
 pub use components::{components, NO_COMPONENT};
+pub use medial_axis::{medial_axis, Pruning};
 
 use crate::{
     error::{Error, Result},

@@ -230,3 +230,125 @@ fn components_match_a_flood_fill_and_pixels_take_their_nearest() {
         }
     }
 }
+
+/// A `w` x `h` raster whose features are its border: a bar of free pixels.
+fn bar(w: usize, h: usize) -> Vec<bool> {
+    (0..w * h)
+        .map(|p| p % w == 0 || p % w == w - 1 || p / w == 0 || p / w == h - 1)
+        .collect()
+}
+
+#[test]
+fn a_bars_axis_is_its_middle_row() {
+    let w = 48;
+    for metric in [Metric::L2, Metric::L1, Metric::LInf] {
+        for sampling in [[1.0, 1.0], [2.0, 1.0], [1.0, 3.0]] {
+            // 9 free rows have one middle row; 10 have two, and the upper is
+            // taken on the tie.
+            for (h, middle) in [(11, 5), (12, 5)] {
+                let options = TransformOptions::new().metric(metric).sampling(sampling);
+                let t = distance_transform(&bar(w, h), w as u32, h as u32, &options).unwrap();
+                let axis = medial_axis(&t, &options, Pruning::default()).unwrap();
+                // Away from the ends, whose corners grow bisectors of their own.
+                for x in h..w - h {
+                    let column: Vec<usize> = (0..h).filter(|&y| axis[y * w + x]).collect();
+                    assert_eq!(
+                        column,
+                        [middle],
+                        "{metric}, {sampling:?}, {h} rows, column {x}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_disks_axis_is_its_centre() {
+    let (w, c, r) = (81, 40i64, 36i64);
+    let mask: Vec<bool> = (0..w * w)
+        .map(|p| {
+            let (dx, dy) = ((p % w) as i64 - c, (p / w) as i64 - c);
+            dx * dx + dy * dy > r * r
+        })
+        .collect();
+    let options = TransformOptions::new();
+    let t = distance_transform(&mask, w as u32, w as u32, &options).unwrap();
+    let axis = medial_axis(&t, &options, Pruning::default()).unwrap();
+    let on: Vec<(i64, i64)> = (0..w * w)
+        .filter(|&p| axis[p])
+        .map(|p| ((p % w) as i64 - c, (p / w) as i64 - c))
+        .collect();
+    assert!(on.contains(&(0, 0)), "{on:?}");
+    // The centre, and a few lone pixels near the rim where lattice points of
+    // the digital circle tie at a distance of about 4.
+    let lone = |&(x, y): &(i64, i64)| {
+        let touching = on
+            .iter()
+            .filter(|&&(u, v)| (u - x).abs() <= 1 && (v - y).abs() <= 1)
+            .count();
+        touching == 1 && x * x + y * y >= 30 * 30
+    };
+    assert!(
+        on.iter()
+            .all(|&(x, y)| x * x + y * y <= 4 * 4 || lone(&(x, y))),
+        "{on:?}"
+    );
+    assert!(on.iter().filter(|p| lone(p)).count() <= 4, "{on:?}");
+    // Without pruning, a digital circle's notches grow spurs too.
+    let spurs = medial_axis(
+        &t,
+        &options,
+        Pruning {
+            length: 0.0,
+            angle: 0.0,
+        },
+    )
+    .unwrap();
+    assert!(spurs.iter().zip(&axis).all(|(&s, &a)| s || !a));
+    assert!(spurs.iter().filter(|&&s| s).count() > 4 * on.len());
+}
+
+#[test]
+fn axes_lie_on_free_pixels_between_distinct_features() {
+    for (name, w, h, mask) in masks() {
+        let options = TransformOptions::new();
+        let t = distance_transform(&mask, w as u32, h as u32, &options).unwrap();
+        let pruning = Pruning {
+            length: 1.0,
+            angle: 0.0,
+        };
+        let axis = medial_axis(&t, &options, pruning).unwrap();
+        for p in (0..w * h).filter(|&p| axis[p]) {
+            assert!(!mask[p] && t.distances[p].is_finite(), "{name}: pixel {p}");
+            // Some neighbour's nearest feature is another, and p is no
+            // farther from it than one pixel step beyond its own.
+            let (x, y) = (p % w, p / w);
+            let beside = [(0, 1), (2, 1), (1, 0), (1, 2)].into_iter().any(|(i, j)| {
+                let (Some(nx), Some(ny)) = ((x + i).checked_sub(1), (y + j).checked_sub(1)) else {
+                    return false;
+                };
+                let q = ny * w + nx;
+                if nx >= w || ny >= h || mask[q] {
+                    return false;
+                }
+                let (fr, fc) = (t.feature_rows[q] as f64, t.feature_columns[q] as f64);
+                let to_fq = ((x as f64 - fc).powi(2) + (y as f64 - fr).powi(2)).sqrt();
+                (t.feature_rows[q], t.feature_columns[q])
+                    != (t.feature_rows[p], t.feature_columns[p])
+                    && to_fq <= t.distances[p] + 1.0
+            });
+            assert!(beside, "{name}: pixel {p}");
+        }
+    }
+}
+
+#[test]
+fn bad_pruning_is_refused() {
+    let options = TransformOptions::new();
+    let t = distance_transform(&bar(8, 8), 8, 8, &options).unwrap();
+    for (length, angle) in [(-1.0, 45.0), (f64::NAN, 45.0), (4.0, 181.0), (4.0, -1.0)] {
+        let err = medial_axis(&t, &options, Pruning { length, angle }).unwrap_err();
+        assert!(err.to_string().contains("pruning"), "{err}");
+    }
+}

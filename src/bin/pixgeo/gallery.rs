@@ -402,9 +402,26 @@ fn entries() -> Vec<Entry> {
             command: "transform",
             picture: "transform.png",
             title: "Distance transform and the Voronoi diagram of obstacles",
-            caption: "Every pixel of a raster takes its exact distance to the nearest                       obstacle pixel (darker farther, a band every tenth of the                       largest) and the colour of the obstacle it is nearest to:                       a pass down the columns, then the lower envelope of the                       columns' parabolas along each row (Meijster et al. 2000).",
+            caption: "Every pixel of a raster takes its exact distance to the nearest \
+                      obstacle pixel (darker farther, a band every tenth of the \
+                      largest) and the colour of the obstacle it is nearest to: \
+                      a pass down the columns, then the lower envelope of the \
+                      columns' parabolas along each row (Meijster et al. 2000).",
             sites: None,
             args: &["--mask", "obstacles.png"],
+        },
+        Entry {
+            command: "transform",
+            picture: "medial_axis.png",
+            title: "Medial axis of the free space",
+            caption: "The white pixels are the medial axis of the space between the \
+                      obstacles, read off the exact feature transform: two neighbouring \
+                      pixels whose nearest obstacle pixels lie far apart and seen under a \
+                      wide angle straddle their bisector, and the nearer one is on the \
+                      axis (Hesselink and Roerdink 2008). It is the roadmap that keeps \
+                      farthest from every obstacle.",
+            sites: None,
+            args: &["--mask", "obstacles.png", "--medial-axis", "medial_axis.npy"],
         },
     ]
 }

@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use pixgeo::{
-    algorithms::transform::{components, distance_transform, TransformOptions, NO_COMPONENT},
+    algorithms::transform::{
+        components, distance_transform, medial_axis, Pruning, TransformOptions, NO_COMPONENT,
+    },
     geometry::metric::Metric,
     io::{
         mask::read_mask,
@@ -54,9 +56,28 @@ pub struct Args {
     /// of the obstacles.
     #[arg(long, value_name = "FILE.npy")]
     components: Option<PathBuf>,
+    /// Write the medial axis of the free space (the pixels that are not
+    /// features): bool, (rows, columns). A free pixel is on it when it and a
+    /// neighbour have nearest features more than --prune apart, and it is the
+    /// one of the two nearer their bisector (Hesselink and Roerdink's integer
+    /// medial axis), and the features are more than --prune apart and seen
+    /// under more than --prune-angle.
+    #[arg(long, value_name = "FILE.npy")]
+    medial_axis: Option<PathBuf>,
+    /// The least distance between two features, in sampled units, that makes
+    /// an axis between them; smaller values keep the spurs that a boundary's
+    /// pixel steps grow.
+    #[arg(long, value_name = "LENGTH", default_value_t = Pruning::default().length, requires = "medial_axis")]
+    prune: f64,
+    /// The least angle, in degrees, under which two features seen from the
+    /// pixels between them make an axis: a square corner's bisector is seen
+    /// under 90°, a digital curve's notches under a few degrees.
+    #[arg(long, value_name = "DEGREES", default_value_t = Pruning::default().angle, requires = "medial_axis")]
+    prune_angle: f64,
     /// Draw a PNG: each pixel in the colour of the feature component it is
     /// nearest to, darker with the distance, and bands every tenth of the
-    /// largest distance; the features black.
+    /// largest distance; the features black, and the medial axis white when
+    /// --medial-axis is given.
     #[arg(short = 'o', long = "output", value_name = "PNG")]
     output: Option<PathBuf>,
     /// Distance function: `l2`, `l1`, `linf`, `lp:P` or `polygon:FILE` (see
@@ -97,12 +118,13 @@ pub fn run(args: Args) -> Result<()> {
         ("--distance", &args.distance, "npy", "distances"),
         ("--indices", &args.indices, "npy", "indices"),
         ("--components", &args.components, "npy", "components"),
+        ("--medial-axis", &args.medial_axis, "npy", "medial axes"),
         ("-o", &args.output, "png", "pictures"),
     ];
     if outputs.iter().all(|(_, path, _, _)| path.is_none()) && !args.json {
         bail!(
             "nothing to write: give --distance FILE.npy, --indices FILE.npy, \
-             --components FILE.npy, -o PNG or --json"
+             --components FILE.npy, --medial-axis FILE.npy, -o PNG or --json"
         );
     }
     for (_, path, extension, what) in outputs {
@@ -132,6 +154,21 @@ pub fn run(args: Args) -> Result<()> {
         indices.extend_from_slice(&t.feature_columns);
         npy::write(path, &[2, h, w], &indices)?;
     }
+    let axis = match &args.medial_axis {
+        Some(path) => {
+            let axis = medial_axis(
+                &t,
+                &options,
+                Pruning {
+                    length: args.prune,
+                    angle: args.prune_angle,
+                },
+            )?;
+            npy::write(path, &[h, w], &axis)?;
+            axis
+        }
+        None => Vec::new(),
+    };
     let (labels, count) = components(&mask.features, mask.width as usize);
     let largest = t
         .distances
@@ -150,14 +187,13 @@ pub fn run(args: Args) -> Result<()> {
                 let band = if (f * 10.0).fract() < 0.04 { 0.8 } else { 1.0 };
                 (1.0 - 0.6 * f) * band
             };
-            let rgb: Vec<u8> = nearest
-                .iter()
-                .zip(&mask.features)
-                .zip(&t.distances)
-                .flat_map(|((&c, &feature), &d)| match (feature, c) {
+            let on_axis = |p: usize| axis.get(p).copied().unwrap_or(false);
+            let rgb: Vec<u8> = (0..nearest.len())
+                .flat_map(|p| match (mask.features[p], nearest[p]) {
                     (true, _) => [0; 3],
+                    (false, _) if on_axis(p) => [255; 3],
                     (false, NO_COMPONENT) => [255; 3],
-                    (false, c) => site_color(c).map(|v| (v as f64 * shade(d)) as u8),
+                    (false, c) => site_color(c).map(|v| (v as f64 * shade(t.distances[p])) as u8),
                 })
                 .collect();
             let mut png = PngStream::create(path, t.width, t.height)?;
@@ -176,6 +212,7 @@ pub fn run(args: Args) -> Result<()> {
             "metric": args.metric.to_string(),
             "sampling": args.sampling,
             "largest_distance": (features > 0).then_some(largest),
+            "medial_axis_pixels": args.medial_axis.is_some().then(|| axis.iter().filter(|&&a| a).count()),
             "stats": { "transform_ms": transform_ms },
         });
         envelope::print("transform", "cpu", None, &answer)?;
