@@ -276,3 +276,129 @@ fn hundreds_of_degenerate_sets_on_every_kind_of_grid() {
         );
     }
 }
+
+/// Vector Voronoi cells from the triangulation, against brute force: areas
+/// sum to the rectangle's, each cell holds its site (when inside), and random
+/// points of each cell are nearest to its site; on random and degenerate
+/// sites.
+#[test]
+fn voronoi_cells_tile_the_frame_and_hold_their_nearest_points() {
+    use pixgeo::{algorithms::cells::voronoi_cells, geometry::cell::Rect};
+    let machine = common::machine();
+    let rect = Rect {
+        lo: DVec2::new(-1.0, -2.0),
+        hi: DVec2::new(9.0, 6.0),
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let random: Vec<DVec2> = (0..300)
+        .map(|_| DVec2::new(rng.gen_range(-1.0..9.0), rng.gen_range(-2.0..6.0)))
+        .collect();
+    let lattice: Vec<DVec2> = (0..49)
+        .map(|i| DVec2::new((i % 7) as f64, (i / 7) as f64 - 1.0))
+        .collect();
+    let circle: Vec<DVec2> = (0..12)
+        .map(|i| {
+            let a = i as f64 * std::f64::consts::TAU / 12.0;
+            DVec2::new(4.0 + 3.0 * a.cos(), 2.0 + 3.0 * a.sin())
+        })
+        .chain([DVec2::new(4.0, 2.0)])
+        .collect();
+    let mut repeated = lattice.clone();
+    repeated.extend_from_slice(&lattice[..10]);
+    let cases: Vec<(&str, Vec<DVec2>)> = vec![
+        ("random", random),
+        ("lattice", lattice),
+        ("co-circular", circle),
+        ("repeated", repeated),
+        (
+            "collinear",
+            (0..6)
+                .map(|i| DVec2::new(i as f64, 0.5 * i as f64))
+                .collect(),
+        ),
+        ("two", vec![DVec2::new(1.0, 1.0), DVec2::new(5.0, 3.0)]),
+        ("one", vec![DVec2::new(2.0, 2.0)]),
+        (
+            "outside the frame",
+            vec![
+                DVec2::new(-30.0, 2.0),
+                DVec2::new(3.0, 2.0),
+                DVec2::new(5.0, 4.0),
+                DVec2::new(50.0, 50.0),
+                DVec2::new(4.0, -0.5),
+            ],
+        ),
+    ];
+    // The same lattice far out and tiny, in its own frame.
+    let lattice = cases[1].1.clone();
+    let scaled = |shift: f64, scale: f64| {
+        let at = |p: DVec2| DVec2::splat(shift) + p * scale;
+        let rect = Rect {
+            lo: at(rect.lo),
+            hi: at(rect.hi),
+        };
+        (lattice.iter().map(|&p| at(p)).collect::<Vec<_>>(), rect)
+    };
+    let mut cases: Vec<(&str, Vec<DVec2>, Rect)> =
+        cases.into_iter().map(|(n, s)| (n, s, rect)).collect();
+    let (far, far_rect) = scaled(1e15, 1.0);
+    let (tiny, tiny_rect) = scaled(0.0, 1e-150);
+    cases.push(("huge coordinates", far, far_rect));
+    cases.push(("tiny coordinates", tiny, tiny_rect));
+    for (name, sites, rect) in cases {
+        let cells =
+            voronoi_cells(&machine, &sites, &rect).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let first: Vec<usize> = (0..sites.len())
+            .map(|i| (0..=i).find(|&j| sites[j] == sites[i]).unwrap())
+            .collect();
+        let total: f64 = (0..sites.len())
+            .filter(|&i| first[i] == i)
+            .map(|i| cells.area(i))
+            .sum();
+        let frame_area = (rect.hi - rect.lo).x * (rect.hi - rect.lo).y;
+        assert!(
+            (total - frame_area).abs() <= 1e-9 * frame_area,
+            "{name}: {total}"
+        );
+        let nearest = |q: DVec2| {
+            sites
+                .iter()
+                .map(|s| s.distance_squared(q))
+                .fold(f64::INFINITY, f64::min)
+        };
+        for (i, cell) in cells.polygons.iter().enumerate() {
+            assert_eq!(
+                cells.polygons[i], cells.polygons[first[i]],
+                "{name}: site {i}"
+            );
+            let s = sites[i];
+            let inside = s.x > rect.lo.x && s.x < rect.hi.x && s.y > rect.lo.y && s.y < rect.hi.y;
+            if inside {
+                let holds = (0..cell.len())
+                    .all(|k| (cell[(k + 1) % cell.len()] - cell[k]).perp_dot(s - cell[k]) >= 0.0);
+                assert!(
+                    cell.len() >= 3 && holds,
+                    "{name}: site {i} outside its cell"
+                );
+            }
+            // Random convex combinations of the corners lie in the cell.
+            for _ in 0..20.min(cell.len() * 4) {
+                let weights: Vec<f64> = cell.iter().map(|_| rng.gen_range(0.0..1.0)).collect();
+                let sum: f64 = weights.iter().sum();
+                let q = cell
+                    .iter()
+                    .zip(&weights)
+                    .map(|(&c, &w)| c * w)
+                    .sum::<DVec2>()
+                    / sum;
+                let mine = s.distance_squared(q);
+                // Far from the origin, q itself is rounded to the coordinates'
+                // precision.
+                let ulp = rect.hi.abs().max_element() * f64::EPSILON;
+                let across = (rect.hi - rect.lo).length();
+                let slack = 1e-9 * across * across + 8.0 * ulp * across;
+                assert!(mine <= nearest(q) + slack, "{name}: site {i} at {q}");
+            }
+        }
+    }
+}

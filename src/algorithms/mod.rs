@@ -4,6 +4,7 @@
 pub mod alpha_hull;
 pub mod area;
 pub mod area_sweep;
+pub mod cells;
 pub mod cones;
 pub mod cpu;
 pub mod delaunay;
@@ -14,5 +15,6 @@ pub mod higher_order;
 pub mod homothet;
 pub mod settle;
 pub mod sites;
+pub mod trace;
 pub mod transform;
 pub mod voronoi;

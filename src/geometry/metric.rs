@@ -232,6 +232,21 @@ impl Metric {
         }
     }
 
+    /// The same metric in the world mirrored across the x axis (y to -y), as
+    /// a north-up raster computes it: a polygon is mirrored, the other
+    /// metrics are symmetric.
+    pub fn mirrored_y(self) -> Self {
+        match self {
+            Self::Polygon(g) => {
+                let mirrored: Vec<DVec2> =
+                    g.vertices.iter().map(|v| DVec2::new(v.x, -v.y)).collect();
+                Self::polygon(&mirrored, DVec2::ZERO)
+                    .expect("a mirrored star-shaped polygon is star-shaped, with the same sizes")
+            }
+            m => m,
+        }
+    }
+
     /// The distance of offset `d`.
     pub fn distance(self, d: DVec2) -> f64 {
         self.distance_of_key(self.key(d))

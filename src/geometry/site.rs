@@ -50,6 +50,32 @@ pub struct Site {
 }
 
 impl Site {
+    /// The site mirrored across the x axis (y to -y), weights kept. An arc
+    /// keeps running counter-clockwise: from -end to -start.
+    pub fn mirrored_y(self) -> Self {
+        let m = |p: DVec2| DVec2::new(p.x, -p.y);
+        let shape = match self.shape {
+            Shape::Point(p) => Shape::Point(m(p)),
+            Shape::Segment(a, b) => Shape::Segment(m(a), m(b)),
+            Shape::Circle { center, radius } => Shape::Circle {
+                center: m(center),
+                radius,
+            },
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => Shape::Arc {
+                center: m(center),
+                radius,
+                start: -end,
+                end: -start,
+            },
+        };
+        Self { shape, ..self }
+    }
+
     /// An unweighted site.
     pub fn new(shape: Shape) -> Self {
         Self {

@@ -27,7 +27,12 @@ impl OutputFile {
     /// flush the buffer before [`OutputFile::commit`], so that every write error
     /// is seen).
     pub fn create(path: &Path, extension: &str, what: &str) -> Result<(Self, File)> {
-        check_extension(path, extension, what)?;
+        Self::create_any(path, &[extension], what)
+    }
+
+    /// [`OutputFile::create`] for a file named with any of `extensions`.
+    pub fn create_any(path: &Path, extensions: &[&str], what: &str) -> Result<(Self, File)> {
+        check_extensions(path, extensions, what)?;
         let io = |source| Error::Io {
             path: path.to_path_buf(),
             cause: source,
@@ -111,18 +116,31 @@ pub fn write_text(
 /// Refuses a file name whose extension does not say the format written into
 /// it: `-o map.jpg` would otherwise hold PNG bytes.
 pub fn check_extension(path: &Path, extension: &str, what: &str) -> Result<()> {
-    let matches = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(extension));
-    if matches || is_device(path) {
-        Ok(())
-    } else {
-        Err(Error::InvalidInput(format!(
-            "{}: {what} are written as .{extension}; name the file *.{extension}",
-            path.display()
-        )))
+    check_extensions(path, &[extension], what)
+}
+
+/// [`check_extension`] for a file that may be named with any of `extensions`.
+pub fn check_extensions(path: &Path, extensions: &[&str], what: &str) -> Result<()> {
+    if extension_among(path, extensions).is_some() || is_device(path) {
+        return Ok(());
     }
+    let dotted: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+    let named: Vec<String> = extensions.iter().map(|e| format!("*.{e}")).collect();
+    Err(Error::InvalidInput(format!(
+        "{}: {what} are written as {}; name the file {}",
+        path.display(),
+        dotted.join(" or "),
+        named.join(" or ")
+    )))
+}
+
+/// Which of `extensions` (any case) ends `path`'s name.
+pub fn extension_among<'a>(path: &Path, extensions: &[&'a str]) -> Option<&'a str> {
+    let extension = path.extension().and_then(|e| e.to_str())?;
+    extensions
+        .iter()
+        .copied()
+        .find(|e| e.eq_ignore_ascii_case(extension))
 }
 
 /// A path to an existing non-regular file (a device or a pipe), which takes any

@@ -9,7 +9,11 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::delaunay::{self, Delaunay, DelaunayOptions},
     geometry::triangulation::check_delaunay,
-    io::{output, picture::PngStream},
+    io::{
+        output,
+        picture::PngStream,
+        vector::{write_geojson, Feature},
+    },
 };
 
 use crate::{distances::machine_on, envelope, input::Points, progress::Progress};
@@ -39,6 +43,11 @@ pub struct Args {
     /// point, numbered from 0) and PREFIX.ele (counter-clockwise triangles).
     #[arg(long, value_name = "PREFIX")]
     triangle: Option<PathBuf>,
+    /// Write the triangles as GeoJSON: a FeatureCollection of Polygons, each
+    /// with its three point indices (`vertices`, counter-clockwise) in
+    /// `properties`.
+    #[arg(long, value_name = "FILE.geojson")]
+    geojson: Option<PathBuf>,
     /// Print the mesh as JSON: points, triangles, duplicates, phase statistics.
     #[arg(long)]
     json: bool,
@@ -68,6 +77,9 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if let Some(path) = &args.geojson {
+        output::check_extension(path, "geojson", "triangles")?;
+    }
     let points = args.points.read()?;
     let machine = machine_on(args.device.as_deref())?;
     let options = DelaunayOptions::default().grid(args.grid).check(args.check);
@@ -89,7 +101,22 @@ pub fn run(args: Args) -> Result<()> {
         png.write(&rgb)?;
         png.finish()?;
     }
-    crate::wrote([args.output.as_deref()]);
+    if let Some(path) = &args.geojson {
+        let features: Vec<Feature> = result
+            .triangles
+            .iter()
+            .map(|t| {
+                let mut properties = serde_json::Map::new();
+                properties.insert("vertices".into(), serde_json::json!(t));
+                Feature {
+                    polygons: vec![vec![t.iter().map(|&v| points[v as usize]).collect()]],
+                    properties,
+                }
+            })
+            .collect();
+        write_geojson(path, &features, None)?;
+    }
+    crate::wrote([args.output.as_deref(), args.geojson.as_deref()]);
     if args.json {
         let mesh = serde_json::json!({
             "points": points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),

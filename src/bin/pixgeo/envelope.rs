@@ -2,7 +2,8 @@
 //!
 //! ```text
 //! {"schema": "pixgeo/1", "pixgeo_version", "command", "device",
-//!  "frame": {"width", "height", "bbox", "origin", "scale", "y_axis"} or null,
+//!  "frame": {"width", "height", "bbox", "origin", "scale", "y_axis", "crs"}
+//!  or null,
 //!  "timings_ms": {...}, "gpu_ms": {...}, "result": {...}}
 //! ```
 //!
@@ -12,6 +13,8 @@
 
 use anyhow::Result;
 use pixgeo::geometry::Frame;
+
+use crate::input::{World, YAxis};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
 
@@ -27,6 +30,30 @@ pub fn print(
     command: &str,
     device: &str,
     frame: Option<&Frame>,
+    result: &impl Serialize,
+) -> Result<()> {
+    let world = frame.map(|&frame| World {
+        frame,
+        y_axis: YAxis::Down,
+        epsg: None,
+    });
+    print_placed(command, device, world.as_ref(), result)
+}
+
+/// [`print`] for a command whose rasters may run north-up.
+pub fn print_world(
+    command: &str,
+    device: &str,
+    world: &World,
+    result: &impl Serialize,
+) -> Result<()> {
+    print_placed(command, device, Some(world), result)
+}
+
+fn print_placed(
+    command: &str,
+    device: &str,
+    frame: Option<&World>,
     result: &impl Serialize,
 ) -> Result<()> {
     let gpu_ms = crate::profiler().timeline().gpu_ms_by_pass();
@@ -49,7 +76,7 @@ pub fn print(
 fn wrap(
     command: &str,
     device: &str,
-    frame: Option<&Frame>,
+    frame: Option<&World>,
     mut result: Value,
     gpu_ms: Value,
 ) -> Value {
@@ -98,18 +125,22 @@ fn drop_device(value: &mut Value, device: &str) {
     }
 }
 
-/// Pixel (i, j) has its centre at origin + (i + 0.5, j + 0.5) / scale: row j
-/// grows with y, so in a picture file, whose first row is its top, y points down.
-fn frame_json(frame: &Frame) -> Value {
-    let far =
-        frame.origin + glam::DVec2::new(frame.width as f64, frame.height as f64) / frame.scale;
+/// The frame in the user's world: pixel (i, j) has its centre at origin +
+/// (i + 0.5, ±(j + 0.5)) / scale, + with y down, - with y up (north-up).
+fn frame_json(world: &World) -> Value {
+    let frame = &world.frame;
+    let origin = world.to_user(frame.origin);
     json!({
         "width": frame.width,
         "height": frame.height,
-        "bbox": [frame.origin.x, frame.origin.y, far.x, far.y],
-        "origin": [frame.origin.x, frame.origin.y],
+        "bbox": world.bbox(),
+        "origin": [origin.x, origin.y],
         "scale": frame.scale,
-        "y_axis": "down",
+        "y_axis": match world.y_axis {
+            YAxis::Up => "up",
+            YAxis::Down => "down",
+        },
+        "crs": world.epsg.map(|code| format!("EPSG:{code}")),
     })
 }
 
@@ -119,11 +150,18 @@ mod tests {
 
     #[test]
     fn timings_leave_the_result_and_the_frame_gives_its_box() {
-        let frame = Frame::with_bbox(4, Some(2), [0.0, 0.0, 8.0, 4.0]).unwrap();
+        // North-up: pixgeo computes in the mirrored world, whose frame starts
+        // at y = -4; the envelope gives the user's box and corner.
+        let frame = Frame::with_bbox(4, Some(2), [0.0, -4.0, 8.0, 0.0]).unwrap();
+        let world = World {
+            frame,
+            y_axis: YAxis::Up,
+            epsg: Some(4326),
+        };
         let v = wrap(
             "voronoi",
             "llvmpipe",
-            Some(&frame),
+            Some(&world),
             json!({"sites": 3, "render_ms": 1.5, "stats": {"render_ms": 2, "draw_ms": 3, "device": "llvmpipe"}}),
             json!({"render: ConeFan": 0.5}),
         );
@@ -135,6 +173,9 @@ mod tests {
         assert_eq!(v["result"], json!({"sites": 3, "stats": {}}));
         assert_eq!(v["gpu_ms"], json!({"render: ConeFan": 0.5}));
         assert_eq!(v["frame"]["bbox"], json!([0.0, 0.0, 8.0, 4.0]));
+        assert_eq!(v["frame"]["origin"], json!([0.0, 4.0]));
         assert_eq!(v["frame"]["scale"], json!(0.5));
+        assert_eq!(v["frame"]["y_axis"], "up");
+        assert_eq!(v["frame"]["crs"], "EPSG:4326");
     }
 }

@@ -411,6 +411,29 @@ fn entries() -> Vec<Entry> {
             args: &["--mask", "obstacles.png"],
         },
         Entry {
+            command: "voronoi",
+            picture: "north_up.png",
+            title: "A north-up map",
+            caption: "Europe's capitals by longitude and latitude: with --bbox the \
+                      rasters and pictures are north-up, row 0 at the box's largest y, \
+                      as GIS tools show them; --labels capitals.tif --crs EPSG:4326 \
+                      would write the same labels as a GeoTIFF that they place (the \
+                      distances here are in degrees, as on a plate carrée map).",
+            sites: None,
+            args: &["--sites", "capitals.csv", "--bbox", "-12,34,32,62", "--size", "640"],
+        },
+        Entry {
+            command: "voronoi",
+            picture: "cells.svg",
+            title: "Vector cells",
+            caption: "The exact Euclidean cells as polygons, clipped to the frame: each \
+                      site's Delaunay neighbours give the bisectors that bound its cell. \
+                      The same polygons go to cells.geojson for GIS tools and shapely; \
+                      other metrics' cells are traced from the label raster.",
+            sites: None,
+            args: &["--random", "60", "--seed", "5", "--size", "640x480", "--cells", "cells.geojson"],
+        },
+        Entry {
             command: "transform",
             picture: "medial_axis.png",
             title: "Medial axis of the free space",
@@ -427,8 +450,8 @@ fn entries() -> Vec<Entry> {
 }
 
 /// The files the entries read besides their sites: the homothets' units and
-/// region, and the transform's mask.
-const EXTRA_FILES: [(&str, &[u8]); 3] = [
+/// region, the transform's mask, and Europe's capitals (longitude, latitude).
+const EXTRA_FILES: [(&str, &[u8]); 4] = [
     ("kite.csv", b"x,y\n1,0\n0,1.2\n-0.6,0\n0,-0.5\n"),
     (
         "county.json",
@@ -438,6 +461,7 @@ const EXTRA_FILES: [(&str, &[u8]); 3] = [
         "obstacles.png",
         include_bytes!("../../../examples/data/obstacles.png"),
     ),
+    ("capitals.csv", b"x,y\n-9.14,38.72\n-3.70,40.42\n2.35,48.86\n-0.13,51.51\n-6.26,53.35\n4.35,50.85\n4.90,52.37\n6.13,49.61\n7.45,46.95\n13.40,52.52\n12.57,55.68\n10.75,59.91\n18.07,59.33\n24.94,60.17\n24.75,59.44\n24.11,56.95\n25.28,54.69\n21.01,52.23\n14.42,50.08\n16.37,48.21\n17.11,48.15\n19.04,47.50\n14.51,46.06\n15.98,45.81\n12.50,41.90\n14.51,35.90\n18.41,43.86\n20.46,44.79\n19.26,42.44\n19.82,41.33\n21.43,42.00\n23.32,42.70\n23.73,37.98\n26.10,44.43\n28.86,47.01\n30.52,50.45\n27.56,53.90\n"),
 ];
 
 /// Point sites as a CSV site file.
@@ -527,7 +551,7 @@ pub fn run(args: Args) -> Result<()> {
             .map(|a| {
                 if let Some(file) = a.strip_prefix("polygon:") {
                     format!("polygon:{}", args.dir.join(file).display())
-                } else if [".csv", ".json", ".png", ".npy"]
+                } else if [".csv", ".json", ".png", ".npy", ".svg", ".geojson"]
                     .iter()
                     .any(|e| a.ends_with(e))
                 {

@@ -3,14 +3,18 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Result};
-use clap::Args as ClapArgs;
+use clap::{Args as ClapArgs, ValueEnum};
 use glam::DVec2;
 use pixgeo::{
     geometry::{
+        metric::Metric,
         site::{Shape, Site},
         Frame,
     },
-    io::sites,
+    io::{
+        geotiff::{parse_crs, GeoReference},
+        sites,
+    },
 };
 
 /// The sites and the picture they are drawn on.
@@ -40,15 +44,102 @@ pub struct Input {
     #[arg(long, default_value = "1024", value_parser = parse_size)]
     size: (u32, Option<u32>),
 
-    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture (YMIN at row 0).
+    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture.
     #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
     bbox: Option<[f64; 4]>,
+
+    /// Which way y runs in the rasters and pictures: `up` puts the largest y
+    /// in row 0 (north-up, as maps and GIS tools show rasters), `down` the
+    /// smallest (pixel coordinates). Default: up with --bbox, down without.
+    #[arg(long, value_enum)]
+    y_axis: Option<YAxis>,
+
+    /// The coordinate system of the world coordinates, `EPSG:N`, written into
+    /// .tif rasters' GeoKeys.
+    #[arg(long, value_name = "EPSG:N", value_parser = parse_crs)]
+    crs: Option<u16>,
+
+    /// Write a world file (`.tfw`, `.pgw`, `.pngw` or `.wld`: six lines from
+    /// a pixel's centre to the world) that places the rasters and pictures.
+    #[arg(long, value_name = "FILE")]
+    world_file: Option<PathBuf>,
+}
+
+/// Which way y runs down a raster's rows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum YAxis {
+    Up,
+    Down,
+}
+
+/// Where the rasters lie in the user's world. With y up, pixgeo computes in
+/// the world mirrored across the x axis (y to -y), whose frame puts the
+/// largest y in row 0: distances are the same, and every raster path comes
+/// out north-up with no flip of its own.
+#[derive(Clone, Copy, Debug)]
+pub struct World {
+    /// The frame pixgeo computes in.
+    pub frame: Frame,
+    pub y_axis: YAxis,
+    pub epsg: Option<u16>,
+}
+
+impl World {
+    /// The user's point of a point of the computing world (and back: the
+    /// mirror is its own inverse).
+    pub fn to_user(self, p: DVec2) -> DVec2 {
+        match self.y_axis {
+            // 0 - y, not -y: no -0.0 in the answers.
+            YAxis::Up => DVec2::new(p.x, 0.0 - p.y),
+            YAxis::Down => p,
+        }
+    }
+
+    /// The computing world's metric: a polygon mirrored with the world.
+    pub fn metric(&self, metric: Metric) -> Metric {
+        match self.y_axis {
+            YAxis::Up => metric.mirrored_y(),
+            YAxis::Down => metric,
+        }
+    }
+
+    /// Where the rasters lie, for GeoTIFFs and world files.
+    pub fn georeference(&self) -> GeoReference {
+        self.georeference_from(0, 0)
+    }
+
+    /// Where a raster whose first pixel is the frame's pixel (`x`, `y`) lies:
+    /// a window of the frame.
+    pub fn georeference_from(&self, x: u32, y: u32) -> GeoReference {
+        let f = &self.frame;
+        let pixel = 1.0 / f.scale;
+        let corner = self.to_user(f.origin + DVec2::new(x as f64, y as f64) * pixel);
+        GeoReference {
+            left: corner.x,
+            top: corner.y,
+            pixel_width: pixel,
+            pixel_height: match self.y_axis {
+                YAxis::Up => pixel,
+                YAxis::Down => -pixel,
+            },
+            epsg: self.epsg,
+        }
+    }
+
+    /// The user's rectangle XMIN,YMIN,XMAX,YMAX of the rasters.
+    pub fn bbox(&self) -> [f64; 4] {
+        let f = &self.frame;
+        let far = f.origin + DVec2::new(f.width as f64, f.height as f64) / f.scale;
+        let (a, b) = (self.to_user(f.origin), self.to_user(far));
+        [a.x, a.y.min(b.y), b.x, a.y.max(b.y)]
+    }
 }
 
 impl Input {
-    /// The picture's frame and the (unweighted point) sites in world coordinates.
-    pub fn frame_and_sites(&self) -> Result<(Frame, Vec<DVec2>)> {
-        let (frame, general) = self.frame_and_general_sites()?;
+    /// Where the rasters lie and the (unweighted point) sites, in the
+    /// computing world.
+    pub fn world_and_sites(&self) -> Result<(World, Vec<DVec2>)> {
+        let (world, general) = self.world_and_general_sites()?;
         let points = general
             .iter()
             .enumerate()
@@ -57,11 +148,12 @@ impl Input {
                 _ => bail!("site {i}: this command takes unweighted points"),
             })
             .collect::<Result<_>>()?;
-        Ok((frame, points))
+        Ok((world, points))
     }
 
-    /// The picture's frame and sites of every shape and weight.
-    pub fn frame_and_general_sites(&self) -> Result<(Frame, Vec<Site>)> {
+    /// Where the rasters lie and the sites of every shape and weight, in the
+    /// computing world.
+    pub fn world_and_general_sites(&self) -> Result<(World, Vec<Site>)> {
         let (width, height) = self.size;
         let frame = match (self.bbox, height) {
             // A tall box: N is its height, and the width follows.
@@ -82,7 +174,40 @@ impl Input {
             (None, Some(_)) => bail!("--random needs at least one site"),
             _ => bail!("give the sites: --sites FILE or --random N"),
         };
-        Ok((frame, sites))
+        let y_axis = self.y_axis.unwrap_or(match self.bbox {
+            Some(_) => YAxis::Up,
+            None => YAxis::Down,
+        });
+        let world = match y_axis {
+            YAxis::Down => World {
+                frame,
+                y_axis,
+                epsg: self.crs,
+            },
+            YAxis::Up => {
+                let height = frame.height as f64 / frame.scale;
+                let origin = DVec2::new(frame.origin.x, -(frame.origin.y + height));
+                World {
+                    frame: Frame { origin, ..frame },
+                    y_axis,
+                    epsg: self.crs,
+                }
+            }
+        };
+        let sites = sites.into_iter().map(|s| match y_axis {
+            YAxis::Up => s.mirrored_y(),
+            YAxis::Down => s,
+        });
+        Ok((world, sites.collect()))
+    }
+
+    /// Writes the world file, if asked for, once the rasters are written.
+    pub fn write_world_file(&self, world: &World) -> Result<()> {
+        if let Some(path) = &self.world_file {
+            world.georeference().write_world_file(path)?;
+            crate::wrote([Some(path.as_path())]);
+        }
+        Ok(())
     }
 }
 

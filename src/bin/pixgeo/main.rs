@@ -14,6 +14,7 @@ macro_rules! note {
 
 mod alpha;
 mod area;
+mod cells;
 mod delaunay;
 mod distances;
 mod envelope;

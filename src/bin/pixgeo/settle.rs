@@ -11,11 +11,16 @@ use pixgeo::{
         SettleOptions,
     },
     geometry::{metric::Metric, Frame},
-    io::{npy, picture::PngStream, sites},
+    io::{picture::PngStream, raster, sites},
 };
 use serde_json::{json, Value};
 
-use crate::{envelope, input::Input, progress::Progress, voronoi::Backend};
+use crate::{
+    envelope,
+    input::{Input, World},
+    progress::Progress,
+    voronoi::Backend,
+};
 
 /// Finds the settle point (thesis §3.10): the place where a new site, added to
 /// the existing ones (a rival's stores, say), would own the largest Voronoi
@@ -65,8 +70,9 @@ pub struct Args {
     #[arg(short = 'o', long = "output", value_name = "PICTURE.png")]
     output: Option<PathBuf>,
 
-    /// Write the potential-area map as .npy (uint32, H×W, pixels).
-    #[arg(long, value_name = "FILE.npy")]
+    /// Write the potential-area map as .npy (uint32, H×W, pixels) or as a
+    /// GeoTIFF (.tif).
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     area: Option<PathBuf>,
 
     /// Best pixels the exact refinement starts from (Euclidean metric; 0 turns
@@ -94,12 +100,18 @@ enum MethodArg {
     Faithful,
 }
 
-pub fn run(args: Args) -> Result<()> {
-    let (frame, rivals) = args.input.frame_and_sites()?;
-    let own = match &args.own {
+pub fn run(mut args: Args) -> Result<()> {
+    if let Some(path) = &args.area {
+        raster::check_name(path, "potential-area maps")?;
+    }
+    let (world, rivals) = args.input.world_and_sites()?;
+    let frame = world.frame;
+    args.metric = world.metric(args.metric);
+    let own: Vec<DVec2> = match &args.own {
         Some(path) => sites::read_sites(path)?,
         None => Vec::new(),
     };
+    let own: Vec<DVec2> = own.into_iter().map(|p| world.to_user(p)).collect();
     let method = match args.method {
         MethodArg::Spans => SettleMethod::Spans,
         MethodArg::Faithful => SettleMethod::Faithful,
@@ -133,15 +145,17 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     if let Some(path) = &args.area {
-        npy::write(path, &[frame.height as u64, frame.width as u64], &map.area)?;
+        let size = [frame.width, frame.height, 1];
+        raster::write(path, size, &map.area, Some(&world.georeference()))?;
     }
     if let Some(path) = &args.output {
         write_picture(path, &map, &frame, &rivals, &own)?;
     }
     crate::wrote([args.area.as_deref(), args.output.as_deref()]);
-    let summary = summary(&map, &frame, refined.as_ref(), &args);
+    args.input.write_world_file(&world)?;
+    let summary = summary(&map, &world, refined.as_ref(), &args);
     if args.json {
-        envelope::print("settle", backend.name(), Some(&frame), &summary)?;
+        envelope::print_world("settle", backend.name(), &world, &summary)?;
     } else {
         print_summary(&summary);
     }
@@ -155,8 +169,9 @@ fn pixel_of(map: &PotentialAreas, k: usize) -> [u32; 2] {
     ]
 }
 
-fn summary(map: &PotentialAreas, frame: &Frame, refined: Option<&Refined>, args: &Args) -> Value {
-    let world = |p: DVec2| frame.to_world(p).to_array();
+fn summary(map: &PotentialAreas, world: &World, refined: Option<&Refined>, args: &Args) -> Value {
+    let frame = &world.frame;
+    let world = |p: DVec2| world.to_user(frame.to_world(p)).to_array();
     let pixel_area = 1.0 / (frame.scale * frame.scale);
     let best = pixel_of(map, map.best[0]);
     let best_point = DVec2::new(best[0] as f64, best[1] as f64);

@@ -20,14 +20,22 @@ use pixgeo::{
     geometry::{
         metric::Metric,
         site::{Shape, Site},
-        Frame,
     },
-    io::{npy, npy::NpyStream, picture, picture::PngStream},
+    io::{
+        output::{check_extension, check_extensions, extension_among},
+        picture,
+        picture::PngStream,
+        raster::{self, RasterStream},
+    },
     machine::{DeviceChoice, Machine, MachineOptions, PixelRect},
 };
 use serde_json::json;
 
-use crate::{envelope, input::Input, progress::Progress};
+use crate::{
+    cells, envelope,
+    input::{Input, World},
+    progress::Progress,
+};
 
 /// Computes the Voronoi diagram of point sites: which site is nearest to every
 /// pixel, and how far it is.
@@ -92,28 +100,40 @@ pub struct Args {
     #[arg(long, conflicts_with = "speedup")]
     no_speedup: bool,
 
-    /// Write a PNG picture: one colour per region, sites as dots.
-    #[arg(short = 'o', long = "output", value_name = "PICTURE.png")]
+    /// Write a picture: one colour per region, sites as dots. `.png` draws the
+    /// pixels; `.svg` draws the cells as vector art (those of --cells).
+    #[arg(short = 'o', long = "output", value_name = "PICTURE.png|PICTURE.svg")]
     output: Option<PathBuf>,
+
+    /// Write the cells as GeoJSON: a FeatureCollection with a feature per
+    /// region, its site (or sites) in `properties`, in the world's
+    /// coordinates. The Euclidean diagram of points has exact cells, clipped
+    /// to the frame, from the exact Delaunay triangulation (on a Vulkan
+    /// device); every other diagram's cells are traced from its label raster,
+    /// along pixel edges, within half a pixel (`accuracy` says which).
+    #[arg(long, value_name = "FILE.geojson")]
+    cells: Option<PathBuf>,
 
     /// Draw distance contours on the picture every STEP world units: the cones'
     /// lower envelope seen from above.
     #[arg(long, value_name = "STEP")]
     contours: Option<f64>,
 
-    /// Write the label map as .npy (uint32, H×W; 4294967295 = no site).
-    #[arg(long, value_name = "FILE.npy")]
+    /// Write the label map as .npy (uint32, H×W; 4294967295 = no site) or as
+    /// a GeoTIFF (.tif), placed by --bbox and --crs. --degree and --order
+    /// write H×W×K, a band per level.
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     labels: Option<PathBuf>,
 
-    /// Write the distance map as .npy (float32, H×W, world units).
-    #[arg(long, value_name = "FILE.npy")]
+    /// Write the distance map as .npy or .tif (float32, H×W, world units).
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     distance: Option<PathBuf>,
 
     /// Count the sites at the smallest distance of every pixel (thesis §3.6.4:
     /// under L1 and L∞ whole areas are equidistant to two sites) and write the
-    /// counts as .npy (uint32, H×W); the picture shades pixels with more than
-    /// one nearest site. Exact mode.
-    #[arg(long, value_name = "FILE.npy")]
+    /// counts as .npy or .tif (uint32, H×W); the picture shades pixels with
+    /// more than one nearest site. Exact mode.
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     ties: Option<PathBuf>,
 
     /// Print a JSON summary (timings, cone footprints and radii, tiles, passes,
@@ -128,8 +148,9 @@ pub struct Args {
     #[arg(long, value_name = "PIXELS")]
     max_tile: Option<u32>,
 
-    /// Compute only this window of the picture: X0,Y0,W,H in pixels, row 0 at the
-    /// bottom. Its pixels are the whole diagram's there, bit for bit, ties
+    /// Compute only this window of the picture: X0,Y0,W,H in pixels, counted
+    /// as the outputs' rows and columns (row 0 first: the top of a north-up
+    /// raster). Its pixels are the whole diagram's there, bit for bit, ties
     /// included, so windows computed apart (on other machines) tile into the
     /// whole; outputs are W x H. Ordinary diagrams of points on a Vulkan device.
     #[arg(long, value_name = "X0,Y0,W,H", value_parser = parse_window)]
@@ -246,23 +267,35 @@ fn parse_speedup(s: &str) -> Result<Speedup, String> {
     }
 }
 
-pub fn run(args: Args) -> Result<()> {
-    diagram(&args)?;
+pub fn run(mut args: Args) -> Result<()> {
+    check_options(&args)?;
+    let (world, general) = args.input.world_and_general_sites()?;
+    args.metric = world.metric(args.metric);
+    diagram(&args, &world, general)?;
+    args.input.write_world_file(&world)?;
     // Options a diagram would not write are refused up front: each given was written.
-    crate::wrote([&args.output, &args.labels, &args.distance, &args.ties].map(|p| p.as_deref()));
+    crate::wrote(
+        [
+            &args.output,
+            &args.labels,
+            &args.distance,
+            &args.ties,
+            &args.cells,
+        ]
+        .map(|p| p.as_deref()),
+    );
     Ok(())
 }
 
-fn diagram(args: &Args) -> Result<()> {
-    check_options(args)?;
-    let (frame, general) = args.input.frame_and_general_sites()?;
+fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
+    let frame = world.frame;
     let arrays: Vec<&std::path::Path> = [&args.labels, &args.distance, &args.ties]
         .into_iter()
         .filter_map(|p| p.as_deref())
         .collect();
     crate::input::check_room(&arrays, frame.width, frame.height)?;
     if general.iter().any(|s| !s.is_plain_point()) {
-        return general_sites(args, &general, frame);
+        return general_sites(args, &general, world);
     }
     let sites: Vec<DVec2> = general
         .iter()
@@ -273,7 +306,7 @@ fn diagram(args: &Args) -> Result<()> {
         .collect();
     let (accuracy, speedup) = (args.accuracy(), args.speedup());
     if args.method != Method::Cones {
-        return seed_pixels(args, &sites, frame);
+        return seed_pixels(args, &sites, world);
     }
     let backend = args.backend()?;
     let kind = match (args.degree, args.order, args.furthest) {
@@ -284,7 +317,7 @@ fn diagram(args: &Args) -> Result<()> {
     };
     let machine = match &backend {
         Backend::Gpu(machine) if kind == Kind::Ordinary => machine,
-        _ => return whole_picture(args, &backend, &sites, frame, accuracy, speedup, kind),
+        _ => return whole_picture(args, &backend, &sites, world, accuracy, speedup, kind),
     };
     let options = VoronoiOptions::exact(frame)
         .metric(args.metric)
@@ -297,27 +330,30 @@ fn diagram(args: &Args) -> Result<()> {
     let window = options.window_rect()?;
 
     // Outputs are streamed band by band as the tiles come in.
-    let shape = [window.height as u64, window.width as u64];
+    let geo = world.georeference_from(window.x, window.y);
+    let (w, h) = (window.width, window.height);
     let mut labels = args
         .labels
         .as_deref()
-        .map(|p| NpyStream::<u32>::create(p, &shape))
+        .map(|p| RasterStream::<u32>::create(p, w, h, 1, Some(&geo)))
         .transpose()?;
     let mut distances = args
         .distance
         .as_deref()
-        .map(|p| NpyStream::<f32>::create(p, &shape))
+        .map(|p| RasterStream::<f32>::create(p, w, h, 1, Some(&geo)))
         .transpose()?;
     let mut ties = args
         .ties
         .as_deref()
-        .map(|p| NpyStream::<u32>::create(p, &shape))
+        .map(|p| RasterStream::<u32>::create(p, w, h, 1, Some(&geo)))
         .transpose()?;
     let mut png = args
-        .output
-        .as_deref()
+        .png()
         .map(|p| PngStream::create(p, window.width, window.height))
         .transpose()?;
+    // Cells traced from the labels need them all.
+    let traced = args.vectors().any() && args.metric != Metric::L2;
+    let mut all_labels = Vec::new();
     let corner = DVec2::new(window.x as f64, window.y as f64);
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p) - corner).collect();
     // Distances come in world units; contours are drawn in those units too.
@@ -331,6 +367,9 @@ fn diagram(args: &Args) -> Result<()> {
         );
         if let Some(out) = labels.as_mut() {
             out.write(&band.labels)?;
+        }
+        if traced {
+            all_labels.extend_from_slice(&band.labels);
         }
         if let Some(out) = distances.as_mut() {
             out.write(&band.distances)?;
@@ -359,10 +398,21 @@ fn diagram(args: &Args) -> Result<()> {
         Ok(())
     })?;
     drop(progress);
-    labels.map(NpyStream::finish).transpose()?;
-    distances.map(NpyStream::finish).transpose()?;
-    ties.map(NpyStream::finish).transpose()?;
+    labels.map(RasterStream::finish).transpose()?;
+    distances.map(RasterStream::finish).transpose()?;
+    ties.map(RasterStream::finish).transpose()?;
     png.map(PngStream::finish).transpose()?;
+    let source = match traced {
+        true => cells::Source::Traced {
+            labels: &all_labels,
+            describe: &cells::site,
+        },
+        false => cells::Source::Exact {
+            machine,
+            sites: &sites,
+        },
+    };
+    cells::write(args.vectors(), world, source, &sites)?;
 
     let s = &stats;
     if args.json {
@@ -372,7 +422,7 @@ fn diagram(args: &Args) -> Result<()> {
             "speedup": speedup,
             "stats": s,
         });
-        envelope::print("voronoi", machine.device_name(), Some(&frame), &summary)?;
+        envelope::print_world("voronoi", machine.device_name(), world, &summary)?;
     } else {
         note!(
             "{} sites, {}x{} pixels on {}: {} cone(s), {} tile(s), {} pass(es), radius \
@@ -400,19 +450,38 @@ fn check_options(args: &Args) -> Result<()> {
             ("--labels", &args.labels),
             ("--distance", &args.distance),
             ("--ties", &args.ties),
+            ("--cells", &args.cells),
         ]
         .into_iter()
         .filter_map(|(name, p)| Some((name, p.as_deref()?))),
     )?;
+    if let Some(path) = &args.output {
+        check_extensions(path, &["png", "svg"], "pictures")?;
+    }
+    if let Some(path) = &args.cells {
+        check_extension(path, "geojson", "cells")?;
+    }
+    if args.vectors().any() && args.window.is_some() {
+        bail!("--cells and -o *.svg draw the whole frame's cells; drop --window");
+    }
+    for (path, what) in [
+        (&args.labels, "label maps"),
+        (&args.distance, "distance maps"),
+        (&args.ties, "tie counts"),
+    ] {
+        if let Some(path) = path {
+            raster::check_name(path, what)?;
+        }
+    }
     if let Some(step) = args.contours {
         if !(step > 0.0 && step.is_finite()) {
             bail!("--contours needs a positive step, not {step}");
         }
-        if args.output.is_none() {
+        if args.png().is_none() {
             bail!("--contours draws on the picture: give -o PICTURE.png");
         }
     }
-    if args.each_level && args.output.is_none() {
+    if args.each_level && args.png().is_none() {
         bail!("--each-level writes pictures beside -o: give -o PICTURE.png");
     }
     if args.peel && args.degree.is_none() && args.order.is_none() {
@@ -457,6 +526,23 @@ impl Args {
         }
     }
 
+    /// The PNG picture, if -o names one.
+    fn png(&self) -> Option<&std::path::Path> {
+        let path = self.output.as_deref()?;
+        extension_among(path, &["svg"]).is_none().then_some(path)
+    }
+
+    /// The vector outputs: --cells and an SVG picture.
+    fn vectors(&self) -> cells::Outputs<'_> {
+        cells::Outputs {
+            geojson: self.cells.as_deref(),
+            svg: self
+                .output
+                .as_deref()
+                .filter(|p| extension_among(p, &["svg"]).is_some()),
+        }
+    }
+
     /// Refuses the options that shape cones on a path that draws none: the
     /// CPU pixel algorithms and flooding.
     fn refuse_cone_options(&self, path: &str) -> Result<()> {
@@ -476,7 +562,8 @@ impl Args {
 }
 
 /// The diagram of weighted points, segments, circles and arcs (thesis §3.8–3.9).
-fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
+fn general_sites(args: &Args, sites: &[Site], world: &World) -> Result<()> {
+    let frame = world.frame;
     refuse_window(args, "a diagram of weighted or extended sites")?;
     if args.degree.is_some() || args.order.is_some() || args.furthest || args.peel {
         bail!("--degree, --order, --furthest and --peel take unweighted points; these sites have weights or shapes");
@@ -514,26 +601,28 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
             }
         }
     };
-    let shape = [frame.height as u64, frame.width as u64];
+    let (size, geo) = ([frame.width, frame.height, 1], world.georeference());
     if let Some(p) = &args.labels {
-        let mut out = NpyStream::<u32>::create(p, &shape)?;
-        out.write(&d.labels)?;
-        out.finish()?;
+        raster::write(p, size, &d.labels, Some(&geo))?;
     }
     if let Some(p) = &args.distance {
-        let mut out = NpyStream::<f32>::create(p, &shape)?;
-        out.write(&d.distances)?;
-        out.finish()?;
+        raster::write(p, size, &d.distances, Some(&geo))?;
     }
-    if let Some(p) = &args.output {
-        // A dot at the middle of each site's shape.
-        let marks: Vec<DVec2> = sites
-            .iter()
-            .map(|s| {
-                let (lo, hi) = s.bounds();
-                frame.to_pixel(0.5 * (lo + hi))
-            })
-            .collect();
+    // A dot at the middle of each site's shape.
+    let middles: Vec<DVec2> = sites
+        .iter()
+        .map(|s| {
+            let (lo, hi) = s.bounds();
+            0.5 * (lo + hi)
+        })
+        .collect();
+    let source = cells::Source::Traced {
+        labels: &d.labels,
+        describe: &cells::site,
+    };
+    cells::write(args.vectors(), world, source, &middles)?;
+    if let Some(p) = args.png() {
+        let marks: Vec<DVec2> = middles.iter().map(|&m| frame.to_pixel(m)).collect();
         let contours = args.contours.map(|step| picture::Contours {
             distances: &d.distances,
             step: step as f32,
@@ -550,7 +639,7 @@ fn general_sites(args: &Args, sites: &[Site], frame: Frame) -> Result<()> {
             "mode": mode_name(args),
             "stats": d.stats,
         });
-        envelope::print("voronoi", &device, Some(&frame), &summary)?;
+        envelope::print_world("voronoi", &device, world, &summary)?;
     } else {
         note!(
             "{} sites, {}x{} pixels on {}: {} drawn, {:.1} ms rendering",
@@ -589,7 +678,7 @@ fn whole_picture(
     args: &Args,
     backend: &Backend,
     sites: &[DVec2],
-    frame: Frame,
+    world: &World,
     accuracy: Accuracy,
     speedup: Speedup,
     kind: Kind,
@@ -603,8 +692,9 @@ fn whole_picture(
             "--max-tile applies to ordinary diagrams on a Vulkan device; this diagram is computed whole"
         );
     }
+    let frame = world.frame;
     let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let (w, h) = (frame.width as u64, frame.height as u64);
+    let geo = world.georeference();
     let contour_step = args.contours.map(|s| s as f32);
     // One picture of labels (and their distances for contours).
     let draw = |path: &std::path::Path, labels: &[u32], distances: &[f32]| -> Result<()> {
@@ -633,15 +723,21 @@ fn whole_picture(
             Backend::Gpu(machine) => higher_order::furthest(machine, sites, &frame, args.metric)?,
             Backend::Cpu => cpu::furthest(sites, &frame, args.metric)?,
         };
+        let size = [frame.width, frame.height, 1];
         if let Some(path) = &args.labels {
-            npy::write(path, &[h, w], &f.labels)?;
+            raster::write(path, size, &f.labels, Some(&geo))?;
         }
         if let Some(path) = &args.distance {
-            npy::write(path, &[h, w], &f.distances)?;
+            raster::write(path, size, &f.distances, Some(&geo))?;
         }
-        if let Some(path) = &args.output {
+        if let Some(path) = args.png() {
             draw(path, &f.labels, &f.distances)?;
         }
+        let source = cells::Source::Traced {
+            labels: &f.labels,
+            describe: &cells::site,
+        };
+        cells::write(args.vectors(), world, source, sites)?;
         json!({
             "kind": "furthest",
             "sites": sites.len(),
@@ -667,23 +763,22 @@ fn whole_picture(
             }
             Backend::Cpu => cpu::k_nearest(sites, &frame, k, args.metric)?,
         };
-        let shape = if kind == Kind::Ordinary {
-            vec![h, w]
-        } else {
-            vec![h, w, k as u64]
-        };
+        // (rows, columns) for an ordinary diagram, (rows, columns, k) else.
+        let bands = if kind == Kind::Ordinary { 1 } else { k };
+        let size = [frame.width, frame.height, bands];
         if let Some(path) = &args.labels {
             let labels = if order {
                 d.order_sets()
             } else {
                 d.labels.clone()
             };
-            npy::write(path, &shape, &labels)?;
+            raster::write(path, size, &labels, Some(&geo))?;
         }
         if let Some(path) = &args.distance {
-            npy::write(path, &shape, &d.distances)?;
+            raster::write(path, size, &d.distances, Some(&geo))?;
         }
-        if let Some(path) = &args.output {
+        write_level_cells(args, world, backend, sites, &d, kind)?;
+        if let Some(path) = args.png() {
             let last = d.level_distances(k - 1);
             if order {
                 // One colour per set: the set's hash picks it.
@@ -716,7 +811,7 @@ fn whole_picture(
         })
     };
     if args.json {
-        envelope::print("voronoi", backend.name(), Some(&frame), &summary)?;
+        envelope::print_world("voronoi", backend.name(), world, &summary)?;
     } else {
         note!(
             "{} sites, {}x{} pixels on {}",
@@ -727,6 +822,68 @@ fn whole_picture(
         );
     }
     Ok(())
+}
+
+/// The cells of a diagram held whole: exact for the Euclidean diagram of
+/// points on a Vulkan device; otherwise traced from the labels of the K-th
+/// level (`--degree`), or of each set's region (`--order`).
+fn write_level_cells(
+    args: &Args,
+    world: &World,
+    backend: &Backend,
+    sites: &[DVec2],
+    d: &higher_order::KNearest,
+    kind: Kind,
+) -> Result<()> {
+    let outputs = args.vectors();
+    if !outputs.any() {
+        return Ok(());
+    }
+    if let (Kind::Ordinary, Backend::Gpu(machine), Metric::L2) = (kind, backend, args.metric) {
+        let source = cells::Source::Exact { machine, sites };
+        return cells::write(outputs, world, source, sites);
+    }
+    let k = d.k;
+    match kind {
+        Kind::Order(_) => {
+            // Each set of K sites, numbered in the order first seen.
+            let mut sets: Vec<Vec<u32>> = Vec::new();
+            let mut number: std::collections::HashMap<Vec<u32>, u32> = Default::default();
+            let labels: Vec<u32> = d
+                .order_sets()
+                .chunks_exact(k as usize)
+                .map(|set| {
+                    *number.entry(set.to_vec()).or_insert_with(|| {
+                        sets.push(set.to_vec());
+                        sets.len() as u32 - 1
+                    })
+                })
+                .collect();
+            let describe = |l: u32| {
+                let mut m = serde_json::Map::new();
+                m.insert("sites".into(), json!(sets[l as usize]));
+                m
+            };
+            let source = cells::Source::Traced {
+                labels: &labels,
+                describe: &describe,
+            };
+            cells::write(outputs, world, source, sites)
+        }
+        _ => {
+            let describe = |l: u32| {
+                let mut m = cells::site(l);
+                m.insert("level".into(), json!(k));
+                m
+            };
+            let labels = d.level_labels(k - 1);
+            let source = cells::Source::Traced {
+                labels: &labels,
+                describe: &describe,
+            };
+            cells::write(outputs, world, source, sites)
+        }
+    }
 }
 
 /// Where diagrams are computed.
@@ -793,7 +950,8 @@ fn level_path(path: &std::path::Path, level: u32) -> PathBuf {
 }
 
 /// `--method flood` and `--method jfa`: label maps of the sites' pixels.
-fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
+fn seed_pixels(args: &Args, sites: &[DVec2], world: &World) -> Result<()> {
+    let frame = world.frame;
     refuse_window(args, "a flooded diagram")?;
     args.refuse_cone_options("flooding")?;
     if args.degree.is_some() || args.order.is_some() || args.furthest || args.ties.is_some() {
@@ -829,13 +987,19 @@ fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
                 .map_or(f32::INFINITY, |s| s.distance(q) as f32)
         })
         .collect();
+    let geo = world.georeference();
     if let Some(path) = &args.labels {
-        npy::write(path, &[h as u64, w as u64], &labels)?;
+        raster::write(path, [w, h, 1], &labels, Some(&geo))?;
     }
     if let Some(path) = &args.distance {
-        npy::write(path, &[h as u64, w as u64], &distances)?;
+        raster::write(path, [w, h, 1], &distances, Some(&geo))?;
     }
-    if let Some(path) = &args.output {
+    let source = cells::Source::Traced {
+        labels: &labels,
+        describe: &cells::site,
+    };
+    cells::write(args.vectors(), world, source, sites)?;
+    if let Some(path) = args.png() {
         let contours = args.contours.map(|step| picture::Contours {
             distances: &distances,
             step: step as f32,
@@ -858,7 +1022,7 @@ fn seed_pixels(args: &Args, sites: &[DVec2], frame: Frame) -> Result<()> {
             "total_ms": elapsed,
             "stats": stats,
         });
-        envelope::print("voronoi", machine.device_name(), Some(&frame), &summary)?;
+        envelope::print_world("voronoi", machine.device_name(), world, &summary)?;
     } else {
         note!(
             "{method}: {} sites on {w}x{h} pixels in {elapsed:.1} ms",

@@ -1,0 +1,236 @@
+"""pixgeo's GIS outputs: GeoTIFFs and world files read back with rasterio
+(the transform, the coordinate system and the values, against brute force in
+the user's coordinates), and vector cells read with shapely, against its own
+Voronoi polygons and brute force. The command line is the one `cargo test`
+builds (or PIXGEO_CLI)."""
+
+import os
+import subprocess
+from pathlib import Path
+
+import json
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import MultiPoint, Point, box, shape
+
+import rasterio
+from rasterio.transform import Affine
+
+ROOT = Path(__file__).resolve().parents[2]
+CLI = Path(os.environ.get("PIXGEO_CLI", ROOT / "target" / "debug" / "pixgeo"))
+
+# A 1 km x 800 m box in UTM zone 33N, 4 m pixels.
+BBOX = (500000.0, 4000000.0, 501000.0, 4000800.0)
+
+
+def pixgeo(*args):
+    assert CLI.exists(), f"build the command line first (cargo build): {CLI}"
+    done = subprocess.run([str(CLI), *map(str, args)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done
+
+
+@pytest.fixture()
+def sites(tmp_path):
+    rng = np.random.default_rng(5)
+    xy = np.column_stack(
+        [rng.uniform(BBOX[0], BBOX[2], 40), rng.uniform(BBOX[1], BBOX[3], 40)]
+    )
+    path = tmp_path / "sites.csv"
+    np.savetxt(path, xy, delimiter=",", header="x,y", comments="", fmt="%.6f")
+    return xy, path
+
+
+def centres(transform, shape):
+    """World coordinates of every pixel's centre, by the file's transform."""
+    rows, cols = np.indices(shape)
+    t = transform
+    return t.c + t.a * (cols + 0.5) + t.b * (rows + 0.5), t.f + t.d * (cols + 0.5) + t.e * (rows + 0.5)
+
+
+def check_nearest(labels, distances, transform, xy):
+    x, y = centres(transform, labels.shape)
+    d = np.hypot(x[..., None] - xy[:, 0], y[..., None] - xy[:, 1])
+    best = d.min(axis=-1)
+    mine = np.take_along_axis(d, labels[..., None].astype(np.int64), axis=-1)[..., 0]
+    # Each pixel's label is a nearest site (to float32 rounding of ties).
+    assert (mine - best <= 1e-3).all()
+    np.testing.assert_allclose(distances, best, rtol=1e-5, atol=1e-3)
+
+
+def test_north_up_geotiff(tmp_path, sites):
+    xy, path = sites
+    out = {k: tmp_path / f"{k}.tif" for k in ("labels", "distance", "ties")}
+    pixgeo(
+        "voronoi", "--sites", path, "--bbox", ",".join(map(str, BBOX)), "--size", 250,
+        "--labels", out["labels"], "--distance", out["distance"], "--ties", out["ties"],
+        "--crs", "EPSG:32633", "--world-file", tmp_path / "picture.pgw",
+        "-o", tmp_path / "picture.png",
+    )
+    with rasterio.open(out["labels"]) as r:
+        assert r.crs.to_epsg() == 32633
+        assert r.transform == Affine(4.0, 0.0, BBOX[0], 0.0, -4.0, BBOX[3])
+        assert (r.width, r.height, r.count, r.dtypes[0]) == (250, 200, 1, "uint32")
+        labels = r.read(1)
+        transform = r.transform
+    with rasterio.open(out["distance"]) as r:
+        assert r.dtypes[0] == "float32" and r.transform == transform
+        distances = r.read(1)
+    with rasterio.open(out["ties"]) as r:
+        assert (r.read(1) >= 1).all()
+    check_nearest(labels, distances, transform, xy)
+    # The world file places the picture where the GeoTIFF lies.
+    with rasterio.open(tmp_path / "picture.png") as r:
+        assert r.transform == transform
+
+
+def test_other_layouts(tmp_path, sites):
+    xy, path = sites
+    box = ",".join(map(str, BBOX))
+    # Rows running north: a transformation with a positive y step.
+    pixgeo("voronoi", "--sites", path, "--bbox", box, "--size", 100,
+           "--labels", tmp_path / "down.tif", "--distance", tmp_path / "down-d.tif",
+           "--y-axis", "down")
+    with rasterio.open(tmp_path / "down.tif") as r:
+        assert r.transform == Affine(10.0, 0.0, BBOX[0], 0.0, 10.0, BBOX[1])
+        # No --crs: GDAL names a local system without an EPSG code.
+        assert r.crs is None or r.crs.to_epsg() is None
+        labels, transform = r.read(1), r.transform
+    with rasterio.open(tmp_path / "down-d.tif") as r:
+        check_nearest(labels, r.read(1), transform, xy)
+    # A window lies where it lies in the whole picture.
+    pixgeo("voronoi", "--sites", path, "--bbox", box, "--size", 100,
+           "--labels", tmp_path / "window.tif", "--window", "10,20,30,40")
+    with rasterio.open(tmp_path / "window.tif") as r:
+        assert r.transform == Affine(10.0, 0.0, BBOX[0] + 100, 0.0, -10.0, BBOX[3] - 200)
+        assert r.shape == (40, 30)
+    # The second nearest sites: a band per level.
+    pixgeo("voronoi", "--sites", path, "--bbox", box, "--size", 100,
+           "--labels", tmp_path / "order.tif", "--degree", 2)
+    with rasterio.open(tmp_path / "order.tif") as r:
+        assert r.count == 2
+        first, second = r.read(1), r.read(2)
+        x, y = centres(r.transform, first.shape)
+        d = np.hypot(x[..., None] - xy[:, 0], y[..., None] - xy[:, 1])
+        ranked = np.sort(d, axis=-1)
+        at = lambda l: np.take_along_axis(d, l[..., None].astype(np.int64), axis=-1)[..., 0]
+        assert (at(first) - ranked[..., 0] <= 1e-3).all()
+        assert (at(second) - ranked[..., 1] <= 1e-3).all()
+
+
+def test_geographic_crs_and_settle(tmp_path):
+    pixgeo("settle", "--random", 12, "--bbox", "10,45,12,46.5", "--size", 80,
+           "--area", tmp_path / "area.tif", "--crs", "EPSG:4326",
+           "--world-file", tmp_path / "area.tfw")
+    with rasterio.open(tmp_path / "area.tif") as r:
+        assert r.crs.to_epsg() == 4326 and r.crs.is_geographic
+        assert r.transform == Affine(0.025, 0.0, 10.0, 0.0, -0.025, 46.5)
+        assert r.read(1).max() > 0
+    lines = (tmp_path / "area.tfw").read_text().split()
+    np.testing.assert_allclose(
+        [float(v) for v in lines], [0.025, 0, 0, -0.025, 10.0125, 46.4875]
+    )
+
+
+def read_cells(path):
+    collection = json.loads(path.read_text())
+    assert collection["type"] == "FeatureCollection"
+    return collection["features"]
+
+
+@pytest.mark.parametrize("case", ["random", "lattice", "co-circular", "outside", "repeated"])
+def test_exact_cells_beside_shapely(tmp_path, case):
+    rng = np.random.default_rng(8)
+    frame = box(*BBOX)
+    if case == "random":
+        xy = np.column_stack([rng.uniform(BBOX[0], BBOX[2], 60), rng.uniform(BBOX[1], BBOX[3], 60)])
+    elif case == "lattice":
+        gx, gy = np.meshgrid(np.arange(50, 1000, 100), np.arange(50, 800, 100))
+        xy = np.column_stack([gx.ravel() + BBOX[0], gy.ravel() + BBOX[1]])
+    elif case == "co-circular":
+        a = np.arange(16) * np.pi / 8
+        xy = np.column_stack([500 + 300 * np.cos(a), 400 + 300 * np.sin(a)]) + BBOX[:2]
+        xy = np.vstack([xy, [BBOX[0] + 500, BBOX[1] + 400]])
+    elif case == "outside":
+        xy = np.array([[-300, 400], [200, 300], [700, 500], [1500, 1500], [500, -10]]) + BBOX[:2]
+    else:
+        xy = np.column_stack([rng.uniform(BBOX[0], BBOX[2], 20), rng.uniform(BBOX[1], BBOX[3], 20)])
+        xy = np.vstack([xy, xy[:5]])
+    path = tmp_path / "sites.csv"
+    np.savetxt(path, xy, delimiter=",", header="x,y", comments="", fmt="%.6f")
+    xy = np.loadtxt(path, delimiter=",", skiprows=1)
+    out = tmp_path / "cells.geojson"
+    pixgeo("voronoi", "--sites", path, "--bbox", ",".join(map(str, BBOX)), "--size", 100,
+           "--cells", out, "-o", tmp_path / "cells.svg")
+    features = read_cells(out)
+    assert [f["properties"]["site"] for f in features] == list(range(len(xy)))
+    first = {}
+    for i, p in enumerate(map(tuple, xy)):
+        first.setdefault(p, i)
+    cells = {}
+    for f in features:
+        i = f["properties"]["site"]
+        assert f["properties"]["accuracy"] == "exact"
+        if f["geometry"] is None:
+            assert not frame.contains(Point(xy[i]))
+            continue
+        cell = shape(f["geometry"])
+        assert cell.is_valid and cell.geom_type == "Polygon"
+        assert shapely.is_ccw(cell.exterior)
+        np.testing.assert_allclose(f["properties"]["area"], cell.area, rtol=1e-9)
+        if first[tuple(xy[i])] != i:
+            assert f["properties"]["same_as"] == first[tuple(xy[i])]
+            continue
+        cells[i] = cell
+        if frame.contains(Point(xy[i])):
+            assert cell.buffer(1e-6).contains(Point(xy[i]))
+        # Random points of the cell are nearest to its site.
+        lo = np.array(cell.bounds[:2])
+        hi = np.array(cell.bounds[2:])
+        q = rng.uniform(lo, hi, (200, 2))
+        q = q[shapely.contains_xy(cell, q[:, 0], q[:, 1])]
+        d = np.hypot(q[:, None, 0] - xy[:, 0], q[:, None, 1] - xy[:, 1])
+        assert (d[:, i] <= d.min(axis=1) + 1e-6).all()
+    np.testing.assert_allclose(sum(c.area for c in cells.values()), frame.area, rtol=1e-9)
+    # shapely's (GEOS's) Voronoi polygons of the same points, clipped: each
+    # site's cell has the same area.
+    theirs = shapely.voronoi_polygons(MultiPoint(xy), extend_to=frame)
+    for poly in theirs.geoms:
+        part = poly.intersection(frame)
+        if part.is_empty:
+            continue
+        owners = [i for i in cells if poly.contains(Point(xy[i]))]
+        if len(owners) == 1:
+            np.testing.assert_allclose(cells[owners[0]].area, part.area, rtol=1e-6)
+    svg = (tmp_path / "cells.svg").read_text()
+    assert svg.startswith("<svg") and svg.count("<path") == len(cells)
+
+
+def test_traced_cells_and_triangles(tmp_path, sites):
+    xy, path = sites
+    box_text = ",".join(map(str, BBOX))
+    out = tmp_path / "l1.geojson"
+    pixgeo("voronoi", "--sites", path, "--bbox", box_text, "--size", 250, "--metric", "l1",
+           "--cells", out, "--labels", tmp_path / "l1.npy", "--y-axis", "up")
+    labels = np.load(tmp_path / "l1.npy")
+    features = read_cells(out)
+    frame = box(*BBOX)
+    total = 0.0
+    for f in features:
+        assert f["properties"]["accuracy"] == "raster: within half a pixel"
+        cell = shape(f["geometry"])
+        assert cell.is_valid
+        total += cell.area
+        # The traced cell is the label's pixels: 4 m squares.
+        assert abs(cell.area - 16.0 * (labels == f["properties"]["site"]).sum()) < 1e-6
+    np.testing.assert_allclose(total, frame.area)
+    # The Delaunay triangles as GeoJSON: they tile the points' hull.
+    tri = tmp_path / "mesh.geojson"
+    pixgeo("delaunay", "--sites", path, "--geojson", tri)
+    triangles = read_cells(tri)
+    hull = MultiPoint(xy).convex_hull
+    area = sum(shape(t["geometry"]).area for t in triangles)
+    np.testing.assert_allclose(area, hull.area, rtol=1e-9)
+    assert all(len(t["properties"]["vertices"]) == 3 for t in triangles)

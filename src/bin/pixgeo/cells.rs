@@ -1,0 +1,159 @@
+//! `--cells FILE.geojson` and `-o FILE.svg`: a diagram's cells as vector
+//! art. The Euclidean diagram of points has exact cells, from the Delaunay
+//! triangulation; every other diagram's cells are traced from its label
+//! raster, to half a pixel.
+
+use std::path::Path;
+
+use anyhow::Result;
+use glam::DVec2;
+use pixgeo::{
+    algorithms::{cells::voronoi_cells, trace::trace_regions},
+    geometry::cell::Rect,
+    io::{
+        picture::site_color,
+        vector::{write_geojson, write_svg, Feature, Polygons},
+    },
+    Machine,
+};
+use serde_json::{json, Map, Value};
+
+use crate::input::World;
+
+/// Where the cells come from.
+pub enum Source<'a> {
+    /// The exact cells of point sites under L2.
+    Exact {
+        machine: &'a Machine,
+        sites: &'a [DVec2],
+    },
+    /// The regions of a label raster covering the frame; `describe` gives a
+    /// label's properties and `colour` its colour.
+    Traced {
+        labels: &'a [u32],
+        describe: &'a dyn Fn(u32) -> Map<String, Value>,
+    },
+}
+
+/// Where the vector outputs go.
+#[derive(Clone, Copy)]
+pub struct Outputs<'a> {
+    pub geojson: Option<&'a Path>,
+    pub svg: Option<&'a Path>,
+}
+
+impl Outputs<'_> {
+    pub fn any(&self) -> bool {
+        self.geojson.is_some() || self.svg.is_some()
+    }
+}
+
+/// Writes the cells of `source` to `outputs`; `sites` are the dots of the
+/// SVG, in the computing world.
+pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -> Result<()> {
+    if !outputs.any() {
+        return Ok(());
+    }
+    let frame = &world.frame;
+    // Three coordinate systems: the computing world, the user's (GeoJSON),
+    // and the picture's (SVG: pixel (0, 0) from (0, 0) to (1, 1)).
+    let picture = |p: DVec2| frame.to_pixel(p) + DVec2::splat(0.5);
+    let (features, shapes): (Vec<Feature>, Vec<(Polygons, [u8; 3])>) = match source {
+        Source::Exact { machine, sites } => {
+            let rect = Rect {
+                lo: frame.to_world(DVec2::splat(-0.5)),
+                hi: frame.to_world(DVec2::new(
+                    frame.width as f64 - 0.5,
+                    frame.height as f64 - 0.5,
+                )),
+            };
+            let cells = voronoi_cells(machine, sites, &rect)?;
+            let same_as: std::collections::HashMap<u32, u32> =
+                cells.duplicates.iter().map(|&[r, f]| (r, f)).collect();
+            (0..sites.len())
+                .map(|i| {
+                    let ring = &cells.polygons[i];
+                    let world_polygons: Polygons = match ring.len() {
+                        0 => Vec::new(),
+                        _ => vec![vec![ring.clone()]],
+                    };
+                    let mut properties = Map::new();
+                    properties.insert("site".into(), json!(i));
+                    properties.insert("area".into(), json!(cells.area(i)));
+                    // A repeated site's cell is drawn once, for the first.
+                    let repeat = same_as.get(&(i as u32));
+                    if let Some(f) = repeat {
+                        properties.insert("same_as".into(), json!(f));
+                    }
+                    properties.insert("accuracy".into(), json!("exact"));
+                    let feature = Feature {
+                        polygons: map(&world_polygons, |p| world.to_user(p)),
+                        properties,
+                    };
+                    let drawn = match repeat {
+                        Some(_) => Vec::new(),
+                        None => map(&world_polygons, picture),
+                    };
+                    let shape = (drawn, site_color(i as u32));
+                    (feature, shape)
+                })
+                .unzip()
+        }
+        Source::Traced { labels, describe } => trace_regions(labels, frame.width, u32::MAX)
+            .into_iter()
+            .map(|region| {
+                let corners: Polygons = region
+                    .polygons
+                    .iter()
+                    .map(|rings| {
+                        rings
+                            .iter()
+                            .map(|r| {
+                                r.iter()
+                                    .map(|&(x, y)| DVec2::new(x as f64, y as f64))
+                                    .collect()
+                            })
+                            .collect()
+                    })
+                    .collect();
+                let user = map(&corners, |c| {
+                    world.to_user(frame.to_world(c - DVec2::splat(0.5)))
+                });
+                let mut properties = describe(region.label);
+                properties.insert("accuracy".into(), json!("raster: within half a pixel"));
+                let feature = Feature {
+                    polygons: user,
+                    properties,
+                };
+                (feature, (corners, site_color(region.label)))
+            })
+            .unzip(),
+    };
+    if let Some(path) = outputs.geojson {
+        write_geojson(path, &features, world.epsg)?;
+    }
+    if let Some(path) = outputs.svg {
+        let dots: Vec<DVec2> = sites.iter().map(|&p| picture(p)).collect();
+        write_svg(path, frame.width, frame.height, &shapes, &dots)?;
+    }
+    Ok(())
+}
+
+fn map(polygons: &Polygons, f: impl Fn(DVec2) -> DVec2) -> Polygons {
+    polygons
+        .iter()
+        .map(|rings| {
+            rings
+                .iter()
+                .map(|r| r.iter().map(|&p| f(p)).collect())
+                .collect()
+        })
+        .collect()
+}
+
+/// A site's properties: its index.
+pub fn site(label: u32) -> Map<String, Value> {
+    let mut m = Map::new();
+    m.insert("site".into(), json!(label));
+    m
+}
