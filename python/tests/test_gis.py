@@ -100,12 +100,16 @@ def test_other_layouts(tmp_path, sites):
         labels, transform = r.read(1), r.transform
     with rasterio.open(tmp_path / "down-d.tif") as r:
         check_nearest(labels, r.read(1), transform, xy)
-    # A window lies where it lies in the whole picture.
+    # A window lies where it lies in the whole picture, and so does its
+    # world file.
     pixgeo("voronoi", "--sites", path, "--bbox", box, "--size", 100,
-           "--labels", tmp_path / "window.tif", "--window", "10,20,30,40")
+           "--labels", tmp_path / "window.tif", "--window", "10,20,30,40",
+           "--world-file", tmp_path / "window.tfw")
     with rasterio.open(tmp_path / "window.tif") as r:
         assert r.transform == Affine(10.0, 0.0, BBOX[0] + 100, 0.0, -10.0, BBOX[3] - 200)
         assert r.shape == (40, 30)
+    lines = [float(v) for v in (tmp_path / "window.tfw").read_text().split()]
+    np.testing.assert_allclose(lines, [10, 0, 0, -10, BBOX[0] + 105, BBOX[3] - 205])
     # The second nearest sites: a band per level.
     pixgeo("voronoi", "--sites", path, "--bbox", box, "--size", 100,
            "--labels", tmp_path / "order.tif", "--degree", 2)

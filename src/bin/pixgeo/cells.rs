@@ -28,7 +28,7 @@ pub enum Source<'a> {
         sites: &'a [DVec2],
     },
     /// The regions of a label raster covering the frame; `describe` gives a
-    /// label's properties and `colour` its colour.
+    /// label's properties.
     Traced {
         labels: &'a [u32],
         describe: &'a dyn Fn(u32) -> Map<String, Value>,

@@ -201,10 +201,13 @@ impl Input {
         Ok((world, sites.collect()))
     }
 
-    /// Writes the world file, if asked for, once the rasters are written.
-    pub fn write_world_file(&self, world: &World) -> Result<()> {
+    /// Writes the world file, if asked for, once the rasters are written:
+    /// rasters whose first pixel is the frame's pixel `corner`.
+    pub fn write_world_file(&self, world: &World, corner: (u32, u32)) -> Result<()> {
         if let Some(path) = &self.world_file {
-            world.georeference().write_world_file(path)?;
+            world
+                .georeference_from(corner.0, corner.1)
+                .write_world_file(path)?;
             crate::wrote([Some(path.as_path())]);
         }
         Ok(())

@@ -152,7 +152,7 @@ pub fn run(mut args: Args) -> Result<()> {
         write_picture(path, &map, &frame, &rivals, &own)?;
     }
     crate::wrote([args.area.as_deref(), args.output.as_deref()]);
-    args.input.write_world_file(&world)?;
+    args.input.write_world_file(&world, (0, 0))?;
     let summary = summary(&map, &world, refined.as_ref(), &args);
     if args.json {
         envelope::print_world("settle", backend.name(), &world, &summary)?;

@@ -272,7 +272,8 @@ pub fn run(mut args: Args) -> Result<()> {
     let (world, general) = args.input.world_and_general_sites()?;
     args.metric = world.metric(args.metric);
     diagram(&args, &world, general)?;
-    args.input.write_world_file(&world)?;
+    let corner = args.window.map_or((0, 0), |w| (w.x, w.y));
+    args.input.write_world_file(&world, corner)?;
     // Options a diagram would not write are refused up front: each given was written.
     crate::wrote(
         [
