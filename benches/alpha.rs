@@ -122,7 +122,7 @@ fn differ(a: &[u8], b: &[u8]) -> usize {
 fn main() -> anyhow::Result<()> {
     let ns = env_list("ALPHA_N", &[100, 1000, 10_000]);
     let repeats = env_list("ALPHA_REPEATS", &[3])[0].max(1);
-    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/alpha");
+    let out_dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/alpha");
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());

@@ -92,7 +92,7 @@ fn same(a: f64, b: f64) -> &'static str {
 fn main() -> anyhow::Result<()> {
     let ns = env_list("AREA_N", &[100, 200, 500, 1000]);
     let repeats = env_list("AREA_REPEATS", &[3])[0].max(1);
-    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/area");
+    let out_dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/area");
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());

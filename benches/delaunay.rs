@@ -30,7 +30,8 @@ fn points(n: usize) -> Vec<DVec2> {
 
 /// Triangle's median time and triangle count per file, if Python has it.
 fn triangle_peer(repeats: usize, files: &[PathBuf]) -> Option<serde_json::Value> {
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tools/peer_triangle.py");
+    let script =
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tools/peer_triangle.py");
     let output = Command::new("python3")
         .arg(script)
         .arg(repeats.to_string())
@@ -53,7 +54,7 @@ fn triangle_peer(repeats: usize, files: &[PathBuf]) -> Option<serde_json::Value>
 fn main() -> anyhow::Result<()> {
     let ns = env_list("DELAUNAY_N", &[10_000, 100_000, 1_000_000]);
     let repeats = env_list("DELAUNAY_REPEATS", &[3])[0].max(1);
-    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/delaunay");
+    let out_dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/delaunay");
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());

@@ -17,9 +17,9 @@ use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     geometry::Frame,
     io::npy,
-    reference::voronoi::nearest_sites_grid,
     Machine,
 };
+use pixgeo_reference::voronoi::nearest_sites_grid;
 use plotters::style::RGBColor;
 
 mod common {
@@ -85,7 +85,7 @@ fn main() -> anyhow::Result<()> {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(5);
-    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/fig313");
+    let out_dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/fig313");
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     let frame = Frame::pixels(SIZE, SIZE)?;
@@ -160,7 +160,8 @@ fn main() -> anyhow::Result<()> {
         cpu_ms.push(cpu);
     }
 
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tools/peer_edt.py");
+    let script =
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tools/peer_edt.py");
     let peer = Command::new("python3")
         .arg(&script)
         .arg(SIZE.to_string())

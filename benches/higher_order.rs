@@ -62,7 +62,8 @@ fn main() -> anyhow::Result<()> {
     let ns = env_list("HO_N", &[100, 500, 1000, 2000, 4000, 8000, 16000]);
     let sets = env_list("HO_HAUSDORFF", &[10_000, 100_000]);
     let repeats = env_list("HO_REPEATS", &[3])[0].max(1);
-    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/higher_order");
+    let out_dir =
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/higher_order");
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     let frame = Frame::pixels(SIZE, SIZE)?;
@@ -137,7 +138,8 @@ fn main() -> anyhow::Result<()> {
         eprintln!("hausdorff {m:>7} points: {t:.1} ms, distance {distance}");
         ours.push((t, distance));
     }
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tools/peer_hausdorff.py");
+    let script =
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tools/peer_hausdorff.py");
     let peer = Command::new("python3")
         .arg(&script)
         .arg(repeats.to_string())

@@ -14,9 +14,9 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::homothet::{enclose, largest_empty, largest_empty_by, PixelStage, Region, Unit},
     geometry::Frame,
-    reference::homothet::welzl,
     Machine,
 };
+use pixgeo_reference::homothet::welzl;
 use spade::{DelaunayTriangulation, HierarchyHintGenerator, Point2, Triangulation};
 
 mod common {
@@ -107,7 +107,7 @@ fn delaunay_empty_circle(points: &[DVec2]) -> anyhow::Result<f64> {
 fn main() -> anyhow::Result<()> {
     let ns = env_list("HM_N", &[100, 1000, 10_000, 100_000]);
     let repeats = env_list("HM_REPEATS", &[3])[0].max(1);
-    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/homothet");
+    let out_dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/homothet");
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());

@@ -63,7 +63,7 @@ fn gpu(
 fn main() -> anyhow::Result<()> {
     let ns = env_list("SETTLE_N", &[2, 3, 5, 10, 20, 50, 100, 200]);
     let faithful_sizes = env_list("SETTLE_FAITHFUL_SIZES", &[128, 256]);
-    let out_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/settle");
+    let out_dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/settle");
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());

@@ -42,6 +42,17 @@ pub enum Error {
     /// A file was read but its content is malformed.
     #[error("{path}: {message}")]
     Parse { path: PathBuf, message: String },
+    /// The device lacks a feature the computation needs (float64 shaders,
+    /// 64-bit atomics, logic operations).
+    #[error("the device does not support {0}")]
+    Unsupported(String),
+    /// pixgeo broke one of its own invariants: a bug, not the input's fault.
+    #[error("{0}; this is a pixgeo bug, please report it with the input")]
+    Internal(String),
+    /// A [`Machine`](crate::Machine) was used against its rules: an image or
+    /// buffer of another machine, or a run started inside a run.
+    #[error("machine misuse: {0}")]
+    Usage(String),
 }
 
 impl Error {

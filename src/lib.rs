@@ -4,10 +4,10 @@
 //! one cone per site with a depth test paints every pixel with its nearest site
 //! (M. Denny, *Algorithmic Geometry via Graphics Hardware*, 2003). pixgeo runs that
 //! machine on Vulkan ([`machine`]), builds the surfaces it draws in [`geometry`],
-//! writes the problems on it in [`algorithms`], reads and writes files in
-//! [`io`], and offers all of it to C hosts through [`ffi`]. The tests check every
-//! result against brute-force definitions in `reference` (the `reference`
-//! feature), which are not part of the interface.
+//! writes the problems on it in [`algorithms`], and reads and writes files in
+//! [`io`]. Beside it, `pixgeo-cli` is the command line, `pixgeo-capi` the C
+//! library, and the tests check every result against the brute-force
+//! definitions of `pixgeo-reference`.
 //!
 //! # The thesis's model and the machine's types
 //!
@@ -41,18 +41,14 @@
 //! # Ok::<(), pixgeo::Error>(())
 //! ```
 //!
-//! `unsafe` code lives in two places only: the Vulkan layer ([`machine`]) and the
-//! C boundary ([`ffi`]), every block with a `// SAFETY:` note; the rest of the
-//! crate forbids it.
+//! `unsafe` code lives in the Vulkan layer ([`machine`]) alone, every block
+//! with a `// SAFETY:` note; the rest of the crate forbids it.
 
 pub mod algorithms;
 pub mod error;
-pub mod ffi;
 pub mod geometry;
 pub mod io;
 pub mod machine;
-#[cfg(feature = "reference")]
-pub mod reference;
 mod simple;
 
 pub use error::{Error, Result};

@@ -565,9 +565,8 @@ pub fn hull_circles(sites: &[DVec2], radius: f64) -> Result<HullCircles> {
         (hull.clone(), Vec::new())
     };
     if hull.len() > 1 && centres.is_empty() {
-        return Err(Error::InvalidInput(format!(
-            "no circle of radius {radius} through two hull points holds the others; \
-             this is a pixgeo bug, please report it with the sites"
+        return Err(Error::Internal(format!(
+            "no circle of radius {radius} through two hull points holds the others"
         )));
     }
     Ok(HullCircles {

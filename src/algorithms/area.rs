@@ -332,11 +332,7 @@ fn triangle_in_range(
         }
     }
     let checked = searched.len();
-    let (vertices, area) = best.ok_or_else(|| {
-        Error::InvalidInput(
-            "no triangle was found; this is a pixgeo bug, please report it with the sites".into(),
-        )
-    })?;
+    let (vertices, area) = best.ok_or_else(|| Error::Internal("no triangle was found".into()))?;
     Ok(AreaAnswer {
         extreme,
         sites: counter_clockwise(sites, vertices),
@@ -452,12 +448,10 @@ fn quadrangle_in_range(
         Extreme::Smallest => sums.sort_by(|a, b| a.0.total_cmp(&b.0)),
         Extreme::Largest => sums.sort_by(|a, b| b.0.total_cmp(&a.0)),
     }
-    let pixel_best = sums.first().map(|s| s.0).ok_or_else(|| {
-        Error::InvalidInput(
-            "no diagonal has sites on both sides; this is a pixgeo bug, please report it with the sites"
-                .into(),
-        )
-    })?;
+    let pixel_best = sums
+        .first()
+        .map(|s| s.0)
+        .ok_or_else(|| Error::Internal("no diagonal has sites on both sides".into()))?;
     let reduce_ms = ms(started);
     let started = Instant::now();
     let slack = |sum: f64| 1e-6 * sum.abs() + 1e-9 / px2;
@@ -484,12 +478,8 @@ fn quadrangle_in_range(
             }
         }
     }
-    let (vertices, area) = best.ok_or_else(|| {
-        Error::InvalidInput(
-            "no diagonal has sites strictly on both sides; this is a pixgeo bug, please report it with the sites"
-                .into(),
-        )
-    })?;
+    let (vertices, area) =
+        best.ok_or_else(|| Error::Internal("no diagonal has sites strictly on both sides".into()))?;
     Ok(AreaAnswer {
         extreme,
         sites: vertices,

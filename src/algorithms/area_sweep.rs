@@ -129,12 +129,8 @@ fn sweep(
             }
         });
     })?;
-    let (vertices, area) = best.ok_or_else(|| {
-        Error::InvalidInput(
-            "the sweep found no candidate; this is a pixgeo bug, please report it with the sites"
-                .into(),
-        )
-    })?;
+    let (vertices, area) =
+        best.ok_or_else(|| Error::Internal("the sweep found no candidate".into()))?;
     let vertices = match vertices.len() {
         3 => counter_clockwise(sites, vertices),
         _ => vertices,

@@ -443,9 +443,7 @@ pub(crate) fn draw_point_tiles(
                 break;
             }
             if k + 1 == plan.attempts() {
-                return Err(Error::InvalidInput(
-                        "cones left pixels uncovered; this is a pixgeo bug, please report it with the sites".into(),
-                    ));
+                return Err(Error::Internal("cones left pixels uncovered".into()));
             }
         }
         stats.render_ms += ms(started);

@@ -110,8 +110,8 @@ pub fn for_each_line(
                     .iter()
                     .any(|&p| first[p as usize] != lo || partners[p as usize] + 1 != line.len())
             {
-                return Err(Error::InvalidInput(
-                    "the sweep's order lost a line's points; this is a pixgeo bug, please report it with the points".into(),
+                return Err(Error::Internal(
+                    "the sweep's order lost a line's points".into(),
                 ));
             }
             visit(&order, block.clone());

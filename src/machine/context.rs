@@ -75,6 +75,11 @@ pub struct MachineOptions {
     /// Times every pass on the device and every run on the host into this
     /// profiler's timeline; `None` times nothing (passes are labelled always).
     pub profiler: Option<Profiler>,
+    /// Enable none of the optional device features (logic ops, float64,
+    /// fragment stores, 64-bit atomics), as on a device that lacks them: the
+    /// programs needing them are refused and the algorithms take their other
+    /// routes.
+    pub core_features_only: bool,
 }
 
 impl MachineOptions {
@@ -87,6 +92,7 @@ impl MachineOptions {
             validation: std::env::var("PIXGEO_VALIDATION").is_ok_and(|v| v == "1"),
             pipeline_cache: user_cache_dir(),
             profiler: None,
+            core_features_only: false,
         }
     }
 
@@ -107,6 +113,13 @@ impl MachineOptions {
 
     pub fn profiler(self, profiler: Option<Profiler>) -> Self {
         Self { profiler, ..self }
+    }
+
+    pub fn core_features_only(self, core_features_only: bool) -> Self {
+        Self {
+            core_features_only,
+            ..self
+        }
     }
 }
 
@@ -147,6 +160,8 @@ pub(crate) struct Context {
     pub fragment_atomics64: bool,
     /// Shaders may compute in double precision (the area programs need it).
     pub float64: bool,
+    /// Colour targets may be combined with logic operations.
+    pub logic_op: bool,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
@@ -259,11 +274,14 @@ impl Context {
             .push_next(&mut supported12);
         // SAFETY: valid physical device; the chained struct outlives the call.
         unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
-        let logic_op = supported.features.logic_op;
-        let float64 = supported.features.shader_float64 == vk::TRUE;
+        // The optional features, unless the options ask for the core alone.
+        let optional = !options.core_features_only;
+        let logic_op = optional && supported.features.logic_op == vk::TRUE;
+        let float64 = optional && supported.features.shader_float64 == vk::TRUE;
         // Per-pixel lists: fragments store them in storage buffers, and some
         // insert 64-bit keys with atomic min.
-        let fragment_stores = supported.features.fragment_stores_and_atomics == vk::TRUE;
+        let fragment_stores =
+            optional && supported.features.fragment_stores_and_atomics == vk::TRUE;
         let fragment_atomics64 = fragment_stores
             && supported.features.shader_int64 == vk::TRUE
             && supported12.shader_buffer_int64_atomics == vk::TRUE;
@@ -281,7 +299,7 @@ impl Context {
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
         let features = vk::PhysicalDeviceFeatures::default()
-            .logic_op(logic_op == vk::TRUE)
+            .logic_op(logic_op)
             .independent_blend(true)
             .fragment_stores_and_atomics(fragment_stores)
             .shader_int64(fragment_atomics64)
@@ -335,6 +353,7 @@ impl Context {
             fragment_stores,
             fragment_atomics64,
             float64,
+            logic_op,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
         context.check_validation()?;

@@ -78,7 +78,8 @@ impl Format {
 
 /// An offscreen picture buffer in device memory.
 pub struct Image {
-    ctx: Arc<Context>,
+    /// The machine's context it was made on; passes of other machines refuse it.
+    pub(crate) ctx: Arc<Context>,
     pub(crate) raw: vk::Image,
     pub(crate) view: vk::ImageView,
     allocation: Option<Allocation>,
@@ -223,7 +224,8 @@ pub enum BufferKind {
 
 /// A buffer in host-visible memory.
 pub struct Buffer {
-    ctx: Arc<Context>,
+    /// The machine's context it was made on; passes of other machines refuse it.
+    pub(crate) ctx: Arc<Context>,
     pub(crate) raw: vk::Buffer,
     allocation: Option<Allocation>,
     size: u64,

@@ -5,9 +5,12 @@
 //! The file is long because every command the machine records goes through one
 //! type, which tracks the open rendering pass and each resource's last use.
 
+use std::sync::Arc;
+
 use ash::vk;
 
 use super::{
+    context::Context,
     memory::{Buffer, Format, Image},
     pipelines::{Kernel, BUFFER_KERNEL_BINDINGS, GRAPHICS_RECORDS_BINDING},
     program::{ComputeProgram, Fragments, GraphicsProgram, Output, Topology},
@@ -206,6 +209,10 @@ pub struct Pass<'m, 'r> {
     /// The buffers used so far, each once: at the end of the run their writes
     /// are made visible to the host and they return to `BufferUse::Host`.
     buffers: Vec<&'r Buffer>,
+    /// The images used so far, each once, with their use before the run: a
+    /// run that fails never executes, so they return to it
+    /// ([`Pass::roll_back`]).
+    images: Vec<(&'r Image, Usage)>,
 }
 
 impl<'m, 'r> Pass<'m, 'r> {
@@ -215,6 +222,35 @@ impl<'m, 'r> Pass<'m, 'r> {
             cmd,
             rendering: None,
             buffers: Vec::new(),
+            images: Vec::new(),
+        }
+    }
+
+    /// Refuses an image or buffer made by another machine: each machine is a
+    /// device of its own, and one device cannot use another's objects.
+    fn check_owner(&self, owner: &Arc<Context>, what: &str) -> Result<()> {
+        if Arc::ptr_eq(owner, &self.machine.ctx) {
+            return Ok(());
+        }
+        Err(Error::Usage(format!(
+            "{what} belongs to another machine: make it with the machine whose run uses it"
+        )))
+    }
+
+    /// Remembers `image`'s use before this run, the first time the run meets it.
+    fn claim_image(&mut self, image: &'r Image) -> Result<()> {
+        self.check_owner(&image.ctx, "an image")?;
+        if !self.images.iter().any(|(i, _)| std::ptr::eq(*i, image)) {
+            self.images.push((image, image.last_use.get()));
+        }
+        Ok(())
+    }
+
+    /// Returns every image to its use before a run whose commands will not
+    /// execute (its closure or its submission failed).
+    pub(crate) fn roll_back(&mut self) {
+        for (image, usage) in self.images.drain(..) {
+            image.last_use.set(usage);
         }
     }
 
@@ -222,6 +258,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// barrier its last use needs. Inside a rendering pass no barrier can be
     /// recorded, so a use that needs one there is an error.
     fn use_buffer(&mut self, buffer: &'r Buffer, usage: BufferUse) -> Result<()> {
+        self.check_owner(&buffer.ctx, "a buffer")?;
         let from = buffer.last_use.get();
         if let Some(barrier) = sync::buffer_barrier(buffer.raw, from, usage) {
             if self.rendering.is_some() {
@@ -278,7 +315,8 @@ impl<'m, 'r> Pass<'m, 'r> {
     }
 
     /// Declares that `image` is used as `usage` from here on; records the barrier.
-    pub(crate) fn use_image(&mut self, image: &Image, usage: Usage) {
+    pub(crate) fn use_image(&mut self, image: &'r Image, usage: Usage) -> Result<()> {
+        self.claim_image(image)?;
         let from = image.last_use.get();
         if let Some(barrier) =
             sync::image_barrier(image.raw, image.subresource_range(), from, usage)
@@ -289,6 +327,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
         }
         image.last_use.set(usage);
+        Ok(())
     }
 
     /// Begins rendering into `target`, clearing what `clear` names.
@@ -322,16 +361,18 @@ impl<'m, 'r> Pass<'m, 'r> {
         }
         self.begin_section(&format!("render {width}x{height}"))?;
         if let Some(c) = target.color {
+            self.claim_image(c)?;
             if clear.color.is_some() {
                 c.last_use.set(Usage::Undefined);
             }
-            self.use_image(c, Usage::ColorAttachment);
+            self.use_image(c, Usage::ColorAttachment)?;
         }
         if let Some(d) = target.depth_stencil {
+            self.claim_image(d)?;
             if clear.depth.is_some() && (clear.stencil.is_some() || !d.format().has_stencil()) {
                 d.last_use.set(Usage::Undefined);
             }
-            self.use_image(d, Usage::DepthStencilAttachment);
+            self.use_image(d, Usage::DepthStencilAttachment)?;
         }
         let color_clear = match clear.color {
             Some(ClearColor::Uint(v)) => vk::ClearValue {
@@ -773,7 +814,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             ));
         }
         self.record_upload(buffer, 0, image, vk::ImageAspectFlags::COLOR)?;
-        self.use_image(image, Usage::FragmentRead);
+        self.use_image(image, Usage::FragmentRead)?;
         Ok(())
     }
 
@@ -783,11 +824,11 @@ impl<'m, 'r> Pass<'m, 'r> {
         &mut self,
         buffer: &'r Buffer,
         offset: u64,
-        image: &Image,
+        image: &'r Image,
         aspect: vk::ImageAspectFlags,
     ) -> Result<()> {
         self.use_buffer(buffer, BufferUse::TransferSrc)?;
-        self.use_image(image, Usage::TransferDst);
+        self.use_image(image, Usage::TransferDst)?;
         self.begin_section("upload")?;
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
@@ -833,7 +874,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// Records the copy of `rect` of `image` into `buffer` at byte `offset`.
     fn record_copy(
         &mut self,
-        image: &Image,
+        image: &'r Image,
         rect: PixelRect,
         buffer: &'r Buffer,
         offset: u64,
@@ -865,14 +906,14 @@ impl<'m, 'r> Pass<'m, 'r> {
 
     fn record_aspect_copy(
         &mut self,
-        image: &Image,
+        image: &'r Image,
         rect: PixelRect,
         buffer: &'r Buffer,
         offset: u64,
         aspect: vk::ImageAspectFlags,
     ) -> Result<()> {
         self.use_buffer(buffer, BufferUse::TransferDst)?;
-        self.use_image(image, Usage::TransferSrc);
+        self.use_image(image, Usage::TransferSrc)?;
         self.begin_section("copy to buffer")?;
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
@@ -923,7 +964,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             1,
             &[result],
         )?;
-        self.use_image(image, Usage::ComputeRead);
+        self.use_image(image, Usage::ComputeRead)?;
         let mut words = vec![rect.x, rect.y, rect.width, rect.height];
         words.extend_from_slice(extra_push);
         let layout = self.machine.pipelines.compute_layout;

@@ -57,8 +57,9 @@ struct GraphicsKey {
 pub(crate) struct Pipelines {
     ctx: Arc<Context>,
     pub cache: PipelineCache,
-    /// One module per build, in the order of `shaders::ALL`.
-    modules: Vec<vk::ShaderModule>,
+    /// One module per build, in the order of `shaders::ALL`, made when a
+    /// pipeline first needs it (null until then): a machine uses few of them.
+    modules: RefCell<Vec<vk::ShaderModule>>,
     pub graphics_layout: vk::PipelineLayout,
     /// Three storage buffers for vertex and fragment shaders (bindings 0, 1 and 2
     /// of set 0) and a storage image of records for fragment shaders (binding
@@ -80,7 +81,7 @@ impl Pipelines {
         let mut pipelines = Self {
             ctx: ctx.clone(),
             cache: PipelineCache::open(ctx, cache_folder)?,
-            modules: Vec::with_capacity(shaders::ALL.len()),
+            modules: RefCell::new(vec![vk::ShaderModule::null(); shaders::ALL.len()]),
             graphics_layout: vk::PipelineLayout::null(),
             graphics_set_layout: vk::DescriptorSetLayout::null(),
             compute_set_layout: vk::DescriptorSetLayout::null(),
@@ -92,14 +93,6 @@ impl Pipelines {
             buffer_kernels: RefCell::default(),
         };
         let device = &ctx.device;
-        for (name, code) in shaders::ALL {
-            let info = vk::ShaderModuleCreateInfo::default().code(code);
-            // SAFETY: SPIR-V compiled and validated by build.rs; destroyed in `Drop`.
-            let module =
-                unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
-            ctx.name_object(module, name);
-            pipelines.modules.push(module);
-        }
 
         let buffers = [0, 1, 2].map(|binding| {
             vk::DescriptorSetLayoutBinding::default()
@@ -179,8 +172,33 @@ impl Pipelines {
         Ok(pipelines)
     }
 
-    fn module(&self, shader: Shader) -> vk::ShaderModule {
-        self.modules[shader.index]
+    /// Refuses a build whose needs the device did not enable.
+    fn check_needs(&self, shader: Shader) -> Result<()> {
+        let lacks = if shader.needs.float64 && !self.ctx.float64 {
+            "double precision shaders (shaderFloat64)"
+        } else if shader.needs.int64_atomics && !self.ctx.fragment_atomics64 {
+            "64-bit atomics (shaderBufferInt64Atomics)"
+        } else {
+            return Ok(());
+        };
+        Err(Error::Unsupported(format!(
+            "{lacks}, which {} needs",
+            shader.name
+        )))
+    }
+
+    fn module(&self, shader: Shader) -> Result<vk::ShaderModule> {
+        let mut modules = self.modules.borrow_mut();
+        if modules[shader.index] == vk::ShaderModule::null() {
+            let (name, code) = shaders::ALL[shader.index];
+            let info = vk::ShaderModuleCreateInfo::default().code(code);
+            // SAFETY: SPIR-V compiled and validated by build.rs; destroyed in `Drop`.
+            let module = unsafe { self.ctx.device.create_shader_module(&info, None) }
+                .vk("vkCreateShaderModule")?;
+            self.ctx.name_object(module, name);
+            modules[shader.index] = module;
+        }
+        Ok(modules[shader.index])
     }
 
     /// The pipeline drawing `program` with its build `fragment` into `color`
@@ -225,14 +243,22 @@ impl Pipelines {
                 "logic operations need an integer colour target".into(),
             ));
         }
+        if matches!(key.state.color, ColorUpdate::Logic(_)) && !self.ctx.logic_op {
+            return Err(Error::Unsupported(format!(
+                "logic operations (logicOp), which {} draws with",
+                program.name
+            )));
+        }
+        self.check_needs(program.vertex)?;
+        self.check_needs(fragment)?;
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
-                .module(self.module(program.vertex))
+                .module(self.module(program.vertex)?)
                 .name(c"main"),
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(self.module(fragment))
+                .module(self.module(fragment)?)
                 .name(c"main"),
         ];
         let bindings: Vec<_> = (0u32..)
@@ -368,9 +394,10 @@ impl Pipelines {
     }
 
     fn create_compute(&self, shader: Shader, layout: vk::PipelineLayout) -> Result<vk::Pipeline> {
+        self.check_needs(shader)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(self.module(shader))
+            .module(self.module(shader)?)
             .name(c"main");
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
@@ -413,7 +440,8 @@ impl Drop for Pipelines {
             device.destroy_pipeline_layout(self.compute_layout, None);
             device.destroy_descriptor_set_layout(self.compute_set_layout, None);
             device.destroy_descriptor_set_layout(self.graphics_set_layout, None);
-            for m in &self.modules {
+            // Destroying a null handle does nothing.
+            for m in self.modules.get_mut() {
                 device.destroy_shader_module(*m, None);
             }
         }

@@ -111,6 +111,19 @@ pub struct Shader {
     pub output: Output,
     /// Compute shaders: invocations per workgroup along x.
     pub group: u32,
+    /// What it asks of the device beyond Vulkan 1.3's core.
+    pub needs: Needs,
+}
+
+/// Device features a shader build needs beyond Vulkan 1.3's core, read from
+/// its SPIR-V capabilities by build.rs. A pipeline of a build the device does
+/// not offer is refused ([`crate::Error::Unsupported`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Needs {
+    /// Double precision arithmetic (`shaderFloat64`).
+    pub float64: bool,
+    /// 64-bit atomics on storage buffers (`shaderBufferInt64Atomics`).
+    pub int64_atomics: bool,
 }
 
 /// One attribute of a vertex buffer: the input at `location` reads `format`

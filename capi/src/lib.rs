@@ -1,0 +1,464 @@
+//! The C ABI: opaque context handles, status codes, caller-owned flat arrays.
+//!
+//! Every function returns a [`PixgeoStatus`]; on failure the message is kept in the
+//! context ([`pixgeo_context_last_error`]) or, for context creation, per thread
+//! ([`pixgeo_create_error`]). No panic crosses the boundary: a panic becomes
+//! [`PixgeoStatus::Panic`].
+//!
+//! Every options struct starts with `struct_size`, which its `*_default()`
+//! sets: a library reads only the fields the caller's header knew of, so
+//! structs can grow without breaking programs built against an older header.
+//!
+//! Threads: a context may be used by one thread at a time (calls on it must not
+//! overlap; one that does is refused with [`PixgeoStatus::Busy`]); different
+//! contexts may be used from different threads at once.
+//!
+//! The header `capi/include/pixgeo.h` is generated from these files by cbindgen; a
+//! test fails when the two drift apart.
+
+use std::{
+    cell::RefCell,
+    ffi::{c_char, CString},
+    panic::{catch_unwind, AssertUnwindSafe},
+    ptr,
+};
+
+use pixgeo::{
+    machine::{DeviceChoice, Machine, MachineOptions},
+    Error,
+};
+
+mod delaunay;
+mod diagrams;
+mod distances;
+mod flooding;
+mod homothets;
+mod options;
+mod settle;
+mod shapes;
+mod transform;
+
+pub use delaunay::*;
+pub use diagrams::*;
+pub use distances::*;
+pub use flooding::*;
+pub use homothets::*;
+pub use options::*;
+pub use settle::*;
+pub use shapes::*;
+pub use transform::*;
+
+/// Result of every call.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoStatus {
+    Ok = 0,
+    /// A pointer was null, a count zero, an option out of range, a coordinate
+    /// not finite.
+    InvalidArgument = 1,
+    /// No Vulkan driver, or no device matching the request.
+    NoDevice = 2,
+    /// A Vulkan call or a memory allocation failed.
+    DeviceError = 3,
+    /// The validation layer reported a problem (only with validation on).
+    ValidationError = 4,
+    /// The picture is larger than pixgeo supports.
+    TooLarge = 5,
+    /// pixgeo panicked: a bug; the message says where.
+    Panic = 6,
+    /// A band callback returned non-zero, which stopped the call.
+    Stopped = 7,
+    /// An output array's capacity is smaller than the answer; the answer's
+    /// sizes were written, so the call can be repeated with room enough.
+    BufferTooSmall = 8,
+    /// pixgeo broke one of its own invariants, or a machine was misused: a
+    /// bug; the message says which.
+    Internal = 9,
+    /// The context was in a call on another thread; nothing was done.
+    Busy = 10,
+}
+
+/// A short, fixed description of a [`PixgeoStatus`], such as "invalid
+/// argument" (values that are none give "unknown status"); the
+/// failed call's own message is [`pixgeo_context_last_error`]. Never null;
+/// valid for the life of the program.
+#[no_mangle]
+pub extern "C" fn pixgeo_status_string(status: i32) -> *const c_char {
+    // An integer, not the enum: a C caller may pass any value.
+    let text: &'static std::ffi::CStr = match status {
+        0 => c"ok",
+        1 => c"invalid argument",
+        2 => c"no Vulkan device",
+        3 => c"device error",
+        4 => c"validation error",
+        5 => c"picture too large",
+        6 => c"pixgeo panicked (a bug)",
+        7 => c"stopped by the callback",
+        8 => c"buffer too small",
+        9 => c"internal error (a bug)",
+        10 => c"context busy in another thread",
+        _ => c"unknown status",
+    };
+    text.as_ptr()
+}
+
+/// Which device a context uses.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoDevice {
+    /// `PIXGEO_DEVICE` if set, else a GPU if present, else lavapipe.
+    Auto = 0,
+    /// Mesa's software Vulkan device (lavapipe).
+    Lavapipe = 1,
+    /// A hardware GPU.
+    Gpu = 2,
+}
+
+/// Options of [`pixgeo_context_create`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PixgeoContextOptions {
+    /// `sizeof(PixgeoContextOptions)`, set by [`pixgeo_context_options_default`].
+    pub struct_size: u32,
+    /// A [`PixgeoDevice`]; other values are an invalid argument.
+    pub device: u32,
+    /// Enable the Khronos validation layer; any message fails the call.
+    pub validation: bool,
+    /// Null, or a device named as `PIXGEO_DEVICE` and the command line's
+    /// `--device` name one (`auto`, `lavapipe`, `gpu`, an index, or part of a
+    /// device's name), in place of `device`. Read during the call.
+    pub device_name: *const c_char,
+    /// Keep compiled pipelines in a file between processes (true by default):
+    /// in `PIXGEO_CACHE_DIR`, else `$XDG_CACHE_HOME/pixgeo` or
+    /// `~/.cache/pixgeo`, one file per device and driver, written after calls
+    /// that made new pipelines. False keeps them for the context's life only
+    /// and writes no file.
+    pub pipeline_cache: bool,
+}
+
+/// A pixel machine and the message of its last failed call. One thread at a
+/// time may call with a context: a call while another thread's call on it is
+/// running returns `PIXGEO_STATUS_BUSY`. Different contexts may be used from
+/// different threads at once.
+pub struct PixgeoContext {
+    machine: Machine,
+    device_name: CString,
+    last_error: CString,
+    /// A call is running on the context.
+    busy: std::sync::atomic::AtomicBool,
+}
+
+thread_local! {
+    static CREATE_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+fn message(text: &str) -> CString {
+    CString::new(text.replace('\0', " ")).unwrap_or_default()
+}
+
+fn status_of(error: &Error) -> PixgeoStatus {
+    match error {
+        Error::NoVulkan(_) | Error::NoDevice(_) => PixgeoStatus::NoDevice,
+        Error::Vulkan { .. } | Error::Memory(_) => PixgeoStatus::DeviceError,
+        Error::Validation(_) => PixgeoStatus::ValidationError,
+        Error::PictureTooLarge { .. } => PixgeoStatus::TooLarge,
+        Error::InvalidInput(_) | Error::Io { .. } | Error::Parse { .. } => {
+            PixgeoStatus::InvalidArgument
+        }
+        Error::Internal(_) | Error::Usage(_) => PixgeoStatus::Internal,
+        // Kinds added later are errors pixgeo did not expect to reach C.
+        _ => PixgeoStatus::Internal,
+    }
+}
+
+thread_local! {
+    /// Whether this thread is inside a call from C, and where its last panic
+    /// happened.
+    static IN_CALL: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    static PANIC_AT: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+/// Runs a call from C: a panic comes back as `Err`, and the host's stderr gets
+/// no message or backtrace from it (the message goes to the error string).
+/// Panics outside calls from C still reach the hook that was there before.
+fn guarded<T>(f: impl FnOnce() -> T) -> std::thread::Result<T> {
+    static QUIET_HOOK: std::sync::Once = std::sync::Once::new();
+    QUIET_HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if IN_CALL.get() {
+                let at = info.location().map(|l| l.to_string()).unwrap_or_default();
+                PANIC_AT.with_borrow_mut(|p| *p = at);
+            } else {
+                previous(info);
+            }
+        }));
+    });
+    let outer = IN_CALL.replace(true);
+    let outcome = catch_unwind(AssertUnwindSafe(f));
+    IN_CALL.set(outer);
+    outcome
+}
+
+fn panic_text(payload: Box<dyn std::any::Any + Send>) -> String {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into());
+    let at = PANIC_AT.with_borrow(|p| p.clone());
+    format!("pixgeo panicked (a bug, please report it) at {at}: {what}")
+}
+
+/// Runs `f` on the context, recording its error message there.
+fn with_context(
+    ctx: *mut PixgeoContext,
+    f: impl FnOnce(&mut PixgeoContext) -> Result<(), (PixgeoStatus, String)>,
+) -> PixgeoStatus {
+    use std::sync::atomic::Ordering;
+    // SAFETY: the caller passes a pointer from `pixgeo_context_create`, or null.
+    // Only the atomic flag is touched until it says no other call is running.
+    let Some(shared) = (unsafe { ctx.as_ref() }) else {
+        return PixgeoStatus::InvalidArgument;
+    };
+    if shared
+        .busy
+        .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+        .is_err()
+    {
+        return PixgeoStatus::Busy;
+    }
+    // SAFETY: this call holds the flag, so no other call uses the context.
+    let context = unsafe { &mut *ctx };
+    let outcome = guarded(|| f(context));
+    let (status, text) = match outcome {
+        Ok(Ok(())) => (PixgeoStatus::Ok, String::new()),
+        Ok(Err(e)) => e,
+        Err(payload) => (PixgeoStatus::Panic, panic_text(payload)),
+    };
+    context.last_error = message(&text);
+    context.busy.store(false, Ordering::Release);
+    status
+}
+
+fn invalid(text: impl Into<String>) -> (PixgeoStatus, String) {
+    (PixgeoStatus::InvalidArgument, text.into())
+}
+
+fn failed(error: Error) -> (PixgeoStatus, String) {
+    (status_of(&error), error.to_string())
+}
+
+/// Creates a context on the device `options` asks for (null: `PIXGEO_DEVICE` and
+/// `PIXGEO_VALIDATION` from the environment). On success `*out` holds the context,
+/// to be released with [`pixgeo_context_destroy`]; on failure `*out` is null and
+/// [`pixgeo_create_error`] says why.
+///
+/// # Safety
+/// `options` is null or points to a valid `PixgeoContextOptions`; `out` points to
+/// writable storage for one pointer.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_create(
+    options: *const PixgeoContextOptions,
+    out: *mut *mut PixgeoContext,
+) -> PixgeoStatus {
+    if out.is_null() {
+        return PixgeoStatus::InvalidArgument;
+    }
+    // SAFETY: `out` is non-null and writable (caller contract).
+    unsafe { *out = ptr::null_mut() };
+    let outcome = guarded(|| {
+        let mut machine_options = MachineOptions::from_env();
+        if !options.is_null() {
+            // SAFETY: non-null and valid (caller contract).
+            let o = unsafe { read_options(options, "pixgeo_context_options_default") }
+                .map_err(|(_, text)| Error::InvalidInput(text))?;
+            machine_options.validation = o.validation;
+            if !o.pipeline_cache {
+                machine_options.pipeline_cache = None;
+            }
+            match o.device {
+                0 => {}
+                1 => machine_options.device = DeviceChoice::Lavapipe,
+                2 => machine_options.device = DeviceChoice::Gpu,
+                other => {
+                    return Err(Error::InvalidInput(format!(
+                        "device {other} is not a PixgeoDevice (0 auto, 1 lavapipe, 2 gpu)"
+                    )))
+                }
+            }
+            if !o.device_name.is_null() {
+                // SAFETY: a NUL-terminated string when not null (caller contract).
+                let name = unsafe { std::ffi::CStr::from_ptr(o.device_name) };
+                let name = name
+                    .to_str()
+                    .map_err(|_| Error::InvalidInput("device_name is not UTF-8".into()))?;
+                machine_options.device = match DeviceChoice::parse(name) {
+                    DeviceChoice::Cpu => {
+                        return Err(Error::InvalidInput(
+                            "device_name `cpu` names the command line's CPU algorithms; a \
+                             context needs a Vulkan device (lavapipe is the software one)"
+                                .into(),
+                        ))
+                    }
+                    choice => choice,
+                };
+            }
+        }
+        Machine::new(&machine_options)
+    });
+    let (status, text) = match outcome {
+        Ok(Ok(machine)) => {
+            let context = Box::new(PixgeoContext {
+                device_name: message(machine.device_name()),
+                machine,
+                last_error: CString::default(),
+                busy: Default::default(),
+            });
+            // SAFETY: as above.
+            unsafe { *out = Box::into_raw(context) };
+            (PixgeoStatus::Ok, String::new())
+        }
+        Ok(Err(e)) => (status_of(&e), e.to_string()),
+        Err(payload) => (PixgeoStatus::Panic, panic_text(payload)),
+    };
+    CREATE_ERROR.with(|c| *c.borrow_mut() = message(&text));
+    status
+}
+
+/// The library's version, `MAJOR.MINOR.PATCH`; the header's
+/// `PIXGEO_VERSION_*` are the version it was generated with.
+pub const PIXGEO_VERSION_MAJOR: u32 = 0;
+pub const PIXGEO_VERSION_MINOR: u32 = 1;
+pub const PIXGEO_VERSION_PATCH: u32 = 0;
+
+/// The version of the library loaded, as `"MAJOR.MINOR.PATCH"`: compare it
+/// with the header's `PIXGEO_VERSION_*` to catch a mismatched install. A
+/// static string; do not free it.
+#[no_mangle]
+pub extern "C" fn pixgeo_version() -> *const c_char {
+    concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
+}
+
+/// Why the last [`pixgeo_context_create`] on this thread failed ("" if it did
+/// not). Valid until the next create call on this thread.
+#[no_mangle]
+pub extern "C" fn pixgeo_create_error() -> *const c_char {
+    CREATE_ERROR.with(|c| c.borrow().as_ptr())
+}
+
+/// Options that choose the device as `PIXGEO_DEVICE` would (auto), without
+/// validation.
+#[no_mangle]
+pub extern "C" fn pixgeo_context_options_default() -> PixgeoContextOptions {
+    PixgeoContextOptions {
+        struct_size: struct_size::<PixgeoContextOptions>(),
+        device: PixgeoDevice::Auto as u32,
+        validation: false,
+        device_name: ptr::null(),
+        pipeline_cache: true,
+    }
+}
+
+/// Releases a context and every device object it holds. Null is ignored.
+///
+/// # Safety
+/// `ctx` is null or a context from [`pixgeo_context_create`] not yet destroyed and
+/// not in use by another thread.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_destroy(ctx: *mut PixgeoContext) {
+    if !ctx.is_null() {
+        // SAFETY: the pointer came from `Box::into_raw` in `pixgeo_context_create`
+        // and is destroyed once (caller contract).
+        let context = unsafe { Box::from_raw(ctx) };
+        let _ = guarded(move || drop(context));
+    }
+}
+
+/// The message of the last failed call on `ctx` ("" after a successful call).
+/// Valid until the next call on `ctx`.
+///
+/// # Safety
+/// `ctx` is null or a live context.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_last_error(ctx: *const PixgeoContext) -> *const c_char {
+    // SAFETY: null or live (caller contract).
+    match unsafe { ctx.as_ref() } {
+        Some(c) => c.last_error.as_ptr(),
+        None => c"null context".as_ptr(),
+    }
+}
+
+/// The name of the context's device. Valid as long as the context.
+///
+/// # Safety
+/// `ctx` is null or a live context.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_device_name(ctx: *const PixgeoContext) -> *const c_char {
+    // SAFETY: null or live (caller contract).
+    match unsafe { ctx.as_ref() } {
+        Some(c) => c.device_name.as_ptr(),
+        None => c"null context".as_ptr(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_in_a_call_becomes_its_message() {
+        let payload = guarded(|| panic!("boom")).unwrap_err();
+        let text = panic_text(payload);
+        assert!(
+            text.contains("boom") && text.contains("capi/src/"),
+            "{text}"
+        );
+        assert!(!IN_CALL.get());
+    }
+
+    #[test]
+    fn a_context_in_a_call_on_another_thread_is_busy() {
+        use std::sync::atomic::Ordering;
+        let mut ctx = ptr::null_mut();
+        // SAFETY: null options and a writable pointer.
+        let status = unsafe { pixgeo_context_create(ptr::null(), &mut ctx) };
+        assert_eq!(status, PixgeoStatus::Ok);
+        let xy = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0];
+        let (mut triangles, mut count) = ([0u32; 3], 0usize);
+        let mut triangulate = || {
+            // SAFETY: a live context, three points, room for one triangle.
+            unsafe {
+                crate::pixgeo_delaunay(
+                    ctx,
+                    xy.as_ptr(),
+                    3,
+                    0,
+                    triangles.as_mut_ptr(),
+                    1,
+                    &mut count,
+                    ptr::null_mut(),
+                )
+            }
+        };
+        // SAFETY: live; only its flag is touched, as a running call would.
+        let busy = unsafe { &(*ctx).busy };
+        busy.store(true, Ordering::SeqCst);
+        assert_eq!(triangulate(), PixgeoStatus::Busy);
+        busy.store(false, Ordering::SeqCst);
+        assert_eq!(triangulate(), PixgeoStatus::Ok);
+        assert_eq!(count, 1);
+        // SAFETY: made above, released once.
+        unsafe { pixgeo_context_destroy(ctx) };
+    }
+
+    #[test]
+    fn the_header_version_is_the_crate_version() {
+        let header =
+            format!("{PIXGEO_VERSION_MAJOR}.{PIXGEO_VERSION_MINOR}.{PIXGEO_VERSION_PATCH}");
+        assert_eq!(header, env!("CARGO_PKG_VERSION"));
+        // SAFETY: a static NUL-terminated string.
+        let loaded = unsafe { std::ffi::CStr::from_ptr(pixgeo_version()) };
+        assert_eq!(loaded.to_str().unwrap(), header);
+    }
+}

@@ -1,0 +1,205 @@
+//! The Voronoi diagram by its definition: for every pixel centre, the site at the
+//! smallest Euclidean distance, found by looking at every site (or, for
+//! [`nearest_sites_grid`], every site of the buckets that can hold the nearest).
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use pixgeo::geometry::Frame;
+
+/// For every pixel (row-major), the smallest distance to a site (pixel units) and the
+/// lowest index of a site at that distance. Sites are in pixel coordinates.
+pub fn nearest_sites_brute_force(sites: &[DVec2], frame: &Frame) -> (Vec<u32>, Vec<f64>) {
+    let w = frame.width as usize;
+    let results: Vec<(u32, f64)> = (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let q = DVec2::new((k % w) as f64, (k / w) as f64);
+            let mut best = (u32::MAX, f64::INFINITY);
+            for (i, s) in sites.iter().enumerate() {
+                let d = (*s - q).length_squared();
+                if d < best.1 {
+                    best = (i as u32, d);
+                }
+            }
+            (best.0, best.1.sqrt())
+        })
+        .collect();
+    results.into_iter().unzip()
+}
+
+/// The same labels as [`nearest_sites_brute_force`] (up to ties), computed with a
+/// bucket grid and parallel rows: the exact CPU search a user would write instead of
+/// rendering. Sites far outside the picture are searched linearly.
+pub fn nearest_sites_grid(sites: &[DVec2], frame: &Frame) -> Vec<u32> {
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let cell = ((frame.len() as f64 / sites.len().max(1) as f64).sqrt() * 1.5).max(2.0);
+    let gx = (w as f64 / cell).ceil() as usize;
+    let gy = (h as f64 / cell).ceil() as usize;
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); gx * gy];
+    let mut outside: Vec<u32> = Vec::new();
+    for (i, s) in sites.iter().enumerate() {
+        let bx = ((s.x + 0.5) / cell).floor();
+        let by = ((s.y + 0.5) / cell).floor();
+        if bx >= 0.0 && by >= 0.0 && (bx as usize) < gx && (by as usize) < gy {
+            buckets[by as usize * gx + bx as usize].push(i as u32);
+        } else {
+            outside.push(i as u32);
+        }
+    }
+    let mut labels = vec![u32::MAX; w * h];
+    labels.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+        let by = ((y as f64 + 0.5) / cell) as usize;
+        for (x, out) in row.iter_mut().enumerate() {
+            let q = DVec2::new(x as f64, y as f64);
+            let bx = ((x as f64 + 0.5) / cell) as usize;
+            let mut best = (u32::MAX, f64::INFINITY);
+            let consider = |best: &mut (u32, f64), i: u32| {
+                let d = (sites[i as usize] - q).length_squared();
+                if d < best.1 || (d == best.1 && i < best.0) {
+                    *best = (i, d);
+                }
+            };
+            for &i in &outside {
+                consider(&mut best, i);
+            }
+            // Rings of buckets until the ring is farther than the best distance.
+            let mut ring = 0usize;
+            loop {
+                let lo_x = bx.saturating_sub(ring);
+                let lo_y = by.saturating_sub(ring);
+                let hi_x = (bx + ring).min(gx - 1);
+                let hi_y = (by + ring).min(gy - 1);
+                for cy in lo_y..=hi_y {
+                    for cx in lo_x..=hi_x {
+                        let on_ring = cx + ring == bx
+                            || cx == bx + ring
+                            || cy + ring == by
+                            || cy == by + ring;
+                        if on_ring {
+                            for &i in &buckets[cy * gx + cx] {
+                                consider(&mut best, i);
+                            }
+                        }
+                    }
+                }
+                // Any site in a farther ring is at least `ring * cell` away.
+                let reach = ring as f64 * cell;
+                let all_covered = lo_x == 0 && lo_y == 0 && hi_x == gx - 1 && hi_y == gy - 1;
+                if all_covered || (best.1.is_finite() && reach * reach >= best.1) {
+                    break;
+                }
+                ring += 1;
+            }
+            *out = best.0;
+        }
+    });
+    labels
+}
+
+/// For every pixel (row-major), the smallest `metric` distance to a site (pixel
+/// units), by looking at every site. Sites are in pixel coordinates.
+pub fn nearest_distances_metric(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: pixgeo::geometry::metric::Metric,
+) -> Vec<f64> {
+    let w = frame.width as usize;
+    (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let q = DVec2::new((k % w) as f64, (k / w) as f64);
+            sites
+                .iter()
+                .map(|s| metric.distance(q - *s))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+/// For every pixel (row-major), the smallest weighted distance (world units) to a
+/// site of any shape, by looking at every site. Sites are in world coordinates.
+/// Circles and arcs under metrics other than L2 are measured at
+/// [`CURVE_SAMPLES`] points per turn (and their ends), which overestimates by at
+/// most [`curve_sampling_slack`].
+pub fn nearest_weighted_distances(
+    sites: &[pixgeo::geometry::site::Site],
+    frame: &Frame,
+    metric: pixgeo::geometry::metric::Metric,
+) -> Vec<f64> {
+    let w = frame.width as usize;
+    (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let q = frame.to_world(DVec2::new((k % w) as f64, (k / w) as f64));
+            sites
+                .iter()
+                .map(|s| shape_distance(s, metric, q) / s.multiplicative + s.additive)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+/// Points per turn at which [`nearest_weighted_distances`] samples curves.
+pub const CURVE_SAMPLES: usize = 1 << 11;
+
+/// How much sampling curves can overestimate a weighted distance: half the
+/// spacing of the samples, stretched by the metric.
+pub fn curve_sampling_slack(
+    sites: &[pixgeo::geometry::site::Site],
+    metric: pixgeo::geometry::metric::Metric,
+) -> f64 {
+    use pixgeo::geometry::site::Shape;
+    if metric == pixgeo::geometry::metric::Metric::L2 {
+        return 0.0;
+    }
+    let b = metric.euclidean_bounds().1;
+    sites
+        .iter()
+        .map(|s| match s.shape {
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
+                b * radius * std::f64::consts::PI / CURVE_SAMPLES as f64 / s.multiplicative
+            }
+            _ => 0.0,
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The distance to a site's shape by its definition: closed forms for points,
+/// segments and Euclidean curves, samples for curves under other metrics.
+fn shape_distance(
+    s: &pixgeo::geometry::site::Site,
+    metric: pixgeo::geometry::metric::Metric,
+    q: DVec2,
+) -> f64 {
+    use pixgeo::geometry::site::Shape;
+    // Samples, and the cusps where the offset lies along a corner ray of the ball
+    // (too narrow a valley for any sampling).
+    let sampled = |center: DVec2, radius: f64, start: f64, span: f64| {
+        let at = |a: f64| metric.distance(q - center - radius * DVec2::new(a.cos(), a.sin()));
+        let n = ((CURVE_SAMPLES as f64 * span / std::f64::consts::TAU).ceil() as usize).max(1);
+        let samples = (0..=n).map(|k| at(start + span * k as f64 / n as f64));
+        let cusps = pixgeo::geometry::site::ray_crossings(metric, q - center, radius)
+            .into_iter()
+            .filter(|a| (a - start).rem_euclid(std::f64::consts::TAU) <= span)
+            .map(at);
+        samples.chain(cusps).fold(f64::INFINITY, f64::min)
+    };
+    match s.shape {
+        Shape::Circle { center, radius } if metric != pixgeo::geometry::metric::Metric::L2 => {
+            sampled(center, radius, 0.0, std::f64::consts::TAU)
+        }
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } if metric != pixgeo::geometry::metric::Metric::L2 => sampled(
+            center,
+            radius,
+            start,
+            (end - start).min(std::f64::consts::TAU),
+        ),
+        _ => s.distance_to_shape(metric, q),
+    }
+}

@@ -1,0 +1,285 @@
+//! Smallest and largest triangles and quadrangles (thesis ch. 7) against
+//! exhaustive search in exact arithmetic.
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::area::{
+        extremal_quadrangle, extremal_quadrangle_with_progress, extremal_triangle,
+        extremal_triangle_with_progress, AreaAnswer, Extreme,
+    },
+    algorithms::area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
+    Error,
+};
+use pixgeo_reference::area::{self as oracle, triangle_area};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::common::{machine, uniform};
+
+const SIDE: u32 = 256;
+
+fn inputs() -> Vec<(&'static str, Vec<DVec2>)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let mut duplicates = uniform(&mut rng, 30, 100.0, 100.0);
+    duplicates.push(duplicates[4]);
+    // Three collinear among random ones: the smallest triangle has area 0.
+    let mut collinear = uniform(&mut rng, 40, 100.0, 100.0);
+    collinear.extend([
+        DVec2::new(10.0, 10.0),
+        DVec2::new(20.5, 30.0),
+        DVec2::new(31.0, 50.0),
+    ]);
+    // Nearly collinear: a thin triangle far smaller than a pixel.
+    let mut thin = uniform(&mut rng, 40, 100.0, 100.0);
+    thin.extend([
+        DVec2::new(5.0, 5.0),
+        DVec2::new(95.0, 90.0),
+        DVec2::new(50.0, 47.500001),
+    ]);
+    // Many sites in few pixels, to exercise the shared-pixel search.
+    let crowded: Vec<DVec2> = (0..50)
+        .map(|_| DVec2::new(rng.gen_range(0.0..3.0), rng.gen_range(0.0..3.0)))
+        .chain([DVec2::new(100.0, 100.0), DVec2::new(0.0, 100.0)])
+        .collect();
+    vec![
+        ("uniform", uniform(&mut rng, 120, 200.0, 150.0)),
+        ("duplicates", duplicates),
+        ("collinear", collinear),
+        ("thin", thin),
+        ("crowded", crowded),
+        (
+            "lattice",
+            (0..49)
+                .map(|k| DVec2::new((k % 7 * 10) as f64, (k / 7 * 10) as f64))
+                .collect(),
+        ),
+        // Unit lattices, whose collinear triples once made the pixels propose
+        // slivers and hide the unit-area quadrangles.
+        ("lattice 5x4", lattice(5, 4, 1.0)),
+        ("lattice 10x10", lattice(10, 10, 1.0)),
+        ("lattice 6x6 at 1e-7", lattice(6, 6, 1e-7)),
+    ]
+}
+
+fn lattice(columns: u32, rows: u32, step: f64) -> Vec<DVec2> {
+    (0..columns * rows)
+        .map(|k| DVec2::new((k % columns) as f64 * step, (k / columns) as f64 * step))
+        .collect()
+}
+
+/// Both methods: the roofs (on pixels, then exact) and the sweep.
+const METHODS: [&str; 2] = ["roofs", "sweep"];
+
+fn triangle_by(method: &str, machine: &pixgeo::Machine, sites: &[DVec2], e: Extreme) -> AreaAnswer {
+    match method {
+        "roofs" => extremal_triangle(machine, sites, e, SIDE),
+        _ => extremal_triangle_sweep(sites, e, &mut |_, _| {}),
+    }
+    .unwrap()
+}
+
+fn quadrangle_by(
+    method: &str,
+    machine: &pixgeo::Machine,
+    sites: &[DVec2],
+    e: Extreme,
+) -> AreaAnswer {
+    match method {
+        "roofs" => extremal_quadrangle(machine, sites, e, SIDE),
+        _ => extremal_quadrangle_sweep(sites, e, &mut |_, _| {}),
+    }
+    .unwrap()
+}
+
+fn assert_close(name: &str, got: f64, want: f64) {
+    assert!(
+        (got - want).abs() <= 1e-9 * (1.0 + want.abs()),
+        "{name}: area {got}, exhaustive search {want}"
+    );
+}
+
+#[test]
+fn triangles_match_exhaustive_search() {
+    let machine = machine();
+    for (name, sites) in inputs() {
+        for (extreme, method) in [Extreme::Smallest, Extreme::Largest]
+            .into_iter()
+            .flat_map(|e| METHODS.map(|m| (e, m)))
+        {
+            let largest = extreme == Extreme::Largest;
+            let name = &format!("{name} ({method})");
+            let answer = triangle_by(method, &machine, &sites, extreme);
+            let (_, want) = oracle::extremal_triangle(&sites, largest).unwrap();
+            assert_close(name, answer.area, want);
+            // The named sites make that area.
+            let v: Vec<DVec2> = answer.sites.iter().map(|&i| sites[i as usize]).collect();
+            assert_eq!(v.len(), 3);
+            assert_close(name, triangle_area(v[0], v[1], v[2]), want);
+            let distinct = answer
+                .sites
+                .iter()
+                .collect::<std::collections::HashSet<_>>();
+            assert_eq!(distinct.len(), 3, "{name}: {:?}", answer.sites);
+            if ["collinear", "duplicates", "lattice"]
+                .iter()
+                .any(|n| name.starts_with(&format!("{n} ")))
+                && !largest
+            {
+                assert_eq!(answer.area, 0.0, "{name}");
+            }
+            if name == "uniform (roofs)" && !largest {
+                // The thesis's pigeonhole bound (§7.3.3): area <= W H / (n - 2).
+                let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+                let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+                let box_area = (hi - lo).x * (hi - lo).y;
+                let bound = answer.bound.expect("the roofs were bounded");
+                assert!(bound <= box_area / (sites.len() - 2) as f64 * (1.0 + 1e-5));
+                assert!(answer.area <= bound);
+            }
+            if name == "crowded (roofs)" && !largest && answer.decided_by == "pixels" {
+                assert!(answer.shared > 0, "{name}: sites share pixels");
+            }
+        }
+    }
+}
+
+#[test]
+fn quadrangles_match_exhaustive_search() {
+    let machine = machine();
+    for (name, sites) in inputs() {
+        let mut distinct = sites.clone();
+        distinct.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+        distinct.dedup();
+        for (extreme, method) in [Extreme::Smallest, Extreme::Largest]
+            .into_iter()
+            .flat_map(|e| METHODS.map(|m| (e, m)))
+        {
+            let largest = extreme == Extreme::Largest;
+            let name = &format!("{name} ({method})");
+            let answer = quadrangle_by(method, &machine, &sites, extreme);
+            let (_, want) = oracle::extremal_quadrangle(&distinct, largest).unwrap();
+            assert_close(name, answer.area, want);
+            // p, r, q, l: r right of p -> q, l left of it, areas adding up.
+            let v: Vec<DVec2> = answer.sites.iter().map(|&i| sites[i as usize]).collect();
+            let (p, r, q, l) = (v[0], v[1], v[2], v[3]);
+            assert!(
+                oracle::cross(p, q, l) > 0.0 && oracle::cross(p, q, r) < 0.0,
+                "{name}"
+            );
+            assert_close(name, triangle_area(p, q, l) + triangle_area(p, q, r), want);
+        }
+    }
+}
+
+#[test]
+fn quadrangles_on_lattice_subsets_match_exhaustive_search() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for round in 0..12 {
+        let full = lattice(6, 5, [1.0, 3.0, 0.25][round % 3]);
+        let sites: Vec<DVec2> = full.into_iter().filter(|_| rng.gen_bool(0.6)).collect();
+        let Some((_, want)) = oracle::extremal_quadrangle(&sites, false) else {
+            continue;
+        };
+        let answer = extremal_quadrangle(&machine, &sites, Extreme::Smallest, 64).unwrap();
+        assert_close(&format!("lattice subset {round}"), answer.area, want);
+    }
+}
+
+#[test]
+fn the_rotational_sweep_matches_exhaustive_search() {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for n in [3, 10, 80] {
+        let sites = uniform(&mut rng, n, 100.0, 100.0);
+        let (_, sweep) = oracle::smallest_triangle_sweep(&sites).unwrap();
+        let (_, want) = oracle::extremal_triangle(&sites, false).unwrap();
+        assert_close("sweep", sweep, want);
+    }
+}
+
+#[test]
+fn the_exact_sweep_orders_directions_rounding_cannot_tell_apart() {
+    // A lattice nudged by a few units in the last place: pairs that are
+    // parallel, and pairs that miss being parallel by 1e-16, side by side.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for round in 0..6 {
+        let nudge = [0.0, f64::EPSILON, 4.0 * f64::EPSILON][round % 3];
+        let sites: Vec<DVec2> = lattice(6, 6, 1.0 + round as f64)
+            .into_iter()
+            .filter_map(|p| {
+                let k = rng.gen_range(-2..=2) as f64;
+                rng.gen_bool(0.7)
+                    .then(|| p + DVec2::new(p.y * nudge * k, 0.0))
+            })
+            .collect();
+        for extreme in [Extreme::Smallest, Extreme::Largest] {
+            let largest = extreme == Extreme::Largest;
+            let name = format!("nudged lattice {round} {extreme:?}");
+            if let Some((_, want)) = oracle::extremal_triangle(&sites, largest) {
+                let got = extremal_triangle_sweep(&sites, extreme, &mut |_, _| {}).unwrap();
+                assert_close(&name, got.area, want);
+            }
+            if let Some((_, want)) = oracle::extremal_quadrangle(&sites, largest) {
+                let got = extremal_quadrangle_sweep(&sites, extreme, &mut |_, _| {}).unwrap();
+                assert_close(&name, got.area, want);
+            }
+        }
+    }
+}
+
+#[test]
+fn too_few_sites_are_clear_errors() {
+    let machine = machine();
+    let two = [DVec2::ZERO, DVec2::ONE];
+    let err = extremal_triangle(&machine, &two, Extreme::Smallest, SIDE).unwrap_err();
+    assert!(
+        matches!(&err, Error::InvalidInput(m) if m.contains("three sites")),
+        "{err}"
+    );
+    let line: Vec<DVec2> = (0..6).map(|i| DVec2::splat(i as f64)).collect();
+    let err = extremal_quadrangle(&machine, &line, Extreme::Largest, SIDE).unwrap_err();
+    assert!(
+        matches!(&err, Error::InvalidInput(m) if m.contains("four distinct")),
+        "{err}"
+    );
+    // All on a line: every triangle is flat.
+    let flat = extremal_triangle(&machine, &line, Extreme::Largest, SIDE).unwrap();
+    assert_eq!(flat.area, 0.0);
+    assert_eq!(flat.decided_by, "collinear");
+    // All at one point: three distinct sites of area 0.
+    let point = [DVec2::ONE; 4];
+    for extreme in [Extreme::Smallest, Extreme::Largest] {
+        let a = extremal_triangle(&machine, &point, extreme, SIDE).unwrap();
+        assert_eq!(a.area, 0.0);
+        let set: std::collections::HashSet<_> = a.sites.iter().collect();
+        assert_eq!(set.len(), 3, "{:?}", a.sites);
+    }
+}
+
+#[test]
+fn progress_runs_to_the_end_over_many_submissions() {
+    // 600 sites: 179700 pairs, drawn in 11 submissions and reduced.
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let sites = uniform(&mut rng, 600, 300.0, 300.0);
+    let mut seen: Vec<(u64, u64)> = Vec::new();
+    let with =
+        extremal_quadrangle_with_progress(&machine, &sites, Extreme::Smallest, 256, &mut |d, t| {
+            seen.push((d, t))
+        })
+        .unwrap();
+    let plain = extremal_quadrangle(&machine, &sites, Extreme::Smallest, 256).unwrap();
+    assert_eq!((with.area, with.sites), (plain.area, plain.sites));
+    let total = 2 * 600 * 599 / 2;
+    assert!(seen.iter().all(|&(_, t)| t == total), "{seen:?}");
+    assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0), "{seen:?}");
+    assert!(seen.len() > 11, "{} reports", seen.len());
+    let mut seen = Vec::new();
+    extremal_triangle_with_progress(&machine, &sites, Extreme::Largest, 256, &mut |d, t| {
+        seen.push((d, t))
+    })
+    .unwrap();
+    // The largest triangle's roofs are those of the hull's pairs.
+    let &(done, total) = seen.last().unwrap();
+    assert!(done == total && total > 0, "{seen:?}");
+}

@@ -1,0 +1,765 @@
+//! Smallest enclosing and largest empty homothets (thesis ch. 4, 5) against
+//! Welzl's algorithm and exhaustive searches over candidate determining sites.
+
+use std::f64::consts::TAU;
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::homothet::{enclose, largest_empty, Region, Unit},
+    geometry::metric::{Gauge, Metric},
+};
+use pixgeo_reference::homothet::{self as oracle, welzl};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::common::{clustered, machine, uniform};
+
+fn gauge_of(metric: Metric) -> &'static Gauge {
+    match metric {
+        Metric::Polygon(g) => g,
+        _ => unreachable!("a polygon"),
+    }
+}
+
+/// A triangle (convex, not symmetric) and a four-pointed star (not convex).
+fn polygons() -> Vec<(&'static str, &'static Gauge)> {
+    let triangle = [
+        DVec2::new(2.0, 0.0),
+        DVec2::new(-1.0, 1.5),
+        DVec2::new(-0.5, -1.0),
+    ];
+    let star: Vec<DVec2> = (0..8)
+        .map(|k| {
+            let a = TAU * k as f64 / 8.0 + 0.1;
+            DVec2::new(a.cos(), a.sin()) * if k % 2 == 0 { 1.5 } else { 0.6 }
+        })
+        .collect();
+    vec![
+        (
+            "triangle",
+            gauge_of(Metric::polygon(&triangle, DVec2::ZERO).unwrap()),
+        ),
+        (
+            "star",
+            gauge_of(Metric::polygon(&star, DVec2::new(0.05, 0.0)).unwrap()),
+        ),
+    ]
+}
+
+fn inputs() -> Vec<(&'static str, Vec<DVec2>)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let cocircular: Vec<DVec2> = (0..12)
+        .map(|k| {
+            let a = TAU * k as f64 / 12.0;
+            DVec2::new(50.0 + 30.0 * a.cos(), 40.0 + 30.0 * a.sin())
+        })
+        .collect();
+    vec![
+        ("uniform", uniform(&mut rng, 40, 100.0, 80.0)),
+        ("clustered", clustered(&mut rng, 40, 100.0, 80.0)),
+        (
+            "collinear",
+            (0..9)
+                .map(|i| DVec2::new(3.0 + 7.0 * i as f64, 5.0 + 2.5 * i as f64))
+                .collect(),
+        ),
+        ("cocircular", cocircular),
+        ("two", vec![DVec2::new(1.0, 2.0), DVec2::new(9.0, 7.5)]),
+    ]
+}
+
+/// Points along a site's shape, `n` steps along each segment, circle and arc:
+/// the shape as the definitions in these tests see it.
+fn along(site: &pixgeo::geometry::site::Site, n: usize) -> Vec<DVec2> {
+    use pixgeo::geometry::site::Shape;
+    let t = |k: usize| k as f64 / n as f64;
+    match site.shape {
+        Shape::Point(p) => vec![p],
+        Shape::Segment(a, b) => (0..=n).map(|k| a + (b - a) * t(k)).collect(),
+        Shape::Circle { center, radius } => (0..n)
+            .map(|k| center + radius * DVec2::from_angle(TAU * t(k)))
+            .collect(),
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } => (0..=n)
+            .map(|k| center + radius * DVec2::from_angle(start + (end - start) * t(k)))
+            .collect(),
+    }
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-7 * (1.0 + b.abs())
+}
+
+#[test]
+fn smallest_enclosing_circle_equals_welzl() {
+    let machine = machine();
+    for (name, sites) in inputs() {
+        let answer = enclose(&machine, &sites, Unit::Circle, 0, 256).unwrap();
+        let truth = welzl(&sites);
+        assert!(
+            close(answer.exact.scale, truth.radius),
+            "{name}: {} vs Welzl {}",
+            answer.exact.scale,
+            truth.radius
+        );
+        assert!(
+            DVec2::from(answer.exact.centre).distance(truth.centre) < 1e-6 * (1.0 + truth.radius)
+        );
+        // The picture's answer is within its own bound, from above.
+        assert!(
+            answer.pixel.scale >= truth.radius - 1e-3
+                && answer.pixel.scale <= truth.radius + answer.pixel_bound + 1e-3,
+            "{name}: pixel {} vs {} (bound {})",
+            answer.pixel.scale,
+            truth.radius,
+            answer.pixel_bound
+        );
+        // Every site the answer names lies on the circle.
+        for &s in &answer.exact.sites {
+            let d = sites[s as usize].distance(truth.centre);
+            assert!(close(d, truth.radius), "{name}: site {s} off the circle");
+        }
+    }
+}
+
+#[test]
+fn welzl_is_the_smallest_of_all_determined_circles() {
+    for (name, sites) in inputs() {
+        let truth = welzl(&sites);
+        let (_, r) = oracle::smallest_k_circle(&sites, sites.len());
+        assert!(
+            close(truth.radius, r),
+            "{name}: Welzl {} vs brute force {r}",
+            truth.radius
+        );
+    }
+}
+
+#[test]
+fn smallest_k_enclosing_circle_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let sites = uniform(&mut rng, 14, 60.0, 50.0);
+    for k in [1, 2, 5, 9] {
+        let answer = enclose(&machine, &sites, Unit::Circle, k, 256).unwrap();
+        let (_, r) = oracle::smallest_k_circle(&sites, k);
+        assert!(
+            close(answer.exact.scale, r),
+            "k = {k}: {} vs {r}",
+            answer.exact.scale
+        );
+    }
+}
+
+#[test]
+fn smallest_enclosing_polygon_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let sites = uniform(&mut rng, 9, 60.0, 50.0);
+    for (name, g) in polygons() {
+        for k in [sites.len(), 4] {
+            let answer = enclose(&machine, &sites, Unit::Polygon(g), k, 256).unwrap();
+            let (_, truth) = oracle::smallest_k_homothet(&sites, &g.vertices, |v| g.of(v), k);
+            assert!(
+                close(answer.exact.scale, truth),
+                "{name}, k = {k}: {} vs brute force {truth}",
+                answer.exact.scale
+            );
+            // The homothet holds k sites.
+            let c = DVec2::from(answer.exact.centre);
+            let held = sites
+                .iter()
+                .filter(|s| g.of(**s - c) <= answer.exact.scale * (1.0 + 1e-9))
+                .count();
+            assert!(held >= k, "{name}: holds {held} < {k}");
+        }
+    }
+}
+
+fn square_with_hole() -> Region {
+    Region {
+        rings: vec![
+            vec![
+                DVec2::new(0.0, 0.0),
+                DVec2::new(100.0, 0.0),
+                DVec2::new(100.0, 80.0),
+                DVec2::new(0.0, 80.0),
+            ],
+            vec![
+                DVec2::new(30.0, 20.0),
+                DVec2::new(70.0, 20.0),
+                DVec2::new(70.0, 60.0),
+                DVec2::new(30.0, 60.0),
+            ],
+        ],
+    }
+}
+
+fn edges(region: &Region) -> Vec<(DVec2, DVec2)> {
+    region
+        .rings
+        .iter()
+        .flat_map(|r| (0..r.len()).map(move |k| (r[k], r[(k + 1) % r.len()])))
+        .collect()
+}
+
+#[test]
+fn largest_empty_circle_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let sites = uniform(&mut rng, 25, 100.0, 80.0);
+    let plain = Region::default();
+    let holed = square_with_hole();
+    for (name, region) in [("bounding box", &plain), ("square with a hole", &holed)] {
+        let answer = largest_empty(&machine, &sites, Unit::Circle, region, 256).unwrap();
+        let truth = brute_empty_circle(&sites, region);
+        assert!(
+            close(answer.exact.scale, truth),
+            "{name}: {} vs brute force {truth}",
+            answer.exact.scale
+        );
+        assert!((answer.pixel.scale - truth).abs() <= answer.pixel_bound + 1e-3);
+    }
+}
+
+/// The largest empty circle by brute force: centres in `region`, or in the
+/// sites' bounding box when it has no rings.
+fn brute_empty_circle(sites: &[DVec2], region: &Region) -> f64 {
+    let boundary = if region.rings.is_empty() {
+        let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+        let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+        Region {
+            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+        }
+    } else {
+        region.clone()
+    };
+    let e = edges(&boundary);
+    let on_edge = |c: DVec2| {
+        e.iter().any(|(a, b)| {
+            let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+            c.distance(*a + (*b - *a) * t) < 1e-9
+        })
+    };
+    oracle::largest_empty(
+        sites,
+        &[],
+        |v| v.length(),
+        &e,
+        |c| boundary.contains(c) || on_edge(c),
+    )
+    .1
+}
+
+/// Pictures from a few pixels (many sites, repeats, to a pixel) to fine ones,
+/// and regions that hold the sites or cut some off, so that both pixel stages
+/// (the distance transform of the snapped sites, cones where sites lie off the
+/// picture) meet clusters, lattices with many equal maxima and collinear sites.
+#[test]
+fn largest_empty_circle_on_every_kind_of_picture() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let lattice: Vec<DVec2> = (0..30)
+        .map(|k| DVec2::new((k % 6) as f64 * 20.0, (k / 6 % 5) as f64 * 16.0))
+        .collect();
+    let mut repeats = clustered(&mut rng, 20, 100.0, 80.0);
+    repeats.extend(repeats.clone());
+    let sets = [
+        ("clustered", clustered(&mut rng, 40, 100.0, 80.0)),
+        ("lattice", lattice),
+        ("repeats", repeats),
+        (
+            "collinear and one",
+            (0..8)
+                .map(|i| DVec2::new(10.0 * i as f64, 3.0 * i as f64))
+                .chain([DVec2::new(20.0, 60.0)])
+                .collect(),
+        ),
+    ];
+    let inner = Region {
+        rings: vec![vec![
+            DVec2::new(20.0, 10.0),
+            DVec2::new(75.0, 15.0),
+            DVec2::new(60.0, 55.0),
+        ]],
+    };
+    let wide = Region {
+        rings: vec![vec![
+            DVec2::new(-30.0, -20.0),
+            DVec2::new(130.0, -20.0),
+            DVec2::new(130.0, 100.0),
+            DVec2::new(-30.0, 100.0),
+        ]],
+    };
+    let regions = [
+        ("the box", Region::default()),
+        ("a triangle inside", inner),
+        ("a wider box", wide),
+        ("a square with a hole", square_with_hole()),
+    ];
+    for (name, sites) in &sets {
+        for (place, region) in &regions {
+            let truth = brute_empty_circle(sites, region);
+            for side in [6, 40, 300] {
+                let answer = largest_empty(&machine, sites, Unit::Circle, region, side)
+                    .unwrap_or_else(|e| panic!("{name} in {place} at {side} px: {e}"));
+                assert!(
+                    close(answer.exact.scale, truth),
+                    "{name} in {place} at {side} px: {} vs brute force {truth}",
+                    answer.exact.scale
+                );
+                assert!(
+                    (answer.pixel.scale - truth).abs() <= answer.pixel_bound + 1e-9,
+                    "{name} in {place} at {side} px: pixel {} vs {truth}, bound {}",
+                    answer.pixel.scale,
+                    answer.pixel_bound
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn largest_empty_polygon_against_brute_force() {
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let sites = uniform(&mut rng, 8, 100.0, 80.0);
+    let region = square_with_hole();
+    let e = edges(&region);
+    for (name, g) in polygons() {
+        let answer = largest_empty(&machine, &sites, Unit::Polygon(g), &region, 256).unwrap();
+        let on_edge = |c: DVec2| {
+            e.iter().any(|(a, b)| {
+                let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+                c.distance(*a + (*b - *a) * t) < 1e-9
+            })
+        };
+        let (_, truth) = oracle::largest_empty(
+            &sites,
+            &g.vertices,
+            |v| g.of(v),
+            &e,
+            |c| region.contains(c) || on_edge(c),
+        );
+        assert!(
+            close(answer.exact.scale, truth),
+            "{name}: {} vs brute force {truth}",
+            answer.exact.scale
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    let machine = machine();
+    let sites = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0)];
+    assert!(enclose(&machine, &sites, Unit::Circle, 3, 64).is_err());
+    assert!(enclose(&machine, &[], Unit::Circle, 0, 64).is_err());
+    assert!(enclose(&machine, &[DVec2::new(f64::NAN, 0.0)], Unit::Circle, 0, 64).is_err());
+    let thin = Region {
+        rings: vec![vec![DVec2::ZERO, DVec2::X]],
+    };
+    assert!(largest_empty(&machine, &sites, Unit::Circle, &thin, 64).is_err());
+    // One site has no bounding box to search.
+    let lone = [DVec2::new(5.0, 5.0)];
+    assert!(largest_empty(&machine, &lone, Unit::Circle, &Region::default(), 64).is_err());
+}
+
+/// The largest clearance over a grid of allowed centres (spacing `h`): the
+/// definition evaluated per point.
+fn grid_best(
+    lo: DVec2,
+    hi: DVec2,
+    h: f64,
+    clearance: impl Fn(DVec2) -> f64,
+    allowed: impl Fn(DVec2) -> bool,
+) -> f64 {
+    let (nx, ny) = (((hi.x - lo.x) / h) as usize, ((hi.y - lo.y) / h) as usize);
+    let mut best = f64::NEG_INFINITY;
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let c = lo + DVec2::new(i as f64, j as f64) * h;
+            if allowed(c) {
+                best = best.max(clearance(c));
+            }
+        }
+    }
+    best
+}
+
+#[test]
+fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
+    use pixgeo::{
+        algorithms::homothet::largest_empty_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let points: Vec<Site> = uniform(&mut rng, 6, 100.0, 80.0)
+        .into_iter()
+        .map(Site::point)
+        .collect();
+    let mut obstacles = points.clone();
+    obstacles.push(Site::new(Shape::Segment(
+        DVec2::new(10.0, 70.0),
+        DVec2::new(45.0, 50.0),
+    )));
+    obstacles.push(Site::new(Shape::Arc {
+        center: DVec2::new(75.0, 25.0),
+        radius: 12.0,
+        start: 0.3,
+        end: 2.5,
+    }));
+    let mut segments = points.clone();
+    segments.push(Site::new(Shape::Segment(
+        DVec2::new(10.0, 70.0),
+        DVec2::new(45.0, 50.0),
+    )));
+    segments.push(Site::new(Shape::Segment(
+        DVec2::new(80.0, 5.0),
+        DVec2::new(95.0, 40.0),
+    )));
+    let mut weighted = points.clone();
+    for (k, s) in weighted.iter_mut().enumerate() {
+        s.multiplicative = 0.6 + 0.2 * k as f64;
+    }
+    let region = square_with_hole();
+    let boundary = edges(&region);
+    let allowed = |c: DVec2| region.contains(c);
+    let (lo, hi) = (DVec2::ZERO, DVec2::new(100.0, 80.0));
+    let h = 0.25;
+    for (name, sites, inside) in [
+        ("points inside", &points, true),
+        ("segment and arc", &obstacles, false),
+        ("segments", &segments, false),
+        ("segments inside", &segments, true),
+        ("weighted", &weighted, false),
+    ] {
+        let answer =
+            largest_empty_sites(&machine, sites, Unit::Circle, &region, inside, 256).unwrap();
+        let clearance = |c: DVec2| {
+            let to_sites = sites
+                .iter()
+                .map(|s| s.distance(Metric::L2, c))
+                .fold(f64::INFINITY, f64::min);
+            let to_boundary = boundary
+                .iter()
+                .map(|(a, b)| {
+                    let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+                    c.distance(*a + (*b - *a) * t)
+                })
+                .fold(f64::INFINITY, f64::min);
+            if inside {
+                to_sites.min(to_boundary)
+            } else {
+                to_sites
+            }
+        };
+        let grid = grid_best(lo, hi, h, clearance, allowed);
+        let slope = sites
+            .iter()
+            .map(|s| 1.0 / s.multiplicative)
+            .fold(1.0, f64::max);
+        let c = DVec2::from(answer.exact.centre);
+        assert!(
+            allowed(c)
+                || boundary.iter().any(|(a, b)| {
+                    let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
+                    c.distance(*a + (*b - *a) * t) < 1e-6
+                }),
+            "{name}: centre {c} outside the region"
+        );
+        // The answer's value is true at its centre, and no grid point beats it.
+        assert!(
+            (clearance(c) - answer.exact.scale).abs() <= 1e-9 * (1.0 + answer.exact.scale),
+            "{name}"
+        );
+        assert!(
+            answer.exact.scale >= grid - answer.tolerance - 1e-9
+                && answer.exact.scale <= grid + slope * h * 0.75,
+            "{name}: {} vs grid {grid}",
+            answer.exact.scale
+        );
+        assert!(
+            answer.tolerance <= 1e-6 * (1.0 + answer.exact.scale),
+            "{name}: gap {}",
+            answer.tolerance
+        );
+    }
+}
+
+#[test]
+fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
+    use pixgeo::{
+        algorithms::homothet::enclose_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    // Two circles: the enclosing circle spans from -1 to 13 on the x axis.
+    let two = [
+        Site::new(Shape::Circle {
+            center: DVec2::ZERO,
+            radius: 1.0,
+        }),
+        Site::new(Shape::Circle {
+            center: DVec2::new(10.0, 0.0),
+            radius: 3.0,
+        }),
+    ];
+    let answer = enclose_sites(&machine, &two, Unit::Circle, 0, 256).unwrap();
+    assert!((answer.exact.scale - 7.0).abs() < 1e-7, "{answer:?}");
+    assert!(DVec2::from(answer.exact.centre).distance(DVec2::new(6.0, 0.0)) < 1e-6);
+    // Segments: Welzl on their ends.
+    let segments = [
+        Site::new(Shape::Segment(DVec2::new(0.0, 0.0), DVec2::new(5.0, 9.0))),
+        Site::new(Shape::Segment(DVec2::new(12.0, 1.0), DVec2::new(7.0, -4.0))),
+        Site::point(DVec2::new(3.0, -6.0)),
+    ];
+    let ends = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(5.0, 9.0),
+        DVec2::new(12.0, 1.0),
+        DVec2::new(7.0, -4.0),
+        DVec2::new(3.0, -6.0),
+    ];
+    let answer = enclose_sites(&machine, &segments, Unit::Circle, 0, 256).unwrap();
+    assert!(close(answer.exact.scale, welzl(&ends).radius));
+    // Mixed with an arc: no grid centre does better, none much worse.
+    let mut mixed = segments.to_vec();
+    mixed.push(Site::new(Shape::Arc {
+        center: DVec2::new(4.0, 3.0),
+        radius: 8.0,
+        start: 1.0,
+        end: 2.6,
+    }));
+    mixed.push(Site::new(Shape::Circle {
+        center: DVec2::new(10.0, 8.0),
+        radius: 2.5,
+    }));
+    let answer = enclose_sites(&machine, &mixed, Unit::Circle, 0, 256).unwrap();
+    let farthest = |c: DVec2| {
+        let mut far = 0.0f64;
+        for s in &mixed {
+            // The definition: the farthest of many points along the shape.
+            let pts = along(s, 4000);
+            far = pts.iter().map(|p| p.distance(c)).fold(far, f64::max);
+        }
+        far
+    };
+    let mut grid = f64::INFINITY;
+    for j in -40..=60 {
+        for i in -20..=60 {
+            grid = grid.min(farthest(DVec2::new(i as f64 * 0.25, j as f64 * 0.25)));
+        }
+    }
+    let c = DVec2::from(answer.exact.centre);
+    // Dense sampling of the curves reaches the farthest point within 1e-5.
+    assert!(
+        (farthest(c) - answer.exact.scale).abs() < 1e-5,
+        "{answer:?}"
+    );
+    assert!(
+        answer.exact.scale <= grid + 1e-9 && answer.exact.scale >= grid - 0.25,
+        "{} vs {grid}",
+        answer.exact.scale
+    );
+    assert!(enclose_sites(&machine, &mixed, Unit::Circle, 2, 64).is_err());
+}
+
+#[test]
+fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
+    use pixgeo::{
+        algorithms::homothet::enclose_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let (_, triangle) = polygons()[0];
+    let sites = [
+        Site::new(Shape::Circle {
+            center: DVec2::new(10.0, 10.0),
+            radius: 4.0,
+        }),
+        Site::new(Shape::Arc {
+            center: DVec2::new(30.0, 5.0),
+            radius: 6.0,
+            start: -1.0,
+            end: 1.5,
+        }),
+        Site::new(Shape::Segment(
+            DVec2::new(0.0, 25.0),
+            DVec2::new(15.0, 30.0),
+        )),
+        Site::point(DVec2::new(25.0, 28.0)),
+    ];
+    let answer = enclose_sites(&machine, &sites, Unit::Polygon(triangle), 0, 256).unwrap();
+    // The definition: the largest gauge over dense samples of each shape.
+    let samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 20000)).collect();
+    let c = DVec2::from(answer.exact.centre);
+    let held = samples
+        .iter()
+        .map(|p| triangle.of(*p - c))
+        .fold(0.0, f64::max);
+    assert!(
+        (held - answer.exact.scale).abs() < 1e-4 * answer.exact.scale,
+        "{held} vs {answer:?}"
+    );
+    // Twelve points per curve: their optimum (a vertex search) is a lower
+    // bound, and within the chords' loss of the true one.
+    let coarse: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 12)).collect();
+    let (_, sampled) = oracle::smallest_k_homothet(
+        &coarse,
+        &triangle.vertices,
+        |v| triangle.of(v),
+        coarse.len(),
+    );
+    let loss = 6.0 * (1.0 - (TAU / 24.0).cos()) * Metric::Polygon(triangle).euclidean_bounds().1;
+    assert!(
+        answer.exact.scale >= sampled - 1e-9 && answer.exact.scale <= sampled + loss,
+        "{} vs {sampled} (+{loss})",
+        answer.exact.scale
+    );
+}
+
+#[test]
+fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
+    use pixgeo::{
+        algorithms::homothet::largest_empty_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let (_, triangle) = polygons()[0];
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let mut sites: Vec<Site> = uniform(&mut rng, 5, 100.0, 80.0)
+        .into_iter()
+        .map(Site::point)
+        .collect();
+    sites.push(Site::new(Shape::Segment(
+        DVec2::new(10.0, 60.0),
+        DVec2::new(50.0, 40.0),
+    )));
+    sites.push(Site::new(Shape::Arc {
+        center: DVec2::new(70.0, 30.0),
+        radius: 10.0,
+        start: 0.5,
+        end: 3.0,
+    }));
+    let region = Region {
+        rings: vec![vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(100.0, 0.0),
+            DVec2::new(100.0, 80.0),
+            DVec2::new(0.0, 80.0),
+        ]],
+    };
+    let answer = largest_empty_sites(
+        &machine,
+        &sites,
+        Unit::Polygon(triangle),
+        &region,
+        true,
+        256,
+    )
+    .unwrap();
+    // The definition on dense samples of every shape and of the region's edges.
+    let mut samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 2000)).collect();
+    for (a, b) in edges(&region) {
+        samples.extend((0..=4000).map(|t| a + (b - a) * (t as f64 / 4000.0)));
+    }
+    let clearance = |c: DVec2| {
+        samples
+            .iter()
+            .map(|p| triangle.of(*p - c))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let c = DVec2::from(answer.exact.centre);
+    // Sampling overestimates a clearance by at most a sample spacing's gauge.
+    let spacing = 100.0 / 2000.0 * Metric::Polygon(triangle).euclidean_bounds().1;
+    assert!(
+        (clearance(c) - answer.exact.scale).abs() <= spacing,
+        "{} vs {}",
+        clearance(c),
+        answer.exact.scale
+    );
+    let grid = grid_best(DVec2::ZERO, DVec2::new(100.0, 80.0), 1.0, clearance, |c| {
+        region.contains(c)
+    });
+    assert!(
+        answer.exact.scale >= grid - spacing,
+        "{} vs grid {grid}",
+        answer.exact.scale
+    );
+    assert!(
+        answer.tolerance <= 1e-6 * (1.0 + answer.exact.scale),
+        "gap {}",
+        answer.tolerance
+    );
+}
+
+#[test]
+fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
+    use pixgeo::{
+        algorithms::homothet::enclose_sites,
+        geometry::site::{Shape, Site},
+    };
+    let machine = machine();
+    let (_, star) = polygons()[1];
+    let sites = [
+        Site::new(Shape::Segment(DVec2::new(0.0, 0.0), DVec2::new(20.0, 6.0))),
+        Site::new(Shape::Circle {
+            center: DVec2::new(8.0, 18.0),
+            radius: 3.0,
+        }),
+        Site::new(Shape::Arc {
+            center: DVec2::new(22.0, 20.0),
+            radius: 5.0,
+            start: 2.0,
+            end: 4.5,
+        }),
+        Site::point(DVec2::new(-4.0, 12.0)),
+    ];
+    let answer = enclose_sites(&machine, &sites, Unit::Polygon(star), 0, 256).unwrap();
+    let samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 3000)).collect();
+    let held = |c: DVec2| samples.iter().map(|p| star.of(*p - c)).fold(0.0, f64::max);
+    let c = DVec2::from(answer.exact.centre);
+    assert!(
+        (held(c) - answer.exact.scale).abs() < 1e-3 * answer.exact.scale,
+        "{} vs {answer:?}",
+        held(c)
+    );
+    // No centre on a grid around it holds the samples with a smaller star.
+    let slope = Metric::Polygon(star).euclidean_bounds().1 * 4.0;
+    let mut best = f64::INFINITY;
+    for j in -20..=20 {
+        for i in -20..=20 {
+            best = best.min(held(c + DVec2::new(i as f64, j as f64) * 0.5));
+        }
+    }
+    assert!(
+        answer.exact.scale <= best + 1e-9,
+        "{} vs grid {best}",
+        answer.exact.scale
+    );
+    assert!(
+        answer.exact.scale >= best - slope * 0.5,
+        "{} vs grid {best}",
+        answer.exact.scale
+    );
+}
+
+#[test]
+fn more_levels_than_kept_are_refused_by_name() {
+    // k-enclosing reads the k-th nearest level, of which at most 256 are kept;
+    // holding every site reads the furthest-site envelope instead.
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let sites = uniform(&mut rng, 300, 100.0, 100.0);
+    let e = enclose(&machine, &sites, Unit::Circle, 280, 128)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("at most 256 levels"), "{e}");
+    assert!(enclose(&machine, &sites, Unit::Circle, 300, 128).is_ok());
+}

@@ -1,0 +1,20 @@
+//! The core's integration tests, one binary: every problem against its oracle
+//! in `pixgeo-reference` (brute force from the definitions), on random and
+//! degenerate inputs, with machines shared between tests (`common::machine`).
+
+mod common;
+
+mod alpha;
+mod area;
+mod delaunay;
+mod distances;
+mod flooding;
+mod higher_order;
+mod homothet;
+mod machine;
+mod polygon;
+mod properties;
+mod robustness;
+mod settle;
+mod sites;
+mod voronoi;
