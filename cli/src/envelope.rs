@@ -40,6 +40,18 @@ pub fn print(
     print_placed(command, device, world.as_ref(), result)
 }
 
+/// The envelope of a command that failed under `--json`: `error` holds the
+/// message and its chain of causes, outermost first (`docs/schema/error.json`).
+pub fn error(command: &str, error: &anyhow::Error) -> Value {
+    let causes: Vec<String> = error.chain().map(|c| c.to_string()).collect();
+    json!({
+        "schema": SCHEMA,
+        "pixgeo_version": env!("CARGO_PKG_VERSION"),
+        "command": command,
+        "error": {"message": error.to_string(), "causes": causes},
+    })
+}
+
 /// [`print()`] for a command whose rasters may run north-up.
 pub fn print_world(
     command: &str,

@@ -112,14 +112,29 @@ fn main() -> anyhow::Result<()> {
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     let name = matches.subcommand_name().unwrap_or_default();
+    let json = matches
+        .subcommand()
+        .and_then(|(_, sub)| sub.try_get_one::<bool>("json").ok().flatten())
+        == Some(&true);
     let phase = profiler().phase(format!("pixgeo {name}"));
-    let done = run(cli.command);
+    let mut done = run(cli.command);
     drop(phase);
     if let Some(path) = &cli.trace {
         let trace = profiler().timeline().chrome_trace();
-        std::fs::write(path, serde_json::to_string(&trace)?)
-            .map_err(|e| anyhow::anyhow!("writing the trace {}: {e}", path.display()))?;
-        wrote([Some(path.as_path())]);
+        let written = serde_json::to_string(&trace)
+            .map_err(anyhow::Error::from)
+            .and_then(|text| {
+                std::fs::write(path, text)
+                    .map_err(|e| anyhow::anyhow!("writing the trace {}: {e}", path.display()))
+            });
+        match written {
+            Ok(()) => wrote([Some(path.as_path())]),
+            Err(e) => done = done.and(Err(e)),
+        }
+    }
+    if let (true, Err(error)) = (json, &done) {
+        // A program reading the answer reads the failure in the same envelope.
+        outln!("{}", envelope::error(name, error));
     }
     done
 }

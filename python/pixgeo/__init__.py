@@ -8,7 +8,10 @@ the frame (the smallest y).
 
 A device is made on first use and reused; calls from several threads are safe
 (one at a time per device). Bad input raises ``ValueError`` with pixgeo's own
-message; a missing driver or a failing device raises ``RuntimeError``.
+message; a file that cannot be read or written an ``OSError`` (such as
+``FileNotFoundError``); no Vulkan driver or device ``NoDeviceError``, a failing
+device ``DeviceError`` and a bug of pixgeo's ``InternalError``, all three
+``RuntimeError`` subclasses.
 """
 
 from __future__ import annotations
@@ -22,11 +25,18 @@ from . import _pixgeo
 
 __version__ = _pixgeo.__version__
 
+NoDeviceError = _pixgeo.NoDeviceError
+DeviceError = _pixgeo.DeviceError
+InternalError = _pixgeo.InternalError
+
 NO_SITE = 2**32 - 1
 """The label of a pixel with no site (``labels`` are uint32)."""
 
 __all__ = [
     "NO_SITE",
+    "NoDeviceError",
+    "DeviceError",
+    "InternalError",
     "Frame",
     "Diagram",
     "frame",

@@ -7,6 +7,10 @@ import numpy.typing as npt
 
 __version__: str
 
+class NoDeviceError(RuntimeError): ...
+class DeviceError(RuntimeError): ...
+class InternalError(RuntimeError): ...
+
 _Frame = Tuple[int, int, float, float, float]
 _Pair = Tuple[float, int, int]
 _Circle = Tuple[float, float, float, List[int]]

@@ -31,9 +31,29 @@ use pixgeo::{
     Error, Machine, MachineOptions,
 };
 use pyo3::{
-    exceptions::{PyRuntimeError, PyValueError},
+    create_exception,
+    exceptions::{PyOSError, PyRuntimeError, PyValueError},
     prelude::*,
 };
+
+create_exception!(
+    _pixgeo,
+    NoDeviceError,
+    PyRuntimeError,
+    "No Vulkan driver, no device matching the request, or a device without a feature the call needs."
+);
+create_exception!(
+    _pixgeo,
+    DeviceError,
+    PyRuntimeError,
+    "A Vulkan call or a device memory allocation failed, or the validation layer reported a problem."
+);
+create_exception!(
+    _pixgeo,
+    InternalError,
+    PyRuntimeError,
+    "pixgeo broke one of its own invariants: a bug, to be reported with the input."
+);
 
 /// One machine per device name, made on first use and shared; a mutex keeps
 /// one call at a time on each.
@@ -73,14 +93,29 @@ fn on_machine<T: Send>(
     })
 }
 
-/// Bad input is a `ValueError` with pixgeo's message; the rest (no driver,
-/// device failures) a `RuntimeError`.
+/// Each kind of error as its exception: bad input a `ValueError` with
+/// pixgeo's message, a file an `OSError` (its errno's subclass, such as
+/// `FileNotFoundError`), the device's failures the `RuntimeError` subclasses
+/// above.
 fn to_py(e: Error) -> PyErr {
+    let text = e.to_string();
     match e {
-        Error::InvalidInput(_) | Error::PictureTooLarge { .. } => {
-            PyValueError::new_err(e.to_string())
+        Error::InvalidInput(_) | Error::PictureTooLarge { .. } | Error::Parse { .. } => {
+            PyValueError::new_err(text)
         }
-        _ => PyRuntimeError::new_err(e.to_string()),
+        Error::Io { path, cause } => PyOSError::new_err((
+            cause.raw_os_error().unwrap_or(0),
+            cause.to_string(),
+            path.display().to_string(),
+        )),
+        Error::NoVulkan(_) | Error::NoDevice(_) | Error::Unsupported(_) => {
+            NoDeviceError::new_err(text)
+        }
+        Error::Vulkan { .. } | Error::Memory(_) | Error::Validation(_) => {
+            DeviceError::new_err(text)
+        }
+        Error::Internal(_) | Error::Usage(_) => InternalError::new_err(text),
+        _ => PyRuntimeError::new_err(text),
     }
 }
 
@@ -135,7 +170,7 @@ fn raster<T: numpy::Element>(
     width: u32,
 ) -> PyResult<Bound<'_, PyArray2<T>>> {
     let a = Array2::from_shape_vec((height as usize, width as usize), values)
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        .map_err(|e| InternalError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
 }
 
@@ -195,7 +230,7 @@ fn distance_transform<'py>(
     let mut planes = t.feature_rows;
     planes.extend_from_slice(&t.feature_columns);
     let indices = Array3::from_shape_vec((2, h, w), planes)
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        .map_err(|e| InternalError::new_err(e.to_string()))?;
     Ok((
         raster(py, t.distances, t.height, t.width)?,
         indices.into_pyarray(py),
@@ -409,7 +444,7 @@ fn k_nearest<'py>(
         .accuracy(accuracy(mode)?);
     let d = on_machine(py, device, |m| higher_order::k_nearest(m, &sites, &options))?;
     let shape = (d.height as usize, d.width as usize, d.k as usize);
-    let wrong = |e: numpy::ndarray::ShapeError| PyRuntimeError::new_err(e.to_string());
+    let wrong = |e: numpy::ndarray::ShapeError| InternalError::new_err(e.to_string());
     Ok((
         Array3::from_shape_vec(shape, d.labels)
             .map_err(wrong)?
@@ -460,12 +495,12 @@ fn delaunay<'py>(
         (d.triangles.len(), 3),
         d.triangles.iter().flatten().copied().collect(),
     )
-    .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    .map_err(|e| InternalError::new_err(e.to_string()))?;
     let duplicates = Array2::from_shape_vec(
         (d.duplicates.len(), 2),
         d.duplicates.iter().flatten().copied().collect(),
     )
-    .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    .map_err(|e| InternalError::new_err(e.to_string()))?;
     Ok((triangles.into_pyarray(py), duplicates.into_pyarray(py)))
 }
 
@@ -571,6 +606,9 @@ fn extremal_polygon<'py>(
 
 #[pymodule]
 fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("NoDeviceError", m.py().get_type::<NoDeviceError>())?;
+    m.add("DeviceError", m.py().get_type::<DeviceError>())?;
+    m.add("InternalError", m.py().get_type::<InternalError>())?;
     m.add_function(wrap_pyfunction!(frame_of, m)?)?;
     m.add_function(wrap_pyfunction!(distance_transform, m)?)?;
     m.add_function(wrap_pyfunction!(medial_axis, m)?)?;

@@ -209,9 +209,12 @@ def test_bad_input_raises_value_error(call, message):
     assert message in str(e.value), str(e.value)
 
 
-def test_an_unknown_device_is_a_runtime_error():
-    with pytest.raises(RuntimeError):
+def test_an_unknown_device_is_a_no_device_error():
+    with pytest.raises(pixgeo.NoDeviceError, match="no-such-device-anywhere"):
         pixgeo.voronoi([[0, 0]], (8, 8), device="no-such-device-anywhere")
+    assert issubclass(pixgeo.NoDeviceError, RuntimeError)
+    assert issubclass(pixgeo.DeviceError, RuntimeError)
+    assert issubclass(pixgeo.InternalError, RuntimeError)
 
 
 def test_calls_from_several_threads_agree():

@@ -521,7 +521,7 @@ mod tests {
         }
         assert!(Metric::parse(&named).unwrap_err().contains("parse_metric"));
         std::fs::remove_file(&path).unwrap();
-        assert!(parse_metric("polygon:/nonexistent.json").is_err());
+        assert!(parse_metric(&format!("polygon:{}", path.display())).is_err());
     }
 
     #[test]

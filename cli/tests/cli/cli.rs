@@ -56,6 +56,13 @@ fn temp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// A path in a folder that no test makes, so it exists on no machine.
+fn missing(name: &str) -> String {
+    let path = temp("never-made").join(name);
+    assert!(!path.exists(), "{} exists", path.display());
+    path.to_str().unwrap().to_string()
+}
+
 #[test]
 fn voronoi_writes_picture_arrays_and_json() {
     let sites = temp("sites.csv");
@@ -276,10 +283,7 @@ fn bad_input_fails_with_a_message() {
             (vec!["--sites".into(), s(&empty)], "no sites"),
             (vec!["--sites".into(), s(&nan)], "non-finite"),
             (vec!["--sites".into(), s(&bad)], "site 1"),
-            (
-                vec!["--sites".into(), "/nonexistent/sites.csv".into()],
-                "No such file",
-            ),
+            (vec!["--sites".into(), missing("sites.csv")], "No such file"),
             (vec!["--random".into(), "0".into()], "at least one"),
             (
                 vec!["--random".into(), "5".into(), "--size".into(), "0".into()],
@@ -447,8 +451,30 @@ fn distance_commands_answer_with_the_pair() {
     let (ok, stdout, stderr) = pixgeo(&["maxdist", "--red", r, "--blue", b]);
     assert!(ok, "{stderr}");
     assert!(stdout.contains("maximum distance 5 "), "{stdout}");
-    let (ok, _, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", "/nonexistent.csv"]);
+    let (ok, _, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", &missing("blue.csv")]);
     assert!(!ok && stderr.contains("blue"), "{stderr}");
+    // Under --json the failure is an envelope on stdout too.
+    let args = [
+        "hausdorff",
+        "--red",
+        r,
+        "--blue",
+        &missing("blue.csv"),
+        "--json",
+    ];
+    let (ok, stdout, stderr) = pixgeo(&args);
+    assert!(!ok && stderr.contains("blue"), "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let path = format!("{}/../docs/schema/error.json", env!("CARGO_MANIFEST_DIR"));
+    let schema = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    assert!(validator.is_valid(&v), "{stdout}");
+    assert_eq!(v["command"], "hausdorff");
+    let message = v["error"]["message"].as_str().unwrap();
+    assert!(
+        message.contains("blue") && stderr.contains(message),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -870,10 +896,11 @@ fn trace_holds_the_host_phases_and_the_device_passes() {
     assert_eq!(traced, timed);
     assert!(spans.iter().all(|e| e["dur"].as_f64().unwrap() >= 0.0));
 
-    let (ok, _, stderr) = pixgeo(&["voronoi", "--random", "5", "--trace", "/nonexistent/t.json"]);
+    let trace = missing("t.json");
+    let (ok, _, stderr) = pixgeo(&["voronoi", "--random", "5", "--trace", &trace]);
     assert!(!ok);
     assert!(
-        stderr.contains("writing the trace /nonexistent/t.json"),
+        stderr.contains(&format!("writing the trace {trace}")),
         "{stderr}"
     );
 }
