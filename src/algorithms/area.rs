@@ -33,6 +33,7 @@
 //! share the roofs' passes, the exact search of sites that share a pixel, and the
 //! answer types.
 
+use super::ms;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -149,10 +150,6 @@ pub struct AreaAnswer {
     pub draw_ms: f64,
     pub reduce_ms: f64,
     pub exact_ms: f64,
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// The smallest or largest triangle with three of `sites` as vertices.

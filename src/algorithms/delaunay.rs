@@ -25,6 +25,7 @@
 //! The mesh notices, and the points are inserted one by one in Hilbert order
 //! instead ([`DelaunayStats::incremental`] says why).
 
+use super::ms;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -165,10 +166,6 @@ impl DigitalDiagram {
             scale: 1.0 / self.cell,
         }
     }
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// The smallest value q · 2^k (q in 4..=8) at least `x`, for a positive normal

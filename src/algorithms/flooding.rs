@@ -23,6 +23,7 @@
 //! 48 pixels), so its components are gathered and flooded on the host, over
 //! the colouring read back.
 
+use super::ms;
 use std::{cmp::Reverse, collections::BinaryHeap, time::Instant};
 
 use serde::Serialize;
@@ -87,10 +88,6 @@ pub struct Flooding {
     /// The seed index per pixel.
     pub labels: Vec<u32>,
     pub stats: FloodingStats,
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// The longest texture side the Euclidean colouring takes.

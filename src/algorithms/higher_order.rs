@@ -23,6 +23,7 @@
 //! screen tiles, per-pixel lists) and the furthest-site diagram, which share tile
 //! lists, keys and readback.
 
+use super::ms;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -1247,8 +1248,4 @@ pub fn convex_hull(points: &[DVec2]) -> Vec<u32> {
         hull.pop();
     }
     hull
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }

@@ -18,3 +18,8 @@ pub mod sites;
 pub mod trace;
 pub mod transform;
 pub mod voronoi;
+
+/// Milliseconds since `since`, for the timings answers report.
+pub(crate) fn ms(since: std::time::Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}

@@ -33,6 +33,7 @@
 //! The file is long because both methods live here, with the programs they
 //! declare, beside the disc radii and the answer they share.
 
+use super::ms;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -354,10 +355,6 @@ pub fn potential_areas(
 
 fn to_pixels(sites: &[DVec2], frame: &Frame) -> Vec<DVec2> {
     sites.iter().map(|&s| frame.to_pixel(s)).collect()
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// The push constants of the settle programs (`glsl/settle.glsl`).

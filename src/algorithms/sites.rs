@@ -25,6 +25,7 @@
 //! The file is long because each of the four shapes of site takes its own fans,
 //! batches, tile lists and exact rectangles, and they share one driver.
 
+use super::ms;
 use std::time::Instant;
 
 use glam::{DVec2, DVec3};
@@ -892,10 +893,6 @@ fn batch_sites(
         }
     }
     (batches, singles)
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// The site's instance: shape words in pixel coordinates, weights that turn pixel

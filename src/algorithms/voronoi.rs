@@ -21,6 +21,7 @@
 //! (`algorithms/envelope/`); this file is the diagram's pass script and its
 //! readback.
 
+use super::ms;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -482,10 +483,6 @@ pub(crate) fn draw_point_tiles(
         }
     };
     Ok(stats)
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// Reads the picture part of a tile into `band` at the tile's column, turning
