@@ -23,7 +23,8 @@ typedef enum PixgeoStatus {
   // A pointer was null, a count zero, an option out of range, a coordinate
   // not finite.
   PIXGEO_STATUS_INVALID_ARGUMENT = 1,
-  // No Vulkan driver, or no device matching the request.
+  // No Vulkan driver, no device matching the request, or a device without
+  // a feature the call needs.
   PIXGEO_STATUS_NO_DEVICE = 2,
   // A Vulkan call or a memory allocation failed.
   PIXGEO_STATUS_DEVICE_ERROR = 3,

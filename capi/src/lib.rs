@@ -56,7 +56,8 @@ pub enum PixgeoStatus {
     /// A pointer was null, a count zero, an option out of range, a coordinate
     /// not finite.
     InvalidArgument = 1,
-    /// No Vulkan driver, or no device matching the request.
+    /// No Vulkan driver, no device matching the request, or a device without
+    /// a feature the call needs.
     NoDevice = 2,
     /// A Vulkan call or a memory allocation failed.
     DeviceError = 3,
@@ -158,7 +159,7 @@ fn message(text: &str) -> CString {
 
 fn status_of(error: &Error) -> PixgeoStatus {
     match error {
-        Error::NoVulkan(_) | Error::NoDevice(_) => PixgeoStatus::NoDevice,
+        Error::NoVulkan(_) | Error::NoDevice(_) | Error::Unsupported(_) => PixgeoStatus::NoDevice,
         Error::Vulkan { .. } | Error::Memory(_) => PixgeoStatus::DeviceError,
         Error::Validation(_) => PixgeoStatus::ValidationError,
         Error::PictureTooLarge { .. } => PixgeoStatus::TooLarge,
