@@ -6,6 +6,7 @@
 //! `cargo bench --bench area` writes `target/area/area.md`. `AREA_N=100,500`
 //! sets the site counts, `AREA_REPEATS` the repeats (median).
 
+use pixgeo::geometry::predicates::convex_hull;
 use std::path::PathBuf;
 
 use glam::DVec2;
@@ -13,7 +14,6 @@ use pixgeo::{
     algorithms::{
         area::{default_side, extremal_quadrangle, extremal_triangle, Extreme},
         area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
-        higher_order::convex_hull,
     },
     geometry::Frame,
     Machine,

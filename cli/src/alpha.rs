@@ -9,7 +9,7 @@ use pixgeo::{
     io::{npy, picture::PngStream},
 };
 
-use crate::{distances::machine_on, envelope, input::Points};
+use crate::{device::machine_on, envelope, input::Points};
 
 #[derive(Clone, Copy, ValueEnum)]
 enum Method {

@@ -9,7 +9,7 @@ use pixgeo::algorithms::{
     area_sweep,
 };
 
-use crate::{envelope, input::Points, progress::Progress, voronoi::Backend};
+use crate::{device::Backend, envelope, input::Points, progress::Progress};
 
 /// The smallest (or, with --max, largest) triangle with three sites as
 /// vertices. A saddle roof over every pair of sites, its height the area of

@@ -16,7 +16,7 @@ use pixgeo::{
     },
 };
 
-use crate::{distances::machine_on, envelope, input::Points, progress::Progress};
+use crate::{device::machine_on, envelope, input::Points, progress::Progress};
 
 /// The Delaunay triangulation of points, from a digital Voronoi diagram.
 ///

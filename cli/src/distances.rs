@@ -10,11 +10,11 @@ use pixgeo::{
     algorithms::distances::{self, Answer},
     geometry::frame::check_sites,
     io::sites,
-    machine::{DeviceChoice, Machine, MachineOptions},
+    machine::Machine,
 };
 use serde_json::{json, Value};
 
-use crate::{envelope, input::Points};
+use crate::{device::machine_on, envelope, input::Points};
 
 /// Options every distance command shares.
 #[derive(ClapArgs)]
@@ -38,15 +38,6 @@ impl Common {
     fn machine(&self) -> Result<Machine> {
         machine_on(self.device.as_deref())
     }
-}
-
-/// The pixel machine on `device` (else as PIXGEO_DEVICE says).
-pub fn machine_on(device: Option<&str>) -> Result<Machine> {
-    let mut options = MachineOptions::from_env().profiler(Some(crate::profiler().clone()));
-    if let Some(d) = device {
-        options.device = DeviceChoice::parse(d);
-    }
-    Machine::new(&options).context("starting the pixel machine")
 }
 
 /// The Hausdorff distance between a red and a blue point set: for each direction,

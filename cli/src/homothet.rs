@@ -14,7 +14,7 @@ use pixgeo::{
 };
 use serde_json::Value;
 
-use crate::{distances::machine_on, envelope, input::Points};
+use crate::{device::machine_on, envelope, input::Points};
 
 /// The shape and the picture, shared by both commands.
 #[derive(ClapArgs)]

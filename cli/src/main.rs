@@ -16,6 +16,7 @@ mod alpha;
 mod area;
 mod cells;
 mod delaunay;
+mod device;
 mod distances;
 mod envelope;
 mod gallery;

@@ -16,10 +16,10 @@ use pixgeo::{
 use serde_json::{json, Value};
 
 use crate::{
+    device::Backend,
     envelope,
     input::{Input, World},
     progress::Progress,
-    voronoi::Backend,
 };
 
 /// Finds the settle point (thesis §3.10): the place where a new site, added to

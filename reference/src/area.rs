@@ -7,7 +7,10 @@
 
 use glam::DVec2;
 
-pub use pixgeo::geometry::triangle::{cross, sides_of, triangle_area};
+pub use pixgeo::geometry::{
+    predicates::orient,
+    triangle::{sides_of, triangle_area},
+};
 
 /// The smallest (`largest` false) or largest triangle over all triples of
 /// sites: its sites and area. `None` for fewer than three sites.

@@ -31,6 +31,7 @@
 //! A radius below the smallest enclosing circle's is an error: no disc holds
 //! every site.
 
+use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -38,7 +39,6 @@ use serde::Serialize;
 use crate::{
     algorithms::{
         cones::{draw_cones, ConeDraw, ConePush, SITE_FAN},
-        higher_order::convex_hull,
         voronoi::{draw_point_tiles, VoronoiOptions},
     },
     error::{Error, Result},

@@ -34,18 +34,21 @@
 //! answer types.
 
 use super::ms;
+use crate::geometry::predicates::convex_hull;
 use std::time::Instant;
 
 use glam::DVec2;
 use serde::Serialize;
 
 use crate::{
-    algorithms::higher_order::convex_hull,
     error::{Error, Result},
-    geometry::triangle::{cross, sides_of, triangle_area},
     geometry::{
         frame::{check_sites, first_of_each},
         scale, Frame,
+    },
+    geometry::{
+        predicates::orient,
+        triangle::{sides_of, triangle_area},
     },
     machine::{
         shaders, Buffer, Clear, ClearColor, Compare, DepthTest, Draw, DrawParams, Format,
@@ -423,7 +426,7 @@ fn quadrangle_in_range(
             if t == i || t == j {
                 continue;
             }
-            let c = cross(p, q, points[t as usize]);
+            let c = orient(p, q, points[t as usize]);
             if c != 0.0 {
                 let s = usize::from(c < 0.0);
                 let area = 0.5 * c.abs();
@@ -670,7 +673,7 @@ fn neighbour_quadrangle(points: &[DVec2]) -> Option<f64> {
         // The three ways to choose a diagonal among four points.
         for (p, q, a, b) in [(0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2)] {
             let (p, q) = (points[w[p]], points[w[q]]);
-            let (ca, cb) = (cross(p, q, points[w[a]]), cross(p, q, points[w[b]]));
+            let (ca, cb) = (orient(p, q, points[w[a]]), orient(p, q, points[w[b]]));
             if ca * cb < 0.0 {
                 let area = 0.5 * (ca.abs() + cb.abs());
                 if best.is_none_or(|x| area < x) {

@@ -7,17 +7,15 @@
 //! (thesis ch. 7, [`crate::algorithms::area`]) leave sites that share a pixel
 //! to an exhaustive search.
 
+use crate::geometry::predicates::convex_hull;
 use std::{ops::Range, time::Instant};
 
 use glam::DVec2;
 
 use crate::{
-    algorithms::{
-        area::{
-            counter_clockwise, decided, degenerate_triangle, in_range, quadrangle_candidates,
-            AreaAnswer, Extreme,
-        },
-        higher_order::convex_hull,
+    algorithms::area::{
+        counter_clockwise, decided, degenerate_triangle, in_range, quadrangle_candidates,
+        AreaAnswer, Extreme,
     },
     error::{Error, Result},
     geometry::triangle::triangle_area,

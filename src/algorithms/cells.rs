@@ -20,7 +20,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         cell::{convex_cell, Rect},
-        mesh::orient,
+        predicates::orient,
     },
     Machine,
 };

@@ -17,6 +17,7 @@
 //! The picture is cut into bands of rows, one per thread; sites are sorted by row
 //! so that each offset visits only the sites that land in the band.
 
+use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -30,9 +31,7 @@ use crate::{
     },
 };
 
-use super::higher_order::{
-    convex_hull, furthest_candidates, Furthest, KNearest, KNearestStats, MAX_LEVELS,
-};
+use super::higher_order::{furthest_candidates, Furthest, KNearest, KNearestStats, MAX_LEVELS};
 
 /// How far a site may lie from the pixel centre it grows from.
 const SLACK: f64 = std::f64::consts::FRAC_1_SQRT_2;

@@ -37,7 +37,8 @@ use crate::{
     geometry::seed::Seed,
     geometry::{
         frame::{check_sites, distinct_by},
-        mesh::{orient, Mesh},
+        mesh::Mesh,
+        predicates::orient,
         scale,
         triangulation::{validate, Validity, DUMMY},
         Frame,

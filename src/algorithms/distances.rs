@@ -10,6 +10,7 @@
 //! could still reach the best value are checked exactly, so every answer is exact
 //! while the checks stay few.
 
+use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -26,7 +27,7 @@ use crate::{
 };
 
 use super::{
-    higher_order::{convex_hull, furthest},
+    higher_order::furthest,
     voronoi::{voronoi, VoronoiOptions},
 };
 

@@ -13,27 +13,13 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::buckets::group_by_bucket;
+use super::predicates::{incircle, orient};
 pub use super::triangulation::DUMMY;
 
 /// No triangle.
 const NONE: u32 = u32::MAX;
 /// A vertex slot of a removed triangle, kept for reuse.
 const FREE: u32 = u32::MAX - 1;
-
-fn coord(p: DVec2) -> robust::Coord<f64> {
-    robust::Coord { x: p.x, y: p.y }
-}
-
-/// Positive when a, b, c turn counter-clockwise.
-pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    robust::orient2d(coord(a), coord(b), coord(c))
-}
-
-/// Positive when `d` lies strictly inside the circle through the
-/// counter-clockwise a, b, c.
-pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
-    robust::incircle(coord(a), coord(b), coord(c), coord(d))
-}
 
 fn next(e: usize) -> usize {
     (e + 1) % 3

@@ -12,6 +12,7 @@ pub mod flips;
 pub mod frame;
 pub mod mesh;
 pub mod metric;
+pub mod predicates;
 pub mod radius;
 pub mod scale;
 pub mod seed;

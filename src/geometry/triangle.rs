@@ -2,15 +2,11 @@
 
 use glam::DVec2;
 
-/// Twice the signed area of the triangle (o, a, b), with the exact sign.
-pub fn cross(o: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
-    robust::orient2d(c(o), c(a), c(b))
-}
+use super::predicates::orient;
 
 /// The area of triangle (a, b, c).
 pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    0.5 * cross(a, b, c).abs()
+    0.5 * orient(a, b, c).abs()
 }
 
 /// The best site strictly on each side of the line p → q (left, right): the
@@ -18,7 +14,7 @@ pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 pub fn sides_of(sites: &[DVec2], p: usize, q: usize, largest: bool) -> [Option<(u32, f64)>; 2] {
     let mut best = [None, None];
     for (s, &x) in sites.iter().enumerate() {
-        let c = cross(sites[p], sites[q], x);
+        let c = orient(sites[p], sites[q], x);
         if c == 0.0 {
             continue;
         }

@@ -17,7 +17,7 @@ use std::collections::HashMap;
 use glam::DVec2;
 use serde::Serialize;
 
-use super::mesh::{incircle, orient};
+use super::predicates::{incircle, orient};
 
 /// The vertex at infinity.
 pub const DUMMY: u32 = u32::MAX;

@@ -163,7 +163,7 @@ fn quadrangles_match_exhaustive_search() {
             let v: Vec<DVec2> = answer.sites.iter().map(|&i| sites[i as usize]).collect();
             let (p, r, q, l) = (v[0], v[1], v[2], v[3]);
             assert!(
-                oracle::cross(p, q, l) > 0.0 && oracle::cross(p, q, r) < 0.0,
+                oracle::orient(p, q, l) > 0.0 && oracle::orient(p, q, r) < 0.0,
                 "{name}"
             );
             assert_close(name, triangle_area(p, q, l) + triangle_area(p, q, r), want);

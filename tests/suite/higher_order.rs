@@ -4,12 +4,11 @@
 
 use crate::common::{cases, machine};
 use glam::DVec2;
+use pixgeo::geometry::predicates::convex_hull;
 use pixgeo::{
     algorithms::{
         cpu,
-        higher_order::{
-            convex_hull, furthest, k_nearest, k_nearest_peeled, KNearest, KNearestOptions,
-        },
+        higher_order::{furthest, k_nearest, k_nearest_peeled, KNearest, KNearestOptions},
         voronoi::{Accuracy, Speedup},
     },
     geometry::{metric::Metric, Frame},

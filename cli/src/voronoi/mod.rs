@@ -1,13 +1,13 @@
 //! `pixgeo voronoi`: the Voronoi diagram of point sites, and of weighted sites,
 //! segments, circles and arcs.
 //!
-//! The file is long because one command holds every diagram's route (points,
-//! sites, the k nearest, the CPU algorithms, seed pixels) and their outputs,
-//! with the checks that refuse options a route does not take.
+//! One command holds every diagram's route, with the checks that refuse options
+//! a route does not take: points here, `sites.rs` for shapes, `levels.rs` for
+//! the k nearest, order-k and furthest, `seeds.rs` for flooding's seeds.
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
@@ -27,15 +27,25 @@ use pixgeo::{
         picture::PngStream,
         raster::{self, RasterStream},
     },
-    machine::{DeviceChoice, Machine, MachineOptions, PixelRect},
+    machine::PixelRect,
 };
 use serde_json::json;
 
 use crate::{
-    cells, envelope,
+    cells,
+    device::Backend,
+    envelope,
     input::{Input, World},
     progress::Progress,
 };
+
+mod levels;
+mod seeds;
+mod sites;
+
+use levels::*;
+use seeds::*;
+use sites::*;
 
 /// Computes the Voronoi diagram of point sites: which site is nearest to every
 /// pixel, and how far it is.
@@ -562,99 +572,6 @@ impl Args {
     }
 }
 
-/// The diagram of weighted points, segments, circles and arcs (thesis §3.8–3.9).
-fn general_sites(args: &Args, sites: &[Site], world: &World) -> Result<()> {
-    let frame = world.frame;
-    refuse_window(args, "a diagram of weighted or extended sites")?;
-    if args.degree.is_some() || args.order.is_some() || args.furthest || args.peel {
-        bail!("--degree, --order, --furthest and --peel take unweighted points; these sites have weights or shapes");
-    }
-    if args.method != Method::Cones {
-        bail!("--method flood and jfa flood from unweighted points' pixels; these sites have weights or shapes (use --method cones)");
-    }
-    let backend = args.backend()?;
-    let options = VoronoiOptions::exact(frame)
-        .metric(args.metric)
-        .accuracy(args.accuracy())
-        .speedup(args.speedup())
-        .ties(args.ties.is_some())
-        .max_tile(args.max_tile);
-    let device = backend.name().to_string();
-    let d = match backend {
-        Backend::Gpu(machine) => voronoi_sites(&machine, sites, &options)?,
-        Backend::Cpu => {
-            let started = std::time::Instant::now();
-            let (labels, distances) = cpu::voronoi_sites(sites, &frame, args.metric)?;
-            VoronoiDiagram {
-                width: frame.width,
-                height: frame.height,
-                frame,
-                window: PixelRect::sized(frame.width, frame.height),
-                labels,
-                distances,
-                ties: Vec::new(),
-                stats: VoronoiStats {
-                    device: "cpu".into(),
-                    sites: sites.len(),
-                    render_ms: started.elapsed().as_secs_f64() * 1e3,
-                    ..Default::default()
-                },
-            }
-        }
-    };
-    let (size, geo) = ([frame.width, frame.height, 1], world.georeference());
-    if let Some(p) = &args.labels {
-        raster::write(p, size, &d.labels, Some(&geo))?;
-    }
-    if let Some(p) = &args.distance {
-        raster::write(p, size, &d.distances, Some(&geo))?;
-    }
-    // A dot at the middle of each site's shape.
-    let middles: Vec<DVec2> = sites
-        .iter()
-        .map(|s| {
-            let (lo, hi) = s.bounds();
-            0.5 * (lo + hi)
-        })
-        .collect();
-    let source = cells::Source::Traced {
-        labels: &d.labels,
-        describe: &cells::site,
-    };
-    cells::write(args.vectors(), world, source, &middles)?;
-    if let Some(p) = args.png() {
-        let marks: Vec<DVec2> = middles.iter().map(|&m| frame.to_pixel(m)).collect();
-        let contours = args.contours.map(|step| picture::Contours {
-            distances: &d.distances,
-            step: step as f32,
-            line: (1.0 / frame.scale) as f32,
-        });
-        let rgb = picture::label_rows(&d.labels, frame.width, 0, &marks, contours);
-        let mut out = PngStream::create(p, frame.width, frame.height)?;
-        out.write(&rgb)?;
-        out.finish()?;
-    }
-    if args.json {
-        let summary = json!({
-            "metric": args.metric.to_string(),
-            "mode": mode_name(args),
-            "stats": d.stats,
-        });
-        envelope::print_world("voronoi", &device, world, &summary)?;
-    } else {
-        note!(
-            "{} sites, {}x{} pixels on {}: {} drawn, {:.1} ms rendering",
-            d.stats.sites,
-            frame.width,
-            frame.height,
-            d.stats.device,
-            d.stats.cones,
-            d.stats.render_ms
-        );
-    }
-    Ok(())
-}
-
 /// The accuracy mode as the JSON summary names it.
 fn mode_name(args: &Args) -> String {
     match args.mode {
@@ -662,373 +579,4 @@ fn mode_name(args: &Args) -> String {
         ModeArg::Fan(None) => format!("fan (epsilon {})", args.epsilon.unwrap_or(1.0)),
         ModeArg::Fan(Some(t)) => format!("fan:{t}"),
     }
-}
-
-/// Which diagram `pixgeo voronoi` computes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    Ordinary,
-    Degree(u32),
-    Order(u32),
-    Furthest,
-}
-
-/// Diagrams held whole rather than streamed in tiles: `--degree`, `--order`,
-/// `--furthest`, and every diagram on the CPU (an ordinary diagram is degree 1).
-fn whole_picture(
-    args: &Args,
-    backend: &Backend,
-    sites: &[DVec2],
-    world: &World,
-    accuracy: Accuracy,
-    speedup: Speedup,
-    kind: Kind,
-) -> Result<()> {
-    refuse_window(args, "this diagram")?;
-    if args.ties.is_some() {
-        bail!("--ties counts equal distances of ordinary diagrams on a Vulkan device");
-    }
-    if args.max_tile.is_some() {
-        bail!(
-            "--max-tile applies to ordinary diagrams on a Vulkan device; this diagram is computed whole"
-        );
-    }
-    let frame = world.frame;
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let geo = world.georeference();
-    let contour_step = args.contours.map(|s| s as f32);
-    // One picture of labels (and their distances for contours).
-    let draw = |path: &std::path::Path, labels: &[u32], distances: &[f32]| -> Result<()> {
-        let mut png = PngStream::create(path, frame.width, frame.height)?;
-        let contours = contour_step.map(|step| picture::Contours {
-            distances,
-            step,
-            line: (1.0 / frame.scale) as f32,
-        });
-        png.write(&picture::label_rows(
-            labels,
-            frame.width,
-            0,
-            &pixels,
-            contours,
-        ))?;
-        png.finish()?;
-        Ok(())
-    };
-
-    let summary = if kind == Kind::Furthest {
-        if accuracy != Accuracy::Exact {
-            bail!("the furthest-site diagram is computed exactly; drop --mode");
-        }
-        let f = match backend {
-            Backend::Gpu(machine) => higher_order::furthest(machine, sites, &frame, args.metric)?,
-            Backend::Cpu => cpu::furthest(sites, &frame, args.metric)?,
-        };
-        let size = [frame.width, frame.height, 1];
-        if let Some(path) = &args.labels {
-            raster::write(path, size, &f.labels, Some(&geo))?;
-        }
-        if let Some(path) = &args.distance {
-            raster::write(path, size, &f.distances, Some(&geo))?;
-        }
-        if let Some(path) = args.png() {
-            draw(path, &f.labels, &f.distances)?;
-        }
-        let source = cells::Source::Traced {
-            labels: &f.labels,
-            describe: &cells::site,
-        };
-        cells::write(args.vectors(), world, source, sites)?;
-        json!({
-            "kind": "furthest",
-            "sites": sites.len(),
-            "hull": f.hull.len(),
-        })
-    } else {
-        let (k, order) = match kind {
-            Kind::Order(k) => (k, true),
-            Kind::Degree(k) => (k, false),
-            _ => (1, false),
-        };
-        let d = match backend {
-            Backend::Gpu(machine) => {
-                let options = KNearestOptions::exact(frame, k)
-                    .metric(args.metric)
-                    .accuracy(accuracy)
-                    .speedup(speedup);
-                if args.peel {
-                    higher_order::k_nearest_peeled(machine, sites, &options)?
-                } else {
-                    higher_order::k_nearest(machine, sites, &options)?
-                }
-            }
-            Backend::Cpu => cpu::k_nearest(sites, &frame, k, args.metric)?,
-        };
-        // (rows, columns) for an ordinary diagram, (rows, columns, k) else.
-        let bands = if kind == Kind::Ordinary { 1 } else { k };
-        let size = [frame.width, frame.height, bands];
-        if let Some(path) = &args.labels {
-            let labels = if order {
-                d.order_sets()
-            } else {
-                d.labels.clone()
-            };
-            raster::write(path, size, &labels, Some(&geo))?;
-        }
-        if let Some(path) = &args.distance {
-            raster::write(path, size, &d.distances, Some(&geo))?;
-        }
-        write_level_cells(args, world, backend, sites, &d, kind)?;
-        if let Some(path) = args.png() {
-            let last = d.level_distances(k - 1);
-            if order {
-                // One colour per set: the set's hash picks it.
-                let sets: Vec<u32> = d
-                    .order_sets()
-                    .chunks_exact(k as usize)
-                    .map(set_colour_key)
-                    .collect();
-                draw(path, &sets, &last)?;
-            } else {
-                draw(path, &d.level_labels(k - 1), &last)?;
-                if args.each_level {
-                    for l in 0..k {
-                        let level = level_path(path, l + 1);
-                        draw(&level, &d.level_labels(l), &d.level_distances(l))?;
-                        crate::wrote([Some(level.as_path())]);
-                    }
-                }
-            }
-        }
-        json!({
-            "kind": match kind {
-                Kind::Ordinary => "ordinary",
-                Kind::Order(_) => "order",
-                _ => "degree",
-            },
-            "levels": k,
-            "speedup": speedup,
-            "stats": d.stats,
-        })
-    };
-    if args.json {
-        envelope::print_world("voronoi", backend.name(), world, &summary)?;
-    } else {
-        note!(
-            "{} sites, {}x{} pixels on {}",
-            sites.len(),
-            frame.width,
-            frame.height,
-            backend.name()
-        );
-    }
-    Ok(())
-}
-
-/// The cells of a diagram held whole: exact for the Euclidean diagram of
-/// points on a Vulkan device; otherwise traced from the labels of the K-th
-/// level (`--degree`), or of each set's region (`--order`).
-fn write_level_cells(
-    args: &Args,
-    world: &World,
-    backend: &Backend,
-    sites: &[DVec2],
-    d: &higher_order::KNearest,
-    kind: Kind,
-) -> Result<()> {
-    let outputs = args.vectors();
-    if !outputs.any() {
-        return Ok(());
-    }
-    if let (Kind::Ordinary, Backend::Gpu(machine), Metric::L2) = (kind, backend, args.metric) {
-        let source = cells::Source::Exact { machine, sites };
-        return cells::write(outputs, world, source, sites);
-    }
-    let k = d.k;
-    match kind {
-        Kind::Order(_) => {
-            // Each set of K sites, numbered in the order first seen.
-            let mut sets: Vec<Vec<u32>> = Vec::new();
-            let mut number: std::collections::HashMap<Vec<u32>, u32> = Default::default();
-            let labels: Vec<u32> = d
-                .order_sets()
-                .chunks_exact(k as usize)
-                .map(|set| {
-                    *number.entry(set.to_vec()).or_insert_with(|| {
-                        sets.push(set.to_vec());
-                        sets.len() as u32 - 1
-                    })
-                })
-                .collect();
-            let describe = |l: u32| {
-                let mut m = serde_json::Map::new();
-                m.insert("sites".into(), json!(sets[l as usize]));
-                m
-            };
-            let source = cells::Source::Traced {
-                labels: &labels,
-                describe: &describe,
-            };
-            cells::write(outputs, world, source, sites)
-        }
-        _ => {
-            let describe = |l: u32| {
-                let mut m = cells::site(l);
-                m.insert("level".into(), json!(k));
-                m
-            };
-            let labels = d.level_labels(k - 1);
-            let source = cells::Source::Traced {
-                labels: &labels,
-                describe: &describe,
-            };
-            cells::write(outputs, world, source, sites)
-        }
-    }
-}
-
-/// Where diagrams are computed.
-pub enum Backend {
-    /// The pixel machine on a Vulkan device.
-    Gpu(Box<Machine>),
-    /// The thesis's CPU pixel algorithms (§3.12): no Vulkan needed.
-    Cpu,
-}
-
-impl Backend {
-    /// `--device cpu` (or PIXGEO_DEVICE=cpu) asks for the CPU algorithms; any other
-    /// choice is a Vulkan device. Without a Vulkan driver the CPU algorithms step
-    /// in, with a notice.
-    pub fn choose(device: Option<&str>) -> Result<Self> {
-        let mut options = MachineOptions::from_env().profiler(Some(crate::profiler().clone()));
-        let wanted = device
-            .map(str::to_string)
-            .or_else(|| std::env::var("PIXGEO_DEVICE").ok());
-        if wanted.as_deref().map(str::trim) == Some("cpu") {
-            return Ok(Self::Cpu);
-        }
-        if let Some(d) = device {
-            options.device = DeviceChoice::parse(d);
-        }
-        match Machine::new(&options) {
-            Ok(machine) => Ok(Self::Gpu(Box::new(machine))),
-            Err(pixgeo::Error::NoVulkan(why)) => {
-                note!("note: no Vulkan driver ({why}); using the CPU pixel algorithms");
-                Ok(Self::Cpu)
-            }
-            Err(e) => Err(e).context("starting the pixel machine"),
-        }
-    }
-
-    pub fn name(&self) -> &str {
-        match self {
-            Self::Gpu(machine) => machine.device_name(),
-            Self::Cpu => "cpu (thesis §3.12 pixel algorithms)",
-        }
-    }
-}
-
-/// A colour key for a set of site ids (FNV-1a over the ids); "no site" only for
-/// an empty set.
-fn set_colour_key(set: &[u32]) -> u32 {
-    if set.first() == Some(&u32::MAX) {
-        return u32::MAX;
-    }
-    let hash = set.iter().fold(0x811c_9dc5u32, |h, id| {
-        id.to_le_bytes()
-            .iter()
-            .fold(h, |h, b| (h ^ *b as u32).wrapping_mul(0x0100_0193))
-    });
-    // Keep clear of the "no site" value.
-    hash % (u32::MAX - 1)
-}
-
-/// `picture.png` -> `picture-3.png`.
-fn level_path(path: &std::path::Path, level: u32) -> PathBuf {
-    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("level");
-    let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("png");
-    path.with_file_name(format!("{stem}-{level}.{ext}"))
-}
-
-/// `--method flood` and `--method jfa`: label maps of the sites' pixels.
-fn seed_pixels(args: &Args, sites: &[DVec2], world: &World) -> Result<()> {
-    let frame = world.frame;
-    refuse_window(args, "a flooded diagram")?;
-    args.refuse_cone_options("flooding")?;
-    if args.degree.is_some() || args.order.is_some() || args.furthest || args.ties.is_some() {
-        bail!("--method flood and jfa make the nearest-site map only (no --degree, --order, --furthest or --ties)");
-    }
-    if args.metric != Metric::L2 {
-        bail!("--method flood and jfa are Euclidean");
-    }
-    let seeds = pixgeo::algorithms::flooding::seeds_of(&frame, sites)?;
-    let machine = crate::distances::machine_on(args.device.as_deref())?;
-    let started = std::time::Instant::now();
-    let (labels, stats) = match args.method {
-        Method::Flood => {
-            let f =
-                pixgeo::algorithms::flooding::flood(&machine, frame.width, frame.height, &seeds)?;
-            (f.labels, serde_json::to_value(&f.stats)?)
-        }
-        _ => (
-            pixgeo::algorithms::flooding::jump_flood(&machine, frame.width, frame.height, &seeds)?,
-            json!({}),
-        ),
-    };
-    let elapsed = started.elapsed().as_secs_f64() * 1e3;
-    let (w, h) = (frame.width, frame.height);
-    // Distances in world units from each pixel centre to its region's site.
-    let distances: Vec<f32> = labels
-        .iter()
-        .enumerate()
-        .map(|(k, &l)| {
-            let q = frame.to_world(DVec2::new((k as u32 % w) as f64, (k as u32 / w) as f64));
-            sites
-                .get(l as usize)
-                .map_or(f32::INFINITY, |s| s.distance(q) as f32)
-        })
-        .collect();
-    let geo = world.georeference();
-    if let Some(path) = &args.labels {
-        raster::write(path, [w, h, 1], &labels, Some(&geo))?;
-    }
-    if let Some(path) = &args.distance {
-        raster::write(path, [w, h, 1], &distances, Some(&geo))?;
-    }
-    let source = cells::Source::Traced {
-        labels: &labels,
-        describe: &cells::site,
-    };
-    cells::write(args.vectors(), world, source, sites)?;
-    if let Some(path) = args.png() {
-        let contours = args.contours.map(|step| picture::Contours {
-            distances: &distances,
-            step: step as f32,
-            line: (1.0 / frame.scale) as f32,
-        });
-        let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-        let mut png = PngStream::create(path, w, h)?;
-        png.write(&picture::label_rows(&labels, w, 0, &pixels, contours))?;
-        png.finish()?;
-    }
-    let method = if args.method == Method::Flood {
-        "flood"
-    } else {
-        "jfa"
-    };
-    if args.json {
-        let summary = json!({
-            "method": method,
-            "sites": sites.len(),
-            "total_ms": elapsed,
-            "stats": stats,
-        });
-        envelope::print_world("voronoi", machine.device_name(), world, &summary)?;
-    } else {
-        note!(
-            "{method}: {} sites on {w}x{h} pixels in {elapsed:.1} ms",
-            sites.len()
-        );
-    }
-    Ok(())
 }

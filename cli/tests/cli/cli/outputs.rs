@@ -1,0 +1,426 @@
+//! What every command shares: refusals, the gallery, the JSON envelope, traces,
+//! the sites' grammar, what is reported written, and north-up rasters.
+
+use super::*;
+
+#[test]
+fn bad_input_fails_with_a_message() {
+    let cases: Vec<(Vec<String>, &str)> = {
+        let empty = temp("empty.csv");
+        std::fs::write(&empty, "x,y\n").unwrap();
+        let nan = temp("nan.csv");
+        std::fs::write(&nan, "1,2\nnan,3\n").unwrap();
+        let bad = temp("bad.json");
+        std::fs::write(&bad, "[[1, 2], [3]]").unwrap();
+        let s = |p: &PathBuf| p.to_str().unwrap().to_string();
+        vec![
+            (vec!["--sites".into(), s(&empty)], "no sites"),
+            (vec!["--sites".into(), s(&nan)], "non-finite"),
+            (vec!["--sites".into(), s(&bad)], "site 1"),
+            (vec!["--sites".into(), missing("sites.csv")], "No such file"),
+            (vec!["--random".into(), "0".into()], "at least one"),
+            (
+                vec!["--random".into(), "5".into(), "--size".into(), "0".into()],
+                "at least 1",
+            ),
+            (
+                vec![
+                    "--random".into(),
+                    "5".into(),
+                    "--size".into(),
+                    "99999999".into(),
+                ],
+                "too large",
+            ),
+            (
+                vec![
+                    "--random".into(),
+                    "5".into(),
+                    "--mode".into(),
+                    "cone".into(),
+                ],
+                "unknown mode",
+            ),
+            (
+                vec![
+                    "--random".into(),
+                    "5".into(),
+                    "--mode".into(),
+                    "fan:2".into(),
+                ],
+                "at least 3",
+            ),
+            (
+                vec![
+                    "--random".into(),
+                    "5".into(),
+                    "--bbox".into(),
+                    "0,0,0,1".into(),
+                ],
+                "XMIN < XMAX",
+            ),
+            (vec![], "--sites FILE or --random N"),
+        ]
+    };
+    for (args, expect) in cases {
+        let mut all = vec!["voronoi".to_string()];
+        all.extend(args.iter().cloned());
+        let refs: Vec<&str> = all.iter().map(String::as_str).collect();
+        let (ok, _, stderr) = pixgeo(&refs);
+        assert!(!ok, "{args:?} should fail");
+        assert!(
+            stderr.contains(expect),
+            "{args:?}: expected `{expect}` in: {stderr}"
+        );
+    }
+}
+
+#[test]
+fn gallery_renders_every_picture_and_an_index() {
+    let dir = temp("gallery");
+    let (ok, _, stderr) = pixgeo(&["gallery", dir.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let pictures: Vec<&str> = index
+        .split("<img src=\"")
+        .skip(1)
+        .map(|s| &s[..s.find('"').unwrap()])
+        .collect();
+    assert!(pictures.len() >= 12, "{index}");
+    for p in pictures {
+        if p.ends_with(".svg") {
+            let svg = std::fs::read_to_string(dir.join(p)).unwrap();
+            assert!(svg.starts_with("<svg") && svg.contains("<path"), "{p}");
+            continue;
+        }
+        let img = image::open(dir.join(p)).unwrap_or_else(|e| panic!("{p}: {e}"));
+        assert!(img.width() >= 256, "{p}");
+    }
+    assert!(index.contains("<code>pixgeo voronoi"), "commands shown");
+}
+
+#[test]
+fn every_json_answer_is_the_envelope_its_schema_describes() {
+    let sites = temp("envelope.csv");
+    std::fs::write(&sites, "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n1,2\n3,2.5\n").unwrap();
+    let s = sites.to_str().unwrap();
+    let mask = temp("envelope-mask.npy");
+    npy::write(&mask, &[2, 3], &[0u8, 1, 0, 0, 0, 1]).unwrap();
+    let mask = mask.to_str().unwrap();
+    let runs: [&[&str]; 16] = [
+        &["voronoi", "--random", "6", "--size", "32"],
+        &["voronoi", "--random", "6", "--size", "32", "--order", "2"],
+        &[
+            "voronoi", "--random", "6", "--size", "32", "--degree", "2", "--peel",
+        ],
+        &["voronoi", "--random", "6", "--size", "32", "--furthest"],
+        &[
+            "voronoi", "--random", "6", "--size", "32", "--method", "jfa",
+        ],
+        &["settle", "--random", "6", "--size", "32"],
+        &["hausdorff", "--red", s, "--blue", s],
+        &["diameter", "--sites", s],
+        &["maxdist", "--red", s, "--blue", s],
+        &["enclose", "--sites", s],
+        &["empty", "--sites", s],
+        &["alpha", "--sites", s, "--alpha", "0"],
+        &["triangle", "--sites", s, "--max"],
+        &["quadrangle", "--sites", s],
+        &["delaunay", "--sites", s],
+        &["transform", "--mask", mask],
+    ];
+    for run in runs {
+        let mut args = run.to_vec();
+        args.push("--json");
+        let (ok, stdout, stderr) = pixgeo(&args);
+        assert!(ok, "{run:?}: {stderr}");
+        let envelope = enveloped(&stdout, run[0]);
+        // Every command that draws says on what; the sweeps draw nothing.
+        let picture = !["triangle", "quadrangle", "transform"].contains(&run[0]);
+        assert_eq!(envelope["frame"].is_object(), picture, "{run:?}");
+        let named = stdout.matches("\"device\"").count();
+        assert_eq!(named, 1, "{run:?}: the device is named once");
+        // What draws on the device says how long its passes took there.
+        let passes = envelope["gpu_ms"].as_object().unwrap();
+        assert_eq!(!passes.is_empty(), picture, "{run:?}: {passes:?}");
+    }
+}
+
+#[test]
+fn trace_holds_the_host_phases_and_the_device_passes() {
+    let trace = temp("trace.json");
+    let (ok, stdout, stderr) = pixgeo(&[
+        "voronoi",
+        "--random",
+        "50",
+        "--size",
+        "64",
+        "--json",
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains(&format!("wrote {}", trace.display())));
+    let envelope = enveloped(&stdout, "voronoi");
+    let events: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&trace).unwrap()).unwrap();
+    let spans: Vec<&serde_json::Value> = events["traceEvents"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["ph"] == "X")
+        .collect();
+    let on = |tid: u64| spans.iter().filter(move |e| e["tid"] == tid);
+    assert!(on(1).any(|e| e["name"] == "pixgeo voronoi"));
+    assert!(on(1).any(|e| e["name"] == "run"));
+    // Every pass the envelope times is on the device's track, and no other.
+    let mut traced: Vec<String> = on(2).map(|e| e["name"].as_str().unwrap().into()).collect();
+    traced.sort();
+    traced.dedup();
+    let timed: Vec<String> = envelope["gpu_ms"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .cloned()
+        .collect();
+    assert_eq!(traced, timed);
+    assert!(spans.iter().all(|e| e["dur"].as_f64().unwrap() >= 0.0));
+
+    let trace = missing("t.json");
+    let (ok, _, stderr) = pixgeo(&["voronoi", "--random", "5", "--trace", &trace]);
+    assert!(!ok);
+    assert!(
+        stderr.contains(&format!("writing the trace {trace}")),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn point_commands_share_one_grammar_for_their_sites() {
+    // --random N --seed S and --sites - (CSV on stdin) wherever points are read.
+    let file = temp("grammar.csv");
+    let csv = "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n1,2.5\n";
+    std::fs::write(&file, csv).unwrap();
+    let stdin = |args: &[&str]| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_pixgeo"))
+            .args(args)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        use std::io::Write;
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(csv.as_bytes())
+            .unwrap();
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let f = file.to_str().unwrap();
+    for command in [
+        &["triangle"][..],
+        &["quadrangle", "--max"],
+        &["diameter"],
+        &["alpha", "--alpha", "0"],
+        &["delaunay"],
+        &["enclose"],
+        &["empty"],
+    ] {
+        fn with<'a>(command: &[&'a str], sites: &[&'a str]) -> Vec<&'a str> {
+            let mut args = command.to_vec();
+            args.extend_from_slice(sites);
+            args.push("--json");
+            args
+        }
+        let (ok, from_file, stderr) = pixgeo(&with(command, &["--sites", f]));
+        assert!(ok, "{command:?}: {stderr}");
+        let from_stdin = stdin(&with(command, &["--sites", "-"]));
+        assert_eq!(
+            answer(&from_stdin, command[0]),
+            answer(&from_file, command[0])
+        );
+        let (ok, a, stderr) = pixgeo(&with(command, &["--random", "40", "--seed", "7"]));
+        assert!(ok, "{command:?}: {stderr}");
+        let (_, b, _) = pixgeo(&with(command, &["--random", "40", "--seed", "7"]));
+        let (_, c, _) = pixgeo(&with(command, &["--random", "40", "--seed", "8"]));
+        let (a, b, c) = (
+            answer(&a, command[0]),
+            answer(&b, command[0]),
+            answer(&c, command[0]),
+        );
+        assert_eq!(a, b, "{command:?}: one seed, one answer");
+        assert_ne!(a, c, "{command:?}: another seed, other points");
+        let (ok, _, stderr) = pixgeo(command);
+        assert!(!ok && stderr.contains("--sites"), "{command:?}: {stderr}");
+    }
+}
+
+#[test]
+fn files_written_are_reported_and_quiet_says_nothing() {
+    let (png, mask) = (temp("q.png"), temp("q.npy"));
+    let (p, m) = (png.to_str().unwrap(), mask.to_str().unwrap());
+    let args = [
+        "alpha", "--random", "30", "--alpha", "0", "-o", p, "--mask", m,
+    ];
+    let (ok, _, stderr) = pixgeo(&args);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains(&format!("wrote {p}")) && stderr.contains(&format!("wrote {m}")),
+        "{stderr}"
+    );
+    for command in [
+        &args[..],
+        &["voronoi", "--random", "5", "--size", "32", "-o", p, "-q"],
+        &[
+            "delaunay",
+            "--random",
+            "30",
+            "--triangle",
+            p.trim_end_matches(".png"),
+            "--quiet",
+        ],
+    ] {
+        let mut with = command.to_vec();
+        if command[0] == "alpha" {
+            with.push("-q");
+        }
+        let (ok, _, stderr) = pixgeo(&with);
+        assert!(ok && stderr.is_empty(), "{with:?}: {stderr}");
+    }
+}
+
+#[test]
+fn a_bad_point_set_is_named_as_the_user_named_it() {
+    let (bad, good) = (temp("red-nan.csv"), temp("blue.csv"));
+    std::fs::write(&bad, "x,y\n1,nan\n").unwrap();
+    std::fs::write(&good, "x,y\n0,0\n1,1\n").unwrap();
+    let (b, g) = (bad.to_str().unwrap(), good.to_str().unwrap());
+    for (args, name) in [
+        (["hausdorff", "--red", b, "--blue", g], "the red points"),
+        (["maxdist", "--red", g, "--blue", b], "the blue points"),
+    ] {
+        let (ok, _, stderr) = pixgeo(&args);
+        assert!(
+            !ok && stderr.contains(name) && stderr.contains("non-finite"),
+            "{stderr}"
+        );
+    }
+}
+
+/// Rows of a (rows, columns, bands) array in the other order.
+fn flipped<T: Copy>(values: &[T], width: usize, bands: usize) -> Vec<T> {
+    values
+        .chunks(width * bands)
+        .rev()
+        .flatten()
+        .copied()
+        .collect()
+}
+
+#[test]
+fn north_up_rasters_are_the_y_down_ones_flipped() {
+    let polygon = temp("north-up-triangle.csv");
+    std::fs::write(&polygon, "x,y\n1,0\n0,2\n-0.5,-0.3\n").unwrap();
+    let shapes = temp("north-up-shapes.json");
+    std::fs::write(
+        &shapes,
+        r#"[{"arc": {"center": [10, 10], "radius": 5, "start": 0.3, "end": 2.0}}, [30, 20],
+            {"segment": [[5, 25], [20, 28]], "m": 2}]"#,
+    )
+    .unwrap();
+    let metric = format!("polygon:{}", polygon.display());
+    let base = ["--bbox", "0,0,40,30", "--size", "120"];
+    // Flooding is left out: its digital diagram breaks ties by pixel order.
+    let runs: [(&[&str], usize); 4] = [
+        (&["voronoi", "--random", "30", "--seed", "4"], 1),
+        (
+            &[
+                "voronoi", "--random", "30", "--seed", "4", "--metric", &metric,
+            ],
+            1,
+        ),
+        (
+            &["voronoi", "--random", "30", "--seed", "4", "--order", "2"],
+            2,
+        ),
+        (&["voronoi", "--sites", shapes.to_str().unwrap()], 1),
+    ];
+    for (run, bands) in runs {
+        let arrays: Vec<Vec<u32>> = ["up", "down"]
+            .iter()
+            .map(|axis| {
+                let labels = temp(&format!("north-up-{axis}.npy"));
+                let mut args: Vec<&str> = [run, &base[..]].concat();
+                args.extend(["--labels", labels.to_str().unwrap(), "--y-axis", axis]);
+                let (ok, _, stderr) = pixgeo(&args);
+                assert!(ok, "{args:?}: {stderr}");
+                npy::read::<u32>(&labels).unwrap().1
+            })
+            .collect();
+        assert_eq!(arrays[0], flipped(&arrays[1], 120, bands), "{run:?}");
+        assert!(
+            arrays[0] != arrays[1],
+            "{run:?}: the diagram is not symmetric"
+        );
+    }
+
+    // --bbox makes north-up the default; the envelope says so, in the user's
+    // coordinates.
+    let (ok, stdout, stderr) = pixgeo(&[
+        "settle",
+        "--random",
+        "10",
+        "--seed",
+        "2",
+        "--bbox",
+        "0,0,40,30",
+        "--size",
+        "40",
+        "--crs",
+        "EPSG:32633",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v = enveloped(&stdout, "settle");
+    assert_eq!(v["frame"]["y_axis"], "up");
+    assert_eq!(
+        v["frame"]["bbox"],
+        serde_json::json!([0.0, 0.0, 40.0, 30.0])
+    );
+    assert_eq!(v["frame"]["origin"], serde_json::json!([0.0, 30.0]));
+    assert_eq!(v["frame"]["crs"], "EPSG:32633");
+    let point = &v["result"]["refined"]["point"];
+    let (x, y) = (point[0].as_f64().unwrap(), point[1].as_f64().unwrap());
+    assert!(
+        (0.0..=40.0).contains(&x) && (0.0..=30.0).contains(&y),
+        "{point}"
+    );
+    let (ok, stdout, _) = pixgeo(&["voronoi", "--random", "5", "--size", "16", "--json"]);
+    assert!(ok && enveloped(&stdout, "voronoi")["frame"]["y_axis"] == "down");
+
+    for (args, message) in [
+        (vec!["--crs", "4326"], "EPSG:N"),
+        (vec!["--crs", "EPSG:99999"], "1024 to 32766"),
+        (vec!["--labels", "l.png"], "name the file *.npy or *.tif"),
+        (vec!["--world-file", "w.txt"], "*.tfw"),
+        (vec!["--cells", "c.json"], "*.geojson"),
+        (vec!["-o", "v.gif"], "*.png or *.svg"),
+        (
+            vec!["--cells", "c.geojson", "--window", "0,0,4,4"],
+            "drop --window",
+        ),
+    ] {
+        let mut run = vec!["voronoi", "--random", "5", "--size", "16"];
+        run.extend(args);
+        let (ok, _, stderr) = pixgeo(&run);
+        assert!(!ok && stderr.contains(message), "{run:?}: {stderr}");
+    }
+}

@@ -1,0 +1,318 @@
+//! The other problems' commands: distances, settle, homothets, alpha hulls,
+//! extremal triangles and quadrangles, Delaunay.
+
+use super::*;
+
+#[test]
+fn distance_commands_answer_with_the_pair() {
+    let (red, blue) = (temp("red.csv"), temp("blue.csv"));
+    std::fs::write(&red, "0,0\n1,0\n0,1\n").unwrap();
+    std::fs::write(&blue, "0,0.5\n3,4\n").unwrap();
+    let (r, b) = (red.to_str().unwrap(), blue.to_str().unwrap());
+    let (ok, stdout, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", b, "--json"]);
+    assert!(ok, "{stderr}");
+    let v = answer(&stdout, "hausdorff");
+    // Blue (3, 4) is sqrt(18) from red (0, 1), its nearest.
+    assert_eq!(v["hausdorff"], 18f64.sqrt());
+    assert_eq!(v["blue_to_red"]["blue"]["index"], 1);
+    assert_eq!(v["blue_to_red"]["red"]["index"], 2);
+    let (ok, stdout, stderr) = pixgeo(&["diameter", "--sites", b, "--json"]);
+    assert!(ok, "{stderr}");
+    let v = answer(&stdout, "diameter");
+    assert_eq!(v["distance"], (9.0f64 + 3.5 * 3.5).sqrt());
+    let (ok, stdout, stderr) = pixgeo(&["maxdist", "--red", r, "--blue", b]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("maximum distance 5 "), "{stdout}");
+    let (ok, _, stderr) = pixgeo(&["hausdorff", "--red", r, "--blue", &missing("blue.csv")]);
+    assert!(!ok && stderr.contains("blue"), "{stderr}");
+    // Under --json the failure is an envelope on stdout too.
+    let args = [
+        "hausdorff",
+        "--red",
+        r,
+        "--blue",
+        &missing("blue.csv"),
+        "--json",
+    ];
+    let (ok, stdout, stderr) = pixgeo(&args);
+    assert!(!ok && stderr.contains("blue"), "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let path = format!("{}/../docs/schema/error.json", env!("CARGO_MANIFEST_DIR"));
+    let schema = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    assert!(validator.is_valid(&v), "{stdout}");
+    assert_eq!(v["command"], "hausdorff");
+    let message = v["error"]["message"].as_str().unwrap();
+    assert!(
+        message.contains("blue") && stderr.contains(message),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn settle_answers_with_the_same_map_on_every_path() {
+    let sites = temp("rivals.csv");
+    std::fs::write(&sites, "x,y\n10,10\n50.5,20\n30,45\n8,40\n").unwrap();
+    let own = temp("own.csv");
+    std::fs::write(&own, "x,y\n55,44\n").unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let (png, area) = (temp(&format!("{name}.png")), temp(&format!("{name}.npy")));
+        let mut args = vec![
+            "settle",
+            "--sites",
+            sites.to_str().unwrap(),
+            "--own",
+            own.to_str().unwrap(),
+            "--size",
+            "64x48",
+            "-o",
+            png.to_str().unwrap(),
+            "--area",
+            area.to_str().unwrap(),
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let (ok, stdout, stderr) = pixgeo(&args);
+        assert!(ok, "{stderr}");
+        let summary = answer(&stdout, "settle");
+        let (shape, a): (Vec<u64>, Vec<u32>) = npy::read(&area).unwrap();
+        assert_eq!(shape, vec![48, 64]);
+        let img = image::open(&png).unwrap();
+        assert_eq!((img.width(), img.height()), (64, 48));
+        (summary, a)
+    };
+    let (spans, a) = run("spans", &[]);
+    let (faithful, b) = run("faithful", &["--method", "faithful"]);
+    let (cpu, c) = run("cpu", &["--device", "cpu"]);
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+    let best = spans["settle"]["area_pixels"].as_u64().unwrap();
+    assert_eq!(a.iter().copied().max().unwrap() as u64, best);
+    assert_eq!(faithful["settle"], spans["settle"]);
+    assert_eq!(cpu["settle"], spans["settle"]);
+    let refined = &spans["refined"];
+    assert!(refined["area"].as_f64().unwrap() >= refined["start_area_pixels"].as_f64().unwrap());
+    // Other metrics have no exact refinement.
+    let (l1, _) = run("l1", &["--metric", "l1"]);
+    assert!(l1["refined"].is_null());
+}
+
+#[test]
+fn settle_rejects_bad_requests() {
+    let (ok, _, stderr) = pixgeo(&["settle", "--random", "0"]);
+    assert!(!ok && stderr.contains("at least one"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&[
+        "settle", "--random", "3", "--device", "cpu", "--method", "faithful",
+    ]);
+    assert!(!ok && stderr.contains("faithful"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&["settle", "--random", "3", "--metric", "lp:-1"]);
+    assert!(!ok && stderr.contains("p > 0"), "{stderr}");
+}
+
+#[test]
+fn enclose_and_empty_print_exact_homothets() {
+    let sites = temp("homothet.csv");
+    std::fs::write(&sites, "x,y\n0,0\n4,0\n0,3\n").unwrap();
+    let s = sites.to_str().unwrap();
+    let (ok, stdout, stderr) = pixgeo(&["enclose", "--sites", s, "--json", "--size", "128"]);
+    assert!(ok, "{stderr}");
+    let v = answer(&stdout, "enclose");
+    // The right triangle's smallest circle is on its hypotenuse: radius 2.5.
+    assert!(
+        (v["exact"]["scale"].as_f64().unwrap() - 2.5).abs() < 1e-9,
+        "{stdout}"
+    );
+    let region = temp("region.json");
+    std::fs::write(&region, "[[[0,0],[4,0],[4,3],[0,3]]]").unwrap();
+    let (ok, stdout, stderr) = pixgeo(&[
+        "empty",
+        "--sites",
+        s,
+        "--region",
+        region.to_str().unwrap(),
+        "--size",
+        "128",
+    ]);
+    assert!(ok, "{stderr}");
+    // On the top side at x = 25/8: as far from (0, 3) as from (4, 0).
+    assert!(
+        stdout.contains("centre (3.125, 3), scale 3.125"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("distance transform"), "{stdout}");
+    // Both pixel stages, asked for by name, reach the same exact answer.
+    for (stage, name) in [
+        ("cones", "\"cones\""),
+        ("transform", "\"distance_transform\""),
+    ] {
+        let (ok, stdout, stderr) = pixgeo(&[
+            "empty",
+            "--sites",
+            s,
+            "--region",
+            region.to_str().unwrap(),
+            "--pixel-stage",
+            stage,
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let v = answer(&stdout, "empty");
+        assert_eq!(v["pixel_stage"].to_string(), name, "{stdout}");
+        assert!((v["exact"]["scale"].as_f64().unwrap() - 3.125).abs() < 1e-9);
+    }
+    let kite = temp("kite.csv");
+    std::fs::write(&kite, "1,0\n0,1\n-1,0\n0,-2\n").unwrap();
+    let (ok, _, stderr) = pixgeo(&[
+        "empty",
+        "--sites",
+        s,
+        "--polygon",
+        kite.to_str().unwrap(),
+        "--pixel-stage",
+        "transform",
+    ]);
+    assert!(!ok && stderr.contains("use cones"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--order", "9"]);
+    assert!(!ok && stderr.contains("cannot enclose 9 of 3"), "{stderr}");
+}
+
+#[test]
+fn alpha_writes_mask_picture_and_json() {
+    let sites = temp("alpha.csv");
+    std::fs::write(&sites, "x,y\n0,0\n10,0\n10,10\n0,10\n5,5\n").unwrap();
+    let s = sites.to_str().unwrap();
+    let (mask, png) = (temp("alpha.npy"), temp("alpha.png"));
+    let (ok, stdout, stderr) = pixgeo(&[
+        "alpha",
+        "--sites",
+        s,
+        "--alpha",
+        "-0.16",
+        "--size",
+        "64",
+        "--mask",
+        mask.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v = answer(&stdout, "alpha");
+    let (w, h) = (v["width"].as_u64().unwrap(), v["height"].as_u64().unwrap());
+    let (shape, inside) = npy::read::<u8>(&mask).unwrap();
+    assert_eq!(shape, vec![h, w]);
+    let count = inside.iter().filter(|&&b| b == 1).count() as u64;
+    assert_eq!(count, v["inside"].as_u64().unwrap());
+    // Discs of radius 6.25 bite into the square's sides but cannot reach its
+    // centre: the hull is some of the square, which is a fifth of the picture.
+    assert!(count > 0 && count < w * h / 4, "{count} of {w}x{h}");
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+    // Radius 2 is below the smallest enclosing circle's (about 7.07).
+    let (ok, _, stderr) = pixgeo(&["alpha", "--sites", s, "--alpha", "0.5"]);
+    assert!(
+        !ok && stderr.contains("smallest enclosing circle"),
+        "{stderr}"
+    );
+    let (ok, stdout, stderr) = pixgeo(&["alpha", "--sites", s, "--alpha", "0.1", "--size", "64"]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("method hull"), "{stdout}");
+}
+
+#[test]
+fn triangle_and_quadrangle_print_exact_areas() {
+    let sites = temp("area.csv");
+    let s = sites.to_str().unwrap();
+    // A unit square's corners and a point just off its diagonal.
+    std::fs::write(&sites, "x,y\n0,0\n10,0\n10,10\n0,10\n5,5.5\n").unwrap();
+    // The sweep by default, the thesis's roofs on a Vulkan device.
+    for device in [&[][..], &["--device", "lavapipe", "--size", "64"]] {
+        let with = |args: &[&str]| -> Vec<String> {
+            args.iter().chain(device).map(|a| a.to_string()).collect()
+        };
+        let (ok, stdout, stderr) = pixgeo(&with(&["triangle", "--sites", s, "--json"]));
+        assert!(ok, "{stderr}");
+        let v = answer(&stdout, "triangle");
+        // (0,0), (10,10), (5,5.5): half of |10 * 5.5 - 10 * 5| = 2.5.
+        assert_eq!(v["area"].as_f64().unwrap(), 2.5, "{stdout}");
+        let by = if device.is_empty() { "sweep" } else { "pixels" };
+        assert_eq!(v["decided_by"], by, "{stdout}");
+        let (ok, stdout, stderr) = pixgeo(&with(&["triangle", "--sites", s, "--max"]));
+        assert!(ok, "{stderr}");
+        assert!(
+            stdout.starts_with("largest triangle: area 50\n"),
+            "{stdout}"
+        );
+        let (ok, stdout, stderr) = pixgeo(&with(&["quadrangle", "--sites", s, "--max"]));
+        assert!(ok, "{stderr}");
+        assert!(
+            stdout.starts_with("largest quadrangle: area 100\n"),
+            "{stdout}"
+        );
+    }
+    let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "0"]);
+    assert!(
+        !ok && stderr.contains("2 to 16384 pixels, not 0"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "64"]);
+    assert!(
+        !ok && stderr.contains("the cpu sweep draws none"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn delaunay_writes_triangle_files_json_and_a_picture() {
+    let sites = temp("dt.csv");
+    let mut text = String::from("x,y\n");
+    for k in 0..200 {
+        // A jittered lattice with one repeated point.
+        let (x, y) = (
+            (k % 20) as f64 + 0.001 * (k * 7 % 13) as f64,
+            (k / 20) as f64,
+        );
+        text += &format!("{x},{y}\n");
+    }
+    text += "0,0\n";
+    std::fs::write(&sites, text).unwrap();
+    let (prefix, png) = (temp("mesh"), temp("dt.png"));
+    let (ok, stdout, stderr) = pixgeo(&[
+        "delaunay",
+        "--sites",
+        sites.to_str().unwrap(),
+        "--triangle",
+        prefix.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--check",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("1 repeated"), "{stdout}");
+    assert!(stdout.contains("digital triangulation valid"), "{stdout}");
+    assert!(stdout.contains("every edge locally Delaunay"), "{stdout}");
+    let node = std::fs::read_to_string(prefix.with_extension("node")).unwrap();
+    let ele = std::fs::read_to_string(prefix.with_extension("ele")).unwrap();
+    assert!(node.starts_with("201 2 0 0\n"), "{node}");
+    let header: Vec<usize> = ele
+        .lines()
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(header[1..], [3, 0]);
+    assert_eq!(ele.lines().count(), header[0] + 1);
+    assert!(image::open(&png).is_ok());
+
+    let (ok, stdout, _) = pixgeo(&["delaunay", "--sites", sites.to_str().unwrap(), "--json"]);
+    assert!(ok);
+    let json = answer(&stdout, "delaunay");
+    assert_eq!(json["triangles"].as_array().unwrap().len(), header[0]);
+    assert_eq!(json["duplicates"][0], serde_json::json!([200, 0]));
+
+    std::fs::write(&sites, "0,0\n1,1\n2,2\n").unwrap();
+    let (ok, _, stderr) = pixgeo(&["delaunay", "--sites", sites.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("one line"), "{stderr}");
+    let (ok, _, stderr) = pixgeo(&["delaunay"]);
+    assert!(!ok && stderr.contains("--sites"), "{stderr}");
+}

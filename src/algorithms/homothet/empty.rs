@@ -1,0 +1,590 @@
+//! The largest empty homothet in a region (thesis ch. 5): the highest pixel of
+//! the lower envelope inside the region, refined exactly.
+
+use super::*;
+
+/// Where the centre of the largest empty homothet may lie.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Region {
+    /// Closed rings (polygons and their holes, any orientation); a point is inside
+    /// when it is inside an odd number of rings. Empty: the sites' bounding box.
+    pub rings: Vec<Vec<DVec2>>,
+}
+
+impl Region {
+    /// Even-odd inside test.
+    pub fn contains(&self, p: DVec2) -> bool {
+        let mut inside = false;
+        for ring in &self.rings {
+            for k in 0..ring.len() {
+                let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+                if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x)
+                {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+
+    pub(super) fn edges(&self) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+        self.rings
+            .iter()
+            .flat_map(|r| (0..r.len()).map(move |k| (r[k], r[(k + 1) % r.len()])))
+    }
+}
+
+/// The largest homothet of `unit` containing none of the point `sites`, its
+/// centre in `region` (empty: the sites' bounding box); exact, from the points
+/// where three of the candidate sites' distance pieces or region edges meet.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::algorithms::homothet::{largest_empty, Region, Unit, DEFAULT_SIDE};
+///
+/// let sites = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(0.0, 3.0)];
+/// let square = Region { rings: vec![vec![DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(4.0, 4.0), DVec2::new(0.0, 4.0)]] };
+/// let c = pixgeo::with_default_machine(|m| largest_empty(m, &sites, Unit::Circle, &square, DEFAULT_SIDE))?;
+/// // On the top side, as far from (0, 3) as from (4, 0): farther than the corner (4, 4).
+/// assert_eq!(c.exact.centre, [3.875, 4.0]);
+/// assert!(c.exact.scale > 4.0);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
+pub fn largest_empty(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    region: &Region,
+    side: u32,
+) -> Result<HomothetAnswer> {
+    largest_empty_by(machine, sites, unit, region, side, None)
+}
+
+/// More pixels near the largest value than this, and the picture is too coarse
+/// for the sites: the exact search would cost more than a finer picture.
+const MAX_NEAR_PIXELS: usize = 1024;
+
+/// The side up to which a coarse picture is refined.
+const MAX_REFINED_SIDE: u32 = 4096;
+
+/// [`largest_empty`] with its pixel stage chosen: `None` takes the distance
+/// transform where it applies (circles, every site on the picture or within a
+/// pixel of it, a picture the device holds whole) and cones elsewhere; asking
+/// for the transform where it does not apply is an error.
+pub fn largest_empty_by(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    region: &Region,
+    side: u32,
+    stage: Option<PixelStage>,
+) -> Result<HomothetAnswer> {
+    check_sites(sites)?;
+    let finer = |side| largest_empty_by(machine, sites, unit, region, side, stage);
+    let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    let (region, frame) = region_and_frame(region, (lo, hi), side)?;
+    let metric = unit.cone_metric()?;
+    let region_mesh = RegionMesh::new(&region, &frame);
+    let bound = half_diagonal(&frame) * unit.lipschitz();
+    // A gauge of at most g is within Euclidean distance g · rmax.
+    let rmax = 1.0 / Metric::from(unit).euclidean_bounds().0;
+    let grid = PointGrid::new(sites);
+    let nearest = |c: DVec2| {
+        let (i, _) = grid.nearest(c).expect("sites exist");
+        let upper = unit.gauge(sites[i as usize] - c);
+        grid.around(c, upper * rmax)
+            .map(|j| unit.gauge(sites[j as usize] - c))
+            .fold(upper, f64::min)
+    };
+    // Per tile: its highest value and the pixels near it, exact at pixel centres.
+    let seeds = match stage {
+        Some(PixelStage::Cones) => None,
+        _ => snapped_seeds(machine, sites, unit, &frame),
+    };
+    if stage == Some(PixelStage::DistanceTransform) && seeds.is_none() {
+        return Err(Error::InvalidInput(format!(
+            "the distance transform takes circles, sites on the picture (within a pixel) and sides up to {}: use cones",
+            flooding::MAX_SIDE.min(machine.max_picture_side())
+        )));
+    }
+    let stage = if seeds.is_some() {
+        PixelStage::DistanceTransform
+    } else {
+        PixelStage::Cones
+    };
+    let tiles = match seeds {
+        Some((seeds, moved)) => {
+            // A pixel's value is within `snap` of its clearance (rounding aside),
+            // so the best centre's pixel is listed; the exact clearances of the
+            // listed centres then keep those within twice the bound.
+            let snap = moved * (1.0 + 1e-9) / frame.scale;
+            let within = 2.0 * (bound + snap) * frame.scale;
+            let listed = listed_of_transform(machine, &seeds, &frame, &region_mesh, within)?;
+            let mut exact: Vec<(f64, usize)> = listed
+                .into_iter()
+                .map(|p| (nearest(pixel_centre(&frame, p)), p))
+                .collect();
+            exact.sort_by(|a, b| b.0.total_cmp(&a.0));
+            let top = exact.first().map_or(0.0, |e| e.0);
+            exact.retain(|e| e.0 >= top - 2.0 * bound);
+            let pixels: Vec<usize> = exact.into_iter().map(|e| e.1).collect();
+            if pixels.is_empty() {
+                Vec::new()
+            } else {
+                vec![(top, pixels)]
+            }
+        }
+        None => {
+            let options = VoronoiOptions {
+                metric,
+                speedup: Speedup::Local,
+                ..VoronoiOptions::exact(frame)
+            };
+            let mut tiles: Vec<(f32, Vec<usize>)> = Vec::new();
+            let mut keys = None;
+            draw_point_tiles(machine, sites, &options, true, false, |tile| {
+                keys = Some(tile.keys);
+                let within = 2.0 * bound * frame.scale;
+                let near = near_extreme(metric, tile.keys.scale, within, true);
+                let picture = (Some(tile.ids), tile.depth, tile.x0, tile.y0, tile.inner);
+                tiles.extend(highest_in_region(
+                    machine,
+                    &frame,
+                    &region_mesh,
+                    picture,
+                    near,
+                )?);
+                Ok(())
+            })?;
+            let depth = keys.expect("a picture has a tile");
+            tiles
+                .into_iter()
+                .map(|(z, p)| (depth.distance(z), p))
+                .collect()
+        }
+    };
+    let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
+    if tiles.is_empty() {
+        return Err(Error::InvalidInput(
+            "no pixel centre lies in the region".into(),
+        ));
+    }
+    let near_pixels = near_top(&tiles, value, bound);
+    // Sites denser than the picture resolves leave most pixels near the top,
+    // and the exact search around each would cost cubic time in the sites
+    // there: the picture is made finer instead (the answer does not depend on
+    // it), up to a side the device holds.
+    if near_pixels.len() > MAX_NEAR_PIXELS && side < MAX_REFINED_SIDE {
+        return finer(side * 2);
+    }
+    let centre = pixel_centre(&frame, near_pixels[0]);
+    let eps = rounding(unit, &frame, value);
+    let pixel_bound = bound + eps;
+    let goal = Goal::Largest;
+    // The best centre's pixel is among the near ones; a pixel left standing
+    // outside the region is within the bound of a centre inside it.
+    let window = (value - bound - eps, value + 2.0 * bound + eps);
+    let (c, v, checked) = best_of_clusters(&frame, &near_pixels, goal, |around, reach| {
+        // Every site that can be nearest at a centre in reach, and of them those
+        // that can lie on the best homothet.
+        let spread = unit.lipschitz() * reach;
+        let (lo, hi) = (window.0 - spread, window.1 + spread);
+        let gauge = |i: u32| unit.gauge(sites[i as usize] - around);
+        let near: Vec<u32> = grid
+            .around(around, hi * rmax)
+            .filter(|&i| gauge(i) <= hi)
+            .collect();
+        let generators: Vec<u32> = near.iter().copied().filter(|&i| gauge(i) >= lo).collect();
+        let edges: Vec<(DVec2, DVec2)> = region
+            .edges()
+            .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
+            .collect();
+        let allowed = |c: DVec2| {
+            let tol = 1e-9 * (1.0 + c.abs().max_element());
+            region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
+        };
+        let sets = (&near[..], &generators[..]);
+        best_vertex(
+            sites, unit, around, reach, sets, &edges, goal, 1, window, allowed, nearest,
+        )
+    })
+    .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    let exact = homothet_at(sites, unit, c, v);
+    Ok(HomothetAnswer {
+        pixel_stage: stage,
+        ..answer_of(&frame, centre, value, pixel_bound, (exact, checked))
+    })
+}
+
+/// The largest homothet of `unit` meeting none of `sites` (points, segments,
+/// circles and arcs, with multiplicative weights scaling the clearance each
+/// demands, thesis §5.4.2–5.4.3), its centre in `region`; with `inside`, the
+/// whole homothet inside the region, its boundary added as segment sites
+/// (§5.4.1). Plain points without `inside` take [`largest_empty`]'s exact
+/// vertices; circles clearing unweighted points and segments the vertices of
+/// their Voronoi diagram; the others a branch and bound on the exact distances
+/// around the candidate pixels, to a relative gap of 1e-9 (reported as
+/// [`HomothetAnswer::tolerance`]).
+pub fn largest_empty_sites(
+    machine: &Machine,
+    sites: &[Site],
+    unit: Unit,
+    region: &Region,
+    inside: bool,
+    side: u32,
+) -> Result<HomothetAnswer> {
+    largest_empty_sites_by(machine, sites, unit, region, inside, side, None)
+}
+
+/// [`largest_empty_sites`] with its pixel stage chosen, as for
+/// [`largest_empty_by`]: the distance transform takes plain points only.
+pub fn largest_empty_sites_by(
+    machine: &Machine,
+    sites: &[Site],
+    unit: Unit,
+    region: &Region,
+    inside: bool,
+    side: u32,
+    stage: Option<PixelStage>,
+) -> Result<HomothetAnswer> {
+    check_general_sites(sites)?;
+    if !inside && sites.iter().all(Site::is_plain_point) {
+        let points: Vec<DVec2> = sites
+            .iter()
+            .map(|s| match s.shape {
+                Shape::Point(p) => p,
+                _ => unreachable!("plain points"),
+            })
+            .collect();
+        return largest_empty_by(machine, &points, unit, region, side, stage);
+    }
+    if stage == Some(PixelStage::DistanceTransform) {
+        return Err(Error::InvalidInput(
+            "the distance transform takes unweighted points without `inside`: use cones".into(),
+        ));
+    }
+    let bounds = sites
+        .iter()
+        .map(Site::bounds)
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), (l, h)| {
+            (a.min(l), b.max(h))
+        });
+    let (region, frame) = region_and_frame(region, bounds, side)?;
+    let metric = unit.cone_metric()?;
+    let mut all = sites.to_vec();
+    if inside {
+        all.extend(region.edges().map(|(a, b)| Site::new(Shape::Segment(a, b))));
+    }
+    let options = VoronoiOptions {
+        metric,
+        speedup: Speedup::Quadtree,
+        distances: false,
+        ..VoronoiOptions::exact(frame)
+    };
+    let region_mesh = RegionMesh::new(&region, &frame);
+    let least_m = all
+        .iter()
+        .map(|s| s.multiplicative)
+        .fold(f64::INFINITY, f64::min);
+    let lipschitz = unit.lipschitz() / least_m;
+    let bound = half_diagonal(&frame) * lipschitz;
+    let mut tiles: Vec<(f64, Vec<usize>)> = Vec::new();
+    let (stats, _) = draw_sites(machine, &all, &options, |tile| {
+        let near = NearExtreme {
+            maximum: true,
+            within: (2.0 * bound * tile.keys.scale) as f32,
+            squared_scale: 0.0,
+            capacity: NEAR_PIXELS,
+        };
+        let picture = (Some(tile.ids), tile.depth, tile.x0, tile.y0, tile.inner);
+        if let Some((z, pixels)) = highest_in_region(machine, &frame, &region_mesh, picture, near)?
+        {
+            tiles.push((tile.keys.distance(z), pixels));
+        }
+        Ok(())
+    })?;
+    let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
+    if tiles.is_empty() {
+        return Err(Error::InvalidInput(
+            "no pixel centre lies in the region".into(),
+        ));
+    }
+    // Fans (polygons, curves under other metrics) add their own error.
+    let bound = bound + stats.distance_error_bound;
+    let near_pixels = near_top(&tiles, value, bound);
+    let centre = pixel_centre(&frame, near_pixels[0]);
+    let pixel_bound = bound + 1e-5 * value.abs();
+    let clearance = |c: DVec2, set: &[Site]| {
+        set.iter()
+            .map(|s| s.distance(metric, c))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let edges: Vec<(DVec2, DVec2)> = region.edges().collect();
+    let mut best: Option<(DVec2, f64, f64, usize)> = None;
+    for cluster in clusters(&frame, &near_pixels) {
+        let (around, reach) = surroundings(&frame, &cluster);
+        let slack = 3.0 * pixel_bound + lipschitz * reach;
+        let near: Vec<Site> = all
+            .iter()
+            .filter(|s| s.distance(metric, around) <= value + slack)
+            .copied()
+            .collect();
+        let allowed = |c: DVec2| {
+            let tol = 1e-9 * (1.0 + c.abs().max_element());
+            region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
+        };
+        let found = if unit == Unit::Circle && near.iter().all(is_plain_point_or_segment) {
+            // Exact: the best centre is a vertex of the diagram of points and
+            // segments, or where its edges meet the region's boundary.
+            let mut points = Vec::new();
+            let mut lines = Vec::new();
+            for site in &near {
+                match site.shape {
+                    Shape::Point(p) => points.push(p),
+                    Shape::Segment(a, b) => {
+                        points.extend([a, b]);
+                        if a != b {
+                            lines.push((a, b));
+                        }
+                    }
+                    _ => unreachable!("points and segments"),
+                }
+            }
+            let walls: Vec<(DVec2, DVec2)> = edges
+                .iter()
+                .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
+                .copied()
+                .collect();
+            let mut candidates = clearing_vertices(&points, &lines, &walls, |_| true);
+            candidates.extend(walls.iter().flat_map(|(a, b)| [*a, *b]));
+            candidates.extend(points.iter().copied());
+            candidates.retain(|c| c.is_finite() && c.distance(around) <= reach && allowed(*c));
+            let cells = candidates.len();
+            let mut bounded: Vec<(DVec2, f64)> = candidates
+                .into_iter()
+                .map(|c| (c, clearance(c, &near)))
+                .collect();
+            bounded.sort_by(|a, b| b.1.total_cmp(&a.1));
+            let mut best: Option<(DVec2, f64)> = None;
+            for (c, upper) in bounded {
+                if best.is_some_and(|b| upper <= b.1) {
+                    break;
+                }
+                let v = clearance(c, &all);
+                if best.is_none_or(|b| v > b.1) {
+                    best = Some((c, v));
+                }
+            }
+            best.map(|(c, v)| (c, v, 0.0, cells))
+        } else {
+            branch_and_bound(
+                around,
+                reach,
+                lipschitz,
+                |c| clearance(c, &near),
+                |c| clearance(c, &all),
+                allowed,
+                |c, r| {
+                    region.contains(c)
+                        || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
+                },
+            )
+        };
+        if let Some((c, v, gap, cells)) = found {
+            if best.is_none_or(|b| v > b.1) {
+                best = Some((c, v, gap, cells));
+            }
+        }
+    }
+    let (c, v, gap, cells) =
+        best.ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    let tol = 1e-9 * (1.0 + v.abs());
+    let on: Vec<u32> = (0..all.len() as u32)
+        .filter(|&i| (all[i as usize].distance(metric, c) - v).abs() <= tol.max(gap))
+        .collect();
+    let mut answer = answer_of(
+        &frame,
+        centre,
+        value,
+        pixel_bound,
+        (
+            Homothet {
+                centre: c.to_array(),
+                scale: v,
+                sites: on,
+            },
+            cells,
+        ),
+    );
+    answer.tolerance = gap;
+    Ok(answer)
+}
+
+fn is_plain_point_or_segment(s: &Site) -> bool {
+    matches!(s.shape, Shape::Point(_) | Shape::Segment(..))
+        && s.multiplicative == 1.0
+        && s.additive == 0.0
+}
+
+/// The region to search (the box `bounds` when none is given, checked
+/// otherwise) and the frame that shows it.
+fn region_and_frame(
+    region: &Region,
+    (lo, hi): (DVec2, DVec2),
+    side: u32,
+) -> Result<(Region, Frame)> {
+    let defaulted = region.rings.is_empty();
+    let region = if defaulted {
+        Region {
+            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+        }
+    } else {
+        check_region(region)?;
+        region.clone()
+    };
+    let (lo, hi) = region
+        .rings
+        .iter()
+        .flatten()
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), p| {
+            (a.min(*p), b.max(*p))
+        });
+    if !(hi - lo).cmpgt(DVec2::ZERO).all() {
+        return Err(Error::InvalidInput(if defaulted {
+            "the sites' bounding box has no area (one site, or all on a line along an axis): give a region".into()
+        } else {
+            "the region has no area".into()
+        }));
+    }
+    let frame = Frame::fitting(side, lo, hi)?;
+    Ok((region, frame))
+}
+
+/// A drawn tile: ids, depth, its corner in the picture, the part that is
+/// picture.
+type Tile<'a> = (
+    Option<&'a crate::machine::Image>,
+    &'a crate::machine::Image,
+    u32,
+    u32,
+    crate::machine::PixelRect,
+);
+
+/// A tile's highest depth inside the region (its `triangles`, the rest masked)
+/// and the picture pixels near it (the highest first), unless the whole tile
+/// is masked.
+fn highest_in_region(
+    machine: &Machine,
+    frame: &Frame,
+    region_mesh: &RegionMesh,
+    (ids, depth, x0, y0, inner): Tile<'_>,
+    near: NearExtreme,
+) -> Result<Option<(f32, Vec<usize>)>> {
+    mask_outside(machine, ids, depth, region_mesh, x0, y0)?;
+    let mut highest = machine.depth_extremes(depth, Some(near))?;
+    if highest.near_count > highest.near.len() {
+        // The list overflowed: ask again with room for every near pixel.
+        let capacity = highest.near_count as u32;
+        highest = machine.depth_extremes(depth, Some(NearExtreme { capacity, ..near }))?;
+    }
+    let w = depth.width() as usize;
+    let to_picture = |at: usize| {
+        let (i, j) = ((at % w) as u32, (at / w) as u32);
+        (i < inner.width && j < inner.height)
+            .then(|| (y0 + j) as usize * frame.width as usize + (x0 + i) as usize)
+    };
+    if highest.max <= 0.0 {
+        return Ok(None);
+    }
+    Ok(to_picture(highest.at_max).map(|at| {
+        let near = highest.near.iter().filter_map(|&a| to_picture(a));
+        (highest.max, std::iter::once(at).chain(near).collect())
+    }))
+}
+
+/// The sites' pixels (each once) and the farthest any site moved to its pixel
+/// (in pixels), when the largest empty circle may take its pixel stage from
+/// the distance transform: the device holds the picture whole and every site
+/// lies on it or within a pixel of it (the frame fits the box's shorter side
+/// to whole pixels). A pixel's distance to the snapped sites is within that
+/// move of its true clearance.
+fn snapped_seeds(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    frame: &Frame,
+) -> Option<(Vec<Seed>, f64)> {
+    let (w, h) = (frame.width, frame.height);
+    let side = flooding::MAX_SIDE.min(machine.max_picture_side());
+    if unit != Unit::Circle || w > side || h > side {
+        return None;
+    }
+    let far = DVec2::new((w - 1) as f64, (h - 1) as f64);
+    let mut taken = vec![false; w as usize * h as usize];
+    let mut seeds = Vec::new();
+    let mut moved2: f64 = 0.0;
+    for p in sites {
+        let q = frame.to_pixel(*p);
+        let pixel = q.round().clamp(DVec2::ZERO, far);
+        moved2 = moved2.max(q.distance_squared(pixel));
+        if moved2 > 1.0 {
+            return None;
+        }
+        let (i, j) = (pixel.x as u32, pixel.y as u32);
+        if !std::mem::replace(&mut taken[(j * w + i) as usize], true) {
+            seeds.push([i as i32, j as i32]);
+        }
+    }
+    Some((seeds, moved2.sqrt()))
+}
+
+/// The pixel stage of the largest empty circle by the exact Euclidean distance
+/// transform of the snapped sites (compute passes instead of cones): the
+/// region's pixels within `within` pixels of its highest value, the highest
+/// first.
+fn listed_of_transform(
+    machine: &Machine,
+    seeds: &[Seed],
+    frame: &Frame,
+    region_mesh: &RegionMesh,
+    within: f64,
+) -> Result<Vec<usize>> {
+    let (w, h) = (frame.width, frame.height);
+    let depth = machine.image(Format::DepthStencil, w, h)?;
+    // Squared distances in pixels plus one, scaled into [0, 1]; the listing
+    // window on their roots is then a little wider than asked.
+    let scale = (1.0 / (w as f64 * w as f64 + h as f64 * h as f64)) as f32;
+    flooding::euclidean_depth(machine, seeds, &depth, scale)?;
+    let near = near_extreme(Metric::L2, scale as f64, within, true);
+    let picture = (None, &depth, 0, 0, PixelRect::of(&depth));
+    let highest = highest_in_region(machine, frame, region_mesh, picture, near)?;
+    Ok(highest.map(|(_, p)| p).unwrap_or_default())
+}
+
+/// The pixels of the tiles whose highest value is within `2 bound` of the
+/// highest of all, `value`.
+fn near_top(tiles: &[(f64, Vec<usize>)], value: f64, bound: f64) -> Vec<usize> {
+    tiles
+        .iter()
+        .filter(|t| t.0 >= value - 2.0 * bound)
+        .flat_map(|t| t.1.iter().copied())
+        .collect()
+}
+
+fn check_region(region: &Region) -> Result<()> {
+    for (r, ring) in region.rings.iter().enumerate() {
+        if ring.len() < 3 {
+            return Err(Error::InvalidInput(format!(
+                "region ring {r} has {} vertices; it needs 3",
+                ring.len()
+            )));
+        }
+        if ring.iter().any(|p| !p.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "region ring {r} has a coordinate that is not finite"
+            )));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,85 @@
+//! The exact predicates every construction of pixgeo decides with, and the
+//! convex hull built on them. Orientation and in-circle tests are Shewchuk's
+//! adaptive ones (`robust`): their signs are exact for the doubles given.
+
+use glam::DVec2;
+
+use super::frame::{distinct_by, lexicographic};
+
+fn coord(p: DVec2) -> robust::Coord<f64> {
+    robust::Coord { x: p.x, y: p.y }
+}
+
+/// Positive when a, b, c turn counter-clockwise, negative when clockwise, zero
+/// when collinear; its magnitude is about twice the triangle's signed area.
+pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    robust::orient2d(coord(a), coord(b), coord(c))
+}
+
+/// Positive when `d` lies strictly inside the circle through the
+/// counter-clockwise a, b, c.
+pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
+    robust::incircle(coord(a), coord(b), coord(c), coord(d))
+}
+
+/// Indices of the convex hull's vertices, counter-clockwise, points on its edges
+/// left out (Andrew's monotone chain with exact orientation tests). Duplicates
+/// appear once; one or two distinct points are their own hull.
+pub fn convex_hull(points: &[DVec2]) -> Vec<u32> {
+    let turn = orient;
+    // Akl–Toussaint: points strictly inside the octagon of the extreme points in
+    // eight directions are no hull vertices; only the others are sorted.
+    let mut octagon: Vec<DVec2> = Vec::new();
+    if !points.is_empty() {
+        let directions = [
+            DVec2::new(1.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.0, 1.0),
+            DVec2::new(-1.0, 1.0),
+            DVec2::new(-1.0, 0.0),
+            DVec2::new(-1.0, -1.0),
+            DVec2::new(0.0, -1.0),
+            DVec2::new(1.0, -1.0),
+        ];
+        for d in directions {
+            let p = points
+                .iter()
+                .copied()
+                .max_by(|a, b| a.dot(d).total_cmp(&b.dot(d)))
+                .expect("points exist");
+            if octagon.last() != Some(&p) && octagon.first() != Some(&p) {
+                octagon.push(p);
+            }
+        }
+    }
+    let strictly_inside = |p: DVec2| {
+        octagon.len() >= 3
+            && (0..octagon.len())
+                .all(|k| turn(octagon[k], octagon[(k + 1) % octagon.len()], p) > 0.0)
+    };
+    let outside = (0..points.len() as u32).filter(|&i| !strictly_inside(points[i as usize]));
+    let order = distinct_by(points, outside, lexicographic).0;
+    if order.len() < 3 {
+        return order;
+    }
+    let turn =
+        |o: u32, a: u32, b: u32| turn(points[o as usize], points[a as usize], points[b as usize]);
+    let mut hull: Vec<u32> = Vec::with_capacity(2 * order.len());
+    for pass in [
+        &order[..],
+        &order.iter().rev().copied().collect::<Vec<_>>()[..],
+    ] {
+        let start = hull.len();
+        for &i in pass {
+            while hull.len() >= start + 2
+                && turn(hull[hull.len() - 2], hull[hull.len() - 1], i) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(i);
+        }
+        // The last point of each chain starts the other.
+        hull.pop();
+    }
+    hull
+}
