@@ -121,14 +121,7 @@ fn main() -> anyhow::Result<()> {
     let mut done = run(cli.command);
     drop(phase);
     if let Some(path) = &cli.trace {
-        let trace = profiler().timeline().chrome_trace();
-        let written = serde_json::to_string(&trace)
-            .map_err(anyhow::Error::from)
-            .and_then(|text| {
-                std::fs::write(path, text)
-                    .map_err(|e| anyhow::anyhow!("writing the trace {}: {e}", path.display()))
-            });
-        match written {
+        match write_trace(path) {
             Ok(()) => wrote([Some(path.as_path())]),
             Err(e) => done = done.and(Err(e)),
         }
@@ -138,6 +131,13 @@ fn main() -> anyhow::Result<()> {
         outln!("{}", envelope::error(name, error));
     }
     done
+}
+
+/// The run's host phases and device passes as a Chrome trace.
+fn write_trace(path: &std::path::Path) -> anyhow::Result<()> {
+    let trace = serde_json::to_string(&profiler().timeline().chrome_trace())?;
+    std::fs::write(path, trace)
+        .map_err(|e| anyhow::anyhow!("writing the trace {}: {e}", path.display()))
 }
 
 fn run(command: Command) -> anyhow::Result<()> {
