@@ -6,10 +6,10 @@ use anyhow::Result;
 use clap::{Args as ClapArgs, ValueEnum};
 use pixgeo::{
     algorithms::alpha_hull::{self, AlphaMethod},
-    io::{npy, picture::PngStream},
+    io::{output::check_distinct, picture::PngStream, raster},
 };
 
-use crate::{device::machine_on, envelope, input::Points};
+use crate::{device::machine_on, envelope, input::Input};
 
 #[derive(Clone, Copy, ValueEnum)]
 enum Method {
@@ -29,16 +29,18 @@ enum Method {
 /// centred beyond the border are not drawn); the picture reaches that far
 /// beyond the sites where it can, and the report counts what is left.
 /// α > 0 needs 1/α at least the smallest enclosing circle's radius.
+/// Without --bbox the picture is fitted to where the hull can be.
 ///
 /// Example:
 ///
-///   pixgeo alpha --sites towns.csv --alpha -0.05 -o hull.png --mask hull.npy
+///   pixgeo alpha --sites towns.csv --alpha -0.05 -o hull.png --hull hull.npy
+///   pixgeo alpha --sites towns.csv --alpha -0.05 --bbox 0,0,100,100 --crs EPSG:32633 --hull hull.tif
 ///   pixgeo alpha --sites towns.csv --alpha 0.01 --method pixels --json
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
     #[command(flatten)]
-    points: Points,
+    input: Input,
     /// α: negative for the union of empty discs of radius -1/α, positive for
     /// the intersection of discs of radius 1/α, 0 for the convex hull.
     #[arg(long, allow_negative_numbers = true)]
@@ -50,12 +52,10 @@ pub struct Args {
     /// discs' centres yellow, what their discs erased light blue, sites blue.
     #[arg(short = 'o', long = "output", value_name = "PNG")]
     output: Option<PathBuf>,
-    /// Write the hull as a NumPy uint8 array [height, width]: 1 inside, 0 outside.
-    #[arg(long, value_name = "NPY")]
-    mask: Option<PathBuf>,
-    /// Picture side in pixels along the longer axis (default 1024).
-    #[arg(long, value_name = "PIXELS", default_value_t = pixgeo::geometry::Frame::DEFAULT_SIDE, value_parser = crate::input::parse_side)]
-    size: u32,
+    /// Write the hull as a uint8 raster [height, width], 1 inside and 0
+    /// outside: `.npy`, or `.tif` placed by --bbox and --crs.
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
+    hull: Option<PathBuf>,
     /// Print the result as JSON.
     #[arg(long)]
     json: bool,
@@ -66,16 +66,32 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let points = args.points.read()?;
+    if let Some(path) = &args.hull {
+        raster::check_name(path, "--hull")?;
+    }
+    let outputs = [("--hull", &args.hull), ("-o", &args.output)];
+    check_distinct(
+        outputs
+            .iter()
+            .filter_map(|(n, p)| Some((*n, p.as_deref()?))),
+    )?;
+    let side = match args.input.has_bbox() {
+        true => None,
+        false => Some(args.input.fitted_side()?),
+    };
+    let (world, points) = args.input.world_and_sites()?;
     let machine = machine_on(args.device.as_deref())?;
     let method = match args.method {
         Method::Hull => AlphaMethod::Hull,
         Method::Pixels => AlphaMethod::Pixels,
     };
-    let side = args.size;
-    let hull = alpha_hull::alpha_hull(&machine, &points, args.alpha, method, side)?;
+    let hull = match side {
+        Some(side) => alpha_hull::alpha_hull(&machine, &points, args.alpha, method, side)?,
+        None => alpha_hull::alpha_hull_in(&machine, &points, args.alpha, method, world.frame)?,
+    };
+    let world = args.input.world_of(hull.frame);
     if args.json {
-        envelope::print("alpha", machine.device_name(), Some(&hull.frame), &hull)?;
+        envelope::print_world("alpha", machine.device_name(), &world, &hull)?;
     } else {
         let radius = hull
             .radius
@@ -100,14 +116,14 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     let (w, h) = (hull.width, hull.height);
-    if let Some(path) = &args.mask {
-        npy::write(path, &[h as u64, w as u64], &hull.mask())?;
+    if let Some(path) = &args.hull {
+        raster::write(path, [w, h, 1], &hull.mask(), Some(&world.georeference()))?;
     }
     if let Some(path) = &args.output {
         let mut png = PngStream::create(path, w, h)?;
         png.write(&alpha_hull::picture(&hull, &points))?;
         png.finish()?;
     }
-    crate::wrote([args.mask.as_deref(), args.output.as_deref()]);
-    Ok(())
+    crate::wrote([args.hull.as_deref(), args.output.as_deref()]);
+    args.input.write_world_file(&world, (0, 0))
 }

@@ -522,7 +522,9 @@ fn weighted_sites(rng: &mut ChaCha8Rng) -> String {
     format!("{{\"sites\": [\n  {}\n]}}\n", items.join(",\n  "))
 }
 
-pub fn run(args: Args) -> Result<()> {
+/// Renders the gallery, running each entry's command through `run`, the
+/// command line's own dispatch.
+pub fn run(args: Args, run: impl Fn(Command) -> Result<()>) -> Result<()> {
     std::fs::create_dir_all(&args.dir)
         .with_context(|| format!("creating {}", args.dir.display()))?;
     let mut html = String::from(
@@ -565,17 +567,10 @@ pub fn run(args: Args) -> Result<()> {
             real.extend(["--device".into(), d.clone()]);
         }
         let cli = Cli::try_parse_from(&real).with_context(|| format!("gallery command {shown}"))?;
-        match cli.command {
-            Command::Voronoi(v) => crate::voronoi::run(*v)?,
-            Command::Enclose(a) => crate::homothet::enclose(a)?,
-            Command::Empty(a) => crate::homothet::empty(a)?,
-            Command::Alpha(a) => crate::alpha::run(a)?,
-            Command::Delaunay(a) => crate::delaunay::run(*a)?,
-            Command::Transform(a) => crate::transform::run(a)?,
-            _ => unreachable!(
-                "the gallery runs voronoi, enclose, empty, alpha, delaunay and transform"
-            ),
+        if matches!(cli.command, Command::Gallery(_)) {
+            anyhow::bail!("gallery command {shown}: the gallery does not draw itself");
         }
+        run(cli.command)?;
         let _ = write!(
             html,
             "<figure>\n<img src=\"{}\" alt=\"{}\">\n<figcaption><b>{}.</b> {}<code>{}</code></figcaption>\n</figure>\n",

@@ -91,7 +91,7 @@ impl Shape {
 /// Example:
 ///
 ///   pixgeo enclose --sites towns.csv --json
-///   pixgeo enclose --sites towns.csv --polygon triangle.csv --order 10
+///   pixgeo enclose --sites towns.csv --polygon triangle.csv --at-least 10
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct EncloseArgs {
@@ -100,7 +100,7 @@ pub struct EncloseArgs {
     /// Hold at least K sites (smallest k-enclosing homothet, thesis §4.4.1):
     /// 1 to 256, or all the sites (the default).
     #[arg(long, value_name = "K", value_parser = parse_k)]
-    order: Option<usize>,
+    at_least: Option<usize>,
 }
 
 /// The largest homothet of a circle or polygon containing no site, its centre in
@@ -149,7 +149,7 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let unit = args.shape.unit()?;
     let machine = machine_on(args.shape.device.as_deref())?;
     let side = args.shape.size;
-    let k = args.order.unwrap_or(0);
+    let k = args.at_least.unwrap_or(0);
     let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
     let json = args
         .shape

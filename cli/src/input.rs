@@ -41,7 +41,7 @@ pub struct Input {
 
     /// Picture size in pixels: `N`, the longer side (a square picture, or with
     /// --bbox the other side follows the box's aspect ratio), or `WxH`.
-    #[arg(long, default_value = "1024", value_parser = parse_size)]
+    #[arg(long, value_name = "PIXELS", default_value = "1024", value_parser = parse_size)]
     size: (u32, Option<u32>),
 
     /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture.
@@ -174,10 +174,7 @@ impl Input {
             (None, Some(_)) => bail!("--random needs at least one site"),
             _ => bail!("give the sites: --sites FILE or --random N"),
         };
-        let y_axis = self.y_axis.unwrap_or(match self.bbox {
-            Some(_) => YAxis::Up,
-            None => YAxis::Down,
-        });
+        let y_axis = self.y_axis();
         let world = match y_axis {
             YAxis::Down => World {
                 frame,
@@ -199,6 +196,39 @@ impl Input {
             YAxis::Down => s,
         });
         Ok((world, sites.collect()))
+    }
+
+    /// Which way y runs: as asked, or up with --bbox and down without.
+    pub fn y_axis(&self) -> YAxis {
+        self.y_axis.unwrap_or(match self.bbox {
+            Some(_) => YAxis::Up,
+            None => YAxis::Down,
+        })
+    }
+
+    /// Whether the picture is the user's (--bbox), not fitted by the command.
+    pub fn has_bbox(&self) -> bool {
+        self.bbox.is_some()
+    }
+
+    /// The longer side of a picture the command fits to the sites itself.
+    pub fn fitted_side(&self) -> Result<u32> {
+        match self.size {
+            (side, None) if side >= 2 => Ok(side),
+            _ => bail!(
+                "without --bbox this command fits its picture to the sites: give the \
+                 longer side's pixels, one number of at least 2"
+            ),
+        }
+    }
+
+    /// The world of a frame the command fitted to the sites itself.
+    pub fn world_of(&self, frame: Frame) -> World {
+        World {
+            frame,
+            y_axis: self.y_axis(),
+            epsg: self.crs,
+        }
     }
 
     /// Writes the world file, if asked for, once the rasters are written:

@@ -154,6 +154,6 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Quadrangle(args) => area::quadrangle(args),
         Command::Delaunay(args) => delaunay::run(*args),
         Command::Transform(args) => transform::run(args),
-        Command::Gallery(args) => gallery::run(args),
+        Command::Gallery(args) => gallery::run(args, run),
     }
 }

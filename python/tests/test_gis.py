@@ -238,3 +238,34 @@ def test_traced_cells_and_triangles(tmp_path, sites):
     area = sum(shape(t["geometry"]).area for t in triangles)
     np.testing.assert_allclose(area, hull.area, rtol=1e-9)
     assert all(len(t["properties"]["vertices"]) == 3 for t in triangles)
+
+
+def test_alpha_hull_raster_in_a_box_and_fitted(tmp_path, sites):
+    """The α-hull raster is placed like every raster: in the user's box with
+    --bbox, north-up, or in the picture the command fits to the sites; the
+    convex hull (α = 0) is the pixels whose centres shapely puts inside."""
+    xy, path = sites
+    hull = MultiPoint([tuple(p) for p in xy]).convex_hull
+    for extra in (["--bbox", ",".join(map(str, BBOX)), "--size", 250], ["--size", 200]):
+        tif = tmp_path / "hull.tif"
+        done = pixgeo("alpha", "--sites", path, "--alpha", 0, "--hull", tif,
+                      "--crs", "EPSG:32633", "--world-file", tmp_path / "hull.tfw",
+                      "--json", *extra)
+        frame = json.loads(done.stdout)["frame"]
+        with rasterio.open(tif) as r:
+            assert r.crs.to_epsg() == 32633
+            inside, transform = r.read(1), r.transform
+        if "--bbox" in extra:
+            assert transform == Affine(4.0, 0.0, BBOX[0], 0.0, -4.0, BBOX[3])
+        assert inside.shape == (frame["height"], frame["width"])
+        assert frame["crs"] == "EPSG:32633"
+        x, y = centres(transform, inside.shape)
+        pts = shapely.points(x, y)
+        truth = shapely.contains(hull, pts)
+        # Pixel centres within a thousandth of a pixel of an edge may go
+        # either way in float32.
+        near = shapely.distance(hull.boundary, pts) < 1e-3 * abs(transform.a)
+        assert ((inside == 1) == truth)[~near].all()
+        assert inside[~near].sum() > 0
+        lines = [float(v) for v in (tmp_path / "hull.tfw").read_text().split()]
+        np.testing.assert_allclose(lines[:4], [transform.a, 0, 0, transform.e])

@@ -140,27 +140,77 @@ pub fn alpha_hull(
     method: AlphaMethod,
     side: u32,
 ) -> Result<AlphaHull> {
-    check_sites(sites)?;
-    if !alpha.is_finite() {
-        return Err(Error::InvalidInput(format!("alpha {alpha} is not finite")));
-    }
     if side == 0 || side > machine.max_picture_side() {
         return Err(Error::InvalidInput(format!(
             "picture side {side}: it must be between 1 and {} on this device",
             machine.max_picture_side()
         )));
     }
+    hull_on(machine, sites, alpha, method, Canvas::Side(side))
+}
+
+/// The α-hull of `sites` on the picture `frame` (a map's extent, say). Pixels
+/// within -1/α of its border may be overestimated for α < 0 (the answer counts
+/// them); the pixel method needs the frame to hold every centre of a disc
+/// holding the sites.
+pub fn alpha_hull_in(
+    machine: &Machine,
+    sites: &[DVec2],
+    alpha: f64,
+    method: AlphaMethod,
+    frame: Frame,
+) -> Result<AlphaHull> {
+    hull_on(machine, sites, alpha, method, Canvas::Frame(frame))
+}
+
+/// Where a hull is drawn: a picture of so many pixels along its longer side,
+/// fitted around where the hull can be, or the user's frame.
+#[derive(Clone, Copy)]
+enum Canvas {
+    Side(u32),
+    Frame(Frame),
+}
+
+impl Canvas {
+    /// The frame for a hull that lies in `[lo, hi]`, padded by `pad`.
+    fn around(self, lo: DVec2, hi: DVec2, pad: f64) -> Result<Frame> {
+        match self {
+            Canvas::Side(side) => frame_around(lo, hi, pad, side),
+            Canvas::Frame(frame) => Ok(frame),
+        }
+    }
+
+    /// The width of a pixel (world units) for sites spanning `[lo, hi]`.
+    fn pixel(self, lo: DVec2, hi: DVec2) -> f64 {
+        match self {
+            Canvas::Side(side) => (hi - lo).max_element() / side as f64,
+            Canvas::Frame(frame) => 1.0 / frame.scale,
+        }
+    }
+}
+
+fn hull_on(
+    machine: &Machine,
+    sites: &[DVec2],
+    alpha: f64,
+    method: AlphaMethod,
+    canvas: Canvas,
+) -> Result<AlphaHull> {
+    check_sites(sites)?;
+    if !alpha.is_finite() {
+        return Err(Error::InvalidInput(format!("alpha {alpha} is not finite")));
+    }
     if alpha < 0.0 {
-        negative(machine, sites, alpha, side)
-    } else if alpha == 0.0 || bulge_below_resolution(sites, alpha, side) {
-        let hull = convex(machine, sites, side)?;
+        negative(machine, sites, alpha, canvas)
+    } else if alpha == 0.0 || bulge_below_resolution(sites, alpha, canvas) {
+        let hull = convex(machine, sites, canvas)?;
         Ok(AlphaHull {
             alpha,
             radius: (alpha != 0.0).then(|| 1.0 / alpha),
             ..hull
         })
     } else {
-        positive(machine, sites, alpha, method, side)
+        positive(machine, sites, alpha, method, canvas)
     }
 }
 
@@ -169,10 +219,10 @@ pub fn alpha_hull(
 /// α-hull is then the convex hull to within that band outside its edges, and
 /// is computed so: drawn in float32, discs that large (from about 1e5 pixels
 /// across) err by more than their caps are deep.
-fn bulge_below_resolution(sites: &[DVec2], alpha: f64, side: u32) -> bool {
+fn bulge_below_resolution(sites: &[DVec2], alpha: f64, canvas: Canvas) -> bool {
     let (lo, hi) = bounds(sites);
     let chord = (hi - lo).length();
-    let pixel = (hi - lo).max_element() / side as f64;
+    let pixel = canvas.pixel(lo, hi);
     chord * chord * alpha / 8.0 < 1e-3 * pixel
 }
 
@@ -221,14 +271,14 @@ fn finish(
 }
 
 /// α < 0 (§6.3).
-fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, side: u32) -> Result<AlphaHull> {
+fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, canvas: Canvas) -> Result<AlphaHull> {
     let r = -1.0 / alpha;
     let (lo, hi) = bounds(sites);
     // The hull lies in the sites' box; reaching r beyond it puts the border band
     // outside the hull, unless that would shrink the box to a sliver.
     let extent = (hi - lo).max_element();
     let pad = if extent > 0.0 { r.min(extent) } else { r };
-    let frame = frame_around(lo, hi, pad, side)?;
+    let frame = canvas.around(lo, hi, pad)?;
     let (w, h) = (frame.width as usize, frame.height as usize);
     let r_px = r * frame.scale;
 
@@ -322,9 +372,9 @@ fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, side: u32) -> Result
 const CENTRE_ID: u32 = u32::MAX - 1;
 
 /// α = 0: the convex hull, its triangles drawn as a fan.
-fn convex(machine: &Machine, sites: &[DVec2], side: u32) -> Result<AlphaHull> {
+fn convex(machine: &Machine, sites: &[DVec2], canvas: Canvas) -> Result<AlphaHull> {
     let (lo, hi) = bounds(sites);
-    let frame = frame_around(lo, hi, 0.0, side)?;
+    let frame = canvas.around(lo, hi, 0.0)?;
     let hull = convex_hull(sites);
     let corners: Vec<DVec2> = hull
         .iter()
@@ -584,7 +634,7 @@ fn positive(
     sites: &[DVec2],
     alpha: f64,
     method: AlphaMethod,
-    side: u32,
+    canvas: Canvas,
 ) -> Result<AlphaHull> {
     let circles = hull_circles(sites, 1.0 / alpha)?;
     let radius = circles.radius;
@@ -592,12 +642,8 @@ fn positive(
         AlphaMethod::Hull => {
             // The hull lies in the smallest enclosing circle (α-hulls grow with α).
             let reach = DVec2::splat(circles.mec_radius);
-            let frame = frame_around(
-                circles.mec_centre - reach,
-                circles.mec_centre + reach,
-                0.0,
-                side,
-            )?;
+            let frame =
+                canvas.around(circles.mec_centre - reach, circles.mec_centre + reach, 0.0)?;
             let r_px = radius * frame.scale;
             let centres: Vec<DVec2> = circles.centres.iter().map(|c| frame.to_pixel(*c)).collect();
             // Float32 places a far centre within a few of its ulps: discs that
@@ -666,13 +712,22 @@ fn positive(
             }
             // Every centre of a disc holding all sites lies within the radius of
             // the smallest enclosing circle's centre.
-            let reach = DVec2::splat(radius);
-            let frame = frame_around(
-                circles.mec_centre - reach,
-                circles.mec_centre + reach,
-                0.0,
-                side,
-            )?;
+            let (lo, hi) = (
+                circles.mec_centre - DVec2::splat(radius),
+                circles.mec_centre + DVec2::splat(radius),
+            );
+            let frame = canvas.around(lo, hi, 0.0)?;
+            let covered =
+                frame.origin + DVec2::new(frame.width as f64, frame.height as f64) / frame.scale;
+            if frame.origin.cmpgt(lo).any() || covered.cmplt(hi).any() {
+                return Err(Error::InvalidInput(format!(
+                    "the pixel method draws every centre of a disc holding the sites, which \
+                     lie in [{}, {}] x [{}, {}]; the picture covers [{}, {}] x [{}, {}]: use \
+                     the hull method or a picture that holds them",
+                    lo.x, hi.x, lo.y, hi.y, frame.origin.x, covered.x, frame.origin.y, covered.y
+                )));
+            }
+            let side = frame.width.max(frame.height);
             let hull_px = 2.0 * circles.mec_radius * frame.scale;
             if hull_px < MIN_PIXEL_HULL {
                 return Err(Error::InvalidInput(format!(

@@ -86,6 +86,14 @@ pub trait Sample: Copy {
     fn put(self, out: &mut Vec<u8>);
 }
 
+impl Sample for u8 {
+    const FORMAT: u16 = 1;
+    const BYTES: usize = 1;
+    fn put(self, out: &mut Vec<u8>) {
+        out.push(self);
+    }
+}
+
 impl Sample for u32 {
     const FORMAT: u16 = 1;
     const BYTES: usize = 4;

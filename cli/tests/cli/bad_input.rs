@@ -99,7 +99,7 @@ fn every_command_refuses_bad_input_clearly() {
         (
             &["alpha", "--alpha", "0.01"],
             "--sites",
-            &["--mask", "out.npy"],
+            &["--hull", "out.npy"],
         ),
         (&["triangle"], "--sites", &[]),
         (&["quadrangle"], "--sites", &[]),
@@ -193,7 +193,7 @@ fn every_command_refuses_bad_input_clearly() {
         ("voronoi --random 5 -o out.jpg", ".png"),
         ("voronoi --random 5 --labels out.txt", ".npy"),
         ("settle --random 5 --area out.png", ".npy"),
-        ("alpha --sites ok.csv --alpha 0.01 --mask out.csv", ".npy"),
+        ("alpha --sites ok.csv --alpha 0.01 --hull out.csv", ".npy"),
         // Outputs that cannot be written.
         ("voronoi --random 5 -o no/such/dir/out.png", "no/such/dir"),
         ("voronoi --random 5 -o /dev/full", "No space"),

@@ -268,7 +268,7 @@ fn files_written_are_reported_and_quiet_says_nothing() {
     let (png, mask) = (temp("q.png"), temp("q.npy"));
     let (p, m) = (png.to_str().unwrap(), mask.to_str().unwrap());
     let args = [
-        "alpha", "--random", "30", "--alpha", "0", "-o", p, "--mask", m,
+        "alpha", "--random", "30", "--alpha", "0", "-o", p, "--hull", m,
     ];
     let (ok, _, stderr) = pixgeo(&args);
     assert!(ok, "{stderr}");

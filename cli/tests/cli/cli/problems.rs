@@ -172,7 +172,7 @@ fn enclose_and_empty_print_exact_homothets() {
         "transform",
     ]);
     assert!(!ok && stderr.contains("use cones"), "{stderr}");
-    let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--order", "9"]);
+    let (ok, _, stderr) = pixgeo(&["enclose", "--sites", s, "--at-least", "9"]);
     assert!(!ok && stderr.contains("cannot enclose 9 of 3"), "{stderr}");
 }
 
@@ -190,7 +190,7 @@ fn alpha_writes_mask_picture_and_json() {
         "-0.16",
         "--size",
         "64",
-        "--mask",
+        "--hull",
         mask.to_str().unwrap(),
         "-o",
         png.to_str().unwrap(),
