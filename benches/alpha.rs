@@ -18,7 +18,8 @@ use std::path::PathBuf;
 use glam::DVec2;
 use pixgeo::{
     algorithms::alpha_hull::{alpha_hull, hull_circles, AlphaHull, AlphaMethod},
-    geometry::{buckets::PointGrid, Frame},
+    geometry::Frame,
+    testing::PointGrid,
     Machine,
 };
 use rayon::prelude::*;

@@ -18,6 +18,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 mod common {
+    pub mod points;
     pub mod report;
     pub mod timing;
 }
@@ -64,8 +65,7 @@ fn main() -> anyhow::Result<()> {
         .iter()
         .map(|&n| {
             let path = out_dir.join(format!("points_{n}.npy"));
-            let flat: Vec<f64> = points(n).iter().flat_map(|p| [p.x, p.y]).collect();
-            pixgeo::io::npy::write(&path, &[n as u64, 2], &flat)?;
+            common::points::write_npy(&path, &points(n))?;
             Ok(path)
         })
         .collect::<anyhow::Result<_>>()?;

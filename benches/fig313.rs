@@ -16,7 +16,6 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     geometry::Frame,
-    io::npy,
     Machine,
 };
 use pixgeo_reference::voronoi::nearest_sites_grid;
@@ -24,6 +23,7 @@ use plotters::style::RGBColor;
 
 mod common {
     pub mod plot;
+    pub mod points;
     pub mod report;
 }
 
@@ -111,8 +111,7 @@ fn main() -> anyhow::Result<()> {
     for &n in &ns {
         let sites = frame.random_points(n, n as u64);
         let file = out_dir.join(format!("sites_{n}.npy"));
-        let flat: Vec<f64> = sites.iter().flat_map(|p| [p.x, p.y]).collect();
-        npy::write(&file, &[n as u64, 2], &flat)?;
+        common::points::write_npy(&file, &sites)?;
         site_files.push(file);
         let mut row = Vec::new();
         for c in &CONFIGS {

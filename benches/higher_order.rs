@@ -12,7 +12,6 @@
 use std::{path::PathBuf, process::Command, time::Instant};
 
 use common::plot::{Series, PALETTE};
-use glam::DVec2;
 use pixgeo::{
     algorithms::{
         cpu,
@@ -21,13 +20,13 @@ use pixgeo::{
         voronoi::{voronoi, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    io::npy,
     Machine,
 };
 use plotters::style::RGBColor;
 
 mod common {
     pub mod plot;
+    pub mod points;
     pub mod report;
 }
 
@@ -126,8 +125,7 @@ fn main() -> anyhow::Result<()> {
         let b = box_frame.random_points(m, 2 * m as u64 + 1);
         for (name, set) in [("a", &a), ("b", &b)] {
             let file = out_dir.join(format!("hausdorff_{m}_{name}.npy"));
-            let flat: Vec<f64> = set.iter().flat_map(|p: &DVec2| [p.x, p.y]).collect();
-            npy::write(&file, &[m as u64, 2], &flat)?;
+            common::points::write_npy(&file, set)?;
             files.push(file);
         }
         let mut distance = 0.0;

@@ -19,8 +19,8 @@
 //! | stencil reference, blend constant, scissor rectangle | [`machine::DrawParams`], set per draw |
 //! | a set of triangles entering the pipeline | [`algorithms::cones::draw_cones`] (instanced fans, one per site) and [`machine::Pass::draw_rect`] |
 //! | display list translated per site | one unit fan mesh drawn instanced with a per-site buffer |
-//! | cone bases of other metrics (§3.6) | [`geometry::chain`]: the polygonal chains of L_p circles, polygons as unit balls ([`geometry::metric::Metric::Polygon`]) |
-//! | roofs, straw huts, weighted cones (§3.8–3.9) | [`geometry::surface`] (fan mode) and the per-fragment weighted distance of [`algorithms::sites`] (exact mode) |
+//! | cone bases of other metrics (§3.6) | `geometry::chain`: the polygonal chains of L_p circles, polygons as unit balls ([`geometry::metric::Metric::Polygon`]) |
+//! | roofs, straw huts, weighted cones (§3.8–3.9) | `geometry::surface` (fan mode) and the per-fragment weighted distance of [`algorithms::sites`] (exact mode) |
 //! | depth texture (exact distance) | the fragment shader writes the squared distance as depth |
 //! | second z buffer z' of the k-th level peeling (§3.7) | the previous level's depth in a storage buffer the fragment shader reads ([`algorithms::higher_order::k_nearest_peeled`]) |
 //! | stencil counting equal distances | the stencil's low bits, incremented by the depth test EQUAL |
@@ -49,11 +49,35 @@ pub mod error;
 pub mod geometry;
 pub mod io;
 pub mod machine;
+mod names;
 mod simple;
 
 pub use error::{Error, Result};
-pub use machine::{Machine, MachineOptions};
+pub use geometry::{
+    metric::Metric,
+    site::{Shape, Site},
+    Frame,
+};
+pub use machine::{DeviceChoice, Machine, MachineOptions};
 pub use simple::{
     alpha_hull, delaunay, diameter, enclosing_circle, extremal_quadrangle, extremal_triangle,
     furthest, hausdorff, k_nearest, largest_empty_circle, settle, voronoi, with_default_machine,
 };
+
+/// What pixgeo's own tests, oracles and benchmarks check against beyond the
+/// API: the cone drawing, the fan error bound, the flips, the triangle
+/// predicates and the point buckets. Not part of the API; it changes without
+/// notice.
+#[doc(hidden)]
+pub mod testing {
+    pub use crate::algorithms::cones::{
+        draw_cones, ConeDraw, ConeInstance, ConePush, SiteBatch, SiteShape, CONE_EXACT, CONE_PEEL,
+        SITE_EXACT_BATCH,
+    };
+    pub use crate::geometry::{
+        buckets::PointGrid,
+        cone::bisector_deviation,
+        flips::make_delaunay,
+        triangle::{sides_of, triangle_area},
+    };
+}

@@ -3,21 +3,16 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use clap::{Args as ClapArgs, ValueEnum};
-use pixgeo::{
-    algorithms::alpha_hull::{self, AlphaMethod},
-    io::{output::check_distinct, picture::PngStream, raster},
+use clap::Args as ClapArgs;
+use glam::DVec2;
+use pixgeo::algorithms::alpha_hull::{self, class, AlphaHull, AlphaMethod};
+
+use crate::{
+    device::machine_on,
+    envelope,
+    input::Input,
+    write::{output::check_distinct, picture::PngStream, raster},
 };
-
-use crate::{device::machine_on, envelope, input::Input};
-
-#[derive(Clone, Copy, ValueEnum)]
-enum Method {
-    /// Circles through consecutive points of the convex hull (§6.4.1).
-    Hull,
-    /// Two intersections of discs by counting, nothing but pixels (§6.4.2).
-    Pixels,
-}
 
 /// The α-hull of a point set (Edelsbrunner, Kirkpatrick and Seidel; thesis
 /// ch. 6): for α > 0 what every disc of radius 1/α holding all sites holds; for
@@ -45,9 +40,11 @@ pub struct Args {
     /// the intersection of discs of radius 1/α, 0 for the convex hull.
     #[arg(long, allow_negative_numbers = true)]
     alpha: f64,
-    /// How to compute a hull for α > 0.
-    #[arg(long, value_enum, default_value = "hull")]
-    method: Method,
+    /// How to compute a hull for α > 0: `hull`, circles through consecutive
+    /// points of the convex hull (§6.4.1), or `pixels`, two intersections of
+    /// discs by counting, nothing but pixels (§6.4.2).
+    #[arg(long, default_value = "hull", value_parser = crate::input::named::<AlphaMethod>)]
+    method: AlphaMethod,
     /// Write a PNG like the thesis's Figs. 6.1–6.3: the hull dark red, empty
     /// discs' centres yellow, what their discs erased light blue, sites blue.
     #[arg(short = 'o', long = "output", value_name = "PNG")]
@@ -81,10 +78,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let (world, points) = args.input.world_and_sites()?;
     let machine = machine_on(args.device.as_deref())?;
-    let method = match args.method {
-        Method::Hull => AlphaMethod::Hull,
-        Method::Pixels => AlphaMethod::Pixels,
-    };
+    let method = args.method;
     let hull = match side {
         Some(side) => alpha_hull::alpha_hull(&machine, &points, args.alpha, method, side)?,
         None => alpha_hull::alpha_hull_in(&machine, &points, args.alpha, method, world.frame)?,
@@ -121,9 +115,39 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(path) = &args.output {
         let mut png = PngStream::create(path, w, h)?;
-        png.write(&alpha_hull::picture(&hull, &points))?;
+        png.write(&picture(&hull, &points))?;
         png.finish()?;
     }
     crate::wrote([args.hull.as_deref(), args.output.as_deref()]);
     args.input.write_world_file(&world, (0, 0))
+}
+
+/// A picture (RGB rows) like the thesis's Figs. 6.1–6.3: the hull dark red, the
+/// empty discs' centres light yellow, what the discs erased light blue, the
+/// sites as blue dots.
+fn picture(hull: &AlphaHull, sites: &[DVec2]) -> Vec<u8> {
+    let (w, h) = (hull.width as usize, hull.height as usize);
+    let mut rgb: Vec<u8> = hull
+        .pixels
+        .iter()
+        .flat_map(|&c| match c {
+            class::INSIDE => [150, 20, 30],
+            class::CENTRE => [255, 236, 150],
+            class::DISC => [196, 216, 255],
+            _ => [255, 255, 255],
+        })
+        .collect();
+    for s in sites {
+        let p = hull.frame.to_pixel(*s).round();
+        for dj in -1..=1 {
+            for di in -1..=1 {
+                let (i, j) = (p.x as i64 + di, p.y as i64 + dj);
+                if i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h {
+                    let k = 3 * (j as usize * w + i as usize);
+                    rgb[k..k + 3].copy_from_slice(&[20, 60, 220]);
+                }
+            }
+        }
+    }
+    rgb
 }

@@ -10,15 +10,17 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{cells::voronoi_cells, trace::trace_regions},
     geometry::cell::Rect,
-    io::{
-        picture::site_color,
-        vector::{write_geojson, write_svg, Feature, Polygons},
-    },
     Machine,
 };
 use serde_json::{json, Map, Value};
 
-use crate::input::World;
+use crate::{
+    input::World,
+    write::{
+        picture::site_color,
+        vector::{write_geojson, write_svg, Feature, Polygons},
+    },
+};
 
 /// Where the cells come from.
 pub enum Source<'a> {

@@ -9,14 +9,19 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::delaunay::{self, Delaunay, DelaunayOptions},
     geometry::triangulation::check_delaunay,
-    io::{
+};
+
+use crate::{
+    device::machine_on,
+    envelope,
+    input::Points,
+    progress::Progress,
+    write::{
         output,
-        picture::PngStream,
+        picture::{site_color, PngStream},
         vector::{write_geojson, Feature},
     },
 };
-
-use crate::{device::machine_on, envelope, input::Points, progress::Progress};
 
 /// The Delaunay triangulation of points, from a digital Voronoi diagram.
 ///
@@ -96,7 +101,7 @@ pub fn run(args: Args) -> Result<()> {
         write_triangle_files(prefix, &points, &result)?;
     }
     if let Some(path) = &args.output {
-        let (w, h, rgb) = delaunay::picture(&result, &points, args.size);
+        let (w, h, rgb) = picture(&result, &points, args.size);
         let mut png = PngStream::create(path, w, h)?;
         png.write(&rgb)?;
         png.finish()?;
@@ -227,4 +232,62 @@ fn write_triangle_files(
     })?;
     crate::wrote([Some(node.as_path()), Some(ele.as_path())]);
     Ok(())
+}
+
+/// A picture like Cao, Edelsbrunner and Tan's Fig. 3: the digital Voronoi
+/// diagram (each pixel `zoom` pixels wide, `zoom` chosen so the longer side is
+/// about `side`) with the Delaunay triangulation drawn over it in dark lines
+/// and the points as dots. Returns width, height and RGB bytes.
+fn picture(result: &Delaunay, points: &[DVec2], side: u32) -> (u32, u32, Vec<u8>) {
+    let d = &result.digital;
+    let zoom = (side / d.width.max(d.height)).max(1);
+    let (w, h) = (d.width * zoom, d.height * zoom);
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let label = d.labels[((y / zoom) * d.width + x / zoom) as usize];
+            let colour = site_color(label);
+            let k = ((y * w + x) * 3) as usize;
+            rgb[k..k + 3].copy_from_slice(&colour);
+        }
+    }
+    // Pixel (i, j) of the texture covers [i, i + 1) x [j, j + 1) of the
+    // picture's texture units, its centre at (i + 1/2, j + 1/2).
+    let at = |p: DVec2| (d.to_pixels(p) + 0.5) * zoom as f64;
+    let mut darken = |x: i64, y: i64, f: f32| {
+        if x >= 0 && y >= 0 && x < w as i64 && y < h as i64 {
+            let k = ((y as u32 * w + x as u32) * 3) as usize;
+            for c in &mut rgb[k..k + 3] {
+                *c = (*c as f32 * f) as u8;
+            }
+        }
+    };
+    let mut edges: Vec<(u32, u32)> = result
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |e| (t[e].min(t[(e + 1) % 3]), t[e].max(t[(e + 1) % 3]))))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    for (a, b) in edges {
+        let (p, q) = (at(points[a as usize]), at(points[b as usize]));
+        let steps = (q - p).abs().max_element().ceil().max(1.0) as usize;
+        for s in 0..=steps {
+            let r = p + (q - p) * (s as f64 / steps as f64);
+            darken(r.x.floor() as i64, r.y.floor() as i64, 0.25);
+        }
+    }
+    // Every point as a dot about a quarter of a texture pixel across.
+    let radius = (zoom as i64 / 4).max(1);
+    for p in points {
+        let r = at(*p);
+        for dy in -radius..=radius {
+            for dx in -radius..=radius {
+                if dx * dx + dy * dy <= radius * radius {
+                    darken(r.x.floor() as i64 + dx, r.y.floor() as i64 + dy, 0.0);
+                }
+            }
+        }
+    }
+    (w, h, rgb)
 }

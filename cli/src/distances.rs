@@ -8,7 +8,7 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::distances::{self, Answer},
-    geometry::frame::check_sites,
+    geometry::check_sites,
     io::sites,
     machine::Machine,
 };

@@ -7,14 +7,20 @@ use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::homothet::{self, Envelope, HomothetAnswer, PixelStage, Region, Unit},
-    geometry::{metric::Metric, site::Site},
-    io::{picture::PngStream, sites},
-    Machine,
+    algorithms::homothet::{
+        self, Envelope, EnvelopeLabels, HomothetAnswer, PixelStage, Region, Unit,
+    },
+    io::sites,
+    Machine, Metric, Shape as SiteShape, Site,
 };
 use serde_json::Value;
 
-use crate::{device::machine_on, envelope, input::Points};
+use crate::{
+    device::machine_on,
+    envelope,
+    input::Points,
+    write::picture::{label_rows, PngStream},
+};
 
 /// The shape and the picture, shared by both commands.
 #[derive(ClapArgs)]
@@ -59,9 +65,10 @@ impl Shape {
         let Some(path) = &self.output else {
             return Ok(());
         };
-        let (rgb, width, height) =
-            homothet::picture(machine, shapes, self.unit()?, answer, envelope, region)?;
-        let mut png = PngStream::create(path, width, height)?;
+        let unit = self.unit()?;
+        let view = homothet::envelope_labels(machine, shapes, unit, answer, envelope)?;
+        let rgb = picture(&view, shapes, unit, answer, envelope, region);
+        let mut png = PngStream::create(path, view.frame.width, view.frame.height)?;
         png.write(&rgb)?;
         png.finish()?;
         crate::wrote([Some(path.as_path())]);
@@ -250,4 +257,43 @@ fn report(answer: &HomothetAnswer, json: Option<(&str, &str)>, what: &str) -> Re
         answer.pixel_bound
     );
     Ok(())
+}
+
+/// A picture (RGB rows) of the envelope behind `answer`, like the thesis's
+/// Figs. 4.1 and 5.1: the regions coloured by their site, the point sites as
+/// dots, the exact homothet's outline in red and its centre in yellow; for
+/// `empty`, what lies outside the region darkened.
+fn picture(
+    view: &EnvelopeLabels,
+    shapes: &[Site],
+    unit: Unit,
+    answer: &HomothetAnswer,
+    envelope: Envelope,
+    region: &Region,
+) -> Vec<u8> {
+    let frame = &view.frame;
+    let (centre, scale) = (DVec2::from(answer.exact.centre), answer.exact.scale);
+    let marks: Vec<DVec2> = shapes
+        .iter()
+        .filter_map(|s| match s.shape {
+            SiteShape::Point(p) => Some(frame.to_pixel(p)),
+            _ => None,
+        })
+        .collect();
+    let mut rgb = label_rows(&view.labels, frame.width, 0, &marks, None);
+    // A band about a pixel wide around the outline, in gauge units.
+    let band = 0.8 / frame.scale * unit.lipschitz();
+    let w = frame.width as usize;
+    for (at, px) in rgb.chunks_exact_mut(3).enumerate() {
+        let q = frame.to_world(DVec2::new((at % w) as f64, (at / w) as f64));
+        if envelope == Envelope::Empty && !region.rings.is_empty() && !region.contains(q) {
+            px.iter_mut().for_each(|v| *v = (*v as f32 * 0.35) as u8);
+        }
+        if (unit.gauge(q - centre) - scale).abs() <= band {
+            px.copy_from_slice(&[220, 20, 30]);
+        } else if q.distance(centre) * frame.scale <= 2.5 {
+            px.copy_from_slice(&[255, 220, 0]);
+        }
+    }
+    rgb
 }

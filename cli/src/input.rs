@@ -11,11 +11,10 @@ use pixgeo::{
         site::{Shape, Site},
         Frame,
     },
-    io::{
-        geotiff::{parse_crs, GeoReference},
-        sites,
-    },
+    io::sites,
 };
+
+use crate::write::geotiff::{parse_crs, GeoReference};
 
 /// The sites and the picture they are drawn on.
 #[derive(ClapArgs)]
@@ -287,6 +286,15 @@ impl Points {
             None => bail!("give the points: --sites FILE or --random N"),
         }
     }
+}
+
+/// An option read by its name, as the library and Python read it (`exact`,
+/// `fan:12`, `quadtree`, `pixels`, ...).
+pub fn named<T: std::str::FromStr<Err = pixgeo::Error>>(s: &str) -> Result<T, String> {
+    s.parse().map_err(|e: pixgeo::Error| match e {
+        pixgeo::Error::InvalidInput(message) => message,
+        other => other.to_string(),
+    })
 }
 
 /// `--size` of the commands that fit their picture to the sites: the longer

@@ -26,6 +26,7 @@ mod progress;
 mod settle;
 mod transform;
 mod voronoi;
+mod write;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Result};
-use clap::{Args as ClapArgs, ValueEnum};
+use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::settle::{
@@ -11,7 +11,7 @@ use pixgeo::{
         SettleOptions,
     },
     geometry::{metric::Metric, Frame},
-    io::{picture::PngStream, raster, sites},
+    io::sites,
 };
 use serde_json::{json, Value};
 
@@ -20,6 +20,7 @@ use crate::{
     envelope,
     input::{Input, World},
     progress::Progress,
+    write::{picture::PngStream, raster},
 };
 
 /// Finds the settle point (thesis §3.10): the place where a new site, added to
@@ -61,9 +62,12 @@ pub struct Args {
     #[arg(long, default_value = "l2", value_parser = pixgeo::io::sites::parse_metric)]
     metric: Metric,
 
-    /// How the discs are counted (on a Vulkan device).
-    #[arg(long, value_enum, default_value_t = MethodArg::Spans)]
-    method: MethodArg,
+    /// How the discs are counted (on a Vulkan device): `spans`, +1/-1 at
+    /// every disc row's ends and prefix sums along the rows (§3.12.3), or
+    /// `faithful`, every disc drawn and counted by stencil wrap-around and
+    /// blending (Fig. 3.49).
+    #[arg(long, default_value = "spans", value_parser = crate::input::named::<SettleMethod>)]
+    method: SettleMethod,
 
     /// Write a PNG: brightness is the potential area, existing sites green, own
     /// stores blue, the settle point circled in red.
@@ -92,14 +96,6 @@ pub struct Args {
     device: Option<String>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum MethodArg {
-    /// +1/-1 at every disc row's ends, prefix sums along the rows (§3.12.3).
-    Spans,
-    /// Every disc drawn, counted by stencil wrap-around and blending (Fig. 3.49).
-    Faithful,
-}
-
 pub fn run(mut args: Args) -> Result<()> {
     if let Some(path) = &args.area {
         raster::check_name(path, "potential-area maps")?;
@@ -112,10 +108,7 @@ pub fn run(mut args: Args) -> Result<()> {
         None => Vec::new(),
     };
     let own: Vec<DVec2> = own.into_iter().map(|p| world.to_user(p)).collect();
-    let method = match args.method {
-        MethodArg::Spans => SettleMethod::Spans,
-        MethodArg::Faithful => SettleMethod::Faithful,
-    };
+    let method = args.method;
     let backend = Backend::choose(args.device.as_deref())?;
     let map = match &backend {
         Backend::Gpu(machine) => {
@@ -127,7 +120,7 @@ pub fn run(mut args: Args) -> Result<()> {
             })?
         }
         Backend::Cpu => {
-            if args.method == MethodArg::Faithful {
+            if args.method == SettleMethod::Faithful {
                 bail!("--method faithful draws discs on a Vulkan device; the CPU counts spans");
             }
             potential_areas_cpu(&rivals, &own, &frame, args.metric)?

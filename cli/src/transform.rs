@@ -9,16 +9,18 @@ use pixgeo::{
         components, distance_transform, medial_axis, Pruning, TransformOptions, NO_COMPONENT,
     },
     geometry::metric::Metric,
-    io::{
-        mask::read_mask,
+    io::mask::read_mask,
+};
+use serde_json::json;
+
+use crate::{
+    envelope,
+    write::{
         npy,
         output::{check_distinct, check_extension},
         picture::{site_color, PngStream},
     },
 };
-use serde_json::json;
-
-use crate::envelope;
 
 /// Distance and feature transforms of a raster: every pixel's distance to the
 /// nearest feature pixel (the mask's non-zero pixels), and that pixel's (row,

@@ -139,21 +139,9 @@ fn metric(text: &str) -> PyResult<Metric> {
     pixgeo::io::sites::parse_metric(text).map_err(PyValueError::new_err)
 }
 
-fn accuracy(mode: &str) -> PyResult<Accuracy> {
-    let fan = |triangles| Accuracy::Fan {
-        epsilon: 1.0,
-        triangles,
-    };
-    match mode {
-        "exact" => Ok(Accuracy::Exact),
-        "fan" => Ok(fan(None)),
-        _ => match mode.strip_prefix("fan:").map(str::parse::<u32>) {
-            Some(Ok(t)) => Ok(fan(Some(t))),
-            _ => Err(PyValueError::new_err(format!(
-                "unknown mode {mode:?}: use \"exact\", \"fan\" or \"fan:T\" (T triangles)"
-            ))),
-        },
-    }
+/// An option by its name, as the command line reads it.
+fn named<T: std::str::FromStr<Err = pixgeo::Error>>(text: &str) -> PyResult<T> {
+    text.parse().map_err(to_py)
 }
 
 /// (width, height, origin x, origin y, pixels per world unit).
@@ -288,7 +276,7 @@ fn voronoi<'py>(
     let sites = points(&sites);
     let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
     options.metric = metric(metric_name)?;
-    options.accuracy = accuracy(mode)?;
+    options.accuracy = named::<Accuracy>(mode)?;
     options.window = window.map(|[x, y, width, height]| PixelRect {
         x,
         y,
@@ -330,7 +318,7 @@ fn voronoi_weighted<'py>(
         .collect();
     let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
     options.metric = metric(metric_name)?;
-    options.accuracy = accuracy(mode)?;
+    options.accuracy = named::<Accuracy>(mode)?;
     let d = on_machine(py, device, |m| voronoi_sites(m, &sites, &options))?;
     Ok((
         raster(py, d.labels, d.height, d.width)?,
@@ -355,15 +343,7 @@ fn alpha_hull_of<'py>(
     device: Option<&str>,
 ) -> PyResult<Hull<'py>> {
     let p = points(&p);
-    let method = match method {
-        "hull" => AlphaMethod::Hull,
-        "pixels" => AlphaMethod::Pixels,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "unknown method {method:?}: use \"hull\" or \"pixels\""
-            )))
-        }
-    };
+    let method: AlphaMethod = named(method)?;
     let h = on_machine(py, device, |m| {
         alpha_hull::alpha_hull(m, &p, alpha, method, side)
     })?;
@@ -441,7 +421,7 @@ fn k_nearest<'py>(
     let sites = points(&sites);
     let options = KNearestOptions::exact(frame(width, height, bbox)?, k)
         .metric(metric(metric_name)?)
-        .accuracy(accuracy(mode)?);
+        .accuracy(named::<Accuracy>(mode)?);
     let d = on_machine(py, device, |m| higher_order::k_nearest(m, &sites, &options))?;
     let shape = (d.height as usize, d.width as usize, d.k as usize);
     let wrong = |e: numpy::ndarray::ShapeError| InternalError::new_err(e.to_string());

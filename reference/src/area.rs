@@ -7,9 +7,9 @@
 
 use glam::DVec2;
 
-pub use pixgeo::geometry::{
-    predicates::orient,
-    triangle::{sides_of, triangle_area},
+pub use pixgeo::{
+    geometry::predicates::orient,
+    testing::{sides_of, triangle_area},
 };
 
 /// The smallest (`largest` false) or largest triangle over all triples of

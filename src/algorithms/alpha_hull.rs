@@ -34,7 +34,6 @@
 use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
 use rayon::prelude::*;
-use serde::Serialize;
 
 use crate::{
     algorithms::{
@@ -55,8 +54,9 @@ use crate::{
 pub const DEFAULT_SIDE: u32 = Frame::DEFAULT_SIDE;
 
 /// How a hull for α > 0 is computed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum AlphaMethod {
     /// Circles through consecutive points of a convex hull computed on the CPU.
     Hull,
@@ -67,7 +67,7 @@ pub enum AlphaMethod {
 /// What a pixel of [`AlphaHull::pixels`] is.
 pub mod class {
     /// Outside the hull.
-    pub const OUTSIDE: u8 = 0;
+    pub(crate) const OUTSIDE: u8 = 0;
     /// Inside the hull.
     pub const INSIDE: u8 = 1;
     /// α < 0: at least r from every site, erased by the rectangle. α > 0 with
@@ -79,7 +79,8 @@ pub mod class {
 }
 
 /// An α-hull on a picture.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AlphaHull {
     pub alpha: f64,
     /// |1/α| in world units; `None` for the convex hull (α = 0).
@@ -104,9 +105,9 @@ pub struct AlphaHull {
     /// α < 0: inside pixels in that band.
     pub uncertain: usize,
     /// One [`class`] per pixel, row-major (`[j][i]`).
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub pixels: Vec<u8>,
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub frame: Frame,
 }
 
@@ -790,34 +791,4 @@ fn positive(
             ))
         }
     }
-}
-
-/// A picture (RGB rows) like the thesis's Figs. 6.1–6.3: the hull dark red, the
-/// empty discs' centres light yellow, what the discs erased light blue, the
-/// sites as blue dots.
-pub fn picture(hull: &AlphaHull, sites: &[DVec2]) -> Vec<u8> {
-    let (w, h) = (hull.width as usize, hull.height as usize);
-    let mut rgb: Vec<u8> = hull
-        .pixels
-        .iter()
-        .flat_map(|&c| match c {
-            class::INSIDE => [150, 20, 30],
-            class::CENTRE => [255, 236, 150],
-            class::DISC => [196, 216, 255],
-            _ => [255, 255, 255],
-        })
-        .collect();
-    for s in sites {
-        let p = hull.frame.to_pixel(*s).round();
-        for dj in -1..=1 {
-            for di in -1..=1 {
-                let (i, j) = (p.x as i64 + di, p.y as i64 + dj);
-                if i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h {
-                    let k = 3 * (j as usize * w + i as usize);
-                    rgb[k..k + 3].copy_from_slice(&[20, 60, 220]);
-                }
-            }
-        }
-    }
-    rgb
 }

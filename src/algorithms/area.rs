@@ -38,7 +38,6 @@ use crate::geometry::predicates::convex_hull;
 use std::time::Instant;
 
 use glam::DVec2;
-use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
@@ -101,8 +100,9 @@ pub type RoofSearch =
 pub type SweepSearch = fn(&[DVec2], Extreme, &mut dyn FnMut(u64, u64)) -> Result<AreaAnswer>;
 
 /// Which extreme to find.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Extreme {
     Smallest,
     Largest,
@@ -119,7 +119,8 @@ impl Extreme {
 }
 
 /// An extremal triangle or quadrangle.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AreaAnswer {
     pub extreme: Extreme,
     /// The vertices (site indices), counter-clockwise.
@@ -141,7 +142,7 @@ pub struct AreaAnswer {
     pub height: u32,
     /// The roofs' picture; `None` where none was drawn (the sweep, or an
     /// answer decided before drawing).
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub frame: Option<Frame>,
     /// What decided the answer: `pixels`, `neighbours` (a triangle of
     /// neighbouring sites has area 0), `duplicates` (two sites coincide) or

@@ -81,7 +81,7 @@ impl ConeInstance {
 /// rectangle that covers all their footprints. Unused slots repeat a used one.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ConeBatch {
+pub(crate) struct ConeBatch {
     /// Pixel coordinates `(min x, min y, max x, max y)` of the rectangle.
     pub rect: [f32; 4],
     /// Site positions, two per group of four: `x0, y0, x1, y1, x2, ...`.
@@ -95,7 +95,7 @@ pub struct ConeBatch {
 /// weights, kind and id.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct SiteInstance {
+pub(crate) struct SiteInstance {
     /// (min x, min y, max x, max y) in picture pixels.
     pub rect: [f32; 4],
     /// shape0 and shape1 as `glsl/site_distance.glsl` reads them.
@@ -114,10 +114,10 @@ pub struct SiteInstance {
 pub struct SiteBatch {
     /// (min x, min y, max x, max y) in picture pixels.
     pub rect: [f32; 4],
-    /// The first four shape words of each site ([`SiteInstance::shape`]); arc
+    /// The first four shape words of each site (`SiteInstance::shape`); arc
     /// k's eight in `shapes[2 k]` and `shapes[2 k + 1]`.
     pub shapes: [[f32; 4]; 8],
-    /// Each site's [`SiteInstance::weights`].
+    /// Each site's `SiteInstance::weights`.
     pub weights: [[f32; 2]; 8],
     pub ids: [u32; 8],
 }
@@ -136,7 +136,7 @@ pub enum SiteShape {
 impl SiteShape {
     /// The shape drawn for a [`SiteInstance`]'s kind (0 point, 1 segment, 2
     /// circle, 3 arc).
-    pub fn of_kind(kind: u32) -> Self {
+    pub(crate) fn of_kind(kind: u32) -> Self {
         match kind {
             0 => SiteShape::Point,
             1 => SiteShape::Segment,
@@ -188,7 +188,7 @@ pub fn draw_cones<'r>(
 /// One triangle over the target with `program` (one of [`NEAREST_TILES`] and
 /// [`SITE_TILES`]), whose fragments read their tiles' sites from the records
 /// image of the bound set.
-pub fn draw_over_target(
+pub(crate) fn draw_over_target(
     pass: &mut Pass<'_, '_>,
     program: &'static GraphicsProgram,
     state: &RasterState,
@@ -211,7 +211,7 @@ pub fn draw_over_target(
 
 /// Draws `tiles` screen tiles of [`K_NEAREST_TILES`] keeping `push.levels`
 /// levels, whose records come from the second storage buffer of the bound set.
-pub fn draw_k_nearest_tiles(
+pub(crate) fn draw_k_nearest_tiles(
     pass: &mut Pass<'_, '_>,
     state: &RasterState,
     params: &DrawParams,
@@ -347,7 +347,7 @@ const fn cone_program(
 }
 
 /// Instanced triangle-fan cones; depth is the interpolated cone height.
-pub static CONE_FAN: GraphicsProgram = cone_program(
+pub(crate) static CONE_FAN: GraphicsProgram = cone_program(
     "ConeFan",
     shaders::CONE_VERT,
     Fragments::One(shaders::CONE_FAN_FRAG),
@@ -367,7 +367,7 @@ pub static CONE_EXACT: GraphicsProgram = cone_program(
 
 /// Up to eight exact cones in one bounding rectangle, the envelope taken per
 /// fragment; see [`ConeBatch`].
-pub static CONE_EXACT_BATCH: GraphicsProgram = cone_program(
+pub(crate) static CONE_EXACT_BATCH: GraphicsProgram = cone_program(
     "ConeExactBatch",
     shaders::CONE_BATCH_VERT,
     Fragments::ByVariant(&shaders::CONE_BATCH_FRAG),
@@ -378,7 +378,7 @@ pub static CONE_EXACT_BATCH: GraphicsProgram = cone_program(
 /// The lower envelope of exact cones from screen-tile lists: one triangle over
 /// the target, each fragment taking the nearest of the sites binned to its
 /// tile, read from the records image (`glsl/nearest_tiles.frag`).
-pub static NEAREST_TILES: GraphicsProgram = cone_program(
+pub(crate) static NEAREST_TILES: GraphicsProgram = cone_program(
     "NearestTiles",
     shaders::PICTURE_VERT,
     Fragments::ByVariant(&shaders::NEAREST_TILES_FRAG),
@@ -389,7 +389,7 @@ pub static NEAREST_TILES: GraphicsProgram = cone_program(
 /// Instanced exact cone footprints inserting `(squared distance, id)` keys into
 /// each pixel's sorted list of the k nearest, a storage buffer bound with
 /// [`Pass::bind_fragment_buffers`]; writes no attachment.
-pub static CONE_K_NEAREST: GraphicsProgram = cone_program(
+pub(crate) static CONE_K_NEAREST: GraphicsProgram = cone_program(
     "ConeKNearest",
     shaders::CONE_VERT,
     Fragments::ByVariant(&shaders::CONE_KNEAREST_FRAG_EXACT),
@@ -399,7 +399,7 @@ pub static CONE_K_NEAREST: GraphicsProgram = cone_program(
 
 /// [`CONE_K_NEAREST`] with triangle-fan cones: the key's distance is the fan's
 /// interpolated height.
-pub static CONE_K_NEAREST_FAN: GraphicsProgram = cone_program(
+pub(crate) static CONE_K_NEAREST_FAN: GraphicsProgram = cone_program(
     "ConeKNearestFan",
     shaders::CONE_VERT,
     Fragments::ByVariant(&shaders::CONE_KNEAREST_FRAG_FAN),
@@ -421,7 +421,7 @@ pub static CONE_PEEL: GraphicsProgram = cone_program(
 /// the cones binned to the tile (tile records and cones in the second storage
 /// buffer, keys written to the first), built for lists of 1, 2, 3, 4, 6, 8,
 /// 12, 16, 24 and 32; see [`k_nearest_tiles`].
-pub static K_NEAREST_TILES: [GraphicsProgram; 10] = {
+pub(crate) static K_NEAREST_TILES: [GraphicsProgram; 10] = {
     const fn tiles(name: &'static str, builds: &'static [Shader]) -> GraphicsProgram {
         cone_program(
             name,
@@ -447,7 +447,7 @@ pub static K_NEAREST_TILES: [GraphicsProgram; 10] = {
 
 /// The build of [`K_NEAREST_TILES`] whose lists hold `levels` keys: the
 /// shortest that does.
-pub fn k_nearest_tiles(levels: u32) -> &'static GraphicsProgram {
+pub(crate) fn k_nearest_tiles(levels: u32) -> &'static GraphicsProgram {
     let build = match levels {
         0..=1 => 0,
         2 => 1,
@@ -465,7 +465,7 @@ pub fn k_nearest_tiles(levels: u32) -> &'static GraphicsProgram {
 
 /// One rectangle per site with weights, by [`SiteShape`]; the fragment writes
 /// the exact weighted distance (see [`SiteInstance`]).
-pub static SITE_EXACT: [GraphicsProgram; 4] = {
+pub(crate) static SITE_EXACT: [GraphicsProgram; 4] = {
     const fn site(name: &'static str, builds: &'static [Shader]) -> GraphicsProgram {
         cone_program(
             name,
@@ -511,7 +511,7 @@ pub static SITE_EXACT_BATCH: [GraphicsProgram; 4] = {
 /// lists, by [`SiteShape`]: one triangle over the target, each fragment taking
 /// the lowest weighted distance of the sites listed for its tile, read from the
 /// records image (`glsl/site_tiles.frag`).
-pub static SITE_TILES: [GraphicsProgram; 4] = {
+pub(crate) static SITE_TILES: [GraphicsProgram; 4] = {
     const fn tiles(name: &'static str, builds: &'static [Shader]) -> GraphicsProgram {
         cone_program(
             name,
@@ -531,7 +531,7 @@ pub static SITE_TILES: [GraphicsProgram; 4] = {
 
 /// Triangles of fan surfaces with per-vertex position, depth and site id (two
 /// per-vertex buffers: `[f32; 3]` and `u32`), drawn as a list.
-pub static SITE_FAN: GraphicsProgram = cone_program(
+pub(crate) static SITE_FAN: GraphicsProgram = cone_program(
     "SiteFan",
     shaders::SITE_FAN_VERT_PLAIN,
     Fragments::One(shaders::SITE_FAN_FRAG_PLAIN),

@@ -29,7 +29,6 @@ use super::ms;
 use std::time::Instant;
 
 use glam::DVec2;
-use serde::Serialize;
 
 use crate::{
     algorithms::flooding::{dualize, flood, FloodingStats},
@@ -48,14 +47,14 @@ use crate::{
 
 /// Empty pixels kept around the points, so that the outside never pinches a
 /// region against the texture's border.
-pub const MARGIN: u32 = 4;
+pub(crate) const MARGIN: u32 = 4;
 
 /// How to triangulate.
 #[derive(Clone, Debug, Default)]
 #[non_exhaustive]
 pub struct DelaunayOptions {
     /// Texture pixels along the longer side of the bounding box (margins
-    /// included); `None` chooses [`default_grid`].
+    /// included); `None` chooses `default_grid`.
     pub grid: Option<u32>,
     /// Check conditions I–III on the digital triangulation.
     pub check: bool,
@@ -75,12 +74,13 @@ impl DelaunayOptions {
 /// one pixel per point (between 64 and 8192 pixels a side). Finer grids leave
 /// fewer points to insert but cost more to flood and dualize than they save
 /// (measured on lavapipe from 10⁴ to 10⁶ points).
-pub fn default_grid(n: usize) -> u32 {
+pub(crate) fn default_grid(n: usize) -> u32 {
     ((n as f64).sqrt().ceil() as u32 + 2 * MARGIN).clamp(64, 8192)
 }
 
 /// What each phase did and took.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DelaunayStats {
     pub width: u32,
     pub height: u32,
@@ -112,7 +112,8 @@ pub struct DelaunayStats {
 }
 
 /// A Delaunay triangulation.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Delaunay {
     /// Counter-clockwise triangles, as indices into the input.
     pub triangles: Vec<[u32; 3]>,
@@ -122,7 +123,7 @@ pub struct Delaunay {
     /// Conditions I–III on the digital triangulation, when asked for.
     pub digital_validity: Option<Validity>,
     pub stats: DelaunayStats,
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub digital: DigitalDiagram,
 }
 
@@ -228,7 +229,7 @@ pub fn delaunay_with_progress(
 }
 
 /// The steps [`delaunay_with_progress`] reports.
-pub const STEPS: u64 = 5;
+pub(crate) const STEPS: u64 = 5;
 
 fn triangulate(
     machine: &Machine,
@@ -504,62 +505,4 @@ fn insert_all(points: Vec<DVec2>) -> (Mesh, usize) {
         last = v;
     }
     (mesh, flips)
-}
-
-/// A picture like Cao, Edelsbrunner and Tan's Fig. 3: the digital Voronoi
-/// diagram (each pixel `zoom` pixels wide, `zoom` chosen so the longer side is
-/// about `side`) with the Delaunay triangulation drawn over it in dark lines
-/// and the points as dots. Returns width, height and RGB bytes.
-pub fn picture(result: &Delaunay, points: &[DVec2], side: u32) -> (u32, u32, Vec<u8>) {
-    let d = &result.digital;
-    let zoom = (side / d.width.max(d.height)).max(1);
-    let (w, h) = (d.width * zoom, d.height * zoom);
-    let mut rgb = vec![0u8; (w * h * 3) as usize];
-    for y in 0..h {
-        for x in 0..w {
-            let label = d.labels[((y / zoom) * d.width + x / zoom) as usize];
-            let colour = crate::io::picture::site_color(label);
-            let k = ((y * w + x) * 3) as usize;
-            rgb[k..k + 3].copy_from_slice(&colour);
-        }
-    }
-    // Pixel (i, j) of the texture covers [i, i + 1) x [j, j + 1) of the
-    // picture's texture units, its centre at (i + 1/2, j + 1/2).
-    let at = |p: DVec2| (d.to_pixels(p) + 0.5) * zoom as f64;
-    let mut darken = |x: i64, y: i64, f: f32| {
-        if x >= 0 && y >= 0 && x < w as i64 && y < h as i64 {
-            let k = ((y as u32 * w + x as u32) * 3) as usize;
-            for c in &mut rgb[k..k + 3] {
-                *c = (*c as f32 * f) as u8;
-            }
-        }
-    };
-    let mut edges: Vec<(u32, u32)> = result
-        .triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |e| (t[e].min(t[(e + 1) % 3]), t[e].max(t[(e + 1) % 3]))))
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    for (a, b) in edges {
-        let (p, q) = (at(points[a as usize]), at(points[b as usize]));
-        let steps = (q - p).abs().max_element().ceil().max(1.0) as usize;
-        for s in 0..=steps {
-            let r = p + (q - p) * (s as f64 / steps as f64);
-            darken(r.x.floor() as i64, r.y.floor() as i64, 0.25);
-        }
-    }
-    // Every point as a dot about a quarter of a texture pixel across.
-    let radius = (zoom as i64 / 4).max(1);
-    for p in points {
-        let r = at(*p);
-        for dy in -radius..=radius {
-            for dx in -radius..=radius {
-                if dx * dx + dy * dy <= radius * radius {
-                    darken(r.x.floor() as i64 + dx, r.y.floor() as i64 + dy, 0.0);
-                }
-            }
-        }
-    }
-    (w, h, rgb)
 }

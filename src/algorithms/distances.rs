@@ -13,7 +13,6 @@
 use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
 use rayon::prelude::*;
-use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
@@ -33,7 +32,8 @@ use super::{
 
 /// Two points, one of each set (indices into the sets as given), and their
 /// distance.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Pair {
     pub from: u32,
     pub to: u32,
@@ -41,7 +41,8 @@ pub struct Pair {
 }
 
 /// An exact answer and how it was found.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Answer {
     /// The exact answer.
     pub pair: Pair,
@@ -53,12 +54,13 @@ pub struct Answer {
     pub width: u32,
     pub height: u32,
     /// The picture used, over the points' world coordinates.
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub frame: Frame,
 }
 
 /// The Hausdorff distance both ways and the larger of the two.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Hausdorff {
     /// max over a of the distance to the nearest b (`from` in a, `to` in b).
     pub a_to_b: Answer,

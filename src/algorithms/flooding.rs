@@ -26,8 +26,6 @@
 use super::ms;
 use std::{cmp::Reverse, collections::BinaryHeap, time::Instant};
 
-use serde::Serialize;
-
 use glam::DVec2;
 
 use crate::{
@@ -66,7 +64,8 @@ static DUALIZE: ComputeProgram = ComputeProgram::new(
 );
 
 /// How the flooding went.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FloodingStats {
     /// Milliseconds: the Euclidean colouring and its debris roots on the
     /// device, gathering the debris, flooding it.
@@ -154,7 +153,12 @@ fn colouring_and_roots(
 /// that a mask at 0 stays below it) in one submission, by the
 /// colouring's passes and a fourth that turns labels into distances, copied
 /// into the depth buffer for the graphics passes that follow.
-pub fn euclidean_depth(machine: &Machine, seeds: &[Seed], depth: &Image, scale: f32) -> Result<()> {
+pub(crate) fn euclidean_depth(
+    machine: &Machine,
+    seeds: &[Seed],
+    depth: &Image,
+    scale: f32,
+) -> Result<()> {
     let (w, h) = (depth.width(), depth.height());
     colouring(machine, w, h, seeds, PixelPhase::Depth { depth, scale })?;
     Ok(())

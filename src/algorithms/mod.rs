@@ -5,7 +5,7 @@ pub mod alpha_hull;
 pub mod area;
 pub mod area_sweep;
 pub mod cells;
-pub mod cones;
+pub(crate) mod cones;
 pub mod cpu;
 pub mod delaunay;
 pub mod distances;

@@ -38,7 +38,6 @@ use std::time::Instant;
 
 use glam::DVec2;
 use rayon::prelude::*;
-use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
@@ -94,8 +93,9 @@ static SETTLE_SUMS: ComputeProgram = ComputeProgram::new(
 );
 
 /// How the discs are counted.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum SettleMethod {
     /// Spans and prefix sums (§3.12.3) in a compute pass: the default.
     Spans,
@@ -143,7 +143,8 @@ impl Default for SettleOptions {
 }
 
 /// How the map was made.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SettleStats {
     pub device: String,
     pub rivals: usize,
@@ -738,7 +739,8 @@ fn nearest_labels_cpu(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<
 /// The refined settle point: a position (pixel coordinates) and the exact area
 /// (square pixels) of the region a new site there would win, clipped to the
 /// picture and without the own stores' regions.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Refined {
     pub position: [f64; 2],
     pub area: f64,
@@ -749,7 +751,7 @@ pub struct Refined {
 
 /// Refines the settle point beyond the pixels (Euclidean metric): from each of
 /// the `starts` (row-major pixel indices), a compass search over the exact area
-/// of the new site's Voronoi region ([`cell::StolenArea`]) climbs to a local
+/// of the new site's Voronoi region (`cell::StolenArea`) climbs to a local
 /// maximum, halving its step from one pixel to 1e-9 pixels; the best climb wins.
 /// The result's area is at least the exact area at its starting pixel. Sites in
 /// world coordinates; the result in pixel coordinates.

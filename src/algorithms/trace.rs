@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 /// A corner of the pixel grid: (column, row) of the corner at the low x, low
 /// y of pixel (column, row); corners run from (0, 0) to (width, height).
-pub type Corner = (u32, u32);
+pub(crate) type Corner = (u32, u32);
 
 /// One label's region: polygons, each an outer ring followed by its holes.
 /// Rings are closed implicitly (the last corner joins the first), and keep

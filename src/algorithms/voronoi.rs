@@ -10,7 +10,7 @@
 //! bounds with minmax-detected retries) and [`Speedup::Local`] (a radius per site).
 //! With local radii, exact diagrams draw no cones at all: each fragment of one
 //! picture-wide triangle takes the nearest of the sites listed for its screen
-//! tile ([`super::cones::NEAREST_TILES`]), the sites that can own one of its pixels.
+//! tile (`super::cones::NEAREST_TILES`), the sites that can own one of its pixels.
 //!
 //! Pictures larger than one device image (or than [`VoronoiOptions::max_tile`])
 //! are rendered tile by tile, each tile drawing only the cones that reach it, and
@@ -26,7 +26,6 @@ use std::time::Instant;
 
 use glam::DVec2;
 use rayon::prelude::*;
-use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
@@ -158,7 +157,8 @@ impl Default for VoronoiOptions {
 }
 
 /// How the diagram was made.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct VoronoiStats {
     pub device: String,
     pub sites: usize,

@@ -7,7 +7,7 @@ use glam::DVec2;
 /// Visits the cells `(x, y)` of an `nx` x `ny` grid at Chebyshev distance exactly
 /// `ring` from the block of cells `[x0, y0, x1, y1]` (ring 0: the block), row by
 /// row; cells outside the grid are skipped.
-pub fn for_ring_cells(
+pub(crate) fn for_ring_cells(
     (nx, ny): (usize, usize),
     [x0, y0, x1, y1]: [isize; 4],
     ring: usize,
@@ -32,7 +32,7 @@ pub fn for_ring_cells(
 /// Items grouped by bucket (a counting sort, stable): those of bucket `b` are
 /// `grouped[start[b]..start[b + 1]]`, in the order `items` gives them. Returns
 /// `(start, grouped)`; `items` is walked twice.
-pub fn group_by_bucket<T: Copy + Default>(
+pub(crate) fn group_by_bucket<T: Copy + Default>(
     buckets: usize,
     items: impl Iterator<Item = (usize, T)> + Clone,
 ) -> (Vec<u32>, Vec<T>) {

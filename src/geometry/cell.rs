@@ -118,7 +118,7 @@ impl Polygon {
 /// The Voronoi cell of `site` among `others` (which may contain `site`
 /// itself), clipped to `rect`: its corners counter-clockwise, in absolute
 /// coordinates; empty where the cell misses the rectangle.
-pub fn convex_cell(site: DVec2, others: &[DVec2], rect: &Rect) -> Vec<DVec2> {
+pub(crate) fn convex_cell(site: DVec2, others: &[DVec2], rect: &Rect) -> Vec<DVec2> {
     let mut cell = Polygon::rect(rect, site);
     for &o in others.iter().filter(|&&o| o != site) {
         cell.clip_by_bisector(o - site);
@@ -142,7 +142,8 @@ pub fn convex_cell(site: DVec2, others: &[DVec2], rect: &Rect) -> Vec<DVec2> {
 
 /// The area of the Voronoi cell of `site` among `others` (which may contain
 /// `site` itself), clipped to `rect`.
-pub fn cell_area(site: DVec2, others: &[DVec2], rect: &Rect) -> f64 {
+#[cfg(test)]
+pub(crate) fn cell_area(site: DVec2, others: &[DVec2], rect: &Rect) -> f64 {
     let mut cell = Polygon::rect(rect, site);
     cell.clip_by_sites(site, others);
     cell.area()
@@ -151,14 +152,15 @@ pub fn cell_area(site: DVec2, others: &[DVec2], rect: &Rect) -> f64 {
 /// The area that a new site at `t` takes from the `rivals`, within `rect`: its
 /// Voronoi cell among all sites, less the parts that the `own` sites held
 /// before it came. Zero when `t` coincides with a site.
-pub fn stolen_area(t: DVec2, rivals: &[DVec2], own: &[DVec2], rect: &Rect) -> f64 {
+#[cfg(test)]
+pub(crate) fn stolen_area(t: DVec2, rivals: &[DVec2], own: &[DVec2], rect: &Rect) -> f64 {
     StolenArea::new(t, rivals, own, rect).at(t)
 }
 
-/// [`stolen_area`] for many positions near one origin: the sites are sorted by
+/// `stolen_area` for many positions near one origin: the sites are sorted by
 /// distance from the origin once, and the own stores' former cells computed
 /// once.
-pub struct StolenArea {
+pub(crate) struct StolenArea {
     rect: Rect,
     origin: DVec2,
     /// Every site with its distance from the origin, nearest first.

@@ -48,13 +48,15 @@ pub fn chain(metric: Metric, radius: f64, epsilon: f64) -> Vec<DVec2> {
 }
 
 /// The number of vertices of [`chain`]: the thesis's tables of §3.6.1–3.6.2.
-pub fn chain_vertices(metric: Metric, radius: f64, epsilon: f64) -> usize {
+#[cfg(test)]
+pub(crate) fn chain_vertices(metric: Metric, radius: f64, epsilon: f64) -> usize {
     chain(metric, radius, epsilon).len()
 }
 
 /// The thesis's picture-wide cone radius for L_p on a `side`² picture:
 /// 2^(1/p) · side, the L_p distance across the diagonal.
-pub fn picture_radius(metric: Metric, side: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn picture_radius(metric: Metric, side: f64) -> f64 {
     metric.distance(DVec2::splat(side))
 }
 
@@ -179,7 +181,7 @@ fn reflect(q1: &[DVec2]) -> Vec<DVec2> {
 /// The smallest and largest `metric` norm on the boundary of `polygon`
 /// (star-shaped around the origin): the radii of the largest ball it contains
 /// and of the smallest ball containing it.
-pub fn norm_range(metric: Metric, polygon: &[DVec2]) -> (f64, f64) {
+pub(crate) fn norm_range(metric: Metric, polygon: &[DVec2]) -> (f64, f64) {
     (0..polygon.len())
         .map(|k| norm_range_on_segment(metric, polygon[k], polygon[(k + 1) % polygon.len()]))
         .fold((f64::INFINITY, 0.0), |(lo, hi), (a, b)| {
@@ -188,7 +190,7 @@ pub fn norm_range(metric: Metric, polygon: &[DVec2]) -> (f64, f64) {
 }
 
 /// The Euclidean distance from `p` to the segment `a b` (a point where a = b).
-pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+pub(crate) fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let e = b - a;
     let t = if e == DVec2::ZERO {
         0.0
@@ -202,7 +204,7 @@ pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 /// splits where a coordinate vanishes; on each piece the norm is convex for
 /// p ≥ 1 (largest at an end, smallest found by golden-section search) and, for
 /// p < 1, its p-th power is concave (smallest at an end, largest by search).
-pub fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
+pub(crate) fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64, f64) {
     let at = |t: f64| metric.distance(a + (b - a) * t);
     if metric == Metric::L2 {
         return (
@@ -301,7 +303,7 @@ fn golden_minimum(h: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 
 /// How a fan cone of a metric other than L2 is built.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MetricFan {
+pub(crate) enum MetricFan {
     /// Over the thesis's chain: a distance diagram within `epsilon`.
     Chain { epsilon: f64 },
     /// Over the circle sampled at `corners` equal angles.
@@ -312,13 +314,13 @@ impl MetricFan {
     /// The outer radius (the scale of [`MetricFan::unit_mesh`]) of a cone that
     /// covers the Euclidean disc of radius `r`: its inscribed `metric` ball has
     /// radius b r, b from the metric's bounds.
-    pub fn outer_radius(self, metric: Metric, r: f64) -> f64 {
+    pub(crate) fn outer_radius(self, metric: Metric, r: f64) -> f64 {
         self.outer_radius_of_reach(metric, metric.euclidean_bounds().1 * r)
     }
 
     /// The outer radius of a cone that covers the `metric` ball of radius
     /// `reach`.
-    pub fn outer_radius_of_reach(self, metric: Metric, reach: f64) -> f64 {
+    pub(crate) fn outer_radius_of_reach(self, metric: Metric, reach: f64) -> f64 {
         match self {
             Self::Chain { epsilon } => reach + epsilon,
             Self::Uniform { corners } => {
@@ -331,7 +333,7 @@ impl MetricFan {
     /// The unit fan (rim at height 1) for cones of outer radius up to `largest`.
     /// A uniform sample's rim lies on its circumscribed ball, so that for p < 1,
     /// whose chords bulge outwards, the fan still never underestimates.
-    pub fn unit_mesh(self, metric: Metric, largest: f64) -> Vec<[f32; 3]> {
+    pub(crate) fn unit_mesh(self, metric: Metric, largest: f64) -> Vec<[f32; 3]> {
         match self {
             Self::Chain { epsilon } => {
                 let r = level_radius(chain_level(largest));
@@ -350,7 +352,7 @@ impl MetricFan {
     /// there grows with the distance (see [`Metric::displacement_error`]);
     /// under norms and polygons snapping moves a distance by at most a few
     /// thousandths of a pixel, like float rounding.
-    pub fn error_bound(self, metric: Metric, r: f64) -> f64 {
+    pub(crate) fn error_bound(self, metric: Metric, r: f64) -> f64 {
         let fan = match self {
             // A polygon's chain is the polygon: exact.
             Self::Chain { .. } if matches!(metric, Metric::Polygon(_)) => 0.0,
@@ -369,15 +371,15 @@ impl MetricFan {
 /// How far (Euclidean, pixels) the rasterizer may move a vertex: Vulkan
 /// devices snap to a subpixel grid of at least 8 bits (1/256 pixel), so half a
 /// step in each axis.
-pub const VERTEX_SNAP: f64 = std::f64::consts::SQRT_2 / 512.0;
+pub(crate) const VERTEX_SNAP: f64 = std::f64::consts::SQRT_2 / 512.0;
 
 /// A unit fan mesh (see [`unit_fan_over`]), shared.
-pub type UnitMesh = Arc<Vec<[f32; 3]>>;
+pub(crate) type UnitMesh = Arc<Vec<[f32; 3]>>;
 
 /// Unit fan meshes of one metric, each made once and shared by every site whose
 /// fan has the same accuracy and rounds to the same radius level
 /// ([`chain_level`]): building an L_p chain costs far more than scaling it.
-pub struct FanMeshes {
+pub(crate) struct FanMeshes {
     metric: Metric,
     made: Mutex<HashMap<(u64, i32), UnitMesh>>,
 }
@@ -395,7 +397,7 @@ impl FanMeshes {
     }
 
     /// [`MetricFan::unit_mesh`] for cones of outer radius `outer`.
-    pub fn unit_mesh(&self, fan: MetricFan, outer: f64) -> UnitMesh {
+    pub(crate) fn unit_mesh(&self, fan: MetricFan, outer: f64) -> UnitMesh {
         let key = match fan {
             MetricFan::Chain { epsilon } => (epsilon.to_bits(), chain_level(outer)),
             // A sample does not depend on the radius.
@@ -411,7 +413,7 @@ impl FanMeshes {
 /// The fan over `polygon` (vertices of a ball of radius `radius`) as a unit mesh:
 /// the apex (0, 0, 0), then the rim vertices divided by `radius` at height 1, the
 /// first repeated to close the fan (the layout of [`super::cone::unit_fan`]).
-pub fn unit_fan_over(polygon: &[DVec2], radius: f64) -> Vec<[f32; 3]> {
+pub(crate) fn unit_fan_over(polygon: &[DVec2], radius: f64) -> Vec<[f32; 3]> {
     let rim = polygon.iter().chain(polygon.first());
     std::iter::once([0.0, 0.0, 0.0])
         .chain(rim.map(|v| [(v.x / radius) as f32, (v.y / radius) as f32, 1.0]))
@@ -420,7 +422,7 @@ pub fn unit_fan_over(polygon: &[DVec2], radius: f64) -> Vec<[f32; 3]> {
 
 /// The `metric` unit circle sampled at `corners` equally spaced angles: the rim
 /// of a fan with a fixed number of triangles.
-pub fn uniform_polygon(metric: Metric, corners: u32) -> Vec<DVec2> {
+pub(crate) fn uniform_polygon(metric: Metric, corners: u32) -> Vec<DVec2> {
     (0..corners)
         .map(|k| {
             let a = 2.0 * PI * k as f64 / corners as f64;
@@ -433,13 +435,13 @@ pub fn uniform_polygon(metric: Metric, corners: u32) -> Vec<DVec2> {
 /// Fan meshes of other metrics are shared between cones whose outer radii round
 /// up to the same level: radius 2^(level / 4). A chain built for a larger radius
 /// with the same ε is finer, so scaling it down keeps the error within ε.
-pub fn chain_level(outer_radius: f64) -> i32 {
+pub(crate) fn chain_level(outer_radius: f64) -> i32 {
     // Less a hair, so that a level's own radius maps back to the level.
     (4.0 * outer_radius.log2() - 1e-9).ceil() as i32
 }
 
 /// The radius of a [`chain_level`].
-pub fn level_radius(level: i32) -> f64 {
+pub(crate) fn level_radius(level: i32) -> f64 {
     (level as f64 / 4.0).exp2()
 }
 

@@ -21,7 +21,7 @@ impl Circle {
 }
 
 /// The circle on the segment between two points as diameter.
-pub fn through_two(a: DVec2, b: DVec2, ia: usize, ib: usize) -> Circle {
+pub(crate) fn through_two(a: DVec2, b: DVec2, ia: usize, ib: usize) -> Circle {
     let centre = (a + b) / 2.0;
     Circle {
         centre,

@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 /// Triangles for an ε distance diagram with a fan of outer radius `radius`
 /// (thesis eq. 3.1): the smallest T with `cos(pi / T) >= (r - ε) / r`.
 /// For a picture-wide cone (`r = p sqrt 2`) at ε = 1: 85 for p = 1024, 84 for 1000.
-pub fn triangles_for_distance_error(radius: f64, epsilon: f64) -> u32 {
+pub(crate) fn triangles_for_distance_error(radius: f64, epsilon: f64) -> u32 {
     if epsilon >= radius {
         return 3;
     }
@@ -24,11 +24,11 @@ pub const MAX_FAN_TRIANGLES: u32 = 1 << 16;
 
 /// The smallest distance error a fan may be asked for, in pixels: below the
 /// rasterizer's subpixel grid (1/256 pixel) a finer fan changes no pixel.
-pub const MIN_FAN_EPSILON: f64 = 1e-3;
+pub(crate) const MIN_FAN_EPSILON: f64 = 1e-3;
 
 /// Refuses a fan of error `epsilon` that would need more than
 /// [`MAX_FAN_TRIANGLES`] at `radius`.
-pub fn check_fan_size(radius: f64, epsilon: f64) -> crate::Result<()> {
+pub(crate) fn check_fan_size(radius: f64, epsilon: f64) -> crate::Result<()> {
     let needed = if epsilon >= radius {
         3.0
     } else {
@@ -45,7 +45,7 @@ pub fn check_fan_size(radius: f64, epsilon: f64) -> crate::Result<()> {
 
 /// The worst distance overestimate of a fan with `triangles` whose inscribed circle
 /// has radius `radius`: `radius (1 / cos(pi / T) - 1)`.
-pub fn fan_distance_error(radius: f64, triangles: u32) -> f64 {
+pub(crate) fn fan_distance_error(radius: f64, triangles: u32) -> f64 {
     radius * (1.0 / (PI / triangles as f64).cos() - 1.0)
 }
 
@@ -63,7 +63,8 @@ pub fn bisector_deviation(triangles: u32, distance: f64, separation: f64) -> f64
 /// deviate by at most `deviation` pixels: the thesis's worst case of two sites at
 /// (1, 0) and (0, 1), whose bisector runs to the opposite corner (distance
 /// `side sqrt 2`). 2642 for a 1000² picture at one pixel.
-pub fn triangles_for_site_diagram(side: f64, deviation: f64) -> u32 {
+#[cfg(test)]
+pub(crate) fn triangles_for_site_diagram(side: f64, deviation: f64) -> u32 {
     let separation = 2f64.sqrt();
     let distance = side * 2f64.sqrt();
     // tan^2(pi/T) d^2 / (2a) <= dev  <=>  pi / T <= atan(sqrt(2 a dev) / d)
@@ -79,7 +80,7 @@ pub fn triangles_for_site_diagram(side: f64, deviation: f64) -> u32 {
 /// A cone to draw: enough triangles for the requested accuracy and an outer radius
 /// whose inscribed circle covers `radius`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FanShape {
+pub(crate) struct FanShape {
     pub triangles: u32,
     /// Radius of the rim vertices.
     pub outer_radius: f64,
@@ -89,7 +90,7 @@ impl FanShape {
     /// The fan for an ε distance diagram that covers every point within `radius`:
     /// outer radius `radius + ε`, T from eq. 3.1, so the inscribed circle has radius
     /// at least `radius` and the overestimate within `radius` is at most ε.
-    pub fn for_distance_error(radius: f64, epsilon: f64) -> Self {
+    pub(crate) fn for_distance_error(radius: f64, epsilon: f64) -> Self {
         let outer = radius + epsilon;
         Self {
             triangles: triangles_for_distance_error(outer, epsilon),
@@ -98,7 +99,7 @@ impl FanShape {
     }
 
     /// A fan of exactly `triangles` whose inscribed circle has radius `radius`.
-    pub fn with_triangles(radius: f64, triangles: u32) -> Self {
+    pub(crate) fn with_triangles(radius: f64, triangles: u32) -> Self {
         let triangles = triangles.max(3);
         Self {
             triangles,
@@ -109,7 +110,7 @@ impl FanShape {
 
 /// The unit fan of `triangles`: the apex (0, 0, 0), then `triangles + 1` rim
 /// vertices (cos, sin, 1), the last closing the fan.
-pub fn unit_fan(triangles: u32) -> Vec<[f32; 3]> {
+pub(crate) fn unit_fan(triangles: u32) -> Vec<[f32; 3]> {
     let mut v = Vec::with_capacity(triangles as usize + 2);
     v.push([0.0, 0.0, 0.0]);
     for k in 0..=triangles {
@@ -122,7 +123,7 @@ pub fn unit_fan(triangles: u32) -> Vec<[f32; 3]> {
 /// A regular polygon of `corners` with circumradius 1, as a fan from its first
 /// corner (`corners - 2` triangles): the footprint of an exact cone, whose depth
 /// comes from the fragment shader rather than from the vertices.
-pub fn unit_footprint(corners: u32) -> Vec<[f32; 3]> {
+pub(crate) fn unit_footprint(corners: u32) -> Vec<[f32; 3]> {
     (0..corners)
         .map(|k| {
             // Start at 45° so a square is axis-aligned.

@@ -12,12 +12,12 @@
 //! stays counter-clockwise.
 
 use glam::DVec2;
-use serde::Serialize;
 
 use super::mesh::Mesh;
 
 /// What the flips did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Flips {
     /// Flips that made the boundary convex, and Lawson flips.
     pub hull: usize,

@@ -185,26 +185,26 @@ impl Frame {
     }
 
     /// Distance from `p` (pixel coordinates) to the farthest pixel centre.
-    pub fn farthest_pixel(&self, p: DVec2) -> f64 {
+    pub(crate) fn farthest_pixel(&self, p: DVec2) -> f64 {
         let (lo, hi) = self.pixel_centres();
         farthest2_in_rect(p, lo, hi).sqrt()
     }
 
     /// Distance from `p` (pixel coordinates) to the nearest pixel centre's
     /// rectangle `[0, w-1] x [0, h-1]` (0 inside).
-    pub fn distance_to_pixels(&self, p: DVec2) -> f64 {
+    pub(crate) fn distance_to_pixels(&self, p: DVec2) -> f64 {
         let (lo, hi) = self.pixel_centres();
         distance2_to_rect(p, lo, hi).sqrt()
     }
 }
 
 /// Squared distance from `p` to the rectangle `[lo, hi]` (0 inside).
-pub fn distance2_to_rect(p: DVec2, lo: DVec2, hi: DVec2) -> f64 {
+pub(crate) fn distance2_to_rect(p: DVec2, lo: DVec2, hi: DVec2) -> f64 {
     (p.clamp(lo, hi) - p).length_squared()
 }
 
 /// Squared distance from `p` to the farthest point of the rectangle `[lo, hi]`.
-pub fn farthest2_in_rect(p: DVec2, lo: DVec2, hi: DVec2) -> f64 {
+pub(crate) fn farthest2_in_rect(p: DVec2, lo: DVec2, hi: DVec2) -> f64 {
     ((p - (lo + hi) * 0.5).abs() + (hi - lo) * 0.5).length_squared()
 }
 
@@ -230,7 +230,7 @@ pub fn check_sites(sites: &[DVec2]) -> Result<()> {
 
 /// Host memory an algorithm may take per site, at most: the ordinary Voronoi
 /// diagram's cones, footprints and sort keys (docs/tuning.md has the figures).
-pub const MEMORY_PER_SITE: usize = 512;
+pub(crate) const MEMORY_PER_SITE: usize = 512;
 
 /// Refuses `n` sites when the process cannot have [`MEMORY_PER_SITE`] bytes for
 /// each, as an error rather than an abort partway through: the memory is
@@ -249,7 +249,7 @@ fn check_memory_for(n: usize) -> Result<()> {
 
 /// A key that orders finite coordinates as numbers, with −0.0 equal to 0.0,
 /// so that equal points sort together.
-pub fn lexicographic(p: DVec2) -> (i64, i64) {
+pub(crate) fn lexicographic(p: DVec2) -> (i64, i64) {
     let key = |x: f64| {
         let bits = (x + 0.0).to_bits() as i64;
         // Negative numbers: flip the magnitude bits so that they order downward.
@@ -259,7 +259,7 @@ pub fn lexicographic(p: DVec2) -> (i64, i64) {
 }
 
 /// The first index of each distinct point of `points`, in increasing order.
-pub fn first_of_each(points: &[DVec2]) -> Vec<u32> {
+pub(crate) fn first_of_each(points: &[DVec2]) -> Vec<u32> {
     let mut kept = distinct_by(points, 0..points.len() as u32, lexicographic).0;
     kept.sort_unstable();
     kept
@@ -268,7 +268,7 @@ pub fn first_of_each(points: &[DVec2]) -> Vec<u32> {
 /// The distinct points among `indices`: sorted by `key`, the first index of
 /// each run of equal points kept (−0.0 equals 0.0). Returns the kept indices in
 /// key order, and the others as (dropped, kept), sorted.
-pub fn distinct_by<K: Ord + Send>(
+pub(crate) fn distinct_by<K: Ord + Send>(
     points: &[DVec2],
     indices: impl IntoIterator<Item = u32>,
     key: impl Fn(DVec2) -> K + Sync,

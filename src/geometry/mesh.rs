@@ -39,10 +39,10 @@ struct Quad {
 
 /// Why a removal was refused: too few sites would remain.
 #[derive(Debug)]
-pub struct TooFewSites;
+pub(crate) struct TooFewSites;
 
 /// The triangulation.
-pub struct Mesh {
+pub(crate) struct Mesh {
     /// Where each vertex is now.
     pub points: Vec<DVec2>,
     triangles: Vec<[u32; 3]>,
@@ -382,7 +382,7 @@ impl Mesh {
     /// a and c and no other boundary site lies in triangle (a, b, c), the
     /// ghosts (a, b, D) and (b, c, D) become (a, b, c) and (a, c, D). Returns
     /// the number of flips.
-    pub fn convexify(&mut self) -> usize {
+    pub(crate) fn convexify(&mut self) -> usize {
         let first = self.corner[self.points.len()];
         let mut ghosts = vec![first];
         let mut g = self.next_ghost(first);
@@ -441,7 +441,7 @@ impl Mesh {
     /// Moves vertex `v` to `to` if the mesh stays valid there: every triangle
     /// around it stays counter-clockwise and, on the hull, the hull stays
     /// convex. Returns whether it moved.
-    pub fn try_move(&mut self, v: u32, to: DVec2) -> bool {
+    pub(crate) fn try_move(&mut self, v: u32, to: DVec2) -> bool {
         let first = self.corner[v as usize];
         let mut t = first;
         // On the hull: the ghosts with hull edges u → v and v → w.

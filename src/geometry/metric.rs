@@ -63,7 +63,7 @@ impl Gauge {
     /// The gauge's Lipschitz constant: on each edge's sector the gauge is linear
     /// with gradient length 1 / (the edge line's distance from the origin), so
     /// the largest of those.
-    pub fn lipschitz(&self) -> f64 {
+    pub(crate) fn lipschitz(&self) -> f64 {
         let n = self.vertices.len();
         (0..n)
             .map(|k| {
@@ -74,7 +74,7 @@ impl Gauge {
     }
 
     /// Whether the polygon is convex (a norm, when also symmetric).
-    pub fn is_convex(&self) -> bool {
+    pub(crate) fn is_convex(&self) -> bool {
         self.convex
     }
 }
@@ -224,7 +224,7 @@ impl Metric {
     /// Whether the distance is convex (its balls are convex): L_p for p >= 1 and
     /// convex polygons. Convex distances obey the triangle inequality, and their
     /// largest value over a polygon is at a corner.
-    pub fn is_convex(self) -> bool {
+    pub(crate) fn is_convex(self) -> bool {
         match self {
             Self::Lp(p) => p >= 1.0,
             Self::Polygon(g) => g.is_convex(),
@@ -275,7 +275,7 @@ impl Metric {
     }
 
     /// The key of a distance: the monotone function the shaders compare.
-    pub fn key_of_distance(self, r: f64) -> f64 {
+    pub(crate) fn key_of_distance(self, r: f64) -> f64 {
         match self {
             Self::L2 => r * r,
             Self::L1 | Self::LInf | Self::Lp(_) | Self::Polygon(_) => r,
@@ -285,7 +285,7 @@ impl Metric {
     /// The power of two that maps the keys of every offset within Euclidean
     /// distance `reach` into the depth range [0, 1]; powers of two keep the
     /// mapping exact, so equal keys stay equal depths.
-    pub fn key_scale(self, reach: f64) -> f64 {
+    pub(crate) fn key_scale(self, reach: f64) -> f64 {
         self.key_of_distance(reach * self.euclidean_bounds().1)
             .log2()
             .ceil()
@@ -294,7 +294,7 @@ impl Metric {
     }
 
     /// The distance of a key.
-    pub fn distance_of_key(self, key: f64) -> f64 {
+    pub(crate) fn distance_of_key(self, key: f64) -> f64 {
         match self {
             Self::L2 => key.sqrt(),
             Self::L1 | Self::LInf | Self::Lp(_) | Self::Polygon(_) => key,
@@ -319,7 +319,7 @@ impl Metric {
     /// Euclidean `delta`. A norm or a polygon's gauge is Lipschitz; L_p with
     /// p < 1 has no triangle inequality, only d(x + y)^p <= d(x)^p + d(y)^p, so
     /// near its spikes a small move costs more the farther the point is.
-    pub fn displacement_error(self, reach: f64, delta: f64) -> f64 {
+    pub(crate) fn displacement_error(self, reach: f64, delta: f64) -> f64 {
         match self {
             Self::Lp(p) if p < 1.0 => {
                 let moved = self.euclidean_bounds().1 * delta;
@@ -334,7 +334,7 @@ impl Metric {
     /// at most `error`: the inverse of the metric's Lipschitz constant (for
     /// L_p with p < 1 that holds at distance 0 only; see
     /// [`Metric::displacement_error`] for farther).
-    pub fn displacement_within(self, error: f64) -> f64 {
+    pub(crate) fn displacement_within(self, error: f64) -> f64 {
         match self {
             Self::Polygon(g) => error / g.lipschitz(),
             _ => error / self.euclidean_bounds().1,
@@ -350,7 +350,7 @@ impl Metric {
 
     /// The shader's code for the metric: (kind, p). Polygons have none: they are
     /// drawn as fans over themselves, which are exact.
-    pub fn shader_code(self) -> Option<(u32, f32)> {
+    pub(crate) fn shader_code(self) -> Option<(u32, f32)> {
         match self {
             Self::L2 => Some((0, 2.0)),
             Self::L1 => Some((1, 1.0)),
@@ -363,7 +363,7 @@ impl Metric {
 
 /// The key an exact point cone writes as its depth (`metric_key_of` in
 /// `glsl/metric.glsl`): the metric's own key, or, for L_p whose 2p is a whole
-/// number up to [`DepthKey::MAX_DOUBLED_P`], the sum of the coordinates' p-th
+/// number up to `DepthKey::MAX_DOUBLED_P`, the sum of the coordinates' p-th
 /// powers (shader kind 4). That takes products and at most a square root per
 /// coordinate where the distance takes three powers, which on lavapipe are
 /// polynomials, and for integer p it is exact for integer offsets while below
@@ -377,11 +377,11 @@ pub enum DepthKey {
 impl DepthKey {
     /// The largest 2p with power-sum keys: their products grow with it, and
     /// keys of offsets up to 2^30 stay below float32's largest.
-    pub const MAX_DOUBLED_P: u32 = 8;
+    pub(crate) const MAX_DOUBLED_P: u32 = 8;
 
     /// The key of exact cones of `metric` that reach no farther than Euclidean
     /// `reach`: power sums where they apply.
-    pub fn for_cones(metric: Metric, reach: f64) -> Self {
+    pub(crate) fn for_cones(metric: Metric, reach: f64) -> Self {
         match metric {
             Metric::Lp(p)
                 if (2.0 * p).fract() == 0.0
@@ -395,7 +395,7 @@ impl DepthKey {
     }
 
     /// The key of offset `d`, as the shaders compute it.
-    pub fn of_offset(self, d: DVec2) -> f64 {
+    pub(crate) fn of_offset(self, d: DVec2) -> f64 {
         match self {
             Self::Metric(m) => m.key(d),
             // |x|^p as the square root's 2p-th power, as glsl/metric.glsl makes it.
@@ -407,7 +407,7 @@ impl DepthKey {
     }
 
     /// The shader's code: (kind, p).
-    pub fn shader_code(self) -> Option<(u32, f32)> {
+    pub(crate) fn shader_code(self) -> Option<(u32, f32)> {
         match self {
             Self::Metric(m) => m.shader_code(),
             Self::PowerSum(p) => Some((4, p as f32)),
@@ -423,7 +423,7 @@ impl DepthKey {
     }
 
     /// The power of two that maps the keys of every offset within Euclidean
-    /// distance `reach` into the depth range [0, 1] (see [`Metric::key_scale`]).
+    /// distance `reach` into the depth range [0, 1] (see `Metric::key_scale`).
     pub fn scale(self, reach: f64) -> f64 {
         match self {
             Self::Metric(m) => m.key_scale(reach),

@@ -3,23 +3,23 @@
 //! width bounds that truncate the cones (§3.5).
 #![forbid(unsafe_code)]
 
-pub mod buckets;
+pub(crate) mod buckets;
 pub mod cell;
-pub mod chain;
+pub(crate) mod chain;
 pub mod circle;
-pub mod cone;
-pub mod flips;
-pub mod frame;
-pub mod mesh;
+pub(crate) mod cone;
+pub(crate) mod flips;
+pub(crate) mod frame;
+pub(crate) mod mesh;
 pub mod metric;
 pub mod predicates;
-pub mod radius;
-pub mod scale;
+pub(crate) mod radius;
+pub(crate) mod scale;
 pub mod seed;
 pub mod site;
-pub mod surface;
-pub mod sweep;
-pub mod triangle;
+pub(crate) mod surface;
+pub(crate) mod sweep;
+pub(crate) mod triangle;
 pub mod triangulation;
 
-pub use frame::Frame;
+pub use frame::{check_sites, Frame};

@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 
 /// `x · 2^k`, exact where the result is a normal number; two steps, since 2^k
 /// alone may not be one.
-pub fn times_power_of_two(x: f64, k: i32) -> f64 {
+pub(crate) fn times_power_of_two(x: f64, k: i32) -> f64 {
     x * 2f64.powi(k / 2) * 2f64.powi(k - k / 2)
 }
 
@@ -20,13 +20,13 @@ pub fn times_power_of_two(x: f64, k: i32) -> f64 {
 /// it is within 2^±16), for predicates of degree 2: orientations and squared
 /// distances. Refuses coordinates spanning more than 2^400 in ratio, where
 /// products of their differences would underflow and lose the sign.
-pub fn predicate_exponent(points: &[DVec2]) -> Result<i32> {
+pub(crate) fn predicate_exponent(points: &[DVec2]) -> Result<i32> {
     exponent_within(points, 400)
 }
 
 /// [`predicate_exponent`] for the degree-4 incircle test: coordinates may span
 /// at most 2^170 in ratio.
-pub fn incircle_exponent(points: &[DVec2]) -> Result<i32> {
+pub(crate) fn incircle_exponent(points: &[DVec2]) -> Result<i32> {
     exponent_within(points, 170)
 }
 

@@ -4,8 +4,8 @@
 //! nearest point of the site.
 //!
 //! Every shape works with every metric: the distance to a segment is the smallest
-//! norm on the segment of offsets ([`super::chain::norm_range_on_segment`]); to a
-//! circle or arc it is closed-form for L2 and found by [`curve_distance`]
+//! norm on the segment of offsets (`super::chain::norm_range_on_segment`); to a
+//! circle or arc it is closed-form for L2 and found by `curve_distance`
 //! otherwise (among a few candidates under L1 and L∞). Circles and arcs are
 //! Euclidean circles whatever the metric.
 
@@ -185,7 +185,7 @@ const CURVE_REFINEMENTS: usize = 40;
 /// a norm's distance has a valley on each side of `q`; star-shaped balls
 /// (p < 1, star polygons) may add valleys at their spikes, which the extra
 /// brackets cover. The tests compare it with dense sampling.
-pub fn curve_distance(
+pub(crate) fn curve_distance(
     metric: Metric,
     q: DVec2,
     center: DVec2,
@@ -252,7 +252,7 @@ fn facet_angle(metric: Metric) -> Option<f64> {
 
 /// The rays along which the metric's distance has a kink: the corners of L1,
 /// L∞ and polygon balls, and the axes for p < 1.
-pub fn kink_rays(metric: Metric) -> Vec<DVec2> {
+pub(crate) fn kink_rays(metric: Metric) -> Vec<DVec2> {
     match metric {
         Metric::L1 => vec![DVec2::X, DVec2::Y],
         Metric::Lp(p) if p < 1.0 => vec![DVec2::X, DVec2::Y],
@@ -325,7 +325,7 @@ impl ArcWedge {
 
 /// Whether the direction of angle `angle` lies on the arc from `start`
 /// counter-clockwise to `end`.
-pub fn on_arc(angle: f64, start: f64, end: f64) -> bool {
+pub(crate) fn on_arc(angle: f64, start: f64, end: f64) -> bool {
     let span = end - start;
     if span >= TAU {
         return true;
@@ -335,7 +335,7 @@ pub fn on_arc(angle: f64, start: f64, end: f64) -> bool {
 
 /// Checks a site list: not empty, finite, weights m > 0, radii >= 0, arcs that
 /// end after they start.
-pub fn check_general_sites(sites: &[Site]) -> Result<()> {
+pub(crate) fn check_general_sites(sites: &[Site]) -> Result<()> {
     if sites.is_empty() {
         return Err(Error::InvalidInput("the site list is empty".into()));
     }

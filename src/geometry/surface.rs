@@ -28,7 +28,7 @@ use super::{
 pub type Triangles = Vec<[DVec3; 3]>;
 
 /// A site's fan surface ([`fan_surface`]).
-pub struct FanSurface {
+pub(crate) struct FanSurface {
     pub triangles: Triangles,
     /// Bound on the error (pixels of shape distance), either way.
     pub error: f64,
@@ -154,7 +154,12 @@ impl Base {
 /// with a bound on its error: the fan's own overestimate, plus the chords'
 /// deviation for circles and arcs, which may err either way. For a chain fan
 /// of error ε the chords get half of ε.
-pub fn fan_surface(site: &Site, meshes: &FanMeshes, fan: MetricFan, reach: f64) -> FanSurface {
+pub(crate) fn fan_surface(
+    site: &Site,
+    meshes: &FanMeshes,
+    fan: MetricFan,
+    reach: f64,
+) -> FanSurface {
     let metric = meshes.metric();
     let b = metric.euclidean_bounds().1;
     let curved = matches!(site.shape, Shape::Circle { .. } | Shape::Arc { .. });

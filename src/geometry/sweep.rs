@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 /// `order` holds the point indices ordered by signed distance to the line,
 /// right side first; `order[block]` are the line's points, ordered along its
 /// direction. `progress(done, total)` counts point pairs.
-pub fn for_each_line(
+pub(crate) fn for_each_line(
     points: &[DVec2],
     progress: &mut dyn FnMut(u64, u64),
     mut visit: impl FnMut(&[u32], Range<usize>),

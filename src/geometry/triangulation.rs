@@ -15,7 +15,6 @@
 use std::collections::HashMap;
 
 use glam::DVec2;
-use serde::Serialize;
 
 use super::predicates::{incircle, orient};
 
@@ -23,7 +22,8 @@ use super::predicates::{incircle, orient};
 pub const DUMMY: u32 = u32::MAX;
 
 /// What the check found.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Validity {
     /// Vertices (sites in triangles, and the dummy), undirected edges,
     /// triangles.

@@ -1,12 +1,7 @@
-//! Ways in and out: site files, rasters of features, NumPy arrays, GeoTIFFs,
-//! pictures, vector cells.
+//! Ways in: site files (CSV, JSON, GeoJSON, NumPy) and rasters of features
+//! (NumPy arrays, PNGs).
 #![forbid(unsafe_code)]
 
-pub mod geotiff;
 pub mod mask;
 pub mod npy;
-pub mod output;
-pub mod picture;
-pub mod raster;
 pub mod sites;
-pub mod vector;

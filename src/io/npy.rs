@@ -1,12 +1,7 @@
-//! NumPy `.npy` arrays: label maps (`uint32`) and distance maps (`float32`),
-//! row-major with shape `[height, width]`, written in one go or streamed row band
-//! by row band.
+//! NumPy `.npy` arrays read as sites and masks: any numeric dtype as `f64`.
 
-use std::{fs::File, io::BufWriter, path::Path};
+use std::path::Path;
 
-use npyz::WriterBuilder;
-
-use super::output::OutputFile;
 use crate::error::{Error, Result};
 
 fn io_error(path: &Path, source: std::io::Error) -> Error {
@@ -14,78 +9,6 @@ fn io_error(path: &Path, source: std::io::Error) -> Error {
         path: path.to_path_buf(),
         cause: source,
     }
-}
-
-/// An `.npy` file being written value by value in row-major order.
-pub struct NpyStream<T: npyz::Serialize + npyz::AutoSerialize + Copy> {
-    output: OutputFile,
-    writer: npyz::NpyWriter<T, BufWriter<File>>,
-    remaining: u64,
-}
-
-impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
-    /// Creates `path` (named `*.npy`) for an array of `shape`; the file appears
-    /// only when [`NpyStream::finish`] succeeds.
-    pub fn create(path: &Path, shape: &[u64]) -> Result<Self> {
-        let (output, file) = OutputFile::create(path, "npy", "arrays")?;
-        let writer = npyz::WriteOptions::new()
-            .default_dtype()
-            .shape(shape)
-            .writer(BufWriter::new(file))
-            .begin_nd()
-            .map_err(|e| io_error(path, e))?;
-        Ok(Self {
-            output,
-            writer,
-            remaining: shape.iter().product(),
-        })
-    }
-
-    /// Appends values.
-    pub fn write(&mut self, data: &[T]) -> Result<()> {
-        if data.len() as u64 > self.remaining {
-            return Err(Error::InvalidInput(format!(
-                "{}: more values than the array's shape holds",
-                self.output.path().display()
-            )));
-        }
-        self.remaining -= data.len() as u64;
-        self.writer
-            .extend(data.iter().copied())
-            .map_err(|e| io_error(self.output.path(), e))
-    }
-
-    /// Finishes the file; every value of the shape must have been written.
-    pub fn finish(self) -> Result<()> {
-        if self.remaining != 0 {
-            return Err(Error::InvalidInput(format!(
-                "{}: {} values missing",
-                self.output.path().display(),
-                self.remaining
-            )));
-        }
-        self.writer
-            .finish()
-            .map_err(|e| io_error(self.output.path(), e))?;
-        self.output.commit()
-    }
-}
-
-/// Writes `data` (row-major) as an `.npy` array of `shape`.
-pub fn write<T>(path: &Path, shape: &[u64], data: &[T]) -> Result<()>
-where
-    T: npyz::Serialize + npyz::AutoSerialize + Copy,
-{
-    let expected: u64 = shape.iter().product();
-    if expected != data.len() as u64 {
-        return Err(Error::InvalidInput(format!(
-            "array of {} values does not have shape {shape:?}",
-            data.len()
-        )));
-    }
-    let mut stream = NpyStream::create(path, shape)?;
-    stream.write(data)?;
-    stream.finish()
 }
 
 /// Reads an `.npy` array: its shape and values.
@@ -98,7 +21,7 @@ pub fn read<T: npyz::Deserialize>(path: &Path) -> Result<(Vec<u64>, Vec<T>)> {
 }
 
 /// Reads a numeric `.npy` array (floats or integers of any width) as `f64`.
-pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
+pub(crate) fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     let parse = |e: std::io::Error| Error::Parse {
         path: path.to_path_buf(),
@@ -158,21 +81,40 @@ fn widen<T: Into<f64>>(values: Vec<T>) -> Vec<f64> {
 mod tests {
     use super::*;
 
+    /// Writes `data` as an `.npy` array of `shape`.
+    fn write<T: npyz::Serialize + npyz::AutoSerialize + Copy>(
+        path: &Path,
+        shape: &[u64],
+        data: &[T],
+    ) {
+        use npyz::WriterBuilder;
+        let mut bytes = Vec::new();
+        let mut writer = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(shape)
+            .writer(&mut bytes)
+            .begin_nd()
+            .unwrap();
+        writer.extend(data.iter().copied()).unwrap();
+        writer.finish().unwrap();
+        std::fs::write(path, bytes).unwrap();
+    }
+
     #[test]
     fn every_dtype_read_as_f64_comes_back() {
         let dir = std::env::temp_dir().join(format!("pixgeo-npy-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("a.npy");
-        write(&path, &[2, 2], &[1.5f64, -2.0, 0.0, 1e300]).unwrap();
+        write(&path, &[2, 2], &[1.5f64, -2.0, 0.0, 1e300]);
         assert_eq!(
             read_f64(&path).unwrap(),
             (vec![2, 2], vec![1.5, -2.0, 0.0, 1e300])
         );
-        write(&path, &[3], &[0u8, 7, 255]).unwrap();
+        write(&path, &[3], &[0u8, 7, 255]);
         assert_eq!(read_f64(&path).unwrap().1, [0.0, 7.0, 255.0]);
-        write(&path, &[2], &[true, false]).unwrap();
+        write(&path, &[2], &[true, false]);
         assert_eq!(read_f64(&path).unwrap().1, [1.0, 0.0]);
-        write(&path, &[2], &[-3i32, 4]).unwrap();
+        write(&path, &[2], &[-3i32, 4]);
         assert_eq!(read_f64(&path).unwrap().1, [-3.0, 4.0]);
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -27,11 +27,11 @@ use crate::{
 };
 
 /// The path that names standard input.
-pub const STDIN: &str = "-";
+pub(crate) const STDIN: &str = "-";
 
 /// The formats a site file may have, told by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SiteFormat {
+pub(crate) enum SiteFormat {
     Csv,
     Json,
     GeoJson,

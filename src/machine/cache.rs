@@ -54,7 +54,7 @@ impl PipelineCache {
     }
 
     /// Notes that a pipeline was made through the cache.
-    pub fn grew(&self) {
+    pub(crate) fn grew(&self) {
         self.unsaved.set(true);
     }
 

@@ -361,7 +361,7 @@ impl Context {
     }
 
     /// Returns the validation messages collected since the last check as an error.
-    pub fn check_validation(&self) -> Result<()> {
+    pub(crate) fn check_validation(&self) -> Result<()> {
         let mut messages = self.messages.lock().unwrap_or_else(|e| e.into_inner());
         if messages.is_empty() {
             Ok(())
@@ -371,7 +371,7 @@ impl Context {
     }
 
     /// Names `handle` for debuggers and the validation layer's messages.
-    pub fn name_object<H: vk::Handle>(&self, handle: H, name: &str) {
+    pub(crate) fn name_object<H: vk::Handle>(&self, handle: H, name: &str) {
         let (Some(utils), Ok(name)) = (&self.debug_utils, std::ffi::CString::new(name)) else {
             return;
         };
@@ -384,7 +384,7 @@ impl Context {
     }
 
     /// Opens a labelled region of `cmd` (closed by [`Context::end_label`]).
-    pub fn begin_label(&self, cmd: vk::CommandBuffer, label: &str) {
+    pub(crate) fn begin_label(&self, cmd: vk::CommandBuffer, label: &str) {
         if let (Some(utils), Ok(label)) = (&self.debug_utils, std::ffi::CString::new(label)) {
             let info = vk::DebugUtilsLabelEXT::default().label_name(&label);
             // SAFETY: `cmd` is recording; the label outlives the call.
@@ -392,7 +392,7 @@ impl Context {
         }
     }
 
-    pub fn end_label(&self, cmd: vk::CommandBuffer) {
+    pub(crate) fn end_label(&self, cmd: vk::CommandBuffer) {
         if let Some(utils) = &self.debug_utils {
             // SAFETY: `cmd` is recording and has a region open (`begin_label`).
             unsafe { utils.cmd_end_debug_utils_label(cmd) };
@@ -400,7 +400,7 @@ impl Context {
     }
 
     /// Marks one command of `cmd` with `label`.
-    pub fn insert_label(&self, cmd: vk::CommandBuffer, label: &str) {
+    pub(crate) fn insert_label(&self, cmd: vk::CommandBuffer, label: &str) {
         if let (Some(utils), Ok(label)) = (&self.debug_utils, std::ffi::CString::new(label)) {
             let info = vk::DebugUtilsLabelEXT::default().label_name(&label);
             // SAFETY: `cmd` is recording; the label outlives the call.
@@ -408,7 +408,7 @@ impl Context {
         }
     }
 
-    pub fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
+    pub(crate) fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
     }
 }

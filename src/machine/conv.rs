@@ -7,7 +7,7 @@ use super::state::{
     StencilTest,
 };
 
-pub fn map_compare(c: Compare) -> vk::CompareOp {
+pub(crate) fn map_compare(c: Compare) -> vk::CompareOp {
     match c {
         Compare::Never => vk::CompareOp::NEVER,
         Compare::Less => vk::CompareOp::LESS,
@@ -20,7 +20,7 @@ pub fn map_compare(c: Compare) -> vk::CompareOp {
     }
 }
 
-pub fn map_stencil_op(op: StencilOp) -> vk::StencilOp {
+pub(crate) fn map_stencil_op(op: StencilOp) -> vk::StencilOp {
     match op {
         StencilOp::Keep => vk::StencilOp::KEEP,
         StencilOp::Zero => vk::StencilOp::ZERO,
@@ -33,7 +33,7 @@ pub fn map_stencil_op(op: StencilOp) -> vk::StencilOp {
     }
 }
 
-pub fn map_stencil(s: &StencilTest) -> vk::StencilOpState {
+pub(crate) fn map_stencil(s: &StencilTest) -> vk::StencilOpState {
     vk::StencilOpState {
         fail_op: map_stencil_op(s.on_fail),
         pass_op: map_stencil_op(s.on_pass),
@@ -45,7 +45,7 @@ pub fn map_stencil(s: &StencilTest) -> vk::StencilOpState {
     }
 }
 
-pub fn map_blend_factor(f: BlendFactor) -> vk::BlendFactor {
+pub(crate) fn map_blend_factor(f: BlendFactor) -> vk::BlendFactor {
     match f {
         BlendFactor::Zero => vk::BlendFactor::ZERO,
         BlendFactor::One => vk::BlendFactor::ONE,
@@ -65,7 +65,7 @@ pub fn map_blend_factor(f: BlendFactor) -> vk::BlendFactor {
     }
 }
 
-pub fn map_blend_op(op: BlendOp) -> vk::BlendOp {
+pub(crate) fn map_blend_op(op: BlendOp) -> vk::BlendOp {
     match op {
         BlendOp::Add => vk::BlendOp::ADD,
         BlendOp::Subtract => vk::BlendOp::SUBTRACT,
@@ -75,7 +75,7 @@ pub fn map_blend_op(op: BlendOp) -> vk::BlendOp {
     }
 }
 
-pub fn map_logic_op(op: LogicOp) -> vk::LogicOp {
+pub(crate) fn map_logic_op(op: LogicOp) -> vk::LogicOp {
     match op {
         LogicOp::Clear => vk::LogicOp::CLEAR,
         LogicOp::And => vk::LogicOp::AND,
@@ -96,7 +96,7 @@ pub fn map_logic_op(op: LogicOp) -> vk::LogicOp {
     }
 }
 
-pub fn map_channel_mask(m: ChannelMask) -> vk::ColorComponentFlags {
+pub(crate) fn map_channel_mask(m: ChannelMask) -> vk::ColorComponentFlags {
     let mut f = vk::ColorComponentFlags::empty();
     if m.red {
         f |= vk::ColorComponentFlags::R;
@@ -113,7 +113,9 @@ pub fn map_channel_mask(m: ChannelMask) -> vk::ColorComponentFlags {
     f
 }
 
-pub fn map_depth_stencil(state: &RasterState) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
+pub(crate) fn map_depth_stencil(
+    state: &RasterState,
+) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
     let stencil = map_stencil(&state.stencil);
     let stencil_on = state.stencil != StencilTest::OFF;
     vk::PipelineDepthStencilStateCreateInfo::default()
@@ -126,7 +128,7 @@ pub fn map_depth_stencil(state: &RasterState) -> vk::PipelineDepthStencilStateCr
 }
 
 /// The colour attachment's blend state and the pipeline-wide logic op, if any.
-pub fn map_color_update(
+pub(crate) fn map_color_update(
     state: &RasterState,
 ) -> (vk::PipelineColorBlendAttachmentState, Option<vk::LogicOp>) {
     let attachment = vk::PipelineColorBlendAttachmentState::default()

@@ -52,7 +52,7 @@ impl Format {
     }
 
     /// Bytes per pixel of one readback (for depth/stencil: the depth aspect).
-    pub fn texel_bytes(self) -> u64 {
+    pub(crate) fn texel_bytes(self) -> u64 {
         match self {
             Format::Rgba32Float | Format::Rgba32Uint => 16,
             _ => 4,

@@ -116,7 +116,7 @@ pub struct Bins {
 /// The kind of device a machine drives: drawing choices that weigh a
 /// triangle against fragments are measured for each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DeviceClass {
+pub(crate) enum DeviceClass {
     /// A rasterizer on the CPU, such as Mesa's lavapipe.
     Software,
     /// A discrete, integrated or virtual GPU.
@@ -194,7 +194,7 @@ impl Machine {
     }
 
     /// Whether the device rasterizes on the CPU or is a GPU.
-    pub fn device_class(&self) -> DeviceClass {
+    pub(crate) fn device_class(&self) -> DeviceClass {
         match self.ctx.properties.device_type {
             vk::PhysicalDeviceType::CPU => DeviceClass::Software,
             _ => DeviceClass::Gpu,
@@ -361,7 +361,7 @@ impl Machine {
     /// Reads back `rect` of an integer image into `out`: row `r` of the rectangle
     /// goes to `out[r * stride..]`, so a tile lands in place in a wider array.
     /// An `Rgba8Unorm` pixel reads as one word, red in the lowest byte.
-    pub fn read_u32_into(
+    pub(crate) fn read_u32_into(
         &self,
         image: &Image,
         rect: PixelRect,
@@ -389,7 +389,7 @@ impl Machine {
 
     /// Reads back `rect` of a float image into `out` with a row stride, as
     /// [`Machine::read_u32_into`] does (the stride counts floats).
-    pub fn read_f32_into(
+    pub(crate) fn read_f32_into(
         &self,
         image: &Image,
         rect: PixelRect,
@@ -410,7 +410,7 @@ impl Machine {
 
     /// Reads back the stencil of `rect` of a depth/stencil image into `out`, row
     /// `r` at `out[r * stride..]`.
-    pub fn read_stencil_into(
+    pub(crate) fn read_stencil_into(
         &self,
         image: &Image,
         rect: PixelRect,
@@ -474,13 +474,13 @@ impl Machine {
 
     /// A host-visible storage buffer of `bytes` bytes, for kernels and fragment
     /// shaders to read and write and the host to fill and read.
-    pub fn storage_buffer(&self, bytes: u64) -> Result<Buffer> {
+    pub(crate) fn storage_buffer(&self, bytes: u64) -> Result<Buffer> {
         self.readback_buffer(bytes)
     }
 
     /// Whether fragment shaders may write storage buffers (per-pixel lists,
     /// peeling).
-    pub fn has_fragment_stores(&self) -> bool {
+    pub(crate) fn has_fragment_stores(&self) -> bool {
         self.ctx.fragment_stores
     }
 

@@ -557,7 +557,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// Gives the vertex and fragment shaders of the draws that follow
     /// `buffers` as storage buffers 0, 1, 2 (at most three) and `records` as
     /// storage image 3 (filled by [`Pass::upload_for_fragments`]).
-    pub fn bind_fragment_buffers(
+    pub(crate) fn bind_fragment_buffers(
         &mut self,
         buffers: &[&'r Buffer],
         records: Option<&'r Image>,
@@ -770,7 +770,7 @@ impl<'m, 'r> Pass<'m, 'r> {
 
     /// Copies all of `image` (for depth/stencil: its depth) into `buffer` from byte
     /// `offset`, row-major, for fragment shaders of later passes to read.
-    pub fn feed_fragment_buffer(
+    pub(crate) fn feed_fragment_buffer(
         &mut self,
         image: &'r Image,
         buffer: &'r Buffer,
@@ -788,7 +788,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// Fills the depth of all of `image` from `buffer` (from byte `offset`, one
     /// `f32` in [0, 1] per pixel, row-major), after the dispatches that wrote it:
     /// a depth picture computed by a kernel, for the graphics passes that follow.
-    pub fn copy_depth_from_buffer(
+    pub(crate) fn copy_depth_from_buffer(
         &mut self,
         buffer: &'r Buffer,
         offset: u64,
@@ -806,7 +806,11 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// Fills all of a colour `image` from the start of `buffer` (texels
     /// row-major, as the host wrote them) for the fragment shaders that follow
     /// to read with `imageLoad` (outside a rendering pass).
-    pub fn upload_for_fragments(&mut self, buffer: &'r Buffer, image: &'r Image) -> Result<()> {
+    pub(crate) fn upload_for_fragments(
+        &mut self,
+        buffer: &'r Buffer,
+        image: &'r Image,
+    ) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * image.format().texel_bytes();
         if image.format().is_depth() || bytes > buffer.size() {
             return Err(Error::InvalidInput(
@@ -889,7 +893,7 @@ impl<'m, 'r> Pass<'m, 'r> {
 
     /// Copies the stencil of `rect` of a depth/stencil `image` into `buffer`, one
     /// byte per pixel, row-major, tightly packed.
-    pub fn copy_stencil_to_buffer(
+    pub(crate) fn copy_stencil_to_buffer(
         &mut self,
         image: &'r Image,
         rect: PixelRect,

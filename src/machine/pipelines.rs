@@ -19,7 +19,7 @@ use crate::error::{Error, Result, VkContext};
 
 /// Compute kernels of the reductions (thesis §1.7).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Kernel {
+pub(crate) enum Kernel {
     MinMax,
     Histogram,
 }
@@ -41,7 +41,7 @@ pub const BUFFER_KERNEL_BINDINGS: u32 = 8;
 
 /// The graphics layout's storage image (after its three storage buffers):
 /// records fragment shaders read with `imageLoad`.
-pub const GRAPHICS_RECORDS_BINDING: u32 = 3;
+pub(crate) const GRAPHICS_RECORDS_BINDING: u32 = 3;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct GraphicsKey {
@@ -203,7 +203,7 @@ impl Pipelines {
 
     /// The pipeline drawing `program` with its build `fragment` into `color`
     /// and `depth` with `state`.
-    pub fn graphics(
+    pub(crate) fn graphics(
         &self,
         program: &'static GraphicsProgram,
         fragment: Shader,
@@ -383,7 +383,7 @@ impl Pipelines {
     }
 
     /// The compute pipeline of a kernel over storage buffers.
-    pub fn buffer_compute(&self, kernel: &'static ComputeProgram) -> Result<vk::Pipeline> {
+    pub(crate) fn buffer_compute(&self, kernel: &'static ComputeProgram) -> Result<vk::Pipeline> {
         let key = std::ptr::from_ref(kernel) as usize;
         if let Some(p) = self.buffer_kernels.borrow().get(&key) {
             return Ok(*p);
@@ -415,7 +415,7 @@ impl Pipelines {
     }
 
     /// Number of graphics pipelines created so far (one per distinct state used).
-    pub fn graphics_count(&self) -> usize {
+    pub(crate) fn graphics_count(&self) -> usize {
         self.graphics.borrow().len()
     }
 }

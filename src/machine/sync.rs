@@ -80,7 +80,7 @@ fn access(usage: Usage) -> Access {
 
 /// The barrier that makes an image used as `from` ready to be used as `to`, or
 /// `None` when two uses only read.
-pub fn image_barrier(
+pub(crate) fn image_barrier(
     image: vk::Image,
     range: vk::ImageSubresourceRange,
     from: Usage,
@@ -110,7 +110,7 @@ pub fn layout(usage: Usage) -> vk::ImageLayout {
 
 /// What a pass does with a buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BufferUse {
+pub(crate) enum BufferUse {
     /// Written or read by the host between runs: a submission makes host
     /// writes visible, and each run ends by making device writes visible to it.
     Host,
@@ -171,7 +171,7 @@ fn buffer_access(usage: BufferUse) -> Access {
 /// The barrier that orders a buffer's use as `from` before its use as `to`, or
 /// `None` when neither writes, or when the host wrote it before the
 /// submission (which the submission itself makes visible).
-pub fn buffer_barrier(
+pub(crate) fn buffer_barrier(
     buffer: vk::Buffer,
     from: BufferUse,
     to: BufferUse,

@@ -330,7 +330,7 @@ fn flips_make_the_digital_triangulation_delaunay() {
             .map(|s| DVec2::new(s[0] as f64, s[1] as f64))
             .collect();
         let digital = dualize(&flood(w, h, &seeds).unwrap(), w, h);
-        let (triangles, flips) = pixgeo::geometry::flips::make_delaunay(&points, digital).unwrap();
+        let (triangles, flips) = pixgeo::testing::make_delaunay(&points, digital).unwrap();
         let validity = validate(&points, &triangles);
         assert!(validity.is_valid(), "{name}: {:?}", validity.problems);
         // Empty circles, exactly.

@@ -1,11 +1,11 @@
 //! The pixel machine's tests, blending, logic ops, readback and reductions, each
 //! checked against what the thesis's model says the pixel must hold.
 
-use pixgeo::algorithms::cones::{
+use pixgeo::machine::*;
+use pixgeo::testing::{
     draw_cones, ConeDraw, ConeInstance, ConePush, SiteBatch, SiteShape, CONE_EXACT, CONE_PEEL,
     SITE_EXACT_BATCH,
 };
-use pixgeo::machine::*;
 
 fn machine() -> Machine {
     Machine::from_env().expect("a Vulkan device (run tools/setup)")

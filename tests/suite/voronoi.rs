@@ -4,8 +4,9 @@
 use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions},
-    geometry::{cone::bisector_deviation, metric::Metric, Frame},
+    geometry::{metric::Metric, Frame},
     machine::{MachineOptions, PixelRect},
+    testing::bisector_deviation,
     Machine,
 };
 use pixgeo_reference::voronoi::{nearest_distances_metric, nearest_sites_brute_force};

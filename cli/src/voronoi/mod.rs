@@ -21,12 +21,6 @@ use pixgeo::{
         metric::Metric,
         site::{Shape, Site},
     },
-    io::{
-        output::{check_extension, check_extensions, extension_among},
-        picture,
-        picture::PngStream,
-        raster::{self, RasterStream},
-    },
     machine::PixelRect,
 };
 use serde_json::json;
@@ -37,6 +31,11 @@ use crate::{
     envelope,
     input::{Input, World},
     progress::Progress,
+    write::{
+        output::{check_distinct, check_extension, check_extensions, extension_among},
+        picture::{self, PngStream},
+        raster::{self, RasterStream},
+    },
 };
 
 mod levels;
@@ -93,8 +92,8 @@ pub struct Args {
     /// Accuracy: `exact` writes the exact distance per pixel (labels are nearest
     /// sites); `fan` draws triangle fans sized for a distance error of --epsilon
     /// pixels; `fan:T` draws every cone with T triangles (thesis §3.3).
-    #[arg(long, default_value = "exact", value_parser = parse_mode)]
-    mode: ModeArg,
+    #[arg(long, default_value = "exact", value_parser = crate::input::named::<Accuracy>)]
+    mode: Accuracy,
 
     /// Distance error bound in pixels for `--mode fan` (default 1).
     #[arg(long)]
@@ -103,7 +102,7 @@ pub struct Args {
     /// How far cones reach: `local` (a radius per site from its neighbourhood),
     /// `quadtree` (thesis §3.5: one radius from the quadtree, retried while minmax
     /// finds uncovered pixels), or `none` (picture-wide cones). Default: local.
-    #[arg(long, value_parser = parse_speedup)]
+    #[arg(long, value_parser = crate::input::named::<Speedup>)]
     speedup: Option<Speedup>,
 
     /// Same as `--speedup none`.
@@ -219,28 +218,6 @@ enum Method {
     Jfa,
 }
 
-#[derive(Clone, Copy, Debug)]
-enum ModeArg {
-    Exact,
-    Fan(Option<u32>),
-}
-
-fn parse_mode(s: &str) -> Result<ModeArg, String> {
-    match s {
-        "exact" => Ok(ModeArg::Exact),
-        "fan" => Ok(ModeArg::Fan(None)),
-        _ => match s.strip_prefix("fan:") {
-            Some(t) => match t.parse::<u32>() {
-                Ok(t) if t >= 3 => Ok(ModeArg::Fan(Some(t))),
-                _ => Err(format!(
-                    "`{t}`: a fan needs an integer of at least 3 triangles"
-                )),
-            },
-            None => Err(format!("unknown mode `{s}`: use exact, fan or fan:T")),
-        },
-    }
-}
-
 fn parse_window(s: &str) -> Result<PixelRect, String> {
     let v: Vec<u32> = s
         .split(',')
@@ -264,17 +241,6 @@ fn refuse_window(args: &Args, what: &str) -> Result<()> {
         bail!("--window takes the ordinary diagram of points on a Vulkan device; {what} is computed whole");
     }
     Ok(())
-}
-
-fn parse_speedup(s: &str) -> Result<Speedup, String> {
-    match s {
-        "local" => Ok(Speedup::Local),
-        "quadtree" => Ok(Speedup::Quadtree),
-        "none" => Ok(Speedup::None),
-        _ => Err(format!(
-            "unknown speedup `{s}`: use local, quadtree or none"
-        )),
-    }
 }
 
 pub fn run(mut args: Args) -> Result<()> {
@@ -455,7 +421,7 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
 
 /// Refuses options that contradict each other or that this run would ignore.
 fn check_options(args: &Args) -> Result<()> {
-    pixgeo::io::output::check_distinct(
+    check_distinct(
         [
             ("-o", &args.output),
             ("--labels", &args.labels),
@@ -502,7 +468,13 @@ fn check_options(args: &Args) -> Result<()> {
         if !(epsilon > 0.0 && epsilon.is_finite()) {
             bail!("--epsilon needs a positive distance in pixels, not {epsilon}");
         }
-        if !matches!(args.mode, ModeArg::Fan(None)) {
+        if !matches!(
+            args.mode,
+            Accuracy::Fan {
+                triangles: None,
+                ..
+            }
+        ) {
             bail!("--epsilon sizes the fans of --mode fan (fan:T fixes their triangles instead)");
         }
     }
@@ -512,11 +484,11 @@ fn check_options(args: &Args) -> Result<()> {
 impl Args {
     fn accuracy(&self) -> Accuracy {
         match self.mode {
-            ModeArg::Exact => Accuracy::Exact,
-            ModeArg::Fan(triangles) => Accuracy::Fan {
+            Accuracy::Fan { triangles, .. } => Accuracy::Fan {
                 epsilon: self.epsilon.unwrap_or(1.0),
                 triangles,
             },
+            exact => exact,
         }
     }
 
@@ -558,7 +530,7 @@ impl Args {
     /// CPU pixel algorithms and flooding.
     fn refuse_cone_options(&self, path: &str) -> Result<()> {
         let given = [
-            ("--mode fan", !matches!(self.mode, ModeArg::Exact)),
+            ("--mode fan", self.mode != Accuracy::Exact),
             ("--speedup", self.speedup.is_some() || self.no_speedup),
             ("--max-tile", self.max_tile.is_some()),
             ("--ties", self.ties.is_some()),
@@ -575,8 +547,12 @@ impl Args {
 /// The accuracy mode as the JSON summary names it.
 fn mode_name(args: &Args) -> String {
     match args.mode {
-        ModeArg::Exact => "exact".to_string(),
-        ModeArg::Fan(None) => format!("fan (epsilon {})", args.epsilon.unwrap_or(1.0)),
-        ModeArg::Fan(Some(t)) => format!("fan:{t}"),
+        Accuracy::Exact => "exact".to_string(),
+        Accuracy::Fan {
+            triangles: None, ..
+        } => format!("fan (epsilon {})", args.epsilon.unwrap_or(1.0)),
+        Accuracy::Fan {
+            triangles: Some(t), ..
+        } => format!("fan:{t}"),
     }
 }

@@ -1,8 +1,6 @@
 //! How cones are drawn (fans within ε, or exact per fragment) and how far
 //! they reach.
 
-use serde::Serialize;
-
 use crate::{
     error::{Error, Result},
     geometry::{
@@ -33,8 +31,8 @@ impl Accuracy {
     };
 
     /// A clear error for a fan without a finite ε of at least
-    /// [`MIN_FAN_EPSILON`] pixels, or with fewer than 3 or more than
-    /// [`MAX_FAN_TRIANGLES`] triangles.
+    /// `MIN_FAN_EPSILON` pixels, or with fewer than 3 or more than
+    /// `MAX_FAN_TRIANGLES` triangles.
     pub fn check(self) -> Result<()> {
         if let Self::Fan { epsilon, triangles } = self {
             if !(epsilon >= MIN_FAN_EPSILON && epsilon.is_finite()) {
@@ -54,8 +52,9 @@ impl Accuracy {
 }
 
 /// How far cones reach.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Speedup {
     /// Every cone covers the whole picture.
     None,

@@ -3,7 +3,6 @@
 //! footprint, and the depth scale they share.
 
 use glam::DVec2;
-use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
@@ -35,7 +34,8 @@ use crate::algorithms::cones::ConeBatch;
 pub const MAX_EXACT_REACH: f64 = (1u32 << 18) as f64;
 
 /// How many cones were drawn with one kind of footprint.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ConeGroup {
     /// `tiles` (exact cones found per screen tile, not drawn), `batch` (exact
     /// cones drawn eight to a rectangle), `polygon` (an exact cone's own
@@ -215,12 +215,12 @@ impl ConePlan {
     }
 
     /// Whether exact cones are taken per screen tile where the lists allow.
-    pub fn is_tiled(&self) -> bool {
+    pub(crate) fn is_tiled(&self) -> bool {
         self.tiled
     }
 
     /// How the depths drawn map to distances (world units).
-    pub fn depth_map(&self, pixels_per_unit: f64) -> DepthMap {
+    pub(crate) fn depth_map(&self, pixels_per_unit: f64) -> DepthMap {
         let exact = self.spec.accuracy == Accuracy::Exact;
         DepthMap {
             key: exact.then_some(self.key),
@@ -263,7 +263,7 @@ impl ConePlan {
     }
 
     /// The quadtree radii of tries up to `attempt`.
-    pub fn radii_tried(&self, attempt: usize) -> Vec<f64> {
+    pub(crate) fn radii_tried(&self, attempt: usize) -> Vec<f64> {
         self.attempts[..=attempt]
             .iter()
             .filter_map(|a| a.radius)

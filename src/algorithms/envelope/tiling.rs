@@ -37,7 +37,7 @@ impl Tiling {
     }
 
     /// Whether the window fits one tile image.
-    pub fn is_single(&self) -> bool {
+    pub(crate) fn is_single(&self) -> bool {
         self.tile_w == self.window.width && self.tile_h == self.window.height
     }
 

@@ -27,7 +27,7 @@ pub(crate) struct Tuning {
 
 impl Tuning {
     /// Mesa's lavapipe, measured on 2 cores.
-    pub const SOFTWARE: Self = Self {
+    pub(crate) const SOFTWARE: Self = Self {
         triangle_fragments: 400.0,
         batch_radius: 48.0,
         batch_radius_lp: 12.0,
@@ -83,7 +83,7 @@ impl Tuning {
     /// `K tan(pi / K) r²`. Hexagons give way to octagons where the fragments
     /// the octagon saves pay for its two more triangles (about radius 73 on
     /// lavapipe).
-    pub fn polygon_corners(&self, radius: f64) -> u32 {
+    pub(crate) fn polygon_corners(&self, radius: f64) -> u32 {
         let area = |k: f64| k * (PI / k).tan();
         let saved = (area(6.0) - area(8.0)) * radius * radius;
         if saved > 2.0 * self.triangle_fragments {

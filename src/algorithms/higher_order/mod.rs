@@ -24,7 +24,6 @@ use std::time::Instant;
 
 use glam::DVec2;
 use rayon::prelude::*;
-use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
@@ -64,7 +63,7 @@ use tiled::*;
 const FOOTPRINT_CORNERS: u32 = 8;
 
 /// Largest number of levels kept per pixel.
-pub const MAX_LEVELS: u32 = 256;
+pub(crate) const MAX_LEVELS: u32 = 256;
 
 /// Keys kept per pixel take 8 bytes each; beyond this many bytes in all, a picture
 /// is refused rather than exhausting memory.
@@ -131,7 +130,8 @@ impl Default for KNearestOptions {
 }
 
 /// How the diagram was made.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct KNearestStats {
     pub device: String,
     pub sites: usize,

@@ -24,7 +24,6 @@
 //! refinement; the candidates and exact evaluation they share are here.
 
 use glam::DVec2;
-use serde::Serialize;
 
 use crate::{
     error::{Error, Result},
@@ -88,7 +87,7 @@ impl From<Unit> for Metric {
 
 impl Unit {
     /// The distance from a site to a centre: the gauge of site − centre.
-    fn gauge(self, v: DVec2) -> f64 {
+    pub fn gauge(self, v: DVec2) -> f64 {
         match self {
             Unit::Circle => v.length(),
             Unit::Polygon(g) => g.of(v),
@@ -107,7 +106,7 @@ impl Unit {
     }
 
     /// How much the gauge can change per unit of Euclidean motion.
-    fn lipschitz(self) -> f64 {
+    pub fn lipschitz(self) -> f64 {
         match self {
             Unit::Circle => 1.0,
             // In the sector of edge (p, q) the gauge is (v × e) / (p × q): its
@@ -128,7 +127,8 @@ impl Unit {
 }
 
 /// A homothet `centre + scale · Q`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Homothet {
     pub centre: [f64; 2],
     pub scale: f64,
@@ -138,8 +138,9 @@ pub struct Homothet {
 }
 
 /// How the picture's values were made.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum PixelStage {
     /// The envelope of cones, drawn with a depth test.
     Cones,
@@ -152,7 +153,8 @@ pub enum PixelStage {
 
 /// The answer: what the picture says, the exact homothet, and how far apart they
 /// may be.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct HomothetAnswer {
     /// The pixel holding the envelope's extreme, and its depth as a scale.
     pub pixel: Homothet,
@@ -171,7 +173,7 @@ pub struct HomothetAnswer {
     pub width: u32,
     pub height: u32,
     /// The picture the envelope was drawn on.
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub frame: Frame,
 }
 

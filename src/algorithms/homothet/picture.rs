@@ -12,18 +12,24 @@ pub enum Envelope {
     Empty,
 }
 
-/// A picture (RGB rows) of the envelope behind `answer`, like the thesis's
-/// Figs. 4.1 and 5.1: the regions coloured by their site, the point sites as
-/// dots, the exact homothet's outline in red and its centre in yellow; with its
-/// width and height. Enclosing pictures show the sites and the whole homothet.
-pub fn picture(
+/// The envelope behind `answer`, like the thesis's Figs. 4.1 and 5.1: each
+/// pixel's site (the region it lies in), on the answer's frame for `empty` and
+/// on one holding the sites and the whole homothet for `enclose`.
+#[derive(Clone, Debug)]
+pub struct EnvelopeLabels {
+    pub frame: Frame,
+    /// Each pixel's site, row-major.
+    pub labels: Vec<u32>,
+}
+
+/// The envelope behind `answer` (see [`EnvelopeLabels`]).
+pub fn envelope_labels(
     machine: &Machine,
     shapes: &[Site],
     unit: Unit,
     answer: &HomothetAnswer,
     envelope: Envelope,
-    region: &Region,
-) -> Result<(Vec<u8>, u32, u32)> {
+) -> Result<EnvelopeLabels> {
     let metric = unit.cone_metric()?;
     let centre = DVec2::from(answer.exact.centre);
     let scale = answer.exact.scale;
@@ -65,22 +71,5 @@ pub fn picture(
             crate::algorithms::sites::voronoi_sites(machine, shapes, &options)?.labels
         }
     };
-    let marks: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
-    let mut rgb = crate::io::picture::label_rows(&labels, frame.width, 0, &marks, None);
-    // A band about a pixel wide around the outline, in gauge units.
-    let band = 0.8 / frame.scale * unit.lipschitz();
-    let w = frame.width as usize;
-    for (at, px) in rgb.chunks_exact_mut(3).enumerate() {
-        let q = frame.to_world(DVec2::new((at % w) as f64, (at / w) as f64));
-        if envelope == Envelope::Empty && !region.rings.is_empty() && !region.contains(q) {
-            px.iter_mut().for_each(|v| *v = (*v as f32 * 0.35) as u8);
-        }
-        let g = unit.gauge(q - centre);
-        if (g - scale).abs() <= band {
-            px.copy_from_slice(&[220, 20, 30]);
-        } else if q.distance(centre) * frame.scale <= 2.5 {
-            px.copy_from_slice(&[255, 220, 0]);
-        }
-    }
-    Ok((rgb, frame.width, frame.height))
+    Ok(EnvelopeLabels { frame, labels })
 }

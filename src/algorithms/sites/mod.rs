@@ -4,7 +4,7 @@
 //! test LESS keeps the lower envelope: the thesis's cones with raised apexes and
 //! changed angles, roofs over segments and straw huts over circles, evaluated
 //! exactly per pixel. In fan mode the same surfaces are drawn as triangles
-//! ([`crate::geometry::surface`]), their depths interpolated from their vertices.
+//! (`crate::geometry::surface`), their depths interpolated from their vertices.
 //!
 //! Rectangles (and fan surfaces) are cut to where a site can win: the picture is divided into cells,
 //! each cell gets an upper bound on the envelope (the smallest over the sites of
@@ -67,7 +67,7 @@ use tiles::*;
 /// The Voronoi diagram of `sites` of any shape and weight (world coordinates):
 /// every pixel labelled with a site of smallest weighted distance, and the
 /// distance map holding that weighted distance (world units). In fan mode the
-/// sites' fan surfaces ([`crate::geometry::surface`]) give a distance diagram
+/// sites' fan surfaces (`crate::geometry::surface`) give a distance diagram
 /// within the reported bound. Pictures larger than the device's image size (or
 /// than `max_tile`) are drawn tile by tile.
 ///

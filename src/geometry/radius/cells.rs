@@ -5,7 +5,7 @@ use super::*;
 
 /// Where a site's region lies within the picture (see [`cell_bounds`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CellBound {
+pub(crate) struct CellBound {
     pub radius: f64,
     pub lo: DVec2,
     pub hi: DVec2,
@@ -37,7 +37,7 @@ pub struct CellBound {
 /// Where sites are dense the radii shrink to the local spacing, while a site next
 /// to an empty quarter still reaches across it: the thesis's worst case costs only
 /// the cones that need the reach.
-pub fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
+pub(crate) fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
     let picture = picture_corners(frame);
     let mut bounds: Vec<Option<CellBound>> = vec![None; sites.len()];
     for strip in delaunay_strips(sites, frame, |strip| {
@@ -369,7 +369,7 @@ pub(super) fn strip_edges(strip: &Strip<'_>) -> Vec<(u32, u32)> {
 
 /// The bin side for [`cell_bounds`]: the mean site spacing, so that a bin holds
 /// about one site (at least 2 pixels, and at most about 4 million bins).
-pub fn default_bin(frame: &Frame, sites: usize) -> f64 {
+pub(crate) fn default_bin(frame: &Frame, sites: usize) -> f64 {
     let spacing = (frame.len() as f64 / sites.max(1) as f64).sqrt();
     let least = (frame.len() as f64 / (1u64 << 22) as f64).sqrt();
     spacing.max(2.0).max(least)

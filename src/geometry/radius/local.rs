@@ -17,7 +17,7 @@ use super::*;
 /// a factor `stretch` of each other relative to the Euclidean ones (the ratio of
 /// its Euclidean bounds, `Metric::stretch`): a point whose k-th nearest site is
 /// within Euclidean U has its k metric-nearest within Euclidean `stretch * U`.
-pub fn k_local_radii(
+pub(crate) fn k_local_radii(
     sites: &[DVec2],
     frame: &Frame,
     k: usize,
@@ -46,7 +46,11 @@ pub struct Region {
 /// Measured directly, which for p far from 2 is much tighter than stretching
 /// Euclidean bounds (L0.5 stretches them by 2.83). `None` for polygon gauges,
 /// which need not grow with each coordinate.
-pub fn local_metric_regions(sites: &[DVec2], frame: &Frame, metric: Metric) -> Option<Vec<Region>> {
+pub(crate) fn local_metric_regions(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+) -> Option<Vec<Region>> {
     // Cells twice as wide as for the Euclidean cover: at 16000 sites a quarter
     // of the cells halved the time of L_p bounds and of the whole L3 fan diagram
     // (radii 15% longer), and changed nothing at 2000.
@@ -63,7 +67,7 @@ pub fn local_metric_regions(sites: &[DVec2], frame: &Frame, metric: Metric) -> O
 /// covers the pixel centres from `(t % across, t / across) * side`, `side` on
 /// each side (fewer at the right and bottom edges).
 #[derive(Clone, Debug)]
-pub struct TileCandidates {
+pub(crate) struct TileCandidates {
     pub across: usize,
     pub side: u32,
     /// Tile `t`'s sites are `items[start[t]..start[t + 1]]`.
@@ -281,7 +285,7 @@ impl<'a> Measure<'a> {
 /// The sites that square screen tiles must consider for the k lowest layers,
 /// and the radii [`k_local_radii`] gives with cells of a quarter tile's side.
 #[derive(Clone, Debug, Default)]
-pub struct TileLists {
+pub(crate) struct TileLists {
     /// Tiles per row; tile `t` covers the pixel centres from
     /// `(t % across, t / across) * side`, `side` pixels on each side (fewer at
     /// the picture's right and bottom edges).
@@ -308,7 +312,7 @@ impl TileLists {
 /// from them: `maxdist(s, B) <= maxdist(s, T)` makes U(B) <= U(T) and puts every
 /// site with `mindist(s, B) <= U(B)` among the tile's candidates. A tile's list
 /// holds the candidates of its cells.
-pub fn k_tile_lists(
+pub(crate) fn k_tile_lists(
     sites: &[DVec2],
     frame: &Frame,
     k: usize,
@@ -552,7 +556,7 @@ impl CellBoxes {
 /// Cell and bin sides for [`k_local_radii`]: the k-th neighbour is about
 /// `sqrt k` spacings away, so cells are a sixth of that and bins that wide
 /// (at least 2 pixels; at most about 4 million cells).
-pub fn k_cell_and_bin(frame: &Frame, sites: usize, k: usize) -> (f64, f64) {
+pub(crate) fn k_cell_and_bin(frame: &Frame, sites: usize, k: usize) -> (f64, f64) {
     let reach = (frame.len() as f64 * k.max(1) as f64 / sites.max(1) as f64).sqrt();
     let least = (frame.len() as f64 / (1u64 << 22) as f64).sqrt();
     ((reach / 6.0).max(2.0).max(least), reach.max(2.0).max(least))

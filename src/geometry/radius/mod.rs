@@ -20,9 +20,9 @@ mod local;
 #[cfg(test)]
 mod tests;
 
-pub use cells::*;
+pub(crate) use cells::*;
 use grid::*;
-pub use local::*;
+pub(crate) use local::*;
 
 use super::{
     buckets::{for_ring_cells, group_by_bucket},
@@ -35,7 +35,7 @@ use super::{
 /// Bounds on the width of the Voronoi diagram restricted to the picture
 /// (thesis Def. 3.3, Lemma 3.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WidthBounds {
+pub(crate) struct WidthBounds {
     /// Side of a cell at the first level with an empty cell: some point is at least
     /// about this far from every site.
     pub lower: f64,
@@ -51,7 +51,7 @@ pub struct WidthBounds {
 /// marked when a site lies in it; the deepest level where every cell meeting the
 /// picture is marked gives the upper bound. Levels stop once they have more cells
 /// than there are sites, since those cannot all be marked.
-pub fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
+pub(crate) fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
     let (side, full_level) = deepest_full_level(sites, frame, 1);
     let cell_at = |l: u32| side / (1u64 << l) as f64;
     match full_level {
@@ -72,7 +72,7 @@ pub fn quadtree_width_bounds(sites: &[DVec2], frame: &Frame) -> WidthBounds {
 /// `k` sites, cones truncated at the largest cell diagonal keep the `k` lowest
 /// layers of the arrangement. The diagonal of the quadtree's deepest such level;
 /// `None` when not even the root holds `k` sites of the picture.
-pub fn quadtree_k_radius(sites: &[DVec2], frame: &Frame, k: usize) -> Option<f64> {
+pub(crate) fn quadtree_k_radius(sites: &[DVec2], frame: &Frame, k: usize) -> Option<f64> {
     let (side, full_level) = deepest_full_level(sites, frame, k.max(1));
     full_level.map(|l| side / (1u64 << l) as f64 * 2f64.sqrt())
 }
@@ -129,7 +129,7 @@ fn deepest_full_level(sites: &[DVec2], frame: &Frame, k: usize) -> (f64, Option<
 /// neighbour takes the neighbours' neighbours; a side still without one stays
 /// unbounded (infinite). A site the triangulation leaves out (a duplicate, every
 /// site of a collinear set) gets `None`.
-pub fn region_boxes(
+pub(crate) fn region_boxes(
     sites: &[DVec2],
     frame: &Frame,
     metric: Metric,
@@ -197,7 +197,7 @@ fn tighten_l1_box((lo, hi): &mut (DVec2, DVec2), s: DVec2, t: DVec2) {
 /// quadtree gives none, at the radius that covers the picture from every site.
 /// Steps of `sqrt 2` rather than 2: a pass costs about the square of its radius,
 /// so overshooting the needed radius by up to 2x would cost up to 4x.
-pub fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
+pub(crate) fn retry_radii(bounds: &WidthBounds, picture_wide: f64) -> Vec<f64> {
     let last = bounds.upper.unwrap_or(picture_wide).min(picture_wide);
     let mut r = (bounds.lower * 2f64.sqrt()).min(last);
     let mut out = Vec::new();

@@ -67,3 +67,23 @@ fn missing(name: &str) -> String {
     assert!(!path.exists(), "{} exists", path.display());
     path.to_str().unwrap().to_string()
 }
+
+/// Writes `data` to `path` as an `.npy` array of `shape`: a raster for the
+/// commands to read.
+fn write_npy<T: npyz::Serialize + npyz::AutoSerialize + Copy>(
+    path: &Path,
+    shape: &[u64],
+    data: &[T],
+) {
+    use npyz::WriterBuilder;
+    let mut bytes = Vec::new();
+    let mut writer = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(shape)
+        .writer(&mut bytes)
+        .begin_nd()
+        .unwrap();
+    writer.extend(data.iter().copied()).unwrap();
+    writer.finish().unwrap();
+    std::fs::write(path, bytes).unwrap();
+}

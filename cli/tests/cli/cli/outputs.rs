@@ -105,7 +105,7 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
     std::fs::write(&sites, "x,y\n0,0\n4,0\n4,3\n0,3\n2,1\n1,2\n3,2.5\n").unwrap();
     let s = sites.to_str().unwrap();
     let mask = temp("envelope-mask.npy");
-    npy::write(&mask, &[2, 3], &[0u8, 1, 0, 0, 0, 1]).unwrap();
+    write_npy(&mask, &[2, 3], &[0u8, 1, 0, 0, 0, 1]);
     let mask = mask.to_str().unwrap();
     let runs: [&[&str]; 16] = [
         &["voronoi", "--random", "6", "--size", "32"],

@@ -71,7 +71,7 @@ fn transform_reads_png_and_npy_masks_and_writes_scipy_layout() {
 
     // No feature: infinite distances and -1 indices; L1 from an .npy mask.
     let empty = temp("empty-mask.npy");
-    npy::write(&empty, &[2, 2], &[0.0f64; 4]).unwrap();
+    write_npy(&empty, &[2, 2], &[0.0f64; 4]);
     let (ok, stdout, _) = pixgeo(&[
         "transform",
         "--mask",
@@ -101,7 +101,7 @@ fn transform_reads_png_and_npy_masks_and_writes_scipy_layout() {
     let border: Vec<u8> = (0..20 * 9)
         .map(|p| u8::from(p % 20 == 0 || p % 20 == 19 || p / 20 == 0 || p / 20 == 8))
         .collect();
-    npy::write(&bar, &[9, 20], &border).unwrap();
+    write_npy(&bar, &[9, 20], &border);
     let run = [
         "transform",
         "--mask",
@@ -132,7 +132,7 @@ fn transform_reads_png_and_npy_masks_and_writes_scipy_layout() {
     ]);
     assert!(!ok && stderr.contains("--medial-axis"), "{stderr}");
     let cube = temp("cube-mask.npy");
-    npy::write(&cube, &[2, 2, 2], &[1u8; 8]).unwrap();
+    write_npy(&cube, &[2, 2, 2], &[1u8; 8]);
     let (ok, _, stderr) = pixgeo(&["transform", "--mask", cube.to_str().unwrap(), "--json"]);
     assert!(!ok && stderr.contains("2-D array"), "{stderr}");
 }

@@ -9,7 +9,7 @@ use std::{
     path::{Path, PathBuf},
 };
 
-use crate::error::{Error, Result};
+use pixgeo::{Error, Result};
 
 /// An output file being written; dropped without [`OutputFile::commit`], it
 /// leaves nothing behind.

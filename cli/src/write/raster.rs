@@ -9,7 +9,7 @@ use super::{
     npy::NpyStream,
     output::{check_extensions, extension_among},
 };
-use crate::error::Result;
+use pixgeo::Result;
 
 /// The names a raster may take.
 pub const EXTENSIONS: [&str; 3] = ["npy", "tif", "tiff"];
@@ -71,7 +71,7 @@ pub fn write<T: Sample + npyz::Serialize + npyz::AutoSerialize>(
     geo: Option<&GeoReference>,
 ) -> Result<()> {
     let bands = u16::try_from(bands).map_err(|_| {
-        crate::Error::InvalidInput(format!("{bands} bands are more than a raster holds"))
+        pixgeo::Error::InvalidInput(format!("{bands} bands are more than a raster holds"))
     })?;
     let mut stream = RasterStream::create(path, width, height, bands, geo)?;
     stream.write(data)?;

@@ -7,7 +7,7 @@ use glam::DVec2;
 use serde_json::{json, Map, Value};
 
 use super::output::write_text;
-use crate::error::Result;
+use pixgeo::Result;
 
 /// Polygons, each an outer ring and then its holes; rings are open (the
 /// first corner is not repeated).

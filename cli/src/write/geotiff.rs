@@ -16,7 +16,7 @@ use std::{
 };
 
 use super::output::OutputFile;
-use crate::error::{Error, Result};
+use pixgeo::{Error, Result};
 
 /// Where a raster lies: its upper-left corner (of pixel (0, 0), not its
 /// centre) and its pixels' size in world units, and the coordinate system.

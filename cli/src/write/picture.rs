@@ -6,7 +6,7 @@ use std::{fs::File, path::Path};
 use glam::DVec2;
 
 use super::output::OutputFile;
-use crate::error::{Error, Result};
+use pixgeo::{Error, Result};
 
 /// A bright, distinct colour for site `id` (golden-ratio hues); black for "no site".
 pub fn site_color(id: u32) -> [u8; 3] {

@@ -1,0 +1,174 @@
+//! The names the options go by, read by one parser for the command line and
+//! Python alike: `"exact"`, `"fan:12"`, `"quadtree"`, `"pixels"`, `"l1"`, ...
+//! Each option's `FromStr` looks its name up in its own table here.
+
+use std::str::FromStr;
+
+use crate::{
+    algorithms::{
+        alpha_hull::AlphaMethod, area::Extreme, settle::SettleMethod, voronoi::Accuracy,
+        voronoi::Speedup,
+    },
+    error::{Error, Result},
+    geometry::{cone::MAX_FAN_TRIANGLES, metric::Metric},
+};
+
+/// The value `text` names in `table`, or an error that lists the names.
+fn by_name<T: Copy>(what: &str, text: &str, table: &[(&str, T)]) -> Result<T> {
+    let key = text.trim().to_ascii_lowercase();
+    table
+        .iter()
+        .find(|(name, _)| *name == key)
+        .map(|&(_, value)| value)
+        .ok_or_else(|| {
+            let names: Vec<&str> = table.iter().map(|(name, _)| *name).collect();
+            Error::InvalidInput(format!("unknown {what} `{text}`: use {}", names.join(", ")))
+        })
+}
+
+/// The names of a table, for a command line's list of possible values.
+const fn names<T, const N: usize>(table: &[(&'static str, T); N]) -> [&'static str; N] {
+    let mut out = [""; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = table[i].0;
+        i += 1;
+    }
+    out
+}
+
+const SPEEDUPS: [(&str, Speedup); 3] = [
+    ("local", Speedup::Local),
+    ("quadtree", Speedup::Quadtree),
+    ("none", Speedup::None),
+];
+const ALPHA_METHODS: [(&str, AlphaMethod); 2] =
+    [("hull", AlphaMethod::Hull), ("pixels", AlphaMethod::Pixels)];
+const SETTLE_METHODS: [(&str, SettleMethod); 2] = [
+    ("spans", SettleMethod::Spans),
+    ("faithful", SettleMethod::Faithful),
+];
+const EXTREMES: [(&str, Extreme); 2] = [
+    ("smallest", Extreme::Smallest),
+    ("largest", Extreme::Largest),
+];
+
+impl Speedup {
+    /// The names [`Speedup::from_str`] reads.
+    pub const NAMES: [&'static str; 3] = names(&SPEEDUPS);
+}
+
+impl AlphaMethod {
+    /// The names [`AlphaMethod::from_str`] reads.
+    pub const NAMES: [&'static str; 2] = names(&ALPHA_METHODS);
+}
+
+impl SettleMethod {
+    /// The names [`SettleMethod::from_str`] reads.
+    pub const NAMES: [&'static str; 2] = names(&SETTLE_METHODS);
+}
+
+impl FromStr for Speedup {
+    type Err = Error;
+    /// `local`, `quadtree` or `none`.
+    fn from_str(text: &str) -> Result<Self> {
+        by_name("speedup", text, &SPEEDUPS)
+    }
+}
+
+impl FromStr for AlphaMethod {
+    type Err = Error;
+    /// `hull` or `pixels`.
+    fn from_str(text: &str) -> Result<Self> {
+        by_name("alpha-hull method", text, &ALPHA_METHODS)
+    }
+}
+
+impl FromStr for SettleMethod {
+    type Err = Error;
+    /// `spans` or `faithful`.
+    fn from_str(text: &str) -> Result<Self> {
+        by_name("settle method", text, &SETTLE_METHODS)
+    }
+}
+
+impl FromStr for Extreme {
+    type Err = Error;
+    /// `smallest` or `largest`.
+    fn from_str(text: &str) -> Result<Self> {
+        by_name("extreme", text, &EXTREMES)
+    }
+}
+
+impl FromStr for Accuracy {
+    type Err = Error;
+    /// `exact`; `fan` (fans within one pixel); `fan:T` (T triangles a cone).
+    fn from_str(text: &str) -> Result<Self> {
+        let mode = text.trim().to_ascii_lowercase();
+        match mode.strip_prefix("fan:") {
+            Some(t) => match t.trim().parse::<u32>() {
+                Ok(triangles) if (3..=MAX_FAN_TRIANGLES).contains(&triangles) => {
+                    Ok(Accuracy::Fan {
+                        epsilon: 1.0,
+                        triangles: Some(triangles),
+                    })
+                }
+                _ => Err(Error::InvalidInput(format!(
+                    "`{text}`: a fan has a whole number of at least 3 and at most {MAX_FAN_TRIANGLES} triangles"
+                ))),
+            },
+            None => by_name(
+                "mode",
+                &mode,
+                &[("exact", Accuracy::Exact), ("fan", Accuracy::FAN)],
+            )
+            .map_err(|_| {
+                Error::InvalidInput(format!("unknown mode `{text}`: use exact, fan or fan:T"))
+            }),
+        }
+    }
+}
+
+impl FromStr for Metric {
+    type Err = Error;
+    /// `l2`, `l1`, `linf`, `lp:P` and the other names [`Metric::parse`] reads.
+    fn from_str(text: &str) -> Result<Self> {
+        Metric::parse(text).map_err(Error::InvalidInput)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_reads_back_and_others_are_listed() {
+        for (name, speedup) in SPEEDUPS {
+            assert_eq!(name.parse::<Speedup>().unwrap(), speedup);
+        }
+        assert_eq!(
+            " Pixels ".parse::<AlphaMethod>().unwrap(),
+            AlphaMethod::Pixels
+        );
+        assert_eq!(
+            "faithful".parse::<SettleMethod>().unwrap(),
+            SettleMethod::Faithful
+        );
+        assert_eq!("largest".parse::<Extreme>().unwrap(), Extreme::Largest);
+        assert_eq!("exact".parse::<Accuracy>().unwrap(), Accuracy::Exact);
+        assert_eq!("fan".parse::<Accuracy>().unwrap(), Accuracy::FAN);
+        assert_eq!(
+            "fan:12".parse::<Accuracy>().unwrap(),
+            Accuracy::Fan {
+                epsilon: 1.0,
+                triangles: Some(12)
+            }
+        );
+        let message = "quad".parse::<Speedup>().unwrap_err().to_string();
+        assert!(message.contains("use local, quadtree, none"), "{message}");
+        for bad in ["fan:2", "fan:x", "fan:", "exactly"] {
+            assert!(bad.parse::<Accuracy>().is_err(), "{bad}");
+        }
+        assert_eq!(Speedup::NAMES, ["local", "quadtree", "none"]);
+    }
+}
