@@ -36,6 +36,20 @@ pub enum DeviceChoice {
     Name(String),
 }
 
+/// The choice as the user wrote it: `gpu`, `2`, `NVIDIA`, ...
+impl std::fmt::Display for DeviceChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Auto => f.write_str("auto"),
+            Self::Lavapipe => f.write_str("lavapipe"),
+            Self::Cpu => f.write_str("cpu"),
+            Self::Gpu => f.write_str("gpu"),
+            Self::Index(i) => write!(f, "{i}"),
+            Self::Name(name) => f.write_str(name),
+        }
+    }
+}
+
 impl DeviceChoice {
     /// Reads `PIXGEO_DEVICE`: `auto`, `lavapipe`, `gpu`, an index, or part of a
     /// device name (or `cpu`, which names no Vulkan device).
@@ -521,9 +535,9 @@ fn choose_device(
             .find(|(_, p)| p.device_type == vk::PhysicalDeviceType::CPU),
         DeviceChoice::Cpu => {
             return Err(Error::NoDevice(
-                "`cpu` names the CPU pixel algorithms, not a Vulkan device, and only \
-                 some commands have them (their --device help says so); for Mesa's \
-                 software Vulkan device say `lavapipe`"
+                "device `cpu` names the CPU pixel algorithms, not a Vulkan device, and \
+                 only some problems have them; for Mesa's software Vulkan device say \
+                 `lavapipe`"
                     .into(),
             ))
         }
@@ -539,7 +553,7 @@ fn choose_device(
     found.copied().ok_or_else(|| {
         let names: Vec<String> = candidates.iter().map(|(_, p)| name(p)).collect();
         Error::NoDevice(format!(
-            "PIXGEO_DEVICE={choice:?} matches none of: {}",
+            "device `{choice}` matches none of: {}",
             names.join(", ")
         ))
     })

@@ -644,6 +644,22 @@ fn a_failed_run_leaves_its_images_as_they_were() {
 }
 
 #[test]
+fn a_device_no_one_has_is_named_as_the_user_wrote_it() {
+    let mut options = MachineOptions::from_env();
+    options.device = DeviceChoice::parse(" No Such GPU 9000 ");
+    let error = Machine::new(&options)
+        .err()
+        .expect("no device has that name");
+    assert!(matches!(error, pixgeo::Error::NoDevice(_)), "{error}");
+    assert!(
+        error
+            .to_string()
+            .contains("device `No Such GPU 9000` matches none of"),
+        "{error}"
+    );
+}
+
+#[test]
 fn what_the_device_did_not_enable_is_refused() {
     let m = validated(MachineOptions::from_env().core_features_only(true));
     assert!(!m.has_logic_op() && !m.has_float64() && !m.has_fragment_atomics64());

@@ -1,0 +1,323 @@
+//! The settle point (thesis §3.10): where a new site would win the largest
+//! Voronoi region.
+//!
+//! For a candidate pixel t, its *potential area* is the number of pixels p with
+//! `dist(t, p) < dist(p, s_p)`, s_p the site nearest to p. Turned around, pixel p
+//! adds one to every candidate inside its disc C(p) of radius `dist(p, s_p)`
+//! (thesis's correctness argument: `p ∈ zone(t) ⟺ t ∈ C(p)`). Counting, for
+//! every pixel, the discs that cover it gives the whole potential-area map at
+//! once.
+//!
+//! Two methods count the same discs with the same membership test
+//! (`in_disc` in `glsl/settle.glsl`), so their maps are identical:
+//! - [`SettleMethod::Faithful`]: the thesis's GPU method. Every disc is drawn;
+//!   the stencil counts covering discs with wrap-around and every 256th one adds
+//!   1/255 to a colour channel by blending (Fig. 3.49). After 255 wraps per
+//!   channel the next channel counts; after four the picture is read back.
+//! - [`SettleMethod::Spans`]: the idea of §3.12.3 on the device. A span adds +1
+//!   where it starts and -1 after it ends, and prefix sums along it yield the
+//!   counts: work per disc grows with its radius, not its area. Each invocation
+//!   of the compute pass cuts one disc into a core and caps, spans along rows,
+//!   columns and diagonals (`glsl/settle_spans.comp`), and adds their ends with
+//!   atomics to seven difference pictures; a second kernel sums them.
+//!
+//! Disc radii are metric keys rounded up to the next float32: for L1, L2 and L∞
+//! the keys of integer offsets are exact integers, so the strict comparison
+//! `key < radius` gives the same answer as the exact comparison with the
+//! float64 radius. The maps of those metrics therefore equal the definition
+//! evaluated in float64.
+//!
+//! Pixels that already belong to one of the user's own stores ("successful
+//! stores", §3.10.3) get radius 0 and add nothing.
+
+use super::ms;
+use std::time::Instant;
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use crate::{
+    error::{Error, Result},
+    geometry::{cell, frame::check_sites, metric::Metric, Frame},
+    machine::{
+        shaders, Blend, ChannelMask, Clear, ClearColor, ColorUpdate, Compare, ComputeProgram,
+        DepthTest, Draw, DrawParams, Format, Fragments, GraphicsProgram, Machine, PixelRect,
+        RasterState, StencilOp, StencilTest, Target, Topology, MAX_GROUPS,
+    },
+};
+
+use super::voronoi::{voronoi, VoronoiOptions};
+
+mod cpu;
+mod device;
+mod refine;
+
+pub use cpu::potential_areas_cpu;
+use device::{count_faithful, count_spans, Push};
+pub use refine::{refine, Refined};
+
+/// How the discs are counted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum SettleMethod {
+    /// Spans and prefix sums (§3.12.3) in a compute pass: the default.
+    Spans,
+    /// The thesis's discs counted by stencil wrap-around and blending (Fig. 3.49).
+    Faithful,
+}
+
+/// What to compute.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SettleOptions {
+    pub frame: Frame,
+    pub metric: Metric,
+    pub method: SettleMethod,
+}
+
+impl SettleOptions {
+    /// Euclidean, counted by row spans, on `frame`.
+    pub fn new(frame: Frame) -> Self {
+        Self {
+            frame,
+            metric: Metric::L2,
+            method: SettleMethod::Spans,
+        }
+    }
+
+    pub fn frame(self, frame: Frame) -> Self {
+        Self { frame, ..self }
+    }
+
+    pub fn metric(self, metric: Metric) -> Self {
+        Self { metric, ..self }
+    }
+
+    pub fn method(self, method: SettleMethod) -> Self {
+        Self { method, ..self }
+    }
+}
+
+impl Default for SettleOptions {
+    /// On 1024 x 1024 pixels.
+    fn default() -> Self {
+        Self::new(Frame::pixels(1024, 1024).expect("a valid picture"))
+    }
+}
+
+/// How the map was made.
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct SettleStats {
+    pub device: String,
+    pub rivals: usize,
+    pub own: usize,
+    /// Pixels whose disc counts (not in an own store's region).
+    pub discs: usize,
+    /// Milliseconds: nearest sites and disc radii; counting; reading back.
+    pub radii_ms: f64,
+    pub count_ms: f64,
+    pub readback_ms: f64,
+    /// Pictures read back by the faithful method (thesis: five at 1024²).
+    pub readbacks: u32,
+}
+
+/// The potential-area map and its maximum.
+#[derive(Clone, Debug)]
+pub struct PotentialAreas {
+    pub width: u32,
+    pub height: u32,
+    /// The picture: [`Frame::to_world`] maps its pixels to world points.
+    pub frame: Frame,
+    /// Pixels a new site at each pixel would win, row-major.
+    pub area: Vec<u32>,
+    /// The largest potential area.
+    pub best_area: u32,
+    /// Every pixel (row-major index) with the largest potential area, ascending.
+    pub best: Vec<usize>,
+    pub stats: SettleStats,
+}
+
+impl PotentialAreas {
+    fn new(frame: &Frame, area: Vec<u32>, stats: SettleStats) -> Self {
+        let best_area = area.par_iter().copied().max().unwrap_or(0);
+        let best = area
+            .par_iter()
+            .enumerate()
+            .filter(|(_, &a)| a == best_area)
+            .map(|(k, _)| k)
+            .collect();
+        Self {
+            width: frame.width,
+            height: frame.height,
+            frame: *frame,
+            area,
+            best_area,
+            best,
+            stats,
+        }
+    }
+
+    /// Up to `count` pixels in order of decreasing potential area (ties by index).
+    pub fn leaders(&self, count: usize) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.area.len()).collect();
+        let count = count.min(order.len());
+        if count == 0 {
+            return Vec::new();
+        }
+        let by_area = |a: &usize, b: &usize| self.area[*b].cmp(&self.area[*a]).then(a.cmp(b));
+        order.select_nth_unstable_by(count - 1, by_area);
+        order.truncate(count);
+        order.sort_unstable_by(by_area);
+        order
+    }
+}
+
+/// Checks the inputs every method shares.
+fn check(rivals: &[DVec2], own: &[DVec2], frame: &Frame, metric: Metric) -> Result<()> {
+    frame.check()?;
+    if let Metric::Polygon(_) = metric {
+        // A star-shaped disc's rows need not be single spans.
+        return Err(Error::InvalidInput(
+            "the settle point takes the L_p metrics; polygonal distances are not counted yet"
+                .into(),
+        ));
+    }
+    check_sites(rivals).map_err(|e| e.about("rival sites"))?;
+    if !own.is_empty() {
+        check_sites(own).map_err(|e| e.about("own sites"))?;
+    }
+    Ok(())
+}
+
+/// Each pixel's disc radius key: the key of its nearest rival, or 0 where an own
+/// store is at least as near (given the nearest site ids of both sets; sites in
+/// pixel coordinates). Rounded up to float32 (see the module notes).
+fn disc_radius_keys(
+    frame: &Frame,
+    metric: Metric,
+    rivals: &[DVec2],
+    rival_labels: &[u32],
+    own: &[DVec2],
+    own_labels: Option<&[u32]>,
+) -> Vec<f32> {
+    let w = frame.width as usize;
+    let key = |sites: &[DVec2], label: u32, k: usize| -> f64 {
+        let p = DVec2::new((k % w) as f64, (k / w) as f64);
+        sites
+            .get(label as usize)
+            .map_or(f64::INFINITY, |s| metric.key(*s - p))
+    };
+    (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let rival = key(rivals, rival_labels[k], k);
+            let owned = own_labels.is_some_and(|labels| key(own, labels[k], k) <= rival);
+            if owned {
+                0.0
+            } else {
+                round_up_f32(rival)
+            }
+        })
+        .collect()
+}
+
+/// The smallest float32 at least `x`.
+fn round_up_f32(x: f64) -> f32 {
+    let f = x as f32;
+    // For finite positive f the next float up has the next bit pattern.
+    if (f as f64) < x && f.is_finite() && f >= 0.0 {
+        f32::from_bits(f.to_bits() + 1)
+    } else {
+        f
+    }
+}
+
+/// The potential-area map of a new site among `rivals`, not counting pixels that
+/// `own` stores already hold (world coordinates), on the pixel machine.
+/// `progress(done, total)` is called as the counting proceeds.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{algorithms::settle::{potential_areas, SettleOptions}, geometry::Frame};
+///
+/// let rivals = [DVec2::new(5.0, 5.0), DVec2::new(58.0, 42.0)];
+/// let options = SettleOptions::new(Frame::pixels(64, 48)?);
+/// let map = pixgeo::with_default_machine(|m| potential_areas(m, &rivals, &[], &options, &mut |_, _| {}))?;
+/// assert!(map.best_area > 0 && map.area.len() == 64 * 48);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
+pub fn potential_areas(
+    machine: &Machine,
+    rivals: &[DVec2],
+    own: &[DVec2],
+    options: &SettleOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<PotentialAreas> {
+    let frame = options.frame;
+    check(rivals, own, &frame, options.metric)?;
+    let side = machine.max_picture_side();
+    if frame.width > side || frame.height > side {
+        return Err(Error::PictureTooLarge {
+            width: frame.width,
+            height: frame.height,
+            limit: side,
+        });
+    }
+    // Each of the span counting's difference pictures is one storage buffer.
+    let bytes = 4 * frame.len() as u64;
+    if options.method == SettleMethod::Spans && bytes > machine.max_storage_buffer_bytes() {
+        return Err(Error::InvalidInput(format!(
+            "span counting needs {} MB per picture of {}x{} counts; the device allows {} MB \
+             per buffer (use a smaller picture)",
+            bytes >> 20,
+            frame.width,
+            frame.height,
+            machine.max_storage_buffer_bytes() >> 20
+        )));
+    }
+    let start = Instant::now();
+    let diagram_options = VoronoiOptions {
+        metric: options.metric,
+        distances: false,
+        ..VoronoiOptions::exact(frame)
+    };
+    let rival_labels = voronoi(machine, rivals, &diagram_options)?.labels;
+    let own_labels = if own.is_empty() {
+        None
+    } else {
+        Some(voronoi(machine, own, &diagram_options)?.labels)
+    };
+    let keys = disc_radius_keys(
+        &frame,
+        options.metric,
+        &to_pixels(rivals, &frame),
+        &rival_labels,
+        &to_pixels(own, &frame),
+        own_labels.as_deref(),
+    );
+    let mut stats = SettleStats {
+        device: machine.device_name().to_string(),
+        rivals: rivals.len(),
+        own: own.len(),
+        discs: keys.iter().filter(|&&k| k > 0.0).count(),
+        radii_ms: ms(start),
+        ..Default::default()
+    };
+    let mut radii = machine.storage_buffer(4 * frame.len() as u64)?;
+    radii.write(&keys);
+    let push = Push {
+        frame,
+        metric: options.metric,
+    };
+    let area = match options.method {
+        SettleMethod::Spans => count_spans(machine, &radii, push, &mut stats, progress)?,
+        SettleMethod::Faithful => count_faithful(machine, &radii, push, &mut stats, progress)?,
+    };
+    Ok(PotentialAreas::new(&frame, area, stats))
+}
+
+fn to_pixels(sites: &[DVec2], frame: &Frame) -> Vec<DVec2> {
+    sites.iter().map(|&s| frame.to_pixel(s)).collect()
+}

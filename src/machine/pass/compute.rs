@@ -1,0 +1,127 @@
+//! Compute dispatches and the reductions built on them.
+
+use super::*;
+
+impl<'m, 'r> Pass<'m, 'r> {
+    /// Records `kernel` over `invocations` invocations (one dimension) with
+    /// `buffers` as its storage buffers 0, 1, … (at most
+    /// [`BUFFER_KERNEL_BINDINGS`]), ordered after
+    /// earlier host writes, copies and dispatches, and visible to the host and to
+    /// later work afterwards.
+    pub fn dispatch(
+        &mut self,
+        kernel: &'static ComputeProgram,
+        buffers: &[&'r Buffer],
+        invocations: u32,
+        push: &[u8],
+    ) -> Result<()> {
+        self.dispatch_grid(kernel, buffers, (invocations, 1), push)
+    }
+
+    /// Dispatches `kernel` over a `width` x `height` grid of invocations (rows
+    /// of workgroups): a kernel finds its place in `gl_GlobalInvocationID.xy`,
+    /// for example a column and a strip of rows.
+    pub fn dispatch_grid(
+        &mut self,
+        kernel: &'static ComputeProgram,
+        buffers: &[&'r Buffer],
+        (width, height): (u32, u32),
+        push: &[u8],
+    ) -> Result<()> {
+        check_push(kernel.name, kernel.push_bytes, push)?;
+        if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
+            return Err(Error::InvalidInput(format!(
+                "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
+            )));
+        }
+        if self.rendering.is_some() {
+            return Err(Error::InvalidInput(
+                "dispatch inside a rendering pass".into(),
+            ));
+        }
+        if width == 0 || height == 0 {
+            return Ok(());
+        }
+        let groups = (width.div_ceil(kernel.group()), height);
+        if groups.0 > MAX_GROUPS || groups.1 > MAX_GROUPS {
+            return Err(Error::InvalidInput(format!(
+                "a {width}x{height} grid of invocations needs more than {MAX_GROUPS} workgroups along a side: split it"
+            )));
+        }
+        for &buffer in buffers {
+            self.use_buffer(buffer, BufferUse::ComputeStorage)?;
+        }
+        let pipelines = &self.machine.pipelines;
+        let pipeline = pipelines.buffer_compute(kernel)?;
+        let set = self
+            .machine
+            .descriptors
+            .set(pipelines.buffer_set_layout, None, 0, buffers)?;
+        let layout = pipelines.buffer_layout;
+        self.begin_section(&format!("dispatch {}", kernel.name))?;
+        self.record_dispatch(pipeline, layout, set, push, groups);
+        self.end_section(None)
+    }
+
+    /// Records a compute dispatch; its buffers' and images' barriers are
+    /// already recorded.
+    pub(super) fn record_dispatch(
+        &mut self,
+        pipeline: vk::Pipeline,
+        layout: vk::PipelineLayout,
+        set: vk::DescriptorSet,
+        push: &[u8],
+        groups: (u32, u32),
+    ) {
+        let device = self.device();
+        // SAFETY: recording state outside a rendering pass; the set matches the
+        // layout and lives until the run has completed; push fits the layout's range.
+        unsafe {
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            device.cmd_bind_descriptor_sets(
+                self.cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                layout,
+                0,
+                &[set],
+                &[],
+            );
+            device.cmd_push_constants(self.cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, push);
+            device.cmd_dispatch(self.cmd, groups.0, groups.1, 1);
+        }
+    }
+
+    /// Records a reduction kernel over `rect` of `image` writing into `result`
+    /// (which the caller has initialised). `push` follows the rect's origin/extent.
+    pub(crate) fn reduce(
+        &mut self,
+        kernel: Kernel,
+        image: &'r Image,
+        rect: PixelRect,
+        result: &'r Buffer,
+        extra_push: &[u32],
+    ) -> Result<()> {
+        rect.check_inside(image)?;
+        let pipeline = self.machine.pipelines.compute(kernel, image.format())?;
+        self.use_buffer(result, BufferUse::ComputeStorage)?;
+        let set = self.machine.descriptors.set(
+            self.machine.pipelines.compute_set_layout,
+            Some((image, 0)),
+            1,
+            &[result],
+        )?;
+        self.use_image(image, Usage::ComputeRead)?;
+        let mut words = vec![rect.x, rect.y, rect.width, rect.height];
+        words.extend_from_slice(extra_push);
+        let layout = self.machine.pipelines.compute_layout;
+        self.begin_section(&format!("reduce {kernel:?}"))?;
+        self.record_dispatch(
+            pipeline,
+            layout,
+            set,
+            bytemuck::cast_slice(&words),
+            kernel.groups(rect.width, rect.height),
+        );
+        self.end_section(None)
+    }
+}
