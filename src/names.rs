@@ -10,7 +10,7 @@ use crate::{
         voronoi::Speedup,
     },
     error::{Error, Result},
-    geometry::{cone::MAX_FAN_TRIANGLES, metric::Metric},
+    geometry::metric::Metric,
 };
 
 /// The value `text` names in `table`, or an error that lists the names.
@@ -24,17 +24,6 @@ fn by_name<T: Copy>(what: &str, text: &str, table: &[(&str, T)]) -> Result<T> {
             let names: Vec<&str> = table.iter().map(|(name, _)| *name).collect();
             Error::InvalidInput(format!("unknown {what} `{text}`: use {}", names.join(", ")))
         })
-}
-
-/// The names of a table, for a command line's list of possible values.
-const fn names<T, const N: usize>(table: &[(&'static str, T); N]) -> [&'static str; N] {
-    let mut out = [""; N];
-    let mut i = 0;
-    while i < N {
-        out[i] = table[i].0;
-        i += 1;
-    }
-    out
 }
 
 const SPEEDUPS: [(&str, Speedup); 3] = [
@@ -52,21 +41,6 @@ const EXTREMES: [(&str, Extreme); 2] = [
     ("smallest", Extreme::Smallest),
     ("largest", Extreme::Largest),
 ];
-
-impl Speedup {
-    /// The names [`Speedup::from_str`] reads.
-    pub const NAMES: [&'static str; 3] = names(&SPEEDUPS);
-}
-
-impl AlphaMethod {
-    /// The names [`AlphaMethod::from_str`] reads.
-    pub const NAMES: [&'static str; 2] = names(&ALPHA_METHODS);
-}
-
-impl SettleMethod {
-    /// The names [`SettleMethod::from_str`] reads.
-    pub const NAMES: [&'static str; 2] = names(&SETTLE_METHODS);
-}
 
 impl FromStr for Speedup {
     type Err = Error;
@@ -105,27 +79,28 @@ impl FromStr for Accuracy {
     /// `exact`; `fan` (fans within one pixel); `fan:T` (T triangles a cone).
     fn from_str(text: &str) -> Result<Self> {
         let mode = text.trim().to_ascii_lowercase();
-        match mode.strip_prefix("fan:") {
-            Some(t) => match t.trim().parse::<u32>() {
-                Ok(triangles) if (3..=MAX_FAN_TRIANGLES).contains(&triangles) => {
-                    Ok(Accuracy::Fan {
-                        epsilon: 1.0,
-                        triangles: Some(triangles),
-                    })
+        let accuracy = match mode.as_str() {
+            "exact" => Accuracy::Exact,
+            "fan" => Accuracy::FAN,
+            _ => match mode.strip_prefix("fan:").map(|t| t.trim().parse::<u32>()) {
+                Some(Ok(triangles)) => Accuracy::Fan {
+                    epsilon: 1.0,
+                    triangles: Some(triangles),
+                },
+                Some(Err(_)) => {
+                    return Err(Error::InvalidInput(format!(
+                        "`{text}`: a fan has a whole number of triangles"
+                    )))
                 }
-                _ => Err(Error::InvalidInput(format!(
-                    "`{text}`: a fan has a whole number of at least 3 and at most {MAX_FAN_TRIANGLES} triangles"
-                ))),
+                None => {
+                    return Err(Error::InvalidInput(format!(
+                        "unknown mode `{text}`: use exact, fan or fan:T"
+                    )))
+                }
             },
-            None => by_name(
-                "mode",
-                &mode,
-                &[("exact", Accuracy::Exact), ("fan", Accuracy::FAN)],
-            )
-            .map_err(|_| {
-                Error::InvalidInput(format!("unknown mode `{text}`: use exact, fan or fan:T"))
-            }),
-        }
+        };
+        accuracy.check()?;
+        Ok(accuracy)
     }
 }
 
@@ -169,6 +144,5 @@ mod tests {
         for bad in ["fan:2", "fan:x", "fan:", "exactly"] {
             assert!(bad.parse::<Accuracy>().is_err(), "{bad}");
         }
-        assert_eq!(Speedup::NAMES, ["local", "quadtree", "none"]);
     }
 }

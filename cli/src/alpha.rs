@@ -8,7 +8,7 @@ use glam::DVec2;
 use pixgeo::algorithms::alpha_hull::{self, class, AlphaHull, AlphaMethod};
 
 use crate::{
-    device::machine_on,
+    device::VulkanDevice,
     envelope,
     input::Input,
     write::{output::check_distinct, picture::PngStream, raster},
@@ -56,10 +56,8 @@ pub struct Args {
     /// Print the result as JSON.
     #[arg(long)]
     json: bool,
-    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
-    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
-    #[arg(long)]
-    device: Option<String>,
+    #[command(flatten)]
+    device: VulkanDevice,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -72,16 +70,16 @@ pub fn run(args: Args) -> Result<()> {
             .iter()
             .filter_map(|(n, p)| Some((*n, p.as_deref()?))),
     )?;
-    let side = match args.input.has_bbox() {
-        true => None,
-        false => Some(args.input.fitted_side()?),
-    };
+    // Refused before the sites are read: --size WxH needs --bbox.
+    let fitted = (!args.input.has_bbox())
+        .then(|| args.input.fitted_side())
+        .transpose()?;
     let (world, points) = args.input.world_and_sites()?;
-    let machine = machine_on(args.device.as_deref())?;
-    let method = args.method;
-    let hull = match side {
-        Some(side) => alpha_hull::alpha_hull(&machine, &points, args.alpha, method, side)?,
-        None => alpha_hull::alpha_hull_in(&machine, &points, args.alpha, method, world.frame)?,
+    let machine = args.device.machine()?;
+    let (alpha, method) = (args.alpha, args.method);
+    let hull = match fitted {
+        Some(side) => alpha_hull::alpha_hull(&machine, &points, alpha, method, side)?,
+        None => alpha_hull::alpha_hull_in(&machine, &points, alpha, method, world.frame)?,
     };
     let world = args.input.world_of(hull.frame);
     if args.json {

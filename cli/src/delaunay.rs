@@ -12,7 +12,7 @@ use pixgeo::{
 };
 
 use crate::{
-    device::machine_on,
+    device::VulkanDevice,
     envelope,
     input::Points,
     progress::Progress,
@@ -76,9 +76,8 @@ pub struct Args {
     /// area, empty circles); fail if the result is wrong.
     #[arg(long)]
     check: bool,
-    /// Device: auto, gpu, an index, or part of a name (default: PIXGEO_DEVICE).
-    #[arg(long)]
-    device: Option<String>,
+    #[command(flatten)]
+    device: VulkanDevice,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -86,7 +85,7 @@ pub fn run(args: Args) -> Result<()> {
         output::check_extension(path, "geojson", "triangles")?;
     }
     let points = args.points.read()?;
-    let machine = machine_on(args.device.as_deref())?;
+    let machine = args.device.machine()?;
     let options = DelaunayOptions::default().grid(args.grid).check(args.check);
     let result = {
         let progress = Progress::new("delaunay: flooding, duals, insertion, flips", args.json);

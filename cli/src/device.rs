@@ -19,6 +19,22 @@ pub fn machine_on(device: Option<&str>) -> Result<Machine> {
     Machine::new(&options(device)).context("starting the pixel machine")
 }
 
+/// `--device` of the commands that need a Vulkan device.
+#[derive(clap::Args)]
+pub struct VulkanDevice {
+    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
+    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
+    #[arg(long = "device")]
+    pub name: Option<String>,
+}
+
+impl VulkanDevice {
+    /// The pixel machine on this device.
+    pub fn machine(&self) -> Result<Machine> {
+        machine_on(self.name.as_deref())
+    }
+}
+
 /// Where diagrams are computed.
 pub enum Backend {
     /// The pixel machine on a Vulkan device.

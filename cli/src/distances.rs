@@ -14,7 +14,7 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
-use crate::{device::machine_on, envelope, input::Points};
+use crate::{device::VulkanDevice, envelope, input::Points};
 
 /// Options every distance command shares.
 #[derive(ClapArgs)]
@@ -28,15 +28,13 @@ pub struct Common {
     #[arg(long)]
     json: bool,
 
-    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
-    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
-    #[arg(long)]
-    device: Option<String>,
+    #[command(flatten)]
+    device: VulkanDevice,
 }
 
 impl Common {
     fn machine(&self) -> Result<Machine> {
-        machine_on(self.device.as_deref())
+        self.device.machine()
     }
 }
 

@@ -9,7 +9,7 @@ use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::{Cli, Command};
+use crate::{device::VulkanDevice, Cli, Command};
 
 /// Renders the gallery: one picture per capability pixgeo has, each the output of
 /// a `pixgeo` command shown beneath it, and an index.html that shows them all.
@@ -21,10 +21,8 @@ pub struct Args {
     /// Directory to write the pictures, their site files and index.html into.
     dir: PathBuf,
 
-    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
-    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
-    #[arg(long)]
-    device: Option<String>,
+    #[command(flatten)]
+    device: VulkanDevice,
 }
 
 struct Entry {
@@ -563,13 +561,10 @@ pub fn run(args: Args, run: impl Fn(Command) -> Result<()>) -> Result<()> {
                 }
             })
             .collect();
-        if let Some(d) = &args.device {
+        if let Some(d) = &args.device.name {
             real.extend(["--device".into(), d.clone()]);
         }
         let cli = Cli::try_parse_from(&real).with_context(|| format!("gallery command {shown}"))?;
-        if matches!(cli.command, Command::Gallery(_)) {
-            anyhow::bail!("gallery command {shown}: the gallery does not draw itself");
-        }
         run(cli.command)?;
         let _ = write!(
             html,

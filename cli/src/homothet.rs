@@ -16,7 +16,7 @@ use pixgeo::{
 use serde_json::Value;
 
 use crate::{
-    device::machine_on,
+    device::VulkanDevice,
     envelope,
     input::Points,
     write::picture::{label_rows, PngStream},
@@ -46,10 +46,8 @@ pub struct Shape {
     /// Print the answer as JSON.
     #[arg(long)]
     json: bool,
-    /// Vulkan device: auto, lavapipe, gpu, an index, or part of a name (default:
-    /// PIXGEO_DEVICE); this command has no CPU algorithm, so `cpu` is refused.
-    #[arg(long)]
-    device: Option<String>,
+    #[command(flatten)]
+    device: VulkanDevice,
 }
 
 impl Shape {
@@ -154,7 +152,7 @@ enum StageChoice {
 pub fn enclose(args: EncloseArgs) -> Result<()> {
     let shapes = args.shape.sites.read_general()?;
     let unit = args.shape.unit()?;
-    let machine = machine_on(args.shape.device.as_deref())?;
+    let machine = args.shape.device.machine()?;
     let side = args.shape.size;
     let k = args.at_least.unwrap_or(0);
     let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
@@ -175,7 +173,7 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         None => Region::default(),
         Some(path) => read_region(path)?,
     };
-    let machine = machine_on(args.shape.device.as_deref())?;
+    let machine = args.shape.device.machine()?;
     let side = args.shape.size;
     let stage = match args.pixel_stage {
         StageChoice::Auto => None,

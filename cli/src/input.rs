@@ -175,19 +175,11 @@ impl Input {
         };
         let y_axis = self.y_axis();
         let world = match y_axis {
-            YAxis::Down => World {
-                frame,
-                y_axis,
-                epsg: self.crs,
-            },
+            YAxis::Down => self.world_of(frame),
             YAxis::Up => {
                 let height = frame.height as f64 / frame.scale;
                 let origin = DVec2::new(frame.origin.x, -(frame.origin.y + height));
-                World {
-                    frame: Frame { origin, ..frame },
-                    y_axis,
-                    epsg: self.crs,
-                }
+                self.world_of(Frame { origin, ..frame })
             }
         };
         let sites = sites.into_iter().map(|s| match y_axis {
@@ -221,7 +213,7 @@ impl Input {
         }
     }
 
-    /// The world of a frame the command fitted to the sites itself.
+    /// The world whose computing frame is `frame`.
     pub fn world_of(&self, frame: Frame) -> World {
         World {
             frame,

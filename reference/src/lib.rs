@@ -1,5 +1,5 @@
 //! CPU implementations of the definitions: the oracles every GPU result is checked
-//! against.
+//! against; and `.npy` files written as NumPy writes them.
 #![forbid(unsafe_code)]
 
 pub mod alpha_hull;
@@ -7,5 +7,6 @@ pub mod area;
 pub mod flooding;
 pub mod higher_order;
 pub mod homothet;
+pub mod npy;
 pub mod settle;
 pub mod voronoi;

@@ -67,7 +67,7 @@ pub enum AlphaMethod {
 /// What a pixel of [`AlphaHull::pixels`] is.
 pub mod class {
     /// Outside the hull.
-    pub(crate) const OUTSIDE: u8 = 0;
+    pub const OUTSIDE: u8 = 0;
     /// Inside the hull.
     pub const INSIDE: u8 = 1;
     /// α < 0: at least r from every site, erased by the rectangle. α > 0 with

@@ -81,23 +81,12 @@ fn widen<T: Into<f64>>(values: Vec<T>) -> Vec<f64> {
 mod tests {
     use super::*;
 
-    /// Writes `data` as an `.npy` array of `shape`.
     fn write<T: npyz::Serialize + npyz::AutoSerialize + Copy>(
         path: &Path,
         shape: &[u64],
         data: &[T],
     ) {
-        use npyz::WriterBuilder;
-        let mut bytes = Vec::new();
-        let mut writer = npyz::WriteOptions::new()
-            .default_dtype()
-            .shape(shape)
-            .writer(&mut bytes)
-            .begin_nd()
-            .unwrap();
-        writer.extend(data.iter().copied()).unwrap();
-        writer.finish().unwrap();
-        std::fs::write(path, bytes).unwrap();
+        pixgeo_reference::npy::write(path, shape, data).unwrap();
     }
 
     #[test]

@@ -474,7 +474,7 @@ impl Machine {
 
     /// A host-visible storage buffer of `bytes` bytes, for kernels and fragment
     /// shaders to read and write and the host to fill and read.
-    pub(crate) fn storage_buffer(&self, bytes: u64) -> Result<Buffer> {
+    pub fn storage_buffer(&self, bytes: u64) -> Result<Buffer> {
         self.readback_buffer(bytes)
     }
 

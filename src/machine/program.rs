@@ -416,6 +416,6 @@ impl ComputeProgram {
 }
 
 /// Bytes of push constants every graphics program may use.
-pub(crate) const GRAPHICS_PUSH_BYTES: u32 = 64;
+pub const GRAPHICS_PUSH_BYTES: u32 = 64;
 /// Bytes of push constants every compute kernel may use.
-pub(crate) const COMPUTE_PUSH_BYTES: u32 = 32;
+pub const COMPUTE_PUSH_BYTES: u32 = 32;

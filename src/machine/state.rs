@@ -26,7 +26,7 @@ pub struct DepthTest {
 
 impl DepthTest {
     /// No test and no write: every fragment passes.
-    pub(crate) const OFF: Self = Self {
+    pub const OFF: Self = Self {
         compare: Compare::Always,
         write: false,
     };
@@ -60,7 +60,7 @@ pub struct StencilTest {
 
 impl StencilTest {
     /// No test and no update.
-    pub(crate) const OFF: Self = Self {
+    pub const OFF: Self = Self {
         compare: Compare::Always,
         compare_mask: 0xff,
         write_mask: 0,
@@ -131,7 +131,7 @@ pub struct Blend {
 
 impl Blend {
     /// Adds the fragment to the pixel: counting.
-    pub(crate) const ADD: Self = Self {
+    pub const ADD: Self = Self {
         fragment_factor: BlendFactor::One,
         pixel_factor: BlendFactor::One,
         op: BlendOp::Add,
@@ -181,7 +181,7 @@ pub struct ChannelMask {
 }
 
 impl ChannelMask {
-    pub(crate) const ALL: Self = Self {
+    pub const ALL: Self = Self {
         red: true,
         green: true,
         blue: true,

@@ -43,7 +43,7 @@ impl Accuracy {
             }
             if triangles.is_some_and(|t| !(3..=MAX_FAN_TRIANGLES).contains(&t)) {
                 return Err(Error::InvalidInput(format!(
-                    "a fan has 3 to {MAX_FAN_TRIANGLES} triangles"
+                    "a fan has at least 3 and at most {MAX_FAN_TRIANGLES} triangles"
                 )));
             }
         }

@@ -60,13 +60,13 @@ use super::{
 
 mod empty;
 mod enclose;
+mod labels;
 mod mask;
-mod picture;
 
 pub use empty::*;
 pub use enclose::*;
+pub use labels::*;
 use mask::*;
-pub use picture::*;
 
 /// The shape whose homothets are sought: a circle or a polygon star-shaped
 /// around its kernel point (the origin of its [`Gauge`]).

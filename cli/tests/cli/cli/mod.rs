@@ -75,15 +75,5 @@ fn write_npy<T: npyz::Serialize + npyz::AutoSerialize + Copy>(
     shape: &[u64],
     data: &[T],
 ) {
-    use npyz::WriterBuilder;
-    let mut bytes = Vec::new();
-    let mut writer = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(shape)
-        .writer(&mut bytes)
-        .begin_nd()
-        .unwrap();
-    writer.extend(data.iter().copied()).unwrap();
-    writer.finish().unwrap();
-    std::fs::write(path, bytes).unwrap();
+    pixgeo_reference::npy::write(path, shape, data).unwrap();
 }

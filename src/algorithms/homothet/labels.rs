@@ -1,4 +1,4 @@
-//! Pictures of the envelopes a homothet is found on.
+//! The envelope a homothet is found on, as each pixel's site.
 
 use super::*;
 
