@@ -1,4 +1,4 @@
-//! The one JSON envelope of every `--json` answer (`docs/schema/`):
+//! The one JSON envelope of every `--json` answer (`cli/schema/`):
 //!
 //! ```text
 //! {"schema": "pixgeo/1", "pixgeo_version", "command", "device",
@@ -14,7 +14,10 @@
 use anyhow::Result;
 use pixgeo::geometry::Frame;
 
-use crate::input::{World, YAxis};
+use crate::{
+    input::{World, YAxis},
+    write::geotiff::crs_name,
+};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
 
@@ -41,7 +44,7 @@ pub fn print(
 }
 
 /// The envelope of a command that failed under `--json`: `error` holds the
-/// message and its chain of causes, outermost first (`docs/schema/error.json`).
+/// message and its chain of causes, outermost first (`cli/schema/error.json`).
 pub fn error(command: &str, error: &anyhow::Error) -> Value {
     let causes: Vec<String> = error.chain().map(|c| c.to_string()).collect();
     json!({
@@ -148,11 +151,8 @@ fn frame_json(world: &World) -> Value {
         "bbox": world.bbox(),
         "origin": [origin.x, origin.y],
         "scale": frame.scale,
-        "y_axis": match world.y_axis {
-            YAxis::Up => "up",
-            YAxis::Down => "down",
-        },
-        "crs": world.epsg.map(|code| format!("EPSG:{code}")),
+        "y_axis": world.y_axis,
+        "crs": crs_name(world.epsg),
     })
 }
 

@@ -14,7 +14,7 @@ use pixgeo::{
     io::sites,
 };
 
-use crate::write::geotiff::{parse_crs, GeoReference};
+use crate::write::geotiff::{crs_name, parse_crs, GeoReference};
 
 /// The sites and the picture they are drawn on.
 #[derive(ClapArgs)]
@@ -43,29 +43,84 @@ pub struct Input {
     #[arg(long, value_name = "PIXELS", default_value = "1024", value_parser = parse_size)]
     size: (u32, Option<u32>),
 
-    /// World rectangle XMIN,YMIN,XMAX,YMAX shown by the picture.
+    #[command(flatten)]
+    place: Placement,
+}
+
+/// Where the rasters lie in the user's world: the flags of every command that
+/// writes a raster.
+#[derive(ClapArgs)]
+pub struct Placement {
+    /// World rectangle XMIN,YMIN,XMAX,YMAX the rasters and pictures cover.
     #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", value_parser = parse_bbox, allow_hyphen_values = true)]
-    bbox: Option<[f64; 4]>,
+    pub bbox: Option<[f64; 4]>,
 
     /// Which way y runs in the rasters and pictures: `up` puts the largest y
     /// in row 0 (north-up, as maps and GIS tools show rasters), `down` the
     /// smallest (pixel coordinates). Default: up with --bbox, down without.
     #[arg(long, value_enum)]
-    y_axis: Option<YAxis>,
+    pub y_axis: Option<YAxis>,
 
     /// The coordinate system of the world coordinates, `EPSG:N`, written into
     /// .tif rasters' GeoKeys.
     #[arg(long, value_name = "EPSG:N", value_parser = parse_crs)]
-    crs: Option<u16>,
+    pub crs: Option<u16>,
 
     /// Write a world file (`.tfw`, `.pgw`, `.pngw` or `.wld`: six lines from
     /// a pixel's centre to the world) that places the rasters and pictures.
     #[arg(long, value_name = "FILE")]
-    world_file: Option<PathBuf>,
+    pub world_file: Option<PathBuf>,
+}
+
+impl Placement {
+    /// Which way y runs: as asked, or up with --bbox and down without.
+    pub fn y_axis(&self) -> YAxis {
+        self.y_axis.unwrap_or(match self.bbox {
+            Some(_) => YAxis::Up,
+            None => YAxis::Down,
+        })
+    }
+
+    /// Where a `width` x `height` raster covering the box lies (pixel
+    /// coordinates, one unit a pixel, without --bbox).
+    pub fn georeference(&self, width: u32, height: u32) -> GeoReference {
+        let [x0, y0, x1, y1] = self.bbox.unwrap_or([0.0, 0.0, width as f64, height as f64]);
+        let pixel_height = (y1 - y0) / height as f64;
+        let (top, pixel_height) = match self.y_axis() {
+            YAxis::Up => (y1, pixel_height),
+            YAxis::Down => (y0, -pixel_height),
+        };
+        GeoReference {
+            left: x0,
+            top,
+            pixel_width: (x1 - x0) / width as f64,
+            pixel_height,
+            epsg: self.crs,
+        }
+    }
+
+    /// The placement of a `width` x `height` raster as the JSON answers give it.
+    pub fn describe(&self, width: u32, height: u32) -> serde_json::Value {
+        serde_json::json!({
+            "bbox": self.bbox.unwrap_or([0.0, 0.0, width as f64, height as f64]),
+            "y_axis": self.y_axis(),
+            "crs": crs_name(self.crs),
+        })
+    }
+
+    /// Writes the world file of rasters placed by `geo`, if one was asked for.
+    pub fn write_world_file(&self, geo: &GeoReference) -> Result<()> {
+        if let Some(path) = &self.world_file {
+            geo.write_world_file(path)?;
+            crate::wrote([Some(path.as_path())]);
+        }
+        Ok(())
+    }
 }
 
 /// Which way y runs down a raster's rows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum YAxis {
     Up,
     Down,
@@ -154,7 +209,7 @@ impl Input {
     /// computing world.
     pub fn world_and_general_sites(&self) -> Result<(World, Vec<Site>)> {
         let (width, height) = self.size;
-        let frame = match (self.bbox, height) {
+        let frame = match (self.place.bbox, height) {
             // A tall box: N is its height, and the width follows.
             (Some(b), None) if b[3] - b[1] > b[2] - b[0] && b[2] > b[0] => {
                 let across = (width as f64 * (b[2] - b[0]) / (b[3] - b[1])).round();
@@ -173,7 +228,7 @@ impl Input {
             (None, Some(_)) => bail!("--random needs at least one site"),
             _ => bail!("give the sites: --sites FILE or --random N"),
         };
-        let y_axis = self.y_axis();
+        let y_axis = self.place.y_axis();
         let world = match y_axis {
             YAxis::Down => self.world_of(frame),
             YAxis::Up => {
@@ -189,17 +244,9 @@ impl Input {
         Ok((world, sites.collect()))
     }
 
-    /// Which way y runs: as asked, or up with --bbox and down without.
-    pub fn y_axis(&self) -> YAxis {
-        self.y_axis.unwrap_or(match self.bbox {
-            Some(_) => YAxis::Up,
-            None => YAxis::Down,
-        })
-    }
-
     /// Whether the picture is the user's (--bbox), not fitted by the command.
     pub fn has_bbox(&self) -> bool {
-        self.bbox.is_some()
+        self.place.bbox.is_some()
     }
 
     /// The longer side of a picture the command fits to the sites itself.
@@ -217,21 +264,16 @@ impl Input {
     pub fn world_of(&self, frame: Frame) -> World {
         World {
             frame,
-            y_axis: self.y_axis(),
-            epsg: self.crs,
+            y_axis: self.place.y_axis(),
+            epsg: self.place.crs,
         }
     }
 
     /// Writes the world file, if asked for, once the rasters are written:
     /// rasters whose first pixel is the frame's pixel `corner`.
     pub fn write_world_file(&self, world: &World, corner: (u32, u32)) -> Result<()> {
-        if let Some(path) = &self.world_file {
-            world
-                .georeference_from(corner.0, corner.1)
-                .write_world_file(path)?;
-            crate::wrote([Some(path.as_path())]);
-        }
-        Ok(())
+        self.place
+            .write_world_file(&world.georeference_from(corner.0, corner.1))
     }
 }
 

@@ -1,12 +1,13 @@
 //! `pixgeo transform`: distance and feature transforms of a raster.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use pixgeo::{
     algorithms::transform::{
-        components, distance_transform, medial_axis, Pruning, TransformOptions, NO_COMPONENT,
+        components, distance_transform, medial_axis, Pruning, Transform, TransformOptions,
+        NO_COMPONENT,
     },
     geometry::metric::Metric,
     io::mask::read_mask,
@@ -15,10 +16,13 @@ use serde_json::json;
 
 use crate::{
     envelope,
+    input::Placement,
     write::{
+        geotiff::GeoReference,
         npy,
-        output::{check_distinct, check_extension},
+        output::{check_distinct, check_extension, extension_among},
         picture::{site_color, PngStream},
+        raster,
     },
 };
 
@@ -37,6 +41,11 @@ use crate::{
 ///
 ///   pixgeo transform --mask examples/data/obstacles.png --distance d.npy --indices i.npy
 ///   pixgeo transform --mask mask.npy --metric l1 --sampling 2,1 --distance d.npy
+///   pixgeo transform --mask roads.npy --bbox 500000,4000000,501000,4000800 --crs EPSG:32633 --distance d.tif
+///
+/// Rasters named `.tif` are GeoTIFFs placed by --bbox (the rectangle the mask
+/// covers; pixel coordinates without it), --y-axis and --crs; distances stay
+/// in sampled units (--sampling), pixels by default.
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
@@ -46,25 +55,26 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     mask: PathBuf,
     /// Write the distances: float64, (rows, columns).
-    #[arg(long, value_name = "FILE.npy")]
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     distance: Option<PathBuf>,
-    /// Write each pixel's nearest feature pixel: int32, (2, rows, columns), its
-    /// row then its column (SciPy's layout); -1 where the mask has no feature.
-    #[arg(long, value_name = "FILE.npy")]
+    /// Write each pixel's nearest feature pixel: int32, its row then its
+    /// column, -1 where the mask has no feature; `.npy` (2, rows, columns)
+    /// as SciPy lays them out, `.tif` two bands.
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     indices: Option<PathBuf>,
     /// Write the connected feature component (8-connected, numbered 0, 1, ...
     /// by its first pixel, row by row) each pixel is nearest to: uint32, (rows,
     /// columns), 4294967295 where the mask has no feature. The Voronoi diagram
     /// of the obstacles.
-    #[arg(long, value_name = "FILE.npy")]
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     components: Option<PathBuf>,
     /// Write the medial axis of the free space (the pixels that are not
     /// features): bool, (rows, columns). A free pixel is on it when it and a
     /// neighbour have nearest features more than --prune apart, and it is the
     /// one of the two nearer their bisector (Hesselink and Roerdink's integer
     /// medial axis), and the features are more than --prune apart and seen
-    /// under more than --prune-angle.
-    #[arg(long, value_name = "FILE.npy")]
+    /// under more than --prune-angle (`.tif`: 0 and 1 bytes).
+    #[arg(long, value_name = "FILE.npy|FILE.tif")]
     medial_axis: Option<PathBuf>,
     /// The least distance between two features, in sampled units, that makes
     /// an axis between them; smaller values keep the spurs that a boundary's
@@ -90,6 +100,8 @@ pub struct Args {
     /// `sampling`.
     #[arg(long, value_name = "SY,SX", default_value = "1", value_parser = parse_sampling)]
     sampling: [f64; 2],
+    #[command(flatten)]
+    place: Placement,
     /// Print the answer as JSON.
     #[arg(long)]
     json: bool,
@@ -116,28 +128,32 @@ fn parse_sampling(text: &str) -> Result<[f64; 2], String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let outputs = [
-        ("--distance", &args.distance, "npy", "distances"),
-        ("--indices", &args.indices, "npy", "indices"),
-        ("--components", &args.components, "npy", "components"),
-        ("--medial-axis", &args.medial_axis, "npy", "medial axes"),
-        ("-o", &args.output, "png", "pictures"),
+    let rasters = [
+        ("--distance", &args.distance),
+        ("--indices", &args.indices),
+        ("--components", &args.components),
+        ("--medial-axis", &args.medial_axis),
     ];
-    if outputs.iter().all(|(_, path, _, _)| path.is_none()) && !args.json {
+    let picture = [("-o", &args.output)];
+    let outputs = rasters.iter().chain(&picture);
+    if outputs.clone().all(|(_, path)| path.is_none()) && !args.json {
         bail!(
-            "nothing to write: give --distance FILE.npy, --indices FILE.npy, \
-             --components FILE.npy, --medial-axis FILE.npy, -o PNG or --json"
+            "nothing to write: give --distance, --indices, --components or \
+             --medial-axis (FILE.npy or FILE.tif), -o PNG or --json"
         );
     }
-    for (_, path, extension, what) in outputs {
+    for (flag, path) in rasters {
         if let Some(path) = path {
-            check_extension(path, extension, what)?;
+            raster::check_name(path, flag)?;
         }
+    }
+    if let Some(path) = &args.output {
+        check_extension(path, "png", "pictures")?;
     }
     check_distinct(
         outputs
-            .iter()
-            .filter_map(|(flag, path, _, _)| path.as_deref().map(|p| (*flag, p)))
+            .clone()
+            .filter_map(|(flag, path)| path.as_deref().map(|p| (*flag, p)))
             .chain([("--mask", args.mask.as_path())]),
     )?;
     let mask = read_mask(&args.mask)?;
@@ -147,14 +163,13 @@ pub fn run(args: Args) -> Result<()> {
         .sampling(args.sampling);
     let t = distance_transform(&mask.features, mask.width, mask.height, &options)?;
     let transform_ms = started.elapsed().as_secs_f64() * 1e3;
-    let (h, w) = (t.height as u64, t.width as u64);
+    let geo = args.place.georeference(t.width, t.height);
+    let size = [t.width, t.height, 1];
     if let Some(path) = &args.distance {
-        npy::write(path, &[h, w], &t.distances)?;
+        raster::write(path, size, &t.distances, Some(&geo))?;
     }
     if let Some(path) = &args.indices {
-        let mut indices = t.feature_rows.clone();
-        indices.extend_from_slice(&t.feature_columns);
-        npy::write(path, &[2, h, w], &indices)?;
+        write_indices(path, &t, &geo)?;
     }
     let axis = match &args.medial_axis {
         Some(path) => {
@@ -166,7 +181,7 @@ pub fn run(args: Args) -> Result<()> {
                     angle: args.prune_angle,
                 },
             )?;
-            npy::write(path, &[h, w], &axis)?;
+            raster::write(path, size, &axis, Some(&geo))?;
             axis
         }
         None => Vec::new(),
@@ -181,7 +196,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.components.is_some() || args.output.is_some() {
         let nearest = t.at_nearest(&labels, NO_COMPONENT);
         if let Some(path) = &args.components {
-            npy::write(path, &[h, w], &nearest)?;
+            raster::write(path, size, &nearest, Some(&geo))?;
         }
         if let Some(path) = &args.output {
             let shade = |d: f64| {
@@ -203,7 +218,8 @@ pub fn run(args: Args) -> Result<()> {
             png.finish()?;
         }
     }
-    crate::wrote(outputs.iter().map(|(_, path, _, _)| path.as_deref()));
+    crate::wrote(outputs.map(|(_, path)| path.as_deref()));
+    args.place.write_world_file(&geo)?;
     let features = mask.features.iter().filter(|&&f| f).count();
     if args.json {
         let answer = json!({
@@ -215,6 +231,7 @@ pub fn run(args: Args) -> Result<()> {
             "sampling": args.sampling,
             "largest_distance": (features > 0).then_some(largest),
             "medial_axis_pixels": args.medial_axis.is_some().then(|| axis.iter().filter(|&&a| a).count()),
+            "georeference": args.place.describe(t.width, t.height),
             "stats": { "transform_ms": transform_ms },
         });
         envelope::print("transform", "cpu", None, &answer)?;
@@ -234,4 +251,30 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Each pixel's nearest feature pixel, row then column: SciPy's (2, rows,
+/// columns) in a `.npy`, two bands of a GeoTIFF.
+fn write_indices(path: &Path, t: &Transform, geo: &GeoReference) -> Result<()> {
+    if extension_among(path, &["npy"]).is_some() {
+        let mut planes = t.feature_rows.clone();
+        planes.extend_from_slice(&t.feature_columns);
+        return Ok(npy::write(
+            path,
+            &[2, t.height as u64, t.width as u64],
+            &planes,
+        )?);
+    }
+    let pairs: Vec<i32> = t
+        .feature_rows
+        .iter()
+        .zip(&t.feature_columns)
+        .flat_map(|(&row, &column)| [row, column])
+        .collect();
+    Ok(raster::write(
+        path,
+        [t.width, t.height, 2],
+        &pairs,
+        Some(geo),
+    )?)
 }

@@ -269,3 +269,45 @@ def test_alpha_hull_raster_in_a_box_and_fitted(tmp_path, sites):
         assert inside[~near].sum() > 0
         lines = [float(v) for v in (tmp_path / "hull.tfw").read_text().split()]
         np.testing.assert_allclose(lines[:4], [transform.a, 0, 0, transform.e])
+
+
+def test_transform_writes_geotiffs_placed_by_the_box(tmp_path):
+    """`transform` writes its rasters as GeoTIFFs where --bbox puts the mask,
+    with the distances SciPy computes and the same values as its .npy files."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(3)
+    mask = rng.random((40, 50)) < 0.02
+    mask[0, 0] = True
+    np.save(tmp_path / "mask.npy", mask)
+    box = "500000,4000000,500100,4000080"  # 2 m pixels
+    names = ("distance", "indices", "components", "medial-axis")
+    for ext in ("tif", "npy"):
+        outputs = [a for n in names for a in (f"--{n}", tmp_path / f"{n}.{ext}")]
+        done = pixgeo("transform", "--mask", tmp_path / "mask.npy", "--bbox", box,
+                      "--crs", "EPSG:32633", "--world-file", tmp_path / "t.tfw",
+                      "--json", *outputs)
+    placed = json.loads(done.stdout)["result"]["georeference"]
+    assert placed == {"bbox": [500000, 4000000, 500100, 4000080], "y_axis": "up",
+                      "crs": "EPSG:32633"}
+    truth = ndimage.distance_transform_edt(~mask)
+    with rasterio.open(tmp_path / "distance.tif") as r:
+        assert r.transform == Affine(2.0, 0.0, 500000.0, 0.0, -2.0, 4000080.0)
+        assert r.crs.to_epsg() == 32633
+        np.testing.assert_array_equal(r.read(1), truth)
+    with rasterio.open(tmp_path / "indices.tif") as r:
+        rows, columns = r.read(1), r.read(2)
+    np.testing.assert_array_equal(np.stack([rows, columns]), np.load(tmp_path / "indices.npy"))
+    r_, c_ = np.indices(mask.shape)
+    assert mask[rows, columns].all()
+    np.testing.assert_array_equal(np.hypot(rows - r_, columns - c_), truth)
+    for name in ("components", "medial-axis"):
+        with rasterio.open(tmp_path / f"{name}.tif") as r:
+            np.testing.assert_array_equal(r.read(1), np.load(tmp_path / f"{name}.npy"))
+    lines = [float(v) for v in (tmp_path / "t.tfw").read_text().split()]
+    np.testing.assert_allclose(lines, [2, 0, 0, -2, 500001, 4000079])
+    # Rows running north: row 0 is the box's south edge.
+    pixgeo("transform", "--mask", tmp_path / "mask.npy", "--bbox", box, "--y-axis", "down",
+           "--distance", tmp_path / "down.tif")
+    with rasterio.open(tmp_path / "down.tif") as r:
+        assert r.transform == Affine(2.0, 0.0, 500000.0, 0.0, 2.0, 4000000.0)

@@ -77,6 +77,11 @@ pub fn parse_crs(text: &str) -> std::result::Result<u16, String> {
     }
 }
 
+/// `EPSG:N`, as [`parse_crs`] reads it.
+pub fn crs_name(epsg: Option<u16>) -> Option<String> {
+    epsg.map(|code| format!("EPSG:{code}"))
+}
+
 /// A sample type a GeoTIFF holds.
 pub trait Sample: Copy {
     /// TIFF's SampleFormat: 1 unsigned, 2 signed, 3 floating point.
@@ -91,6 +96,23 @@ impl Sample for u8 {
     const BYTES: usize = 1;
     fn put(self, out: &mut Vec<u8>) {
         out.push(self);
+    }
+}
+
+/// A bool raster (a medial axis, a mask) is a byte raster of 0 and 1.
+impl Sample for bool {
+    const FORMAT: u16 = 1;
+    const BYTES: usize = 1;
+    fn put(self, out: &mut Vec<u8>) {
+        out.push(u8::from(self));
+    }
+}
+
+impl Sample for i32 {
+    const FORMAT: u16 = 2;
+    const BYTES: usize = 4;
+    fn put(self, out: &mut Vec<u8>) {
+        out.extend_from_slice(&self.to_le_bytes());
     }
 }
 

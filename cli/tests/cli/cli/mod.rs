@@ -24,8 +24,8 @@ fn pixgeo<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> (bool, String, String) {
     )
 }
 
-/// A `--json` answer: the envelope checked against docs/schema/envelope.json and
-/// its result against docs/schema/COMMAND.json; returns the envelope's result.
+/// A `--json` answer: the envelope checked against cli/schema/envelope.json and
+/// its result against cli/schema/COMMAND.json; returns the envelope's result.
 fn answer(stdout: &str, command: &str) -> serde_json::Value {
     let envelope = enveloped(stdout, command);
     envelope["result"].clone()
@@ -34,7 +34,7 @@ fn answer(stdout: &str, command: &str) -> serde_json::Value {
 /// The whole envelope of a `--json` answer, checked as [`answer`] does.
 fn enveloped(stdout: &str, command: &str) -> serde_json::Value {
     let schema = |name: &str| -> serde_json::Value {
-        let path = format!("{}/../docs/schema/{name}.json", env!("CARGO_MANIFEST_DIR"));
+        let path = format!("{}/schema/{name}.json", env!("CARGO_MANIFEST_DIR"));
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap()
     };
     let v: serde_json::Value = serde_json::from_str(stdout).unwrap();

@@ -37,7 +37,7 @@ fn distance_commands_answer_with_the_pair() {
     let (ok, stdout, stderr) = pixgeo(&args);
     assert!(!ok && stderr.contains("blue"), "{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    let path = format!("{}/../docs/schema/error.json", env!("CARGO_MANIFEST_DIR"));
+    let path = format!("{}/schema/error.json", env!("CARGO_MANIFEST_DIR"));
     let schema = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let validator = jsonschema::validator_for(&schema).unwrap();
     assert!(validator.is_valid(&v), "{stdout}");

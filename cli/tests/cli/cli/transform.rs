@@ -85,7 +85,12 @@ fn transform_reads_png_and_npy_masks_and_writes_scipy_layout() {
     for (args, message) in [
         (vec!["--sampling", "0,1", "--json"], "above 0"),
         (vec![], "nothing to write"),
-        (vec!["--distance", "d.png"], "name the file *.npy"),
+        (vec!["--distance", "d.png"], "name the file *.npy or *.tif"),
+        (
+            vec!["--medial-axis", "a.tiff.txt"],
+            "name the file *.npy or *.tif",
+        ),
+        (vec!["--json", "--crs", "4326"], "EPSG:N"),
         (
             vec!["--metric", "lp:0.5", "--sampling", "1,2", "--json"],
             "equal sampling",
