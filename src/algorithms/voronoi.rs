@@ -209,6 +209,22 @@ pub struct VoronoiDiagram {
     pub stats: VoronoiStats,
 }
 
+impl VoronoiDiagram {
+    /// The diagram of the whole picture `frame`, without tie counts.
+    pub fn whole(frame: Frame, labels: Vec<u32>, distances: Vec<f32>, stats: VoronoiStats) -> Self {
+        VoronoiDiagram {
+            width: frame.width,
+            height: frame.height,
+            frame,
+            window: PixelRect::sized(frame.width, frame.height),
+            labels,
+            distances,
+            ties: Vec::new(),
+            stats,
+        }
+    }
+}
+
 /// Rows `y0 .. y0 + height` of the diagram, full width, row-major.
 #[derive(Clone, Debug)]
 pub struct Band {

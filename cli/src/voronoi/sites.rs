@@ -26,21 +26,13 @@ pub(super) fn general_sites(args: &Args, sites: &[Site], world: &World) -> Resul
         Backend::Cpu => {
             let started = std::time::Instant::now();
             let (labels, distances) = cpu::voronoi_sites(sites, &frame, args.metric)?;
-            VoronoiDiagram {
-                width: frame.width,
-                height: frame.height,
-                frame,
-                window: PixelRect::sized(frame.width, frame.height),
-                labels,
-                distances,
-                ties: Vec::new(),
-                stats: VoronoiStats {
-                    device: "cpu".into(),
-                    sites: sites.len(),
-                    render_ms: started.elapsed().as_secs_f64() * 1e3,
-                    ..Default::default()
-                },
-            }
+            let stats = VoronoiStats {
+                device: "cpu".into(),
+                sites: sites.len(),
+                render_ms: started.elapsed().as_secs_f64() * 1e3,
+                ..Default::default()
+            };
+            VoronoiDiagram::whole(frame, labels, distances, stats)
         }
     };
     let (size, geo) = ([frame.width, frame.height, 1], world.georeference());

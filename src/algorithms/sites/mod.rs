@@ -164,16 +164,7 @@ pub fn voronoi_sites(
     let started = Instant::now();
     let distances = distances_of(&depths, &labels, |z| depth.distance(z));
     stats.readback_ms += ms(started);
-    Ok(VoronoiDiagram {
-        width: frame.width,
-        height: frame.height,
-        frame,
-        window: PixelRect::sized(frame.width, frame.height),
-        labels,
-        distances,
-        ties: Vec::new(),
-        stats,
-    })
+    Ok(VoronoiDiagram::whole(frame, labels, distances, stats))
 }
 
 /// The sites that may win some pixel by their additive weights: the site of
