@@ -127,15 +127,39 @@ pub fn nearest_weighted_distances(
     frame: &Frame,
     metric: pixgeo::geometry::metric::Metric,
 ) -> Vec<f64> {
+    use pixgeo::geometry::site::Shape;
     let w = frame.width as usize;
+    let weighted = |s: &pixgeo::geometry::site::Site, d: f64| d / s.multiplicative + s.additive;
+    // The curves whose distance is sampled, with their circle; the rest.
+    let circle = |s: &pixgeo::geometry::site::Site| match s.shape {
+        Shape::Circle { center, radius } | Shape::Arc { center, radius, .. }
+            if metric != pixgeo::geometry::metric::Metric::L2 =>
+        {
+            Some((center, radius))
+        }
+        _ => None,
+    };
+    let curves: Vec<_> = sites.iter().filter_map(|s| Some((s, circle(s)?))).collect();
+    let others: Vec<_> = sites.iter().filter(|s| circle(s).is_none()).collect();
+    // A sampled curve is no nearer than a·|‖q − c‖ − r| (a from the metric's
+    // Euclidean bounds); one whose bound cannot beat the best is not sampled.
+    let slack = 1.0 - 1e-9;
+    let (a, _) = metric.euclidean_bounds();
     (0..frame.len())
         .into_par_iter()
         .map(|k| {
             let q = frame.to_world(DVec2::new((k % w) as f64, (k / w) as f64));
-            sites
+            let mut best = others
                 .iter()
-                .map(|s| shape_distance(s, metric, q) / s.multiplicative + s.additive)
-                .fold(f64::INFINITY, f64::min)
+                .map(|s| weighted(s, shape_distance(s, metric, q)))
+                .fold(f64::INFINITY, f64::min);
+            for &(s, (center, radius)) in &curves {
+                let bound = weighted(s, slack * a * ((q - center).length() - radius).abs());
+                if bound < best {
+                    best = best.min(weighted(s, shape_distance(s, metric, q)));
+                }
+            }
+            best
         })
         .collect()
 }
