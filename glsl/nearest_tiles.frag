@@ -34,6 +34,20 @@ uvec4 record(uint r) {
 
 #if defined(METRIC_LP) || defined(METRIC_LP_SUM)
 #define ORDERED
+#else
+// A bound on the error of the key of offset d from site s, both float32,
+// against the key of the exact offset from the site's double: the site
+// rounds by at most 2^-24 |s| per coordinate, the offset by 2^-24 |d|, the
+// key by 2^-23 of itself (L2: two products and a sum); each bound doubled
+// for the rounding of this computation.
+float key_error(vec2 s, vec2 d, float key) {
+    vec2 e = (abs(s) + abs(d)) * 2.4e-7 + 1.0e-30;
+#ifdef METRIC_L2
+    return 2.0 * dot(abs(d), e) + dot(e, e) + key * 4.8e-7;
+#else
+    return e.x + e.y + key * 4.8e-7;
+#endif
+}
 #endif
 
 void main() {
@@ -65,23 +79,43 @@ void main() {
 #else
     // Sites come by id: the first of equal keys has the smallest, whatever
     // the tiling of the picture. The pair of the nearest (its first texel,
-    // from the tile's first) and which of the two it is (the low bit).
+    // from the tile's first) and which of the two it is (the low bit); and
+    // the runner-up's key and error bound.
     uint best_slot = 0u;
+    vec2 best_site = vec2(0.0);
+    float second = 3.0e38;
+    vec2 second_site = vec2(0.0);
     for (uint r = sites.x; r < sites.x + sites.y; r += 2u) {
         vec4 xy = uintBitsToFloat(record(r));
-        float key = metric_key(p - xy.xy);
-        if (key < best) {
-            best = key;
-            best_slot = r - sites.x;
-        }
-        key = metric_key(p - xy.zw);
-        if (key < best) {
-            best = key;
-            best_slot = (r - sites.x) | 1u;
+        // An odd list repeats its last site, which is no runner-up to itself.
+        bool last = r + 2u >= sites.x + sites.y;
+        uint halves = last && record(r + 1u).z == record(r + 1u).w ? 1u : 2u;
+        for (uint half_ = 0u; half_ < halves; half_++) {
+            vec2 site = half_ == 0u ? xy.xy : xy.zw;
+            float key = metric_key(p - site);
+            if (key < best) {
+                second = best;
+                second_site = best_site;
+                best = key;
+                best_slot = (r - sites.x) | half_;
+                best_site = site;
+            } else if (key < second) {
+                second = key;
+                second_site = site;
+            }
         }
     }
     uvec4 ids = record(sites.x + (best_slot & ~1u) + 1u);
     uint best_id = (best_slot & 1u) == 0u ? ids.z : ids.w;
+    // Asked for the second level too (levels 2): a runner-up within the two
+    // keys' error bounds may be the nearest of the unrounded sites, or tie it,
+    // so the top bit marks the pixel for the exact check
+    // (src/algorithms/certify.rs).
+    if (picture.levels == 2u && second < 3.0e38
+            && second - best <= key_error(best_site, p - best_site, best)
+                                 + key_error(second_site, p - second_site, second)) {
+        best_id |= 0x80000000u;
+    }
 #endif
     gl_FragDepth = best * picture.fragment_depth_scale;
     out_id = best_id;

@@ -426,8 +426,16 @@ def distance_transform_edt(
     (SciPy's answer there is not a distance to any element).
     """
     a = _raster(input)
+    # SciPy's argument rules, and its messages.
+    problems = []
     if not (return_distances or return_indices):
-        raise RuntimeError("at least one of return_distances/return_indices must be True")
+        problems.append("at least one of return_distances/return_indices must be True")
+    if distances is not None and not return_distances:
+        problems.append("return_distances must be True if distances is supplied")
+    if indices is not None and not return_indices:
+        problems.append("return_indices must be True if indices is supplied")
+    if problems:
+        raise RuntimeError(", ".join(problems))
     features = np.ascontiguousarray(a == 0)
     d, i = _pixgeo.distance_transform(features, _spacing(sampling), metric)
     out = []

@@ -58,6 +58,26 @@ def test_outputs_in_place_and_one_at_a_time():
     np.testing.assert_array_equal(only, i)
     with pytest.raises(RuntimeError):
         pixgeo.distance_transform_edt(input, return_distances=False)
+
+
+@pytest.mark.parametrize(
+    "arguments",
+    [
+        {"return_distances": False, "return_indices": True, "distances": "d"},
+        {"return_distances": True, "return_indices": False, "indices": "i"},
+        {"return_distances": False, "return_indices": False, "distances": "d", "indices": "i"},
+    ],
+)
+def test_outputs_given_with_their_flag_off_are_refused_as_scipy_refuses(arguments):
+    input = masks()["40x57 0.5"]
+    arrays = {"d": np.zeros(input.shape), "i": np.zeros((2,) + input.shape, np.int32)}
+    arguments = {k: arrays.get(v, v) if isinstance(v, str) else v for k, v in arguments.items()}
+    with pytest.raises(RuntimeError) as ours:
+        pixgeo.distance_transform_edt(input, **arguments)
+    with pytest.raises(RuntimeError) as scipys:
+        ndimage.distance_transform_edt(input, **arguments)
+    assert str(ours.value) == str(scipys.value)
+    assert not arrays["d"].any() and not arrays["i"].any()
     with pytest.raises(ValueError):
         pixgeo.distance_transform_edt(np.ones((2, 2, 2)))
     with pytest.raises(ValueError):

@@ -38,7 +38,7 @@ use rayon::prelude::*;
 use crate::{
     algorithms::{
         cones::{draw_cones, ConeDraw, ConePush, SITE_FAN},
-        voronoi::{draw_point_tiles, VoronoiOptions},
+        voronoi::{draw_point_tiles, TileExtras, VoronoiOptions},
     },
     error::{Error, Result},
     geometry::circle::welzl,
@@ -289,7 +289,7 @@ fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, canvas: Canvas) -> R
         ..VoronoiOptions::exact(frame)
     };
     let mut centre = vec![false; w * h];
-    draw_point_tiles(machine, sites, &options, false, false, |tile| {
+    draw_point_tiles(machine, sites, &options, TileExtras::default(), |tile| {
         let key = tile.keys.scale * r_px * r_px;
         let (tw, th) = (tile.ids.width(), tile.ids.height());
         if key <= 1.0 {

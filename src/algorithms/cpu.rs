@@ -31,6 +31,7 @@ use crate::{
     },
 };
 
+use super::certify::certify_levels;
 use super::higher_order::{furthest_candidates, Furthest, KNearest, KNearestStats, MAX_LEVELS};
 
 /// How far a site may lie from the pixel centre it grows from.
@@ -79,6 +80,13 @@ fn isqrt(v: i64) -> i64 {
 /// Every pixel's `k` nearest sites (world coordinates) on `frame`, computed on the
 /// CPU by growing the sites (thesis §3.12.2).
 pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Result<KNearest> {
+    let mut near = grown_k_nearest(sites, frame, k, metric)?;
+    certify_levels(&mut near, sites, metric)?;
+    Ok(near)
+}
+
+/// [`k_nearest`] as the sites grow, before the exact check.
+fn grown_k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Result<KNearest> {
     check_sites(sites)?;
     frame.check()?;
     if k == 0 || k > MAX_LEVELS {

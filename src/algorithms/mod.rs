@@ -5,6 +5,7 @@ pub mod alpha_hull;
 pub mod area;
 pub mod area_sweep;
 pub mod cells;
+pub(crate) mod certify;
 pub(crate) mod cones;
 pub mod cpu;
 pub mod delaunay;

@@ -38,6 +38,7 @@ use crate::{
     machine::{Machine, PixelRect},
 };
 
+use super::certify::{Certifier, Region};
 use super::envelope::{
     drawn_accuracy, metric_fan, ConePlan, ConeSpec, DrawnTile, Picture, TileView, Tiling,
     SCREEN_TILE_SIDE,
@@ -185,6 +186,10 @@ pub struct VoronoiStats {
     pub bounds_ms: f64,
     pub render_ms: f64,
     pub readback_ms: f64,
+    /// Pixels whose drawn label (or tie count) the exact check replaced.
+    pub mended: usize,
+    /// Milliseconds the exact check took.
+    pub certify_ms: f64,
 }
 
 /// A Voronoi diagram on a picture.
@@ -341,8 +346,19 @@ fn distinct_bands(
     sink: &mut dyn FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
     let window = options.window_rect()?;
+    let started = Instant::now();
+    let certifier = match drawn_accuracy(options.metric, options.accuracy) {
+        Accuracy::Exact => Some(Certifier::new(sites, &options.frame, options.metric)?),
+        Accuracy::Fan { .. } => None,
+    };
+    let (mut mended, mut certify_ms) = (0, ms(started));
     let mut band: Option<Band> = None;
-    let stats = draw_point_tiles(machine, sites, options, false, true, |tile| {
+    let extras = TileExtras {
+        power_keys: true,
+        near_ties: true,
+        ..TileExtras::default()
+    };
+    let mut stats = draw_point_tiles(machine, sites, options, extras, |tile| {
         if tile.x0 == window.x {
             if let Some(done) = band.take() {
                 sink(done)?;
@@ -367,23 +383,63 @@ fn distinct_bands(
         let band = band
             .as_mut()
             .expect("a band begins at the window's left edge");
-        read_tile(machine, tile, &window, options, band)
+        read_tile(machine, tile, &window, options, band)?;
+        if let Some(certifier) = &certifier {
+            let x0 = (tile.x0 - window.x) as usize;
+            let region = Region {
+                x0: tile.x0,
+                y0: tile.y0,
+                width: tile.inner.width,
+                height: tile.inner.height,
+                stride: window.width as usize,
+                k: 1,
+            };
+            let started = Instant::now();
+            let certify = if tile.marked {
+                Certifier::certify_marked
+            } else {
+                Certifier::certify
+            };
+            mended += certify(
+                certifier,
+                region,
+                &mut band.labels[x0..],
+                options.distances.then(|| &mut band.distances[x0..]),
+                options.ties.then(|| &mut band.ties[x0..]),
+            )?;
+            certify_ms += ms(started);
+        }
+        Ok(())
     })?;
     if let Some(done) = band {
         sink(done)?;
     }
+    stats.mended = mended;
+    stats.certify_ms = certify_ms;
     Ok(stats)
+}
+
+/// What the tiles of [`draw_point_tiles`] hold besides labels and depths.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct TileExtras {
+    /// A stencil in the depth image.
+    pub stencil: bool,
+    /// Exact depths as power sums where the metric allows
+    /// (`DepthKey::for_cones`).
+    pub power_keys: bool,
+    /// Near ties marked in the labels' top bit where the route can tell
+    /// (`DrawnTile::marked`).
+    pub near_ties: bool,
 }
 
 /// Draws the Voronoi diagram of points tile by tile, handing each tile to
 /// `visit` while it is on the device (tiles of a row of tiles left to right, rows
-/// top to bottom). `stencil` asks for a stencil in the depth image.
+/// top to bottom).
 pub(crate) fn draw_point_tiles(
     machine: &Machine,
     sites: &[DVec2],
     options: &VoronoiOptions,
-    stencil: bool,
-    power_keys: bool,
+    extras: TileExtras,
     mut visit: impl FnMut(&DrawnTile<'_>) -> Result<()>,
 ) -> Result<VoronoiStats> {
     check_sites(sites)?;
@@ -402,7 +458,7 @@ pub(crate) fn draw_point_tiles(
             "equal distances are counted in exact mode only".into(),
         ));
     }
-    options.accuracy.check()?;
+    options.accuracy.check_for(options.metric)?;
     let frame = options.frame;
     let mut stats = VoronoiStats {
         device: machine.device_name().to_string(),
@@ -417,7 +473,8 @@ pub(crate) fn draw_point_tiles(
         accuracy: options.accuracy,
         speedup: options.speedup,
         ties: options.ties,
-        power_keys,
+        power_keys: extras.power_keys,
+        mark_near_ties: extras.near_ties,
     };
     let plan = ConePlan::new(machine, pixels, &frame, spec)?;
     stats.bounds_ms = ms(started);
@@ -429,7 +486,7 @@ pub(crate) fn draw_point_tiles(
     let window = options.window_rect()?;
     let tiling = Tiling::new(machine, options.max_tile, window, band_rows)?;
     let (tile_w, tile_h) = (tiling.tile_w, tiling.tile_h);
-    let picture = Picture::new(machine, tile_w, tile_h, options.ties || stencil)?;
+    let picture = Picture::new(machine, tile_w, tile_h, options.ties || extras.stencil)?;
     let keys = plan.depth_map(frame.scale);
     // Tile candidates are the picture's: the tiles of a view must be among them.
     let aligned = |tile: u32, whole: u32| tile >= whole || tile % SCREEN_TILE_SIDE == 0;
@@ -447,9 +504,11 @@ pub(crate) fn draw_point_tiles(
         };
         stats.tiles += 1;
         let started = Instant::now();
+        let mut tile_by_lists = false;
         for k in 0..plan.attempts() {
             stats.passes += 1;
-            drawn_by_tiles &= plan.render(machine, &picture, &view, k, aligned)?;
+            tile_by_lists = plan.render(machine, &picture, &view, k, aligned)?;
+            drawn_by_tiles &= tile_by_lists;
             final_attempt = final_attempt.max(k);
             // Picture-wide and local radii cover every pixel by construction; the
             // quadtree's radius is checked with minmax, the thesis's way: a pixel
@@ -472,6 +531,7 @@ pub(crate) fn draw_point_tiles(
             y0,
             inner,
             keys,
+            marked: tile_by_lists && plan.marks_near_ties(),
         })?;
         stats.readback_ms += ms(started);
     }

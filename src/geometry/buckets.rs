@@ -2,6 +2,8 @@
 //! turns a pixel answer into an exact one; the counting sort that every
 //! bucketed structure of pixgeo is built with, and the ring walk they search by.
 
+use std::borrow::Cow;
+
 use glam::DVec2;
 
 /// Visits the cells `(x, y)` of an `nx` x `ny` grid at Chebyshev distance exactly
@@ -54,7 +56,7 @@ pub(crate) fn group_by_bucket<T: Copy + Default>(
 
 /// Points binned into square buckets over their bounding box.
 pub struct PointGrid<'a> {
-    points: &'a [DVec2],
+    points: Cow<'a, [DVec2]>,
     origin: DVec2,
     cell: f64,
     nx: usize,
@@ -67,6 +69,15 @@ pub struct PointGrid<'a> {
 impl<'a> PointGrid<'a> {
     /// About one point per bucket.
     pub fn new(points: &'a [DVec2]) -> Self {
+        Self::over(Cow::Borrowed(points))
+    }
+
+    /// About one point per bucket, holding the points.
+    pub fn owning(points: Vec<DVec2>) -> PointGrid<'static> {
+        PointGrid::over(Cow::Owned(points))
+    }
+
+    fn over(points: Cow<'a, [DVec2]>) -> Self {
         let lo = points.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
         let hi = points.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
         let extent = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
@@ -86,9 +97,11 @@ impl<'a> PointGrid<'a> {
             start: Vec::new(),
             order: Vec::new(),
         };
-        let buckets = points.iter().map(|p| grid.bucket(*p));
-        (grid.start, grid.order) =
-            group_by_bucket(nx * ny, buckets.enumerate().map(|(i, b)| (b, i as u32)));
+        let buckets: Vec<usize> = grid.points.iter().map(|p| grid.bucket(*p)).collect();
+        (grid.start, grid.order) = group_by_bucket(
+            nx * ny,
+            buckets.iter().enumerate().map(|(i, &b)| (b, i as u32)),
+        );
         grid
     }
 

@@ -8,6 +8,7 @@ pub mod cell;
 pub(crate) mod chain;
 pub mod circle;
 pub(crate) mod cone;
+pub(crate) mod exact;
 pub(crate) mod flips;
 pub(crate) mod frame;
 pub(crate) mod mesh;

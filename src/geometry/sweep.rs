@@ -17,6 +17,7 @@ use std::{
 use glam::DVec2;
 use rayon::slice::ParallelSliceMut;
 
+use super::exact::{two_difference, two_product, two_sum};
 use crate::error::{Error, Result};
 
 /// Calls `visit(order, block)` for every line through two or more of the
@@ -204,25 +205,6 @@ fn normalized(d: &Difference) -> ([f64; 2], [f64; 2]) {
     let k = -largest.log2().floor() as i32;
     let s = |v: f64| crate::geometry::scale::times_power_of_two(v, k);
     ([s(d.hi.x), s(d.lo.x)], [s(d.hi.y), s(d.lo.y)])
-}
-
-fn two_difference(a: f64, b: f64) -> (f64, f64) {
-    let x = a - b;
-    let virtual_b = a - x;
-    let virtual_a = x + virtual_b;
-    (x, (a - virtual_a) + (virtual_b - b))
-}
-
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let x = a + b;
-    let virtual_b = x - a;
-    let virtual_a = x - virtual_b;
-    (x, (a - virtual_a) + (b - virtual_b))
-}
-
-fn two_product(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
 }
 
 /// The sign of the exact sum of `terms`: Shewchuk's expansion growth, whose

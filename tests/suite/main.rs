@@ -6,6 +6,7 @@ mod common;
 
 mod alpha;
 mod area;
+mod certified;
 mod delaunay;
 mod distances;
 mod flooding;

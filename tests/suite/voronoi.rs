@@ -552,11 +552,18 @@ fn fans_of_other_metrics_stay_inside_their_bounds() {
     let metrics = [
         Metric::L1,
         Metric::LInf,
-        Metric::Lp(0.5),
         Metric::Lp(1.5),
         Metric::Lp(4.0),
         Metric::Lp(60.0),
     ];
+    // No ε bounds a fan of a ball that is not convex: refused.
+    for p in [0.5, 0.1] {
+        let fan = VoronoiOptions::exact(frame)
+            .metric(Metric::Lp(p))
+            .accuracy(Accuracy::FAN);
+        let refused = voronoi(&m, &[DVec2::new(30.0, 20.0)], &fan).unwrap_err();
+        assert!(refused.to_string().contains("not convex"), "{refused}");
+    }
     for metric in metrics {
         for (name, sites) in cases(61, 47) {
             // The rasterizer snaps a fan's vertices to its subpixel grid (1/256

@@ -292,6 +292,24 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         (_, _, true) => Kind::Furthest,
         _ => Kind::Ordinary,
     };
+    if let Kind::Degree(k) | Kind::Order(k) = kind {
+        // Sites at one place are one site to a pixel's nearest.
+        let distinct: std::collections::HashSet<[u64; 2]> = sites
+            .iter()
+            .map(|p| [(p.x + 0.0).to_bits(), (p.y + 0.0).to_bits()])
+            .collect();
+        if k as usize > distinct.len() {
+            let flag = if matches!(kind, Kind::Order(_)) {
+                "order"
+            } else {
+                "degree"
+            };
+            bail!(
+                "--{flag} {k} asks for {k} nearest sites, but there are only {} distinct sites",
+                distinct.len()
+            );
+        }
+    }
     let machine = match &backend {
         Backend::Gpu(machine) if kind == Kind::Ordinary => machine,
         _ => return whole_picture(args, &backend, &sites, world, accuracy, speedup, kind),

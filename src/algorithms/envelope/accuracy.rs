@@ -49,6 +49,21 @@ impl Accuracy {
         }
         Ok(())
     }
+
+    /// [`Accuracy::check`], and a clear error for fans of a metric whose
+    /// ball is not convex (L_p with p < 1): a fan's flat sides cut through
+    /// such a ball, so no ε bounds its distances, which can be far too small
+    /// along the axes.
+    pub fn check_for(self, metric: Metric) -> Result<()> {
+        self.check()?;
+        match (self, metric) {
+            (Self::Fan { .. }, Metric::Lp(p)) if p < 1.0 => Err(Error::InvalidInput(format!(
+                "fans cannot keep a distance bound under L_p with p = {p} < 1, whose ball is \
+                 not convex; draw it exactly (the default mode), which has no error"
+            ))),
+            _ => Ok(()),
+        }
+    }
 }
 
 /// How far cones reach.

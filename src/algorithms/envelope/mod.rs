@@ -45,6 +45,10 @@ pub(crate) struct DrawnTile<'a> {
     pub y0: u32,
     /// The part of the tile image that is picture.
     pub inner: PixelRect,
+    /// Whether the labels' top bit marks the pixels whose runner-up is
+    /// within rounding (`ConePlan::marks_near_ties`): only those need the
+    /// exact check.
+    pub marked: bool,
     pub keys: DepthMap,
 }
 

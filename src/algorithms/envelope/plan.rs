@@ -58,6 +58,9 @@ pub(crate) struct ConeSpec {
     pub ties: bool,
     /// Exact cones may write power sums (`DepthKey::for_cones`) for peeling.
     pub power_keys: bool,
+    /// Mark the pixels whose runner-up is within rounding of their nearest,
+    /// where the screen tiles' lists can tell (`ConePlan::marks_near_ties`).
+    pub mark_near_ties: bool,
 }
 
 /// One try's cones, with the quadtree radius it uses (if any).
@@ -219,6 +222,16 @@ impl ConePlan {
         self.tiled
     }
 
+    /// Whether a tile drawn from its screen tiles' lists marks near ties in
+    /// its labels' top bit (`glsl/nearest_tiles.frag`): for L2, L1 and L∞,
+    /// whose lists come by id, and ids below the top bit.
+    pub(crate) fn marks_near_ties(&self) -> bool {
+        self.spec.mark_near_ties
+            && self.tiled
+            && matches!(self.key.shader_code(), Some((0..=2, _)))
+            && self.sites.len() < 1 << 31
+    }
+
     /// How the depths drawn map to distances (world units).
     pub(crate) fn depth_map(&self, pixels_per_unit: f64) -> DepthMap {
         let exact = self.spec.accuracy == Accuracy::Exact;
@@ -256,6 +269,7 @@ impl ConePlan {
             scale: self.scale,
             ties: self.spec.ties,
             tiled: self.tiled,
+            mark_near_ties: self.marks_near_ties(),
             candidates: self.candidates.as_ref().filter(|_| aligned),
             sites: &self.sites,
         };

@@ -116,6 +116,8 @@ pub(super) struct Draws<'a> {
     /// Take the envelope of exact cones per screen tile from the sites whose
     /// box meets it ([`NEAREST_TILES`]) instead of drawing them.
     pub tiled: bool,
+    /// Mark near ties in the tiles' labels (`ConePlan::marks_near_ties`).
+    pub mark_near_ties: bool,
     /// Or from each tile's candidates, found directly.
     pub candidates: Option<&'a TileCandidates>,
     /// Every site (picture pixels), by id.
@@ -147,7 +149,10 @@ fn render_tiles(
             &NEAREST_TILES,
             &RasterState::lower_envelope(),
             &DrawParams::default(),
-            push,
+            &ConePush {
+                levels: if draws.mark_near_ties { 2 } else { 1 },
+                ..*push
+            },
         )?;
         pass.end()
     })?;

@@ -221,7 +221,7 @@ pub(super) fn check_levels(
     options: &KNearestOptions,
 ) -> Result<()> {
     check_sites(sites)?;
-    options.accuracy.check()?;
+    options.accuracy.check_for(options.metric)?;
     let frame = options.frame;
     frame.check()?;
     let k = options.k;

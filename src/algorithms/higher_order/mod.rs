@@ -46,6 +46,7 @@ use super::cones::{
     CONE_K_NEAREST, CONE_K_NEAREST_FAN, CONE_PEEL,
 };
 
+use super::certify::certify_levels;
 use super::envelope::distances_of;
 use super::envelope::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 
@@ -150,6 +151,10 @@ pub struct KNearestStats {
     pub bounds_ms: f64,
     pub render_ms: f64,
     pub readback_ms: f64,
+    /// Pixels whose proposed sites the exact check replaced (exact mode).
+    pub mended: usize,
+    /// Milliseconds the exact check took.
+    pub certify_ms: f64,
 }
 
 /// The k nearest sites of every pixel.
@@ -208,6 +213,19 @@ impl KNearest {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn k_nearest(
+    machine: &Machine,
+    sites: &[DVec2],
+    options: &KNearestOptions,
+) -> Result<KNearest> {
+    let mut near = proposed_k_nearest(machine, sites, options)?;
+    if drawn_accuracy(options.metric, options.accuracy) == Accuracy::Exact {
+        certify_levels(&mut near, sites, options.metric)?;
+    }
+    Ok(near)
+}
+
+/// [`k_nearest`] as the device draws it, before the exact check.
+fn proposed_k_nearest(
     machine: &Machine,
     sites: &[DVec2],
     options: &KNearestOptions,

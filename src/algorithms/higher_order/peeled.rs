@@ -121,7 +121,7 @@ pub fn k_nearest_peeled(
         }
     }
     stats.render_ms = ms(started);
-    Ok(KNearest {
+    let mut near = KNearest {
         width: w,
         height: h,
         frame,
@@ -129,5 +129,7 @@ pub fn k_nearest_peeled(
         labels,
         distances,
         stats,
-    })
+    };
+    certify_levels(&mut near, sites, metric)?;
+    Ok(near)
 }

@@ -143,7 +143,11 @@ pub fn largest_empty_by(
             };
             let mut tiles: Vec<(f32, Vec<usize>)> = Vec::new();
             let mut keys = None;
-            draw_point_tiles(machine, sites, &options, true, false, |tile| {
+            let extras = TileExtras {
+                stencil: true,
+                ..TileExtras::default()
+            };
+            draw_point_tiles(machine, sites, &options, extras, |tile| {
                 keys = Some(tile.keys);
                 let within = 2.0 * bound * frame.scale;
                 let near = near_extreme(metric, tile.keys.scale, within, true);

@@ -55,7 +55,7 @@ use super::{
     flooding,
     higher_order::{draw_furthest, k_nearest, KNearestOptions, MAX_LEVELS},
     sites::draw_sites,
-    voronoi::{draw_point_tiles, Accuracy, Speedup, VoronoiOptions},
+    voronoi::{draw_point_tiles, Accuracy, Speedup, TileExtras, VoronoiOptions},
 };
 
 mod empty;

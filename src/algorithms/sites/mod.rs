@@ -219,7 +219,7 @@ pub(crate) fn draw_sites(
     let (frame, metric) = (options.frame, options.metric);
     frame.check()?;
     check_general_sites(sites)?;
-    options.accuracy.check()?;
+    options.accuracy.check_for(options.metric)?;
     if options.ties {
         return Err(Error::InvalidInput(
             "equal distances are counted for unweighted points only".into(),
@@ -482,6 +482,7 @@ pub(crate) fn draw_sites(
                 pixels_per_unit: 1.0,
                 offset: least_additive,
             },
+            marked: false,
         })?;
     }
     stats.render_ms = ms(started);

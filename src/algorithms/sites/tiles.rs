@@ -213,6 +213,7 @@ pub(super) fn draw_site_tiles(
             height,
         },
         keys,
+        marked: false,
     })?;
     stats.render_ms = ms(started);
     Ok(Some((stats, keys)))

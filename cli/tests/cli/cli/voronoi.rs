@@ -385,3 +385,46 @@ fn size_is_the_longer_side_where_the_sites_set_the_box() {
         assert!(ok, "{args:?}: {stderr}");
     }
 }
+
+#[test]
+fn levels_beyond_the_distinct_sites_are_refused_by_name() {
+    let sites = temp("three.csv");
+    // Three sites, two of them at one place.
+    std::fs::write(&sites, "x,y\n3,4\n3,4\n20,30\n").unwrap();
+    let s = sites.to_str().unwrap();
+    for flag in ["--order", "--degree"] {
+        let (ok, _, stderr) = pixgeo(&["voronoi", "--sites", s, "--size", "32", flag, "3"]);
+        assert!(
+            !ok && stderr.contains(&format!(
+                "{flag} 3 asks for 3 nearest sites, but there are only 2 distinct sites"
+            )),
+            "{flag}: {stderr}"
+        );
+        let (ok, _, stderr) =
+            pixgeo(&["voronoi", "--sites", s, "--size", "32", flag, "2", "--json"]);
+        assert!(ok, "{flag} 2: {stderr}");
+    }
+}
+
+#[test]
+fn labels_are_exact_for_the_doubles_given() {
+    // Two sites mirrored about the centre of pixel (5, 0), the second one ulp
+    // nearer to it: float32 sites tie there and give the first; the exact
+    // nearest is the second, on the device and on the CPU alike.
+    let sites = temp("mirrored.csv");
+    std::fs::write(&sites, "x,y\n5.3,0\n4.700000000000001,0\n").unwrap();
+    let s = sites.to_str().unwrap();
+    for device in ["lavapipe", "cpu"] {
+        let labels = temp(&format!("mirrored_{device}.npy"));
+        let l = labels.to_str().unwrap();
+        let (ok, _, stderr) = pixgeo(&[
+            "voronoi", "--sites", s, "--size", "12x4", "--device", device, "--labels", l,
+        ]);
+        assert!(ok, "{stderr}");
+        let map: Vec<u32> = npyz::NpyFile::new(std::fs::File::open(&labels).unwrap())
+            .unwrap()
+            .into_vec()
+            .unwrap();
+        assert_eq!(map[5], 1, "{device}");
+    }
+}

@@ -1,0 +1,118 @@
+//! Nearest sites in exact rational arithmetic: the pixel centre
+//! `origin + (i + 1/2) / scale` and the sites' doubles taken as the rationals
+//! they are, every metric's key compared without rounding. A float search
+//! narrows each pixel to the sites within a generous tolerance of the nearest;
+//! those are then ranked exactly.
+
+use glam::DVec2;
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{pow, Signed};
+use rayon::prelude::*;
+
+use pixgeo::geometry::{metric::Metric, Frame};
+
+fn exact(x: f64) -> BigRational {
+    BigRational::from_float(x).expect("finite")
+}
+
+/// The exact key of the offset from `site` to the centre of pixel `(i, j)`:
+/// the squared distance for L2, Σ|d|^p for integer p, the distance for L1 and
+/// L∞. Panics for other metrics: no rational holds their distances.
+pub fn exact_key(frame: &Frame, metric: Metric, site: DVec2, i: u32, j: u32) -> BigRational {
+    let half = BigRational::new(BigInt::from(1), BigInt::from(2));
+    let centre = |o: f64, k: u32| {
+        exact(o) + (BigRational::from_integer(k.into()) + &half) / exact(frame.scale)
+    };
+    let dx = (centre(frame.origin.x, i) - exact(site.x)).abs();
+    let dy = (centre(frame.origin.y, j) - exact(site.y)).abs();
+    match metric {
+        Metric::L2 => &dx * &dx + &dy * &dy,
+        Metric::L1 => dx + dy,
+        Metric::LInf => dx.max(dy),
+        Metric::Lp(p) if p.fract() == 0.0 => pow(dx, p as usize) + pow(dy, p as usize),
+        other => panic!("no exact key for {other:?}"),
+    }
+}
+
+/// Pixel `(i, j)`'s sites, nearest first, equal distances by index, with their
+/// keys: the `k` nearest, and every site as near as the `k`-th.
+pub fn ranked_sites(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+    i: u32,
+    j: u32,
+    k: usize,
+) -> Vec<(u32, Key)> {
+    // Measured from the frame's origin, so that far frames keep their digits.
+    let centre = (DVec2::new(i as f64, j as f64) + 0.5) / frame.scale;
+    let offsets: Vec<DVec2> = sites.iter().map(|s| centre - (*s - frame.origin)).collect();
+    let float: Vec<f64> = offsets.iter().map(|d| metric.distance(*d)).collect();
+    let mut sorted = float.clone();
+    sorted.sort_by(f64::total_cmp);
+    let kth = sorted[k.min(sorted.len()) - 1];
+    // Doubles hold the offsets to within this.
+    let magnitude = sites
+        .iter()
+        .map(|s| (*s - frame.origin).abs().max_element())
+        .fold(centre.abs().max_element(), f64::max);
+    let tolerance = 1e-12 * (magnitude + kth) + 1e-300;
+    let mut near: Vec<(u32, f64)> = float
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| **d <= kth + tolerance)
+        .map(|(s, d)| (s as u32, *d))
+        .collect();
+    near.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    // Floats decide where they are apart by more than their error.
+    let apart = near.windows(2).all(|w| w[1].1 - w[0].1 > 2.0 * tolerance);
+    if apart {
+        return near.into_iter().map(|(s, d)| (s, Key::Float(d))).collect();
+    }
+    let mut near: Vec<(u32, BigRational)> = near
+        .into_iter()
+        .map(|(s, _)| (s, exact_key(frame, metric, sites[s as usize], i, j)))
+        .collect();
+    near.sort_by(|a, b| a.1.cmp(&b.1).then(a.0.cmp(&b.0)));
+    let last = near[k.min(near.len()) - 1].1.clone();
+    near.retain(|(_, key)| *key <= last);
+    near.into_iter()
+        .map(|(s, key)| (s, Key::Exact(key)))
+        .collect()
+}
+
+/// A rank's key: a float where floats sufficed to rank, else exact.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Key {
+    Float(f64),
+    Exact(BigRational),
+}
+
+/// Every pixel's `k` nearest sites (row-major, `k` to a pixel) and the number
+/// of sites exactly as near as its nearest.
+pub fn exact_k_nearest(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+    k: usize,
+) -> (Vec<u32>, Vec<u32>) {
+    let w = frame.width;
+    let per_pixel: Vec<(Vec<u32>, u32)> = (0..frame.len() as u32)
+        .into_par_iter()
+        .map(|p| {
+            let ranked = ranked_sites(sites, frame, metric, p % w, p / w, k);
+            let ties = ranked.iter().filter(|(_, key)| *key == ranked[0].1).count() as u32;
+            let mut labels: Vec<u32> = ranked.iter().take(k).map(|(s, _)| *s).collect();
+            labels.resize(k, u32::MAX);
+            (labels, ties)
+        })
+        .collect();
+    let mut labels = Vec::with_capacity(frame.len() * k);
+    let mut ties = Vec::with_capacity(frame.len());
+    for (l, t) in per_pixel {
+        labels.extend(l);
+        ties.push(t);
+    }
+    (labels, ties)
+}

@@ -1,0 +1,242 @@
+//! Exact labels for the doubles the user gave: every route to a nearest-site
+//! diagram (the screen tiles, the cones of each speedup, tiles and windows,
+//! tie counts, the k nearest drawn and peeled, the CPU's pixel algorithm)
+//! against ranks in exact rational arithmetic, on near-degenerate doubles:
+//! lattices of a non-power-of-two spacing seen through a frame whose pixel
+//! centres are not doubles, one-ulp perturbations, sites mirrored about pixel
+//! centres to within an ulp, and magnitudes from 1e-150 to 1e15.
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::{
+        cpu,
+        higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
+        voronoi::{voronoi, Speedup, VoronoiOptions},
+    },
+    geometry::{metric::Metric, Frame},
+    machine::PixelRect,
+    Machine,
+};
+use pixgeo_reference::exact::exact_k_nearest;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::common::machine;
+
+const METRICS: [Metric; 4] = [Metric::L2, Metric::L1, Metric::LInf, Metric::Lp(3.0)];
+
+/// The double `steps` ulps from `x` (towards +∞ for positive steps).
+fn ulps(x: f64, steps: i64) -> f64 {
+    // Doubles of one sign are ordered as their bits.
+    let up = (steps > 0) == (x >= 0.0);
+    let bits = x.to_bits();
+    let moved = if up {
+        bits + steps.unsigned_abs()
+    } else {
+        bits - steps.unsigned_abs()
+    };
+    f64::from_bits(moved)
+}
+
+/// A lattice of `spacing` from `corner`, every site moved by up to one ulp,
+/// in reverse order so that float ties would favour the wrong index.
+fn perturbed_lattice(rng: &mut ChaCha8Rng, corner: DVec2, spacing: f64, n: [u32; 2]) -> Vec<DVec2> {
+    let mut sites: Vec<DVec2> = (0..n[1])
+        .flat_map(|j| (0..n[0]).map(move |i| corner + DVec2::new(i as f64, j as f64) * spacing))
+        .map(|p| {
+            DVec2::new(
+                ulps(p.x, rng.gen_range(-1..=1)),
+                ulps(p.y, rng.gen_range(-1..=1)),
+            )
+        })
+        .collect();
+    sites.reverse();
+    sites
+}
+
+/// Pairs of sites mirrored about pixel centres, the second one ulp nearer:
+/// the first's index is the smaller, which a float tie would choose.
+fn mirrored_pairs(rng: &mut ChaCha8Rng, frame: &Frame, pairs: usize) -> Vec<DVec2> {
+    let mut sites = Vec::new();
+    for _ in 0..pairs {
+        let pixel = DVec2::new(
+            rng.gen_range(0..frame.width) as f64,
+            rng.gen_range(0..frame.height) as f64,
+        );
+        let centre = frame.to_world(pixel);
+        let offset = DVec2::new(rng.gen_range(-3.0..3.0), rng.gen_range(-3.0..3.0)) / frame.scale;
+        let far = centre + offset;
+        let mirror = centre - offset;
+        let nearer = DVec2::new(
+            ulps(mirror.x, if offset.x > 0.0 { 1 } else { -1 }),
+            mirror.y,
+        );
+        sites.extend([far, nearer]);
+    }
+    sites
+}
+
+/// Named inputs, each with its frame.
+fn inputs() -> Vec<(&'static str, Frame, Vec<DVec2>)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(48);
+    let tenths = Frame::with_bbox(48, Some(40), [0.0, 0.0, 4.8, 4.0]).unwrap();
+    let far = Frame::with_bbox(48, Some(40), [1e15, 1e15, 1e15 + 18.0, 1e15 + 15.0]).unwrap();
+    let tiny = Frame::with_bbox(48, Some(40), [0.0, 0.0, 4.8e-150, 4.0e-150]).unwrap();
+    let uniform: Vec<DVec2> = (0..300)
+        .map(|_| DVec2::new(rng.gen_range(0.0..4.8), rng.gen_range(0.0..4.0)))
+        .collect();
+    vec![
+        (
+            "lattice of 0.3",
+            tenths,
+            perturbed_lattice(&mut rng, DVec2::new(0.15, 0.05), 0.3, [16, 13]),
+        ),
+        (
+            "mirrored pairs",
+            tenths,
+            mirrored_pairs(&mut rng, &tenths, 40),
+        ),
+        ("uniform", tenths, uniform),
+        (
+            "lattice at 1e15",
+            far,
+            perturbed_lattice(&mut rng, DVec2::splat(1e15 + 0.25), 1.125, [16, 13]),
+        ),
+        (
+            "lattice at 1e-150",
+            tiny,
+            perturbed_lattice(&mut rng, DVec2::new(1.5e-151, 0.5e-151), 3e-151, [16, 13]),
+        ),
+    ]
+}
+
+/// The first `k` labels of each pixel of `near` (row-major, `levels` to a
+/// pixel) restricted to `window`.
+fn levels_in(
+    labels: &[u32],
+    levels: usize,
+    k: usize,
+    frame: &Frame,
+    window: PixelRect,
+) -> Vec<u32> {
+    let mut out = Vec::new();
+    for j in window.y..window.y + window.height {
+        for i in window.x..window.x + window.width {
+            let at = (j * frame.width + i) as usize * levels;
+            out.extend_from_slice(&labels[at..at + k]);
+        }
+    }
+    out
+}
+
+/// Adds to `failures` a line for `got` where it differs from `want`.
+fn check(failures: &mut Vec<String>, what: &str, got: &[u32], want: &[u32]) {
+    let wrong = got.iter().zip(want).filter(|(g, w)| g != w).count();
+    if wrong > 0 || got.len() != want.len() {
+        failures.push(format!(
+            "{what}: {wrong} of {} labels differ from the exact ranks",
+            want.len()
+        ));
+    }
+}
+
+fn diagrams_are_exact(
+    failures: &mut Vec<String>,
+    m: &Machine,
+    name: &str,
+    frame: Frame,
+    sites: &[DVec2],
+    metric: Metric,
+) {
+    let (ranks, ties) = exact_k_nearest(sites, &frame, metric, 3);
+    let nearest = levels_in(
+        &ranks,
+        3,
+        1,
+        &frame,
+        PixelRect::sized(frame.width, frame.height),
+    );
+    let what = |route: &str| format!("{name}, {metric}, {route}");
+    let base = VoronoiOptions::exact(frame).metric(metric);
+    for (route, options) in [
+        ("screen tiles", base),
+        ("cones", base.speedup(Speedup::None)),
+        ("quadtree", base.speedup(Speedup::Quadtree)),
+        ("tiles of 16", base.max_tile(Some(16))),
+    ] {
+        let d = voronoi(m, sites, &options).unwrap_or_else(|e| panic!("{}: {e}", what(route)));
+        check(failures, &what(route), &d.labels, &nearest);
+    }
+    let counted = voronoi(m, sites, &base.ties(true)).unwrap();
+    check(
+        failures,
+        &what("tie-counting labels"),
+        &counted.labels,
+        &nearest,
+    );
+    let capped: Vec<u32> = ties.iter().map(|t| (*t).min(255)).collect();
+    check(failures, &what("tie counts"), &counted.ties, &capped);
+    let window = PixelRect {
+        x: 8,
+        y: 16,
+        width: 24,
+        height: 16,
+    };
+    let part = voronoi(m, sites, &base.window(Some(window)).max_tile(Some(8))).unwrap();
+    check(
+        failures,
+        &what("window"),
+        &part.labels,
+        &levels_in(&ranks, 3, 1, &frame, window),
+    );
+    let grown = cpu::k_nearest(sites, &frame, 1, metric).unwrap();
+    check(failures, &what("cpu"), &grown.labels, &nearest);
+    let options = KNearestOptions::exact(frame, 3).metric(metric);
+    check(
+        failures,
+        &what("3 nearest"),
+        &k_nearest(m, sites, &options).unwrap().labels,
+        &ranks,
+    );
+    check(
+        failures,
+        &what("3 nearest peeled"),
+        &k_nearest_peeled(m, sites, &options).unwrap().labels,
+        &ranks,
+    );
+    check(
+        failures,
+        &what("3 nearest on the cpu"),
+        &cpu::k_nearest(sites, &frame, 3, metric).unwrap().labels,
+        &ranks,
+    );
+}
+
+#[test]
+fn labels_are_exact_for_the_doubles_given() {
+    let m = machine();
+    let mut failures = Vec::new();
+    for (name, frame, sites) in inputs() {
+        for metric in METRICS {
+            diagrams_are_exact(&mut failures, &m, name, frame, &sites, metric);
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The example: random doubles over a large picture, where float32
+/// sites named a farther site on about a pixel in a million.
+#[test]
+fn random_doubles_over_a_large_picture() {
+    let m = machine();
+    let frame = Frame::pixels(256, 256).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let sites: Vec<DVec2> = (0..2000)
+        .map(|_| DVec2::new(rng.gen_range(-0.5..255.5), rng.gen_range(-0.5..255.5)))
+        .collect();
+    let (ranks, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
+    let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    let mut failures = Vec::new();
+    check(&mut failures, "random doubles", &d.labels, &ranks);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
