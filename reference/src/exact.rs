@@ -116,3 +116,85 @@ pub fn exact_k_nearest(
     }
     (labels, ties)
 }
+
+fn point(p: DVec2) -> [BigRational; 2] {
+    [exact(p.x), exact(p.y)]
+}
+
+fn squared_distance(a: &[BigRational; 2], b: &[BigRational; 2]) -> BigRational {
+    let (x, y) = (&a[0] - &b[0], &a[1] - &b[1]);
+    &x * &x + &y * &y
+}
+
+/// The smallest circle holding every point, by its definition: of the
+/// circles on two points as diameter and through three points, the smallest
+/// that holds them all. Its exact centre and squared radius.
+pub fn smallest_enclosing_circle(points: &[DVec2]) -> ([BigRational; 2], BigRational) {
+    let exact_points: Vec<[BigRational; 2]> = points.iter().map(|p| point(*p)).collect();
+    let two = BigRational::from_integer(2.into());
+    let mut circles: Vec<[BigRational; 2]> = exact_points.clone();
+    for i in 0..points.len() {
+        for j in i + 1..points.len() {
+            let (a, b) = (&exact_points[i], &exact_points[j]);
+            circles.push([(&a[0] + &b[0]) / &two, (&a[1] + &b[1]) / &two]);
+            for c in &exact_points[j + 1..] {
+                let (bx, by) = (&b[0] - &a[0], &b[1] - &a[1]);
+                let (cx, cy) = (&c[0] - &a[0], &c[1] - &a[1]);
+                let d = (&bx * &cy - &by * &cx) * &two;
+                if d == BigRational::from_integer(0.into()) {
+                    continue;
+                }
+                let (b2, c2) = (&bx * &bx + &by * &by, &cx * &cx + &cy * &cy);
+                circles.push([
+                    &a[0] + (&cy * &b2 - &by * &c2) / &d,
+                    &a[1] + (&bx * &c2 - &cx * &b2) / &d,
+                ]);
+            }
+        }
+    }
+    circles
+        .into_iter()
+        .map(|centre| {
+            let r2 = exact_points
+                .iter()
+                .map(|p| squared_distance(&centre, p))
+                .max()
+                .expect("points");
+            (centre, r2)
+        })
+        .min_by(|a, b| a.1.cmp(&b.1))
+        .expect("points")
+}
+
+/// Whether `value` is the double nearest to the square root of `square`:
+/// the root lies within half an ulp of it.
+pub fn is_nearest_root(value: f64, square: &BigRational) -> bool {
+    if value == 0.0 {
+        return *square == BigRational::from_integer(0.into());
+    }
+    let ulp = |v: f64| exact(f64::from_bits(v.to_bits() + 1)) - exact(v);
+    let half = BigRational::new(1.into(), 2.into());
+    let below = exact(value) - ulp(f64::from_bits(value.to_bits() - 1).max(0.0)) * &half;
+    let above = exact(value) + ulp(value) * &half;
+    let below = if below < BigRational::from_integer(0.into()) {
+        BigRational::from_integer(0.into())
+    } else {
+        below
+    };
+    &below * &below <= *square && *square <= &above * &above
+}
+
+/// Whether `value` is the double nearest to the rational `r`.
+pub fn is_nearest(value: f64, r: &BigRational) -> bool {
+    if value == 0.0 {
+        return r.abs() <= exact(f64::from_bits(1)) / BigRational::from_integer(2.into());
+    }
+    let next = |v: f64, up: bool| {
+        let bits = v.to_bits();
+        f64::from_bits(if (v >= 0.0) == up { bits + 1 } else { bits - 1 })
+    };
+    let half = BigRational::new(1.into(), 2.into());
+    let lo = (exact(next(value, false)) + exact(value)) * &half;
+    let hi = (exact(next(value, true)) + exact(value)) * &half;
+    lo <= *r && *r <= hi
+}

@@ -1,55 +1,95 @@
 //! Circles through points: the smallest enclosing circle (Welzl 1991), which
-//! the homothet and α-hull algorithms start from.
+//! the homothet and α-hull algorithms start from. Exact for the doubles given:
+//! whether a point lies in a circle is decided from the points that determine
+//! the circle, with exact predicates, and the centre and radius are the
+//! doubles nearest to the exact ones.
+
+use std::cmp::Ordering;
 
 use glam::DVec2;
+use num_rational::BigRational;
+use num_traits::Zero;
 use rand::seq::SliceRandom;
 use rand_chacha::{rand_core::SeedableRng, ChaCha8Rng};
+
+use super::{
+    exact::{
+        circumcentre_exact, distance_squared, nearest_double, nearest_double_sqrt, rational_point,
+    },
+    frame::lexicographic,
+    predicates::{incircle, orient},
+};
 
 /// A circle and the indices (into the points given) of the points on it that
 /// determine it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Circle {
+    /// The doubles nearest to the exact centre and radius.
     pub centre: DVec2,
     pub radius: f64,
     pub support: Vec<usize>,
 }
 
 impl Circle {
-    fn holds(&self, p: DVec2) -> bool {
-        p.distance(self.centre) <= self.radius * (1.0 + 1e-12) + 1e-300
+    /// Whether `p` lies in the closed disc, decided exactly from the support
+    /// points (indices into `points`).
+    pub fn holds(&self, points: &[DVec2], p: DVec2) -> bool {
+        let s = |k: usize| points[self.support[k]];
+        match self.support.len() {
+            0 => false,
+            1 => p == s(0),
+            2 => diametral_side(s(0), s(1), p) != Ordering::Greater,
+            _ => {
+                let turn = orient(s(0), s(1), s(2));
+                incircle(s(0), s(1), s(2), p) * turn.signum() >= 0.0
+            }
+        }
+    }
+}
+
+/// The sign of (p - a)·(p - b), exactly: negative inside the circle on the
+/// segment ab as diameter, zero on it.
+fn diametral_side(a: DVec2, b: DVec2, p: DVec2) -> Ordering {
+    let (u, v) = (p - a, p - b);
+    let value = u.x * v.x + u.y * v.y;
+    let bound = 8.0 * f64::EPSILON * (u.x.abs() * v.x.abs() + u.y.abs() * v.y.abs());
+    if value.is_finite() && bound.is_finite() && value.abs() > bound + 4.0 * f64::MIN_POSITIVE {
+        return value.total_cmp(&0.0);
+    }
+    let [a, b, p] = [a, b, p].map(rational_point);
+    let dot = (&p[0] - &a[0]) * (&p[0] - &b[0]) + (&p[1] - &a[1]) * (&p[1] - &b[1]);
+    dot.cmp(&BigRational::zero())
+}
+
+/// The circle with the exact centre `centre` through `on`, rounded.
+fn rounded(centre: &[BigRational; 2], on: DVec2, support: Vec<usize>) -> Circle {
+    Circle {
+        centre: DVec2::new(nearest_double(&centre[0]), nearest_double(&centre[1])),
+        radius: nearest_double_sqrt(&distance_squared(centre, &rational_point(on))),
+        support,
     }
 }
 
 /// The circle on the segment between two points as diameter.
 pub(crate) fn through_two(a: DVec2, b: DVec2, ia: usize, ib: usize) -> Circle {
-    let centre = (a + b) / 2.0;
-    Circle {
-        centre,
-        radius: a.distance(centre).max(b.distance(centre)),
-        support: vec![ia, ib],
-    }
+    let half = BigRational::new(1.into(), 2.into());
+    let [ea, eb] = [a, b].map(rational_point);
+    let centre = [(&ea[0] + &eb[0]) * &half, (&ea[1] + &eb[1]) * &half];
+    rounded(&centre, a, vec![ia, ib])
 }
 
-/// The circle through three points (the two farthest apart when they are collinear).
+/// The circle through three points (the two farthest apart when they are
+/// collinear).
 pub fn through_three(p: [DVec2; 3], i: [usize; 3]) -> Circle {
-    let (a, b, c) = (p[0], p[1] - p[0], p[2] - p[0]);
-    let d = 2.0 * b.perp_dot(c);
-    if d == 0.0 {
-        // Collinear: the circle on the two farthest apart.
-        let pairs = [(0, 1), (0, 2), (1, 2)];
-        let (x, y) = pairs
-            .into_iter()
-            .max_by(|u, v| p[u.0].distance(p[u.1]).total_cmp(&p[v.0].distance(p[v.1])))
-            .expect("three pairs");
-        return through_two(p[x], p[y], i[x], i[y]);
-    }
-    let (b2, c2) = (b.length_squared(), c.length_squared());
-    let centre = a + DVec2::new(c.y * b2 - b.y * c2, b.x * c2 - c.x * b2) / d;
-    let radius = p.iter().map(|q| q.distance(centre)).fold(0.0, f64::max);
-    Circle {
-        centre,
-        radius,
-        support: i.to_vec(),
+    match circumcentre_exact(p[0], p[1], p[2]) {
+        Some(centre) => rounded(&centre, p[0], i.to_vec()),
+        None => {
+            // Collinear: the extremes of the line's order are the farthest apart.
+            let mut by_order = [0, 1, 2];
+            by_order.sort_by(|&u, &v| lexicographic(p[u]).cmp(&lexicographic(p[v])));
+            let (x, y) = (by_order[0], by_order[2]);
+            through_two(p[x], p[y], i[x], i[y])
+        }
     }
 }
 
@@ -75,7 +115,7 @@ pub fn welzl(points: &[DVec2]) -> Circle {
         },
     };
     for i in 1..order.len() {
-        if c.holds(p(i)) {
+        if c.holds(points, p(i)) {
             continue;
         }
         c = Circle {
@@ -84,12 +124,12 @@ pub fn welzl(points: &[DVec2]) -> Circle {
             support: vec![order[i]],
         };
         for j in 0..i {
-            if c.holds(p(j)) {
+            if c.holds(points, p(j)) {
                 continue;
             }
             c = through_two(p(i), p(j), order[i], order[j]);
             for k in 0..j {
-                if !c.holds(p(k)) {
+                if !c.holds(points, p(k)) {
                     c = through_three([p(i), p(j), p(k)], [order[i], order[j], order[k]]);
                 }
             }

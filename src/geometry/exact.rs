@@ -217,6 +217,85 @@ pub(crate) fn to_pixel_bounded(x: f64, origin: f64, scale: f64) -> (f64, f64) {
     (q, error)
 }
 
+/// The double nearest to `r` (ties to even).
+pub(crate) fn nearest_double(r: &BigRational) -> f64 {
+    use num_traits::ToPrimitive;
+    // num-rational rounds a ratio of big integers to nearest.
+    r.to_f64().unwrap_or(f64::NAN)
+}
+
+/// The double nearest to the square root of `r >= 0`: an integer square root
+/// of r 4^k to at least 110 bits brackets it between s and s + 1 (over 2^k),
+/// where no rounding boundary lies strictly inside; their midpoint, unless s
+/// is exact, rounds as the root does.
+pub(crate) fn nearest_double_sqrt(r: &BigRational) -> f64 {
+    if r.is_zero() {
+        return 0.0;
+    }
+    let (n, d) = (r.numer(), r.denom());
+    let spare = n.bits() as i64 - d.bits() as i64;
+    let k = ((220 - spare).max(0) as u64).div_ceil(2);
+    let scaled = n << (2 * k);
+    let (m, rest) = (&scaled / d, &scaled % d);
+    let s = m.sqrt();
+    let exact = rest.is_zero() && &s * &s == m;
+    let root = if exact {
+        BigRational::new(s, BigInt::from(1) << k)
+    } else {
+        BigRational::new(s * 2 + 1, BigInt::from(1) << (k + 1))
+    };
+    nearest_double(&root)
+}
+
+/// The exact point `p` as rationals.
+pub(crate) fn rational_point(p: DVec2) -> [BigRational; 2] {
+    [rational(p.x), rational(p.y)]
+}
+
+/// Twice the signed area of triangle a, b, c, exactly.
+pub(crate) fn orient_exact(a: DVec2, b: DVec2, c: DVec2) -> BigRational {
+    let [a, b, c] = [a, b, c].map(rational_point);
+    (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
+}
+
+/// The in-circle determinant of d against a, b, c, exactly: positive when d
+/// lies inside the circle through the counter-clockwise a, b, c.
+pub(crate) fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> BigRational {
+    let [a, b, c, d] = [a, b, c, d].map(rational_point);
+    let row = |p: &[BigRational; 2]| {
+        let (x, y) = (&p[0] - &d[0], &p[1] - &d[1]);
+        let lift = &x * &x + &y * &y;
+        (x, y, lift)
+    };
+    let (ax, ay, al) = row(&a);
+    let (bx, by, bl) = row(&b);
+    let (cx, cy, cl) = row(&c);
+    &al * (&bx * &cy - &cx * &by) - &bl * (&ax * &cy - &cx * &ay) + &cl * (&ax * &by - &bx * &ay)
+}
+
+/// The centre of the circle through a, b, c, exactly; `None` when they are
+/// collinear.
+pub(crate) fn circumcentre_exact(a: DVec2, b: DVec2, c: DVec2) -> Option<[BigRational; 2]> {
+    let [a, b, c] = [a, b, c].map(rational_point);
+    let (bx, by) = (&b[0] - &a[0], &b[1] - &a[1]);
+    let (cx, cy) = (&c[0] - &a[0], &c[1] - &a[1]);
+    let d = (&bx * &cy - &by * &cx) * BigInt::from(2);
+    if d.is_zero() {
+        return None;
+    }
+    let (b2, c2) = (&bx * &bx + &by * &by, &cx * &cx + &cy * &cy);
+    Some([
+        &a[0] + (&cy * &b2 - &by * &c2) / &d,
+        &a[1] + (&bx * &c2 - &cx * &b2) / &d,
+    ])
+}
+
+/// The squared distance between exact points.
+pub(crate) fn distance_squared(a: &[BigRational; 2], b: &[BigRational; 2]) -> BigRational {
+    let (x, y) = (&a[0] - &b[0], &a[1] - &b[1]);
+    &x * &x + &y * &y
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -763,3 +763,71 @@ fn more_levels_than_kept_are_refused_by_name() {
     assert!(e.contains("at most 256 levels"), "{e}");
     assert!(enclose(&machine, &sites, Unit::Circle, 300, 128).is_ok());
 }
+
+/// The circles at far magnitudes and near-degenerate ones: the
+/// centre and radius printed are the doubles nearest to the exact ones, and
+/// the sites named lie on the exact circle.
+#[test]
+fn smallest_enclosing_circle_is_exact_at_every_magnitude() {
+    use pixgeo_reference::exact::{is_nearest, is_nearest_root, smallest_enclosing_circle};
+    let machine = machine();
+    let triangle = [
+        DVec2::new(3.0, 4.0),
+        DVec2::new(4.0, 0.0),
+        DVec2::new(1.0, 0.0),
+    ];
+    let mut cases: Vec<(String, Vec<DVec2>)> = Vec::new();
+    for scale in [
+        1e-120,
+        1e110,
+        2f64.powi(-420),
+        2f64.powi(200),
+        1e-300,
+        1e300,
+    ] {
+        cases.push((
+            format!("triangle times {scale:e}"),
+            triangle.map(|p| p * scale).to_vec(),
+        ));
+    }
+    cases.push((
+        "at 1e15".into(),
+        vec![
+            DVec2::new(1000000000000092.0, 53.0),
+            DVec2::new(1000000000000011.0, 98.0),
+            DVec2::new(1000000000000034.0, 26.0),
+        ],
+    ));
+    // Nearly collinear: the middle point one ulp off the line.
+    let a = DVec2::new(0.1, 0.7);
+    let b = DVec2::new(0.30000000000000004, 2.1);
+    cases.push((
+        "nearly collinear".into(),
+        vec![a, b, DVec2::new(0.2, 1.4000000000000001), (a + b) / 2.0],
+    ));
+    // Four nearly co-circular points at 1e-9.
+    cases.push((
+        "nearly co-circular".into(),
+        vec![
+            DVec2::new(1e-9, 0.0),
+            DVec2::new(0.0, 1e-9),
+            DVec2::new(-1e-9, 0.0),
+            DVec2::new(0.0, -1.0000000000000002e-9),
+        ],
+    ));
+    for (name, sites) in cases {
+        let answer = enclose(&machine, &sites, Unit::Circle, 0, 256)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (centre, r2) = smallest_enclosing_circle(&sites);
+        let [x, y] = answer.exact.centre;
+        assert!(
+            is_nearest(x, &centre[0]) && is_nearest(y, &centre[1]),
+            "{name}: centre {x}, {y}"
+        );
+        assert!(
+            is_nearest_root(answer.exact.scale, &r2),
+            "{name}: radius {}",
+            answer.exact.scale
+        );
+    }
+}

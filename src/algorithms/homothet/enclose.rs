@@ -27,6 +27,13 @@ pub fn enclose(
     side: u32,
 ) -> Result<HomothetAnswer> {
     check_sites(sites)?;
+    // Homothets scale with their sites: far magnitudes are brought near 1 by
+    // a power of two, exactly, so that no distance overflows or underflows.
+    let shift = scale::predicate_exponent(sites)?;
+    if shift != 0 {
+        let answer = enclose(machine, &scale::scaled(sites, shift), unit, k, side)?;
+        return Ok(answer.scaled(-shift));
+    }
     let n = sites.len();
     let k = if k == 0 { n } else { k };
     if k > n {

@@ -33,6 +33,7 @@ use crate::{
         chain::segment_distance,
         frame::check_sites,
         metric::{Gauge, Metric},
+        scale,
         site::{check_general_sites, Shape, Site},
         Frame,
     },
@@ -175,6 +176,38 @@ pub struct HomothetAnswer {
     /// The picture the envelope was drawn on.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub frame: Frame,
+}
+
+impl Homothet {
+    fn scaled(self, k: i32) -> Self {
+        Self {
+            centre: self.centre.map(|v| scale::times_power_of_two(v, k)),
+            scale: scale::times_power_of_two(self.scale, k),
+            ..self
+        }
+    }
+}
+
+impl HomothetAnswer {
+    /// The answer for the sites scaled by 2^k.
+    fn scaled(self, k: i32) -> Self {
+        let frame = Frame {
+            origin: DVec2::new(
+                scale::times_power_of_two(self.frame.origin.x, k),
+                scale::times_power_of_two(self.frame.origin.y, k),
+            ),
+            scale: scale::times_power_of_two(self.frame.scale, -k),
+            ..self.frame
+        };
+        Self {
+            pixel: self.pixel.scaled(k),
+            exact: self.exact.scaled(k),
+            pixel_bound: scale::times_power_of_two(self.pixel_bound, k),
+            tolerance: scale::times_power_of_two(self.tolerance, k),
+            frame,
+            ..self
+        }
+    }
 }
 
 /// Picture side (pixels along the longer axis) used when none is given.

@@ -327,9 +327,8 @@ pub(super) fn smallest_circle(
         rounds += 1;
         let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
         let circle = crate::geometry::circle::welzl(&points);
-        let slack = 1e-12 * (1.0 + circle.centre.abs().max_element() + circle.radius);
         let missed: Vec<u32> = (0..sites.len() as u32)
-            .filter(|&i| sites[i as usize].distance(circle.centre) > circle.radius + slack)
+            .filter(|&i| !circle.holds(&points, sites[i as usize]))
             .collect();
         if missed.is_empty() {
             let on: Vec<u32> = circle.support.iter().map(|&s| chosen[s]).collect();
