@@ -198,3 +198,30 @@ pub fn is_nearest(value: f64, r: &BigRational) -> bool {
     let hi = (exact(next(value, true)) + exact(value)) * &half;
     lo <= *r && *r <= hi
 }
+
+/// Twice the exact area of triangle a, b, c.
+pub fn double_area(a: DVec2, b: DVec2, c: DVec2) -> BigRational {
+    let [a, b, c] = [a, b, c].map(point);
+    ((&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])).abs()
+}
+
+/// Every triple of the smallest (or largest) exact area, and twice that area,
+/// by looking at every triple.
+pub fn extremal_triangles(points: &[DVec2], largest: bool) -> (Vec<[u32; 3]>, BigRational) {
+    let mut best: Option<(Vec<[u32; 3]>, BigRational)> = None;
+    let n = points.len() as u32;
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                let area = double_area(points[i as usize], points[j as usize], points[k as usize]);
+                let order = best.as_ref().map(|b| area.cmp(&b.1));
+                match order {
+                    Some(std::cmp::Ordering::Equal) => best.as_mut().unwrap().0.push([i, j, k]),
+                    Some(o) if (o == std::cmp::Ordering::Greater) != largest => {}
+                    _ => best = Some((vec![[i, j, k]], area)),
+                }
+            }
+        }
+    }
+    best.expect("three points")
+}

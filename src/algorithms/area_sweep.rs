@@ -15,10 +15,9 @@ use glam::DVec2;
 use crate::{
     algorithms::area::{
         counter_clockwise, decided, degenerate_triangle, in_range, quadrangle_candidates,
-        AreaAnswer, Extreme,
+        AreaAnswer, BestRing, Extreme,
     },
     error::{Error, Result},
-    geometry::triangle::triangle_area,
     geometry::{frame::first_of_each, sweep::for_each_line},
 };
 
@@ -112,23 +111,16 @@ fn sweep(
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
     let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
-    let mut best: Option<(Vec<u32>, f64)> = None;
+    let mut best = BestRing::new(extreme);
     let mut lines = 0;
     for_each_line(&points, progress, |order, line| {
         lines += 1;
-        visit(order, line, &mut |v: &[u32]| {
-            let p = |k: usize| points[v[k] as usize];
-            let area = match v.len() {
-                3 => triangle_area(p(0), p(1), p(2)),
-                _ => triangle_area(p(0), p(1), p(2)) + triangle_area(p(2), p(3), p(0)),
-            };
-            if extreme.improves(area, best.as_ref().map(|b| b.1)) {
-                best = Some((v.iter().map(|&k| chosen[k as usize]).collect(), area));
-            }
-        });
+        visit(order, line, &mut |v: &[u32]| best.offer(&points, v));
     })?;
-    let (vertices, area) =
-        best.ok_or_else(|| Error::Internal("the sweep found no candidate".into()))?;
+    let (vertices, area) = best
+        .exact(&points)
+        .ok_or_else(|| Error::Internal("the sweep found no candidate".into()))?;
+    let vertices: Vec<u32> = vertices.iter().map(|&k| chosen[k as usize]).collect();
     let vertices = match vertices.len() {
         3 => counter_clockwise(sites, vertices),
         _ => vertices,

@@ -1,8 +1,15 @@
 //! Triangle areas with exact signs.
 
-use glam::DVec2;
+use std::cmp::Ordering;
 
-use super::predicates::orient;
+use glam::DVec2;
+use num_rational::BigRational;
+use num_traits::Signed;
+
+use super::{
+    exact::{nearest_double, orient_exact},
+    predicates::orient,
+};
 
 /// The area of triangle (a, b, c).
 pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
@@ -35,4 +42,58 @@ pub fn sides_of(sites: &[DVec2], p: usize, q: usize, largest: bool) -> [Option<(
         }
     }
     best
+}
+
+/// The area of the ring of `sites` named by `ring` (a triangle, or a
+/// quadrangle as two triangles on its diagonal from the first vertex to the
+/// third), as a float and a bound on its error: Shewchuk's bound on a float
+/// orientation, doubled.
+pub(crate) fn area_bounds(sites: &[DVec2], ring: &[u32]) -> (f64, f64) {
+    let p = |k: usize| sites[ring[k] as usize];
+    let half = |a: DVec2, b: DVec2, c: DVec2| {
+        let (l, r) = ((b.x - a.x) * (c.y - a.y), (b.y - a.y) * (c.x - a.x));
+        let bound = 2.0 * (3.0 + 16.0 * f64::EPSILON) * f64::EPSILON * (l.abs() + r.abs());
+        ((l - r).abs() / 2.0, bound / 2.0 + f64::MIN_POSITIVE)
+    };
+    let (a, ea) = half(p(0), p(1), p(2));
+    if ring.len() == 3 {
+        return (a, ea);
+    }
+    let (b, eb) = half(p(2), p(3), p(0));
+    (
+        a + b,
+        (ea + eb) * (1.0 + f64::EPSILON) + (a + b) * f64::EPSILON,
+    )
+}
+
+/// Twice the exact area of the ring (as [`area_bounds`] measures it).
+pub(crate) fn exact_double_area(sites: &[DVec2], ring: &[u32]) -> BigRational {
+    let p = |k: usize| sites[ring[k] as usize];
+    let twice = orient_exact(p(0), p(1), p(2)).abs();
+    if ring.len() == 3 {
+        return twice;
+    }
+    twice + orient_exact(p(2), p(3), p(0)).abs()
+}
+
+/// The exact area of the ring, rounded to the nearest double.
+pub(crate) fn exact_area(sites: &[DVec2], ring: &[u32]) -> f64 {
+    nearest_double(&(exact_double_area(sites, ring) / BigRational::from_integer(2.into())))
+}
+
+/// The order of two rings' areas, exactly: floats where their bounds keep
+/// them apart, rationals where not.
+pub(crate) fn compare_areas(
+    sites: &[DVec2],
+    a: (&[u32], (f64, f64)),
+    b: (&[u32], (f64, f64)),
+) -> Ordering {
+    let ((ra, (va, ea)), (rb, (vb, eb))) = (a, b);
+    if va + ea < vb - eb {
+        return Ordering::Less;
+    }
+    if vb + eb < va - ea {
+        return Ordering::Greater;
+    }
+    exact_double_area(sites, ra).cmp(&exact_double_area(sites, rb))
 }

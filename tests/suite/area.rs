@@ -283,3 +283,66 @@ fn progress_runs_to_the_end_over_many_submissions() {
     let &(done, total) = seen.last().unwrap();
     assert!(done == total && total > 0, "{seen:?}");
 }
+
+/// Nearly collinear doubles (the issue's four sites on y = 7x in tenths,
+/// decimal points along a line, a lattice of tenths one ulp off), at far
+/// magnitudes too: the triangle named is an exact extreme, counter-clockwise,
+/// and the area printed is its exact area rounded to the nearest double.
+#[test]
+fn extremal_triangles_are_exact_on_nearly_collinear_doubles() {
+    use pixgeo_reference::exact::{extremal_triangles, is_nearest};
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(29);
+    let issue = vec![
+        DVec2::new(2.7, 18.9),
+        DVec2::new(3.7, 25.9),
+        DVec2::new(1.7, 11.9),
+        DVec2::new(0.9, 6.3),
+    ];
+    let line: Vec<DVec2> = (0..9)
+        .map(|_| {
+            let x = rng.gen_range(1..100) as f64 / 10.0;
+            DVec2::new(x, x * 3.3)
+        })
+        .collect();
+    let tenths: Vec<DVec2> = (0..10)
+        .map(|k| {
+            let p = DVec2::new((k % 4) as f64 * 0.1 + 0.05, (k / 4) as f64 * 0.3 + 0.05);
+            let mut nudge =
+                |v: f64| f64::from_bits((v.to_bits() as i64 + rng.gen_range(-1..=1)) as u64);
+            DVec2::new(nudge(p.x), nudge(p.y))
+        })
+        .collect();
+    let mut cases = vec![("issue", issue.clone()), ("line", line), ("tenths", tenths)];
+    let far: Vec<DVec2> = issue.iter().map(|p| *p * 1e150).collect();
+    let near: Vec<DVec2> = issue.iter().map(|p| *p * 1e-140).collect();
+    cases.push(("issue at 1e150", far));
+    cases.push(("issue at 1e-140", near));
+    for (name, sites) in cases {
+        for extreme in [Extreme::Smallest, Extreme::Largest] {
+            let (best, twice) = extremal_triangles(&sites, extreme == Extreme::Largest);
+            for method in ["roofs", "sweep"] {
+                let answer = triangle_by(method, &machine, &sites, extreme);
+                let what = format!("{name} {extreme:?} {method}");
+                let mut set = [answer.sites[0], answer.sites[1], answer.sites[2]];
+                set.sort_unstable();
+                assert!(
+                    best.contains(&set),
+                    "{what}: {:?} is not among {best:?}",
+                    answer.sites
+                );
+                let half = twice.clone() / num_rational::BigRational::from_integer(2.into());
+                assert!(
+                    is_nearest(answer.area, &half),
+                    "{what}: area {}",
+                    answer.area
+                );
+                let p = |k: usize| sites[answer.sites[k] as usize];
+                if twice != num_rational::BigRational::from_integer(0.into()) {
+                    let ccw = pixgeo::geometry::predicates::orient(p(0), p(1), p(2)) > 0.0;
+                    assert!(ccw, "{what}: {:?} clockwise", answer.sites);
+                }
+            }
+        }
+    }
+}

@@ -2,6 +2,8 @@
 //! degenerate answers, and the neighbours' first guess.
 
 use super::*;
+use crate::geometry::{exact::nearest_double, triangle::exact_double_area};
+use num_rational::BigRational;
 
 /// The sites a quadrangle's vertices are searched among (the distinct ones;
 /// for the largest, the hull's vertices where there are four), and the hull; an
@@ -101,6 +103,16 @@ pub(super) fn duplicate_pair(sites: &[DVec2], distinct: &[u32]) -> Option<(u32, 
 /// The vertices sorted counter-clockwise around their centroid, starting at the
 /// smallest index.
 pub(crate) fn counter_clockwise(sites: &[DVec2], mut v: Vec<u32>) -> Vec<u32> {
+    if v.len() == 3 {
+        // By the exact orientation: angles round near-collinear triangles.
+        let p = |k: usize| sites[v[k] as usize];
+        if orient(p(0), p(1), p(2)) < 0.0 {
+            v.swap(1, 2);
+        }
+        let first = (0..3).min_by_key(|&k| v[k]).expect("vertices");
+        v.rotate_left(first);
+        return v;
+    }
     let c = v.iter().map(|&i| sites[i as usize]).sum::<DVec2>() / v.len() as f64;
     v.sort_by(|&a, &b| {
         let angle = |i: u32| {
@@ -114,12 +126,13 @@ pub(crate) fn counter_clockwise(sites: &[DVec2], mut v: Vec<u32>) -> Vec<u32> {
     v
 }
 
+/// The area of a convex ring, exactly (a fan of triangles from its first
+/// vertex), rounded to the nearest double.
 pub(super) fn polygon_area(sites: &[DVec2], ring: &[u32]) -> f64 {
-    let p = |k: usize| sites[ring[k % ring.len()] as usize];
-    0.5 * (0..ring.len())
-        .map(|k| p(k).perp_dot(p(k + 1)))
-        .sum::<f64>()
-        .abs()
+    let twice = (1..ring.len().saturating_sub(1))
+        .map(|k| exact_double_area(sites, &[ring[0], ring[k], ring[k + 1]]))
+        .fold(BigRational::from_integer(0.into()), |a, b| a + b);
+    nearest_double(&(twice / BigRational::from_integer(2.into())))
 }
 
 /// Neighbouring sites along rows of square cells (boustrophedon), whose
@@ -153,7 +166,7 @@ pub(super) fn neighbour_triangle(
     let mut best = ([0, 1, 2].map(|k| chosen[order[k]]), f64::INFINITY);
     for w in order.windows(4) {
         for t in [[w[0], w[1], w[2]], [w[0], w[1], w[3]], [w[0], w[2], w[3]]] {
-            let area = triangle_area(points[t[0]], points[t[1]], points[t[2]]);
+            let area = exact_area(&points, &t.map(|k| k as u32));
             if area < best.1 {
                 best = (t.map(|k| chosen[k]), area);
             }
@@ -163,13 +176,15 @@ pub(super) fn neighbour_triangle(
         let t = [order[0], order[1], order[2]];
         best = (
             t.map(|k| chosen[k]),
-            triangle_area(points[t[0]], points[t[1]], points[t[2]]),
+            exact_area(&points, &t.map(|k| k as u32)),
         );
     }
     let hull_ring = convex_hull(&points);
     let triangles = (2 * points.len()).saturating_sub(hull + 2).max(1);
     let pigeonhole = polygon_area(&points, &hull_ring) / triangles as f64;
-    (best.0, best.1, best.1.min(pigeonhole))
+    // Both rounded to nearest: a bound half an ulp up holds.
+    let bound = best.1.min(pigeonhole) * (1.0 + f64::EPSILON);
+    (best.0, best.1, bound)
 }
 
 /// The smallest quadrangle of four consecutive neighbours, if any is one.

@@ -31,7 +31,7 @@
 
 use super::ms;
 use crate::geometry::predicates::convex_hull;
-use std::time::Instant;
+use std::{cmp::Ordering, time::Instant};
 
 use glam::DVec2;
 
@@ -43,7 +43,7 @@ use crate::{
     },
     geometry::{
         predicates::orient,
-        triangle::{sides_of, triangle_area},
+        triangle::{area_bounds, compare_areas, exact_area, sides_of},
     },
     machine::{
         shaders, Buffer, Clear, ClearColor, Compare, DepthTest, Draw, DrawParams, Format,
@@ -90,6 +90,50 @@ impl Extreme {
             (Some(b), Extreme::Smallest) => area < b,
             (Some(b), Extreme::Largest) => area > b,
         }
+    }
+}
+
+/// The best ring of sites offered so far, by exact area: floats decide where
+/// their error bounds keep two areas apart, rationals where not; the first
+/// offered wins ties.
+pub(crate) struct BestRing {
+    extreme: Extreme,
+    best: Option<(Vec<u32>, (f64, f64))>,
+}
+
+impl BestRing {
+    pub(crate) fn new(extreme: Extreme) -> Self {
+        Self {
+            extreme,
+            best: None,
+        }
+    }
+
+    /// Offers the ring `ring` of `sites`.
+    pub(crate) fn offer(&mut self, sites: &[DVec2], ring: &[u32]) {
+        let bounds = area_bounds(sites, ring);
+        let better = match &self.best {
+            None => true,
+            Some((best, best_bounds)) => {
+                let order = compare_areas(sites, (ring, bounds), (best, *best_bounds));
+                order
+                    == match self.extreme {
+                        Extreme::Smallest => Ordering::Less,
+                        Extreme::Largest => Ordering::Greater,
+                    }
+            }
+        };
+        if better {
+            self.best = Some((ring.to_vec(), bounds));
+        }
+    }
+
+    /// The best ring and its exact area rounded to the nearest double.
+    pub(crate) fn exact(self, sites: &[DVec2]) -> Option<(Vec<u32>, f64)> {
+        self.best.map(|(ring, _)| {
+            let area = exact_area(sites, &ring);
+            (ring, area)
+        })
     }
 }
 
@@ -216,24 +260,27 @@ fn triangle_in_range(
         Extreme::Smallest => distinct,
         Extreme::Largest => hull.clone(),
     };
-    let mut best: Option<(Vec<u32>, f64)> = None;
-    let mut offer = |v: Vec<u32>, area: f64| {
-        if extreme.improves(area, best.as_ref().map(|b| b.1)) {
-            best = Some((v, area));
-        }
-    };
+    let mut best = BestRing::new(extreme);
     let bound = match extreme {
         Extreme::Smallest => {
             let (triple, area, bound) = neighbour_triangle(sites, &chosen, hull.len());
             if area == 0.0 {
                 return Ok(decided(extreme, ordered(triple), 0.0, "neighbours"));
             }
-            offer(triple.to_vec(), area);
+            best.offer(sites, &triple);
             Some(bound)
         }
         Extreme::Largest => None,
     };
     let roofs = Roofs::new(machine, sites, &chosen, side, extreme, bound, &hull)?;
+    // Pixels within twice the depths' error of the extreme hold a vertex of
+    // the best triangle; where that band is most of the depth range (nearly
+    // collinear sites, whose areas vanish against the picture's), the exact
+    // sweep decides instead.
+    let within = (2.0 * roofs.depth_error()).max(1e-6);
+    if within > 0.25 {
+        return crate::algorithms::area_sweep::extremal_triangle_sweep(sites, extreme, progress);
+    }
     let frame = roofs.frame;
     let prepare_ms = ms(started);
     let started = Instant::now();
@@ -244,7 +291,7 @@ fn triangle_in_range(
         &depth,
         Some(NearExtreme {
             maximum: extreme == Extreme::Largest,
-            within: 1e-6,
+            within: within as f32,
             squared_scale: 0.0,
             capacity: 4096,
         }),
@@ -280,10 +327,7 @@ fn triangle_in_range(
         let (i, j) = pair_of(pair);
         let (i, j) = (chosen[i as usize], chosen[j as usize]);
         let s = chosen[s as usize];
-        offer(
-            vec![i, j, s],
-            triangle_area(sites[i as usize], sites[j as usize], sites[s as usize]),
-        );
+        best.offer(sites, &[i, j, s]);
     }
     // Then every triangle at every searched site, and at every site that shares
     // a pixel (the roof of a triangle's longest edge finds it at the opposite
@@ -299,16 +343,15 @@ fn triangle_in_range(
         for (a, &i) in chosen.iter().enumerate() {
             for &j in &chosen[a + 1..] {
                 if i != s && j != s {
-                    offer(
-                        vec![i, j, s],
-                        triangle_area(sites[i as usize], sites[j as usize], sites[s as usize]),
-                    );
+                    best.offer(sites, &[i, j, s]);
                 }
             }
         }
     }
     let checked = searched.len();
-    let (vertices, area) = best.ok_or_else(|| Error::Internal("no triangle was found".into()))?;
+    let (vertices, area) = best
+        .exact(sites)
+        .ok_or_else(|| Error::Internal("no triangle was found".into()))?;
     Ok(AreaAnswer {
         extreme,
         sites: counter_clockwise(sites, vertices),

@@ -145,6 +145,15 @@ impl<'m> Roofs<'m> {
         })
     }
 
+    /// A bound on a roof depth's error: the double-precision area of a thin
+    /// triangle loses about 2^-50 of the picture's diagonal squared (pixels
+    /// squared), and float32 depths round by 2^-24.
+    pub(super) fn depth_error(&self) -> f64 {
+        let (w, h) = (self.frame.width as f64, self.frame.height as f64);
+        let area_error = 2f64.powi(-50) * (w * w + h * h);
+        area_error * self.depth_per_area / (self.frame.scale * self.frame.scale) + 2f64.powi(-23)
+    }
+
     /// The area (world units squared) of a roof's depth.
     pub(super) fn area_of_depth(&self, z: f32) -> f64 {
         z as f64 / self.depth_per_area
