@@ -225,3 +225,24 @@ pub fn extremal_triangles(points: &[DVec2], largest: bool) -> (Vec<[u32; 3]>, Bi
     }
     best.expect("three points")
 }
+
+/// The exact squared distance between two points.
+pub fn squared(a: DVec2, b: DVec2) -> BigRational {
+    squared_distance(&point(a), &point(b))
+}
+
+/// The largest exact squared distance from a point of `a` to a point of `b`.
+pub fn max_squared_distance(a: &[DVec2], b: &[DVec2]) -> BigRational {
+    a.iter()
+        .flat_map(|p| b.iter().map(move |q| squared(*p, *q)))
+        .max()
+        .expect("points")
+}
+
+/// The exact squared directed Hausdorff distance from `a` to `b`.
+pub fn directed_hausdorff_squared(a: &[DVec2], b: &[DVec2]) -> BigRational {
+    a.iter()
+        .map(|p| b.iter().map(|q| squared(*p, *q)).min().expect("points"))
+        .max()
+        .expect("points")
+}

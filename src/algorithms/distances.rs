@@ -10,6 +10,8 @@
 //! could still reach the best value are checked exactly, so every answer is exact
 //! while the checks stay few.
 
+use std::cmp::Ordering;
+
 use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
 use rayon::prelude::*;
@@ -18,6 +20,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         buckets::PointGrid,
+        exact::{compare_distances, nearest_distance},
         frame::{check_sites, first_of_each},
         metric::Metric,
         scale, Frame,
@@ -162,17 +165,20 @@ struct Estimate {
     upper: f64,
 }
 
-/// The query point with the largest true value, found exactly: every query whose
-/// upper bound reaches the largest lower bound is checked with `exact` (its
-/// partner and distance); the others cannot be the answer.
+/// The query point (of `points.0`) with the largest true value, found
+/// exactly: every query whose upper bound reaches the largest lower bound is
+/// checked with `exact` (its partner in `points.1`); the others cannot be the
+/// answer.
 fn refine(
     frame: &Frame,
+    points: (&[DVec2], &[DVec2]),
     queries: &[u32],
     estimates: &[Estimate],
-    exact: impl Fn(u32) -> Option<(u32, f64)> + Sync,
+    exact: impl Fn(u32) -> Option<u32> + Sync,
 ) -> Result<Answer> {
     let empty = || Error::InvalidInput("empty set".into());
-    let floor = estimates.iter().map(|e| e.lower).fold(0.0, f64::max);
+    // Bounds are floats: a few ulps lower keeps every query that may tie.
+    let floor = estimates.iter().map(|e| e.lower).fold(0.0, f64::max) * (1.0 - 8.0 * f64::EPSILON);
     let (q, e) = queries
         .iter()
         .zip(estimates)
@@ -189,11 +195,28 @@ fn refine(
         .filter(|(_, e)| e.upper >= floor)
         .map(|(q, _)| *q)
         .collect();
-    let pair = candidates
+    // The largest exactly; of equal ones the first query.
+    let pairs: Vec<(u32, u32)> = candidates
         .par_iter()
-        .filter_map(|&from| exact(from).map(|(to, distance)| Pair { from, to, distance }))
-        .max_by(|x, y| x.distance.total_cmp(&y.distance).then(y.from.cmp(&x.from)))
+        .filter_map(|&from| exact(from).map(|to| (from, to)))
+        .collect();
+    let (from, to) = pairs
+        .into_iter()
+        .reduce(|best, x| {
+            let (p, q) = (points.0[x.0 as usize], points.1[x.1 as usize]);
+            let (bp, bq) = (points.0[best.0 as usize], points.1[best.1 as usize]);
+            match compare_distances(p, q, bp, bq) {
+                Ordering::Greater => x,
+                Ordering::Equal if x.0 < best.0 => x,
+                _ => best,
+            }
+        })
         .ok_or_else(empty)?;
+    let pair = Pair {
+        from,
+        to,
+        distance: nearest_distance(points.0[from as usize], points.1[to as usize]),
+    };
     Ok(Answer {
         pair,
         picture_pair,
@@ -243,8 +266,19 @@ fn directed_in_range(
         })
         .collect();
     let grid = PointGrid::new(b);
-    refine(&frame, &queries, &estimates, |i| {
-        grid.nearest(a[i as usize])
+    refine(&frame, (a, b), &queries, &estimates, |i| {
+        // The nearest exactly, of equal ones the first: among the points
+        // within rounding of the float search's nearest.
+        let p = a[i as usize];
+        let (_, d) = grid.nearest(p)?;
+        grid.around(p, d * (1.0 + 1e-9) + f64::MIN_POSITIVE)
+            .reduce(
+                |best, j| match compare_distances(p, b[j as usize], p, b[best as usize]) {
+                    Ordering::Less => j,
+                    Ordering::Equal if j < best => j,
+                    _ => best,
+                },
+            )
     })
 }
 
@@ -317,13 +351,15 @@ fn max_distance_in_range(
             }
         })
         .collect();
-    refine(&frame, &queries, &estimates, |i| {
+    refine(&frame, (a, b), &queries, &estimates, |i| {
         let p = a[i as usize];
-        diagram
-            .hull
-            .iter()
-            .map(|&j| (j, b[j as usize].distance(p)))
-            .reduce(|best, x| if x.1 > best.1 { x } else { best })
+        diagram.hull.iter().copied().reduce(|best, j| {
+            match compare_distances(p, b[j as usize], p, b[best as usize]) {
+                Ordering::Greater => j,
+                Ordering::Equal if j < best => j,
+                _ => best,
+            }
+        })
     })
 }
 

@@ -296,6 +296,30 @@ pub(crate) fn distance_squared(a: &[BigRational; 2], b: &[BigRational; 2]) -> Bi
     &x * &x + &y * &y
 }
 
+/// The order of |a - b| and |c - d|, exactly: floats where their rounding
+/// keeps the squared distances apart, rationals where not.
+pub(crate) fn compare_distances(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
+    let (x, y) = (a.distance_squared(b), c.distance_squared(d));
+    let slack = 8.0 * f64::EPSILON;
+    // Squares of differences round by a few ulps while they stay normal.
+    let normal = |v: f64| v.is_finite() && v >= 2f64.powi(-900);
+    if normal(x) && normal(y) {
+        if x * (1.0 + slack) < y * (1.0 - slack) {
+            return Ordering::Less;
+        }
+        if y * (1.0 + slack) < x * (1.0 - slack) {
+            return Ordering::Greater;
+        }
+    }
+    let exact = |p: DVec2, q: DVec2| distance_squared(&rational_point(p), &rational_point(q));
+    exact(a, b).cmp(&exact(c, d))
+}
+
+/// |a - b| rounded to the nearest double.
+pub(crate) fn nearest_distance(a: DVec2, b: DVec2) -> f64 {
+    nearest_double_sqrt(&distance_squared(&rational_point(a), &rational_point(b)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

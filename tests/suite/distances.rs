@@ -75,6 +75,12 @@ fn pairs() -> Vec<(&'static str, Vec<DVec2>, Vec<DVec2>)> {
     out
 }
 
+/// Whether pixgeo's distance (the exact one, correctly rounded) matches a
+/// float brute force's (rounded twice: the square and its root) to an ulp.
+fn same(pixgeo: f64, brute: f64) -> bool {
+    (pixgeo - brute).abs() <= f64::EPSILON * brute
+}
+
 #[test]
 fn hausdorff_is_exact() {
     let m = machine();
@@ -82,11 +88,14 @@ fn hausdorff_is_exact() {
         for side in [None, Some(64)] {
             let h = hausdorff(&m, &a, &b, side).unwrap_or_else(|e| panic!("{name}: {e}"));
             let (ab, ba) = (brute_directed(&a, &b), brute_directed(&b, &a));
-            assert_eq!(h.a_to_b.pair.distance, ab, "{name} {side:?} a->b");
-            assert_eq!(h.b_to_a.pair.distance, ba, "{name} {side:?} b->a");
-            assert_eq!(h.distance, ab.max(ba), "{name}");
+            assert!(same(h.a_to_b.pair.distance, ab), "{name} {side:?} a->b");
+            assert!(same(h.b_to_a.pair.distance, ba), "{name} {side:?} b->a");
+            assert!(same(h.distance, ab.max(ba)), "{name}");
             let pair = h.a_to_b.pair;
-            assert_eq!(a[pair.from as usize].distance(b[pair.to as usize]), ab);
+            assert!(same(
+                a[pair.from as usize].distance(b[pair.to as usize]),
+                ab
+            ));
         }
     }
 }
@@ -97,21 +106,19 @@ fn diameter_and_maximum_distance_are_exact() {
     for (name, a, b) in pairs() {
         for side in [None, Some(48)] {
             let d = diameter(&m, &a, side).unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert_eq!(
-                d.pair.distance,
-                brute_max(&a, &a),
+            assert!(
+                same(d.pair.distance, brute_max(&a, &a)),
                 "{name} {side:?} diameter"
             );
             let x = max_distance(&m, &a, &b, side).unwrap();
-            assert_eq!(
-                x.pair.distance,
-                brute_max(&a, &b),
+            assert!(
+                same(x.pair.distance, brute_max(&a, &b)),
                 "{name} {side:?} maxdist"
             );
-            assert_eq!(
+            assert!(same(
                 a[x.pair.from as usize].distance(b[x.pair.to as usize]),
                 x.pair.distance
-            );
+            ));
         }
     }
 }
@@ -184,4 +191,87 @@ fn repeated_points_are_checked_once() {
         (d.pair.from, d.pair.to, d.pair.distance),
         (0, 100_000, a[0].distance(a[100_000]))
     );
+}
+
+/// Ties within an ulp: the vertices of regular polygons in tenths, each one
+/// ulp off, and a lattice of a non-power-of-two step. The pair named is an
+/// exact extreme and the distance printed its exact value rounded.
+#[test]
+fn extreme_pairs_are_exact_under_ulp_ties() {
+    use pixgeo_reference::exact::{
+        directed_hausdorff_squared, is_nearest_root, max_squared_distance, squared,
+    };
+    use rand::{Rng, SeedableRng};
+    let m = crate::common::machine();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+    let mut nudge = |v: f64| {
+        let step = rng.gen_range(-1i64..=1);
+        if v == 0.0 {
+            v
+        } else {
+            f64::from_bits((v.to_bits() as i64 + step) as u64)
+        }
+    };
+    let polygon = |n: usize, r: f64, centre: DVec2| -> Vec<DVec2> {
+        (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                centre + DVec2::new(t.cos(), t.sin()) * r
+            })
+            .collect()
+    };
+    let octagon: Vec<DVec2> = polygon(8, 0.3, DVec2::new(0.1, 0.7))
+        .into_iter()
+        .map(|p| DVec2::new(nudge(p.x), nudge(p.y)))
+        .collect();
+    let hexagon: Vec<DVec2> = polygon(6, 0.3, DVec2::new(0.1, 0.7))
+        .into_iter()
+        .map(|p| DVec2::new(nudge(p.x), nudge(p.y)))
+        .collect();
+    let lattice: Vec<DVec2> = (0..12)
+        .map(|k| DVec2::new((k % 4) as f64 * 0.1 + 0.05, (k / 4) as f64 * 0.1 + 0.05))
+        .collect();
+    let cases = [
+        ("octagon", octagon.clone(), hexagon.clone()),
+        ("lattice", lattice.clone(), octagon),
+        ("hexagon", hexagon, lattice),
+    ];
+    for (name, a, b) in cases {
+        let d = diameter(&m, &a, None).unwrap();
+        let want = max_squared_distance(&a, &a);
+        assert_eq!(
+            squared(a[d.pair.from as usize], a[d.pair.to as usize]),
+            want,
+            "{name} diameter"
+        );
+        assert!(
+            is_nearest_root(d.pair.distance, &want),
+            "{name} diameter {}",
+            d.pair.distance
+        );
+        let far = max_distance(&m, &a, &b, None).unwrap();
+        let want = max_squared_distance(&a, &b);
+        assert_eq!(
+            squared(a[far.pair.from as usize], b[far.pair.to as usize]),
+            want,
+            "{name} max"
+        );
+        assert!(
+            is_nearest_root(far.pair.distance, &want),
+            "{name} max {}",
+            far.pair.distance
+        );
+        let h = directed_hausdorff(&m, &a, &b, None).unwrap();
+        let want = directed_hausdorff_squared(&a, &b);
+        assert_eq!(
+            squared(a[h.pair.from as usize], b[h.pair.to as usize]),
+            want,
+            "{name} hausdorff"
+        );
+        assert!(
+            is_nearest_root(h.pair.distance, &want),
+            "{name} hausdorff {}",
+            h.pair.distance
+        );
+    }
 }
