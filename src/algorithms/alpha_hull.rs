@@ -239,9 +239,13 @@ fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
 /// few percent so that the hull's rim shows and the box never collapses.
 fn frame_around(lo: DVec2, hi: DVec2, pad: f64, side: u32) -> Result<Frame> {
     let extent = (hi - lo).max_element();
+    // Relative to the points' own magnitude: a set of any size fills the
+    // picture, and one point still gets a box.
+    let magnitude = lo.abs().max(hi.abs()).max_element();
     let pad = pad
         .max(0.03 * extent)
-        .max(1e-9 * (1.0 + lo.abs().max_element()));
+        .max(1e-9 * magnitude)
+        .max(f64::MIN_POSITIVE);
     Frame::fitting(side, lo - pad, hi + pad)
 }
 
