@@ -68,27 +68,47 @@ float segment_norm(vec2 a, vec2 b) {
     return best;
 }
 
+// Whether the direction v from the centre lies on the arc from direction u0
+// counter-clockwise over span radians to direction u1 (a whole circle from
+// 2π on): by the side of each end's direction that v lies on, no angles.
+bool on_arc(vec2 v, vec2 u0, vec2 u1, float span) {
+    if (span >= TAU) {
+        return true;
+    }
+    bool after_start = u0.x * v.y - u0.y * v.x >= 0.0;
+    bool before_end = v.x * u1.y - v.y * u1.x >= 0.0;
+    return span <= 3.14159265 ? after_start && before_end : after_start || before_end;
+}
+
 // The metric distance from p to the arc of the circle around c of radius r from
-// angle a0 over span (radians): under L1 and L-infinity the smallest over a few
-// candidates, otherwise samples at equal angles, the best brackets refined by
-// golden-section search (src/geometry/site.rs, curve_distance).
-float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
+// angle a0 (direction u0) over span (radians, to direction u1): under L1 and
+// L-infinity the smallest over a few candidates, otherwise samples at equal
+// angles, the best brackets refined by golden-section search
+// (src/geometry/site.rs, curve_distance). The candidates are found without
+// angles: float32 trigonometry (asin near ±1 above all) moved them by up to
+// a hundredth of a pixel.
+float curve_distance(vec2 p, vec2 c, float r, float a0, float span, vec2 u0, vec2 u1) {
     float best = 3.0e38;
+    vec2 offset = p - c;
     // Cusps where the offset lies along a kink ray of the ball: the axes for L1
-    // and p < 1, the diagonals for L-infinity (src/geometry/site.rs).
+    // and p < 1, the diagonals for L-infinity (src/geometry/site.rs). The
+    // points p + t v on the circle solve |offset + t v|² = r², stably.
     bool axes = METRIC_KIND == 1u || (METRIC_KIND == 3u && picture.metric_p < 1.0);
     if (axes || METRIC_KIND == 2u) {
-        vec2 d = p - c;
         for (int ray = 0; ray < 2; ray++) {
             vec2 v = axes ? (ray == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0))
                           : (ray == 0 ? vec2(1.0, 1.0) : vec2(1.0, -1.0));
-            float s = (v.x * d.y - v.y * d.x) / (r * length(v));
-            if (abs(s) <= 1.0) {
-                float phi = atan(v.y, v.x);
-                for (int t = 0; t < 2; t++) {
-                    float a = phi + (t == 0 ? asin(s) : 3.14159265 - asin(s));
-                    if (mod(a - a0, TAU) <= span) {
-                        best = min(best, norm(p - c - r * vec2(cos(a), sin(a))));
+            float a = dot(v, v);
+            float b = dot(offset, v);
+            float k = (length(offset) - r) * (length(offset) + r);
+            float disc = b * b - a * k;
+            if (disc >= 0.0) {
+                float q = -(b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
+                float roots[2] = float[2](q / a, q != 0.0 ? k / q : 0.0);
+                for (int i = 0; i < 2; i++) {
+                    vec2 w = offset + roots[i] * v;
+                    if (on_arc(w, u0, u1, span)) {
+                        best = min(best, norm(roots[i] * v));
                     }
                 }
             }
@@ -98,17 +118,18 @@ float curve_distance(vec2 p, vec2 c, float r, float a0, float span) {
     // an end, a cusp, or where a side of the ball touches the circle, whose
     // normal there is the side's (src/geometry/site.rs).
     if (METRIC_KIND == 1u || METRIC_KIND == 2u) {
-        float first = METRIC_KIND == 1u ? 0.78539816 : 0.0;
         vec2 normal = METRIC_KIND == 1u ? vec2(0.70710678) : vec2(1.0, 0.0);
         for (int k = 0; k < 4; k++) {
-            if (mod(first + 1.57079633 * float(k) - a0, TAU) <= span) {
-                best = min(best, norm(p - c - r * normal));
+            if (on_arc(normal, u0, u1, span)) {
+                best = min(best, norm(offset - r * normal));
             }
             normal = vec2(-normal.y, normal.x);
         }
-        float a1 = a0 + span;
-        best = min(best, norm(p - c - r * vec2(cos(a0), sin(a0))));
-        return min(best, norm(p - c - r * vec2(cos(a1), sin(a1))));
+        if (span < TAU) {
+            best = min(best, norm(offset - r * u0));
+            best = min(best, norm(offset - r * u1));
+        }
+        return best;
     }
     const int SAMPLES = 32;
     const int REFINEMENTS = 24;
@@ -163,7 +184,9 @@ float site_distance(vec2 p, vec4 shape0, vec4 shape1) {
     return segment_norm(shape0.xy - p, shape0.zw - p);
 #elif defined(CIRCLE)
     if (METRIC_KIND != 0u) {
-        return shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, shape1.x, TAU);
+        return shape0.z == 0.0
+            ? norm(p - shape0.xy)
+            : curve_distance(p, shape0.xy, shape0.z, shape1.x, TAU, vec2(1.0, 0.0), vec2(1.0, 0.0));
     }
     return abs(length(p - shape0.xy) - shape0.z);
 #else
@@ -171,7 +194,9 @@ float site_distance(vec2 p, vec4 shape0, vec4 shape1) {
     float span = shape0.w;
     if (METRIC_KIND != 0u) {
         float start = atan(shape1.y, shape1.x);
-        d = shape0.z == 0.0 ? norm(p - shape0.xy) : curve_distance(p, shape0.xy, shape0.z, start, min(span, TAU));
+        d = shape0.z == 0.0
+            ? norm(p - shape0.xy)
+            : curve_distance(p, shape0.xy, shape0.z, start, min(span, TAU), shape1.xy, shape1.zw);
     } else {
         vec2 v = p - shape0.xy;
         float r = shape0.z;

@@ -545,3 +545,42 @@ fn additive_weights_far_apart_keep_float32_in_range() {
     let b = voronoi_sites(&m, &shifted, &VoronoiOptions::exact(frame)).unwrap();
     assert_eq!(a.labels, b.labels);
 }
+
+/// Circles and arcs under L1 and L∞ on the device: the distances are the
+/// CPU's to float32 precision (float32 angles, asin near ±1 above all, once
+/// moved them by up to 0.006 pixels and mislabelled pixels beside a point).
+#[test]
+fn curves_under_l1_and_linf_match_the_cpu_on_the_device() {
+    let m = crate::common::machine();
+    let frame = Frame::pixels(128, 112).unwrap();
+    let sites = [
+        Shape::Circle {
+            center: DVec2::new(64.0, 56.0),
+            radius: 20.0,
+        },
+        Shape::Point(DVec2::new(80.70628082921817, 45.0)),
+        Shape::Arc {
+            center: DVec2::new(30.0, 30.0),
+            radius: 15.0,
+            start: 0.3,
+            end: 2.5,
+        },
+        Shape::Point(DVec2::new(100.0, 90.0)),
+    ]
+    .map(|s| weighted(s, 1.0, 0.0));
+    for metric in [Metric::L1, Metric::LInf] {
+        let options = VoronoiOptions::exact(frame).metric(metric);
+        let device = voronoi_sites(&m, &sites, &options).unwrap();
+        let (_, cpu) = pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric).unwrap();
+        for (k, (&d, &c)) in device.distances.iter().zip(&cpu).enumerate() {
+            assert!(
+                (d - c).abs() <= 1e-4,
+                "{metric}: pixel {k}: {d} against the CPU's {c}"
+            );
+        }
+        if metric == Metric::L1 {
+            // Nearer the circle (5.703293) than the point (5.706281).
+            assert_eq!(device.labels[45 * 128 + 75], 0);
+        }
+    }
+}
