@@ -198,6 +198,8 @@ fn repeated_points_are_checked_once() {
 /// exact extreme and the distance printed its exact value rounded.
 #[test]
 fn extreme_pairs_are_exact_under_ulp_ties() {
+    use num_rational::BigRational;
+    use pixgeo::algorithms::distances::Pair;
     use pixgeo_reference::exact::{
         directed_hausdorff_squared, is_nearest_root, max_squared_distance, squared,
     };
@@ -236,42 +238,40 @@ fn extreme_pairs_are_exact_under_ulp_ties() {
         ("lattice", lattice.clone(), octagon),
         ("hexagon", hexagon, lattice),
     ];
+    // The pair named is at the exact extreme, and its distance rounded.
+    let check = |what: String, pair: Pair, from: &[DVec2], to: &[DVec2], want: BigRational| {
+        let named = squared(from[pair.from as usize], to[pair.to as usize]);
+        assert_eq!(named, want, "{what}");
+        assert!(
+            is_nearest_root(pair.distance, &want),
+            "{what}: {}",
+            pair.distance
+        );
+    };
     for (name, a, b) in cases {
-        let d = diameter(&m, &a, None).unwrap();
-        let want = max_squared_distance(&a, &a);
-        assert_eq!(
-            squared(a[d.pair.from as usize], a[d.pair.to as usize]),
-            want,
-            "{name} diameter"
+        let d = diameter(&m, &a, None).unwrap().pair;
+        check(
+            format!("{name} diameter"),
+            d,
+            &a,
+            &a,
+            max_squared_distance(&a, &a),
         );
-        assert!(
-            is_nearest_root(d.pair.distance, &want),
-            "{name} diameter {}",
-            d.pair.distance
+        let far = max_distance(&m, &a, &b, None).unwrap().pair;
+        check(
+            format!("{name} max"),
+            far,
+            &a,
+            &b,
+            max_squared_distance(&a, &b),
         );
-        let far = max_distance(&m, &a, &b, None).unwrap();
-        let want = max_squared_distance(&a, &b);
-        assert_eq!(
-            squared(a[far.pair.from as usize], b[far.pair.to as usize]),
-            want,
-            "{name} max"
-        );
-        assert!(
-            is_nearest_root(far.pair.distance, &want),
-            "{name} max {}",
-            far.pair.distance
-        );
-        let h = directed_hausdorff(&m, &a, &b, None).unwrap();
-        let want = directed_hausdorff_squared(&a, &b);
-        assert_eq!(
-            squared(a[h.pair.from as usize], b[h.pair.to as usize]),
-            want,
-            "{name} hausdorff"
-        );
-        assert!(
-            is_nearest_root(h.pair.distance, &want),
-            "{name} hausdorff {}",
-            h.pair.distance
+        let h = directed_hausdorff(&m, &a, &b, None).unwrap().pair;
+        check(
+            format!("{name} hausdorff"),
+            h,
+            &a,
+            &b,
+            directed_hausdorff_squared(&a, &b),
         );
     }
 }
