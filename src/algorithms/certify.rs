@@ -586,6 +586,99 @@ impl<'a> Certifier<'a> {
     }
 }
 
+/// The disc of one pixel in a settle count: the positions strictly nearer
+/// to the pixel than its nearest site, whose key lies in `[lo, hi]`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Disc {
+    pixel: [i64; 2],
+    site: u32,
+    lo: f64,
+    hi: f64,
+}
+
+impl Disc {
+    /// The pixel whose disc this is.
+    pub fn pixel(&self) -> [i64; 2] {
+        self.pixel
+    }
+}
+
+impl Certifier<'_> {
+    /// The disc of `pixel` (picture pixels) whose nearest site is `site`.
+    pub fn disc(&self, pixel: [i64; 2], site: u32) -> Disc {
+        let c = self.candidate(DVec2::new(pixel[0] as f64, pixel[1] as f64), site);
+        Disc {
+            pixel,
+            site,
+            lo: c.lo,
+            hi: c.hi,
+        }
+    }
+
+    /// A Euclidean radius (pixels) that holds the disc.
+    pub fn disc_radius(&self, disc: &Disc) -> f64 {
+        let (lower, _) = self.metric.euclidean_bounds();
+        self.keys.distance(disc.hi) / lower
+    }
+
+    /// Whether the pixel centre `offset` pixels from the disc's pixel is
+    /// strictly nearer to it than the disc's site, exactly (L_p with p no
+    /// fraction m/n of n up to 64: by floats where they cannot tell).
+    pub fn in_disc(&self, disc: &Disc, offset: [i64; 2]) -> bool {
+        let (dx, dy) = (offset[0] as f64, offset[1] as f64);
+        let (lo, hi) = match exact_float_key(self.metric, dx, dy) {
+            Some(key) if matches!(self.keys, FloatKey::Metric(_)) => (key, key),
+            _ => {
+                let key = self.keys.key(dx.abs(), dy.abs());
+                let r = self.keys.rounding();
+                (key * (1.0 - r), key * (1.0 + r))
+            }
+        };
+        if hi < disc.lo {
+            return true;
+        }
+        if lo > disc.hi || (lo == hi && disc.lo == disc.hi) {
+            return lo < disc.lo;
+        }
+        let to_site = pixel_offset(&self.frame, self.sites[disc.site as usize], disc.pixel);
+        let to_position = offset.map(|v| BigRational::from_integer(v.into()));
+        let order = match (
+            exact_key(self.metric, &to_position),
+            exact_key(self.metric, &to_site),
+        ) {
+            (Some(a), Some(b)) => Some(a.cmp(&b)),
+            _ => match self.metric {
+                Metric::Lp(p) => lp_order(&to_position, &to_site, p),
+                _ => None,
+            },
+        };
+        order.map_or(lo < disc.lo, |o| o == Ordering::Less)
+    }
+
+    /// Whether this certifier's site `a` is at most as far from `pixel` as
+    /// `other`'s site `b`, exactly (as [`Certifier::in_disc`]).
+    pub fn no_farther(&self, a: u32, other: &Certifier<'_>, b: u32, pixel: [i64; 2]) -> bool {
+        let at = DVec2::new(pixel[0] as f64, pixel[1] as f64);
+        let (ca, cb) = (self.candidate(at, a), other.candidate(at, b));
+        if ca.hi < cb.lo {
+            return true;
+        }
+        if ca.lo > cb.hi {
+            return false;
+        }
+        let oa = pixel_offset(&self.frame, self.sites[a as usize], pixel);
+        let ob = pixel_offset(&other.frame, other.sites[b as usize], pixel);
+        let order = match (exact_key(self.metric, &oa), exact_key(self.metric, &ob)) {
+            (Some(x), Some(y)) => Some(x.cmp(&y)),
+            _ => match self.metric {
+                Metric::Lp(p) => lp_order(&oa, &ob, p),
+                _ => None,
+            },
+        };
+        order.map_or(ca.lo <= cb.lo, |o| o != Ordering::Greater)
+    }
+}
+
 /// A candidate's exact offset from the pixel, and its exact key where a
 /// rational holds it.
 #[derive(Clone)]

@@ -253,3 +253,69 @@ fn bad_input_is_an_error() {
         assert!(error.unwrap_err().to_string().contains("smaller picture"));
     }
 }
+
+/// Integer sites under L_p with integer p (and L1, L2, L∞): keys are sums of
+/// integer powers, so the definition is counted exactly in integers; the CPU
+/// variant counts the same, ties with the nearest rival not won (one site at
+/// (3, 15) on 16x26 under L4: the optimum 312 at (4, 15), not 375 on top of
+/// the site).
+#[test]
+fn cpu_counts_are_exact_for_integer_sites() {
+    let key = |metric: Metric, dx: i64, dy: i64| -> i128 {
+        let (x, y) = (dx.abs() as i128, dy.abs() as i128);
+        match metric {
+            Metric::L1 => x + y,
+            Metric::LInf => x.max(y),
+            Metric::L2 => x * x + y * y,
+            Metric::Lp(p) => x.pow(p as u32) + y.pow(p as u32),
+            Metric::Polygon(_) => unreachable!("not counted"),
+        }
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    use rand::Rng;
+    let cases: Vec<(Vec<[i64; 2]>, u32, u32)> = vec![
+        (vec![[3, 15]], 16, 26),
+        (
+            (0..6)
+                .map(|_| [rng.gen_range(0..20), rng.gen_range(0..14)])
+                .collect(),
+            20,
+            14,
+        ),
+        (vec![[2, 2], [8, 2], [5, 7], [5, 7]], 12, 10),
+    ];
+    for (sites, w, h) in cases {
+        let frame = Frame::pixels(w, h).unwrap();
+        let rivals: Vec<DVec2> = sites
+            .iter()
+            .map(|s| DVec2::new(s[0] as f64, s[1] as f64))
+            .collect();
+        for metric in [
+            Metric::L1,
+            Metric::L2,
+            Metric::LInf,
+            Metric::Lp(3.0),
+            Metric::Lp(4.0),
+        ] {
+            let cpu = potential_areas_cpu(&rivals, &[], &frame, metric).unwrap();
+            let pixel = |k: usize| [(k % w as usize) as i64, (k / w as usize) as i64];
+            let radius: Vec<i128> = (0..frame.len())
+                .map(|k| {
+                    let p = pixel(k);
+                    sites
+                        .iter()
+                        .map(|s| key(metric, s[0] - p[0], s[1] - p[1]))
+                        .min()
+                        .unwrap()
+                })
+                .collect();
+            for q in 0..frame.len() {
+                let at = pixel(q);
+                let wins = (0..frame.len())
+                    .filter(|&k| key(metric, at[0] - pixel(k)[0], at[1] - pixel(k)[1]) < radius[k])
+                    .count() as u32;
+                assert_eq!(cpu.area[q], wins, "{sites:?} {metric}: pixel {at:?}");
+            }
+        }
+    }
+}

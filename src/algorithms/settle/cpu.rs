@@ -1,6 +1,7 @@
 //! The potential-area map on the CPU: the same discs, counted by row spans.
 
 use super::*;
+use crate::algorithms::certify::{Certifier, Disc};
 
 /// The potential-area map computed on the CPU with the thesis's own variant
 /// (§3.12.3): every disc's border is walked row by row, +1 and -1 mark each row
@@ -17,27 +18,38 @@ pub fn potential_areas_cpu(
 ) -> Result<PotentialAreas> {
     check(rivals, own, frame, metric)?;
     let start = Instant::now();
-    let rivals_px = to_pixels(rivals, frame);
-    let own_px = to_pixels(own, frame);
     let rival_labels = nearest_labels_cpu(rivals, frame, metric)?;
     let own_labels = if own.is_empty() {
         None
     } else {
         Some(nearest_labels_cpu(own, frame, metric)?)
     };
-    let keys = disc_radius_keys(
-        frame,
-        metric,
-        &rivals_px,
-        &rival_labels,
-        &own_px,
-        own_labels.as_deref(),
-    );
+    // Each pixel's disc: the positions strictly nearer to it than its nearest
+    // rival, decided exactly; none where an own site is at least as near.
+    let rival_sites = Certifier::new(rivals, frame, metric)?;
+    let own_sites = own_labels
+        .as_ref()
+        .map(|_| Certifier::new(own, frame, metric))
+        .transpose()?;
+    let w = frame.width as usize;
+    let discs: Vec<Option<Disc>> = (0..frame.len())
+        .into_par_iter()
+        .map(|k| {
+            let pixel = [(k % w) as i64, (k / w) as i64];
+            let owned = match (&own_sites, &own_labels) {
+                (Some(sites), Some(labels)) => {
+                    sites.no_farther(labels[k], &rival_sites, rival_labels[k], pixel)
+                }
+                _ => false,
+            };
+            (!owned).then(|| rival_sites.disc(pixel, rival_labels[k]))
+        })
+        .collect();
     let mut stats = SettleStats {
         device: "cpu".into(),
         rivals: rivals.len(),
         own: own.len(),
-        discs: keys.iter().filter(|&&k| k > 0.0).count(),
+        discs: discs.iter().flatten().count(),
         radii_ms: ms(start),
         ..Default::default()
     };
@@ -46,9 +58,9 @@ pub fn potential_areas_cpu(
     // How far each disc reaches along its row and column, and the farthest of
     // each source row.
     let limit = w.max(h) as i64;
-    let reaches: Vec<i64> = keys
+    let reaches: Vec<i64> = discs
         .par_iter()
-        .map(|&key| disc_reach(metric, key, limit))
+        .map(|disc| disc.map_or(-1, |d| disc_reach(&rival_sites, &d, limit)))
         .collect();
     let row_reach: Vec<i64> = reaches
         .chunks(w)
@@ -66,8 +78,10 @@ pub fn potential_areas_cpu(
                 }
                 let source = py as usize * w;
                 for x in 0..w {
-                    let disc = (keys[source + x], reaches[source + x]);
-                    add_band_spans(band, &rows, w as i64, metric, (x as i64, py), disc);
+                    if let Some(disc) = &discs[source + x] {
+                        let reach = reaches[source + x];
+                        add_band_spans(band, &rows, w as i64, &rival_sites, (disc, reach));
+                    }
                 }
             }
             for row in band.chunks_mut(w) {
@@ -86,47 +100,22 @@ pub fn potential_areas_cpu(
 /// Target rows per task of the CPU variant.
 const BAND_ROWS: usize = 16;
 
-/// Whether offset (dx, dy) lies in the disc of radius key `key` (as
-/// `in_disc` of `glsl/settle.glsl`, in float64).
-fn in_disc(metric: Metric, dx: i64, dy: i64, key: f32) -> bool {
-    match metric {
-        // The same squared distance, exact in integers.
-        Metric::L2 => ((dx * dx + dy * dy) as f64) < key as f64,
-        _ => metric.key(DVec2::new(dx as f64, dy as f64)) < key as f64,
-    }
+/// The largest offset along a row or column inside `disc`, at most `limit`;
+/// -1 when the disc is empty.
+fn disc_reach(sites: &Certifier<'_>, disc: &Disc, limit: i64) -> i64 {
+    half_width(sites, disc, 0, limit)
 }
 
-/// The largest offset along a row or column inside the disc of `key`, at most
-/// `limit`; -1 when the disc is empty.
-fn disc_reach(metric: Metric, key: f32, limit: i64) -> i64 {
-    if key.is_nan() || key <= 0.0 {
-        return -1;
-    }
-    let mut m = metric.distance_of_key(key as f64).min(limit as f64) as i64;
-    while m < limit && in_disc(metric, m + 1, 0, key) {
+/// The largest m <= `reach` with offset (m, dy) in `disc` (-1 when none):
+/// from a radius that holds the disc, then corrected step by step.
+fn half_width(sites: &Certifier<'_>, disc: &Disc, dy: i64, reach: i64) -> i64 {
+    let radius = sites.disc_radius(disc);
+    let guess = (radius * radius - (dy * dy) as f64).max(0.0).sqrt();
+    let mut m = (guess as i64).min(reach);
+    while m < reach && sites.in_disc(disc, [m + 1, dy]) {
         m += 1;
     }
-    while m >= 0 && !in_disc(metric, m, 0, key) {
-        m -= 1;
-    }
-    m
-}
-
-/// The largest m <= `reach` with offset (m, dy) in the disc of `key` (-1 when
-/// none): from the metric's closed form, then corrected step by step.
-fn half_width(metric: Metric, dy: i64, key: f32, reach: i64) -> i64 {
-    let (k, y) = (key as f64, dy as f64);
-    let guess = match metric {
-        Metric::L2 => (k - y * y).max(0.0).sqrt(),
-        Metric::L1 => k - y,
-        Metric::Lp(p) => (k.powf(p) - y.powf(p)).max(0.0).powf(1.0 / p),
-        _ => k,
-    };
-    let mut m = (guess.max(0.0) as i64).min(reach);
-    while m < reach && in_disc(metric, m + 1, dy, key) {
-        m += 1;
-    }
-    while m >= 0 && !in_disc(metric, m, dy, key) {
+    while m >= 0 && !sites.in_disc(disc, [m, dy]) {
         m -= 1;
     }
     m
@@ -140,10 +129,10 @@ fn add_band_spans(
     band: &mut [i32],
     rows: &std::ops::Range<i64>,
     w: i64,
-    metric: Metric,
-    (x, y): (i64, i64),
-    (key, reach): (f32, i64),
+    sites: &Certifier<'_>,
+    (disc, reach): (&Disc, i64),
 ) {
+    let [x, y] = disc.pixel();
     if reach < 0 || y + reach < rows.start || y - reach >= rows.end {
         return;
     }
@@ -158,10 +147,10 @@ fn add_band_spans(
     let below = rows.start.max(y)..rows.end.min(y + reach + 1);
     let above = rows.start.max(y - reach)..rows.end.min(y);
     let mut walk = |first_dy: i64, count: i64, row_of: &dyn Fn(i64) -> i64| {
-        let mut m = half_width(metric, first_dy, key, reach);
+        let mut m = half_width(sites, disc, first_dy, reach);
         for k in 0..count {
             let dy = first_dy + k;
-            while m >= 0 && !in_disc(metric, m, dy, key) {
+            while m >= 0 && !sites.in_disc(disc, [m, dy]) {
                 m -= 1;
             }
             if m < 0 {
