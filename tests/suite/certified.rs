@@ -240,3 +240,50 @@ fn random_doubles_over_a_large_picture() {
     check(&mut failures, "random doubles", &d.labels, &ranks);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A lattice of a decimal spacing (a non-power-of-two step) seen through a
+/// frame of tenths, every coordinate moved by up to an ulp.
+fn near_degenerate_lattice() -> impl proptest::strategy::Strategy<Value = Vec<DVec2>> {
+    use proptest::prelude::*;
+    (
+        2u32..9,
+        3u32..7,
+        3u32..6,
+        prop::collection::vec(-1i64..=1, 84),
+    )
+        .prop_map(|(tenths, nx, ny, moves)| {
+            let spacing = tenths as f64 / 10.0;
+            let mut moves = moves.into_iter().cycle();
+            (0..nx * ny)
+                .map(|k| {
+                    let p = DVec2::new(0.05, 0.15)
+                        + DVec2::new((k % nx) as f64, (k / nx) as f64) * spacing;
+                    DVec2::new(
+                        ulps(p.x, moves.next().unwrap_or(0)),
+                        ulps(p.y, moves.next().unwrap_or(0)),
+                    )
+                })
+                .collect()
+        })
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::test_runner::Config { cases: 24, ..Default::default() })]
+
+    /// Random near-degenerate lattices under a random metric: the device's
+    /// screen tiles and the CPU's pixel algorithm name the exact nearest.
+    #[test]
+    fn near_degenerate_lattices_get_exact_labels(
+        sites in near_degenerate_lattice(),
+        metric in 0usize..4,
+    ) {
+        let m = machine();
+        let metric = METRICS[metric];
+        let frame = Frame::with_bbox(32, Some(24), [0.0, 0.0, 3.2, 2.4]).unwrap();
+        let (ranks, _) = exact_k_nearest(&sites, &frame, metric, 1);
+        let device = voronoi(&m, &sites, &VoronoiOptions::exact(frame).metric(metric)).unwrap();
+        let grown = cpu::k_nearest(&sites, &frame, 1, metric).unwrap();
+        proptest::prop_assert_eq!(&device.labels, &ranks);
+        proptest::prop_assert_eq!(&grown.labels, &ranks);
+    }
+}
