@@ -246,3 +246,37 @@ pub fn directed_hausdorff_squared(a: &[DVec2], b: &[DVec2]) -> BigRational {
         .max()
         .expect("points")
 }
+
+fn signed_double_area(a: DVec2, b: DVec2, c: DVec2) -> BigRational {
+    let [a, b, c] = [a, b, c].map(point);
+    (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
+}
+
+/// Twice the smallest (or largest) exact area of a quadrangle: a diagonal
+/// p q with one site strictly on each side, by looking at every choice.
+pub fn extremal_quadrangle_double_area(points: &[DVec2], largest: bool) -> Option<BigRational> {
+    let zero = BigRational::from_integer(0.into());
+    let mut best: Option<BigRational> = None;
+    for (p, &a) in points.iter().enumerate() {
+        for &b in &points[p + 1..] {
+            let sides: Vec<BigRational> = points
+                .iter()
+                .map(|&c| signed_double_area(a, b, c))
+                .collect();
+            let left = sides.iter().filter(|s| **s > zero);
+            let right: Vec<&BigRational> = sides.iter().filter(|s| **s < zero).collect();
+            for l in left {
+                for r in &right {
+                    let area = l - *r;
+                    let better = best
+                        .as_ref()
+                        .is_none_or(|x| (area > *x) == largest && area != *x);
+                    if better {
+                        best = Some(area);
+                    }
+                }
+            }
+        }
+    }
+    best
+}

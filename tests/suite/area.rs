@@ -290,7 +290,9 @@ fn progress_runs_to_the_end_over_many_submissions() {
 /// and the area printed is its exact area rounded to the nearest double.
 #[test]
 fn extremal_triangles_are_exact_on_nearly_collinear_doubles() {
-    use pixgeo_reference::exact::{extremal_triangles, is_nearest};
+    use pixgeo_reference::exact::{
+        double_area, extremal_quadrangle_double_area, extremal_triangles, is_nearest,
+    };
     let machine = machine();
     let mut rng = ChaCha8Rng::seed_from_u64(29);
     let issue = vec![
@@ -342,6 +344,28 @@ fn extremal_triangles_are_exact_on_nearly_collinear_doubles() {
                     let ccw = pixgeo::geometry::predicates::orient(p(0), p(1), p(2)) > 0.0;
                     assert!(ccw, "{what}: {:?} clockwise", answer.sites);
                 }
+            }
+            // Quadrangles: the ring named has the extreme exact area.
+            let Some(twice) = extremal_quadrangle_double_area(&sites, extreme == Extreme::Largest)
+            else {
+                continue;
+            };
+            for method in ["roofs", "sweep"] {
+                let answer = quadrangle_by(method, &machine, &sites, extreme);
+                let what = format!("{name} {extreme:?} quadrangle {method}");
+                let v = answer
+                    .sites
+                    .iter()
+                    .map(|&k| sites[k as usize])
+                    .collect::<Vec<_>>();
+                let named = double_area(v[0], v[1], v[2]) + double_area(v[2], v[3], v[0]);
+                assert_eq!(named, twice, "{what}: {:?}", answer.sites);
+                let half = twice.clone() / num_rational::BigRational::from_integer(2.into());
+                assert!(
+                    is_nearest(answer.area, &half),
+                    "{what}: area {}",
+                    answer.area
+                );
             }
         }
     }

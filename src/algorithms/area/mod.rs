@@ -128,6 +128,11 @@ impl BestRing {
         }
     }
 
+    /// The best ring's area as a float, if any.
+    pub(crate) fn estimate(&self) -> Option<f64> {
+        self.best.as_ref().map(|(_, (area, _))| *area)
+    }
+
     /// The best ring and its exact area rounded to the nearest double.
     pub(crate) fn exact(self, sites: &[DVec2]) -> Option<(Vec<u32>, f64)> {
         self.best.map(|(ring, _)| {
@@ -413,6 +418,11 @@ fn quadrangle_in_range(
         Extreme::Largest => None,
     };
     let roofs = Roofs::new(machine, sites, &chosen, side, extreme, bound, &hull)?;
+    // As for triangles: sites too nearly collinear for the picture's depths
+    // go to the exact sweep.
+    if 2.0 * roofs.depth_error() > 0.25 {
+        return crate::algorithms::area_sweep::extremal_quadrangle_sweep(sites, extreme, progress);
+    }
     let frame = roofs.frame;
     let px2 = frame.scale * frame.scale;
     let prepare_ms = ms(started);
@@ -473,14 +483,15 @@ fn quadrangle_in_range(
         .ok_or_else(|| Error::Internal("no diagonal has sites on both sides".into()))?;
     let reduce_ms = ms(started);
     let started = Instant::now();
-    let slack = |sum: f64| 1e-6 * sum.abs() + 1e-9 / px2;
-    let mut best: Option<(Vec<u32>, f64)> = None;
+    let depth_slack = 2.0 * roofs.depth_error() / roofs.depth_per_area;
+    let slack = |sum: f64| 1e-6 * sum.abs() + 1e-9 / px2 + depth_slack;
+    let mut best = BestRing::new(extreme);
     let mut checked = 0;
     for &(sum, k) in &sums {
-        if let Some((_, area)) = &best {
+        if let Some(area) = best.estimate() {
             let hopeless = match extreme {
-                Extreme::Smallest => sum - slack(sum) > *area,
-                Extreme::Largest => sum + slack(sum) < *area,
+                Extreme::Smallest => sum - slack(sum) > area,
+                Extreme::Largest => sum + slack(sum) < area,
             };
             if hopeless {
                 break;
@@ -488,17 +499,15 @@ fn quadrangle_in_range(
         }
         checked += 1;
         let (i, j) = pair_of(k);
-        if let [Some((l, a)), Some((r, b))] =
+        if let [Some((l, _)), Some((r, _))] =
             sides_of(&points, i as usize, j as usize, extreme == Extreme::Largest)
         {
-            if extreme.improves(a + b, best.as_ref().map(|b| b.1)) {
-                let v = [i, r, j, l].map(|x| chosen[x as usize]).to_vec();
-                best = Some((v, a + b));
-            }
+            best.offer(sites, &[i, r, j, l].map(|x| chosen[x as usize]));
         }
     }
-    let (vertices, area) =
-        best.ok_or_else(|| Error::Internal("no diagonal has sites strictly on both sides".into()))?;
+    let (vertices, area) = best
+        .exact(sites)
+        .ok_or_else(|| Error::Internal("no diagonal has sites strictly on both sides".into()))?;
     Ok(AreaAnswer {
         extreme,
         sites: vertices,
