@@ -831,3 +831,26 @@ fn smallest_enclosing_circle_is_exact_at_every_magnitude() {
         );
     }
 }
+
+/// Far from the origin the largest empty circle is the near one moved: four
+/// sites 1e15 along x, whose offsets are exact there.
+#[test]
+fn largest_empty_circle_far_from_the_origin() {
+    let machine = machine();
+    let near = [
+        DVec2::new(3.0, 4.0),
+        DVec2::new(4.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(2.0, 1.0),
+    ];
+    let far: Vec<DVec2> = near.iter().map(|p| *p + DVec2::new(1e15, 0.0)).collect();
+    let region = Region::default();
+    let a = largest_empty(&machine, &near, Unit::Circle, &region, 256).unwrap();
+    let b = largest_empty(&machine, &far, Unit::Circle, &region, 256).unwrap();
+    assert_eq!(b.exact.scale, a.exact.scale);
+    assert_eq!(
+        b.exact.centre,
+        [a.exact.centre[0] + 1e15, a.exact.centre[1]]
+    );
+    assert_eq!(b.exact.sites, a.exact.sites);
+}

@@ -2,6 +2,7 @@
 //! the lower envelope inside the region, refined exactly.
 
 use super::*;
+use crate::geometry::exact::two_difference;
 
 /// Where the centre of the largest empty homothet may lie.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -60,6 +61,21 @@ pub fn largest_empty(
     largest_empty_by(machine, sites, unit, region, side, None)
 }
 
+/// A corner to move `sites` and `region` by, where they lie far from the
+/// origin beside their extent (more than 2^20 times) and every difference
+/// from the corner is exact; `None` otherwise.
+fn exact_shift(sites: &[DVec2], region: &Region) -> Option<DVec2> {
+    let points = || sites.iter().chain(region.rings.iter().flatten());
+    let lo = points().fold(DVec2::INFINITY, |a, p| a.min(*p));
+    let hi = points().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
+    let far = lo.abs().max(hi.abs()).max_element() > (hi - lo).max_element() * 2f64.powi(20);
+    let exact = |v: f64, o: f64| {
+        let (d, e) = two_difference(v, o);
+        e == 0.0 && d + o == v
+    };
+    (far && points().all(|p| exact(p.x, lo.x) && exact(p.y, lo.y))).then_some(lo)
+}
+
 /// More pixels near the largest value than this, and the picture is too coarse
 /// for the sites: the exact search would cost more than a finer picture.
 const MAX_NEAR_PIXELS: usize = 1024;
@@ -80,6 +96,20 @@ pub fn largest_empty_by(
     stage: Option<PixelStage>,
 ) -> Result<HomothetAnswer> {
     check_sites(sites)?;
+    // Far from the origin, a set's digits are in its offsets: move it to the
+    // origin where that is exact (homothets move with their sites).
+    if let Some(origin) = exact_shift(sites, region) {
+        let moved: Vec<DVec2> = sites.iter().map(|p| *p - origin).collect();
+        let region = Region {
+            rings: region
+                .rings
+                .iter()
+                .map(|ring| ring.iter().map(|p| *p - origin).collect())
+                .collect(),
+        };
+        let answer = largest_empty_by(machine, &moved, unit, &region, side, stage)?;
+        return Ok(answer.moved(origin));
+    }
     let finer = |side| largest_empty_by(machine, sites, unit, region, side, stage);
     let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));

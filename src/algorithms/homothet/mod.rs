@@ -189,6 +189,24 @@ impl Homothet {
 }
 
 impl HomothetAnswer {
+    /// The answer for the sites moved by `by` (the centres rounded to the
+    /// nearest double).
+    fn moved(self, by: DVec2) -> Self {
+        let shift = |h: Homothet| Homothet {
+            centre: [h.centre[0] + by.x, h.centre[1] + by.y],
+            ..h
+        };
+        Self {
+            pixel: shift(self.pixel),
+            exact: shift(self.exact),
+            frame: Frame {
+                origin: self.frame.origin + by,
+                ..self.frame
+            },
+            ..self
+        }
+    }
+
     /// The answer for the sites scaled by 2^k.
     fn scaled(self, k: i32) -> Self {
         let frame = Frame {
