@@ -26,9 +26,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         buckets::PointGrid,
-        exact::{
-            exact_float_key, exact_key, lp_order, pixel_offset, to_pixel_bounded, two_difference,
-        },
+        exact::{exact_float_key, exact_order, pixel_offset, to_pixel_bounded, two_difference},
         metric::Metric,
         Frame,
     },
@@ -510,7 +508,7 @@ impl<'a> Certifier<'a> {
     ) -> Result<()> {
         // An insertion sort: nearly sorted already, and most comparisons are
         // decided by the intervals.
-        let mut exact: Vec<Option<Exact>> = vec![None; candidates.len()];
+        let mut exact: Vec<Option<[BigRational; 2]>> = vec![None; candidates.len()];
         let mut ranked: Vec<usize> = Vec::with_capacity(candidates.len());
         for n in 0..candidates.len() {
             let mut slot = ranked.len();
@@ -538,7 +536,7 @@ impl<'a> Certifier<'a> {
         &self,
         p: [i64; 2],
         candidates: &[Candidate],
-        exact: &mut [Option<Exact>],
+        exact: &mut [Option<[BigRational; 2]>],
         a: usize,
         b: usize,
     ) -> Result<Ordering> {
@@ -563,20 +561,14 @@ impl<'a> Certifier<'a> {
         }
         for n in [a, b] {
             if exact[n].is_none() {
-                let offset = pixel_offset(&self.frame, self.sites[candidates[n].id as usize], p);
-                let key = exact_key(self.metric, &offset);
-                exact[n] = Some(Exact { offset, key });
+                let site = self.sites[candidates[n].id as usize];
+                exact[n] = Some(pixel_offset(&self.frame, site, p));
             }
         }
         let (ea, eb) = (exact[a].as_ref().unwrap(), exact[b].as_ref().unwrap());
-        let fractional = match self.metric {
-            Metric::Lp(power) => lp_order(&ea.offset, &eb.offset, power),
-            _ => None,
-        };
-        match (&ea.key, &eb.key, fractional) {
-            (Some(ka), Some(kb), _) => Ok(ka.cmp(kb)),
-            (_, _, Some(order)) => Ok(order),
-            _ => Err(Error::InvalidInput(format!(
+        match exact_order(self.metric, ea, eb) {
+            Some(order) => Ok(order),
+            None => Err(Error::InvalidInput(format!(
                 "pixel ({}, {}) is as far from site {} as from site {} under {} to 4096 bits, \
                  and pixgeo decides such near ties exactly for L1, L2, L∞ and L_p with p a \
                  fraction m/n of n up to 64; use one of those",
@@ -642,16 +634,7 @@ impl Certifier<'_> {
         }
         let to_site = pixel_offset(&self.frame, self.sites[disc.site as usize], disc.pixel);
         let to_position = offset.map(|v| BigRational::from_integer(v.into()));
-        let order = match (
-            exact_key(self.metric, &to_position),
-            exact_key(self.metric, &to_site),
-        ) {
-            (Some(a), Some(b)) => Some(a.cmp(&b)),
-            _ => match self.metric {
-                Metric::Lp(p) => lp_order(&to_position, &to_site, p),
-                _ => None,
-            },
-        };
+        let order = exact_order(self.metric, &to_position, &to_site);
         order.map_or(lo < disc.lo, |o| o == Ordering::Less)
     }
 
@@ -668,23 +651,9 @@ impl Certifier<'_> {
         }
         let oa = pixel_offset(&self.frame, self.sites[a as usize], pixel);
         let ob = pixel_offset(&other.frame, other.sites[b as usize], pixel);
-        let order = match (exact_key(self.metric, &oa), exact_key(self.metric, &ob)) {
-            (Some(x), Some(y)) => Some(x.cmp(&y)),
-            _ => match self.metric {
-                Metric::Lp(p) => lp_order(&oa, &ob, p),
-                _ => None,
-            },
-        };
+        let order = exact_order(self.metric, &oa, &ob);
         order.map_or(ca.lo <= cb.lo, |o| o != Ordering::Greater)
     }
-}
-
-/// A candidate's exact offset from the pixel, and its exact key where a
-/// rational holds it.
-#[derive(Clone)]
-struct Exact {
-    offset: [BigRational; 2],
-    key: Option<BigRational>,
 }
 
 /// Proves a k-nearest diagram of the whole frame in place (exact cones, or the

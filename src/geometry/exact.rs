@@ -159,6 +159,23 @@ fn power_bracket(x: &BigRational, m: u32, n: u32, bits: u64) -> (BigInt, BigInt)
     (root.clone(), root + 1)
 }
 
+/// The order of exact offsets `a` and `b` by their distance under `metric`:
+/// by [`exact_key`], or [`lp_order`] for fractional p; `None` where neither
+/// decides.
+pub(crate) fn exact_order(
+    metric: Metric,
+    a: &[BigRational; 2],
+    b: &[BigRational; 2],
+) -> Option<Ordering> {
+    match (exact_key(metric, a), exact_key(metric, b)) {
+        (Some(x), Some(y)) => Some(x.cmp(&y)),
+        _ => match metric {
+            Metric::Lp(p) => lp_order(a, b, p),
+            _ => None,
+        },
+    }
+}
+
 /// Whether offsets `a` and `b` are at exactly the same distance for every
 /// metric symmetric in its coordinates: equal absolute values, in some order.
 pub(crate) fn mirror_images(a: &[BigRational; 2], b: &[BigRational; 2]) -> bool {

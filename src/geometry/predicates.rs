@@ -1,15 +1,16 @@
 //! The exact predicates every construction of pixgeo decides with, and the
 //! convex hull built on them. Orientation and in-circle tests are Shewchuk's
 //! adaptive ones (`robust`) on the points scaled by a power of two into the
-//! range where they neither overflow nor underflow, and rational arithmetic
-//! where no power of two fits: their signs are exact for the doubles given.
+//! range where they neither overflow nor underflow (`super::scale`), and
+//! rational arithmetic where no power of two fits: their signs are exact for
+//! the doubles given.
 
 use glam::DVec2;
 
 use super::{
     exact::{incircle_exact, nearest_double, orient_exact},
     frame::{distinct_by, lexicographic},
-    scale::times_power_of_two,
+    scale::{self, times_power_of_two},
 };
 
 fn coord(p: DVec2, shift: i32) -> robust::Coord<f64> {
@@ -17,26 +18,6 @@ fn coord(p: DVec2, shift: i32) -> robust::Coord<f64> {
         x: times_power_of_two(p.x, shift),
         y: times_power_of_two(p.y, shift),
     }
-}
-
-/// A power of two that brings every coordinate into [2^-100, 2^101] (or
-/// zero), where Shewchuk's predicates neither overflow nor underflow, and
-/// whose scaling is exact; `None` where the coordinates span too much for one.
-fn safe_shift(points: &[DVec2]) -> Option<i32> {
-    let magnitudes = points.iter().flat_map(|p| [p.x.abs(), p.y.abs()]);
-    let big = magnitudes.clone().fold(0.0, f64::max);
-    if big == 0.0 {
-        return Some(0);
-    }
-    let small = magnitudes
-        .filter(|m| *m > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    // Mostly they are in range already.
-    if big < 2f64.powi(101) && small >= 2f64.powi(-100) {
-        return Some(0);
-    }
-    let shift = 100 - big.log2().floor() as i32;
-    (small.log2() + shift as f64 >= -100.0).then_some(shift)
 }
 
 /// `value` (the predicate of points scaled by 2^shift, of the given degree)
@@ -71,7 +52,7 @@ fn signed_double(exact: &num_rational::BigRational) -> f64 {
 /// when collinear; its magnitude is about twice the triangle's signed area.
 /// The sign is exact at every magnitude of the doubles given.
 pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    match safe_shift(&[a, b, c]) {
+    match scale::predicate_exponent(&[a, b, c]).ok() {
         Some(shift) => unscaled(
             robust::orient2d(coord(a, shift), coord(b, shift), coord(c, shift)),
             shift,
@@ -84,7 +65,7 @@ pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 /// Positive when `d` lies strictly inside the circle through the
 /// counter-clockwise a, b, c; exact at every magnitude, as [`orient`].
 pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
-    match safe_shift(&[a, b, c, d]) {
+    match scale::incircle_exponent(&[a, b, c, d]).ok() {
         Some(shift) => {
             let [a, b, c, d] = [a, b, c, d].map(|p| coord(p, shift));
             unscaled(robust::incircle(a, b, c, d), shift, 4)
