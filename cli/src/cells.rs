@@ -9,7 +9,6 @@ use anyhow::Result;
 use glam::DVec2;
 use pixgeo::{
     algorithms::{cells::voronoi_cells, trace::trace_regions},
-    geometry::cell::Rect,
     Machine,
 };
 use serde_json::{json, Map, Value};
@@ -62,14 +61,7 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
     let picture = |p: DVec2| frame.to_pixel(p) + DVec2::splat(0.5);
     let (features, shapes): (Vec<Feature>, Vec<(Polygons, [u8; 3])>) = match source {
         Source::Exact { machine, sites } => {
-            let rect = Rect {
-                lo: frame.to_world(DVec2::splat(-0.5)),
-                hi: frame.to_world(DVec2::new(
-                    frame.width as f64 - 0.5,
-                    frame.height as f64 - 0.5,
-                )),
-            };
-            let cells = voronoi_cells(machine, sites, &rect)?;
+            let cells = voronoi_cells(machine, sites, &world.clip_rect())?;
             let same_as: std::collections::HashMap<u32, u32> =
                 cells.duplicates.iter().map(|&[r, f]| (r, f)).collect();
             (0..sites.len())

@@ -39,6 +39,7 @@ pub fn print(
         frame,
         y_axis: YAxis::Down,
         epsg: None,
+        bbox: None,
     });
     print_placed(command, device, world.as_ref(), result)
 }
@@ -169,6 +170,7 @@ mod tests {
             frame,
             y_axis: YAxis::Up,
             epsg: Some(4326),
+            bbox: None,
         };
         let v = wrap(
             "voronoi",

@@ -7,6 +7,7 @@ use clap::{Args as ClapArgs, ValueEnum};
 use glam::DVec2;
 use pixgeo::{
     geometry::{
+        cell::Rect,
         metric::Metric,
         site::{Shape, Site},
         Frame,
@@ -136,9 +137,31 @@ pub struct World {
     pub frame: Frame,
     pub y_axis: YAxis,
     pub epsg: Option<u16>,
+    /// The user's --bbox as given (the frame's rows round its height).
+    pub bbox: Option<[f64; 4]>,
 }
 
 impl World {
+    /// The rectangle that vector answers are clipped to, in the computing
+    /// world: the user's --bbox exactly as given, else the frame's pixels.
+    pub fn clip_rect(&self) -> Rect {
+        let f = &self.frame;
+        match (self.bbox, self.y_axis) {
+            (Some([x0, y0, x1, y1]), YAxis::Down) => Rect {
+                lo: DVec2::new(x0, y0),
+                hi: DVec2::new(x1, y1),
+            },
+            (Some([x0, y0, x1, y1]), YAxis::Up) => Rect {
+                lo: DVec2::new(x0, 0.0 - y1),
+                hi: DVec2::new(x1, 0.0 - y0),
+            },
+            (None, _) => Rect {
+                lo: f.origin,
+                hi: f.origin + DVec2::new(f.width as f64, f.height as f64) / f.scale,
+            },
+        }
+    }
+
     /// The user's point of a point of the computing world (and back: the
     /// mirror is its own inverse).
     pub fn to_user(self, p: DVec2) -> DVec2 {
@@ -266,6 +289,7 @@ impl Input {
             frame,
             y_axis: self.place.y_axis(),
             epsg: self.place.crs,
+            bbox: self.place.bbox,
         }
     }
 

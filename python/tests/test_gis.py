@@ -198,6 +198,9 @@ def test_exact_cells_beside_shapely(tmp_path, case):
         d = np.hypot(q[:, None, 0] - xy[:, 0], q[:, None, 1] - xy[:, 1])
         assert (d[:, i] <= d.min(axis=1) + 1e-6).all()
     np.testing.assert_allclose(sum(c.area for c in cells.values()), frame.area, rtol=1e-9)
+    # Neighbours share their corners bit for bit, and the cells end at the box.
+    assert shapely.coverage_is_valid(list(cells.values()))
+    assert shapely.union_all(list(cells.values())).bounds == tuple(BBOX)
     # shapely's (GEOS's) Voronoi polygons of the same points, clipped: each
     # site's cell has the same area.
     theirs = shapely.voronoi_polygons(MultiPoint(xy), extend_to=frame)
@@ -210,6 +213,30 @@ def test_exact_cells_beside_shapely(tmp_path, case):
             np.testing.assert_allclose(cells[owners[0]].area, part.area, rtol=1e-6)
     svg = (tmp_path / "cells.svg").read_text()
     assert svg.startswith("<svg") and svg.count("<path") == len(cells)
+
+
+def test_cells_where_four_sites_meet_form_a_coverage(tmp_path):
+    """Four sites of a lattice of spacing 1/9 share one Voronoi vertex, and
+    the box is a tenth beyond the unit square: each corner comes out once,
+    shared, and the cells are clipped to the box as given."""
+    path = tmp_path / "four.csv"
+    path.write_text("x,y\n0.4444444444444444,0\n0.4444444444444444,0.1111111111111111\n"
+                    "0.5555555555555556,0\n0.5555555555555556,0.1111111111111111\n")
+    out = tmp_path / "cells.geojson"
+    pixgeo("voronoi", "--sites", path, "--bbox=-0.1,-0.1,1.1,1.1", "--size", 60, "--cells", out)
+    cells = [shape(f["geometry"]) for f in read_cells(out)]
+    assert all(c.is_valid and len(c.exterior.coords) == 5 for c in cells)
+    assert shapely.coverage_is_valid(cells)
+    assert shapely.union_all(cells).bounds == (-0.1, -0.1, 1.1, 1.1)
+    centre = set.intersection(*(set(c.exterior.coords) for c in cells))
+    assert centre == {(0.5, 0.05555555555555555)}
+    # 30 random points: a valid coverage too.
+    rng = np.random.default_rng(30)
+    np.savetxt(path, rng.uniform(0, 1, (30, 2)), delimiter=",", header="x,y", comments="")
+    pixgeo("voronoi", "--sites", path, "--bbox", "0,0,1,1", "--size", 64, "--cells", out)
+    cells = [shape(f["geometry"]) for f in read_cells(out)]
+    assert shapely.coverage_is_valid(cells)
+    np.testing.assert_allclose(sum(c.area for c in cells), 1.0, rtol=1e-12)
 
 
 def test_traced_cells_and_triangles(tmp_path, sites):

@@ -247,7 +247,7 @@ pub fn directed_hausdorff_squared(a: &[DVec2], b: &[DVec2]) -> BigRational {
         .expect("points")
 }
 
-fn signed_double_area(a: DVec2, b: DVec2, c: DVec2) -> BigRational {
+pub fn signed_double_area(a: DVec2, b: DVec2, c: DVec2) -> BigRational {
     let [a, b, c] = [a, b, c].map(point);
     (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
 }
@@ -279,4 +279,89 @@ pub fn extremal_quadrangle_double_area(points: &[DVec2], largest: bool) -> Optio
         }
     }
     best
+}
+
+/// The corners of the Euclidean Voronoi diagram of the distinct `sites`
+/// clipped to the rectangle `[lo, hi]`, exactly: each point of the closed
+/// rectangle that is a rectangle corner, a point of a side where the bisector
+/// of two nearest sites crosses it, or a point with three or more nearest
+/// sites, with its nearest sites. By looking at every triple, pair and corner.
+pub fn clipped_voronoi_corners(
+    sites: &[DVec2],
+    lo: DVec2,
+    hi: DVec2,
+) -> Vec<([BigRational; 2], Vec<u32>)> {
+    let s: Vec<[BigRational; 2]> = sites.iter().map(|&p| point(p)).collect();
+    let (lo, hi) = (point(lo), point(hi));
+    let two = BigRational::from_integer(2.into());
+    let mut candidates: Vec<[BigRational; 2]> = vec![
+        [lo[0].clone(), lo[1].clone()],
+        [hi[0].clone(), lo[1].clone()],
+        [hi[0].clone(), hi[1].clone()],
+        [lo[0].clone(), hi[1].clone()],
+    ];
+    let n = s.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            // The bisector: 2 p . (b - a) = |b|² - |a|².
+            let d = [&s[j][0] - &s[i][0], &s[j][1] - &s[i][1]];
+            let c = (&s[j][0] * &s[j][0] + &s[j][1] * &s[j][1]
+                - &s[i][0] * &s[i][0]
+                - &s[i][1] * &s[i][1])
+                / &two;
+            for (axis, at) in [(0, &lo[0]), (0, &hi[0]), (1, &lo[1]), (1, &hi[1])] {
+                let other = 1 - axis;
+                if d[other] != BigRational::from_integer(0.into()) {
+                    let mut p = [at.clone(), at.clone()];
+                    p[other] = (&c - &d[axis] * at) / &d[other];
+                    candidates.push(p);
+                }
+            }
+            for k in j + 1..n {
+                let e = [&s[k][0] - &s[i][0], &s[k][1] - &s[i][1]];
+                let f = (&s[k][0] * &s[k][0] + &s[k][1] * &s[k][1]
+                    - &s[i][0] * &s[i][0]
+                    - &s[i][1] * &s[i][1])
+                    / &two;
+                let det = &d[0] * &e[1] - &d[1] * &e[0];
+                if det != BigRational::from_integer(0.into()) {
+                    candidates.push([
+                        (&c * &e[1] - &f * &d[1]) / &det,
+                        (&d[0] * &f - &e[0] * &c) / &det,
+                    ]);
+                }
+            }
+        }
+    }
+    candidates.sort();
+    candidates.dedup();
+    candidates
+        .into_iter()
+        .filter(|p| lo[0] <= p[0] && p[0] <= hi[0] && lo[1] <= p[1] && p[1] <= hi[1])
+        .filter_map(|p| {
+            let d: Vec<BigRational> = s.iter().map(|q| squared_distance(&p, q)).collect();
+            let nearest = d.iter().min().expect("sites").clone();
+            let owners: Vec<u32> = (0..n as u32)
+                .filter(|&i| d[i as usize] == nearest)
+                .collect();
+            let on = [
+                p[0] == lo[0] || p[0] == hi[0],
+                p[1] == lo[1] || p[1] == hi[1],
+            ];
+            // On a side, two nearest sites make a corner where their bisector
+            // crosses the side: where they differ along it.
+            let crossing = |along: usize| {
+                owners
+                    .iter()
+                    .any(|&i| s[i as usize][along] != s[owners[0] as usize][along])
+            };
+            let corner = match on {
+                [true, true] => true,
+                [true, false] => crossing(1),
+                [false, true] => crossing(0),
+                [false, false] => owners.len() >= 3,
+            };
+            corner.then_some((p, owners))
+        })
+        .collect()
 }

@@ -4,12 +4,14 @@
 //!
 //! A site's cell is the intersection of the half-planes nearer to it than to
 //! each of its Delaunay neighbours, so the triangulation's exact predicates
-//! decide which bisectors bound a cell and the clipping only places them.
-//! Degenerate inputs take the same path: co-circular sites add bisectors
-//! through a shared corner, which clip nothing; repeated sites share the
-//! first one's cell; sites on one line (or fewer than three distinct) are
-//! neighbours in their order along it; sites outside the rectangle may have
-//! an empty cell.
+//! decide which bisectors bound a cell, and exact clipping places them: every
+//! corner is the double nearest the exact corner, so neighbouring cells share
+//! their corners bit for bit and the cells form a valid coverage of the
+//! rectangle. Degenerate inputs take the same path: co-circular sites add
+//! bisectors through a shared corner, which clip nothing; repeated sites
+//! share the first one's cell; sites on one line (or fewer than three
+//! distinct) are neighbours in their order along it; sites outside the
+//! rectangle may have an empty cell.
 
 use std::collections::HashMap;
 
@@ -18,10 +20,7 @@ use glam::DVec2;
 use super::delaunay::{delaunay, DelaunayOptions};
 use crate::{
     error::{Error, Result},
-    geometry::{
-        cell::{convex_cell, Rect},
-        predicates::orient,
-    },
+    geometry::{cell::Rect, exact_cell::CellBuilder, predicates::orient},
     Machine,
 };
 
@@ -92,9 +91,9 @@ pub fn voronoi_cells(machine: &Machine, sites: &[DVec2], rect: &Rect) -> Result<
     }
     let neighbours = neighbours(machine, sites, &distinct)?;
     let mut polygons = vec![Vec::new(); sites.len()];
+    let mut builder = CellBuilder::new(sites, *rect);
     for (&i, around) in distinct.iter().zip(&neighbours) {
-        let others: Vec<DVec2> = around.iter().map(|&j| sites[j as usize]).collect();
-        polygons[i as usize] = convex_cell(sites[i as usize], &others, rect);
+        polygons[i as usize] = builder.cell(i, around);
     }
     for &[repeat, f] in &duplicates {
         polygons[repeat as usize] = polygons[f as usize].clone();

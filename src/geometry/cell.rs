@@ -115,31 +115,6 @@ impl Polygon {
     }
 }
 
-/// The Voronoi cell of `site` among `others` (which may contain `site`
-/// itself), clipped to `rect`: its corners counter-clockwise, in absolute
-/// coordinates; empty where the cell misses the rectangle.
-pub(crate) fn convex_cell(site: DVec2, others: &[DVec2], rect: &Rect) -> Vec<DVec2> {
-    let mut cell = Polygon::rect(rect, site);
-    for &o in others.iter().filter(|&&o| o != site) {
-        cell.clip_by_bisector(o - site);
-    }
-    // A bisector through a corner repeats it.
-    let mut corners: Vec<DVec2> = Vec::with_capacity(cell.corners.len());
-    for v in cell.corners {
-        if corners.last() != Some(&v) {
-            corners.push(v);
-        }
-    }
-    if corners.len() > 1 && corners.first() == corners.last() {
-        corners.pop();
-    }
-    let cell = Polygon { corners };
-    if cell.corners.len() < 3 || cell.area() == 0.0 {
-        return Vec::new();
-    }
-    cell.shifted(site).corners
-}
-
 /// The area of the Voronoi cell of `site` among `others` (which may contain
 /// `site` itself), clipped to `rect`.
 #[cfg(test)]

@@ -3,12 +3,14 @@
 //! width bounds that truncate the cones (§3.5).
 #![forbid(unsafe_code)]
 
+pub(crate) mod bounded;
 pub(crate) mod buckets;
 pub mod cell;
 pub(crate) mod chain;
 pub mod circle;
 pub(crate) mod cone;
 pub(crate) mod exact;
+pub(crate) mod exact_cell;
 pub(crate) mod flips;
 pub(crate) mod frame;
 pub(crate) mod mesh;

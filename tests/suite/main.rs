@@ -6,6 +6,7 @@ mod common;
 
 mod alpha;
 mod area;
+mod cells;
 mod certified;
 mod delaunay;
 mod distances;
