@@ -70,15 +70,17 @@ pub struct Args {
     components: Option<PathBuf>,
     /// Write the medial axis of the free space (the pixels that are not
     /// features): bool, (rows, columns). A free pixel is on it when it and a
-    /// neighbour have nearest features more than --prune apart, and it is the
-    /// one of the two nearer their bisector (Hesselink and Roerdink's integer
-    /// medial axis), and the features are more than --prune apart and seen
-    /// under more than --prune-angle (`.tif`: 0 and 1 bytes).
+    /// neighbour have different nearest features, more than --prune apart and
+    /// seen under more than --prune-angle, and it is the one of the two nearer
+    /// their bisector (Hesselink and Roerdink's integer medial axis); those
+    /// pixels are joined by a thinning that keeps each free region one piece
+    /// with a loop around each hole (`.tif`: 0 and 1 bytes).
     #[arg(long, value_name = "FILE.npy|FILE.tif")]
     medial_axis: Option<PathBuf>,
     /// The least distance between two features, in sampled units, that makes
     /// an axis between them; smaller values keep the spurs that a boundary's
-    /// pixel steps grow.
+    /// pixel steps grow. A region whose features are all closer keeps the
+    /// axis between its farthest-apart ones.
     #[arg(long, value_name = "LENGTH", default_value_t = Pruning::default().length, requires = "medial_axis")]
     prune: f64,
     /// The least angle, in degrees, under which two features seen from the

@@ -491,11 +491,13 @@ def medial_axis(
     non-zero in both count.
 
     It is Hesselink and Roerdink's integer medial axis, computed from pixgeo's
-    exact feature transform rather than by thinning: a pixel is on the axis
-    when it and a neighbour have nearest zero pixels more than ``prune`` apart
-    (in ``sampling``'s units) seen under more than ``prune_angle`` degrees, and
-    it is the one of the two nearer their bisector. The axis is thin and has
-    no pass order to depend on, but need not be connected; ``metric`` and
+    exact feature transform: a pixel is on it when it and a neighbour have
+    nearest zero pixels more than ``prune`` apart (in ``sampling``'s units)
+    seen under more than ``prune_angle`` degrees, and it is the one of the two
+    nearer their bisector. Those pixels anchor a thinning of the shape that
+    joins them along its middle, so the axis is thin and keeps the topology:
+    one connected axis per connected shape with a loop around each hole, thin
+    shapes included (anchored by their farthest-apart pairs). ``metric`` and
     ``sampling`` are those of :func:`distance_transform_edt`.
     """
     a = _raster(image) != 0

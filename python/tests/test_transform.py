@@ -144,6 +144,41 @@ def test_medial_axis_beside_skimage(name):
         assert ours[40, 60:100].all() and ours[:, 60:100].sum() == 40
 
 
+def test_medial_axis_keeps_topology_on_skimages_shapes():
+    """scikit-image's own medial-axis test shapes and thin ones: pixgeo's axis
+    is connected wherever the shape is, keeps the loop around a hole, lies on
+    skimage's, and lacks only the tips that skimage grows into square
+    corners (pruning takes them)."""
+    from skimage.morphology import medial_axis
+
+    def loops(a):
+        return ndimage.label(~np.pad(a, 1))[1] - 1
+
+    line = np.zeros((9, 9), bool)
+    line[:, 2:5] = True
+    rectangle = np.zeros((9, 15), bool)
+    rectangle[1:-1, 1:-1] = True
+    holed = rectangle.copy()
+    holed[4, 4:-4] = False
+    thin = {
+        "3-pixel bar": np.pad(np.ones((3, 9), bool), 2),
+        "1x3 strip": np.pad(np.ones((1, 3), bool), 2),
+        "5x3 square": np.pad(np.ones((3, 5), bool), 2),
+    }
+    np.testing.assert_array_equal(pixgeo.medial_axis(line), medial_axis(line))
+    for image in [rectangle, holed, *thin.values()]:
+        ours, theirs = pixgeo.medial_axis(image), medial_axis(image)
+        assert ours.any() and not (ours & ~theirs).any()
+        assert ndimage.label(ours, np.ones((3, 3)))[1] == 1
+        assert loops(ours) == loops(image)
+    for image in (rectangle, holed):
+        assert (medial_axis(image) & ~pixgeo.medial_axis(image)).sum() <= 8
+    # skimage's narrow image, one row tall: the image's edge is no feature for
+    # pixgeo, so the axis is the bisector of the two zeros, the middle pixel.
+    narrow = np.array([[0, 1, 1, 1, 0]], bool)
+    np.testing.assert_array_equal(pixgeo.medial_axis(narrow), [[0, 0, 1, 0, 0]])
+
+
 def test_medial_axis_options():
     image = shapes()["L"]
     bar = image & (np.mgrid[:120, :160][0] < 40)

@@ -1,20 +1,35 @@
 //! The medial axis of a raster's free space (its pixels that are not
 //! features), from the feature transform: the integer medial axis of
-//! Hesselink and Roerdink (2008), under every metric.
+//! Hesselink and Roerdink (2008), under every metric, pruned and then joined
+//! so that it keeps the free space's topology.
 //!
 //! Two free pixels side by side whose nearest features lie far apart straddle
 //! the bisector of those features, and the one nearer the bisector is on the
 //! axis. A pixel boundary's steps and notches make such pairs too, with
 //! features close together or seen under a narrow angle, so two prunings
 //! keep the axis to the shape: the features must be more than a length apart
-//! and subtend more than an angle at the pair. Unlike a thinning, the axis
-//! need not be connected, but each pixel of it comes from the exact transform,
-//! with no pass order to depend on.
+//! and subtend more than an angle at the pair.
+//!
+//! Pruning alone may cut the axis into pieces, or leave a thin region with
+//! none (its features are never far enough apart), or break the loop around a
+//! hole. So the pruned pixels anchor a homotopic thinning of the free space
+//! ([`thinning`](super::thinning)), nearest the features first: it joins them
+//! along the middle and keeps each free region one piece with a loop around
+//! each of its holes. A region whose pairs all fall to the length pruning is
+//! anchored by its farthest-apart pairs instead, and one with no such pair
+//! (a pixel between features) thins to its deepest pixel; lone pruned pixels
+//! (a digital curve's lattice points that tie) anchor only a region with no
+//! larger piece; a region all of whose pixels are nearest one feature has no
+//! axis.
 
 use glam::DVec2;
 use rayon::prelude::*;
 
-use super::{Transform, TransformOptions};
+use super::{
+    components::{components, NO_COMPONENT},
+    thinning::thin,
+    Transform, TransformOptions,
+};
 use crate::error::{Error, Result};
 
 /// Which pairs of features make an axis between them.
@@ -22,7 +37,8 @@ use crate::error::{Error, Result};
 pub struct Pruning {
     /// The features must be more than this far apart (a Euclidean length, in
     /// sampled units). The steps of a digital curve put features a few
-    /// pixels apart; corridors narrower than this have no axis.
+    /// pixels apart; a region whose features are all closer is anchored by
+    /// its farthest-apart pairs.
     pub length: f64,
     /// And subtend more than this angle, in degrees, at the midpoint of the
     /// two pixels. A square corner's bisector is seen under 90°; a digital
@@ -56,6 +72,62 @@ pub fn medial_axis(
     }
     let angle = angle.to_radians();
     let (w, h) = (t.width as usize, t.height as usize);
+    let free: Vec<bool> = (0..w * h).map(|p| is_free(t, p)).collect();
+    let separations = separations(t, options, angle, &free);
+    let (regions, count) = components(&free, w);
+    let pruned: Vec<bool> = separations.iter().map(|&s| s > length).collect();
+    let (pieces, piece_count) = components(&pruned, w);
+    let mut piece_size = vec![0u32; piece_count as usize];
+    for &piece in pieces.iter().filter(|&&c| c != NO_COMPONENT) {
+        piece_size[piece as usize] += 1;
+    }
+    let in_piece = |p: usize| pruned[p] && piece_size[pieces[p] as usize] > 1;
+    // Per region: whether it has a piece of two pixels or more, a pruned
+    // pixel, and its largest separation.
+    let mut has_piece = vec![false; count as usize];
+    let mut has_pruned = vec![false; count as usize];
+    let mut widest = vec![0.0f64; count as usize];
+    // A region all of whose pixels are nearest one feature has no axis.
+    let mut feature = vec![None; count as usize];
+    let mut has_axis = vec![false; count as usize];
+    for p in (0..w * h).filter(|&p| free[p]) {
+        let r = regions[p] as usize;
+        has_pruned[r] |= pruned[p];
+        has_piece[r] |= in_piece(p);
+        widest[r] = widest[r].max(separations[p]);
+        let f = (t.feature_rows[p], t.feature_columns[p]);
+        has_axis[r] |= *feature[r].get_or_insert(f) != f;
+    }
+    let anchors: Vec<bool> = (0..w * h)
+        .map(|p| {
+            let r = regions[p] as usize;
+            free[p]
+                && if has_piece[r] {
+                    in_piece(p)
+                } else if has_pruned[r] {
+                    pruned[p]
+                } else {
+                    widest[r] > 0.0 && separations[p] == widest[r]
+                }
+        })
+        .collect();
+    let shape: Vec<bool> = (0..w * h)
+        .map(|p| free[p] && has_axis[regions[p] as usize])
+        .collect();
+    Ok(thin(&shape, &anchors, &t.distances, w))
+}
+
+/// Whether pixel `p` is free: it has a nearest feature, not itself.
+fn is_free(t: &Transform, p: usize) -> bool {
+    let (row, column) = (t.feature_rows[p], t.feature_columns[p]);
+    row != -1 && (row as usize * t.width as usize + column as usize) != p
+}
+
+/// Per pixel, how far apart the features are of the widest pair that puts it
+/// on the axis, among the pairs with a neighbour whose features subtend more
+/// than `angle` (radians) at the two; 0 where none does.
+fn separations(t: &Transform, options: &TransformOptions, angle: f64, free: &[bool]) -> Vec<f64> {
+    let (w, h) = (t.width as usize, t.height as usize);
     let [sy, sx] = options.sampling;
     let metric = options.metric;
     let feature = |p: usize| (t.feature_rows[p], t.feature_columns[p]);
@@ -64,44 +136,48 @@ pub fn medial_axis(
         let dx = (p % w) as f64 - column as f64;
         DVec2::new(dx * sx, dy * sy)
     };
-    let free = |p: usize| {
-        let (row, column) = feature(p);
-        row != -1 && (row as usize * w + column as usize) != p
-    };
-    // Whether p, beside q, is the one of the two on the axis.
-    let on_axis = |p: usize, q: usize| {
+    // How far apart the features of p and its neighbour q are, where p is the
+    // one of the two on the axis.
+    let pair = |p: usize, q: usize| {
         let (fp, fq) = (feature(p), feature(q));
-        if !free(q) || fp == fq {
-            return false;
+        if !free[q] || fp == fq {
+            return None;
         }
         // Offsets from the features to the pixels' midpoint.
         let (to_p, to_q) = (offset(p, fp), offset(q, fq));
         let middle = (offset(q, fp) - to_p) * 0.5;
         let (a, b) = (to_p + middle, to_q - middle);
-        if (a - b).length() <= length || a.angle_to(b).abs() <= angle {
-            return false;
+        if a.angle_to(b).abs() <= angle {
+            return None;
         }
         // How much farther each pixel is from the other's feature than from
         // its own: the smaller, the nearer the bisector.
         let p_margin = metric.distance(offset(p, fq)) - t.distances[p];
         let q_margin = metric.distance(offset(q, fp)) - t.distances[q];
-        p_margin < q_margin || (p_margin == q_margin && p < q)
+        (p_margin < q_margin || (p_margin == q_margin && p < q)).then(|| (a - b).length())
     };
-    let mut axis = vec![false; w * h];
-    axis.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        for (x, a) in row.iter_mut().enumerate() {
-            let p = y * w + x;
-            if !free(p) {
-                continue;
+    let mut separations = vec![0.0; w * h];
+    separations
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, s) in row.iter_mut().enumerate() {
+                let p = y * w + x;
+                if !free[p] {
+                    continue;
+                }
+                let neighbours = [
+                    (x > 0).then(|| p - 1),
+                    (x + 1 < w).then(|| p + 1),
+                    (y > 0).then(|| p - w),
+                    (y + 1 < h).then(|| p + w),
+                ];
+                *s = neighbours
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|q| pair(p, q))
+                    .fold(0.0, f64::max);
             }
-            let neighbours = [
-                (x > 0).then(|| p - 1),
-                (x + 1 < w).then(|| p + 1),
-                (y > 0).then(|| p - w),
-                (y + 1 < h).then(|| p + w),
-            ];
-            *a = neighbours.into_iter().flatten().any(|q| on_axis(p, q));
-        }
-    });
-    Ok(axis)
+        });
+    separations
 }

@@ -24,6 +24,7 @@ use rayon::prelude::*;
 
 mod components;
 mod medial_axis;
+mod thinning;
 
 pub use components::{components, NO_COMPONENT};
 pub use medial_axis::{medial_axis, Pruning};
