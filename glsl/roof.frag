@@ -49,15 +49,20 @@ void main() {
     }
     float z = float(area * double(roof.depth_scale));
 #ifdef SIDES
-    if (cross == 0.0lf) {
-        discard;
-    }
     uint64_t key = (uint64_t(floatBitsToUint(z)) << 32) | uint64_t(s);
-    uint slot = 2u * pair.z + (cross > 0.0lf ? 0u : 1u);
-    if (roof.maximum != 0u) {
-        atomicMax(best[slot], key);
-    } else {
-        atomicMin(best[slot], key);
+    // A site whose area is within the double products' rounding (2^-50 of
+    // the diagonal squared) of zero may lie on either side, or on the line:
+    // it goes to both, and the CPU decides it exactly.
+    bool near_line = area <= dot(dvec2(roof.size), dvec2(roof.size)) / 1125899906842624.0lf;
+    for (uint side = 0u; side < 2u; side++) {
+        if (near_line || (cross > 0.0lf) == (side == 0u)) {
+            uint slot = 2u * pair.z + side;
+            if (roof.maximum != 0u) {
+                atomicMax(best[slot], key);
+            } else {
+                atomicMin(best[slot], key);
+            }
+        }
     }
 #else
     gl_FragDepth = z;

@@ -17,31 +17,33 @@ pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 }
 
 /// The best site strictly on each side of the line p → q (left, right): the
-/// nearest (`largest` false) or farthest, with its triangle's area.
+/// nearest (`largest` false) or farthest, by exact area (the first on a tie),
+/// with its triangle's area as a float.
 pub fn sides_of(sites: &[DVec2], p: usize, q: usize, largest: bool) -> [Option<(u32, f64)>; 2] {
-    let mut best = [None, None];
-    for (s, &x) in sites.iter().enumerate() {
-        let c = orient(sites[p], sites[q], x);
+    // Per side: the triangle and its area's float bounds.
+    type Best = Option<([u32; 3], (f64, f64))>;
+    let mut best: [Best; 2] = [None, None];
+    let wanted = if largest {
+        Ordering::Greater
+    } else {
+        Ordering::Less
+    };
+    for s in 0..sites.len() {
+        let c = orient(sites[p], sites[q], sites[s]);
         if c == 0.0 {
             continue;
         }
         let side = usize::from(c < 0.0);
-        let area = 0.5 * c.abs();
-        let better = match best[side] {
-            None => true,
-            Some((_, b)) => {
-                if largest {
-                    area > b
-                } else {
-                    area < b
-                }
-            }
-        };
+        let ring = [p as u32, q as u32, s as u32];
+        let bounds = area_bounds(sites, &ring);
+        let better = best[side]
+            .as_ref()
+            .is_none_or(|(b, bb)| compare_areas(sites, (&ring, bounds), (b, *bb)) == wanted);
         if better {
-            best[side] = Some((s as u32, area));
+            best[side] = Some((ring, bounds));
         }
     }
-    best
+    best.map(|b| b.map(|(ring, (area, _))| (ring[2], area)))
 }
 
 /// The area of the ring of `sites` named by `ring` (a triangle, or a

@@ -440,7 +440,10 @@ fn quadrangle_in_range(
         Extreme::Smallest => u64::MAX,
         Extreme::Largest => 0,
     };
+    let depth_slack = 2.0 * roofs.depth_error() / roofs.depth_per_area;
     let mut sums: Vec<(f64, u32)> = Vec::new();
+    // Pairs with a site within rounding of their line.
+    let mut lined = 0;
     for k in 0..pairs as u32 {
         if k % (1 << 16) == 0 {
             progress((pairs + k as usize) as u64, total);
@@ -464,9 +467,30 @@ fn quadrangle_in_range(
                 }
             }
         }
-        if let [Some(a), Some(b)] = side_best {
-            sums.push((a + b, k));
+        // A site within rounding of the diagonal's line goes to both sides
+        // (it may belong to either): where a side's best is such a site, the
+        // other side's best may be it too, so the sum stays below the pair's
+        // exact best for the smallest.
+        let near = |v: f64| v <= depth_slack;
+        lined += usize::from(side_best.iter().flatten().any(|&v| near(v)));
+        let sum = match side_best {
+            [Some(a), Some(b)] => Some(match extreme {
+                Extreme::Smallest => {
+                    let own = |v: f64, other: f64| if near(other) { 0.0 } else { v };
+                    own(a, b) + own(b, a)
+                }
+                Extreme::Largest => a + b,
+            }),
+            _ => None,
+        };
+        if let Some(sum) = sum {
+            sums.push((sum, k));
         }
+    }
+    // Where many pairs have a site on their line (lattices, decimal ones
+    // nearly), the pixels cannot order them: the exact sweep decides.
+    if extreme == Extreme::Smallest && lined > pairs / 16 {
+        return crate::algorithms::area_sweep::extremal_quadrangle_sweep(sites, extreme, progress);
     }
     // Pairs in the order of their pixel sums, searched exactly over every site
     // until no pair's sum, less its rounding, can beat the best exact one. A
@@ -483,7 +507,6 @@ fn quadrangle_in_range(
         .ok_or_else(|| Error::Internal("no diagonal has sites on both sides".into()))?;
     let reduce_ms = ms(started);
     let started = Instant::now();
-    let depth_slack = 2.0 * roofs.depth_error() / roofs.depth_per_area;
     let slack = |sum: f64| 1e-6 * sum.abs() + 1e-9 / px2 + depth_slack;
     let mut best = BestRing::new(extreme);
     let mut checked = 0;
