@@ -38,7 +38,7 @@ use crate::{
     machine::{Machine, PixelRect},
 };
 
-use super::certify::{Certifier, Region};
+use super::certify::{label_distances, Certifier, Region};
 use super::envelope::{
     drawn_accuracy, metric_fan, ConePlan, ConeSpec, DrawnTile, Picture, TileView, Tiling,
     SCREEN_TILE_SIDE,
@@ -351,6 +351,12 @@ fn distinct_bands(
         Accuracy::Exact => Some(Certifier::new(sites, &options.frame, options.metric)?),
         Accuracy::Fan { .. } => None,
     };
+    // Exact diagrams take each distance from the label, the same in every
+    // tile (polygons' labels are drawn as fans, their distances exact).
+    let places: Vec<DVec2> = match options.distances && options.accuracy == Accuracy::Exact {
+        true => sites.iter().map(|&s| options.frame.to_pixel(s)).collect(),
+        false => Vec::new(),
+    };
     let (mut mended, mut certify_ms) = (0, ms(started));
     let mut band: Option<Band> = None;
     let extras = TileExtras {
@@ -408,6 +414,20 @@ fn distinct_bands(
                 options.ties.then(|| &mut band.ties[x0..]),
             )?;
             certify_ms += ms(started);
+        }
+        if !places.is_empty() {
+            let x0 = (tile.x0 - window.x) as usize;
+            let region = Region {
+                x0: tile.x0,
+                y0: tile.y0,
+                width: tile.inner.width,
+                height: tile.inner.height,
+                stride: window.width as usize,
+                k: 1,
+            };
+            let (labels, distances) = (&band.labels[x0..], &mut band.distances[x0..]);
+            let scale = options.frame.scale;
+            label_distances(&places, options.metric, scale, region, labels, distances);
         }
         Ok(())
     })?;

@@ -134,7 +134,7 @@ fn check(failures: &mut Vec<String>, what: &str, got: &[u32], want: &[u32]) {
     let wrong = got.iter().zip(want).filter(|(g, w)| g != w).count();
     if wrong > 0 || got.len() != want.len() {
         failures.push(format!(
-            "{what}: {wrong} of {} labels differ from the exact ranks",
+            "{what}: {wrong} of {} differ from the exact answer",
             want.len()
         ));
     }
@@ -158,6 +158,8 @@ fn diagrams_are_exact(
     );
     let what = |route: &str| format!("{name}, {metric}, {route}");
     let base = VoronoiOptions::exact(frame).metric(metric);
+    let grown = cpu::k_nearest(sites, &frame, 1, metric).unwrap();
+    let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<u32>>();
     for (route, options) in [
         ("screen tiles", base),
         ("cones", base.speedup(Speedup::None)),
@@ -166,6 +168,14 @@ fn diagrams_are_exact(
     ] {
         let d = voronoi(m, sites, &options).unwrap_or_else(|e| panic!("{}: {e}", what(route)));
         check(failures, &what(route), &d.labels, &nearest);
+        // Distances from the labels: the CPU's, to the bit.
+        let distances = what(&format!("{route} distances"));
+        check(
+            failures,
+            &distances,
+            &bits(&d.distances),
+            &bits(&grown.distances),
+        );
     }
     let counted = voronoi(m, sites, &base.ties(true)).unwrap();
     check(
@@ -189,7 +199,18 @@ fn diagrams_are_exact(
         &part.labels,
         &levels_in(&ranks, 3, 1, &frame, window),
     );
-    let grown = cpu::k_nearest(sites, &frame, 1, metric).unwrap();
+    let inside = |v: &[f32]| -> Vec<u32> {
+        (window.y..window.y + window.height)
+            .flat_map(|j| (window.x..window.x + window.width).map(move |i| (i, j)))
+            .map(|(i, j)| v[(j * frame.width + i) as usize].to_bits())
+            .collect()
+    };
+    check(
+        failures,
+        &what("window distances"),
+        &bits(&part.distances),
+        &inside(&grown.distances),
+    );
     check(failures, &what("cpu"), &grown.labels, &nearest);
     let options = KNearestOptions::exact(frame, 3).metric(metric);
     check(
@@ -286,4 +307,46 @@ proptest::proptest! {
         proptest::prop_assert_eq!(&device.labels, &ranks);
         proptest::prop_assert_eq!(&grown.labels, &ranks);
     }
+}
+
+/// Under a polygon metric (labels drawn as fans), the distances come from the
+/// labels: equal to the CPU's bit for bit wherever the labels agree, the same
+/// in every tile and window.
+#[test]
+fn polygon_distances_are_the_same_in_every_tile() {
+    let m = machine();
+    let hexagon: Vec<DVec2> = [
+        (1.0, 0.0),
+        (0.5, 0.8),
+        (-0.6, 0.7),
+        (-1.0, -0.1),
+        (-0.3, -0.9),
+        (0.7, -0.6),
+    ]
+    .map(|(x, y)| DVec2::new(x, y))
+    .to_vec();
+    let metric = Metric::polygon(&hexagon, DVec2::ZERO).unwrap();
+    let frame = Frame::pixels(96, 64).unwrap();
+    let sites: Vec<DVec2> = (0..48)
+        .map(|k| DVec2::new((k % 8) as f64 * 12.0 + 3.0, (k / 8) as f64 * 11.0 + 2.0))
+        .collect();
+    let base = VoronoiOptions::exact(frame).metric(metric);
+    let whole = voronoi(&m, &sites, &base).unwrap();
+    let tiled = voronoi(&m, &sites, &base.max_tile(Some(16))).unwrap();
+    assert_eq!(whole.labels, tiled.labels);
+    let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<u32>>();
+    assert_eq!(bits(&whole.distances), bits(&tiled.distances));
+    let grown = cpu::k_nearest(&sites, &frame, 1, metric).unwrap();
+    let mut agree = 0;
+    for p in 0..frame.len() {
+        if whole.labels[p] == grown.labels[p] {
+            agree += 1;
+            assert_eq!(
+                whole.distances[p].to_bits(),
+                grown.distances[p].to_bits(),
+                "pixel {p}"
+            );
+        }
+    }
+    assert!(agree * 100 >= frame.len() * 99, "{agree}");
 }
