@@ -17,15 +17,22 @@ fn exact(x: f64) -> BigRational {
 }
 
 /// The exact key of the offset from `site` to the centre of pixel `(i, j)`:
-/// the squared distance for L2, Σ|d|^p for integer p, the distance for L1 and
-/// L∞. Panics for other metrics: no rational holds their distances.
+/// the squared distance for L2, Σ|d|^p for integer p, the distance for L1,
+/// L∞ and polygons. Panics for other metrics: no rational holds their
+/// distances.
 pub fn exact_key(frame: &Frame, metric: Metric, site: DVec2, i: u32, j: u32) -> BigRational {
     let half = BigRational::new(BigInt::from(1), BigInt::from(2));
     let centre = |o: f64, k: u32| {
         exact(o) + (BigRational::from_integer(k.into()) + &half) / exact(frame.scale)
     };
-    let dx = (centre(frame.origin.x, i) - exact(site.x)).abs();
-    let dy = (centre(frame.origin.y, j) - exact(site.y)).abs();
+    let (sx, sy) = (
+        centre(frame.origin.x, i) - exact(site.x),
+        centre(frame.origin.y, j) - exact(site.y),
+    );
+    if let Metric::Polygon(g) = metric {
+        return polygon_gauge(&g.vertices, [sx, sy]);
+    }
+    let (dx, dy) = (sx.abs(), sy.abs());
     match metric {
         Metric::L2 => &dx * &dx + &dy * &dy,
         Metric::L1 => dx + dy,
@@ -33,6 +40,33 @@ pub fn exact_key(frame: &Frame, metric: Metric, site: DVec2, i: u32, j: u32) -> 
         Metric::Lp(p) if p.fract() == 0.0 => pow(dx, p as usize) + pow(dy, p as usize),
         other => panic!("no exact key for {other:?}"),
     }
+}
+
+/// The gauge of `d` for the star-shaped polygon of `vertices` (around the
+/// origin): 1/λ for the λ > 0 at which λ d meets the boundary, found by
+/// solving for the crossing of the ray with each edge.
+fn polygon_gauge(vertices: &[DVec2], d: [BigRational; 2]) -> BigRational {
+    let zero = BigRational::from_integer(0.into());
+    let one = BigRational::from_integer(1.into());
+    if d[0] == zero && d[1] == zero {
+        return zero;
+    }
+    let n = vertices.len();
+    (0..n)
+        .filter_map(|k| {
+            let (p, q) = (point(vertices[k]), point(vertices[(k + 1) % n]));
+            let e = [&q[0] - &p[0], &q[1] - &p[1]];
+            // λ d - s e = p, by Cramer's rule.
+            let det = &d[1] * &e[0] - &d[0] * &e[1];
+            if det == zero {
+                return None;
+            }
+            let lambda = (&p[1] * &e[0] - &p[0] * &e[1]) / &det;
+            let s = (&d[0] * &p[1] - &d[1] * &p[0]) / &det;
+            (lambda > zero && s >= zero && s <= one).then(|| one.clone() / lambda)
+        })
+        .next()
+        .expect("a ray from the kernel meets the boundary")
 }
 
 /// Pixel `(i, j)`'s sites, nearest first, equal distances by index, with their

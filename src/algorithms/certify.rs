@@ -68,6 +68,24 @@ impl FloatKey {
         }
     }
 
+    /// The key of the exact offset `(x, y)` as an interval. A polygon's gauge
+    /// is found from an angle, linear on its sector with gradients up to its
+    /// Lipschitz constant: its error is a few ulps of that times the offset.
+    fn bounds(self, x: f64, y: f64) -> (f64, f64) {
+        match self {
+            Self::Metric(Metric::Polygon(g)) => {
+                let k = self.key(x, y);
+                let spread =
+                    16.0 * f64::EPSILON * g.lipschitz() * (x.abs() + y.abs()) + f64::MIN_POSITIVE;
+                ((k - spread).max(0.0), k + spread)
+            }
+            _ => {
+                let (k, r) = (self.key(x.abs(), y.abs()), self.rounding());
+                (k * (1.0 - r), k * (1.0 + r))
+            }
+        }
+    }
+
     /// Relative rounding error of a key of offsets that are doubles, with
     /// room: general powers are not correctly rounded.
     fn rounding(self) -> f64 {
@@ -197,11 +215,6 @@ struct Mend {
 impl<'a> Certifier<'a> {
     /// For `sites` (world coordinates, finite) on `frame` under `metric`.
     pub fn new(sites: &'a [DVec2], frame: &Frame, metric: Metric) -> Result<Self> {
-        if matches!(metric, Metric::Polygon(_)) {
-            return Err(Error::Internal(
-                "polygonal distances are drawn as fans, not certified".into(),
-            ));
-        }
         let mut places = Vec::with_capacity(sites.len());
         let mut errors = Vec::with_capacity(sites.len());
         for (i, s) in sites.iter().enumerate() {
@@ -456,6 +469,17 @@ impl<'a> Certifier<'a> {
         let rounding = self.keys.rounding();
         let tiny = f64::MIN_POSITIVE;
         let offset = (error == 0.0 && ex == 0.0 && ey == 0.0).then_some([dx, dy]);
+        if let FloatKey::Metric(Metric::Polygon(g)) = self.keys {
+            // The gauge moves by at most its Lipschitz constant times the move.
+            let (lo, hi) = self.keys.bounds(dx, dy);
+            let moved = g.lipschitz() * (ex + ey) * (1.0 + u);
+            return Candidate {
+                lo: ((lo - moved) * (1.0 - u) - tiny).max(0.0),
+                hi: (hi + moved) * (1.0 + u) + tiny,
+                id,
+                offset,
+            };
+        }
         if let FloatKey::Metric(Metric::Lp(p)) = self.keys {
             if p >= 1.0 {
                 // A norm moves by at most its value of the move, here at most
@@ -582,7 +606,8 @@ impl<'a> Certifier<'a> {
         if ca.lo == ca.hi && cb.lo == cb.hi {
             return Ok(ca.lo.total_cmp(&cb.lo));
         }
-        if let (Some(oa), Some(ob)) = (ca.offset, cb.offset) {
+        let symmetric = !matches!(self.metric, Metric::Polygon(_));
+        if let (Some(oa), Some(ob), true) = (ca.offset, cb.offset, symmetric) {
             let sorted = |o: [f64; 2]| {
                 let (x, y) = (o[0].abs(), o[1].abs());
                 (x.min(y), x.max(y))
@@ -652,11 +677,7 @@ impl Certifier<'_> {
         let (dx, dy) = (offset[0] as f64, offset[1] as f64);
         let (lo, hi) = match exact_float_key(self.metric, dx, dy) {
             Some(key) if matches!(self.keys, FloatKey::Metric(_)) => (key, key),
-            _ => {
-                let key = self.keys.key(dx.abs(), dy.abs());
-                let r = self.keys.rounding();
-                (key * (1.0 - r), key * (1.0 + r))
-            }
+            _ => self.keys.bounds(dx, dy),
         };
         if hi < disc.lo {
             return true;
@@ -688,13 +709,10 @@ impl Certifier<'_> {
     }
 }
 
-/// Proves a k-nearest diagram of the whole frame in place (exact cones, or the
-/// CPU's pixel algorithm), counting the mended pixels in its stats. Polygonal
-/// distances are fans, within their bound, and left as they are.
+/// Proves a k-nearest diagram of the whole frame in place (exact cones, fans
+/// of a polygon, or the CPU's pixel algorithm), counting the mended pixels in
+/// its stats.
 pub(crate) fn certify_levels(near: &mut KNearest, sites: &[DVec2], metric: Metric) -> Result<()> {
-    if matches!(metric, Metric::Polygon(_)) {
-        return Ok(());
-    }
     let region = Region {
         x0: 0,
         y0: 0,

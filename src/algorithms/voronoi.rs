@@ -347,7 +347,8 @@ fn distinct_bands(
 ) -> Result<VoronoiStats> {
     let window = options.window_rect()?;
     let started = Instant::now();
-    let certifier = match drawn_accuracy(options.metric, options.accuracy) {
+    // Polygons are drawn as fans in exact mode too, and certified like cones.
+    let certifier = match options.accuracy {
         Accuracy::Exact => Some(Certifier::new(sites, &options.frame, options.metric)?),
         Accuracy::Fan { .. } => None,
     };
@@ -469,6 +470,8 @@ pub(crate) fn draw_point_tiles(
             "equal distances are counted for the L_p metrics; polygonal distances are drawn as fans".into(),
         ));
     }
+    // Windows take exact mode, polygons' (drawn as fans, then certified) too.
+    let window = options.window_rect()?;
     let options = &VoronoiOptions {
         accuracy: drawn_accuracy(options.metric, options.accuracy),
         ..*options
@@ -503,7 +506,6 @@ pub(crate) fn draw_point_tiles(
     // whole screen tiles.
     let band_rows =
         ((1u64 << 26) / frame.width as u64) as u32 / SCREEN_TILE_SIDE * SCREEN_TILE_SIDE;
-    let window = options.window_rect()?;
     let tiling = Tiling::new(machine, options.max_tile, window, band_rows)?;
     let (tile_w, tile_h) = (tiling.tile_w, tiling.tile_h);
     let picture = Picture::new(machine, tile_w, tile_h, options.ties || extras.stencil)?;

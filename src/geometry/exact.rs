@@ -59,8 +59,8 @@ pub(crate) fn pixel_offset(frame: &Frame, site: DVec2, pixel: [i64; 2]) -> [BigR
 }
 
 /// An exact key of `metric` for offset `d`: a monotone function of the distance
-/// (the squared distance for L2, Σ |d_i|^p for integer p). `None` where no
-/// rational is one: L_p with p not an integer, and polygons.
+/// (the squared distance for L2, Σ |d_i|^p for integer p, a polygon's gauge).
+/// `None` where no rational is one: L_p with p not an integer.
 pub(crate) fn exact_key(metric: Metric, d: &[BigRational; 2]) -> Option<BigRational> {
     let [x, y] = [d[0].abs(), d[1].abs()];
     match metric {
@@ -71,8 +71,32 @@ pub(crate) fn exact_key(metric: Metric, d: &[BigRational; 2]) -> Option<BigRatio
             let p = p as i32;
             Some(num_traits::pow(x, p as usize) + num_traits::pow(y, p as usize))
         }
-        Metric::Lp(_) | Metric::Polygon(_) => None,
+        Metric::Polygon(g) => Some(exact_gauge(&g.vertices, d)),
+        Metric::Lp(_) => None,
     }
+}
+
+/// The gauge of offset `d` for the polygon of `vertices` (counter-clockwise,
+/// star-shaped around the origin), exactly: on the sector of the edge p q
+/// that holds d, the linear `(d × (q - p)) / (p × q)`.
+fn exact_gauge(vertices: &[DVec2], d: &[BigRational; 2]) -> BigRational {
+    if d[0].is_zero() && d[1].is_zero() {
+        return BigRational::zero();
+    }
+    let n = vertices.len();
+    let cross = |a: &[BigRational; 2], b: &[BigRational; 2]| &a[0] * &b[1] - &a[1] * &b[0];
+    let corners: Vec<[BigRational; 2]> = vertices.iter().map(|&v| rational_point(v)).collect();
+    let zero = BigRational::zero();
+    (0..n)
+        .find_map(|k| {
+            let (p, q) = (&corners[k], &corners[(k + 1) % n]);
+            // The sector from p (inclusive) to q, counter-clockwise.
+            (cross(p, d) >= zero && cross(d, q) > zero).then(|| {
+                let edge = [&q[0] - &p[0], &q[1] - &p[1]];
+                cross(d, &edge) / cross(p, q)
+            })
+        })
+        .expect("a star-shaped polygon's sectors cover every direction")
 }
 
 /// The order of offsets `a` and `b` by their L_p distance for a fractional

@@ -218,7 +218,7 @@ pub fn k_nearest(
     options: &KNearestOptions,
 ) -> Result<KNearest> {
     let mut near = proposed_k_nearest(machine, sites, options)?;
-    if drawn_accuracy(options.metric, options.accuracy) == Accuracy::Exact {
+    if options.accuracy == Accuracy::Exact {
         certify_levels(&mut near, sites, options.metric)?;
     }
     Ok(near)
