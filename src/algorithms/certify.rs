@@ -42,6 +42,8 @@ const BLOCK: u32 = 8;
 enum FloatKey {
     Metric(Metric),
     PowerSum(i32),
+    /// A polygon's gauge, with its Lipschitz constant.
+    Gauge(Metric, f64),
 }
 
 impl FloatKey {
@@ -50,20 +52,21 @@ impl FloatKey {
             Metric::Lp(p) if p.fract() == 0.0 && (3.0..=16.0).contains(&p) => {
                 Self::PowerSum(p as i32)
             }
+            Metric::Polygon(g) => Self::Gauge(metric, g.lipschitz()),
             _ => Self::Metric(metric),
         }
     }
 
     fn key(self, x: f64, y: f64) -> f64 {
         match self {
-            Self::Metric(metric) => metric.key(DVec2::new(x, y)),
+            Self::Metric(metric) | Self::Gauge(metric, _) => metric.key(DVec2::new(x, y)),
             Self::PowerSum(p) => x.powi(p) + y.powi(p),
         }
     }
 
     fn distance(self, key: f64) -> f64 {
         match self {
-            Self::Metric(metric) => metric.distance_of_key(key),
+            Self::Metric(metric) | Self::Gauge(metric, _) => metric.distance_of_key(key),
             Self::PowerSum(p) => key.powf(1.0 / p as f64),
         }
     }
@@ -73,10 +76,10 @@ impl FloatKey {
     /// Lipschitz constant: its error is a few ulps of that times the offset.
     fn bounds(self, x: f64, y: f64) -> (f64, f64) {
         match self {
-            Self::Metric(Metric::Polygon(g)) => {
+            Self::Gauge(_, lipschitz) => {
                 let k = self.key(x, y);
                 let spread =
-                    16.0 * f64::EPSILON * g.lipschitz() * (x.abs() + y.abs()) + f64::MIN_POSITIVE;
+                    16.0 * f64::EPSILON * lipschitz * (x.abs() + y.abs()) + f64::MIN_POSITIVE;
                 ((k - spread).max(0.0), k + spread)
             }
             _ => {
@@ -92,7 +95,7 @@ impl FloatKey {
         let u = f64::EPSILON / 2.0;
         match self {
             Self::Metric(Metric::Lp(p)) => 64.0 * u * p.recip().max(1.0),
-            Self::Metric(_) => 8.0 * u,
+            Self::Metric(_) | Self::Gauge(..) => 8.0 * u,
             Self::PowerSum(p) => 4.0 * p as f64 * u,
         }
     }
@@ -469,10 +472,10 @@ impl<'a> Certifier<'a> {
         let rounding = self.keys.rounding();
         let tiny = f64::MIN_POSITIVE;
         let offset = (error == 0.0 && ex == 0.0 && ey == 0.0).then_some([dx, dy]);
-        if let FloatKey::Metric(Metric::Polygon(g)) = self.keys {
+        if let FloatKey::Gauge(_, lipschitz) = self.keys {
             // The gauge moves by at most its Lipschitz constant times the move.
             let (lo, hi) = self.keys.bounds(dx, dy);
-            let moved = g.lipschitz() * (ex + ey) * (1.0 + u);
+            let moved = lipschitz * (ex + ey) * (1.0 + u);
             return Candidate {
                 lo: ((lo - moved) * (1.0 - u) - tiny).max(0.0),
                 hi: (hi + moved) * (1.0 + u) + tiny,

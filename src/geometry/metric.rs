@@ -53,6 +53,16 @@ impl Gauge {
             return 0.0;
         }
         let n = self.vertices.len();
+        if self.convex {
+            // Each edge's linear gauge is at most 1 on a convex polygon: the
+            // largest is the edge whose sector holds v.
+            return (0..n)
+                .map(|k| {
+                    let (p, q) = (self.vertices[k], self.vertices[(k + 1) % n]);
+                    v.perp_dot(q - p) / p.perp_dot(q)
+                })
+                .fold(0.0, f64::max);
+        }
         let a = (v.y.atan2(v.x) - self.angles[0]).rem_euclid(TAU) + self.angles[0];
         // The edge whose sector holds the direction: the last vertex at or before it.
         let k = self.angles.partition_point(|&t| t <= a).saturating_sub(1);
