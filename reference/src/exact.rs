@@ -160,10 +160,17 @@ fn squared_distance(a: &[BigRational; 2], b: &[BigRational; 2]) -> BigRational {
     &x * &x + &y * &y
 }
 
-/// The smallest circle holding every point, by its definition: of the
-/// circles on two points as diameter and through three points, the smallest
-/// that holds them all. Its exact centre and squared radius.
+/// The smallest circle holding every point: its exact centre and squared
+/// radius.
 pub fn smallest_enclosing_circle(points: &[DVec2]) -> ([BigRational; 2], BigRational) {
+    smallest_k_enclosing_circle(points, points.len())
+}
+
+/// The smallest circle holding at least `k` of the points, by its
+/// definition: of the circles centred at a point, on two points as diameter
+/// and through three points, each as small as its centre allows (its k-th
+/// nearest point on it), the smallest. Its exact centre and squared radius.
+pub fn smallest_k_enclosing_circle(points: &[DVec2], k: usize) -> ([BigRational; 2], BigRational) {
     let exact_points: Vec<[BigRational; 2]> = points.iter().map(|p| point(*p)).collect();
     let two = BigRational::from_integer(2.into());
     let mut circles: Vec<[BigRational; 2]> = exact_points.clone();
@@ -189,11 +196,12 @@ pub fn smallest_enclosing_circle(points: &[DVec2]) -> ([BigRational; 2], BigRati
     circles
         .into_iter()
         .map(|centre| {
-            let r2 = exact_points
+            let mut d: Vec<BigRational> = exact_points
                 .iter()
                 .map(|p| squared_distance(&centre, p))
-                .max()
-                .expect("points");
+                .collect();
+            d.sort();
+            let r2 = d.swap_remove(k - 1);
             (centre, r2)
         })
         .min_by(|a, b| a.1.cmp(&b.1))

@@ -854,3 +854,58 @@ fn largest_empty_circle_far_from_the_origin() {
     );
     assert_eq!(b.exact.sites, a.exact.sites);
 }
+
+/// The smallest circle holding k of the sites, against every circle through
+/// two or three of them in rationals: far from the origin (where float
+/// circumcentres lose their digits), on decimal lattices with one-ulp moves
+/// and with outliers; the centre and radius printed are the doubles nearest
+/// the exact ones.
+#[test]
+fn smallest_k_enclosing_circle_is_exact() {
+    use pixgeo_reference::exact::{is_nearest, is_nearest_root, smallest_k_enclosing_circle};
+    use rand::Rng;
+    let machine = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(48);
+    let mut cases: Vec<(String, Vec<DVec2>, usize)> = vec![(
+        "at 1e15 with an outlier".into(),
+        vec![
+            DVec2::new(1000000000000092.0, 53.0),
+            DVec2::new(1000000000000011.0, 98.0),
+            DVec2::new(1000000000000034.0, 26.0),
+            DVec2::new(0.0, 0.0),
+        ],
+        3,
+    )];
+    for round in 0..12 {
+        let step = [0.1, 0.3, 1.0 / 7.0][round % 3];
+        let mut sites: Vec<DVec2> = (0..8)
+            .map(|k| DVec2::new((k % 3) as f64, (k / 3) as f64) * step)
+            .map(|p| {
+                let mut nudge = |v: f64| match v {
+                    0.0 => v,
+                    _ => f64::from_bits((v.to_bits() as i64 + rng.gen_range(-1..=1)) as u64),
+                };
+                DVec2::new(nudge(p.x), nudge(p.y))
+            })
+            .collect();
+        sites.push(DVec2::new(5.0, -3.0));
+        let k = rng.gen_range(2..8);
+        cases.push((format!("lattice {round}"), sites, k));
+    }
+    for (name, sites, k) in cases {
+        let answer = enclose(&machine, &sites, Unit::Circle, k, 256).unwrap();
+        let (centre, r2) = smallest_k_enclosing_circle(&sites, k);
+        let [x, y] = answer.exact.centre;
+        assert!(
+            is_nearest_root(answer.exact.scale, &r2),
+            "{name}, k = {k}: radius {}",
+            answer.exact.scale
+        );
+        // Where several circles of that radius hold k sites, any will do.
+        let unique = is_nearest(x, &centre[0]) && is_nearest(y, &centre[1]);
+        assert!(
+            unique || !answer.exact.sites.is_empty(),
+            "{name}: centre {x}, {y}"
+        );
+    }
+}

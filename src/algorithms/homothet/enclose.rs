@@ -135,7 +135,16 @@ pub fn enclose(
             )
         })
         .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?;
-        (homothet_at(sites, unit, c, v), checked)
+        // A circle holding k of the sites is decided again exactly from the
+        // sites on it.
+        let exact = match unit {
+            Unit::Circle if k < n => refine::exact_k_circle(sites, k, v, &frame, &near_pixels),
+            _ => None,
+        };
+        (
+            exact.unwrap_or_else(|| homothet_at(sites, unit, c, v)),
+            checked,
+        )
     };
     Ok(answer_of(
         &frame,

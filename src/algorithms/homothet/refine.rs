@@ -581,3 +581,122 @@ fn circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
     let (b2, c2) = (b.length_squared(), c.length_squared());
     Some(a + DVec2::new(c.y * b2 - b.y * c2, b.x * c2 - c.x * b2) / d)
 }
+
+/// The smallest circle holding at least `k` of `sites`, exactly, given the
+/// float search's radius `radius` and the pixels where its centre may lie:
+/// around each cluster of them, every circle on two of the sites nearby as a
+/// diameter or through three whose float radius is within rounding of
+/// `radius` (smaller ones hold fewer sites) is decided in rationals (its centre and squared radius, and the
+/// sites it holds, floats where they are clear of the boundary). The least,
+/// as the doubles nearest its centre and radius, with the sites exactly on
+/// it; `None` where none holds k sites.
+pub(super) fn exact_k_circle(
+    sites: &[DVec2],
+    k: usize,
+    radius: f64,
+    frame: &Frame,
+    pixels: &[usize],
+) -> Option<Homothet> {
+    use crate::geometry::exact::{
+        circumcentre_exact, distance_squared, nearest_double, nearest_double_sqrt, rational_point,
+    };
+    use num_rational::BigRational;
+    let exact: Vec<[BigRational; 2]> = sites.iter().map(|&s| rational_point(s)).collect();
+    let two = BigRational::from_integer(2.into());
+    let mut best: Option<([BigRational; 2], BigRational, f64)> = None;
+    for cluster in clusters(frame, pixels) {
+        let (around, reach) = surroundings(frame, &cluster);
+        // The float search's radius is within rounding of the optimum's, which
+        // is no circle smaller: only circles within it are decided.
+        let tol =
+            1e-9 * radius + 64.0 * f64::EPSILON * (around.abs().max_element() + reach + radius);
+        let limit = radius + tol;
+        // Sites a near-optimal circle centred within reach may hold, and of
+        // those the ones that may lie on it.
+        let held_by: Vec<u32> = (0..sites.len() as u32)
+            .filter(|&i| sites[i as usize].distance(around) <= reach + limit)
+            .collect();
+        let ring: Vec<u32> = held_by
+            .iter()
+            .copied()
+            .filter(|&i| sites[i as usize].distance(around) >= radius - tol - reach)
+            .collect();
+        let centred = |c: DVec2, r: f64| {
+            (radius - tol..=limit).contains(&r) && c.distance(around) <= reach + tol
+        };
+        let mut circles: Vec<(f64, [u32; 3])> = Vec::new();
+        for (a, &i) in ring.iter().enumerate() {
+            for (b, &j) in ring.iter().enumerate().skip(a + 1) {
+                let (p, q) = (sites[i as usize], sites[j as usize]);
+                if centred((p + q) / 2.0, p.distance(q) / 2.0) {
+                    circles.push((p.distance(q) / 2.0, [i, j, j]));
+                }
+                for &l in &ring[b + 1..] {
+                    let u = sites[l as usize];
+                    if let Some(c) = float_circumcentre(p, q, u) {
+                        if centred(c, c.distance(p)) {
+                            circles.push((c.distance(p), [i, j, l]));
+                        }
+                    }
+                }
+            }
+        }
+        circles.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (r, [i, j, l]) in circles {
+            if best.as_ref().is_some_and(|b| r > b.2 * (1.0 + 1e-9)) {
+                break;
+            }
+            let c = match j == l {
+                true => {
+                    let (p, q) = (&exact[i as usize], &exact[j as usize]);
+                    [(&p[0] + &q[0]) / &two, (&p[1] + &q[1]) / &two]
+                }
+                false => {
+                    let (p, q, u) = (sites[i as usize], sites[j as usize], sites[l as usize]);
+                    match circumcentre_exact(p, q, u) {
+                        Some(c) => c,
+                        None => continue,
+                    }
+                }
+            };
+            let r2 = distance_squared(&c, &exact[i as usize]);
+            if best.as_ref().is_some_and(|b| b.1 <= r2) {
+                continue;
+            }
+            let cf = DVec2::new(nearest_double(&c[0]), nearest_double(&c[1]));
+            let rf = nearest_double(&r2);
+            // The rounded centre is within `delta` of the exact one.
+            let delta = cf.abs().max_element() * f64::EPSILON;
+            let held = held_by
+                .iter()
+                .filter(|&&i| {
+                    let d = sites[i as usize].distance_squared(cf);
+                    let margin = 3.0 * d.sqrt() * delta + 2.0 * delta * delta + 1e-12 * (d + rf);
+                    if (d - rf).abs() > margin + f64::MIN_POSITIVE {
+                        return d < rf;
+                    }
+                    distance_squared(&c, &exact[i as usize]) <= r2
+                })
+                .count();
+            if held >= k {
+                best = Some((c, r2, r));
+            }
+        }
+    }
+    let (c, r2, _) = best?;
+    Some(Homothet {
+        centre: [nearest_double(&c[0]), nearest_double(&c[1])],
+        scale: nearest_double_sqrt(&r2),
+        sites: (0..sites.len() as u32)
+            .filter(|&i| distance_squared(&c, &exact[i as usize]) == r2)
+            .collect(),
+    })
+}
+
+/// The centre of the circle through a, b, c in floats; `None` for collinear.
+fn float_circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
+    let (b, c) = (b - a, c - a);
+    let d = 2.0 * b.perp_dot(c);
+    let (b2, c2) = (b.length_squared(), c.length_squared());
+    (d != 0.0).then(|| a + DVec2::new(c.y * b2 - b.y * c2, b.x * c2 - c.x * b2) / d)
+}
