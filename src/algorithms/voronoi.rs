@@ -391,16 +391,16 @@ fn distinct_bands(
             .as_mut()
             .expect("a band begins at the window's left edge");
         read_tile(machine, tile, &window, options, band)?;
+        let x0 = (tile.x0 - window.x) as usize;
+        let region = Region {
+            x0: tile.x0,
+            y0: tile.y0,
+            width: tile.inner.width,
+            height: tile.inner.height,
+            stride: window.width as usize,
+            k: 1,
+        };
         if let Some(certifier) = &certifier {
-            let x0 = (tile.x0 - window.x) as usize;
-            let region = Region {
-                x0: tile.x0,
-                y0: tile.y0,
-                width: tile.inner.width,
-                height: tile.inner.height,
-                stride: window.width as usize,
-                k: 1,
-            };
             let started = Instant::now();
             let certify = if tile.marked {
                 Certifier::certify_marked
@@ -417,15 +417,6 @@ fn distinct_bands(
             certify_ms += ms(started);
         }
         if !places.is_empty() {
-            let x0 = (tile.x0 - window.x) as usize;
-            let region = Region {
-                x0: tile.x0,
-                y0: tile.y0,
-                width: tile.inner.width,
-                height: tile.inner.height,
-                stride: window.width as usize,
-                k: 1,
-            };
             let (labels, distances) = (&band.labels[x0..], &mut band.distances[x0..]);
             let scale = options.frame.scale;
             label_distances(&places, options.metric, scale, region, labels, distances);

@@ -15,22 +15,7 @@ use pixgeo_reference::exact::{clipped_voronoi_corners, is_nearest, signed_double
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::common::machine;
-
-/// The double `steps` ulps above `x` (below for negative steps); zero stays.
-fn ulps(x: f64, steps: i64) -> f64 {
-    if x == 0.0 {
-        return x;
-    }
-    let up = (steps > 0) == (x >= 0.0);
-    let bits = x.to_bits();
-    let moved = if up {
-        bits + steps.unsigned_abs()
-    } else {
-        bits - steps.unsigned_abs()
-    };
-    f64::from_bits(moved)
-}
+use crate::common::{machine, ulps};
 
 /// One case: sites and the rectangle, far out or tiny by `scale` and `shift`.
 fn case(rng: &mut ChaCha8Rng, family: usize) -> (Vec<DVec2>, Rect) {

@@ -21,22 +21,9 @@ use pixgeo_reference::exact::exact_k_nearest;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::common::machine;
+use crate::common::{machine, ulps};
 
 const METRICS: [Metric; 4] = [Metric::L2, Metric::L1, Metric::LInf, Metric::Lp(3.0)];
-
-/// The double `steps` ulps from `x` (towards +∞ for positive steps).
-fn ulps(x: f64, steps: i64) -> f64 {
-    // Doubles of one sign are ordered as their bits.
-    let up = (steps > 0) == (x >= 0.0);
-    let bits = x.to_bits();
-    let moved = if up {
-        bits + steps.unsigned_abs()
-    } else {
-        bits - steps.unsigned_abs()
-    };
-    f64::from_bits(moved)
-}
 
 /// A lattice of `spacing` from `corner`, every site moved by up to one ulp,
 /// in reverse order so that float ties would favour the wrong index.

@@ -23,21 +23,7 @@ use pixgeo_reference::exact::{
 };
 use proptest::prelude::*;
 
-use crate::common::machine;
-
-/// The double `steps` ulps above `x` (below for negative steps); zero stays.
-fn ulps(x: f64, steps: i64) -> f64 {
-    if x == 0.0 {
-        return x;
-    }
-    let up = (steps > 0) == (x > 0.0);
-    let bits = x.to_bits();
-    f64::from_bits(if up {
-        bits + steps.unsigned_abs()
-    } else {
-        bits - steps.unsigned_abs()
-    })
-}
+use crate::common::{machine, ulps};
 
 /// Near-degenerate points: `family` picks a lattice, a line or a circle,
 /// `tenths` their decimal spacing, `moves` the ulps each coordinate moves,

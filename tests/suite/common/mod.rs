@@ -129,3 +129,19 @@ pub fn canonical(mut triangles: Vec<[u32; 3]>) -> Vec<[u32; 3]> {
     triangles.sort_unstable();
     triangles
 }
+
+/// The double `steps` ulps from `x` (away from zero for positive steps); zero
+/// stays.
+pub fn ulps(x: f64, steps: i64) -> f64 {
+    if x == 0.0 {
+        return x;
+    }
+    // Doubles of one sign are ordered as their bits.
+    let up = (steps > 0) == (x > 0.0);
+    let bits = x.to_bits();
+    f64::from_bits(if up {
+        bits + steps.unsigned_abs()
+    } else {
+        bits - steps.unsigned_abs()
+    })
+}
