@@ -26,7 +26,9 @@ use crate::{
     error::{Error, Result},
     geometry::{
         buckets::PointGrid,
-        exact::{exact_float_key, exact_order, pixel_offset, to_pixel_bounded, two_difference},
+        exact::{
+            exact_float_key, exact_key, exact_order, pixel_offset, to_pixel_bounded, two_difference,
+        },
         metric::Metric,
         Frame,
     },
@@ -673,6 +675,46 @@ impl Certifier<'_> {
         self.keys.distance(disc.hi) / lower
     }
 
+    /// The float32 radius for a strict `key < radius` test of the float32
+    /// keys of integer offsets that holds exactly the disc's positions: where
+    /// those keys are integers that float32 holds (L1, L2, L∞, below 2^24),
+    /// a float32 between the largest integer key strictly below the disc's
+    /// exact key and the next integer; elsewhere the disc's float key rounded
+    /// up.
+    pub fn disc_radius_f32(&self, disc: &Disc) -> f32 {
+        let integer_keys = matches!(self.metric, Metric::L1 | Metric::L2 | Metric::LInf);
+        if !integer_keys || disc.hi.is_nan() || disc.hi >= (1u32 << 24) as f64 {
+            return round_up_f32(disc.hi);
+        }
+        // The largest integer below the exact key: below the interval's low
+        // end surely, and each integer in the interval decided exactly.
+        let mut exact = None;
+        let mut below = |m: f64| {
+            if disc.lo == disc.hi {
+                return m < disc.lo;
+            }
+            let key = exact.get_or_insert_with(|| {
+                let site = self.sites[disc.site as usize];
+                exact_key(self.metric, &pixel_offset(&self.frame, site, disc.pixel))
+                    .expect("L1, L2 and L∞ keys are rational")
+            });
+            BigRational::from_integer((m as i64).into()) < *key
+        };
+        let mut largest = disc.lo.ceil() - 1.0;
+        while largest + 1.0 <= disc.hi && below(largest + 1.0) {
+            largest += 1.0;
+        }
+        if largest < 0.0 {
+            return 0.0;
+        }
+        // Halfway to the next integer where float32 holds it (no subnormal
+        // that a device might flush to zero), else the next float32 up.
+        match largest < (1u32 << 23) as f64 {
+            true => (largest + 0.5) as f32,
+            false => f32::from_bits((largest as f32).to_bits() + 1),
+        }
+    }
+
     /// Whether the pixel centre `offset` pixels from the disc's pixel is
     /// strictly nearer to it than the disc's site, exactly (L_p with p no
     /// fraction m/n of n up to 64: by floats where they cannot tell).
@@ -730,4 +772,15 @@ pub(crate) fn certify_levels(near: &mut KNearest, sites: &[DVec2], metric: Metri
         certifier.certify(region, &mut near.labels, Some(&mut near.distances), None)?;
     near.stats.certify_ms = started.elapsed().as_secs_f64() * 1e3;
     Ok(())
+}
+
+/// The smallest float32 at least `x`.
+fn round_up_f32(x: f64) -> f32 {
+    let f = x as f32;
+    // For finite positive f the next float up has the next bit pattern.
+    if (f as f64) < x && f.is_finite() && f >= 0.0 {
+        f32::from_bits(f.to_bits() + 1)
+    } else {
+        f
+    }
 }

@@ -319,3 +319,41 @@ fn cpu_counts_are_exact_for_integer_sites() {
         }
     }
 }
+
+/// The device's counts are exact for the doubles given under L1, L2 and L∞:
+/// rivals and own stores on a lattice of tenths moved by up to an ulp, in a
+/// frame of ten pixels a unit (pixel centres that are no doubles), where many
+/// discs end within rounding of a lattice of keys; both methods equal the
+/// CPU's exact count.
+#[test]
+fn device_counts_are_exact_for_the_doubles_given() {
+    use rand::Rng;
+    let machine = crate::common::machine();
+    let frame = Frame::with_bbox(30, Some(20), [0.0, 0.0, 3.0, 2.0]).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(48);
+    let mut lattice = |n: usize| -> Vec<DVec2> {
+        (0..n)
+            .map(|_| {
+                let p = DVec2::new(rng.gen_range(0..30) as f64, rng.gen_range(0..20) as f64) * 0.1;
+                DVec2::new(
+                    crate::common::ulps(p.x, rng.gen_range(-1..=1)),
+                    crate::common::ulps(p.y, rng.gen_range(-1..=1)),
+                )
+            })
+            .collect()
+    };
+    let (rivals, own) = (lattice(7), lattice(2));
+    for metric in [Metric::L2, Metric::L1, Metric::LInf] {
+        let cpu = potential_areas_cpu(&rivals, &own, &frame, metric).unwrap();
+        for method in [SettleMethod::Spans, SettleMethod::Faithful] {
+            let device = gpu(&machine, &rivals, &own, frame, metric, method);
+            let differ = cpu
+                .area
+                .iter()
+                .zip(&device.area)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(differ, 0, "{metric} {method:?}");
+        }
+    }
+}

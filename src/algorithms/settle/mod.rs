@@ -21,11 +21,13 @@
 //!   columns and diagonals (`glsl/settle_spans.comp`), and adds their ends with
 //!   atomics to seven difference pictures; a second kernel sums them.
 //!
-//! Disc radii are metric keys rounded up to the next float32: for L1, L2 and L∞
-//! the keys of integer offsets are exact integers, so the strict comparison
-//! `key < radius` gives the same answer as the exact comparison with the
-//! float64 radius. The maps of those metrics therefore equal the definition
-//! evaluated in float64.
+//! Disc radii are float32 thresholds for the strict comparison `key <
+//! radius` of the float32 keys of integer offsets. For L1, L2 and L∞ those
+//! keys are integers, so each radius lies just above the largest integer
+//! key strictly inside the exact disc (decided from the user's
+//! doubles, `Certifier::disc_radius_f32`): the maps of those metrics are
+//! exact below keys of 2^24 (L2: distances of 4096 pixels). Other metrics
+//! take their float key rounded up.
 //!
 //! Pixels that already belong to one of the user's own stores ("successful
 //! stores", §3.10.3) get radius 0 and add nothing.
@@ -46,6 +48,7 @@ use crate::{
     },
 };
 
+use super::certify::Certifier;
 use super::voronoi::{voronoi, VoronoiOptions};
 
 mod cpu;
@@ -191,9 +194,11 @@ fn check(rivals: &[DVec2], own: &[DVec2], frame: &Frame, metric: Metric) -> Resu
     Ok(())
 }
 
-/// Each pixel's disc radius key: the key of its nearest rival, or 0 where an own
-/// store is at least as near (given the nearest site ids of both sets; sites in
-/// pixel coordinates). Rounded up to float32 (see the module notes).
+/// Each pixel's disc radius as the shaders compare it: the positions
+/// strictly nearer to the pixel than its nearest rival (given the nearest
+/// site ids of both sets; sites in world coordinates), exactly where the keys
+/// of integer offsets are integers (see the module notes), or 0 where an own
+/// store is at least as near, decided exactly.
 fn disc_radius_keys(
     frame: &Frame,
     metric: Metric,
@@ -201,37 +206,25 @@ fn disc_radius_keys(
     rival_labels: &[u32],
     own: &[DVec2],
     own_labels: Option<&[u32]>,
-) -> Vec<f32> {
+) -> Result<Vec<f32>> {
+    let rival_sites = Certifier::new(rivals, frame, metric)?;
+    let own_sites = own_labels
+        .map(|labels| Certifier::new(own, frame, metric).map(|c| (c, labels)))
+        .transpose()?;
     let w = frame.width as usize;
-    let key = |sites: &[DVec2], label: u32, k: usize| -> f64 {
-        let p = DVec2::new((k % w) as f64, (k / w) as f64);
-        sites
-            .get(label as usize)
-            .map_or(f64::INFINITY, |s| metric.key(*s - p))
-    };
-    (0..frame.len())
+    Ok((0..frame.len())
         .into_par_iter()
         .map(|k| {
-            let rival = key(rivals, rival_labels[k], k);
-            let owned = own_labels.is_some_and(|labels| key(own, labels[k], k) <= rival);
-            if owned {
-                0.0
-            } else {
-                round_up_f32(rival)
+            let pixel = [(k % w) as i64, (k / w) as i64];
+            let owned = own_sites.as_ref().is_some_and(|(sites, labels)| {
+                sites.no_farther(labels[k], &rival_sites, rival_labels[k], pixel)
+            });
+            match owned {
+                true => 0.0,
+                false => rival_sites.disc_radius_f32(&rival_sites.disc(pixel, rival_labels[k])),
             }
         })
-        .collect()
-}
-
-/// The smallest float32 at least `x`.
-fn round_up_f32(x: f64) -> f32 {
-    let f = x as f32;
-    // For finite positive f the next float up has the next bit pattern.
-    if (f as f64) < x && f.is_finite() && f >= 0.0 {
-        f32::from_bits(f.to_bits() + 1)
-    } else {
-        f
-    }
+        .collect())
 }
 
 /// The potential-area map of a new site among `rivals`, not counting pixels that
@@ -292,11 +285,11 @@ pub fn potential_areas(
     let keys = disc_radius_keys(
         &frame,
         options.metric,
-        &to_pixels(rivals, &frame),
+        rivals,
         &rival_labels,
-        &to_pixels(own, &frame),
+        own,
         own_labels.as_deref(),
-    );
+    )?;
     let mut stats = SettleStats {
         device: machine.device_name().to_string(),
         rivals: rivals.len(),
