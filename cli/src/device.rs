@@ -51,7 +51,10 @@ impl Backend {
         let wanted = device
             .map(str::to_string)
             .or_else(|| std::env::var("PIXGEO_DEVICE").ok());
-        if wanted.as_deref().map(str::trim) == Some("cpu") {
+        if wanted
+            .as_deref()
+            .is_some_and(|w| w.trim().eq_ignore_ascii_case("cpu"))
+        {
             return Ok(Self::Cpu);
         }
         match Machine::new(&options(device)) {

@@ -4,7 +4,7 @@
 use std::{fmt::Write as _, path::PathBuf};
 
 use anyhow::{Context, Result};
-use clap::{Args as ClapArgs, Parser};
+use clap::{Args as ClapArgs, CommandFactory, Parser};
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -561,7 +561,11 @@ pub fn run(args: Args, run: impl Fn(Command) -> Result<()>) -> Result<()> {
                 }
             })
             .collect();
-        if let Some(d) = &args.device.name {
+        // Only the commands that draw on a device take one.
+        let takes_device = Cli::command()
+            .find_subcommand(entry.command)
+            .is_some_and(|c| c.get_arguments().any(|a| a.get_long() == Some("device")));
+        if let (Some(d), true) = (&args.device.name, takes_device) {
             real.extend(["--device".into(), d.clone()]);
         }
         let cli = Cli::try_parse_from(&real).with_context(|| format!("gallery command {shown}"))?;

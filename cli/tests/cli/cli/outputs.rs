@@ -78,7 +78,8 @@ fn bad_input_fails_with_a_message() {
 #[test]
 fn gallery_renders_every_picture_and_an_index() {
     let dir = temp("gallery");
-    let (ok, _, stderr) = pixgeo(&["gallery", dir.to_str().unwrap()]);
+    // A device is passed on to the commands that take one.
+    let (ok, _, stderr) = pixgeo(&["gallery", dir.to_str().unwrap(), "--device", "lavapipe"]);
     assert!(ok, "{stderr}");
     let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
     let pictures: Vec<&str> = index

@@ -75,8 +75,9 @@ fn voronoi_reads_weights_and_shapes() {
     // The CPU gives the same labels; fans stay within a pixel.
     let cpu_labels = temp("mlc.npy");
     let fan_dist = temp("mdf.npy");
+    // The device's name is read in any case.
     for (flags, out) in [
-        (["--device", "cpu"], &cpu_labels),
+        (["--device", "CPU"], &cpu_labels),
         (["--mode", "fan"], &fan_dist),
     ] {
         let kind = if out == &cpu_labels {
