@@ -343,14 +343,17 @@ pub fn clipped_voronoi_corners(
         [lo[0].clone(), hi[1].clone()],
     ];
     let n = s.len();
+    // The bisector of sites i and j: p . d = c, d = s_j - s_i,
+    // c = (|s_j|² - |s_i|²) / 2.
+    let bisector = |i: usize, j: usize| {
+        let d = [&s[j][0] - &s[i][0], &s[j][1] - &s[i][1]];
+        let lift = |p: &[BigRational; 2]| &p[0] * &p[0] + &p[1] * &p[1];
+        let c = (lift(&s[j]) - lift(&s[i])) / &two;
+        (d, c)
+    };
     for i in 0..n {
         for j in i + 1..n {
-            // The bisector: 2 p . (b - a) = |b|² - |a|².
-            let d = [&s[j][0] - &s[i][0], &s[j][1] - &s[i][1]];
-            let c = (&s[j][0] * &s[j][0] + &s[j][1] * &s[j][1]
-                - &s[i][0] * &s[i][0]
-                - &s[i][1] * &s[i][1])
-                / &two;
+            let (d, c) = bisector(i, j);
             for (axis, at) in [(0, &lo[0]), (0, &hi[0]), (1, &lo[1]), (1, &hi[1])] {
                 let other = 1 - axis;
                 if d[other] != BigRational::from_integer(0.into()) {
@@ -360,11 +363,7 @@ pub fn clipped_voronoi_corners(
                 }
             }
             for k in j + 1..n {
-                let e = [&s[k][0] - &s[i][0], &s[k][1] - &s[i][1]];
-                let f = (&s[k][0] * &s[k][0] + &s[k][1] * &s[k][1]
-                    - &s[i][0] * &s[i][0]
-                    - &s[i][1] * &s[i][1])
-                    / &two;
+                let (e, f) = bisector(i, k);
                 let det = &d[0] * &e[1] - &d[1] * &e[0];
                 if det != BigRational::from_integer(0.into()) {
                     candidates.push([

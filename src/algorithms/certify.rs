@@ -130,38 +130,6 @@ pub(crate) struct Region {
     pub k: usize,
 }
 
-/// Each labelled pixel's distance in `region` (world units, float32) to its
-/// site, from the label alone: from the site's pixel position (`places`, the
-/// frame's `to_pixel`) to the pixel's centre, as the CPU's diagram computes
-/// it, so that tiles, windows and devices agree to the bit.
-pub(crate) fn label_distances(
-    places: &[DVec2],
-    metric: Metric,
-    scale: f64,
-    region: Region,
-    labels: &[u32],
-    distances: &mut [f32],
-) {
-    let to_world = 1.0 / scale;
-    distances
-        .par_chunks_mut(region.stride)
-        .zip(labels.par_chunks(region.stride))
-        .take(region.height as usize)
-        .enumerate()
-        .for_each(|(row, (d, l))| {
-            let y = (region.y0 as usize + row) as f64;
-            for (column, (d, &id)) in d.iter_mut().zip(l).take(region.width as usize).enumerate() {
-                *d = match places.get(id as usize) {
-                    None => f32::INFINITY,
-                    Some(&site) => {
-                        let q = DVec2::new((region.x0 as usize + column) as f64, y);
-                        (metric.distance_of_key(metric.key(q - site)) * to_world) as f32
-                    }
-                };
-            }
-        });
-}
-
 /// A candidate of one pixel: its key lies in `[lo, hi]`.
 #[derive(Clone, Copy, Debug)]
 struct Candidate {
@@ -673,6 +641,32 @@ impl Certifier<'_> {
     pub fn disc_radius(&self, disc: &Disc) -> f64 {
         let (lower, _) = self.metric.euclidean_bounds();
         self.keys.distance(disc.hi) / lower
+    }
+
+    /// Each labelled pixel's distance in `region` (world units, float32) to
+    /// its site, from the label alone: from the site's pixel position to the
+    /// pixel's centre, as the CPU's diagram computes it, so that tiles,
+    /// windows and devices agree to the bit.
+    pub fn label_distances(&self, region: Region, labels: &[u32], distances: &mut [f32]) {
+        let (metric, to_world) = (self.metric, 1.0 / self.frame.scale);
+        distances
+            .par_chunks_mut(region.stride)
+            .zip(labels.par_chunks(region.stride))
+            .take(region.height as usize)
+            .enumerate()
+            .for_each(|(row, (d, l))| {
+                let y = (region.y0 as usize + row) as f64;
+                let row = d.iter_mut().zip(l).take(region.width as usize);
+                for (column, (d, &id)) in row.enumerate() {
+                    *d = match self.places.get(id as usize) {
+                        None => f32::INFINITY,
+                        Some(&site) => {
+                            let q = DVec2::new((region.x0 as usize + column) as f64, y);
+                            (metric.distance_of_key(metric.key(q - site)) * to_world) as f32
+                        }
+                    };
+                }
+            });
     }
 
     /// The float32 radius for a strict `key < radius` test of the float32

@@ -38,7 +38,7 @@ use crate::{
     machine::{Machine, PixelRect},
 };
 
-use super::certify::{label_distances, Certifier, Region};
+use super::certify::{Certifier, Region};
 use super::envelope::{
     drawn_accuracy, metric_fan, ConePlan, ConeSpec, DrawnTile, Picture, TileView, Tiling,
     SCREEN_TILE_SIDE,
@@ -352,12 +352,6 @@ fn distinct_bands(
         Accuracy::Exact => Some(Certifier::new(sites, &options.frame, options.metric)?),
         Accuracy::Fan { .. } => None,
     };
-    // Exact diagrams take each distance from the label, the same in every
-    // tile (polygons' labels are drawn as fans, their distances exact).
-    let places: Vec<DVec2> = match options.distances && options.accuracy == Accuracy::Exact {
-        true => sites.iter().map(|&s| options.frame.to_pixel(s)).collect(),
-        false => Vec::new(),
-    };
     let (mut mended, mut certify_ms) = (0, ms(started));
     let mut band: Option<Band> = None;
     let extras = TileExtras {
@@ -407,19 +401,14 @@ fn distinct_bands(
             } else {
                 Certifier::certify
             };
-            mended += certify(
-                certifier,
-                region,
-                &mut band.labels[x0..],
-                options.distances.then(|| &mut band.distances[x0..]),
-                options.ties.then(|| &mut band.ties[x0..]),
-            )?;
+            let ties = options.ties.then(|| &mut band.ties[x0..]);
+            mended += certify(certifier, region, &mut band.labels[x0..], None, ties)?;
+            // Each distance from its label, the same in every tile.
+            if options.distances {
+                let (labels, distances) = (&band.labels[x0..], &mut band.distances[x0..]);
+                certifier.label_distances(region, labels, distances);
+            }
             certify_ms += ms(started);
-        }
-        if !places.is_empty() {
-            let (labels, distances) = (&band.labels[x0..], &mut band.distances[x0..]);
-            let scale = options.frame.scale;
-            label_distances(&places, options.metric, scale, region, labels, distances);
         }
         Ok(())
     })?;

@@ -21,7 +21,7 @@ use super::{
 };
 
 /// A line that bounds the cell of site `s`, as `normal . (p - s) = offset`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Line {
     /// x = lo.x, y = lo.y, x = hi.x, y = hi.y.
     Side(u8),

@@ -586,8 +586,9 @@ fn circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
 /// float search's radius `radius` and the pixels where its centre may lie:
 /// around each cluster of them, every circle on two of the sites nearby as a
 /// diameter or through three whose float radius is within rounding of
-/// `radius` (smaller ones hold fewer sites) is decided in rationals (its centre and squared radius, and the
-/// sites it holds, floats where they are clear of the boundary). The least,
+/// `radius` (smaller ones hold fewer sites) is decided in rationals (its
+/// centre and squared radius, and the sites it holds, floats where they are
+/// clear of the boundary). The least,
 /// as the doubles nearest its centre and radius, with the sites exactly on
 /// it; `None` where none holds k sites.
 pub(super) fn exact_k_circle(
@@ -633,7 +634,7 @@ pub(super) fn exact_k_circle(
                 }
                 for &l in &ring[b + 1..] {
                     let u = sites[l as usize];
-                    if let Some(c) = float_circumcentre(p, q, u) {
+                    if let Some(c) = circumcentre(p, q, u) {
                         if centred(c, c.distance(p)) {
                             circles.push((c.distance(p), [i, j, l]));
                         }
@@ -691,12 +692,4 @@ pub(super) fn exact_k_circle(
             .filter(|&i| distance_squared(&c, &exact[i as usize]) == r2)
             .collect(),
     })
-}
-
-/// The centre of the circle through a, b, c in floats; `None` for collinear.
-fn float_circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
-    let (b, c) = (b - a, c - a);
-    let d = 2.0 * b.perp_dot(c);
-    let (b2, c2) = (b.length_squared(), c.length_squared());
-    (d != 0.0).then(|| a + DVec2::new(c.y * b2 - b.y * c2, b.x * c2 - c.x * b2) / d)
 }

@@ -310,7 +310,3 @@ pub fn potential_areas(
     };
     Ok(PotentialAreas::new(&frame, area, stats))
 }
-
-fn to_pixels(sites: &[DVec2], frame: &Frame) -> Vec<DVec2> {
-    sites.iter().map(|&s| frame.to_pixel(s)).collect()
-}

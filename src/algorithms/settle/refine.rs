@@ -85,3 +85,7 @@ fn compass_search(start: DVec2, f: &dyn Fn(DVec2) -> f64, bounds: &cell::Rect) -
     }
     (x, best)
 }
+
+fn to_pixels(sites: &[DVec2], frame: &Frame) -> Vec<DVec2> {
+    sites.iter().map(|&s| frame.to_pixel(s)).collect()
+}
