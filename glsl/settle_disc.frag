@@ -1,4 +1,4 @@
-// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP METRIC_LP_SUM
 #version 460
 // Keeps the fragments of the source pixel's disc; the stencil counts them with
 // wrap-around and blending adds 1/255 to the current channel at every wrap

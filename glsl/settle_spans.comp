@@ -1,4 +1,4 @@
-// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP
+// variants: METRIC_L2 METRIC_L1 METRIC_LINF METRIC_LP METRIC_LP_SUM
 #version 460
 // pixgeo's span counting of the potential areas (thesis §3.12.3 on the device).
 // Lavapipe performs atomics lane by lane, so their number sets the pace: each

@@ -10,4 +10,5 @@ pub mod higher_order;
 pub mod homothet;
 pub mod npy;
 pub mod settle;
+pub mod sites;
 pub mod voronoi;

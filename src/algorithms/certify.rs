@@ -19,6 +19,7 @@ use std::cmp::Ordering;
 
 use glam::DVec2;
 use num_rational::BigRational;
+use num_traits::Zero;
 use rayon::prelude::*;
 
 use super::higher_order::KNearest;
@@ -669,16 +670,39 @@ impl Certifier<'_> {
             });
     }
 
+    /// The shader's code (`glsl/metric.glsl`) for the keys a disc's radius is
+    /// given in: sums of powers for integer p from 3 to 16, whose integer
+    /// offsets' keys are integers, the metric's own keys otherwise.
+    pub fn shader_code(metric: Metric) -> (u32, f32) {
+        match FloatKey::of(metric) {
+            FloatKey::PowerSum(p) => (4, p as f32),
+            _ => metric.shader_code().unwrap_or((0, 2.0)),
+        }
+    }
+
     /// The float32 radius for a strict `key < radius` test of the float32
     /// keys of integer offsets that holds exactly the disc's positions: where
-    /// those keys are integers that float32 holds (L1, L2, L∞, below 2^24),
+    /// those keys are integers that float32 holds (L1, L2, L∞ and integer p
+    /// up to 16, below 2^24),
     /// a float32 between the largest integer key strictly below the disc's
     /// exact key and the next integer; elsewhere the disc's float key rounded
     /// up.
     pub fn disc_radius_f32(&self, disc: &Disc) -> f32 {
-        let integer_keys = matches!(self.metric, Metric::L1 | Metric::L2 | Metric::LInf);
+        let integer_keys = matches!(self.metric, Metric::L1 | Metric::L2 | Metric::LInf)
+            || matches!(self.keys, FloatKey::PowerSum(_));
         if !integer_keys || disc.hi.is_nan() || disc.hi >= (1u32 << 24) as f64 {
-            return round_up_f32(disc.hi);
+            // A pixel centred on its site holds no disc; any other holds at
+            // least itself, and a float32 key too small for a normal number
+            // would reach a device flushed to zero.
+            let site = self.sites[disc.site as usize];
+            let centred = disc.lo == 0.0
+                && pixel_offset(&self.frame, site, disc.pixel)
+                    .iter()
+                    .all(|d| d.is_zero());
+            return match centred {
+                true => 0.0,
+                false => round_up_f32(disc.hi).max(f32::MIN_POSITIVE),
+            };
         }
         // The largest integer below the exact key: below the interval's low
         // end surely, and each integer in the interval decided exactly.
@@ -690,7 +714,7 @@ impl Certifier<'_> {
             let key = exact.get_or_insert_with(|| {
                 let site = self.sites[disc.site as usize];
                 exact_key(self.metric, &pixel_offset(&self.frame, site, disc.pixel))
-                    .expect("L1, L2 and L∞ keys are rational")
+                    .expect("L1, L2, L∞ and integer p keys are rational")
             });
             BigRational::from_integer((m as i64).into()) < *key
         };

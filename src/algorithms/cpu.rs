@@ -33,6 +33,7 @@ use crate::{
 
 use super::certify::certify_levels;
 use super::higher_order::{furthest_candidates, Furthest, KNearest, KNearestStats, MAX_LEVELS};
+use super::sites::{check_exact_metric, SiteCertifier};
 
 /// How far a site may lie from the pixel centre it grows from.
 const SLACK: f64 = std::f64::consts::FRAC_1_SQRT_2;
@@ -115,7 +116,7 @@ fn grown_k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Re
     // the search by blocks instead.
     if reach > MAX_RING && k == 1 {
         let points: Vec<Site> = sites.iter().map(|&p| Site::point(p)).collect();
-        let (labels, distances) = voronoi_sites(&points, frame, metric)?;
+        let (labels, distances) = nearest_by_blocks(&points, frame, metric)?;
         return Ok(levels(frame, k, sites.len(), started, labels, distances));
     }
     if reach > MAX_RING {
@@ -305,6 +306,19 @@ pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthe
 /// Euclidean gap between the block and the shape's box) and every pixel stops at
 /// the first site whose bound exceeds its best.
 pub fn voronoi_sites(
+    sites: &[Site],
+    frame: &Frame,
+    metric: Metric,
+) -> Result<(Vec<u32>, Vec<f32>)> {
+    check_general_sites(sites)?;
+    check_exact_metric(sites, metric)?;
+    let (mut labels, mut distances) = nearest_by_blocks(sites, frame, metric)?;
+    SiteCertifier::new(sites, frame, metric)?.certify(&mut labels, Some(&mut distances))?;
+    Ok((labels, distances))
+}
+
+/// [`voronoi_sites`] in f64, before the exact check.
+fn nearest_by_blocks(
     sites: &[Site],
     frame: &Frame,
     metric: Metric,

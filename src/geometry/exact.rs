@@ -151,7 +151,7 @@ fn root_sums_order(a: [BigRational; 2], b: [BigRational; 2]) -> Ordering {
 }
 
 /// The sign of `b + c √u` for a rational `u >= 0`.
-fn sign_with_root(b: &BigRational, c: &BigRational, u: &BigRational) -> Ordering {
+pub(crate) fn sign_with_root(b: &BigRational, c: &BigRational, u: &BigRational) -> Ordering {
     let zero = BigRational::zero();
     let sb = b.cmp(&zero);
     let sc = if u.is_zero() {

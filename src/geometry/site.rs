@@ -5,8 +5,9 @@
 //!
 //! Every shape works with every metric: the distance to a segment is the smallest
 //! norm on the segment of offsets (`super::chain::norm_range_on_segment`); to a
-//! circle or arc it is closed-form for L2 and found by `curve_distance`
-//! otherwise (among a few candidates under L1 and L∞). Circles and arcs are
+//! circle or arc it is closed-form for L2, the least of a few candidates under
+//! L1 and L∞ (`polygonal_curve_distance`), and found by `curve_distance`
+//! otherwise. Circles and arcs are
 //! Euclidean circles whatever the metric.
 
 use std::f64::consts::TAU;
@@ -101,6 +102,18 @@ impl Site {
             Shape::Point(p) => metric.distance(q - p),
             Shape::Segment(a, b) if metric == Metric::L2 => segment_distance(q, a, b),
             Shape::Segment(a, b) => norm_range_on_segment(metric, q - a, q - b).0,
+            Shape::Circle { center, radius } if piecewise_linear(metric) => {
+                polygonal_curve_distance(metric, q - center, radius, None)
+            }
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } if piecewise_linear(metric) => {
+                let wedge = ArcWedge::new(center, radius, start, end);
+                polygonal_curve_distance(metric, q - center, radius, Some(&wedge))
+            }
             Shape::Circle { center, radius } if metric != Metric::L2 => {
                 curve_distance(metric, q, center, radius, 0.0, TAU)
             }
@@ -137,7 +150,7 @@ impl Site {
 
     /// The site in pixel coordinates of a frame that maps world point `w` to
     /// `(w - origin) * scale - 0.5`; weights stay in world units.
-    pub fn to_pixels(&self, to_pixel: impl Fn(DVec2) -> DVec2, scale: f64) -> Self {
+    pub fn to_pixels(&self, mut to_pixel: impl FnMut(DVec2) -> DVec2, scale: f64) -> Self {
         let shape = match self.shape {
             Shape::Point(p) => Shape::Point(to_pixel(p)),
             Shape::Segment(a, b) => Shape::Segment(to_pixel(a), to_pixel(b)),
@@ -160,6 +173,19 @@ impl Site {
         Self { shape, ..*self }
     }
 
+    /// An arc's wedge, made once for many distance queries.
+    pub(crate) fn wedge(&self) -> Option<ArcWedge> {
+        match self.shape {
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => Some(ArcWedge::new(center, radius, start, end)),
+            _ => None,
+        }
+    }
+
     /// The smallest box holding the shape: (lo, hi).
     pub fn bounds(&self) -> (DVec2, DVec2) {
         match self.shape {
@@ -179,9 +205,9 @@ const CURVE_BRACKETS: usize = 4;
 const CURVE_REFINEMENTS: usize = 40;
 
 /// The `metric` distance from `q` to the arc of the circle around `center` from
-/// angle `start` over `span`: under L1 and L∞ exactly, the smallest over a few
-/// candidates; otherwise the smallest of samples at equal angles, the four best
-/// refined by golden-section search between their neighbours. Along the circle
+/// angle `start` over `span` (L_p and polygons; L1 and L∞ take
+/// [`polygonal_curve_distance`]): the smallest of samples at equal angles, the
+/// four best refined by golden-section search between their neighbours. Along the circle
 /// a norm's distance has a valley on each side of `q`; star-shaped balls
 /// (p < 1, star polygons) may add valleys at their spikes, which the extra
 /// brackets cover. The tests compare it with dense sampling.
@@ -199,18 +225,6 @@ pub(crate) fn curve_distance(
     }
     let on_arc = |a: &f64| (a - start).rem_euclid(TAU) <= span;
     let cusps = ray_crossings(metric, q - center, radius);
-    if let Some(first) = facet_angle(metric) {
-        // Piecewise linear balls: the smallest distance is at an end, where the
-        // offset lies along a corner ray, or where a side of the ball touches
-        // the circle (the circle's normal is the side's).
-        let sides = (0..4).map(|k| first + k as f64 * std::f64::consts::FRAC_PI_2);
-        return [start, start + span]
-            .into_iter()
-            .chain(cusps.into_iter().filter(on_arc))
-            .chain(sides.filter(on_arc))
-            .map(at)
-            .fold(f64::INFINITY, f64::min);
-    }
     let n = ((CURVE_SAMPLES as f64 * span / TAU).ceil() as usize).max(2);
     let step = span / n as f64;
     let samples: Vec<f64> = (0..=n).map(|k| at(start + step * k as f64)).collect();
@@ -240,14 +254,80 @@ pub(crate) fn curve_distance(
     best
 }
 
-/// For the piecewise linear balls of L1 and L∞, the angle of the first of the
-/// normals of their four sides (the others follow at right angles).
-fn facet_angle(metric: Metric) -> Option<f64> {
+fn piecewise_linear(metric: Metric) -> bool {
+    matches!(metric, Metric::L1 | Metric::LInf)
+}
+
+/// The L1 or L∞ distance from offset `e` (from the centre) to the circle of
+/// `radius`, or to the arc of it that `wedge` holds, without angles: the
+/// smallest over the circle's points where the offset lies along a corner
+/// ray of the unit ball (where a line through the pixel meets the circle),
+/// where a side of the ball touches the circle (its normals' directions), and
+/// the arc's ends. Each candidate is computed stably (products of sums for the
+/// differences of squares), so its error is a few ulps of the sizes involved;
+/// `geometry::exact_site` computes the same candidates exactly.
+pub(crate) fn polygonal_curve_distance(
+    metric: Metric,
+    e: DVec2,
+    radius: f64,
+    wedge: Option<&ArcWedge>,
+) -> f64 {
+    let r = radius;
+    let mut best = f64::INFINITY;
+    let mut offer = |on_circle: DVec2, distance: f64| {
+        if wedge.is_none_or(|w| w.contains(on_circle)) {
+            best = best.min(distance);
+        }
+    };
     match metric {
-        Metric::L1 => Some(std::f64::consts::FRAC_PI_4),
-        Metric::LInf => Some(0.0),
-        _ => None,
+        Metric::L1 => {
+            // On the line through the pixel along axis m: the other coordinate
+            // equal to the pixel's.
+            for k in 0..2 {
+                let rest = (r - e[k].abs()) * (r + e[k].abs());
+                if rest >= 0.0 {
+                    let root = rest.sqrt();
+                    for sign in [1.0, -1.0] {
+                        let mut p = DVec2::ZERO;
+                        p[k] = e[k];
+                        p[1 - k] = sign * root;
+                        offer(p, (e[1 - k] - p[1 - k]).abs());
+                    }
+                }
+            }
+            let h = r * std::f64::consts::FRAC_1_SQRT_2;
+            for p in [(h, h), (h, -h), (-h, h), (-h, -h)] {
+                let p = DVec2::from(p);
+                offer(p, metric.distance(e - p));
+            }
+        }
+        _ => {
+            // Points e - t (1, σ): t = (B ± √D) / 2 with B = e_x + σ e_y and
+            // D = 2r² - (e_x - σ e_y)².
+            for sigma in [1.0, -1.0] {
+                let b = e.x + sigma * e.y;
+                let w = (e.x - sigma * e.y).abs();
+                let r2 = r * std::f64::consts::SQRT_2;
+                let d = (r2 - w) * (r2 + w);
+                if d >= 0.0 {
+                    for sign in [1.0, -1.0] {
+                        let t = (b + sign * d.sqrt()) / 2.0;
+                        offer(e - t * DVec2::new(1.0, sigma), t.abs());
+                    }
+                }
+            }
+            for p in [(r, 0.0), (-r, 0.0), (0.0, r), (0.0, -r)] {
+                let p = DVec2::from(p);
+                offer(p, metric.distance(e - p));
+            }
+        }
     }
+    if let Some(w) = wedge.filter(|w| w.span < TAU) {
+        for end in [w.start, w.end] {
+            best = best.min(metric.distance(e - r * end));
+        }
+    }
+    best
 }
 
 /// The rays along which the metric's distance has a kink: the corners of L1,
@@ -301,18 +381,56 @@ impl ArcWedge {
         }
     }
 
-    /// The Euclidean distance from `q` to the arc.
-    pub fn distance(&self, q: DVec2) -> f64 {
-        let v = q - self.center;
+    /// Whether direction `v` (from the centre) lies within the arc's angles.
+    pub fn contains(&self, v: DVec2) -> bool {
         let after_start = self.start.perp_dot(v) >= 0.0;
         let before_end = v.perp_dot(self.end) >= 0.0;
         // Both sides for a span up to a half turn, either beyond.
-        let inside = if self.span <= std::f64::consts::PI {
+        self.span >= TAU
+            || if self.span <= std::f64::consts::PI {
+                after_start && before_end
+            } else {
+                after_start || before_end
+            }
+    }
+
+    /// Whether direction `v` lies within the arc's angles, where the sides of
+    /// its ends are clear by far more than their rounding; `None` where not.
+    pub(crate) fn holds(&self, v: DVec2) -> Option<bool> {
+        let margin = 1e-12 * v.length();
+        // On an end's ray counts as on the arc where that end is exact (angle
+        // 0, direction (1, 0)) and the side is exactly 0.
+        let side = |s: f64, exact: bool| match s.abs() > margin {
+            true => Some(s > 0.0),
+            false => (exact && s == 0.0).then_some(true),
+        };
+        if self.span >= TAU {
+            return Some(true);
+        }
+        let after_start = side(self.start.perp_dot(v), self.start == DVec2::X)?;
+        let before_end = side(v.perp_dot(self.end), self.end == DVec2::X)?;
+        Some(if self.span <= std::f64::consts::PI {
             after_start && before_end
         } else {
             after_start || before_end
-        };
-        if inside || self.span >= TAU || v == DVec2::ZERO {
+        })
+    }
+
+    /// Whether the arc is the whole circle.
+    pub(crate) fn is_whole(&self) -> bool {
+        self.span >= TAU
+    }
+
+    /// The directions of its ends, each with whether it is exact: the end
+    /// at angle 0, (1, 0); every other double angle's point is transcendental.
+    pub(crate) fn ends(&self) -> [(DVec2, bool); 2] {
+        [self.start, self.end].map(|d| (d, d == DVec2::X))
+    }
+
+    /// The Euclidean distance from `q` to the arc.
+    pub fn distance(&self, q: DVec2) -> f64 {
+        let v = q - self.center;
+        if self.contains(v) || v == DVec2::ZERO {
             (v.length() - self.radius).abs()
         } else {
             let r = self.radius;

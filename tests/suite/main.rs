@@ -8,6 +8,7 @@ mod alpha;
 mod area;
 mod cells;
 mod certified;
+mod certified_sites;
 mod constructions;
 mod delaunay;
 mod distances;

@@ -98,8 +98,8 @@ fn ordinary_diagrams_match_the_definition_with_every_speedup() {
 
 #[test]
 fn curves_are_refused_in_exact_mode_and_bounded_in_fan_mode() {
-    // The distance to a circle under a gauge is curved: chords cannot promise
-    // the nearest of two nearly equidistant sites, so exact mode refuses, and
+    // The distance to a circle under a gauge is curved, with no closed form:
+    // exact mode refuses it on every device, and
     // fan mode's chords cost the gauge's steepest slope per pixel of deviation,
     // which for a non-convex star exceeds its largest radius ratio.
     let m = machine();
@@ -121,7 +121,8 @@ fn curves_are_refused_in_exact_mode_and_bounded_in_fan_mode() {
     }
     let exact = VoronoiOptions::exact(frame).metric(star);
     let refused = voronoi_sites(&m, &sites, &exact).unwrap_err().to_string();
-    assert!(refused.contains("--device cpu"), "{refused}");
+    assert!(refused.contains("no exact distance"), "{refused}");
+    assert!(pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, star).is_err());
     let truth = nearest_weighted_distances(&sites, &frame, star);
     let fan = exact.accuracy(Accuracy::FAN);
     let d = voronoi_sites(&m, &sites, &fan).unwrap();

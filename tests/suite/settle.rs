@@ -271,6 +271,7 @@ fn cpu_counts_are_exact_for_integer_sites() {
             Metric::Polygon(_) => unreachable!("not counted"),
         }
     };
+    let machine = crate::common::machine();
     let mut rng = ChaCha8Rng::seed_from_u64(31);
     use rand::Rng;
     let cases: Vec<(Vec<[i64; 2]>, u32, u32)> = vec![
@@ -298,6 +299,10 @@ fn cpu_counts_are_exact_for_integer_sites() {
             Metric::Lp(4.0),
         ] {
             let cpu = potential_areas_cpu(&rivals, &[], &frame, metric).unwrap();
+            for method in [SettleMethod::Spans, SettleMethod::Faithful] {
+                let device = gpu(&machine, &rivals, &[], frame, metric, method);
+                assert_eq!(device.area, cpu.area, "{sites:?} {metric} {method:?}");
+            }
             let pixel = |k: usize| [(k % w as usize) as i64, (k / w as usize) as i64];
             let radius: Vec<i128> = (0..frame.len())
                 .map(|k| {

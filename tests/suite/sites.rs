@@ -21,7 +21,7 @@ use pixgeo_reference::voronoi::{curve_sampling_slack, nearest_weighted_distances
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-fn weighted(shape: Shape, m: f64, a: f64) -> Site {
+pub(crate) fn weighted(shape: Shape, m: f64, a: f64) -> Site {
     Site {
         shape,
         multiplicative: m,
@@ -166,10 +166,23 @@ fn mixed_weighted_sites_match_the_definition() {
             &format!("mixed weights={weights}"),
         );
     }
-    // Points and segments under the other metrics.
+    // Points and segments under the other metrics; under L_p segments have
+    // no exact distance, and weighted points are drawn alone.
     for metric in [Metric::L1, Metric::LInf, Metric::Lp(0.5), Metric::Lp(3.0)] {
+        let kinds: &[u32] = if matches!(metric, Metric::Lp(_)) {
+            let segments = random_sites(&mut rng, 4, &[1], false, 71.0, 53.0);
+            let exact = VoronoiOptions::exact(frame).metric(metric);
+            let refused = voronoi_sites(&m, &segments, &exact).unwrap_err();
+            assert!(
+                refused.to_string().contains("no exact distance"),
+                "{refused}"
+            );
+            &[0]
+        } else {
+            &[0, 1]
+        };
         for weights in [false, true] {
-            let sites = random_sites(&mut rng, 30, &[0, 1], weights, 71.0, 53.0);
+            let sites = random_sites(&mut rng, 30, kinds, weights, 71.0, 53.0);
             check(
                 &m,
                 &sites,
@@ -405,10 +418,12 @@ fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
         random_sites(&mut rng, 25, &[0, 1, 2, 3], true, 57.0, 43.0),
     )];
     for metric in [Metric::L1, Metric::LInf, Metric::Lp(0.5), Metric::Lp(3.0)] {
-        inputs.push((
-            metric,
-            random_sites(&mut rng, 25, &[0, 1], true, 57.0, 43.0),
-        ));
+        let kinds: &[u32] = if matches!(metric, Metric::Lp(_)) {
+            &[0]
+        } else {
+            &[0, 1]
+        };
+        inputs.push((metric, random_sites(&mut rng, 25, kinds, true, 57.0, 43.0)));
     }
     for (metric, sites) in inputs {
         let (labels, distances) =
@@ -441,9 +456,9 @@ fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
 
 #[test]
 fn circles_and_arcs_under_every_metric() {
-    // Euclidean circles and arcs measured with other distances: exact mode by
-    // search along the curve (L_p), fans as swept chords, the CPU by the same
-    // search; the oracle samples the curve densely.
+    // Euclidean circles and arcs measured with other distances: exact under L1
+    // and L∞, refused under L_p and polygons; fans as swept chords; the
+    // oracle samples the curve densely.
     let m = crate::common::machine();
     let frame = Frame::pixels(48, 36).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
@@ -461,12 +476,29 @@ fn circles_and_arcs_under_every_metric() {
     ];
     for metric in metrics {
         let sites = random_sites(&mut rng, 10, &[2, 3, 0, 2, 3], true, 48.0, 36.0);
-        if matches!(metric, Metric::Polygon(_)) {
-            // Curved under a gauge: no exact drawing, refused (tests/polygon.rs).
+        if matches!(metric, Metric::Polygon(_) | Metric::Lp(_)) {
+            // Curved under a gauge or L_p: no exact distance, refused on
+            // every device.
             let exact = VoronoiOptions::exact(frame).metric(metric);
-            assert!(voronoi_sites(&m, &sites, &exact).is_err());
+            let refused = voronoi_sites(&m, &sites, &exact).unwrap_err();
+            assert!(
+                refused.to_string().contains("no exact distance"),
+                "{refused}"
+            );
+            let cpu = pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric);
+            assert!(cpu.is_err());
         } else {
             check(&m, &sites, frame, metric, &format!("curves {metric}"));
+            let (_, cpu) = pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric).unwrap();
+            let truth = nearest_weighted_distances(&sites, &frame, metric);
+            let slack = curve_sampling_slack(&sites, metric);
+            for (k, (&c, &t)) in cpu.iter().zip(&truth).enumerate() {
+                assert!(
+                    (c as f64) <= t + 1e-4 * (1.0 + t.abs())
+                        && (c as f64) >= t - slack - 1e-4 * (1.0 + t.abs()),
+                    "curves {metric}: cpu pixel {k}: {c} vs {t}"
+                );
+            }
         }
         if metric != Metric::Lp(0.5) {
             check_fan(
@@ -476,16 +508,6 @@ fn circles_and_arcs_under_every_metric() {
                 metric,
                 Accuracy::FAN,
                 &format!("curve fans {metric}"),
-            );
-        }
-        let (_, cpu) = pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric).unwrap();
-        let truth = nearest_weighted_distances(&sites, &frame, metric);
-        let slack = curve_sampling_slack(&sites, metric);
-        for (k, (&c, &t)) in cpu.iter().zip(&truth).enumerate() {
-            assert!(
-                (c as f64) <= t + 1e-4 * (1.0 + t.abs())
-                    && (c as f64) >= t - slack - 1e-4 * (1.0 + t.abs()),
-                "curves {metric}: cpu pixel {k}: {c} vs {t}"
             );
         }
     }

@@ -23,7 +23,7 @@ static SETTLE_DISC: GraphicsProgram = GraphicsProgram::new(
 /// The span counting: every disc's parts into seven difference pictures of
 /// `i32` in buffers 1 to 7, one invocation per source pixel, by the distance
 /// function's kind.
-static SETTLE_SPANS: [ComputeProgram; 4] = {
+static SETTLE_SPANS: [ComputeProgram; 5] = {
     const fn spans(name: &'static str, shader: crate::machine::Shader) -> ComputeProgram {
         ComputeProgram::new(name, shader, std::mem::size_of::<SettleWords>())
     }
@@ -32,6 +32,7 @@ static SETTLE_SPANS: [ComputeProgram; 4] = {
         spans("SettleSpans(L1)", shaders::SETTLE_SPANS_COMP[1]),
         spans("SettleSpans(LInf)", shaders::SETTLE_SPANS_COMP[2]),
         spans("SettleSpans(Lp)", shaders::SETTLE_SPANS_COMP[3]),
+        spans("SettleSpans(LpSum)", shaders::SETTLE_SPANS_COMP[4]),
     ]
 };
 
@@ -48,13 +49,14 @@ static SETTLE_SUMS: ComputeProgram = ComputeProgram::new(
 #[derive(Clone, Copy)]
 pub(super) struct Push {
     pub(super) frame: Frame,
-    pub(super) metric: Metric,
+    /// The kind of the radii's keys and its exponent (`glsl/metric.glsl`):
+    /// the certifier's (`Certifier::shader_code`).
+    pub(super) code: (u32, f32),
 }
 
 impl Push {
-    /// The kind of distance function and its exponent (`check` keeps polygons out).
     fn metric_code(&self) -> (u32, f32) {
-        self.metric.shader_code().unwrap_or((0, 2.0))
+        self.code
     }
 
     fn words(&self, first: u32, count: u32, channel: u32) -> SettleWords {

@@ -302,7 +302,7 @@ pub fn potential_areas(
     radii.write(&keys);
     let push = Push {
         frame,
-        metric: options.metric,
+        code: Certifier::shader_code(options.metric),
     };
     let area = match options.method {
         SettleMethod::Spans => count_spans(machine, &radii, push, &mut stats, progress)?,

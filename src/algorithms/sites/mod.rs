@@ -56,9 +56,12 @@ use super::envelope::{
 };
 use super::voronoi::{VoronoiDiagram, VoronoiOptions, VoronoiStats};
 
+mod certify;
 mod draws;
 mod reach;
 mod tiles;
+
+pub(crate) use certify::SiteCertifier;
 
 use draws::*;
 use reach::*;
@@ -97,21 +100,53 @@ pub fn voronoi_sites(
                 .into(),
         ));
     }
-    // The distance to a curve under a polygon's gauge is curved: chords,
-    // however fine, may name the wrong one of two nearly equidistant sites.
-    let curved = sites
-        .iter()
-        .any(|s| matches!(s.shape, Shape::Circle { .. } | Shape::Arc { .. }));
-    if curved && matches!(options.metric, Metric::Polygon(_)) && options.accuracy == Accuracy::Exact
-    {
-        return Err(Error::InvalidInput(
-            "circles and arcs under a polygon metric have no exact drawing on a Vulkan device: \
-             use the CPU algorithm (--device cpu), which is exact, or fan mode, whose error \
-             bound is reported"
-                .into(),
-        ));
-    }
     check_general_sites(sites)?;
+    let exact = options.accuracy == Accuracy::Exact;
+    if exact {
+        check_exact_metric(sites, options.metric)?;
+    }
+    let mut d = proposed_diagram(machine, sites, options)?;
+    if exact {
+        let certify = Instant::now();
+        let certifier = SiteCertifier::new(sites, &options.frame, options.metric)?;
+        let distances = options.distances.then_some(&mut d.distances[..]);
+        d.stats.mended = certifier.certify(&mut d.labels, distances)?;
+        d.stats.certify_ms = ms(certify);
+    }
+    Ok(d)
+}
+
+/// Segments and curves under L_p (p not 1, 2 or ∞), and curves under a
+/// polygon's gauge, have no distance that exact arithmetic holds (it is a
+/// minimum along the shape with no closed form): refused in exact mode.
+pub(crate) fn check_exact_metric(sites: &[Site], metric: Metric) -> Result<()> {
+    let curved = |s: &Site| matches!(s.shape, Shape::Circle { .. } | Shape::Arc { .. });
+    let refused = match metric {
+        Metric::Lp(_) => sites.iter().find(|s| !matches!(s.shape, Shape::Point(_))),
+        Metric::Polygon(_) => sites.iter().find(|s| curved(s)),
+        _ => None,
+    };
+    match refused {
+        Some(site) => Err(Error::InvalidInput(format!(
+            "{} under {metric} have no exact distance (a minimum along the shape with no \
+             closed form): exact mode takes segments, circles and arcs under L1, L2 and L∞, \
+             and segments under polygons; fan mode draws them within its reported bound \
+             (for L_p, p >= 1)",
+            match site.shape {
+                Shape::Segment(..) => "segments",
+                _ => "circles and arcs",
+            }
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The diagram the device draws, before certification.
+fn proposed_diagram(
+    machine: &Machine,
+    sites: &[Site],
+    options: &VoronoiOptions,
+) -> Result<VoronoiDiagram> {
     // A site whose additive weight alone exceeds another's whole weighted
     // distance over the picture wins nowhere, and a weight common to all
     // changes no label: left in, either would stretch the depth range past
@@ -130,7 +165,7 @@ pub fn voronoi_sites(
                 ..sites[i as usize]
             })
             .collect();
-        let mut d = voronoi_sites(machine, &chosen, options)?;
+        let mut d = proposed_diagram(machine, &chosen, options)?;
         for label in d.labels.iter_mut().filter(|l| **l != u32::MAX) {
             *label = kept[*label as usize];
         }

@@ -113,18 +113,7 @@ impl<'a> CellBounds<'a> {
             (width as f64 / side).ceil() as usize,
             (height as f64 / side).ceil() as usize,
         );
-        let wedges = sites
-            .iter()
-            .map(|s| match s.shape {
-                Shape::Arc {
-                    center,
-                    radius,
-                    start,
-                    end,
-                } => Some(ArcWedge::new(center, radius, start, end)),
-                _ => None,
-            })
-            .collect();
+        let wedges = sites.iter().map(Site::wedge).collect();
         let mut cells = Self {
             sites,
             metric,
