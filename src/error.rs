@@ -53,6 +53,9 @@ pub enum Error {
     /// buffer of another machine, or a run started inside a run.
     #[error("machine misuse: {0}")]
     Usage(String),
+    /// The call was cancelled through [`Machine::cancel_flag`](crate::Machine::cancel_flag).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl Error {

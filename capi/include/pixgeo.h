@@ -44,6 +44,8 @@ typedef enum PixgeoStatus {
   PIXGEO_STATUS_INTERNAL = 9,
   // The context was in a call on another thread; nothing was done.
   PIXGEO_STATUS_BUSY = 10,
+  // [`pixgeo_context_cancel`] stopped the call.
+  PIXGEO_STATUS_CANCELLED = 11,
 } PixgeoStatus;
 
 // Which device a context uses.
@@ -363,6 +365,14 @@ extern "C" {
 // failed call's own message is [`pixgeo_context_last_error`]. Never null;
 // valid for the life of the program.
 const char *pixgeo_status_string(int32_t status);
+
+// Cancels the call running on `ctx`, from any thread: it stops at its next
+// submission to the device and returns `PIXGEO_STATUS_CANCELLED`. With no
+// call running, the next call on `ctx` is cancelled. Null is ignored.
+//
+// # Safety
+// `ctx` is null or a context from [`pixgeo_context_create`] not yet destroyed.
+void pixgeo_context_cancel(const struct PixgeoContext *ctx);
 
 // Creates a context on the device `options` asks for (null: `PIXGEO_DEVICE` and
 // `PIXGEO_VALIDATION` from the environment). On success `*out` holds the context,

@@ -77,6 +77,8 @@ pub enum PixgeoStatus {
     Internal = 9,
     /// The context was in a call on another thread; nothing was done.
     Busy = 10,
+    /// [`pixgeo_context_cancel`] stopped the call.
+    Cancelled = 11,
 }
 
 /// A short, fixed description of a [`PixgeoStatus`], such as "invalid
@@ -98,6 +100,7 @@ pub extern "C" fn pixgeo_status_string(status: i32) -> *const c_char {
         8 => c"buffer too small",
         9 => c"internal error (a bug)",
         10 => c"context busy in another thread",
+        11 => c"cancelled",
         _ => c"unknown status",
     };
     text.as_ptr()
@@ -147,6 +150,9 @@ pub struct PixgeoContext {
     last_error: CString,
     /// A call is running on the context.
     busy: std::sync::atomic::AtomicBool,
+    /// Set by [`pixgeo_context_cancel`] from any thread; cleared when a call
+    /// returns.
+    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 thread_local! {
@@ -167,6 +173,7 @@ fn status_of(error: &Error) -> PixgeoStatus {
             PixgeoStatus::InvalidArgument
         }
         Error::Internal(_) | Error::Usage(_) => PixgeoStatus::Internal,
+        Error::Cancelled => PixgeoStatus::Cancelled,
         // Kinds added later are errors pixgeo did not expect to reach C.
         _ => PixgeoStatus::Internal,
     }
@@ -238,8 +245,27 @@ fn with_context(
         Err(payload) => (PixgeoStatus::Panic, panic_text(payload)),
     };
     context.last_error = message(&text);
+    context.cancel.store(false, Ordering::Relaxed);
     context.busy.store(false, Ordering::Release);
     status
+}
+
+/// Cancels the call running on `ctx`, from any thread: it stops at its next
+/// submission to the device and returns `PIXGEO_STATUS_CANCELLED`. With no
+/// call running, the next call on `ctx` is cancelled. Null is ignored.
+///
+/// # Safety
+/// `ctx` is null or a context from [`pixgeo_context_create`] not yet destroyed.
+#[no_mangle]
+pub unsafe extern "C" fn pixgeo_context_cancel(ctx: *const PixgeoContext) {
+    if ctx.is_null() {
+        return;
+    }
+    // SAFETY: the caller passes a live context; only its flag is read, through
+    // a pointer to that field (a call may hold the rest), and no call
+    // replaces the flag.
+    let cancel = unsafe { &*ptr::addr_of!((*ctx).cancel) };
+    cancel.store(true, std::sync::atomic::Ordering::Relaxed);
 }
 
 fn invalid(text: impl Into<String>) -> (PixgeoStatus, String) {
@@ -312,6 +338,7 @@ pub unsafe extern "C" fn pixgeo_context_create(
         Ok(Ok(machine)) => {
             let context = Box::new(PixgeoContext {
                 device_name: message(machine.device_name()),
+                cancel: machine.cancel_flag(),
                 machine,
                 last_error: CString::default(),
                 busy: Default::default(),
@@ -449,6 +476,64 @@ mod tests {
         busy.store(false, Ordering::SeqCst);
         assert_eq!(triangulate(), PixgeoStatus::Ok);
         assert_eq!(count, 1);
+        // SAFETY: made above, released once.
+        unsafe { pixgeo_context_destroy(ctx) };
+    }
+
+    #[test]
+    fn a_cancelled_call_stops_and_the_next_runs() {
+        let mut ctx = ptr::null_mut();
+        // SAFETY: null options and a writable pointer.
+        let status = unsafe { pixgeo_context_create(ptr::null(), &mut ctx) };
+        assert_eq!(status, PixgeoStatus::Ok);
+        let (w, h) = (3000u32, 3000u32);
+        let settle = move |ctx: *mut PixgeoContext| {
+            let xy = [10.0, 10.0, 2900.0, 2500.0];
+            let options = crate::options::pixgeo_voronoi_options_default(w, h);
+            let mut area = vec![0u32; (w * h) as usize];
+            // SAFETY: zeroes are a valid answer to overwrite.
+            let mut out: crate::settle::PixgeoSettle = unsafe { std::mem::zeroed() };
+            // SAFETY: a live context, two points, an area of w × h.
+            unsafe {
+                crate::settle::pixgeo_settle(
+                    ctx,
+                    xy.as_ptr(),
+                    2,
+                    ptr::null(),
+                    0,
+                    &options,
+                    0,
+                    area.as_mut_ptr(),
+                    &mut out,
+                )
+            }
+        };
+        // A cancel from another thread stops the running call.
+        let address = ctx as usize;
+        let running = std::thread::spawn(move || settle(address as *mut PixgeoContext));
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        let asked = std::time::Instant::now();
+        // SAFETY: live; cancelling touches only the flag.
+        unsafe { pixgeo_context_cancel(ctx) };
+        assert_eq!(running.join().unwrap(), PixgeoStatus::Cancelled);
+        assert!(asked.elapsed().as_secs_f64() < 1.0);
+        // The flag is cleared: the context works again.
+        let xy = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0];
+        let (mut triangles, mut count) = ([0u32; 3], 0usize);
+        // SAFETY: a live context, three points, room for one triangle.
+        let status = unsafe {
+            crate::pixgeo_delaunay(
+                ctx,
+                xy.as_ptr(),
+                3,
+                0,
+                triangles.as_mut_ptr(),
+                1,
+                &mut count,
+                ptr::null_mut(),
+            )
+        };
+        assert_eq!(status, PixgeoStatus::Ok);
         // SAFETY: made above, released once.
         unsafe { pixgeo_context_destroy(ctx) };
     }

@@ -50,7 +50,7 @@ struct Cli {
     /// Write a Chrome trace of the run to FILE (open it in Perfetto or
     /// chrome://tracing): the host's phases and runs, and each pass on the
     /// device, labelled by what it drew or dispatched.
-    #[arg(long, global = true, value_name = "FILE")]
+    #[arg(long, global = true, value_name = "FILE.json")]
     trace: Option<std::path::PathBuf>,
 }
 
@@ -68,10 +68,11 @@ fn quiet() -> bool {
     QUIET.load(std::sync::atomic::Ordering::Relaxed)
 }
 
-/// Tells which files a command wrote (each `Some` output path), unless `-q`.
+/// Tells which files a command wrote (each `Some` output path), unless `-q`,
+/// once they are in place.
 fn wrote<'a>(paths: impl IntoIterator<Item = Option<&'a std::path::Path>>) {
     for path in paths.into_iter().flatten() {
-        note!("wrote {}", path.display());
+        write::output::announce(path);
     }
 }
 
@@ -118,14 +119,22 @@ fn main() -> anyhow::Result<()> {
         .subcommand()
         .and_then(|(_, sub)| sub.try_get_one::<bool>("json").ok().flatten())
         == Some(&true);
+    write::output::on_signals_abandon();
     let phase = profiler().phase(format!("pixgeo {name}"));
-    let mut done = run(cli.command);
+    let mut done = match &cli.trace {
+        Some(path) => write::output::check_extension(path, "json", "traces")
+            .and_then(|()| write::output::claim(path, "--trace"))
+            .map_err(anyhow::Error::from),
+        None => Ok(()),
+    };
+    done = done.and_then(|()| run(cli.command));
     drop(phase);
-    if let Some(path) = &cli.trace {
-        match write_trace(path) {
-            Ok(()) => wrote([Some(path.as_path())]),
-            Err(e) => done = done.and(Err(e)),
-        }
+    if let (Some(path), Ok(())) = (&cli.trace, &done) {
+        done = write_trace(path);
+    }
+    done = done.and_then(|()| write::output::finish(quiet()).map_err(anyhow::Error::from));
+    if done.is_err() {
+        write::output::abandon();
     }
     if let (true, Err(error)) = (json, &done) {
         // A program reading the answer reads the failure in the same envelope.
@@ -137,8 +146,9 @@ fn main() -> anyhow::Result<()> {
 /// The run's host phases and device passes as a Chrome trace.
 fn write_trace(path: &std::path::Path) -> anyhow::Result<()> {
     let trace = serde_json::to_string(&profiler().timeline().chrome_trace())?;
-    std::fs::write(path, trace)
-        .map_err(|e| anyhow::anyhow!("writing the trace {}: {e}", path.display()))
+    write::output::write_text(path, "json", "traces", |w| w.write_all(trace.as_bytes()))?;
+    wrote([Some(path)]);
+    Ok(())
 }
 
 fn run(command: Command) -> anyhow::Result<()> {
@@ -155,6 +165,10 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Quadrangle(args) => area::quadrangle(args),
         Command::Delaunay(args) => delaunay::run(*args),
         Command::Transform(args) => transform::run(args),
-        Command::Gallery(args) => gallery::run(args, run),
+        // Each picture's command puts its outputs in place before the next.
+        Command::Gallery(args) => gallery::run(args, |command| {
+            run(command)?;
+            Ok(write::output::finish(quiet())?)
+        }),
     }
 }

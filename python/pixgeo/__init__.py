@@ -16,6 +16,7 @@ device ``DeviceError`` and a bug of pixgeo's ``InternalError``, all three
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
 
@@ -114,8 +115,30 @@ class Circle:
     sites: Tuple[int, ...]
 
 
+def _unmasked(a, name: str):
+    """``a``, refused where it is a masked array with masked values: asarray
+    would read the values under the mask as if they were data."""
+    if isinstance(a, np.ma.MaskedArray) and np.ma.is_masked(a):
+        raise ValueError(
+            f"{name}: a masked array with {np.ma.count_masked(a)} masked value(s); "
+            "fill or compress it first (a.filled(...) or a.compressed())"
+        )
+    return np.ma.getdata(a) if isinstance(a, np.ma.MaskedArray) else a
+
+
+def _count(v, name: str) -> int:
+    """A whole number ``v`` (an int or a NumPy integer); 32.5 or True are refused."""
+    if isinstance(v, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a whole number, not {v!r}")
+    try:
+        return operator.index(v)
+    except TypeError:
+        raise ValueError(f"{name} must be a whole number, not {v!r}") from None
+
+
 def _points(a, name: str) -> np.ndarray:
     """An (n, 2) C-contiguous, aligned float64 copy-or-view of ``a``; ValueError otherwise."""
+    a = _unmasked(a, name)
     try:
         p = np.asarray(a)
     except Exception as e:  # ragged lists and the like
@@ -130,9 +153,9 @@ def _points(a, name: str) -> np.ndarray:
 
 def _shape(shape) -> Tuple[int, int]:
     try:
-        h, w = (int(s) for s in shape)
+        h, w = (_count(s, "shape") for s in shape)
     except (TypeError, ValueError):
-        raise ValueError(f"shape must be (height, width), not {shape!r}") from None
+        raise ValueError(f"shape must be (height, width) in whole pixels, not {shape!r}") from None
     if h < 1 or w < 1 or h >= 2**32 or w >= 2**32:
         raise ValueError(f"shape {shape!r}: sides must be at least 1")
     return h, w
@@ -199,7 +222,7 @@ def voronoi(
 
 
 def _weights(weights, n: int) -> np.ndarray:
-    wt = np.asarray(weights, dtype=np.float64)
+    wt = np.asarray(_unmasked(weights, "weights"), dtype=np.float64)
     if wt.shape == (n,):
         wt = np.stack([wt, np.zeros(n)], -1)
     if wt.shape != (n, 2):
@@ -211,7 +234,7 @@ def _window(window) -> Optional[Tuple[int, int, int, int]]:
     if window is None:
         return None
     try:
-        v = tuple(int(x) for x in window)
+        v = tuple(_count(x, "window") for x in window)
     except (TypeError, ValueError):
         raise ValueError(f"window must be (x0, y0, width, height), not {window!r}") from None
     if len(v) != 4 or min(v) < 0 or max(v) >= 2**32:
@@ -240,10 +263,11 @@ def k_nearest(
     shape ``(H, W, k)``; :data:`NO_SITE` (and inf) where fewer than k sites
     exist. Arguments as for :func:`voronoi`."""
     h, w = _shape(shape)
-    if int(k) < 1:
+    k = _count(k, "k")
+    if k < 1:
         raise ValueError(f"k must be at least 1, not {k!r}")
     labels, distances, frame = _pixgeo.k_nearest(
-        _points(sites, "sites"), w, h, int(k), _bbox(bbox), metric, mode, device
+        _points(sites, "sites"), w, h, k, _bbox(bbox), metric, mode, device
     )
     return Diagram(labels, distances, _frame(frame))
 
@@ -329,7 +353,7 @@ def alpha_hull(
     where the hull can be, ``side`` pixels along its longer axis; ``method``
     (α > 0) is ``hull`` (circles through hull points) or ``pixels``."""
     classes, frame, boundary, used = _pixgeo.alpha_hull_of(
-        _points(points, "points"), float(alpha), int(side), method, device
+        _points(points, "points"), float(alpha), _count(side, "side"), method, device
     )
     return AlphaHull(classes == 1, _frame(frame), tuple(boundary), used)
 
@@ -369,7 +393,7 @@ def settle(
         h,
         _bbox(bbox),
         metric,
-        int(refine_from),
+        _count(refine_from, "refine_from"),
         device,
     )
     return Settle(area, _frame(frame), best, refined)
@@ -461,7 +485,7 @@ def distance_transform_edt(
 
 
 def _raster(image) -> np.ndarray:
-    a = np.asarray(image)
+    a = np.asarray(_unmasked(image, "the raster"))
     if a.ndim != 2:
         raise ValueError(f"pixgeo transforms 2-D arrays, not {a.ndim}-D ones")
     return a
@@ -502,7 +526,7 @@ def medial_axis(
     """
     a = _raster(image) != 0
     if mask is not None:
-        m = np.asarray(mask)
+        m = np.asarray(_unmasked(mask, "mask"))
         if m.shape != a.shape:
             raise ValueError(f"mask has shape {m.shape}, the image {a.shape}")
         a &= m != 0

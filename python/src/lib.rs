@@ -2,7 +2,14 @@
 //! Arrays arrive already checked for shape and dtype by `pixgeo/__init__.py`;
 //! pixgeo checks the values. The GIL is released while pixgeo works.
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::{
+    sync::{
+        atomic::{AtomicBool, Ordering},
+        mpsc::RecvTimeoutError,
+        Arc, Mutex, OnceLock,
+    },
+    time::Duration,
+};
 
 use glam::DVec2;
 use numpy::{
@@ -57,7 +64,13 @@ create_exception!(
 
 /// One machine per device name, made on first use and shared; a mutex keeps
 /// one call at a time on each.
-type Shared = Arc<Mutex<Machine>>;
+/// A device's machine, and the flag that cancels the call using it.
+struct Device {
+    machine: Mutex<Machine>,
+    cancel: Arc<AtomicBool>,
+}
+
+type Shared = Arc<Device>;
 
 fn machine(device: Option<&str>) -> PyResult<Shared> {
     static MACHINES: OnceLock<Mutex<Vec<(String, Shared)>>> = OnceLock::new();
@@ -73,23 +86,51 @@ fn machine(device: Option<&str>) -> PyResult<Shared> {
     if let Some(d) = device {
         options.device = DeviceChoice::parse(d);
     }
-    let m = Arc::new(Mutex::new(Machine::new(&options).map_err(to_py)?));
+    let machine = Machine::new(&options).map_err(to_py)?;
+    let m = Arc::new(Device {
+        cancel: machine.cancel_flag(),
+        machine: Mutex::new(machine),
+    });
     machines.push((key, m.clone()));
     Ok(m)
 }
 
-/// Runs `work` on the device's machine with the GIL released.
+/// Runs `work` on the device's machine in a thread of its own, with the GIL
+/// released. The caller's thread looks for signals every 50 ms meanwhile: on
+/// Ctrl-C the machine's cancel flag stops the work at its next submission to
+/// the device, and the call raises `KeyboardInterrupt`.
 fn on_machine<T: Send>(
     py: Python<'_>,
     device: Option<&str>,
     work: impl FnOnce(&Machine) -> pixgeo::Result<T> + Send,
 ) -> PyResult<T> {
     let shared = py.detach(|| machine(device))?;
-    py.detach(|| {
-        let m = shared
-            .lock()
-            .map_err(|_| PyRuntimeError::new_err("a pixgeo call panicked"))?;
-        work(&m).map_err(to_py)
+    let (done, mut finished) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        let worker = scope.spawn(|| {
+            let result = match shared.machine.lock() {
+                Ok(m) => work(&m).map_err(to_py),
+                Err(_) => Err(PyRuntimeError::new_err("a pixgeo call panicked")),
+            };
+            drop(done);
+            result
+        });
+        let panicked = |_| PyRuntimeError::new_err("a pixgeo call panicked");
+        loop {
+            // The receiver goes into the detached closure and back.
+            let (waited, receiver) =
+                py.detach(move || (finished.recv_timeout(Duration::from_millis(50)), finished));
+            finished = receiver;
+            if !matches!(waited, Err(RecvTimeoutError::Timeout)) {
+                return py.detach(|| worker.join()).map_err(panicked)?;
+            }
+            if let Err(interrupt) = py.check_signals() {
+                shared.cancel.store(true, Ordering::Relaxed);
+                let _ = py.detach(|| worker.join());
+                shared.cancel.store(false, Ordering::Relaxed);
+                return Err(interrupt);
+            }
+        }
     })
 }
 

@@ -290,3 +290,20 @@ def test_unaligned_arrays_are_read():
     assert not sites.flags.aligned
     d = pixgeo.voronoi(sites, (16, 16))
     assert np.array_equal(d.labels, pixgeo.voronoi(sites.copy(), (16, 16)).labels)
+
+
+def test_ambiguous_input_is_refused_not_guessed():
+    sites = np.array([[1.0, 2.0], [5.0, 5.0], [9.0, 1.0]])
+    masked = np.ma.masked_array(sites, mask=[[False, False], [True, True], [False, False]])
+    with pytest.raises(ValueError, match="masked"):
+        pixgeo.voronoi(masked, (16, 16))
+    # With nothing masked, the values are the data.
+    clear = np.ma.masked_array(sites, mask=False)
+    assert (pixgeo.voronoi(clear, (16, 16)).labels == pixgeo.voronoi(sites, (16, 16)).labels).all()
+    with pytest.raises(ValueError, match="whole pixels"):
+        pixgeo.voronoi(sites, (32.5, 32))
+    with pytest.raises(ValueError, match="whole number"):
+        pixgeo.k_nearest(sites, (16, 16), 1.5)
+    image = np.ma.masked_array(np.ones((8, 8)), mask=np.eye(8, dtype=bool))
+    with pytest.raises(ValueError, match="masked"):
+        pixgeo.distance_transform_edt(image)

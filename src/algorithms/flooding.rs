@@ -389,7 +389,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
 /// The dual of a colouring on the device (`glsl/dualize.comp`): a triangle for
 /// every digital Voronoi vertex, two where four colours meet, vertices
 /// counter-clockwise, [`DUMMY`](crate::geometry::triangulation::DUMMY) beyond
-/// the texture; in no particular order.
+/// the texture; each from its smallest vertex, sorted.
 pub fn dualize(
     machine: &Machine,
     labels: &[u32],
@@ -430,10 +430,18 @@ pub fn dualize(
         let count = output.read::<u32>(1)[0] as usize;
         if count <= capacity {
             let words = output.read::<u32>(1 + 3 * count);
-            return Ok(words[1..]
+            let mut triangles: Vec<[u32; 3]> = words[1..]
                 .chunks_exact(3)
-                .map(|t| [t[0], t[1], t[2]])
-                .collect());
+                .map(|t| {
+                    // The smallest vertex first, the turn kept.
+                    let first = (0..3).min_by_key(|&k| t[k]).expect("three");
+                    [t[first], t[(first + 1) % 3], t[(first + 2) % 3]]
+                })
+                .collect();
+            // Appended as the device's invocations finish: sorted, so that
+            // the meshes built from them are the same on every run.
+            triangles.sort_unstable();
+            return Ok(triangles);
         }
         capacity = count;
     }

@@ -173,10 +173,10 @@ pub fn read_polygon(path: &Path) -> Result<(Vec<DVec2>, DVec2)> {
     };
     let format = SiteFormat::of(path)?;
     let object = if format == SiteFormat::Json {
-        match serde_json::from_str::<Value>(&read_text(path)?) {
+        match super::json::parse(&read_text(path)?) {
             Ok(Value::Object(o)) if o.contains_key("vertices") => Some(o),
             Ok(_) => None,
-            Err(e) => return Err(failed(format!("JSON: {e}"))),
+            Err(e) => return Err(failed(e)),
         }
     } else {
         None
@@ -318,7 +318,7 @@ pub fn parse_csv(text: &str) -> Result<Vec<Site>, String> {
 /// edge) and MultiLineString geometries, bare, in a Feature (whose properties
 /// `m` and `a` weigh its sites) or in a FeatureCollection.
 pub fn parse_geojson(text: &str) -> Result<Vec<Site>, String> {
-    let value: Value = serde_json::from_str(text).map_err(|e| format!("JSON: {e}"))?;
+    let value = super::json::parse(text)?;
     let mut sites = Vec::new();
     geojson_object(&value, (1.0, 0.0), &mut sites)?;
     Ok(sites)
@@ -417,7 +417,7 @@ fn json_pair(v: &Value) -> Result<DVec2, String> {
 
 /// Parses JSON text in one of the accepted shapes.
 pub fn parse_json(text: &str) -> Result<Vec<Site>, String> {
-    let value: Value = serde_json::from_str(text).map_err(|e| format!("JSON: {e}"))?;
+    let value = super::json::parse(text)?;
     let list = match &value {
         Value::Array(a) => a,
         Value::Object(o) if o.contains_key("type") => {

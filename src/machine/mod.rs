@@ -139,10 +139,21 @@ pub struct Machine {
     /// recorded.
     sections: std::cell::RefCell<Sections>,
     profiler: Option<Profiler>,
+    /// Set from any thread to stop the call using the machine at its next run
+    /// ([`Machine::cancel_flag`]).
+    cancel: Arc<std::sync::atomic::AtomicBool>,
     ctx: Arc<Context>,
 }
 
 impl Machine {
+    /// The flag that cancels the call using this machine: set from another
+    /// thread (a signal handler's, a host's), the next run returns
+    /// [`Error::Cancelled`]. Whoever sets it clears it when the call has
+    /// returned.
+    pub fn cancel_flag(&self) -> Arc<std::sync::atomic::AtomicBool> {
+        self.cancel.clone()
+    }
+
     /// Creates the machine on the device `options` choose.
     pub fn new(options: &MachineOptions) -> Result<Self> {
         let ctx = Arc::new(Context::new(options)?);
@@ -163,6 +174,7 @@ impl Machine {
             running: Default::default(),
             sections: Sections::new(&ctx, options.profiler.is_some()).into(),
             profiler: options.profiler.clone(),
+            cancel: Default::default(),
             ctx: ctx.clone(),
         };
         let alloc = vk::CommandBufferAllocateInfo::default()
@@ -282,6 +294,9 @@ impl Machine {
     /// A run cannot start inside another's closure (nor can a readback or a
     /// reduction, which run): that is [`Error::Usage`].
     pub fn run<'r, R>(&self, record: impl FnOnce(&mut Pass<'_, 'r>) -> Result<R>) -> Result<R> {
+        if self.cancel.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(Error::Cancelled);
+        }
         if self.running.replace(true) {
             return Err(Error::Usage(
                 "a run started inside another run's closure: record its passes in that closure, or run after it returns".into(),

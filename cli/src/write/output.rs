@@ -1,15 +1,140 @@
-//! Output files written whole or not at all: the bytes go to a temporary file
-//! beside the target, renamed over it only once every byte is written, so a
-//! failure never leaves a half-written file nor clobbers an existing one.
-//! Targets that are not regular files (`/dev/stdout`, `/dev/full`, a pipe) are
-//! written in place, since renaming over them would replace the device.
+//! Output files written whole or not at all, and all of a command's together:
+//! each goes to a temporary file beside its target, and only when the command
+//! has finished every output are they renamed into place ([`finish`]). A
+//! failure, a refusal or a signal (SIGINT, SIGTERM, SIGHUP) removes every
+//! temporary file and leaves the targets as they were ([`abandon`]). Targets
+//! that are not regular files (`/dev/stdout`, `/dev/full`, a pipe) are written
+//! in place, since renaming over them would replace the device; a symbolic
+//! link is written through, to the file it names.
 
 use std::{
     fs::File,
     path::{Path, PathBuf},
+    sync::Mutex,
 };
 
 use pixgeo::{Error, Result};
+
+/// The command's outputs: the files being written, those finished and waiting
+/// to be put in place, the targets (resolved) claimed by options and those
+/// written, each with what named it, and the lines that tell of them.
+#[derive(Default)]
+struct Transaction {
+    temporaries: Vec<PathBuf>,
+    staged: Vec<(PathBuf, PathBuf)>,
+    claimed: Vec<(PathBuf, String)>,
+    written: Vec<(PathBuf, String)>,
+    announced: Vec<PathBuf>,
+}
+
+static TRANSACTION: Mutex<Option<Transaction>> = Mutex::new(None);
+
+fn with<T>(f: impl FnOnce(&mut Transaction) -> T) -> T {
+    let mut guard = TRANSACTION.lock().unwrap_or_else(|e| e.into_inner());
+    f(guard.get_or_insert_with(Transaction::default))
+}
+
+/// Removes every temporary file and exits at SIGINT, SIGTERM and SIGHUP (130,
+/// as shells report an interrupted command).
+pub fn on_signals_abandon() {
+    // A handler can only fail to install where one is set already.
+    let _ = ctrlc::set_handler(|| {
+        abandon();
+        std::process::exit(130);
+    });
+}
+
+/// Claims `path` for the output `option` names: refused where another option
+/// of the command names the same file (after following links and `.` and
+/// `..`), or where its folder does not exist.
+pub fn claim(path: &Path, option: &str) -> Result<()> {
+    if is_device(path) {
+        return Ok(());
+    }
+    let target = resolve(path)?;
+    with(|t| match t.claimed.iter().find(|(p, _)| *p == target) {
+        Some((_, other)) if other != option => Err(Error::InvalidInput(format!(
+            "{other} and {option} both name {}; give each output its own file",
+            path.display()
+        ))),
+        Some(_) => Ok(()),
+        None => {
+            t.claimed.push((target, option.to_string()));
+            Ok(())
+        }
+    })
+}
+
+/// The file `path` writes: the target of a link, in a folder that exists.
+fn resolve(path: &Path) -> Result<PathBuf> {
+    if let Ok(target) = std::fs::canonicalize(path) {
+        return Ok(target);
+    }
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::InvalidInput(format!("{}: not a file name", path.display())))?;
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let folder = std::fs::canonicalize(parent).map_err(|_| {
+        Error::InvalidInput(format!(
+            "{}: the folder {} does not exist",
+            path.display(),
+            parent.display()
+        ))
+    })?;
+    Ok(folder.join(name))
+}
+
+/// Puts every finished output in place, in the order they were finished, and
+/// tells of them (unless `-q`).
+pub fn finish(quiet: bool) -> Result<()> {
+    let (staged, announced) = with(|t| {
+        t.claimed.clear();
+        t.written.clear();
+        (
+            std::mem::take(&mut t.staged),
+            std::mem::take(&mut t.announced),
+        )
+    });
+    let mut renames = staged.into_iter();
+    for (temporary, target) in renames.by_ref() {
+        if let Err(source) = std::fs::rename(&temporary, &target) {
+            let _ = std::fs::remove_file(&temporary);
+            for (rest, _) in renames {
+                let _ = std::fs::remove_file(rest);
+            }
+            return Err(Error::Io {
+                path: target,
+                cause: source,
+            });
+        }
+        with(|t| t.temporaries.retain(|p| *p != temporary));
+    }
+    if !quiet {
+        for path in announced {
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    Ok(())
+}
+
+/// Removes every temporary file, finished or not: the targets stay as they
+/// were.
+pub fn abandon() {
+    with(|t| {
+        for path in t.temporaries.drain(..) {
+            let _ = std::fs::remove_file(path);
+        }
+        *t = Transaction::default();
+    });
+}
+
+/// Tells of `path` once the outputs are in place.
+pub fn announce(path: &Path) {
+    with(|t| t.announced.push(path.to_path_buf()));
+}
 
 /// An output file being written; dropped without [`OutputFile::commit`], it
 /// leaves nothing behind.
@@ -37,8 +162,7 @@ impl OutputFile {
             path: path.to_path_buf(),
             cause: source,
         };
-        let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
-        if special {
+        if is_device(path) {
             let file = File::options().write(true).open(path).map_err(io)?;
             return Ok((
                 Self {
@@ -48,17 +172,28 @@ impl OutputFile {
                 file,
             ));
         }
-        let name = path
-            .file_name()
-            .ok_or_else(|| Error::InvalidInput(format!("{}: not a file name", path.display())))?;
+        let target = resolve(path)?;
+        with(|t| match t.written.iter().find(|(p, _)| *p == target) {
+            Some((_, other)) => Err(Error::InvalidInput(format!(
+                "{} would be written twice, as {other} and as {what}; give each output \
+                 its own file",
+                path.display()
+            ))),
+            None => {
+                t.written.push((target.clone(), what.to_string()));
+                Ok(())
+            }
+        })?;
+        let name = target.file_name().expect("a resolved file name");
         let mut temporary_name = std::ffi::OsString::from(".");
         temporary_name.push(name);
         temporary_name.push(format!(".pixgeo-{}.tmp", std::process::id()));
-        let temporary = path.with_file_name(temporary_name);
+        let temporary = target.with_file_name(temporary_name);
+        with(|t| t.temporaries.push(temporary.clone()));
         let file = File::create(&temporary).map_err(io)?;
         Ok((
             Self {
-                target: path.to_path_buf(),
+                target,
                 temporary: Some(temporary),
             },
             file,
@@ -70,16 +205,12 @@ impl OutputFile {
         &self.target
     }
 
-    /// Puts the finished file in place of the target.
+    /// Marks the file finished: it is put in place with the command's other
+    /// outputs by [`finish`].
     pub fn commit(mut self) -> Result<()> {
         if let Some(temporary) = self.temporary.take() {
-            std::fs::rename(&temporary, &self.target).map_err(|source| {
-                let _ = std::fs::remove_file(&temporary);
-                Error::Io {
-                    path: self.target.clone(),
-                    cause: source,
-                }
-            })?;
+            let target = self.target.clone();
+            with(|t| t.staged.push((temporary, target)));
         }
         Ok(())
     }
@@ -89,6 +220,10 @@ impl Drop for OutputFile {
     fn drop(&mut self) {
         if let Some(temporary) = &self.temporary {
             let _ = std::fs::remove_file(temporary);
+            with(|t| {
+                t.temporaries.retain(|p| p != temporary);
+                t.written.retain(|(p, _)| *p != self.target);
+            });
         }
     }
 }
@@ -149,21 +284,13 @@ fn is_device(path: &Path) -> bool {
     std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
 }
 
-/// Refuses two outputs of one command on the same path, which would leave one
-/// overwritten by the other.
+/// Refuses two outputs of one command on the same file (after following links
+/// and `.` and `..`), and outputs in folders that do not exist, before any
+/// work.
 pub fn check_distinct<'a>(paths: impl IntoIterator<Item = (&'a str, &'a Path)>) -> Result<()> {
-    let paths: Vec<_> = paths.into_iter().collect();
-    for (i, (a_name, a)) in paths.iter().enumerate() {
-        for (b_name, b) in &paths[i + 1..] {
-            if a == b {
-                return Err(Error::InvalidInput(format!(
-                    "{a_name} and {b_name} both name {}; give each output its own file",
-                    a.display()
-                )));
-            }
-        }
-    }
-    Ok(())
+    paths
+        .into_iter()
+        .try_for_each(|(option, path)| claim(path, option))
 }
 
 #[cfg(test)]
@@ -171,23 +298,43 @@ mod tests {
     use super::*;
     use std::io::Write;
 
+    /// One test, as the transaction is the process's: outputs in place only
+    /// once finished, nothing left when dropped or abandoned, one file named
+    /// twice refused however it is spelled.
     #[test]
-    fn nothing_is_left_unless_committed() {
+    fn outputs_are_put_in_place_together() {
         let dir = std::env::temp_dir().join(format!("pixgeo-output-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let target = dir.join("a.npy");
-        std::fs::write(&target, b"old").unwrap();
+        let (a, b) = (dir.join("a.npy"), dir.join("b.npy"));
+        std::fs::write(&a, b"old").unwrap();
         {
-            let (_out, mut file) = OutputFile::create(&target, "npy", "arrays").unwrap();
+            let (_out, mut file) = OutputFile::create(&a, "npy", "arrays").unwrap();
             file.write_all(b"half").unwrap();
         }
-        assert_eq!(std::fs::read(&target).unwrap(), b"old");
-        let (out, mut file) = OutputFile::create(&target, "npy", "arrays").unwrap();
+        assert_eq!(std::fs::read(&a).unwrap(), b"old");
+        let (out, mut file) = OutputFile::create(&a, "npy", "arrays").unwrap();
         file.write_all(b"new").unwrap();
         out.commit().unwrap();
-        assert_eq!(std::fs::read(&target).unwrap(), b"new");
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+        let (out, mut file) = OutputFile::create(&b, "npy", "arrays").unwrap();
+        file.write_all(b"more").unwrap();
+        out.commit().unwrap();
+        assert_eq!(std::fs::read(&a).unwrap(), b"old");
+        finish(true).unwrap();
+        assert_eq!(std::fs::read(&a).unwrap(), b"new");
+        assert_eq!(std::fs::read(&b).unwrap(), b"more");
+        let (out, _) = OutputFile::create(&a, "npy", "arrays").unwrap();
+        out.commit().unwrap();
+        abandon();
+        assert_eq!(std::fs::read(&a).unwrap(), b"new");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
         assert!(OutputFile::create(&dir.join("a.txt"), "npy", "arrays").is_err());
+        let dotted = dir.join(".").join("a.npy");
+        assert!(check_distinct([("--labels", a.as_path()), ("--distance", b.as_path())]).is_ok());
+        let e = check_distinct([("--labels", a.as_path()), ("--ties", dotted.as_path())]);
+        assert!(e.unwrap_err().to_string().contains("--labels and --ties"));
+        let e = check_distinct([("-o", dir.join("no/x.png").as_path())]).unwrap_err();
+        assert!(e.to_string().contains("does not exist"));
+        abandon();
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -197,14 +344,5 @@ mod tests {
             OutputFile::create(Path::new("/dev/full"), "png", "pictures").unwrap();
         assert!(file.write_all(b"x").is_err());
         out.commit().unwrap();
-    }
-
-    #[test]
-    fn one_path_for_two_outputs_is_refused() {
-        let a = Path::new("x.npy");
-        let b = Path::new("y.npy");
-        assert!(check_distinct([("--labels", a), ("--distance", b)]).is_ok());
-        let e = check_distinct([("--labels", a), ("--distance", a)]).unwrap_err();
-        assert!(e.to_string().contains("--labels and --distance"));
     }
 }

@@ -9,6 +9,7 @@ use pixgeo::io::npy;
 
 mod outputs;
 mod problems;
+mod transaction;
 mod transform;
 mod voronoi;
 

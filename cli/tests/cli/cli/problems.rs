@@ -316,3 +316,18 @@ fn delaunay_writes_triangle_files_json_and_a_picture() {
     let (ok, _, stderr) = pixgeo(&["delaunay"]);
     assert!(!ok && stderr.contains("--sites"), "{stderr}");
 }
+
+#[test]
+fn a_json_key_given_twice_is_refused() {
+    // `{"x": 1, "x": 20}` would read as 20 with no word said.
+    let sites = temp("twice.json");
+    std::fs::write(&sites, r#"[{"x": 1, "y": 2, "x": 20}, {"x": 5, "y": 5}]"#).unwrap();
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        sites.to_str().unwrap(),
+        "--size",
+        "16",
+    ]);
+    assert!(!ok && stderr.contains("\"x\" is given twice"), "{stderr}");
+}
