@@ -83,7 +83,8 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
         // SAFETY: non-null and valid (caller contract).
         let o = unsafe { read_options(options, "pixgeo_voronoi_options_default") }?;
         let options = voronoi_options(&o, !distances.is_null(), false)?;
-        // SAFETY: `sites` holds `count` sites (caller contract).
+        check_count(count, std::mem::size_of::<PixgeoSite>(), "sites")?;
+        // SAFETY: `sites` holds `count` sites (caller contract); the count fits.
         let given = unsafe { std::slice::from_raw_parts(sites, count) };
         let sites = sites_of(given)?;
         let d = voronoi_sites(&context.machine, &sites, &options).map_err(failed)?;

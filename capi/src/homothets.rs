@@ -113,7 +113,8 @@ pub unsafe extern "C" fn pixgeo_enclose(
         }
         // SAFETY: as documented (caller contract).
         let (unit, side) = unsafe { homothet_options(options) }?;
-        // SAFETY: `sites` holds `count` sites (caller contract).
+        check_count(count, std::mem::size_of::<PixgeoSite>(), "sites")?;
+        // SAFETY: `sites` holds `count` sites (caller contract); the count fits.
         let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) })?;
         let answer =
             homothet::enclose_sites(&context.machine, &given, unit, k, side).map_err(failed)?;
@@ -152,7 +153,8 @@ pub unsafe extern "C" fn pixgeo_empty(
         }
         // SAFETY: as documented (caller contract).
         let (unit, side) = unsafe { homothet_options(options) }?;
-        // SAFETY: `sites` holds `count` sites (caller contract).
+        check_count(count, std::mem::size_of::<PixgeoSite>(), "sites")?;
+        // SAFETY: `sites` holds `count` sites (caller contract); the count fits.
         let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) })?;
         let mut region = Region::default();
         if ring_count > 0 {

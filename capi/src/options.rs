@@ -160,7 +160,9 @@ pub(super) fn window_of(o: &PixgeoVoronoiOptions) -> Option<PixelRect> {
 
 /// The library's sites for the C ones.
 pub(super) fn sites_of(given: &[PixgeoSite]) -> Result<Vec<Site>, (PixgeoStatus, String)> {
-    given
+    let mut sites = Vec::new();
+    reserve(&mut sites, given.len(), "sites")?;
+    let converted = given
         .iter()
         .enumerate()
         .map(|(i, s)| {
@@ -190,7 +192,11 @@ pub(super) fn sites_of(given: &[PixgeoSite]) -> Result<Vec<Site>, (PixgeoStatus,
                 additive: s.additive,
             })
         })
-        .collect()
+        ;
+    for site in converted {
+        sites.push(site?);
+    }
+    Ok(sites)
 }
 
 /// The frame, accuracy and speedup that `options` describe.
@@ -260,15 +266,45 @@ pub(super) unsafe fn points(
     if xy.is_null() {
         return Err(invalid("a point array is null"));
     }
-    let count2 = count
-        .checked_mul(2)
-        .ok_or_else(|| invalid("point count overflows"))?;
-    // SAFETY: `xy` holds `2 * count` doubles (caller contract).
-    let coords = unsafe { std::slice::from_raw_parts(xy, count2) };
-    Ok(coords
-        .chunks_exact(2)
-        .map(|p| DVec2::new(p[0], p[1]))
-        .collect())
+    check_count(count, 16, "points")?;
+    // SAFETY: `xy` holds `2 * count` doubles (caller contract); the count
+    // was checked to fit.
+    let coords = unsafe { std::slice::from_raw_parts(xy, 2 * count) };
+    let mut points = Vec::new();
+    reserve(&mut points, count, "points")?;
+    points.extend(coords.chunks_exact(2).map(|p| DVec2::new(p[0], p[1])));
+    Ok(points)
+}
+
+/// Refuses a count of items of `bytes` each that no array of the host's, nor
+/// pixgeo's 32-bit ids, can hold.
+pub(super) fn check_count(
+    count: usize,
+    bytes: usize,
+    what: &str,
+) -> Result<(), (PixgeoStatus, String)> {
+    let fits = count < u32::MAX as usize && count.saturating_mul(bytes) <= isize::MAX as usize;
+    match fits {
+        true => Ok(()),
+        false => Err(invalid(format!(
+            "{count} {what}: pixgeo takes fewer than 2^32 - 1 (ids are 32-bit)"
+        ))),
+    }
+}
+
+/// Room for `count` items in `v`, or a message saying how much memory they
+/// need, in place of an abort.
+pub(super) fn reserve<T>(
+    v: &mut Vec<T>,
+    count: usize,
+    what: &str,
+) -> Result<(), (PixgeoStatus, String)> {
+    v.try_reserve_exact(count).map_err(|_| {
+        let gb = (count * std::mem::size_of::<T>()) as f64 / 1e9;
+        invalid(format!(
+            "{count} {what} need about {gb:.1} GB, which this process cannot have"
+        ))
+    })
 }
 
 /// The size C's `sizeof` gives an options struct: its `struct_size`.

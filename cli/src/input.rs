@@ -410,6 +410,16 @@ fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
     Ok(arr)
 }
 
+/// A size in the unit that shows it: "3.2 GB", "12.0 MB", "512 bytes".
+fn bytes(n: u64) -> String {
+    match n {
+        n if n >= 1_000_000_000 => format!("{:.1} GB", n as f64 / 1e9),
+        n if n >= 1_000_000 => format!("{:.1} MB", n as f64 / 1e6),
+        n if n >= 1_000 => format!("{:.1} kB", n as f64 / 1e3),
+        n => format!("{n} bytes"),
+    }
+}
+
 /// Refuses arrays that cannot fit on their disk, before any work: a 100000²
 /// label raster is 40 GB.
 pub fn check_room(arrays: &[&std::path::Path], width: u32, height: u32) -> Result<()> {
@@ -424,11 +434,11 @@ pub fn check_room(arrays: &[&std::path::Path], width: u32, height: u32) -> Resul
         if let Ok(free) = fs4::available_space(dir) {
             if free < needed {
                 bail!(
-                    "{}: {width}x{height} arrays need {:.1} GB and {} has {:.1} GB free",
+                    "{}: {width}x{height} arrays need {} and {} has {} free",
                     path.display(),
-                    needed as f64 / 1e9,
+                    bytes(needed),
                     dir.display(),
-                    free as f64 / 1e9
+                    bytes(free)
                 );
             }
         }

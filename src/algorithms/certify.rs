@@ -754,6 +754,23 @@ impl Certifier<'_> {
         order.map_or(lo < disc.lo, |o| o == Ordering::Less)
     }
 
+    /// The sites exactly as near pixel `pixel` (picture pixels) as `nearest`,
+    /// itself included.
+    pub fn tied_with(&self, pixel: [i64; 2], nearest: u32) -> Vec<u32> {
+        let p = DVec2::new(pixel[0] as f64, pixel[1] as f64);
+        let reach = self.reach(p, &[nearest]);
+        let within = reach * reach * (1.0 + 1e-12);
+        self.grid
+            .around(p, reach)
+            .filter(|&id| self.places[id as usize].distance_squared(p) <= within)
+            .filter(|&id| {
+                id == nearest
+                    || (self.no_farther(id, self, nearest, pixel)
+                        && self.no_farther(nearest, self, id, pixel))
+            })
+            .collect()
+    }
+
     /// Whether this certifier's site `a` is at most as far from `pixel` as
     /// `other`'s site `b`, exactly (as [`Certifier::in_disc`]).
     pub fn no_farther(&self, a: u32, other: &Certifier<'_>, b: u32, pixel: [i64; 2]) -> bool {

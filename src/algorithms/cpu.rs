@@ -32,7 +32,9 @@ use crate::{
 };
 
 use super::certify::certify_levels;
-use super::higher_order::{furthest_candidates, Furthest, KNearest, KNearestStats, MAX_LEVELS};
+use super::higher_order::{
+    furthest_candidates, with_repeats, Furthest, KNearest, KNearestStats, MAX_LEVELS,
+};
 use super::sites::{check_exact_metric, SiteCertifier};
 
 /// How far a site may lie from the pixel centre it grows from.
@@ -81,9 +83,11 @@ fn isqrt(v: i64) -> i64 {
 /// Every pixel's `k` nearest sites (world coordinates) on `frame`, computed on the
 /// CPU by growing the sites (thesis §3.12.2).
 pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Result<KNearest> {
-    let mut near = grown_k_nearest(sites, frame, k, metric)?;
-    certify_levels(&mut near, sites, metric)?;
-    Ok(near)
+    with_repeats(sites, frame, metric, k, |sites, k| {
+        let mut near = grown_k_nearest(sites, frame, k, metric)?;
+        certify_levels(&mut near, sites, metric)?;
+        Ok(near)
+    })
 }
 
 /// [`k_nearest`] as the sites grow, before the exact check.

@@ -318,24 +318,53 @@ pub fn voronoi_bands(
 ) -> Result<VoronoiStats> {
     // Equal sites stand the same cone, and the first of them (the smallest id)
     // wins every pixel any of them would: the others are dropped up front, so
-    // repeats cost nothing. Counting ties counts them, so it keeps them all.
-    if !options.ties {
-        check_sites(sites)?;
-        let (mut kept, repeats) = distinct_by(sites, 0..sites.len() as u32, |_| ());
-        if !repeats.is_empty() {
-            kept.sort_unstable();
-            let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
-            let mut stats = distinct_bands(machine, &distinct, options, &mut |mut band| {
-                for label in band.labels.iter_mut().filter(|l| **l != u32::MAX) {
-                    *label = kept[*label as usize];
-                }
-                sink(band)
-            })?;
-            stats.sites = sites.len();
-            return Ok(stats);
-        }
+    // repeats cost nothing. Tie counts add the repeats of each position tied
+    // (found exactly where more than one is), over the whole picture.
+    if options.ties && options.window.is_some() {
+        return distinct_bands(machine, sites, options, &mut sink);
     }
-    distinct_bands(machine, sites, options, &mut sink)
+    check_sites(sites)?;
+    let (mut kept, repeats) = distinct_by(sites, 0..sites.len() as u32, |_| ());
+    if repeats.is_empty() {
+        return distinct_bands(machine, sites, options, &mut sink);
+    }
+    kept.sort_unstable();
+    let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+    let mut repeated = vec![1u32; distinct.len()];
+    let position = |i: u32| kept.binary_search(&i).expect("a kept site");
+    for &[_, first] in &repeats {
+        repeated[position(first)] += 1;
+    }
+    let ties = options
+        .ties
+        .then(|| Certifier::new(&distinct, &options.frame, options.metric))
+        .transpose()?;
+    let width = options.frame.width as usize;
+    let mut stats = distinct_bands(machine, &distinct, options, &mut |mut band| {
+        if let Some(certifier) = &ties {
+            for (k, (label, count)) in band.labels.iter().zip(&mut band.ties).enumerate() {
+                if *label == u32::MAX {
+                    continue;
+                }
+                let pixel = [(k % width) as i64, (band.y0 as usize + k / width) as i64];
+                let sum: u32 = match *count {
+                    1 => repeated[*label as usize],
+                    _ => certifier
+                        .tied_with(pixel, *label)
+                        .iter()
+                        .map(|&s| repeated[s as usize])
+                        .sum(),
+                };
+                *count = sum.min(255);
+            }
+        }
+        for label in band.labels.iter_mut().filter(|l| **l != u32::MAX) {
+            *label = kept[*label as usize];
+        }
+        sink(band)
+    })?;
+    stats.sites = sites.len();
+    Ok(stats)
 }
 
 /// [`voronoi_bands`] of sites that are distinct, or whose ties are counted.

@@ -443,3 +443,54 @@ fn the_cpu_growth_skips_to_far_sites() {
         .to_string()
         .contains("pixels from the picture"));
 }
+
+#[test]
+fn repeated_sites_cost_one_position_and_keep_their_ids() {
+    // A hundred thousand copies of one point beside three others, on a small
+    // lattice whose pixels tie: every route gives the brute force's levels
+    // (equal distances by index, copies included), at the cost of four sites.
+    let m = machine();
+    let frame = Frame::pixels(24, 20).unwrap();
+    let mut sites = vec![DVec2::new(6.0, 5.0); 100_000];
+    sites.splice(1..1, [DVec2::new(12.0, 5.0), DVec2::new(6.0, 15.0)]);
+    sites.push(DVec2::new(12.0, 15.0));
+    sites.push(DVec2::new(12.0, 5.0));
+    // Brute force over the positions, spread as the definition orders them.
+    let positions = [0u32, 1, 2, 100_002];
+    let ids = |p: u32| -> Vec<u32> {
+        (0..sites.len() as u32)
+            .filter(|&i| sites[i as usize] == sites[p as usize])
+            .collect()
+    };
+    let k = 3;
+    for metric in [Metric::L2, Metric::L1] {
+        let options = KNearestOptions::exact(frame, k).metric(metric);
+        let routes = [
+            ("levels", k_nearest(&m, &sites, &options).unwrap()),
+            ("peeled", k_nearest_peeled(&m, &sites, &options).unwrap()),
+            ("cpu", cpu::k_nearest(&sites, &frame, k, metric).unwrap()),
+        ];
+        let distinct: Vec<DVec2> = positions.iter().map(|&p| sites[p as usize]).collect();
+        let truth = k_nearest_by_metric(&distinct, &frame, distinct.len(), metric);
+        for (p, levels) in truth.iter().enumerate() {
+            // Positions by distance, each tie's sites in index order.
+            let mut expected: Vec<u32> = Vec::new();
+            let mut l = 0;
+            while l < levels.len() {
+                let mut run: Vec<u32> = Vec::new();
+                let d = levels[l].1;
+                while l < levels.len() && levels[l].1 == d {
+                    run.extend(ids(positions[levels[l].0 as usize]));
+                    l += 1;
+                }
+                run.sort_unstable();
+                expected.extend(run);
+            }
+            expected.truncate(k as usize);
+            for (name, near) in &routes {
+                let got = &near.labels[p * k as usize..][..k as usize];
+                assert_eq!(got, &expected[..], "{name} {metric}: pixel {p}");
+            }
+        }
+    }
+}

@@ -362,3 +362,27 @@ fn device_counts_are_exact_for_the_doubles_given() {
         }
     }
 }
+
+#[test]
+fn repeated_rivals_count_as_one() {
+    // The areas depend on where rivals stand: a hundred thousand copies of one
+    // give the map of one, on every path.
+    let machine = crate::common::machine();
+    let frame = Frame::pixels(40, 30).unwrap();
+    let distinct = [DVec2::new(8.0, 7.0), DVec2::new(30.0, 20.0)];
+    let mut copies = vec![distinct[0]; 100_000];
+    copies.push(distinct[1]);
+    let own = [DVec2::new(20.0, 25.0), DVec2::new(20.0, 25.0)];
+    let cpu = potential_areas_cpu(&distinct, &own[..1], &frame, Metric::L2).unwrap();
+    let repeated = potential_areas_cpu(&copies, &own, &frame, Metric::L2).unwrap();
+    assert_eq!(cpu.area, repeated.area);
+    let device = gpu(
+        &machine,
+        &copies,
+        &own,
+        frame,
+        Metric::L2,
+        SettleMethod::Spans,
+    );
+    assert_eq!(cpu.area, device.area);
+}

@@ -724,6 +724,23 @@ fn repeated_sites_cost_nothing_and_the_first_wins() {
         let first = sites.iter().position(|s| *s == at).unwrap();
         assert_eq!(label as usize, first, "pixel {q}");
     }
+    // Tie counts count every copy: on an integer lattice of positions, under
+    // L1 (areas of equal distance), against the exact count of all sites.
+    let lattice: Vec<DVec2> = (0..12)
+        .map(|k| DVec2::new((8 + 16 * (k % 4)) as f64, (8 + 16 * (k / 4)) as f64))
+        .collect();
+    let sites: Vec<DVec2> = (0..6000).map(|k| lattice[(k * 5 + k / 7) % 12]).collect();
+    for metric in [Metric::L1, Metric::L2] {
+        let options = VoronoiOptions::exact(frame).metric(metric).ties(true);
+        let d = voronoi(&m, &sites, &options).unwrap();
+        for (k, &count) in d.ties.iter().enumerate() {
+            let q = DVec2::new((k % 64) as f64, (k / 64) as f64);
+            let key = |s: &DVec2| metric.key(q - *s);
+            let least = sites.iter().map(key).fold(f64::INFINITY, f64::min);
+            let tied = sites.iter().filter(|s| key(s) == least).count().min(255);
+            assert_eq!(count as usize, tied, "{metric} pixel {q}");
+        }
+    }
 }
 
 #[test]

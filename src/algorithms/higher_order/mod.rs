@@ -53,11 +53,13 @@ use super::envelope::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 mod furthest;
 mod levels;
 mod peeled;
+mod repeats;
 mod tiled;
 
 pub use furthest::*;
 use levels::*;
 pub use peeled::*;
+pub(crate) use repeats::with_repeats;
 use tiled::*;
 
 /// Corners of the polygon drawn around each cone's disc.
@@ -217,11 +219,20 @@ pub fn k_nearest(
     sites: &[DVec2],
     options: &KNearestOptions,
 ) -> Result<KNearest> {
-    let mut near = proposed_k_nearest(machine, sites, options)?;
-    if options.accuracy == Accuracy::Exact {
-        certify_levels(&mut near, sites, options.metric)?;
-    }
-    Ok(near)
+    with_repeats(
+        sites,
+        &options.frame,
+        options.metric,
+        options.k,
+        |sites, k| {
+            let options = &KNearestOptions { k, ..*options };
+            let mut near = proposed_k_nearest(machine, sites, options)?;
+            if options.accuracy == Accuracy::Exact {
+                certify_levels(&mut near, sites, options.metric)?;
+            }
+            Ok(near)
+        },
+    )
 }
 
 /// [`k_nearest`] as the device draws it, before the exact check.

@@ -22,6 +22,17 @@ pub fn k_nearest_peeled(
     sites: &[DVec2],
     options: &KNearestOptions,
 ) -> Result<KNearest> {
+    with_repeats(
+        sites,
+        &options.frame,
+        options.metric,
+        options.k,
+        |sites, k| peel(machine, sites, &KNearestOptions { k, ..*options }),
+    )
+}
+
+/// [`k_nearest_peeled`] of distinct sites.
+fn peel(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result<KNearest> {
     check_levels(machine, sites, options)?;
     if options.accuracy != Accuracy::Exact || matches!(options.metric, Metric::Polygon(_)) {
         return Err(Error::InvalidInput(

@@ -17,6 +17,7 @@ pub fn potential_areas_cpu(
     metric: Metric,
 ) -> Result<PotentialAreas> {
     check(rivals, own, frame, metric)?;
+    let (rivals, own) = (&distinct(rivals)[..], &distinct(own)[..]);
     let start = Instant::now();
     let rival_labels = nearest_labels_cpu(rivals, frame, metric)?;
     let own_labels = if own.is_empty() {

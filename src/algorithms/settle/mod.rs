@@ -40,7 +40,12 @@ use rayon::prelude::*;
 
 use crate::{
     error::{Error, Result},
-    geometry::{cell, frame::check_sites, metric::Metric, Frame},
+    geometry::{
+        cell,
+        frame::{check_sites, distinct_by},
+        metric::Metric,
+        Frame,
+    },
     machine::{
         shaders, Blend, ChannelMask, Clear, ClearColor, ColorUpdate, Compare, ComputeProgram,
         DepthTest, Draw, DrawParams, Format, Fragments, GraphicsProgram, Machine, PixelRect,
@@ -227,6 +232,15 @@ fn disc_radius_keys(
         .collect())
 }
 
+/// Each position of `points` once, in their first order: the areas depend on
+/// where sites are, not on how many stand at one place, and every repeat
+/// would be a candidate at every pixel's check.
+pub(crate) fn distinct(points: &[DVec2]) -> Vec<DVec2> {
+    let (mut kept, _) = distinct_by(points, 0..points.len() as u32, |_| ());
+    kept.sort_unstable();
+    kept.iter().map(|&i| points[i as usize]).collect()
+}
+
 /// The potential-area map of a new site among `rivals`, not counting pixels that
 /// `own` stores already hold (world coordinates), on the pixel machine.
 /// `progress(done, total)` is called as the counting proceeds.
@@ -250,6 +264,7 @@ pub fn potential_areas(
 ) -> Result<PotentialAreas> {
     let frame = options.frame;
     check(rivals, own, &frame, options.metric)?;
+    let (rivals, own) = (&distinct(rivals)[..], &distinct(own)[..]);
     let side = machine.max_picture_side();
     if frame.width > side || frame.height > side {
         return Err(Error::PictureTooLarge {

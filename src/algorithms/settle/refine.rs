@@ -27,8 +27,8 @@ pub fn refine(rivals: &[DVec2], own: &[DVec2], frame: &Frame, starts: &[usize]) 
     if starts.is_empty() {
         return Err(Error::InvalidInput("no pixel to refine from".into()));
     }
-    let rivals = to_pixels(rivals, frame);
-    let own = to_pixels(own, frame);
+    let rivals = to_pixels(&distinct(rivals), frame);
+    let own = to_pixels(&distinct(own), frame);
     let picture = cell::Rect {
         lo: DVec2::splat(-0.5),
         hi: DVec2::new(frame.width as f64 - 0.5, frame.height as f64 - 0.5),
