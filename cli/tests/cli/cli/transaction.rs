@@ -31,18 +31,21 @@ fn untouched(dir: &Path, names: &[&str], what: &str) {
     assert!(left.is_empty(), "{what}: left behind {left:?}");
 }
 
-/// Runs `args` in `dir` (names there written as `@name`): refused, with the
-/// sentinels untouched.
-fn refused(case: &str, names: &[&str], args: &[&str], expected: &str) {
-    let dir = folder(case, names);
-    let args: Vec<String> = args
-        .iter()
+/// `args` with each `@name` made a path in `dir`.
+fn in_folder(dir: &Path, args: &[&str]) -> Vec<String> {
+    args.iter()
         .map(|a| match a.strip_prefix('@') {
             Some(name) => dir.join(name).to_string_lossy().into_owned(),
             None => a.to_string(),
         })
-        .collect();
-    let (ok, _, stderr) = pixgeo(&args);
+        .collect()
+}
+
+/// Runs `args` in a fresh folder (names there written as `@name`): refused,
+/// with the sentinels untouched.
+fn refused(case: &str, names: &[&str], args: &[&str], expected: &str) {
+    let dir = folder(case, names);
+    let (ok, _, stderr) = pixgeo(&in_folder(&dir, args));
     assert!(!ok, "{case}: accepted");
     assert!(stderr.contains(expected), "{case}: {stderr}");
     untouched(&dir, names, case);
@@ -297,14 +300,7 @@ fn the_same_input_gives_the_same_bytes() {
     let mut first: Vec<Vec<u8>> = Vec::new();
     for round in 0..3 {
         for run in runs {
-            let args: Vec<String> = run
-                .iter()
-                .map(|a| match a.strip_prefix('@') {
-                    Some(name) => dir.join(name).to_string_lossy().into_owned(),
-                    None => a.to_string(),
-                })
-                .collect();
-            let (ok, _, stderr) = pixgeo(&args);
+            let (ok, _, stderr) = pixgeo(&in_folder(&dir, run));
             assert!(ok, "{run:?}: {stderr}");
         }
         let bytes: Vec<Vec<u8>> = outputs
