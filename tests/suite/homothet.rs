@@ -909,3 +909,40 @@ fn smallest_k_enclosing_circle_is_exact() {
         );
     }
 }
+
+#[test]
+fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
+    // A square of half-side m around three sites near the origin: the largest
+    // circle inside it and empty sits in a corner, through the origin and
+    // touching two sides, of radius m (2 - √2). Past 1e75 its refinement's
+    // products of coordinates would overflow doubles: refused, where a wrong
+    // circle came out with no word said.
+    use pixgeo::{algorithms::homothet::largest_empty_sites, geometry::site::Site};
+    let machine = machine();
+    let sites: Vec<Site> = [(0.0, 0.0), (1.0, 1.0), (5.0, 2.0)]
+        .into_iter()
+        .map(|(x, y)| Site::point(DVec2::new(x, y)))
+        .collect();
+    let square = |m: f64| Region {
+        rings: vec![vec![
+            DVec2::new(-m, -m),
+            DVec2::new(m, -m),
+            DVec2::new(m, m),
+            DVec2::new(-m, m),
+        ]],
+    };
+    for m in [1e3, 1e4] {
+        let answer =
+            largest_empty_sites(&machine, &sites, Unit::Circle, &square(m), true, 1024).unwrap();
+        let expected = m * (2.0 - std::f64::consts::SQRT_2);
+        assert!(
+            (answer.exact.scale - expected).abs() <= 1e-12 * m,
+            "{m}: {answer:?}"
+        );
+    }
+    for m in [1e80, 1e160, 1e300] {
+        let refused = largest_empty_sites(&machine, &sites, Unit::Circle, &square(m), true, 1024)
+            .unwrap_err();
+        assert!(refused.to_string().contains("1e75"), "{m}: {refused}");
+    }
+}

@@ -271,6 +271,9 @@ pub fn largest_empty_sites(
     largest_empty_sites_by(machine, sites, unit, region, inside, side, None)
 }
 
+/// The largest coordinate [`largest_empty_sites_by`] refines in doubles.
+const MAX_REFINED_COORDINATE: f64 = 1e75;
+
 /// [`largest_empty_sites`] with its pixel stage chosen, as for
 /// [`largest_empty_by`]: the distance transform takes plain points only.
 pub fn largest_empty_sites_by(
@@ -297,6 +300,25 @@ pub fn largest_empty_sites_by(
         return Err(Error::InvalidInput(
             "the distance transform takes unweighted points without `inside`: use cones".into(),
         ));
+    }
+    // The refinement among segments and region edges forms products of four
+    // coordinates in doubles: past 1e75 they overflow, and the centres they
+    // give were lost (a wrong circle, with exit 0).
+    let reach = sites
+        .iter()
+        .map(|s| {
+            let (lo, hi) = s.bounds();
+            lo.abs().max(hi.abs()).max_element()
+        })
+        .chain(region.edges().map(|(a, _)| a.abs().max_element()))
+        .fold(0.0, f64::max);
+    if reach > MAX_REFINED_COORDINATE {
+        return Err(Error::InvalidInput(format!(
+            "coordinates reach {reach:e}: the largest empty homothet among segments, \
+             shapes or `inside` a region is refined in doubles, which hold its products \
+             of coordinates up to about {MAX_REFINED_COORDINATE:e}; scale the input into \
+             that range"
+        )));
     }
     let bounds = sites
         .iter()
