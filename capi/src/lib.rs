@@ -445,6 +445,15 @@ mod tests {
         assert!(!IN_CALL.get());
     }
 
+    /// A context on the default device.
+    fn context() -> *mut PixgeoContext {
+        let mut ctx = ptr::null_mut();
+        // SAFETY: null options and a writable pointer.
+        let status = unsafe { pixgeo_context_create(ptr::null(), &mut ctx) };
+        assert_eq!(status, PixgeoStatus::Ok);
+        ctx
+    }
+
     /// The triangle of three points on `ctx`: a quick call.
     fn triangulate(ctx: *mut PixgeoContext) -> PixgeoStatus {
         let xy = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0];
@@ -470,10 +479,7 @@ mod tests {
     #[test]
     fn a_context_in_a_call_on_another_thread_is_busy() {
         use std::sync::atomic::Ordering;
-        let mut ctx = ptr::null_mut();
-        // SAFETY: null options and a writable pointer.
-        let status = unsafe { pixgeo_context_create(ptr::null(), &mut ctx) };
-        assert_eq!(status, PixgeoStatus::Ok);
+        let ctx = context();
         // SAFETY: live; only its flag is touched, as a running call would.
         let busy = unsafe { &(*ctx).busy };
         busy.store(true, Ordering::SeqCst);
@@ -486,10 +492,7 @@ mod tests {
 
     #[test]
     fn a_cancelled_call_stops_and_the_next_runs() {
-        let mut ctx = ptr::null_mut();
-        // SAFETY: null options and a writable pointer.
-        let status = unsafe { pixgeo_context_create(ptr::null(), &mut ctx) };
-        assert_eq!(status, PixgeoStatus::Ok);
+        let ctx = context();
         let (w, h) = (3000u32, 3000u32);
         let settle = move |ctx: *mut PixgeoContext| {
             let xy = [10.0, 10.0, 2900.0, 2500.0];
@@ -531,10 +534,7 @@ mod tests {
 
     #[test]
     fn counts_no_array_can_hold_are_refused() {
-        let mut ctx = ptr::null_mut();
-        // SAFETY: null options and a writable pointer.
-        let status = unsafe { pixgeo_context_create(ptr::null(), &mut ctx) };
-        assert_eq!(status, PixgeoStatus::Ok);
+        let ctx = context();
         let xy = [0.0; 4];
         let options = crate::options::pixgeo_voronoi_options_default(4, 4);
         let mut labels = [0u32; 16];
