@@ -241,6 +241,12 @@ fn report(answer: &HomothetAnswer, json: Option<(&str, &str)>, what: &str) -> Re
         e.scale
     );
     outln!("  determined by sites {:?}", e.sites);
+    if answer.tolerance > 0.0 {
+        outln!(
+            "  the optimum's scale is within {:.2e} of this one",
+            answer.tolerance
+        );
+    }
     outln!(
         "  picture ({}x{}, {}): centre ({:.4}, {:.4}), scale {:.6} (within {:.2e} of the exact one)",
         answer.width,

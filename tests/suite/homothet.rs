@@ -914,9 +914,10 @@ fn smallest_k_enclosing_circle_is_exact() {
 fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     // A square of half-side m around three sites near the origin: the largest
     // circle inside it and empty sits in a corner, through the origin and
-    // touching two sides, of radius m (2 - √2). Past 1e75 its refinement's
-    // products of coordinates would overflow doubles: refused, where a wrong
-    // circle came out with no word said.
+    // touching two sides, of radius m (2 - √2), whatever the picture can
+    // resolve of the sites (from 1e6 they share a pixel). Past 1e75 its
+    // refinement's products of coordinates would overflow doubles: refused,
+    // where a wrong circle came out with no word said.
     use pixgeo::{algorithms::homothet::largest_empty_sites, geometry::site::Site};
     let machine = machine();
     let sites: Vec<Site> = [(0.0, 0.0), (1.0, 1.0), (5.0, 2.0)]
@@ -931,15 +932,40 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
             DVec2::new(-m, m),
         ]],
     };
-    for m in [1e3, 1e4] {
+    for m in [1e3, 1e4, 1e6, 1e10, 1e20, 1e60] {
         let answer =
             largest_empty_sites(&machine, &sites, Unit::Circle, &square(m), true, 1024).unwrap();
+        // The double product is within an ulp of m (2 - √2).
         let expected = m * (2.0 - std::f64::consts::SQRT_2);
+        let off = (answer.exact.scale - expected).abs();
         assert!(
-            (answer.exact.scale - expected).abs() <= 1e-12 * m,
+            off <= answer.tolerance + 4.0 * f64::EPSILON * m && answer.tolerance <= 1e-12 * m,
             "{m}: {answer:?}"
         );
     }
+    // A corridor: the best centres fill a line, and the bound still holds.
+    let corridor = Region {
+        rings: vec![vec![
+            DVec2::ZERO,
+            DVec2::new(100.0, 0.0),
+            DVec2::new(100.0, 4.0),
+            DVec2::new(0.0, 4.0),
+        ]],
+    };
+    let answer = largest_empty_sites(
+        &machine,
+        &[Site::point(DVec2::new(50.0, 2.0))],
+        Unit::Circle,
+        &corridor,
+        true,
+        256,
+    )
+    .unwrap();
+    assert!(
+        (answer.exact.scale - 2.0).abs() <= answer.tolerance,
+        "{answer:?}"
+    );
+    assert!(answer.tolerance < 1e-2, "{answer:?}");
     for m in [1e80, 1e160, 1e300] {
         let refused = largest_empty_sites(&machine, &sites, Unit::Circle, &square(m), true, 1024)
             .unwrap_err();

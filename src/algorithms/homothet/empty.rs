@@ -432,19 +432,44 @@ pub fn largest_empty_sites_by(
                     best = Some((c, v));
                 }
             }
-            best.map(|(c, v)| (c, v, 0.0, cells))
+            // The vertices are computed in doubles, so the best one is proven
+            // by a branch and bound that starts from it and stops at the
+            // rounding of the clearances it evaluates.
+            best.and_then(|(c, v)| {
+                // Centres and the sites that decide them lie within about
+                // this of the origin.
+                let magnitude = around.abs().max_element() + 2.0 * reach + v.abs();
+                let rounding = 64.0 * f64::EPSILON * magnitude;
+                branch_and_bound(
+                    around,
+                    reach,
+                    |c, h| clearance_over_square(&points, &lines, c, h) + rounding,
+                    |c| clearance(c, &all) - rounding,
+                    allowed,
+                    |c, r| {
+                        region.contains(c)
+                            || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
+                    },
+                    (Some((c, v - rounding)), |_| 4.0 * rounding),
+                )
+                .map(|(c, _, gap, checked)| {
+                    // The optimum lies between the value less its rounding and
+                    // that plus the gap.
+                    (c, clearance(c, &all), gap + rounding, cells + checked)
+                })
+            })
         } else {
             branch_and_bound(
                 around,
                 reach,
-                lipschitz,
-                |c| clearance(c, &near),
+                |c, h| clearance(c, &near) + lipschitz * h * std::f64::consts::SQRT_2,
                 |c| clearance(c, &all),
                 allowed,
                 |c, r| {
                     region.contains(c)
                         || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
                 },
+                (None, |best: f64| 1e-9 * (1.0 + best.abs())),
             )
         };
         if let Some((c, v, gap, cells)) = found {
@@ -455,9 +480,15 @@ pub fn largest_empty_sites_by(
     }
     let (c, v, gap, cells) =
         best.ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
-    let tol = 1e-9 * (1.0 + v.abs());
+    // The gap bounds how far the optimum is; a search that closed it fully
+    // leaves rounding.
+    let tol = if gap > 0.0 {
+        gap
+    } else {
+        1e-9 * (1.0 + v.abs())
+    };
     let on: Vec<u32> = (0..all.len() as u32)
-        .filter(|&i| (all[i as usize].distance(metric, c) - v).abs() <= tol.max(gap))
+        .filter(|&i| (all[i as usize].distance(metric, c) - v).abs() <= tol)
         .collect();
     let mut answer = answer_of(
         &frame,

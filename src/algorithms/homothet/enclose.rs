@@ -410,11 +410,11 @@ pub fn enclose_sites(
         let (c, v, gap, cells) = branch_and_bound(
             start,
             reach,
-            unit.lipschitz(),
-            |c| -farthest(c),
+            |c, h| -farthest(c) + unit.lipschitz() * h * std::f64::consts::SQRT_2,
             |c| -farthest(c),
             |_| true,
             |_, _| true,
+            (None, |best: f64| 1e-9 * (1.0 + best.abs())),
         )
         .ok_or_else(|| Error::InvalidInput("no enclosing circle found".into()))?;
         // The optimum is inside the square searched, or (convex units) the

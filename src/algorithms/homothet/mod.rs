@@ -59,11 +59,13 @@ use super::{
     voronoi::{draw_point_tiles, Accuracy, Speedup, TileExtras, VoronoiOptions},
 };
 
+mod cell_bound;
 mod empty;
 mod enclose;
 mod labels;
 mod mask;
 
+use cell_bound::clearance_over_square;
 pub use empty::*;
 pub use enclose::*;
 pub use labels::*;
@@ -168,8 +170,9 @@ pub struct HomothetAnswer {
     /// exactly.
     pub checked: usize,
     /// How far the exact scale may be from the optimum: 0 where candidate
-    /// vertices or Welzl's algorithm decide (exact up to rounding), the
-    /// branch-and-bound gap for sites other than points.
+    /// vertices or Welzl's algorithm decide, the branch-and-bound gap for
+    /// sites other than points (for circles clearing points and segments,
+    /// the proof of their best vertex, rounding counted).
     pub tolerance: f64,
     pub width: u32,
     pub height: u32,

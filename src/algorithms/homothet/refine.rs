@@ -10,11 +10,11 @@ use crate::geometry::Frame;
 /// Roots of a t² + b t + c = 0 (the one root of the linear equation when a
 /// vanishes).
 pub(super) fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
-    let scale = a.abs().max(b.abs()).max(c.abs());
-    if scale == 0.0 {
-        return Vec::new();
-    }
-    if a.abs() <= 1e-12 * scale {
+    // The coefficients carry different powers of length, so no relative test
+    // tells a small `a` from a zero one at every scale: only 0 is linear, and
+    // a tiny `a` gives the near root as c / q and a far one that distance
+    // filters drop.
+    if a == 0.0 {
         return if b != 0.0 { vec![-c / b] } else { Vec::new() };
     }
     let disc = b * b - 4.0 * a * c;
@@ -186,20 +186,22 @@ pub(super) fn clearing_vertices(
 const MAX_CELLS: usize = 200_000;
 
 /// The largest value of `exact` over the allowed points of the square of
-/// half-side `reach` around `around`, by branch and bound: `bound` (at least
-/// `exact` everywhere, changing by at most `lipschitz` per unit) bounds each
-/// square from above, allowed centres give true values, and squares that
+/// half-side `reach` around `around`, by branch and bound: `bound(c, h)` bounds
+/// `exact` from above on the square of half-side h around c, allowed centres
+/// give true values, and squares that
 /// cannot beat the best or miss the allowed set (`meets(c, r)`: the disc of
-/// radius r around c meets it) are dropped. Returns the centre, its value, the
-/// gap left and the cells evaluated.
+/// radius r around c meets it) are dropped, until the gap between the best
+/// upper bound and the best value is at most `resolved(best)`. `seed`, an
+/// allowed centre and its value, starts the search. Returns the centre, its
+/// value, the gap left and the cells evaluated.
 pub(super) fn branch_and_bound(
     around: DVec2,
     reach: f64,
-    lipschitz: f64,
-    bound: impl Fn(DVec2) -> f64,
+    bound: impl Fn(DVec2, f64) -> f64,
     exact: impl Fn(DVec2) -> f64,
     allowed: impl Fn(DVec2) -> bool,
     meets: impl Fn(DVec2, f64) -> bool,
+    (seed, resolved): (Option<(DVec2, f64)>, impl Fn(f64) -> f64),
 ) -> Option<(DVec2, f64, f64, usize)> {
     use std::collections::BinaryHeap;
     #[derive(PartialEq)]
@@ -216,7 +218,7 @@ pub(super) fn branch_and_bound(
         }
     }
     let root2 = std::f64::consts::SQRT_2;
-    let mut best: Option<(DVec2, f64)> = None;
+    let mut best: Option<(DVec2, f64)> = seed;
     let mut heap = BinaryHeap::new();
     let mut cells = 0;
     let push = |heap: &mut BinaryHeap<Cell>,
@@ -234,13 +236,13 @@ pub(super) fn branch_and_bound(
                 *best = Some((c, v));
             }
         }
-        heap.push(Cell(bound(c) + lipschitz * h * root2, c, h));
+        heap.push(Cell(bound(c, h), c, h));
     };
     push(&mut heap, &mut best, &mut cells, around, reach);
     while let Some(Cell(upper, c, h)) = heap.pop() {
         let floor = best.map_or(f64::NEG_INFINITY, |b| b.1);
         let gap = upper - floor;
-        if gap <= 1e-9 * (1.0 + floor.abs()) || cells >= MAX_CELLS {
+        if gap <= resolved(floor) || cells >= MAX_CELLS {
             let (c, v) = best?;
             return Some((c, v, gap.max(0.0), cells));
         }
