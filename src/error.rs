@@ -53,6 +53,9 @@ pub enum Error {
     /// buffer of another machine, or a run started inside a run.
     #[error("machine misuse: {0}")]
     Usage(String),
+    /// The work would hold more host memory than this process can have.
+    #[error("{what}: needs about {} of memory, more than this process can have", crate::memory::amount(*.bytes))]
+    HostMemory { what: String, bytes: u64 },
     /// The call was cancelled through [`Machine::cancel_flag`](crate::Machine::cancel_flag).
     #[error("cancelled")]
     Cancelled,

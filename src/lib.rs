@@ -49,6 +49,7 @@ pub mod error;
 pub mod geometry;
 pub mod io;
 pub mod machine;
+pub mod memory;
 mod names;
 mod simple;
 

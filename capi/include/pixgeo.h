@@ -46,6 +46,9 @@ typedef enum PixgeoStatus {
   PIXGEO_STATUS_BUSY = 10,
   // [`pixgeo_context_cancel`] stopped the call.
   PIXGEO_STATUS_CANCELLED = 11,
+  // The call would hold more memory than the process can have; nothing was
+  // done.
+  PIXGEO_STATUS_NO_MEMORY = 12,
 } PixgeoStatus;
 
 // Which device a context uses.

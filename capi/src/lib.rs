@@ -79,6 +79,9 @@ pub enum PixgeoStatus {
     Busy = 10,
     /// [`pixgeo_context_cancel`] stopped the call.
     Cancelled = 11,
+    /// The call would hold more memory than the process can have; nothing was
+    /// done.
+    NoMemory = 12,
 }
 
 /// A short, fixed description of a [`PixgeoStatus`], such as "invalid
@@ -101,6 +104,7 @@ pub extern "C" fn pixgeo_status_string(status: i32) -> *const c_char {
         9 => c"internal error (a bug)",
         10 => c"context busy in another thread",
         11 => c"cancelled",
+        12 => c"not enough memory",
         _ => c"unknown status",
     };
     text.as_ptr()
@@ -174,6 +178,7 @@ fn status_of(error: &Error) -> PixgeoStatus {
         }
         Error::Internal(_) | Error::Usage(_) => PixgeoStatus::Internal,
         Error::Cancelled => PixgeoStatus::Cancelled,
+        Error::HostMemory { .. } => PixgeoStatus::NoMemory,
         // Kinds added later are errors pixgeo did not expect to reach C.
         _ => PixgeoStatus::Internal,
     }

@@ -300,10 +300,14 @@ pub(super) fn reserve<T>(
     what: &str,
 ) -> Result<(), (PixgeoStatus, String)> {
     v.try_reserve_exact(count).map_err(|_| {
-        let gb = (count * std::mem::size_of::<T>()) as f64 / 1e9;
-        invalid(format!(
-            "{count} {what} need about {gb:.1} GB, which this process cannot have"
-        ))
+        let bytes = (count as u64).saturating_mul(std::mem::size_of::<T>() as u64);
+        (
+            PixgeoStatus::NoMemory,
+            format!(
+                "{count} {what} need about {} of memory, more than this process can have",
+                pixgeo::memory::amount(bytes)
+            ),
+        )
     })
 }
 

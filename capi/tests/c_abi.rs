@@ -171,6 +171,14 @@ fn shapes_example_builds_runs_and_checks_its_results() {
 }
 
 #[test]
+fn a_host_with_little_memory_gets_a_status_not_an_abort() {
+    run_example(&mut Command::new(build_c_example(
+        "memory",
+        Linking::Shared,
+    )));
+}
+
+#[test]
 fn c_example_builds_runs_and_checks_its_results() {
     for linking in [Linking::Shared, Linking::Static] {
         run_example(&mut Command::new(build_c_example("voronoi", linking)));

@@ -243,11 +243,14 @@ impl Input {
         };
         let sites = match (&self.sites, self.random) {
             (Some(path), None) => sites::read_general_sites(path)?,
-            (None, Some(n)) if n > 0 => frame
-                .random_points(n, self.seed)
-                .into_iter()
-                .map(Site::point)
-                .collect(),
+            (None, Some(n)) if n > 0 => {
+                pixgeo::geometry::check_memory_for(n)?;
+                frame
+                    .random_points(n, self.seed)
+                    .into_iter()
+                    .map(Site::point)
+                    .collect()
+            }
             (None, Some(_)) => bail!("--random needs at least one site"),
             _ => bail!("give the sites: --sites FILE or --random N"),
         };
@@ -339,7 +342,10 @@ impl Points {
 
     fn random(&self) -> Result<Vec<DVec2>> {
         match self.random {
-            Some(n) if n > 0 => Ok(Frame::pixels(1000, 1000)?.random_points(n, self.seed)),
+            Some(n) if n > 0 => {
+                pixgeo::geometry::check_memory_for(n)?;
+                Ok(Frame::pixels(1000, 1000)?.random_points(n, self.seed))
+            }
             Some(_) => bail!("--random needs at least one point"),
             None => bail!("give the points: --sites FILE or --random N"),
         }
@@ -410,16 +416,6 @@ fn parse_bbox(s: &str) -> Result<[f64; 4], String> {
     Ok(arr)
 }
 
-/// A size in the unit that shows it: "3.2 GB", "12.0 MB", "512 bytes".
-fn bytes(n: u64) -> String {
-    match n {
-        n if n >= 1_000_000_000 => format!("{:.1} GB", n as f64 / 1e9),
-        n if n >= 1_000_000 => format!("{:.1} MB", n as f64 / 1e6),
-        n if n >= 1_000 => format!("{:.1} kB", n as f64 / 1e3),
-        n => format!("{n} bytes"),
-    }
-}
-
 /// Refuses arrays that cannot fit on their disk, before any work: a 100000²
 /// label raster is 40 GB.
 pub fn check_room(arrays: &[&std::path::Path], width: u32, height: u32) -> Result<()> {
@@ -436,9 +432,9 @@ pub fn check_room(arrays: &[&std::path::Path], width: u32, height: u32) -> Resul
                 bail!(
                     "{}: {width}x{height} arrays need {} and {} has {} free",
                     path.display(),
-                    bytes(needed),
+                    pixgeo::memory::amount(needed),
                     dir.display(),
-                    bytes(free)
+                    pixgeo::memory::amount(free)
                 );
             }
         }

@@ -156,6 +156,7 @@ fn to_py(e: Error) -> PyErr {
             DeviceError::new_err(text)
         }
         Error::Internal(_) | Error::Usage(_) => InternalError::new_err(text),
+        Error::HostMemory { .. } => pyo3::exceptions::PyMemoryError::new_err(text),
         _ => PyRuntimeError::new_err(text),
     }
 }

@@ -99,6 +99,7 @@ fn grown_k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Re
             "the number of levels must be 1 to {MAX_LEVELS}, not {k}"
         )));
     }
+    frame.reserve(16 * k as u64, "the CPU's nearest sites")?;
     let started = std::time::Instant::now();
     let (w, h) = (frame.width as usize, frame.height as usize);
     let ku = k as usize;
@@ -265,6 +266,7 @@ fn insert(list: &mut [(f64, u32)], key: (f64, u32)) {
 pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthest> {
     check_sites(sites)?;
     frame.check()?;
+    frame.reserve(16, "the CPU's furthest sites")?;
     let hull = furthest_candidates(sites, &convex_hull(sites), metric);
     let pixels: Vec<DVec2> = hull
         .iter()
@@ -329,6 +331,7 @@ fn nearest_by_blocks(
 ) -> Result<(Vec<u32>, Vec<f32>)> {
     check_general_sites(sites)?;
     frame.check()?;
+    frame.reserve(16, "the CPU's nearest sites")?;
     let (w, h) = (frame.width as usize, frame.height as usize);
     let pixels: Vec<Site> = sites
         .iter()

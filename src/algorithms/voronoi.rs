@@ -260,20 +260,16 @@ pub fn voronoi(
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
     let window = options.window_rect()?;
-    let mut labels = Vec::new();
-    let mut distances = Vec::new();
-    let mut ties = Vec::new();
+    let pixels = window.width as usize * window.height as usize;
+    let each = 4 + 4 * options.distances as u64 + 4 * options.ties as u64;
+    crate::memory::reserve_picture(window.width, window.height, each, "a Voronoi diagram")?;
+    let mut labels = Vec::with_capacity(pixels);
+    let mut distances = Vec::with_capacity(if options.distances { pixels } else { 0 });
+    let mut ties = Vec::with_capacity(if options.ties { pixels } else { 0 });
     let stats = voronoi_bands(machine, sites, options, |band| {
-        // A picture of one band is handed over without a copy.
-        if labels.is_empty() {
-            labels = band.labels;
-            distances = band.distances;
-            ties = band.ties;
-        } else {
-            labels.extend_from_slice(&band.labels);
-            distances.extend_from_slice(&band.distances);
-            ties.extend_from_slice(&band.ties);
-        }
+        labels.extend_from_slice(&band.labels);
+        distances.extend_from_slice(&band.distances);
+        ties.extend_from_slice(&band.ties);
         Ok(())
     })?;
     Ok(VoronoiDiagram {

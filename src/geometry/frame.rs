@@ -56,6 +56,12 @@ impl Frame {
 
     /// Checks the picture size: both sides at least 1 and at most [`Self::MAX_SIDE`],
     /// and a finite, positive scale.
+    /// Refuses a picture of this frame holding `bytes_per_pixel` bytes a pixel
+    /// at once when the process cannot have them ([`crate::memory::reserve`]).
+    pub fn reserve(&self, bytes_per_pixel: u64, what: &str) -> Result<()> {
+        crate::memory::reserve_picture(self.width, self.height, bytes_per_pixel, what)
+    }
+
     pub fn check(&self) -> Result<()> {
         let (width, height) = (self.width, self.height);
         if width == 0 || height == 0 {
@@ -232,18 +238,12 @@ pub fn check_sites(sites: &[DVec2]) -> Result<()> {
 /// diagram's cones, footprints and sort keys (docs/tuning.md has the figures).
 pub(crate) const MEMORY_PER_SITE: usize = 512;
 
-/// Refuses `n` sites when the process cannot have [`MEMORY_PER_SITE`] bytes for
-/// each, as an error rather than an abort partway through: the memory is
-/// reserved, untouched, and given back.
-fn check_memory_for(n: usize) -> Result<()> {
-    let bytes = n.saturating_mul(MEMORY_PER_SITE);
-    let mut probe: Vec<u8> = Vec::new();
-    probe.try_reserve_exact(bytes).map_err(|_| {
-        Error::InvalidInput(format!(
-            "{n} sites need about {:.1} GB of memory ({MEMORY_PER_SITE} bytes a site), \
-             more than this process can have",
-            bytes as f64 / 1e9
-        ))
+/// Refuses `n` sites when the process cannot have their working memory (512
+/// bytes each), as an error rather than an abort partway through.
+pub fn check_memory_for(n: usize) -> Result<()> {
+    let bytes = (n as u64).saturating_mul(MEMORY_PER_SITE as u64);
+    crate::memory::reserve(bytes, || {
+        format!("{n} sites ({MEMORY_PER_SITE} bytes a site)")
     })
 }
 

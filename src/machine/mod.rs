@@ -241,6 +241,11 @@ impl Machine {
                 limit: side,
             });
         }
+        // A software rasterizer keeps its images in this process's memory.
+        if self.device_class() == DeviceClass::Software {
+            let texel = format.texel_bytes();
+            crate::memory::reserve_picture(width, height, texel, "an image")?;
+        }
         Image::new(&self.ctx, format, width, height)
     }
 
@@ -368,7 +373,8 @@ impl Machine {
 
     /// Reads back `rect` of an integer image, row-major.
     pub fn read_u32(&self, image: &Image, rect: PixelRect) -> Result<Vec<u32>> {
-        let mut out = vec![0; rect.width as usize * rect.height as usize];
+        let pixels = rect.width as usize * rect.height as usize;
+        let mut out = crate::memory::filled(pixels, 0, "a readback")?;
         self.read_u32_into(image, rect, &mut out, rect.width as usize)?;
         Ok(out)
     }
@@ -397,7 +403,7 @@ impl Machine {
     pub fn read_f32(&self, image: &Image, rect: PixelRect) -> Result<Vec<f32>> {
         let per_pixel = (image.format().texel_bytes() / 4) as usize;
         let row = rect.width as usize * per_pixel;
-        let mut out = vec![0.0; row * rect.height as usize];
+        let mut out = crate::memory::filled(row * rect.height as usize, 0.0, "a readback")?;
         self.read_f32_into(image, rect, &mut out, row)?;
         Ok(out)
     }

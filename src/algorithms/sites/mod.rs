@@ -177,6 +177,7 @@ fn proposed_diagram(
     }
     let frame = options.frame;
     let width = frame.width as usize;
+    frame.reserve(8, "a Voronoi diagram of sites")?;
     let mut labels = vec![u32::MAX; frame.len()];
     let mut depths = if options.distances {
         vec![0.0f32; frame.len()]

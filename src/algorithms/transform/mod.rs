@@ -135,6 +135,8 @@ pub fn distance_transform(
             "a raster of {width} x {height} pixels has 2^32 pixels or more, or a side of 2^31"
         )));
     }
+    // Outputs of 16 bytes a pixel, and as much again while they are made.
+    crate::memory::reserve_picture(width, height, 40, "a distance transform")?;
     let [sy, sx] = options.sampling;
     if !(sy.is_finite() && sx.is_finite() && sy > 0.0 && sx > 0.0) {
         return Err(Error::InvalidInput(format!(

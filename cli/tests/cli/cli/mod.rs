@@ -7,6 +7,7 @@ use std::{
 
 use pixgeo::io::npy;
 
+mod memory;
 mod outputs;
 mod problems;
 mod transaction;

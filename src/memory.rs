@@ -1,0 +1,71 @@
+//! Host memory asked for before it is taken. An allocation that fails aborts
+//! the process (the CLI, a C host, a Python interpreter alike), so work that
+//! scales with its input checks first that the process can have what it will
+//! hold, and is refused with the size it needs otherwise.
+
+use crate::{Error, Result};
+
+/// Refuses work that will hold `bytes` of host memory at once when this
+/// process cannot have them: more than its control group allows, or more than
+/// an allocation of that size can get (its address-space limit, the kernel's
+/// overcommit rule). The probe reserves address space only and gives it back.
+pub fn reserve(bytes: u64, what: impl FnOnce() -> String) -> Result<()> {
+    let probe =
+        || usize::try_from(bytes).is_ok_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
+    if bytes <= cgroup_room() && probe() {
+        Ok(())
+    } else {
+        Err(Error::HostMemory {
+            what: what(),
+            bytes,
+        })
+    }
+}
+
+/// [`reserve`] for a picture of `width` × `height` pixels holding
+/// `bytes_per_pixel` bytes for each.
+pub fn reserve_picture(width: u32, height: u32, bytes_per_pixel: u64, what: &str) -> Result<()> {
+    let pixels = width as u64 * height as u64;
+    reserve(pixels.saturating_mul(bytes_per_pixel), || {
+        format!("{what} of {width}x{height} pixels ({bytes_per_pixel} bytes a pixel)")
+    })
+}
+
+/// A vector of `len` copies of `value`, or the [`reserve`] error where the
+/// process cannot have it.
+pub(crate) fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    let bytes = (len as u64).saturating_mul(std::mem::size_of::<T>() as u64);
+    if v.try_reserve_exact(len).is_err() || bytes > cgroup_room() {
+        return Err(Error::HostMemory {
+            what: format!("{what} of {len} values"),
+            bytes,
+        });
+    }
+    v.resize(len, value);
+    Ok(v)
+}
+
+/// What this process's control group (cgroup v2) leaves it; unlimited
+/// elsewhere.
+fn cgroup_room() -> u64 {
+    let read = |name: &str| {
+        std::fs::read_to_string(format!("/sys/fs/cgroup/{name}"))
+            .ok()
+            .and_then(|s| s.trim().parse::<u64>().ok())
+    };
+    match (read("memory.max"), read("memory.current")) {
+        (Some(max), Some(current)) => max.saturating_sub(current),
+        _ => u64::MAX,
+    }
+}
+
+/// A size in the unit that shows it: "3.2 GB", "12.0 MB", "512 bytes".
+pub fn amount(bytes: u64) -> String {
+    match bytes {
+        n if n >= 1_000_000_000 => format!("{:.1} GB", n as f64 / 1e9),
+        n if n >= 1_000_000 => format!("{:.1} MB", n as f64 / 1e6),
+        n if n >= 1_000 => format!("{:.1} kB", n as f64 / 1e3),
+        n => format!("{n} bytes"),
+    }
+}
