@@ -34,16 +34,9 @@ pub fn reserve_picture(width: u32, height: u32, bytes_per_pixel: u64, what: &str
 /// A vector of `len` copies of `value`, or the [`reserve`] error where the
 /// process cannot have it.
 pub(crate) fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
-    let mut v = Vec::new();
     let bytes = (len as u64).saturating_mul(std::mem::size_of::<T>() as u64);
-    if v.try_reserve_exact(len).is_err() || bytes > cgroup_room() {
-        return Err(Error::HostMemory {
-            what: format!("{what} of {len} values"),
-            bytes,
-        });
-    }
-    v.resize(len, value);
-    Ok(v)
+    reserve(bytes, || format!("{what} of {len} values"))?;
+    Ok(vec![value; len])
 }
 
 /// What this process's control group (cgroup v2) leaves it; unlimited

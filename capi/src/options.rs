@@ -162,39 +162,33 @@ pub(super) fn window_of(o: &PixgeoVoronoiOptions) -> Option<PixelRect> {
 pub(super) fn sites_of(given: &[PixgeoSite]) -> Result<Vec<Site>, (PixgeoStatus, String)> {
     let mut sites = Vec::new();
     reserve(&mut sites, given.len(), "sites")?;
-    let converted = given
-        .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            let c = s.coords;
-            let shape = match s.kind {
-                0 => Shape::Point(DVec2::new(c[0], c[1])),
-                1 => Shape::Segment(DVec2::new(c[0], c[1]), DVec2::new(c[2], c[3])),
-                2 => Shape::Circle {
-                    center: DVec2::new(c[0], c[1]),
-                    radius: c[2],
-                },
-                3 => Shape::Arc {
-                    center: DVec2::new(c[0], c[1]),
-                    radius: c[2],
-                    start: c[3],
-                    end: c[4],
-                },
-                other => {
-                    return Err(invalid(format!(
-                        "site {i}: kind {other} is not a PixgeoSiteKind (0 point, 1 segment, 2 circle, 3 arc)"
-                    )))
-                }
-            };
-            Ok(Site {
-                shape,
-                multiplicative: s.multiplicative,
-                additive: s.additive,
-            })
-        })
-        ;
-    for site in converted {
-        sites.push(site?);
+    for (i, s) in given.iter().enumerate() {
+        let c = s.coords;
+        let shape = match s.kind {
+            0 => Shape::Point(DVec2::new(c[0], c[1])),
+            1 => Shape::Segment(DVec2::new(c[0], c[1]), DVec2::new(c[2], c[3])),
+            2 => Shape::Circle {
+                center: DVec2::new(c[0], c[1]),
+                radius: c[2],
+            },
+            3 => Shape::Arc {
+                center: DVec2::new(c[0], c[1]),
+                radius: c[2],
+                start: c[3],
+                end: c[4],
+            },
+            other => {
+                return Err(invalid(format!(
+                    "site {i}: kind {other} is not a PixgeoSiteKind \
+                     (0 point, 1 segment, 2 circle, 3 arc)"
+                )))
+            }
+        };
+        sites.push(Site {
+            shape,
+            multiplicative: s.multiplicative,
+            additive: s.additive,
+        });
     }
     Ok(sites)
 }
@@ -300,14 +294,11 @@ pub(super) fn reserve<T>(
     what: &str,
 ) -> Result<(), (PixgeoStatus, String)> {
     v.try_reserve_exact(count).map_err(|_| {
-        let bytes = (count as u64).saturating_mul(std::mem::size_of::<T>() as u64);
-        (
-            PixgeoStatus::NoMemory,
-            format!(
-                "{count} {what} need about {} of memory, more than this process can have",
-                pixgeo::memory::amount(bytes)
-            ),
-        )
+        let error = pixgeo::Error::HostMemory {
+            what: format!("{count} {what}"),
+            bytes: (count as u64).saturating_mul(std::mem::size_of::<T>() as u64),
+        };
+        (super::status_of(&error), error.to_string())
     })
 }
 

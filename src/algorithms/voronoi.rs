@@ -263,13 +263,24 @@ pub fn voronoi(
     let pixels = window.width as usize * window.height as usize;
     let each = 4 + 4 * options.distances as u64 + 4 * options.ties as u64;
     crate::memory::reserve_picture(window.width, window.height, each, "a Voronoi diagram")?;
-    let mut labels = Vec::with_capacity(pixels);
-    let mut distances = Vec::with_capacity(if options.distances { pixels } else { 0 });
-    let mut ties = Vec::with_capacity(if options.ties { pixels } else { 0 });
+    let mut labels = Vec::new();
+    let mut distances = Vec::new();
+    let mut ties = Vec::new();
     let stats = voronoi_bands(machine, sites, options, |band| {
-        labels.extend_from_slice(&band.labels);
-        distances.extend_from_slice(&band.distances);
-        ties.extend_from_slice(&band.ties);
+        // A picture of one band is handed over without a copy; more bands
+        // grow it once to the whole picture, not by doubling.
+        if labels.is_empty() {
+            labels = band.labels;
+            distances = band.distances;
+            ties = band.ties;
+            room_for_all(&mut labels, pixels);
+            room_for_all(&mut distances, pixels);
+            room_for_all(&mut ties, pixels);
+        } else {
+            labels.extend_from_slice(&band.labels);
+            distances.extend_from_slice(&band.distances);
+            ties.extend_from_slice(&band.ties);
+        }
         Ok(())
     })?;
     Ok(VoronoiDiagram {
@@ -282,6 +293,14 @@ pub fn voronoi(
         ties,
         stats,
     })
+}
+
+/// Room in `v`, a first band of a picture's values (or none), for the whole
+/// picture of `pixels`.
+fn room_for_all<T>(v: &mut Vec<T>, pixels: usize) {
+    if !v.is_empty() {
+        v.reserve_exact(pixels - v.len());
+    }
 }
 
 /// Computes the Voronoi diagram of `sites` (world coordinates) and hands it to

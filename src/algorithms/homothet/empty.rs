@@ -377,6 +377,10 @@ pub fn largest_empty_sites_by(
             .fold(f64::INFINITY, f64::min)
     };
     let edges: Vec<(DVec2, DVec2)> = region.edges().collect();
+    // Whether the disc of radius r around c meets the region.
+    let meets = |c: DVec2, r: f64| {
+        region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
+    };
     let mut best: Option<(DVec2, f64, f64, usize)> = None;
     for cluster in clusters(&frame, &near_pixels) {
         let (around, reach) = surroundings(&frame, &cluster);
@@ -446,10 +450,7 @@ pub fn largest_empty_sites_by(
                     |c, h| clearance_over_square(&points, &lines, c, h) + rounding,
                     |c| clearance(c, &all) - rounding,
                     allowed,
-                    |c, r| {
-                        region.contains(c)
-                            || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
-                    },
+                    meets,
                     (Some((c, v - rounding)), |_| 4.0 * rounding),
                 )
                 .map(|(c, _, gap, checked)| {
@@ -465,10 +466,7 @@ pub fn largest_empty_sites_by(
                 |c, h| clearance(c, &near) + lipschitz * h * std::f64::consts::SQRT_2,
                 |c| clearance(c, &all),
                 allowed,
-                |c, r| {
-                    region.contains(c)
-                        || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
-                },
+                meets,
                 (None, |best: f64| 1e-9 * (1.0 + best.abs())),
             )
         };

@@ -42,7 +42,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         cell,
-        frame::{check_sites, distinct_by},
+        frame::{check_sites, first_of_each},
         metric::Metric,
         Frame,
     },
@@ -236,9 +236,10 @@ fn disc_radius_keys(
 /// where sites are, not on how many stand at one place, and every repeat
 /// would be a candidate at every pixel's check.
 pub(crate) fn distinct(points: &[DVec2]) -> Vec<DVec2> {
-    let (mut kept, _) = distinct_by(points, 0..points.len() as u32, |_| ());
-    kept.sort_unstable();
-    kept.iter().map(|&i| points[i as usize]).collect()
+    first_of_each(points)
+        .iter()
+        .map(|&i| points[i as usize])
+        .collect()
 }
 
 /// The potential-area map of a new site among `rivals`, not counting pixels that
