@@ -11,7 +11,11 @@ use crate::{
     device::VulkanDevice,
     envelope,
     input::Input,
-    write::{output::check_distinct, picture::PngStream, raster},
+    write::{
+        output::{check_distinct, check_extension},
+        picture::PngStream,
+        raster,
+    },
 };
 
 /// The α-hull of a point set (Edelsbrunner, Kirkpatrick and Seidel; thesis
@@ -64,12 +68,16 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.hull {
         raster::check_name(path, "--hull")?;
     }
+    if let Some(path) = &args.output {
+        check_extension(path, "png", "pictures")?;
+    }
     let outputs = [("--hull", &args.hull), ("-o", &args.output)];
     check_distinct(
         outputs
             .iter()
             .filter_map(|(n, p)| Some((*n, p.as_deref()?))),
     )?;
+    args.input.check_world_file()?;
     // Refused before the sites are read: --size WxH needs --bbox.
     let fitted = (!args.input.has_bbox())
         .then(|| args.input.fitted_side())

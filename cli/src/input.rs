@@ -15,7 +15,10 @@ use pixgeo::{
     io::sites,
 };
 
-use crate::write::geotiff::{crs_name, parse_crs, GeoReference};
+use crate::write::{
+    geotiff::{crs_name, parse_crs, GeoReference, WORLD_FILE_EXTENSIONS},
+    output::{check_extensions, claim},
+};
 
 /// The sites and the picture they are drawn on.
 #[derive(ClapArgs)]
@@ -107,6 +110,16 @@ impl Placement {
             "y_axis": self.y_axis(),
             "crs": crs_name(self.crs),
         })
+    }
+
+    /// Refuses a world file of another name, or one another output names,
+    /// before any work.
+    pub fn check_world_file(&self) -> Result<()> {
+        if let Some(path) = &self.world_file {
+            check_extensions(path, &WORLD_FILE_EXTENSIONS, "world files")?;
+            claim(path, "--world-file")?;
+        }
+        Ok(())
     }
 
     /// Writes the world file of rasters placed by `geo`, if one was asked for.
@@ -294,6 +307,11 @@ impl Input {
             epsg: self.place.crs,
             bbox: self.place.bbox,
         }
+    }
+
+    /// [`Placement::check_world_file`].
+    pub fn check_world_file(&self) -> Result<()> {
+        self.place.check_world_file()
     }
 
     /// Writes the world file, if asked for, once the rasters are written:

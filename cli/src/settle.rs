@@ -20,7 +20,11 @@ use crate::{
     envelope,
     input::{Input, World},
     progress::Progress,
-    write::{picture::PngStream, raster},
+    write::{
+        output::{check_distinct, check_extension},
+        picture::PngStream,
+        raster,
+    },
 };
 
 /// Finds the settle point (thesis §3.10): the place where a new site, added to
@@ -100,6 +104,16 @@ pub fn run(mut args: Args) -> Result<()> {
     if let Some(path) = &args.area {
         raster::check_name(path, "potential-area maps")?;
     }
+    if let Some(path) = &args.output {
+        check_extension(path, "png", "pictures")?;
+    }
+    let outputs = [("--area", &args.area), ("-o", &args.output)];
+    check_distinct(
+        outputs
+            .iter()
+            .filter_map(|(n, p)| Some((*n, p.as_deref()?))),
+    )?;
+    args.input.check_world_file()?;
     let (world, rivals) = args.input.world_and_sites()?;
     let frame = world.frame;
     args.metric = world.metric(args.metric);

@@ -158,6 +158,7 @@ pub fn run(args: Args) -> Result<()> {
             .filter_map(|(flag, path)| path.as_deref().map(|p| (*flag, p)))
             .chain([("--mask", args.mask.as_path())]),
     )?;
+    args.place.check_world_file()?;
     let mask = read_mask(&args.mask)?;
     let started = std::time::Instant::now();
     let options = TransformOptions::new()

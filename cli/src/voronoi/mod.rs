@@ -450,6 +450,7 @@ fn check_options(args: &Args) -> Result<()> {
         .into_iter()
         .filter_map(|(name, p)| Some((name, p.as_deref()?))),
     )?;
+    args.input.check_world_file()?;
     if let Some(path) = &args.output {
         check_extensions(path, &["png", "svg"], "pictures")?;
     }

@@ -35,12 +35,14 @@ pub struct GeoReference {
     pub epsg: Option<u16>,
 }
 
+/// The names world files take.
+pub const WORLD_FILE_EXTENSIONS: [&str; 4] = ["tfw", "pgw", "pngw", "wld"];
+
 impl GeoReference {
     /// Writes an ESRI world file (`.tfw`, `.pgw`, `.wld`): six lines giving
     /// the affine map from a pixel's centre to the world.
     pub fn write_world_file(&self, path: &Path) -> Result<()> {
-        let (output, file) =
-            OutputFile::create_any(path, &["tfw", "pgw", "pngw", "wld"], "world files")?;
+        let (output, file) = OutputFile::create_any(path, &WORLD_FILE_EXTENSIONS, "world files")?;
         let mut w = BufWriter::new(file);
         let io = |cause| Error::Io {
             path: path.to_path_buf(),

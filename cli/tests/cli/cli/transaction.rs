@@ -41,13 +41,18 @@ fn in_folder(dir: &Path, args: &[&str]) -> Vec<String> {
         .collect()
 }
 
-/// Runs `args` in a fresh folder (names there written as `@name`): refused,
-/// with the sentinels untouched.
+/// Runs `args` in a fresh folder (names there written as `@name`): refused
+/// before any work (nothing on stderr before the error), with the sentinels
+/// untouched.
 fn refused(case: &str, names: &[&str], args: &[&str], expected: &str) {
     let dir = folder(case, names);
     let (ok, _, stderr) = pixgeo(&in_folder(&dir, args));
     assert!(!ok, "{case}: accepted");
     assert!(stderr.contains(expected), "{case}: {stderr}");
+    assert!(
+        stderr.starts_with("Error:"),
+        "{case}: work before the refusal: {stderr}"
+    );
     untouched(&dir, names, case);
 }
 
@@ -60,7 +65,7 @@ fn a_refused_output_leaves_the_others_as_they_were() {
         all.extend(rest);
         all
     };
-    // An output name refused after another was drawn.
+    // An output name refused, before the other is drawn.
     refused(
         "world-file",
         &["g.png", "w.txt"],
