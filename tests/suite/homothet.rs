@@ -855,6 +855,20 @@ fn largest_empty_circle_far_from_the_origin() {
     assert_eq!(b.exact.sites, a.exact.sites);
 }
 
+/// A picture with fewer pixels than the sites is made finer before the exact
+/// search: the answer is the one a fine picture gives, where 1000 sites on a
+/// 2x2 picture took minutes and over 4 GB.
+#[test]
+fn largest_empty_circle_on_a_picture_coarser_than_its_sites() {
+    let machine = machine();
+    let sites = uniform(&mut ChaCha8Rng::seed_from_u64(7), 1000, 1000.0, 1000.0);
+    let region = Region::default();
+    let coarse = largest_empty(&machine, &sites, Unit::Circle, &region, 2).unwrap();
+    let fine = largest_empty(&machine, &sites, Unit::Circle, &region, 1024).unwrap();
+    assert_eq!(coarse.exact, fine.exact);
+    assert!(coarse.width >= 64, "{}", coarse.width);
+}
+
 /// The smallest circle holding k of the sites, against every circle through
 /// two or three of them in rationals: far from the origin (where float
 /// circumcentres lose their digits), on decimal lattices with one-ulp moves
