@@ -59,76 +59,97 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
     // Three coordinate systems: the computing world, the user's (GeoJSON),
     // and the picture's (SVG: pixel (0, 0) from (0, 0) to (1, 1)).
     let picture = |p: DVec2| frame.to_pixel(p) + DVec2::splat(0.5);
-    let (features, shapes): (Vec<Feature>, Vec<(Polygons, [u8; 3])>) = match source {
+    let dots: Vec<DVec2> = sites.iter().map(|&p| picture(p)).collect();
+    match source {
         Source::Exact { machine, sites } => {
             let cells = voronoi_cells(machine, sites, &world.clip_rect())?;
             let same_as: std::collections::HashMap<u32, u32> =
                 cells.duplicates.iter().map(|&[r, f]| (r, f)).collect();
-            (0..sites.len())
-                .map(|i| {
-                    let ring = &cells.polygons[i];
-                    let world_polygons: Polygons = match ring.len() {
-                        0 => Vec::new(),
-                        _ => vec![vec![ring.clone()]],
-                    };
-                    let mut properties = Map::new();
-                    properties.insert("site".into(), json!(i));
-                    properties.insert("area".into(), json!(cells.area(i)));
-                    // A repeated site's cell is drawn once, for the first.
-                    let repeat = same_as.get(&(i as u32));
-                    if let Some(f) = repeat {
-                        properties.insert("same_as".into(), json!(f));
-                    }
-                    properties.insert("accuracy".into(), json!("exact"));
-                    let feature = Feature {
-                        polygons: map(&world_polygons, |p| world.to_user(p)),
-                        properties,
-                    };
-                    let drawn = match repeat {
-                        Some(_) => Vec::new(),
-                        None => map(&world_polygons, picture),
-                    };
-                    let shape = (drawn, site_color(i as u32));
-                    (feature, shape)
-                })
-                .unzip()
+            let polygons = |i: usize| -> Polygons {
+                match &cells.polygons[i] {
+                    ring if ring.is_empty() => Vec::new(),
+                    ring => vec![vec![ring.clone()]],
+                }
+            };
+            // Features one at a time: a million repeats of a site are a
+            // million features, never held at once.
+            let features = (0..sites.len()).map(|i| {
+                let mut properties = Map::new();
+                properties.insert("site".into(), json!(i));
+                properties.insert("area".into(), json!(cells.area(i)));
+                if let Some(f) = same_as.get(&(i as u32)) {
+                    properties.insert("same_as".into(), json!(f));
+                }
+                properties.insert("accuracy".into(), json!("exact"));
+                Feature {
+                    polygons: map(&polygons(i), |p| world.to_user(p)),
+                    properties,
+                }
+            });
+            // A repeated site's cell is drawn once, for the first.
+            let shapes = || {
+                (0..sites.len())
+                    .map(|i| {
+                        let drawn = match same_as.contains_key(&(i as u32)) {
+                            true => Vec::new(),
+                            false => map(&polygons(i), picture),
+                        };
+                        (drawn, site_color(i as u32))
+                    })
+                    .collect()
+            };
+            emit(outputs, world, &dots, features, shapes)
         }
-        Source::Traced { labels, describe } => trace_regions(labels, frame.width, u32::MAX)
-            .into_iter()
-            .map(|region| {
-                let corners: Polygons = region
-                    .polygons
-                    .iter()
-                    .map(|rings| {
-                        rings
+        Source::Traced { labels, describe } => {
+            let (features, shapes): (Vec<Feature>, Vec<_>) =
+                trace_regions(labels, frame.width, u32::MAX)
+                    .into_iter()
+                    .map(|region| {
+                        let corners: Polygons = region
+                            .polygons
                             .iter()
-                            .map(|r| {
-                                r.iter()
-                                    .map(|&(x, y)| DVec2::new(x as f64, y as f64))
+                            .map(|rings| {
+                                rings
+                                    .iter()
+                                    .map(|r| {
+                                        r.iter()
+                                            .map(|&(x, y)| DVec2::new(x as f64, y as f64))
+                                            .collect()
+                                    })
                                     .collect()
                             })
-                            .collect()
+                            .collect();
+                        let user = map(&corners, |c| {
+                            world.to_user(frame.to_world(c - DVec2::splat(0.5)))
+                        });
+                        let mut properties = describe(region.label);
+                        properties.insert("accuracy".into(), json!("raster: within half a pixel"));
+                        let feature = Feature {
+                            polygons: user,
+                            properties,
+                        };
+                        (feature, (corners, site_color(region.label)))
                     })
-                    .collect();
-                let user = map(&corners, |c| {
-                    world.to_user(frame.to_world(c - DVec2::splat(0.5)))
-                });
-                let mut properties = describe(region.label);
-                properties.insert("accuracy".into(), json!("raster: within half a pixel"));
-                let feature = Feature {
-                    polygons: user,
-                    properties,
-                };
-                (feature, (corners, site_color(region.label)))
-            })
-            .unzip(),
-    };
+                    .unzip();
+            emit(outputs, world, &dots, features, || shapes)
+        }
+    }
+}
+
+/// Writes the features and the shapes (made only for an SVG) to `outputs`.
+fn emit(
+    outputs: Outputs,
+    world: &World,
+    dots: &[DVec2],
+    features: impl IntoIterator<Item = Feature>,
+    shapes: impl FnOnce() -> Vec<(Polygons, [u8; 3])>,
+) -> Result<()> {
     if let Some(path) = outputs.geojson {
-        write_geojson(path, &features, world.epsg)?;
+        write_geojson(path, features, world.epsg)?;
     }
     if let Some(path) = outputs.svg {
-        let dots: Vec<DVec2> = sites.iter().map(|&p| picture(p)).collect();
-        write_svg(path, frame.width, frame.height, &shapes, &dots)?;
+        let frame = &world.frame;
+        write_svg(path, frame.width, frame.height, &shapes(), dots)?;
     }
     Ok(())
 }

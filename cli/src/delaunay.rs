@@ -106,19 +106,15 @@ pub fn run(args: Args) -> Result<()> {
         png.finish()?;
     }
     if let Some(path) = &args.geojson {
-        let features: Vec<Feature> = result
-            .triangles
-            .iter()
-            .map(|t| {
-                let mut properties = serde_json::Map::new();
-                properties.insert("vertices".into(), serde_json::json!(t));
-                Feature {
-                    polygons: vec![vec![t.iter().map(|&v| points[v as usize]).collect()]],
-                    properties,
-                }
-            })
-            .collect();
-        write_geojson(path, &features, None)?;
+        let features = result.triangles.iter().map(|t| {
+            let mut properties = serde_json::Map::new();
+            properties.insert("vertices".into(), serde_json::json!(t));
+            Feature {
+                polygons: vec![vec![t.iter().map(|&v| points[v as usize]).collect()]],
+                properties,
+            }
+        });
+        write_geojson(path, features, None)?;
     }
     crate::wrote([args.output.as_deref(), args.geojson.as_deref()]);
     if args.json {

@@ -57,27 +57,42 @@ fn geometry_json(polygons: &Polygons) -> Value {
     }
 }
 
-/// Writes `features` as a GeoJSON FeatureCollection. With an EPSG code other
-/// than 4326 (GeoJSON's own), the collection names it in a `crs` member, as
-/// GDAL reads it.
-pub fn write_geojson(path: &Path, features: &[Feature], epsg: Option<u16>) -> Result<()> {
-    let mut collection = json!({
-        "type": "FeatureCollection",
-        "features": features.iter().map(|f| json!({
-            "type": "Feature",
-            "geometry": geometry_json(&f.polygons),
-            "properties": f.properties,
-        })).collect::<Vec<_>>(),
-    });
-    if let Some(code) = epsg.filter(|&c| c != 4326) {
-        collection["crs"] = json!({
-            "type": "name",
-            "properties": {"name": format!("urn:ogc:def:crs:EPSG::{code}")},
-        });
-    }
+/// Writes `features` as a GeoJSON FeatureCollection, one feature at a time (a
+/// million cells never stand as one JSON tree). With an EPSG code other than
+/// 4326 (GeoJSON's own), the collection names it in a `crs` member, as GDAL
+/// reads it. Members are in the order serde_json sorts them.
+pub fn write_geojson(
+    path: &Path,
+    features: impl IntoIterator<Item = Feature>,
+    epsg: Option<u16>,
+) -> Result<()> {
+    let json = |out: &mut dyn std::io::Write, value: &Value| {
+        serde_json::to_writer(&mut *out, value).map_err(std::io::Error::other)
+    };
     write_text(path, "geojson", "GeoJSON files", |out| {
-        serde_json::to_writer(&mut *out, &collection).map_err(std::io::Error::other)?;
-        writeln!(out)
+        write!(out, "{{")?;
+        if let Some(code) = epsg.filter(|&c| c != 4326) {
+            let crs = json!({
+                "type": "name",
+                "properties": {"name": format!("urn:ogc:def:crs:EPSG::{code}")},
+            });
+            write!(out, "\"crs\":")?;
+            json(out, &crs)?;
+            write!(out, ",")?;
+        }
+        write!(out, "\"features\":[")?;
+        for (k, f) in features.into_iter().enumerate() {
+            if k > 0 {
+                write!(out, ",")?;
+            }
+            let feature = json!({
+                "type": "Feature",
+                "geometry": geometry_json(&f.polygons),
+                "properties": f.properties,
+            });
+            json(out, &feature)?;
+        }
+        writeln!(out, "],\"type\":\"FeatureCollection\"}}")
     })
 }
 
