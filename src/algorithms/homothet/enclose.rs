@@ -47,6 +47,21 @@ pub fn enclose(
              keeps at most {MAX_LEVELS} levels: k takes 1 to {MAX_LEVELS}, or all {n} sites"
         )));
     }
+    // Holding every site, a repeat changes nothing but costs an exact test
+    // on the circle: the first of each position stands for all.
+    if k == n {
+        let kept = first_of_each(sites);
+        if kept.len() < n {
+            let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+            let mut answer = enclose(machine, &distinct, unit, 0, side)?;
+            for homothet in [&mut answer.exact, &mut answer.pixel] {
+                for site in &mut homothet.sites {
+                    *site = kept[*site as usize];
+                }
+            }
+            return Ok(answer);
+        }
+    }
     let frame = enclosing_frame(sites, unit, side, k)?;
     let metric = unit.cone_metric()?;
     let bound = half_diagonal(&frame) * unit.lipschitz();

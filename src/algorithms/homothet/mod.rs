@@ -31,7 +31,7 @@ use crate::{
     geometry::{
         buckets::PointGrid,
         chain::segment_distance,
-        frame::check_sites,
+        frame::{check_sites, first_of_each},
         metric::{Gauge, Metric},
         scale,
         site::{check_general_sites, Shape, Site},
