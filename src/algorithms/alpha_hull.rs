@@ -42,7 +42,10 @@ use crate::{
     },
     error::{Error, Result},
     geometry::circle::welzl,
-    geometry::{frame::check_sites, Frame},
+    geometry::{
+        frame::{check_sites, first_of_each},
+        Frame,
+    },
     machine::{
         shaders, Clear, ClearColor, Compare, DepthTest, Draw, DrawParams, Format, Fragments,
         GraphicsProgram, Image, Machine, Pass, PixelRect, RasterState, RectDraw, Target, Topology,
@@ -200,6 +203,18 @@ fn hull_on(
     check_sites(sites)?;
     if !alpha.is_finite() {
         return Err(Error::InvalidInput(format!("alpha {alpha} is not finite")));
+    }
+    // The hull depends on where sites are, not on how many stand at one
+    // place: the first of each position stands for all (a million copies
+    // were a million cones and discs).
+    let kept = first_of_each(sites);
+    if kept.len() < sites.len() {
+        let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+        let mut hull = hull_on(machine, &distinct, alpha, method, canvas)?;
+        for site in &mut hull.boundary_sites {
+            *site = kept[*site as usize];
+        }
+        return Ok(hull);
     }
     if alpha < 0.0 {
         negative(machine, sites, alpha, canvas)

@@ -246,3 +246,29 @@ fn alpha_hulls_grow_with_alpha() {
         assert!(*a <= b);
     }
 }
+
+/// Repeats of a site change no hull: they are merged before any cone or disc
+/// is drawn (a million copies took over a minute at α < 0), and the boundary
+/// names the first of each.
+#[test]
+fn repeated_sites_give_the_hull_of_their_positions() {
+    let machine = machine();
+    let distinct = [
+        DVec2::new(3.5, 7.25),
+        DVec2::new(10.0, 20.0),
+        DVec2::new(40.0, 5.0),
+    ];
+    let mut repeated = vec![distinct[0]; 500];
+    repeated.extend(&distinct[1..]);
+    for alpha in [-0.01, 0.0, 0.01] {
+        let once = alpha_hull(&machine, &distinct, alpha, AlphaMethod::Hull, SIDE).unwrap();
+        let many = alpha_hull(&machine, &repeated, alpha, AlphaMethod::Hull, SIDE).unwrap();
+        assert_eq!(many.pixels, once.pixels, "alpha {alpha}");
+        let moved: Vec<u32> = once
+            .boundary_sites
+            .iter()
+            .map(|&i| if i == 0 { 0 } else { i + 499 })
+            .collect();
+        assert_eq!(many.boundary_sites, moved, "alpha {alpha}");
+    }
+}
