@@ -45,6 +45,7 @@
 //! with a `// SAFETY:` note; the rest of the crate forbids it.
 
 pub mod algorithms;
+pub mod cancel;
 pub mod error;
 pub mod geometry;
 pub mod io;

@@ -370,7 +370,9 @@ extern "C" {
 const char *pixgeo_status_string(int32_t status);
 
 // Cancels the call running on `ctx`, from any thread: it stops at its next
-// submission to the device and returns `PIXGEO_STATUS_CANCELLED`. With no
+// submission to the device or its next look at the flag on the CPU (the
+// distance transform, the CPU's diagrams, the sweep) and returns
+// `PIXGEO_STATUS_CANCELLED`. With no
 // call running, the next call on `ctx` is cancelled. Null is ignored.
 //
 // # Safety

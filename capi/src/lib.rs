@@ -243,7 +243,8 @@ fn with_context(
     }
     // SAFETY: this call holds the flag, so no other call uses the context.
     let context = unsafe { &mut *ctx };
-    let outcome = guarded(|| f(context));
+    let cancel = context.cancel.clone();
+    let outcome = pixgeo::cancel::within(cancel, || guarded(|| f(context)));
     let (status, text) = match outcome {
         Ok(Ok(())) => (PixgeoStatus::Ok, String::new()),
         Ok(Err(e)) => e,
@@ -256,7 +257,9 @@ fn with_context(
 }
 
 /// Cancels the call running on `ctx`, from any thread: it stops at its next
-/// submission to the device and returns `PIXGEO_STATUS_CANCELLED`. With no
+/// submission to the device or its next look at the flag on the CPU (the
+/// distance transform, the CPU's diagrams, the sweep) and returns
+/// `PIXGEO_STATUS_CANCELLED`. With no
 /// call running, the next call on `ctx` is cancelled. Null is ignored.
 ///
 /// # Safety

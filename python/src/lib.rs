@@ -95,23 +95,40 @@ fn machine(device: Option<&str>) -> PyResult<Shared> {
     Ok(m)
 }
 
-/// Runs `work` on the device's machine in a thread of its own, with the GIL
-/// released. The caller's thread looks for signals every 50 ms meanwhile: on
-/// Ctrl-C the machine's cancel flag stops the work at its next submission to
-/// the device, and the call raises `KeyboardInterrupt`.
+/// Runs `work` on the device's machine, [`interruptible`] by its cancel flag,
+/// which stops the work at its next submission to the device or its next
+/// look at the flag on the CPU.
 fn on_machine<T: Send>(
     py: Python<'_>,
     device: Option<&str>,
     work: impl FnOnce(&Machine) -> pixgeo::Result<T> + Send,
 ) -> PyResult<T> {
     let shared = py.detach(|| machine(device))?;
+    interruptible(py, &shared.cancel, || match shared.machine.lock() {
+        Ok(m) => work(&m).map_err(to_py),
+        Err(_) => Err(PyRuntimeError::new_err("a pixgeo call panicked")),
+    })
+}
+
+/// [`interruptible`] work on the CPU alone, with a flag of its own.
+fn on_cpu<T: Send>(py: Python<'_>, work: impl FnOnce() -> pixgeo::Result<T> + Send) -> PyResult<T> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    interruptible(py, &cancel, || work().map_err(to_py))
+}
+
+/// Runs `work` in a thread of its own within `cancel` (its CPU steps look at
+/// it), with the GIL released. The caller's thread looks for signals every
+/// 50 ms meanwhile: on Ctrl-C it sets `cancel`, waits for the work to stop and
+/// raises `KeyboardInterrupt`.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    cancel: &Arc<AtomicBool>,
+    work: impl FnOnce() -> PyResult<T> + Send,
+) -> PyResult<T> {
     let (done, mut finished) = std::sync::mpsc::channel::<()>();
     std::thread::scope(|scope| {
         let worker = scope.spawn(|| {
-            let result = match shared.machine.lock() {
-                Ok(m) => work(&m).map_err(to_py),
-                Err(_) => Err(PyRuntimeError::new_err("a pixgeo call panicked")),
-            };
+            let result = pixgeo::cancel::within(cancel.clone(), work);
             drop(done);
             result
         });
@@ -125,9 +142,9 @@ fn on_machine<T: Send>(
                 return py.detach(|| worker.join()).map_err(panicked)?;
             }
             if let Err(interrupt) = py.check_signals() {
-                shared.cancel.store(true, Ordering::Relaxed);
+                cancel.store(true, Ordering::Relaxed);
                 let _ = py.detach(|| worker.join());
-                shared.cancel.store(false, Ordering::Relaxed);
+                cancel.store(false, Ordering::Relaxed);
                 return Err(interrupt);
             }
         }
@@ -239,9 +256,7 @@ fn transform(
     let options = TransformOptions::new()
         .metric(metric(metric_name)?)
         .sampling(sampling);
-    let t = py
-        .detach(|| transform_of(&mask, width, height, &options))
-        .map_err(to_py)?;
+    let t = on_cpu(py, || transform_of(&mask, width, height, &options))?;
     Ok((t, options))
 }
 
@@ -283,9 +298,7 @@ fn medial_axis<'py>(
     angle: f64,
 ) -> PyResult<Axis<'py>> {
     let (t, options) = transform(py, features, sampling, metric_name)?;
-    let axis = py
-        .detach(|| axis_of(&t, &options, Pruning { length, angle }))
-        .map_err(to_py)?;
+    let axis = on_cpu(py, || axis_of(&t, &options, Pruning { length, angle }))?;
     Ok((
         raster(py, axis, t.height, t.width)?,
         raster(py, t.distances, t.height, t.width)?,
@@ -430,9 +443,7 @@ fn settle<'py>(
         potential_areas(m, &rivals, &own, &options, &mut |_, _| {})
     })?;
     let refined = if options.metric == Metric::L2 && refine_from > 0 {
-        let r = py
-            .detach(|| refine(&rivals, &own, &f, &map.leaders(refine_from)))
-            .map_err(to_py)?;
+        let r = on_cpu(py, || refine(&rivals, &own, &f, &map.leaders(refine_from)))?;
         let at = f.to_world(DVec2::from(r.position));
         Some((at.x, at.y, r.area / (f.scale * f.scale)))
     } else {
@@ -617,12 +628,10 @@ fn extremal_polygon<'py>(
     } else {
         Extreme::Smallest
     };
-    let answer = py
-        .detach(|| match corners {
-            3 => extremal_triangle_sweep(&p, extreme, &mut |_, _| {}),
-            _ => extremal_quadrangle_sweep(&p, extreme, &mut |_, _| {}),
-        })
-        .map_err(to_py)?;
+    let answer = on_cpu(py, || match corners {
+        3 => extremal_triangle_sweep(&p, extreme, &mut |_, _| {}),
+        _ => extremal_quadrangle_sweep(&p, extreme, &mut |_, _| {}),
+    })?;
     Ok((answer.sites.into_pyarray(py), answer.area))
 }
 

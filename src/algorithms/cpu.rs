@@ -22,6 +22,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::{
+    cancel::Watch,
     error::{Error, Result},
     geometry::{
         frame::check_sites,
@@ -153,7 +154,9 @@ fn grown_k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Re
     // sites visit it row by row of the band.
     let (mut r, mut span) = (0i64, 0usize);
     let mut far = -1i64;
+    let watch = Watch::current();
     while r <= reach.ceil() as i64 + 1 {
+        watch.check()?;
         while span < spans.len() && spans[span].0 <= r {
             far = far.max(spans[span].1);
             span += 1;
@@ -341,9 +344,13 @@ fn nearest_by_blocks(
     let lower = metric.euclidean_bounds().0;
     let block = BAND_ROWS as usize;
     let mut best = vec![(f64::INFINITY, u32::MAX); w * h];
+    let watch = Watch::current();
     best.par_chunks_mut(block * w)
         .enumerate()
         .for_each(|(band, band_best)| {
+            if watch.cancelled() {
+                return;
+            }
             let y0 = band * block;
             let rows = band_best.len() / w;
             for x0 in (0..w).step_by(block) {
@@ -384,5 +391,6 @@ fn nearest_by_blocks(
                 }
             }
         });
+    watch.check()?;
     Ok(best.into_iter().map(|(d, i)| (i, d as f32)).unzip())
 }

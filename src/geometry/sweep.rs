@@ -33,12 +33,12 @@ pub(crate) fn for_each_line(
     let n = points.len();
     let pairs = n * n.saturating_sub(1) / 2;
     let mut events: Vec<Event> = Vec::new();
-    events.try_reserve_exact(pairs).map_err(|_| {
-        Error::InvalidInput(format!(
-            "the sweep over {n} points needs {} MB for its {pairs} point pairs, more than can be allocated",
-            (pairs * std::mem::size_of::<Event>()) >> 20
-        ))
-    })?;
+    events
+        .try_reserve_exact(pairs)
+        .map_err(|_| Error::HostMemory {
+            what: format!("the sweep over {n} points ({pairs} point pairs)"),
+            bytes: (pairs as u64).saturating_mul(std::mem::size_of::<Event>() as u64),
+        })?;
     for i in 0..n as u32 {
         for j in i + 1..n as u32 {
             let d = points[j as usize] - points[i as usize];
@@ -84,7 +84,9 @@ pub(crate) fn for_each_line(
     let mut first = vec![usize::MAX; n];
     let mut partners = vec![0usize; n];
     let mut start = 0;
+    let watch = crate::cancel::Watch::current();
     while start < events.len() {
+        watch.check()?;
         let end = start
             + 1
             + events[start + 1..]

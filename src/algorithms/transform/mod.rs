@@ -30,6 +30,7 @@ pub use components::{components, NO_COMPONENT};
 pub use medial_axis::{medial_axis, Pruning};
 
 use crate::{
+    cancel::Watch,
     error::{Error, Result},
     geometry::{metric::Metric, Frame},
 };
@@ -149,8 +150,9 @@ pub fn distance_transform(
     }
     // The longest and the shortest offsets the keys must hold.
     let range = [sy.min(sx), (w as f64 * sx).max(h as f64 * sy)];
+    let watch = Watch::current();
     let (feature_rows, feature_columns) = match Combine::of(metric, range) {
-        Some(combine) => separable(features, w, h, [sy, sx], combine),
+        Some(combine) => separable(features, w, h, [sy, sx], combine, &watch),
         None if sy == sx => grown(features, width, height, metric)?,
         None => {
             return Err(Error::InvalidInput(format!(
@@ -159,6 +161,7 @@ pub fn distance_transform(
             )))
         }
     };
+    watch.check()?;
     let mut distances = vec![0.0; w * h];
     distances
         .par_chunks_mut(w)
@@ -166,6 +169,9 @@ pub fn distance_transform(
         .zip(feature_columns.par_chunks(w))
         .enumerate()
         .for_each(|(y, ((out, rows), columns))| {
+            if watch.cancelled() {
+                return;
+            }
             for (x, d) in out.iter_mut().enumerate() {
                 *d = match rows[x] {
                     -1 => f64::INFINITY,
@@ -177,6 +183,7 @@ pub fn distance_transform(
                 };
             }
         });
+    watch.check()?;
     Ok(Transform {
         width,
         height,
@@ -242,7 +249,10 @@ fn separable(
     h: usize,
     [sy, sx]: [f64; 2],
     combine: Combine,
+    watch: &Watch,
 ) -> (Vec<i32>, Vec<i32>) {
+    // A cancelled transform skips the rest of its rows; its caller returns
+    // the error.
     // Each pixel's nearest feature row in its column (the upper one on a tie),
     // in two sweeps over the rows, bands of columns in parallel.
     let mut rows = vec![NONE; w * h];
@@ -255,6 +265,9 @@ fn separable(
             let x1 = (x0 + BAND).min(w);
             let n = x1 - x0;
             let mut band = vec![NONE; n * h];
+            if watch.cancelled() {
+                return (x0, band);
+            }
             let mut above = vec![NONE; n];
             for y in 0..h {
                 for (i, a) in above.iter_mut().enumerate() {
@@ -303,6 +316,9 @@ fn separable(
         .for_each_init(
             || (vec![0.0; w], vec![0i64; w], Vec::with_capacity(w)),
             |(heights, squares, stack), (y, ((out_rows, out_columns), row))| {
+                if watch.cancelled() {
+                    return;
+                }
                 if unit_squares {
                     for (g, &r) in squares.iter_mut().zip(row) {
                         let dy = y as i64 - r as i64;
