@@ -71,12 +71,10 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.output {
         check_extension(path, "png", "pictures")?;
     }
-    let outputs = [("--hull", &args.hull), ("-o", &args.output)];
-    check_distinct(
-        outputs
-            .iter()
-            .filter_map(|(n, p)| Some((*n, p.as_deref()?))),
-    )?;
+    check_distinct([
+        ("--hull", args.hull.as_deref()),
+        ("-o", args.output.as_deref()),
+    ])?;
     args.input.check_world_file()?;
     // Refused before the sites are read: --size WxH needs --bbox.
     let fitted = (!args.input.has_bbox())

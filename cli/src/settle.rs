@@ -107,12 +107,10 @@ pub fn run(mut args: Args) -> Result<()> {
     if let Some(path) = &args.output {
         check_extension(path, "png", "pictures")?;
     }
-    let outputs = [("--area", &args.area), ("-o", &args.output)];
-    check_distinct(
-        outputs
-            .iter()
-            .filter_map(|(n, p)| Some((*n, p.as_deref()?))),
-    )?;
+    check_distinct([
+        ("--area", args.area.as_deref()),
+        ("-o", args.output.as_deref()),
+    ])?;
     args.input.check_world_file()?;
     let (world, rivals) = args.input.world_and_sites()?;
     let frame = world.frame;

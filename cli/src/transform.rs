@@ -155,8 +155,8 @@ pub fn run(args: Args) -> Result<()> {
     check_distinct(
         outputs
             .clone()
-            .filter_map(|(flag, path)| path.as_deref().map(|p| (*flag, p)))
-            .chain([("--mask", args.mask.as_path())]),
+            .map(|(flag, path)| (*flag, path.as_deref()))
+            .chain([("--mask", Some(args.mask.as_path()))]),
     )?;
     args.place.check_world_file()?;
     let mask = read_mask(&args.mask)?;

@@ -447,8 +447,7 @@ fn check_options(args: &Args) -> Result<()> {
             ("--ties", &args.ties),
             ("--cells", &args.cells),
         ]
-        .into_iter()
-        .filter_map(|(name, p)| Some((name, p.as_deref()?))),
+        .map(|(name, p)| (name, p.as_deref())),
     )?;
     args.input.check_world_file()?;
     if let Some(path) = &args.output {

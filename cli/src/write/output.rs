@@ -286,10 +286,13 @@ fn is_device(path: &Path) -> bool {
 
 /// Refuses two outputs of one command on the same file (after following links
 /// and `.` and `..`), and outputs in folders that do not exist, before any
-/// work.
-pub fn check_distinct<'a>(paths: impl IntoIterator<Item = (&'a str, &'a Path)>) -> Result<()> {
+/// work: each option with its path, if given.
+pub fn check_distinct<'a>(
+    paths: impl IntoIterator<Item = (&'a str, Option<&'a Path>)>,
+) -> Result<()> {
     paths
         .into_iter()
+        .filter_map(|(option, path)| Some((option, path?)))
         .try_for_each(|(option, path)| claim(path, option))
 }
 
@@ -329,10 +332,11 @@ mod tests {
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
         assert!(OutputFile::create(&dir.join("a.txt"), "npy", "arrays").is_err());
         let dotted = dir.join(".").join("a.npy");
-        assert!(check_distinct([("--labels", a.as_path()), ("--distance", b.as_path())]).is_ok());
-        let e = check_distinct([("--labels", a.as_path()), ("--ties", dotted.as_path())]);
+        let ok = check_distinct([("--labels", Some(a.as_path())), ("--distance", Some(&b))]);
+        assert!(ok.is_ok());
+        let e = check_distinct([("--labels", Some(a.as_path())), ("--ties", Some(&dotted))]);
         assert!(e.unwrap_err().to_string().contains("--labels and --ties"));
-        let e = check_distinct([("-o", dir.join("no/x.png").as_path())]).unwrap_err();
+        let e = check_distinct([("-o", Some(dir.join("no/x.png").as_path()))]).unwrap_err();
         assert!(e.to_string().contains("does not exist"));
         abandon();
         std::fs::remove_dir_all(&dir).unwrap();
