@@ -6,8 +6,8 @@ use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use pixgeo::{
     algorithms::transform::{
-        components, distance_transform, medial_axis, Pruning, Transform, TransformOptions,
-        NO_COMPONENT,
+        components, distance_transform_with_progress, medial_axis, Pruning, Transform,
+        TransformOptions, NO_COMPONENT,
     },
     geometry::metric::Metric,
     io::mask::read_mask,
@@ -17,6 +17,7 @@ use serde_json::json;
 use crate::{
     envelope,
     input::Placement,
+    progress::Progress,
     write::{
         geotiff::GeoReference,
         npy,
@@ -164,7 +165,15 @@ pub fn run(args: Args) -> Result<()> {
     let options = TransformOptions::new()
         .metric(args.metric)
         .sampling(args.sampling);
-    let t = distance_transform(&mask.features, mask.width, mask.height, &options)?;
+    let progress = Progress::new("transform: rows", args.json);
+    let t = distance_transform_with_progress(
+        &mask.features,
+        mask.width,
+        mask.height,
+        &options,
+        &|done, total| progress.report(done, total),
+    )?;
+    drop(progress);
     let transform_ms = started.elapsed().as_secs_f64() * 1e3;
     let geo = args.place.georeference(t.width, t.height);
     let size = [t.width, t.height, 1];

@@ -123,6 +123,18 @@ pub fn distance_transform(
     height: u32,
     options: &TransformOptions,
 ) -> Result<Transform> {
+    distance_transform_with_progress(features, width, height, options, &|_, _| {})
+}
+
+/// [`distance_transform`], calling `progress(done, total)` (from any of its
+/// threads) as its passes finish rows.
+pub fn distance_transform_with_progress(
+    features: &[bool],
+    width: u32,
+    height: u32,
+    options: &TransformOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<Transform> {
     let (w, h) = (width as usize, height as usize);
     if width == 0 || height == 0 || w.checked_mul(h) != Some(features.len()) {
         return Err(Error::InvalidInput(format!(
@@ -151,9 +163,15 @@ pub fn distance_transform(
     // The longest and the shortest offsets the keys must hold.
     let range = [sy.min(sx), (w as f64 * sx).max(h as f64 * sy)];
     let watch = Watch::current();
+    // Bands of columns, then rows twice.
+    let tally = Tally::new(w.div_ceil(BAND) + 2 * h, progress);
     let (feature_rows, feature_columns) = match Combine::of(metric, range) {
-        Some(combine) => separable(features, w, h, [sy, sx], combine, &watch),
-        None if sy == sx => grown(features, width, height, metric)?,
+        Some(combine) => separable(features, w, h, [sy, sx], combine, (&watch, &tally)),
+        None if sy == sx => {
+            let planes = grown(features, width, height, metric)?;
+            tally.add(w.div_ceil(BAND) + h);
+            planes
+        }
         None => {
             return Err(Error::InvalidInput(format!(
                 "the {metric} metric takes equal sampling on both axes: its distance does not \
@@ -172,6 +190,7 @@ pub fn distance_transform(
             if watch.cancelled() {
                 return;
             }
+            tally.add(1);
             for (x, d) in out.iter_mut().enumerate() {
                 *d = match rows[x] {
                     -1 => f64::INFINITY,
@@ -249,14 +268,13 @@ fn separable(
     h: usize,
     [sy, sx]: [f64; 2],
     combine: Combine,
-    watch: &Watch,
+    (watch, tally): (&Watch, &Tally),
 ) -> (Vec<i32>, Vec<i32>) {
     // A cancelled transform skips the rest of its rows; its caller returns
     // the error.
     // Each pixel's nearest feature row in its column (the upper one on a tie),
     // in two sweeps over the rows, bands of columns in parallel.
     let mut rows = vec![NONE; w * h];
-    const BAND: usize = 256;
     let bands: Vec<(usize, Vec<u32>)> = (0..w)
         .step_by(BAND)
         .collect::<Vec<_>>()
@@ -268,6 +286,7 @@ fn separable(
             if watch.cancelled() {
                 return (x0, band);
             }
+            tally.add(1);
             let mut above = vec![NONE; n];
             for y in 0..h {
                 for (i, a) in above.iter_mut().enumerate() {
@@ -319,6 +338,7 @@ fn separable(
                 if watch.cancelled() {
                     return;
                 }
+                tally.add(1);
                 if unit_squares {
                     for (g, &r) in squares.iter_mut().zip(row) {
                         let dy = y as i64 - r as i64;
@@ -428,6 +448,37 @@ fn envelope(
                     stack.push((u, start));
                 }
             }
+        }
+    }
+}
+
+/// Columns a thread sweeps at once in the first pass.
+const BAND: usize = 256;
+
+/// Pieces of work done of all the passes, told to `progress` every hundredth.
+struct Tally<'a> {
+    done: std::sync::atomic::AtomicU64,
+    total: u64,
+    progress: &'a (dyn Fn(u64, u64) + Sync),
+}
+
+impl<'a> Tally<'a> {
+    fn new(total: usize, progress: &'a (dyn Fn(u64, u64) + Sync)) -> Self {
+        Self {
+            done: Default::default(),
+            total: total as u64,
+            progress,
+        }
+    }
+
+    fn add(&self, pieces: usize) {
+        let pieces = pieces as u64;
+        let before = self
+            .done
+            .fetch_add(pieces, std::sync::atomic::Ordering::Relaxed);
+        let after = before + pieces;
+        if before * 100 / self.total != after * 100 / self.total {
+            (self.progress)(after, self.total);
         }
     }
 }

@@ -510,3 +510,19 @@ fn bad_pruning_is_refused() {
         assert!(err.to_string().contains("pruning"), "{err}");
     }
 }
+
+#[test]
+fn progress_counts_every_row_of_every_pass() {
+    let (w, h) = (600usize, 70usize);
+    let mut features = vec![false; w * h];
+    features[5 * w + 7] = true;
+    let told = std::sync::Mutex::new(Vec::new());
+    let report = |done: u64, total: u64| told.lock().unwrap().push((done, total));
+    let options = TransformOptions::new();
+    distance_transform_with_progress(&features, w as u32, h as u32, &options, &report).unwrap();
+    let told = told.into_inner().unwrap();
+    // Three bands of columns, then the rows twice.
+    let total = (w.div_ceil(BAND) + 2 * h) as u64;
+    assert!(told.iter().all(|&(d, t)| t == total && d <= total), "{told:?}");
+    assert_eq!(told.iter().map(|t| t.0).max(), Some(total));
+}
