@@ -84,15 +84,33 @@ fn isqrt(v: i64) -> i64 {
 /// Every pixel's `k` nearest sites (world coordinates) on `frame`, computed on the
 /// CPU by growing the sites (thesis §3.12.2).
 pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Result<KNearest> {
+    k_nearest_with_progress(sites, frame, k, metric, &mut |_, _| {})
+}
+
+/// [`k_nearest`], calling `progress(done, total)` as the sites' rings grow
+/// (radii in pixels).
+pub fn k_nearest_with_progress(
+    sites: &[DVec2],
+    frame: &Frame,
+    k: u32,
+    metric: Metric,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<KNearest> {
     with_repeats(sites, frame, metric, k, |sites, k| {
-        let mut near = grown_k_nearest(sites, frame, k, metric)?;
+        let mut near = grown_k_nearest(sites, frame, k, metric, progress)?;
         certify_levels(&mut near, sites, metric)?;
         Ok(near)
     })
 }
 
 /// [`k_nearest`] as the sites grow, before the exact check.
-fn grown_k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Result<KNearest> {
+fn grown_k_nearest(
+    sites: &[DVec2],
+    frame: &Frame,
+    k: u32,
+    metric: Metric,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<KNearest> {
     check_sites(sites)?;
     frame.check()?;
     if k == 0 || k > MAX_LEVELS {
@@ -155,8 +173,10 @@ fn grown_k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Re
     let (mut r, mut span) = (0i64, 0usize);
     let mut far = -1i64;
     let watch = Watch::current();
-    while r <= reach.ceil() as i64 + 1 {
+    let last = reach.ceil() as i64 + 1;
+    while r <= last {
         watch.check()?;
+        progress(r as u64, last as u64);
         while span < spans.len() && spans[span].0 <= r {
             far = far.max(spans[span].1);
             span += 1;

@@ -494,3 +494,28 @@ fn repeated_sites_cost_one_position_and_keep_their_ids() {
         }
     }
 }
+
+/// The CPU's growth reports its radius, up to its last, and answers as
+/// without a report.
+#[test]
+fn cpu_growth_reports_its_progress() {
+    use pixgeo::algorithms::cpu;
+    let frame = Frame::pixels(64, 48).unwrap();
+    let sites = [
+        DVec2::new(3.0, 4.0),
+        DVec2::new(40.5, 20.0),
+        DVec2::new(60.0, 45.0),
+    ];
+    let mut told = Vec::new();
+    let reported =
+        cpu::k_nearest_with_progress(&sites, &frame, 2, Metric::L2, &mut |d, t| told.push((d, t)))
+            .unwrap();
+    let plain = cpu::k_nearest(&sites, &frame, 2, Metric::L2).unwrap();
+    assert_eq!(reported.labels, plain.labels);
+    let total = told.last().unwrap().1;
+    assert!(
+        told.iter().all(|&(d, t)| t == total && d <= total),
+        "{told:?}"
+    );
+    assert!(told.windows(2).all(|w| w[0].0 < w[1].0), "{told:?}");
+}

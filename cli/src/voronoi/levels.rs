@@ -101,7 +101,12 @@ pub(super) fn whole_picture(
                     higher_order::k_nearest(machine, sites, &options)?
                 }
             }
-            Backend::Cpu => cpu::k_nearest(sites, &frame, k, args.metric)?,
+            Backend::Cpu => {
+                let progress = Progress::new("voronoi: growing the sites", args.json);
+                cpu::k_nearest_with_progress(sites, &frame, k, args.metric, &mut |done, total| {
+                    progress.report(done, total)
+                })?
+            }
         };
         // (rows, columns) for an ordinary diagram, (rows, columns, k) else.
         let bands = if kind == Kind::Ordinary { 1 } else { k };

@@ -523,6 +523,9 @@ fn progress_counts_every_row_of_every_pass() {
     let told = told.into_inner().unwrap();
     // Three bands of columns, then the rows twice.
     let total = (w.div_ceil(BAND) + 2 * h) as u64;
-    assert!(told.iter().all(|&(d, t)| t == total && d <= total), "{told:?}");
+    assert!(
+        told.iter().all(|&(d, t)| t == total && d <= total),
+        "{told:?}"
+    );
     assert_eq!(told.iter().map(|t| t.0).max(), Some(total));
 }
