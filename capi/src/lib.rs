@@ -541,6 +541,38 @@ mod tests {
     }
 
     #[test]
+    fn a_cancel_reaches_work_on_the_cpu() {
+        let ctx = context();
+        let options = crate::options::pixgeo_voronoi_options_default(64, 64);
+        let mut mask = [0u8; 64 * 64];
+        mask[0] = 1;
+        let mut distances = [0.0f64; 64 * 64];
+        let transform = |distances: &mut [f64]| {
+            // SAFETY: a live context, a 64 × 64 mask and room for its distances.
+            unsafe {
+                crate::transform::pixgeo_distance_transform(
+                    ctx,
+                    mask.as_ptr(),
+                    &options,
+                    ptr::null(),
+                    distances.as_mut_ptr(),
+                    ptr::null_mut(),
+                    ptr::null_mut(),
+                )
+            }
+        };
+        // Cancelled before it starts: the transform, on the CPU alone, looks
+        // at the context's flag.
+        // SAFETY: live; cancelling touches only the flag.
+        unsafe { pixgeo_context_cancel(ctx) };
+        assert_eq!(transform(&mut distances), PixgeoStatus::Cancelled);
+        assert_eq!(transform(&mut distances), PixgeoStatus::Ok);
+        assert_eq!(distances[64 + 1], 2f64.sqrt());
+        // SAFETY: made above, released once.
+        unsafe { pixgeo_context_destroy(ctx) };
+    }
+
+    #[test]
     fn counts_no_array_can_hold_are_refused() {
         let ctx = context();
         let xy = [0.0; 4];

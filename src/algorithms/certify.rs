@@ -24,6 +24,7 @@ use rayon::prelude::*;
 
 use super::higher_order::KNearest;
 use crate::{
+    cancel::Watch,
     error::{Error, Result},
     geometry::{
         buckets::PointGrid,
@@ -232,9 +233,11 @@ impl<'a> Certifier<'a> {
         let count_ties = ties.is_some();
         let current_ties = ties.as_deref();
         let proposed: &[u32] = labels;
+        let watch = Watch::current();
         let mends: Vec<Vec<Mend>> = (0..blocks)
             .into_par_iter()
             .map(|b| {
+                watch.check()?;
                 let corner = [(b % blocks_across) * BLOCK, (b / blocks_across) * BLOCK];
                 self.block(region, corner, proposed, current_ties, count_ties)
             })

@@ -16,6 +16,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::{
+    cancel::Watch,
     error::{Error, Result},
     geometry::{
         exact::{to_pixel_bounded, two_difference, two_product},
@@ -204,11 +205,13 @@ impl<'a> SiteCertifier<'a> {
                 &mut scratch
             }
         };
+        let watch = Watch::current();
         let mended: Vec<usize> = labels
             .par_chunks_mut(rows)
             .zip(distances.par_chunks_mut(rows))
             .enumerate()
             .map(|(band, (labels, distances))| {
+                watch.check()?;
                 let mut mended = 0;
                 for x0 in (0..width).step_by(BLOCK) {
                     mended += self.block(band * BLOCK, x0, labels, distances)?;
