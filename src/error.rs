@@ -76,6 +76,18 @@ impl Error {
         Self::Memory(error.to_string())
     }
 
+    /// A failure to allocate `bytes` of device memory for `what`.
+    pub(crate) fn memory_for(
+        error: gpu_allocator::AllocationError,
+        what: &str,
+        bytes: u64,
+    ) -> Self {
+        Self::Memory(format!(
+            "{what} ({}): {error}; use a smaller picture, or smaller tiles (max_tile, --max-tile)",
+            crate::memory::amount(bytes)
+        ))
+    }
+
     /// Names what an invalid input was (`first set: site 3 ...`), once.
     pub(crate) fn about(self, what: &str) -> Self {
         match self {

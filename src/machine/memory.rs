@@ -158,7 +158,10 @@ impl Image {
                 linear: false,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })
-            .map_err(Error::memory)?;
+            .map_err(|e| {
+                let what = format!("an image of {width}x{height}");
+                Error::memory_for(e, &what, requirements.size)
+            })?;
         // SAFETY: memory allocated for this image's requirements, bound once.
         unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindImageMemory")?;
@@ -274,7 +277,7 @@ impl Buffer {
                 linear: true,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })
-            .map_err(Error::memory)?;
+            .map_err(|e| Error::memory_for(e, "a buffer", requirements.size))?;
         // SAFETY: memory allocated for this buffer's requirements, bound once.
         unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindBufferMemory")?;
