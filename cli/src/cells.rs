@@ -8,13 +8,14 @@ use std::path::Path;
 use anyhow::Result;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::{cells::voronoi_cells, trace::trace_regions},
+    algorithms::{cells::voronoi_cells_with_progress, trace::trace_regions},
     Machine,
 };
 use serde_json::{json, Map, Value};
 
 use crate::{
     input::World,
+    progress::Progress,
     write::{
         picture::site_color,
         vector::{write_geojson, write_svg, Feature, Polygons},
@@ -41,6 +42,8 @@ pub enum Source<'a> {
 pub struct Outputs<'a> {
     pub geojson: Option<&'a Path>,
     pub svg: Option<&'a Path>,
+    /// A `--json` answer: no progress bar beside it.
+    pub json: bool,
 }
 
 impl Outputs<'_> {
@@ -62,7 +65,14 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
     let dots: Vec<DVec2> = sites.iter().map(|&p| picture(p)).collect();
     match source {
         Source::Exact { machine, sites } => {
-            let cells = voronoi_cells(machine, sites, &world.clip_rect())?;
+            let progress = Progress::new("cells", outputs.json);
+            let cells = voronoi_cells_with_progress(
+                machine,
+                sites,
+                &world.clip_rect(),
+                &mut |done, total| progress.report(done, total),
+            )?;
+            drop(progress);
             let same_as: std::collections::HashMap<u32, u32> =
                 cells.duplicates.iter().map(|&[r, f]| (r, f)).collect();
             let polygons = |i: usize| -> Polygons {

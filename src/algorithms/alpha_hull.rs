@@ -521,22 +521,55 @@ fn draw_discs(
         discs.to_vec()
     };
     let buffer = machine.vertex_buffer(&instances)?;
-    draw_on(machine, &image, ClearColor::Float([0.0; 4]), |pass| {
-        pass.draw(
-            &state,
-            &DrawParams::default(),
-            &Draw {
-                program: &DISC,
-                variant: 0,
-                push: bytemuck::bytes_of(&picture_push(w, h)),
-                vertex_buffers: &[&buffer],
-                vertices: 0..4,
-                instances: 0..discs.len() as u32,
-            },
-        )
-    })?;
+    // Runs of discs covering about DISC_PIXELS_PER_RUN pixels each, so that a
+    // cancel (which the machine looks at every run) stops large pictures soon.
+    let mut runs = vec![0u32];
+    let mut covered = 0.0;
+    for (k, d) in discs.iter().enumerate() {
+        covered += 4.0 * f64::from(d[2]).powi(2).min(f64::from(w) * f64::from(h));
+        if covered > DISC_PIXELS_PER_RUN {
+            runs.push(k as u32 + 1);
+            covered = 0.0;
+        }
+    }
+    // No discs: one run that only clears.
+    let n = discs.len() as u32;
+    if runs.len() == 1 || runs.last() != Some(&n) {
+        runs.push(n);
+    }
+    for (k, run) in runs.windows(2).enumerate() {
+        // The first run clears the picture; the others draw over it.
+        let clear = Clear {
+            color: (k == 0).then_some(ClearColor::Float([0.0; 4])),
+            ..Clear::default()
+        };
+        machine.run(|pass| {
+            let target = Target {
+                color: Some(&image),
+                depth_stencil: None,
+            };
+            pass.begin(target, clear)?;
+            pass.draw(
+                &state,
+                &DrawParams::default(),
+                &Draw {
+                    program: &DISC,
+                    variant: 0,
+                    push: bytemuck::bytes_of(&picture_push(w, h)),
+                    vertex_buffers: &[&buffer],
+                    vertices: 0..4,
+                    instances: run[0]..run[1],
+                },
+            )?;
+            pass.end()
+        })?;
+    }
     machine.read_f32(&image, PixelRect::of(&image))
 }
+
+/// Pixels the discs of one run cover, about (a few tenths of a second on
+/// lavapipe; `docs/tuning.md`).
+const DISC_PIXELS_PER_RUN: f64 = (1u64 << 29) as f64;
 
 /// The fewest pixels the pixel method's hull may span: its picture must hold
 /// every disc centre, 1/α around the sites, which leaves the hull itself a

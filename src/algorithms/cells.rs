@@ -19,6 +19,7 @@ use glam::DVec2;
 
 use super::delaunay::{delaunay, DelaunayOptions};
 use crate::{
+    cancel::Watch,
     error::{Error, Result},
     geometry::{cell::Rect, exact_cell::CellBuilder, predicates::orient},
     Machine,
@@ -62,6 +63,17 @@ impl Cells {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn voronoi_cells(machine: &Machine, sites: &[DVec2], rect: &Rect) -> Result<Cells> {
+    voronoi_cells_with_progress(machine, sites, rect, &mut |_, _| {})
+}
+
+/// [`voronoi_cells`], calling `progress(done, total)` as the cells are built
+/// and looking at the cancel flag ([`crate::cancel`]) as it goes.
+pub fn voronoi_cells_with_progress(
+    machine: &Machine,
+    sites: &[DVec2],
+    rect: &Rect,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Cells> {
     if let Some(i) = sites.iter().position(|p| !p.is_finite()) {
         return Err(Error::InvalidInput(format!("site {i} is not finite")));
     }
@@ -92,9 +104,16 @@ pub fn voronoi_cells(machine: &Machine, sites: &[DVec2], rect: &Rect) -> Result<
     let neighbours = neighbours(machine, sites, &distinct)?;
     let mut polygons = vec![Vec::new(); sites.len()];
     let mut builder = CellBuilder::new(sites, *rect);
-    for (&i, around) in distinct.iter().zip(&neighbours) {
+    let watch = Watch::current();
+    let total = distinct.len() as u64;
+    for (k, (&i, around)) in distinct.iter().zip(&neighbours).enumerate() {
+        if k % CELLS_PER_LOOK == 0 {
+            watch.check()?;
+            progress(k as u64, total);
+        }
         polygons[i as usize] = builder.cell(i, around);
     }
+    progress(total, total);
     for &[repeat, f] in &duplicates {
         polygons[repeat as usize] = polygons[f as usize].clone();
     }
@@ -103,6 +122,9 @@ pub fn voronoi_cells(machine: &Machine, sites: &[DVec2], rect: &Rect) -> Result<
         duplicates,
     })
 }
+
+/// Cells built between looks at the cancel flag and reports of progress.
+const CELLS_PER_LOOK: usize = 1 << 14;
 
 /// Each distinct site's Voronoi neighbours (input indices).
 fn neighbours(machine: &Machine, sites: &[DVec2], distinct: &[u32]) -> Result<Vec<Vec<u32>>> {

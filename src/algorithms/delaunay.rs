@@ -32,6 +32,7 @@ use glam::DVec2;
 
 use crate::{
     algorithms::flooding::{dualize, flood, FloodingStats},
+    cancel::Watch,
     error::{Error, Result},
     geometry::seed::Seed,
     geometry::{
@@ -205,7 +206,8 @@ pub fn delaunay(
 }
 
 /// [`delaunay`], calling `progress(done, STEPS)` as each of its five steps
-/// ends: flooding, dualization, moving the seeds, insertion, flips.
+/// ends: flooding, dualization, moving the seeds, insertion, flips. The steps
+/// on the CPU look at the cancel flag ([`crate::cancel`]) as they go.
 pub fn delaunay_with_progress(
     machine: &Machine,
     points: &[DVec2],
@@ -231,6 +233,9 @@ pub fn delaunay_with_progress(
 /// The steps [`delaunay_with_progress`] reports.
 pub(crate) const STEPS: u64 = 5;
 
+/// Points moved or inserted between looks at the cancel flag.
+const WATCH_EVERY: usize = 1 << 14;
+
 fn triangulate(
     machine: &Machine,
     points: &[DVec2],
@@ -241,6 +246,7 @@ fn triangulate(
     if points.len() >= u32::MAX as usize / 2 {
         return Err(Error::InvalidInput("too many points".into()));
     }
+    let watch = Watch::current();
     // 1. The grid over the bounding box.
     let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
         (lo.min(p), hi.max(p))
@@ -357,7 +363,10 @@ fn triangulate(
             }
             Ok(mut m) => {
                 stats.hull_flips = m.convexify();
-                for &v in &seed_point {
+                for (k, &v) in seed_point.iter().enumerate() {
+                    if k % WATCH_EVERY == 0 {
+                        watch.check()?;
+                    }
                     if m.try_move(v, real[v as usize]) {
                         stats.moved += 1;
                     } else if m.remove(v).is_ok() {
@@ -381,7 +390,7 @@ fn triangulate(
     let started = Instant::now();
     let mut mesh = match mesh {
         None => {
-            let (built, flips) = insert_all(real.clone());
+            let (built, flips) = insert_all(real.clone(), &watch)?;
             stats.inserted = real.len() - 3;
             stats.insertion_flips = flips;
             built
@@ -402,7 +411,10 @@ fn triangulate(
                 .iter()
                 .find(|&&v| mesh.contains(v))
                 .expect("a mesh keeps four sites");
-            for &v in &pending {
+            for (k, &v) in pending.iter().enumerate() {
+                if k % WATCH_EVERY == 0 {
+                    watch.check()?;
+                }
                 let near = seed_of(real[v as usize]);
                 let start = if mesh.contains(near) { near } else { last };
                 mesh.points[v as usize] = real[v as usize];
@@ -417,6 +429,7 @@ fn triangulate(
     progress(4, STEPS);
 
     // 6. Lawson's flips.
+    watch.check()?;
     let started = Instant::now();
     stats.delaunay_flips = mesh.make_delaunay();
     let triangles: Vec<[u32; 3]> = mesh
@@ -478,7 +491,7 @@ fn hilbert(mut x: u32, mut y: u32) -> u64 {
 /// A triangulation by insertion alone in Hilbert order, each point walking
 /// from the one before, from a first counter-clockwise triangle (the points
 /// are distinct and not all on one line).
-fn insert_all(points: Vec<DVec2>) -> (Mesh, usize) {
+fn insert_all(points: Vec<DVec2>, watch: &Watch) -> Result<(Mesh, usize)> {
     let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
         (lo.min(p), hi.max(p))
     });
@@ -500,9 +513,12 @@ fn insert_all(points: Vec<DVec2>) -> (Mesh, usize) {
     let mut mesh = Mesh::triangle(points, first);
     let mut flips = 0;
     let mut last = first[2];
-    for &v in order.iter().filter(|v| !first.contains(v)) {
+    for (k, &v) in order.iter().filter(|v| !first.contains(v)).enumerate() {
+        if k % WATCH_EVERY == 0 {
+            watch.check()?;
+        }
         flips += mesh.insert(v, last);
         last = v;
     }
-    (mesh, flips)
+    Ok((mesh, flips))
 }

@@ -6,6 +6,7 @@ mod common;
 
 mod alpha;
 mod area;
+mod cancel;
 mod cells;
 mod certified;
 mod certified_sites;

@@ -541,6 +541,7 @@ impl Args {
                 .output
                 .as_deref()
                 .filter(|p| extension_among(p, &["svg"]).is_some()),
+            json: self.json,
         }
     }
 

@@ -445,26 +445,29 @@ pub fn largest_empty_sites_by(
             // The vertices are computed in doubles, so the best one is proven
             // by a branch and bound that starts from it and stops at the
             // rounding of the clearances it evaluates.
-            best.and_then(|(c, v)| {
-                // Centres and the sites that decide them lie within about
-                // this of the origin.
-                let magnitude = around.abs().max_element() + 2.0 * reach + v.abs();
-                let rounding = 64.0 * f64::EPSILON * magnitude;
-                branch_and_bound(
-                    around,
-                    reach,
-                    |c, h| clearance_over_square(&points, &lines, c, h) + rounding,
-                    |c| clearance(c, &all) - rounding,
-                    allowed,
-                    meets,
-                    (Some((c, v - rounding)), |_| 4.0 * rounding),
-                )
-                .map(|(c, _, gap, checked)| {
-                    // The optimum lies between the value less its rounding and
-                    // that plus the gap.
-                    (c, clearance(c, &all), gap + rounding, cells + checked)
-                })
-            })
+            match best {
+                None => None,
+                Some((c, v)) => {
+                    // Centres and the sites that decide them lie within about
+                    // this of the origin.
+                    let magnitude = around.abs().max_element() + 2.0 * reach + v.abs();
+                    let rounding = 64.0 * f64::EPSILON * magnitude;
+                    branch_and_bound(
+                        around,
+                        reach,
+                        |c, h| clearance_over_square(&points, &lines, c, h) + rounding,
+                        |c| clearance(c, &all) - rounding,
+                        allowed,
+                        meets,
+                        (Some((c, v - rounding)), |_| 4.0 * rounding),
+                    )?
+                    .map(|(c, _, gap, checked)| {
+                        // The optimum lies between the value less its rounding
+                        // and that plus the gap.
+                        (c, clearance(c, &all), gap + rounding, cells + checked)
+                    })
+                }
+            }
         } else {
             branch_and_bound(
                 around,
@@ -474,7 +477,7 @@ pub fn largest_empty_sites_by(
                 allowed,
                 meets,
                 (None, |best: f64| 1e-9 * (1.0 + best.abs())),
-            )
+            )?
         };
         if let Some((c, v, gap, cells)) = found {
             if best.is_none_or(|b| v > b.1) {

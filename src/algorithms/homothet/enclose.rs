@@ -430,7 +430,7 @@ pub fn enclose_sites(
             |_| true,
             |_, _| true,
             (None, |best: f64| 1e-9 * (1.0 + best.abs())),
-        )
+        )?
         .ok_or_else(|| Error::InvalidInput("no enclosing circle found".into()))?;
         // The optimum is inside the square searched, or (convex units) the
         // square was too small.

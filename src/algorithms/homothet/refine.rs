@@ -5,7 +5,7 @@
 use glam::DVec2;
 
 use super::{candidates, kth_gauge, surroundings, Homothet, Unit};
-use crate::geometry::Frame;
+use crate::{cancel::Watch, geometry::Frame, Result};
 
 /// Roots of a t² + b t + c = 0 (the one root of the linear equation when a
 /// vanishes).
@@ -193,7 +193,8 @@ const MAX_CELLS: usize = 200_000;
 /// radius r around c meets it) are dropped, until the gap between the best
 /// upper bound and the best value is at most `resolved(best)`. `seed`, an
 /// allowed centre and its value, starts the search. Returns the centre, its
-/// value, the gap left and the cells evaluated.
+/// value, the gap left and the cells evaluated; [`crate::Error::Cancelled`] once the
+/// cancel flag ([`crate::cancel`]) is set.
 pub(super) fn branch_and_bound(
     around: DVec2,
     reach: f64,
@@ -202,8 +203,9 @@ pub(super) fn branch_and_bound(
     allowed: impl Fn(DVec2) -> bool,
     meets: impl Fn(DVec2, f64) -> bool,
     (seed, resolved): (Option<(DVec2, f64)>, impl Fn(f64) -> f64),
-) -> Option<(DVec2, f64, f64, usize)> {
+) -> Result<Option<(DVec2, f64, f64, usize)>> {
     use std::collections::BinaryHeap;
+    let watch = Watch::current();
     #[derive(PartialEq)]
     struct Cell(f64, DVec2, f64);
     impl Eq for Cell {}
@@ -240,11 +242,13 @@ pub(super) fn branch_and_bound(
     };
     push(&mut heap, &mut best, &mut cells, around, reach);
     while let Some(Cell(upper, c, h)) = heap.pop() {
+        if cells % 1024 < 4 {
+            watch.check()?;
+        }
         let floor = best.map_or(f64::NEG_INFINITY, |b| b.1);
         let gap = upper - floor;
         if gap <= resolved(floor) || cells >= MAX_CELLS {
-            let (c, v) = best?;
-            return Some((c, v, gap.max(0.0), cells));
+            return Ok(best.map(|(c, v)| (c, v, gap.max(0.0), cells)));
         }
         let q = h / 2.0;
         for d in [
@@ -256,7 +260,7 @@ pub(super) fn branch_and_bound(
             push(&mut heap, &mut best, &mut cells, c + d, q);
         }
     }
-    best.map(|(c, v)| (c, v, 0.0, cells))
+    Ok(best.map(|(c, v)| (c, v, 0.0, cells)))
 }
 
 /// Groups pixels (row-major indices) into clusters of 8-connected pixels.

@@ -2,6 +2,7 @@
 //! candidate, climbed by compass search.
 
 use super::*;
+use crate::cancel::Watch;
 
 /// The refined settle point: a position (pixel coordinates) and the exact area
 /// (square pixels) of the region a new site there would win, clipped to the
@@ -34,22 +35,24 @@ pub fn refine(rivals: &[DVec2], own: &[DVec2], frame: &Frame, starts: &[usize]) 
         hi: DVec2::new(frame.width as f64 - 0.5, frame.height as f64 - 0.5),
     };
     let w = frame.width as usize;
+    let watch = Watch::current();
     let climbs: Vec<Refined> = starts
         .par_iter()
         .map(|&k| {
+            watch.check()?;
             let pixel = [(k % w) as u32, (k / w) as u32];
             let start = DVec2::new(pixel[0] as f64, pixel[1] as f64);
             let stolen = cell::StolenArea::new(start, &rivals, &own, &picture);
             let area = |t: DVec2| stolen.at(t);
             let (position, best) = compass_search(start, &area, &picture);
-            Refined {
+            Ok(Refined {
                 position: position.to_array(),
                 area: best,
                 start_area: area(start),
                 start_pixel: pixel,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_>>()?;
     climbs
         .into_iter()
         .max_by(|a, b| a.area.total_cmp(&b.area))

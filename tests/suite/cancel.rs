@@ -1,0 +1,99 @@
+//! Cancellation of the steps on the CPU: each one, run within a set flag,
+//! stops with `Error::Cancelled`, and runs to its answer once the flag is
+//! clear. (The device's runs look at their machine's flag instead.)
+
+use std::sync::{
+    atomic::{AtomicBool, Ordering},
+    Arc,
+};
+
+use glam::DVec2;
+use pixgeo::{
+    algorithms::{
+        cells::voronoi_cells,
+        delaunay::{delaunay, DelaunayOptions},
+        homothet::{largest_empty_sites, Region, Unit},
+        settle::refine,
+    },
+    cancel::within,
+    geometry::{cell::Rect, site::Site, Frame},
+    Error,
+};
+
+use crate::common::machine;
+
+/// Runs `work` within a set flag, then within a clear one: cancelled first,
+/// answered second.
+fn cancelled_then_answered<T: std::fmt::Debug>(what: &str, work: impl Fn() -> pixgeo::Result<T>) {
+    let flag = Arc::new(AtomicBool::new(true));
+    let first = within(flag.clone(), &work);
+    assert!(matches!(first, Err(Error::Cancelled)), "{what}: {first:?}");
+    flag.store(false, Ordering::Relaxed);
+    if let Err(e) = within(flag, &work) {
+        panic!("{what}: {e}");
+    }
+}
+
+fn scattered(n: usize) -> Vec<DVec2> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64;
+            DVec2::new(
+                (t * 0.618_034).fract() * 100.0,
+                (t * 0.414_213_7).fract() * 100.0,
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn every_step_on_the_cpu_stops_when_cancelled() {
+    let machine = machine();
+    let points = scattered(500);
+    cancelled_then_answered("delaunay", || {
+        delaunay(&machine, &points, &DelaunayOptions::default())
+    });
+    let rect = Rect {
+        lo: DVec2::ZERO,
+        hi: DVec2::splat(100.0),
+    };
+    cancelled_then_answered("cells", || voronoi_cells(&machine, &points, &rect));
+    // Refined by a branch and bound among points, inside a square.
+    let sites: Vec<Site> = points[..20].iter().map(|&p| Site::point(p)).collect();
+    let square = Region {
+        rings: vec![vec![
+            DVec2::ZERO,
+            DVec2::new(100.0, 0.0),
+            DVec2::splat(100.0),
+            DVec2::new(0.0, 100.0),
+        ]],
+    };
+    cancelled_then_answered("empty", || {
+        largest_empty_sites(&machine, &sites, Unit::Circle, &square, true, 128)
+    });
+    let frame = Frame::pixels(64, 64).unwrap();
+    let rivals = [DVec2::new(10.0, 10.0), DVec2::new(50.0, 40.0)];
+    cancelled_then_answered("settle's refinement", || {
+        refine(&rivals, &[], &frame, &[64 * 32 + 32])
+    });
+}
+
+#[test]
+fn cells_report_their_progress_to_the_whole() {
+    use pixgeo::algorithms::cells::voronoi_cells_with_progress;
+    let machine = machine();
+    let points = scattered(40_000);
+    let rect = Rect {
+        lo: DVec2::ZERO,
+        hi: DVec2::splat(100.0),
+    };
+    let mut reports = Vec::new();
+    voronoi_cells_with_progress(&machine, &points, &rect, &mut |done, total| {
+        reports.push((done, total))
+    })
+    .unwrap();
+    // Every 16384 cells, then the whole: rising to the total.
+    assert!(reports.len() >= 3, "{reports:?}");
+    assert!(reports.windows(2).all(|w| w[0].0 <= w[1].0));
+    assert_eq!(reports.last(), Some(&(40_000, 40_000)));
+}
