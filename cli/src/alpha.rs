@@ -11,6 +11,7 @@ use crate::{
     device::VulkanDevice,
     envelope,
     input::Input,
+    progress::Progress,
     write::{
         output::{check_distinct, check_extension},
         picture::PngStream,
@@ -83,10 +84,12 @@ pub fn run(args: Args) -> Result<()> {
     let (world, points) = args.input.world_and_sites()?;
     let machine = args.device.machine()?;
     let (alpha, method) = (args.alpha, args.method);
+    let working = Progress::working("alpha", args.json);
     let hull = match fitted {
         Some(side) => alpha_hull::alpha_hull(&machine, &points, alpha, method, side)?,
         None => alpha_hull::alpha_hull_in(&machine, &points, alpha, method, world.frame)?,
     };
+    drop(working);
     let world = args.input.world_of(hull.frame);
     if args.json {
         envelope::print_world("alpha", machine.device_name(), &world, &hull)?;

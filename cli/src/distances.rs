@@ -14,7 +14,7 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
-use crate::{device::VulkanDevice, envelope, input::Points};
+use crate::{device::VulkanDevice, envelope, input::Points, progress::Progress};
 
 /// Options every distance command shares.
 #[derive(ClapArgs)]
@@ -144,7 +144,9 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
     let red = read(&args.red, "red")?;
     let blue = read(&args.blue, "blue")?;
     let machine = args.common.machine()?;
+    let working = Progress::working("hausdorff", args.common.json);
     let h = distances::hausdorff(&machine, &red, &blue, Some(args.common.size))?;
+    drop(working);
     if args.common.json {
         let summary = json!({
             "hausdorff": h.distance,
@@ -174,7 +176,9 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
 pub fn diameter(args: DiameterArgs) -> Result<()> {
     let points = args.points.read()?;
     let machine = args.common.machine()?;
+    let working = Progress::working("diameter", args.common.json);
     let d = distances::diameter(&machine, &points, Some(args.common.size))?;
+    drop(working);
     let names = Names {
         json: ["first", "second"],
         text: ["point", "point"],
@@ -193,7 +197,9 @@ pub fn maxdist(args: MaxDistArgs) -> Result<()> {
     let red = read(&args.red, "red")?;
     let blue = read(&args.blue, "blue")?;
     let machine = args.common.machine()?;
+    let working = Progress::working("maxdist", args.common.json);
     let d = distances::max_distance(&machine, &red, &blue, Some(args.common.size))?;
+    drop(working);
     let names = Names {
         json: ["red", "blue"],
         text: ["red", "blue"],

@@ -19,6 +19,7 @@ use crate::{
     device::VulkanDevice,
     envelope,
     input::Points,
+    progress::Progress,
     write::picture::{label_rows, PngStream},
 };
 
@@ -155,7 +156,9 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let machine = args.shape.device.machine()?;
     let side = args.shape.size;
     let k = args.at_least.unwrap_or(0);
+    let working = Progress::working("enclose", args.shape.json);
     let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
+    drop(working);
     let json = args
         .shape
         .json
@@ -180,6 +183,7 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         StageChoice::Cones => Some(PixelStage::Cones),
         StageChoice::Transform => Some(PixelStage::DistanceTransform),
     };
+    let working = Progress::working("empty", args.shape.json);
     let answer = homothet::largest_empty_sites_by(
         &machine,
         &shapes,
@@ -189,6 +193,7 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         side,
         stage,
     )?;
+    drop(working);
     let json = args.shape.json.then_some(("empty", machine.device_name()));
     report(&answer, json, "largest empty")?;
     args.shape

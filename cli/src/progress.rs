@@ -12,7 +12,7 @@ pub struct Progress {
 impl Progress {
     /// A bar named `message`, unless stderr is no terminal, `json` is set, or `-q`.
     pub fn new(message: &str, json: bool) -> Self {
-        let bar = (!json && !crate::quiet() && std::io::stderr().is_terminal()).then(|| {
+        let bar = Self::shown(json).then(|| {
             ProgressBar::new(1)
                 .with_style(
                     ProgressStyle::with_template("{msg} {bar:40} {percent}% {elapsed}")
@@ -21,6 +21,27 @@ impl Progress {
                 .with_message(message.to_string())
         });
         Self { bar }
+    }
+
+    /// A spinner with the time spent, for a step whose share done is not
+    /// known (a few device passes over a large picture), under the same
+    /// conditions as [`Self::new`].
+    pub fn working(message: &str, json: bool) -> Self {
+        let bar = Self::shown(json).then(|| {
+            let bar = ProgressBar::new_spinner()
+                .with_style(
+                    ProgressStyle::with_template("{msg} {spinner} {elapsed}")
+                        .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+                )
+                .with_message(message.to_string());
+            bar.enable_steady_tick(std::time::Duration::from_millis(200));
+            bar
+        });
+        Self { bar }
+    }
+
+    fn shown(json: bool) -> bool {
+        !json && !crate::quiet() && std::io::stderr().is_terminal()
     }
 
     /// The library's `progress(done, total)` callback.

@@ -177,11 +177,16 @@ enum Canvas {
 
 impl Canvas {
     /// The frame for a hull that lies in `[lo, hi]`, padded by `pad`.
+    /// Refused up front where the process cannot hold the hull's pictures.
     fn around(self, lo: DVec2, hi: DVec2, pad: f64) -> Result<Frame> {
-        match self {
-            Canvas::Side(side) => frame_around(lo, hi, pad, side),
-            Canvas::Frame(frame) => Ok(frame),
-        }
+        let frame = match self {
+            Canvas::Side(side) => frame_around(lo, hi, pad, side)?,
+            Canvas::Frame(frame) => frame,
+        };
+        // A float picture of disc counts, its readback, the classes and the
+        // centres' mask: 14 bytes a pixel measured at 16384², 16 with room.
+        frame.reserve(16, "an α-hull")?;
+        Ok(frame)
     }
 
     /// The width of a pixel (world units) for sites spanning `[lo, hi]`.

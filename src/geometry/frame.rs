@@ -54,14 +54,14 @@ impl Frame {
         Ok(frame)
     }
 
-    /// Checks the picture size: both sides at least 1 and at most [`Self::MAX_SIDE`],
-    /// and a finite, positive scale.
     /// Refuses a picture of this frame holding `bytes_per_pixel` bytes a pixel
     /// at once when the process cannot have them ([`crate::memory::reserve`]).
     pub fn reserve(&self, bytes_per_pixel: u64, what: &str) -> Result<()> {
         crate::memory::reserve_picture(self.width, self.height, bytes_per_pixel, what)
     }
 
+    /// Checks the picture size: both sides at least 1 and at most [`Self::MAX_SIDE`],
+    /// and a finite, positive scale.
     pub fn check(&self) -> Result<()> {
         let (width, height) = (self.width, self.height);
         if width == 0 || height == 0 {

@@ -52,7 +52,8 @@ fn work_larger_than_the_process_may_hold_is_refused_with_its_size() {
     let alpha = [
         "alpha", "--alpha", "-0.1", "--random", "100", "--size", "16384", "-o", p,
     ];
-    refused_under_limit(&alpha, &png);
+    let stderr = refused_under_limit(&alpha, &png);
+    assert!(stderr.contains("an α-hull of "), "{stderr}");
     // A 12000² mask: 144 MB of pixels, 5.8 GB to transform.
     let mask = temp("memory-mask.png");
     image::GrayImage::new(12000, 12000).save(&mask).unwrap();
