@@ -138,6 +138,41 @@ def test_geographic_crs_and_settle(tmp_path):
     )
 
 
+def test_geotiffs_fit_for_gdal_as_they_are(tmp_path, sites, caplog):
+    """Tiled, DEFLATE-compressed, nodata declared, the coordinate system's kind
+    from EPSG's registry, and not a word from GDAL on reading them."""
+    import logging
+
+    xy, path = sites
+    box = ",".join(map(str, BBOX))
+    caplog.set_level(logging.DEBUG)
+    pixgeo("voronoi", "--sites", path, "--bbox", box, "--size", 600,
+           "--labels", tmp_path / "l.tif", "--distance", tmp_path / "d.tif",
+           "--degree", 2, "--crs", "EPSG:32633")
+    for name, dtype, nodata in (("l.tif", "uint32", 4294967295), ("d.tif", "float32", np.inf)):
+        with rasterio.open(tmp_path / name) as r:
+            profile = r.profile
+            assert (profile["tiled"], profile["blockxsize"], profile["blockysize"]) == (True, 256, 256)
+            assert profile["compress"] == "deflate" and r.count == 2
+            assert r.dtypes[0] == dtype and r.nodata == nodata
+            r.read()
+    # Labels hold no "no site" here: every pixel keeps its value.
+    with rasterio.open(tmp_path / "l.tif") as r:
+        assert not r.read(1, masked=True).mask.any()
+    # Geographic or projected as the registry says, not by the code's range.
+    for code, geographic in ((6318, True), (4087, False), (4326, True)):
+        pixgeo("voronoi", "--random", 10, "--bbox", "10,45,12,46.5", "--size", 40,
+               "--labels", tmp_path / f"{code}.tif", "--crs", f"EPSG:{code}")
+        with rasterio.open(tmp_path / f"{code}.tif") as r:
+            assert r.crs.to_epsg() == code and r.crs.is_geographic == geographic
+            r.read()
+    warned = [rec for rec in caplog.records if rec.levelno >= logging.WARNING]
+    assert not warned, [rec.getMessage() for rec in warned]
+    refused = subprocess.run([str(CLI), "voronoi", "--random", "3", "--crs", "EPSG:4978"],
+                             capture_output=True, text=True)
+    assert refused.returncode != 0 and "geocentric" in refused.stderr
+
+
 def read_cells(path):
     collection = json.loads(path.read_text())
     assert collection["type"] == "FeatureCollection"

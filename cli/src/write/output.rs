@@ -296,6 +296,10 @@ pub fn check_distinct<'a>(
         .try_for_each(|(option, path)| claim(path, option))
 }
 
+/// Held by the tests that use the process's transaction, one at a time.
+#[cfg(test)]
+pub static TRANSACTION_TESTS: Mutex<()> = Mutex::new(());
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -306,6 +310,7 @@ mod tests {
     /// twice refused however it is spelled.
     #[test]
     fn outputs_are_put_in_place_together() {
+        let _one = TRANSACTION_TESTS.lock().unwrap_or_else(|e| e.into_inner());
         let dir = std::env::temp_dir().join(format!("pixgeo-output-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let (a, b) = (dir.join("a.npy"), dir.join("b.npy"));
@@ -344,6 +349,7 @@ mod tests {
 
     #[test]
     fn a_full_device_is_an_error() {
+        let _one = TRANSACTION_TESTS.lock().unwrap_or_else(|e| e.into_inner());
         let (out, mut file) =
             OutputFile::create(Path::new("/dev/full"), "png", "pictures").unwrap();
         assert!(file.write_all(b"x").is_err());
