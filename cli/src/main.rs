@@ -22,6 +22,7 @@ mod envelope;
 mod gallery;
 mod homothet;
 mod input;
+mod mask;
 mod progress;
 mod settle;
 mod transform;

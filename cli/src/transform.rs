@@ -10,13 +10,12 @@ use pixgeo::{
         TransformOptions, NO_COMPONENT,
     },
     geometry::metric::Metric,
-    io::mask::read_mask,
 };
 use serde_json::json;
 
 use crate::{
     envelope,
-    input::Placement,
+    input::{Placement, YAxis},
     progress::Progress,
     write::{
         geotiff::GeoReference,
@@ -43,18 +42,41 @@ use crate::{
 ///   pixgeo transform --mask examples/data/obstacles.png --distance d.npy --indices i.npy
 ///   pixgeo transform --mask mask.npy --metric l1 --sampling 2,1 --distance d.npy
 ///   pixgeo transform --mask roads.npy --bbox 500000,4000000,501000,4000800 --crs EPSG:32633 --distance d.tif
+///   pixgeo transform --mask landcover.tif --values 11,12 --distance-units geo --max-distance 500 --distance d.tif
 ///
-/// Rasters named `.tif` are GeoTIFFs placed by --bbox (the rectangle the mask
-/// covers; pixel coordinates without it), --y-axis and --crs; distances stay
-/// in sampled units (--sampling), pixels by default.
+/// Rasters named `.tif` are GeoTIFFs placed where a GeoTIFF mask lies, or by
+/// --bbox (the rectangle the mask covers; pixel coordinates without it),
+/// --y-axis and --crs. Distances are in pixels, in sampled units with
+/// --sampling, or in the georeferencing's units with --distance-units geo, as
+/// gdal_proximity's -distunits.
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// The raster: a 2-D .npy array (any numeric or bool dtype) or a PNG; its
-    /// non-zero pixels are the features. Row 0 is the array's first row, the
-    /// picture's top row.
+    /// The raster: a 2-D .npy array (any numeric or bool dtype), a PNG, or a
+    /// GeoTIFF (its first band; the outputs lie where it lies); its non-zero
+    /// pixels are the features. Row 0 is the array's first row, the picture's
+    /// top row.
     #[arg(long, value_name = "FILE")]
     mask: PathBuf,
+    /// The pixel values that are features, `V1,V2,...` (as gdal_proximity's
+    /// -values), for a .npy or .tif mask; default: every value but 0.
+    #[arg(
+        long,
+        value_name = "V1,V2,...",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    values: Option<Vec<f64>>,
+    /// Units of the distances: `pixel` (or --sampling's) or `geo`, the
+    /// georeferencing's (a GeoTIFF mask's or --bbox's pixel size), as
+    /// gdal_proximity's -distunits.
+    #[arg(long, value_enum, default_value = "pixel")]
+    distance_units: DistanceUnits,
+    /// Pixels farther than this from every feature (in the distances' units)
+    /// have none: distance inf, indices -1, component 4294967295, as
+    /// gdal_proximity's -maxdist.
+    #[arg(long, value_name = "DISTANCE", allow_hyphen_values = true)]
+    max_distance: Option<f64>,
     /// Write the distances: float64, (rows, columns).
     #[arg(long, value_name = "FILE.npy|FILE.tif")]
     distance: Option<PathBuf>,
@@ -101,13 +123,20 @@ pub struct Args {
     metric: Metric,
     /// Spacing of rows and of columns, `SY,SX` (or one for both), as SciPy's
     /// `sampling`.
-    #[arg(long, value_name = "SY,SX", default_value = "1", value_parser = parse_sampling)]
-    sampling: [f64; 2],
+    #[arg(long, value_name = "SY,SX", value_parser = parse_sampling)]
+    sampling: Option<[f64; 2]>,
     #[command(flatten)]
     place: Placement,
     /// Print the answer as JSON.
     #[arg(long)]
     json: bool,
+}
+
+/// Units of `transform`'s distances.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum DistanceUnits {
+    Pixel,
+    Geo,
 }
 
 fn parse_sampling(text: &str) -> Result<[f64; 2], String> {
@@ -160,11 +189,26 @@ pub fn run(args: Args) -> Result<()> {
             .chain([("--mask", Some(args.mask.as_path()))]),
     )?;
     args.place.check_world_file()?;
-    let mask = read_mask(&args.mask)?;
+    if let Some(d) = args.max_distance {
+        if d.is_nan() || d < 0.0 {
+            bail!("--max-distance {d}: give a distance of 0 or more");
+        }
+    }
+    let source = crate::mask::read(&args.mask, args.values.as_deref())?;
+    let mask = source.mask;
+    let placed_by_mask = source.placed.is_some();
+    let geo = placement(&args, source.placed, mask.width, mask.height)?;
+    let sampling = match (args.distance_units, args.sampling) {
+        (DistanceUnits::Pixel, sampling) => sampling.unwrap_or([1.0, 1.0]),
+        (DistanceUnits::Geo, None) => [geo.pixel_height.abs(), geo.pixel_width],
+        (DistanceUnits::Geo, Some(_)) => {
+            bail!("--sampling sets the pixels' spacing and --distance-units geo takes it from the georeferencing: give one")
+        }
+    };
     let started = std::time::Instant::now();
     let options = TransformOptions::new()
         .metric(args.metric)
-        .sampling(args.sampling);
+        .sampling(sampling);
     let progress = Progress::new("transform: rows", args.json);
     let t = distance_transform_with_progress(
         &mask.features,
@@ -175,7 +219,30 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     drop(progress);
     let transform_ms = started.elapsed().as_secs_f64() * 1e3;
-    let geo = args.place.georeference(t.width, t.height);
+    let mut axis = match &args.medial_axis {
+        Some(_) => medial_axis(
+            &t,
+            &options,
+            Pruning {
+                length: args.prune,
+                angle: args.prune_angle,
+            },
+        )?,
+        None => Vec::new(),
+    };
+    let mut t = t;
+    if let Some(reach) = args.max_distance {
+        for p in 0..t.distances.len() {
+            if t.distances[p] > reach {
+                t.distances[p] = f64::INFINITY;
+                t.feature_rows[p] = -1;
+                t.feature_columns[p] = -1;
+                if let Some(a) = axis.get_mut(p) {
+                    *a = false;
+                }
+            }
+        }
+    }
     let size = [t.width, t.height, 1];
     if let Some(path) = &args.distance {
         raster::write(path, size, &t.distances, Some(&geo))?;
@@ -183,21 +250,9 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.indices {
         write_indices(path, &t, &geo)?;
     }
-    let axis = match &args.medial_axis {
-        Some(path) => {
-            let axis = medial_axis(
-                &t,
-                &options,
-                Pruning {
-                    length: args.prune,
-                    angle: args.prune_angle,
-                },
-            )?;
-            raster::write(path, size, &axis, Some(&geo))?;
-            axis
-        }
-        None => Vec::new(),
-    };
+    if let Some(path) = &args.medial_axis {
+        raster::write(path, size, &axis, Some(&geo))?;
+    }
     let (labels, count) = components(&mask.features, mask.width as usize);
     let largest = t
         .distances
@@ -240,10 +295,13 @@ pub fn run(args: Args) -> Result<()> {
             "features": features,
             "components": count,
             "metric": args.metric.to_string(),
-            "sampling": args.sampling,
+            "sampling": sampling,
             "largest_distance": (features > 0).then_some(largest),
             "medial_axis_pixels": args.medial_axis.is_some().then(|| axis.iter().filter(|&&a| a).count()),
-            "georeference": args.place.describe(t.width, t.height),
+            "georeference": match placed_by_mask {
+                true => describe(&geo, t.width, t.height),
+                false => args.place.describe(t.width, t.height),
+            },
             "stats": { "transform_ms": transform_ms },
         });
         envelope::print("transform", "cpu", None, &answer)?;
@@ -263,6 +321,47 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Where the rasters lie: where a GeoTIFF mask lies (which --bbox and
+/// --y-axis may not contradict; --crs names its system if it names none), or
+/// as --bbox, --y-axis and --crs place them.
+fn placement(
+    args: &Args,
+    placed: Option<GeoReference>,
+    width: u32,
+    height: u32,
+) -> Result<GeoReference> {
+    let Some(mut geo) = placed else {
+        return Ok(args.place.georeference(width, height));
+    };
+    if args.place.bbox.is_some() || args.place.y_axis.is_some() {
+        bail!(
+            "{} is placed by its own georeferencing: --bbox and --y-axis place masks that have none",
+            args.mask.display()
+        );
+    }
+    match (geo.epsg, args.place.crs) {
+        (Some(own), Some(asked)) if own != asked => bail!(
+            "{} is in EPSG:{own}, not the EPSG:{asked} of --crs",
+            args.mask.display()
+        ),
+        (None, asked) => geo.epsg = asked,
+        _ => {}
+    }
+    Ok(geo)
+}
+
+/// The box, the way y runs and the coordinate system of rasters placed by
+/// a GeoTIFF mask's `geo`, for the JSON answer.
+fn describe(geo: &GeoReference, width: u32, height: u32) -> serde_json::Value {
+    let (x0, x1) = (geo.left, geo.left + geo.pixel_width * width as f64);
+    let y1 = geo.top - geo.pixel_height * height as f64;
+    json!({
+        "bbox": [x0, geo.top.min(y1), x1, geo.top.max(y1)],
+        "y_axis": if geo.pixel_height > 0.0 { YAxis::Up } else { YAxis::Down },
+        "crs": crate::write::geotiff::crs_name(geo.epsg),
+    })
 }
 
 /// Each pixel's nearest feature pixel, row then column: SciPy's (2, rows,

@@ -373,3 +373,59 @@ def test_transform_writes_geotiffs_placed_by_the_box(tmp_path):
            "--distance", tmp_path / "down.tif")
     with rasterio.open(tmp_path / "down.tif") as r:
         assert r.transform == Affine(2.0, 0.0, 500000.0, 0.0, 2.0, 4000000.0)
+
+
+def test_transform_as_a_proximity_tool(tmp_path):
+    """`transform` reads a GeoTIFF mask as GDAL writes it (LZW, tiled), picks
+    the features by value, and writes distances in the georeferencing's units
+    with a cut-off, placed where the mask lies: SciPy's distances bit for bit."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(1)
+    cover = rng.integers(0, 20, (300, 400)).astype(np.uint8)
+    cover[rng.random(cover.shape) < 0.995] = 0
+    placed = Affine(10.0, 0.0, 500000.0, 0.0, -10.0, 4001000.0)
+    with rasterio.open(tmp_path / "cover.tif", "w", driver="GTiff", width=400, height=300,
+                       count=1, dtype="uint8", crs="EPSG:32633", transform=placed,
+                       compress="lzw", tiled=True) as w:
+        w.write(cover, 1)
+    done = pixgeo("transform", "--mask", tmp_path / "cover.tif", "--values", "11,12",
+                  "--distance-units", "geo", "--max-distance", 500,
+                  "--distance", tmp_path / "d.tif", "--indices", tmp_path / "i.tif",
+                  "--components", tmp_path / "c.tif", "--json")
+    assert json.loads(done.stdout)["result"]["georeference"] == {
+        "bbox": [500000, 3998000, 504000, 4001000], "y_axis": "up", "crs": "EPSG:32633"}
+    features = np.isin(cover, [11, 12])
+    truth, (rows, columns) = ndimage.distance_transform_edt(
+        ~features, sampling=(10, 10), return_indices=True)
+    far = truth > 500
+    truth[far] = np.inf
+    with rasterio.open(tmp_path / "d.tif") as r:
+        assert r.transform == placed and r.crs.to_epsg() == 32633 and r.nodata == np.inf
+        np.testing.assert_array_equal(r.read(1), truth)
+    with rasterio.open(tmp_path / "i.tif") as r:
+        assert r.nodata == -1
+        got_rows, got_columns = r.read(1), r.read(2)
+    assert (got_rows[far] == -1).all() and (got_columns[far] == -1).all()
+    # Ties may pick another feature at the same distance.
+    near = ~far
+    r_, c_ = np.indices(cover.shape)
+    np.testing.assert_allclose(np.hypot(got_rows - r_, got_columns - c_)[near] * 10,
+                               truth[near], rtol=1e-15)
+    with rasterio.open(tmp_path / "c.tif") as r:
+        assert (r.read(1)[far] == 4294967295).all() and r.nodata == 4294967295
+    # In pixels by default; --values reads every value given.
+    pixgeo("transform", "--mask", tmp_path / "cover.tif", "--distance", tmp_path / "p.tif")
+    with rasterio.open(tmp_path / "p.tif") as r:
+        np.testing.assert_array_equal(r.read(1), ndimage.distance_transform_edt(cover == 0))
+    for args, says in (
+        (["--bbox", "0,0,1,1"], "its own georeferencing"),
+        (["--crs", "EPSG:4326"], "EPSG:32633, not the EPSG:4326"),
+        (["--distance-units", "geo", "--sampling", "2"], "give one"),
+        (["--max-distance", "-1"], "0 or more"),
+    ):
+        refused = subprocess.run([str(CLI), "transform", "--mask", str(tmp_path / "cover.tif"),
+                                  "--distance", str(tmp_path / "x.tif"), *args],
+                                 capture_output=True, text=True)
+        assert refused.returncode == 1 and says in refused.stderr, (args, refused.stderr)
+        assert not (tmp_path / "x.tif").exists()

@@ -21,7 +21,7 @@ pub fn read<T: npyz::Deserialize>(path: &Path) -> Result<(Vec<u64>, Vec<T>)> {
 }
 
 /// Reads a numeric `.npy` array (floats or integers of any width) as `f64`.
-pub(crate) fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
+pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     let parse = |e: std::io::Error| Error::Parse {
         path: path.to_path_buf(),
