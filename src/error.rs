@@ -8,7 +8,7 @@ use std::path::PathBuf;
 #[non_exhaustive]
 pub enum Error {
     /// The Vulkan loader or a driver is missing.
-    #[error("no Vulkan driver: {0}. On Debian/Ubuntu install libvulkan1 and mesa-vulkan-drivers (tools/setup does)")]
+    #[error("no Vulkan driver: {0}. Install a Vulkan loader and driver: libvulkan1 and mesa-vulkan-drivers on Debian and Ubuntu, vulkan-loader and mesa-vulkan-drivers on Fedora and RHEL")]
     NoVulkan(String),
     /// No device matched the request (`PIXGEO_DEVICE`) or none has what pixgeo needs.
     #[error("no suitable Vulkan device: {0}")]

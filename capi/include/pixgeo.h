@@ -272,7 +272,7 @@ typedef struct PixgeoHomothetOptions {
   const double *polygon;
   size_t polygon_count;
   double kernel[2];
-  // Picture side in pixels along the longer axis (0: 512).
+  // Picture side in pixels along the longer axis (0: 1024).
   uint32_t side;
 } PixgeoHomothetOptions;
 
@@ -333,7 +333,7 @@ typedef struct PixgeoAlphaOptions {
   double alpha;
   // A [`PixgeoAlphaMethod`].
   uint32_t method;
-  // Picture side in pixels along the longer axis (0: 512); the picture is
+  // Picture side in pixels along the longer axis (0: 1024); the picture is
   // fitted to where the hull can be.
   uint32_t side;
 } PixgeoAlphaOptions;

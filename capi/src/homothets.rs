@@ -19,7 +19,7 @@ pub struct PixgeoHomothetOptions {
     pub polygon: *const f64,
     pub polygon_count: usize,
     pub kernel: [f64; 2],
-    /// Picture side in pixels along the longer axis (0: 512).
+    /// Picture side in pixels along the longer axis (0: 1024).
     pub side: u32,
 }
 

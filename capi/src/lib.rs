@@ -541,6 +541,36 @@ mod tests {
     }
 
     #[test]
+    fn the_header_says_the_default_side_the_calls_use() {
+        let side = pixgeo::Frame::DEFAULT_SIDE;
+        let header = include_str!("../include/pixgeo.h");
+        assert_eq!(header.matches(&format!("(0: {side})")).count(), 2);
+        let ctx = context();
+        let xy = [0.0, 0.0, 10.0, 0.0, 10.0, 10.0, 0.0, 10.0];
+        let options = crate::shapes::pixgeo_alpha_options_default();
+        assert_eq!(options.side, 0);
+        let mut out = crate::shapes::PixgeoAlphaHull::default();
+        // SAFETY: a live context, four points, no pixels or boundary asked for.
+        let status = unsafe {
+            crate::shapes::pixgeo_alpha_hull(
+                ctx,
+                xy.as_ptr(),
+                4,
+                &options,
+                &mut out,
+                ptr::null_mut(),
+                0,
+                ptr::null_mut(),
+                0,
+            )
+        };
+        assert_eq!(status, PixgeoStatus::Ok);
+        assert_eq!(out.width.max(out.height), side);
+        // SAFETY: made above, released once.
+        unsafe { pixgeo_context_destroy(ctx) };
+    }
+
+    #[test]
     fn a_cancel_reaches_work_on_the_cpu() {
         let ctx = context();
         let options = crate::options::pixgeo_voronoi_options_default(64, 64);

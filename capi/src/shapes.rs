@@ -195,7 +195,7 @@ pub struct PixgeoAlphaOptions {
     pub alpha: f64,
     /// A [`PixgeoAlphaMethod`].
     pub method: u32,
-    /// Picture side in pixels along the longer axis (0: 512); the picture is
+    /// Picture side in pixels along the longer axis (0: 1024); the picture is
     /// fitted to where the hull can be.
     pub side: u32,
 }

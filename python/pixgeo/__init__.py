@@ -3,8 +3,9 @@
 pixgeo draws one cone per site with a depth test on a Vulkan device (Mesa's
 lavapipe where there is no GPU), so every pixel gets its nearest site and the
 distance to it. Arrays go in and come out in NumPy's conventions: points are
-``(n, 2)`` float arrays, rasters ``(H, W)`` arrays with row 0 at the bottom of
-the frame (the smallest y).
+``(n, 2)`` float arrays, rasters ``(H, W)`` arrays; with a ``bbox`` they are
+north-up (row 0 the largest y), as the command line writes them and GIS tools
+read them, and their :class:`Frame` gives the affine ``transform``.
 
 A device is made on first use and reused; calls from several threads are safe
 (one at a time per device). Bad input raises ``ValueError`` with pixgeo's own
@@ -68,19 +69,55 @@ __all__ = [
 class Frame:
     """The picture and the world rectangle it shows.
 
-    Pixel ``(i, j)`` (column i, row j) is centred at world point
-    ``origin + (i + 0.5, j + 0.5) / scale``.
+    ``origin`` is the world point at the outer corner of pixel ``(0, 0)``
+    (column 0, row 0). With ``y_axis == "up"`` (north-up, as maps and GIS
+    tools hold rasters: the default with a ``bbox``) row 0 holds the largest
+    y and pixel ``(i, j)`` is centred at ``origin + (i + 0.5, -(j + 0.5)) /
+    scale``; with ``"down"`` row 0 holds the smallest y and the centre is at
+    ``origin + (i + 0.5, j + 0.5) / scale``. ``crs`` is the coordinate
+    system the caller named (``"EPSG:N"``), carried for the rasters' users.
     """
 
     width: int
     height: int
     origin: Tuple[float, float]
     scale: float
+    y_axis: str = "down"
+    crs: Optional[str] = None
+
+    @property
+    def res(self) -> float:
+        """A pixel's side in world units."""
+        return 1.0 / self.scale
+
+    def _step(self) -> float:
+        return -self.res if self.y_axis == "up" else self.res
+
+    @property
+    def transform(self) -> Tuple[float, float, float, float, float, float]:
+        """The affine from (column, row) to world (x, y) of pixel corners, in
+        rasterio's order ``(a, b, c, d, e, f)``: ``affine.Affine(*frame.transform)``
+        or ``rasterio.open(..., transform=Affine(*frame.transform))``."""
+        return (self.res, 0.0, self.origin[0], 0.0, self._step(), self.origin[1])
+
+    @property
+    def geotransform(self) -> Tuple[float, float, float, float, float, float]:
+        """The same affine in GDAL's order ``(c, a, b, f, d, e)``, as
+        ``SetGeoTransform`` takes it."""
+        a, b, c, d, e, f = self.transform
+        return (c, a, b, f, d, e)
+
+    @property
+    def bbox(self) -> Tuple[float, float, float, float]:
+        """The world rectangle ``(xmin, ymin, xmax, ymax)`` the pixels cover."""
+        x1 = self.origin[0] + self.width * self.res
+        y1 = self.origin[1] + self.height * self._step()
+        return (self.origin[0], min(self.origin[1], y1), x1, max(self.origin[1], y1))
 
     def pixel_centres(self) -> Tuple[np.ndarray, np.ndarray]:
-        """World x (W,) and y (H,) of the pixel centres."""
-        x = self.origin[0] + (np.arange(self.width) + 0.5) / self.scale
-        y = self.origin[1] + (np.arange(self.height) + 0.5) / self.scale
+        """World x (W,) of the columns' centres and y (H,) of the rows'."""
+        x = self.origin[0] + (np.arange(self.width) + 0.5) * self.res
+        y = self.origin[1] + (np.arange(self.height) + 0.5) * self._step()
         return x, y
 
 
@@ -175,11 +212,94 @@ def _frame(t) -> Frame:
     return Frame(w, h, (ox, oy), scale)
 
 
+def _crs(crs) -> Optional[str]:
+    """``"EPSG:N"`` from ``"EPSG:N"``, ``"epsg:N"`` or the number N."""
+    if crs is None:
+        return None
+    text = f"EPSG:{crs}" if isinstance(crs, (int, np.integer)) else str(crs)
+    code = text[5:] if text[:5].upper() == "EPSG:" else ""
+    if not code.isdigit():
+        raise ValueError(f"crs must be 'EPSG:N' or the code N, not {crs!r}")
+    return f"EPSG:{int(code)}"
+
+
+@dataclass(frozen=True)
+class _Placement:
+    """Where a picture lies, and how pixgeo computes it: north-up pictures in
+    the world mirrored across the x axis (y to -y), whose frame puts the
+    largest y in row 0, so that every raster comes out north-up as computed
+    (distances are the same in the mirror)."""
+
+    width: int
+    height: int
+    bbox: Optional[Tuple[float, float, float, float]]
+    up: bool
+    crs: Optional[str]
+
+    def sites(self, points: np.ndarray) -> np.ndarray:
+        """``points`` in the computing world."""
+        if not self.up:
+            return points
+        mirrored = points.copy()
+        mirrored[:, 1] *= -1.0
+        return mirrored
+
+    def point(self, x: float, y: float) -> Tuple[float, float]:
+        """A point of the computing world in the user's."""
+        return (x, -y) if self.up else (x, y)
+
+    def frame(self, t) -> Frame:
+        """The computing frame ``t`` as the user's."""
+        w, h, ox, oy, scale = t
+        origin = (ox, -oy) if self.up else (ox, oy)
+        return Frame(w, h, origin, scale, "up" if self.up else "down", self.crs)
+
+
+def _place(shape, bbox, res, y_axis, crs) -> _Placement:
+    """The picture of ``shape`` (or of ``bbox`` in pixels of side ``res``),
+    north-up unless ``y_axis == "down"`` (the default without a box)."""
+    box = _bbox(bbox)
+    if res is not None:
+        if shape is not None:
+            raise ValueError("give shape=(height, width) or res= (with a bbox), not both")
+        if box is None:
+            raise ValueError("res= sizes the pixels of a bbox: give bbox=(xmin, ymin, xmax, ymax)")
+        res = float(res)
+        if not (np.isfinite(res) and res > 0):
+            raise ValueError(f"res must be a pixel side above 0, not {res!r}")
+        sides = []
+        for name, extent in (("height", box[3] - box[1]), ("width", box[2] - box[0])):
+            n = extent / res
+            if not (np.isfinite(n) and n >= 0.5 and abs(n - round(n)) <= 1e-9 * max(1.0, n)):
+                raise ValueError(
+                    f"the bbox's {name} {extent!r} is {n!r} pixels of side {res!r}: "
+                    "give a bbox whose sides are whole numbers of pixels"
+                )
+            sides.append(int(round(n)))
+        shape = tuple(sides)
+    elif shape is None:
+        raise ValueError("give shape=(height, width), or bbox= and res= (the pixels' side)")
+    h, w = _shape(shape)
+    if y_axis is None:
+        y_axis = "up" if box is not None else "down"
+    if y_axis not in ("up", "down"):
+        raise ValueError(f"y_axis must be 'up' (row 0 the largest y) or 'down', not {y_axis!r}")
+    up = y_axis == "up"
+    if up:
+        # Without a box, the pixel coordinates' own rectangle, flipped.
+        x0, y0, x1, y1 = box if box is not None else (-0.5, -0.5, w - 0.5, h - 0.5)
+        box = (x0, -y1, x1, -y0)
+    return _Placement(w, h, box, up, _crs(crs))
+
+
 def voronoi(
     sites,
-    shape: Sequence[int],
+    shape: Optional[Sequence[int]] = None,
     *,
     bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
     metric: str = "l2",
     mode: str = "exact",
     weights=None,
@@ -191,7 +311,12 @@ def voronoi(
     ``shape`` is ``(H, W)``. Without ``bbox`` world and pixel coordinates
     agree (pixel (i, j) centred at (i, j)); with ``bbox = (xmin, ymin, xmax,
     ymax)`` that rectangle fills the picture (pixels are square, so H must
-    match its aspect ratio to within a pixel). ``metric`` is ``l2``, ``l1``,
+    match its aspect ratio to within a pixel), or ``res`` gives the pixels'
+    side instead of ``shape`` (``bbox=(0, 0, 1000, 800), res=10``: 80 x 100).
+    With a bbox the rasters are north-up, as the command line and GIS tools
+    hold them (row 0 the largest y); ``y_axis="down"`` puts the smallest y in
+    row 0. ``crs`` (``"EPSG:N"``) is carried to the frame, whose
+    ``transform`` places the rasters. ``metric`` is ``l2``, ``l1``,
     ``linf`` or ``lp:P``; ``mode`` is ``exact`` (every pixel's nearest site,
     ties to the smaller index) or the thesis's triangle fans, ``fan`` (distance
     error within a pixel) or ``fan:T``. ``device``: ``auto``, ``lavapipe``,
@@ -206,19 +331,20 @@ def voronoi(
     diagram's there bit for bit, so windows computed apart tile into it
     (:func:`pixgeo.dask.voronoi` does that on a cluster).
     """
-    h, w = _shape(shape)
-    points = _points(sites, "sites")
+    place = _place(shape, bbox, res, y_axis, crs)
+    w, h, box = place.width, place.height, place.bbox
+    points = place.sites(_points(sites, "sites"))
     if weights is None:
         labels, distances, frame = _pixgeo.voronoi(
-            points, w, h, _bbox(bbox), metric, mode, device, _window(window)
+            points, w, h, box, metric, mode, device, _window(window)
         )
     else:
         if window is not None:
             raise ValueError("windows take unweighted points; give weights or a window")
         labels, distances, frame = _pixgeo.voronoi_weighted(
-            points, _weights(weights, len(points)), w, h, _bbox(bbox), metric, mode, device
+            points, _weights(weights, len(points)), w, h, box, metric, mode, device
         )
-    return Diagram(labels, distances, _frame(frame))
+    return Diagram(labels, distances, place.frame(frame))
 
 
 def _weights(weights, n: int) -> np.ndarray:
@@ -242,19 +368,29 @@ def _window(window) -> Optional[Tuple[int, int, int, int]]:
     return v
 
 
-def frame(shape: Sequence[int], *, bbox=None) -> Frame:
-    """The frame :func:`voronoi` uses for ``shape`` and ``bbox``, computed
-    without drawing."""
-    h, w = _shape(shape)
-    return _frame(_pixgeo.frame_of(w, h, _bbox(bbox)))
+def frame(
+    shape: Optional[Sequence[int]] = None,
+    *,
+    bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
+) -> Frame:
+    """The frame :func:`voronoi` uses for these arguments, computed without
+    drawing."""
+    place = _place(shape, bbox, res, y_axis, crs)
+    return place.frame(_pixgeo.frame_of(place.width, place.height, place.bbox))
 
 
 def k_nearest(
     sites,
-    shape: Sequence[int],
-    k: int,
+    shape: Optional[Sequence[int]] = None,
+    k: int = 1,
     *,
     bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
     metric: str = "l2",
     mode: str = "exact",
     device: Optional[str] = None,
@@ -262,31 +398,35 @@ def k_nearest(
     """Every pixel's k nearest sites, nearest first: labels and distances of
     shape ``(H, W, k)``; :data:`NO_SITE` (and inf) where fewer than k sites
     exist. Arguments as for :func:`voronoi`."""
-    h, w = _shape(shape)
+    place = _place(shape, bbox, res, y_axis, crs)
     k = _count(k, "k")
     if k < 1:
         raise ValueError(f"k must be at least 1, not {k!r}")
     labels, distances, frame = _pixgeo.k_nearest(
-        _points(sites, "sites"), w, h, k, _bbox(bbox), metric, mode, device
+        place.sites(_points(sites, "sites")), place.width, place.height, k, place.bbox, metric,
+        mode, device
     )
-    return Diagram(labels, distances, _frame(frame))
+    return Diagram(labels, distances, place.frame(frame))
 
 
 def furthest(
     sites,
-    shape: Sequence[int],
+    shape: Optional[Sequence[int]] = None,
     *,
     bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
     metric: str = "l2",
     device: Optional[str] = None,
 ) -> Diagram:
     """The furthest-site diagram: every pixel's farthest site and the distance
     to it. Arguments as for :func:`voronoi`."""
-    h, w = _shape(shape)
+    place = _place(shape, bbox, res, y_axis, crs)
     labels, distances, frame = _pixgeo.furthest(
-        _points(sites, "sites"), w, h, _bbox(bbox), metric, device
+        place.sites(_points(sites, "sites")), place.width, place.height, place.bbox, metric, device
     )
-    return Diagram(labels, distances, _frame(frame))
+    return Diagram(labels, distances, place.frame(frame))
 
 
 def delaunay(points, *, device: Optional[str] = None) -> Triangulation:
@@ -372,10 +512,13 @@ class Settle:
 
 def settle(
     sites,
-    shape: Sequence[int],
+    shape: Optional[Sequence[int]] = None,
     *,
     own=None,
     bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
     metric: str = "l2",
     refine_from: int = 8,
     device: Optional[str] = None,
@@ -384,19 +527,21 @@ def settle(
     (thesis §3.11.3), not counting pixels that ``own`` stores already hold:
     the map on the picture, then under L2 an exact compass search from the
     ``refine_from`` best pixels."""
-    h, w = _shape(shape)
+    place = _place(shape, bbox, res, y_axis, crs)
     own = np.zeros((0, 2)) if own is None else own
     area, frame, best, refined = _pixgeo.settle(
-        _points(sites, "sites"),
-        _points(own, "own"),
-        w,
-        h,
-        _bbox(bbox),
+        place.sites(_points(sites, "sites")),
+        place.sites(_points(own, "own")),
+        place.width,
+        place.height,
+        place.bbox,
         metric,
         _count(refine_from, "refine_from"),
         device,
     )
-    return Settle(area, _frame(frame), best, refined)
+    if refined is not None:
+        refined = (*place.point(refined[0], refined[1]), refined[2])
+    return Settle(area, place.frame(frame), best, refined)
 
 
 def _polygon(points, corners: int, largest: bool) -> Tuple[np.ndarray, float]:
@@ -503,6 +648,7 @@ def medial_axis(
     mask=None,
     return_distance: bool = False,
     *,
+    rng=None,
     prune: float = 4.0,
     prune_angle: float = 45.0,
     sampling=None,
@@ -522,8 +668,11 @@ def medial_axis(
     joins them along its middle, so the axis is thin and keeps the topology:
     one connected axis per connected shape with a loop around each hole, thin
     shapes included (anchored by their farthest-apart pairs). ``metric`` and
-    ``sampling`` are those of :func:`distance_transform_edt`.
+    ``sampling`` are those of :func:`distance_transform_edt`. ``rng`` is
+    taken, as skimage takes it, and has no effect: skimage draws on it to
+    break ties in its thinning's order, and pixgeo's axis has no random part.
     """
+    del rng  # deterministic: see above
     a = _raster(image) != 0
     if mask is not None:
         m = np.asarray(_unmasked(mask, "mask"))

@@ -25,7 +25,7 @@ try:
 except ImportError as e:  # pragma: no cover - the extra is missing
     raise ImportError("pixgeo.dask needs Dask: pip install ./python[dask]") from e
 
-from . import Diagram, _bbox, _pixgeo, _points, _shape, frame as _frame_of
+from . import Diagram, _pixgeo, _place, _points
 
 __all__ = ["voronoi"]
 
@@ -52,10 +52,13 @@ def _block(
 
 def voronoi(
     sites,
-    shape: Sequence[int],
+    shape: Optional[Sequence[int]] = None,
     *,
     chunks: Tuple[int, int] = (4096, 4096),
     bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
     metric: str = "l2",
     mode: str = "exact",
     device: Optional[str] = None,
@@ -67,17 +70,19 @@ def voronoi(
 
     ``result.labels.to_zarr(store)`` streams a raster larger than any one
     machine's memory; computing ``labels`` and ``distances`` together
-    (``dask.compute``) draws each block once.
+    (``dask.compute``) draws each block once. ``bbox``, ``res``, ``y_axis``
+    and ``crs`` place the rasters as :func:`pixgeo.voronoi` does: the frame's
+    ``transform`` and ``crs`` georeference every block.
     """
     if mode != "exact":
         raise ValueError(
             "pixgeo.dask.voronoi takes exact mode: a fan's depths round by where its "
             "tile lies, so fan blocks would not match the whole diagram"
         )
-    h, w = _shape(shape)
-    points = _points(sites, "sites")
-    box = _bbox(bbox)
-    frame = _frame_of((h, w), bbox=box)
+    place = _place(shape, bbox, res, y_axis, crs)
+    h, w, box = place.height, place.width, place.bbox
+    points = place.sites(_points(sites, "sites"))
+    frame = place.frame(_pixgeo.frame_of(w, h, box))
     # Check the sites and options once, here, on a one-pixel window.
     _pixgeo.voronoi(points, w, h, box, metric, mode, device, (0, 0, 1, 1))
     try:

@@ -66,13 +66,61 @@ def test_voronoi_labels_the_nearest_site(name, bbox):
 
 
 def test_frame_places_pixels_in_the_bbox():
-    d = pixgeo.voronoi([[0.0, 0.0], [10.0, 5.0]], (50, 100), bbox=(0, 0, 10, 5))
-    assert d.frame.width == 100 and d.frame.height == 50
-    x, y = d.frame.pixel_centres()
+    d = pixgeo.voronoi([[0.0, 0.0], [10.0, 5.0]], (50, 100), bbox=(0, 0, 10, 5), crs=32633)
+    f = d.frame
+    assert (f.width, f.height, f.y_axis, f.crs) == (100, 50, "up", "EPSG:32633")
+    x, y = f.pixel_centres()
     assert x[0] == pytest.approx(0.05) and x[-1] == pytest.approx(9.95)
-    assert y[0] == pytest.approx(0.05) and y[-1] == pytest.approx(4.95)
-    # Row 0 is the smallest y: the bottom-left pixel is site 0's.
-    assert d.labels[0, 0] == 0 and d.labels[-1, -1] == 1
+    # North-up, as the command line: row 0 is the largest y, so site 1
+    # (10, 5) owns the top-right pixel and site 0 the bottom-left.
+    assert y[0] == pytest.approx(4.95) and y[-1] == pytest.approx(0.05)
+    assert d.labels[0, -1] == 1 and d.labels[-1, 0] == 0
+    assert f.origin == (0.0, 5.0) and f.bbox == (0.0, 0.0, 10.0, 5.0)
+    assert f.transform == pytest.approx((0.1, 0.0, 0.0, 0.0, -0.1, 5.0))
+    assert f.geotransform == pytest.approx((0.0, 0.1, 0.0, 5.0, 0.0, -0.1))
+    # The command line's rasters, row for row.
+    down = pixgeo.voronoi([[0.0, 0.0], [10.0, 5.0]], (50, 100), bbox=(0, 0, 10, 5), y_axis="down")
+    assert down.frame.y_axis == "down" and down.frame.origin == (0.0, 0.0)
+    np.testing.assert_array_equal(down.labels[::-1], d.labels)
+    np.testing.assert_array_equal(down.distances[::-1], d.distances)
+    # 10 m pixels of a 1 km x 800 m box: 80 rows of 100.
+    r = pixgeo.frame(bbox=(500000, 4000000, 501000, 4000800), res=10)
+    assert (r.height, r.width, r.res) == (80, 100, pytest.approx(10.0))
+    for bad, says in (
+        (dict(bbox=(0, 0, 1005, 800), res=10), "whole numbers of pixels"),
+        (dict(res=10), "give bbox"),
+        (dict(shape=(8, 8), bbox=(0, 0, 8, 8), res=1), "not both"),
+        (dict(), "give shape"),
+        (dict(shape=(8, 8), y_axis="north"), "y_axis"),
+        (dict(shape=(8, 8), crs="WGS84"), "EPSG:N"),
+    ):
+        with pytest.raises(ValueError, match=says):
+            pixgeo.frame(**bad)
+
+
+def test_rasters_are_north_up_with_a_bbox_as_the_command_line_writes_them(tmp_path):
+    """The same sites and box through Python and the command line give the
+    same labels, row for row, and the same placement."""
+    import json
+    import subprocess
+    from pathlib import Path
+
+    cli = Path(__file__).resolve().parents[2] / "target" / "debug" / "pixgeo"
+    if not cli.exists():
+        pytest.skip("build the command line first (cargo build)")
+    sites = inputs()["random"]
+    np.savetxt(tmp_path / "s.csv", sites, delimiter=",", header="x,y", comments="")
+    box = (-10.0, -20.0, 90.0, 60.0)
+    done = subprocess.run(
+        [str(cli), "voronoi", "--sites", str(tmp_path / "s.csv"), "--bbox", ",".join(map(str, box)),
+         "--size", "100x80", "--labels", str(tmp_path / "l.npy"), "--json"],
+        capture_output=True, text=True, check=True)
+    frame = json.loads(done.stdout)["frame"]
+    d = pixgeo.voronoi(sites, (80, 100), bbox=box)
+    np.testing.assert_array_equal(np.load(tmp_path / "l.npy"), d.labels)
+    assert tuple(frame["origin"]) == d.frame.origin and frame["y_axis"] == d.frame.y_axis
+    # Unplaced, Python and the command line both keep pixel coordinates.
+    assert pixgeo.frame((4, 4)).y_axis == "down"
 
 
 def test_other_metrics_and_fans():

@@ -198,3 +198,7 @@ def test_medial_axis_options():
             pixgeo.medial_axis(image, **bad)
     with pytest.raises(ValueError):
         pixgeo.medial_axis(image, mask=np.ones((2, 2)))
+    # skimage's keyword arguments all work: rng changes nothing here.
+    np.testing.assert_array_equal(
+        pixgeo.medial_axis(image, rng=np.random.default_rng(7)), pixgeo.medial_axis(image)
+    )

@@ -124,8 +124,9 @@ impl Frame {
             Some(h) => {
                 if (h as f64 - natural).abs() > 1.0 {
                     return Err(Error::InvalidInput(format!(
-                        "bbox aspect ratio gives a height of {natural:.1} pixels for width {width}, not {h}; \
-                         give only the width (--size {width}) or a matching height"
+                        "bbox aspect ratio gives a height of {natural:.1} pixels for width {width}, not {h}: \
+                         pixels are square, so give a height of {:.0} or only the width",
+                        natural.round().max(1.0)
                     )));
                 }
                 h

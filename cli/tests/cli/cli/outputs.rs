@@ -422,3 +422,58 @@ fn north_up_rasters_are_the_y_down_ones_flipped() {
         assert!(!ok && stderr.contains(message), "{run:?}: {stderr}");
     }
 }
+
+#[test]
+fn the_frame_places_pixel_centres_as_the_guide_says() {
+    // One site: each pixel's distance is its centre's distance to the site,
+    // the centre at origin + (i + 0.5, ±(j + 0.5)) / scale, - north-up (row 0
+    // the largest y, the default with --bbox), + with --y-axis down.
+    let site = temp("centres.csv");
+    std::fs::write(&site, "x,y\n3.25,1.5\n").unwrap();
+    let distance = temp("centres-d.npy");
+    for (y_axis, sign) in [("up", -1.0), ("down", 1.0)] {
+        let (ok, stdout, stderr) = pixgeo(&[
+            "voronoi",
+            "--sites",
+            site.to_str().unwrap(),
+            "--bbox",
+            "0,0,8,4",
+            "--size",
+            "16",
+            "--y-axis",
+            y_axis,
+            "--distance",
+            distance.to_str().unwrap(),
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let frame = enveloped(&stdout, "voronoi")["frame"].clone();
+        assert_eq!(frame["y_axis"], y_axis);
+        let origin = [
+            frame["origin"][0].as_f64().unwrap(),
+            frame["origin"][1].as_f64().unwrap(),
+        ];
+        let scale = frame["scale"].as_f64().unwrap();
+        let (w, h) = (
+            frame["width"].as_u64().unwrap(),
+            frame["height"].as_u64().unwrap(),
+        );
+        assert_eq!((w, h), (16, 8));
+        let d: Vec<f32> = npyz::NpyFile::new(std::fs::File::open(&distance).unwrap())
+            .unwrap()
+            .into_vec()
+            .unwrap();
+        for j in 0..h {
+            for i in 0..w {
+                let x = origin[0] + (i as f64 + 0.5) / scale;
+                let y = origin[1] + sign * (j as f64 + 0.5) / scale;
+                let truth = ((x - 3.25).powi(2) + (y - 1.5).powi(2)).sqrt();
+                let got = d[(j * w + i) as usize] as f64;
+                assert!(
+                    (got - truth).abs() < 1e-5,
+                    "{y_axis} ({i}, {j}): {got} {truth}"
+                );
+            }
+        }
+    }
+}

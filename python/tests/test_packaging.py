@@ -1,0 +1,38 @@
+"""The package's metadata says what its tests need: every module the tests
+import is the standard library's, pixgeo's, or a distribution in the `test`
+extra."""
+
+import ast
+import re
+import sys
+from pathlib import Path
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11
+    tomllib = None
+
+import pytest
+
+HERE = Path(__file__).resolve().parent
+# Modules whose distribution has another name.
+DISTRIBUTION = {"skimage": "scikit-image", "dask": "dask"}
+
+
+@pytest.mark.skipif(tomllib is None, reason="tomllib is Python 3.11's")
+def test_the_test_extra_holds_what_the_tests_import():
+    project = tomllib.loads((HERE.parent / "pyproject.toml").read_text())["project"]
+    extra = {re.split(r"[\[<>=]", d)[0] for d in project["optional-dependencies"]["test"]}
+    imported = set()
+    for path in HERE.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                imported |= {a.name.split(".")[0] for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.level == 0:
+                imported.add(node.module.split(".")[0])
+            elif (isinstance(node, ast.Call) and getattr(node.func, "attr", "") == "importorskip"
+                  and isinstance(node.args[0], ast.Constant)):
+                imported.add(node.args[0].value.split(".")[0])
+    needed = {DISTRIBUTION.get(m, m) for m in imported
+              if m not in sys.stdlib_module_names and m not in ("pixgeo", "numpy", "tomllib")}
+    assert needed <= extra, needed - extra
