@@ -43,6 +43,8 @@ __all__ = [
     "Diagram",
     "frame",
     "Triangulation",
+    "Cells",
+    "voronoi_cells",
     "Circle",
     "voronoi",
     "k_nearest",
@@ -137,10 +139,67 @@ class Diagram:
 @dataclass(frozen=True)
 class Triangulation:
     """Counter-clockwise triangles ``(m, 3)`` as indices into the points, and
-    the repeated points ``(d, 2)`` as (dropped, kept) pairs."""
+    the repeated points ``(d, 2)`` as (dropped, kept) pairs. As GeoJSON-like
+    features (``features()``, ``__geo_interface__``: geopandas'
+    ``GeoDataFrame.from_features(t)``), each triangle is a Polygon with its
+    ``vertices`` in its properties, as ``pixgeo delaunay --geojson`` writes it."""
 
     simplices: np.ndarray
     duplicates: np.ndarray
+    points: Optional[np.ndarray] = None
+
+    def features(self) -> list:
+        """The triangles as GeoJSON-like Feature mappings."""
+        if self.points is None:
+            raise ValueError("this triangulation has no points to place its triangles")
+        return [
+            {
+                "type": "Feature",
+                "geometry": {
+                    "type": "Polygon",
+                    "coordinates": [[tuple(map(float, self.points[v])) for v in (*t, t[0])]],
+                },
+                "properties": {"vertices": [int(v) for v in t]},
+            }
+            for t in self.simplices
+        ]
+
+    @property
+    def __geo_interface__(self) -> dict:
+        return {"type": "FeatureCollection", "features": self.features()}
+
+
+@dataclass(frozen=True)
+class Cells:
+    """The exact Voronoi cells of points clipped to ``bbox``, in input order.
+
+    ``polygons[i]`` is site i's cell: a ``shapely.Polygon`` when shapely is
+    installed (empty where the cell misses the box), else a GeoJSON-like
+    mapping (``{"type": "Polygon", "coordinates": []}`` there). Every corner
+    is the double nearest the exact corner, so neighbouring cells share their
+    corners bit for bit and the cells tile the box. A repeated site has the
+    cell of the first equal to it: ``duplicates`` ``(d, 2)`` lists (repeat,
+    first). ``__geo_interface__`` is a FeatureCollection with each feature's
+    ``site`` (and ``same_as``) in its properties, as ``pixgeo voronoi
+    --cells`` writes it.
+    """
+
+    polygons: list
+    duplicates: np.ndarray
+    bbox: Tuple[float, float, float, float]
+    crs: Optional[str] = None
+
+    @property
+    def __geo_interface__(self) -> dict:
+        same_as = {int(r): int(f) for r, f in self.duplicates}
+        features = []
+        for i, cell in enumerate(self.polygons):
+            geometry = cell if isinstance(cell, dict) else cell.__geo_interface__
+            properties = {"site": i}
+            if i in same_as:
+                properties["same_as"] = same_as[i]
+            features.append({"type": "Feature", "geometry": geometry, "properties": properties})
+        return {"type": "FeatureCollection", "features": features}
 
 
 @dataclass(frozen=True)
@@ -433,9 +492,46 @@ def delaunay(points, *, device: Optional[str] = None) -> Triangulation:
     """The Delaunay triangulation by flooding (Cao, Edelsbrunner and Tan):
     counter-clockwise triangles as indices into ``points``, the same triangles
     as ``scipy.spatial.Delaunay(points).simplices`` up to order where no four
-    points are co-circular. Repeated points are dropped and reported."""
-    simplices, duplicates = _pixgeo.delaunay(_points(points, "points"), device)
-    return Triangulation(simplices.astype(np.intp), duplicates.astype(np.intp))
+    points are co-circular. Repeated points are dropped and reported.
+    ``features()`` gives the triangles as GeoJSON-like features."""
+    p = _points(points, "points")
+    simplices, duplicates = _pixgeo.delaunay(p, device)
+    return Triangulation(simplices.astype(np.intp), duplicates.astype(np.intp), p)
+
+
+def voronoi_cells(
+    points, *, bbox=None, crs=None, geojson: bool = False, device: Optional[str] = None
+) -> Cells:
+    """The exact Euclidean Voronoi cells of ``points`` clipped to ``bbox``
+    (default: the points' bounding box), in input order: shapely polygons,
+    or GeoJSON-like mappings without shapely or with ``geojson=True``. See
+    :class:`Cells`; ``crs`` (``"EPSG:N"``) is carried to it."""
+    p = _points(points, "points")
+    box = _bbox(bbox)
+    if box is None:
+        if len(p) == 0:
+            raise ValueError("points: give at least one point")
+        box = (*map(float, p.min(axis=0)), *map(float, p.max(axis=0)))
+        if box[0] == box[2] or box[1] == box[3]:
+            raise ValueError(
+                f"the points' bounding box {box} is flat: give bbox=(xmin, ymin, xmax, ymax)"
+            )
+    corners, duplicates = _pixgeo.voronoi_cells(p, box, device)
+    shapely = None
+    if not geojson:
+        try:
+            import shapely
+        except ImportError:
+            pass
+    if shapely is not None:
+        polygons = [shapely.Polygon(c) if len(c) else shapely.Polygon() for c in corners]
+    else:
+        polygons = [
+            {"type": "Polygon",
+             "coordinates": [[tuple(map(float, v)) for v in (*c, c[0])]] if len(c) else []}
+            for c in corners
+        ]
+    return Cells(polygons, duplicates.astype(np.intp), box, _crs(crs))
 
 
 def hausdorff(a, b, *, device: Optional[str] = None) -> Tuple[float, int, int]:

@@ -21,6 +21,7 @@ use pixgeo::{
         alpha_hull::{self, AlphaMethod},
         area::Extreme,
         area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
+        cells::voronoi_cells as cells_of,
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
         higher_order::{self, KNearestOptions},
@@ -33,7 +34,7 @@ use pixgeo::{
         },
         voronoi::{self as diagram, Accuracy, VoronoiOptions},
     },
-    geometry::{metric::Metric, site::Site, Frame},
+    geometry::{cell::Rect, metric::Metric, site::Site, Frame},
     machine::{DeviceChoice, PixelRect},
     Error, Machine, MachineOptions,
 };
@@ -537,6 +538,44 @@ fn delaunay<'py>(
     Ok((triangles.into_pyarray(py), duplicates.into_pyarray(py)))
 }
 
+/// Each site's exact Voronoi cell clipped to `bbox`, its corners (k, 2)
+/// counter-clockwise (none where the cell misses the box), and the repeated
+/// sites (repeat, first).
+#[pyfunction]
+#[pyo3(signature = (points, bbox, device))]
+fn voronoi_cells<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    bbox: [f64; 4],
+    device: Option<&str>,
+) -> PyResult<(Vec<Bound<'py, PyArray2<f64>>>, Bound<'py, PyArray2<u32>>)> {
+    let p = self::points(&points);
+    let rect = Rect {
+        lo: DVec2::new(bbox[0], bbox[1]),
+        hi: DVec2::new(bbox[2], bbox[3]),
+    };
+    let cells = on_machine(py, device, |m| cells_of(m, &p, &rect))?;
+    let internal = |e: numpy::ndarray::ShapeError| InternalError::new_err(e.to_string());
+    let polygons = cells
+        .polygons
+        .iter()
+        .map(|ring| {
+            let corners = Array2::from_shape_vec(
+                (ring.len(), 2),
+                ring.iter().flat_map(|c| [c.x, c.y]).collect(),
+            )
+            .map_err(internal)?;
+            Ok(corners.into_pyarray(py))
+        })
+        .collect::<PyResult<_>>()?;
+    let duplicates = Array2::from_shape_vec(
+        (cells.duplicates.len(), 2),
+        cells.duplicates.iter().flatten().copied().collect(),
+    )
+    .map_err(internal)?;
+    Ok((polygons, duplicates.into_pyarray(py)))
+}
+
 /// (distance, index in the first set, index in the second).
 type PairTuple = (f64, u32, u32);
 
@@ -650,6 +689,7 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(k_nearest, m)?)?;
     m.add_function(wrap_pyfunction!(furthest, m)?)?;
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;
+    m.add_function(wrap_pyfunction!(voronoi_cells, m)?)?;
     m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(diameter, m)?)?;
     m.add_function(wrap_pyfunction!(enclosing_circle, m)?)?;

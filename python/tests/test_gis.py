@@ -429,3 +429,48 @@ def test_transform_as_a_proximity_tool(tmp_path):
                                  capture_output=True, text=True)
         assert refused.returncode == 1 and says in refused.stderr, (args, refused.stderr)
         assert not (tmp_path / "x.tif").exists()
+
+
+def test_python_cells_are_the_command_lines_in_input_order(tmp_path):
+    """`pixgeo.voronoi_cells` gives the exact cells without the command line:
+    the same corners, bit for bit, as `voronoi --cells`, in input order, as
+    shapely polygons or GeoJSON-like mappings, tiling the box."""
+    import pixgeo
+
+    rng = np.random.default_rng(8)
+    xy = rng.uniform(0, 100, (60, 2))
+    xy[9] = xy[4]  # a repeat shares the first one's cell
+    square = (0.0, 0.0, 100.0, 100.0)
+    cells = pixgeo.voronoi_cells(xy, bbox=square, crs="EPSG:32633")
+    assert len(cells.polygons) == 60 and cells.crs == "EPSG:32633"
+    assert cells.duplicates.tolist() == [[9, 4]]
+    distinct = [c for i, c in enumerate(cells.polygons) if i != 9]
+    assert sum(c.area for c in distinct) == pytest.approx(100 * 100, rel=1e-12)
+    assert shapely.union_all(distinct).equals(box(*square))
+    for i, cell in enumerate(cells.polygons):
+        assert cell.covers(Point(xy[i]))
+    np.savetxt(tmp_path / "s.csv", xy, delimiter=",", header="x,y", comments="", fmt="%.17g")
+    from_cli = cli_cells(tmp_path, square)
+    for i, feature in enumerate(from_cli):
+        assert feature["properties"]["site"] == i
+        ours = np.asarray(cells.polygons[i].exterior.coords)
+        theirs = np.asarray(feature["geometry"]["coordinates"][0])
+        np.testing.assert_array_equal(ours, theirs)
+    mappings = pixgeo.voronoi_cells(xy, bbox=square, geojson=True)
+    assert shape(mappings.polygons[0]).equals(cells.polygons[0])
+    features = mappings.__geo_interface__["features"]
+    assert features[9]["properties"] == {"site": 9, "same_as": 4}
+    # The triangulation as features: each triangle a Polygon of its vertices.
+    t = pixgeo.delaunay(xy)
+    for f, simplex in zip(t.features(), t.simplices):
+        assert f["properties"]["vertices"] == list(simplex)
+        assert shape(f["geometry"]).area == pytest.approx(
+            shapely.Polygon(xy[simplex]).area, rel=1e-12)
+    with pytest.raises(ValueError, match="flat"):
+        pixgeo.voronoi_cells([[0, 0], [1, 0]])
+
+
+def cli_cells(tmp_path, b):
+    pixgeo("voronoi", "--sites", tmp_path / "s.csv", "--bbox", ",".join(map(str, b)),
+           "--size", 100, "--y-axis", "down", "--cells", tmp_path / "c.geojson")
+    return read_cells(tmp_path / "c.geojson")
