@@ -538,6 +538,9 @@ fn delaunay<'py>(
     Ok((triangles.into_pyarray(py), duplicates.into_pyarray(py)))
 }
 
+/// Each site's cell's corners, and the repeated sites.
+type CellsTuple<'py> = (Vec<Bound<'py, PyArray2<f64>>>, Bound<'py, PyArray2<u32>>);
+
 /// Each site's exact Voronoi cell clipped to `bbox`, its corners (k, 2)
 /// counter-clockwise (none where the cell misses the box), and the repeated
 /// sites (repeat, first).
@@ -548,7 +551,7 @@ fn voronoi_cells<'py>(
     points: PyReadonlyArray2<'py, f64>,
     bbox: [f64; 4],
     device: Option<&str>,
-) -> PyResult<(Vec<Bound<'py, PyArray2<f64>>>, Bound<'py, PyArray2<u32>>)> {
+) -> PyResult<CellsTuple<'py>> {
     let p = self::points(&points);
     let rect = Rect {
         lo: DVec2::new(bbox[0], bbox[1]),
@@ -574,6 +577,13 @@ fn voronoi_cells<'py>(
     )
     .map_err(internal)?;
     Ok((polygons, duplicates.into_pyarray(py)))
+}
+
+/// The `pixgeo` command line run on `args` (its name first), with the GIL
+/// released; returns its exit status.
+#[pyfunction]
+fn cli(py: Python<'_>, args: Vec<std::ffi::OsString>) -> i32 {
+    py.detach(|| pixgeo_cli::main_with(args))
 }
 
 /// (distance, index in the first set, index in the second).
@@ -690,6 +700,7 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(furthest, m)?)?;
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi_cells, m)?)?;
+    m.add_function(wrap_pyfunction!(cli, m)?)?;
     m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(diameter, m)?)?;
     m.add_function(wrap_pyfunction!(enclosing_circle, m)?)?;

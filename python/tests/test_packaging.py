@@ -36,3 +36,31 @@ def test_the_test_extra_holds_what_the_tests_import():
     needed = {DISTRIBUTION.get(m, m) for m in imported
               if m not in sys.stdlib_module_names and m not in ("pixgeo", "numpy", "tomllib")}
     assert needed <= extra, needed - extra
+
+
+def test_the_package_installs_the_command_line(tmp_path):
+    """`pip install` puts the `pixgeo` command beside Python: the command line
+    itself, compiled into the package, answering and refusing as the binary."""
+    import json
+    import shutil
+    import subprocess
+    import sysconfig
+
+    import pixgeo
+
+    script = Path(sysconfig.get_path("scripts")) / "pixgeo"
+    assert script.exists() or shutil.which("pixgeo"), "no pixgeo console script"
+    command = [str(script)] if script.exists() else ["pixgeo"]
+    done = subprocess.run([*command, "--version"], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == f"pixgeo {pixgeo.__version__}"
+    labels = tmp_path / "l.npy"
+    done = subprocess.run(
+        [sys.executable, "-m", "pixgeo", "voronoi", "--random", "5", "--size", "16",
+         "--labels", str(labels), "--json"],
+        capture_output=True, text=True, check=True)
+    assert json.loads(done.stdout)["command"] == "voronoi"
+    import numpy as np
+    assert np.load(labels).shape == (16, 16)
+    refused = subprocess.run([*command, "voronoi", "--sites", str(tmp_path / "none.csv")],
+                             capture_output=True, text=True)
+    assert refused.returncode == 1 and refused.stderr.startswith("Error:")
