@@ -318,10 +318,75 @@ pub fn parse_csv(text: &str) -> Result<Vec<Site>, String> {
 /// edge) and MultiLineString geometries, bare, in a Feature (whose properties
 /// `m` and `a` weigh its sites) or in a FeatureCollection.
 pub fn parse_geojson(text: &str) -> Result<Vec<Site>, String> {
+    Ok(parse_geojson_sources(text)?.0)
+}
+
+/// Where a GeoJSON file's sites come from, so that answers about them can be
+/// joined back to the input.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GeoJsonSources {
+    /// Each site's feature: its index in the FeatureCollection (0 for a lone
+    /// Feature or geometry). A MultiPoint's points share their feature.
+    pub feature_of_site: Vec<u32>,
+    /// Each feature's properties (empty where it has none).
+    pub properties: Vec<serde_json::Map<String, Value>>,
+    /// The name in the file's `crs` member (GeoJSON 2008, as GDAL writes it
+    /// for systems other than WGS 84), if it has one.
+    pub crs: Option<String>,
+}
+
+/// [`parse_geojson`], with where each site comes from.
+pub fn parse_geojson_sources(text: &str) -> Result<(Vec<Site>, GeoJsonSources), String> {
     let value = super::json::parse(text)?;
     let mut sites = Vec::new();
-    geojson_object(&value, (1.0, 0.0), &mut sites)?;
-    Ok(sites)
+    let mut sources = GeoJsonSources {
+        crs: match value.get("crs") {
+            None | Some(Value::Null) => None,
+            Some(crs) => Some(
+                crs.get("properties")
+                    .and_then(|p| p.get("name"))
+                    .and_then(Value::as_str)
+                    .ok_or_else(|| format!("crs {crs}: a named crs, {{\"type\": \"name\", \"properties\": {{\"name\": ...}}}}"))?
+                    .to_string(),
+            ),
+        },
+        ..GeoJsonSources::default()
+    };
+    let mut from = |feature: &Value, sites: &mut Vec<Site>| -> Result<(), String> {
+        let before = sites.len();
+        geojson_object(feature, (1.0, 0.0), sites)?;
+        let index = sources.properties.len() as u32;
+        sources.feature_of_site.extend((before..sites.len()).map(|_| index));
+        let properties = match feature.get("properties") {
+            Some(Value::Object(p)) => p.clone(),
+            _ => serde_json::Map::new(),
+        };
+        sources.properties.push(properties);
+        Ok(())
+    };
+    match (value.get("type").and_then(Value::as_str), value.get("features")) {
+        (Some("FeatureCollection"), Some(Value::Array(features))) => {
+            for (i, f) in features.iter().enumerate() {
+                from(f, &mut sites).map_err(|e| format!("feature {i}: {e}"))?;
+            }
+        }
+        _ => from(&value, &mut sites)?,
+    }
+    Ok((sites, sources))
+}
+
+/// Reads a `.geojson` file's sites and where each comes from; a file without
+/// sites is an error.
+pub fn read_geojson_sources(path: &Path) -> Result<(Vec<Site>, GeoJsonSources)> {
+    let failed = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let (sites, sources) = parse_geojson_sources(&read_text(path)?).map_err(failed)?;
+    if sites.is_empty() {
+        return Err(failed("the file holds no sites".into()));
+    }
+    Ok((sites, sources))
 }
 
 fn geojson_object(v: &Value, weights: (f64, f64), out: &mut Vec<Site>) -> Result<(), String> {
@@ -582,6 +647,26 @@ mod tests {
         // The case that once moved by one unit in the last place.
         let json = parse_json("[[3.7974166882130675, 0]]").unwrap();
         assert!(matches!(json[0].shape, Shape::Point(p) if p.x == 3.7974166882130675));
+    }
+
+    #[test]
+    fn geojson_sources_name_each_sites_feature_and_its_properties() {
+        let text = r#"{"type": "FeatureCollection",
+            "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32633"}},
+            "features": [
+                {"type": "Feature", "properties": {"name": "a"}, "geometry": {"type": "Point", "coordinates": [1, 2]}},
+                {"type": "Feature", "properties": null, "geometry": {"type": "MultiPoint", "coordinates": [[3, 4], [5, 6]]}},
+                {"type": "Feature", "properties": {"name": "c", "m": 2}, "geometry": {"type": "Point", "coordinates": [7, 8]}}
+            ]}"#;
+        let (sites, sources) = parse_geojson_sources(text).unwrap();
+        assert_eq!(sites.len(), 4);
+        assert_eq!(sources.feature_of_site, [0, 1, 1, 2]);
+        assert_eq!(sources.properties[0]["name"], "a");
+        assert!(sources.properties[1].is_empty());
+        assert_eq!(sites[3].multiplicative, 2.0);
+        assert_eq!(sources.crs.as_deref(), Some("urn:ogc:def:crs:EPSG::32633"));
+        let (_, lone) = parse_geojson_sources(r#"{"type": "Point", "coordinates": [0, 0]}"#).unwrap();
+        assert_eq!((lone.feature_of_site, lone.crs), (vec![0], None));
     }
 
     #[test]
