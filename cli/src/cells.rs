@@ -9,6 +9,7 @@ use anyhow::Result;
 use glam::DVec2;
 use pixgeo::{
     algorithms::{cells::voronoi_cells_with_progress, trace::trace_regions},
+    io::sites::GeoJsonSources,
     Machine,
 };
 use serde_json::{json, Map, Value};
@@ -44,6 +45,9 @@ pub struct Outputs<'a> {
     pub svg: Option<&'a Path>,
     /// A `--json` answer: no progress bar beside it.
     pub json: bool,
+    /// Where a GeoJSON site file's sites come from: each cell carries its
+    /// site's feature index and properties.
+    pub sources: Option<&'a GeoJsonSources>,
 }
 
 impl Outputs<'_> {
@@ -84,7 +88,7 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
             // Features one at a time: a million repeats of a site are a
             // million features, never held at once.
             let features = (0..sites.len()).map(|i| {
-                let mut properties = Map::new();
+                let mut properties = sourced(outputs.sources, i);
                 properties.insert("site".into(), json!(i));
                 properties.insert("area".into(), json!(cells.area(i)));
                 if let Some(f) = same_as.get(&(i as u32)) {
@@ -133,6 +137,11 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
                             world.to_user(frame.to_world(c - DVec2::splat(0.5)))
                         });
                         let mut properties = describe(region.label);
+                        if let Some(site) = properties.get("site").and_then(Value::as_u64) {
+                            let mut merged = sourced(outputs.sources, site as usize);
+                            merged.append(&mut properties);
+                            properties = merged;
+                        }
                         properties.insert("accuracy".into(), json!("raster: within half a pixel"));
                         let feature = Feature {
                             polygons: user,
@@ -144,6 +153,18 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
             emit(outputs, world, &dots, features, || shapes)
         }
     }
+}
+
+/// The properties of site `i`'s input feature and its index, `feature`, for
+/// the answer's own properties to go after (and over).
+fn sourced(sources: Option<&GeoJsonSources>, i: usize) -> Map<String, Value> {
+    let Some(sources) = sources else {
+        return Map::new();
+    };
+    let feature = sources.feature_of_site[i] as usize;
+    let mut properties = sources.properties[feature].clone();
+    properties.insert("feature".into(), json!(feature));
+    properties
 }
 
 /// Writes the features and the shapes (made only for an SVG) to `outputs`.

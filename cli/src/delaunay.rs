@@ -53,6 +53,10 @@ pub struct Args {
     /// `properties`.
     #[arg(long, value_name = "FILE.geojson")]
     geojson: Option<PathBuf>,
+    /// The points' coordinate system, `EPSG:N`, named in the GeoJSON's `crs`
+    /// (none is written for EPSG:4326, GeoJSON's own).
+    #[arg(long, value_name = "EPSG:N", value_parser = crate::write::geotiff::parse_crs, requires = "geojson")]
+    crs: Option<u16>,
     /// Print the mesh as JSON: points, triangles, duplicates, phase statistics.
     #[arg(long)]
     json: bool,
@@ -114,7 +118,7 @@ pub fn run(args: Args) -> Result<()> {
                 properties,
             }
         });
-        write_geojson(path, features, None)?;
+        write_geojson(path, features, args.crs)?;
     }
     crate::wrote([args.output.as_deref(), args.geojson.as_deref()]);
     if args.json {

@@ -12,7 +12,7 @@ use pixgeo::{
         site::{Shape, Site},
         Frame,
     },
-    io::sites,
+    io::sites::{self, GeoJsonSources},
 };
 
 use crate::write::{
@@ -49,6 +49,10 @@ pub struct Input {
 
     #[command(flatten)]
     place: Placement,
+
+    /// Where a GeoJSON file's sites come from, once it is read.
+    #[arg(skip)]
+    sources: std::cell::OnceCell<GeoJsonSources>,
 }
 
 /// Where the rasters lie in the user's world: the flags of every command that
@@ -254,7 +258,27 @@ impl Input {
             (Some(b), _) => Frame::with_bbox(width, height, b)?,
             (None, _) => Frame::pixels(width, height.unwrap_or(width))?,
         };
+        let is_geojson = |path: &std::path::Path| {
+            path.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| e.eq_ignore_ascii_case("geojson"))
+        };
         let sites = match (&self.sites, self.random) {
+            (Some(path), None) if is_geojson(path) => {
+                let (sites, sources) = sites::read_geojson_sources(path)?;
+                // --crs names the system of a file whose crs pixgeo cannot
+                // read; it may not contradict one it can.
+                match (sources.crs.as_deref().map(geojson_crs), self.place.crs) {
+                    (Some(Ok(code)), Some(asked)) if code != asked => bail!(
+                        "{} is in EPSG:{code} (its crs member), not the EPSG:{asked} of --crs",
+                        path.display()
+                    ),
+                    (Some(Err(e)), None) => bail!("{}: {e}", path.display()),
+                    _ => {}
+                }
+                let _ = self.sources.set(sources);
+                sites
+            }
             (Some(path), None) => sites::read_general_sites(path)?,
             (None, Some(n)) if n > 0 => {
                 pixgeo::geometry::check_memory_for(n)?;
@@ -299,14 +323,24 @@ impl Input {
         }
     }
 
-    /// The world whose computing frame is `frame`.
+    /// The world whose computing frame is `frame`: in --crs's coordinate
+    /// system, or a GeoJSON site file's.
     pub fn world_of(&self, frame: Frame) -> World {
+        let from_file = self
+            .sources()
+            .and_then(|s| s.crs.as_deref())
+            .and_then(|n| geojson_crs(n).ok());
         World {
             frame,
             y_axis: self.place.y_axis(),
-            epsg: self.place.crs,
+            epsg: self.place.crs.or(from_file),
             bbox: self.place.bbox,
         }
+    }
+
+    /// Where the sites of a GeoJSON site file come from, once it is read.
+    pub fn sources(&self) -> Option<&GeoJsonSources> {
+        self.sources.get()
     }
 
     /// [`Placement::check_world_file`].
@@ -458,4 +492,21 @@ pub fn check_room(arrays: &[&std::path::Path], width: u32, height: u32) -> Resul
         }
     }
     Ok(())
+}
+
+/// The EPSG code a GeoJSON `crs` member names: `urn:ogc:def:crs:EPSG::N`
+/// (as GDAL writes it), `EPSG:N`, or OGC's CRS84 (WGS 84 in longitude and
+/// latitude, EPSG:4326 with GeoJSON's axis order).
+pub fn geojson_crs(name: &str) -> Result<u16, String> {
+    let upper = name.to_ascii_uppercase();
+    if upper.ends_with(":CRS84") {
+        return Ok(4326);
+    }
+    let code = upper
+        .contains("EPSG")
+        .then(|| upper.rsplit(':').next())
+        .flatten()
+        .and_then(|c| c.parse::<u16>().ok())
+        .ok_or_else(|| format!("its crs {name:?} names no EPSG code: give --crs EPSG:N"))?;
+    parse_crs(&format!("EPSG:{code}"))
 }

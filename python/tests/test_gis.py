@@ -474,3 +474,47 @@ def cli_cells(tmp_path, b):
     pixgeo("voronoi", "--sites", tmp_path / "s.csv", "--bbox", ",".join(map(str, b)),
            "--size", 100, "--y-axis", "down", "--cells", tmp_path / "c.geojson")
     return read_cells(tmp_path / "c.geojson")
+
+
+def test_geojson_round_trips_features_properties_and_crs(tmp_path):
+    """Cells carry their site's input feature (index and properties, pixgeo's
+    own keys over them), in the input's crs; a --crs that contradicts it is
+    refused; `delaunay --geojson --crs` names its system."""
+    collection = {
+        "type": "FeatureCollection",
+        "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32633"}},
+        "features": [
+            {"type": "Feature", "properties": {"name": "north", "site": "theirs"},
+             "geometry": {"type": "Point", "coordinates": [500200, 4000600]}},
+            {"type": "Feature", "properties": {"name": "pair", "staff": 3},
+             "geometry": {"type": "MultiPoint", "coordinates": [[500700, 4000300], [500800, 4000700]]}},
+            {"type": "Feature", "properties": None,
+             "geometry": {"type": "Point", "coordinates": [500400, 4000100]}},
+        ],
+    }
+    sites = tmp_path / "shops.geojson"
+    sites.write_text(json.dumps(collection))
+    box = ",".join(map(str, BBOX))
+    done = pixgeo("voronoi", "--sites", sites, "--bbox", box, "--size", 100,
+                  "--cells", tmp_path / "cells.geojson", "--labels", tmp_path / "l.tif", "--json")
+    assert json.loads(done.stdout)["frame"]["crs"] == "EPSG:32633"
+    with rasterio.open(tmp_path / "l.tif") as r:
+        assert r.crs.to_epsg() == 32633
+    written = json.loads((tmp_path / "cells.geojson").read_text())
+    assert written["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::32633"
+    props = [f["properties"] for f in written["features"]]
+    assert [p["feature"] for p in props] == [0, 1, 1, 2]
+    assert [p["site"] for p in props] == [0, 1, 2, 3]
+    assert props[0]["name"] == "north" and props[2]["staff"] == 3 and "name" not in props[3]
+    # Traced cells (another metric) carry them too.
+    pixgeo("voronoi", "--sites", sites, "--bbox", box, "--size", 100, "--metric", "l1",
+           "--cells", tmp_path / "l1.geojson")
+    traced = json.loads((tmp_path / "l1.geojson").read_text())["features"]
+    assert {f["properties"]["site"]: f["properties"]["feature"] for f in traced} == {0: 0, 1: 1, 2: 1, 3: 2}
+    refused = subprocess.run([str(CLI), "voronoi", "--sites", str(sites), "--bbox", box,
+                              "--crs", "EPSG:4326"], capture_output=True, text=True)
+    assert refused.returncode == 1 and "not the EPSG:4326 of --crs" in refused.stderr
+    pixgeo("delaunay", "--sites", sites, "--geojson", tmp_path / "t.geojson", "--crs", "EPSG:32633")
+    triangles = json.loads((tmp_path / "t.geojson").read_text())
+    assert triangles["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::32633"
+    assert len(triangles["features"]) == 2

@@ -356,7 +356,9 @@ pub fn parse_geojson_sources(text: &str) -> Result<(Vec<Site>, GeoJsonSources), 
         let before = sites.len();
         geojson_object(feature, (1.0, 0.0), sites)?;
         let index = sources.properties.len() as u32;
-        sources.feature_of_site.extend((before..sites.len()).map(|_| index));
+        sources
+            .feature_of_site
+            .extend((before..sites.len()).map(|_| index));
         let properties = match feature.get("properties") {
             Some(Value::Object(p)) => p.clone(),
             _ => serde_json::Map::new(),
@@ -364,7 +366,10 @@ pub fn parse_geojson_sources(text: &str) -> Result<(Vec<Site>, GeoJsonSources), 
         sources.properties.push(properties);
         Ok(())
     };
-    match (value.get("type").and_then(Value::as_str), value.get("features")) {
+    match (
+        value.get("type").and_then(Value::as_str),
+        value.get("features"),
+    ) {
         (Some("FeatureCollection"), Some(Value::Array(features))) => {
             for (i, f) in features.iter().enumerate() {
                 from(f, &mut sites).map_err(|e| format!("feature {i}: {e}"))?;
@@ -665,7 +670,8 @@ mod tests {
         assert!(sources.properties[1].is_empty());
         assert_eq!(sites[3].multiplicative, 2.0);
         assert_eq!(sources.crs.as_deref(), Some("urn:ogc:def:crs:EPSG::32633"));
-        let (_, lone) = parse_geojson_sources(r#"{"type": "Point", "coordinates": [0, 0]}"#).unwrap();
+        let (_, lone) =
+            parse_geojson_sources(r#"{"type": "Point", "coordinates": [0, 0]}"#).unwrap();
         assert_eq!((lone.feature_of_site, lone.crs), (vec![0], None));
     }
 

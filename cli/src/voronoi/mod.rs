@@ -542,6 +542,7 @@ impl Args {
                 .as_deref()
                 .filter(|p| extension_among(p, &["svg"]).is_some()),
             json: self.json,
+            sources: self.input.sources(),
         }
     }
 
