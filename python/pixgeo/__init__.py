@@ -123,17 +123,61 @@ class Frame:
         return x, y
 
 
+def _georeferenced(frame: Frame, arrays: dict):
+    """``arrays`` (name: (array, nodata)) as an ``xarray.Dataset`` on the
+    pixel centres' x and y, with the CF grid mapping rioxarray reads: its CRS
+    and GeoTransform."""
+    try:
+        import xarray
+    except ImportError:
+        raise ImportError(
+            "to_xarray needs xarray (and rioxarray to read the CRS back): "
+            "pip install 'pixgeo[xarray]'"
+        ) from None
+    x, y = frame.pixel_centres()
+    mapping = {"GeoTransform": " ".join(repr(float(v)) for v in frame.geotransform)}
+    if frame.crs is not None:
+        try:
+            import pyproj
+
+            wkt = pyproj.CRS.from_user_input(frame.crs).to_wkt()
+        except ImportError:
+            wkt = frame.crs
+        mapping.update(crs_wkt=wkt, spatial_ref=wkt)
+    coords = {"x": x, "y": y, "spatial_ref": xarray.Variable((), 0, mapping)}
+    data = {}
+    for name, (array, nodata) in arrays.items():
+        dims = ("y", "x", "k")[: array.ndim]
+        attrs = {"grid_mapping": "spatial_ref"}
+        if nodata is not None:
+            attrs["_FillValue"] = nodata
+        data[name] = xarray.DataArray(array, dims=dims, coords=coords, attrs=attrs)
+    return xarray.Dataset(data)
+
+
 @dataclass(frozen=True)
 class Diagram:
     """A label raster, the distances to the labelled sites, and their frame.
 
     ``labels`` is uint32 ``(H, W)`` (``(H, W, k)`` for :func:`k_nearest`), with
     :data:`NO_SITE` where no site is; ``distances`` is float32 in world units.
+    ``to_xarray()`` gives both georeferenced.
     """
 
     labels: np.ndarray
     distances: np.ndarray
     frame: Frame
+
+    def to_xarray(self):
+        """``labels`` and ``distances`` as an ``xarray.Dataset`` on the pixel
+        centres' ``x`` and ``y``, with the frame's CRS and affine in a CF
+        ``spatial_ref`` grid mapping, so that rioxarray reads them
+        (``ds.labels.rio.crs``, ``ds.labels.rio.transform()``,
+        ``ds.labels.rio.to_raster("labels.tif")``). Dask arrays (from
+        :func:`pixgeo.dask.voronoi`) stay lazy."""
+        return _georeferenced(
+            self.frame, {"labels": (self.labels, NO_SITE), "distances": (self.distances, None)}
+        )
 
 
 @dataclass(frozen=True)
@@ -604,6 +648,10 @@ class Settle:
     frame: Frame
     best_area: int
     refined: Optional[Tuple[float, float, float]]
+
+    def to_xarray(self):
+        """``area`` georeferenced as :meth:`Diagram.to_xarray` does."""
+        return _georeferenced(self.frame, {"area": (self.area, None)})
 
 
 def settle(

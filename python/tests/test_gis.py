@@ -518,3 +518,35 @@ def test_geojson_round_trips_features_properties_and_crs(tmp_path):
     triangles = json.loads((tmp_path / "t.geojson").read_text())
     assert triangles["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::32633"
     assert len(triangles["features"]) == 2
+
+
+def test_results_as_georeferenced_xarray(tmp_path):
+    """`to_xarray()` gives DataArrays on the pixel centres whose CRS and affine
+    rioxarray reads; Dask results stay lazy and are placed the same way."""
+    import pixgeo
+    import pixgeo.dask  # noqa: F401
+    import rioxarray  # noqa: F401  (the .rio accessor)
+
+    rng = np.random.default_rng(4)
+    xy = np.column_stack([rng.uniform(BBOX[0], BBOX[2], 30), rng.uniform(BBOX[1], BBOX[3], 30)])
+    d = pixgeo.voronoi(xy, bbox=BBOX, res=8, crs="EPSG:32633")
+    ds = d.to_xarray()
+    labels = ds.labels
+    assert labels.dims == ("y", "x") and labels.shape == (100, 125)
+    assert labels.rio.crs.to_epsg() == 32633
+    assert labels.rio.transform() == Affine(*d.frame.transform)
+    assert labels.rio.nodata == pixgeo.NO_SITE
+    x, y = d.frame.pixel_centres()
+    np.testing.assert_array_equal(labels.x, x)
+    np.testing.assert_array_equal(labels.y, y)
+    labels.rio.to_raster(tmp_path / "labels.tif")
+    with rasterio.open(tmp_path / "labels.tif") as r:
+        assert r.crs.to_epsg() == 32633 and r.transform == Affine(*d.frame.transform)
+        np.testing.assert_array_equal(r.read(1), d.labels)
+    lazy = pixgeo.dask.voronoi(xy, bbox=BBOX, res=8, crs="EPSG:32633", chunks=(64, 64)).to_xarray()
+    assert lazy.labels.chunks is not None
+    assert lazy.labels.rio.crs.to_epsg() == 32633
+    assert lazy.labels.rio.transform() == labels.rio.transform()
+    np.testing.assert_array_equal(lazy.labels.values, d.labels)
+    s = pixgeo.settle(xy, bbox=BBOX, res=8, crs="EPSG:32633").to_xarray()
+    assert s.area.rio.crs.to_epsg() == 32633
