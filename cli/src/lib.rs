@@ -113,6 +113,13 @@ fn answer_line(line: std::fmt::Arguments) {
     }
 }
 
+/// Whether EPSG's coordinate system `code` is geographic (longitude and
+/// latitude), as the registry the GeoTIFF writer uses says; why not a
+/// system for maps otherwise.
+pub fn is_geographic(code: u16) -> Result<bool, String> {
+    write::geotiff::crs_kind(code).map(|k| k == write::geotiff::CrsKind::Geographic)
+}
+
 /// Runs the command line on `args` (the program's name first) and returns
 /// its exit status: 0, 1 with the error on stderr, 2 for a usage error (as
 /// clap reports it), 130 at a signal.

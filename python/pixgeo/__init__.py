@@ -36,6 +36,7 @@ NO_SITE = 2**32 - 1
 
 __all__ = [
     "NO_SITE",
+    "EARTH_RADIUS",
     "NoDeviceError",
     "DeviceError",
     "InternalError",
@@ -403,7 +404,7 @@ def voronoi(
     res: Optional[float] = None,
     y_axis: Optional[str] = None,
     crs=None,
-    metric: str = "l2",
+    metric: Optional[str] = None,
     mode: str = "exact",
     weights=None,
     device: Optional[str] = None,
@@ -419,7 +420,13 @@ def voronoi(
     With a bbox the rasters are north-up, as the command line and GIS tools
     hold them (row 0 the largest y); ``y_axis="down"`` puts the smallest y in
     row 0. ``crs`` (``"EPSG:N"``) is carried to the frame, whose
-    ``transform`` places the rasters. ``metric`` is ``l2``, ``l1``,
+    ``transform`` places the rasters.
+
+    ``metric="great-circle"`` measures distances on the Earth: x and y are
+    longitude and latitude in degrees, and ``distances`` are metres along
+    great circles of the sphere of the Earth's mean radius
+    (:data:`EARTH_RADIUS`). It is the default under a geographic ``crs``
+    (EPSG:4326, say); a planar metric there measures degrees and warns. ``metric`` is ``l2``, ``l1``,
     ``linf`` or ``lp:P``; ``mode`` is ``exact`` (every pixel's nearest site,
     ties to the smaller index) or the thesis's triangle fans, ``fan`` (distance
     error within a pixel) or ``fan:T``. ``device``: ``auto``, ``lavapipe``,
@@ -435,6 +442,14 @@ def voronoi(
     (:func:`pixgeo.dask.voronoi` does that on a cluster).
     """
     place = _place(shape, bbox, res, y_axis, crs)
+    metric = _metric_for(metric, place.crs)
+    if metric == "great-circle":
+        if weights is not None or window is not None or mode != "exact":
+            raise ValueError(
+                "great-circle diagrams take unweighted points, whole and exact: "
+                "give metric='l2' for a planar diagram in degrees"
+            )
+        return _great_circle(_points(sites, "sites"), place)
     w, h, box = place.width, place.height, place.bbox
     points = place.sites(_points(sites, "sites"))
     if weights is None:
@@ -448,6 +463,39 @@ def voronoi(
             points, _weights(weights, len(points)), w, h, box, metric, mode, device
         )
     return Diagram(labels, distances, place.frame(frame))
+
+
+EARTH_RADIUS = _pixgeo.EARTH_RADIUS
+"""The sphere of great-circle distances: the Earth's mean radius (IUGG R1), metres."""
+
+
+def _metric_for(metric: Optional[str], crs: Optional[str]) -> str:
+    """``metric``, or by default great circles under a geographic ``crs`` and
+    ``l2`` otherwise; a planar metric under a geographic ``crs`` warns."""
+    geographic = crs is not None and _pixgeo.is_geographic(int(crs[5:]))
+    if metric is None:
+        return "great-circle" if geographic else "l2"
+    if geographic and metric != "great-circle":
+        import warnings
+
+        warnings.warn(
+            f"{crs} is geographic: metric={metric!r} measures degrees on the longitude-latitude "
+            "plane, not distances on the Earth (without metric=, pixgeo measures great circles "
+            "in metres)",
+            stacklevel=3,
+        )
+    return metric
+
+
+def _great_circle(sites: np.ndarray, place: "_Placement") -> Diagram:
+    """Every pixel's nearest site by great circle, and the distance in metres."""
+    frame = place.frame(_pixgeo.frame_of(place.width, place.height, place.bbox))
+    x, y = frame.pixel_centres()
+    xx, yy = np.meshgrid(x, y)
+    places = np.ascontiguousarray(np.stack([xx.ravel(), yy.ravel()], -1))
+    labels, distances, _ = _pixgeo.great_circle(sites, places)
+    shape = (frame.height, frame.width)
+    return Diagram(labels.reshape(shape), distances.astype(np.float32).reshape(shape), frame)
 
 
 def _weights(weights, n: int) -> np.ndarray:

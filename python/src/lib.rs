@@ -24,6 +24,7 @@ use pixgeo::{
         cells::voronoi_cells as cells_of,
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
+        great_circle::great_circle_nearest,
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
         settle::{potential_areas, refine, SettleOptions},
@@ -579,6 +580,32 @@ fn voronoi_cells<'py>(
     Ok((polygons, duplicates.into_pyarray(py)))
 }
 
+/// Whether EPSG's coordinate system `code` is geographic.
+#[pyfunction]
+fn is_geographic(code: u16) -> PyResult<bool> {
+    pixgeo_cli::is_geographic(code).map_err(PyValueError::new_err)
+}
+
+/// Labels, distances (metres) and the near ties' count.
+type GreatCircleTuple<'py> = (Bound<'py, PyArray1<u32>>, Bound<'py, PyArray1<f64>>, usize);
+
+/// Each place's nearest site by great circle on the Earth's mean sphere and
+/// the distance in metres (sites and places as longitude, latitude).
+#[pyfunction]
+fn great_circle<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    places: PyReadonlyArray2<'py, f64>,
+) -> PyResult<GreatCircleTuple<'py>> {
+    let (sites, places) = (points(&sites), points(&places));
+    let answer = on_cpu(py, || great_circle_nearest(&sites, &places, &|_, _| {}))?;
+    Ok((
+        answer.labels.into_pyarray(py),
+        answer.distances.into_pyarray(py),
+        answer.near_ties,
+    ))
+}
+
 /// The `pixgeo` command line run on `args` (its name first), with the GIL
 /// released; returns its exit status.
 #[pyfunction]
@@ -701,6 +728,12 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;
     m.add_function(wrap_pyfunction!(voronoi_cells, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
+    m.add_function(wrap_pyfunction!(is_geographic, m)?)?;
+    m.add_function(wrap_pyfunction!(great_circle, m)?)?;
+    m.add(
+        "EARTH_RADIUS",
+        pixgeo::algorithms::great_circle::EARTH_RADIUS,
+    )?;
     m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(diameter, m)?)?;
     m.add_function(wrap_pyfunction!(enclosing_circle, m)?)?;

@@ -550,3 +550,80 @@ def test_results_as_georeferenced_xarray(tmp_path):
     np.testing.assert_array_equal(lazy.labels.values, d.labels)
     s = pixgeo.settle(xy, bbox=BBOX, res=8, crs="EPSG:32633").to_xarray()
     assert s.area.rio.crs.to_epsg() == 32633
+
+
+def test_great_circle_labels_and_distances_match_pyproj(tmp_path):
+    """Under a geographic CRS, `voronoi` measures great circles on the
+    Earth's mean sphere in metres: every label a nearest site and every
+    distance that of pyproj's Geod on the same sphere, by brute force;
+    across the antimeridian and up to a pole too. Degrees on the plane only
+    on request, with a warning."""
+    from pyproj import Geod
+
+    sphere = Geod(a=6371008.8, b=6371008.8)
+    rng = np.random.default_rng(3)
+    for box, xy in (
+        ((-30.0, 30.0, 40.0, 70.0), np.column_stack([rng.uniform(-30, 40, 25), rng.uniform(30, 70, 25)])),
+        # Sites beyond the antimeridian and near the pole.
+        ((160.0, 60.0, 200.0, 90.0), np.array([[170.0, 65.0], [-175.0, 70.0], [10.0, 89.5], [185.0, 80.0]])),
+    ):
+        np.savetxt(tmp_path / "s.csv", xy, delimiter=",", header="x,y", comments="", fmt="%.17g")
+        done = pixgeo("voronoi", "--sites", tmp_path / "s.csv", "--bbox", ",".join(map(str, box)),
+                      "--size", 120, "--crs", "EPSG:4326", "--labels", tmp_path / "l.tif",
+                      "--distance", tmp_path / "d.tif", "--json")
+        result = json.loads(done.stdout)["result"]
+        assert result["metric"] == "great-circle" and result["sphere_radius_m"] == 6371008.8
+        with rasterio.open(tmp_path / "l.tif") as r:
+            labels, t = r.read(1), r.transform
+            assert r.crs.to_epsg() == 4326
+        with rasterio.open(tmp_path / "d.tif") as r:
+            distances = r.read(1)
+        lon, lat = centres(t, labels.shape)
+        n = lon.size
+        every = np.stack([sphere.inv(lon.ravel(), lat.ravel(), np.full(n, s[0]), np.full(n, s[1]))[2]
+                          for s in xy], -1)
+        best = every.min(axis=-1)
+        mine = every[np.arange(n), labels.ravel().astype(np.int64)]
+        assert np.all(mine - best <= 1e-6 + 1e-12 * best), np.max(mine - best)
+        np.testing.assert_allclose(distances.ravel(), best, rtol=1.2e-7, atol=1e-6)
+    planar = subprocess.run([str(CLI), "voronoi", "--sites", str(tmp_path / "s.csv"), "--bbox",
+                             "160,60,200,90", "--crs", "EPSG:4326", "--metric", "l2",
+                             "--labels", str(tmp_path / "p.tif")], capture_output=True, text=True)
+    assert planar.returncode == 0 and "warning: EPSG:4326 is geographic" in planar.stderr
+    refused = subprocess.run([str(CLI), "voronoi", "--sites", str(tmp_path / "s.csv"), "--bbox",
+                              "160,60,200,90", "--crs", "EPSG:4326", "--ties", str(tmp_path / "t.npy")],
+                             capture_output=True, text=True)
+    assert refused.returncode == 1 and "not computed on the Earth" in refused.stderr
+
+
+def test_python_great_circles_are_the_command_lines(tmp_path):
+    """`pixgeo.voronoi` under a geographic crs: great circles by default, the
+    command line's labels row for row, distances pyproj's on the sphere."""
+    import warnings
+
+    import pixgeo
+    from pyproj import Geod
+
+    rng = np.random.default_rng(9)
+    xy = np.column_stack([rng.uniform(-20, 30, 15), rng.uniform(35, 65, 15)])
+    box = (-20.0, 35.0, 30.0, 65.0)
+    d = pixgeo.voronoi(xy, bbox=box, res=0.5, crs="EPSG:4326")
+    assert d.labels.shape == (60, 100) and d.frame.crs == "EPSG:4326"
+    np.savetxt(tmp_path / "s.csv", xy, delimiter=",", header="x,y", comments="", fmt="%.17g")
+    done = subprocess.run([str(CLI), "voronoi", "--sites", str(tmp_path / "s.csv"), "--bbox",
+                           ",".join(map(str, box)), "--size", "100", "--crs", "EPSG:4326",
+                           "--labels", str(tmp_path / "l.npy")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    np.testing.assert_array_equal(np.load(tmp_path / "l.npy"), d.labels)
+    lon, lat = np.meshgrid(*d.frame.pixel_centres())
+    sphere = Geod(a=pixgeo.EARTH_RADIUS, b=pixgeo.EARTH_RADIUS)
+    n = lon.size
+    every = np.stack([sphere.inv(lon.ravel(), lat.ravel(), np.full(n, s[0]), np.full(n, s[1]))[2]
+                      for s in xy], -1)
+    np.testing.assert_allclose(d.distances.ravel(), every.min(axis=-1), rtol=1.2e-7, atol=1e-6)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        pixgeo.voronoi(xy, bbox=box, res=0.5, crs="EPSG:4326", metric="l2")
+    assert any("geographic" in str(w.message) for w in caught)
+    with pytest.raises(ValueError, match="great-circle"):
+        pixgeo.voronoi(xy, bbox=box, res=0.5, crs="EPSG:4326", mode="fan")

@@ -12,6 +12,7 @@ pub mod delaunay;
 pub mod distances;
 pub(crate) mod envelope;
 pub mod flooding;
+pub mod great_circle;
 pub mod higher_order;
 pub mod homothet;
 pub mod settle;

@@ -3,7 +3,8 @@
 //!
 //! One command holds every diagram's route, with the checks that refuse options
 //! a route does not take: points here, `sites.rs` for shapes, `levels.rs` for
-//! the k nearest, order-k and furthest, `seeds.rs` for flooding's seeds.
+//! the k nearest, order-k and furthest, `seeds.rs` for flooding's seeds,
+//! `great_circle.rs` for distances on the Earth under a geographic system.
 
 use std::path::PathBuf;
 
@@ -31,6 +32,7 @@ use crate::{
     envelope,
     input::{Input, World},
     progress::Progress,
+    write::geotiff::{crs_kind, CrsKind},
     write::{
         output::{check_distinct, check_extension, check_extensions, extension_among},
         picture::{self, PngStream},
@@ -38,6 +40,7 @@ use crate::{
     },
 };
 
+mod great_circle;
 mod levels;
 mod seeds;
 mod sites;
@@ -86,7 +89,15 @@ pub struct Args {
     /// kind of diagram, and with --device cpu; --ties and --peel take the L_p
     /// metrics. Circles and arcs under a polygon take fan mode or --device cpu
     /// (exact); under L_p with p < 1 their fans' bound grows with the reach.
-    #[arg(long, default_value = "l2", value_parser = pixgeo::io::sites::parse_metric)]
+    /// `great-circle`: distances on the Earth in metres, x and y longitude and
+    /// latitude in degrees; the default under a geographic --crs (or a GeoJSON
+    /// file's), where the others measure degrees on the plane, with a warning.
+    /// Default: l2.
+    #[arg(long = "metric", value_name = "METRIC", value_parser = parse_metric_choice)]
+    metric_choice: Option<MetricChoice>,
+
+    /// The metric of the plane, from --metric once the world is known.
+    #[arg(skip = Metric::L2)]
     metric: Metric,
 
     /// Accuracy: `exact` writes the exact distance per pixel (labels are nearest
@@ -211,6 +222,20 @@ pub struct Args {
     method: Method,
 }
 
+/// What --metric names: a metric of the plane, or great circles on the Earth.
+#[derive(Clone, Debug)]
+enum MetricChoice {
+    Plane(Metric),
+    GreatCircle,
+}
+
+fn parse_metric_choice(text: &str) -> Result<MetricChoice, String> {
+    match text {
+        "great-circle" | "great_circle" => Ok(MetricChoice::GreatCircle),
+        _ => pixgeo::io::sites::parse_metric(text).map(MetricChoice::Plane),
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum Method {
     Cones,
@@ -246,8 +271,30 @@ fn refuse_window(args: &Args, what: &str) -> Result<()> {
 pub fn run(mut args: Args) -> Result<()> {
     check_options(&args)?;
     let (world, general) = args.input.world_and_general_sites()?;
-    args.metric = world.metric(args.metric);
-    diagram(&args, &world, general)?;
+    let geographic = world
+        .epsg
+        .is_some_and(|c| crs_kind(c) == Ok(CrsKind::Geographic));
+    match (args.metric_choice.clone(), geographic) {
+        (Some(MetricChoice::GreatCircle), _) | (None, true) => {
+            great_circle::diagram(&args, &world, general)?
+        }
+        (choice, _) => {
+            let metric = match choice {
+                Some(MetricChoice::Plane(m)) => m,
+                _ => Metric::L2,
+            };
+            if geographic {
+                note!(
+                    "warning: EPSG:{} is geographic: --metric {metric} measures degrees on the \
+                     longitude-latitude plane, not distances on the Earth (without --metric, \
+                     pixgeo measures great circles in metres)",
+                    world.epsg.unwrap_or_default()
+                );
+            }
+            args.metric = world.metric(metric);
+            diagram(&args, &world, general)?
+        }
+    }
     let corner = args.window.map_or((0, 0), |w| (w.x, w.y));
     args.input.write_world_file(&world, corner)?;
     // Options a diagram would not write are refused up front: each given was written.
