@@ -82,6 +82,7 @@ pub fn run(args: Args) -> Result<()> {
         .then(|| args.input.fitted_side())
         .transpose()?;
     let (world, points) = args.input.world_and_sites()?;
+    world.warn_if_geographic("the discs' radius 1/α is in degrees,");
     let machine = args.device.machine()?;
     let (alpha, method) = (args.alpha, args.method);
     let working = Progress::working("alpha", args.json);

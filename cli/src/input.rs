@@ -16,7 +16,7 @@ use pixgeo::{
 };
 
 use crate::write::{
-    geotiff::{crs_name, parse_crs, GeoReference, WORLD_FILE_EXTENSIONS},
+    geotiff::{crs_kind, crs_name, parse_crs, CrsKind, GeoReference, WORLD_FILE_EXTENSIONS},
     output::{check_extensions, claim},
 };
 
@@ -177,6 +177,12 @@ impl World {
                 hi: f.origin + DVec2::new(f.width as f64, f.height as f64) / f.scale,
             },
         }
+    }
+
+    /// Warns, on stderr, that `what` is measured on the longitude-latitude
+    /// plane where the coordinate system is geographic.
+    pub fn warn_if_geographic(&self, what: &str) {
+        warn_if_geographic(self.epsg, what);
     }
 
     /// The user's point of a point of the computing world (and back: the
@@ -492,6 +498,14 @@ pub fn check_room(arrays: &[&std::path::Path], width: u32, height: u32) -> Resul
         }
     }
     Ok(())
+}
+
+/// Warns, on stderr, that `what` is measured on the longitude-latitude plane
+/// where `epsg` names a geographic coordinate system.
+pub fn warn_if_geographic(epsg: Option<u16>, what: &str) {
+    if let Some(code) = epsg.filter(|&c| crs_kind(c) == Ok(CrsKind::Geographic)) {
+        note!("warning: EPSG:{code} is geographic: {what} on the longitude-latitude plane, not on the Earth");
+    }
 }
 
 /// The EPSG code a GeoJSON `crs` member names: `urn:ogc:def:crs:EPSG::N`

@@ -113,6 +113,7 @@ pub fn run(mut args: Args) -> Result<()> {
     ])?;
     args.input.check_world_file()?;
     let (world, rivals) = args.input.world_and_sites()?;
+    world.warn_if_geographic("the market areas are square degrees and the distances degrees,");
     let frame = world.frame;
     args.metric = world.metric(args.metric);
     let own: Vec<DVec2> = match &args.own {

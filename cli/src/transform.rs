@@ -198,6 +198,9 @@ pub fn run(args: Args) -> Result<()> {
     let mask = source.mask;
     let placed_by_mask = source.placed.is_some();
     let geo = placement(&args, source.placed, mask.width, mask.height)?;
+    if args.distance_units == DistanceUnits::Geo {
+        crate::input::warn_if_geographic(geo.epsg, "the distances are in degrees,");
+    }
     let sampling = match (args.distance_units, args.sampling) {
         (DistanceUnits::Pixel, sampling) => sampling.unwrap_or([1.0, 1.0]),
         (DistanceUnits::Geo, None) => [geo.pixel_height.abs(), geo.pixel_width],

@@ -7,16 +7,30 @@
 //! k-d tree over the sites' unit vectors finds it. Each unit vector is within
 //! [`VECTOR_ERROR`] of the true one in every component, so every chord is
 //! within [`CHORD_ERROR`] of its true length. A place whose two nearest sites'
-//! chords differ by more than twice that has its nearest site proven; the
-//! others, near ties (sites within about a micrometre of equidistant), are
-//! counted and decided by the computed chords, the lower index on equality.
+//! chords differ by more than twice that has its nearest site proven. For the
+//! others (sites within about a micrometre of equidistant) every site within
+//! the bound is compared again in rational intervals: the cosines and sines
+//! of the degrees, π/180 among them, bracketed to 64, then 160, then 320 bits,
+//! until one site's dot product with the place is above every other's.
+//! Sites still equidistant at 320 bits (true ties, as far as any evidence
+//! goes) are counted and the lower index wins, as everywhere in pixgeo.
 //! Distances are `R · atan2(|u × v|, u · v)`, well conditioned from 0 to
 //! antipodes, within [`DISTANCE_ERROR`] metres of the sphere's.
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use crate::{cancel::Watch, Error, Result};
+use num_bigint::BigInt;
+use num_rational::BigRational;
+
+use crate::{
+    cancel::Watch,
+    geometry::{
+        exact::rational,
+        precise::{cos_sin_of, Interval},
+    },
+    Error, Result,
+};
 
 /// The sphere's radius: the IUGG mean radius of the Earth (R1), in metres.
 pub const EARTH_RADIUS: f64 = 6_371_008.8;
@@ -42,9 +56,9 @@ pub struct GreatCircle {
     pub labels: Vec<u32>,
     /// Each place's distance to it in metres, within [`DISTANCE_ERROR`].
     pub distances: Vec<f64>,
-    /// Places whose two nearest sites were too close to equidistant to tell
-    /// apart in doubles (their chords within `2 CHORD_ERROR`).
-    pub near_ties: usize,
+    /// Places with two or more sites equidistant to 320 bits: the lower
+    /// index is their label.
+    pub equidistant: usize,
 }
 
 /// The unit vector of longitude `lon` and latitude `lat`, degrees.
@@ -103,29 +117,104 @@ pub fn great_circle_nearest(
             watch.check()?;
             let mut labels = Vec::with_capacity(chunk.len());
             let mut distances = Vec::with_capacity(chunk.len());
-            let mut near_ties = 0;
+            let mut equidistant = 0;
             for &place in chunk {
                 let u = unit_vector(place);
-                let [(first, i), (second, _)] = tree.two_nearest(u);
+                let [(first, mut i), (second, _)] = tree.two_nearest(u);
                 if second.sqrt() - first.sqrt() <= 2.0 * CHORD_ERROR {
-                    near_ties += 1;
+                    let reach = first.sqrt() + 2.0 * CHORD_ERROR;
+                    let (winner, tied) = nearest_exactly(place, sites, &tree.within(u, reach));
+                    i = winner;
+                    equidistant += usize::from(tied);
                 }
                 labels.push(i);
                 distances.push(angle(u, tree.points[i as usize]) * EARTH_RADIUS);
             }
             let now = done.fetch_add(chunk.len() as u64, std::sync::atomic::Ordering::Relaxed);
             progress(now + chunk.len() as u64, total);
-            Ok((labels, distances, near_ties))
+            Ok((labels, distances, equidistant))
         })
         .collect::<Result<_>>()?;
     let mut answer = GreatCircle::default();
-    for (labels, distances, near_ties) in chunks {
+    for (labels, distances, equidistant) in chunks {
         answer.labels.extend(labels);
         answer.distances.extend(distances);
-        answer.near_ties += near_ties;
+        answer.equidistant += equidistant;
     }
     Ok(answer)
 }
+
+/// The nearest of the `candidates` (site indices) to `place` by great circle,
+/// decided in rational intervals; and whether two or more stay equidistant
+/// at the finest precision (the lowest index among them wins).
+fn nearest_exactly(place: DVec2, sites: &[DVec2], candidates: &[u32]) -> (u32, bool) {
+    let mut order = candidates.to_vec();
+    order.sort_unstable();
+    let mut tied = order.clone();
+    for bits in [64, 160, 320] {
+        let Some(u) = vector_interval(place, bits) else {
+            break;
+        };
+        let dots: Vec<Option<Interval>> = order
+            .iter()
+            .map(|&i| vector_interval(sites[i as usize], bits).map(|v| dot(&u, &v)))
+            .collect();
+        let Some(highest) = dots.iter().flatten().map(|d| d.lo.clone()).max() else {
+            break;
+        };
+        // Sites whose dot may reach the highest lower bound.
+        tied = order
+            .iter()
+            .zip(&dots)
+            .filter(|(_, d)| d.as_ref().is_some_and(|d| d.hi >= highest))
+            .map(|(&i, _)| i)
+            .collect();
+        if tied.len() == 1 {
+            return (tied[0], false);
+        }
+    }
+    (tied[0], tied.len() > 1)
+}
+
+fn dot(u: &[Interval; 3], v: &[Interval; 3]) -> Interval {
+    u[0].times(&v[0])
+        .plus(&u[1].times(&v[1]))
+        .plus(&u[2].times(&v[2]))
+}
+
+/// The unit vector of a position (degrees) as rational intervals, each
+/// within about 2^-bits.
+fn vector_interval(p: DVec2, bits: u64) -> Option<[Interval; 3]> {
+    let [lon, lat] = [angle_interval(p.x, bits)?, angle_interval(p.y, bits)?];
+    let (cos_lat, sin_lat) = lat;
+    let (cos_lon, sin_lon) = lon;
+    Some([cos_lat.times(&cos_lon), cos_lat.times(&sin_lon), sin_lat])
+}
+
+/// The cosine and sine of `degrees` (reduced to [-180, 180] exactly) as
+/// intervals: π/180 bracketed by a 100-digit π, the argument's spread added
+/// to the Taylor series' bracket (both functions move no faster than it).
+fn angle_interval(degrees: f64, bits: u64) -> Option<(Interval, Interval)> {
+    let d = rational(degrees);
+    let turns = (&d / BigRational::from_integer(360.into())).round();
+    let reduced = d - turns * BigRational::from_integer(360.into());
+    let scale = BigInt::from(10).pow(100);
+    let pi = BigRational::new(PI_DIGITS.parse::<BigInt>().ok()?, scale.clone());
+    let degree = BigRational::from_integer(180.into());
+    let low = &reduced * &pi / &degree;
+    // π's truncation is below 10^-100, times at most 180/180.
+    let spread = BigRational::new(BigInt::from(1), scale);
+    let (cos, sin) = cos_sin_of(&low, bits)?;
+    let widen = |i: Interval| Interval {
+        lo: i.lo - &spread,
+        hi: i.hi + &spread,
+    };
+    Some((widen(cos), widen(sin)))
+}
+
+/// π truncated to 100 decimals, as the integer π·10^100.
+const PI_DIGITS: &str = "31415926535897932384626433832795028841971693993751\
+                         058209749445923078164062862089986280348253421170679";
 
 /// Places handled between looks at the cancel flag and reports of progress.
 const PLACES_PER_LOOK: usize = 1 << 14;
@@ -156,6 +245,32 @@ impl Tree {
             best[1] = (f64::INFINITY, best[0].1);
         }
         best
+    }
+
+    /// The input indices of the points within chord `reach` of `q`.
+    fn within(&self, q: DVec3, reach: f64) -> Vec<u32> {
+        let mut found = Vec::new();
+        self.gather(q, reach * reach, 0, self.order.len(), 0, &mut found);
+        found
+    }
+
+    fn gather(&self, q: DVec3, r2: f64, lo: usize, hi: usize, depth: usize, found: &mut Vec<u32>) {
+        if lo >= hi {
+            return;
+        }
+        let mid = (lo + hi) / 2;
+        let i = self.order[mid];
+        let p = self.points[i as usize];
+        if (p - q).length_squared() <= r2 {
+            found.push(i);
+        }
+        let diff = q[depth % 3] - p[depth % 3];
+        if diff <= 0.0 || diff * diff <= r2 {
+            self.gather(q, r2, lo, mid, depth + 1, found);
+        }
+        if diff >= 0.0 || diff * diff <= r2 {
+            self.gather(q, r2, mid + 1, hi, depth + 1, found);
+        }
     }
 
     fn search(&self, q: DVec3, lo: usize, hi: usize, depth: usize, best: &mut [(f64, u32); 2]) {
@@ -246,5 +361,36 @@ mod tests {
             );
         }
         assert!(great_circle_nearest(&sites, &[DVec2::new(0.0, 91.0)], &|_, _| {}).is_err());
+    }
+
+    #[test]
+    fn sites_an_ulp_from_equidistant_are_told_apart_and_true_ties_counted() {
+        // Site 0, on the meridian, is one ulp of 0.90439° farther than site 1,
+        // on the equator: 2e-12 m farther, and equally far in doubles, where
+        // the lower index would win.
+        let a: f64 = 0.90439;
+        let sites = [
+            DVec2::new(0.0, f64::from_bits(a.to_bits() + 1)),
+            DVec2::new(a, 0.0),
+        ];
+        let place = DVec2::ZERO;
+        let tree = Tree::new(sites.iter().map(|&p| unit_vector(p)).collect());
+        let [(first, i), (second, _)] = tree.two_nearest(unit_vector(place));
+        assert_eq!((first, i), (second, 0));
+        let answer = great_circle_nearest(&sites, &[place], &|_, _| {}).unwrap();
+        assert_eq!((answer.labels[0], answer.equidistant), (1, 0));
+        // Truly equidistant sites (and a third one farther) stay tied: the
+        // lower index, counted.
+        let sites = [
+            DVec2::new(5.0, 40.0),
+            DVec2::new(10.0, 0.0),
+            DVec2::new(-10.0, 0.0),
+        ];
+        let answer = great_circle_nearest(&sites, &[DVec2::new(0.0, 0.0)], &|_, _| {}).unwrap();
+        assert_eq!((answer.labels[0], answer.equidistant), (1, 1));
+        // The same longitude a turn apart is the same meridian.
+        let sites = [DVec2::new(370.0, 0.0), DVec2::new(-10.0, 0.0)];
+        let answer = great_circle_nearest(&sites, &[DVec2::new(0.0, 0.0)], &|_, _| {}).unwrap();
+        assert_eq!((answer.labels[0], answer.equidistant), (0, 1));
     }
 }

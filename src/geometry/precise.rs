@@ -123,19 +123,27 @@ impl Interval {
 /// |x|^N / N!. `None` for |x| above 64, whose terms would grow too large
 /// before they shrink.
 pub(crate) fn cos_sin(x: f64, bits: u64) -> Option<(Interval, Interval)> {
-    if x.is_nan() || x.abs() > 64.0 {
+    if x.is_nan() {
+        return None;
+    }
+    cos_sin_of(&super::exact::rational(x), bits)
+}
+
+/// [`cos_sin`] of a rational `x`.
+pub(crate) fn cos_sin_of(x: &BigRational, bits: u64) -> Option<(Interval, Interval)> {
+    let magnitude = num_traits::ToPrimitive::to_f64(&x.abs()).unwrap_or(f64::INFINITY);
+    if magnitude > 64.0 {
         return None;
     }
     // Terms grow to about e^|x| before they shrink, and their roundings with
     // them: the working precision has room for both.
-    let p = bits + 24 + (1.5 * x.abs()).ceil() as u64;
+    let p = bits + 24 + (1.5 * magnitude).ceil() as u64;
     let one = BigInt::from(1) << p;
     // X: x in units of 2^-p, off by at most `ex` units.
-    let scaled = super::exact::rational(x) * BigRational::from_integer(one.clone());
+    let scaled = x * BigRational::from_integer(one.clone());
     let big_x = scaled.floor().to_integer();
     let ex = if scaled.is_integer() { 0 } else { 1 };
     let limit = BigInt::from(1) << (p - bits - 2);
-    let magnitude = x.abs();
     // The term x^n / n! in units, and a bound on its error.
     let (mut term, mut error) = (one.clone(), BigInt::zero());
     let (mut sums, mut errors) = (

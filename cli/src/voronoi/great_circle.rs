@@ -90,7 +90,7 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
             "metric": "great-circle",
             "sphere_radius_m": EARTH_RADIUS,
             "distance_error_m": DISTANCE_ERROR,
-            "near_ties": answer.near_ties,
+            "equidistant": answer.equidistant,
             "largest_distance_m": largest,
             "stats": { "compute_ms": compute_ms },
         });
@@ -99,9 +99,9 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
         outln!(
             "{} sites, {w}x{h} pixels: great-circle distances on the sphere of the Earth's \
              mean radius ({EARTH_RADIUS} m), within {DISTANCE_ERROR:.1e} m; largest {largest:.3} m; \
-             {} near ties",
+             labels proven, {} pixels equidistant to two sites or more (the lower index)",
             sites.len(),
-            answer.near_ties
+            answer.equidistant
         );
     }
     Ok(())
