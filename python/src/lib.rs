@@ -586,7 +586,7 @@ fn is_geographic(code: u16) -> PyResult<bool> {
     pixgeo_cli::is_geographic(code).map_err(PyValueError::new_err)
 }
 
-/// Labels, distances (metres) and the near ties' count.
+/// Labels, distances (metres) and the count of pixels left equidistant.
 type GreatCircleTuple<'py> = (Bound<'py, PyArray1<u32>>, Bound<'py, PyArray1<f64>>, usize);
 
 /// Each place's nearest site by great circle on the Earth's mean sphere and
@@ -602,7 +602,7 @@ fn great_circle<'py>(
     Ok((
         answer.labels.into_pyarray(py),
         answer.distances.into_pyarray(py),
-        answer.near_ties,
+        answer.equidistant,
     ))
 }
 
