@@ -17,7 +17,7 @@ use pixgeo::{
 
 use crate::write::{
     geotiff::{crs_kind, crs_name, parse_crs, CrsKind, GeoReference, WORLD_FILE_EXTENSIONS},
-    output::{check_extensions, claim},
+    output::{check_extensions, claim, extension_among},
 };
 
 /// The sites and the picture they are drawn on.
@@ -264,13 +264,8 @@ impl Input {
             (Some(b), _) => Frame::with_bbox(width, height, b)?,
             (None, _) => Frame::pixels(width, height.unwrap_or(width))?,
         };
-        let is_geojson = |path: &std::path::Path| {
-            path.extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| e.eq_ignore_ascii_case("geojson"))
-        };
         let sites = match (&self.sites, self.random) {
-            (Some(path), None) if is_geojson(path) => {
+            (Some(path), None) if extension_among(path, &["geojson"]).is_some() => {
                 let (sites, sources) = sites::read_geojson_sources(path)?;
                 // --crs names the system of a file whose crs pixgeo cannot
                 // read; it may not contradict one it can.

@@ -11,7 +11,10 @@ use tiff::{
     tags::Tag,
 };
 
-use crate::write::geotiff::{crs_kind, GeoReference};
+use crate::write::{
+    geotiff::{crs_kind, GeoReference},
+    output::extension_among,
+};
 
 /// A mask and, for a GeoTIFF, where it lies.
 pub struct Source {
@@ -22,14 +25,9 @@ pub struct Source {
 /// Reads the mask at `path`: features are the pixels whose value is among
 /// `values`, or (without) those not zero.
 pub fn read(path: &Path, values: Option<&[f64]>) -> Result<Source> {
-    let is = |ext: &str| {
-        path.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case(ext))
-    };
-    let (width, height, pixels, placed) = if is("tif") || is("tiff") {
+    let (width, height, pixels, placed) = if extension_among(path, &["tif", "tiff"]).is_some() {
         read_geotiff(path)?
-    } else if is("npy") {
+    } else if extension_among(path, &["npy"]).is_some() {
         let (shape, pixels) = pixgeo::io::npy::read_f64(path)?;
         let [height, width] = shape[..] else {
             bail!(
