@@ -256,10 +256,19 @@ impl Input {
     pub fn world_and_general_sites(&self) -> Result<(World, Vec<Site>)> {
         let (width, height) = self.size;
         let frame = match (self.place.bbox, height) {
-            // A tall box: N is its height, and the width follows.
+            // A tall box: N is its height, the scale N pixels to its height,
+            // and the width the whole pixels nearest its width (as a wide
+            // box's height is).
             (Some(b), None) if b[3] - b[1] > b[2] - b[0] && b[2] > b[0] => {
-                let across = (width as f64 * (b[2] - b[0]) / (b[3] - b[1])).round();
-                Frame::with_bbox(across.max(1.0) as u32, Some(width), b)?
+                let scale = width as f64 / (b[3] - b[1]);
+                let across = ((b[2] - b[0]) * scale).round().max(1.0) as u32;
+                let checked = Frame::with_bbox(across, None, b)?;
+                Frame {
+                    width: across,
+                    height: width,
+                    scale,
+                    ..checked
+                }
             }
             (Some(b), _) => Frame::with_bbox(width, height, b)?,
             (None, _) => Frame::pixels(width, height.unwrap_or(width))?,

@@ -25,6 +25,9 @@ pub struct Source {
 /// Reads the mask at `path`: features are the pixels whose value is among
 /// `values`, or (without) those not zero.
 pub fn read(path: &Path, values: Option<&[f64]>) -> Result<Source> {
+    if values.is_some_and(|v| v.iter().any(|x| x.is_nan())) {
+        bail!("--values: NaN equals no pixel value; give the features' values as numbers");
+    }
     let (width, height, pixels, placed) = if extension_among(path, &["tif", "tiff"]).is_some() {
         read_geotiff(path)?
     } else if extension_among(path, &["npy"]).is_some() {

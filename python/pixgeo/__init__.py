@@ -490,6 +490,12 @@ def _metric_for(metric: Optional[str], crs: Optional[str]) -> str:
 def _great_circle(sites: np.ndarray, place: "_Placement") -> Diagram:
     """Every pixel's nearest site by great circle, and the distance in metres."""
     frame = place.frame(_pixgeo.frame_of(place.width, place.height, place.bbox))
+    south, north = frame.bbox[1], frame.bbox[3]
+    if south < -90 or north > 90:
+        raise ValueError(
+            f"the picture reaches latitudes {south} to {north}: great circles take y as a "
+            "latitude in [-90, 90]; give a bbox within it"
+        )
     x, y = frame.pixel_centres()
     xx, yy = np.meshgrid(x, y)
     places = np.ascontiguousarray(np.stack([xx.ravel(), yy.ravel()], -1))

@@ -423,6 +423,7 @@ def test_transform_as_a_proximity_tool(tmp_path):
         (["--crs", "EPSG:4326"], "EPSG:32633, not the EPSG:4326"),
         (["--distance-units", "geo", "--sampling", "2"], "give one"),
         (["--max-distance", "-1"], "0 or more"),
+        (["--values", "nan"], "NaN equals no pixel value"),
     ):
         refused = subprocess.run([str(CLI), "transform", "--mask", str(tmp_path / "cover.tif"),
                                   "--distance", str(tmp_path / "x.tif"), *args],
@@ -627,3 +628,8 @@ def test_python_great_circles_are_the_command_lines(tmp_path):
     assert any("geographic" in str(w.message) for w in caught)
     with pytest.raises(ValueError, match="great-circle"):
         pixgeo.voronoi(xy, bbox=box, res=0.5, crs="EPSG:4326", mode="fan")
+    with pytest.raises(ValueError, match=r"latitude in \[-90, 90\]"):
+        pixgeo.voronoi(xy, bbox=(0, 0, 10, 100), res=1, crs="EPSG:4326")
+    refused = subprocess.run([str(CLI), "voronoi", "--random", "5", "--bbox", "0,0,10,100",
+                              "--crs", "EPSG:4326"], capture_output=True, text=True)
+    assert refused.returncode == 1 and "latitude in [-90, 90]" in refused.stderr

@@ -45,6 +45,13 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
              --distance, -o PNG and --json; give --metric l2 for a planar diagram in degrees"
         );
     }
+    let [_, south, _, north] = world.bbox();
+    if south < -90.0 || north > 90.0 {
+        bail!(
+            "the picture reaches latitudes {south} to {north}: under a geographic coordinate \
+             system y is a latitude in [-90, 90]; give a --bbox within it"
+        );
+    }
     // Sites and pixel centres in the user's longitude and latitude.
     let sites: Vec<DVec2> = general
         .iter()

@@ -477,3 +477,26 @@ fn the_frame_places_pixel_centres_as_the_guide_says() {
         }
     }
 }
+
+#[test]
+fn a_tall_box_takes_its_size_as_its_height_whatever_its_aspect() {
+    // 10 by 100 at 1024 rows: 102.4 columns, rounded to 102. This was refused
+    // ("a height of 1020.0 pixels for width 102, not 1024").
+    let labels = temp("tall.npy");
+    for (size, shape) in [("1024", [1024u64, 102]), ("300", [300, 30])] {
+        let (ok, _, stderr) = pixgeo(&[
+            "voronoi",
+            "--random",
+            "5",
+            "--bbox",
+            "0,0,10,100",
+            "--size",
+            size,
+            "--labels",
+            labels.to_str().unwrap(),
+        ]);
+        assert!(ok, "{size}: {stderr}");
+        let file = npyz::NpyFile::new(std::fs::File::open(&labels).unwrap()).unwrap();
+        assert_eq!(file.shape(), shape, "{size}");
+    }
+}
