@@ -185,6 +185,12 @@ impl World {
         warn_if_geographic(self.epsg, what);
     }
 
+    /// Whether the coordinate system is geographic (longitude, latitude).
+    pub fn is_geographic(&self) -> bool {
+        self.epsg
+            .is_some_and(|c| crs_kind(c) == Ok(CrsKind::Geographic))
+    }
+
     /// The user's point of a point of the computing world (and back: the
     /// mirror is its own inverse).
     pub fn to_user(self, p: DVec2) -> DVec2 {

@@ -62,9 +62,11 @@ pub struct Args {
     own: Option<PathBuf>,
 
     /// Distance function: `l2`, `l1`, `linf` or `lp:P` (any P > 0; the disc is
-    /// the metric's ball). The exact refinement is Euclidean only.
-    #[arg(long, default_value = "l2", value_parser = pixgeo::io::sites::parse_metric)]
-    metric: Metric,
+    /// the metric's ball). The exact refinement is Euclidean only. Default:
+    /// l2; under a geographic --crs, where the settle point is not computed
+    /// on the Earth, give it to measure degrees on the plane.
+    #[arg(long, value_parser = pixgeo::io::sites::parse_metric)]
+    metric: Option<Metric>,
 
     /// How the discs are counted (on a Vulkan device): `spans`, +1/-1 at
     /// every disc row's ends and prefix sums along the rows (§3.12.3), or
@@ -100,7 +102,7 @@ pub struct Args {
     device: Option<String>,
 }
 
-pub fn run(mut args: Args) -> Result<()> {
+pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.area {
         raster::check_name(path, "potential-area maps")?;
     }
@@ -113,9 +115,22 @@ pub fn run(mut args: Args) -> Result<()> {
     ])?;
     args.input.check_world_file()?;
     let (world, rivals) = args.input.world_and_sites()?;
-    world.warn_if_geographic("the market areas are square degrees and the distances degrees,");
+    let metric = match (args.metric.clone(), world.is_geographic()) {
+        (None, true) => bail!(
+            "the settle point is computed on the plane, not on the Earth: under EPSG:{} give \
+             --metric l2 (or another) to measure degrees on the longitude-latitude plane",
+            world.epsg.unwrap_or_default()
+        ),
+        (Some(m), true) => {
+            world.warn_if_geographic(&format!(
+                "--metric {m} measures the market areas in square degrees,"
+            ));
+            m
+        }
+        (m, false) => m.unwrap_or(Metric::L2),
+    };
+    let metric = world.metric(metric);
     let frame = world.frame;
-    args.metric = world.metric(args.metric);
     let own: Vec<DVec2> = match &args.own {
         Some(path) => sites::read_sites(path)?,
         None => Vec::new(),
@@ -127,7 +142,9 @@ pub fn run(mut args: Args) -> Result<()> {
         Backend::Gpu(machine) => {
             let message = format!("counting discs ({method:?})").to_lowercase();
             let progress = Progress::new(&message, args.json);
-            let options = SettleOptions::new(frame).metric(args.metric).method(method);
+            let options = SettleOptions::new(frame)
+                .metric(metric.clone())
+                .method(method);
             potential_areas(machine, &rivals, &own, &options, &mut |done, total| {
                 progress.report(done, total)
             })?
@@ -136,10 +153,10 @@ pub fn run(mut args: Args) -> Result<()> {
             if args.method == SettleMethod::Faithful {
                 bail!("--method faithful draws discs on a Vulkan device; the CPU counts spans");
             }
-            potential_areas_cpu(&rivals, &own, &frame, args.metric)?
+            potential_areas_cpu(&rivals, &own, &frame, metric.clone())?
         }
     };
-    let refined = if args.metric == Metric::L2 && args.refine_from > 0 {
+    let refined = if metric == Metric::L2 && args.refine_from > 0 {
         Some(refine(
             &rivals,
             &own,
@@ -159,7 +176,7 @@ pub fn run(mut args: Args) -> Result<()> {
     }
     crate::wrote([args.area.as_deref(), args.output.as_deref()]);
     args.input.write_world_file(&world, (0, 0))?;
-    let summary = summary(&map, &world, refined.as_ref(), &args);
+    let summary = summary(&map, &world, refined.as_ref(), (&args, &metric));
     if args.json {
         envelope::print_world("settle", backend.name(), &world, &summary)?;
     } else {
@@ -175,7 +192,12 @@ fn pixel_of(map: &PotentialAreas, k: usize) -> [u32; 2] {
     ]
 }
 
-fn summary(map: &PotentialAreas, world: &World, refined: Option<&Refined>, args: &Args) -> Value {
+fn summary(
+    map: &PotentialAreas,
+    world: &World,
+    refined: Option<&Refined>,
+    (args, metric): (&Args, &Metric),
+) -> Value {
     let frame = &world.frame;
     let world = |p: DVec2| world.to_user(frame.to_world(p)).to_array();
     let pixel_area = 1.0 / (frame.scale * frame.scale);
@@ -187,7 +209,7 @@ fn summary(map: &PotentialAreas, world: &World, refined: Option<&Refined>, args:
         } else {
             format!("{:?}", args.method).to_lowercase()
         },
-        "metric": args.metric.to_string(),
+        "metric": metric.to_string(),
         "settle": {
             "pixel": best,
             "point": world(best_point),

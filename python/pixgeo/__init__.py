@@ -487,6 +487,19 @@ def _metric_for(metric: Optional[str], crs: Optional[str]) -> str:
     return metric
 
 
+def _planar(metric: Optional[str], crs: Optional[str], what: str) -> str:
+    """The metric of a problem pixgeo solves on the plane alone: refused
+    where great circles are asked for or are the default (a geographic
+    ``crs``), and warned about where a planar one is asked for there."""
+    metric = _metric_for(metric, crs)
+    if metric == "great-circle":
+        raise ValueError(
+            f"{what} is computed on the plane, not on the Earth: give metric='l2' (or another "
+            "planar metric) to measure degrees on the longitude-latitude plane"
+        )
+    return metric
+
+
 def _great_circle(sites: np.ndarray, place: "_Placement") -> Diagram:
     """Every pixel's nearest site by great circle, and the distance in metres."""
     frame = place.frame(_pixgeo.frame_of(place.width, place.height, place.bbox))
@@ -548,7 +561,7 @@ def k_nearest(
     res: Optional[float] = None,
     y_axis: Optional[str] = None,
     crs=None,
-    metric: str = "l2",
+    metric: Optional[str] = None,
     mode: str = "exact",
     device: Optional[str] = None,
 ) -> Diagram:
@@ -556,6 +569,7 @@ def k_nearest(
     shape ``(H, W, k)``; :data:`NO_SITE` (and inf) where fewer than k sites
     exist. Arguments as for :func:`voronoi`."""
     place = _place(shape, bbox, res, y_axis, crs)
+    metric = _planar(metric, place.crs, "k_nearest")
     k = _count(k, "k")
     if k < 1:
         raise ValueError(f"k must be at least 1, not {k!r}")
@@ -574,12 +588,13 @@ def furthest(
     res: Optional[float] = None,
     y_axis: Optional[str] = None,
     crs=None,
-    metric: str = "l2",
+    metric: Optional[str] = None,
     device: Optional[str] = None,
 ) -> Diagram:
     """The furthest-site diagram: every pixel's farthest site and the distance
     to it. Arguments as for :func:`voronoi`."""
     place = _place(shape, bbox, res, y_axis, crs)
+    metric = _planar(metric, place.crs, "furthest")
     labels, distances, frame = _pixgeo.furthest(
         place.sites(_points(sites, "sites")), place.width, place.height, place.bbox, metric, device
     )
@@ -717,7 +732,7 @@ def settle(
     res: Optional[float] = None,
     y_axis: Optional[str] = None,
     crs=None,
-    metric: str = "l2",
+    metric: Optional[str] = None,
     refine_from: int = 8,
     device: Optional[str] = None,
 ) -> Settle:
@@ -726,6 +741,7 @@ def settle(
     the map on the picture, then under L2 an exact compass search from the
     ``refine_from`` best pixels."""
     place = _place(shape, bbox, res, y_axis, crs)
+    metric = _planar(metric, place.crs, "settle")
     own = np.zeros((0, 2)) if own is None else own
     area, frame, best, refined = _pixgeo.settle(
         place.sites(_points(sites, "sites")),

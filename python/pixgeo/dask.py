@@ -25,7 +25,7 @@ try:
 except ImportError as e:  # pragma: no cover - the extra is missing
     raise ImportError("pixgeo.dask needs Dask: pip install ./python[dask]") from e
 
-from . import Diagram, _pixgeo, _place, _points
+from . import Diagram, _pixgeo, _place, _planar, _points
 
 __all__ = ["voronoi"]
 
@@ -59,7 +59,7 @@ def voronoi(
     res: Optional[float] = None,
     y_axis: Optional[str] = None,
     crs=None,
-    metric: str = "l2",
+    metric: Optional[str] = None,
     mode: str = "exact",
     device: Optional[str] = None,
 ) -> Diagram:
@@ -80,6 +80,7 @@ def voronoi(
             "tile lies, so fan blocks would not match the whole diagram"
         )
     place = _place(shape, bbox, res, y_axis, crs)
+    metric = _planar(metric, place.crs, "pixgeo.dask.voronoi")
     h, w, box = place.height, place.width, place.bbox
     points = place.sites(_points(sites, "sites"))
     frame = place.frame(_pixgeo.frame_of(w, h, box))

@@ -125,9 +125,15 @@ def test_other_layouts(tmp_path, sites):
 
 
 def test_geographic_crs_and_settle(tmp_path):
-    pixgeo("settle", "--random", 12, "--bbox", "10,45,12,46.5", "--size", 80,
-           "--area", tmp_path / "area.tif", "--crs", "EPSG:4326",
-           "--world-file", tmp_path / "area.tfw")
+    # The settle point is computed on the plane: under a geographic system
+    # only on request (--metric), with a warning.
+    done = pixgeo("settle", "--random", 12, "--bbox", "10,45,12,46.5", "--size", 80,
+                  "--area", tmp_path / "area.tif", "--crs", "EPSG:4326", "--metric", "l2",
+                  "--world-file", tmp_path / "area.tfw")
+    assert "warning: EPSG:4326 is geographic" in done.stderr
+    refused = subprocess.run([str(CLI), "settle", "--random", "12", "--bbox", "10,45,12,46.5",
+                              "--crs", "EPSG:4326"], capture_output=True, text=True)
+    assert refused.returncode == 1 and "not on the Earth" in refused.stderr
     with rasterio.open(tmp_path / "area.tif") as r:
         assert r.crs.to_epsg() == 4326 and r.crs.is_geographic
         assert r.transform == Affine(0.025, 0.0, 10.0, 0.0, -0.025, 46.5)
@@ -628,6 +634,11 @@ def test_python_great_circles_are_the_command_lines(tmp_path):
     assert any("geographic" in str(w.message) for w in caught)
     with pytest.raises(ValueError, match="great-circle"):
         pixgeo.voronoi(xy, bbox=box, res=0.5, crs="EPSG:4326", mode="fan")
+    # The problems solved on the plane alone say so under a geographic crs.
+    for call in (lambda: pixgeo.k_nearest(xy, bbox=box, res=0.5, k=2, crs="EPSG:4326"),
+                 lambda: pixgeo.settle(xy, bbox=box, res=0.5, crs="EPSG:4326")):
+        with pytest.raises(ValueError, match="on the plane, not on the Earth"):
+            call()
     with pytest.raises(ValueError, match=r"latitude in \[-90, 90\]"):
         pixgeo.voronoi(xy, bbox=(0, 0, 10, 100), res=1, crs="EPSG:4326")
     refused = subprocess.run([str(CLI), "voronoi", "--random", "5", "--bbox", "0,0,10,100",

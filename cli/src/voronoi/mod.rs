@@ -32,7 +32,6 @@ use crate::{
     envelope,
     input::{Input, World},
     progress::Progress,
-    write::geotiff::{crs_kind, CrsKind},
     write::{
         output::{check_distinct, check_extension, check_extensions, extension_among},
         picture::{self, PngStream},
@@ -271,9 +270,7 @@ fn refuse_window(args: &Args, what: &str) -> Result<()> {
 pub fn run(mut args: Args) -> Result<()> {
     check_options(&args)?;
     let (world, general) = args.input.world_and_general_sites()?;
-    let geographic = world
-        .epsg
-        .is_some_and(|c| crs_kind(c) == Ok(CrsKind::Geographic));
+    let geographic = world.is_geographic();
     match (args.metric_choice.clone(), geographic) {
         (Some(MetricChoice::GreatCircle), _) | (None, true) => {
             great_circle::diagram(&args, &world, general)?
