@@ -115,7 +115,7 @@ pub fn run(args: Args) -> Result<()> {
     ])?;
     args.input.check_world_file()?;
     let (world, rivals) = args.input.world_and_sites()?;
-    let metric = match (args.metric.clone(), world.is_geographic()) {
+    let metric = match (args.metric, world.is_geographic()) {
         (None, true) => bail!(
             "the settle point is computed on the plane, not on the Earth: under EPSG:{} give \
              --metric l2 (or another) to measure degrees on the longitude-latitude plane",
@@ -142,9 +142,7 @@ pub fn run(args: Args) -> Result<()> {
         Backend::Gpu(machine) => {
             let message = format!("counting discs ({method:?})").to_lowercase();
             let progress = Progress::new(&message, args.json);
-            let options = SettleOptions::new(frame)
-                .metric(metric.clone())
-                .method(method);
+            let options = SettleOptions::new(frame).metric(metric).method(method);
             potential_areas(machine, &rivals, &own, &options, &mut |done, total| {
                 progress.report(done, total)
             })?
@@ -153,7 +151,7 @@ pub fn run(args: Args) -> Result<()> {
             if args.method == SettleMethod::Faithful {
                 bail!("--method faithful draws discs on a Vulkan device; the CPU counts spans");
             }
-            potential_areas_cpu(&rivals, &own, &frame, metric.clone())?
+            potential_areas_cpu(&rivals, &own, &frame, metric)?
         }
     };
     let refined = if metric == Metric::L2 && args.refine_from > 0 {
