@@ -184,7 +184,7 @@ impl Canvas {
             Canvas::Frame(frame) => frame,
         };
         // A float picture of disc counts, its readback, the classes and the
-        // centres' mask: 14 bytes a pixel measured at 16384², 16 with room.
+        // centres' mask, with room (`docs/tuning.md`).
         frame.reserve(16, "an α-hull")?;
         Ok(frame)
     }
@@ -572,8 +572,8 @@ fn draw_discs(
     machine.read_f32(&image, PixelRect::of(&image))
 }
 
-/// Pixels the discs of one run cover, about (a few tenths of a second on
-/// lavapipe; `docs/tuning.md`).
+/// Pixels the discs of one run cover, about: few enough that a cancel stops
+/// a large picture soon, many enough that runs cost little (`docs/tuning.md`).
 const DISC_PIXELS_PER_RUN: f64 = (1u64 << 29) as f64;
 
 /// The fewest pixels the pixel method's hull may span: its picture must hold
