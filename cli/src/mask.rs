@@ -5,7 +5,7 @@
 use std::{fs::File, io::BufReader, path::Path};
 
 use anyhow::{anyhow, bail, Context, Result};
-use pixgeo::io::mask::{read_mask, Mask};
+use pixgeo::io::mask::{read_mask, read_npy_values, Mask, Values};
 use tiff::{
     decoder::{Decoder, DecodingResult},
     tags::Tag,
@@ -28,21 +28,10 @@ pub fn read(path: &Path, values: Option<&[f64]>) -> Result<Source> {
     if values.is_some_and(|v| v.iter().any(|x| x.is_nan())) {
         bail!("--values: NaN equals no pixel value; give the features' values as numbers");
     }
-    let (width, height, pixels, placed) = if extension_among(path, &["tif", "tiff"]).is_some() {
+    let (raster, placed) = if extension_among(path, &["tif", "tiff"]).is_some() {
         read_geotiff(path)?
     } else if extension_among(path, &["npy"]).is_some() {
-        let (shape, pixels) = pixgeo::io::npy::read_f64(path)?;
-        let [height, width] = shape[..] else {
-            bail!(
-                "{}: a mask is a 2-D array (rows, columns), not of shape {shape:?}",
-                path.display()
-            );
-        };
-        let side = |n: u64| {
-            u32::try_from(n)
-                .map_err(|_| anyhow!("{}: a side of {n} pixels is too long", path.display()))
-        };
-        (side(width)?, side(height)?, pixels, None)
+        (read_npy_values(path)?, None)
     } else {
         if values.is_some() {
             bail!("--values picks pixel values of a .npy or .tif mask; a PNG's features are its pixels that are not black");
@@ -52,34 +41,14 @@ pub fn read(path: &Path, values: Option<&[f64]>) -> Result<Source> {
             placed: None,
         });
     };
-    if width == 0 || height == 0 {
-        bail!("{}: the mask is empty ({height} x {width})", path.display());
-    }
-    let features = match values {
-        Some(values) => pixels.iter().map(|v| values.contains(v)).collect(),
-        None => {
-            if pixels.iter().any(|v| v.is_nan()) {
-                bail!(
-                    "{}: NaN is neither a feature nor background: give 0 or non-zero values, \
-                     or pick the features' values with --values",
-                    path.display()
-                );
-            }
-            pixels.iter().map(|&v| v != 0.0).collect()
-        }
-    };
-    Ok(Source {
-        mask: Mask {
-            width,
-            height,
-            features,
-        },
-        placed,
-    })
+    let mask = raster
+        .mask(values)
+        .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    Ok(Source { mask, placed })
 }
 
 /// The first band of a GeoTIFF as doubles, and its placement.
-fn read_geotiff(path: &Path) -> Result<(u32, u32, Vec<f64>, Option<GeoReference>)> {
+fn read_geotiff(path: &Path) -> Result<(Values, Option<GeoReference>)> {
     let file = File::open(path).with_context(|| format!("{}", path.display()))?;
     let not_tiff = |e: tiff::TiffError| anyhow!("{}: not a TIFF pixgeo reads: {e}", path.display());
     let mut decoder = Decoder::new(BufReader::new(file)).map_err(not_tiff)?;
@@ -110,7 +79,15 @@ fn read_geotiff(path: &Path) -> Result<(u32, u32, Vec<f64>, Option<GeoReference>
         DecodingResult::F64(v) => v,
         DecodingResult::F16(v) => v.into_iter().map(f64::from).collect(),
     };
-    Ok((width, height, pixels, placed))
+    let (width, height) = (width.into(), height.into());
+    Ok((
+        Values {
+            width,
+            height,
+            values: pixels,
+        },
+        placed,
+    ))
 }
 
 /// Where a GeoTIFF lies: from ModelPixelScale and ModelTiepoint, or an

@@ -27,20 +27,7 @@ pub fn read_mask(path: &Path) -> Result<Mask> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("npy") => {
-            let (shape, values) = super::npy::read_f64(path)?;
-            let [height, width] = shape[..] else {
-                return Err(parse(format!(
-                    "a mask is a 2-D array (rows, columns), not of shape {shape:?}"
-                )));
-            };
-            if values.iter().any(|v| v.is_nan()) {
-                return Err(parse(
-                    "NaN is neither a feature nor background: give 0 or non-zero values".into(),
-                ));
-            }
-            mask(width, height, values.iter().map(|&v| v != 0.0).collect()).map_err(parse)
-        }
+        Some("npy") => read_npy_values(path)?.mask(None).map_err(parse),
         Some("png") => {
             let file = std::fs::File::open(path).map_err(|e| Error::Io {
                 path: path.to_path_buf(),
@@ -75,6 +62,47 @@ pub fn read_mask(path: &Path) -> Result<Mask> {
             "a mask is read from .npy or .png (by the file's extension)".into(),
         )),
     }
+}
+
+/// A raster's values, row-major, as doubles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Values {
+    pub width: u64,
+    pub height: u64,
+    pub values: Vec<f64>,
+}
+
+impl Values {
+    /// The mask of the pixels whose value is among `picked`, or (without)
+    /// of those not zero, where NaN is neither and refused.
+    pub fn mask(self, picked: Option<&[f64]>) -> std::result::Result<Mask, String> {
+        let features = match picked {
+            Some(picked) => self.values.iter().map(|v| picked.contains(v)).collect(),
+            None if self.values.iter().any(|v| v.is_nan()) => {
+                return Err(
+                    "NaN is neither a feature nor background: give 0 or non-zero values".into(),
+                )
+            }
+            None => self.values.iter().map(|&v| v != 0.0).collect(),
+        };
+        mask(self.width, self.height, features)
+    }
+}
+
+/// The values of a 2-D `.npy` array of any numeric or bool dtype.
+pub fn read_npy_values(path: &Path) -> Result<Values> {
+    let (shape, values) = super::npy::read_f64(path)?;
+    let [height, width] = shape[..] else {
+        return Err(Error::Parse {
+            path: path.to_path_buf(),
+            message: format!("a mask is a 2-D array (rows, columns), not of shape {shape:?}"),
+        });
+    };
+    Ok(Values {
+        width,
+        height,
+        values,
+    })
 }
 
 fn mask(width: u64, height: u64, features: Vec<bool>) -> std::result::Result<Mask, String> {

@@ -295,9 +295,7 @@ impl<T: Sample> TiffStream<T> {
     /// Appends values.
     pub fn write(&mut self, data: &[T]) -> Result<()> {
         let layout = self.layout;
-        let total = layout.row_values() as u64 * layout.height as u64;
-        let held = self.rows_done as u64 * layout.row_values() as u64 + self.pending.len() as u64;
-        if data.len() as u64 > total - held {
+        if data.len() as u64 > self.remaining() {
             return Err(Error::InvalidInput(format!(
                 "{}: more values than the raster holds",
                 self.output.path().display()
@@ -383,13 +381,17 @@ impl<T: Sample> TiffStream<T> {
         self.output.commit()
     }
 
+    /// Values the raster still lacks.
+    fn remaining(&self) -> u64 {
+        let row = self.layout.row_values() as u64;
+        row * self.layout.height as u64 - (self.rows_done as u64 * row + self.pending.len() as u64)
+    }
+
     fn missing(&self) -> Result<()> {
-        let held =
-            self.rows_done as u64 * self.layout.row_values() as u64 + self.pending.len() as u64;
         Err(Error::InvalidInput(format!(
             "{}: {} values missing",
             self.output.path().display(),
-            self.layout.row_values() as u64 * self.layout.height as u64 - held
+            self.remaining()
         )))
     }
 }
