@@ -241,6 +241,21 @@ pub fn is_nearest(value: f64, r: &BigRational) -> bool {
     lo <= *r && *r <= hi
 }
 
+/// Whether `value` is the double nearest to w + u √s (u ≠ 0, s >= 0).
+pub fn is_nearest_surd(value: f64, w: &BigRational, u: &BigRational, s: &BigRational) -> bool {
+    let next = |v: f64, up: bool| {
+        let bits = v.to_bits();
+        f64::from_bits(if (v >= 0.0) == up { bits + 1 } else { bits - 1 })
+    };
+    let half = BigRational::new(1.into(), 2.into());
+    let zero = BigRational::from_integer(0.into());
+    // lo <= w + u √s <= hi, as a <= √s <= b.
+    let a = ((exact(next(value, false)) + exact(value)) * &half - w) / u;
+    let b = ((exact(next(value, true)) + exact(value)) * &half - w) / u;
+    let (a, b) = if *u < zero { (b, a) } else { (a, b) };
+    (a < zero || &a * &a <= *s) && b >= zero && *s <= &b * &b
+}
+
 /// Twice the exact area of triangle a, b, c.
 pub fn double_area(a: DVec2, b: DVec2, c: DVec2) -> BigRational {
     let [a, b, c] = [a, b, c].map(point);

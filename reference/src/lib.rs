@@ -4,6 +4,7 @@
 
 pub mod alpha_hull;
 pub mod area;
+pub mod clearing;
 pub mod exact;
 pub mod flooding;
 pub mod higher_order;

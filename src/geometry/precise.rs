@@ -29,12 +29,60 @@ impl Interval {
         }
     }
 
-    /// √x for an interval x >= 0.
-    pub fn sqrt_of(&self, bits: u64) -> Self {
+    /// The one number r.
+    pub fn point(r: BigRational) -> Self {
         Self {
-            lo: Self::sqrt(&self.lo, bits).lo,
-            hi: Self::sqrt(&self.hi, bits).hi,
+            lo: r.clone(),
+            hi: r,
         }
+    }
+
+    /// √x for an interval x whose true value is >= 0 (a negative lower end is
+    /// rounding, taken as 0).
+    pub fn sqrt_of(&self, bits: u64) -> Self {
+        let lo = if self.lo.is_negative() {
+            BigRational::zero()
+        } else {
+            Self::sqrt(&self.lo, bits).lo
+        };
+        Self {
+            lo,
+            hi: Self::sqrt(&self.hi.clone().max(BigRational::zero()), bits).hi,
+        }
+    }
+
+    /// `self / o`; `None` where o may be 0.
+    pub fn over(&self, o: &Self) -> Option<Self> {
+        if !o.lo.is_positive() && !o.hi.is_negative() {
+            return None;
+        }
+        let inverse = Self {
+            lo: o.hi.recip(),
+            hi: o.lo.recip(),
+        };
+        Some(self.times(&inverse))
+    }
+
+    /// The interval widened to ends on the grid 2^-bits, so that sums and
+    /// products of many steps keep their integers short.
+    pub fn rounded_out(&self, bits: u64) -> Self {
+        let one = BigRational::from_integer(BigInt::from(1) << bits);
+        Self {
+            lo: (&self.lo * &one).floor() / &one,
+            hi: (&self.hi * &one).ceil() / &one,
+        }
+    }
+
+    pub fn negated(&self) -> Self {
+        Self {
+            lo: -self.hi.clone(),
+            hi: -self.lo.clone(),
+        }
+    }
+
+    /// Whether the interval excludes 0.
+    pub fn is_nonzero(&self) -> bool {
+        self.lo.is_positive() || self.hi.is_negative()
     }
 
     pub fn plus(&self, o: &Self) -> Self {
@@ -95,11 +143,12 @@ impl Interval {
         }
     }
 
-    /// The square of an interval >= 0.
+    /// The square of an interval.
     pub fn square(&self) -> Self {
+        let a = self.abs();
         Self {
-            lo: &self.lo * &self.lo,
-            hi: &self.hi * &self.hi,
+            lo: &a.lo * &a.lo,
+            hi: &a.hi * &a.hi,
         }
     }
 

@@ -51,16 +51,29 @@ pub struct Site {
 }
 
 impl Site {
-    /// The site mirrored across the x axis (y to -y), weights kept. An arc
-    /// keeps running counter-clockwise: from -end to -start.
-    pub fn mirrored_y(self) -> Self {
-        let m = |p: DVec2| DVec2::new(p.x, -p.y);
+    /// The site scaled by 2^k about the origin: its distances, and so its
+    /// additive weight, scale with it (exact where the results are normal).
+    pub fn scaled(self, k: i32) -> Self {
+        let t = |x: f64| crate::geometry::scale::times_power_of_two(x, k);
+        Self {
+            additive: t(self.additive),
+            ..self.mapped(|p| DVec2::new(t(p.x), t(p.y)), t)
+        }
+    }
+
+    /// The site moved by `-by`, weights kept.
+    pub fn moved_back(self, by: DVec2) -> Self {
+        self.mapped(|p| p - by, |r| r)
+    }
+
+    /// The points of the shape through `point`, its radius through `length`.
+    fn mapped(self, point: impl Fn(DVec2) -> DVec2, length: impl Fn(f64) -> f64) -> Self {
         let shape = match self.shape {
-            Shape::Point(p) => Shape::Point(m(p)),
-            Shape::Segment(a, b) => Shape::Segment(m(a), m(b)),
+            Shape::Point(p) => Shape::Point(point(p)),
+            Shape::Segment(a, b) => Shape::Segment(point(a), point(b)),
             Shape::Circle { center, radius } => Shape::Circle {
-                center: m(center),
-                radius,
+                center: point(center),
+                radius: length(radius),
             },
             Shape::Arc {
                 center,
@@ -68,13 +81,33 @@ impl Site {
                 start,
                 end,
             } => Shape::Arc {
-                center: m(center),
-                radius,
-                start: -end,
-                end: -start,
+                center: point(center),
+                radius: length(radius),
+                start,
+                end,
             },
         };
         Self { shape, ..self }
+    }
+
+    /// The points that place the shape: a point, a segment's ends, a
+    /// circle's or arc's centre.
+    pub fn anchors(&self) -> Vec<DVec2> {
+        match self.shape {
+            Shape::Point(p) => vec![p],
+            Shape::Segment(a, b) => vec![a, b],
+            Shape::Circle { center, .. } | Shape::Arc { center, .. } => vec![center],
+        }
+    }
+
+    /// The site mirrored across the x axis (y to -y), weights kept. An arc
+    /// keeps running counter-clockwise: from -end to -start.
+    pub fn mirrored_y(self) -> Self {
+        let mut site = self.mapped(|p| DVec2::new(p.x, -p.y), |r| r);
+        if let Shape::Arc { start, end, .. } = &mut site.shape {
+            (*start, *end) = (-*end, -*start);
+        }
+        site
     }
 
     /// An unweighted site.

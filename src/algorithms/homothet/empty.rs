@@ -64,8 +64,8 @@ pub fn largest_empty(
 /// A corner to move `sites` and `region` by, where they lie far from the
 /// origin beside their extent (more than 2^20 times) and every difference
 /// from the corner is exact; `None` otherwise.
-fn exact_shift(sites: &[DVec2], region: &Region) -> Option<DVec2> {
-    let points = || sites.iter().chain(region.rings.iter().flatten());
+fn exact_shift(points: &[DVec2]) -> Option<DVec2> {
+    let points = || points.iter();
     let lo = points().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = points().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
     let far = lo.abs().max(hi.abs()).max_element() > (hi - lo).max_element() * 2f64.powi(20);
@@ -98,7 +98,12 @@ pub fn largest_empty_by(
     check_sites(sites)?;
     // Far from the origin, a set's digits are in its offsets: move it to the
     // origin where that is exact (homothets move with their sites).
-    if let Some(origin) = exact_shift(sites, region) {
+    let anchors: Vec<DVec2> = sites
+        .iter()
+        .chain(region.rings.iter().flatten())
+        .copied()
+        .collect();
+    if let Some(origin) = exact_shift(&anchors) {
         let moved: Vec<DVec2> = sites.iter().map(|p| *p - origin).collect();
         let region = Region {
             rings: region
@@ -307,6 +312,66 @@ pub fn largest_empty_sites_by(
             "the distance transform takes unweighted points without `inside`: use cones".into(),
         ));
     }
+    // Homothets move and scale with their sites: far from the origin, a set's
+    // digits are in its offsets, so it is moved to the origin where that is
+    // exact; far magnitudes are brought near 1 by a power of two where that
+    // is exact, so that the picture's depths and the refinement's products
+    // neither overflow nor underflow. The exact answer is rounded once, in
+    // the sites' own coordinates.
+    let anchors: Vec<DVec2> = sites
+        .iter()
+        .flat_map(Site::anchors)
+        .chain(region.rings.iter().flatten().copied())
+        .collect();
+    let origin = exact_shift(&anchors).unwrap_or(DVec2::ZERO);
+    let placed = |sites: Vec<Site>, region: Region, f: &dyn Fn(DVec2) -> DVec2| {
+        let rings = region
+            .rings
+            .iter()
+            .map(|r| r.iter().map(|p| f(*p)).collect());
+        (
+            sites,
+            Region {
+                rings: rings.collect(),
+            },
+        )
+    };
+    let (sites, region) = placed(
+        sites.iter().map(|s| s.moved_back(origin)).collect(),
+        region.clone(),
+        &|p| p - origin,
+    );
+    let k = unit_exponent(&sites, &region).unwrap_or(0);
+    let t = |x: f64| scale::times_power_of_two(x, k);
+    let (sites, region) = placed(sites.iter().map(|s| s.scaled(k)).collect(), region, &|p| {
+        DVec2::new(t(p.x), t(p.y))
+    });
+    let placement = Placement { k, origin };
+    let (answer, exact) = refine_empty(machine, &sites, unit, &region, inside, side, placement)?;
+    let mut answer = answer.scaled(-k).moved(origin);
+    if let Some(exact) = exact {
+        answer.exact = Homothet {
+            centre: exact.centre.to_array(),
+            scale: exact.radius,
+            sites: exact.on,
+        };
+        answer.tolerance = 0.0;
+    }
+    Ok(answer)
+}
+
+/// [`largest_empty_sites_by`] on sites placed near the origin and near 1 by
+/// `placement`: the answer there, and the exact one in the sites' own
+/// coordinates where the exact refinement decides it.
+fn refine_empty(
+    machine: &Machine,
+    sites: &[Site],
+    unit: Unit,
+    region: &Region,
+    inside: bool,
+    side: u32,
+    placement: Placement,
+) -> Result<(HomothetAnswer, Option<Certified>)> {
     // The refinement among segments and region edges forms products of four
     // coordinates in doubles: past 1e75 they overflow, and the centres they
     // give were lost (a wrong circle, with exit 0).
@@ -322,8 +387,9 @@ pub fn largest_empty_sites_by(
         return Err(Error::InvalidInput(format!(
             "coordinates reach {reach:e}: the largest empty homothet among segments, \
              shapes or `inside` a region is refined in doubles, which hold its products \
-             of coordinates up to about {MAX_REFINED_COORDINATE:e}; scale the input into \
-             that range"
+             of coordinates up to about {MAX_REFINED_COORDINATE:e}, and no power of two \
+             brings these coordinates there exactly (the smallest would fall below the \
+             normal doubles); round the smallest to 0 or scale the input into that range"
         )));
     }
     let bounds = sites
@@ -388,6 +454,10 @@ pub fn largest_empty_sites_by(
         region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
     };
     let mut best: Option<(DVec2, f64, f64, usize)> = None;
+    // Vertices in doubles near the best of their cluster, and how far from
+    // their clearance a site may be and still decide them.
+    let mut contenders: Vec<(Vertex, f64)> = Vec::new();
+    let mut decided_within: f64 = 0.0;
     for cluster in clusters(&frame, &near_pixels) {
         let (around, reach) = surroundings(&frame, &cluster);
         let slack = 3.0 * pixel_bound + lipschitz * reach;
@@ -423,23 +493,28 @@ pub fn largest_empty_sites_by(
                 .copied()
                 .collect();
             let mut candidates = clearing_vertices(&points, &lines, &walls, |_| true);
-            candidates.extend(walls.iter().flat_map(|(a, b)| [*a, *b]));
-            candidates.extend(points.iter().copied());
-            candidates.retain(|c| c.is_finite() && c.distance(around) <= reach && allowed(*c));
+            let given = walls
+                .iter()
+                .flat_map(|(a, b)| [*a, *b])
+                .chain(points.iter().copied());
+            candidates.extend(given.map(Vertex::at));
+            candidates.retain(|v| {
+                v.centre.is_finite() && v.centre.distance(around) <= reach && allowed(v.centre)
+            });
             let cells = candidates.len();
-            let mut bounded: Vec<(DVec2, f64)> = candidates
+            let mut bounded: Vec<(Vertex, f64)> = candidates
                 .into_iter()
-                .map(|c| (c, clearance(c, &near)))
+                .map(|v| (v, clearance(v.centre, &near)))
                 .collect();
             bounded.sort_by(|a, b| b.1.total_cmp(&a.1));
             let mut best: Option<(DVec2, f64)> = None;
-            for (c, upper) in bounded {
+            for &(v, upper) in &bounded {
                 if best.is_some_and(|b| upper <= b.1) {
                     break;
                 }
-                let v = clearance(c, &all);
-                if best.is_none_or(|b| v > b.1) {
-                    best = Some((c, v));
+                let value = clearance(v.centre, &all);
+                if best.is_none_or(|b| value > b.1) {
+                    best = Some((v.centre, value));
                 }
             }
             // The vertices are computed in doubles, so the best one is proven
@@ -452,7 +527,7 @@ pub fn largest_empty_sites_by(
                     // this of the origin.
                     let magnitude = around.abs().max_element() + 2.0 * reach + v.abs();
                     let rounding = 64.0 * f64::EPSILON * magnitude;
-                    branch_and_bound(
+                    let found = branch_and_bound(
                         around,
                         reach,
                         |c, h| clearance_over_square(&points, &lines, c, h) + rounding,
@@ -465,7 +540,19 @@ pub fn largest_empty_sites_by(
                         // The optimum lies between the value less its rounding
                         // and that plus the gap.
                         (c, clearance(c, &all), gap + rounding, cells + checked)
-                    })
+                    });
+                    // The vertices that rounding may put above the best, for
+                    // the exact decision.
+                    let window = found.map_or(0.0, |f| f.2) + CONTENDING * rounding;
+                    contenders.extend(
+                        bounded
+                            .iter()
+                            .take_while(|b| b.1 >= v - window)
+                            .take(MAX_CONTENDERS)
+                            .map(|&(vertex, _)| (vertex, clearance(vertex.centre, &all))),
+                    );
+                    decided_within = decided_within.max(window);
+                    found
                 }
             }
         } else {
@@ -487,6 +574,14 @@ pub fn largest_empty_sites_by(
     }
     let (c, v, gap, cells) =
         best.ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    let certified = if unit == Unit::Circle && all.iter().all(is_plain_point_or_segment) {
+        contenders.retain(|(_, value)| *value >= v - gap - decided_within);
+        contenders.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let obstacles: Vec<Obstacle> = all.iter().map(obstacle).collect();
+        certify(&contenders, &obstacles, decided_within, placement)
+    } else {
+        None
+    };
     // The gap bounds how far the optimum is; a search that closed it fully
     // leaves rounding.
     let tol = if gap > 0.0 {
@@ -497,22 +592,53 @@ pub fn largest_empty_sites_by(
     let on: Vec<u32> = (0..all.len() as u32)
         .filter(|&i| (all[i as usize].distance(metric, c) - v).abs() <= tol)
         .collect();
-    let mut answer = answer_of(
-        &frame,
-        centre,
-        value,
-        pixel_bound,
-        (
-            Homothet {
-                centre: c.to_array(),
-                scale: v,
-                sites: on,
-            },
-            cells,
-        ),
-    );
+    let homothet = Homothet {
+        centre: c.to_array(),
+        scale: v,
+        sites: on,
+    };
+    let mut answer = answer_of(&frame, centre, value, pixel_bound, (homothet, cells));
     answer.tolerance = gap;
-    Ok(answer)
+    Ok((answer, certified))
+}
+
+/// The power of two that brings the largest coordinate, radius or weight of
+/// `sites` and `region` within 2^±16 of 1, where one is needed and every
+/// number scales exactly.
+fn unit_exponent(sites: &[Site], region: &Region) -> Option<i32> {
+    let numbers = || {
+        let of_sites = sites.iter().flat_map(|s| {
+            let radius = match s.shape {
+                Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => radius,
+                _ => 0.0,
+            };
+            let anchors = s.anchors().into_iter().flat_map(|p| [p.x, p.y]);
+            anchors.chain([radius, s.additive])
+        });
+        of_sites.chain(region.rings.iter().flatten().flat_map(|p| [p.x, p.y]))
+    };
+    let largest = numbers().fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 || (2f64.powi(-16)..2f64.powi(16)).contains(&largest) {
+        return None;
+    }
+    let k = -(largest.log2().floor() as i32);
+    let t = scale::times_power_of_two;
+    numbers().all(|x| t(t(x, k), -k) == x).then_some(k)
+}
+
+/// How many roundings of the best clearance in doubles a vertex may fall
+/// short of it and still be decided exactly.
+const CONTENDING: f64 = 1024.0;
+
+/// Vertices decided exactly per cluster, at most.
+const MAX_CONTENDERS: usize = 64;
+
+fn obstacle(site: &Site) -> Obstacle {
+    match site.shape {
+        Shape::Point(p) => Obstacle::Point(p),
+        Shape::Segment(a, b) => Obstacle::Segment(a, b),
+        _ => unreachable!("points and segments"),
+    }
 }
 
 fn is_plain_point_or_segment(s: &Site) -> bool {

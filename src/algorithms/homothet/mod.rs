@@ -45,11 +45,15 @@ use crate::{
 
 use crate::algorithms::cones::{draw_cones, ConeDraw, ConePush, SITE_FAN};
 
+mod clearing;
+mod clearing_exact;
 mod refine;
 
+use clearing::{clearing_vertices, Vertex};
+use clearing_exact::{certify, Certified, Obstacle, Placement};
 use refine::{
-    best_of_clusters, best_vertex, branch_and_bound, clearing_vertices, clusters, quadratic_roots,
-    smallest_circle, Goal,
+    best_of_clusters, best_vertex, branch_and_bound, clusters, quadratic_roots, smallest_circle,
+    Goal,
 };
 
 use super::{

@@ -4,7 +4,7 @@
 
 use glam::DVec2;
 
-use super::{candidates, kth_gauge, surroundings, Homothet, Unit};
+use super::{candidates, clearing_vertices, kth_gauge, surroundings, Homothet, Unit};
 use crate::{cancel::Watch, geometry::Frame, Result};
 
 /// Roots of a t² + b t + c = 0 (the one root of the linear equation when a
@@ -28,158 +28,6 @@ pub(super) fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
         return vec![0.0];
     }
     vec![q / a, c / q]
-}
-
-/// Every centre equidistant (Euclidean) from three of the points and the
-/// lines through `lines`, and every point of a `walls` segment equidistant
-/// from two of them: with the points themselves and the walls' ends, the
-/// candidates for the largest circle clearing points and segments (whose ends
-/// are among `points`). Circles through three points are kept when `keep`
-/// accepts their radius.
-pub(super) fn clearing_vertices(
-    points: &[DVec2],
-    lines: &[(DVec2, DVec2)],
-    walls: &[(DVec2, DVec2)],
-    keep: impl Fn(f64) -> bool,
-) -> Vec<DVec2> {
-    // A line as unit normal n and offset e: signed distance n·c − e.
-    let normal = |(a, b): (DVec2, DVec2)| {
-        let n = (b - a).perp().normalize();
-        (n, n.dot(a))
-    };
-    let ls: Vec<(DVec2, f64)> = lines.iter().map(|l| normal(*l)).collect();
-    let signs = [1.0, -1.0];
-    let mut out = Vec::new();
-    // Centres on a line c = c0 + t u with clearance r = r0 + t k that are also at
-    // distance r from p.
-    let on_line_from_point =
-        |out: &mut Vec<DVec2>, c0: DVec2, u: DVec2, r0: f64, k: f64, p: DVec2| {
-            let w = c0 - p;
-            for t in quadratic_roots(
-                u.length_squared() - k * k,
-                2.0 * (u.dot(w) - r0 * k),
-                w.length_squared() - r0 * r0,
-            ) {
-                if r0 + t * k >= 0.0 {
-                    out.push(c0 + u * t);
-                }
-            }
-        };
-    let np = points.len();
-    let nl = ls.len();
-    for x in 0..np {
-        for y in x + 1..np {
-            let (p, q) = (points[x], points[y]);
-            if p == q {
-                continue;
-            }
-            for &r in &points[y + 1..] {
-                if let Some(c) = circumcentre(p, q, r) {
-                    if keep(c.distance(p)) {
-                        out.push(c);
-                    }
-                }
-            }
-            // Two points and a line: along their bisector.
-            let m = (p + q) / 2.0;
-            let u = (q - p).perp().normalize();
-            for &(n, e) in &ls {
-                for s in signs {
-                    on_line_from_point(&mut out, m, u, s * (n.dot(m) - e), s * n.dot(u), p);
-                }
-            }
-        }
-    }
-    for x in 0..nl {
-        for y in x + 1..nl {
-            let ((n1, e1), (n2, e2)) = (ls[x], ls[y]);
-            for s1 in signs {
-                for s2 in signs {
-                    // s1 (n1·c − e1) = s2 (n2·c − e2): the line A·c = B.
-                    let a = s1 * n1 - s2 * n2;
-                    let b = s1 * e1 - s2 * e2;
-                    if a.length_squared() < 1e-24 {
-                        continue;
-                    }
-                    let c0 = a * (b / a.length_squared());
-                    let u = a.perp().normalize();
-                    let (r0, k) = (s1 * (n1.dot(c0) - e1), s1 * n1.dot(u));
-                    // A point and two lines.
-                    for &p in points {
-                        on_line_from_point(&mut out, c0, u, r0, k, p);
-                    }
-                    // Three lines: the third equation fixes t.
-                    for &(n3, e3) in &ls[y + 1..] {
-                        for s3 in signs {
-                            // s3 (n3·(c0 + t u) − e3) = r0 + t k.
-                            let slope = s3 * n3.dot(u) - k;
-                            if slope.abs() > 1e-12 {
-                                let t = (r0 - s3 * (n3.dot(c0) - e3)) / slope;
-                                if r0 + t * k >= 0.0 {
-                                    out.push(c0 + u * t);
-                                }
-                            }
-                        }
-                    }
-                    // Two lines and a wall.
-                    for (wa, wb) in walls {
-                        let (nw, ew) = normal((*wa, *wb));
-                        let d = nw.dot(u);
-                        if d.abs() > 1e-12 {
-                            out.push(c0 + u * ((ew - nw.dot(c0)) / d));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    // On a wall c = a + t (b − a), t in [0, 1]: equidistant from two points, a
-    // point and a line, or two lines; and the wall's ends.
-    for &(a, b) in walls {
-        let d = b - a;
-        let inside = |t: f64| (-1e-12..=1.0 + 1e-12).contains(&t);
-        let mut on_wall = |t: f64| {
-            if inside(t) {
-                out.push(a + d * t);
-            }
-        };
-        for x in 0..np {
-            for y in x + 1..np {
-                let (u, v) = (points[x], points[y]);
-                let denom = 2.0 * d.dot(v - u);
-                if denom != 0.0 {
-                    on_wall((v.length_squared() - u.length_squared() - 2.0 * a.dot(v - u)) / denom);
-                }
-            }
-            for &(n, e) in &ls {
-                for s in signs {
-                    // |a + t d − p|² = (s (n·a − e) + t s n·d)².
-                    let (r0, k) = (s * (n.dot(a) - e), s * n.dot(d));
-                    let w = a - points[x];
-                    for t in quadratic_roots(
-                        d.length_squared() - k * k,
-                        2.0 * (d.dot(w) - r0 * k),
-                        w.length_squared() - r0 * r0,
-                    ) {
-                        on_wall(t);
-                    }
-                }
-            }
-        }
-        for x in 0..nl {
-            for y in x + 1..nl {
-                let ((n1, e1), (n2, e2)) = (ls[x], ls[y]);
-                for s in signs {
-                    // n1·(a + t d) − e1 = s (n2·(a + t d) − e2).
-                    let slope = n1.dot(d) - s * n2.dot(d);
-                    if slope.abs() > 1e-12 {
-                        on_wall((s * (n2.dot(a) - e2) - (n1.dot(a) - e1)) / slope);
-                    }
-                }
-            }
-        }
-    }
-    out
 }
 
 /// Cells a branch and bound may evaluate before it stops with its gap.
@@ -473,7 +321,11 @@ pub(super) fn best_vertex(
                     }
                 }
             }
-            points.extend(clearing_vertices(&at, &[], edges, in_window));
+            points.extend(
+                clearing_vertices(&at, &[], edges, in_window)
+                    .into_iter()
+                    .map(|v| v.centre),
+            );
         }
     }
     // Sites themselves (the one-site homothet of scale 0) and region corners
@@ -578,7 +430,7 @@ fn solve2(p: Plane, q: Plane) -> Option<DVec2> {
     ))
 }
 
-fn circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
+pub(super) fn circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
     let (b, c) = (b - a, c - a);
     let d = 2.0 * b.perp_dot(c);
     if d == 0.0 {

@@ -14,6 +14,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::common::{clustered, machine, uniform};
 
+mod clearing;
 mod shapes;
 
 fn gauge_of(metric: Metric) -> &'static Gauge {
@@ -576,10 +577,14 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     // A square of half-side m around three sites near the origin: the largest
     // circle inside it and empty sits in a corner, through the origin and
     // touching two sides, of radius m (2 - √2), whatever the picture can
-    // resolve of the sites (from 1e6 they share a pixel). Past 1e75 its
-    // refinement's products of coordinates would overflow doubles: refused,
-    // where a wrong circle came out with no word said.
-    use pixgeo::{algorithms::homothet::largest_empty_sites, geometry::site::Site};
+    // resolve of the sites (from 1e6 they share a pixel): the double nearest
+    // it, at every magnitude.
+    use num_rational::BigRational;
+    use pixgeo::{
+        algorithms::homothet::largest_empty_sites,
+        geometry::site::{Shape, Site},
+    };
+    use pixgeo_reference::exact::is_nearest_surd;
     let machine = machine();
     let sites: Vec<Site> = [(0.0, 0.0), (1.0, 1.0), (5.0, 2.0)]
         .into_iter()
@@ -593,18 +598,36 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
             DVec2::new(-m, m),
         ]],
     };
-    for m in [1e3, 1e4, 1e6, 1e10, 1e20, 1e60] {
+    // Far larger (past 1e75 the refinement's products of coordinates would
+    // overflow doubles without a power of two to bring them near 1), then all
+    // of it scaled down.
+    let cases = [1e3, 1e4, 1e6, 1e10, 1e20, 1e60, 1e80, 1e160, 1e300]
+        .map(|m| (1.0, m))
+        .into_iter()
+        .chain([3e-10, 1e-100, 1e-290].map(|s| (s, 1e3 * s)));
+    for (s, m) in cases {
+        let scaled: Vec<Site> = sites
+            .iter()
+            .map(|site| match site.shape {
+                Shape::Point(p) => Site::point(p * s),
+                _ => unreachable!("points"),
+            })
+            .collect();
         let answer =
-            largest_empty_sites(&machine, &sites, Unit::Circle, &square(m), true, 1024).unwrap();
-        // The double product is within an ulp of m (2 - √2).
-        let expected = m * (2.0 - std::f64::consts::SQRT_2);
-        let off = (answer.exact.scale - expected).abs();
+            largest_empty_sites(&machine, &scaled, Unit::Circle, &square(m), true, 1024).unwrap();
+        // The double nearest m (2 - √2) = 2m - √(2m²), its centre the nearest
+        // to (-m + r, -m + r) in the corner nearest (0, 0) and (1, 1)'s
+        // far side, and no bound left.
+        let m2 = BigRational::from_float(m).unwrap();
+        let two = BigRational::from_integer(2.into());
+        let (w, minus_one) = (&two * &m2, BigRational::from_integer((-1).into()));
         assert!(
-            off <= answer.tolerance + 4.0 * f64::EPSILON * m && answer.tolerance <= 1e-12 * m,
+            is_nearest_surd(answer.exact.scale, &w, &minus_one, &(&two * &m2 * &m2)),
             "{m}: {answer:?}"
         );
+        assert_eq!(answer.tolerance, 0.0, "{m}: {answer:?}");
     }
-    // A corridor: the best centres fill a line, and the bound still holds.
+    // A corridor: the best centres fill a line, and any of them is exact.
     let corridor = Region {
         rings: vec![vec![
             DVec2::ZERO,
@@ -627,9 +650,10 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
         "{answer:?}"
     );
     assert!(answer.tolerance < 1e-2, "{answer:?}");
-    for m in [1e80, 1e160, 1e300] {
-        let refused = largest_empty_sites(&machine, &sites, Unit::Circle, &square(m), true, 1024)
-            .unwrap_err();
-        assert!(refused.to_string().contains("1e75"), "{m}: {refused}");
-    }
+    // Where no power of two brings every magnitude near 1 exactly, the
+    // refusal names the range.
+    let mixed = [Site::point(DVec2::new(0.0, 5e-324)), sites[1], sites[2]];
+    let refused =
+        largest_empty_sites(&machine, &mixed, Unit::Circle, &square(1e80), true, 1024).unwrap_err();
+    assert!(refused.to_string().contains("1e75"), "{refused}");
 }

@@ -177,6 +177,56 @@ fn enclose_and_empty_print_exact_homothets() {
 }
 
 #[test]
+fn empty_among_points_and_segments_is_the_nearest_double_far_from_the_origin() {
+    // Two points and a segment inside a box of side 10, at the origin and
+    // moved by 1e15: the same circle, its radius the double nearest the exact
+    // one (a root of a quadratic in the segment's normal), no bound left.
+    let mut radii = Vec::new();
+    for far in [0.0, 1e15] {
+        let (sites, region) = (temp("far-sites.json"), temp("far-box.json"));
+        let at = |x: f64, y: f64| format!("[{:?}, {:?}]", far + x, far + y);
+        std::fs::write(
+            &sites,
+            format!(
+                r#"{{"sites": [{{"point": {}}}, {{"point": {}}}, {{"segment": [{}, {}]}}]}}"#,
+                at(3.0, 4.0),
+                at(7.0, 1.0),
+                at(2.0, 8.0),
+                at(6.0, 9.0)
+            ),
+        )
+        .unwrap();
+        std::fs::write(
+            &region,
+            format!(
+                "[[{}, {}, {}, {}]]",
+                at(0.0, 0.0),
+                at(10.0, 0.0),
+                at(10.0, 10.0),
+                at(0.0, 10.0)
+            ),
+        )
+        .unwrap();
+        let (ok, stdout, stderr) = pixgeo(&[
+            "empty",
+            "--sites",
+            sites.to_str().unwrap(),
+            "--region",
+            region.to_str().unwrap(),
+            "--inside",
+            "--json",
+            "--size",
+            "256",
+        ]);
+        assert!(ok, "{far}: {stderr}");
+        let v = answer(&stdout, "empty");
+        assert_eq!(v["tolerance"].as_f64(), Some(0.0), "{stdout}");
+        radii.push(v["exact"]["scale"].as_f64().unwrap());
+    }
+    assert_eq!(radii, [3.630264097376426; 2]);
+}
+
+#[test]
 fn alpha_writes_mask_picture_and_json() {
     let sites = temp("alpha.csv");
     std::fs::write(&sites, "x,y\n0,0\n10,0\n10,10\n0,10\n5,5\n").unwrap();
