@@ -9,7 +9,7 @@ use pixgeo::algorithms::{
     area_sweep,
 };
 
-use crate::{device::Backend, envelope, input::Points, progress::Progress};
+use crate::{device::Backend, envelope, input::Points, progress::Progress, text::Real};
 
 /// The smallest (or, with --max, largest) triangle with three sites as
 /// vertices. A saddle roof over every pair of sites, its height the area of
@@ -139,10 +139,10 @@ fn report(answer: &AreaAnswer, points: &[DVec2], what: &str) -> Result<()> {
         Extreme::Smallest => "smallest",
         Extreme::Largest => "largest",
     };
-    outln!("{which} {what}: area {}", answer.area);
+    outln!("{which} {what}: area {}", Real(answer.area));
     for &i in &answer.sites {
         let p = points[i as usize];
-        outln!("  site {i}: ({}, {})", p.x, p.y);
+        outln!("  site {i}: ({}, {})", Real(p.x), Real(p.y));
     }
     if answer.decided_by == "pixels" {
         outln!(

@@ -14,7 +14,7 @@ use pixgeo::{
 };
 use serde_json::{json, Value};
 
-use crate::{device::VulkanDevice, envelope, input::Points, progress::Progress};
+use crate::{device::VulkanDevice, envelope, input::Points, progress::Progress, text::Real};
 
 /// Options every distance command shares.
 #[derive(ClapArgs)]
@@ -125,15 +125,15 @@ fn describe(answer: &Answer, from: &[DVec2], to: &[DVec2], names: [&str; 2]) -> 
     let (a, b) = (from[answer.pair.from as usize], to[answer.pair.to as usize]);
     format!(
         "{} between {} {} ({}, {}) and {} {} ({}, {}); {} point(s) checked exactly on a {}x{} picture",
-        answer.pair.distance,
+        Real(answer.pair.distance),
         names[0],
         answer.pair.from,
-        a.x,
-        a.y,
+        Real(a.x),
+        Real(a.y),
         names[1],
         answer.pair.to,
-        b.x,
-        b.y,
+        Real(b.x),
+        Real(b.y),
         answer.checked,
         answer.width,
         answer.height
@@ -160,7 +160,7 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
             &summary,
         )?;
     } else {
-        outln!("Hausdorff distance {}", h.distance);
+        outln!("Hausdorff distance {}", Real(h.distance));
         outln!(
             "red to blue: {}",
             describe(&h.a_to_b, &red, &blue, ["red", "blue"])

@@ -20,6 +20,7 @@ use crate::{
     envelope,
     input::Points,
     progress::Progress,
+    text::{Real, Rounded},
     write::picture::{label_rows, PngStream},
 };
 
@@ -241,9 +242,9 @@ fn report(answer: &HomothetAnswer, json: Option<(&str, &str)>, what: &str) -> Re
     let e = &answer.exact;
     outln!(
         "{what} homothet: centre ({}, {}), scale {}",
-        e.centre[0],
-        e.centre[1],
-        e.scale
+        Real(e.centre[0]),
+        Real(e.centre[1]),
+        Real(e.scale)
     );
     outln!("  determined by sites {:?}", e.sites);
     if answer.tolerance > 0.0 {
@@ -253,16 +254,16 @@ fn report(answer: &HomothetAnswer, json: Option<(&str, &str)>, what: &str) -> Re
         );
     }
     outln!(
-        "  picture ({}x{}, {}): centre ({:.4}, {:.4}), scale {:.6} (within {:.2e} of the exact one)",
+        "  picture ({}x{}, {}): centre ({}, {}), scale {} (within {:.2e} of the exact one)",
         answer.width,
         answer.height,
         match answer.pixel_stage {
             PixelStage::Cones => "cones",
             PixelStage::DistanceTransform => "distance transform",
         },
-        answer.pixel.centre[0],
-        answer.pixel.centre[1],
-        answer.pixel.scale,
+        Rounded(answer.pixel.centre[0], 4),
+        Rounded(answer.pixel.centre[1], 4),
+        Rounded(answer.pixel.scale, 6),
         answer.pixel_bound
     );
     Ok(())

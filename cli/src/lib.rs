@@ -27,6 +27,7 @@ mod input;
 mod mask;
 mod progress;
 mod settle;
+mod text;
 mod transform;
 mod voronoi;
 mod write;

@@ -226,6 +226,79 @@ pub fn largest_empty_in_box(
     best.expect("a box holds a circle")
 }
 
+/// The largest circle holding none of `points` with its centre in the box
+/// `[lo, hi]`, exactly: its squared radius and every centre that reaches it.
+/// The candidates are rational: circumcentres, the points of the box's sides
+/// equidistant from two points, and the corners.
+pub fn largest_empty_centre_in_box(points: &[DVec2], lo: DVec2, hi: DVec2) -> (Q, Vec<[Q; 2]>) {
+    let ps: Vec<[Q; 2]> = points.iter().map(|p| [q(p.x), q(p.y)]).collect();
+    let (lo, hi) = ([q(lo.x), q(lo.y)], [q(hi.x), q(hi.y)]);
+    let mut centres: Vec<[Q; 2]> = Vec::new();
+    for x in [&lo[0], &hi[0]] {
+        for y in [&lo[1], &hi[1]] {
+            centres.push([x.clone(), y.clone()]);
+        }
+    }
+    let n = ps.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            let (a, b) = (&ps[i], &ps[j]);
+            // On a side c[axis] = at: 2 (b − a)·c = |b|² − |a|², the other
+            // coordinate free.
+            let rhs = &b[0] * &b[0] + &b[1] * &b[1] - &a[0] * &a[0] - &a[1] * &a[1];
+            for axis in 0..2 {
+                let other = 1 - axis;
+                let slope = int(2) * (&b[other] - &a[other]);
+                if slope.is_zero() {
+                    continue;
+                }
+                for at in [&lo[axis], &hi[axis]] {
+                    let free = (&rhs - int(2) * (&b[axis] - &a[axis]) * at) / &slope;
+                    let mut c = [Q::zero(), Q::zero()];
+                    c[axis] = at.clone();
+                    c[other] = free;
+                    centres.push(c);
+                }
+            }
+            for c in &ps[j + 1..] {
+                let (bx, by) = (&b[0] - &a[0], &b[1] - &a[1]);
+                let (cx, cy) = (&c[0] - &a[0], &c[1] - &a[1]);
+                let d = int(2) * (&bx * &cy - &by * &cx);
+                if d.is_zero() {
+                    continue;
+                }
+                let (b2, c2) = (&bx * &bx + &by * &by, &cx * &cx + &cy * &cy);
+                centres.push([
+                    &a[0] + (&cy * &b2 - &by * &c2) / &d,
+                    &a[1] + (&bx * &c2 - &cx * &b2) / &d,
+                ]);
+            }
+        }
+    }
+    let inside = |c: &[Q; 2]| (0..2).all(|a| c[a] >= lo[a] && c[a] <= hi[a]);
+    let clearance = |c: &[Q; 2]| {
+        ps.iter()
+            .map(|p| {
+                let d = [&c[0] - &p[0], &c[1] - &p[1]];
+                &d[0] * &d[0] + &d[1] * &d[1]
+            })
+            .min()
+            .expect("points")
+    };
+    let scored: Vec<(Q, [Q; 2])> = centres
+        .into_iter()
+        .filter(inside)
+        .map(|c| (clearance(&c), c))
+        .collect();
+    let best = scored.iter().map(|s| s.0.clone()).max().expect("corners");
+    let at = scored
+        .into_iter()
+        .filter(|s| s.0 == best)
+        .map(|s| s.1)
+        .collect();
+    (best, at)
+}
+
 /// Whether the circle of radius `r` around the point `c` lies in the box and
 /// clear of the points and segments (exactly).
 pub fn is_clear(

@@ -24,7 +24,7 @@ pub(super) enum Obstacle {
 }
 
 impl Obstacle {
-    fn distance(&self, c: DVec2) -> f64 {
+    pub fn distance(&self, c: DVec2) -> f64 {
         match *self {
             Obstacle::Point(p) => p.distance(c),
             Obstacle::Segment(a, b) => crate::geometry::chain::segment_distance(c, a, b),
@@ -54,8 +54,9 @@ const PRECISIONS: [u64; 5] = [96, 192, 384, 768, 1536];
 
 /// The best of `contenders` (candidate centres with their clearances in
 /// doubles, best first, near enough to the best that rounding may reorder
-/// them) by their exact clearance to `obstacles`. Sites farther than `slack`
-/// beyond a contender's clearance in doubles are taken to be clear of it.
+/// them) by their exact clearance to `obstacles`; `near(c, r)` lists the
+/// obstacles within r of c. Sites farther than `slack` beyond a contender's
+/// clearance in doubles are taken to be clear of it.
 /// The radius is correctly rounded, and so is the centre unless a coordinate
 /// lies within 2^-1536 of the circle's size from a rounding boundary (0
 /// included), where it is the double nearest to the middle of its bracket.
@@ -63,7 +64,7 @@ const PRECISIONS: [u64; 5] = [96, 192, 384, 768, 1536];
 /// degenerate), and the caller keeps its bound.
 pub(super) fn certify(
     contenders: &[(Vertex, f64)],
-    obstacles: &[Obstacle],
+    (obstacles, near): (&[Obstacle], &dyn Fn(DVec2, f64) -> Vec<u32>),
     slack: f64,
     placement: Placement,
 ) -> Option<Certified> {
@@ -74,36 +75,47 @@ pub(super) fn certify(
     let local = Local::new(first.centre, value, placement);
     let near: Vec<Vec<u32>> = contenders
         .iter()
-        .map(|(v, value)| {
-            (0..obstacles.len() as u32)
-                .filter(|&i| obstacles[i as usize].distance(v.centre) <= value + slack)
-                .collect()
-        })
+        .map(|(v, value)| near(v.centre, value + slack))
         .collect();
     let mut alive: Vec<usize> = (0..contenders.len()).collect();
     for (round, &bits) in PRECISIONS.iter().enumerate() {
-        let evaluated: Vec<Option<Evaluation>> = alive
+        let judged: Vec<Judged> = alive
             .iter()
             .map(|&k| {
                 let vertex = &contenders[k].0;
-                let e = local.evaluate(vertex, obstacles, &near[k], bits)?;
+                let Some(e) = local.evaluate(vertex, obstacles, &near[k], bits) else {
+                    return Judged::Undecided;
+                };
                 // A centre far from its double lies where other sites may be
                 // nearer than the ones listed.
                 let moved = DVec2::new(mid(&e.centre[0]), mid(&e.centre[1]));
                 let guess = local.to_local_f64(vertex.centre);
-                (moved.distance(guess) <= local.to_local_length(slack) / 4.0).then_some(e)
+                if moved.distance(guess) > local.to_local_length(slack) / 4.0 {
+                    return Judged::Undecided;
+                }
+                match local.on_walls(vertex, &e.centre) {
+                    Some(true) => Judged::Known(Box::new(e)),
+                    Some(false) => Judged::Outside,
+                    None => Judged::Undecided,
+                }
             })
             .collect();
-        let floor = evaluated
+        let floor = judged
             .iter()
-            .flatten()
-            .map(|e| e.value.lo.clone())
+            .filter_map(|j| match j {
+                Judged::Known(e) => Some(e.value.lo.clone()),
+                _ => None,
+            })
             .max()?;
         let kept: Vec<(usize, Option<Evaluation>)> = alive
             .iter()
             .copied()
-            .zip(evaluated)
-            .filter(|(_, e)| e.as_ref().is_none_or(|e| e.value.hi >= floor))
+            .zip(judged)
+            .filter_map(|(k, j)| match j {
+                Judged::Outside => None,
+                Judged::Undecided => Some((k, None)),
+                Judged::Known(e) => (e.value.hi >= floor).then_some((k, Some(*e))),
+            })
             .collect();
         alive = kept.iter().map(|k| k.0).collect();
         let last = round + 1 == PRECISIONS.len();
@@ -137,15 +149,24 @@ pub(super) fn certify(
         let centre = DVec2::from([0, 1].map(|axis| {
             centre[axis].unwrap_or_else(|| local.middle_coordinate(&best.centre[axis], axis))
         }));
-        let on = best
+        let mut on: Vec<u32> = best
             .distances
             .iter()
             .filter(|(_, d)| d.lo <= best.value.hi && d.hi >= best.value.lo)
             .map(|(i, _)| *i)
             .collect();
+        on.sort_unstable();
         return Some(Certified { centre, radius, on });
     }
     None
+}
+
+/// A contender at one precision: a centre off the walls it was solved on, one
+/// whose pieces or walls that precision cannot decide, or its evaluation.
+enum Judged {
+    Outside,
+    Undecided,
+    Known(Box<Evaluation>),
 }
 
 /// A contender's centre and clearance in local units, and its distance to
@@ -251,6 +272,29 @@ impl Local {
             value,
             distances,
         })
+    }
+
+    /// Whether the centre c, solved on the lines of the vertex's walls, lies on
+    /// the walls themselves (between their ends); `None` where `c` does not
+    /// decide.
+    fn on_walls(&self, vertex: &Vertex, c: &[Interval; 2]) -> Option<bool> {
+        let walls = vertex.pieces.iter().flatten().filter_map(|p| match *p {
+            Piece::Wall(a, b) => Some((self.point(a), self.point(b))),
+            _ => None,
+        });
+        let mut on = true;
+        for (a, b) in walls {
+            let e = [&b[0] - &a[0], &b[1] - &a[1]];
+            let along = c[0]
+                .affine(&e[0], &(-&a[0] * &e[0]))
+                .plus(&c[1].affine(&e[1], &(-&a[1] * &e[1])));
+            let length2 = norm2(&e);
+            if along.hi.is_negative() || along.lo > length2 {
+                return Some(false);
+            }
+            on &= !along.lo.is_negative() && along.hi <= length2;
+        }
+        on.then_some(true)
     }
 
     /// The distance from the centre c to an obstacle.

@@ -96,26 +96,66 @@ pub fn largest_empty_by(
     stage: Option<PixelStage>,
 ) -> Result<HomothetAnswer> {
     check_sites(sites)?;
-    // Far from the origin, a set's digits are in its offsets: move it to the
-    // origin where that is exact (homothets move with their sites).
+    // Homothets move and scale with their sites, so the sites are placed near
+    // the origin and near 1 where that is exact (see `largest_empty_sites_by`).
     let anchors: Vec<DVec2> = sites
         .iter()
         .chain(region.rings.iter().flatten())
         .copied()
         .collect();
-    if let Some(origin) = exact_shift(&anchors) {
-        let moved: Vec<DVec2> = sites.iter().map(|p| *p - origin).collect();
-        let region = Region {
-            rings: region
-                .rings
-                .iter()
-                .map(|ring| ring.iter().map(|p| *p - origin).collect())
-                .collect(),
+    let origin = exact_shift(&anchors).unwrap_or(DVec2::ZERO);
+    let numbers: Vec<f64> = anchors
+        .iter()
+        .flat_map(|p| [p.x - origin.x, p.y - origin.y])
+        .collect();
+    let k = exponent_or_refusal(&numbers, REFINED_POINTS)?;
+    let t = |x: f64| scale::times_power_of_two(x, k);
+    let place = |p: &DVec2| DVec2::new(t(p.x - origin.x), t(p.y - origin.y));
+    let sites: Vec<DVec2> = sites.iter().map(place).collect();
+    let region = Region {
+        rings: region
+            .rings
+            .iter()
+            .map(|r| r.iter().map(place).collect())
+            .collect(),
+    };
+    let placement = Placement { k, origin };
+    let (answer, exact) = empty_points(machine, &sites, unit, &region, side, stage, placement)?;
+    Ok(placed_back(answer, exact, placement))
+}
+
+/// An answer for sites placed by `placement`, in the sites' own coordinates:
+/// the exact one, where given, as it was rounded there.
+fn placed_back(
+    answer: HomothetAnswer,
+    exact: Option<Certified>,
+    placement: Placement,
+) -> HomothetAnswer {
+    let mut answer = answer.scaled(-placement.k).moved(placement.origin);
+    if let Some(exact) = exact {
+        answer.exact = Homothet {
+            centre: exact.centre.to_array(),
+            scale: exact.radius,
+            sites: exact.on,
         };
-        let answer = largest_empty_by(machine, &moved, unit, &region, side, stage)?;
-        return Ok(answer.moved(origin));
+        answer.tolerance = 0.0;
     }
-    let finer = |side| largest_empty_by(machine, sites, unit, region, side, stage);
+    answer
+}
+
+/// [`largest_empty_by`] on sites placed near the origin and near 1 by
+/// `placement`: the answer there, and for circles the exact one in the sites'
+/// own coordinates.
+fn empty_points(
+    machine: &Machine,
+    sites: &[DVec2],
+    unit: Unit,
+    region: &Region,
+    side: u32,
+    stage: Option<PixelStage>,
+    placement: Placement,
+) -> Result<(HomothetAnswer, Option<Certified>)> {
+    let finer = |side| empty_points(machine, sites, unit, region, side, stage, placement);
     let lo = sites.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = sites.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
     let (region, frame) = region_and_frame(region, (lo, hi), side)?;
@@ -227,6 +267,7 @@ pub fn largest_empty_by(
     let eps = rounding(unit, &frame, value);
     let pixel_bound = bound + eps;
     let goal = Goal::Largest;
+    let contenders = std::cell::RefCell::new(Vec::new());
     // The best centre's pixel is among the near ones; a pixel left standing
     // outside the region is within the bound of a centre inside it.
     let window = (value - bound - eps, value + 2.0 * bound + eps);
@@ -250,16 +291,30 @@ pub fn largest_empty_by(
             region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
         };
         let sets = (&near[..], &generators[..]);
+        let mut kept = contenders.borrow_mut();
+        let kept = (unit == Unit::Circle).then_some(&mut *kept);
         best_vertex(
-            sites, unit, around, reach, sets, &edges, goal, 1, window, allowed, nearest,
+            sites, unit, around, reach, sets, &edges, goal, 1, window, allowed, nearest, kept,
         )
     })
     .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    // Circles: the vertices rounding may put above the best, decided exactly.
+    let rounding = 64.0 * f64::EPSILON * (c.abs().max_element() + v);
+    let mut contenders = contenders.into_inner();
+    contenders
+        .retain(|(vertex, value)| *value >= v - CONTENDING * rounding && within(&region, vertex));
+    contenders.sort_by(|a, b| b.1.total_cmp(&a.1));
+    contenders.truncate(MAX_CONTENDERS);
+    let obstacles: Vec<Obstacle> = sites.iter().map(|&p| Obstacle::Point(p)).collect();
+    let near = |c: DVec2, r: f64| grid.around(c, r).collect();
+    let slack = CONTENDING * rounding;
+    let certified = certify(&contenders, (&obstacles, &near), slack, placement);
     let exact = homothet_at(sites, unit, c, v);
-    Ok(HomothetAnswer {
+    let answer = HomothetAnswer {
         pixel_stage: stage,
         ..answer_of(&frame, centre, value, pixel_bound, (exact, checked))
-    })
+    };
+    Ok((answer, certified))
 }
 
 /// The largest homothet of `unit` meeting none of `sites` (points, segments,
@@ -282,8 +337,12 @@ pub fn largest_empty_sites(
     largest_empty_sites_by(machine, sites, unit, region, inside, side, None)
 }
 
-/// The largest coordinate [`largest_empty_sites_by`] refines in doubles.
-const MAX_REFINED_COORDINATE: f64 = 1e75;
+/// The magnitudes the refinement among segments, shapes or `inside` a region
+/// holds in doubles: it forms products of four coordinates.
+const REFINED_SITES: (f64, f64) = (1e-75, 1e75);
+
+/// The magnitudes the refinement among points holds: squared distances.
+const REFINED_POINTS: (f64, f64) = (1e-150, 1e150);
 
 /// [`largest_empty_sites`] with its pixel stage chosen, as for
 /// [`largest_empty_by`]: the distance transform takes plain points only.
@@ -341,23 +400,14 @@ pub fn largest_empty_sites_by(
         region.clone(),
         &|p| p - origin,
     );
-    let k = unit_exponent(&sites, &region).unwrap_or(0);
+    let k = exponent_or_refusal(&numbers_of(&sites, &region), REFINED_SITES)?;
     let t = |x: f64| scale::times_power_of_two(x, k);
     let (sites, region) = placed(sites.iter().map(|s| s.scaled(k)).collect(), region, &|p| {
         DVec2::new(t(p.x), t(p.y))
     });
     let placement = Placement { k, origin };
     let (answer, exact) = refine_empty(machine, &sites, unit, &region, inside, side, placement)?;
-    let mut answer = answer.scaled(-k).moved(origin);
-    if let Some(exact) = exact {
-        answer.exact = Homothet {
-            centre: exact.centre.to_array(),
-            scale: exact.radius,
-            sites: exact.on,
-        };
-        answer.tolerance = 0.0;
-    }
-    Ok(answer)
+    Ok(placed_back(answer, exact, placement))
 }
 
 /// [`largest_empty_sites_by`] on sites placed near the origin and near 1 by
@@ -372,26 +422,6 @@ fn refine_empty(
     side: u32,
     placement: Placement,
 ) -> Result<(HomothetAnswer, Option<Certified>)> {
-    // The refinement among segments and region edges forms products of four
-    // coordinates in doubles: past 1e75 they overflow, and the centres they
-    // give were lost (a wrong circle, with exit 0).
-    let reach = sites
-        .iter()
-        .map(|s| {
-            let (lo, hi) = s.bounds();
-            lo.abs().max(hi.abs()).max_element()
-        })
-        .chain(region.edges().map(|(a, _)| a.abs().max_element()))
-        .fold(0.0, f64::max);
-    if reach > MAX_REFINED_COORDINATE {
-        return Err(Error::InvalidInput(format!(
-            "coordinates reach {reach:e}: the largest empty homothet among segments, \
-             shapes or `inside` a region is refined in doubles, which hold its products \
-             of coordinates up to about {MAX_REFINED_COORDINATE:e}, and no power of two \
-             brings these coordinates there exactly (the smallest would fall below the \
-             normal doubles); round the smallest to 0 or scale the input into that range"
-        )));
-    }
     let bounds = sites
         .iter()
         .map(Site::bounds)
@@ -575,10 +605,17 @@ fn refine_empty(
     let (c, v, gap, cells) =
         best.ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
     let certified = if unit == Unit::Circle && all.iter().all(is_plain_point_or_segment) {
-        contenders.retain(|(_, value)| *value >= v - gap - decided_within);
+        contenders.retain(|(vertex, value)| {
+            *value >= v - gap - decided_within && within(&region, vertex)
+        });
         contenders.sort_by(|a, b| b.1.total_cmp(&a.1));
         let obstacles: Vec<Obstacle> = all.iter().map(obstacle).collect();
-        certify(&contenders, &obstacles, decided_within, placement)
+        let near = |c: DVec2, r: f64| {
+            let near =
+                (0..obstacles.len() as u32).filter(|&i| obstacles[i as usize].distance(c) <= r);
+            near.collect()
+        };
+        certify(&contenders, (&obstacles, &near), decided_within, placement)
     } else {
         None
     };
@@ -602,28 +639,66 @@ fn refine_empty(
     Ok((answer, certified))
 }
 
-/// The power of two that brings the largest coordinate, radius or weight of
-/// `sites` and `region` within 2^±16 of 1, where one is needed and every
-/// number scales exactly.
-fn unit_exponent(sites: &[Site], region: &Region) -> Option<i32> {
-    let numbers = || {
-        let of_sites = sites.iter().flat_map(|s| {
-            let radius = match s.shape {
-                Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => radius,
-                _ => 0.0,
-            };
-            let anchors = s.anchors().into_iter().flat_map(|p| [p.x, p.y]);
-            anchors.chain([radius, s.additive])
-        });
-        of_sites.chain(region.rings.iter().flatten().flat_map(|p| [p.x, p.y]))
-    };
-    let largest = numbers().fold(0.0f64, |m, x| m.max(x.abs()));
+/// The power of two that brings the largest of `numbers` within 2^±16 of 1,
+/// where one is needed and every number scales exactly.
+fn unit_exponent(numbers: &[f64]) -> Option<i32> {
+    let largest = numbers.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     if largest == 0.0 || (2f64.powi(-16)..2f64.powi(16)).contains(&largest) {
         return None;
     }
     let k = -(largest.log2().floor() as i32);
     let t = scale::times_power_of_two;
-    numbers().all(|x| t(t(x, k), -k) == x).then_some(k)
+    numbers.iter().all(|&x| t(t(x, k), -k) == x).then_some(k)
+}
+
+/// [`unit_exponent`], or 0 where the numbers are within `range`, or a
+/// refusal that names it: the refinement's products would overflow or
+/// underflow.
+fn exponent_or_refusal(numbers: &[f64], (lo, hi): (f64, f64)) -> Result<i32> {
+    if let Some(k) = unit_exponent(numbers) {
+        return Ok(k);
+    }
+    let largest = numbers.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 || (lo..=hi).contains(&largest) {
+        return Ok(0);
+    }
+    let smallest = numbers
+        .iter()
+        .map(|x| x.abs())
+        .filter(|&x| x > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    Err(Error::InvalidInput(format!(
+        "coordinates reach {largest:e}: the largest empty homothet is refined in doubles, \
+         which hold its products of coordinates from about {lo:e} to {hi:e}, and no power \
+         of two brings these coordinates there exactly (the smallest, {smallest:e}, would \
+         fall below the normal doubles); round the smallest to 0 or scale the input into \
+         that range"
+    )))
+}
+
+/// The coordinates, radii and weights of `sites` and `region`.
+fn numbers_of(sites: &[Site], region: &Region) -> Vec<f64> {
+    let of_sites = sites.iter().flat_map(|s| {
+        let radius = match s.shape {
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => radius,
+            _ => 0.0,
+        };
+        let anchors = s.anchors().into_iter().flat_map(|p| [p.x, p.y]);
+        anchors.chain([radius, s.additive])
+    });
+    of_sites
+        .chain(region.rings.iter().flatten().flat_map(|p| [p.x, p.y]))
+        .collect()
+}
+
+/// Whether a candidate centre may be decided exactly: one solved on a wall
+/// (which the exact solution checks it lies on) or given, or one inside the
+/// region. Candidates near the boundary are let in by a tolerance; those that
+/// are no wall's may lie just outside, and where they lie on the boundary
+/// exactly a wall's candidate is the same centre.
+fn within(region: &Region, vertex: &Vertex) -> bool {
+    let on_wall = |pieces: [Piece; 3]| pieces.iter().any(|p| matches!(p, Piece::Wall(..)));
+    vertex.pieces.is_none_or(on_wall) || region.contains(vertex.centre)
 }
 
 /// How many roundings of the best clearance in doubles a vertex may fall

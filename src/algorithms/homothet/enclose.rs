@@ -147,6 +147,7 @@ pub fn enclose(
                 window,
                 always,
                 furthest,
+                None,
             )
         })
         .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?;

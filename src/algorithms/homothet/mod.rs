@@ -49,7 +49,7 @@ mod clearing;
 mod clearing_exact;
 mod refine;
 
-use clearing::{clearing_vertices, Vertex};
+use clearing::{clearing_vertices, Piece, Vertex};
 use clearing_exact::{certify, Certified, Obstacle, Placement};
 use refine::{
     best_of_clusters, best_vertex, branch_and_bound, clusters, quadratic_roots, smallest_circle,

@@ -4,7 +4,7 @@
 
 use glam::DVec2;
 
-use super::{candidates, clearing_vertices, kth_gauge, surroundings, Homothet, Unit};
+use super::{candidates, clearing_vertices, kth_gauge, surroundings, Homothet, Unit, Vertex};
 use crate::{cancel::Watch, geometry::Frame, Result};
 
 /// Roots of a t² + b t + c = 0 (the one root of the linear equation when a
@@ -242,6 +242,7 @@ pub(super) fn best_vertex(
     window: (f64, f64),
     allowed: impl Fn(DVec2) -> bool,
     full: impl Fn(DVec2) -> f64,
+    kept: Option<&mut Vec<(Vertex, f64)>>,
 ) -> Option<(DVec2, f64, usize)> {
     let in_window = |scale: f64| scale >= window.0 && scale <= window.1;
     let mut planes: Vec<Plane> = Vec::new();
@@ -286,7 +287,7 @@ pub(super) fn best_vertex(
             r: n.dot(*a),
         });
     }
-    let mut points: Vec<DVec2> = Vec::new();
+    let mut points: Vec<Vertex> = Vec::new();
     match unit {
         Unit::Polygon(_) => {
             let m = planes.len();
@@ -295,7 +296,7 @@ pub(super) fn best_vertex(
                     for z in y + 1..m {
                         if let Some((c, scale)) = solve3(planes[x], planes[y], planes[z]) {
                             if in_window(scale) {
-                                points.push(c);
+                                points.push(Vertex::at(c));
                             }
                         }
                     }
@@ -304,7 +305,7 @@ pub(super) fn best_vertex(
                 for y in x + 1..m {
                     if planes[x].b == 0.0 && planes[y].b == 0.0 {
                         if let Some(c) = solve2(planes[x], planes[y]) {
-                            points.push(c);
+                            points.push(Vertex::at(c));
                         }
                     }
                 }
@@ -317,31 +318,33 @@ pub(super) fn best_vertex(
             for (x, p) in at.iter().enumerate() {
                 for q in &at[x + 1..] {
                     if in_window(p.distance(*q) / 2.0) {
-                        points.push((*p + *q) / 2.0);
+                        points.push(Vertex::at((*p + *q) / 2.0));
                     }
                 }
             }
-            points.extend(
-                clearing_vertices(&at, &[], edges, in_window)
-                    .into_iter()
-                    .map(|v| v.centre),
-            );
+            points.extend(clearing_vertices(&at, &[], edges, in_window));
         }
     }
     // Sites themselves (the one-site homothet of scale 0) and region corners
     // count as candidate centres.
-    points.extend(generators.iter().map(|&i| sites[i as usize]));
-    for (a, b) in edges {
-        points.push(*a);
-        points.push(*b);
-    }
+    points.extend(generators.iter().map(|&i| Vertex::at(sites[i as usize])));
+    points.extend(
+        edges
+            .iter()
+            .flat_map(|(a, b)| [Vertex::at(*a), Vertex::at(*b)]),
+    );
     // Only centres near the candidate pixels, where the near sites decide.
-    points.retain(|c| c.is_finite() && c.distance(around) <= reach * (1.0 + 1e-9) && allowed(*c));
+    points.retain(|v| {
+        let c = v.centre;
+        c.is_finite() && c.distance(around) <= reach * (1.0 + 1e-9) && allowed(c)
+    });
     let checked = points.len();
     let near_points: Vec<DVec2> = near.iter().map(|&i| sites[i as usize]).collect();
-    let mut bounded: Vec<(DVec2, f64)> = points
+    let mut bounded: Vec<(Vertex, f64)> = points
         .into_iter()
-        .filter_map(|c| kth_gauge(&near_points, unit, c, k.min(near_points.len())).map(|v| (c, v)))
+        .filter_map(|v| {
+            kth_gauge(&near_points, unit, v.centre, k.min(near_points.len())).map(|g| (v, g))
+        })
         .collect();
     // The near sites' value bounds the true one: from below for the furthest
     // (all sites), from above for the nearest; for other levels it is the true
@@ -351,8 +354,12 @@ pub(super) fn best_vertex(
         Goal::Smallest => bounded.sort_by(|a, b| a.1.total_cmp(&b.1)),
         Goal::Largest => bounded.sort_by(|a, b| b.1.total_cmp(&a.1)),
     }
+    if let Some(kept) = kept {
+        kept.extend(bounded.iter().filter(|b| in_window(b.1)).copied());
+    }
     let mut best: Option<(DVec2, f64)> = None;
-    for (c, bound) in bounded {
+    for (vertex, bound) in bounded {
+        let c = vertex.centre;
         if let Some((_, b)) = best {
             let hopeless = match goal {
                 Goal::Smallest => bound >= b,

@@ -390,6 +390,55 @@ fn more_levels_than_kept_are_refused_by_name() {
 /// centre and radius printed are the doubles nearest to the exact ones, and
 /// the sites named lie on the exact circle.
 #[test]
+fn largest_empty_circle_among_points_at_every_magnitude() {
+    // Homothets scale with their sites: by a power of two, the answer scales
+    // exactly; by 1e±150 and 1e±300 (depths once underflowed: "no empty
+    // homothet found"), its radius is the double nearest the circumradius
+    // of the three sites it names.
+    use num_rational::BigRational;
+    use pixgeo_reference::exact::is_nearest_root;
+    let machine = machine();
+    let quad = [(3.0, 4.0), (4.0, 0.0), (1.0, 0.0), (0.0, 3.0)].map(|(x, y)| DVec2::new(x, y));
+    let empty = |sites: &[DVec2]| {
+        largest_empty(&machine, sites, Unit::Circle, &Region::default(), 256).unwrap()
+    };
+    let unit = empty(&quad);
+    for k in [-1000, -500, 500, 1000] {
+        let f = 2f64.powi(k / 2) * 2f64.powi(k - k / 2);
+        let answer = empty(&quad.map(|p| p * f));
+        assert_eq!(answer.exact.scale, unit.exact.scale * f, "2^{k}");
+        assert_eq!(
+            answer.exact.centre,
+            unit.exact.centre.map(|c| c * f),
+            "2^{k}"
+        );
+    }
+    for f in [1e-150, 1e-300, 1e150, 1e300] {
+        let sites = quad.map(|p| p * f);
+        let answer = empty(&sites);
+        let on: Vec<DVec2> = answer
+            .exact
+            .sites
+            .iter()
+            .map(|&i| sites[i as usize])
+            .collect();
+        assert_eq!(on.len(), 3, "{f:e}: {answer:?}");
+        let q = |x: f64| BigRational::from_float(x).unwrap();
+        let [a, b, c] = [on[0], on[1], on[2]].map(|p| [q(p.x), q(p.y)]);
+        // The circumcentre of a, b, c, exactly.
+        let (bx, by) = (&b[0] - &a[0], &b[1] - &a[1]);
+        let (cx, cy) = (&c[0] - &a[0], &c[1] - &a[1]);
+        let d = BigRational::from_integer(2.into()) * (&bx * &cy - &by * &cx);
+        let (b2, c2) = (&bx * &bx + &by * &by, &cx * &cx + &cy * &cy);
+        let (ux, uy) = ((&cy * &b2 - &by * &c2) / &d, (&bx * &c2 - &cx * &b2) / &d);
+        assert!(
+            is_nearest_root(answer.exact.scale, &(&ux * &ux + &uy * &uy)),
+            "{f:e}: {answer:?}"
+        );
+    }
+}
+
+#[test]
 fn smallest_enclosing_circle_is_exact_at_every_magnitude() {
     use pixgeo_reference::exact::{is_nearest, is_nearest_root, smallest_enclosing_circle};
     let machine = machine();
