@@ -53,9 +53,9 @@ pub struct Args {
     /// `properties`.
     #[arg(long, value_name = "FILE.geojson")]
     geojson: Option<PathBuf>,
-    /// The points' coordinate system, `EPSG:N`, named in the GeoJSON's `crs`
-    /// (none is written for EPSG:4326, GeoJSON's own).
-    #[arg(long, value_name = "EPSG:N", value_parser = crate::write::geotiff::parse_crs, requires = "geojson")]
+    /// The points' coordinate system (as `--crs` reads it), named in the
+    /// GeoJSON's `crs` (none is written for EPSG:4326, GeoJSON's own).
+    #[arg(long, value_name = "CRS", value_parser = crate::write::geotiff::parse_crs, requires = "geojson")]
     crs: Option<u16>,
     /// Print the mesh as JSON: points, triangles, duplicates, phase statistics.
     #[arg(long)]

@@ -40,6 +40,7 @@ pub fn print(
         y_axis: YAxis::Down,
         epsg: None,
         bbox: None,
+        cloud_optimized: false,
     });
     print_placed(command, device, world.as_ref(), result)
 }
@@ -171,6 +172,7 @@ mod tests {
             y_axis: YAxis::Up,
             epsg: Some(4326),
             bbox: None,
+            cloud_optimized: false,
         };
         let v = wrap(
             "voronoi",

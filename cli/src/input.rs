@@ -69,15 +69,22 @@ pub struct Placement {
     #[arg(long, value_enum)]
     pub y_axis: Option<YAxis>,
 
-    /// The coordinate system of the world coordinates, `EPSG:N`, written into
-    /// .tif rasters' GeoKeys.
-    #[arg(long, value_name = "EPSG:N", value_parser = parse_crs)]
+    /// The coordinate system of the world coordinates, written into .tif
+    /// rasters' GeoKeys: `EPSG:N`, an OGC URN, a WKT or PROJ string that
+    /// names or matches an EPSG code, or a .prj file.
+    #[arg(long, value_name = "CRS", value_parser = parse_crs)]
     pub crs: Option<u16>,
 
     /// Write a world file (`.tfw`, `.pgw`, `.pngw` or `.wld`: six lines from
     /// a pixel's centre to the world) that places the rasters and pictures.
     #[arg(long, value_name = "FILE")]
     pub world_file: Option<PathBuf>,
+
+    /// Write .tif rasters cloud-optimised: overviews (nearest samples, each
+    /// level half the last, down to one 256-pixel tile) and every directory
+    /// before the tiles, as GDAL's COG driver lays them out.
+    #[arg(long)]
+    pub cog: bool,
 }
 
 impl Placement {
@@ -104,6 +111,7 @@ impl Placement {
             pixel_width: (x1 - x0) / width as f64,
             pixel_height,
             epsg: self.crs,
+            cloud_optimized: self.cog,
         }
     }
 
@@ -156,6 +164,8 @@ pub struct World {
     pub epsg: Option<u16>,
     /// The user's --bbox as given (the frame's rows round its height).
     pub bbox: Option<[f64; 4]>,
+    /// GeoTIFFs cloud-optimised (--cog).
+    pub cloud_optimized: bool,
 }
 
 impl World {
@@ -229,6 +239,7 @@ impl World {
                 YAxis::Down => -pixel,
             },
             epsg: self.epsg,
+            cloud_optimized: self.cloud_optimized,
         }
     }
 
@@ -351,6 +362,7 @@ impl Input {
             y_axis: self.place.y_axis(),
             epsg: self.place.crs.or(from_file),
             bbox: self.place.bbox,
+            cloud_optimized: self.place.cog,
         }
     }
 

@@ -121,6 +121,12 @@ pub fn is_geographic(code: u16) -> Result<bool, String> {
     write::geotiff::crs_kind(code).map(|k| k == write::geotiff::CrsKind::Geographic)
 }
 
+/// The EPSG code of a coordinate system as `--crs` reads it (`EPSG:N`, an
+/// OGC URN, WKT, PROJ, a .prj file), or why none.
+pub fn epsg_code(text: &str) -> Result<u16, String> {
+    write::geotiff::parse_crs(text)
+}
+
 /// Runs the command line on `args` (the program's name first) and returns
 /// its exit status: 0, 1 with the error on stderr, 2 for a usage error (as
 /// clap reports it), 130 at a signal.

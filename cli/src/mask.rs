@@ -148,5 +148,6 @@ fn placement<R: std::io::Read + std::io::Seek>(
         pixel_width: width,
         pixel_height: height,
         epsg,
+        cloud_optimized: false,
     }))
 }

@@ -352,6 +352,7 @@ fn placement(
         (None, asked) => geo.epsg = asked,
         _ => {}
     }
+    geo.cloud_optimized = args.place.cog;
     Ok(geo)
 }
 

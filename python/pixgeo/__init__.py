@@ -317,14 +317,18 @@ def _frame(t) -> Frame:
 
 
 def _crs(crs) -> Optional[str]:
-    """``"EPSG:N"`` from ``"EPSG:N"``, ``"epsg:N"`` or the number N."""
+    """``"EPSG:N"`` from the number N, ``"EPSG:N"``, an OGC URN, a WKT or
+    PROJ string that names or matches an EPSG code, a ``.prj`` file, or an
+    object with ``to_epsg()`` (pyproj's and rasterio's CRS)."""
     if crs is None:
         return None
+    if hasattr(crs, "to_epsg"):
+        code = crs.to_epsg()
+        if code is None:
+            raise ValueError(f"crs {crs!r} has no EPSG code; pixgeo writes CRSs by EPSG code")
+        crs = code
     text = f"EPSG:{crs}" if isinstance(crs, (int, np.integer)) else str(crs)
-    code = text[5:] if text[:5].upper() == "EPSG:" else ""
-    if not code.isdigit():
-        raise ValueError(f"crs must be 'EPSG:N' or the code N, not {crs!r}")
-    return f"EPSG:{int(code)}"
+    return f"EPSG:{_pixgeo.epsg_code(text)}"
 
 
 @dataclass(frozen=True)

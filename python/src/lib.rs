@@ -586,6 +586,13 @@ fn is_geographic(code: u16) -> PyResult<bool> {
     pixgeo_cli::is_geographic(code).map_err(PyValueError::new_err)
 }
 
+/// The EPSG code of a coordinate system (`EPSG:N`, an OGC URN, WKT, PROJ, a
+/// .prj file), as the command line's `--crs` reads it.
+#[pyfunction]
+fn epsg_code(text: &str) -> PyResult<u16> {
+    pixgeo_cli::epsg_code(text).map_err(PyValueError::new_err)
+}
+
 /// Labels, distances (metres) and the count of pixels left equidistant.
 type GreatCircleTuple<'py> = (Bound<'py, PyArray1<u32>>, Bound<'py, PyArray1<f64>>, usize);
 
@@ -729,6 +736,7 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(voronoi_cells, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
     m.add_function(wrap_pyfunction!(is_geographic, m)?)?;
+    m.add_function(wrap_pyfunction!(epsg_code, m)?)?;
     m.add_function(wrap_pyfunction!(great_circle, m)?)?;
     m.add(
         "EARTH_RADIUS",

@@ -179,6 +179,69 @@ def test_geotiffs_fit_for_gdal_as_they_are(tmp_path, sites, caplog):
     assert refused.returncode != 0 and "geocentric" in refused.stderr
 
 
+def test_cloud_optimised_geotiffs(tmp_path, sites, caplog):
+    """--cog: GDAL reads the layout as COG, with overviews down to one tile
+    that hold the nearest samples (as GDAL's NEAREST takes them), for labels,
+    distances and a proximity raster read from a GeoTIFF; not a warning."""
+    import logging
+
+    xy, path = sites
+    caplog.set_level(logging.DEBUG)
+    box = ",".join(map(str, BBOX))
+    pixgeo("voronoi", "--sites", path, "--bbox", box, "--size", 1100, "--crs", "EPSG:32633",
+           "--labels", tmp_path / "l.tif", "--distance", tmp_path / "d.tif", "--cog")
+    cover = np.zeros((300, 600), np.uint8)
+    cover[::37, ::53] = 1
+    with rasterio.open(tmp_path / "m.tif", "w", driver="GTiff", width=600, height=300, count=1,
+                       dtype="uint8", crs="EPSG:32633",
+                       transform=Affine(10.0, 0.0, 500000.0, 0.0, -10.0, 4001000.0)) as w:
+        w.write(cover, 1)
+    pixgeo("transform", "--mask", tmp_path / "m.tif", "--distance", tmp_path / "p.tif", "--cog")
+    for name, levels in (("l.tif", [2, 4, 8]), ("d.tif", [2, 4, 8]), ("p.tif", [2, 4])):
+        with rasterio.open(tmp_path / name) as r:
+            assert r.tags(ns="IMAGE_STRUCTURE")["LAYOUT"] == "COG", name
+            assert r.overviews(1) == levels and r.crs.to_epsg() == 32633, name
+            full = r.read(1)
+            for factor in levels:
+                shape = (-(-r.height // factor), -(-r.width // factor))
+                overview = r.read(1, out_shape=shape)
+                rows = np.minimum(np.arange(shape[0]) * factor + factor // 2, r.height - 1)
+                columns = np.minimum(np.arange(shape[1]) * factor + factor // 2, r.width - 1)
+                assert np.array_equal(overview, full[np.ix_(rows, columns)]), (name, factor)
+    warned = [rec for rec in caplog.records if rec.levelno >= logging.WARNING]
+    assert not warned, [rec.getMessage() for rec in warned]
+
+
+def test_crs_from_wkt_proj_and_prj_files(tmp_path):
+    """--crs and Python's crs take what names or matches an EPSG code: WKT
+    as GDAL and PROJ write it, ESRI's .prj, PROJ strings; a local grid is
+    refused by name."""
+    from rasterio.crs import CRS
+
+    import pixgeo as pixgeo_module
+
+    utm = CRS.from_epsg(32633)
+    prj = tmp_path / "zone.prj"
+    prj.write_text(utm.to_wkt(version="WKT1_ESRI"))
+    for given in (utm.to_wkt(), utm.to_wkt(version="WKT2_2019"), str(prj),
+                  "+proj=utm +zone=33 +datum=WGS84 +units=m +no_defs",
+                  "urn:ogc:def:crs:EPSG::32633"):
+        tif = tmp_path / "l.tif"
+        done = pixgeo("voronoi", "--random", 10, "--bbox", "500000,4000000,501000,4000800",
+                      "--size", 40, "--labels", tif, "--crs", given, "--json")
+        assert json.loads(done.stdout)["frame"]["crs"] == "EPSG:32633", given
+        with rasterio.open(tif) as r:
+            assert r.crs.to_epsg() == 32633, given
+        assert pixgeo_module.frame((10, 10), bbox=(0, 0, 1, 1), crs=given).crs == "EPSG:32633"
+    assert pixgeo_module.frame((10, 10), bbox=(0, 0, 1, 1), crs=utm).crs == "EPSG:32633"
+    local = 'LOCAL_CS["site grid",UNIT["metre",1]]'
+    refused = subprocess.run([str(CLI), "voronoi", "--random", "3", "--crs", local],
+                             capture_output=True, text=True)
+    assert refused.returncode != 0 and "names no EPSG code" in refused.stderr
+    with pytest.raises(ValueError, match="no EPSG code"):
+        pixgeo_module.frame((10, 10), bbox=(0, 0, 1, 1), crs=local)
+
+
 def read_cells(path):
     collection = json.loads(path.read_text())
     assert collection["type"] == "FeatureCollection"

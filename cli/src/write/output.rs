@@ -205,6 +205,17 @@ impl OutputFile {
         &self.target
     }
 
+    /// A folder for scratch files that go with the output: its own, or the
+    /// system's for a device such as `/dev/stdout`, written in place.
+    pub fn scratch_folder(&self) -> PathBuf {
+        match &self.temporary {
+            Some(t) => t
+                .parent()
+                .map_or_else(std::env::temp_dir, Path::to_path_buf),
+            None => std::env::temp_dir(),
+        }
+    }
+
     /// Marks the file finished: it is put in place with the command's other
     /// outputs by [`finish`].
     pub fn commit(mut self) -> Result<()> {

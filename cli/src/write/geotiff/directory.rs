@@ -79,8 +79,9 @@ pub fn first_directory_at(big: bool) -> (u64, usize) {
 }
 
 /// The directory of `entries` (sorted by tag here) to be written at byte
-/// `at` of the file, its out-of-line values after it.
-pub fn encode(mut entries: Vec<(u16, Value)>, at: u64, big: bool) -> Vec<u8> {
+/// `at` of the file, its out-of-line values after it; `next` is the next
+/// directory's offset (0: none).
+pub fn encode(mut entries: Vec<(u16, Value)>, at: u64, big: bool, next: u64) -> Vec<u8> {
     entries.sort_by_key(|(tag, _)| *tag);
     let (count_bytes, entry_bytes, inline) = if big { (8, 20, 8) } else { (2, 12, 4) };
     let offset = |v: u64, out: &mut Vec<u8>| match big {
@@ -115,7 +116,7 @@ pub fn encode(mut entries: Vec<(u16, Value)>, at: u64, big: bool) -> Vec<u8> {
             }
         }
     }
-    offset(0, &mut out); // no next directory
+    offset(next, &mut out);
     debug_assert_eq!(at + out.len() as u64, directory_end);
     out.extend_from_slice(&extra);
     out

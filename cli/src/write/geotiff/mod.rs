@@ -48,6 +48,9 @@ pub struct GeoReference {
     pub pixel_height: f64,
     /// The EPSG code of the coordinate system, if known.
     pub epsg: Option<u16>,
+    /// Whether GeoTIFFs placed so are cloud-optimised (`--cog`): overviews,
+    /// and the directories before the tiles.
+    pub cloud_optimized: bool,
 }
 
 /// The names world files take.
@@ -94,7 +97,7 @@ struct Layout {
 }
 
 impl Layout {
-    fn new(width: u32, height: u32, bands: u16, sample: usize) -> Result<Self> {
+    fn new(width: u32, height: u32, bands: u16, sample: usize, cog: bool) -> Result<Self> {
         if bands == 0 || width == 0 || height == 0 {
             return Err(Error::InvalidInput(format!(
                 "a GeoTIFF of {width} x {height} pixels and {bands} bands holds nothing"
@@ -112,6 +115,8 @@ impl Layout {
         let tiles = layout.across() as u64 * layout.down() as u64;
         let tile_bytes = (TILE as u64).pow(2) * bands as u64 * sample as u64;
         let worst = tiles * (tile_bytes + tile_bytes / 3000 + 64) + (1 << 20);
+        // Overviews add at most a third.
+        let worst = if cog { worst / 3 * 4 } else { worst };
         layout.big = worst > u32::MAX as u64;
         Ok(layout)
     }
@@ -235,73 +240,82 @@ fn floating_point_predictor(row: &mut [u8], bytes: usize, bands: usize) {
 /// A GeoTIFF being written row-major, band by band.
 pub struct TiffStream<T: Sample> {
     output: OutputFile,
-    writer: BufWriter<File>,
-    layout: Layout,
     geo: Option<GeoReference>,
+    /// The full-resolution tiles: written into the file (after the header),
+    /// or for a cloud-optimised GeoTIFF spooled with the overviews'.
+    full: Tiles<T>,
+    /// Cloud-optimised: each overview's tiles, halving down to one tile.
+    overviews: Vec<Tiles<T>>,
+    /// Cloud-optimised: the row being gathered, the rows seen, and the file,
+    /// written whole at the end.
+    row: Vec<T>,
+    rows_seen: u32,
+    whole: Option<File>,
+}
+
+/// One resolution's tiles as its rows arrive, compressed a row of tiles at a
+/// time into `sink`.
+struct Tiles<T: Sample> {
+    layout: Layout,
     /// Values of the row of tiles being filled.
     pending: Vec<T>,
     /// Rows written into tiles.
     rows_done: u32,
-    /// Each tile's offset and size, row by row.
+    /// Each tile's offset in the sink and size, row by row.
     tiles: Vec<(u64, u64)>,
-    /// Bytes written.
+    /// Bytes written into the sink.
     at: u64,
+    sink: BufWriter<File>,
+    /// Each tile framed by its size before and its last 4 bytes after, as
+    /// GDAL's cloud-optimised layout does, so that a reader fetching a tile
+    /// can check it and read its neighbour's size in the same request.
+    framed: bool,
 }
 
-impl<T: Sample> TiffStream<T> {
-    /// Creates `path` (named `*.tif` or `*.tiff`) for a `width` x `height`
-    /// raster of `bands` values per pixel; the file appears only when
-    /// [`TiffStream::finish`] succeeds.
-    pub fn create(
-        path: &Path,
-        width: u32,
-        height: u32,
-        bands: u16,
-        geo: Option<&GeoReference>,
-    ) -> Result<Self> {
-        let layout = Layout::new(width, height, bands, T::BYTES)?;
-        Self::create_as(path, layout, geo)
-    }
-
-    fn create_as(path: &Path, layout: Layout, geo: Option<&GeoReference>) -> Result<Self> {
-        let (output, file) = OutputFile::create_any(path, &["tif", "tiff"], "GeoTIFFs")?;
-        let mut stream = Self {
-            output,
-            writer: BufWriter::new(file),
+impl<T: Sample> Tiles<T> {
+    fn new(layout: Layout, sink: File, at: u64) -> Self {
+        Self {
             layout,
-            geo: geo.copied(),
             pending: Vec::new(),
             rows_done: 0,
             tiles: Vec::new(),
-            at: 0,
-        };
-        stream.put(&directory::header(layout.big))?;
-        Ok(stream)
-    }
-
-    fn io(&self, cause: std::io::Error) -> Error {
-        Error::Io {
-            path: self.output.path().to_path_buf(),
-            cause,
+            at,
+            sink: BufWriter::new(sink),
+            framed: false,
         }
     }
 
-    fn put(&mut self, bytes: &[u8]) -> Result<()> {
-        self.writer.write_all(bytes).map_err(|e| self.io(e))?;
+    /// A spool for tiles that are copied into the file at its end: a file in
+    /// `folder`, removed from it at once (it lives while open).
+    fn spooled(layout: Layout, folder: &Path, level: usize) -> std::io::Result<Self> {
+        let path = folder.join(format!(".pixgeo-{}-{level}.tiles", std::process::id()));
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create_new(true)
+            .open(&path)?;
+        std::fs::remove_file(&path)?;
+        Ok(Self {
+            framed: true,
+            ..Self::new(layout, file, 0)
+        })
+    }
+
+    fn put(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.sink.write_all(bytes)?;
         self.at += bytes.len() as u64;
         Ok(())
     }
 
-    /// Appends values.
-    pub fn write(&mut self, data: &[T]) -> Result<()> {
-        let layout = self.layout;
-        if data.len() as u64 > self.remaining() {
-            return Err(Error::InvalidInput(format!(
-                "{}: more values than the raster holds",
-                self.output.path().display()
-            )));
-        }
-        let tile_row = TILE as usize * layout.row_values();
+    /// Values the raster still lacks.
+    fn remaining(&self) -> u64 {
+        let row = self.layout.row_values() as u64;
+        row * self.layout.height as u64 - (self.rows_done as u64 * row + self.pending.len() as u64)
+    }
+
+    /// Appends values (no more than remain).
+    fn write(&mut self, data: &[T]) -> std::io::Result<()> {
+        let tile_row = TILE as usize * self.layout.row_values();
         let mut data = data;
         while !data.is_empty() {
             let take = (tile_row - self.pending.len()).min(data.len());
@@ -315,18 +329,23 @@ impl<T: Sample> TiffStream<T> {
     }
 
     /// Compresses the pending rows into a row of tiles and writes them.
-    fn flush_tiles(&mut self) -> Result<()> {
+    fn flush_tiles(&mut self) -> std::io::Result<()> {
         let layout = self.layout;
         let rows = self.pending.len() / layout.row_values();
         let pending = std::mem::take(&mut self.pending);
         let compressed: Vec<Vec<u8>> = (0..layout.across())
             .into_par_iter()
             .map(|column| tile(&layout, &pending, rows, column))
-            .collect::<std::io::Result<_>>()
-            .map_err(|e| self.io(e))?;
+            .collect::<std::io::Result<_>>()?;
         for bytes in compressed {
+            if self.framed {
+                self.put(&(bytes.len() as u32).to_le_bytes())?;
+            }
             self.tiles.push((self.at, bytes.len() as u64));
             self.put(&bytes)?;
+            if self.framed {
+                self.put(&bytes[bytes.len() - 4..])?;
+            }
         }
         self.rows_done += rows as u32;
         self.pending = pending;
@@ -334,35 +353,185 @@ impl<T: Sample> TiffStream<T> {
         Ok(())
     }
 
-    /// Finishes the file; every value must have been written.
-    pub fn finish(mut self) -> Result<()> {
+    /// Writes the last, partial row of tiles; whether every row came.
+    fn complete(&mut self) -> std::io::Result<bool> {
         if !self.pending.is_empty() {
             if self.pending.len() % self.layout.row_values() != 0 {
-                return self.missing();
+                return Ok(false);
             }
             self.flush_tiles()?;
         }
-        if self.rows_done != self.layout.height {
+        Ok(self.rows_done == self.layout.height)
+    }
+}
+
+/// The overviews of a cloud-optimised GeoTIFF of `full`'s size: each half
+/// the last (rounded up), until one fits in a tile.
+fn overview_layouts(full: Layout) -> Vec<Layout> {
+    let mut levels: Vec<Layout> = Vec::new();
+    let mut last = full;
+    while last.width > TILE || last.height > TILE {
+        last = Layout {
+            width: last.width.div_ceil(2),
+            height: last.height.div_ceil(2),
+            ..full
+        };
+        levels.push(last);
+    }
+    levels
+}
+
+/// The full-resolution row or column that sample `j` of overview level
+/// `level` (1 = half size) takes: the nearest, as GDAL's NEAREST resampling
+/// picks it, within `n`.
+fn sampled(j: u32, level: usize, n: u32) -> u32 {
+    let f = 1u64 << level;
+    ((j as u64 * f + f / 2) as u32).min(n - 1)
+}
+
+impl<T: Sample> TiffStream<T> {
+    /// Creates `path` (named `*.tif` or `*.tiff`) for a `width` x `height`
+    /// raster of `bands` values per pixel, cloud-optimised (overviews, the
+    /// directories first) where `geo` asks; the file appears only when
+    /// [`TiffStream::finish`] succeeds.
+    pub fn create(
+        path: &Path,
+        width: u32,
+        height: u32,
+        bands: u16,
+        geo: Option<&GeoReference>,
+    ) -> Result<Self> {
+        let cog = geo.is_some_and(|g| g.cloud_optimized);
+        let layout = Layout::new(width, height, bands, T::BYTES, cog)?;
+        Self::create_as(path, layout, geo)
+    }
+
+    fn create_as(path: &Path, layout: Layout, geo: Option<&GeoReference>) -> Result<Self> {
+        let (output, file) = OutputFile::create_any(path, &["tif", "tiff"], "GeoTIFFs")?;
+        let io = |cause| Error::Io {
+            path: path.to_path_buf(),
+            cause,
+        };
+        let cog = geo.is_some_and(|g| g.cloud_optimized);
+        let (full, overviews, whole) = if cog {
+            let folder = output.scratch_folder();
+            let levels = std::iter::once(layout).chain(overview_layouts(layout));
+            let mut spools: Vec<Tiles<T>> = levels
+                .enumerate()
+                .map(|(level, l)| Tiles::spooled(l, &folder, level))
+                .collect::<std::io::Result<_>>()
+                .map_err(io)?;
+            let full = spools.remove(0);
+            (full, spools, Some(file))
+        } else {
+            let header = directory::header(layout.big);
+            let mut full = Tiles::new(layout, file, 0);
+            full.put(&header).map_err(io)?;
+            (full, Vec::new(), None)
+        };
+        Ok(Self {
+            output,
+            geo: geo.copied(),
+            full,
+            overviews,
+            row: Vec::new(),
+            rows_seen: 0,
+            whole,
+        })
+    }
+
+    fn io(&self, cause: std::io::Error) -> Error {
+        Error::Io {
+            path: self.output.path().to_path_buf(),
+            cause,
+        }
+    }
+
+    /// Appends values.
+    pub fn write(&mut self, data: &[T]) -> Result<()> {
+        if data.len() as u64 > self.remaining() {
+            return Err(Error::InvalidInput(format!(
+                "{}: more values than the raster holds",
+                self.output.path().display()
+            )));
+        }
+        if self.whole.is_none() {
+            return self.full.write(data).map_err(|e| self.io(e));
+        }
+        // Cloud-optimised: whole rows, each also sampled into the overviews.
+        let row_values = self.full.layout.row_values();
+        let mut data = data;
+        while !data.is_empty() {
+            let take = (row_values - self.row.len()).min(data.len());
+            self.row.extend_from_slice(&data[..take]);
+            data = &data[take..];
+            if self.row.len() == row_values {
+                self.take_row().map_err(|e| self.io(e))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the gathered full row, and the overviews' rows that sample it.
+    fn take_row(&mut self) -> std::io::Result<()> {
+        let row = std::mem::take(&mut self.row);
+        self.full.write(&row)?;
+        let (r, full) = (self.rows_seen, self.full.layout);
+        let bands = full.bands as usize;
+        for (k, level) in self.overviews.iter_mut().enumerate() {
+            let l = level.layout;
+            while level.remaining() > 0 {
+                let j = l.height - (level.remaining() / l.row_values() as u64) as u32;
+                if sampled(j, k + 1, full.height) != r {
+                    break;
+                }
+                let samples: Vec<T> = (0..l.width)
+                    .flat_map(|i| {
+                        let x = sampled(i, k + 1, full.width) as usize * bands;
+                        row[x..x + bands].iter().copied()
+                    })
+                    .collect();
+                level.write(&samples)?;
+            }
+        }
+        self.rows_seen += 1;
+        self.row = row;
+        self.row.clear();
+        Ok(())
+    }
+
+    /// Finishes the file; every value must have been written.
+    pub fn finish(mut self) -> Result<()> {
+        let complete = self.full.complete().map_err(|e| self.io(e))?;
+        if !complete {
             return self.missing();
         }
-        if self.at % 2 == 1 {
-            self.put(&[0])?;
+        if self.whole.is_some() {
+            return self.finish_cloud_optimized();
         }
-        let big = self.layout.big;
-        let directory_at = self.at;
-        let entries = self.layout.entries::<T>(&self.tiles, self.geo.as_ref());
-        let bytes = directory::encode(entries, directory_at, big);
-        self.put(&bytes)?;
-        if !big && self.at > u32::MAX as u64 {
+        let full = &mut self.full;
+        let io = |e| Error::Io {
+            path: self.output.path().to_path_buf(),
+            cause: e,
+        };
+        if full.at % 2 == 1 {
+            full.put(&[0]).map_err(io)?;
+        }
+        let big = full.layout.big;
+        let directory_at = full.at;
+        let entries = full.layout.entries::<T>(&full.tiles, self.geo.as_ref());
+        let bytes = directory::encode(entries, directory_at, big, 0);
+        full.put(&bytes).map_err(io)?;
+        if !big && full.at > u32::MAX as u64 {
             return Err(Error::Internal(format!(
                 "{}: a classic TIFF of {} bytes",
                 self.output.path().display(),
-                self.at
+                full.at
             )));
         }
         let (pointer, width) = directory::first_directory_at(big);
         let pointed = directory_at.to_le_bytes();
-        let writer = &mut self.writer;
+        let writer = &mut full.sink;
         let patched = writer
             .seek(SeekFrom::Start(pointer))
             .and_then(|_| writer.write_all(&pointed[..width]))
@@ -377,14 +546,114 @@ impl<T: Sample> TiffStream<T> {
             };
             return Err(self.io(what));
         }
-        drop(self.writer);
+        drop(self.full);
+        self.output.commit()
+    }
+
+    /// The cloud-optimised layout, as GDAL's COG driver writes it: the
+    /// header, GDAL's structural metadata, every directory (full resolution
+    /// first, then the overviews, largest first), then the tiles, the
+    /// smallest overview's first and the full resolution's last.
+    fn finish_cloud_optimized(mut self) -> Result<()> {
+        for level in &mut self.overviews {
+            let complete = level.complete().map_err(|e| Error::Io {
+                path: self.output.path().to_path_buf(),
+                cause: e,
+            })?;
+            if !complete {
+                return Err(Error::Internal("an overview lacks rows".into()));
+            }
+        }
+        let big = self.full.layout.big;
+        let ghost = structural_metadata();
+        let header = directory::header(big);
+        // Directories in file order, and the tiles' order after them.
+        let mut levels: Vec<&mut Tiles<T>> = std::iter::once(&mut self.full)
+            .chain(self.overviews.iter_mut())
+            .collect();
+        let entries = |k: usize, level: &Tiles<T>, tiles: &[(u64, u64)]| {
+            let geo = if k == 0 { self.geo.as_ref() } else { None };
+            let mut entries = level.layout.entries::<T>(tiles, geo);
+            if k > 0 {
+                entries.push((254, Value::Longs(vec![1]))); // a reduced image
+            }
+            entries
+        };
+        // Directory sizes do not depend on the offsets they hold.
+        let sizes: Vec<u64> = levels
+            .iter()
+            .enumerate()
+            .map(|(k, l)| directory::encode(entries(k, l, &l.tiles), 0, big, 0).len() as u64)
+            .collect();
+        // Directories start on a word boundary.
+        let first = (header.len() + ghost.len()).next_multiple_of(2) as u64;
+        let directories_at: Vec<u64> = sizes
+            .iter()
+            .scan(first, |at, size| {
+                let here = *at;
+                *at += size + size % 2;
+                Some(here)
+            })
+            .collect();
+        let mut data_at =
+            directories_at.last().copied().unwrap_or(first) + sizes.last().map_or(0, |s| s + s % 2);
+        let mut bases = vec![0; levels.len()];
+        for k in (0..levels.len()).rev() {
+            bases[k] = data_at;
+            data_at += levels[k].at;
+        }
+        if !big && data_at > u32::MAX as u64 {
+            return Err(Error::Internal(format!(
+                "{}: a classic TIFF of {data_at} bytes",
+                self.output.path().display()
+            )));
+        }
+        let path = self.output.path().to_path_buf();
+        let io = |cause| Error::Io {
+            path: path.clone(),
+            cause,
+        };
+        let file = self.whole.take().expect("a cloud-optimised GeoTIFF's file");
+        let mut out = BufWriter::new(file);
+        let mut bytes = header;
+        let (pointer, width) = directory::first_directory_at(big);
+        bytes[pointer as usize..pointer as usize + width]
+            .copy_from_slice(&first.to_le_bytes()[..width]);
+        bytes.extend_from_slice(&ghost);
+        bytes.resize(first as usize, 0);
+        for (k, level) in levels.iter().enumerate() {
+            let tiles: Vec<(u64, u64)> = level
+                .tiles
+                .iter()
+                .map(|&(at, n)| (at + bases[k], n))
+                .collect();
+            let next = directories_at.get(k + 1).copied().unwrap_or(0);
+            bytes.extend(directory::encode(
+                entries(k, level, &tiles),
+                directories_at[k],
+                big,
+                next,
+            ));
+            if bytes.len() % 2 == 1 {
+                bytes.push(0);
+            }
+        }
+        out.write_all(&bytes).map_err(io)?;
+        for level in levels.iter_mut().rev() {
+            level.sink.flush().map_err(io)?;
+            let spool = level.sink.get_mut();
+            spool.seek(SeekFrom::Start(0)).map_err(io)?;
+            std::io::copy(&mut std::io::Read::take(spool, level.at), &mut out).map_err(io)?;
+        }
+        out.flush().map_err(io)?;
+        drop(out);
+        drop(levels);
         self.output.commit()
     }
 
     /// Values the raster still lacks.
     fn remaining(&self) -> u64 {
-        let row = self.layout.row_values() as u64;
-        row * self.layout.height as u64 - (self.rows_done as u64 * row + self.pending.len() as u64)
+        self.full.remaining() - self.row.len() as u64
     }
 
     fn missing(&self) -> Result<()> {
@@ -394,6 +663,20 @@ impl<T: Sample> TiffStream<T> {
             self.remaining()
         )))
     }
+}
+
+/// GDAL's structural metadata for a cloud-optimised layout: the directories
+/// before the data, tiles row by row, each framed by its size and its last
+/// four bytes.
+fn structural_metadata() -> Vec<u8> {
+    let body = "LAYOUT=IFDS_BEFORE_DATA\nBLOCK_ORDER=ROW_MAJOR\n\
+                BLOCK_LEADER=SIZE_AS_UINT4\nBLOCK_TRAILER=LAST_4_BYTES_REPEATED\n\
+                KNOWN_INCOMPATIBLE_EDITION=NO\n ";
+    format!(
+        "GDAL_STRUCTURAL_METADATA_SIZE={:06} bytes\n{body}",
+        body.len()
+    )
+    .into_bytes()
 }
 
 /// Tile `column` of a row of tiles whose `rows` rows are `values`, padded
@@ -439,11 +722,11 @@ mod tests {
         name: &str,
         [width, height, bands]: [u32; 3],
         values: &[T],
-        big: bool,
+        (big, cog): (bool, bool),
         piece: usize,
     ) -> Decoder<File> {
         let path = std::env::temp_dir().join(format!("pixgeo-{}-{name}.tif", std::process::id()));
-        let mut layout = Layout::new(width, height, bands as u16, T::BYTES).unwrap();
+        let mut layout = Layout::new(width, height, bands as u16, T::BYTES, cog).unwrap();
         layout.big = big;
         let geo = GeoReference {
             left: 10.0,
@@ -451,6 +734,7 @@ mod tests {
             pixel_width: 0.5,
             pixel_height: 0.25,
             epsg: Some(6318),
+            cloud_optimized: cog,
         };
         let transaction = crate::write::output::TRANSACTION_TESTS.lock();
         let _one = transaction.unwrap_or_else(|e| e.into_inner());
@@ -474,7 +758,7 @@ mod tests {
         for big in [false, true] {
             let size = [300, 520, 1];
             let labels: Vec<u32> = (0..300 * 520).collect();
-            let mut d = round_trip(&format!("one-{big}"), size, &labels, big, 777);
+            let mut d = round_trip(&format!("one-{big}"), size, &labels, (big, false), 777);
             assert_eq!(d.tile_count().unwrap(), 2 * 3);
             assert_eq!(
                 d.find_tag(Tag::Compression)
@@ -502,7 +786,13 @@ mod tests {
             let distances: Vec<f32> = (0..17 * 9 * 3)
                 .map(|k| (k as f32 * 0.37).sin() * 1e3)
                 .collect();
-            let mut d = round_trip(&format!("bands-{big}"), [17, 9, 3], &distances, big, 5);
+            let mut d = round_trip(
+                &format!("bands-{big}"),
+                [17, 9, 3],
+                &distances,
+                (big, false),
+                5,
+            );
             assert_eq!(
                 d.find_tag(Tag::Predictor)
                     .unwrap()
@@ -516,11 +806,59 @@ mod tests {
     }
 
     #[test]
+    fn cloud_optimised_tiffs_hold_overviews_after_their_directories() {
+        // One tile needs no overview, and is cloud-optimised all the same.
+        let small: Vec<u32> = (0..40 * 30).collect();
+        let mut d = round_trip("cog-small", [40, 30, 1], &small, (false, true), 7);
+        assert!(
+            matches!(d.read_image().unwrap(), tiff::decoder::DecodingResult::U32(v) if v == small)
+        );
+        assert!(!d.more_images());
+        use tiff::decoder::DecodingResult;
+        // 600 x 520: overviews of 300 x 260 and 150 x 130, nearest samples.
+        let (w, h) = (600u32, 520u32);
+        let labels: Vec<u32> = (0..w * h).map(|k| k * 7 % 1000).collect();
+        for big in [false, true] {
+            let mut d = round_trip(&format!("cog-{big}"), [w, h, 1], &labels, (big, true), 999);
+            assert!(matches!(d.read_image().unwrap(), DecodingResult::U32(v) if v == labels));
+            let first_tile = |d: &mut Decoder<File>| {
+                d.find_tag(Tag::TileOffsets)
+                    .unwrap()
+                    .unwrap()
+                    .into_u64_vec()
+                    .unwrap()
+            };
+            let full_tiles = first_tile(&mut d);
+            let mut previous_first = full_tiles[0];
+            for (level, (lw, lh)) in [(1, (300, 260)), (2, (150, 130))] {
+                d.next_image().unwrap();
+                assert_eq!(d.dimensions().unwrap(), (lw, lh));
+                let kind = d.find_tag(Tag::NewSubfileType).unwrap().unwrap();
+                assert_eq!(kind.into_u32().unwrap(), 1);
+                let DecodingResult::U32(overview) = d.read_image().unwrap() else {
+                    panic!("labels")
+                };
+                let sample = |j: u32, n: u32| sampled(j, level, n);
+                for (k, v) in overview.iter().enumerate() {
+                    let (i, j) = (k as u32 % lw, k as u32 / lw);
+                    assert_eq!(*v, labels[(sample(j, h) * w + sample(i, w)) as usize]);
+                }
+                // Smaller overviews' tiles come first.
+                let tiles = first_tile(&mut d);
+                assert!(tiles[0] < previous_first);
+                previous_first = tiles[0];
+            }
+            assert!(!d.more_images());
+        }
+    }
+
+    #[test]
     fn the_layout_turns_big_only_past_four_gibibytes() {
-        assert!(!Layout::new(16384, 16384, 1, 8).unwrap().big); // 2 GiB
-        assert!(Layout::new(16384, 16384, 2, 8).unwrap().big); // 4 GiB
-        assert!(!Layout::new(32000, 32000, 1, 4).unwrap().big); // 3.8 GiB
-        assert!(Layout::new(0, 5, 1, 4).is_err());
+        assert!(!Layout::new(16384, 16384, 1, 8, false).unwrap().big); // 2 GiB
+        assert!(Layout::new(16384, 16384, 2, 8, false).unwrap().big); // 4 GiB
+        assert!(!Layout::new(32000, 32000, 1, 4, false).unwrap().big); // 3.8 GiB
+        assert!(Layout::new(32000, 32000, 1, 4, true).unwrap().big); // and a third
+        assert!(Layout::new(0, 5, 1, 4, false).is_err());
     }
 
     #[test]
@@ -531,6 +869,7 @@ mod tests {
             pixel_width: 1.0,
             pixel_height: -1.0,
             epsg: Some(4087),
+            cloud_optimized: false,
         };
         let tags: Vec<u16> = geo_entries(&geo).iter().map(|e| e.0).collect();
         assert!(tags.contains(&34264) && !tags.contains(&33550));
