@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::distances::{self, Answer},
+    algorithms::distances::{self, Answer, Method},
     geometry::check_sites,
     io::sites,
     machine::Machine,
@@ -44,7 +44,9 @@ impl Common {
 ///
 /// The Voronoi diagram of one set is drawn; each point of the other set reads
 /// its candidate nearest point off its pixel. Points whose pixel bounds cannot rule
-/// them out are checked exactly, so the answer is exact.
+/// them out are checked exactly, so the answer is exact. On a software
+/// rasterizer a grid of the other set proposes the partners instead, faster
+/// (--method).
 ///
 /// Example:
 ///
@@ -52,6 +54,12 @@ impl Common {
 #[derive(ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct HausdorffArgs {
+    /// How partners are proposed before the exact check: `pixels` (the
+    /// thesis's Voronoi picture), `grid` (a bucket grid on the CPU, with an
+    /// early exit), or `auto`, the faster on the device (grid on lavapipe,
+    /// pixels on a GPU). The answer is the same.
+    #[arg(long, value_enum, default_value = "auto")]
+    method: MethodChoice,
     /// The red points: a point file (`.csv`, `.json`, `.geojson`, `.npy`), like
     /// --sites of voronoi.
     #[arg(long, value_name = "FILE")]
@@ -98,6 +106,13 @@ pub struct MaxDistArgs {
     common: Common,
 }
 
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum MethodChoice {
+    Auto,
+    Pixels,
+    Grid,
+}
+
 /// The `what` points, checked here so that an error names them as the user did.
 fn read(path: &std::path::Path, what: &str) -> Result<Vec<DVec2>> {
     let points = sites::read_sites(path).with_context(|| format!("reading the {what} points"))?;
@@ -115,16 +130,17 @@ fn answer_json(answer: &Answer, from: &[DVec2], to: &[DVec2], names: [&str; 2]) 
         "distance": answer.pair.distance,
         names[0]: point(from, answer.pair.from),
         names[1]: point(to, answer.pair.to),
+        "method": answer.method,
         "picture_distance": answer.picture_pair.distance,
         "checked_exactly": answer.checked,
-        "picture": [answer.width, answer.height],
+        "picture": (answer.method == Method::Pixels).then_some([answer.width, answer.height]),
     })
 }
 
 fn describe(answer: &Answer, from: &[DVec2], to: &[DVec2], names: [&str; 2]) -> String {
     let (a, b) = (from[answer.pair.from as usize], to[answer.pair.to as usize]);
     format!(
-        "{} between {} {} ({}, {}) and {} {} ({}, {}); {} point(s) checked exactly on a {}x{} picture",
+        "{} between {} {} ({}, {}) and {} {} ({}, {}); {} point(s) checked exactly, {}",
         Real(answer.pair.distance),
         names[0],
         answer.pair.from,
@@ -135,8 +151,10 @@ fn describe(answer: &Answer, from: &[DVec2], to: &[DVec2], names: [&str; 2]) -> 
         Real(b.x),
         Real(b.y),
         answer.checked,
-        answer.width,
-        answer.height
+        match answer.method {
+            Method::Pixels => format!("on a {}x{} picture", answer.width, answer.height),
+            Method::Grid => "proposed by a grid".into(),
+        }
     )
 }
 
@@ -145,7 +163,12 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
     let blue = read(&args.blue, "blue")?;
     let machine = args.common.machine()?;
     let working = Progress::working("hausdorff", args.common.json);
-    let h = distances::hausdorff(&machine, &red, &blue, Some(args.common.size))?;
+    let method = match args.method {
+        MethodChoice::Auto => Method::for_device(&machine),
+        MethodChoice::Pixels => Method::Pixels,
+        MethodChoice::Grid => Method::Grid,
+    };
+    let h = distances::hausdorff_by(&machine, &red, &blue, Some(args.common.size), method)?;
     drop(working);
     if args.common.json {
         let summary = json!({
@@ -153,12 +176,9 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
             "red_to_blue": answer_json(&h.a_to_b, &red, &blue, ["red", "blue"]),
             "blue_to_red": answer_json(&h.b_to_a, &blue, &red, ["blue", "red"]),
         });
-        envelope::print(
-            "hausdorff",
-            machine.device_name(),
-            Some(&h.a_to_b.frame),
-            &summary,
-        )?;
+        // A grid draws no picture.
+        let frame = (method == Method::Pixels).then_some(&h.a_to_b.frame);
+        envelope::print("hausdorff", machine.device_name(), frame, &summary)?;
     } else {
         outln!("Hausdorff distance {}", Real(h.distance));
         outln!(

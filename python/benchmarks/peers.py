@@ -1,13 +1,19 @@
-"""pixgeo.voronoi against the label rasters Python users make today, in one run:
-scipy.ndimage.distance_transform_edt(return_indices=True) plus a label lookup,
-and OpenCV's distanceTransformWithLabels. Both peers work on sites snapped to
-pixel centres; pixgeo on the exact sites. Each row also reports, at 1024², the
-share of pixels whose label is a true nearest site (cKDTree on the pixel
-centres).
+"""pixgeo against the tools Python users reach for today, in one run.
 
-    .venv/bin/python python/benchmarks/peers.py [--sides 1024,4096] [--n 1000,10000,100000]
+Labels: pixgeo.voronoi against scipy.ndimage.distance_transform_edt(
+return_indices=True) plus a label lookup, and OpenCV's
+distanceTransformWithLabels. Both peers work on sites snapped to pixel
+centres; pixgeo on the exact sites. Each row also reports, at 1024², the share
+of pixels whose label is a true nearest site (cKDTree on the pixel centres).
 
-Prints a Markdown table; median of --repeats runs.
+Hausdorff: pixgeo.hausdorff (its default method on the device) against
+cKDTree queries both ways (2 workers) and SciPy's directed_hausdorff both
+ways, on uniform sets and on a uniform set against a clustered one.
+
+    .venv/bin/python python/benchmarks/peers.py [--tasks labels,hausdorff]
+        [--sides 1024,4096] [--n 1000,10000,100000] [--m 10000,100000]
+
+Prints Markdown tables; median of --repeats runs, the tools interleaved.
 """
 
 import argparse
@@ -71,12 +77,45 @@ def nearest_share(labels, sites, frame):
     return float(np.mean(mine <= best + 1e-9))
 
 
+def hausdorff_rows(args):
+    from scipy.spatial.distance import directed_hausdorff
+
+    rng = np.random.default_rng(2)
+    pixgeo.hausdorff(rng.random((100, 2)), rng.random((100, 2)))
+    print(
+        "| m | sets | pixgeo (ms) | cKDTree ×2 (ms) | scipy directed_hausdorff ×2 (ms) "
+        "| cKDTree / pixgeo | scipy / pixgeo | same distance |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for m in (int(s) for s in args.m.split(",")):
+        a = rng.random((m, 2))
+        sets = {
+            "uniform": rng.random((m, 2)),
+            "clustered": np.vstack([rng.normal(0.3, 0.01, (m // 2, 2)),
+                                    rng.normal(0.7, 0.05, (m - m // 2, 2))]),
+        }
+        for name, b in sets.items():
+            ours, h = timed(args.repeats, lambda: pixgeo.hausdorff(a, b))
+            tree, d = timed(args.repeats, lambda: max(
+                cKDTree(b).query(a, workers=2)[0].max(), cKDTree(a).query(b, workers=2)[0].max()))
+            scipy, e = timed(args.repeats, lambda: max(
+                directed_hausdorff(a, b)[0], directed_hausdorff(b, a)[0]))
+            print(f"| {m} | {name} | {ours:.1f} | {tree:.1f} | {scipy:.1f} | {tree / ours:.2f}× "
+                  f"| {scipy / ours:.2f}× | {'yes' if h[0] == d == e else 'no'} |", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--tasks", default="labels,hausdorff")
     ap.add_argument("--sides", default="1024,4096")
     ap.add_argument("--n", default="1000,10000,100000")
+    ap.add_argument("--m", default="10000,100000")
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args()
+    if "hausdorff" in args.tasks:
+        hausdorff_rows(args)
+    if "labels" not in args.tasks:
+        return
     rng = np.random.default_rng(1)
     pixgeo.voronoi(rng.uniform(0, 1000, (100, 2)), (64, 64), bbox=(0, 0, 1000, 1000))
     print(

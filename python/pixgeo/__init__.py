@@ -651,10 +651,15 @@ def voronoi_cells(
     return Cells(polygons, duplicates.astype(np.intp), box, _crs(crs))
 
 
-def hausdorff(a, b, *, device: Optional[str] = None) -> Tuple[float, int, int]:
+def hausdorff(
+    a, b, *, device: Optional[str] = None, method: Optional[str] = None
+) -> Tuple[float, int, int]:
     """The Hausdorff distance between point sets ``a`` and ``b``, exact, and
-    the pair that attains it: ``(distance, index in a, index in b)``."""
-    d, ab, ba = _pixgeo.hausdorff(_points(a, "a"), _points(b, "b"), device)
+    the pair that attains it: ``(distance, index in a, index in b)``.
+    ``method`` is what proposes the partners before the exact check:
+    ``"pixels"`` (the Voronoi picture), ``"grid"`` (a bucket grid on the CPU),
+    or None, the faster on the device (the grid on lavapipe)."""
+    d, ab, ba = _pixgeo.hausdorff(_points(a, "a"), _points(b, "b"), device, method)
     if ab[0] >= ba[0]:
         return (d, ab[1], ab[2])
     return (d, ba[2], ba[1])

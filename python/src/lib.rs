@@ -627,17 +627,32 @@ fn pair(p: Pair) -> PairTuple {
     (p.distance, p.from, p.to)
 }
 
-/// The Hausdorff distance, then each directed answer.
+/// The Hausdorff distance, then each directed answer; `method` "pixels",
+/// "grid" or None (the faster on the device).
 #[pyfunction]
-#[pyo3(signature = (a, b, device))]
+#[pyo3(signature = (a, b, device, method))]
 fn hausdorff<'py>(
     py: Python<'py>,
     a: PyReadonlyArray2<'py, f64>,
     b: PyReadonlyArray2<'py, f64>,
     device: Option<&str>,
+    method: Option<&str>,
 ) -> PyResult<(f64, PairTuple, PairTuple)> {
     let (a, b) = (points(&a), points(&b));
-    let h = on_machine(py, device, |m| distances::hausdorff(m, &a, &b, None))?;
+    let method = match method {
+        None => None,
+        Some("pixels") => Some(distances::Method::Pixels),
+        Some("grid") => Some(distances::Method::Grid),
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "method must be 'pixels', 'grid' or None, not {other:?}"
+            )))
+        }
+    };
+    let h = on_machine(py, device, |m| {
+        let method = method.unwrap_or_else(|| distances::Method::for_device(m));
+        distances::hausdorff_by(m, &a, &b, None, method)
+    })?;
     Ok((h.distance, pair(h.a_to_b.pair), pair(h.b_to_a.pair)))
 }
 

@@ -182,9 +182,13 @@ def test_hausdorff_and_diameter_are_exact(name):
     a = inputs()[name]
     b = np.random.default_rng(3).uniform(0, 64, (30, 2))
     want = max(directed_hausdorff(a, b)[0], directed_hausdorff(b, a)[0])
-    d, i, j = pixgeo.hausdorff(a, b)
+    answers = [pixgeo.hausdorff(a, b, method=m) for m in (None, "pixels", "grid")]
+    assert answers[0] == answers[1] == answers[2]
+    d, i, j = answers[0]
     assert d == pytest.approx(want, rel=1e-12)
     assert np.linalg.norm(a[i] - b[j]) == pytest.approx(want, rel=1e-12)
+    with pytest.raises(ValueError, match="method must be"):
+        pixgeo.hausdorff(a, b, method="kd")
     dist = np.linalg.norm(a[:, None] - a[None], axis=-1)
     d, i, j = pixgeo.diameter(a)
     assert d == pytest.approx(dist.max(), rel=1e-12)

@@ -14,6 +14,7 @@ use std::cmp::Ordering;
 
 use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
+use rand::SeedableRng;
 use rayon::prelude::*;
 
 use crate::{
@@ -43,12 +44,42 @@ pub struct Pair {
     pub distance: f64,
 }
 
+/// How each query point's partner is proposed before the exact check.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
+pub enum Method {
+    /// The other set's Voronoi picture names it (thesis §3.11).
+    Pixels,
+    /// A bucket grid of the other set, searched on the CPU with Taha and
+    /// Hanbury's early exit: a query with a partner nearer than the largest
+    /// value so far cannot be the answer, and its search stops there.
+    Grid,
+}
+
+impl Method {
+    /// The faster on `machine`'s kind of device, as measured
+    /// (`docs/benchmarks.md`): a software rasterizer draws the picture
+    /// slower than the CPU searches the grid.
+    pub fn for_device(machine: &Machine) -> Self {
+        match machine.device_class() {
+            crate::machine::DeviceClass::Software => Method::Grid,
+            crate::machine::DeviceClass::Gpu => Method::Pixels,
+        }
+    }
+}
+
 /// An exact answer and how it was found.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Answer {
     /// The exact answer.
     pub pair: Pair,
+    /// How the candidates were proposed.
+    pub method: Method,
     /// The pair the picture alone suggests (its distance from the coordinates).
     pub picture_pair: Pair,
     /// Query points checked exactly because the picture could not rule them out.
@@ -219,6 +250,7 @@ fn refine(
     };
     Ok(Answer {
         pair,
+        method: Method::Pixels,
         picture_pair,
         checked: candidates.len(),
         width: frame.width,
@@ -228,14 +260,126 @@ fn refine(
 }
 
 /// The directed Hausdorff distance from `a` to `b`: the point of `a` farthest from
-/// its nearest point of `b`, read off the Voronoi diagram of `b` (thesis §3.11.1).
+/// its nearest point of `b`, read off the Voronoi diagram of `b` (thesis §3.11.1)
+/// or found with a grid, whichever is faster on the device ([`Method::for_device`]).
 pub fn directed_hausdorff(
     machine: &Machine,
     a: &[DVec2],
     b: &[DVec2],
     side: Option<u32>,
 ) -> Result<Answer> {
-    in_range(a, b, |a, b| directed_in_range(machine, a, b, side))
+    directed_hausdorff_by(machine, a, b, side, Method::for_device(machine))
+}
+
+/// [`directed_hausdorff`] by the method given; `side` sizes the picture of
+/// [`Method::Pixels`].
+pub fn directed_hausdorff_by(
+    machine: &Machine,
+    a: &[DVec2],
+    b: &[DVec2],
+    side: Option<u32>,
+    method: Method,
+) -> Result<Answer> {
+    in_range(a, b, |a, b| match method {
+        Method::Pixels => directed_in_range(machine, a, b, side),
+        Method::Grid => directed_by_grid(a, b),
+    })
+}
+
+/// The nearest point of `b` to `p` exactly, of equal ones the first: among
+/// the points within rounding of the float search's nearest.
+fn exact_nearest(grid: &PointGrid, b: &[DVec2], p: DVec2) -> Option<u32> {
+    let (_, d) = grid.nearest(p)?;
+    grid.around(p, d * (1.0 + 1e-9) + f64::MIN_POSITIVE)
+        .reduce(
+            |best, j| match compare_distances(p, b[j as usize], p, b[best as usize]) {
+                Ordering::Less => j,
+                Ordering::Equal if j < best => j,
+                _ => best,
+            },
+        )
+}
+
+/// [`Method::Grid`]: every query's bounds from a grid of `b`. The queries
+/// go in runs along a Hilbert curve, the runs in a shuffled order: the
+/// largest value so far grows fast, and a query's search mostly stops at
+/// the partner of the query before it, which lies near.
+fn directed_by_grid(a: &[DVec2], b: &[DVec2]) -> Result<Answer> {
+    use rand::seq::SliceRandom;
+    use std::sync::atomic::{AtomicU64, Ordering as Atomic};
+    let grid = PointGrid::new(b);
+    let lo = a.iter().fold(DVec2::INFINITY, |m, p| m.min(*p));
+    let hi = a.iter().fold(DVec2::NEG_INFINITY, |m, p| m.max(*p));
+    let to_cell = 65535.0 / (hi - lo).max_element().max(f64::MIN_POSITIVE);
+    let mut order: Vec<(u64, u32)> = a
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let c = (*p - lo) * to_cell;
+            (
+                super::envelope::hilbert_index(c.x as u32, c.y as u32),
+                i as u32,
+            )
+        })
+        .collect();
+    order.sort_unstable();
+    let mut runs: Vec<&[(u64, u32)]> = order.chunks(256).collect();
+    runs.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(0x4a75));
+    // The largest nearest distance so far (its bits: positive doubles order
+    // as their bits do); the float nearest is within rounding of the exact.
+    let largest = AtomicU64::new(0);
+    let slack = 1.0 - 8.0 * f64::EPSILON;
+    let (grid_ref, largest_ref) = (&grid, &largest);
+    let mut estimates: Vec<(u32, Estimate)> = runs
+        .par_iter()
+        .flat_map_iter(|run| {
+            let (grid, largest) = (grid_ref, largest_ref);
+            let mut hint: Option<u32> = None;
+            run.iter().map(move |&(_, q)| {
+                let p = a[q as usize];
+                let floor = f64::from_bits(largest.load(Atomic::Relaxed)) * slack;
+                // A partner nearer than the floor: this query's value is
+                // below the answer's.
+                let nearer = |j: &u32| b[*j as usize].distance(p) < floor;
+                let near = hint
+                    .filter(nearer)
+                    .or_else(|| grid.around(p, floor).find(nearer));
+                let estimate = match near {
+                    Some(j) => {
+                        let d = b[j as usize].distance(p);
+                        hint = Some(j);
+                        Estimate {
+                            partner: j,
+                            partner_distance: d,
+                            lower: 0.0,
+                            upper: d,
+                        }
+                    }
+                    None => {
+                        let (j, d) = grid.nearest(p).expect("a set has points");
+                        largest.fetch_max(d.to_bits(), Atomic::Relaxed);
+                        hint = Some(j);
+                        Estimate {
+                            partner: j,
+                            partner_distance: d,
+                            lower: d * slack,
+                            upper: d,
+                        }
+                    }
+                };
+                (q, estimate)
+            })
+        })
+        .collect();
+    estimates.sort_unstable_by_key(|e| e.0);
+    let (queries, estimates): (Vec<u32>, Vec<Estimate>) = estimates.into_iter().unzip();
+    let frame = frame_around(&[a, b], 1)?;
+    let mut answer = refine(&frame, (a, b), &queries, &estimates, |i| {
+        exact_nearest(&grid, b, a[i as usize])
+    })?;
+    answer.method = Method::Grid;
+    (answer.width, answer.height) = (0, 0);
+    Ok(answer)
 }
 
 fn directed_in_range(
@@ -267,30 +411,31 @@ fn directed_in_range(
         .collect();
     let grid = PointGrid::new(b);
     refine(&frame, (a, b), &queries, &estimates, |i| {
-        // The nearest exactly, of equal ones the first: among the points
-        // within rounding of the float search's nearest.
-        let p = a[i as usize];
-        let (_, d) = grid.nearest(p)?;
-        grid.around(p, d * (1.0 + 1e-9) + f64::MIN_POSITIVE)
-            .reduce(
-                |best, j| match compare_distances(p, b[j as usize], p, b[best as usize]) {
-                    Ordering::Less => j,
-                    Ordering::Equal if j < best => j,
-                    _ => best,
-                },
-            )
+        exact_nearest(&grid, b, a[i as usize])
     })
 }
 
-/// The Hausdorff distance between `a` and `b`, both directions.
+/// The Hausdorff distance between `a` and `b`, both directions, by the
+/// faster method on the device ([`Method::for_device`]).
 pub fn hausdorff(
     machine: &Machine,
     a: &[DVec2],
     b: &[DVec2],
     side: Option<u32>,
 ) -> Result<Hausdorff> {
-    let a_to_b = directed_hausdorff(machine, a, b, side)?;
-    let b_to_a = directed_hausdorff(machine, b, a, side)?;
+    hausdorff_by(machine, a, b, side, Method::for_device(machine))
+}
+
+/// [`hausdorff`] by the method given.
+pub fn hausdorff_by(
+    machine: &Machine,
+    a: &[DVec2],
+    b: &[DVec2],
+    side: Option<u32>,
+    method: Method,
+) -> Result<Hausdorff> {
+    let a_to_b = directed_hausdorff_by(machine, a, b, side, method)?;
+    let b_to_a = directed_hausdorff_by(machine, b, a, side, method)?;
     Ok(Hausdorff {
         a_to_b,
         b_to_a,

@@ -14,7 +14,7 @@ use num_rational::BigRational;
 use pixgeo::algorithms::{
     area::{extremal_quadrangle, extremal_triangle, AreaAnswer, Extreme},
     area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
-    distances::{diameter, directed_hausdorff, max_distance, Pair},
+    distances::{diameter, directed_hausdorff_by, max_distance, Method, Pair},
     homothet::{enclose, Unit},
 };
 use pixgeo_reference::exact::{
@@ -153,7 +153,9 @@ proptest! {
         prop_assert!(check(d, &sites, &sites, max_squared_distance(&sites, &sites)), "{what}");
         let far = max_distance(&m, a, b, None).unwrap().pair;
         prop_assert!(check(far, a, b, max_squared_distance(a, b)), "{what}");
-        let h = directed_hausdorff(&m, a, b, None).unwrap().pair;
-        prop_assert!(check(h, a, b, directed_hausdorff_squared(a, b)), "{what}");
+        for method in [Method::Pixels, Method::Grid] {
+            let h = directed_hausdorff_by(&m, a, b, None, method).unwrap().pair;
+            prop_assert!(check(h, a, b, directed_hausdorff_squared(a, b)), "{what} {method:?}");
+        }
     }
 }

@@ -3,7 +3,9 @@
 
 use crate::common::{clustered, machine, uniform};
 use glam::DVec2;
-use pixgeo::algorithms::distances::{diameter, directed_hausdorff, hausdorff, max_distance};
+use pixgeo::algorithms::distances::{
+    diameter, directed_hausdorff_by, hausdorff, hausdorff_by, max_distance, Method,
+};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -84,9 +86,18 @@ fn same(pixgeo: f64, brute: f64) -> bool {
 #[test]
 fn hausdorff_is_exact() {
     let m = machine();
+    // Both ways of proposing partners, and the picture at two sizes.
+    let ways = [
+        (Method::Pixels, None),
+        (Method::Pixels, Some(64)),
+        (Method::Grid, None),
+    ];
     for (name, a, b) in pairs() {
-        for side in [None, Some(64)] {
-            let h = hausdorff(&m, &a, &b, side).unwrap_or_else(|e| panic!("{name}: {e}"));
+        for (method, side) in ways {
+            let h =
+                hausdorff_by(&m, &a, &b, side, method).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(h.a_to_b.method, method);
+            assert_eq!(hausdorff(&m, &a, &b, side).unwrap().distance, h.distance);
             let (ab, ba) = (brute_directed(&a, &b), brute_directed(&b, &a));
             assert!(same(h.a_to_b.pair.distance, ab), "{name} {side:?} a->b");
             assert!(same(h.b_to_a.pair.distance, ba), "{name} {side:?} b->a");
@@ -129,9 +140,15 @@ fn the_picture_leaves_few_points_to_check() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let a = uniform(&mut rng, 3000, 1000.0, 1000.0);
     let b = uniform(&mut rng, 3000, 1000.0, 1000.0);
-    let h = directed_hausdorff(&m, &a, &b, None).unwrap();
-    assert_eq!(h.pair.distance, brute_directed(&a, &b));
-    assert!(h.checked < 30, "{} of 3000 points checked", h.checked);
+    for method in [Method::Pixels, Method::Grid] {
+        let h = directed_hausdorff_by(&m, &a, &b, None, method).unwrap();
+        assert_eq!(h.pair.distance, brute_directed(&a, &b));
+        assert!(
+            h.checked < 30,
+            "{method:?}: {} of 3000 points checked",
+            h.checked
+        );
+    }
 }
 
 #[test]
@@ -265,13 +282,17 @@ fn extreme_pairs_are_exact_under_ulp_ties() {
             &b,
             max_squared_distance(&a, &b),
         );
-        let h = directed_hausdorff(&m, &a, &b, None).unwrap().pair;
-        check(
-            format!("{name} hausdorff"),
-            h,
-            &a,
-            &b,
-            directed_hausdorff_squared(&a, &b),
-        );
+        for method in [Method::Pixels, Method::Grid] {
+            let h = directed_hausdorff_by(&m, &a, &b, None, method)
+                .unwrap()
+                .pair;
+            check(
+                format!("{name} hausdorff by {method:?}"),
+                h,
+                &a,
+                &b,
+                directed_hausdorff_squared(&a, &b),
+            );
+        }
     }
 }

@@ -108,7 +108,7 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
     let mask = temp("envelope-mask.npy");
     write_npy(&mask, &[2, 3], &[0u8, 1, 0, 0, 0, 1]);
     let mask = mask.to_str().unwrap();
-    let runs: [&[&str]; 16] = [
+    let runs: [&[&str]; 17] = [
         &["voronoi", "--random", "6", "--size", "32"],
         &["voronoi", "--random", "6", "--size", "32", "--order", "2"],
         &[
@@ -119,7 +119,8 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
             "voronoi", "--random", "6", "--size", "32", "--method", "jfa",
         ],
         &["settle", "--random", "6", "--size", "32"],
-        &["hausdorff", "--red", s, "--blue", s],
+        &["hausdorff", "--red", s, "--blue", s, "--method", "grid"],
+        &["hausdorff", "--red", s, "--blue", s, "--method", "pixels"],
         &["diameter", "--sites", s],
         &["maxdist", "--red", s, "--blue", s],
         &["enclose", "--sites", s],
@@ -136,8 +137,10 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
         let (ok, stdout, stderr) = pixgeo(&args);
         assert!(ok, "{run:?}: {stderr}");
         let envelope = enveloped(&stdout, run[0]);
-        // Every command that draws says on what; the sweeps draw nothing.
-        let picture = !["triangle", "quadrangle", "transform"].contains(&run[0]);
+        // Every command that draws says on what; the sweeps and the grid
+        // draw nothing.
+        let picture =
+            !["triangle", "quadrangle", "transform"].contains(&run[0]) && !run.contains(&"grid");
         assert_eq!(envelope["frame"].is_object(), picture, "{run:?}");
         let named = stdout.matches("\"device\"").count();
         assert_eq!(named, 1, "{run:?}: the device is named once");
