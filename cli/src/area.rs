@@ -104,7 +104,7 @@ fn solve(c: &Common, roofs: RoofSearch, sweep: SweepSearch, what: &str) -> Resul
         .clone()
         .or_else(|| std::env::var("PIXGEO_DEVICE").ok())
         .unwrap_or_else(|| "cpu".into());
-    let backend = Backend::choose(Some(&device))?;
+    let backend = Backend::choose(Some(&device), false)?;
     let (answer, device) = match &backend {
         Backend::Gpu(machine) => {
             let side = c.size.unwrap_or(default_side(points.len()));

@@ -43,17 +43,28 @@ pub enum Backend {
     Cpu,
 }
 
+/// Pictures up to this many pixels are drawn faster by the CPU pixel
+/// algorithms than by a software rasterizer, whose start alone (loading its
+/// compiler) outweighs them (`docs/benchmarks.md` has the measurements).
+pub const CPU_FASTER_PIXELS: u64 = 512 * 512;
+
 impl Backend {
     /// `--device cpu` (or PIXGEO_DEVICE=cpu) asks for the CPU algorithms; any other
-    /// choice is a Vulkan device. Without a Vulkan driver the CPU algorithms step
-    /// in, with a notice.
-    pub fn choose(device: Option<&str>) -> Result<Self> {
+    /// choice is a Vulkan device. Without a choice, `small` work (a picture the
+    /// CPU algorithms draw faster than a software rasterizer, giving the same
+    /// answer) on a machine with no GPU takes the CPU algorithms. Without a
+    /// Vulkan driver the CPU algorithms step in, with a notice.
+    pub fn choose(device: Option<&str>, small: bool) -> Result<Self> {
         let wanted = device
             .map(str::to_string)
             .or_else(|| std::env::var("PIXGEO_DEVICE").ok());
+        let auto = wanted
+            .as_deref()
+            .is_none_or(|w| w.trim().is_empty() || w.trim().eq_ignore_ascii_case("auto"));
         if wanted
             .as_deref()
             .is_some_and(|w| w.trim().eq_ignore_ascii_case("cpu"))
+            || (auto && small && !has_gpu())
         {
             return Ok(Self::Cpu);
         }
@@ -73,4 +84,19 @@ impl Backend {
             Self::Cpu => "cpu (thesis §3.12 pixel algorithms)",
         }
     }
+}
+
+/// Whether the machine shows a GPU to Vulkan drivers: a DRM render node
+/// (Mesa's and AMD's drivers), NVIDIA's device files, or WSL's. Without one,
+/// the only Vulkan device is a software rasterizer.
+fn has_gpu() -> bool {
+    let render_node = std::fs::read_dir("/dev/dri").is_ok_and(|entries| {
+        entries
+            .flatten()
+            .any(|e| e.file_name().to_string_lossy().starts_with("renderD"))
+    });
+    render_node
+        || ["/dev/nvidia0", "/dev/nvidiactl", "/dev/dxg"]
+            .iter()
+            .any(|p| std::path::Path::new(p).exists())
 }

@@ -137,7 +137,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let own: Vec<DVec2> = own.into_iter().map(|p| world.to_user(p)).collect();
     let method = args.method;
-    let backend = Backend::choose(args.device.as_deref())?;
+    let backend = Backend::choose(args.device.as_deref(), false)?;
     let map = match &backend {
         Backend::Gpu(machine) => {
             let message = format!("counting discs ({method:?})").to_lowercase();

@@ -144,6 +144,11 @@ pub(super) fn whole_picture(
                 }
             }
         }
+        // The envelope names the device, once.
+        let mut stats = serde_json::to_value(&d.stats)?;
+        if let Some(fields) = stats.as_object_mut() {
+            fields.remove("device");
+        }
         json!({
             "kind": match kind {
                 Kind::Ordinary => "ordinary",
@@ -151,8 +156,10 @@ pub(super) fn whole_picture(
                 _ => "degree",
             },
             "levels": k,
+            "metric": args.metric.to_string(),
+            "mode": mode_name(args),
             "speedup": speedup,
-            "stats": d.stats,
+            "stats": stats,
         })
     };
     if args.json {

@@ -329,13 +329,21 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
     if args.method != Method::Cones {
         return seed_pixels(args, &sites, world);
     }
-    let backend = args.backend()?;
     let kind = match (args.degree, args.order, args.furthest) {
         (Some(k), _, _) => Kind::Degree(k),
         (_, Some(k), _) => Kind::Order(k),
         (_, _, true) => Kind::Furthest,
         _ => Kind::Ordinary,
     };
+    // Ordinary diagrams of points come out bit for bit the same from both;
+    // their exact vector cells come from the device's path.
+    let vectors = args.vectors();
+    let small = kind == Kind::Ordinary
+        && args.window.is_none()
+        && vectors.geojson.is_none()
+        && vectors.svg.is_none()
+        && frame.width as u64 * frame.height as u64 <= crate::device::CPU_FASTER_PIXELS;
+    let backend = args.backend(small)?;
     if let Kind::Degree(k) | Kind::Order(k) = kind {
         // Sites at one place are one site to a pixel's nearest.
         let distinct: std::collections::HashSet<[u64; 2]> = sites
@@ -555,8 +563,11 @@ impl Args {
     }
 
     /// Where to compute; the CPU pixel algorithms refuse the cones' options.
-    fn backend(&self) -> Result<Backend> {
-        let backend = Backend::choose(self.device.as_deref())?;
+    /// `small`: work the CPU algorithms do faster than a software rasterizer,
+    /// with the same answer, unless the cones' options were given.
+    fn backend(&self, small: bool) -> Result<Backend> {
+        let small = small && self.refuse_cone_options("").is_ok();
+        let backend = Backend::choose(self.device.as_deref(), small)?;
         if matches!(backend, Backend::Cpu) {
             self.refuse_cone_options("the exact CPU pixel algorithm")?;
         }

@@ -13,7 +13,7 @@ pub(super) fn general_sites(args: &Args, sites: &[Site], world: &World) -> Resul
     if args.method != Method::Cones {
         bail!("--method flood and jfa flood from unweighted points' pixels; these sites have weights or shapes (use --method cones)");
     }
-    let backend = args.backend()?;
+    let backend = args.backend(false)?;
     let options = VoronoiOptions::exact(frame)
         .metric(args.metric)
         .accuracy(args.accuracy())

@@ -144,10 +144,67 @@ fn every_json_answer_is_the_envelope_its_schema_describes() {
         assert_eq!(envelope["frame"].is_object(), picture, "{run:?}");
         let named = stdout.matches("\"device\"").count();
         assert_eq!(named, 1, "{run:?}: the device is named once");
-        // What draws on the device says how long its passes took there.
+        // What draws on the device says how long its passes took there;
+        // small ordinary diagrams are drawn by the CPU pixel algorithms
+        // where no GPU is present.
+        let on_cpu = envelope["device"].as_str().unwrap().starts_with("cpu");
         let passes = envelope["gpu_ms"].as_object().unwrap();
-        assert_eq!(!passes.is_empty(), picture, "{run:?}: {passes:?}");
+        assert_eq!(
+            !passes.is_empty(),
+            picture && !on_cpu,
+            "{run:?}: {passes:?}"
+        );
     }
+}
+
+#[test]
+fn small_ordinary_diagrams_answer_the_same_on_the_cpu_without_a_gpu() {
+    // (A device named by PIXGEO_DEVICE is kept, as a GPU would be.)
+    // Without a GPU a software rasterizer's start outweighs a small
+    // picture: the CPU pixel algorithms draw it, bit for bit the same.
+    let gpu = std::fs::read_dir("/dev/dri").is_ok_and(|d| {
+        d.flatten()
+            .any(|e| e.file_name().to_string_lossy().starts_with("renderD"))
+    }) || std::path::Path::new("/dev/nvidia0").exists()
+        || std::env::var("PIXGEO_DEVICE").is_ok_and(|d| !d.eq_ignore_ascii_case("auto"));
+    let mut outputs = Vec::new();
+    for device in [None, Some("lavapipe")] {
+        let name = device.unwrap_or("auto");
+        let (labels, distances) = (
+            temp(&format!("small-{name}.npy")),
+            temp(&format!("small-d-{name}.npy")),
+        );
+        let mut args = vec![
+            "voronoi",
+            "--random",
+            "300",
+            "--size",
+            "200",
+            "--metric",
+            "l1",
+            "--json",
+            "--labels",
+            labels.to_str().unwrap(),
+            "--distance",
+            distances.to_str().unwrap(),
+        ];
+        args.extend(device.map(|d| ["--device", d]).into_iter().flatten());
+        let (ok, stdout, stderr) = pixgeo(&args);
+        assert!(ok, "{stderr}");
+        let envelope = enveloped(&stdout, "voronoi");
+        let on_cpu = envelope["device"].as_str().unwrap().starts_with("cpu");
+        assert_eq!(
+            on_cpu,
+            device.is_none() && !gpu,
+            "{name}: {}",
+            envelope["device"]
+        );
+        outputs.push([
+            std::fs::read(labels).unwrap(),
+            std::fs::read(distances).unwrap(),
+        ]);
+    }
+    assert!(outputs[0] == outputs[1], "the same labels and distances");
 }
 
 #[test]
@@ -155,6 +212,8 @@ fn trace_holds_the_host_phases_and_the_device_passes() {
     let trace = temp("trace.json");
     let (ok, stdout, stderr) = pixgeo(&[
         "voronoi",
+        "--device",
+        "lavapipe",
         "--random",
         "50",
         "--size",
