@@ -127,8 +127,9 @@ pub struct EmptyArgs {
     #[command(flatten)]
     shape: Shape,
     /// Where the centre may lie: JSON `[[[x, y], ...], ...]` (rings; holes are
-    /// rings inside rings, even-odd) or a point file (one ring). Default: the
-    /// sites' bounding box.
+    /// rings inside rings, even-odd), a GeoJSON Polygon or MultiPolygon (bare,
+    /// or in a Feature or FeatureCollection), or a point file (one ring).
+    /// Default: the sites' bounding box.
     #[arg(long, value_name = "FILE")]
     region: Option<PathBuf>,
     /// Keep the whole homothet inside the region: its boundary becomes segment
@@ -201,6 +202,46 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         .draw(&machine, &shapes, &answer, Envelope::Empty, &region)
 }
 
+/// The rings of a GeoJSON Polygon or MultiPolygon, bare or in a Feature or
+/// FeatureCollection (every polygon's rings, holes included: a point is in
+/// the region inside an odd number of them), each without its closing point.
+fn geojson_rings(value: &Value) -> Result<Value> {
+    let kind = value["type"].as_str().unwrap_or("");
+    let rings: Vec<Value> = match kind {
+        "FeatureCollection" => {
+            let features = value["features"]
+                .as_array()
+                .context("no \"features\" array")?;
+            let mut all = Vec::new();
+            for feature in features {
+                if let Value::Array(r) = geojson_rings(feature)? {
+                    all.extend(r);
+                }
+            }
+            all
+        }
+        "Feature" => return geojson_rings(&value["geometry"]),
+        "Polygon" => value["coordinates"].as_array().cloned().unwrap_or_default(),
+        "MultiPolygon" => value["coordinates"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .flat_map(|p| p.as_array().cloned().unwrap_or_default())
+            .collect(),
+        other => bail!("a {other:?} is not a region: give a Polygon or MultiPolygon"),
+    };
+    let open = |ring: Value| match ring {
+        Value::Array(mut points) => {
+            if points.len() > 1 && points.first() == points.last() {
+                points.pop();
+            }
+            Value::Array(points)
+        }
+        other => other,
+    };
+    Ok(Value::Array(rings.into_iter().map(open).collect()))
+}
+
 fn parse_k(text: &str) -> Result<usize, String> {
     match text.trim().parse::<usize>() {
         Ok(k) if k >= 1 => Ok(k),
@@ -211,7 +252,15 @@ fn parse_k(text: &str) -> Result<usize, String> {
 fn read_region(path: &Path) -> Result<Region> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    if let Ok(Value::Array(rings)) = serde_json::from_str::<Value>(&text) {
+    let rings = match serde_json::from_str::<Value>(&text) {
+        Ok(Value::Array(rings)) => Some(Value::Array(rings)),
+        // GeoJSON polygons; GeoJSON points are a point file, one ring.
+        Ok(v @ Value::Object(_)) if text.contains("Polygon\"") => Some(
+            geojson_rings(&v).with_context(|| format!("{}: a GeoJSON region", path.display()))?,
+        ),
+        _ => None,
+    };
+    if let Some(Value::Array(rings)) = rings {
         let rings = rings
             .iter()
             .map(|ring| serde_json::from_value::<Vec<[f64; 2]>>(ring.clone()))

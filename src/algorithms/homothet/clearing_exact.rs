@@ -131,11 +131,25 @@ pub(super) fn certify(
             _ => continue,
         };
         let evaluations: Vec<&Evaluation> = kept.iter().flat_map(|k| k.1.as_ref()).collect();
-        // The first (best in doubles) of those with the highest floor.
+        // Of the highest, where centres tie exactly, the lowest (x, then y):
+        // the same answer whatever order the clusters came in.
         let best = evaluations
             .iter()
             .copied()
-            .reduce(|a, b| if b.value.lo > a.value.lo { b } else { a })
+            .reduce(|a, b| {
+                let key = |e: &Evaluation| (mid(&e.centre[0]), mid(&e.centre[1]));
+                let tied = b.value.lo <= a.value.hi && a.value.lo <= b.value.hi;
+                let lower = key(b)
+                    .0
+                    .total_cmp(&key(a).0)
+                    .then(key(b).1.total_cmp(&key(a).1));
+                match (tied && last, b.value.lo > a.value.lo) {
+                    (true, _) if lower.is_lt() => b,
+                    (true, _) => a,
+                    (false, true) => b,
+                    (false, false) => a,
+                }
+            })
             .expect("one kept");
         let centre = [0, 1].map(|axis| local.rounded_coordinate(&best.centre[axis], axis));
         // Distinct centres whose clearances no precision yet orders: more

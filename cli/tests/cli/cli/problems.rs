@@ -177,6 +177,65 @@ fn enclose_and_empty_print_exact_homothets() {
 }
 
 #[test]
+fn empty_reads_geojson_polygons_as_its_region_and_breaks_ties_alike() {
+    // A square with a square hole as rings, as a GeoJSON Polygon in a
+    // FeatureCollection (closed rings) and as a MultiPolygon: one region. Two
+    // corners tie exactly; every run names the same, the lower x.
+    let sites = temp("geojson-region.csv");
+    std::fs::write(&sites, "x,y\n2,2\n8,3\n5,8\n").unwrap();
+    let rings = "[[0,0],[10,0],[10,10],[0,10],[0,0]],[[4,4],[6,4],[6,6],[4,6],[4,4]]";
+    let files = [
+        (
+            "rings.json",
+            format!(
+                "[{}]",
+                rings.replace(",[0,0]]", "]").replace(",[4,4]]", "]")
+            ),
+        ),
+        (
+            "polygon.geojson",
+            format!(
+                r#"{{"type":"FeatureCollection","features":[{{"type":"Feature","properties":{{}},"geometry":{{"type":"Polygon","coordinates":[{rings}]}}}}]}}"#
+            ),
+        ),
+        (
+            "multi.geojson",
+            format!(r#"{{"type":"MultiPolygon","coordinates":[[{rings}]]}}"#),
+        ),
+    ];
+    let mut answers = Vec::new();
+    for (name, text) in files {
+        let region = temp(name);
+        std::fs::write(&region, text).unwrap();
+        for _ in 0..2 {
+            let (ok, stdout, stderr) = pixgeo(&[
+                "empty",
+                "--sites",
+                sites.to_str().unwrap(),
+                "--region",
+                region.to_str().unwrap(),
+                "--json",
+            ]);
+            assert!(ok, "{name}: {stderr}");
+            let v = answer(&stdout, "empty");
+            answers.push(v["exact"].to_string());
+        }
+    }
+    assert!(answers.iter().all(|a| a == &answers[0]), "{answers:?}");
+    assert!(answers[0].contains("[0.0,10.0]"), "{}", answers[0]);
+    let line = temp("line.geojson");
+    std::fs::write(&line, r#"{"type":"Polygon","coordinates":[]}"#).unwrap();
+    let (ok, _, stderr) = pixgeo(&[
+        "empty",
+        "--sites",
+        sites.to_str().unwrap(),
+        "--region",
+        line.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("ring"), "{stderr}");
+}
+
+#[test]
 fn empty_among_points_and_segments_is_the_nearest_double_far_from_the_origin() {
     // Two points and a segment inside a box of side 10, at the origin and
     // moved by 1e15: the same circle, its radius the double nearest the exact
