@@ -682,13 +682,27 @@ def enclosing_circle(points, *, device: Optional[str] = None) -> Circle:
 
 
 def largest_empty_circle(
-    points, *, region: Optional[Sequence] = None, device: Optional[str] = None
+    points,
+    *,
+    segments=None,
+    region: Optional[Sequence] = None,
+    inside: bool = False,
+    device: Optional[str] = None,
 ) -> Circle:
-    """The largest circle holding none of the points, its centre inside
+    """The largest circle holding none of the points and crossing none of
+    the ``segments`` ((k, 4) rows x0, y0, x1, y1), its centre inside
     ``region`` (a sequence of rings, each an (m, 2) array, even-odd; default:
-    the points' bounding box). Exact."""
+    the sites' bounding box); with ``inside`` the whole circle inside it. The
+    radius is the double nearest the exact one. ``sites`` numbers the points,
+    then the segments, then (with ``inside``) the region's edges."""
     rings = [] if region is None else [_points(r, "region ring") for r in region]
-    return _circle(_pixgeo.largest_empty_circle(_points(points, "points"), rings, device))
+    bars = np.zeros((0, 4)) if segments is None else np.asarray(segments, dtype=np.float64)
+    if bars.ndim != 2 or bars.shape[1] != 4:
+        raise ValueError(f"segments must be (k, 4) rows x0, y0, x1, y1, not {bars.shape}")
+    found = _pixgeo.largest_empty_circle(
+        _points(points, "points"), np.ascontiguousarray(bars), rings, inside, device
+    )
+    return _circle(found)
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,12 @@ use pixgeo::{
         },
         voronoi::{self as diagram, Accuracy, VoronoiOptions},
     },
-    geometry::{cell::Rect, metric::Metric, site::Site, Frame},
+    geometry::{
+        cell::Rect,
+        metric::Metric,
+        site::{Shape, Site},
+        Frame,
+    },
     machine::{DeviceChoice, PixelRect},
     Error, Machine, MachineOptions,
 };
@@ -690,22 +695,39 @@ fn enclosing_circle<'py>(
     Ok(circle(h))
 }
 
-/// The largest circle free of the points, its centre in `region`'s rings
-/// (even-odd) or, with none, the points' bounding box.
+/// The largest circle free of the points and the segments (rows x0, y0, x1,
+/// y1), its centre in `region`'s rings (even-odd) or, with none, the sites'
+/// bounding box; with `inside`, the whole circle inside the region.
 #[pyfunction]
-#[pyo3(signature = (p, region, device))]
+#[pyo3(signature = (p, segments, region, inside, device))]
 fn largest_empty_circle<'py>(
     py: Python<'py>,
     p: PyReadonlyArray2<'py, f64>,
+    segments: PyReadonlyArray2<'py, f64>,
     region: Vec<PyReadonlyArray2<'py, f64>>,
+    inside: bool,
     device: Option<&str>,
 ) -> PyResult<Circle> {
     let p = points(&p);
+    let segments = segments.as_array();
     let region = Region {
         rings: region.iter().map(points).collect(),
     };
     let h = on_machine(py, device, |m| {
-        homothet::largest_empty(m, &p, Unit::Circle, &region, DEFAULT_SIDE)
+        if segments.nrows() == 0 && !inside {
+            return homothet::largest_empty(m, &p, Unit::Circle, &region, DEFAULT_SIDE);
+        }
+        let sites: Vec<Site> = p
+            .iter()
+            .map(|&q| Site::point(q))
+            .chain(segments.rows().into_iter().map(|r| {
+                Site::new(Shape::Segment(
+                    DVec2::new(r[0], r[1]),
+                    DVec2::new(r[2], r[3]),
+                ))
+            }))
+            .collect();
+        homothet::largest_empty_sites(m, &sites, Unit::Circle, &region, inside, DEFAULT_SIDE)
     })?;
     Ok(circle(h))
 }

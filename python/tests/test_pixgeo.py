@@ -195,6 +195,22 @@ def test_hausdorff_and_diameter_are_exact(name):
     assert dist[i, j] == pytest.approx(d, rel=1e-12)
 
 
+def test_largest_empty_circle_among_segments_inside_a_region():
+    """Python at parity with `pixgeo empty --inside`: the same exact circle,
+    at the origin and moved by 1e15."""
+    for far in (0.0, 1e15):
+        square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], dtype=float) + far
+        c = pixgeo.largest_empty_circle(
+            np.array([[3, 4], [7, 1]], dtype=float) + far,
+            segments=np.array([[2, 8, 6, 9]], dtype=float) + far,
+            region=[square],
+            inside=True,
+        )
+        assert c.radius == 3.630264097376426 and c.sites == (0, 2, 4)
+    with pytest.raises(ValueError, match="segments must be"):
+        pixgeo.largest_empty_circle(square, segments=[1, 2, 3, 4])
+
+
 def test_circles():
     square = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [1, 1]], dtype=float)
     c = pixgeo.enclosing_circle(square)
