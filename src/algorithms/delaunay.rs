@@ -25,7 +25,7 @@
 //! The mesh notices, and the points are inserted one by one in Hilbert order
 //! instead ([`DelaunayStats::incremental`] says why).
 
-use super::ms;
+use super::{envelope::hilbert_index, ms};
 use std::time::Instant;
 
 use glam::DVec2;
@@ -287,7 +287,7 @@ fn triangulate(
     // in the mesh are mostly neighbours in memory; equal points sort together.
     let (unique, duplicates) = distinct_by(points, 0..points.len() as u32, |p| {
         let s = pixel_of(p);
-        hilbert(s[0] as u32, s[1] as u32)
+        hilbert_index(s[0] as u32, s[1] as u32)
     });
     if unique.len() < 3 {
         return Err(Error::InvalidInput(format!(
@@ -468,26 +468,6 @@ fn triangulate(
     })
 }
 
-/// Position along a Hilbert curve over a 2^16 x 2^16 grid.
-fn hilbert(mut x: u32, mut y: u32) -> u64 {
-    let mut d = 0u64;
-    let mut s = 1u32 << 15;
-    while s > 0 {
-        let rx = u32::from(x & s > 0);
-        let ry = u32::from(y & s > 0);
-        d += (s as u64) * (s as u64) * ((3 * rx) ^ ry) as u64;
-        if ry == 0 {
-            if rx == 1 {
-                x = 0xFFFF - x;
-                y = 0xFFFF - y;
-            }
-            std::mem::swap(&mut x, &mut y);
-        }
-        s >>= 1;
-    }
-    d
-}
-
 /// A triangulation by insertion alone in Hilbert order, each point walking
 /// from the one before, from a first counter-clockwise triangle (the points
 /// are distinct and not all on one line).
@@ -499,7 +479,7 @@ fn insert_all(points: Vec<DVec2>, watch: &Watch) -> Result<(Mesh, usize)> {
     let mut order: Vec<u32> = (0..points.len() as u32).collect();
     order.sort_by_cached_key(|&v| {
         let g = (points[v as usize] - lo) * scale;
-        hilbert(g.x as u32, g.y as u32)
+        hilbert_index(g.x as u32, g.y as u32)
     });
     let p = |k: usize| points[order[k] as usize];
     let c = (2..order.len())
