@@ -3,7 +3,7 @@
 //! profiler.
 
 use anyhow::{Context, Result};
-use pixgeo::machine::{DeviceChoice, Machine, MachineOptions};
+use pixgeo::machine::{has_gpu, DeviceChoice, Machine, MachineOptions};
 
 /// The machine's options for `device` (else as PIXGEO_DEVICE says).
 fn options(device: Option<&str>) -> MachineOptions {
@@ -84,19 +84,4 @@ impl Backend {
             Self::Cpu => "cpu (thesis §3.12 pixel algorithms)",
         }
     }
-}
-
-/// Whether the machine shows a GPU to Vulkan drivers: a DRM render node
-/// (Mesa's and AMD's drivers), NVIDIA's device files, or WSL's. Without one,
-/// the only Vulkan device is a software rasterizer.
-fn has_gpu() -> bool {
-    let render_node = std::fs::read_dir("/dev/dri").is_ok_and(|entries| {
-        entries
-            .flatten()
-            .any(|e| e.file_name().to_string_lossy().starts_with("renderD"))
-    });
-    render_node
-        || ["/dev/nvidia0", "/dev/nvidiactl", "/dev/dxg"]
-            .iter()
-            .any(|p| std::path::Path::new(p).exists())
 }

@@ -430,7 +430,10 @@ def voronoi(
     longitude and latitude in degrees, and ``distances`` are metres along
     great circles of the sphere of the Earth's mean radius
     (:data:`EARTH_RADIUS`). It is the default under a geographic ``crs``
-    (EPSG:4326, say); a planar metric there measures degrees and warns. ``metric`` is ``l2``, ``l1``,
+    (EPSG:4326, say); a planar metric there measures degrees and warns. Great
+    circles are found on the CPU where there is no GPU (or with
+    ``device="cpu"``), else with the device as a filter; both give the same
+    answer. ``metric`` is ``l2``, ``l1``,
     ``linf`` or ``lp:P``; ``mode`` is ``exact`` (every pixel's nearest site,
     ties to the smaller index) or the thesis's triangle fans, ``fan`` (distance
     error within a pixel) or ``fan:T``. ``device``: ``auto``, ``lavapipe``,
@@ -453,7 +456,7 @@ def voronoi(
                 "great-circle diagrams take unweighted points, whole and exact: "
                 "give metric='l2' for a planar diagram in degrees"
             )
-        return _great_circle(_points(sites, "sites"), place)
+        return _great_circle(_points(sites, "sites"), place, device)
     w, h, box = place.width, place.height, place.bbox
     points = place.sites(_points(sites, "sites"))
     if weights is None:
@@ -504,8 +507,9 @@ def _planar(metric: Optional[str], crs: Optional[str], what: str) -> str:
     return metric
 
 
-def _great_circle(sites: np.ndarray, place: "_Placement") -> Diagram:
-    """Every pixel's nearest site by great circle, and the distance in metres."""
+def _great_circle(sites: np.ndarray, place: "_Placement", device: Optional[str]) -> Diagram:
+    """Every pixel's nearest site by great circle, and the distance in metres:
+    on the CPU without a GPU (or for ``device="cpu"``), else on the device."""
     frame = place.frame(_pixgeo.frame_of(place.width, place.height, place.bbox))
     south, north = frame.bbox[1], frame.bbox[3]
     if south < -90 or north > 90:
@@ -514,9 +518,9 @@ def _great_circle(sites: np.ndarray, place: "_Placement") -> Diagram:
             "latitude in [-90, 90]; give a bbox within it"
         )
     x, y = frame.pixel_centres()
-    xx, yy = np.meshgrid(x, y)
-    places = np.ascontiguousarray(np.stack([xx.ravel(), yy.ravel()], -1))
-    labels, distances, _ = _pixgeo.great_circle(sites, places)
+    labels, distances, *_ = _pixgeo.great_circle(
+        sites, np.ascontiguousarray(x, dtype=np.float64), np.ascontiguousarray(y, dtype=np.float64), device
+    )
     shape = (frame.height, frame.width)
     return Diagram(labels.reshape(shape), distances.astype(np.float32).reshape(shape), frame)
 

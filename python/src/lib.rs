@@ -14,7 +14,7 @@ use std::{
 use glam::DVec2;
 use numpy::{
     ndarray::{Array2, Array3},
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
 };
 use pixgeo::{
     algorithms::{
@@ -24,7 +24,7 @@ use pixgeo::{
         cells::voronoi_cells as cells_of,
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
-        great_circle::great_circle_nearest,
+        great_circle::{great_circle_grid, great_circle_nearest},
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
         settle::{potential_areas, refine, SettleOptions},
@@ -41,7 +41,7 @@ use pixgeo::{
         site::{Shape, Site},
         Frame,
     },
-    machine::{DeviceChoice, PixelRect},
+    machine::{has_gpu, DeviceChoice, PixelRect},
     Error, Machine, MachineOptions,
 };
 use pyo3::{
@@ -598,23 +598,53 @@ fn epsg_code(text: &str) -> PyResult<u16> {
     pixgeo_cli::epsg_code(text).map_err(PyValueError::new_err)
 }
 
-/// Labels, distances (metres) and the count of pixels left equidistant.
-type GreatCircleTuple<'py> = (Bound<'py, PyArray1<u32>>, Bound<'py, PyArray1<f64>>, usize);
+/// Labels, distances (metres), the count of pixels left equidistant and of
+/// those the device's filter left to the host, and the device's name.
+type GreatCircleTuple<'py> = (
+    Bound<'py, PyArray1<u32>>,
+    Bound<'py, PyArray1<f64>>,
+    usize,
+    usize,
+    String,
+);
 
-/// Each place's nearest site by great circle on the Earth's mean sphere and
-/// the distance in metres (sites and places as longitude, latitude).
+/// Each pixel's nearest site by great circle on the Earth's mean sphere and
+/// the distance in metres, for the grid of longitudes `lons` (columns) and
+/// latitudes `lats` (rows): on a Vulkan device as a filter, or on the CPU
+/// for `cpu`, and by default where there is no GPU.
 #[pyfunction]
+#[pyo3(signature = (sites, lons, lats, device=None))]
 fn great_circle<'py>(
     py: Python<'py>,
     sites: PyReadonlyArray2<'py, f64>,
-    places: PyReadonlyArray2<'py, f64>,
+    lons: PyReadonlyArray1<'py, f64>,
+    lats: PyReadonlyArray1<'py, f64>,
+    device: Option<&str>,
 ) -> PyResult<GreatCircleTuple<'py>> {
-    let (sites, places) = (points(&sites), points(&places));
-    let answer = on_cpu(py, || great_circle_nearest(&sites, &places, &|_, _| {}))?;
+    let sites = points(&sites);
+    let (lons, lats) = (lons.as_slice()?.to_vec(), lats.as_slice()?.to_vec());
+    let choice = device.map(str::trim).unwrap_or("");
+    let on_cpu_only = choice.eq_ignore_ascii_case("cpu")
+        || ((choice.is_empty() || choice.eq_ignore_ascii_case("auto")) && !has_gpu());
+    let (answer, name) = if on_cpu_only {
+        let places: Vec<DVec2> = lats
+            .iter()
+            .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))
+            .collect();
+        let answer = on_cpu(py, || great_circle_nearest(&sites, &places, &|_, _| {}))?;
+        (answer, "cpu".to_string())
+    } else {
+        on_machine(py, device, |m| {
+            let answer = great_circle_grid(m, &sites, &lons, &lats, &|_, _| {})?;
+            Ok((answer, m.device_name().to_string()))
+        })?
+    };
     Ok((
         answer.labels.into_pyarray(py),
         answer.distances.into_pyarray(py),
         answer.equidistant,
+        answer.decided_on_host,
+        name,
     ))
 }
 

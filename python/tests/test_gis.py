@@ -656,6 +656,15 @@ def test_great_circle_labels_and_distances_match_pyproj(tmp_path):
         mine = every[np.arange(n), labels.ravel().astype(np.int64)]
         assert np.all(mine - best <= 1e-6 + 1e-12 * best), np.max(mine - best)
         np.testing.assert_allclose(distances.ravel(), best, rtol=1.2e-7, atol=1e-6)
+        # The device as a filter and the CPU's k-d tree: one answer, bit for bit.
+        for device in ("cpu", "lavapipe"):
+            done = pixgeo("voronoi", "--sites", tmp_path / "s.csv", "--bbox", ",".join(map(str, box)),
+                          "--size", 120, "--crs", "EPSG:4326", "--labels", tmp_path / f"l-{device}.npy",
+                          "--distance", tmp_path / f"d-{device}.npy", "--device", device, "--json")
+            on = json.loads(done.stdout)
+            assert on["device"].startswith("cpu" if device == "cpu" else "llvmpipe"), on["device"]
+            np.testing.assert_array_equal(np.load(tmp_path / f"l-{device}.npy"), labels)
+            np.testing.assert_array_equal(np.load(tmp_path / f"d-{device}.npy"), distances)
     planar = subprocess.run([str(CLI), "voronoi", "--sites", str(tmp_path / "s.csv"), "--bbox",
                              "160,60,200,90", "--crs", "EPSG:4326", "--metric", "l2",
                              "--labels", str(tmp_path / "p.tif")], capture_output=True, text=True)
@@ -691,6 +700,10 @@ def test_python_great_circles_are_the_command_lines(tmp_path):
     every = np.stack([sphere.inv(lon.ravel(), lat.ravel(), np.full(n, s[0]), np.full(n, s[1]))[2]
                       for s in xy], -1)
     np.testing.assert_allclose(d.distances.ravel(), every.min(axis=-1), rtol=1.2e-7, atol=1e-6)
+    for device in ("cpu", "lavapipe"):
+        on = pixgeo.voronoi(xy, bbox=box, res=0.5, crs="EPSG:4326", device=device)
+        np.testing.assert_array_equal(on.labels, d.labels)
+        np.testing.assert_array_equal(on.distances, d.distances)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         pixgeo.voronoi(xy, bbox=box, res=0.5, crs="EPSG:4326", metric="l2")

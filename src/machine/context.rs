@@ -36,6 +36,21 @@ pub enum DeviceChoice {
     Name(String),
 }
 
+/// Whether the machine shows a GPU to Vulkan drivers: a DRM render node
+/// (Mesa's and AMD's drivers), NVIDIA's device files, or WSL's. Without one,
+/// the only Vulkan device is a software rasterizer.
+pub fn has_gpu() -> bool {
+    let render_node = std::fs::read_dir("/dev/dri").is_ok_and(|entries| {
+        entries
+            .flatten()
+            .any(|e| e.file_name().to_string_lossy().starts_with("renderD"))
+    });
+    render_node
+        || ["/dev/nvidia0", "/dev/nvidiactl", "/dev/dxg"]
+            .iter()
+            .any(|p| std::path::Path::new(p).exists())
+}
+
 /// The choice as the user wrote it: `gpu`, `2`, `NVIDIA`, ...
 impl std::fmt::Display for DeviceChoice {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -501,25 +516,42 @@ fn choose_device(
     // SAFETY: valid instance.
     let devices =
         unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    let candidates: Vec<_> = devices
+    let all: Vec<_> = devices
         .into_iter()
         .map(|d| {
             // SAFETY: `d` was just enumerated from this instance.
             let props = unsafe { instance.get_physical_device_properties(d) };
             (d, props)
         })
-        .filter(|(_, p)| p.api_version >= vk::API_VERSION_1_3)
         .collect();
-    if candidates.is_empty() {
-        return Err(Error::NoVulkan(
-            "no device supports Vulkan 1.3 (install mesa-vulkan-drivers for lavapipe)".into(),
-        ));
-    }
     let name = |p: &vk::PhysicalDeviceProperties| {
         p.device_name_as_c_str()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default()
     };
+    let (candidates, older): (Vec<_>, Vec<_>) = all
+        .into_iter()
+        .partition(|(_, p)| p.api_version >= vk::API_VERSION_1_3);
+    if candidates.is_empty() {
+        // Drivers too old (Debian 11's lavapipe offers Vulkan 1.0) are named.
+        let found: Vec<String> = older
+            .iter()
+            .map(|(_, p)| {
+                let v = p.api_version;
+                let (major, minor) = (vk::api_version_major(v), vk::api_version_minor(v));
+                format!("{} (Vulkan {major}.{minor})", name(p))
+            })
+            .collect();
+        return Err(Error::NoVulkan(if found.is_empty() {
+            "no device supports Vulkan 1.3 (install mesa-vulkan-drivers for lavapipe)".into()
+        } else {
+            format!(
+                "no device supports Vulkan 1.3: found only {}; lavapipe needs Mesa 22 or newer, \
+                 or use a GPU's driver",
+                found.join(", ")
+            )
+        }));
+    }
     let rank = |t: vk::PhysicalDeviceType| match t {
         vk::PhysicalDeviceType::DISCRETE_GPU => 0,
         vk::PhysicalDeviceType::INTEGRATED_GPU => 1,

@@ -34,7 +34,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-pub use context::{DeviceChoice, MachineOptions};
+pub use context::{has_gpu, DeviceChoice, MachineOptions};
 pub use memory::{Buffer, BufferKind, Format, Image};
 pub use pass::{Clear, ClearColor, Draw, Pass, PixelRect, RectDraw, Target, MAX_GROUPS};
 pub use pipelines::BUFFER_KERNEL_BINDINGS;

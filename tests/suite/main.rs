@@ -14,6 +14,7 @@ mod constructions;
 mod delaunay;
 mod distances;
 mod flooding;
+mod great_circle;
 mod higher_order;
 mod homothet;
 mod machine;

@@ -7,7 +7,7 @@ use anyhow::{bail, Result};
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        great_circle::{great_circle_nearest, DISTANCE_ERROR, EARTH_RADIUS},
+        great_circle::{great_circle_grid, great_circle_nearest, DISTANCE_ERROR, EARTH_RADIUS},
         voronoi::Accuracy,
     },
     geometry::site::{Shape, Site},
@@ -16,6 +16,7 @@ use serde_json::json;
 
 use super::{Args, Method};
 use crate::{
+    device::Backend,
     envelope,
     input::World,
     progress::Progress,
@@ -64,15 +65,31 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
     let frame = world.frame;
     frame.reserve(32, "a great-circle diagram")?;
     let (w, h) = (frame.width, frame.height);
-    let places: Vec<DVec2> = (0..h)
-        .flat_map(|j| (0..w).map(move |i| DVec2::new(i as f64, j as f64)))
-        .map(|p| world.to_user(frame.to_world(p)))
-        .collect();
+    // Pixel centres: longitudes by column, latitudes by row.
+    let centre = |i: u32, j: u32| world.to_user(frame.to_world(DVec2::new(i as f64, j as f64)));
+    let lons: Vec<f64> = (0..w).map(|i| centre(i, 0).x).collect();
+    let lats: Vec<f64> = (0..h).map(|j| centre(0, j).y).collect();
+    // Without a GPU the k-d tree on the CPU is faster than the filter on a
+    // software rasterizer (`docs/benchmarks.md`).
+    let backend = Backend::choose(args.device.as_deref(), true)?;
     let started = std::time::Instant::now();
     let progress = Progress::new("voronoi: great circles", args.json);
-    let answer =
-        great_circle_nearest(&sites, &places, &|done, total| progress.report(done, total))?;
+    let report = |done, total| progress.report(done, total);
+    let answer = match &backend {
+        Backend::Gpu(machine) => great_circle_grid(machine, &sites, &lons, &lats, &report)?,
+        Backend::Cpu => {
+            let places: Vec<DVec2> = lats
+                .iter()
+                .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))
+                .collect();
+            great_circle_nearest(&sites, &places, &report)?
+        }
+    };
     drop(progress);
+    let device = match &backend {
+        Backend::Gpu(machine) => machine.device_name(),
+        Backend::Cpu => "cpu",
+    };
     let compute_ms = started.elapsed().as_secs_f64() * 1e3;
     let geo = world.georeference();
     if let Some(path) = &args.labels {
@@ -98,10 +115,11 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
             "sphere_radius_m": EARTH_RADIUS,
             "distance_error_m": DISTANCE_ERROR,
             "equidistant": answer.equidistant,
+            "decided_on_host": answer.decided_on_host,
             "largest_distance_m": largest,
             "stats": { "compute_ms": compute_ms },
         });
-        envelope::print_world("voronoi", "cpu", world, &summary)?;
+        envelope::print_world("voronoi", device, world, &summary)?;
     } else {
         outln!(
             "{} sites, {w}x{h} pixels: great-circle distances on the sphere of the Earth's \

@@ -91,7 +91,8 @@ pub struct Args {
     /// `great-circle`: distances on the Earth in metres, x and y longitude and
     /// latitude in degrees; the default under a geographic --crs (or a GeoJSON
     /// file's), where the others measure degrees on the plane, with a warning.
-    /// Default: l2.
+    /// Great circles run on the CPU without a GPU, else on the device as a
+    /// filter, to the same answer. Default: l2.
     #[arg(long = "metric", value_name = "METRIC", value_parser = parse_metric_choice)]
     metric_choice: Option<MetricChoice>,
 

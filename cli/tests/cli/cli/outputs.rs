@@ -162,10 +162,7 @@ fn small_ordinary_diagrams_answer_the_same_on_the_cpu_without_a_gpu() {
     // (A device named by PIXGEO_DEVICE is kept, as a GPU would be.)
     // Without a GPU a software rasterizer's start outweighs a small
     // picture: the CPU pixel algorithms draw it, bit for bit the same.
-    let gpu = std::fs::read_dir("/dev/dri").is_ok_and(|d| {
-        d.flatten()
-            .any(|e| e.file_name().to_string_lossy().starts_with("renderD"))
-    }) || std::path::Path::new("/dev/nvidia0").exists()
+    let gpu = pixgeo::machine::has_gpu()
         || std::env::var("PIXGEO_DEVICE").is_ok_and(|d| !d.eq_ignore_ascii_case("auto"));
     let mut outputs = Vec::new();
     for device in [None, Some("lavapipe")] {

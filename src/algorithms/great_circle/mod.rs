@@ -16,12 +16,20 @@
 //! goes) are counted and the lower index wins, as everywhere in pixgeo.
 //! Distances are `R · atan2(|u × v|, u · v)`, well conditioned from 0 to
 //! antipodes, within [`DISTANCE_ERROR`] metres of the sphere's.
+//!
+//! On a Vulkan device, [`great_circle_grid`] finds the nearest sites of a
+//! longitude-latitude grid with the device as a filter (`device.rs`), to the
+//! same answer.
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
+
+mod device;
+
+pub use device::great_circle_grid;
 
 use crate::{
     cancel::Watch,
@@ -59,6 +67,9 @@ pub struct GreatCircle {
     /// Places with two or more sites equidistant to 320 bits: the lower
     /// index is their label.
     pub equidistant: usize,
+    /// Places the device's filter left to the host to decide (0 on the
+    /// CPU, which decides every place).
+    pub decided_on_host: usize,
 }
 
 /// The unit vector of longitude `lon` and latitude `lat`, degrees.
@@ -120,13 +131,8 @@ pub fn great_circle_nearest(
             let mut equidistant = 0;
             for &place in chunk {
                 let u = unit_vector(place);
-                let [(first, mut i), (second, _)] = tree.two_nearest(u);
-                if second.sqrt() - first.sqrt() <= 2.0 * CHORD_ERROR {
-                    let reach = first.sqrt() + 2.0 * CHORD_ERROR;
-                    let (winner, tied) = nearest_exactly(place, sites, &tree.within(u, reach));
-                    i = winner;
-                    equidistant += usize::from(tied);
-                }
+                let (i, tied) = nearest(&tree, sites, place, u);
+                equidistant += usize::from(tied);
                 labels.push(i);
                 distances.push(angle(u, tree.points[i as usize]) * EARTH_RADIUS);
             }
@@ -142,6 +148,18 @@ pub fn great_circle_nearest(
         answer.equidistant += equidistant;
     }
     Ok(answer)
+}
+
+/// The nearest site to `place` (whose unit vector is `u`) and whether two or
+/// more stay equidistant: by the chords in doubles where the two nearest
+/// differ by more than their error, else in rational intervals.
+fn nearest(tree: &Tree, sites: &[DVec2], place: DVec2, u: DVec3) -> (u32, bool) {
+    let [(first, i), (second, _)] = tree.two_nearest(u);
+    if second.sqrt() - first.sqrt() > 2.0 * CHORD_ERROR {
+        return (i, false);
+    }
+    let reach = first.sqrt() + 2.0 * CHORD_ERROR;
+    nearest_exactly(place, sites, &tree.within(u, reach))
 }
 
 /// The nearest of the `candidates` (site indices) to `place` by great circle,
