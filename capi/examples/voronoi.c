@@ -273,6 +273,36 @@ int main(void) {
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "null own stores accepted");
     free(area);
 
+    /* One of Lloyd's iterations against its definition: every site moves to
+     * the mean of the pixel centres nearest to it (ties to the lower index),
+     * Σi / count rounded once, bit for bit. */
+    double moved[2 * N];
+    memcpy(moved, xy, sizeof moved);
+    PixgeoLloyd lloyd;
+    options = pixgeo_voronoi_options_default(W, H);
+    status = pixgeo_lloyd(ctx, moved, N, &options, 1, 0.0, NULL, NULL, &lloyd);
+    CHECK(status == PIXGEO_STATUS_OK && lloyd.iterations == 1, "lloyd: %s",
+          pixgeo_context_last_error(ctx));
+    for (int s = 0; s < N; s++) {
+        uint64_t count = 0, sx = 0, sy = 0;
+        for (int j = 0; j < H; j++) {
+            for (int i = 0; i < W; i++) {
+                int best = 0;
+                double nearest = INFINITY;
+                for (int t = 0; t < N; t++) {
+                    double dx = xy[2 * t] - i, dy = xy[2 * t + 1] - j;
+                    if (dx * dx + dy * dy < nearest) nearest = dx * dx + dy * dy, best = t;
+                }
+                if (best == s) count++, sx += i, sy += j;
+            }
+        }
+        double want_x = count ? (double)sx / count : xy[2 * s];
+        double want_y = count ? (double)sy / count : xy[2 * s + 1];
+        CHECK(moved[2 * s] == want_x && moved[2 * s + 1] == want_y,
+              "lloyd site %d at (%.17g, %.17g), its centroid (%.17g, %.17g)", s, moved[2 * s],
+              moved[2 * s + 1], want_x, want_y);
+    }
+
     /* Weighted points, a segment, a circle and an arc (thesis §3.8-3.9): every
      * pixel's label has the smallest weighted distance; fans stay within their
      * bound of it. */

@@ -287,6 +287,21 @@ typedef struct PixgeoHomothet {
   double tolerance;
 } PixgeoHomothet;
 
+// The answer of [`pixgeo_lloyd`].
+typedef struct PixgeoLloyd {
+  // Iterations run.
+  uint32_t iterations;
+  // Whether the last largest move was within the tolerance.
+  bool converged;
+  // Sites whose region holds no weight (they stayed put).
+  uint32_t idle;
+  // The last iteration's largest move (world units; 0 without one).
+  double largest_move;
+  // The energy of the final sites: Σ density · squared distance from each
+  // pixel's centre to its nearest site.
+  double energy;
+} PixgeoLloyd;
+
 // The answer of [`pixgeo_settle`].
 typedef struct PixgeoSettle {
   // The settle pixel (the first, row-major, of those tied) and the number of
@@ -627,6 +642,32 @@ enum PixgeoStatus pixgeo_empty(struct PixgeoContext *ctx,
                                bool inside,
                                const struct PixgeoHomothetOptions *options,
                                struct PixgeoHomothet *out);
+
+// Lloyd's iterations from the `count` sites `xy` (x, y pairs, world
+// coordinates), which receive where the iterations leave them: each
+// iteration takes the exact Voronoi diagram on the picture `options`
+// describes (its metric must be L2), sums every region's pixels weighted
+// by `density` (`width * height` values, row-major, finite and not
+// negative; null for a uniform one) and moves each site to its region's
+// centroid, exact for the digital region (whole-number sums, rounded
+// once). At most `iterations`; stops once no site moves farther than
+// `tolerance` (world units; negative for a hundredth of a pixel). Unless
+// null, `labels` receives every pixel's nearest final site.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` writable doubles;
+// `options` points to valid options; `density` is null or holds `width *
+// height` doubles; `labels` is null or has room for `width * height`
+// values; `out` points to a writable answer.
+enum PixgeoStatus pixgeo_lloyd(struct PixgeoContext *ctx,
+                               double *xy,
+                               size_t count,
+                               const struct PixgeoVoronoiOptions *options,
+                               uint32_t iterations,
+                               double tolerance,
+                               const double *density,
+                               uint32_t *labels,
+                               struct PixgeoLloyd *out);
 
 // Default Voronoi options for a `width` x `height` picture: Euclidean, exact,
 // local radii, no bounding box, tiles as large as the device allows.

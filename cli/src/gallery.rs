@@ -444,7 +444,52 @@ fn entries() -> Vec<Entry> {
             sites: None,
             args: &["--mask", "obstacles.png", "--medial-axis", "medial_axis.npy"],
         },
+        Entry {
+            command: "lloyd",
+            picture: "stipple.png",
+            title: "Weighted Voronoi stippling",
+            caption: "A shaded sphere drawn by 3000 points, first drawn at random from \
+                      the picture's darkness, then moved by Lloyd's iterations to their \
+                      Voronoi regions' centroids weighted by it (Secord 2002): evenly \
+                      spaced, denser where it is dark. Each iteration is an exact \
+                      diagram and a sum per region; the centroids are exact for the \
+                      digital regions.",
+            sites: None,
+            args: &[
+                "--random", "3000", "--seed", "4", "--size", "400", "--density", "sphere.png",
+                "--iterations", "40",
+            ],
+        },
     ]
+}
+
+/// A sphere lit from the upper left on a pale ground, as an 8-bit grey PNG:
+/// the stippling entry's density (dark is dense).
+fn sphere_png() -> Result<Vec<u8>> {
+    let side = 400u32;
+    let light = glam::DVec3::new(-0.5, -0.6, 0.62).normalize();
+    let grey: Vec<u8> = (0..side * side)
+        .map(|k| {
+            let (x, y) = ((k % side) as f64, (k / side) as f64);
+            let (u, v) = ((x - 200.0) / 160.0, (y - 200.0) / 160.0);
+            let r2 = u * u + v * v;
+            if r2 > 1.0 {
+                return 255;
+            }
+            let lit = glam::DVec3::new(u, v, (1.0 - r2).sqrt())
+                .dot(light)
+                .max(0.0);
+            (10.0 + 235.0 * lit) as u8
+        })
+        .collect();
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, side, side);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(&grey)?;
+    writer.finish()?;
+    Ok(bytes)
 }
 
 /// The files the entries read besides their sites: the homothets' units and
@@ -537,6 +582,7 @@ pub fn run(args: Args, run: impl Fn(Command) -> Result<()>) -> Result<()> {
     for (name, text) in EXTRA_FILES {
         std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;
     }
+    std::fs::write(args.dir.join("sphere.png"), sphere_png()?).context("writing sphere.png")?;
     for entry in entries() {
         if let Some((name, text)) = &entry.sites {
             std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;

@@ -334,6 +334,11 @@ impl Input {
         Ok((world, sites.collect()))
     }
 
+    /// `--random N --seed S`, when the sites are drawn rather than read.
+    pub fn random(&self) -> Option<(usize, u64)> {
+        self.random.map(|n| (n, self.seed))
+    }
+
     /// Whether the picture is the user's (--bbox), not fitted by the command.
     pub fn has_bbox(&self) -> bool {
         self.place.bbox.is_some()

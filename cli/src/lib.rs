@@ -24,6 +24,7 @@ mod envelope;
 mod gallery;
 mod homothet;
 mod input;
+mod lloyd;
 mod mask;
 mod progress;
 mod settle;
@@ -87,6 +88,7 @@ enum Command {
     Diameter(distances::DiameterArgs),
     Maxdist(distances::MaxDistArgs),
     Settle(Box<settle::Args>),
+    Lloyd(Box<lloyd::Args>),
     Enclose(homothet::EncloseArgs),
     Empty(homothet::EmptyArgs),
     Alpha(alpha::Args),
@@ -196,6 +198,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Diameter(args) => distances::diameter(args),
         Command::Maxdist(args) => distances::maxdist(args),
         Command::Settle(args) => settle::run(*args),
+        Command::Lloyd(args) => lloyd::run(*args),
         Command::Enclose(args) => homothet::enclose(args),
         Command::Empty(args) => homothet::empty(args),
         Command::Alpha(args) => alpha::run(args),

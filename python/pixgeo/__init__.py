@@ -36,6 +36,8 @@ NO_SITE = 2**32 - 1
 
 __all__ = [
     "NO_SITE",
+    "Lloyd",
+    "lloyd",
     "EARTH_RADIUS",
     "NoDeviceError",
     "DeviceError",
@@ -926,3 +928,6 @@ def medial_axis(
     if return_distance:
         return axis, d
     return axis
+
+
+from .lloyd import Lloyd, lloyd  # noqa: E402  (it builds on the helpers above)

@@ -65,6 +65,12 @@ def voronoi_weighted(
 def alpha_hull_of(
     p: _Points, alpha: float, side: int, method: str, device: Optional[str]
 ) -> Tuple[npt.NDArray[np.uint8], _Frame, List[int], str]: ...
+def lloyd(
+    sites: _Points, width: int, height: int, bbox: _BBox, iterations: int,
+    tolerance: Optional[float], density: Optional[npt.NDArray[np.float64]], device: Optional[str],
+) -> Tuple[
+    npt.NDArray[np.float64], npt.NDArray[np.uint32], _Frame, List[Tuple[float, float]], float, bool, int
+]: ...
 def settle(
     rivals: _Points, own: _Points, width: int, height: int, bbox: _BBox, metric_name: str,
     refine_from: int, device: Optional[str],

@@ -27,6 +27,7 @@ use pixgeo::{
         great_circle::{great_circle_grid, great_circle_nearest},
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+        lloyd::{lloyd as lloyd_iterations, LloydOptions},
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
         transform::{
@@ -464,6 +465,80 @@ fn settle<'py>(
     ))
 }
 
+/// Where Lloyd's iterations leave the sites, every pixel's nearest of
+/// them, the frame, each iteration's (energy, largest move), the final
+/// energy, whether they converged and how many sites own no weight.
+type LloydTuple<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<u32>>,
+    FrameTuple,
+    Vec<(f64, f64)>,
+    f64,
+    bool,
+    usize,
+);
+
+/// Lloyd's iterations from `sites` on the picture, over `density` (rows of
+/// the picture) or uniformly; on the CPU pixel algorithms for `cpu`.
+#[pyfunction]
+#[pyo3(signature = (sites, width, height, bbox, iterations, tolerance, density, device))]
+#[allow(clippy::too_many_arguments)]
+fn lloyd<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    width: u32,
+    height: u32,
+    bbox: Option<[f64; 4]>,
+    iterations: u32,
+    tolerance: Option<f64>,
+    density: Option<PyReadonlyArray2<'py, f64>>,
+    device: Option<&str>,
+) -> PyResult<LloydTuple<'py>> {
+    let sites = points(&sites);
+    let f = frame(width, height, bbox)?;
+    let mut options = LloydOptions::new(f).iterations(iterations);
+    if let Some(t) = tolerance {
+        options = options.tolerance(t);
+    }
+    let density = match &density {
+        Some(d) => {
+            let d = d.as_array();
+            if d.shape() != [height as usize, width as usize] {
+                return Err(PyValueError::new_err(format!(
+                    "density has shape {:?}, the picture ({height}, {width})",
+                    d.shape()
+                )));
+            }
+            Some(d.iter().copied().collect::<Vec<f64>>())
+        }
+        None => None,
+    };
+    let run = |m: Option<&Machine>| {
+        lloyd_iterations(m, &sites, &options, density.as_deref(), &mut |_, _| {})
+    };
+    let answer = if device.is_some_and(|d| d.trim().eq_ignore_ascii_case("cpu")) {
+        on_cpu(py, || run(None))?
+    } else {
+        on_machine(py, device, |m| run(Some(m)))?
+    };
+    let flat: Vec<f64> = answer.sites.iter().flat_map(|p| [p.x, p.y]).collect();
+    let points = Array2::from_shape_vec((answer.sites.len(), 2), flat)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok((
+        points.into_pyarray(py),
+        raster(py, answer.labels, height, width)?,
+        frame_tuple(&f),
+        answer
+            .steps
+            .iter()
+            .map(|s| (s.energy, s.largest_move))
+            .collect(),
+        answer.energy,
+        answer.converged,
+        answer.idle,
+    ))
+}
+
 #[pyfunction]
 #[pyo3(signature = (sites, width, height, k, bbox, metric_name, mode, device))]
 #[allow(clippy::too_many_arguments)]
@@ -797,6 +872,7 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(voronoi_weighted, m)?)?;
     m.add_function(wrap_pyfunction!(alpha_hull_of, m)?)?;
     m.add_function(wrap_pyfunction!(settle, m)?)?;
+    m.add_function(wrap_pyfunction!(lloyd, m)?)?;
     m.add_function(wrap_pyfunction!(k_nearest, m)?)?;
     m.add_function(wrap_pyfunction!(furthest, m)?)?;
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;

@@ -29,37 +29,104 @@ pub fn read_mask(path: &Path) -> Result<Mask> {
     match extension.as_deref() {
         Some("npy") => read_npy_values(path)?.mask(None).map_err(parse),
         Some("png") => {
-            let file = std::fs::File::open(path).map_err(|e| Error::Io {
-                path: path.to_path_buf(),
-                cause: e,
-            })?;
-            let mut decoder = png::Decoder::new(BufReader::new(file));
-            decoder.set_transformations(png::Transformations::normalize_to_color8());
-            let mut reader = decoder
-                .read_info()
-                .map_err(|e| parse(format!("not a PNG picture: {e}")))?;
-            let size = reader
-                .output_buffer_size()
-                .ok_or_else(|| parse("the picture is too large to read".into()))?;
-            let mut pixels = vec![0u8; size];
-            let info = reader
-                .next_frame(&mut pixels)
-                .map_err(|e| parse(format!("not a PNG picture: {e}")))?;
-            let channels = info.color_type.samples();
+            let picture = read_png(path)?;
             // Grey and grey-alpha have one colour channel, RGB and RGBA three.
-            let colours = if channels >= 3 { 3 } else { 1 };
-            let features = pixels[..info.buffer_size()]
-                .chunks_exact(info.line_size)
-                .flat_map(|row| {
-                    row[..info.width as usize * channels]
-                        .chunks_exact(channels)
-                        .map(|p| p[..colours].iter().any(|&c| c != 0))
-                })
+            let colours = if picture.channels >= 3 { 3 } else { 1 };
+            let features = picture
+                .samples
+                .chunks_exact(picture.channels)
+                .map(|p| p[..colours].iter().any(|&c| c != 0))
                 .collect();
-            mask(info.width as u64, info.height as u64, features).map_err(parse)
+            mask(picture.width as u64, picture.height as u64, features).map_err(parse)
         }
         _ => Err(parse(
             "a mask is read from .npy or .png (by the file's extension)".into(),
+        )),
+    }
+}
+
+/// A PNG picture's pixels at 8 bits a sample, row-major, packed.
+pub(crate) struct Png {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel: 1 grey, 2 grey and alpha, 3 RGB, 4 RGBA.
+    pub channels: usize,
+    pub samples: Vec<u8>,
+}
+
+/// Reads the PNG picture at `path`, any colour type and depth.
+pub(crate) fn read_png(path: &Path) -> Result<Png> {
+    let parse = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let file = std::fs::File::open(path).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        cause: e,
+    })?;
+    let mut decoder = png::Decoder::new(BufReader::new(file));
+    decoder.set_transformations(png::Transformations::normalize_to_color8());
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| parse(format!("not a PNG picture: {e}")))?;
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| parse("the picture is too large to read".into()))?;
+    let mut pixels = vec![0u8; size];
+    let info = reader
+        .next_frame(&mut pixels)
+        .map_err(|e| parse(format!("not a PNG picture: {e}")))?;
+    let channels = info.color_type.samples();
+    let samples = pixels[..info.buffer_size()]
+        .chunks_exact(info.line_size)
+        .flat_map(|row| &row[..info.width as usize * channels])
+        .copied()
+        .collect();
+    Ok(Png {
+        width: info.width,
+        height: info.height,
+        channels,
+        samples,
+    })
+}
+
+/// A density raster for weighted Lloyd iterations (stippling), read by its
+/// extension: a 2-D `.npy` array (its values), or a PNG picture, where dark
+/// is dense: 255 minus the grey level (the luminance `(299 r + 587 g + 114
+/// b) / 1000`, rounded, for colour), 8 bits a sample.
+pub fn read_density(path: &Path) -> Result<Values> {
+    let parse = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("npy") => read_npy_values(path),
+        Some("png") => {
+            let picture = read_png(path)?;
+            let values = picture
+                .samples
+                .chunks_exact(picture.channels)
+                .map(|p| {
+                    let grey = if picture.channels >= 3 {
+                        (299 * p[0] as u32 + 587 * p[1] as u32 + 114 * p[2] as u32 + 500) / 1000
+                    } else {
+                        p[0] as u32
+                    };
+                    (255 - grey) as f64
+                })
+                .collect();
+            Ok(Values {
+                width: picture.width as u64,
+                height: picture.height as u64,
+                values,
+            })
+        }
+        _ => Err(parse(
+            "a density is read from .npy or .png (by the file's extension)".into(),
         )),
     }
 }
@@ -95,7 +162,7 @@ pub fn read_npy_values(path: &Path) -> Result<Values> {
     let [height, width] = shape[..] else {
         return Err(Error::Parse {
             path: path.to_path_buf(),
-            message: format!("a mask is a 2-D array (rows, columns), not of shape {shape:?}"),
+            message: format!("a raster is a 2-D array (rows, columns), not of shape {shape:?}"),
         });
     };
     Ok(Values {

@@ -7,6 +7,7 @@ use std::{
 
 use pixgeo::io::npy;
 
+mod lloyd;
 mod memory;
 mod outputs;
 mod problems;

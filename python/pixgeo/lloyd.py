@@ -1,0 +1,85 @@
+"""Centroidal Voronoi tessellations by Lloyd's iterations (and stippling, with
+a density): :func:`pixgeo.lloyd`."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+
+from . import Frame, _pixgeo, _place, _points
+
+
+@dataclass(frozen=True)
+class Lloyd:
+    """Where Lloyd's iterations leave the sites (``points``, ``(n, 2)`` in
+    input order), every pixel's nearest of them (``labels``), and per
+    iteration the energy before its move (Σ density · squared distance to
+    the nearest site) and the largest move; ``idle`` counts the sites whose
+    region holds no weight (they stay put)."""
+
+    points: np.ndarray
+    labels: np.ndarray
+    frame: Frame
+    energy: np.ndarray
+    largest_move: np.ndarray
+    final_energy: float
+    converged: bool
+    idle: int
+
+
+def lloyd(
+    sites,
+    shape: Optional[Sequence[int]] = None,
+    *,
+    bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
+    iterations: int = 50,
+    tolerance: Optional[float] = None,
+    density=None,
+    device: Optional[str] = None,
+) -> Lloyd:
+    """Lloyd's iterations from ``sites`` on the picture: each iteration takes
+    the exact Voronoi diagram, sums every region's pixels (weighted by
+    ``density``, an array of the picture's shape, finite and not negative,
+    rows as the rasters'; uniform without one) and moves each site to its
+    region's centroid, exact for the digital region (whole-number sums,
+    rounded once). At most ``iterations``; stops once no site moves farther
+    than ``tolerance`` (world units; default a hundredth of a pixel).
+    ``device="cpu"`` runs the CPU pixel algorithms, to the same answer."""
+    place = _place(shape, bbox, res, y_axis, crs)
+    if place.crs is not None and _pixgeo.is_geographic(int(place.crs[5:])):
+        warnings.warn(
+            f"{place.crs} is geographic: Lloyd's centroids are taken on the longitude-latitude "
+            "plane, in degrees",
+            stacklevel=2,
+        )
+    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 0:
+        raise ValueError(f"iterations is a whole number of 0 or more, not {iterations!r}")
+    if density is not None:
+        density = np.ascontiguousarray(density, dtype=np.float64)
+    points, labels, frame, steps, final, converged, idle = _pixgeo.lloyd(
+        place.sites(_points(sites, "sites")),
+        place.width,
+        place.height,
+        place.bbox,
+        int(iterations),
+        None if tolerance is None else float(tolerance),
+        density,
+        device,
+    )
+    steps = np.asarray(steps, dtype=np.float64).reshape(-1, 2)
+    return Lloyd(
+        place.sites(points),
+        labels,
+        place.frame(frame),
+        steps[:, 0].copy(),
+        steps[:, 1].copy(),
+        final,
+        converged,
+        idle,
+    )
