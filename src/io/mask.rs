@@ -18,15 +18,8 @@ pub struct Mask {
 
 /// Reads a mask from `path`, by its extension: `.npy` or `.png`.
 pub fn read_mask(path: &Path) -> Result<Mask> {
-    let parse = |message: String| Error::Parse {
-        path: path.to_path_buf(),
-        message,
-    };
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match extension.as_deref() {
+    let parse = |message: String| parse_error(path, message);
+    match extension(path).as_deref() {
         Some("npy") => read_npy_values(path)?.mask(None).map_err(parse),
         Some("png") => {
             let picture = read_png(path)?;
@@ -45,6 +38,20 @@ pub fn read_mask(path: &Path) -> Result<Mask> {
     }
 }
 
+/// A file's extension in lower case.
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+}
+
+fn parse_error(path: &Path, message: String) -> Error {
+    Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
 /// A PNG picture's pixels at 8 bits a sample, row-major, packed.
 pub(crate) struct Png {
     pub width: u32,
@@ -56,10 +63,7 @@ pub(crate) struct Png {
 
 /// Reads the PNG picture at `path`, any colour type and depth.
 pub(crate) fn read_png(path: &Path) -> Result<Png> {
-    let parse = |message: String| Error::Parse {
-        path: path.to_path_buf(),
-        message,
-    };
+    let parse = |message: String| parse_error(path, message);
     let file = std::fs::File::open(path).map_err(|e| Error::Io {
         path: path.to_path_buf(),
         cause: e,
@@ -95,15 +99,7 @@ pub(crate) fn read_png(path: &Path) -> Result<Png> {
 /// is dense: 255 minus the grey level (the luminance `(299 r + 587 g + 114
 /// b) / 1000`, rounded, for colour), 8 bits a sample.
 pub fn read_density(path: &Path) -> Result<Values> {
-    let parse = |message: String| Error::Parse {
-        path: path.to_path_buf(),
-        message,
-    };
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match extension.as_deref() {
+    match extension(path).as_deref() {
         Some("npy") => read_npy_values(path),
         Some("png") => {
             let picture = read_png(path)?;
@@ -125,7 +121,8 @@ pub fn read_density(path: &Path) -> Result<Values> {
                 values,
             })
         }
-        _ => Err(parse(
+        _ => Err(parse_error(
+            path,
             "a density is read from .npy or .png (by the file's extension)".into(),
         )),
     }
