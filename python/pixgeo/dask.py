@@ -25,9 +25,11 @@ try:
 except ImportError as e:  # pragma: no cover - the extra is missing
     raise ImportError("pixgeo.dask needs Dask: pip install ./python[dask]") from e
 
-from . import Diagram, _pixgeo, _place, _planar, _points
+from fractions import Fraction
 
-__all__ = ["voronoi"]
+from . import Diagram, Lloyd, _pixgeo, _place, _planar, _points
+
+__all__ = ["voronoi", "lloyd"]
 
 
 def _block(
@@ -109,3 +111,121 @@ def voronoi(
     labels = (packed & np.uint64(0xFFFFFFFF)).astype(np.uint32)
     distances = (packed >> np.uint64(32)).astype(np.uint32).view(np.float32)
     return Diagram(labels, distances, frame)
+
+
+def _window_sums(sites, width, height, frame, bbox, window, q, device):
+    """One block's share of Lloyd's sums: per site Σq, Σq(2i + 1) and
+    Σq(2j + 1) over the block's pixels nearest to it, as Python integers,
+    and the block's energy Σq · squared distance, as a double."""
+    x0, y0, w, h = window
+    # The sites arrive unpickled from a buffer, perhaps unaligned.
+    sites = _points(sites, "sites")
+    labels, _, _ = _pixgeo.voronoi(sites, width, height, bbox, "l2", "exact", device, window)
+    labels = labels.ravel().astype(np.int64)
+    jj, ii = (a.ravel() for a in np.mgrid[y0 : y0 + h, x0 : x0 + w])
+    q = np.ones(w * h, dtype=np.int64) if q is None else np.asarray(q, dtype=np.int64).ravel()
+    _, _, ox, oy, scale = frame
+    px, py = ox + (ii + 0.5) / scale, oy + (jj + 0.5) / scale
+    energy = float(np.sum(q * ((px - sites[labels, 0]) ** 2 + (py - sites[labels, 1]) ** 2)))
+    order = np.argsort(labels, kind="stable")
+    keys = labels[order]
+    starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+    q = q[order]
+    sums = [np.add.reduceat(v, starts) for v in (q, q * (2 * ii[order] + 1), q * (2 * jj[order] + 1))]
+    return {int(k): tuple(int(s[n]) for s in sums) for n, k in enumerate(keys[starts])}, energy
+
+
+def lloyd(
+    sites,
+    shape: Optional[Sequence[int]] = None,
+    *,
+    chunks: Tuple[int, int] = (4096, 4096),
+    bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
+    iterations: int = 50,
+    tolerance: Optional[float] = None,
+    density=None,
+    device: Optional[str] = None,
+) -> Lloyd:
+    """:func:`pixgeo.lloyd` on a picture larger than one machine: each
+    iteration draws every block of ``chunks`` as a window on a worker (the
+    whole diagram's pixels, bit for bit) with its share of the region sums,
+    and the sums meet on the client as whole numbers, so the sites are the
+    same doubles as :func:`pixgeo.lloyd`'s. ``density`` (a NumPy or Dask
+    array of the picture's shape) takes whole numbers from 0 to 65535 here,
+    which keep a block's sums exact in 64 bits (blocks too large for that
+    are refused). ``labels`` is a Dask array of
+    the final sites' diagram; the energies are summed block by block, so they
+    may differ from :func:`pixgeo.lloyd`'s in the last bits."""
+    place = _place(shape, bbox, res, y_axis, crs)
+    h, w, box = place.height, place.width, place.bbox
+    points = place.sites(_points(sites, "sites"))
+    frame = _pixgeo.frame_of(w, h, box)
+    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 0:
+        raise ValueError(f"iterations is a whole number of 0 or more, not {iterations!r}")
+    try:
+        rows, cols = (int(c) for c in chunks)
+    except (TypeError, ValueError):
+        raise ValueError(f"chunks must be (rows, columns), not {chunks!r}") from None
+    if rows < 1 or cols < 1:
+        raise ValueError(f"chunks {chunks!r}: blocks need at least one row and column")
+    if 65535 * 2 * max(w, h) * min(rows, h) * min(cols, w) >= 1 << 63:
+        raise ValueError(f"chunks {chunks!r}: blocks this large could overflow the sums; use smaller ones")
+    if density is not None:
+        density = da.asarray(density)
+        if density.shape != (h, w):
+            raise ValueError(f"density has shape {density.shape}, the picture {(h, w)}")
+        low, high, whole = dask.compute(density.min(), density.max(),
+                                        da.all(density == da.floor(density)))
+        if not (whole and 0 <= low and 0 < high <= 65535):
+            raise ValueError(
+                "pixgeo.dask.lloyd takes densities of whole numbers from 0 to 65535, not all "
+                "zero; pixgeo.lloyd takes any"
+            )
+    _, _, ox, oy, scale = frame
+    tolerance = 0.01 / scale if tolerance is None else float(tolerance)
+    if not tolerance >= 0:
+        raise ValueError(f"the tolerance is a distance of 0 or more, not {tolerance}")
+    windows = [(x0, y0, min(cols, w - x0), min(rows, h - y0))
+               for y0 in range(0, h, rows) for x0 in range(0, w, cols)]
+
+    def sums(at):
+        """Every site's sums and the energy, the blocks computed by Dask."""
+        shared = dask.delayed(at, pure=True)
+        parts = [dask.delayed(_window_sums)(
+            shared, w, h, frame, box, (x0, y0, ww, hh),
+            None if density is None else density[y0 : y0 + hh, x0 : x0 + ww], device)
+            for x0, y0, ww, hh in windows]
+        totals, energy = {}, 0.0
+        for part, e in dask.compute(*parts):
+            energy += e
+            for site, s in part.items():
+                t = totals.get(site, (0, 0, 0))
+                totals[site] = (t[0] + s[0], t[1] + s[1], t[2] + s[2])
+        return totals, energy
+
+    current = points.copy()
+    energies, moves, converged = [], [], False
+    for _ in range(int(iterations)):
+        totals, energy = sums(current)
+        moved = current.copy()
+        for site, (weight, sx, sy) in totals.items():
+            if weight:
+                unit = 2 * weight * Fraction(scale)
+                moved[site] = (float(Fraction(ox) + sx / unit), float(Fraction(oy) + sy / unit))
+        energies.append(energy)
+        step = moved - current
+        # As pixgeo.lloyd measures a move: the root of the sum of squares.
+        moves.append(float(np.max(np.sqrt(step[:, 0] * step[:, 0] + step[:, 1] * step[:, 1]))))
+        current = moved
+        if moves[-1] <= tolerance:
+            converged = True
+            break
+    totals, final_energy = sums(current)
+    idle = len(current) - sum(1 for t in totals.values() if t[0] > 0)
+    final = voronoi(place.sites(current), shape, chunks=chunks, bbox=bbox, res=res,
+                    y_axis=y_axis, crs=crs, device=device)
+    return Lloyd(place.sites(current), final.labels, final.frame, np.array(energies),
+                 np.array(moves), final_energy, converged, idle)

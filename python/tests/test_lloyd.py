@@ -59,3 +59,34 @@ def test_lloyd_stops_at_its_tolerance_and_refuses_bad_densities():
         pixgeo.lloyd(sites, (64, 64), density=np.ones((10, 10)))
     with pytest.raises(ValueError, match="iterations"):
         pixgeo.lloyd(sites, (64, 64), iterations=-1)
+
+
+@pytest.mark.parametrize("weighted", [False, True])
+def test_dask_lloyd_is_lloyd_block_by_block(weighted):
+    """pixgeo.dask.lloyd sums the regions window by window: the same sites
+    as pixgeo.lloyd, bit for bit, however the picture is chunked."""
+    import dask
+    import dask.array as da
+
+    import pixgeo.dask
+
+    rng = np.random.default_rng(8)
+    h, w = 90, 120
+    box = (0.0, 0.0, 12.0, 9.0)
+    sites = np.column_stack([rng.uniform(0, 12, 40), rng.uniform(0, 9, 40)])
+    jj, ii = np.mgrid[0:h, 0:w]
+    density = (100 + 90 * np.sin(ii / 13.0) * np.cos(jj / 7.0)).round() if weighted else None
+    whole = pixgeo.lloyd(sites, (h, w), bbox=box, iterations=6, tolerance=0.0, density=density)
+    lazy = None if density is None else da.from_array(density, chunks=(45, 60))
+    with dask.config.set(scheduler="synchronous"):
+        blocks = pixgeo.dask.lloyd(sites, (h, w), bbox=box, chunks=(32, 50), iterations=6,
+                                   tolerance=0.0, density=lazy)
+        labels = blocks.labels.compute()
+    np.testing.assert_array_equal(blocks.points, whole.points)
+    np.testing.assert_array_equal(blocks.largest_move, whole.largest_move)
+    np.testing.assert_allclose(blocks.energy, whole.energy, rtol=1e-12)
+    np.testing.assert_array_equal(labels, whole.labels)
+    assert blocks.idle == whole.idle and blocks.converged == whole.converged
+    if weighted:
+        with pytest.raises(ValueError, match="whole numbers"):
+            pixgeo.dask.lloyd(sites, (h, w), bbox=box, density=density + 0.5)

@@ -2,7 +2,8 @@
 //! places: the device is a filter with a proven error bound and the host
 //! decides what is within it.
 //!
-//! The host lists for every tile of [`TILE_SIDE`] pixels the sites that can
+//! The host lists for every tile (a square of pixels sized to hold a few
+//! sites, [`tile_side`]) the sites that can
 //! be nearest to one of its pixels: those within `d + 2ρ` (chords) of the
 //! tile's centre, where `d` is the centre's nearest site and `ρ` the tile's
 //! reach from its centre. A pixel's nearest site is within `d + ρ` of it, so
@@ -31,8 +32,13 @@ static GREAT_CIRCLE: ComputeProgram = ComputeProgram::new(
     std::mem::size_of::<[u32; 5]>(),
 );
 
-/// Pixels along a side of the tiles that share a list of sites.
-const TILE_SIDE: usize = 16;
+/// Pixels along a side of the tiles that share a list of sites: about
+/// `SITES_PER_TILE` sites' share of the grid, between 4 and 32.
+fn tile_side(pixels: usize, sites: usize) -> usize {
+    const SITES_PER_TILE: f64 = 4.0;
+    let side = (SITES_PER_TILE * pixels as f64 / sites as f64).sqrt();
+    (side as usize).clamp(4, 32)
+}
 
 /// The largest band of pixels computed at once: one dispatch's limit.
 const BAND_PIXELS: usize = MAX_GROUPS as usize * 64;
@@ -68,11 +74,12 @@ pub fn great_circle_grid(
     if width == 0 || lats.is_empty() {
         return Ok(GreatCircle::default());
     }
-    if width * TILE_SIDE > BAND_PIXELS {
+    let side = tile_side(width * lats.len(), sites.len());
+    if width * side > BAND_PIXELS {
         return Err(Error::InvalidInput(format!(
             "a grid {width} pixels wide: great circles on the device take at most {} \
              columns",
-            BAND_PIXELS / TILE_SIDE
+            BAND_PIXELS / side
         )));
     }
     let tree = Tree::new(sites.iter().map(|&p| super::unit_vector(p)).collect());
@@ -90,7 +97,7 @@ pub fn great_circle_grid(
         .map(|v| [v.x as f32, v.y as f32, v.z as f32, 0.0])
         .collect();
     site_buffer.write(&vectors);
-    let band_rows = (BAND_PIXELS / width) / TILE_SIDE * TILE_SIDE;
+    let band_rows = (BAND_PIXELS / width) / side * side;
     let watch = Watch::current();
     let total = (width * lats.len()) as u64;
     let mut answer = GreatCircle::default();
@@ -98,6 +105,7 @@ pub fn great_circle_grid(
         watch.check()?;
         let band = first_row..lats.len().min(first_row + band_rows);
         let grid = Grid {
+            side,
             lons,
             lats: &lats[band.clone()],
             columns: &columns,
@@ -139,6 +147,8 @@ pub fn great_circle_grid(
 
 /// A band of the grid: its columns' and rows' degrees, cosines and sines.
 struct Grid<'a> {
+    /// The tiles' side in pixels.
+    side: usize,
     lons: &'a [f64],
     lats: &'a [f64],
     columns: &'a [(f64, f64)],
@@ -155,8 +165,8 @@ impl Grid<'_> {
         sites: &crate::machine::Buffer,
     ) -> Result<Vec<u32>> {
         let (width, height) = (self.lons.len(), self.lats.len());
-        let across = width.div_ceil(TILE_SIDE);
-        let tiles = across * height.div_ceil(TILE_SIDE);
+        let across = width.div_ceil(self.side);
+        let tiles = across * height.div_ceil(self.side);
         let lists: Vec<Vec<u32>> = (0..tiles)
             .into_par_iter()
             .map(|t| self.candidates(tree, t % across, t / across))
@@ -184,7 +194,7 @@ impl Grid<'_> {
         let push = [
             width as u32,
             pixels as u32,
-            TILE_SIDE as u32,
+            self.side as u32,
             across as u32,
             tiles as u32 + 1,
         ];
@@ -201,7 +211,8 @@ impl Grid<'_> {
 
     /// The sites that can be nearest to a pixel of tile (`tx`, `ty`).
     fn candidates(&self, tree: &Tree, tx: usize, ty: usize) -> Vec<u32> {
-        let last = |n: usize, t: usize| (t * TILE_SIDE, ((t + 1) * TILE_SIDE).min(n) - 1);
+        let side = self.side;
+        let last = |n: usize, t: usize| (t * side, ((t + 1) * side).min(n) - 1);
         let (i0, i1) = last(self.lons.len(), tx);
         let (j0, j1) = last(self.lats.len(), ty);
         let (lon0, lon1) = (self.lons[i0], self.lons[i1]);
