@@ -2,8 +2,8 @@
 //! places: the device is a filter with a proven error bound and the host
 //! decides what is within it.
 //!
-//! The host lists for every tile (a square of pixels sized to hold a few
-//! sites, [`tile_side`]) the sites that can
+//! The host lists for every tile (a square of pixels sized to hold about one
+//! site, [`tile_side`]) the sites that can
 //! be nearest to one of its pixels: those within `d + 2ρ` (chords) of the
 //! tile's centre, where `d` is the centre's nearest site and `ρ` the tile's
 //! reach from its centre. A pixel's nearest site is within `d + ρ` of it, so
@@ -32,12 +32,10 @@ static GREAT_CIRCLE: ComputeProgram = ComputeProgram::new(
     std::mem::size_of::<[u32; 5]>(),
 );
 
-/// Pixels along a side of the tiles that share a list of sites: about
-/// `SITES_PER_TILE` sites' share of the grid, between 4 and 32.
+/// Pixels along a side of the tiles that share a list of sites: about one
+/// site's share of the grid, between 4 and 16 (`docs/benchmarks.md`).
 fn tile_side(pixels: usize, sites: usize) -> usize {
-    const SITES_PER_TILE: f64 = 4.0;
-    let side = (SITES_PER_TILE * pixels as f64 / sites as f64).sqrt();
-    (side as usize).clamp(4, 32)
+    ((pixels as f64 / sites as f64).sqrt() as usize).clamp(4, 16)
 }
 
 /// The largest band of pixels computed at once: one dispatch's limit.
