@@ -111,14 +111,7 @@ pub fn lloyd(
         )));
     }
     let weights = Weights::new(&frame, density)?;
-    let label = |sites: &[DVec2]| -> Result<Vec<u32>> {
-        match machine {
-            Some(m) => {
-                Ok(voronoi(m, sites, &VoronoiOptions::exact(frame).distances(false))?.labels)
-            }
-            None => Ok(cpu::k_nearest(sites, &frame, 1, Metric::L2)?.labels),
-        }
-    };
+    let label = |sites: &[DVec2]| nearest_labels(machine, sites, &frame);
     let watch = Watch::current();
     let mut sites = sites.to_vec();
     let mut labels = label(&sites)?;
@@ -155,6 +148,19 @@ pub fn lloyd(
         steps,
         converged,
     })
+}
+
+/// Every pixel's nearest site (exact, ties to the lower index), drawn on
+/// `machine` or by the CPU pixel algorithms without one.
+pub(crate) fn nearest_labels(
+    machine: Option<&Machine>,
+    sites: &[DVec2],
+    frame: &Frame,
+) -> Result<Vec<u32>> {
+    match machine {
+        Some(m) => Ok(voronoi(m, sites, &VoronoiOptions::exact(*frame).distances(false))?.labels),
+        None => Ok(cpu::k_nearest(sites, frame, 1, Metric::L2)?.labels),
+    }
 }
 
 /// Refuses density values that are negative or not finite.

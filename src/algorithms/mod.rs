@@ -15,6 +15,7 @@ pub mod flooding;
 pub mod great_circle;
 pub mod higher_order;
 pub mod homothet;
+pub mod interpolate;
 pub mod lloyd;
 pub mod settle;
 pub mod sites;

@@ -17,6 +17,7 @@ mod flooding;
 mod great_circle;
 mod higher_order;
 mod homothet;
+mod interpolate;
 mod lloyd;
 mod machine;
 mod polygon;
