@@ -28,8 +28,20 @@ except ImportError as e:  # pragma: no cover - the extra is missing
 from fractions import Fraction
 
 from . import Diagram, Lloyd, _pixgeo, _place, _planar, _points
+from .lloyd import _iterations
 
 __all__ = ["voronoi", "lloyd"]
+
+
+def _chunks(chunks) -> Tuple[int, int]:
+    """``chunks`` checked: (rows, columns), each at least 1."""
+    try:
+        rows, cols = (int(c) for c in chunks)
+    except (TypeError, ValueError):
+        raise ValueError(f"chunks must be (rows, columns), not {chunks!r}") from None
+    if rows < 1 or cols < 1:
+        raise ValueError(f"chunks {chunks!r}: blocks need at least one row and column")
+    return rows, cols
 
 
 def _block(
@@ -88,12 +100,7 @@ def voronoi(
     frame = place.frame(_pixgeo.frame_of(w, h, box))
     # Check the sites and options once, here, on a one-pixel window.
     _pixgeo.voronoi(points, w, h, box, metric, mode, device, (0, 0, 1, 1))
-    try:
-        rows, cols = (int(c) for c in chunks)
-    except (TypeError, ValueError):
-        raise ValueError(f"chunks must be (rows, columns), not {chunks!r}") from None
-    if rows < 1 or cols < 1:
-        raise ValueError(f"chunks {chunks!r}: blocks need at least one row and column")
+    rows, cols = _chunks(chunks)
     shared = dask.delayed(points, pure=True)
     packed = da.map_blocks(
         _block,
@@ -163,14 +170,8 @@ def lloyd(
     h, w, box = place.height, place.width, place.bbox
     points = place.sites(_points(sites, "sites"))
     frame = _pixgeo.frame_of(w, h, box)
-    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 0:
-        raise ValueError(f"iterations is a whole number of 0 or more, not {iterations!r}")
-    try:
-        rows, cols = (int(c) for c in chunks)
-    except (TypeError, ValueError):
-        raise ValueError(f"chunks must be (rows, columns), not {chunks!r}") from None
-    if rows < 1 or cols < 1:
-        raise ValueError(f"chunks {chunks!r}: blocks need at least one row and column")
+    iterations = _iterations(iterations)
+    rows, cols = _chunks(chunks)
     if 65535 * 2 * max(w, h) * min(rows, h) * min(cols, w) >= 1 << 63:
         raise ValueError(f"chunks {chunks!r}: blocks this large could overflow the sums; use smaller ones")
     if density is not None:
@@ -208,7 +209,7 @@ def lloyd(
 
     current = points.copy()
     energies, moves, converged = [], [], False
-    for _ in range(int(iterations)):
+    for _ in range(iterations):
         totals, energy = sums(current)
         moved = current.copy()
         for site, (weight, sx, sy) in totals.items():

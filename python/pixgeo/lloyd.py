@@ -30,6 +30,13 @@ class Lloyd:
     idle: int
 
 
+def _iterations(iterations) -> int:
+    """``iterations`` checked: a whole number of 0 or more."""
+    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 0:
+        raise ValueError(f"iterations is a whole number of 0 or more, not {iterations!r}")
+    return int(iterations)
+
+
 def lloyd(
     sites,
     shape: Optional[Sequence[int]] = None,
@@ -58,8 +65,7 @@ def lloyd(
             "plane, in degrees",
             stacklevel=2,
         )
-    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 0:
-        raise ValueError(f"iterations is a whole number of 0 or more, not {iterations!r}")
+    iterations = _iterations(iterations)
     if density is not None:
         density = np.ascontiguousarray(density, dtype=np.float64)
     points, labels, frame, steps, final, converged, idle = _pixgeo.lloyd(
@@ -67,7 +73,7 @@ def lloyd(
         place.width,
         place.height,
         place.bbox,
-        int(iterations),
+        iterations,
         None if tolerance is None else float(tolerance),
         density,
         device,
