@@ -6,8 +6,8 @@ use std::str::FromStr;
 
 use crate::{
     algorithms::{
-        alpha_hull::AlphaMethod, area::Extreme, settle::SettleMethod, voronoi::Accuracy,
-        voronoi::Speedup,
+        alpha_hull::AlphaMethod, area::Extreme, interpolate::Method as Interpolation,
+        settle::SettleMethod, voronoi::Accuracy, voronoi::Speedup,
     },
     error::{Error, Result},
     geometry::metric::Metric,
@@ -37,6 +37,12 @@ const SETTLE_METHODS: [(&str, SettleMethod); 2] = [
     ("spans", SettleMethod::Spans),
     ("faithful", SettleMethod::Faithful),
 ];
+const INTERPOLATIONS: [(&str, Interpolation); 4] = [
+    ("exact", Interpolation::Exact),
+    ("discrete", Interpolation::Discrete),
+    ("linear", Interpolation::Linear),
+    ("nearest", Interpolation::Nearest),
+];
 const EXTREMES: [(&str, Extreme); 2] = [
     ("smallest", Extreme::Smallest),
     ("largest", Extreme::Largest),
@@ -47,6 +53,14 @@ impl FromStr for Speedup {
     /// `local`, `quadtree` or `none`.
     fn from_str(text: &str) -> Result<Self> {
         by_name("speedup", text, &SPEEDUPS)
+    }
+}
+
+impl FromStr for Interpolation {
+    type Err = Error;
+    /// `exact`, `discrete`, `linear` or `nearest`.
+    fn from_str(text: &str) -> Result<Self> {
+        by_name("interpolation method", text, &INTERPOLATIONS)
     }
 }
 

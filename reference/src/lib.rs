@@ -11,5 +11,6 @@ pub mod higher_order;
 pub mod homothet;
 pub mod npy;
 pub mod settle;
+pub mod sibson;
 pub mod sites;
 pub mod voronoi;

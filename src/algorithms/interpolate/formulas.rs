@@ -1,0 +1,197 @@
+//! The linear and Sibson interpolants at a point, written once for two kinds
+//! of number: double-double values that carry an error bound ([`Bounded`]),
+//! which settle the correctly rounded answer almost everywhere, and
+//! rationals, which settle the rest exactly.
+//!
+//! Coordinates are taken relative to the query point `q`; differences of two
+//! doubles are exact in both kinds.
+//!
+//! Sibson's weight of a natural neighbour `a` is the area a new site at `q`
+//! steals from `a`'s Voronoi region. That region piece is the polygon
+//! `M, h0, C1, ..., Cm, hm`, where `C1..Cm` are the circumcentres of the
+//! cavity triangles around `a` (counter-clockwise), `h0` and `hm` are the
+//! circumcentres of `q` with `a` and its two neighbours on the cavity's
+//! boundary, and `M` is the midpoint of `q` and `a` (on the line through `h0`
+//! and `hm`, the bisector of `q` and `a`). Its shoelace sum splits over the
+//! cavity triangles, so each triangle adds its own terms; no circumcentre of
+//! `q` with an inner edge is needed, so `q` on an inner edge is no special
+//! case.
+
+use std::ops::{Add, Div, Mul, Sub};
+
+use glam::DVec2;
+use num_rational::BigRational;
+
+use super::walk::Triangles;
+use crate::geometry::{
+    bounded::Bounded,
+    exact::{nearest_double, rational},
+};
+
+/// A number the formulas are evaluated in.
+pub(crate) trait Number:
+    Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    fn exact(v: f64) -> Self;
+    /// `a - b` of two doubles, exactly.
+    fn difference(a: f64, b: f64) -> Self;
+}
+
+impl Number for Bounded {
+    fn exact(v: f64) -> Self {
+        Bounded::exact(v)
+    }
+    fn difference(a: f64, b: f64) -> Self {
+        Bounded::difference(a, b)
+    }
+}
+
+impl Number for BigRational {
+    fn exact(v: f64) -> Self {
+        rational(v)
+    }
+    fn difference(a: f64, b: f64) -> Self {
+        rational(a) - rational(b)
+    }
+}
+
+#[derive(Clone)]
+struct Point<T> {
+    x: T,
+    y: T,
+}
+
+impl<T: Number> Point<T> {
+    /// `p - q`.
+    fn relative(p: DVec2, q: DVec2) -> Self {
+        Self {
+            x: T::difference(p.x, q.x),
+            y: T::difference(p.y, q.y),
+        }
+    }
+
+    fn plus(&self, o: &Self) -> Self {
+        Self {
+            x: self.x.clone() + o.x.clone(),
+            y: self.y.clone() + o.y.clone(),
+        }
+    }
+
+    fn half(&self) -> Self {
+        Self {
+            x: self.x.clone() * T::exact(0.5),
+            y: self.y.clone() * T::exact(0.5),
+        }
+    }
+}
+
+/// `a × b`.
+fn cross<T: Number>(a: &Point<T>, b: &Point<T>) -> T {
+    a.x.clone() * b.y.clone() - a.y.clone() * b.x.clone()
+}
+
+/// The circumcentre of the origin, `a` and `b` (not collinear).
+fn circumcentre<T: Number>(a: &Point<T>, b: &Point<T>) -> Point<T> {
+    let la = a.x.clone() * a.x.clone() + a.y.clone() * a.y.clone();
+    let lb = b.x.clone() * b.x.clone() + b.y.clone() * b.y.clone();
+    let d = cross(a, b) * T::exact(2.0);
+    Point {
+        x: (la.clone() * b.y.clone() - lb.clone() * a.y.clone()) / d.clone(),
+        y: (lb * a.x.clone() - la * b.x.clone()) / d,
+    }
+}
+
+/// The linear interpolant of triangle `t` at `q` (in it or on its edges):
+/// `q`'s barycentric coordinates are the triangles it makes with the edges.
+pub(crate) fn linear<T: Number>(q: DVec2, triangles: &Triangles, t: u32, values: &[f64]) -> T {
+    let corners = triangles.corners[t as usize];
+    let p = triangles
+        .corner_points(t)
+        .map(|c| Point::<T>::relative(c, q));
+    let areas: [T; 3] = std::array::from_fn(|k| cross(&p[(k + 1) % 3], &p[(k + 2) % 3]));
+    let mut sum = T::exact(0.0);
+    let mut total = T::exact(0.0);
+    for k in 0..3 {
+        sum = sum + areas[k].clone() * T::exact(values[corners[k] as usize]);
+        total = total + areas[k].clone();
+    }
+    sum / total
+}
+
+/// Sibson's interpolant at `q`, strictly inside the hull, given the cavity
+/// of triangles whose circumcircles hold `q`.
+pub(crate) fn sibson<T: Number>(
+    q: DVec2,
+    triangles: &Triangles,
+    cavity: &[u32],
+    values: &[f64],
+) -> T {
+    let centres: Vec<Point<T>> = cavity
+        .iter()
+        .map(|&t| {
+            let [a, b, c] = triangles.corner_points(t);
+            let ab = Point::<T> {
+                x: T::difference(b.x, a.x),
+                y: T::difference(b.y, a.y),
+            };
+            let ac = Point::<T> {
+                x: T::difference(c.x, a.x),
+                y: T::difference(c.y, a.y),
+            };
+            Point::relative(a, q).plus(&circumcentre(&ab, &ac))
+        })
+        .collect();
+    // Twice the stolen area of each natural neighbour, by site.
+    let mut stolen: Vec<(u32, T)> = Vec::with_capacity(cavity.len() + 2);
+    for (i, &t) in cavity.iter().enumerate() {
+        let corners = triangles.corners[t as usize];
+        let across = triangles.across(t);
+        let centre = &centres[i];
+        for k in 0..3 {
+            let a = corners[k];
+            let pa = Point::<T>::relative(triangles.sites[a as usize], q);
+            let midpoint = pa.half();
+            let mut area = T::exact(0.0);
+            // The edge a -> x it enters by: on the boundary, M -> h0 -> C.
+            if !cavity.contains(&across[k]) {
+                let x = triangles.sites[corners[(k + 1) % 3] as usize];
+                let h = circumcentre(&pa, &Point::relative(x, q));
+                area = area + cross(&midpoint, &h) + cross(&h, centre);
+            }
+            // The edge y -> a it leaves by: C -> C' inside, else C -> hm -> M.
+            let exit = (k + 2) % 3;
+            match cavity.iter().position(|&u| u == across[exit]) {
+                Some(j) => area = area + cross(centre, &centres[j]),
+                None => {
+                    let y = triangles.sites[corners[exit] as usize];
+                    let h = circumcentre(&pa, &Point::relative(y, q));
+                    area = area + cross(centre, &h) + cross(&h, &midpoint);
+                }
+            }
+            match stolen.iter_mut().find(|(s, _)| *s == a) {
+                Some((_, sum)) => *sum = sum.clone() + area,
+                None => stolen.push((a, area)),
+            }
+        }
+    }
+    let mut sum = T::exact(0.0);
+    let mut total = T::exact(0.0);
+    for (a, area) in stolen {
+        sum = sum + area.clone() * T::exact(values[a as usize]);
+        total = total + area;
+    }
+    sum / total
+}
+
+/// The double nearest the interpolant `evaluate` gives: settled by the
+/// bounded double-double evaluation where it can, else by rationals. Also
+/// says whether rationals were needed.
+pub(crate) fn nearest(
+    bounded: impl Fn() -> Bounded,
+    exact: impl Fn() -> BigRational,
+) -> (f64, bool) {
+    match bounded().nearest_plus(0.0) {
+        Some(v) => (v, false),
+        None => (nearest_double(&exact()), true),
+    }
+}

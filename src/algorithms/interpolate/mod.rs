@@ -1,0 +1,285 @@
+//! Scattered values interpolated onto a raster: natural-neighbour (Sibson)
+//! interpolation, exact or rendered, and the nearest-site and linear
+//! interpolants to compare with.
+//!
+//! - [`Method::Exact`]: Sibson's interpolant, each pixel centre's weights the
+//!   areas a new site there would steal from its natural neighbours' Voronoi
+//!   regions, from the exact Delaunay triangulation. The natural neighbours
+//!   are decided by exact in-circle tests; the value is the double nearest
+//!   the exact interpolant, settled by double-double arithmetic with an
+//!   error bound, and by rationals where the bound cannot settle it.
+//! - [`Method::Linear`]: barycentric interpolation in the exact Delaunay
+//!   triangle holding the pixel centre, rounded as exactly (SciPy's
+//!   `griddata(method="linear")`).
+//! - [`Method::Nearest`]: the value of the exact nearest site (ties to the
+//!   lower index), everywhere, as `griddata(method="nearest")`.
+//! - [`Method::Discrete`]: the rendered discrete Sibson interpolant
+//!   ([`discrete_sibson`]), whose error against the exact one its module
+//!   states.
+//!
+//! Outside the sites' convex hull the natural-neighbour and linear methods
+//! give NaN, as MetPy's `natural_neighbor_to_grid` and `griddata` do. On the
+//! hull's edges Sibson's interpolant is the linear one along the edge.
+
+mod discrete;
+mod formulas;
+mod walk;
+
+pub use discrete::discrete_sibson;
+
+use glam::DVec2;
+use num_rational::BigRational;
+use rayon::prelude::*;
+
+use crate::{
+    algorithms::{
+        delaunay::{delaunay, DelaunayOptions},
+        lloyd::nearest_labels,
+    },
+    cancel::Watch,
+    geometry::{bounded::Bounded, scale, Frame},
+    Error, Machine, Result,
+};
+use formulas::{linear, nearest, sibson};
+use walk::{Place, Triangles};
+
+/// How values are interpolated between the sites.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Sibson's natural-neighbour interpolant, correctly rounded.
+    #[default]
+    Exact,
+    /// The rendered discrete Sibson interpolant.
+    Discrete,
+    /// Barycentric in the Delaunay triangle, correctly rounded.
+    Linear,
+    /// The nearest site's value.
+    Nearest,
+}
+
+/// An interpolated raster.
+#[derive(Clone, Debug)]
+pub struct Interpolation {
+    /// Row-major values, NaN where the method gives none.
+    pub values: Vec<f64>,
+    /// Pixels whose rounding the double-double bound left open, settled in
+    /// rational arithmetic (exact and linear methods).
+    pub decided_exactly: u64,
+}
+
+/// Rows interpolated between reports of progress and looks at the cancel
+/// flag.
+const BAND: usize = 16;
+
+/// `values` (one per site) interpolated at every pixel centre of `frame` by
+/// `method`, calling `progress(done, total)` as rows are done.
+pub fn interpolate(
+    machine: &Machine,
+    sites: &[DVec2],
+    values: &[f64],
+    frame: &Frame,
+    method: Method,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Interpolation> {
+    check_values(sites, values)?;
+    let values = match method {
+        Method::Nearest => {
+            let labels = nearest_labels(Some(machine), sites, frame)?;
+            labels.iter().map(|&l| values[l as usize]).collect()
+        }
+        Method::Discrete => discrete_sibson(Some(machine), sites, values, frame)?,
+        Method::Exact | Method::Linear => {
+            let centres: Vec<DVec2> = (0..frame.len())
+                .map(|k| {
+                    let (i, j) = (k % frame.width as usize, k / frame.width as usize);
+                    frame.to_world(DVec2::new(i as f64, j as f64))
+                })
+                .collect();
+            let corners = triangulated(machine, sites, values)?;
+            let run = frame.width as usize;
+            let sibson = method == Method::Exact;
+            return on_triangles(sites, &corners, values, &centres, run, sibson, progress);
+        }
+    };
+    progress(frame.height as u64, frame.height as u64);
+    Ok(Interpolation {
+        values,
+        decided_exactly: 0,
+    })
+}
+
+/// `values` (one per site) interpolated at each of `points` by the exact or
+/// the linear method: the double nearest the interpolant at the doubles
+/// given.
+pub fn interpolate_points(
+    machine: &Machine,
+    sites: &[DVec2],
+    values: &[f64],
+    points: &[DVec2],
+    method: Method,
+) -> Result<Interpolation> {
+    check_values(sites, values)?;
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "point {i} ({}, {}) is not finite",
+            points[i].x, points[i].y
+        )));
+    }
+    if !matches!(method, Method::Exact | Method::Linear) {
+        return Err(Error::InvalidInput(format!(
+            "the {method:?} method interpolates onto rasters; at points, use the exact or \
+             the linear method"
+        )));
+    }
+    let corners = triangulated(machine, sites, values)?;
+    let sibson = method == Method::Exact;
+    on_triangles(sites, &corners, values, points, 256, sibson, &mut |_, _| {})
+}
+
+/// The Delaunay triangles of the sites, whose repeated points must agree on
+/// their value.
+fn triangulated(machine: &Machine, sites: &[DVec2], values: &[f64]) -> Result<Vec<[u32; 3]>> {
+    let mesh = delaunay(machine, sites, &DelaunayOptions::default())?;
+    let differ =
+        |[d, k]: &&[u32; 2]| values[*d as usize].to_bits() != values[*k as usize].to_bits();
+    if let Some(&[dropped, kept]) = mesh.duplicates.iter().find(differ) {
+        return Err(Error::InvalidInput(format!(
+            "sites {kept} and {dropped} lie at the same point with values {} and {}: give one \
+             value for each point",
+            values[kept as usize], values[dropped as usize]
+        )));
+    }
+    Ok(mesh.triangles)
+}
+
+/// Refuses a count of values other than the sites' and values that are not
+/// finite.
+fn check_values(sites: &[DVec2], values: &[f64]) -> Result<()> {
+    if values.len() != sites.len() {
+        return Err(Error::InvalidInput(format!(
+            "{} values for {} sites: give one value per site",
+            values.len(),
+            sites.len()
+        )));
+    }
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(Error::InvalidInput(format!(
+            "value {i} is {}: values are finite",
+            values[i]
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The Sibson (`sibson_weights`) or linear interpolant at each query
+/// point, from the Delaunay triangles, in runs of `run` points (the rows of a
+/// raster) that walk from each point to the next.
+fn on_triangles(
+    sites: &[DVec2],
+    corners: &[[u32; 3]],
+    values: &[f64],
+    queries: &[DVec2],
+    run: usize,
+    sibson_weights: bool,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Interpolation> {
+    let mut out = vec![f64::NAN; queries.len()];
+    let runs = queries.len().div_ceil(run) as u64;
+    if corners.is_empty() {
+        // Sites on one line: the hull has no inside.
+        progress(runs, runs);
+        return Ok(Interpolation {
+            values: out,
+            decided_exactly: 0,
+        });
+    }
+    let exact = Triangles::new(sites, corners);
+    // Double-double sees coordinates scaled near 1 (by a power of two, which
+    // changes no interpolant), so that its products neither overflow nor
+    // underflow.
+    let k = scale::incircle_exponent(sites)?;
+    let scaled_sites: Vec<DVec2> = sites
+        .iter()
+        .map(|p| p.map(|x| scale::times_power_of_two(x, k)))
+        .collect();
+    let scaled = exact.with_sites(&scaled_sites);
+    let watch = Watch::current();
+    let mut decided_exactly = 0;
+    let band = run * BAND;
+    for (b, (outs, queries)) in out.chunks_mut(band).zip(queries.chunks(band)).enumerate() {
+        watch.check()?;
+        decided_exactly += outs
+            .par_chunks_mut(run)
+            .zip(queries.par_chunks(run))
+            .map(|(outs, queries)| {
+                let mut exactly = 0;
+                let mut start = 0;
+                for (out, &q) in outs.iter_mut().zip(queries) {
+                    let (value, rational) =
+                        at(q, k, &exact, &scaled, values, sibson_weights, &mut start)?;
+                    *out = value;
+                    exactly += u64::from(rational);
+                }
+                Ok(exactly)
+            })
+            .collect::<Result<Vec<u64>>>()?
+            .iter()
+            .sum::<u64>();
+        progress((((b + 1) * BAND) as u64).min(runs), runs);
+    }
+    Ok(Interpolation {
+        values: out,
+        decided_exactly,
+    })
+}
+
+/// The interpolant at `q` (NaN outside the hull) and whether rationals
+/// settled it; `start` is where the walk begins, and is left where it ended.
+fn at(
+    q: DVec2,
+    k: i32,
+    exact: &Triangles,
+    scaled: &Triangles,
+    values: &[f64],
+    sibson_weights: bool,
+    start: &mut u32,
+) -> Result<(f64, bool)> {
+    let (t, inside) = match exact.locate(q, *start)? {
+        Place::Outside(t) => {
+            *start = t;
+            return Ok((f64::NAN, false));
+        }
+        Place::Inside(t) => (t, true),
+        Place::Boundary(t) => (t, false),
+    };
+    *start = t;
+    let sq = q.map(|x| scale::times_power_of_two(x, k));
+    let mut cavity = Vec::new();
+    if sibson_weights && inside {
+        exact.cavity(q, t, &mut cavity);
+    }
+    let by_rationals = || -> BigRational {
+        if sibson_weights && inside {
+            sibson(q, exact, &cavity, values)
+        } else {
+            linear(q, exact, t, values)
+        }
+    };
+    // A centre the scaling would round is settled in rationals at once.
+    if sq.map(|x| scale::times_power_of_two(x, -k)) != q {
+        return Ok((
+            crate::geometry::exact::nearest_double(&by_rationals()),
+            true,
+        ));
+    }
+    Ok(nearest(
+        || -> Bounded {
+            if sibson_weights && inside {
+                sibson(sq, scaled, &cavity, values)
+            } else {
+                linear(sq, scaled, t, values)
+            }
+        },
+        by_rationals,
+    ))
+}
