@@ -303,6 +303,28 @@ int main(void) {
               moved[2 * s + 1], want_x, want_y);
     }
 
+    /* Natural-neighbour and linear interpolation reproduce a plane exactly
+     * (each value the double nearest the exact one, here a whole number);
+     * with the frame's corners among the samples every pixel has a value. */
+    double samples[2 * (N + 4)], heights[N + 4];
+    memcpy(samples, xy, sizeof(double) * 2 * N);
+    const double frame_corners[8] = {0, 0, W - 1, 0, 0, H - 1, W - 1, H - 1};
+    memcpy(samples + 2 * N, frame_corners, sizeof frame_corners);
+    for (int s = 0; s < N + 4; s++) heights[s] = 2.0 * samples[2 * s] + 3.0 * samples[2 * s + 1] + 1.0;
+    double *surface = malloc(sizeof(double) * W * H);
+    for (uint32_t method = PIXGEO_INTERPOLATION_EXACT; method <= PIXGEO_INTERPOLATION_LINEAR;
+         method += PIXGEO_INTERPOLATION_LINEAR) {
+        uint64_t exactly = 0;
+        status = pixgeo_interpolate(ctx, samples, heights, N + 4, &options, method, surface, &exactly);
+        CHECK(status == PIXGEO_STATUS_OK, "interpolate: %s", pixgeo_context_last_error(ctx));
+        for (int k = 0; k < W * H; k++)
+            CHECK(surface[k] == 2.0 * (k % W) + 3.0 * (k / W) + 1.0, "interpolated plane at pixel %d: %g",
+                  k, surface[k]);
+    }
+    status = pixgeo_interpolate(ctx, samples, heights, N + 4, &options, 7, surface, NULL);
+    CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "interpolation method 7 accepted");
+    free(surface);
+
     /* Weighted points, a segment, a circle and an arc (thesis §3.8-3.9): every
      * pixel's label has the smallest weighted distance; fans stay within their
      * bound of it. */

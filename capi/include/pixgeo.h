@@ -157,6 +157,19 @@ typedef enum PixgeoAlphaClass {
   PIXGEO_ALPHA_CLASS_DISC = 3,
 } PixgeoAlphaClass;
 
+// How [`pixgeo_interpolate`] interpolates.
+typedef enum PixgeoInterpolation {
+  // Sibson's natural-neighbour interpolant from the exact Delaunay
+  // triangulation, each value the double nearest the exact one.
+  PIXGEO_INTERPOLATION_EXACT = 0,
+  // The rendered discrete Sibson interpolant.
+  PIXGEO_INTERPOLATION_DISCRETE = 1,
+  // Barycentric in the exact Delaunay triangle, correctly rounded.
+  PIXGEO_INTERPOLATION_LINEAR = 2,
+  // The nearest site's value.
+  PIXGEO_INTERPOLATION_NEAREST = 3,
+} PixgeoInterpolation;
+
 // A pixel machine and the message of its last failed call. One thread at a
 // time may call with a context: a call while another thread's call on it is
 // running returns `PIXGEO_STATUS_BUSY`. Different contexts may be used from
@@ -642,6 +655,27 @@ enum PixgeoStatus pixgeo_empty(struct PixgeoContext *ctx,
                                bool inside,
                                const struct PixgeoHomothetOptions *options,
                                struct PixgeoHomothet *out);
+
+// Interpolates `values` (one per site) at the `count` sites `xy` (x, y
+// pairs, world coordinates) at every pixel centre of the picture `options`
+// describes (its size and box; the other options are unused) by `method`, a
+// [`PixgeoInterpolation`]. `raster` receives `width * height` values,
+// row-major, NaN outside the sites' convex hull (all but the nearest
+// method). Unless null, `decided_exactly` receives how many pixels exact
+// rational arithmetic settled where double-double could not.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles and `values`
+// `count`; `options` points to valid options; `raster` has room for `width
+// * height` doubles; `decided_exactly` is null or writable.
+enum PixgeoStatus pixgeo_interpolate(struct PixgeoContext *ctx,
+                                     const double *xy,
+                                     const double *values,
+                                     size_t count,
+                                     const struct PixgeoVoronoiOptions *options,
+                                     uint32_t method,
+                                     double *raster,
+                                     uint64_t *decided_exactly);
 
 // Lloyd's iterations from the `count` sites `xy` (x, y pairs, world
 // coordinates), which receive where the iterations leave them: each

@@ -445,6 +445,21 @@ fn entries() -> Vec<Entry> {
             args: &["--mask", "obstacles.png", "--medial-axis", "medial_axis.npy"],
         },
         Entry {
+            command: "interpolate",
+            picture: "natural_neighbor.png",
+            title: "Natural-neighbour interpolation",
+            caption: "Heights at 80 scattered samples (black), interpolated at every pixel \
+                      by Sibson's natural neighbours: each pixel's weights are the areas a \
+                      site there would steal from its neighbours' Voronoi regions, from the \
+                      exact Delaunay triangulation, and each value is the double nearest \
+                      the exact interpolant. White lies outside the samples' hull.",
+            sites: Some((
+                "heights.csv",
+                include_str!("../../examples/data/heights.csv").into(),
+            )),
+            args: &["--sites", "heights.csv", "--bbox", "0,0,100,100", "--size", "400"],
+        },
+        Entry {
             command: "lloyd",
             picture: "stipple.png",
             title: "Weighted Voronoi stippling",

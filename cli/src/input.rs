@@ -12,7 +12,10 @@ use pixgeo::{
         site::{Shape, Site},
         Frame,
     },
-    io::sites::{self, GeoJsonSources},
+    io::{
+        samples::{read_samples, Samples},
+        sites::{self, GeoJsonSources},
+    },
 };
 
 use crate::write::{
@@ -271,25 +274,7 @@ impl Input {
     /// Where the rasters lie and the sites of every shape and weight, in the
     /// computing world.
     pub fn world_and_general_sites(&self) -> Result<(World, Vec<Site>)> {
-        let (width, height) = self.size;
-        let frame = match (self.place.bbox, height) {
-            // A tall box: N is its height, the scale N pixels to its height,
-            // and the width the whole pixels nearest its width (as a wide
-            // box's height is).
-            (Some(b), None) if b[3] - b[1] > b[2] - b[0] && b[2] > b[0] => {
-                let scale = width as f64 / (b[3] - b[1]);
-                let across = ((b[2] - b[0]) * scale).round().max(1.0) as u32;
-                let checked = Frame::with_bbox(across, None, b)?;
-                Frame {
-                    width: across,
-                    height: width,
-                    scale,
-                    ..checked
-                }
-            }
-            (Some(b), _) => Frame::with_bbox(width, height, b)?,
-            (None, _) => Frame::pixels(width, height.unwrap_or(width))?,
-        };
+        let frame = self.frame()?;
         let sites = match (&self.sites, self.random) {
             (Some(path), None) if extension_among(path, &["geojson"]).is_some() => {
                 let (sites, sources) = sites::read_geojson_sources(path)?;
@@ -319,19 +304,62 @@ impl Input {
             _ => bail!("give the sites: --sites FILE or --random N"),
         };
         let y_axis = self.place.y_axis();
-        let world = match y_axis {
+        let world = self.placed(frame);
+        let sites = sites.into_iter().map(|s| match y_axis {
+            YAxis::Up => s.mirrored_y(),
+            YAxis::Down => s,
+        });
+        Ok((world, sites.collect()))
+    }
+
+    /// The picture --size and --bbox give, in the computing world (y down).
+    fn frame(&self) -> Result<Frame> {
+        let (width, height) = self.size;
+        Ok(match (self.place.bbox, height) {
+            // A tall box: N is its height, the scale N pixels to its height,
+            // and the width the whole pixels nearest its width (as a wide
+            // box's height is).
+            (Some(b), None) if b[3] - b[1] > b[2] - b[0] && b[2] > b[0] => {
+                let scale = width as f64 / (b[3] - b[1]);
+                let across = ((b[2] - b[0]) * scale).round().max(1.0) as u32;
+                let checked = Frame::with_bbox(across, None, b)?;
+                Frame {
+                    width: across,
+                    height: width,
+                    scale,
+                    ..checked
+                }
+            }
+            (Some(b), _) => Frame::with_bbox(width, height, b)?,
+            (None, _) => Frame::pixels(width, height.unwrap_or(width))?,
+        })
+    }
+
+    /// The world whose computing frame is `frame`, with y running as
+    /// --y-axis asks.
+    fn placed(&self, frame: Frame) -> World {
+        match self.place.y_axis() {
             YAxis::Down => self.world_of(frame),
             YAxis::Up => {
                 let height = frame.height as f64 / frame.scale;
                 let origin = DVec2::new(frame.origin.x, -(frame.origin.y + height));
                 self.world_of(Frame { origin, ..frame })
             }
+        }
+    }
+
+    /// Where the rasters lie and the samples of --sites (their values from
+    /// `column`), in the computing world.
+    pub fn world_and_samples(&self, column: &str) -> Result<(World, Samples)> {
+        let path = match (&self.sites, self.random) {
+            (Some(path), None) => path,
+            _ => bail!("give the samples and their values: --sites FILE"),
         };
-        let sites = sites.into_iter().map(|s| match y_axis {
-            YAxis::Up => s.mirrored_y(),
-            YAxis::Down => s,
-        });
-        Ok((world, sites.collect()))
+        let mut samples = read_samples(path, column)?;
+        if self.place.y_axis() == YAxis::Up {
+            samples.points.iter_mut().for_each(|p| p.y = -p.y);
+        }
+        Ok((self.placed(self.frame()?), samples))
     }
 
     /// `--random N --seed S`, when the sites are drawn rather than read.

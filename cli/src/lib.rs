@@ -24,6 +24,7 @@ mod envelope;
 mod gallery;
 mod homothet;
 mod input;
+mod interpolate;
 mod lloyd;
 mod mask;
 mod progress;
@@ -89,6 +90,7 @@ enum Command {
     Maxdist(distances::MaxDistArgs),
     Settle(Box<settle::Args>),
     Lloyd(Box<lloyd::Args>),
+    Interpolate(Box<interpolate::Args>),
     Enclose(homothet::EncloseArgs),
     Empty(homothet::EmptyArgs),
     Alpha(alpha::Args),
@@ -199,6 +201,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Maxdist(args) => distances::maxdist(args),
         Command::Settle(args) => settle::run(*args),
         Command::Lloyd(args) => lloyd::run(*args),
+        Command::Interpolate(args) => interpolate::run(*args),
         Command::Enclose(args) => homothet::enclose(args),
         Command::Empty(args) => homothet::empty(args),
         Command::Alpha(args) => alpha::run(args),

@@ -10,12 +10,18 @@ Hausdorff: pixgeo.hausdorff (its default method on the device) against
 cKDTree queries both ways (2 workers) and SciPy's directed_hausdorff both
 ways, on uniform sets and on a uniform set against a clustered one.
 
-    .venv/bin/python python/benchmarks/peers.py [--tasks labels,hausdorff,lloyd]
+    .venv/bin/python python/benchmarks/peers.py [--tasks labels,hausdorff,lloyd,interpolate]
         [--sides 1024,4096] [--n 1000,10000,100000] [--m 10000,100000]
 
 Lloyd: pixgeo.lloyd against a Lloyd built on SciPy (cKDTree on the pixel
 centres with 2 workers, np.bincount for the centroids), per iteration, at the
 same resolution, uniform and with a density.
+
+Interpolation: pixgeo.natural_neighbor (exact and linear) against SciPy's
+griddata (linear, Qhull) onto the whole picture, and against MetPy's
+natural_neighbor_to_points on a 64² subgrid of the pixel centres (MetPy
+works point by point in Python; its time is scaled to the picture per pixel),
+with the largest difference from MetPy on that subgrid.
 
 Prints Markdown tables; median of --repeats runs, the tools interleaved.
 """
@@ -156,6 +162,44 @@ def lloyd_rows(args):
                       f"| {theirs / ours:.2f}× | {gap:.1e} |", flush=True)
 
 
+def interpolation_rows(args):
+    """Onto side² pixels: pixgeo's exact Sibson and linear interpolants
+    against griddata (linear) and MetPy's natural neighbours."""
+    from scipy.interpolate import griddata
+
+    try:
+        from metpy.interpolate import natural_neighbor_to_points
+    except ImportError:  # the peer is optional
+        natural_neighbor_to_points = None
+    rng = np.random.default_rng(9)
+    print("| side | n | pixgeo exact (ms) | pixgeo linear (ms) | griddata linear (ms) "
+          "| griddata / pixgeo linear | MetPy, scaled to the picture (ms) | MetPy / pixgeo exact "
+          "| largest difference from MetPy |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for side in (int(s) for s in args.sides.split(",")):
+        box = (0.0, 0.0, 1000.0, 1000.0)
+        x, y = pixgeo.frame((side, side), bbox=box).pixel_centres()
+        xx, yy = np.meshgrid(x, y)
+        sub = np.stack([c[:: side // 64, :: side // 64].ravel() for c in (xx, yy)], 1)
+        for n in (int(s) for s in args.n.split(",")):
+            points = rng.uniform(0, 1000, (n, 2))
+            values = np.sin(points[:, 0] / 97) * np.cos(points[:, 1] / 131) * 10
+            run = lambda method: pixgeo.natural_neighbor(  # noqa: E731
+                points, values, (side, side), bbox=box, method=method)
+            exact, _ = timed(args.repeats, lambda: run("exact"))
+            linear, _ = timed(args.repeats, lambda: run("linear"))
+            theirs, _ = timed(args.repeats, lambda: griddata(points, values, (xx, yy), method="linear"))
+            metpy = gap = float("nan")
+            if natural_neighbor_to_points is not None:
+                took, want = timed(1, lambda: natural_neighbor_to_points(points, values, sub))
+                metpy = took * side * side / len(sub)
+                got = pixgeo.natural_neighbor(points, values, xi=sub)
+                both = ~(np.isnan(got) | np.isnan(want))
+                gap = float(np.abs(got[both] - want[both]).max())
+            print(f"| {side}² | {n} | {exact:.0f} | {linear:.0f} | {theirs:.0f} | {theirs / linear:.2f}× "
+                  f"| {metpy:.0f} | {metpy / exact:.0f}× | {gap:.1e} |", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tasks", default="labels,hausdorff")
@@ -168,6 +212,8 @@ def main():
         hausdorff_rows(args)
     if "lloyd" in args.tasks:
         lloyd_rows(args)
+    if "interpolate" in args.tasks:
+        interpolation_rows(args)
     if "labels" not in args.tasks:
         return
     rng = np.random.default_rng(1)

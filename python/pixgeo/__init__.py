@@ -38,6 +38,7 @@ __all__ = [
     "NO_SITE",
     "Lloyd",
     "lloyd",
+    "natural_neighbor",
     "EARTH_RADIUS",
     "NoDeviceError",
     "DeviceError",
@@ -931,3 +932,4 @@ def medial_axis(
 
 
 from .lloyd import Lloyd, lloyd  # noqa: E402  (it builds on the helpers above)
+from .interpolate import natural_neighbor  # noqa: E402

@@ -71,6 +71,13 @@ def lloyd(
 ) -> Tuple[
     npt.NDArray[np.float64], npt.NDArray[np.uint32], _Frame, List[Tuple[float, float]], float, bool, int
 ]: ...
+def interpolate(
+    sites: _Points, values: npt.NDArray[np.float64], width: int, height: int, bbox: _BBox,
+    method: str, device: Optional[str],
+) -> npt.NDArray[np.float64]: ...
+def interpolate_at(
+    sites: _Points, values: npt.NDArray[np.float64], at: _Points, method: str, device: Optional[str],
+) -> npt.NDArray[np.float64]: ...
 def settle(
     rivals: _Points, own: _Points, width: int, height: int, bbox: _BBox, metric_name: str,
     refine_from: int, device: Optional[str],

@@ -27,6 +27,7 @@ use pixgeo::{
         great_circle::{great_circle_grid, great_circle_nearest},
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+        interpolate::{interpolate as interpolate_raster, interpolate_points, Method},
         lloyd::{lloyd as lloyd_iterations, LloydOptions},
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
@@ -595,6 +596,49 @@ fn furthest<'py>(
     ))
 }
 
+/// `values` interpolated at every pixel centre of the picture by `method`;
+/// NaN where it gives none.
+#[pyfunction]
+#[pyo3(signature = (sites, values, width, height, bbox, method, device))]
+#[allow(clippy::too_many_arguments)]
+fn interpolate<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    values: PyReadonlyArray1<'py, f64>,
+    width: u32,
+    height: u32,
+    bbox: Option<[f64; 4]>,
+    method: &str,
+    device: Option<&str>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let (sites, values) = (points(&sites), values.as_array().to_vec());
+    let (f, method) = (frame(width, height, bbox)?, named::<Method>(method)?);
+    let answer = on_machine(py, device, |m| {
+        interpolate_raster(m, &sites, &values, &f, method, &mut |_, _| {})
+    })?;
+    raster(py, answer.values, height, width)
+}
+
+/// `values` interpolated at each of `at` (m, 2) by the exact or the linear
+/// method.
+#[pyfunction]
+#[pyo3(signature = (sites, values, at, method, device))]
+fn interpolate_at<'py>(
+    py: Python<'py>,
+    sites: PyReadonlyArray2<'py, f64>,
+    values: PyReadonlyArray1<'py, f64>,
+    at: PyReadonlyArray2<'py, f64>,
+    method: &str,
+    device: Option<&str>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let (sites, values, at) = (points(&sites), values.as_array().to_vec(), points(&at));
+    let method = named::<Method>(method)?;
+    let answer = on_machine(py, device, |m| {
+        interpolate_points(m, &sites, &values, &at, method)
+    })?;
+    Ok(answer.values.into_pyarray(py))
+}
+
 /// Counter-clockwise triangles (m, 3) and the repeated points (dropped, kept).
 #[pyfunction]
 #[pyo3(signature = (points, device))]
@@ -886,6 +930,8 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
         pixgeo::algorithms::great_circle::EARTH_RADIUS,
     )?;
     m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
+    m.add_function(wrap_pyfunction!(interpolate, m)?)?;
+    m.add_function(wrap_pyfunction!(interpolate_at, m)?)?;
     m.add_function(wrap_pyfunction!(diameter, m)?)?;
     m.add_function(wrap_pyfunction!(enclosing_circle, m)?)?;
     m.add_function(wrap_pyfunction!(largest_empty_circle, m)?)?;

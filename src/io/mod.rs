@@ -5,4 +5,5 @@
 pub(crate) mod json;
 pub mod mask;
 pub mod npy;
+pub mod samples;
 pub mod sites;

@@ -104,7 +104,7 @@ pub fn read_general_sites(path: &Path) -> Result<Vec<Site>> {
     Ok(sites)
 }
 
-fn read_text(path: &Path) -> Result<String> {
+pub(crate) fn read_text(path: &Path) -> Result<String> {
     let bytes = if path == Path::new(STDIN) {
         let mut bytes = Vec::new();
         std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes).map(|_| bytes)

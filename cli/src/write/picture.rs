@@ -31,6 +31,22 @@ pub fn site_color(id: u32) -> [u8; 3] {
     [r, g, b].map(|t| ((t + m) * 255.0).round() as u8)
 }
 
+/// A colour for `t` in [0, 1], dark blue through teal and green to yellow
+/// (close to viridis), so that lighter is higher in grey too.
+pub fn ramp(t: f64) -> [u8; 3] {
+    const STOPS: [[f64; 3]; 5] = [
+        [68.0, 1.0, 84.0],
+        [59.0, 82.0, 139.0],
+        [33.0, 145.0, 140.0],
+        [94.0, 201.0, 98.0],
+        [253.0, 231.0, 37.0],
+    ];
+    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
+    let k = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - k as f64;
+    std::array::from_fn(|c| (STOPS[k][c] + (STOPS[k + 1][c] - STOPS[k][c]) * f).round() as u8)
+}
+
 /// Contour lines of the distance map drawn over a picture: one every `step` of
 /// distance, so the cones' lower envelope shows as rings.
 #[derive(Clone, Copy, Debug)]

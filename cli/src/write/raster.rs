@@ -48,6 +48,15 @@ impl<T: Sample + npyz::Serialize + npyz::AutoSerialize> RasterStream<T> {
         Ok(Self::Npy(NpyStream::create(path, &shape)?))
     }
 
+    /// Marks the pixels holding `nodata` as empty, in a GeoTIFF (a `.npy`
+    /// has no such mark).
+    pub fn with_nodata(self, nodata: &'static str) -> Self {
+        match self {
+            Self::Tiff(s) => Self::Tiff(s.with_nodata(nodata)),
+            npy => npy,
+        }
+    }
+
     pub fn write(&mut self, data: &[T]) -> Result<()> {
         match self {
             Self::Npy(s) => s.write(data),

@@ -140,6 +140,7 @@ impl Layout {
         &self,
         tiles: &[(u64, u64)],
         geo: Option<&GeoReference>,
+        nodata: Option<&str>,
     ) -> Vec<(u16, Value)> {
         let bands = self.bands as usize;
         let mut entries = vec![
@@ -163,7 +164,7 @@ impl Layout {
             // The bands past the first are data, not colour.
             entries.push((338, Value::Shorts(vec![0; bands - 1])));
         }
-        if let Some(nodata) = T::NODATA {
+        if let Some(nodata) = nodata {
             entries.push((42113, Value::Ascii(nodata.to_string())));
         }
         if let Some(g) = geo {
@@ -251,6 +252,8 @@ pub struct TiffStream<T: Sample> {
     row: Vec<T>,
     rows_seen: u32,
     whole: Option<File>,
+    /// GDAL_NODATA: `T::NODATA` unless the raster's own is given.
+    nodata: Option<&'static str>,
 }
 
 /// One resolution's tiles as its rows arrive, compressed a row of tiles at a
@@ -406,6 +409,14 @@ impl<T: Sample> TiffStream<T> {
         Self::create_as(path, layout, geo)
     }
 
+    /// Marks the pixels holding `nodata` (as GDAL spells it) as empty.
+    pub fn with_nodata(self, nodata: &'static str) -> Self {
+        Self {
+            nodata: Some(nodata),
+            ..self
+        }
+    }
+
     fn create_as(path: &Path, layout: Layout, geo: Option<&GeoReference>) -> Result<Self> {
         let (output, file) = OutputFile::create_any(path, &["tif", "tiff"], "GeoTIFFs")?;
         let io = |cause| Error::Io {
@@ -437,6 +448,7 @@ impl<T: Sample> TiffStream<T> {
             row: Vec::new(),
             rows_seen: 0,
             whole,
+            nodata: T::NODATA,
         })
     }
 
@@ -519,7 +531,9 @@ impl<T: Sample> TiffStream<T> {
         }
         let big = full.layout.big;
         let directory_at = full.at;
-        let entries = full.layout.entries::<T>(&full.tiles, self.geo.as_ref());
+        let entries = full
+            .layout
+            .entries::<T>(&full.tiles, self.geo.as_ref(), self.nodata);
         let bytes = directory::encode(entries, directory_at, big, 0);
         full.put(&bytes).map_err(io)?;
         if !big && full.at > u32::MAX as u64 {
@@ -573,7 +587,7 @@ impl<T: Sample> TiffStream<T> {
             .collect();
         let entries = |k: usize, level: &Tiles<T>, tiles: &[(u64, u64)]| {
             let geo = if k == 0 { self.geo.as_ref() } else { None };
-            let mut entries = level.layout.entries::<T>(tiles, geo);
+            let mut entries = level.layout.entries::<T>(tiles, geo, self.nodata);
             if k > 0 {
                 entries.push((254, Value::Longs(vec![1]))); // a reduced image
             }

@@ -7,6 +7,7 @@ use std::{
 
 use pixgeo::io::npy;
 
+mod interpolate;
 mod lloyd;
 mod memory;
 mod outputs;

@@ -1,0 +1,73 @@
+"""Scattered values onto rasters or points: natural-neighbour (Sibson)
+interpolation, exact or rendered, and the linear and nearest-site
+interpolants: :func:`pixgeo.natural_neighbor`."""
+
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+import numpy as np
+
+from . import _pixgeo, _place, _points, _unmasked
+
+METHODS = ("exact", "discrete", "linear", "nearest")
+
+
+def _values(values, n: int) -> np.ndarray:
+    """``values`` as n finite float64s; ValueError otherwise."""
+    v = np.asarray(_unmasked(values, "values"))
+    if v.dtype.kind not in "fiu":
+        raise ValueError(f"values must be real numbers, not dtype {v.dtype}")
+    if v.shape != (n,):
+        raise ValueError(f"values has shape {v.shape}: give one value per point, ({n},)")
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f"value {int(np.argmin(np.isfinite(v)))} is not finite: values are finite")
+    return np.ascontiguousarray(v, dtype=np.float64)
+
+
+def natural_neighbor(
+    points,
+    values,
+    shape: Optional[Sequence[int]] = None,
+    *,
+    bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
+    xi=None,
+    method: str = "exact",
+    device: Optional[str] = None,
+) -> np.ndarray:
+    """``values`` at ``points`` (n, 2) interpolated at every pixel centre of
+    the picture (``shape=(height, width)`` with ``bbox``, or ``bbox`` and
+    ``res``), as an array of that shape, rows as pixgeo's rasters; or, with
+    ``xi`` (m, 2), at those points, as an array (m,).
+
+    ``method``:
+
+    - ``"exact"``: Sibson's natural-neighbour interpolant, each weight the
+      area a new site would steal from a natural neighbour's Voronoi region,
+      from the exact Delaunay triangulation; every value is the double
+      nearest the exact interpolant at the pixel centre's (or point's)
+      doubles;
+    - ``"discrete"``: the rendered discrete Sibson interpolant (rasters only);
+    - ``"linear"``: barycentric in the exact Delaunay triangle, correctly
+      rounded (SciPy's ``griddata(..., method="linear")``);
+    - ``"nearest"``: the nearest point's value, everywhere (rasters only).
+
+    Outside the points' convex hull the other methods give NaN, as MetPy's
+    ``natural_neighbor_to_grid`` does."""
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}: use {', '.join(METHODS)}")
+    p = _points(points, "points")
+    v = _values(values, len(p))
+    if xi is not None:
+        if shape is not None or bbox is not None or res is not None:
+            raise ValueError("give xi= (points) or a picture (shape=, bbox=, res=), not both")
+        if method not in ("exact", "linear"):
+            raise ValueError(f"the {method} method interpolates onto rasters; at points use exact or linear")
+        return _pixgeo.interpolate_at(p, v, _points(xi, "xi"), method, device)
+    place = _place(shape, bbox, res, y_axis, crs)
+    return _pixgeo.interpolate(
+        place.sites(p), v, place.width, place.height, place.bbox, method, device
+    )
