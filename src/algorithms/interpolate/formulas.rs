@@ -56,7 +56,7 @@ impl Number for BigRational {
 }
 
 #[derive(Clone)]
-struct Point<T> {
+pub(crate) struct Point<T> {
     x: T,
     y: T,
 }
@@ -94,10 +94,10 @@ fn cross<T: Number>(a: &Point<T>, b: &Point<T>) -> T {
 fn circumcentre<T: Number>(a: &Point<T>, b: &Point<T>) -> Point<T> {
     let la = a.x.clone() * a.x.clone() + a.y.clone() * a.y.clone();
     let lb = b.x.clone() * b.x.clone() + b.y.clone() * b.y.clone();
-    let d = cross(a, b) * T::exact(2.0);
+    let inverse = T::exact(0.5) / cross(a, b);
     Point {
-        x: (la.clone() * b.y.clone() - lb.clone() * a.y.clone()) / d.clone(),
-        y: (lb * a.x.clone() - la * b.x.clone()) / d,
+        x: (la.clone() * b.y.clone() - lb.clone() * a.y.clone()) * inverse.clone(),
+        y: (lb * a.x.clone() - la * b.x.clone()) * inverse,
     }
 }
 
@@ -118,59 +118,96 @@ pub(crate) fn linear<T: Number>(q: DVec2, triangles: &Triangles, t: u32, values:
     sum / total
 }
 
+/// The circumcentre of triangle `t` relative to its first corner: the part
+/// of its circumcentre that does not depend on the query point.
+pub(crate) fn centre_offset<T: Number>(triangles: &Triangles, t: u32) -> Point<T> {
+    let [a, b, c] = triangles.corner_points(t);
+    let ab = Point {
+        x: T::difference(b.x, a.x),
+        y: T::difference(b.y, a.y),
+    };
+    let ac = Point {
+        x: T::difference(c.x, a.x),
+        y: T::difference(c.y, a.y),
+    };
+    circumcentre(&ab, &ac)
+}
+
+/// Triangle `t`'s linear interpolant as a plane through its first corner
+/// `a`: the slopes `[B, C]` of `v(q) = v(a) + B (q.x - a.x) + C (q.y - a.y)`.
+pub(crate) fn slopes<T: Number>(triangles: &Triangles, t: u32, values: &[f64]) -> [T; 2] {
+    let corners = triangles.corners[t as usize];
+    let [a, b, c] = triangles.corner_points(t);
+    let ab = Point::<T>::relative(b, a);
+    let ac = Point::<T>::relative(c, a);
+    let [va, vb, vc] = corners.map(|k| values[k as usize]);
+    let (rise_b, rise_c) = (T::difference(vb, va), T::difference(vc, va));
+    let inverse = T::exact(1.0) / cross(&ab, &ac);
+    [
+        (rise_b.clone() * ac.y.clone() - rise_c.clone() * ab.y.clone()) * inverse.clone(),
+        (rise_c * ab.x.clone() - rise_b * ac.x.clone()) * inverse,
+    ]
+}
+
+/// The linear interpolant of triangle `t` at `q` from its [`slopes`].
+pub(crate) fn on_plane<T: Number>(
+    q: DVec2,
+    triangles: &Triangles,
+    t: u32,
+    slopes: &[T; 2],
+    values: &[f64],
+) -> T {
+    let a = triangles.corners[t as usize][0];
+    let d = Point::<T>::relative(q, triangles.sites[a as usize]);
+    T::exact(values[a as usize]) + slopes[0].clone() * d.x + slopes[1].clone() * d.y
+}
+
 /// Sibson's interpolant at `q`, strictly inside the hull, given the cavity
-/// of triangles whose circumcircles hold `q`.
+/// of triangles whose circumcircles hold `q` and each triangle's
+/// [`centre_offset`].
 pub(crate) fn sibson<T: Number>(
     q: DVec2,
     triangles: &Triangles,
     cavity: &[u32],
+    offset: impl Fn(u32) -> Point<T>,
     values: &[f64],
 ) -> T {
+    let relative = |v: u32| Point::<T>::relative(triangles.sites[v as usize], q);
     let centres: Vec<Point<T>> = cavity
         .iter()
-        .map(|&t| {
-            let [a, b, c] = triangles.corner_points(t);
-            let ab = Point::<T> {
-                x: T::difference(b.x, a.x),
-                y: T::difference(b.y, a.y),
-            };
-            let ac = Point::<T> {
-                x: T::difference(c.x, a.x),
-                y: T::difference(c.y, a.y),
-            };
-            Point::relative(a, q).plus(&circumcentre(&ab, &ac))
-        })
+        .map(|&t| relative(triangles.corners[t as usize][0]).plus(&offset(t)))
         .collect();
     // Twice the stolen area of each natural neighbour, by site.
     let mut stolen: Vec<(u32, T)> = Vec::with_capacity(cavity.len() + 2);
     for (i, &t) in cavity.iter().enumerate() {
         let corners = triangles.corners[t as usize];
         let across = triangles.across(t);
+        let p: [Point<T>; 3] = corners.map(relative);
+        // The circumcentre of q with each boundary edge, once for the two
+        // corners that use it.
+        let h: [Option<Point<T>>; 3] = std::array::from_fn(|e| {
+            (!cavity.contains(&across[e])).then(|| circumcentre(&p[e], &p[(e + 1) % 3]))
+        });
         let centre = &centres[i];
         for k in 0..3 {
-            let a = corners[k];
-            let pa = Point::<T>::relative(triangles.sites[a as usize], q);
-            let midpoint = pa.half();
+            let midpoint = p[k].half();
             let mut area = T::exact(0.0);
             // The edge a -> x it enters by: on the boundary, M -> h0 -> C.
-            if !cavity.contains(&across[k]) {
-                let x = triangles.sites[corners[(k + 1) % 3] as usize];
-                let h = circumcentre(&pa, &Point::relative(x, q));
-                area = area + cross(&midpoint, &h) + cross(&h, centre);
+            if let Some(h) = &h[k] {
+                area = area + cross(&midpoint, h) + cross(h, centre);
             }
             // The edge y -> a it leaves by: C -> C' inside, else C -> hm -> M.
             let exit = (k + 2) % 3;
-            match cavity.iter().position(|&u| u == across[exit]) {
-                Some(j) => area = area + cross(centre, &centres[j]),
+            match &h[exit] {
+                Some(h) => area = area + cross(centre, h) + cross(h, &midpoint),
                 None => {
-                    let y = triangles.sites[corners[exit] as usize];
-                    let h = circumcentre(&pa, &Point::relative(y, q));
-                    area = area + cross(centre, &h) + cross(&h, &midpoint);
+                    let j = cavity.iter().position(|&u| u == across[exit]);
+                    area = area + cross(centre, &centres[j.expect("an inner edge's triangle")]);
                 }
             }
-            match stolen.iter_mut().find(|(s, _)| *s == a) {
+            match stolen.iter_mut().find(|(s, _)| *s == corners[k]) {
                 Some((_, sum)) => *sum = sum.clone() + area,
-                None => stolen.push((a, area)),
+                None => stolen.push((corners[k], area)),
             }
         }
     }

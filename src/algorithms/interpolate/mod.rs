@@ -37,10 +37,10 @@ use crate::{
         lloyd::nearest_labels,
     },
     cancel::Watch,
-    geometry::{bounded::Bounded, scale, Frame},
+    geometry::{bounded::Bounded, exact::nearest_double, scale, Frame},
     Error, Machine, Result,
 };
-use formulas::{linear, nearest, sibson};
+use formulas::{centre_offset, linear, nearest, on_plane, sibson, slopes, Point};
 use walk::{Place, Triangles};
 
 /// How values are interpolated between the sites.
@@ -196,13 +196,35 @@ fn on_triangles(
     let exact = Triangles::new(sites, corners);
     // Double-double sees coordinates scaled near 1 (by a power of two, which
     // changes no interpolant), so that its products neither overflow nor
-    // underflow.
+    // underflow; on them the predicates need no scaling of their own.
     let k = scale::incircle_exponent(sites)?;
     let scaled_sites: Vec<DVec2> = sites
         .iter()
         .map(|p| p.map(|x| scale::times_power_of_two(x, k)))
         .collect();
-    let scaled = exact.with_sites(&scaled_sites);
+    let scaled = exact.scaled(&scaled_sites);
+    let largest = scaled_sites
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+    let triangles = 0..corners.len() as u32;
+    let mesh = Mesh {
+        offsets: match sibson_weights {
+            true => triangles
+                .clone()
+                .into_par_iter()
+                .map(|t| centre_offset(&scaled, t))
+                .collect(),
+            false => Vec::new(),
+        },
+        slopes: triangles
+            .into_par_iter()
+            .map(|t| slopes(&scaled, t, values))
+            .collect(),
+        exact,
+        scaled,
+        k,
+        largest,
+    };
     let watch = Watch::current();
     let mut decided_exactly = 0;
     let band = run * BAND;
@@ -215,8 +237,7 @@ fn on_triangles(
                 let mut exactly = 0;
                 let mut start = 0;
                 for (out, &q) in outs.iter_mut().zip(queries) {
-                    let (value, rational) =
-                        at(q, k, &exact, &scaled, values, sibson_weights, &mut start)?;
+                    let (value, rational) = mesh.at(q, values, sibson_weights, &mut start)?;
                     *out = value;
                     exactly += u64::from(rational);
                 }
@@ -233,53 +254,80 @@ fn on_triangles(
     })
 }
 
-/// The interpolant at `q` (NaN outside the hull) and whether rationals
-/// settled it; `start` is where the walk begins, and is left where it ended.
-fn at(
-    q: DVec2,
+/// The Delaunay triangles over the sites as given, and scaled for
+/// double-double arithmetic and direct predicates.
+struct Mesh<'a> {
+    exact: Triangles<'a>,
+    scaled: Triangles<'a>,
+    /// Each scaled triangle's [`centre_offset`] (for Sibson's weights) and
+    /// [`slopes`].
+    offsets: Vec<Point<Bounded>>,
+    slopes: Vec<[Bounded; 2]>,
+    /// The scaling, 2^k, and the largest scaled coordinate.
     k: i32,
-    exact: &Triangles,
-    scaled: &Triangles,
-    values: &[f64],
-    sibson_weights: bool,
-    start: &mut u32,
-) -> Result<(f64, bool)> {
-    let (t, inside) = match exact.locate(q, *start)? {
-        Place::Outside(t) => {
-            *start = t;
-            return Ok((f64::NAN, false));
-        }
-        Place::Inside(t) => (t, true),
-        Place::Boundary(t) => (t, false),
-    };
-    *start = t;
-    let sq = q.map(|x| scale::times_power_of_two(x, k));
-    let mut cavity = Vec::new();
-    if sibson_weights && inside {
-        exact.cavity(q, t, &mut cavity);
+    largest: f64,
+}
+
+impl Mesh<'_> {
+    /// `q` scaled, where the scaling is exact and leaves it in the range in
+    /// which the scaled sites' predicates are exact as they are.
+    fn scaled_point(&self, q: DVec2) -> Option<DVec2> {
+        let sq = q.map(|x| scale::times_power_of_two(x, self.k));
+        let floor = self.largest * 2f64.powi(-170);
+        let fits = |x: f64| x == 0.0 || (floor..=self.largest).contains(&x.abs());
+        (sq.map(|x| scale::times_power_of_two(x, -self.k)) == q && fits(sq.x) && fits(sq.y))
+            .then_some(sq)
     }
-    let by_rationals = || -> BigRational {
-        if sibson_weights && inside {
-            sibson(q, exact, &cavity, values)
-        } else {
-            linear(q, exact, t, values)
-        }
-    };
-    // A centre the scaling would round is settled in rationals at once.
-    if sq.map(|x| scale::times_power_of_two(x, -k)) != q {
-        return Ok((
-            crate::geometry::exact::nearest_double(&by_rationals()),
-            true,
-        ));
-    }
-    Ok(nearest(
-        || -> Bounded {
-            if sibson_weights && inside {
-                sibson(sq, scaled, &cavity, values)
-            } else {
-                linear(sq, scaled, t, values)
+
+    /// The interpolant at `q` (NaN outside the hull) and whether rationals
+    /// settled it; `start` is where the walk begins, and is left where it
+    /// ended.
+    fn at(
+        &self,
+        q: DVec2,
+        values: &[f64],
+        sibson_weights: bool,
+        start: &mut u32,
+    ) -> Result<(f64, bool)> {
+        let scaled = self.scaled_point(q);
+        let (walk, p) = match scaled {
+            Some(sq) => (&self.scaled, sq),
+            None => (&self.exact, q),
+        };
+        let (t, inside) = match walk.locate(p, *start)? {
+            Place::Outside(t) => {
+                *start = t;
+                return Ok((f64::NAN, false));
             }
-        },
-        by_rationals,
-    ))
+            Place::Inside(t) => (t, true),
+            Place::Boundary(t) => (t, false),
+        };
+        *start = t;
+        let mut cavity = Vec::new();
+        let sibson_weights = sibson_weights && inside;
+        if sibson_weights {
+            walk.cavity(p, t, &mut cavity);
+        }
+        let exact = &self.exact;
+        let by_rationals = || -> BigRational {
+            match sibson_weights {
+                true => sibson(q, exact, &cavity, |t| centre_offset(exact, t), values),
+                false => linear(q, exact, t, values),
+            }
+        };
+        // A point the scaling would move is settled in rationals at once.
+        let Some(sq) = scaled else {
+            return Ok((nearest_double(&by_rationals()), true));
+        };
+        let offset = |t: u32| self.offsets[t as usize].clone();
+        Ok(nearest(
+            || -> Bounded {
+                match sibson_weights {
+                    true => sibson(sq, &self.scaled, &cavity, offset, values),
+                    false => on_plane(sq, &self.scaled, t, &self.slopes[t as usize], values),
+                }
+            },
+            by_rationals,
+        ))
+    }
 }

@@ -12,6 +12,10 @@ use crate::{
     Error, Result,
 };
 
+fn coord(p: DVec2) -> robust::Coord<f64> {
+    robust::Coord { x: p.x, y: p.y }
+}
+
 /// No triangle across an edge: the edge is on the convex hull.
 const NONE: u32 = u32::MAX;
 
@@ -21,6 +25,9 @@ pub(crate) struct Triangles<'a> {
     pub sites: &'a [DVec2],
     pub corners: &'a [[u32; 3]],
     across: Vec<[u32; 3]>,
+    /// Whether the sites are scaled so that `robust`'s predicates are exact
+    /// on them as they are (see [`crate::geometry::scale`]).
+    direct: bool,
 }
 
 /// Where a point lies.
@@ -53,11 +60,14 @@ impl<'a> Triangles<'a> {
             sites,
             corners,
             across,
+            direct: false,
         }
     }
 
-    /// The same triangles over `sites` moved or scaled.
-    pub fn with_sites<'b>(&self, sites: &'b [DVec2]) -> Triangles<'b>
+    /// The same triangles over `sites` scaled by a power of two, on which
+    /// (with points in their range) the predicates need no scaling of their
+    /// own.
+    pub fn scaled<'b>(&self, sites: &'b [DVec2]) -> Triangles<'b>
     where
         'a: 'b,
     {
@@ -65,6 +75,21 @@ impl<'a> Triangles<'a> {
             sites,
             corners: self.corners,
             across: self.across.clone(),
+            direct: true,
+        }
+    }
+
+    fn orient(&self, a: DVec2, b: DVec2, c: DVec2) -> f64 {
+        match self.direct {
+            true => robust::orient2d(coord(a), coord(b), coord(c)),
+            false => orient(a, b, c),
+        }
+    }
+
+    fn incircle(&self, a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
+        match self.direct {
+            true => robust::incircle(coord(a), coord(b), coord(c), coord(d)),
+            false => incircle(a, b, c, d),
         }
     }
 
@@ -84,7 +109,7 @@ impl<'a> Triangles<'a> {
         let mut t = start;
         for _ in 0..=self.corners.len() + 3 {
             let p = self.corner_points(t);
-            let side: [f64; 3] = std::array::from_fn(|k| orient(p[k], p[(k + 1) % 3], q));
+            let side: [f64; 3] = std::array::from_fn(|k| self.orient(p[k], p[(k + 1) % 3], q));
             match (0..3).find(|&k| side[k] < 0.0) {
                 Some(k) => match self.across[t as usize][k] {
                     NONE => return Ok(Place::Outside(t)),
@@ -121,7 +146,7 @@ impl<'a> Triangles<'a> {
             for u in self.across[s as usize] {
                 if u != NONE && !out.contains(&u) {
                     let [a, b, c] = self.corner_points(u);
-                    if incircle(a, b, c, q) > 0.0 {
+                    if self.incircle(a, b, c, q) > 0.0 {
                         out.push(u);
                     }
                 }
