@@ -73,7 +73,7 @@ def lloyd(
 ]: ...
 def interpolate(
     sites: _Points, values: npt.NDArray[np.float64], width: int, height: int, bbox: _BBox,
-    method: str, device: Optional[str],
+    method: str, device: Optional[str], window: Optional[Tuple[int, int, int, int]] = None,
 ) -> npt.NDArray[np.float64]: ...
 def interpolate_at(
     sites: _Points, values: npt.NDArray[np.float64], at: _Points, method: str, device: Optional[str],

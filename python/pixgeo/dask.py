@@ -28,9 +28,10 @@ except ImportError as e:  # pragma: no cover - the extra is missing
 from fractions import Fraction
 
 from . import Diagram, Lloyd, _pixgeo, _place, _planar, _points
+from .interpolate import METHODS, _values
 from .lloyd import _iterations
 
-__all__ = ["voronoi", "lloyd"]
+__all__ = ["voronoi", "lloyd", "natural_neighbor"]
 
 
 def _chunks(chunks) -> Tuple[int, int]:
@@ -230,3 +231,61 @@ def lloyd(
                     y_axis=y_axis, crs=crs, device=device)
     return Lloyd(place.sites(current), final.labels, final.frame, np.array(energies),
                  np.array(moves), final_energy, converged, idle)
+
+
+def _interpolated_block(points, values, width, height, bbox, method, device, block_info=None):
+    """One window of the interpolated raster."""
+    (y0, y1), (x0, x1) = block_info[None]["array-location"]
+    # The arrays arrive unpickled from a buffer, perhaps unaligned.
+    return _pixgeo.interpolate(
+        _points(points, "points"), np.require(values, requirements=["C_CONTIGUOUS", "ALIGNED"]),
+        width, height, bbox, method, device, (x0, y0, x1 - x0, y1 - y0),
+    )
+
+
+def natural_neighbor(
+    points,
+    values,
+    shape: Optional[Sequence[int]] = None,
+    *,
+    chunks: Tuple[int, int] = (4096, 4096),
+    bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
+    method: str = "exact",
+    device: Optional[str] = None,
+):
+    """:func:`pixgeo.natural_neighbor` onto a raster as a Dask array of
+    ``shape``, in blocks of ``chunks`` rows and columns, each interpolated
+    as a window on a worker (which triangulates the points itself): the same
+    values bit for bit however it is chunked. The exact, linear and nearest
+    methods (the discrete one's values depend on the pixels drawn around
+    them)."""
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}: use {', '.join(METHODS)}")
+    if method == "discrete":
+        raise ValueError(
+            "pixgeo.dask.natural_neighbor takes the exact, linear and nearest methods: a "
+            "discrete value depends on the pixels drawn around it, so blocks would not tile"
+        )
+    place = _place(shape, bbox, res, y_axis, crs)
+    h, w, box = place.height, place.width, place.bbox
+    p = place.sites(_points(points, "points"))
+    v = _values(values, len(p))
+    # Check the points and values once, here, on a one-pixel window.
+    _pixgeo.interpolate(p, v, w, h, box, method, device, (0, 0, 1, 1))
+    rows, cols = _chunks(chunks)
+    return da.map_blocks(
+        _interpolated_block,
+        dask.delayed(p, pure=True),
+        dask.delayed(v, pure=True),
+        w,
+        h,
+        box,
+        method,
+        device,
+        chunks=da.core.normalize_chunks((rows, cols), (h, w)),
+        dtype=np.float64,
+        meta=np.empty((0, 0), dtype=np.float64),
+    )

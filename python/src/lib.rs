@@ -27,7 +27,7 @@ use pixgeo::{
         great_circle::{great_circle_grid, great_circle_nearest},
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
-        interpolate::{interpolate as interpolate_raster, interpolate_points, Method},
+        interpolate::{interpolate_points, interpolate_window, Method},
         lloyd::{lloyd as lloyd_iterations, LloydOptions},
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
@@ -596,10 +596,11 @@ fn furthest<'py>(
     ))
 }
 
-/// `values` interpolated at every pixel centre of the picture by `method`;
-/// NaN where it gives none.
+/// `values` interpolated at every pixel centre of the picture (or with
+/// `window = (x0, y0, width, height)` of those pixels) by `method`; NaN where
+/// it gives none.
 #[pyfunction]
-#[pyo3(signature = (sites, values, width, height, bbox, method, device))]
+#[pyo3(signature = (sites, values, width, height, bbox, method, device, window=None))]
 #[allow(clippy::too_many_arguments)]
 fn interpolate<'py>(
     py: Python<'py>,
@@ -610,13 +611,21 @@ fn interpolate<'py>(
     bbox: Option<[f64; 4]>,
     method: &str,
     device: Option<&str>,
+    window: Option<[u32; 4]>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let (sites, values) = (points(&sites), values.as_array().to_vec());
     let (f, method) = (frame(width, height, bbox)?, named::<Method>(method)?);
+    let [x, y, w, h] = window.unwrap_or([0, 0, width, height]);
+    let rect = PixelRect {
+        x,
+        y,
+        width: w,
+        height: h,
+    };
     let answer = on_machine(py, device, |m| {
-        interpolate_raster(m, &sites, &values, &f, method, &mut |_, _| {})
+        interpolate_window(m, &sites, &values, &f, rect, method, &mut |_, _| {})
     })?;
-    raster(py, answer.values, height, width)
+    raster(py, answer.values, h, w)
 }
 
 /// `values` interpolated at each of `at` (m, 2) by the exact or the linear

@@ -165,3 +165,20 @@ def test_refusals():
     twice = np.vstack([p, p[:1]])
     with pytest.raises(ValueError, match="same point"):
         pixgeo.natural_neighbor(twice, np.append(METPY_Z, 5.0), xi=[[30.0, 30.0]])
+
+
+@pytest.mark.parametrize("method", ["exact", "linear", "nearest"])
+def test_dask_blocks_tile_into_the_whole_raster(method):
+    import pixgeo.dask
+
+    rng = np.random.default_rng(8)
+    points = rng.uniform(0, 100, (70, 2))
+    values = rng.normal(0, 5, 70)
+    whole = pixgeo.natural_neighbor(points, values, (49, 61), bbox=(0, 0, 100, 80), method=method)
+    blocks = pixgeo.dask.natural_neighbor(
+        points, values, (49, 61), bbox=(0, 0, 100, 80), method=method, chunks=(16, 25)
+    )
+    assert blocks.chunks == ((16, 16, 16, 1), (25, 25, 11))
+    np.testing.assert_array_equal(blocks.compute(scheduler="sync"), whole)
+    with pytest.raises(ValueError, match="discrete"):
+        pixgeo.dask.natural_neighbor(points, values, (49, 61), bbox=(0, 0, 100, 80), method="discrete")

@@ -9,11 +9,14 @@ use crate::common::{machine, ulps, uniform};
 use glam::DVec2;
 use num_rational::BigRational;
 use pixgeo::{
-    algorithms::interpolate::{discrete_sibson, interpolate, interpolate_points, Method},
+    algorithms::interpolate::{
+        discrete_sibson, interpolate, interpolate_points, interpolate_window, Method,
+    },
     geometry::{
         predicates::{incircle, orient},
         Frame,
     },
+    machine::PixelRect,
 };
 use pixgeo_reference::sibson::sibson;
 use rand::SeedableRng;
@@ -370,7 +373,41 @@ fn interpolants_at_points_match_the_raster() {
         &frame,
         Method::Nearest,
         &mut |_, _| {},
-    )
-    .unwrap();
-    assert!(near.values.iter().all(|v| v.is_finite()));
+    );
+    assert!(near.unwrap().values.iter().all(|v| v.is_finite()));
+    // A window is the whole raster's pixels bit for bit; discrete refuses one.
+    let window = PixelRect {
+        x: 7,
+        y: 11,
+        width: 13,
+        height: 5,
+    };
+    for method in [Method::Exact, Method::Linear, Method::Nearest] {
+        let whole = interpolate(&machine, &sites, &values, &frame, method, &mut |_, _| {});
+        let whole = whole.unwrap().values;
+        let part = interpolate_window(
+            &machine,
+            &sites,
+            &values,
+            &frame,
+            window,
+            method,
+            &mut |_, _| {},
+        );
+        for (k, v) in part.unwrap().values.iter().enumerate() {
+            let (i, j) = (7 + k % 13, 11 + k / 13);
+            assert_eq!(v.to_bits(), whole[j * 30 + i].to_bits(), "{method:?} {k}");
+        }
+    }
+    let discrete = Method::Discrete;
+    let refused = interpolate_window(
+        &machine,
+        &sites,
+        &values,
+        &frame,
+        window,
+        discrete,
+        &mut |_, _| {},
+    );
+    assert!(refused.is_err());
 }

@@ -34,10 +34,11 @@ use rayon::prelude::*;
 use crate::{
     algorithms::{
         delaunay::{delaunay, DelaunayOptions},
-        lloyd::nearest_labels,
+        voronoi::{voronoi, VoronoiOptions},
     },
     cancel::Watch,
     geometry::{bounded::Bounded, exact::nearest_double, scale, Frame},
+    machine::PixelRect,
     Error, Machine, Result,
 };
 use formulas::{centre_offset, linear, nearest, on_plane, sibson, slopes, Point};
@@ -81,27 +82,53 @@ pub fn interpolate(
     method: Method,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Interpolation> {
+    let whole = PixelRect::sized(frame.width, frame.height);
+    interpolate_window(machine, sites, values, frame, whole, method, progress)
+}
+
+/// [`interpolate`] over the pixels of `window` alone, a rectangle of
+/// `frame`'s: the same values bit for bit, so that windows computed apart
+/// tile into the whole raster. The discrete method takes the whole frame
+/// only (its values depend on the pixels drawn around them).
+pub fn interpolate_window(
+    machine: &Machine,
+    sites: &[DVec2],
+    values: &[f64],
+    frame: &Frame,
+    window: PixelRect,
+    method: Method,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Interpolation> {
     check_values(sites, values)?;
+    let diagram = VoronoiOptions::exact(*frame)
+        .distances(false)
+        .window(Some(window));
+    let rect = diagram.window_rect()?;
     let values = match method {
         Method::Nearest => {
-            let labels = nearest_labels(Some(machine), sites, frame)?;
+            let labels = voronoi(machine, sites, &diagram)?.labels;
             labels.iter().map(|&l| values[l as usize]).collect()
+        }
+        Method::Discrete if rect != PixelRect::sized(frame.width, frame.height) => {
+            return Err(Error::InvalidInput(
+                "the discrete method interpolates whole rasters: a pixel's value depends on \
+                 the pixels drawn around it, so windows would not tile into the whole"
+                    .into(),
+            ))
         }
         Method::Discrete => discrete_sibson(Some(machine), sites, values, frame)?,
         Method::Exact | Method::Linear => {
-            let centres: Vec<DVec2> = (0..frame.len())
-                .map(|k| {
-                    let (i, j) = (k % frame.width as usize, k / frame.width as usize);
-                    frame.to_world(DVec2::new(i as f64, j as f64))
-                })
+            let centres: Vec<DVec2> = (0..rect.height)
+                .flat_map(|j| (0..rect.width).map(move |i| (rect.x + i, rect.y + j)))
+                .map(|(i, j)| frame.to_world(DVec2::new(i as f64, j as f64)))
                 .collect();
             let corners = triangulated(machine, sites, values)?;
-            let run = frame.width as usize;
+            let run = rect.width as usize;
             let sibson = method == Method::Exact;
             return on_triangles(sites, &corners, values, &centres, run, sibson, progress);
         }
     };
-    progress(frame.height as u64, frame.height as u64);
+    progress(rect.height as u64, rect.height as u64);
     Ok(Interpolation {
         values,
         decided_exactly: 0,
