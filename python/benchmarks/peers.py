@@ -200,6 +200,18 @@ def interpolation_rows(args):
                   f"| {metpy:.0f} | {metpy / exact:.0f}× | {gap:.1e} |", flush=True)
 
 
+def threads_line():
+    """Which device and how many threads each tool uses in this run."""
+    import os
+
+    cores = os.cpu_count()
+    opencv = f"OpenCV {cv2.getNumThreads()} threads" if cv2 is not None else "OpenCV absent"
+    print(f"pixgeo: device {os.environ.get('PIXGEO_DEVICE', 'auto')} (lavapipe without a GPU, "
+          f"LP_NUM_THREADS={os.environ.get('LP_NUM_THREADS', 'one per core')}), CPU steps on "
+          f"{cores} threads; cKDTree 2 workers; SciPy's ndimage, griddata, directed_hausdorff and "
+          f"MetPy 1 thread; {opencv}; {cores} cores.\n")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tasks", default="labels,hausdorff")
@@ -208,6 +220,7 @@ def main():
     ap.add_argument("--m", default="10000,100000")
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args()
+    threads_line()
     if "hausdorff" in args.tasks:
         hausdorff_rows(args)
     if "lloyd" in args.tasks:

@@ -30,7 +30,7 @@ use crate::{
         predicates::{convex_hull, orient},
         Frame,
     },
-    Error, Machine, Result,
+    Machine, Result,
 };
 
 /// The margin drawn around the frame, as a share of its larger side.
@@ -45,19 +45,7 @@ pub fn discrete_sibson(
     values: &[f64],
     frame: &Frame,
 ) -> Result<Vec<f64>> {
-    if values.len() != sites.len() {
-        return Err(Error::InvalidInput(format!(
-            "{} values for {} sites: give one value per site",
-            values.len(),
-            sites.len()
-        )));
-    }
-    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "value {i} is {}: values are finite",
-            values[i]
-        )));
-    }
+    super::check_values(sites, values)?;
     // Pixels beyond the frame scatter into it too: the diagram is drawn
     // with a margin of MARGIN times the larger side all round.
     let margin = ((frame.width.max(frame.height) as f64 * MARGIN).ceil() as u32).max(1);

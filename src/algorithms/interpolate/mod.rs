@@ -225,10 +225,7 @@ fn on_triangles(
     // changes no interpolant), so that its products neither overflow nor
     // underflow; on them the predicates need no scaling of their own.
     let k = scale::incircle_exponent(sites)?;
-    let scaled_sites: Vec<DVec2> = sites
-        .iter()
-        .map(|p| p.map(|x| scale::times_power_of_two(x, k)))
-        .collect();
+    let scaled_sites = scale::scaled(sites, k);
     let scaled = exact.scaled(&scaled_sites);
     let largest = scaled_sites
         .iter()
