@@ -13,8 +13,10 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::buckets::group_by_bucket;
+use super::power::{power_test, Weighted};
 use super::predicates::{incircle, orient};
 pub use super::triangulation::DUMMY;
+use std::cmp::Ordering;
 
 /// No triangle.
 const NONE: u32 = u32::MAX;
@@ -55,6 +57,11 @@ pub(crate) struct Mesh {
     present: usize,
     /// Xorshift state for the walk's random first edge.
     walk: u64,
+    /// Each vertex's power weight, for a regular triangulation; empty for a
+    /// Delaunay one.
+    pub weights: Vec<f64>,
+    /// Weighted vertices left out or taken out: their power cells are empty.
+    pub hidden: Vec<u32>,
 }
 
 impl Mesh {
@@ -68,6 +75,25 @@ impl Mesh {
 
     fn at(&self, v: u32) -> DVec2 {
         self.points[v as usize]
+    }
+
+    fn weighted(&self, v: u32) -> Weighted {
+        Weighted {
+            at: self.at(v),
+            weight: self.weights[v as usize],
+        }
+    }
+
+    /// Whether `q` conflicts with finite triangle `t`: lies inside its
+    /// circumcircle, or for weights, would take part of its corners' power
+    /// cells.
+    fn conflicts(&self, t: [u32; 3], q: u32) -> bool {
+        if self.weights.is_empty() {
+            let [a, b, c] = t.map(|v| self.at(v));
+            return incircle(a, b, c, self.at(q)) > 0.0;
+        }
+        let [a, b, c] = t.map(|v| self.weighted(v));
+        power_test(a, b, c, self.weighted(q)) == Ordering::Greater
     }
 
     fn is_ghost(&self, t: u32) -> bool {
@@ -143,6 +169,8 @@ impl Mesh {
             free: Vec::new(),
             present,
             walk: 0x9e37_79b9_7f4a_7c15,
+            weights: Vec::new(),
+            hidden: Vec::new(),
         };
         mesh.check(&twin_edges, |v| {
             (start[slot(v) + 1] - start[slot(v)]) as usize
@@ -328,7 +356,36 @@ impl Mesh {
             return false;
         }
         let d = self.quad(t, e).vertices[3];
-        d != DUMMY && incircle(self.at(tv[0]), self.at(tv[1]), self.at(tv[2]), self.at(d)) > 0.0
+        d != DUMMY && self.conflicts(tv, d)
+    }
+
+    /// For weights, where the illegal edge `e` of `t` cannot be flipped (its
+    /// quadrilateral is not convex): the reflex corner, taken out if three
+    /// triangles surround it (a 3-1 flip; its cell is empty), else left for
+    /// later insertions to settle (Edelsbrunner and Shah 1996). Returns
+    /// whether the edge was handled so.
+    fn unflippable(&mut self, t: u32, e: usize, stack: &mut Vec<(u32, usize)>) -> bool {
+        if self.weights.is_empty() {
+            return false;
+        }
+        let [a, b, c, d] = self.quad(t, e).vertices;
+        let reflex = if orient(self.at(c), self.at(a), self.at(d)) <= 0.0 {
+            a
+        } else if orient(self.at(d), self.at(b), self.at(c)) <= 0.0 {
+            b
+        } else {
+            return false;
+        };
+        let ring = self.ring(reflex);
+        if ring.len() == 3 && ring.iter().all(|&(r, _)| !self.is_ghost(r)) {
+            let [x, y, z] = [0, 1, 2].map(|k| self.triangles[ring[k].0 as usize][next(ring[k].1)]);
+            self.take_out(reflex);
+            self.hidden.push(reflex);
+            let filled = self.corner[x as usize];
+            debug_assert!(self.triangles[filled as usize].contains(&y) && y != z);
+            stack.extend([(filled, 0), (filled, 1), (filled, 2)]);
+        }
+        true
     }
 
     /// Lawson's flips from the edges on `stack` until every edge they reach is
@@ -336,7 +393,7 @@ impl Mesh {
     fn legalize(&mut self, mut stack: Vec<(u32, usize)>) -> usize {
         let mut flips = 0;
         while let Some((t, e)) = stack.pop() {
-            if self.is_illegal(t, e) {
+            if self.is_illegal(t, e) && !self.unflippable(t, e, &mut stack) {
                 let u = self.adjacent[t as usize][e];
                 self.flip(t, e);
                 flips += 1;
@@ -485,6 +542,12 @@ impl Mesh {
         if self.present <= 4 {
             return Err(TooFewSites);
         }
+        self.take_out(v);
+        Ok(())
+    }
+
+    /// [`Mesh::remove`] without its guard.
+    fn take_out(&mut self, v: u32) {
         let ring = self.ring(v);
         // The link cycle, each edge with the triangle beyond it.
         let mut polygon = Vec::with_capacity(ring.len());
@@ -509,7 +572,6 @@ impl Mesh {
         self.corner[v as usize] = NONE;
         self.present -= 1;
         self.stitch(&polygon, &outside, &new);
-        Ok(())
     }
 
     /// Ear clipping of a simple counter-clockwise polygon of sites.
@@ -638,6 +700,12 @@ impl Mesh {
             if let Some(u) = crossed {
                 t = u;
                 continue;
+            }
+            if !self.weights.is_empty() && !self.conflicts(tv, v) {
+                // Its lifted point lies on or above the lower hull: its power
+                // cell is empty.
+                self.hidden.push(v);
+                return 0;
             }
             self.present += 1;
             return match (zeros, zero) {

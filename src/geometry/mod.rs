@@ -16,6 +16,7 @@ pub(crate) mod flips;
 pub(crate) mod frame;
 pub(crate) mod mesh;
 pub mod metric;
+pub mod power;
 pub(crate) mod precise;
 pub mod predicates;
 pub(crate) mod radius;

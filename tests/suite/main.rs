@@ -21,6 +21,7 @@ mod interpolate;
 mod lloyd;
 mod machine;
 mod polygon;
+mod power;
 mod properties;
 mod robustness;
 mod settle;

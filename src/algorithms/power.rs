@@ -1,0 +1,203 @@
+//! Power (Laguerre) diagrams and their duals, regular (weighted Delaunay)
+//! triangulations: each site `s` with weight `w` owns the points whose power
+//! `|p - s|² - w` from it is least. A site whose cell is empty is hidden.
+//!
+//! The regular triangulation is built by incremental insertion in Hilbert
+//! order with flips (Edelsbrunner and Shah 1996): a new site whose lifted
+//! point lies on or above the lower hull is hidden at once; an illegal edge
+//! whose quadrilateral is not convex takes out its reflex corner if three
+//! triangles surround it, a site the new one hides. Every predicate is
+//! exact ([`crate::geometry::power`]).
+//!
+//! The diagram's labels walk the triangulation: from the last pixel's site
+//! to a neighbour of less power until none has less (on a regular
+//! triangulation this finds the least, as a power cell is convex and
+//! crossing its edge lowers the power), then the lowest index among those
+//! of equal power. The powers are the doubles nearest the exact ones.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use crate::{
+    algorithms::envelope::hilbert_index,
+    cancel::Watch,
+    geometry::{
+        frame::check_sites,
+        mesh::Mesh,
+        power::{compare_power, power_of, Weighted},
+        predicates::orient,
+        triangulation::DUMMY,
+        Frame,
+    },
+    Error, Result,
+};
+
+/// A regular triangulation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Regular {
+    /// Counter-clockwise triangles, as indices into the input.
+    pub triangles: Vec<[u32; 3]>,
+    /// The sites whose power cells are empty, ascending. Of sites at one
+    /// point, all but the heaviest (the first of equal weights) are hidden.
+    pub hidden: Vec<u32>,
+}
+
+/// The regular triangulation of `sites` (finite, not all on one line).
+pub fn regular_triangulation(sites: &[Weighted]) -> Result<Regular> {
+    let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
+    check_sites(&points)?;
+    if let Some(i) = sites.iter().position(|s| !s.weight.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "site {i}'s weight {} is not finite",
+            sites[i].weight
+        )));
+    }
+    // Of sites at one point the heaviest stays.
+    let mut order: Vec<u32> = (0..sites.len() as u32).collect();
+    order.sort_by(|&a, &b| {
+        let (p, q) = (sites[a as usize], sites[b as usize]);
+        (p.at.x, p.at.y)
+            .partial_cmp(&(q.at.x, q.at.y))
+            .expect("finite")
+            .then(q.weight.total_cmp(&p.weight))
+            .then(a.cmp(&b))
+    });
+    let mut hidden = Vec::new();
+    order.dedup_by(|later, kept| {
+        let same = sites[*later as usize].at == sites[*kept as usize].at;
+        if same {
+            hidden.push(*later);
+        }
+        same
+    });
+    let (lo, hi) = order.iter().fold((points[0], points[0]), |(lo, hi), &v| {
+        (lo.min(points[v as usize]), hi.max(points[v as usize]))
+    });
+    let scale = 65535.0 / (hi - lo).max_element().max(f64::MIN_POSITIVE);
+    order.sort_by_cached_key(|&v| {
+        let g = ((points[v as usize] - lo) * scale).min(DVec2::splat(65535.0));
+        hilbert_index(g.x as u32, g.y as u32)
+    });
+    let p = |k: usize| points[order[k] as usize];
+    let Some(c) = (2..order.len()).find(|&k| orient(p(0), p(1), p(k)) != 0.0) else {
+        return Err(Error::InvalidInput(
+            "the sites lie on one line: a regular triangulation needs three not in line".into(),
+        ));
+    };
+    let first = if orient(p(0), p(1), p(c)) > 0.0 {
+        [order[0], order[1], order[c]]
+    } else {
+        [order[1], order[0], order[c]]
+    };
+    let mut mesh = Mesh::triangle(points, first);
+    mesh.weights = sites.iter().map(|s| s.weight).collect();
+    let watch = Watch::current();
+    let mut last = first[2];
+    for (k, &v) in order.iter().filter(|v| !first.contains(v)).enumerate() {
+        if k % (1 << 14) == 0 {
+            watch.check()?;
+        }
+        if !mesh.contains(last) {
+            last = *first
+                .iter()
+                .chain(order.iter())
+                .find(|&&u| mesh.contains(u))
+                .expect("sites");
+        }
+        mesh.insert(v, last);
+        if mesh.contains(v) {
+            last = v;
+        }
+    }
+    hidden.extend(&mesh.hidden);
+    hidden.sort_unstable();
+    Ok(Regular {
+        triangles: mesh
+            .triangles()
+            .into_iter()
+            .filter(|t| !t.contains(&DUMMY))
+            .collect(),
+        hidden,
+    })
+}
+
+/// A power diagram on a raster.
+#[derive(Clone, Debug)]
+pub struct PowerDiagram {
+    /// Each pixel's site of least power (ties to the lower index), row-major.
+    pub labels: Vec<u32>,
+    /// Each pixel centre's power from it, the double nearest the exact one.
+    pub powers: Vec<f64>,
+    pub regular: Regular,
+}
+
+/// The power diagram of `sites` at every pixel centre of `frame`.
+pub fn power_diagram(sites: &[Weighted], frame: &Frame) -> Result<PowerDiagram> {
+    let regular = regular_triangulation(sites)?;
+    // Each site's neighbours in the triangulation.
+    let mut neighbours = vec![Vec::new(); sites.len()];
+    for t in &regular.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            neighbours[a as usize].push(b);
+            neighbours[b as usize].push(a);
+        }
+    }
+    for n in &mut neighbours {
+        n.sort_unstable();
+        n.dedup();
+    }
+    let start = regular.triangles[0][0];
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let watch = Watch::current();
+    let rows: Vec<(Vec<u32>, Vec<f64>)> = (0..h)
+        .into_par_iter()
+        .map(|j| {
+            watch.check()?;
+            let mut at = start;
+            let row = (0..w).map(|i| {
+                let p = frame.to_world(DVec2::new(i as f64, j as f64));
+                at = least_power(p, sites, &neighbours, at);
+                (at, power_of(p, sites[at as usize]))
+            });
+            Ok(row.unzip())
+        })
+        .collect::<Result<_>>()?;
+    let (labels, powers) = rows
+        .into_iter()
+        .fold((Vec::new(), Vec::new()), |(mut l, mut p), r| {
+            l.extend(r.0);
+            p.extend(r.1);
+            (l, p)
+        });
+    Ok(PowerDiagram {
+        labels,
+        powers,
+        regular,
+    })
+}
+
+/// The site of least power at `p` (the lowest index of equals), walking
+/// from `from` over the triangulation's edges.
+fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32) -> u32 {
+    let less = |a: u32, b: u32| compare_power(p, sites[a as usize], sites[b as usize]).is_lt();
+    let mut at = from;
+    while let Some(&n) = neighbours[at as usize].iter().find(|&&n| less(n, at)) {
+        at = n;
+    }
+    // Sites of equal least power own p together; their cells meet there,
+    // so each is reached from another over an edge.
+    let mut equal = vec![at];
+    let mut k = 0;
+    while k < equal.len() {
+        let s = equal[k];
+        k += 1;
+        for &n in &neighbours[s as usize] {
+            let tie = compare_power(p, sites[n as usize], sites[at as usize]).is_eq();
+            if tie && !equal.contains(&n) {
+                equal.push(n);
+            }
+        }
+    }
+    *equal.iter().min().expect("at least one")
+}

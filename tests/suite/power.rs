@@ -1,0 +1,196 @@
+//! Regular triangulations and power diagrams against their definitions by
+//! brute force, in exact arithmetic: every triangle has no site below its
+//! lifted plane, the triangles tile the hull, hidden sites own no cell, and
+//! every pixel's label has the least power exactly (ties to the lower index).
+
+use crate::common::{ulps, uniform};
+use glam::DVec2;
+use num_rational::BigRational;
+use pixgeo::{
+    algorithms::power::{power_diagram, regular_triangulation},
+    geometry::{power::Weighted, predicates::orient, Frame},
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+fn rational(x: f64) -> BigRational {
+    BigRational::from_float(x).unwrap()
+}
+
+fn exact_power(p: DVec2, s: Weighted) -> BigRational {
+    let (x, y) = (
+        rational(p.x) - rational(s.at.x),
+        rational(p.y) - rational(s.at.y),
+    );
+    &x * &x + &y * &y - rational(s.weight)
+}
+
+/// Twice the triangle's area, exactly.
+fn area(a: DVec2, b: DVec2, c: DVec2) -> BigRational {
+    (rational(b.x) - rational(a.x)) * (rational(c.y) - rational(a.y))
+        - (rational(b.y) - rational(a.y)) * (rational(c.x) - rational(a.x))
+}
+
+/// The power test in rationals: positive when `d`'s lifted point lies
+/// below the plane through the counter-clockwise a, b, c's.
+fn exact_power_test(t: [Weighted; 3], d: Weighted) -> BigRational {
+    let rows = t.map(|s| {
+        let (x, y) = (
+            rational(s.at.x) - rational(d.at.x),
+            rational(s.at.y) - rational(d.at.y),
+        );
+        let lift = &x * &x + &y * &y - rational(s.weight) + rational(d.weight);
+        (x, y, lift)
+    });
+    let [(ax, ay, al), (bx, by, bl), (cx, cy, cl)] = rows;
+    al * (&bx * &cy - &by * &cx) - bl * (&ax * &cy - &ay * &cx) + cl * (&ax * &by - &ay * &bx)
+}
+
+/// Checks the regular triangulation of `sites` against the definition.
+fn check_regular(sites: &[Weighted]) -> Vec<u32> {
+    let regular = regular_triangulation(sites).unwrap();
+    let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
+    for t in &regular.triangles {
+        let [a, b, c] = t.map(|v| sites[v as usize]);
+        assert!(
+            orient(a.at, b.at, c.at) > 0.0,
+            "{t:?} is not counter-clockwise"
+        );
+        let zero = BigRational::from_integer(0.into());
+        let below = sites
+            .par_iter()
+            .position_any(|s| exact_power_test([a, b, c], *s) > zero);
+        assert_eq!(below, None, "a site below {t:?}");
+        assert!(t.iter().all(|v| regular.hidden.binary_search(v).is_err()));
+    }
+    // The triangles tile the hull: their areas sum to the hull's.
+    let hull = pixgeo::geometry::predicates::convex_hull(&points);
+    let o = points[hull[0] as usize];
+    let hull_area = (1..hull.len() - 1)
+        .map(|k| area(o, points[hull[k] as usize], points[hull[k + 1] as usize]))
+        .fold(BigRational::from_integer(0.into()), |s, a| s + a);
+    let total = regular
+        .triangles
+        .iter()
+        .map(|t| {
+            area(
+                points[t[0] as usize],
+                points[t[1] as usize],
+                points[t[2] as usize],
+            )
+        })
+        .fold(BigRational::from_integer(0.into()), |s, a| s + a);
+    assert_eq!(total, hull_area);
+    // A hidden site is the least power nowhere: at its own point another
+    // site has no more power (and less, unless it is a repeat).
+    for &h in &regular.hidden {
+        let s = sites[h as usize];
+        let own = exact_power(s.at, s);
+        assert!(
+            sites
+                .iter()
+                .enumerate()
+                .any(|(k, t)| k != h as usize && exact_power(s.at, *t) <= own),
+            "hidden site {h}"
+        );
+    }
+    regular.hidden
+}
+
+fn weighted(points: &[DVec2], weights: &[f64]) -> Vec<Weighted> {
+    points
+        .iter()
+        .zip(weights)
+        .map(|(&at, &weight)| Weighted { at, weight })
+        .collect()
+}
+
+#[test]
+fn regular_triangulations_are_their_definition() {
+    let mut rng = ChaCha8Rng::seed_from_u64(52);
+    // Random weights up to about a neighbour's distance squared: some sites
+    // are hidden.
+    let points = uniform(&mut rng, 120, 60.0, 60.0);
+    let weights: Vec<f64> = (0..120).map(|_| rng.gen_range(0.0..60.0)).collect();
+    let hidden = check_regular(&weighted(&points, &weights));
+    assert!(!hidden.is_empty(), "no hidden site");
+    // Equal weights: the Delaunay triangulation, on a lattice of
+    // co-circular quadruples a tenth apart.
+    let lattice: Vec<DVec2> = (0..64)
+        .map(|k| DVec2::new(0.1 * (k % 8) as f64, 0.1 * (k / 8) as f64))
+        .collect();
+    assert!(check_regular(&weighted(&lattice, &[2.5; 64])).is_empty());
+    // The lattice with weights an ulp apart, repeats, and a light site
+    // inside a triangle of heavy ones (hidden at once, or later when they
+    // come after it).
+    let nudged: Vec<f64> = (0..64).map(|k| ulps(2.5, k % 3 - 1)).collect();
+    check_regular(&weighted(&lattice, &nudged));
+    let mut repeated = weighted(&points[..50], &weights[..50]);
+    repeated.push(Weighted {
+        at: points[3],
+        weight: weights[3] + 1.0,
+    });
+    repeated.push(Weighted {
+        at: points[4],
+        weight: weights[4],
+    });
+    let hidden = check_regular(&repeated);
+    assert!(hidden.contains(&3) && hidden.contains(&51), "{hidden:?}");
+    let heavy = [(0.0, 0.0), (10.0, 0.0), (5.0, 9.0)].map(|(x, y)| Weighted {
+        at: DVec2::new(x, y),
+        weight: 40.0,
+    });
+    let light = Weighted {
+        at: DVec2::new(5.0, 3.0),
+        weight: 0.0,
+    };
+    for order in [
+        vec![light, heavy[0], heavy[1], heavy[2]],
+        vec![heavy[0], heavy[1], heavy[2], light],
+    ] {
+        let hidden = check_regular(&order);
+        assert_eq!(hidden.len(), 1);
+        assert_eq!(order[hidden[0] as usize], light);
+    }
+    // Far magnitudes.
+    let far: Vec<DVec2> = points[..40].iter().map(|&p| p * 1e150).collect();
+    let far_weights: Vec<f64> = weights[..40].iter().map(|w| w * 1e300).collect();
+    check_regular(&weighted(&far, &far_weights));
+    let line = weighted(&[DVec2::ZERO, DVec2::ONE, DVec2::splat(2.0)], &[0.0; 3]);
+    assert!(regular_triangulation(&line).is_err());
+}
+
+#[test]
+fn power_diagram_labels_have_the_least_power() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let frame = Frame::pixels(48, 40).unwrap();
+    let points = uniform(&mut rng, 40, 48.0, 40.0);
+    let weights: Vec<f64> = (0..40).map(|_| rng.gen_range(0.0..30.0)).collect();
+    // And a lattice whose pixel centres have tied sites.
+    let lattice: Vec<DVec2> = (0..20)
+        .map(|k| DVec2::new(2.0 + 9.0 * (k % 5) as f64, 1.5 + 10.0 * (k / 5) as f64))
+        .collect();
+    for sites in [weighted(&points, &weights), weighted(&lattice, &[4.0; 20])] {
+        let d = power_diagram(&sites, &frame).unwrap();
+        for (k, (&label, &power)) in d.labels.iter().zip(&d.powers).enumerate() {
+            let p = DVec2::new((k % 48) as f64, (k / 48) as f64);
+            let want = (0..sites.len())
+                .min_by(|&a, &b| {
+                    exact_power(p, sites[a])
+                        .cmp(&exact_power(p, sites[b]))
+                        .then(a.cmp(&b))
+                })
+                .unwrap();
+            assert_eq!(label as usize, want, "pixel {k}");
+            let exact = exact_power(p, sites[want]);
+            assert_eq!(
+                power,
+                num_traits::ToPrimitive::to_f64(&exact).unwrap(),
+                "pixel {k}"
+            );
+        }
+        // Hidden sites own no pixel.
+        assert!(d.regular.hidden.iter().all(|h| !d.labels.contains(h)));
+    }
+}
