@@ -7,8 +7,11 @@ use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::delaunay::{self, Delaunay, DelaunayOptions},
-    geometry::triangulation::check_delaunay,
+    algorithms::{
+        delaunay::{self, Delaunay, DelaunayOptions},
+        power::regular_triangulation,
+    },
+    geometry::{power::Weighted, triangulation::check_delaunay},
 };
 
 use crate::{
@@ -80,11 +83,22 @@ pub struct Args {
     /// area, empty circles); fail if the result is wrong.
     #[arg(long)]
     check: bool,
+    /// `power`: the points carry power weights `w` (the CSV column `w`, the
+    /// JSON key `"w"`, the GeoJSON property `w`, an .npy's third column):
+    /// build their regular (weighted Delaunay) triangulation, the dual of
+    /// their power diagram, exactly on the CPU. --json lists the hidden
+    /// points, whose power cells are empty; --triangle writes the weights as
+    /// the .node's attribute.
+    #[arg(long, value_enum)]
+    weights: Option<crate::input::Weights>,
     #[command(flatten)]
     device: VulkanDevice,
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if args.weights.is_some() {
+        return regular(&args);
+    }
     if let Some(path) = &args.geojson {
         output::check_extension(path, "geojson", "triangles")?;
     }
@@ -101,7 +115,7 @@ pub fn run(args: Args) -> Result<()> {
         .check
         .then(|| check_delaunay(&points, &result.triangles, &result.distinct()));
     if let Some(prefix) = &args.triangle {
-        write_triangle_files(prefix, &points, &result)?;
+        write_triangle_files(prefix, &points, None, &result.triangles)?;
     }
     if let Some(path) = &args.output {
         let (w, h, rgb) = picture(&result, &points, args.size);
@@ -110,15 +124,7 @@ pub fn run(args: Args) -> Result<()> {
         png.finish()?;
     }
     if let Some(path) = &args.geojson {
-        let features = result.triangles.iter().map(|t| {
-            let mut properties = serde_json::Map::new();
-            properties.insert("vertices".into(), serde_json::json!(t));
-            Feature {
-                polygons: vec![vec![t.iter().map(|&v| points[v as usize]).collect()]],
-                properties,
-            }
-        });
-        write_geojson(path, features, args.crs)?;
+        write_triangles_geojson(path, &points, &result.triangles, args.crs)?;
     }
     crate::wrote([args.output.as_deref(), args.geojson.as_deref()]);
     if args.json {
@@ -203,10 +209,79 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
 }
 
 /// PREFIX.node and PREFIX.ele in Triangle's formats, numbered from 0.
+/// The regular triangulation of weighted points.
+fn regular(args: &Args) -> Result<()> {
+    let refused = [
+        (args.output.is_some(), "-o"),
+        (args.grid.is_some(), "--grid"),
+        (args.check, "--check"),
+    ];
+    if let Some((_, flag)) = refused.iter().find(|(given, _)| *given) {
+        bail!("{flag} is not computed for regular triangulations: they give --triangle, --geojson and --json");
+    }
+    let samples = args.points.samples("w")?;
+    let sites: Vec<Weighted> = samples
+        .points
+        .iter()
+        .zip(&samples.values)
+        .map(|(&at, &weight)| Weighted { at, weight })
+        .collect();
+    let result = regular_triangulation(&sites)?;
+    let points = &samples.points;
+    if let Some(prefix) = &args.triangle {
+        write_triangle_files(prefix, points, Some(&samples.values), &result.triangles)?;
+    }
+    if let Some(path) = &args.geojson {
+        write_triangles_geojson(path, points, &result.triangles, args.crs)?;
+    }
+    crate::wrote([args.geojson.as_deref()]);
+    if args.json {
+        let mesh = serde_json::json!({
+            "points": points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+            "weights": samples.values,
+            "triangles": result.triangles,
+            "duplicates": [],
+            "hidden": result.hidden,
+            "stats": {},
+        });
+        envelope::print("delaunay", "cpu", None, &mesh)?;
+    } else {
+        outln!(
+            "{} points, {} triangles (regular); {} hidden points own no power cell",
+            points.len(),
+            result.triangles.len(),
+            result.hidden.len()
+        );
+    }
+    Ok(())
+}
+
+/// The triangles as GeoJSON Polygons, each with its `vertices`.
+fn write_triangles_geojson(
+    path: &std::path::Path,
+    points: &[DVec2],
+    triangles: &[[u32; 3]],
+    crs: Option<u16>,
+) -> Result<()> {
+    let features = triangles.iter().map(|t| {
+        let mut properties = serde_json::Map::new();
+        properties.insert("vertices".into(), serde_json::json!(t));
+        Feature {
+            polygons: vec![vec![t.iter().map(|&v| points[v as usize]).collect()]],
+            properties,
+        }
+    });
+    write_geojson(path, features, crs)?;
+    Ok(())
+}
+
+/// Triangle's `.node` (with the weights as the one attribute, if any) and
+/// `.ele` files.
 fn write_triangle_files(
     prefix: &std::path::Path,
     points: &[DVec2],
-    result: &Delaunay,
+    weights: Option<&[f64]>,
+    triangles: &[[u32; 3]],
 ) -> Result<()> {
     let path = |ext: &str| {
         let mut p = prefix.as_os_str().to_owned();
@@ -215,16 +290,19 @@ fn write_triangle_files(
     };
     let node = path(".node");
     output::write_text(&node, "node", "--triangle", |w| {
-        writeln!(w, "{} 2 0 0", points.len())?;
+        writeln!(w, "{} 2 {} 0", points.len(), usize::from(weights.is_some()))?;
         for (i, p) in points.iter().enumerate() {
-            writeln!(w, "{i} {:?} {:?}", p.x, p.y)?;
+            match weights {
+                Some(weights) => writeln!(w, "{i} {:?} {:?} {:?}", p.x, p.y, weights[i])?,
+                None => writeln!(w, "{i} {:?} {:?}", p.x, p.y)?,
+            }
         }
         Ok(())
     })?;
     let ele = path(".ele");
     output::write_text(&ele, "ele", "--triangle", |w| {
-        writeln!(w, "{} 3 0", result.triangles.len())?;
-        for (k, t) in result.triangles.iter().enumerate() {
+        writeln!(w, "{} 3 0", triangles.len())?;
+        for (k, t) in triangles.iter().enumerate() {
             writeln!(w, "{k} {} {} {}", t[0], t[1], t[2])?;
         }
         Ok(())

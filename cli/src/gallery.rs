@@ -445,6 +445,17 @@ fn entries() -> Vec<Entry> {
             args: &["--mask", "obstacles.png", "--medial-axis", "medial_axis.npy"],
         },
         Entry {
+            command: "voronoi",
+            picture: "power.png",
+            title: "Power diagram with hidden sites",
+            caption: "Thirty sites with power weights: each pixel goes to the site of \
+                      least |p - s|² - w, exactly, by a walk over their regular \
+                      triangulation. Heavy sites push their edges out; open rings mark \
+                      hidden sites, whose cells are empty.",
+            sites: Some(("power.csv", power_sites(&mut rng))),
+            args: &["--sites", "power.csv", "--weights", "power", "--size", "400"],
+        },
+        Entry {
             command: "interpolate",
             picture: "natural_neighbor.png",
             title: "Natural-neighbour interpolation",
@@ -566,6 +577,20 @@ fn mixed_sites(rng: &mut ChaCha8Rng) -> String {
 }
 
 /// Fig. 3.38's kind of input: points with multiplicative weights.
+/// Points in [0, 400]² with power weights up to a site spacing squared.
+fn power_sites(rng: &mut ChaCha8Rng) -> String {
+    (0..30).fold("x,y,w\n".into(), |mut s, _| {
+        let _ = writeln!(
+            s,
+            "{:.1},{:.1},{:.0}",
+            rng.gen_range(10.0..390.0),
+            rng.gen_range(10.0..390.0),
+            rng.gen_range(0.0..6000.0)
+        );
+        s
+    })
+}
+
 fn weighted_sites(rng: &mut ChaCha8Rng) -> String {
     let items: Vec<String> = (0..30)
         .map(|_| {

@@ -23,6 +23,13 @@ use crate::write::{
     output::{check_extensions, claim, extension_among},
 };
 
+/// What the weights of `--weights` are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Weights {
+    /// Power weights `w`: a site's power at `p` is `|p − s|² − w`.
+    Power,
+}
+
 /// The sites and the picture they are drawn on.
 #[derive(ClapArgs)]
 pub struct Input {
@@ -450,6 +457,15 @@ impl Points {
         match &self.sites {
             Some(path) => Ok(sites::read_general_sites(path)?),
             None => Ok(self.random()?.into_iter().map(Site::point).collect()),
+        }
+    }
+
+    /// Points and the numbers of `column` (a CSV column, JSON key or GeoJSON
+    /// property, an .npy's third column) from --sites.
+    pub fn samples(&self, column: &str) -> Result<Samples> {
+        match &self.sites {
+            Some(path) => Ok(read_samples(path, column)?),
+            None => bail!("give the points and their {column}: --sites FILE"),
         }
     }
 

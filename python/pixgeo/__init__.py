@@ -39,6 +39,9 @@ __all__ = [
     "Lloyd",
     "lloyd",
     "natural_neighbor",
+    "PowerDiagram",
+    "power_diagram",
+    "regular_triangulation",
     "EARTH_RADIUS",
     "NoDeviceError",
     "DeviceError",
@@ -933,3 +936,4 @@ def medial_axis(
 
 from .lloyd import Lloyd, lloyd  # noqa: E402  (it builds on the helpers above)
 from .interpolate import natural_neighbor  # noqa: E402
+from .power import PowerDiagram, power_diagram, regular_triangulation  # noqa: E402

@@ -78,6 +78,12 @@ def interpolate(
 def interpolate_at(
     sites: _Points, values: npt.NDArray[np.float64], at: _Points, method: str, device: Optional[str],
 ) -> npt.NDArray[np.float64]: ...
+def power_diagram(
+    sites: _Points, weights: npt.NDArray[np.float64], width: int, height: int, bbox: _BBox,
+) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float64], List[int]]: ...
+def regular_triangulation(
+    sites: _Points, weights: npt.NDArray[np.float64],
+) -> Tuple[npt.NDArray[np.uint32], List[int]]: ...
 def settle(
     rivals: _Points, own: _Points, width: int, height: int, bbox: _BBox, metric_name: str,
     refine_from: int, device: Optional[str],

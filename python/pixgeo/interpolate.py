@@ -13,15 +13,16 @@ from . import _pixgeo, _place, _points, _unmasked
 METHODS = ("exact", "discrete", "linear", "nearest")
 
 
-def _values(values, n: int) -> np.ndarray:
+def _values(values, n: int, name: str = "values") -> np.ndarray:
     """``values`` as n finite float64s; ValueError otherwise."""
-    v = np.asarray(_unmasked(values, "values"))
+    v = np.asarray(_unmasked(values, name))
     if v.dtype.kind not in "fiu":
-        raise ValueError(f"values must be real numbers, not dtype {v.dtype}")
+        raise ValueError(f"{name} must be real numbers, not dtype {v.dtype}")
     if v.shape != (n,):
-        raise ValueError(f"values has shape {v.shape}: give one value per point, ({n},)")
+        raise ValueError(f"{name} has shape {v.shape}: give one value per point, ({n},)")
     if not np.all(np.isfinite(v)):
-        raise ValueError(f"value {int(np.argmin(np.isfinite(v)))} is not finite: values are finite")
+        bad = int(np.argmin(np.isfinite(v)))
+        raise ValueError(f"{name}[{bad}] is not finite: {name} are finite")
     return np.ascontiguousarray(v, dtype=np.float64)
 
 

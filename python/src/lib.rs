@@ -27,7 +27,6 @@ use pixgeo::{
         great_circle::{great_circle_grid, great_circle_nearest},
         higher_order::{self, KNearestOptions},
         homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
-        interpolate::{interpolate_points, interpolate_window, Method},
         lloyd::{lloyd as lloyd_iterations, LloydOptions},
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
@@ -51,6 +50,8 @@ use pyo3::{
     exceptions::{PyOSError, PyRuntimeError, PyValueError},
     prelude::*,
 };
+
+mod fields;
 
 create_exception!(
     _pixgeo,
@@ -596,58 +597,6 @@ fn furthest<'py>(
     ))
 }
 
-/// `values` interpolated at every pixel centre of the picture (or with
-/// `window = (x0, y0, width, height)` of those pixels) by `method`; NaN where
-/// it gives none.
-#[pyfunction]
-#[pyo3(signature = (sites, values, width, height, bbox, method, device, window=None))]
-#[allow(clippy::too_many_arguments)]
-fn interpolate<'py>(
-    py: Python<'py>,
-    sites: PyReadonlyArray2<'py, f64>,
-    values: PyReadonlyArray1<'py, f64>,
-    width: u32,
-    height: u32,
-    bbox: Option<[f64; 4]>,
-    method: &str,
-    device: Option<&str>,
-    window: Option<[u32; 4]>,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let (sites, values) = (points(&sites), values.as_array().to_vec());
-    let (f, method) = (frame(width, height, bbox)?, named::<Method>(method)?);
-    let [x, y, w, h] = window.unwrap_or([0, 0, width, height]);
-    let rect = PixelRect {
-        x,
-        y,
-        width: w,
-        height: h,
-    };
-    let answer = on_machine(py, device, |m| {
-        interpolate_window(m, &sites, &values, &f, rect, method, &mut |_, _| {})
-    })?;
-    raster(py, answer.values, h, w)
-}
-
-/// `values` interpolated at each of `at` (m, 2) by the exact or the linear
-/// method.
-#[pyfunction]
-#[pyo3(signature = (sites, values, at, method, device))]
-fn interpolate_at<'py>(
-    py: Python<'py>,
-    sites: PyReadonlyArray2<'py, f64>,
-    values: PyReadonlyArray1<'py, f64>,
-    at: PyReadonlyArray2<'py, f64>,
-    method: &str,
-    device: Option<&str>,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let (sites, values, at) = (points(&sites), values.as_array().to_vec(), points(&at));
-    let method = named::<Method>(method)?;
-    let answer = on_machine(py, device, |m| {
-        interpolate_points(m, &sites, &values, &at, method)
-    })?;
-    Ok(answer.values.into_pyarray(py))
-}
-
 /// Counter-clockwise triangles (m, 3) and the repeated points (dropped, kept).
 #[pyfunction]
 #[pyo3(signature = (points, device))]
@@ -939,8 +888,10 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
         pixgeo::algorithms::great_circle::EARTH_RADIUS,
     )?;
     m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
-    m.add_function(wrap_pyfunction!(interpolate, m)?)?;
-    m.add_function(wrap_pyfunction!(interpolate_at, m)?)?;
+    m.add_function(wrap_pyfunction!(fields::interpolate, m)?)?;
+    m.add_function(wrap_pyfunction!(fields::interpolate_at, m)?)?;
+    m.add_function(wrap_pyfunction!(fields::power_diagram, m)?)?;
+    m.add_function(wrap_pyfunction!(fields::regular_triangulation, m)?)?;
     m.add_function(wrap_pyfunction!(diameter, m)?)?;
     m.add_function(wrap_pyfunction!(enclosing_circle, m)?)?;
     m.add_function(wrap_pyfunction!(largest_empty_circle, m)?)?;

@@ -1,7 +1,7 @@
 //! Exact predicates of power (Laguerre) geometry, for sites `s` with weights
 //! `w`: the power of a point `p` is `|p - s|² - w`, and a power diagram
 //! gives each point to the site of least power. Each predicate is evaluated
-//! in double-double with an error bound ([`Bounded`]) and, where the bound
+//! in double-double with an error bound and, where the bound
 //! cannot decide its sign, in rationals.
 
 use std::cmp::Ordering;

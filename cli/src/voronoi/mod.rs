@@ -41,6 +41,7 @@ use crate::{
 
 mod great_circle;
 mod levels;
+mod power;
 mod seeds;
 mod sites;
 
@@ -220,6 +221,15 @@ pub struct Args {
     /// sites' pixels, which must be distinct and inside the picture.
     #[arg(long, value_enum, default_value = "cones")]
     method: Method,
+
+    /// `power`: the sites carry power weights `w` (the CSV column `w`, the
+    /// JSON key `"w"`, the GeoJSON property `w`, an .npy's third column) and
+    /// the diagram is their power (Laguerre) diagram: each pixel to the site
+    /// of least `|p − s|² − w`, exactly, by a walk over their regular
+    /// triangulation on the CPU. --distance writes the powers (float64);
+    /// --json lists the hidden sites, whose cells are empty.
+    #[arg(long, value_enum)]
+    weights: Option<crate::input::Weights>,
 }
 
 /// What --metric names: a metric of the plane, or great circles on the Earth.
@@ -270,6 +280,13 @@ fn refuse_window(args: &Args, what: &str) -> Result<()> {
 
 pub fn run(mut args: Args) -> Result<()> {
     check_options(&args)?;
+    if args.weights.is_some() {
+        let (world, samples) = args.input.world_and_samples("w")?;
+        power::diagram(&args, &world, samples)?;
+        args.input.write_world_file(&world, (0, 0))?;
+        crate::wrote([args.png(), args.labels.as_deref(), args.distance.as_deref()]);
+        return Ok(());
+    }
     let (world, general) = args.input.world_and_general_sites()?;
     let geographic = world.is_geographic();
     match (args.metric_choice.clone(), geographic) {
