@@ -325,6 +325,35 @@ int main(void) {
     CHECK(status == PIXGEO_STATUS_INVALID_ARGUMENT, "interpolation method 7 accepted");
     free(surface);
 
+    /* A power diagram: three heavy sites hide a light one inside their
+     * triangle; every label has the least power |p - s|^2 - w (whole numbers
+     * here, so doubles compare them exactly), ties to the lower index. */
+    const double heavy_xy[8] = {4, 4, 60, 4, 32, 44, 32, 17};
+    const double heavy_w[4] = {1600, 1600, 1600, 0};
+    uint32_t *power_labels = malloc(sizeof(uint32_t) * W * H);
+    double *powers = malloc(sizeof(double) * W * H);
+    uint8_t hidden[4];
+    status = pixgeo_power_diagram(ctx, heavy_xy, heavy_w, 4, &options, power_labels, powers, hidden);
+    CHECK(status == PIXGEO_STATUS_OK, "power diagram: %s", pixgeo_context_last_error(ctx));
+    CHECK(hidden[0] == 0 && hidden[1] == 0 && hidden[2] == 0 && hidden[3] == 1, "hidden sites");
+    for (int k = 0; k < W * H; k++) {
+        int best = 0;
+        double least = INFINITY;
+        for (int t = 0; t < 4; t++) {
+            double dx = heavy_xy[2 * t] - k % W, dy = heavy_xy[2 * t + 1] - k / W;
+            double power = dx * dx + dy * dy - heavy_w[t];
+            if (power < least) least = power, best = t;
+        }
+        CHECK(power_labels[k] == (uint32_t)best && powers[k] == least, "power at pixel %d", k);
+    }
+    uint32_t regular[3 * 4];
+    size_t regular_count = 0;
+    status = pixgeo_regular_triangulation(ctx, heavy_xy, heavy_w, 4, regular, 4, &regular_count, NULL);
+    CHECK(status == PIXGEO_STATUS_OK && regular_count == 1, "regular triangulation: %zu triangles",
+          regular_count);
+    free(power_labels);
+    free(powers);
+
     /* Weighted points, a segment, a circle and an arc (thesis §3.8-3.9): every
      * pixel's label has the smallest weighted distance; fans stay within their
      * bound of it. */

@@ -707,6 +707,49 @@ enum PixgeoStatus pixgeo_lloyd(struct PixgeoContext *ctx,
 // local radii, no bounding box, tiles as large as the device allows.
 struct PixgeoVoronoiOptions pixgeo_voronoi_options_default(uint32_t width, uint32_t height);
 
+// The regular (weighted Delaunay) triangulation of the `count` points `xy`
+// with power weights `weights`, exactly: counter-clockwise triangles into
+// `triangles` (room for `capacity` of them, `3 * capacity` values; fewer
+// than 2n), their number into `*triangle_count`, and unless null one byte
+// per point into `hidden`: 1 where the point's power cell is empty. Too
+// small a capacity returns `PIXGEO_STATUS_BUFFER_TOO_SMALL` with the count
+// set; points all on one line are an invalid argument.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles and `weights`
+// `count`; `triangles` has room for `3 * capacity` values;
+// `triangle_count` points to a writable `size_t`; `hidden` is null or has
+// room for `count` bytes.
+enum PixgeoStatus pixgeo_regular_triangulation(struct PixgeoContext *ctx,
+                                               const double *xy,
+                                               const double *weights,
+                                               size_t count,
+                                               uint32_t *triangles,
+                                               size_t capacity,
+                                               size_t *triangle_count,
+                                               uint8_t *hidden);
+
+// The power diagram of the `count` points `xy` with power weights
+// `weights` on the picture `options` describes (its size and box): every
+// pixel's site of least power `|p - s|² - w` into `labels` (ties to the
+// lower index), unless null each power into `powers` (the double nearest
+// the exact one), and unless null one byte per site into `hidden` (1 where
+// its cell is empty). Exact, on the CPU.
+//
+// # Safety
+// `ctx` is a live context; `xy` holds `2 * count` doubles and `weights`
+// `count`; `options` points to valid options; `labels` (and `powers`,
+// unless null) has room for `width * height` values; `hidden` is null or
+// has room for `count` bytes.
+enum PixgeoStatus pixgeo_power_diagram(struct PixgeoContext *ctx,
+                                       const double *xy,
+                                       const double *weights,
+                                       size_t count,
+                                       const struct PixgeoVoronoiOptions *options,
+                                       uint32_t *labels,
+                                       double *powers,
+                                       uint8_t *hidden);
+
 // The settle point (thesis §3.10): where a new site among the `count` sites
 // `xy` would win the most pixels, not counting pixels already nearest to one
 // of the `own_count` sites `own` (null when 0). The picture's size, bounding
