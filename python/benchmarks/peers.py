@@ -10,7 +10,7 @@ Hausdorff: pixgeo.hausdorff (its default method on the device) against
 cKDTree queries both ways (2 workers) and SciPy's directed_hausdorff both
 ways, on uniform sets and on a uniform set against a clustered one.
 
-    .venv/bin/python python/benchmarks/peers.py [--tasks labels,hausdorff,lloyd,interpolate]
+    .venv/bin/python python/benchmarks/peers.py [--tasks labels,hausdorff,lloyd,interpolate,power]
         [--sides 1024,4096] [--n 1000,10000,100000] [--m 10000,100000]
 
 Lloyd: pixgeo.lloyd against a Lloyd built on SciPy (cKDTree on the pixel
@@ -22,6 +22,12 @@ griddata (linear, Qhull) onto the whole picture, and against MetPy's
 natural_neighbor_to_points on a 64² subgrid of the pixel centres (MetPy
 works point by point in Python; its time is scaled to the picture per pixel),
 with the largest difference from MetPy on that subgrid.
+
+Power diagrams: pixgeo.regular_triangulation (the exact dual: triangles and
+hidden sites) against pyvoro2's power cells in the box (Voro++: each cell's
+polygon in doubles), random weights up to 0.8 of a site's share of the box;
+the sites pixgeo hides are compared with those pyvoro2 leaves empty (pyvoro2
+also empties cells that lie outside its box).
 
 Prints Markdown tables; median of --repeats runs, the tools interleaved.
 """
@@ -200,6 +206,27 @@ def interpolation_rows(args):
                   f"| {metpy:.0f} | {metpy / exact:.0f}× | {gap:.1e} |", flush=True)
 
 
+def power_rows(args):
+    """pixgeo's regular triangulation against pyvoro2's power cells."""
+    from pyvoro2 import planar
+
+    rng = np.random.default_rng(3)
+    print("| n | pixgeo regular triangulation (ms) | pyvoro2 power cells (ms) | pyvoro2 / pixgeo "
+          "| hidden (pixgeo) | empty (pyvoro2) | pixgeo's hidden all empty in pyvoro2 |")
+    print("|---|---|---|---|---|---|---|")
+    box = planar.Box(((0.0, 1000.0), (0.0, 1000.0)))
+    for n in (int(s) for s in args.n.split(",")):
+        points = rng.uniform(0, 1000, (n, 2))
+        weights = rng.uniform(0, 0.8 * 1000**2 / n, n)
+        ours, (_, hidden) = timed(args.repeats, lambda: pixgeo.regular_triangulation(points, weights))
+        theirs, cells = timed(args.repeats, lambda: planar.compute(
+            points, domain=box, mode="power", weights=weights, include_empty=True,
+            output="cells", return_edges=False))
+        empty = {c["id"] for c in cells if len(c.get("vertices", [])) == 0}
+        print(f"| {n} | {ours:.0f} | {theirs:.0f} | {theirs / ours:.2f}× | {len(hidden)} | {len(empty)} "
+              f"| {set(hidden.tolist()) <= empty} |", flush=True)
+
+
 def threads_line():
     """Which device and how many threads each tool uses in this run."""
     import os
@@ -227,6 +254,8 @@ def main():
         lloyd_rows(args)
     if "interpolate" in args.tasks:
         interpolation_rows(args)
+    if "power" in args.tasks:
+        power_rows(args)
     if "labels" not in args.tasks:
         return
     rng = np.random.default_rng(1)

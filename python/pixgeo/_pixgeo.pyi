@@ -80,6 +80,7 @@ def interpolate_at(
 ) -> npt.NDArray[np.float64]: ...
 def power_diagram(
     sites: _Points, weights: npt.NDArray[np.float64], width: int, height: int, bbox: _BBox,
+    window: Optional[Tuple[int, int, int, int]] = None,
 ) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float64], List[int]]: ...
 def regular_triangulation(
     sites: _Points, weights: npt.NDArray[np.float64],

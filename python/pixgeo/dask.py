@@ -31,7 +31,7 @@ from . import Diagram, Lloyd, _pixgeo, _place, _planar, _points
 from .interpolate import METHODS, _values
 from .lloyd import _iterations
 
-__all__ = ["voronoi", "lloyd", "natural_neighbor"]
+__all__ = ["voronoi", "lloyd", "natural_neighbor", "power_diagram"]
 
 
 def _chunks(chunks) -> Tuple[int, int]:
@@ -288,4 +288,45 @@ def natural_neighbor(
         chunks=da.core.normalize_chunks((rows, cols), (h, w)),
         dtype=np.float64,
         meta=np.empty((0, 0), dtype=np.float64),
+    )
+
+
+def _power_block(points, weights, width, height, bbox, which, block_info=None):
+    """One window of a power diagram's labels (``which == 0``) or powers."""
+    (y0, y1), (x0, x1) = block_info[None]["array-location"]
+    # The arrays arrive unpickled from a buffer, perhaps unaligned.
+    return _pixgeo.power_diagram(
+        _points(points, "points"), np.require(weights, requirements=["C_CONTIGUOUS", "ALIGNED"]),
+        width, height, bbox, (x0, y0, x1 - x0, y1 - y0),
+    )[which]
+
+
+def power_diagram(
+    points,
+    weights,
+    shape: Optional[Sequence[int]] = None,
+    *,
+    chunks: Tuple[int, int] = (4096, 4096),
+    bbox=None,
+    res: Optional[float] = None,
+    y_axis: Optional[str] = None,
+    crs=None,
+):
+    """:func:`pixgeo.power_diagram` as Dask arrays ``(labels, powers)`` of
+    ``shape``, in blocks of ``chunks``, each a window computed on a worker
+    (which builds the regular triangulation itself): the same values bit for
+    bit however it is chunked."""
+    place = _place(shape, bbox, res, y_axis, crs)
+    h, w, box = place.height, place.width, place.bbox
+    p = place.sites(_points(points, "points"))
+    v = _values(weights, len(p), "weights")
+    # Check the points and weights once, here, on a one-pixel window.
+    _pixgeo.power_diagram(p, v, w, h, box, (0, 0, 1, 1))
+    rows, cols = _chunks(chunks)
+    shared = (dask.delayed(p, pure=True), dask.delayed(v, pure=True))
+    blocks = da.core.normalize_chunks((rows, cols), (h, w))
+    return tuple(
+        da.map_blocks(_power_block, *shared, w, h, box, which, chunks=blocks, dtype=dtype,
+                      meta=np.empty((0, 0), dtype=dtype))
+        for which, dtype in ((0, np.uint32), (1, np.float64))
     )

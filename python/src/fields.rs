@@ -6,7 +6,7 @@ use numpy::{ndarray::Array2, IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, 
 use pixgeo::{
     algorithms::{
         interpolate::{interpolate_points, interpolate_window, Method},
-        power::{power_diagram as diagram_of, regular_triangulation as triangulate},
+        power::{power_diagram_window as diagram_of, regular_triangulation as triangulate},
     },
     geometry::power::Weighted,
     machine::PixelRect,
@@ -86,9 +86,10 @@ type PowerTuple<'py> = (
 );
 
 /// Each pixel's site of least power (ties to the lower index), its power,
-/// and the hidden sites.
+/// and the hidden sites; with `window = (x0, y0, width, height)` only those
+/// pixels.
 #[pyfunction]
-#[pyo3(signature = (sites, weights, width, height, bbox))]
+#[pyo3(signature = (sites, weights, width, height, bbox, window=None))]
 pub fn power_diagram<'py>(
     py: Python<'py>,
     sites: PyReadonlyArray2<'py, f64>,
@@ -96,12 +97,20 @@ pub fn power_diagram<'py>(
     width: u32,
     height: u32,
     bbox: Option<[f64; 4]>,
+    window: Option<[u32; 4]>,
 ) -> PyResult<PowerTuple<'py>> {
     let (sites, f) = (weighted(&sites, &weights), frame(width, height, bbox)?);
-    let d = on_cpu(py, || diagram_of(&sites, &f))?;
+    let [x, y, w, h] = window.unwrap_or([0, 0, width, height]);
+    let rect = PixelRect {
+        x,
+        y,
+        width: w,
+        height: h,
+    };
+    let d = on_cpu(py, || diagram_of(&sites, &f, rect))?;
     Ok((
-        raster(py, d.labels, height, width)?,
-        raster(py, d.powers, height, width)?,
+        raster(py, d.labels, h, w)?,
+        raster(py, d.powers, h, w)?,
         d.regular.hidden,
     ))
 }

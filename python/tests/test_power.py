@@ -55,3 +55,15 @@ def test_refusals():
         pixgeo.regular_triangulation(np.zeros((3, 2)) + [[0, 0], [1, 0], [0, 1]], [1.0, 2.0])
     with pytest.raises(ValueError, match="one line"):
         pixgeo.regular_triangulation([[0, 0], [1, 1], [2, 2]], [0.0, 0.0, 0.0])
+
+
+def test_dask_blocks_tile_into_the_whole_diagram():
+    import pixgeo.dask
+
+    rng = np.random.default_rng(4)
+    points = rng.uniform(0, 100, (50, 2))
+    weights = rng.uniform(0, 100, 50)
+    whole = pixgeo.power_diagram(points, weights, (49, 61), bbox=(0, 0, 100, 80))
+    labels, powers = pixgeo.dask.power_diagram(points, weights, (49, 61), bbox=(0, 0, 100, 80), chunks=(16, 25))
+    np.testing.assert_array_equal(labels.compute(scheduler="sync"), whole.labels)
+    np.testing.assert_array_equal(powers.compute(scheduler="sync"), whole.powers)

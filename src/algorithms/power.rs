@@ -20,6 +20,7 @@ use rayon::prelude::*;
 
 use crate::{
     algorithms::envelope::hilbert_index,
+    algorithms::voronoi::VoronoiOptions,
     cancel::Watch,
     geometry::{
         frame::check_sites,
@@ -29,6 +30,7 @@ use crate::{
         triangulation::DUMMY,
         Frame,
     },
+    machine::PixelRect,
     Error, Result,
 };
 
@@ -133,6 +135,20 @@ pub struct PowerDiagram {
 
 /// The power diagram of `sites` at every pixel centre of `frame`.
 pub fn power_diagram(sites: &[Weighted], frame: &Frame) -> Result<PowerDiagram> {
+    power_diagram_window(sites, frame, PixelRect::sized(frame.width, frame.height))
+}
+
+/// [`power_diagram`] over the pixels of `window` alone, a rectangle of
+/// `frame`'s: the same labels and powers bit for bit, so that windows
+/// computed apart tile into the whole diagram.
+pub fn power_diagram_window(
+    sites: &[Weighted],
+    frame: &Frame,
+    window: PixelRect,
+) -> Result<PowerDiagram> {
+    let rect = VoronoiOptions::exact(*frame)
+        .window(Some(window))
+        .window_rect()?;
     let regular = regular_triangulation(sites)?;
     // Each site's neighbours in the triangulation.
     let mut neighbours = vec![Vec::new(); sites.len()];
@@ -148,14 +164,13 @@ pub fn power_diagram(sites: &[Weighted], frame: &Frame) -> Result<PowerDiagram> 
         n.dedup();
     }
     let start = regular.triangles[0][0];
-    let (w, h) = (frame.width as usize, frame.height as usize);
     let watch = Watch::current();
-    let rows: Vec<(Vec<u32>, Vec<f64>)> = (0..h)
+    let rows: Vec<(Vec<u32>, Vec<f64>)> = (rect.y..rect.y + rect.height)
         .into_par_iter()
         .map(|j| {
             watch.check()?;
             let mut at = start;
-            let row = (0..w).map(|i| {
+            let row = (rect.x..rect.x + rect.width).map(|i| {
                 let p = frame.to_world(DVec2::new(i as f64, j as f64));
                 at = least_power(p, sites, &neighbours, at);
                 (at, power_of(p, sites[at as usize]))

@@ -7,8 +7,9 @@ use crate::common::{ulps, uniform};
 use glam::DVec2;
 use num_rational::BigRational;
 use pixgeo::{
-    algorithms::power::{power_diagram, regular_triangulation},
+    algorithms::power::{power_diagram, power_diagram_window, regular_triangulation},
     geometry::{power::Weighted, predicates::orient, Frame},
+    machine::PixelRect,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -193,4 +194,35 @@ fn power_diagram_labels_have_the_least_power() {
         // Hidden sites own no pixel.
         assert!(d.regular.hidden.iter().all(|h| !d.labels.contains(h)));
     }
+}
+
+#[test]
+fn power_diagram_windows_are_the_whole_diagrams_pixels() {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let frame = Frame::pixels(40, 30).unwrap();
+    let points = uniform(&mut rng, 25, 40.0, 30.0);
+    let weights: Vec<f64> = (0..25).map(|_| rng.gen_range(0.0..20.0)).collect();
+    let sites = weighted(&points, &weights);
+    let whole = power_diagram(&sites, &frame).unwrap();
+    let window = PixelRect {
+        x: 9,
+        y: 4,
+        width: 17,
+        height: 11,
+    };
+    let part = power_diagram_window(&sites, &frame, window).unwrap();
+    for (k, (&l, &p)) in part.labels.iter().zip(&part.powers).enumerate() {
+        let at = (4 + k / 17) * 40 + 9 + k % 17;
+        assert_eq!(
+            (l, p.to_bits()),
+            (whole.labels[at], whole.powers[at].to_bits())
+        );
+    }
+    let outside = PixelRect {
+        x: 30,
+        y: 0,
+        width: 20,
+        height: 5,
+    };
+    assert!(power_diagram_window(&sites, &frame, outside).is_err());
 }
