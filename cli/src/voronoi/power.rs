@@ -42,7 +42,7 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
         .as_deref()
         .is_some_and(|d| d != "cpu" && d != "auto")
     {
-        bail!("power diagrams are computed on the CPU: leave out --device or give --device cpu");
+        note!("note: power diagrams are computed on the CPU, whatever --device names");
     }
     let sites: Vec<Weighted> = samples
         .points
