@@ -130,6 +130,8 @@ pub struct PowerDiagram {
     pub labels: Vec<u32>,
     /// Each pixel centre's power from it, the double nearest the exact one.
     pub powers: Vec<f64>,
+    /// How many sites share that least power at each pixel centre.
+    pub ties: Vec<u32>,
     pub regular: Regular,
 }
 
@@ -165,36 +167,32 @@ pub fn power_diagram_window(
     }
     let start = regular.triangles[0][0];
     let watch = Watch::current();
-    let rows: Vec<(Vec<u32>, Vec<f64>)> = (rect.y..rect.y + rect.height)
+    let rows: Vec<Vec<(u32, u32, f64)>> = (rect.y..rect.y + rect.height)
         .into_par_iter()
         .map(|j| {
             watch.check()?;
             let mut at = start;
             let row = (rect.x..rect.x + rect.width).map(|i| {
                 let p = frame.to_world(DVec2::new(i as f64, j as f64));
-                at = least_power(p, sites, &neighbours, at);
-                (at, power_of(p, sites[at as usize]))
+                let (least, ties) = least_power(p, sites, &neighbours, at);
+                at = least;
+                (least, ties, power_of(p, sites[least as usize]))
             });
-            Ok(row.unzip())
+            Ok(row.collect())
         })
         .collect::<Result<_>>()?;
-    let (labels, powers) = rows
-        .into_iter()
-        .fold((Vec::new(), Vec::new()), |(mut l, mut p), r| {
-            l.extend(r.0);
-            p.extend(r.1);
-            (l, p)
-        });
+    let pixels = rows.iter().flatten();
     Ok(PowerDiagram {
-        labels,
-        powers,
+        labels: pixels.clone().map(|p| p.0).collect(),
+        ties: pixels.clone().map(|p| p.1).collect(),
+        powers: pixels.map(|p| p.2).collect(),
         regular,
     })
 }
 
-/// The site of least power at `p` (the lowest index of equals), walking
-/// from `from` over the triangulation's edges.
-fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32) -> u32 {
+/// The site of least power at `p` (the lowest index of equals) and how many
+/// share it, walking from `from` over the triangulation's edges.
+fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32) -> (u32, u32) {
     let less = |a: u32, b: u32| compare_power(p, sites[a as usize], sites[b as usize]).is_lt();
     let mut at = from;
     while let Some(&n) = neighbours[at as usize].iter().find(|&&n| less(n, at)) {
@@ -214,5 +212,8 @@ fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32)
             }
         }
     }
-    *equal.iter().min().expect("at least one")
+    (
+        *equal.iter().min().expect("at least one"),
+        equal.len() as u32,
+    )
 }

@@ -170,8 +170,9 @@ fn power_diagram_labels_have_the_least_power() {
     let weights: Vec<f64> = (0..40).map(|_| rng.gen_range(0.0..30.0)).collect();
     // And a lattice whose pixel centres have tied sites.
     let lattice: Vec<DVec2> = (0..20)
-        .map(|k| DVec2::new(2.0 + 9.0 * (k % 5) as f64, 1.5 + 10.0 * (k / 5) as f64))
+        .map(|k| DVec2::new(2.0 + 8.0 * (k % 5) as f64, 1.5 + 10.0 * (k / 5) as f64))
         .collect();
+    let mut tied = 0;
     for sites in [weighted(&points, &weights), weighted(&lattice, &[4.0; 20])] {
         let d = power_diagram(&sites, &frame).unwrap();
         for (k, (&label, &power)) in d.labels.iter().zip(&d.powers).enumerate() {
@@ -185,15 +186,22 @@ fn power_diagram_labels_have_the_least_power() {
                 .unwrap();
             assert_eq!(label as usize, want, "pixel {k}");
             let exact = exact_power(p, sites[want]);
+            let ties = sites
+                .iter()
+                .filter(|&&s| exact_power(p, s) == exact)
+                .count();
+            assert_eq!(d.ties[k] as usize, ties, "pixel {k}");
             assert_eq!(
                 power,
                 num_traits::ToPrimitive::to_f64(&exact).unwrap(),
                 "pixel {k}"
             );
         }
+        tied += d.ties.iter().filter(|&&t| t > 1).count();
         // Hidden sites own no pixel.
         assert!(d.regular.hidden.iter().all(|h| !d.labels.contains(h)));
     }
+    assert!(tied > 0, "no tie on the lattice");
 }
 
 #[test]

@@ -284,7 +284,8 @@ pub fn run(mut args: Args) -> Result<()> {
         let (world, samples) = args.input.world_and_samples("w")?;
         power::diagram(&args, &world, samples)?;
         args.input.write_world_file(&world, (0, 0))?;
-        crate::wrote([args.png(), args.labels.as_deref(), args.distance.as_deref()]);
+        let rasters = [&args.labels, &args.distance, &args.ties].map(|p| p.as_deref());
+        crate::wrote(std::iter::once(args.png()).chain(rasters));
         return Ok(());
     }
     let (world, general) = args.input.world_and_general_sites()?;

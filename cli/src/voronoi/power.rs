@@ -22,7 +22,6 @@ use crate::{
 /// Computes and writes the power diagram of weighted points.
 pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()> {
     let other = [
-        (args.ties.is_some(), "--ties"),
         (args.cells.is_some(), "--cells"),
         (args.degree.is_some(), "--degree"),
         (args.order.is_some(), "--order"),
@@ -35,7 +34,7 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
         (args.png().is_none() && args.output.is_some(), "-o *.svg"),
     ];
     if let Some((_, flag)) = other.iter().find(|(given, _)| *given) {
-        bail!("{flag} is not computed for power diagrams: they give --labels, --distance, -o PNG and --json");
+        bail!("{flag} is not computed for power diagrams: they give --labels, --distance, --ties, -o PNG and --json");
     }
     if args
         .device
@@ -62,6 +61,9 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
     }
     if let Some(path) = &args.distance {
         raster::write(path, [w, h, 1], &answer.powers, Some(&geo))?;
+    }
+    if let Some(path) = &args.ties {
+        raster::write(path, [w, h, 1], &answer.ties, Some(&geo))?;
     }
     if let Some(path) = args.png() {
         let mut rgb: Vec<u8> = answer.labels.iter().flat_map(|&l| site_color(l)).collect();

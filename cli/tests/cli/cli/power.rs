@@ -50,10 +50,10 @@ fn voronoi_draws_power_diagrams_and_names_hidden_sites() {
         sites.to_str().unwrap(),
         "--weights",
         "power",
-        "--ties",
-        "t.npy",
+        "--cells",
+        "c.geojson",
     ]);
-    assert!(!ok && stderr.contains("--ties"), "{stderr}");
+    assert!(!ok && stderr.contains("--cells"), "{stderr}");
 }
 
 #[test]
