@@ -42,24 +42,40 @@ pub unsafe extern "C" fn pixgeo_delaunay(
             .grid((grid > 0).then_some(grid))
             .check(false);
         let result = delaunay::delaunay(&context.machine, &given, &options).map_err(failed)?;
-        // SAFETY: writable (caller contract).
-        unsafe { *triangle_count = result.triangles.len() };
-        if result.triangles.len() > capacity {
-            return Err((
-                PixgeoStatus::BufferTooSmall,
-                format!(
-                    "the triangulation has {} triangles, more than the capacity {capacity}",
-                    result.triangles.len()
-                ),
-            ));
-        }
-        let flat: Vec<u32> = result.triangles.iter().flatten().copied().collect();
-        // SAFETY: room for `3 * capacity` values (caller contract), which hold them.
-        unsafe { std::slice::from_raw_parts_mut(triangles, flat.len()) }.copy_from_slice(&flat);
+        // SAFETY: the caller's buffers (caller contract).
+        unsafe { write_triangles(&result.triangles, triangles, capacity, triangle_count) }?;
         if !duplicate_count.is_null() {
             // SAFETY: writable when not null (caller contract).
             unsafe { *duplicate_count = result.duplicates.len() };
         }
         Ok(())
     })
+}
+
+/// Writes `found`'s count into `*count` and, where `capacity` holds them,
+/// the triangles into `out`; else `PIXGEO_STATUS_BUFFER_TOO_SMALL`.
+///
+/// # Safety
+/// `out` has room for `3 * capacity` values; `count` is writable.
+pub(super) unsafe fn write_triangles(
+    found: &[[u32; 3]],
+    out: *mut u32,
+    capacity: usize,
+    count: *mut usize,
+) -> Result<(), (PixgeoStatus, String)> {
+    // SAFETY: writable (caller contract).
+    unsafe { *count = found.len() };
+    if found.len() > capacity {
+        return Err((
+            PixgeoStatus::BufferTooSmall,
+            format!(
+                "the triangulation has {} triangles, more than the capacity {capacity}",
+                found.len()
+            ),
+        ));
+    }
+    let flat: Vec<u32> = found.iter().flatten().copied().collect();
+    // SAFETY: room for `3 * capacity` values (caller contract), which hold them.
+    unsafe { std::slice::from_raw_parts_mut(out, flat.len()) }.copy_from_slice(&flat);
+    Ok(())
 }

@@ -22,11 +22,7 @@ unsafe fn weighted(
     let at = unsafe { points(xy, count) }?;
     // SAFETY: `count` doubles (caller contract); `points` checked the count.
     let w = unsafe { std::slice::from_raw_parts(weights, count) };
-    Ok(at
-        .into_iter()
-        .zip(w)
-        .map(|(at, &weight)| Weighted { at, weight })
-        .collect())
+    Ok(Weighted::zip(&at, w))
 }
 
 /// Marks the hidden sites: `hidden[i]` becomes 1 when site `i`'s power cell
@@ -78,20 +74,10 @@ pub unsafe extern "C" fn pixgeo_regular_triangulation(
         // SAFETY: the arrays' sizes (caller contract).
         let sites = unsafe { weighted(xy, weights, count) }?;
         let result = regular_triangulation(&sites).map_err(failed)?;
-        // SAFETY: writable (caller contract).
-        unsafe { *triangle_count = result.triangles.len() };
-        if result.triangles.len() > capacity {
-            return Err((
-                PixgeoStatus::BufferTooSmall,
-                format!(
-                    "the triangulation has {} triangles, more than the capacity {capacity}",
-                    result.triangles.len()
-                ),
-            ));
-        }
-        let flat: Vec<u32> = result.triangles.iter().flatten().copied().collect();
-        // SAFETY: room for `3 * capacity` values (caller contract), which hold them.
-        unsafe { std::slice::from_raw_parts_mut(triangles, flat.len()) }.copy_from_slice(&flat);
+        // SAFETY: the caller's buffers (caller contract).
+        unsafe {
+            super::delaunay::write_triangles(&result.triangles, triangles, capacity, triangle_count)
+        }?;
         // SAFETY: null or `count` bytes (caller contract).
         unsafe { mark_hidden(hidden, count, &result.hidden) };
         Ok(())

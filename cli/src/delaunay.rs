@@ -220,12 +220,7 @@ fn regular(args: &Args) -> Result<()> {
         bail!("{flag} is not computed for regular triangulations: they give --triangle, --geojson and --json");
     }
     let samples = args.points.samples("w")?;
-    let sites: Vec<Weighted> = samples
-        .points
-        .iter()
-        .zip(&samples.values)
-        .map(|(&at, &weight)| Weighted { at, weight })
-        .collect();
+    let sites = Weighted::zip(&samples.points, &samples.values);
     let result = regular_triangulation(&sites)?;
     let points = &samples.points;
     if let Some(prefix) = &args.triangle {

@@ -72,11 +72,7 @@ fn weighted(
     points: &PyReadonlyArray2<'_, f64>,
     weights: &PyReadonlyArray1<'_, f64>,
 ) -> Vec<Weighted> {
-    crate::points(points)
-        .into_iter()
-        .zip(weights.as_array().iter())
-        .map(|(at, &weight)| Weighted { at, weight })
-        .collect()
+    Weighted::zip(&crate::points(points), &weights.as_array().to_vec())
 }
 
 type PowerTuple<'py> = (

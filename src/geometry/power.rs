@@ -19,6 +19,17 @@ pub struct Weighted {
     pub weight: f64,
 }
 
+impl Weighted {
+    /// Each point with its weight, in order (the shorter list decides how many).
+    pub fn zip(points: &[DVec2], weights: &[f64]) -> Vec<Self> {
+        points
+            .iter()
+            .zip(weights)
+            .map(|(&at, &weight)| Self { at, weight })
+            .collect()
+    }
+}
+
 fn sign_of(r: &BigRational) -> Ordering {
     if r.is_zero() {
         Ordering::Equal

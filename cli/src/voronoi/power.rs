@@ -43,12 +43,7 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
     {
         note!("note: power diagrams are computed on the CPU, whatever --device names");
     }
-    let sites: Vec<Weighted> = samples
-        .points
-        .iter()
-        .zip(&samples.values)
-        .map(|(&at, &weight)| Weighted { at, weight })
-        .collect();
+    let sites = Weighted::zip(&samples.points, &samples.values);
     let frame = world.frame;
     frame.reserve(12, "a power diagram")?;
     let (w, h) = (frame.width, frame.height);
