@@ -1,14 +1,20 @@
 //! `--cells FILE.geojson` and `-o FILE.svg`: a diagram's cells as vector
 //! art. The Euclidean diagram of points has exact cells, from the Delaunay
-//! triangulation; every other diagram's cells are traced from its label
-//! raster, to half a pixel.
+//! triangulation, and the power diagram from the regular triangulation;
+//! every other diagram's cells are traced from its label raster, to half a
+//! pixel.
 
 use std::path::Path;
 
 use anyhow::Result;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::{cells::voronoi_cells_with_progress, trace::trace_regions},
+    algorithms::{
+        cells::{voronoi_cells_with_progress, Cells},
+        power::Regular,
+        trace::trace_regions,
+    },
+    geometry::power::Weighted,
     io::sites::GeoJsonSources,
     Machine,
 };
@@ -29,6 +35,12 @@ pub enum Source<'a> {
     Exact {
         machine: &'a Machine,
         sites: &'a [DVec2],
+    },
+    /// The exact power cells of weighted sites, from their regular
+    /// triangulation.
+    Power {
+        regular: &'a Regular,
+        sites: &'a [Weighted],
     },
     /// The regions of a label raster covering the frame; `describe` gives a
     /// label's properties.
@@ -69,50 +81,22 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
     let dots: Vec<DVec2> = sites.iter().map(|&p| picture(p)).collect();
     match source {
         Source::Exact { machine, sites } => {
-            let progress = Progress::new("cells", outputs.json);
-            let cells = voronoi_cells_with_progress(
-                machine,
-                sites,
-                &world.clip_rect(),
-                &mut |done, total| progress.report(done, total),
-            )?;
-            drop(progress);
-            let same_as: std::collections::HashMap<u32, u32> =
-                cells.duplicates.iter().map(|&[r, f]| (r, f)).collect();
-            let polygons = |i: usize| -> Polygons {
-                match &cells.polygons[i] {
-                    ring if ring.is_empty() => Vec::new(),
-                    ring => vec![vec![ring.clone()]],
-                }
-            };
-            // Features one at a time: a million repeats of a site are a
-            // million features, never held at once.
-            let features = (0..sites.len()).map(|i| {
-                let mut properties = sourced(outputs.sources, i);
-                properties.insert("site".into(), json!(i));
-                properties.insert("area".into(), json!(cells.area(i)));
-                if let Some(f) = same_as.get(&(i as u32)) {
-                    properties.insert("same_as".into(), json!(f));
-                }
-                properties.insert("accuracy".into(), json!("exact"));
-                Feature {
-                    polygons: map(&polygons(i), |p| world.to_user(p)),
-                    properties,
-                }
-            });
-            // A repeated site's cell is drawn once, for the first.
-            let shapes = || {
-                (0..sites.len())
-                    .map(|i| {
-                        let drawn = match same_as.contains_key(&(i as u32)) {
-                            true => Vec::new(),
-                            false => map(&polygons(i), picture),
-                        };
-                        (drawn, site_color(i as u32))
-                    })
-                    .collect()
-            };
-            emit(outputs, world, &dots, features, shapes)
+            let cells = with_progress(outputs, |report| {
+                voronoi_cells_with_progress(machine, sites, &world.clip_rect(), report)
+            })?;
+            emit_exact(outputs, world, &dots, &cells, None)
+        }
+        Source::Power { regular, sites } => {
+            let cells = with_progress(outputs, |report| {
+                regular.cells(sites, &world.clip_rect(), report)
+            })?;
+            emit_exact(
+                outputs,
+                world,
+                &dots,
+                &cells,
+                Some((sites, &regular.hidden)),
+            )
         }
         Source::Traced { labels, describe } => {
             let (features, shapes): (Vec<Feature>, Vec<_>) =
@@ -153,6 +137,71 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
             emit(outputs, world, &dots, features, || shapes)
         }
     }
+}
+
+/// Builds cells with a progress bar, unless the answer is `--json`.
+fn with_progress(
+    outputs: Outputs,
+    build: impl FnOnce(&mut dyn FnMut(u64, u64)) -> pixgeo::Result<Cells>,
+) -> Result<Cells> {
+    let progress = Progress::new("cells", outputs.json);
+    let cells = build(&mut |done, total| progress.report(done, total))?;
+    Ok(cells)
+}
+
+/// Writes exact cells, one feature per site; `power`, the weighted sites of
+/// power cells and the hidden ones.
+fn emit_exact(
+    outputs: Outputs,
+    world: &World,
+    dots: &[DVec2],
+    cells: &Cells,
+    power: Option<(&[Weighted], &[u32])>,
+) -> Result<()> {
+    let frame = &world.frame;
+    let picture = |p: DVec2| frame.to_pixel(p) + DVec2::splat(0.5);
+    let same_as: std::collections::HashMap<u32, u32> =
+        cells.duplicates.iter().map(|&[r, f]| (r, f)).collect();
+    let polygons = |i: usize| -> Polygons {
+        match &cells.polygons[i] {
+            ring if ring.is_empty() => Vec::new(),
+            ring => vec![vec![ring.clone()]],
+        }
+    };
+    let n = cells.polygons.len();
+    // Features one at a time: a million repeats of a site are a million
+    // features, never held at once.
+    let features = (0..n).map(|i| {
+        let mut properties = sourced(outputs.sources, i);
+        properties.insert("site".into(), json!(i));
+        if let Some((sites, hidden)) = power {
+            properties.insert("weight".into(), json!(sites[i].weight));
+            let is_hidden = hidden.binary_search(&(i as u32)).is_ok();
+            properties.insert("hidden".into(), json!(is_hidden));
+        }
+        properties.insert("area".into(), json!(cells.area(i)));
+        if let Some(f) = same_as.get(&(i as u32)) {
+            properties.insert("same_as".into(), json!(f));
+        }
+        properties.insert("accuracy".into(), json!("exact"));
+        Feature {
+            polygons: map(&polygons(i), |p| world.to_user(p)),
+            properties,
+        }
+    });
+    // A repeated site's cell is drawn once, for the first.
+    let shapes = || {
+        (0..n)
+            .map(|i| {
+                let drawn = match same_as.contains_key(&(i as u32)) {
+                    true => Vec::new(),
+                    false => map(&polygons(i), picture),
+                };
+                (drawn, site_color(i as u32))
+            })
+            .collect()
+    };
+    emit(outputs, world, dots, features, shapes)
 }
 
 /// The properties of site `i`'s input feature and its index, `feature`, for

@@ -41,6 +41,7 @@ __all__ = [
     "natural_neighbor",
     "PowerDiagram",
     "power_diagram",
+    "power_cells",
     "regular_triangulation",
     "EARTH_RADIUS",
     "NoDeviceError",
@@ -222,7 +223,8 @@ class Triangulation:
 
 @dataclass(frozen=True)
 class Cells:
-    """The exact Voronoi cells of points clipped to ``bbox``, in input order.
+    """The exact Voronoi (or power) cells of points clipped to ``bbox``, in
+    input order.
 
     ``polygons[i]`` is site i's cell: a ``shapely.Polygon`` when shapely is
     installed (empty where the cell misses the box), else a GeoJSON-like
@@ -232,13 +234,17 @@ class Cells:
     cell of the first equal to it: ``duplicates`` ``(d, 2)`` lists (repeat,
     first). ``__geo_interface__`` is a FeatureCollection with each feature's
     ``site`` (and ``same_as``) in its properties, as ``pixgeo voronoi
-    --cells`` writes it.
+    --cells`` writes it. Power cells (:func:`power_cells`) carry the
+    ``weights`` and the ``hidden`` sites (ascending), whose cells are empty;
+    their features say ``weight`` and ``hidden``.
     """
 
     polygons: list
     duplicates: np.ndarray
     bbox: Tuple[float, float, float, float]
     crs: Optional[str] = None
+    weights: Optional[np.ndarray] = None
+    hidden: Optional[np.ndarray] = None
 
     @property
     def __geo_interface__(self) -> dict:
@@ -249,6 +255,9 @@ class Cells:
             properties = {"site": i}
             if i in same_as:
                 properties["same_as"] = same_as[i]
+            if self.weights is not None:
+                properties["weight"] = float(self.weights[i])
+                properties["hidden"] = bool(np.isin(i, self.hidden))
             features.append({"type": "Feature", "geometry": geometry, "properties": properties})
         return {"type": "FeatureCollection", "features": features}
 
@@ -634,6 +643,13 @@ def voronoi_cells(
     or GeoJSON-like mappings without shapely or with ``geojson=True``. See
     :class:`Cells`; ``crs`` (``"EPSG:N"``) is carried to it."""
     p = _points(points, "points")
+    box = _cells_box(p, bbox)
+    corners, duplicates = _pixgeo.voronoi_cells(p, box, device)
+    return Cells(_polygons(corners, geojson), duplicates.astype(np.intp), box, _crs(crs))
+
+
+def _cells_box(p: np.ndarray, bbox) -> Tuple[float, float, float, float]:
+    """``bbox``, or by default the points' bounding box."""
     box = _bbox(bbox)
     if box is None:
         if len(p) == 0:
@@ -643,7 +659,12 @@ def voronoi_cells(
             raise ValueError(
                 f"the points' bounding box {box} is flat: give bbox=(xmin, ymin, xmax, ymax)"
             )
-    corners, duplicates = _pixgeo.voronoi_cells(p, box, device)
+    return box
+
+
+def _polygons(corners, geojson: bool) -> list:
+    """Cells' corners as shapely polygons, or GeoJSON-like mappings without
+    shapely or with ``geojson``."""
     shapely = None
     if not geojson:
         try:
@@ -651,14 +672,12 @@ def voronoi_cells(
         except ImportError:
             pass
     if shapely is not None:
-        polygons = [shapely.Polygon(c) if len(c) else shapely.Polygon() for c in corners]
-    else:
-        polygons = [
-            {"type": "Polygon",
-             "coordinates": [[tuple(map(float, v)) for v in (*c, c[0])]] if len(c) else []}
-            for c in corners
-        ]
-    return Cells(polygons, duplicates.astype(np.intp), box, _crs(crs))
+        return [shapely.Polygon(c) if len(c) else shapely.Polygon() for c in corners]
+    return [
+        {"type": "Polygon",
+         "coordinates": [[tuple(map(float, v)) for v in (*c, c[0])]] if len(c) else []}
+        for c in corners
+    ]
 
 
 def hausdorff(
@@ -936,4 +955,4 @@ def medial_axis(
 
 from .lloyd import Lloyd, lloyd  # noqa: E402  (it builds on the helpers above)
 from .interpolate import natural_neighbor  # noqa: E402
-from .power import PowerDiagram, power_diagram, regular_triangulation  # noqa: E402
+from .power import PowerDiagram, power_cells, power_diagram, regular_triangulation  # noqa: E402

@@ -292,7 +292,8 @@ def natural_neighbor(
 
 
 def _power_block(points, weights, width, height, bbox, which, block_info=None):
-    """One window of a power diagram's labels (``which == 0``) or powers."""
+    """One window of a power diagram's labels (``which == 0``), powers (1)
+    or ties (2)."""
     (y0, y1), (x0, x1) = block_info[None]["array-location"]
     # The arrays arrive unpickled from a buffer, perhaps unaligned.
     return _pixgeo.power_diagram(
@@ -312,7 +313,7 @@ def power_diagram(
     y_axis: Optional[str] = None,
     crs=None,
 ):
-    """:func:`pixgeo.power_diagram` as Dask arrays ``(labels, powers)`` of
+    """:func:`pixgeo.power_diagram` as Dask arrays ``(labels, powers, ties)`` of
     ``shape``, in blocks of ``chunks``, each a window computed on a worker
     (which builds the regular triangulation itself): the same values bit for
     bit however it is chunked."""
@@ -328,5 +329,5 @@ def power_diagram(
     return tuple(
         da.map_blocks(_power_block, *shared, w, h, box, which, chunks=blocks, dtype=dtype,
                       meta=np.empty((0, 0), dtype=dtype))
-        for which, dtype in ((0, np.uint32), (1, np.float64))
+        for which, dtype in ((0, np.uint32), (1, np.float64), (2, np.uint32))
     )

@@ -1,5 +1,6 @@
-"""Power (Laguerre) diagrams and regular triangulations:
-:func:`pixgeo.power_diagram` and :func:`pixgeo.regular_triangulation`."""
+"""Power (Laguerre) diagrams, their cells and regular triangulations:
+:func:`pixgeo.power_diagram`, :func:`pixgeo.power_cells` and
+:func:`pixgeo.regular_triangulation`."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import Frame, _pixgeo, _place, _points
+from . import Cells, Frame, _cells_box, _crs, _pixgeo, _place, _points, _polygons
 from .interpolate import _values
 
 
@@ -16,10 +17,12 @@ from .interpolate import _values
 class PowerDiagram:
     """Each pixel's site of least power ``|p - s|² - w`` (``labels``, ties to
     the lower index), that power (``powers``, the double nearest the exact
-    one), and the sites whose cells are empty (``hidden``, ascending)."""
+    one), how many sites share it (``ties``), and the sites whose cells are
+    empty (``hidden``, ascending)."""
 
     labels: np.ndarray
     powers: np.ndarray
+    ties: np.ndarray
     hidden: np.ndarray
     frame: Frame
 
@@ -39,11 +42,28 @@ def power_diagram(
     triangulation."""
     place = _place(shape, bbox, res, y_axis, crs)
     p = _points(points, "points")
-    labels, powers, hidden = _pixgeo.power_diagram(
+    labels, powers, ties, hidden = _pixgeo.power_diagram(
         place.sites(p), _values(weights, len(p), "weights"), place.width, place.height, place.bbox
     )
     frame = place.frame(_pixgeo.frame_of(place.width, place.height, place.bbox))
-    return PowerDiagram(labels, powers, np.asarray(hidden, dtype=np.uint32), frame)
+    return PowerDiagram(labels, powers, ties, np.asarray(hidden, dtype=np.uint32), frame)
+
+
+def power_cells(points, weights, *, bbox=None, crs=None, geojson: bool = False) -> Cells:
+    """The exact power cells of ``points`` (n, 2) with power ``weights`` (n,)
+    clipped to ``bbox`` (default: the points' bounding box), in input order,
+    as :class:`pixgeo.Cells`: every corner the double nearest the exact
+    corner, so neighbouring cells share corners bit for bit and the cells
+    tile the box; a hidden site's cell is empty. On the CPU, from the exact
+    regular triangulation."""
+    p = _points(points, "points")
+    v = _values(weights, len(p), "weights")
+    box = _cells_box(p, bbox)
+    corners, hidden = _pixgeo.power_cells(p, v, box)
+    return Cells(
+        _polygons(corners, geojson), np.empty((0, 2), dtype=np.intp), box, _crs(crs),
+        weights=v, hidden=np.asarray(hidden, dtype=np.uint32),
+    )
 
 
 def regular_triangulation(points, weights) -> Tuple[np.ndarray, np.ndarray]:

@@ -68,7 +68,7 @@ pub fn interpolate_at<'py>(
 }
 
 /// `(points, weights)` as weighted sites.
-fn weighted(
+pub(crate) fn weighted(
     points: &PyReadonlyArray2<'_, f64>,
     weights: &PyReadonlyArray1<'_, f64>,
 ) -> Vec<Weighted> {
@@ -78,11 +78,12 @@ fn weighted(
 type PowerTuple<'py> = (
     Bound<'py, PyArray2<u32>>,
     Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<u32>>,
     Vec<u32>,
 );
 
 /// Each pixel's site of least power (ties to the lower index), its power,
-/// and the hidden sites; with `window = (x0, y0, width, height)` only those
+/// how many sites share it, and the hidden sites; with `window = (x0, y0, width, height)` only those
 /// pixels.
 #[pyfunction]
 #[pyo3(signature = (sites, weights, width, height, bbox, window=None))]
@@ -107,6 +108,7 @@ pub fn power_diagram<'py>(
     Ok((
         raster(py, d.labels, h, w)?,
         raster(py, d.powers, h, w)?,
+        raster(py, d.ties, h, w)?,
         d.regular.hidden,
     ))
 }

@@ -21,7 +21,6 @@ use pixgeo::{
         alpha_hull::{self, AlphaMethod},
         area::Extreme,
         area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
-        cells::voronoi_cells as cells_of,
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
         great_circle::{great_circle_grid, great_circle_nearest},
@@ -37,7 +36,6 @@ use pixgeo::{
         voronoi::{self as diagram, Accuracy, VoronoiOptions},
     },
     geometry::{
-        cell::Rect,
         metric::Metric,
         site::{Shape, Site},
         Frame,
@@ -51,6 +49,7 @@ use pyo3::{
     prelude::*,
 };
 
+mod cells;
 mod fields;
 
 create_exception!(
@@ -621,47 +620,6 @@ fn delaunay<'py>(
     Ok((triangles.into_pyarray(py), duplicates.into_pyarray(py)))
 }
 
-/// Each site's cell's corners, and the repeated sites.
-type CellsTuple<'py> = (Vec<Bound<'py, PyArray2<f64>>>, Bound<'py, PyArray2<u32>>);
-
-/// Each site's exact Voronoi cell clipped to `bbox`, its corners (k, 2)
-/// counter-clockwise (none where the cell misses the box), and the repeated
-/// sites (repeat, first).
-#[pyfunction]
-#[pyo3(signature = (points, bbox, device))]
-fn voronoi_cells<'py>(
-    py: Python<'py>,
-    points: PyReadonlyArray2<'py, f64>,
-    bbox: [f64; 4],
-    device: Option<&str>,
-) -> PyResult<CellsTuple<'py>> {
-    let p = self::points(&points);
-    let rect = Rect {
-        lo: DVec2::new(bbox[0], bbox[1]),
-        hi: DVec2::new(bbox[2], bbox[3]),
-    };
-    let cells = on_machine(py, device, |m| cells_of(m, &p, &rect))?;
-    let internal = |e: numpy::ndarray::ShapeError| InternalError::new_err(e.to_string());
-    let polygons = cells
-        .polygons
-        .iter()
-        .map(|ring| {
-            let corners = Array2::from_shape_vec(
-                (ring.len(), 2),
-                ring.iter().flat_map(|c| [c.x, c.y]).collect(),
-            )
-            .map_err(internal)?;
-            Ok(corners.into_pyarray(py))
-        })
-        .collect::<PyResult<_>>()?;
-    let duplicates = Array2::from_shape_vec(
-        (cells.duplicates.len(), 2),
-        cells.duplicates.iter().flatten().copied().collect(),
-    )
-    .map_err(internal)?;
-    Ok((polygons, duplicates.into_pyarray(py)))
-}
-
 /// Whether EPSG's coordinate system `code` is geographic.
 #[pyfunction]
 fn is_geographic(code: u16) -> PyResult<bool> {
@@ -878,7 +836,7 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(k_nearest, m)?)?;
     m.add_function(wrap_pyfunction!(furthest, m)?)?;
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;
-    m.add_function(wrap_pyfunction!(voronoi_cells, m)?)?;
+    m.add_function(wrap_pyfunction!(cells::voronoi_cells, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
     m.add_function(wrap_pyfunction!(is_geographic, m)?)?;
     m.add_function(wrap_pyfunction!(epsg_code, m)?)?;
@@ -892,6 +850,7 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fields::interpolate_at, m)?)?;
     m.add_function(wrap_pyfunction!(fields::power_diagram, m)?)?;
     m.add_function(wrap_pyfunction!(fields::regular_triangulation, m)?)?;
+    m.add_function(wrap_pyfunction!(cells::power_cells, m)?)?;
     m.add_function(wrap_pyfunction!(diameter, m)?)?;
     m.add_function(wrap_pyfunction!(enclosing_circle, m)?)?;
     m.add_function(wrap_pyfunction!(largest_empty_circle, m)?)?;

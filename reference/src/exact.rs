@@ -348,7 +348,20 @@ pub fn clipped_voronoi_corners(
     lo: DVec2,
     hi: DVec2,
 ) -> Vec<([BigRational; 2], Vec<u32>)> {
+    clipped_power_corners(sites, &vec![0.0; sites.len()], lo, hi)
+}
+
+/// [`clipped_voronoi_corners`] of the power diagram of the distinct `sites`
+/// with power `weights`: a point's power from site `s` is `|p - s|² - w`,
+/// and its owners are the sites of least power.
+pub fn clipped_power_corners(
+    sites: &[DVec2],
+    weights: &[f64],
+    lo: DVec2,
+    hi: DVec2,
+) -> Vec<([BigRational; 2], Vec<u32>)> {
     let s: Vec<[BigRational; 2]> = sites.iter().map(|&p| point(p)).collect();
+    let w: Vec<BigRational> = weights.iter().map(|&x| exact(x)).collect();
     let (lo, hi) = (point(lo), point(hi));
     let two = BigRational::from_integer(2.into());
     let mut candidates: Vec<[BigRational; 2]> = vec![
@@ -358,12 +371,12 @@ pub fn clipped_voronoi_corners(
         [lo[0].clone(), hi[1].clone()],
     ];
     let n = s.len();
-    // The bisector of sites i and j: p . d = c, d = s_j - s_i,
-    // c = (|s_j|² - |s_i|²) / 2.
+    // The radical axis of sites i and j: p . d = c, d = s_j - s_i,
+    // c = (|s_j|² - w_j - |s_i|² + w_i) / 2.
     let bisector = |i: usize, j: usize| {
         let d = [&s[j][0] - &s[i][0], &s[j][1] - &s[i][1]];
-        let lift = |p: &[BigRational; 2]| &p[0] * &p[0] + &p[1] * &p[1];
-        let c = (lift(&s[j]) - lift(&s[i])) / &two;
+        let lift = |k: usize| &s[k][0] * &s[k][0] + &s[k][1] * &s[k][1] - &w[k];
+        let c = (lift(j) - lift(i)) / &two;
         (d, c)
     };
     for i in 0..n {
@@ -395,7 +408,11 @@ pub fn clipped_voronoi_corners(
         .into_iter()
         .filter(|p| lo[0] <= p[0] && p[0] <= hi[0] && lo[1] <= p[1] && p[1] <= hi[1])
         .filter_map(|p| {
-            let d: Vec<BigRational> = s.iter().map(|q| squared_distance(&p, q)).collect();
+            let d: Vec<BigRational> = s
+                .iter()
+                .zip(&w)
+                .map(|(q, w)| squared_distance(&p, q) - w)
+                .collect();
             let nearest = d.iter().min().expect("sites").clone();
             let owners: Vec<u32> = (0..n as u32)
                 .filter(|&i| d[i as usize] == nearest)

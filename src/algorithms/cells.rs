@@ -77,16 +77,7 @@ pub fn voronoi_cells_with_progress(
     if let Some(i) = sites.iter().position(|p| !p.is_finite()) {
         return Err(Error::InvalidInput(format!("site {i} is not finite")));
     }
-    if !(rect.lo.is_finite()
-        && rect.hi.is_finite()
-        && rect.lo.x < rect.hi.x
-        && rect.lo.y < rect.hi.y)
-    {
-        return Err(Error::InvalidInput(format!(
-            "the rectangle {:?} to {:?} is empty or not finite",
-            rect.lo, rect.hi
-        )));
-    }
+    rect.check()?;
     // The first of equal sites stands for them all.
     let mut first: HashMap<(u64, u64), u32> = HashMap::new();
     let mut duplicates = Vec::new();
@@ -124,7 +115,7 @@ pub fn voronoi_cells_with_progress(
 }
 
 /// Cells built between looks at the cancel flag and reports of progress.
-const CELLS_PER_LOOK: usize = 1 << 14;
+pub(crate) const CELLS_PER_LOOK: usize = 1 << 14;
 
 /// Each distinct site's Voronoi neighbours (input indices).
 fn neighbours(machine: &Machine, sites: &[DVec2], distinct: &[u32]) -> Result<Vec<Vec<u32>>> {

@@ -9,6 +9,11 @@
 //! triangles surround it, a site the new one hides. Every predicate is
 //! exact ([`crate::geometry::power`]).
 //!
+//! The cells are the rectangle clipped by the radical axes with each site's
+//! neighbours in the triangulation, every decision exact and every corner
+//! the double nearest the exact one, as for Voronoi cells
+//! ([`crate::algorithms::cells`]).
+//!
 //! The diagram's labels walk the triangulation: from the last pixel's site
 //! to a neighbour of less power until none has less (on a regular
 //! triangulation this finds the least, as a power cell is convex and
@@ -19,10 +24,13 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::{
+    algorithms::cells::{Cells, CELLS_PER_LOOK},
     algorithms::envelope::hilbert_index,
     algorithms::voronoi::VoronoiOptions,
     cancel::Watch,
     geometry::{
+        cell::Rect,
+        exact_cell::CellBuilder,
         frame::check_sites,
         mesh::Mesh,
         power::{compare_power, power_of, Weighted},
@@ -42,6 +50,85 @@ pub struct Regular {
     /// The sites whose power cells are empty, ascending. Of sites at one
     /// point, all but the heaviest (the first of equal weights) are hidden.
     pub hidden: Vec<u32>,
+}
+
+impl Regular {
+    /// Each of `sites` sites' neighbours in the triangulation, ascending.
+    pub fn neighbours(&self, sites: usize) -> Vec<Vec<u32>> {
+        let mut neighbours = vec![Vec::new(); sites];
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                neighbours[a as usize].push(b);
+                neighbours[b as usize].push(a);
+            }
+        }
+        for n in &mut neighbours {
+            n.sort_unstable();
+            n.dedup();
+        }
+        neighbours
+    }
+
+    /// The power cells of `sites`, whose regular triangulation this is,
+    /// clipped to `rect`, calling `progress(done, total)` as they are built.
+    pub fn cells(
+        &self,
+        sites: &[Weighted],
+        rect: &Rect,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<Cells> {
+        rect.check()?;
+        let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
+        let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();
+        let mut builder = CellBuilder::weighted(&points, &weights, *rect);
+        let neighbours = self.neighbours(sites.len());
+        let watch = Watch::current();
+        let total = sites.len() as u64;
+        let mut polygons = Vec::with_capacity(sites.len());
+        for (i, around) in neighbours.iter().enumerate() {
+            if i % CELLS_PER_LOOK == 0 {
+                watch.check()?;
+                progress(i as u64, total);
+            }
+            let hidden = self.hidden.binary_search(&(i as u32)).is_ok();
+            polygons.push(match hidden {
+                true => Vec::new(),
+                false => builder.cell(i as u32, around),
+            });
+        }
+        progress(total, total);
+        Ok(Cells {
+            polygons,
+            duplicates: Vec::new(),
+        })
+    }
+}
+
+/// The power cells of `sites` (finite, not all on one line) clipped to
+/// `rect`: per site its cell's corners counter-clockwise, each the double
+/// nearest the exact corner, so that neighbouring cells share corners bit
+/// for bit and the cells tile the rectangle; empty for a hidden site or a
+/// cell with no area in the rectangle.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{algorithms::power::power_cells, geometry::{cell::Rect, power::Weighted}};
+///
+/// let at = [(1.0, 1.0, 0.0), (3.0, 1.0, 0.0), (2.0, 3.0, 0.0), (2.0, 1.6, -9.0)];
+/// let sites: Vec<Weighted> = at
+///     .iter()
+///     .map(|&(x, y, weight)| Weighted { at: DVec2::new(x, y), weight })
+///     .collect();
+/// let rect = Rect { lo: DVec2::ZERO, hi: DVec2::new(4.0, 4.0) };
+/// let cells = power_cells(&sites, &rect)?;
+/// assert!(cells.polygons[3].is_empty()); // too light to own a point
+/// let total: f64 = (0..4).map(|i| cells.area(i)).sum();
+/// assert!((total - 16.0).abs() < 1e-12);
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
+pub fn power_cells(sites: &[Weighted], rect: &Rect) -> Result<Cells> {
+    regular_triangulation(sites)?.cells(sites, rect, &mut |_, _| {})
 }
 
 /// The regular triangulation of `sites` (finite, not all on one line).
@@ -152,19 +239,7 @@ pub fn power_diagram_window(
         .window(Some(window))
         .window_rect()?;
     let regular = regular_triangulation(sites)?;
-    // Each site's neighbours in the triangulation.
-    let mut neighbours = vec![Vec::new(); sites.len()];
-    for t in &regular.triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            neighbours[a as usize].push(b);
-            neighbours[b as usize].push(a);
-        }
-    }
-    for n in &mut neighbours {
-        n.sort_unstable();
-        n.dedup();
-    }
+    let neighbours = regular.neighbours(sites.len());
     let start = regular.triangles[0][0];
     let watch = Watch::current();
     let rows: Vec<Vec<(u32, u32, f64)>> = (rect.y..rect.y + rect.height)

@@ -36,6 +36,19 @@ pub struct Rect {
     pub hi: DVec2,
 }
 
+impl Rect {
+    /// Refuses a rectangle that is empty or not finite.
+    pub fn check(&self) -> crate::Result<()> {
+        let (lo, hi) = (self.lo, self.hi);
+        if lo.is_finite() && hi.is_finite() && lo.x < hi.x && lo.y < hi.y {
+            return Ok(());
+        }
+        Err(crate::Error::InvalidInput(format!(
+            "the rectangle {lo:?} to {hi:?} is empty or not finite"
+        )))
+    }
+}
+
 /// A convex polygon, counter-clockwise or clockwise, its corners relative to a
 /// centre (the site whose cell it is), which keeps bisector clipping accurate far
 /// from the origin.

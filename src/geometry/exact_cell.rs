@@ -1,6 +1,6 @@
-//! Voronoi cells clipped to a rectangle with every decision exact: a cell is
-//! the rectangle clipped by the bisectors with its site's neighbours
-//! (Sutherland–Hodgman), each corner known by the two lines that meet there,
+//! Voronoi and power cells clipped to a rectangle with every decision exact:
+//! a cell is the rectangle clipped by the bisectors (radical axes, for
+//! weighted sites) with its site's neighbours (Sutherland–Hodgman), each corner known by the two lines that meet there,
 //! each side test decided in floats with an error bound or else in
 //! rationals, and each corner written as the double nearest the exact point.
 //! Cells that share a corner therefore write the same double for it, however
@@ -25,7 +25,7 @@ use super::{
 enum Line {
     /// x = lo.x, y = lo.y, x = hi.x, y = hi.y.
     Side(u8),
-    /// The bisector of `s` and this site.
+    /// The bisector (radical axis) of `s` and this site.
     Bisector(u32),
 }
 
@@ -50,6 +50,8 @@ enum Point {
 /// points already placed.
 pub(crate) struct CellBuilder<'a> {
     sites: &'a [DVec2],
+    /// Power weights: a point's power from site `s` is `|p - s|² - w[s]`.
+    weights: Option<&'a [f64]>,
     rect: Rect,
     placed: HashMap<Point, DVec2>,
 }
@@ -58,12 +60,37 @@ impl<'a> CellBuilder<'a> {
     pub fn new(sites: &'a [DVec2], rect: Rect) -> Self {
         Self {
             sites,
+            weights: None,
             rect,
             placed: HashMap::new(),
         }
     }
 
-    /// The cell of site `s` bounded by the bisectors with `neighbours`: its
+    /// Builds power cells: `weights[s]` is site `s`'s.
+    pub fn weighted(sites: &'a [DVec2], weights: &'a [f64], rect: Rect) -> Self {
+        Self {
+            weights: Some(weights),
+            ..Self::new(sites, rect)
+        }
+    }
+
+    /// `w[s] - w[k]`, zero without weights.
+    fn weight_gap(&self, s: u32, k: u32) -> Bounded {
+        match self.weights {
+            Some(w) => Bounded::difference(w[s as usize], w[k as usize]),
+            None => Bounded::exact(0.0),
+        }
+    }
+
+    /// [`Self::weight_gap`] exactly.
+    fn exact_weight_gap(&self, s: u32, k: u32) -> BigRational {
+        match self.weights {
+            Some(w) => rational(w[s as usize]) - rational(w[k as usize]),
+            None => BigRational::zero(),
+        }
+    }
+
+    /// The cell of site `s` bounded by the lines with `neighbours`: its
     /// corners counter-clockwise, each the double nearest the exact corner;
     /// empty where the exact cell has no area in the rectangle.
     pub fn cell(&mut self, s: u32, neighbours: &[u32]) -> Vec<DVec2> {
@@ -111,8 +138,8 @@ impl<'a> CellBuilder<'a> {
         ring
     }
 
-    /// Keeps the part of the cell no farther from `s` than from `k`: the
-    /// exact intersection, with no corner repeated.
+    /// Keeps the part of the cell of no more power from `s` than from `k`:
+    /// the exact intersection, with no corner repeated.
     fn clip(&self, s: u32, corners: &[Corner], k: u32) -> Vec<Corner> {
         let sides: Vec<Ordering> = corners.iter().map(|c| self.side(s, c, k)).collect();
         if sides.iter().all(|&o| o != Ordering::Greater) {
@@ -153,17 +180,19 @@ impl<'a> CellBuilder<'a> {
         out
     }
 
-    /// Where corner `c` of the cell of `s` lies against the bisector with
-    /// `k`: nearer `s` (Less), on it, or nearer `k`.
+    /// Where corner `c` of the cell of `s` lies against the line with `k`:
+    /// less power from `s` (Less), on it, or less from `k`.
     fn side(&self, s: u32, c: &Corner, k: u32) -> Ordering {
         let (site, other) = (self.sites[s as usize], self.sites[k as usize]);
         let n = [
             Bounded::difference(other.x, site.x),
             Bounded::difference(other.y, site.y),
         ];
-        // 2 q . n - |n|², the difference of the squared distances to s and k.
+        // 2 q . n - |n|² - (w[s] - w[k]), the difference of the powers.
         let two = Bounded::exact(2.0);
-        let f = two * (c.q[0] * n[0] + c.q[1] * n[1]) - (n[0] * n[0] + n[1] * n[1]);
+        let f = two * (c.q[0] * n[0] + c.q[1] * n[1])
+            - (n[0] * n[0] + n[1] * n[1])
+            - self.weight_gap(s, k);
         if let Some(o) = f.sign() {
             return o;
         }
@@ -173,7 +202,9 @@ impl<'a> CellBuilder<'a> {
             rational(other.y) - rational(site.y),
         ];
         let two = BigRational::from_integer(2.into());
-        let f = two * (&q[0] * &n[0] + &q[1] * &n[1]) - (&n[0] * &n[0] + &n[1] * &n[1]);
+        let f = two * (&q[0] * &n[0] + &q[1] * &n[1])
+            - (&n[0] * &n[0] + &n[1] * &n[1])
+            - self.exact_weight_gap(s, k);
         f.cmp(&BigRational::zero())
     }
 
@@ -194,7 +225,10 @@ impl<'a> CellBuilder<'a> {
                     Bounded::difference(o.y, site.y),
                 ];
                 let half = Bounded::exact(0.5);
-                (n, half * (n[0] * n[0] + n[1] * n[1]))
+                (
+                    n,
+                    half * (n[0] * n[0] + n[1] * n[1] + self.weight_gap(s, k)),
+                )
             }
         }
     }
@@ -215,7 +249,8 @@ impl<'a> CellBuilder<'a> {
                     rational(o.x) - rational(site.x),
                     rational(o.y) - rational(site.y),
                 ];
-                let offset = (&n[0] * &n[0] + &n[1] * &n[1]) / BigRational::from_integer(2.into());
+                let offset = (&n[0] * &n[0] + &n[1] * &n[1] + self.exact_weight_gap(s, k))
+                    / BigRational::from_integer(2.into());
                 (n, offset)
             }
         }

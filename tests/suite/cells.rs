@@ -89,37 +89,46 @@ fn cell_corners_are_the_nearest_doubles_of_the_exact_corners() {
         }
         let points: Vec<DVec2> = distinct.iter().map(|&i| sites[i as usize]).collect();
         let corners = clipped_voronoi_corners(&points, rect.lo, rect.hi);
-        let matches =
-            |d: DVec2, p: &[BigRational; 2]| is_nearest(d.x, &p[0]) && is_nearest(d.y, &p[1]);
         for (k, &i) in distinct.iter().enumerate() {
             let ring = &cells.polygons[i as usize];
             let name = format!("round {round}, site {i} {ring:?} of {sites:?} in {rect:?}");
-            if ring.is_empty() {
-                continue;
+            if !ring.is_empty() {
+                check_ring(ring, &corners, k as u32, &name);
+                checked += 1;
             }
-            let mine: Vec<_> = corners
-                .iter()
-                .filter(|(_, owners)| owners.contains(&(k as u32)))
-                .collect();
-            for (p, _) in &mine {
-                assert!(ring.iter().any(|&d| matches(d, p)), "{name}: misses {p:?}");
-            }
-            for &d in ring {
-                assert!(
-                    mine.iter().any(|(p, _)| matches(d, p)),
-                    "{name}: {d:?} is no exact corner"
-                );
-            }
-            let mut seen = ring.clone();
-            seen.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-            seen.dedup();
-            assert_eq!(seen.len(), ring.len(), "{name}: a repeated corner");
-            let twice: BigRational = (1..ring.len() - 1)
-                .map(|k| signed_double_area(ring[0], ring[k], ring[k + 1]))
-                .sum();
-            assert!(twice.is_positive(), "{name}: not counter-clockwise");
-            checked += 1;
         }
     }
     assert!(checked > 200, "{checked}");
+}
+
+/// Checks that `ring`, the cell of site `k`, has the doubles nearest the
+/// exact corners that `k` owns, each once, counter-clockwise.
+pub(crate) fn check_ring(
+    ring: &[DVec2],
+    corners: &[([BigRational; 2], Vec<u32>)],
+    k: u32,
+    name: &str,
+) {
+    let matches = |d: DVec2, p: &[BigRational; 2]| is_nearest(d.x, &p[0]) && is_nearest(d.y, &p[1]);
+    let mine: Vec<_> = corners
+        .iter()
+        .filter(|(_, owners)| owners.contains(&k))
+        .collect();
+    for (p, _) in &mine {
+        assert!(ring.iter().any(|&d| matches(d, p)), "{name}: misses {p:?}");
+    }
+    for &d in ring {
+        assert!(
+            mine.iter().any(|(p, _)| matches(d, p)),
+            "{name}: {d:?} is no exact corner"
+        );
+    }
+    let mut seen = ring.to_vec();
+    seen.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    seen.dedup();
+    assert_eq!(seen.len(), ring.len(), "{name}: a repeated corner");
+    let twice: BigRational = (1..ring.len() - 1)
+        .map(|k| signed_double_area(ring[0], ring[k], ring[k + 1]))
+        .sum();
+    assert!(twice.is_positive(), "{name}: not counter-clockwise");
 }

@@ -1,16 +1,22 @@
 //! Regular triangulations and power diagrams against their definitions by
 //! brute force, in exact arithmetic: every triangle has no site below its
 //! lifted plane, the triangles tile the hull, hidden sites own no cell, and
-//! every pixel's label has the least power exactly (ties to the lower index).
+//! every pixel's label has the least power exactly (ties to the lower index),
+//! and every cell's corners are the doubles nearest the exact corners of the
+//! clipped diagram, found by brute force in rationals.
 
-use crate::common::{ulps, uniform};
+use crate::{
+    cells::check_ring,
+    common::{ulps, uniform},
+};
 use glam::DVec2;
 use num_rational::BigRational;
 use pixgeo::{
-    algorithms::power::{power_diagram, power_diagram_window, regular_triangulation},
-    geometry::{power::Weighted, predicates::orient, Frame},
+    algorithms::power::{power_cells, power_diagram, power_diagram_window, regular_triangulation},
+    geometry::{cell::Rect, power::Weighted, predicates::orient, Frame},
     machine::PixelRect,
 };
+use pixgeo_reference::exact::clipped_power_corners;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -233,4 +239,97 @@ fn power_diagram_windows_are_the_whole_diagrams_pixels() {
         height: 5,
     };
     assert!(power_diagram_window(&sites, &frame, outside).is_err());
+}
+
+/// One case of weighted sites and a rectangle, far out or tiny by `scale`
+/// and `shift` (weights scale by `scale²`).
+fn cell_case(rng: &mut ChaCha8Rng, family: usize) -> (Vec<Weighted>, Rect) {
+    let spacing = [0.1, 1.0 / 9.0, 0.3, 1.0 / 7.0][rng.gen_range(0..4)];
+    let at = |i: i32, j: i32| DVec2::new(i as f64 * spacing, j as f64 * spacing);
+    let square = spacing * spacing;
+    let (points, weights, lo, hi): (Vec<DVec2>, Vec<f64>, DVec2, DVec2) = match family {
+        // A lattice of equal weights, some an ulp off, in a rectangle
+        // through sites and midpoints: four sites to a power centre.
+        0 => {
+            let points: Vec<DVec2> = (0..12).map(|k| at(k % 3, k / 3)).collect();
+            let weights = (0..12)
+                .map(|_| ulps(square, rng.gen_range(-1..=1)))
+                .collect();
+            (
+                points,
+                weights,
+                at(0, 0) - spacing * 0.5,
+                at(2, 3) + spacing * 0.5,
+            )
+        }
+        // Co-circular sites of one weight around a heavier centre.
+        1 => {
+            let ring = [(5, 0), (3, 4), (0, 5), (-4, 3), (-5, 0), (-3, -4), (4, -3)];
+            let mut points: Vec<DVec2> = ring.iter().map(|&(x, y)| at(x, y)).collect();
+            let mut weights = vec![square; 7];
+            points.push(at(0, 0));
+            weights.push(9.0 * square);
+            (points, weights, at(-6, -6), at(6, 6))
+        }
+        // Random sites and weights, some beyond the rectangle, some hidden.
+        _ => {
+            let points = (0..12)
+                .map(|_| DVec2::new(rng.gen_range(-1.0..5.0), rng.gen_range(-1.0..4.0)))
+                .collect();
+            let weights = (0..12).map(|_| rng.gen_range(0.0..2.0)).collect();
+            (points, weights, DVec2::new(0.7, 0.0), DVec2::new(4.0, 3.0))
+        }
+    };
+    let (scale, shift) = match rng.gen_range(0..5) {
+        0 => (1e-150, 0.0),
+        1 => (1e150, 0.0),
+        2 => (1.0, 1e15),
+        3 => (3e-7, -2.5e-3),
+        _ => (1.0, 0.0),
+    };
+    let place = |p: DVec2| p * scale + DVec2::splat(shift);
+    let sites = points
+        .iter()
+        .zip(&weights)
+        .map(|(&p, &w)| Weighted {
+            at: place(p),
+            weight: w * scale * scale,
+        })
+        .collect();
+    let rect = Rect {
+        lo: place(lo),
+        hi: place(hi),
+    };
+    (sites, rect)
+}
+
+#[test]
+fn power_cell_corners_are_the_nearest_doubles_of_the_exact_corners() {
+    let mut rng = ChaCha8Rng::seed_from_u64(52);
+    let mut checked = 0;
+    for round in 0..30 {
+        let (sites, rect) = cell_case(&mut rng, round % 3);
+        let cells = power_cells(&sites, &rect).unwrap();
+        let hidden = regular_triangulation(&sites).unwrap().hidden;
+        let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
+        let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();
+        let corners = clipped_power_corners(&points, &weights, rect.lo, rect.hi);
+        for (i, ring) in cells.polygons.iter().enumerate() {
+            let name = format!("round {round}, site {i} {ring:?} of {sites:?} in {rect:?}");
+            if hidden.contains(&(i as u32)) {
+                assert!(ring.is_empty(), "{name}: a hidden site's cell");
+            } else if !ring.is_empty() {
+                check_ring(ring, &corners, i as u32, &name);
+                checked += 1;
+            }
+        }
+        // The cells cover the rectangle.
+        let total: f64 = (0..sites.len()).map(|i| cells.area(i)).sum();
+        let whole = (rect.hi - rect.lo).element_product();
+        assert!(
+            (total - whole).abs() <= 1e-9 * whole,
+            "round {round}: {total} of {whole}"
+        );
+    }
+    assert!(checked > 150, "{checked}");
 }

@@ -283,10 +283,7 @@ pub fn run(mut args: Args) -> Result<()> {
     if args.weights.is_some() {
         let (world, samples) = args.input.world_and_samples("w")?;
         power::diagram(&args, &world, samples)?;
-        args.input.write_world_file(&world, (0, 0))?;
-        let rasters = [&args.labels, &args.distance, &args.ties].map(|p| p.as_deref());
-        crate::wrote(std::iter::once(args.png()).chain(rasters));
-        return Ok(());
+        return finish(&args, &world);
     }
     let (world, general) = args.input.world_and_general_sites()?;
     let geographic = world.is_geographic();
@@ -311,8 +308,13 @@ pub fn run(mut args: Args) -> Result<()> {
             diagram(&args, &world, general)?
         }
     }
+    finish(&args, &world)
+}
+
+/// Writes the world file beside the rasters and names what was written.
+fn finish(args: &Args, world: &World) -> Result<()> {
     let corner = args.window.map_or((0, 0), |w| (w.x, w.y));
-    args.input.write_world_file(&world, corner)?;
+    args.input.write_world_file(world, corner)?;
     // Options a diagram would not write are refused up front: each given was written.
     crate::wrote(
         [

@@ -2,16 +2,21 @@
 //! over their exact regular triangulation.
 
 use anyhow::{bail, Result};
+use glam::DVec2;
 use pixgeo::{
-    algorithms::{power::power_diagram, voronoi::Accuracy},
+    algorithms::{
+        power::power_diagram_window,
+        voronoi::{Accuracy, VoronoiOptions},
+    },
     geometry::power::Weighted,
     io::samples::Samples,
+    memory::reserve_picture,
 };
 use serde_json::json;
 
 use super::{Args, Method};
 use crate::{
-    envelope,
+    cells, envelope,
     input::World,
     write::{
         picture::{site_color, PngStream},
@@ -22,19 +27,19 @@ use crate::{
 /// Computes and writes the power diagram of weighted points.
 pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()> {
     let other = [
-        (args.cells.is_some(), "--cells"),
         (args.degree.is_some(), "--degree"),
         (args.order.is_some(), "--order"),
         (args.furthest, "--furthest"),
-        (args.window.is_some(), "--window"),
         (args.contours.is_some(), "--contours"),
         (args.metric_choice.is_some(), "--metric"),
         (args.method != Method::Cones, "--method"),
         (args.mode != Accuracy::Exact, "--mode"),
-        (args.png().is_none() && args.output.is_some(), "-o *.svg"),
     ];
     if let Some((_, flag)) = other.iter().find(|(given, _)| *given) {
-        bail!("{flag} is not computed for power diagrams: they give --labels, --distance, --ties, -o PNG and --json");
+        bail!(
+            "{flag} is not computed for power diagrams: they give --labels, --distance, \
+             --ties, --cells, -o PNG or SVG, --window and --json"
+        );
     }
     if args
         .device
@@ -45,12 +50,15 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
     }
     let sites = Weighted::zip(&samples.points, &samples.values);
     let frame = world.frame;
-    frame.reserve(12, "a power diagram")?;
-    let (w, h) = (frame.width, frame.height);
+    let window = VoronoiOptions::exact(frame)
+        .window(args.window)
+        .window_rect()?;
+    let (w, h) = (window.width, window.height);
+    reserve_picture(w, h, 12, "a power diagram")?;
     let started = std::time::Instant::now();
-    let answer = power_diagram(&sites, &frame)?;
+    let answer = power_diagram_window(&sites, &frame, window)?;
     let compute_ms = started.elapsed().as_secs_f64() * 1e3;
-    let geo = world.georeference();
+    let geo = world.georeference_from(window.x, window.y);
     if let Some(path) = &args.labels {
         raster::write(path, [w, h, 1], &answer.labels, Some(&geo))?;
     }
@@ -65,7 +73,7 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
         // Each site a black dot; a hidden one an open ring.
         for (k, s) in sites.iter().enumerate() {
             let hidden = answer.regular.hidden.binary_search(&(k as u32)).is_ok();
-            let p = frame.to_pixel(s.at).round();
+            let p = frame.to_pixel(s.at).round() - DVec2::new(window.x as f64, window.y as f64);
             for (dx, dy) in (-3i64..=3).flat_map(|x| (-3i64..=3).map(move |y| (x, y))) {
                 let r2 = dx * dx + dy * dy;
                 let (x, y) = (p.x as i64 + dx, p.y as i64 + dy);
@@ -84,6 +92,12 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
         png.write(&rgb)?;
         png.finish()?;
     }
+    let source = cells::Source::Power {
+        regular: &answer.regular,
+        sites: &sites,
+    };
+    let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
+    cells::write(args.vectors(), world, source, &points)?;
     if args.json {
         let summary = json!({
             "sites": sites.len(),

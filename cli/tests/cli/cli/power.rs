@@ -50,10 +50,81 @@ fn voronoi_draws_power_diagrams_and_names_hidden_sites() {
         sites.to_str().unwrap(),
         "--weights",
         "power",
-        "--cells",
-        "c.geojson",
+        "--order",
+        "2",
     ]);
-    assert!(!ok && stderr.contains("--cells"), "{stderr}");
+    assert!(!ok && stderr.contains("--order"), "{stderr}");
+}
+
+#[test]
+fn power_cells_and_windows() {
+    let sites = temp("power-cells.csv");
+    std::fs::write(&sites, SITES).unwrap();
+    let (cells, svg, window) = (
+        temp("power-cells.geojson"),
+        temp("power-cells.svg"),
+        temp("power-window.npy"),
+    );
+    let run = |extra: &[&str]| {
+        let mut argv = vec![
+            "voronoi",
+            "--sites",
+            sites.to_str().unwrap(),
+            "--weights",
+            "power",
+            "--bbox",
+            "0,0,100,100",
+            "--size",
+            "100",
+        ];
+        argv.extend_from_slice(extra);
+        pixgeo(&argv)
+    };
+    let (ok, _, stderr) = run(&[
+        "--cells",
+        cells.to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let geojson: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cells).unwrap()).unwrap();
+    let features = geojson["features"].as_array().unwrap();
+    assert_eq!(features.len(), 4);
+    // The heavy three share the square; the hidden fourth has no cell.
+    let area: f64 = features
+        .iter()
+        .map(|f| f["properties"]["area"].as_f64().unwrap())
+        .sum();
+    assert!((area - 1e4).abs() < 1e-6, "{area}");
+    assert_eq!(features[3]["properties"]["hidden"], true);
+    assert_eq!(features[3]["properties"]["area"], 0.0);
+    assert_eq!(features[0]["properties"]["weight"], 2560.0);
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    // A window is the whole diagram's pixels.
+    let whole = temp("power-whole.npy");
+    let (ok, _, stderr) = run(&["--labels", whole.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let (ok, _, stderr) = run(&[
+        "--window",
+        "20,30,50,40",
+        "--labels",
+        window.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (_, all) = npy::read::<u32>(&whole).unwrap();
+    let (shape, part) = npy::read::<u32>(&window).unwrap();
+    assert_eq!(shape, vec![40, 50]);
+    for (k, &l) in part.iter().enumerate() {
+        assert_eq!(l, all[(30 + k / 50) * 100 + 20 + k % 50], "pixel {k}");
+    }
+    let (ok, _, stderr) = run(&[
+        "--window",
+        "20,30,50,40",
+        "--cells",
+        cells.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("--window"), "{stderr}");
 }
 
 #[test]
