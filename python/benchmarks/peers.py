@@ -23,17 +23,24 @@ natural_neighbor_to_points on a 64² subgrid of the pixel centres (MetPy
 works point by point in Python; its time is scaled to the picture per pixel),
 with the largest difference from MetPy on that subgrid.
 
-Power diagrams: pixgeo.regular_triangulation (the exact dual: triangles and
-hidden sites) against pyvoro2's power cells in the box (Voro++: each cell's
-polygon in doubles), random weights up to 0.8 of a site's share of the box;
-the sites pixgeo hides are compared with those pyvoro2 leaves empty (pyvoro2
-also empties cells that lie outside its box).
+Power diagrams: pixgeo.power_cells (exact cells clipped to the box) and
+pixgeo.regular_triangulation (the exact dual: triangles and hidden sites)
+against pyvoro2's power cells in the box (Voro++: each cell's polygon in
+doubles), random weights up to 0.8 of a site's share of the box; the sites
+pixgeo hides are compared with those pyvoro2 leaves empty (pyvoro2 also
+empties cells that lie outside its box), and each cell's area with
+pyvoro2's.
 
 Prints Markdown tables; median of --repeats runs, the tools interleaved.
+With --memory, each call's peak memory too: the growth of a fresh process's
+peak resident set over one call, after a small call of the same kind.
 """
 
 import argparse
+import os
 import statistics
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -55,6 +62,25 @@ def timed(repeats, f):
         out = f()
         times.append(time.perf_counter() - t)
     return statistics.median(times) * 1e3, out
+
+
+def peak_mib(setup, warm, call):
+    """The peak memory of one call beyond what its process held before it,
+    in MiB: a fresh Python process runs ``setup``, then ``warm`` (a small
+    call of the same kind, which loads the libraries and drivers), then
+    ``call``, and reports the growth of its peak resident set (ru_maxrss)."""
+    code = "\n".join([
+        "import resource, sys",
+        f"sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r})",
+        "from peers import *",
+        setup,
+        warm,
+        "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss",
+        call,
+        "print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)",
+    ])
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return float(out.stdout.split()[-1])
 
 
 def seed_image(sites, side):
@@ -207,24 +233,55 @@ def interpolation_rows(args):
 
 
 def power_rows(args):
-    """pixgeo's regular triangulation against pyvoro2's power cells."""
+    """pixgeo's power cells (and regular triangulation) against pyvoro2's."""
     from pyvoro2 import planar
 
     rng = np.random.default_rng(3)
-    print("| n | pixgeo regular triangulation (ms) | pyvoro2 power cells (ms) | pyvoro2 / pixgeo "
-          "| hidden (pixgeo) | empty (pyvoro2) | pixgeo's hidden all empty in pyvoro2 |")
-    print("|---|---|---|---|---|---|---|")
+    print("| n | pixgeo power cells (ms) | pyvoro2 power cells (ms) | pyvoro2 / pixgeo "
+          "| pixgeo regular triangulation (ms) | hidden (pixgeo) | empty (pyvoro2) "
+          "| pixgeo's hidden all empty in pyvoro2 | largest cell area difference "
+          "| peak MiB: pixgeo / pyvoro2 |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     box = planar.Box(((0.0, 1000.0), (0.0, 1000.0)))
     for n in (int(s) for s in args.n.split(",")):
         points = rng.uniform(0, 1000, (n, 2))
         weights = rng.uniform(0, 0.8 * 1000**2 / n, n)
-        ours, (_, hidden) = timed(args.repeats, lambda: pixgeo.regular_triangulation(points, weights))
-        theirs, cells = timed(args.repeats, lambda: planar.compute(
+        ours, cells = timed(args.repeats, lambda: pixgeo.power_cells(
+            points, weights, bbox=(0, 0, 1000, 1000), geojson=True))
+        regular, (_, hidden) = timed(args.repeats, lambda: pixgeo.regular_triangulation(points, weights))
+        theirs, theirs_cells = timed(args.repeats, lambda: planar.compute(
             points, domain=box, mode="power", weights=weights, include_empty=True,
             output="cells", return_edges=False))
-        empty = {c["id"] for c in cells if len(c.get("vertices", [])) == 0}
-        print(f"| {n} | {ours:.0f} | {theirs:.0f} | {theirs / ours:.2f}× | {len(hidden)} | {len(empty)} "
-              f"| {set(hidden.tolist()) <= empty} |", flush=True)
+        empty = {c["id"] for c in theirs_cells if len(c.get("vertices", [])) == 0}
+        area = np.zeros(n)
+        for c in theirs_cells:
+            area[c["id"]] = c.get("area", 0.0)
+        gap = max(abs(shoelace(cell) - area[i]) for i, cell in enumerate(cells.polygons))
+        setup = (f"rng = np.random.default_rng({n}); p = rng.uniform(0, 1000, ({n}, 2)); "
+                 f"w = rng.uniform(0, {0.8 * 1000**2 / n}, {n}); from pyvoro2 import planar; "
+                 "box = planar.Box(((0.0, 1000.0), (0.0, 1000.0)))")
+        peaks = [
+            peak_mib(setup, f"pixgeo.power_cells(p[:{k}], w[:{k}], bbox=(0, 0, 1000, 1000), geojson=True)",
+                     "pixgeo.power_cells(p, w, bbox=(0, 0, 1000, 1000), geojson=True)")
+            if k == 0 else
+            peak_mib(setup, "planar.compute(p[:10], domain=box, mode='power', weights=w[:10], "
+                     "include_empty=True, output='cells', return_edges=False)",
+                     "planar.compute(p, domain=box, mode='power', weights=w, include_empty=True, "
+                     "output='cells', return_edges=False)")
+            for k in (0, 1)
+        ] if args.memory else []
+        memory = " / ".join(f"{m:.0f}" for m in peaks) or "–"
+        print(f"| {n} | {ours:.0f} | {theirs:.0f} | {theirs / ours:.2f}× | {regular:.0f} | {len(hidden)} "
+              f"| {len(empty)} | {set(hidden.tolist()) <= empty} | {gap:.1e} | {memory} |", flush=True)
+
+
+def shoelace(polygon):
+    """The area of a GeoJSON-like polygon's outer ring."""
+    if not polygon["coordinates"]:
+        return 0.0
+    ring = np.asarray(polygon["coordinates"][0])
+    x, y = ring[:, 0] - ring[0, 0], ring[:, 1] - ring[0, 1]
+    return 0.5 * abs(float((x[:-1] * y[1:] - x[1:] * y[:-1]).sum()))
 
 
 def threads_line():
@@ -246,6 +303,8 @@ def main():
     ap.add_argument("--n", default="1000,10000,100000")
     ap.add_argument("--m", default="10000,100000")
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--memory", action="store_true",
+                    help="also measure each call's peak memory, in a fresh process")
     args = ap.parse_args()
     threads_line()
     if "hausdorff" in args.tasks:
@@ -262,9 +321,9 @@ def main():
     pixgeo.voronoi(rng.uniform(0, 1000, (100, 2)), (64, 64), bbox=(0, 0, 1000, 1000))
     print(
         "| side | n | pixgeo (ms) | scipy EDT + lookup (ms) | OpenCV (ms) | scipy / pixgeo "
-        "| OpenCV / pixgeo | nearest: pixgeo / scipy / OpenCV |"
+        "| OpenCV / pixgeo | nearest: pixgeo / scipy / OpenCV | peak MiB: pixgeo / scipy / OpenCV |"
     )
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|")
     for side in (int(s) for s in args.sides.split(",")):
         for n in (int(s) for s in args.n.split(",")):
             sites = rng.uniform(0, 1000, (n, 2))
@@ -284,9 +343,19 @@ def main():
                 if c_labels is not None:
                     shares.append(nearest_share(c_labels, sites, d.frame))
                 share = " / ".join(f"{100 * s:.2f} %" for s in shares)
+            memory = "–"
+            if args.memory:
+                setup = f"sites = np.random.default_rng({n}).uniform(0, 1000, ({n}, 2))"
+                calls = [
+                    ("pixgeo.voronoi(sites[:100], (64, 64), bbox=(0, 0, 1000, 1000))",
+                     f"pixgeo.voronoi(sites, ({side}, {side}), bbox=(0, 0, 1000, 1000))"),
+                    ("scipy_labels(sites[:100], 64)", f"scipy_labels(sites, {side})"),
+                    ("opencv_labels(sites[:100], 64)", f"opencv_labels(sites, {side})"),
+                ][: 3 if cv2 is not None else 2]
+                memory = " / ".join(f"{peak_mib(setup, w, c):.0f}" for w, c in calls)
             print(
                 f"| {side}² | {n} | {ours:.1f} | {theirs:.1f} | {cv:.1f} | {theirs / ours:.2f}× "
-                f"| {cv / ours:.2f}× | {share} |",
+                f"| {cv / ours:.2f}× | {share} | {memory} |",
                 flush=True,
             )
 

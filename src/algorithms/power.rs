@@ -20,6 +20,8 @@
 //! crossing its edge lowers the power), then the lowest index among those
 //! of equal power. The powers are the doubles nearest the exact ones.
 
+use std::cmp::Ordering;
+
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -33,7 +35,7 @@ use crate::{
         exact_cell::CellBuilder,
         frame::check_sites,
         mesh::Mesh,
-        power::{compare_power, power_of, Weighted},
+        power::{compare_power, power_of, PowerEstimate, Weighted},
         predicates::orient,
         triangulation::DUMMY,
         Frame,
@@ -268,10 +270,30 @@ pub fn power_diagram_window(
 /// The site of least power at `p` (the lowest index of equals) and how many
 /// share it, walking from `from` over the triangulation's edges.
 fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32) -> (u32, u32) {
-    let less = |a: u32, b: u32| compare_power(p, sites[a as usize], sites[b as usize]).is_lt();
     let mut at = from;
-    while let Some(&n) = neighbours[at as usize].iter().find(|&&n| less(n, at)) {
-        at = n;
+    // In doubles first: a neighbour surely of less power is the next step;
+    // with every neighbour surely of more, `at` is the only least.
+    'walk: loop {
+        let here = PowerEstimate::of(p, sites[at as usize]);
+        let mut unsure = false;
+        for &n in &neighbours[at as usize] {
+            match PowerEstimate::of(p, sites[n as usize]).compare(here) {
+                Some(Ordering::Less) => {
+                    at = n;
+                    continue 'walk;
+                }
+                Some(_) => {}
+                None => unsure = true,
+            }
+        }
+        if !unsure {
+            return (at, 1);
+        }
+        let less = |n: &&u32| compare_power(p, sites[**n as usize], sites[at as usize]).is_lt();
+        match neighbours[at as usize].iter().find(less) {
+            Some(&n) => at = n,
+            None => break,
+        }
     }
     // Sites of equal least power own p together; their cells meet there,
     // so each is reached from another over an edge.

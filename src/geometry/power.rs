@@ -1,8 +1,9 @@
 //! Exact predicates of power (Laguerre) geometry, for sites `s` with weights
 //! `w`: the power of a point `p` is `|p - s|² - w`, and a power diagram
 //! gives each point to the site of least power. Each predicate is evaluated
-//! in double-double with an error bound and, where the bound
-//! cannot decide its sign, in rationals.
+//! in doubles with a forward error bound; where that bound cannot decide its
+//! sign (or underflow or overflow void it), in double-double with an error
+//! bound; and where that cannot either, in rationals.
 
 use std::cmp::Ordering;
 
@@ -30,6 +31,27 @@ impl Weighted {
     }
 }
 
+/// The unit roundoff of doubles.
+const U: f64 = f64::EPSILON / 2.0;
+
+/// The sign of the exact value that the double `value` approximates within
+/// `bound`, where the bound decides it. Magnitudes below `TINY` may have
+/// lost bits to underflow that the bound does not count, so they decide
+/// nothing, nor do overflowed ones.
+fn filtered(value: f64, bound: f64, magnitude: f64) -> Option<Ordering> {
+    const TINY: f64 = 1e-250;
+    if !(magnitude.is_finite() && magnitude > TINY) {
+        return None;
+    }
+    if value > bound {
+        Some(Ordering::Greater)
+    } else if value < -bound {
+        Some(Ordering::Less)
+    } else {
+        None
+    }
+}
+
 fn sign_of(r: &BigRational) -> Ordering {
     if r.is_zero() {
         Ordering::Equal
@@ -45,6 +67,22 @@ fn sign_of(r: &BigRational) -> Ordering {
 /// plane through theirs: the regular triangulation holds no such triangle),
 /// `Equal` on the plane. Without weights it is the in-circle test.
 pub fn power_test(a: Weighted, b: Weighted, c: Weighted, d: Weighted) -> Ordering {
+    // Each lift has a relative error of at most 5u against x² + y² + |Δw|,
+    // each minor 4u against |p s| + |q r|, each product of the two 10u and
+    // the sum 2u more: 16u of the permanent bounds the determinant's error.
+    let rows = [a, b, c].map(|s| {
+        let (x, y) = (s.at.x - d.at.x, s.at.y - d.at.y);
+        let gap = s.weight - d.weight;
+        (x, y, x * x + y * y - gap, x * x + y * y + gap.abs())
+    });
+    let [(ax, ay, al, am), (bx, by, bl, bm), (cx, cy, cl, cm)] = rows;
+    let value = al * (bx * cy - by * cx) - bl * (ax * cy - ay * cx) + cl * (ax * by - ay * bx);
+    let permanent = am * ((bx * cy).abs() + (by * cx).abs())
+        + bm * ((ax * cy).abs() + (ay * cx).abs())
+        + cm * ((ax * by).abs() + (ay * bx).abs());
+    if let Some(sign) = filtered(value, 16.0 * U * permanent, permanent) {
+        return sign;
+    }
     let rows_bounded = [a, b, c].map(|s| {
         let x = Bounded::difference(s.at.x, d.at.x);
         let y = Bounded::difference(s.at.y, d.at.y);
@@ -73,8 +111,41 @@ where
     al * minor(&bx, &by, &cx, &cy) - bl * minor(&ax, &ay, &cx, &cy) + cl * minor(&ax, &ay, &bx, &by)
 }
 
+/// A power in doubles: within 5u of `magnitude`, `x² + y² + |w|`, of the
+/// exact one.
+#[derive(Clone, Copy, Debug)]
+pub struct PowerEstimate {
+    value: f64,
+    magnitude: f64,
+}
+
+impl PowerEstimate {
+    /// The power of `p` from `s`, in doubles.
+    #[inline]
+    pub fn of(p: DVec2, s: Weighted) -> Self {
+        let (x, y) = (p.x - s.at.x, p.y - s.at.y);
+        let square = x * x + y * y;
+        Self {
+            value: square - s.weight,
+            magnitude: square + s.weight.abs(),
+        }
+    }
+
+    /// How the exact power this estimates compares with `other`'s, where
+    /// the error bounds decide it: the difference adds u, so 8u of the
+    /// magnitudes bounds its error.
+    #[inline]
+    pub fn compare(self, other: Self) -> Option<Ordering> {
+        let magnitude = self.magnitude + other.magnitude;
+        filtered(self.value - other.value, 8.0 * U * magnitude, magnitude)
+    }
+}
+
 /// How the power of `p` from `s` compares with its power from `t`.
 pub fn compare_power(p: DVec2, s: Weighted, t: Weighted) -> Ordering {
+    if let Some(sign) = PowerEstimate::of(p, s).compare(PowerEstimate::of(p, t)) {
+        return sign;
+    }
     let power = |s: Weighted| {
         let (x, y) = (
             Bounded::difference(p.x, s.at.x),
