@@ -22,6 +22,7 @@ mod lloyd;
 mod machine;
 mod polygon;
 mod power;
+mod predicates;
 mod properties;
 mod robustness;
 mod settle;
