@@ -32,8 +32,9 @@ empties cells that lie outside its box), and each cell's area with
 pyvoro2's.
 
 Prints Markdown tables; median of --repeats runs, the tools interleaved.
-With --memory, each call's peak memory too: the growth of a fresh process's
-peak resident set over one call, after a small call of the same kind.
+With --memory, each call's peak memory too: in a fresh process, after a
+small call of the same kind, the peak resident set during the call less the
+resident set before it.
 """
 
 import argparse
@@ -68,16 +69,21 @@ def peak_mib(setup, warm, call):
     """The peak memory of one call beyond what its process held before it,
     in MiB: a fresh Python process runs ``setup``, then ``warm`` (a small
     call of the same kind, which loads the libraries and drivers), then
-    ``call``, and reports the growth of its peak resident set (ru_maxrss)."""
+    resets its peak resident set (Linux's clear_refs) and runs ``call``:
+    the peak after it less the resident set before it."""
     code = "\n".join([
-        "import resource, sys",
+        "import sys",
         f"sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r})",
         "from peers import *",
+        "def status(key):",
+        "    line = next(l for l in open('/proc/self/status') if l.startswith(key))",
+        "    return int(line.split()[1]) / 1024",
         setup,
         warm,
-        "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss",
+        "before = status('VmRSS')",
+        "open('/proc/self/clear_refs', 'w').write('5')",
         call,
-        "print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)",
+        "print(status('VmHWM') - before)",
     ])
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return float(out.stdout.split()[-1])
@@ -260,16 +266,15 @@ def power_rows(args):
         setup = (f"rng = np.random.default_rng({n}); p = rng.uniform(0, 1000, ({n}, 2)); "
                  f"w = rng.uniform(0, {0.8 * 1000**2 / n}, {n}); from pyvoro2 import planar; "
                  "box = planar.Box(((0.0, 1000.0), (0.0, 1000.0)))")
-        peaks = [
-            peak_mib(setup, f"pixgeo.power_cells(p[:{k}], w[:{k}], bbox=(0, 0, 1000, 1000), geojson=True)",
-                     "pixgeo.power_cells(p, w, bbox=(0, 0, 1000, 1000), geojson=True)")
-            if k == 0 else
-            peak_mib(setup, "planar.compute(p[:10], domain=box, mode='power', weights=w[:10], "
-                     "include_empty=True, output='cells', return_edges=False)",
-                     "planar.compute(p, domain=box, mode='power', weights=w, include_empty=True, "
-                     "output='cells', return_edges=False)")
-            for k in (0, 1)
-        ] if args.memory else []
+        calls = [
+            ("pixgeo.power_cells(p[:10], w[:10], bbox=(0, 0, 1000, 1000), geojson=True)",
+             "pixgeo.power_cells(p, w, bbox=(0, 0, 1000, 1000), geojson=True)"),
+            ("planar.compute(p[:10], domain=box, mode='power', weights=w[:10], "
+             "include_empty=True, output='cells', return_edges=False)",
+             "planar.compute(p, domain=box, mode='power', weights=w, include_empty=True, "
+             "output='cells', return_edges=False)"),
+        ]
+        peaks = [peak_mib(setup, warm, call) for warm, call in calls] if args.memory else []
         memory = " / ".join(f"{m:.0f}" for m in peaks) or "–"
         print(f"| {n} | {ours:.0f} | {theirs:.0f} | {theirs / ours:.2f}× | {regular:.0f} | {len(hidden)} "
               f"| {len(empty)} | {set(hidden.tolist()) <= empty} | {gap:.1e} | {memory} |", flush=True)

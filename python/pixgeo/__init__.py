@@ -671,13 +671,26 @@ def _polygons(corners, geojson: bool) -> list:
             import shapely
         except ImportError:
             pass
-    if shapely is not None:
-        return [shapely.Polygon(c) if len(c) else shapely.Polygon() for c in corners]
-    return [
-        {"type": "Polygon",
-         "coordinates": [[tuple(map(float, v)) for v in (*c, c[0])]] if len(c) else []}
-        for c in corners
-    ]
+    if shapely is None:
+        # One conversion to lists for every corner, then each ring closed.
+        flat = np.concatenate(corners).tolist() if len(corners) else []
+        polygons, at = [], 0
+        for c in corners:
+            ring = flat[at:at + len(c)]
+            at += len(c)
+            polygons.append({"type": "Polygon", "coordinates": [ring + ring[:1]] if ring else []})
+        return polygons
+    # One vectorized call for every ring (each closed by shapely).
+    full = [i for i, c in enumerate(corners) if len(c)]
+    polygons = [shapely.Polygon()] * len(corners)
+    if full:
+        sizes = [len(corners[i]) for i in full]
+        rings = shapely.linearrings(
+            np.concatenate([corners[i] for i in full]), indices=np.repeat(np.arange(len(full)), sizes)
+        )
+        for i, polygon in zip(full, shapely.polygons(rings)):
+            polygons[i] = polygon
+    return polygons
 
 
 def hausdorff(

@@ -93,18 +93,23 @@ pub fn voronoi_cells_with_progress(
         }
     }
     let neighbours = neighbours(machine, sites, &distinct)?;
-    let mut polygons = vec![Vec::new(); sites.len()];
-    let mut builder = CellBuilder::new(sites, *rect);
+    let builder = CellBuilder::new(sites, *rect);
     let watch = Watch::current();
     let total = distinct.len() as u64;
-    for (k, (&i, around)) in distinct.iter().zip(&neighbours).enumerate() {
-        if k % CELLS_PER_LOOK == 0 {
-            watch.check()?;
-            progress(k as u64, total);
-        }
-        polygons[i as usize] = builder.cell(i, around);
+    let jobs: Vec<(u32, &[u32])> = distinct
+        .iter()
+        .zip(&neighbours)
+        .map(|(&i, around)| (i, &around[..]))
+        .collect();
+    let built = builder.cells(&jobs, CELLS_PER_LOOK, &mut |done| {
+        watch.check()?;
+        progress(done, total);
+        Ok(())
+    })?;
+    let mut polygons = vec![Vec::new(); sites.len()];
+    for (&i, cell) in distinct.iter().zip(built) {
+        polygons[i as usize] = cell;
     }
-    progress(total, total);
     for &[repeat, f] in &duplicates {
         polygons[repeat as usize] = polygons[f as usize].clone();
     }

@@ -83,23 +83,24 @@ impl Regular {
         rect.check()?;
         let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
         let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();
-        let mut builder = CellBuilder::weighted(&points, &weights, *rect);
+        let builder = CellBuilder::weighted(&points, &weights, *rect);
         let neighbours = self.neighbours(sites.len());
         let watch = Watch::current();
         let total = sites.len() as u64;
-        let mut polygons = Vec::with_capacity(sites.len());
-        for (i, around) in neighbours.iter().enumerate() {
-            if i % CELLS_PER_LOOK == 0 {
-                watch.check()?;
-                progress(i as u64, total);
-            }
-            let hidden = self.hidden.binary_search(&(i as u32)).is_ok();
-            polygons.push(match hidden {
-                true => Vec::new(),
-                false => builder.cell(i as u32, around),
-            });
+        // A hidden site has no neighbours and no cell.
+        let jobs: Vec<(u32, &[u32])> = neighbours
+            .iter()
+            .enumerate()
+            .map(|(i, around)| (i as u32, &around[..]))
+            .collect();
+        let mut polygons = builder.cells(&jobs, CELLS_PER_LOOK, &mut |done| {
+            watch.check()?;
+            progress(done, total);
+            Ok(())
+        })?;
+        for &h in &self.hidden {
+            polygons[h as usize].clear();
         }
-        progress(total, total);
         Ok(Cells {
             polygons,
             duplicates: Vec::new(),

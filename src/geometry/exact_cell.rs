@@ -47,7 +47,9 @@ enum Point {
 }
 
 /// Builds exact cells of `sites` in `rect`, remembering the doubles of the
-/// points already placed.
+/// points already placed. Every corner is the double nearest an exact
+/// point, whichever cell finds it, so builders may work apart.
+#[derive(Clone)]
 pub(crate) struct CellBuilder<'a> {
     sites: &'a [DVec2],
     /// Power weights: a point's power from site `s` is `|p - s|² - w[s]`.
@@ -88,6 +90,29 @@ impl<'a> CellBuilder<'a> {
             Some(w) => rational(w[s as usize]) - rational(w[k as usize]),
             None => BigRational::zero(),
         }
+    }
+
+    /// The cells of `jobs` (each a site and its neighbours), in order, built
+    /// in parallel in blocks of `block`; `between(done)` runs before each
+    /// block and may stop the work.
+    pub fn cells(
+        &self,
+        jobs: &[(u32, &[u32])],
+        block: usize,
+        between: &mut dyn FnMut(u64) -> crate::Result<()>,
+    ) -> crate::Result<Vec<Vec<DVec2>>> {
+        use rayon::prelude::*;
+        let mut cells = Vec::with_capacity(jobs.len());
+        for (k, part) in jobs.chunks(block.max(1)).enumerate() {
+            between((k * block) as u64)?;
+            let built: Vec<Vec<DVec2>> = part
+                .par_iter()
+                .map_init(|| self.clone(), |b, &(s, around)| b.cell(s, around))
+                .collect();
+            cells.extend(built);
+        }
+        between(jobs.len() as u64)?;
+        Ok(cells)
     }
 
     /// The cell of site `s` bounded by the lines with `neighbours`: its
