@@ -334,7 +334,7 @@ def main():
             sites = rng.uniform(0, 1000, (n, 2))
             ours, d = timed(
                 args.repeats,
-                lambda: pixgeo.voronoi(sites, (side, side), bbox=(0, 0, 1000, 1000)),
+                lambda: pixgeo.voronoi(sites, (side, side), bbox=(0, 0, 1000, 1000), y_axis="down"),
             )
             theirs, s_labels = timed(args.repeats, lambda: scipy_labels(sites, side))
             if cv2 is not None:
