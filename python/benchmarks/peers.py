@@ -31,6 +31,10 @@ pixgeo hides are compared with those pyvoro2 leaves empty (pyvoro2 also
 empties cells that lie outside its box), and each cell's area with
 pyvoro2's.
 
+Vector cells: pixgeo.voronoi_cells (exact corners) against shapely's
+voronoi_polygons clipped to the box (GEOS), both as shapely polygons, with
+their area sums and whether each is a valid coverage.
+
 Prints Markdown tables; median of --repeats runs, the tools interleaved.
 With --memory, each call's peak memory too: in a fresh process, after a
 small call of the same kind, the peak resident set during the call less the
@@ -289,6 +293,44 @@ def shoelace(polygon):
     return 0.5 * abs(float((x[:-1] * y[1:] - x[1:] * y[:-1]).sum()))
 
 
+def shapely_cells(points):
+    """shapely's Voronoi polygons of the points, each clipped to the box."""
+    import shapely
+
+    box = shapely.box(0, 0, 1000, 1000)
+    cells = shapely.voronoi_polygons(shapely.MultiPoint(points), extend_to=box)
+    return shapely.intersection(shapely.get_parts(cells), box)
+
+
+def cells_rows(args):
+    """pixgeo's exact Voronoi cells against shapely's (GEOS), both clipped
+    to the box as shapely polygons."""
+    import shapely
+
+    rng = np.random.default_rng(11)
+    pixgeo.voronoi_cells(rng.uniform(0, 1000, (10, 2)), bbox=(0, 0, 1000, 1000))
+    print("| n | pixgeo (ms) | shapely (ms) | shapely / pixgeo | area sum − 10⁶: pixgeo / shapely "
+          "| a valid coverage: pixgeo / shapely | peak MiB: pixgeo / shapely |")
+    print("|---|---|---|---|---|---|---|")
+    for n in (int(s) for s in args.n.split(",")):
+        points = rng.uniform(0, 1000, (n, 2))
+        ours, cells = timed(args.repeats, lambda: pixgeo.voronoi_cells(points, bbox=(0, 0, 1000, 1000)))
+        theirs, polygons = timed(args.repeats, lambda: shapely_cells(points))
+        areas = [float(shapely.area(cells.polygons).sum()) - 1e6, float(shapely.area(polygons).sum()) - 1e6]
+        valid = [bool(shapely.coverage_is_valid(np.asarray(cells.polygons))),
+                 bool(shapely.coverage_is_valid(polygons))]
+        memory = "–"
+        if args.memory:
+            setup = f"p = np.random.default_rng({n}).uniform(0, 1000, ({n}, 2))"
+            memory = " / ".join(f"{peak_mib(setup, w, c):.0f}" for w, c in [
+                ("pixgeo.voronoi_cells(p[:10], bbox=(0, 0, 1000, 1000))",
+                 "pixgeo.voronoi_cells(p, bbox=(0, 0, 1000, 1000))"),
+                ("shapely_cells(p[:10])", "shapely_cells(p)"),
+            ])
+        print(f"| {n} | {ours:.0f} | {theirs:.0f} | {theirs / ours:.2f}× | {areas[0]:.1e} / {areas[1]:.1e} "
+              f"| {'yes' if valid[0] else 'no'} / {'yes' if valid[1] else 'no'} | {memory} |", flush=True)
+
+
 def threads_line():
     """Which device and how many threads each tool uses in this run."""
     import os
@@ -320,6 +362,8 @@ def main():
         interpolation_rows(args)
     if "power" in args.tasks:
         power_rows(args)
+    if "cells" in args.tasks:
+        cells_rows(args)
     if "labels" not in args.tasks:
         return
     rng = np.random.default_rng(1)
