@@ -86,20 +86,22 @@ impl Regular {
         let builder = CellBuilder::weighted(&points, &weights, *rect);
         let neighbours = self.neighbours(sites.len());
         let watch = Watch::current();
-        let total = sites.len() as u64;
-        // A hidden site has no neighbours and no cell.
+        // A hidden site has no cell.
         let jobs: Vec<(u32, &[u32])> = neighbours
             .iter()
             .enumerate()
+            .filter(|(i, _)| self.hidden.binary_search(&(*i as u32)).is_err())
             .map(|(i, around)| (i as u32, &around[..]))
             .collect();
-        let mut polygons = builder.cells(&jobs, CELLS_PER_LOOK, &mut |done| {
+        let total = jobs.len() as u64;
+        let built = builder.cells(&jobs, CELLS_PER_LOOK, &mut |done| {
             watch.check()?;
             progress(done, total);
             Ok(())
         })?;
-        for &h in &self.hidden {
-            polygons[h as usize].clear();
+        let mut polygons = vec![Vec::new(); sites.len()];
+        for (&(i, _), cell) in jobs.iter().zip(built) {
+            polygons[i as usize] = cell;
         }
         Ok(Cells {
             polygons,

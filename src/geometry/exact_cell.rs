@@ -1,8 +1,8 @@
 //! Voronoi and power cells clipped to a rectangle with every decision exact:
 //! a cell is the rectangle clipped by the bisectors (radical axes, for
-//! weighted sites) with its site's neighbours (Sutherland–Hodgman), each corner known by the two lines that meet there,
-//! each side test decided in floats with an error bound or else in
-//! rationals, and each corner written as the double nearest the exact point.
+//! weighted sites) with its site's neighbours (Sutherland–Hodgman), each
+//! corner known by the two lines that meet there, each side test decided in
+//! floats with an error bound or else in rationals, and each corner written as the double nearest the exact point.
 //! Cells that share a corner therefore write the same double for it, however
 //! each found it: a vertex of four co-circular sites, a bisector through a
 //! frame corner and a crossing of the frame come out once, identical in every

@@ -11,7 +11,7 @@ use glam::DVec2;
 use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 
-use super::{bounded::Bounded, exact::rational};
+use super::{bounded::Bounded, exact::rational, predicates::filtered};
 
 /// A weighted site.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,25 +31,10 @@ impl Weighted {
     }
 }
 
-/// The unit roundoff of doubles.
-const U: f64 = f64::EPSILON / 2.0;
-
-/// The sign of the exact value that the double `value` approximates within
-/// `bound`, where the bound decides it. Magnitudes below `TINY` may have
-/// lost bits to underflow that the bound does not count, so they decide
-/// nothing, nor do overflowed ones.
-fn filtered(value: f64, bound: f64, magnitude: f64) -> Option<Ordering> {
-    const TINY: f64 = 1e-250;
-    if !(magnitude.is_finite() && magnitude > TINY) {
-        return None;
-    }
-    if value > bound {
-        Some(Ordering::Greater)
-    } else if value < -bound {
-        Some(Ordering::Less)
-    } else {
-        None
-    }
+/// The sign of `value`, a double within `factor` u of `magnitude` of the
+/// exact value, where that bound decides it ([`filtered`]).
+fn filtered_sign(value: f64, magnitude: f64, factor: f64) -> Option<Ordering> {
+    filtered(value, magnitude, factor).map(|v| v.total_cmp(&0.0))
 }
 
 fn sign_of(r: &BigRational) -> Ordering {
@@ -80,7 +65,7 @@ pub fn power_test(a: Weighted, b: Weighted, c: Weighted, d: Weighted) -> Orderin
     let permanent = am * ((bx * cy).abs() + (by * cx).abs())
         + bm * ((ax * cy).abs() + (ay * cx).abs())
         + cm * ((ax * by).abs() + (ay * bx).abs());
-    if let Some(sign) = filtered(value, 16.0 * U * permanent, permanent) {
+    if let Some(sign) = filtered_sign(value, permanent, 16.0) {
         return sign;
     }
     let rows_bounded = [a, b, c].map(|s| {
@@ -137,7 +122,7 @@ impl PowerEstimate {
     #[inline]
     pub fn compare(self, other: Self) -> Option<Ordering> {
         let magnitude = self.magnitude + other.magnitude;
-        filtered(self.value - other.value, 8.0 * U * magnitude, magnitude)
+        filtered_sign(self.value - other.value, magnitude, 8.0)
     }
 }
 

@@ -40,9 +40,9 @@ const U: f64 = f64::EPSILON / 2.0;
 /// `det` where its error, under `factor` u of `permanent`, cannot change
 /// its sign. Permanents below 1e-250 may have lost bits to underflow that
 /// the bound does not count, and overflowed ones say nothing: both go on
-/// to the scaled predicates.
+/// to slower, exact evaluations.
 #[inline]
-fn filtered(det: f64, permanent: f64, factor: f64) -> Option<f64> {
+pub(crate) fn filtered(det: f64, permanent: f64, factor: f64) -> Option<f64> {
     let sure = permanent.is_finite() && permanent > 1e-250 && det.abs() > factor * U * permanent;
     sure.then_some(det)
 }
