@@ -249,6 +249,7 @@ class Cells:
     @property
     def __geo_interface__(self) -> dict:
         same_as = {int(r): int(f) for r, f in self.duplicates}
+        hidden = set() if self.hidden is None else set(self.hidden.tolist())
         features = []
         for i, cell in enumerate(self.polygons):
             geometry = cell if isinstance(cell, dict) else cell.__geo_interface__
@@ -257,7 +258,7 @@ class Cells:
                 properties["same_as"] = same_as[i]
             if self.weights is not None:
                 properties["weight"] = float(self.weights[i])
-                properties["hidden"] = bool(np.isin(i, self.hidden))
+                properties["hidden"] = i in hidden
             features.append({"type": "Feature", "geometry": geometry, "properties": properties})
         return {"type": "FeatureCollection", "features": features}
 
