@@ -886,7 +886,9 @@ def distance_transform_edt(
     if problems:
         raise RuntimeError(", ".join(problems))
     features = np.ascontiguousarray(a == 0)
-    d, i = _pixgeo.distance_transform(features, _spacing(sampling), metric)
+    d, i = _pixgeo.distance_transform(
+        features, _spacing(sampling), metric, indices=bool(return_indices)
+    )
     out = []
     if return_distances:
         if distances is None:

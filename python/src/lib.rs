@@ -247,7 +247,7 @@ type Triangulation<'py> = (Bound<'py, PyArray2<u32>>, Bound<'py, PyArray2<u32>>)
 
 /// Distances (H, W), and the (row, column) planes (2, H, W) of each pixel's
 /// nearest feature.
-type Transformed<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<i32>>);
+type Transformed<'py> = (Bound<'py, PyArray2<f64>>, Option<Bound<'py, PyArray3<i32>>>);
 
 /// The transform of a (H, W) `features` raster, with its options.
 fn transform(
@@ -261,7 +261,10 @@ fn transform(
         u32::try_from(n).map_err(|_| PyValueError::new_err(format!("a side of {n} is too long")))
     };
     let (width, height) = (side(w)?, side(h)?);
-    let mask: Vec<bool> = features.as_array().iter().copied().collect();
+    let mask: Vec<bool> = match features.as_slice() {
+        Ok(contiguous) => contiguous.to_vec(),
+        Err(_) => features.as_array().iter().copied().collect(),
+    };
     let options = TransformOptions::new()
         .metric(metric(metric_name)?)
         .sampling(sampling);
@@ -269,26 +272,28 @@ fn transform(
     Ok((t, options))
 }
 
-/// Distances (H, W) to the nearest `features` pixel and its (row, column)
-/// (2, H, W): -1 and infinity where there is no feature.
+/// Distances (H, W) to the nearest `features` pixel and, with `indices`,
+/// its (row, column) (2, H, W): -1 and infinity where there is no feature.
 #[pyfunction]
-#[pyo3(signature = (features, sampling, metric_name))]
+#[pyo3(signature = (features, sampling, metric_name, indices=true))]
 fn distance_transform<'py>(
     py: Python<'py>,
     features: numpy::PyReadonlyArray2<'py, bool>,
     sampling: [f64; 2],
     metric_name: &str,
+    indices: bool,
 ) -> PyResult<Transformed<'py>> {
     let (t, _) = transform(py, features, sampling, metric_name)?;
     let (h, w) = (t.height as usize, t.width as usize);
+    let distances = raster(py, t.distances, t.height, t.width)?;
+    if !indices {
+        return Ok((distances, None));
+    }
     let mut planes = t.feature_rows;
     planes.extend_from_slice(&t.feature_columns);
     let indices = Array3::from_shape_vec((2, h, w), planes)
         .map_err(|e| InternalError::new_err(e.to_string()))?;
-    Ok((
-        raster(py, t.distances, t.height, t.width)?,
-        indices.into_pyarray(py),
-    ))
+    Ok((distances, Some(indices.into_pyarray(py))))
 }
 
 /// A medial axis (H, W) and the distances (H, W).
