@@ -19,7 +19,6 @@ use glam::DVec2;
 
 use super::delaunay::{delaunay, DelaunayOptions};
 use crate::{
-    cancel::Watch,
     error::{Error, Result},
     geometry::{cell::Rect, exact_cell::CellBuilder, predicates::orient},
     Machine,
@@ -93,19 +92,12 @@ pub fn voronoi_cells_with_progress(
         }
     }
     let neighbours = neighbours(machine, sites, &distinct)?;
-    let builder = CellBuilder::new(sites, *rect);
-    let watch = Watch::current();
-    let total = distinct.len() as u64;
     let jobs: Vec<(u32, &[u32])> = distinct
         .iter()
         .zip(&neighbours)
         .map(|(&i, around)| (i, &around[..]))
         .collect();
-    let built = builder.cells(&jobs, CELLS_PER_LOOK, &mut |done| {
-        watch.check()?;
-        progress(done, total);
-        Ok(())
-    })?;
+    let built = CellBuilder::new(sites, *rect).cells(&jobs, progress)?;
     let mut polygons = vec![Vec::new(); sites.len()];
     for (&i, cell) in distinct.iter().zip(built) {
         polygons[i as usize] = cell;
@@ -118,9 +110,6 @@ pub fn voronoi_cells_with_progress(
         duplicates,
     })
 }
-
-/// Cells built between looks at the cancel flag and reports of progress.
-pub(crate) const CELLS_PER_LOOK: usize = 1 << 14;
 
 /// Each distinct site's Voronoi neighbours (input indices).
 fn neighbours(machine: &Machine, sites: &[DVec2], distinct: &[u32]) -> Result<Vec<Vec<u32>>> {

@@ -26,7 +26,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::{
-    algorithms::cells::{Cells, CELLS_PER_LOOK},
+    algorithms::cells::Cells,
     algorithms::envelope::hilbert_index,
     algorithms::voronoi::VoronoiOptions,
     cancel::Watch,
@@ -83,9 +83,7 @@ impl Regular {
         rect.check()?;
         let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
         let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();
-        let builder = CellBuilder::weighted(&points, &weights, *rect);
         let neighbours = self.neighbours(sites.len());
-        let watch = Watch::current();
         // A hidden site has no cell.
         let jobs: Vec<(u32, &[u32])> = neighbours
             .iter()
@@ -93,12 +91,7 @@ impl Regular {
             .filter(|(i, _)| self.hidden.binary_search(&(*i as u32)).is_err())
             .map(|(i, around)| (i as u32, &around[..]))
             .collect();
-        let total = jobs.len() as u64;
-        let built = builder.cells(&jobs, CELLS_PER_LOOK, &mut |done| {
-            watch.check()?;
-            progress(done, total);
-            Ok(())
-        })?;
+        let built = CellBuilder::weighted(&points, &weights, *rect).cells(&jobs, progress)?;
         let mut polygons = vec![Vec::new(); sites.len()];
         for (&(i, _), cell) in jobs.iter().zip(built) {
             polygons[i as usize] = cell;

@@ -46,6 +46,9 @@ enum Point {
     Centre([u32; 3]),
 }
 
+/// Cells built between looks at the cancel flag and reports of progress.
+const CELLS_PER_LOOK: usize = 1 << 14;
+
 /// Builds exact cells of `sites` in `rect`, remembering the doubles of the
 /// points already placed. Every corner is the double nearest an exact
 /// point, whichever cell finds it, so builders may work apart.
@@ -93,25 +96,26 @@ impl<'a> CellBuilder<'a> {
     }
 
     /// The cells of `jobs` (each a site and its neighbours), in order, built
-    /// in parallel in blocks of `block`; `between(done)` runs before each
-    /// block and may stop the work.
+    /// in parallel in blocks; before each block the cancel flag
+    /// ([`crate::cancel`]) is looked at and `progress(done, total)` called.
     pub fn cells(
         &self,
         jobs: &[(u32, &[u32])],
-        block: usize,
-        between: &mut dyn FnMut(u64) -> crate::Result<()>,
+        progress: &mut dyn FnMut(u64, u64),
     ) -> crate::Result<Vec<Vec<DVec2>>> {
         use rayon::prelude::*;
+        let (watch, total) = (crate::cancel::Watch::current(), jobs.len() as u64);
         let mut cells = Vec::with_capacity(jobs.len());
-        for (k, part) in jobs.chunks(block.max(1)).enumerate() {
-            between((k * block) as u64)?;
+        for part in jobs.chunks(CELLS_PER_LOOK) {
+            watch.check()?;
+            progress(cells.len() as u64, total);
             let built: Vec<Vec<DVec2>> = part
                 .par_iter()
                 .map_init(|| self.clone(), |b, &(s, around)| b.cell(s, around))
                 .collect();
             cells.extend(built);
         }
-        between(jobs.len() as u64)?;
+        progress(total, total);
         Ok(cells)
     }
 

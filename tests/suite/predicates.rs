@@ -64,6 +64,13 @@ struct Tally {
 }
 
 impl Tally {
+    fn new() -> Self {
+        Self {
+            naive_wrong: 0,
+            cases: 0,
+        }
+    }
+
     fn check(&mut self, name: &str, exact: Ordering, pixgeo: Ordering, naive: f64) {
         assert_eq!(pixgeo, exact, "{name}");
         self.cases += 1;
@@ -83,16 +90,7 @@ impl Tally {
 #[test]
 fn orientation_and_incircle_signs_are_exact_near_degeneracy() {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
-    let (mut lines, mut circles) = (
-        Tally {
-            naive_wrong: 0,
-            cases: 0,
-        },
-        Tally {
-            naive_wrong: 0,
-            cases: 0,
-        },
-    );
+    let (mut lines, mut circles) = (Tally::new(), Tally::new());
     for k in 0..4000 {
         let (scale, shift) = PLACES[k % PLACES.len()];
         let place = |p: DVec2| p * scale + DVec2::splat(shift);
@@ -144,16 +142,7 @@ fn orientation_and_incircle_signs_are_exact_near_degeneracy() {
 #[test]
 fn power_signs_are_exact_near_degeneracy() {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let (mut ties, mut planes) = (
-        Tally {
-            naive_wrong: 0,
-            cases: 0,
-        },
-        Tally {
-            naive_wrong: 0,
-            cases: 0,
-        },
-    );
+    let (mut ties, mut planes) = (Tally::new(), Tally::new());
     for k in 0..4000 {
         // 1e300 points would have 1e600 weights: the power cases stop at 1e150.
         let (scale, shift) = PLACES[k % (PLACES.len() - 1)];
@@ -190,11 +179,6 @@ fn power_signs_are_exact_near_degeneracy() {
         let (pa, pb) = match orient(pa, pb, pc) > 0.0 {
             true => (pa, pb),
             false => (pb, pa),
-        };
-        let (wa, wb) = if orient(pa, pb, pc) > 0.0 {
-            (wa, wb)
-        } else {
-            (wb, wa)
         };
         // The plane z = l(x, y) through the lifted three, in doubles.
         let lift = |p: DVec2, w: f64| p.length_squared() - w;
