@@ -7,7 +7,8 @@ use std::str::FromStr;
 use crate::{
     algorithms::{
         alpha_hull::AlphaMethod, area::Extreme, interpolate::Method as Interpolation,
-        settle::SettleMethod, voronoi::Accuracy, voronoi::Speedup,
+        settle::SettleMethod, voronoi::Accuracy, voronoi::Method as VoronoiMethod,
+        voronoi::Speedup,
     },
     error::{Error, Result},
     geometry::metric::Metric,
@@ -43,6 +44,11 @@ const INTERPOLATIONS: [(&str, Interpolation); 4] = [
     ("linear", Interpolation::Linear),
     ("nearest", Interpolation::Nearest),
 ];
+const VORONOI_METHODS: [(&str, VoronoiMethod); 3] = [
+    ("auto", VoronoiMethod::Auto),
+    ("cones", VoronoiMethod::Cones),
+    ("grid", VoronoiMethod::Grid),
+];
 const EXTREMES: [(&str, Extreme); 2] = [
     ("smallest", Extreme::Smallest),
     ("largest", Extreme::Largest),
@@ -53,6 +59,14 @@ impl FromStr for Speedup {
     /// `local`, `quadtree` or `none`.
     fn from_str(text: &str) -> Result<Self> {
         by_name("speedup", text, &SPEEDUPS)
+    }
+}
+
+impl FromStr for VoronoiMethod {
+    type Err = Error;
+    /// `auto`, `cones` or `grid`.
+    fn from_str(text: &str) -> Result<Self> {
+        by_name("Voronoi method", text, &VORONOI_METHODS)
     }
 }
 

@@ -70,6 +70,16 @@ int main(void) {
     CHECK(status == PIXGEO_STATUS_OK, "tiled: %s", pixgeo_context_last_error(ctx));
     CHECK(memcmp(tiled, labels, sizeof(uint32_t) * W * H) == 0, "tiled labels differ");
 
+    /* Cones drawn and the grid searched give the same labels. */
+    for (uint32_t method = PIXGEO_VORONOI_METHOD_CONES; method <= PIXGEO_VORONOI_METHOD_GRID;
+         method++) {
+        options = pixgeo_voronoi_options_default(W, H);
+        options.method = method;
+        status = pixgeo_voronoi(ctx, xy, N, &options, tiled, NULL);
+        CHECK(status == PIXGEO_STATUS_OK, "method %u: %s", method, pixgeo_context_last_error(ctx));
+        CHECK(memcmp(tiled, labels, sizeof(uint32_t) * W * H) == 0, "method %u differs", method);
+    }
+
     /* A window (x0, y0, width, height) is the whole diagram's pixels there. */
     options = pixgeo_voronoi_options_default(W, H);
     options.window[0] = 13;
@@ -416,6 +426,10 @@ int main(void) {
           "speedup -3 accepted");
     CHECK(strstr(pixgeo_context_last_error(ctx), "PixgeoSpeedup") != NULL, "message: %s",
           pixgeo_context_last_error(ctx));
+    odd = pixgeo_voronoi_options_default(W, H);
+    odd.method = 9;
+    CHECK(pixgeo_voronoi(ctx, xy, N, &odd, labels, NULL) == PIXGEO_STATUS_INVALID_ARGUMENT,
+          "method 9 accepted");
     odd = pixgeo_voronoi_options_default(W, H);
     CHECK(pixgeo_settle(ctx, xy, N, NULL, 0, &odd, 5, NULL, &settle) ==
               PIXGEO_STATUS_INVALID_ARGUMENT,

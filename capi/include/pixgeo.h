@@ -92,6 +92,17 @@ typedef enum PixgeoSpeedup {
   PIXGEO_SPEEDUP_NONE = 2,
 } PixgeoSpeedup;
 
+// How exact Euclidean labels are found; every way gives the same labels bit
+// for bit.
+typedef enum PixgeoVoronoiMethod {
+  // The grid on a software rasterizer, the cones on a GPU (default).
+  PIXGEO_VORONOI_METHOD_AUTO = 0,
+  // The lower envelope of cones drawn on the device.
+  PIXGEO_VORONOI_METHOD_CONES = 1,
+  // A search of a grid of the sites on the CPU, proven like the cones.
+  PIXGEO_VORONOI_METHOD_GRID = 2,
+} PixgeoVoronoiMethod;
+
 // The shape of a [`PixgeoSite`].
 typedef enum PixgeoSiteKind {
   // `coords = {x, y}`.
@@ -235,6 +246,8 @@ typedef struct PixgeoVoronoiOptions {
   // pixels (bit for bit the whole diagram's there), and write `width *
   // height` values; a width of 0 means the whole picture. Point sites only.
   uint32_t window[4];
+  // A [`PixgeoVoronoiMethod`]: how exact Euclidean labels of points are found.
+  uint32_t method;
 } PixgeoVoronoiOptions;
 
 // A site of any shape with weights (thesis §3.8–3.9): its weighted distance is

@@ -6,7 +6,7 @@ use glam::DVec2;
 
 use super::*;
 use pixgeo::{
-    algorithms::voronoi::{Accuracy, Speedup, VoronoiOptions},
+    algorithms::voronoi::{Accuracy, Method, Speedup, VoronoiOptions},
     geometry::{
         metric::Metric,
         site::{Shape, Site},
@@ -80,6 +80,19 @@ pub enum PixgeoSpeedup {
     None = 2,
 }
 
+/// How exact Euclidean labels are found; every way gives the same labels bit
+/// for bit.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixgeoVoronoiMethod {
+    /// The grid on a software rasterizer, the cones on a GPU (default).
+    Auto = 0,
+    /// The lower envelope of cones drawn on the device.
+    Cones = 1,
+    /// A search of a grid of the sites on the CPU, proven like the cones.
+    Grid = 2,
+}
+
 /// Options of [`pixgeo_voronoi`]; start from [`pixgeo_voronoi_options_default`].
 /// Valid options have `polygon` pointing at `2 * polygon_count` doubles when the
 /// metric is [`PixgeoMetric::Polygon`].
@@ -121,6 +134,8 @@ pub struct PixgeoVoronoiOptions {
     /// pixels (bit for bit the whole diagram's there), and write `width *
     /// height` values; a width of 0 means the whole picture. Point sites only.
     pub window: [u32; 4],
+    /// A [`PixgeoVoronoiMethod`]: how exact Euclidean labels of points are found.
+    pub method: u32,
 }
 
 /// Default Voronoi options for a `width` x `height` picture: Euclidean, exact,
@@ -144,6 +159,7 @@ pub extern "C" fn pixgeo_voronoi_options_default(width: u32, height: u32) -> Pix
         speedup: PixgeoSpeedup::Local as u32,
         max_tile: 0,
         window: [0; 4],
+        method: PixgeoVoronoiMethod::Auto as u32,
     }
 }
 
@@ -350,7 +366,18 @@ pub(super) fn voronoi_options(
     ties: bool,
 ) -> Result<VoronoiOptions, (PixgeoStatus, String)> {
     let (frame, accuracy, speedup) = picture_of(o)?;
+    let method = match o.method {
+        0 => Method::Auto,
+        1 => Method::Cones,
+        2 => Method::Grid,
+        other => {
+            return Err(invalid(format!(
+                "method {other} is not a PixgeoVoronoiMethod (0 auto, 1 cones, 2 grid)"
+            )))
+        }
+    };
     Ok(VoronoiOptions::exact(frame)
+        .method(method)
         .metric(metric_of(o)?)
         .accuracy(accuracy)
         .speedup(speedup)

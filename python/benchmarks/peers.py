@@ -10,7 +10,7 @@ Hausdorff: pixgeo.hausdorff (its default method on the device) against
 cKDTree queries both ways (2 workers) and SciPy's directed_hausdorff both
 ways, on uniform sets and on a uniform set against a clustered one.
 
-    .venv/bin/python python/benchmarks/peers.py [--tasks labels,hausdorff,lloyd,interpolate,power]
+    .venv/bin/python python/benchmarks/peers.py [--tasks labels,hausdorff,lloyd,interpolate,power,cells,first]
         [--sides 1024,4096] [--n 1000,10000,100000] [--m 10000,100000]
 
 Lloyd: pixgeo.lloyd against a Lloyd built on SciPy (cKDTree on the pixel
@@ -34,6 +34,11 @@ pyvoro2's.
 Vector cells: pixgeo.voronoi_cells (exact corners) against shapely's
 voronoi_polygons clipped to the box (GEOS), both as shapely polygons, with
 their area sums and whether each is a valid coverage.
+
+First call: pixgeo.voronoi (2000 sites at 1024²) in fresh processes, the
+first call against the best of five more in the same process, beside SciPy's
+distance_transform_edt (indices too) on a 1024² raster with 2000 zeros; the
+import is timed apart.
 
 Prints Markdown tables; median of --repeats runs, the tools interleaved.
 With --memory, each call's peak memory too: in a fresh process, after a
@@ -91,6 +96,51 @@ def peak_mib(setup, warm, call):
     ])
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return float(out.stdout.split()[-1])
+
+
+FIRST_CALL = """
+import time
+t0 = time.perf_counter()
+import numpy as np
+import {module}
+t1 = time.perf_counter()
+{setup}
+times = []
+for _ in range(6):
+    started = time.perf_counter()
+    {call}
+    times.append(time.perf_counter() - started)
+print(1e3 * (t1 - t0), 1e3 * times[0], 1e3 * min(times[1:]))
+"""
+
+
+def first_calls(repeats):
+    """Per tool, the medians over ``repeats`` fresh processes of the import,
+    the first call and the best warm call, in ms."""
+    tools = {
+        "pixgeo.voronoi": dict(
+            module="pixgeo",
+            setup="sites = np.random.default_rng(1).uniform(0, 1024, (2000, 2))",
+            call="pixgeo.voronoi(sites, (1024, 1024))",
+        ),
+        "scipy distance_transform_edt": dict(
+            module="scipy.ndimage",
+            setup="img = np.ones((1024, 1024)); "
+            "img.flat[np.random.default_rng(1).choice(1 << 20, 2000, replace=False)] = 0",
+            call="scipy.ndimage.distance_transform_edt(img, return_indices=True)",
+        ),
+    }
+    rows = {name: [] for name in tools}
+    for _ in range(repeats):
+        for name, parts in tools.items():
+            out = subprocess.run([sys.executable, "-c", FIRST_CALL.format(**parts)],
+                                 capture_output=True, text=True, check=True)
+            rows[name].append([float(v) for v in out.stdout.split()])
+    print("| tool | import (ms) | first call (ms) | warm call (ms) | first / warm |")
+    print("|---|---|---|---|---|")
+    for name, runs in rows.items():
+        imp, first, warm = (statistics.median(r[k] for r in runs) for k in range(3))
+        print(f"| {name} | {imp:.0f} | {first:.1f} | {warm:.1f} | {first / warm:.2f}× |")
 
 
 def seed_image(sites, side):
@@ -364,6 +414,8 @@ def main():
         power_rows(args)
     if "cells" in args.tasks:
         cells_rows(args)
+    if "first" in args.tasks:
+        first_calls(max(args.repeats, 3))
     if "labels" not in args.tasks:
         return
     rng = np.random.default_rng(1)

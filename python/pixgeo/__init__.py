@@ -429,6 +429,7 @@ def voronoi(
     weights=None,
     device: Optional[str] = None,
     window: Optional[Sequence[int]] = None,
+    method: str = "auto",
 ) -> Diagram:
     """The Voronoi diagram of ``sites`` as a label and distance raster.
 
@@ -463,6 +464,11 @@ def voronoi(
     picture (exact mode): the arrays are ``(height, width)`` and equal the whole
     diagram's there bit for bit, so windows computed apart tile into it
     (:func:`pixgeo.dask.voronoi` does that on a cluster).
+
+    ``method`` finds exact Euclidean labels by ``cones`` drawn on the device
+    or by a ``grid`` search on the CPU, both proven exact and equal bit for
+    bit; ``auto`` takes the grid where there is no GPU (without starting
+    Vulkan) and the cones on a GPU.
     """
     place = _place(shape, bbox, res, y_axis, crs)
     metric = _metric_for(metric, place.crs)
@@ -477,7 +483,7 @@ def voronoi(
     points = place.sites(_points(sites, "sites"))
     if weights is None:
         labels, distances, frame = _pixgeo.voronoi(
-            points, w, h, box, metric, mode, device, _window(window)
+            points, w, h, box, metric, mode, device, _window(window), method
         )
     else:
         if window is not None:

@@ -33,7 +33,7 @@ use pixgeo::{
             distance_transform as transform_of, medial_axis as axis_of, Pruning, Transform,
             TransformOptions,
         },
-        voronoi::{self as diagram, Accuracy, VoronoiOptions},
+        voronoi::{self as diagram, Accuracy, Method as VoronoiMethod, VoronoiOptions},
     },
     geometry::{
         metric::Metric,
@@ -117,6 +117,16 @@ fn on_machine<T: Send>(
         Ok(m) => work(&m).map_err(to_py),
         Err(_) => Err(PyRuntimeError::new_err("a pixgeo call panicked")),
     })
+}
+
+/// Whether `device` (else `PIXGEO_DEVICE`) leaves work that the CPU can do
+/// alone to the CPU: `cpu`, or the default on a machine without a GPU.
+fn cpu_alone(device: Option<&str>) -> bool {
+    match device.map_or_else(DeviceChoice::from_env, DeviceChoice::parse) {
+        DeviceChoice::Cpu => true,
+        DeviceChoice::Auto => !has_gpu(),
+        _ => false,
+    }
 }
 
 /// [`interruptible`] work on the CPU alone, with a flag of its own.
@@ -329,7 +339,7 @@ fn frame_of(width: u32, height: u32, bbox: Option<[f64; 4]>) -> PyResult<FrameTu
 /// The diagram, or with `window = (x0, y0, width, height)` only those pixels of
 /// it, bit for bit.
 #[pyfunction]
-#[pyo3(signature = (sites, width, height, bbox, metric_name, mode, device, window=None))]
+#[pyo3(signature = (sites, width, height, bbox, metric_name, mode, device, window=None, method="auto"))]
 #[allow(clippy::too_many_arguments)]
 fn voronoi<'py>(
     py: Python<'py>,
@@ -341,18 +351,29 @@ fn voronoi<'py>(
     mode: &str,
     device: Option<&str>,
     window: Option<[u32; 4]>,
+    method: &str,
 ) -> PyResult<Rasters<'py>> {
     let sites = points(&sites);
     let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
     options.metric = metric(metric_name)?;
     options.accuracy = named::<Accuracy>(mode)?;
+    options.method = named::<VoronoiMethod>(method)?;
     options.window = window.map(|[x, y, width, height]| PixelRect {
         x,
         y,
         width,
         height,
     });
-    let d = on_machine(py, device, |m| diagram::voronoi(m, &sites, &options))?;
+    // Without a GPU, the grid needs no Vulkan device, whose start would
+    // cost more than the diagram.
+    let grid = options.metric == Metric::L2
+        && options.accuracy == Accuracy::Exact
+        && options.method != VoronoiMethod::Cones;
+    let d = if grid && cpu_alone(device) {
+        on_cpu(py, || diagram::voronoi_on_cpu(&sites, &options))?
+    } else {
+        on_machine(py, device, |m| diagram::voronoi(m, &sites, &options))?
+    };
     Ok((
         raster(py, d.labels, d.height, d.width)?,
         raster(py, d.distances, d.height, d.width)?,
@@ -663,10 +684,7 @@ fn great_circle<'py>(
 ) -> PyResult<GreatCircleTuple<'py>> {
     let sites = points(&sites);
     let (lons, lats) = (lons.as_slice()?.to_vec(), lats.as_slice()?.to_vec());
-    let choice = device.map(str::trim).unwrap_or("");
-    let on_cpu_only = choice.eq_ignore_ascii_case("cpu")
-        || ((choice.is_empty() || choice.eq_ignore_ascii_case("auto")) && !has_gpu());
-    let (answer, name) = if on_cpu_only {
+    let (answer, name) = if cpu_alone(device) {
         let places: Vec<DVec2> = lats
             .iter()
             .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))

@@ -65,6 +65,22 @@ def test_voronoi_labels_the_nearest_site(name, bbox):
     assert np.array_equal(labels[unique], idx[unique, 0])
 
 
+@pytest.mark.parametrize("name", list(inputs()))
+def test_cones_and_the_grid_give_the_same_diagram(name):
+    sites = inputs()[name]
+    shape, bbox = (48, 60), (-10.0, -20.0, 90.0, 60.0)
+    drawn = pixgeo.voronoi(sites, shape, bbox=bbox, method="cones")
+    searched = pixgeo.voronoi(sites, shape, bbox=bbox, method="grid")
+    default = pixgeo.voronoi(sites, shape, bbox=bbox)
+    for d in (searched, default):
+        assert np.array_equal(d.labels, drawn.labels)
+        assert np.array_equal(d.distances.view(np.uint32), drawn.distances.view(np.uint32))
+    with pytest.raises(ValueError, match="Voronoi method"):
+        pixgeo.voronoi(sites, shape, method="splat")
+    with pytest.raises(ValueError, match="Euclidean"):
+        pixgeo.voronoi(sites, shape, metric="l1", method="grid")
+
+
 def test_frame_places_pixels_in_the_bbox():
     d = pixgeo.voronoi([[0.0, 0.0], [10.0, 5.0]], (50, 100), bbox=(0, 0, 10, 5), crs=32633)
     f = d.frame

@@ -39,6 +39,9 @@ use crate::{
 /// Pixels a side of the blocks that share one candidate list.
 const BLOCK: u32 = 8;
 
+/// The top bit of a proposed label: the pixel needs the exact check.
+pub(crate) const MARK: u32 = 1 << 31;
+
 /// The float key the intervals bound: the metric's own, or for integer p the
 /// sum of the coordinates' powers, which takes products where the metric's
 /// key takes two general powers.
@@ -218,6 +221,21 @@ impl<'a> Certifier<'a> {
         })
     }
 
+    /// The sites in pixel coordinates, rounded.
+    pub fn places(&self) -> &[DVec2] {
+        &self.places
+    }
+
+    /// The places' grid.
+    pub fn grid(&self) -> &PointGrid<'static> {
+        &self.grid
+    }
+
+    /// The largest error of a place's coordinate.
+    pub fn largest_error(&self) -> f64 {
+        self.largest_error
+    }
+
     /// Proves the proposed labels of `region` in `labels` (and with them
     /// `distances` and tie counts, where given), mending those that are not the
     /// exact nearest sites. Returns the number of pixels mended.
@@ -361,7 +379,6 @@ impl<'a> Certifier<'a> {
         distances: Option<&mut [f32]>,
         ties: Option<&mut [u32]>,
     ) -> Result<usize> {
-        const MARK: u32 = 1 << 31;
         let mut marked = Vec::new();
         for j in 0..region.height as usize {
             let row =

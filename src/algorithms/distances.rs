@@ -31,7 +31,7 @@ use crate::{
 
 use super::{
     higher_order::furthest,
-    voronoi::{voronoi, VoronoiOptions},
+    voronoi::{voronoi, Method as VoronoiMethod, VoronoiOptions},
 };
 
 /// Two points, one of each set (indices into the sets as given), and their
@@ -390,7 +390,9 @@ fn directed_in_range(
 ) -> Result<Answer> {
     let side = side.unwrap_or_else(|| default_side(machine, b.len()));
     let frame = frame_around(&[a, b], side)?;
-    let diagram = voronoi(machine, b, &VoronoiOptions::exact(frame))?;
+    // The picture the method is named for, drawn whichever the device.
+    let options = VoronoiOptions::exact(frame).method(VoronoiMethod::Cones);
+    let diagram = voronoi(machine, b, &options)?;
     // Per point of a: the picture's partner, whose distance is an upper bound, and
     // a lower bound (the pixel's distance less the offset from the pixel centre).
     let queries: Vec<u32> = (0..a.len() as u32).collect();

@@ -23,6 +23,7 @@ pub mod sites;
 pub mod trace;
 pub mod transform;
 pub mod voronoi;
+mod voronoi_grid;
 
 /// Milliseconds since `since`, for the timings answers report.
 pub(crate) fn ms(since: std::time::Instant) -> f64 {

@@ -35,7 +35,7 @@ use crate::{
         metric::Metric,
         Frame,
     },
-    machine::{Machine, PixelRect},
+    machine::{DeviceClass, Machine, PixelRect},
 };
 
 use super::certify::{Certifier, Region};
@@ -43,6 +43,7 @@ use super::envelope::{
     drawn_accuracy, metric_fan, ConePlan, ConeSpec, DrawnTile, Picture, TileView, Tiling,
     SCREEN_TILE_SIDE,
 };
+use super::voronoi_grid::grid_bands;
 
 pub use super::envelope::{Accuracy, ConeGroup, Speedup, MAX_EXACT_REACH};
 
@@ -70,6 +71,55 @@ pub struct VoronoiOptions {
     /// windows computed apart (on other machines) tile into the whole diagram.
     /// Exact mode only. `None`: the whole frame.
     pub window: Option<PixelRect>,
+    /// How exact labels are found: drawn, or searched for on the CPU.
+    pub method: Method,
+}
+
+/// How an exact diagram's labels are found; every way gives the same labels,
+/// distances and ties, bit for bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Method {
+    /// [`Method::Grid`] for Euclidean exact diagrams on a software rasterizer,
+    /// where it is faster; [`Method::Cones`] otherwise.
+    #[default]
+    Auto,
+    /// The lower envelope of cones drawn on the device (the thesis's way).
+    Cones,
+    /// A search of a grid of the sites on the CPU, each pixel's nearest proven
+    /// as the drawn ones are: Euclidean exact diagrams only.
+    Grid,
+}
+
+impl Method {
+    /// Whether the grid finds the labels `options` ask for.
+    fn grid_fits(options: &VoronoiOptions) -> bool {
+        options.metric == Metric::L2 && options.accuracy == Accuracy::Exact
+    }
+
+    /// Refuses options this method cannot compute.
+    fn check(self, options: &VoronoiOptions) -> Result<()> {
+        if self == Method::Grid && !Self::grid_fits(options) {
+            return Err(Error::InvalidInput(
+                "the grid method finds exact Euclidean labels; other metrics and fan mode \
+                 take the cones"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The way `options` are computed on `machine`.
+    fn resolve(self, machine: &Machine, options: &VoronoiOptions) -> Result<Method> {
+        self.check(options)?;
+        let software = machine.device_class() == DeviceClass::Software;
+        Ok(match self {
+            Method::Auto if software && Self::grid_fits(options) => Method::Grid,
+            Method::Auto => Method::Cones,
+            method => method,
+        })
+    }
 }
 
 impl VoronoiOptions {
@@ -84,6 +134,7 @@ impl VoronoiOptions {
             ties: false,
             max_tile: None,
             window: None,
+            method: Method::Auto,
         }
     }
 
@@ -117,6 +168,10 @@ impl VoronoiOptions {
 
     pub fn window(self, window: Option<PixelRect>) -> Self {
         Self { window, ..self }
+    }
+
+    pub fn method(self, method: Method) -> Self {
+        Self { method, ..self }
     }
 
     /// The window's pixels in the frame: the whole frame without one; an error
@@ -162,6 +217,8 @@ impl Default for VoronoiOptions {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct VoronoiStats {
     pub device: String,
+    /// How the labels were found: `cones` or `grid` ([`Method`]).
+    pub method: String,
     pub sites: usize,
     /// Cones drawn (sites whose cone reaches the picture).
     pub cones: usize,
@@ -259,6 +316,31 @@ pub fn voronoi(
     sites: &[DVec2],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
+    whole_diagram(options, |sink| voronoi_bands(machine, sites, options, sink))
+}
+
+/// [`voronoi`] by [`Method::Grid`] on the CPU alone, with no Vulkan device:
+/// the same diagram bit for bit. Euclidean exact diagrams only.
+///
+/// ```
+/// use glam::DVec2;
+/// use pixgeo::{algorithms::voronoi::{voronoi_on_cpu, VoronoiOptions}, geometry::Frame};
+///
+/// let sites = [DVec2::new(2.0, 2.0), DVec2::new(6.0, 2.0)];
+/// let d = voronoi_on_cpu(&sites, &VoronoiOptions::exact(Frame::pixels(9, 5)?).ties(true))?;
+/// assert_eq!((d.labels[2 * 9 + 3], d.labels[2 * 9 + 5]), (0, 1));
+/// assert_eq!(d.ties[2 * 9 + 4], 2); // pixel (4, 2) is as near to both
+/// # Ok::<(), pixgeo::Error>(())
+/// ```
+pub fn voronoi_on_cpu(sites: &[DVec2], options: &VoronoiOptions) -> Result<VoronoiDiagram> {
+    whole_diagram(options, |sink| voronoi_bands_on_cpu(sites, options, sink))
+}
+
+/// The diagram of `options`' window from the bands `bands` hands over.
+fn whole_diagram(
+    options: &VoronoiOptions,
+    bands: impl FnOnce(&mut dyn FnMut(Band) -> Result<()>) -> Result<VoronoiStats>,
+) -> Result<VoronoiDiagram> {
     let window = options.window_rect()?;
     let pixels = window.width as usize * window.height as usize;
     let each = 4 + 4 * options.distances as u64 + 4 * options.ties as u64;
@@ -266,7 +348,7 @@ pub fn voronoi(
     let mut labels = Vec::new();
     let mut distances = Vec::new();
     let mut ties = Vec::new();
-    let stats = voronoi_bands(machine, sites, options, |band| {
+    let stats = bands(&mut |band| {
         // A picture of one band is handed over without a copy; more bands
         // grow it once to the whole picture, not by doubling.
         if labels.is_empty() {
@@ -331,17 +413,54 @@ pub fn voronoi_bands(
     options: &VoronoiOptions,
     mut sink: impl FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
+    repeats_once(sites, options, &mut sink, &mut |sites, sink| {
+        distinct_bands(machine, sites, options, sink)
+    })
+}
+
+/// [`voronoi_bands`] by [`Method::Grid`] on the CPU alone, with no Vulkan
+/// device (see [`voronoi_on_cpu`]).
+pub fn voronoi_bands_on_cpu(
+    sites: &[DVec2],
+    options: &VoronoiOptions,
+    mut sink: impl FnMut(Band) -> Result<()>,
+) -> Result<VoronoiStats> {
+    if options.method == Method::Cones {
+        return Err(Error::InvalidInput(
+            "cones are drawn on a Vulkan device; on the CPU alone labels are found by the grid"
+                .into(),
+        ));
+    }
+    let options = &options.method(Method::Grid);
+    Method::Grid.check(options)?;
+    repeats_once(sites, options, &mut sink, &mut |sites, sink| {
+        grid_bands(sites, options, "cpu", sink)
+    })
+}
+
+/// A route that hands the bands of the diagram of distinct sites to a sink.
+type DrawBands<'a> =
+    dyn FnMut(&[DVec2], &mut dyn FnMut(Band) -> Result<()>) -> Result<VoronoiStats> + 'a;
+
+/// The bands of the diagram of `sites` from `draw`, which draws the
+/// diagram of distinct sites.
+fn repeats_once(
+    sites: &[DVec2],
+    options: &VoronoiOptions,
+    sink: &mut dyn FnMut(Band) -> Result<()>,
+    draw: &mut DrawBands<'_>,
+) -> Result<VoronoiStats> {
     // Equal sites stand the same cone, and the first of them (the smallest id)
     // wins every pixel any of them would: the others are dropped up front, so
     // repeats cost nothing. Tie counts add the repeats of each position tied
     // (found exactly where more than one is), over the whole picture.
     if options.ties && options.window.is_some() {
-        return distinct_bands(machine, sites, options, &mut sink);
+        return draw(sites, sink);
     }
     check_sites(sites)?;
     let (mut kept, repeats) = distinct_by(sites, 0..sites.len() as u32, |_| ());
     if repeats.is_empty() {
-        return distinct_bands(machine, sites, options, &mut sink);
+        return draw(sites, sink);
     }
     kept.sort_unstable();
     let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
@@ -355,7 +474,7 @@ pub fn voronoi_bands(
         .then(|| Certifier::new(&distinct, &options.frame, options.metric))
         .transpose()?;
     let width = options.frame.width as usize;
-    let mut stats = distinct_bands(machine, &distinct, options, &mut |mut band| {
+    let mut stats = draw(&distinct, &mut |mut band: Band| {
         if let Some(certifier) = &ties {
             for (k, (label, count)) in band.labels.iter().zip(&mut band.ties).enumerate() {
                 if *label == u32::MAX {
@@ -389,6 +508,9 @@ fn distinct_bands(
     options: &VoronoiOptions,
     sink: &mut dyn FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
+    if options.method.resolve(machine, options)? == Method::Grid {
+        return grid_bands(sites, options, machine.device_name(), sink);
+    }
     let window = options.window_rect()?;
     let started = Instant::now();
     // Polygons are drawn as fans in exact mode too, and certified like cones.
@@ -509,6 +631,7 @@ pub(crate) fn draw_point_tiles(
     let frame = options.frame;
     let mut stats = VoronoiStats {
         device: machine.device_name().to_string(),
+        method: "cones".into(),
         sites: sites.len(),
         ..Default::default()
     };

@@ -141,6 +141,10 @@ impl<'a> PointGrid<'a> {
         // onto the grid, which is in that bucket.
         let (cx, cy) = self.cell_of(q);
         let (cx, cy) = (cx as isize, cy as isize);
+        // From outside the grid, every point is as far as the grid's box,
+        // and farther by its distance from q's nearest point of the box.
+        let extent = DVec2::new(self.nx as f64, self.ny as f64) * self.cell;
+        let outside = q.distance_squared(q.clamp(self.origin, self.origin + extent));
         let mut best = (u32::MAX, f64::INFINITY);
         let visit = |best: &mut (u32, f64), x: isize, y: isize| {
             if x < 0 || y < 0 || x >= self.nx as isize || y >= self.ny as isize {
@@ -156,7 +160,7 @@ impl<'a> PointGrid<'a> {
         };
         for r in 0..=self.nx.max(self.ny) as isize {
             let gap = (r - 1).max(0) as f64 * self.cell;
-            if r > 1 && gap * gap > best.1 {
+            if r > 1 && outside + gap * gap > best.1 {
                 break;
             }
             for x in cx - r..=cx + r {

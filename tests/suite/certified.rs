@@ -11,7 +11,7 @@ use pixgeo::{
     algorithms::{
         cpu,
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
-        voronoi::{voronoi, Speedup, VoronoiOptions},
+        voronoi::{voronoi, voronoi_on_cpu, Method, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
     machine::PixelRect,
@@ -145,14 +145,21 @@ fn diagrams_are_exact(
     );
     let what = |route: &str| format!("{name}, {metric}, {route}");
     let base = VoronoiOptions::exact(frame).metric(metric);
+    let cones = base.method(Method::Cones);
     let grown = cpu::k_nearest(sites, &frame, 1, metric).unwrap();
     let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<u32>>();
-    for (route, options) in [
-        ("screen tiles", base),
-        ("cones", base.speedup(Speedup::None)),
-        ("quadtree", base.speedup(Speedup::Quadtree)),
-        ("tiles of 16", base.max_tile(Some(16))),
-    ] {
+    let mut routes = vec![
+        ("screen tiles", cones),
+        ("cones", cones.speedup(Speedup::None)),
+        ("quadtree", cones.speedup(Speedup::Quadtree)),
+        ("tiles of 16", cones.max_tile(Some(16))),
+    ];
+    let mut methods = vec![Method::Cones];
+    if metric == Metric::L2 {
+        routes.push(("grid", base.method(Method::Grid)));
+        methods.push(Method::Grid);
+    }
+    for (route, options) in routes {
         let d = voronoi(m, sites, &options).unwrap_or_else(|e| panic!("{}: {e}", what(route)));
         check(failures, &what(route), &d.labels, &nearest);
         // Distances from the labels: the CPU's, to the bit.
@@ -164,40 +171,54 @@ fn diagrams_are_exact(
             &bits(&grown.distances),
         );
     }
-    let counted = voronoi(m, sites, &base.ties(true)).unwrap();
-    check(
-        failures,
-        &what("tie-counting labels"),
-        &counted.labels,
-        &nearest,
-    );
-    let capped: Vec<u32> = ties.iter().map(|t| (*t).min(255)).collect();
-    check(failures, &what("tie counts"), &counted.ties, &capped);
     let window = PixelRect {
         x: 8,
         y: 16,
         width: 24,
         height: 16,
     };
-    let part = voronoi(m, sites, &base.window(Some(window)).max_tile(Some(8))).unwrap();
-    check(
-        failures,
-        &what("window"),
-        &part.labels,
-        &levels_in(&ranks, 3, 1, &frame, window),
-    );
     let inside = |v: &[f32]| -> Vec<u32> {
         (window.y..window.y + window.height)
             .flat_map(|j| (window.x..window.x + window.width).map(move |i| (i, j)))
             .map(|(i, j)| v[(j * frame.width + i) as usize].to_bits())
             .collect()
     };
-    check(
-        failures,
-        &what("window distances"),
-        &bits(&part.distances),
-        &inside(&grown.distances),
-    );
+    let capped: Vec<u32> = ties.iter().map(|t| (*t).min(255)).collect();
+    for method in methods {
+        let what = |route: &str| what(&format!("{route} by {method:?}"));
+        let base = base.method(method);
+        let counted = voronoi(m, sites, &base.ties(true)).unwrap();
+        check(
+            failures,
+            &what("tie-counting labels"),
+            &counted.labels,
+            &nearest,
+        );
+        check(failures, &what("tie counts"), &counted.ties, &capped);
+        let part = voronoi(m, sites, &base.window(Some(window)).max_tile(Some(8))).unwrap();
+        check(
+            failures,
+            &what("window"),
+            &part.labels,
+            &levels_in(&ranks, 3, 1, &frame, window),
+        );
+        check(
+            failures,
+            &what("window distances"),
+            &bits(&part.distances),
+            &inside(&grown.distances),
+        );
+    }
+    if metric == Metric::L2 {
+        let alone = voronoi_on_cpu(sites, &base.ties(true)).unwrap();
+        check(failures, &what("grid on the cpu"), &alone.labels, &nearest);
+        check(
+            failures,
+            &what("grid's ties on the cpu"),
+            &alone.ties,
+            &capped,
+        );
+    }
     check(failures, &what("cpu"), &grown.labels, &nearest);
     let options = KNearestOptions::exact(frame, 3).metric(metric);
     check(
@@ -243,9 +264,16 @@ fn random_doubles_over_a_large_picture() {
         .map(|_| DVec2::new(rng.gen_range(-0.5..255.5), rng.gen_range(-0.5..255.5)))
         .collect();
     let (ranks, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
-    let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
     let mut failures = Vec::new();
-    check(&mut failures, "random doubles", &d.labels, &ranks);
+    for method in [Method::Cones, Method::Grid] {
+        let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame).method(method)).unwrap();
+        check(
+            &mut failures,
+            &format!("random doubles by {method:?}"),
+            &d.labels,
+            &ranks,
+        );
+    }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
@@ -289,10 +317,15 @@ proptest::proptest! {
         let metric = METRICS[metric];
         let frame = Frame::with_bbox(32, Some(24), [0.0, 0.0, 3.2, 2.4]).unwrap();
         let (ranks, _) = exact_k_nearest(&sites, &frame, metric, 1);
-        let device = voronoi(&m, &sites, &VoronoiOptions::exact(frame).metric(metric)).unwrap();
+        let options = VoronoiOptions::exact(frame).metric(metric);
+        let device = voronoi(&m, &sites, &options.method(Method::Cones)).unwrap();
         let grown = cpu::k_nearest(&sites, &frame, 1, metric).unwrap();
         proptest::prop_assert_eq!(&device.labels, &ranks);
         proptest::prop_assert_eq!(&grown.labels, &ranks);
+        if metric == Metric::L2 {
+            let grid = voronoi_on_cpu(&sites, &options).unwrap();
+            proptest::prop_assert_eq!(&grid.labels, &ranks);
+        }
     }
 }
 
@@ -388,4 +421,54 @@ fn polygon_labels_are_exact_in_every_tile() {
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The grid refuses what it cannot compute, in words, before any work.
+#[test]
+fn the_grid_refuses_bad_input() {
+    let frame = Frame::pixels(16, 16).unwrap();
+    let options = VoronoiOptions::exact(frame);
+    let err = |sites: &[DVec2], options: &VoronoiOptions| {
+        voronoi_on_cpu(sites, options).unwrap_err().to_string()
+    };
+    assert!(err(&[], &options).contains("empty"));
+    assert!(err(&[DVec2::new(f64::NAN, 1.0)], &options).contains("non-finite"));
+    let big = Frame {
+        width: Frame::MAX_SIDE + 1,
+        ..frame
+    };
+    let e = voronoi_on_cpu(&[DVec2::ZERO], &options.frame(big)).unwrap_err();
+    assert!(matches!(e, pixgeo::Error::PictureTooLarge { .. }), "{e}");
+    let l1 = options.metric(Metric::L1);
+    assert!(err(&[DVec2::ZERO], &l1).contains("Euclidean"));
+    let drawn = options.method(Method::Cones);
+    assert!(err(&[DVec2::ZERO], &drawn).contains("Vulkan device"));
+    // Sites whose squared distances overflow doubles are still decided.
+    let far = [DVec2::new(-1.7e308, 2.4e10), DVec2::new(1e308, 5.0)];
+    let d = voronoi_on_cpu(&far, &options).unwrap();
+    assert!(d.labels.iter().all(|&l| l < 2));
+}
+
+/// A site one ulp nearer than another at the corner pixel of a block, the
+/// only pixel where they nearly tie, both far off so that their keys' float
+/// difference is mostly rounding: a block is not given to one site unless
+/// its margin holds at every pixel.
+#[test]
+fn a_near_tie_at_a_blocks_corner_is_decided_exactly() {
+    let frame = Frame::pixels(4, 4).unwrap();
+    let mut wrong_in_floats = 0;
+    for far in [123456.789, 2345678.91, 34567891.23, 98765432.1, 3.456789e9] {
+        // Mirrored about pixel (0, 0), whose bisector crosses no other pixel.
+        let owner = DVec2::new(far, far);
+        let nearer = DVec2::new(ulps(-far, 1), -far);
+        let sites = [owner, nearer];
+        let (ranks, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
+        assert_eq!(ranks[0], 1, "{far}");
+        let d = voronoi_on_cpu(&sites, &VoronoiOptions::exact(frame)).unwrap();
+        assert_eq!(d.labels, ranks, "{far}");
+        let key = |s: DVec2| s.length_squared();
+        wrong_in_floats += usize::from(key(nearer) >= key(owner));
+    }
+    // Doubles alone name the wrong site here.
+    assert!(wrong_in_floats > 0);
 }

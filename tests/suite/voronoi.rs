@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions},
+    algorithms::voronoi::{voronoi, Accuracy, Method, Speedup, VoronoiDiagram, VoronoiOptions},
     geometry::{metric::Metric, Frame},
     machine::{MachineOptions, PixelRect},
     testing::bisector_deviation,
@@ -15,6 +15,12 @@ use crate::common::{cases, machine, uniform};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+/// This file's diagrams are the cones' (the grid's are checked in
+/// `certified.rs`), whatever the device.
+fn cones(frame: Frame) -> VoronoiOptions {
+    VoronoiOptions::exact(frame).method(Method::Cones)
+}
+
 const SPEEDUPS: [Speedup; 3] = [Speedup::None, Speedup::Quadtree, Speedup::Local];
 
 fn run(
@@ -24,14 +30,8 @@ fn run(
     accuracy: Accuracy,
     speedup: Speedup,
 ) -> VoronoiDiagram {
-    voronoi(
-        m,
-        sites,
-        &VoronoiOptions::exact(frame)
-            .accuracy(accuracy)
-            .speedup(speedup),
-    )
-    .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
+    voronoi(m, sites, &cones(frame).accuracy(accuracy).speedup(speedup))
+        .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
 }
 
 /// Exact mode: every pixel's site is at the minimum distance (ties either way), and
@@ -150,7 +150,7 @@ fn screen_tiles_and_their_fallback_match_the_definition() {
     }));
     for metric in [Metric::L2, Metric::LInf, Metric::Lp(3.0), Metric::Lp(0.7)] {
         for (sites, drawn) in [(&spread, "tiles"), (&piled, "polygon")] {
-            let options = VoronoiOptions::exact(frame).metric(metric);
+            let options = cones(frame).metric(metric);
             let d = voronoi(&m, sites, &options).unwrap();
             let kinds: Vec<&str> = d.stats.groups.iter().map(|g| g.kind).collect();
             assert_eq!(kinds, [drawn], "{metric}: how the cones were drawn");
@@ -274,7 +274,7 @@ fn bounding_box_maps_world_to_pixels() {
 fn bad_input_is_a_clear_error() {
     let m = machine();
     let frame = Frame::pixels(16, 16).unwrap();
-    let opts = VoronoiOptions::exact(frame);
+    let opts = cones(frame);
     let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
     assert!(err(&[]).contains("empty"));
     assert!(err(&[DVec2::new(f64::NAN, 1.0)]).contains("non-finite"));
@@ -326,7 +326,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
     ];
     for (speedup, metric) in runs {
         let options = |max_tile| {
-            VoronoiOptions::exact(frame)
+            cones(frame)
                 .metric(metric)
                 .speedup(speedup)
                 .max_tile(max_tile)
@@ -359,9 +359,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         }
     }
     // Fan cones are bounded the same way in every tile.
-    let fan = VoronoiOptions::exact(frame)
-        .accuracy(Accuracy::FAN)
-        .max_tile(Some(50));
+    let fan = cones(frame).accuracy(Accuracy::FAN).max_tile(Some(50));
     let d = voronoi(&m, &sites, &fan).unwrap();
     assert_fan(&d, &sites, &frame, 1.0, None, "fan tiles");
 }
@@ -388,7 +386,7 @@ fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
     ];
     for (speedup, metric, accuracy, ties) in runs {
         let options = |window| {
-            VoronoiOptions::exact(frame)
+            cones(frame)
                 .metric(metric)
                 .accuracy(accuracy)
                 .speedup(speedup)
@@ -465,7 +463,7 @@ fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
             width: bad.2,
             height: bad.3,
         };
-        let options = VoronoiOptions::exact(frame).window(Some(window));
+        let options = cones(frame).window(Some(window));
         let err = voronoi(&m, &sites, &options).unwrap_err();
         assert!(
             err.to_string().contains("inside the 150x110 picture"),
@@ -482,7 +480,7 @@ fn pictures_wider_than_the_device_are_tiled() {
     let sites: Vec<DVec2> = (0..40)
         .map(|k| DVec2::new(k as f64 * w as f64 / 40.0 + 7.3, (k % 3) as f64))
         .collect();
-    let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    let d = voronoi(&m, &sites, &cones(frame)).unwrap();
     assert_eq!(d.stats.tiles, 2);
     assert_exact(&d, &sites, &frame, "wide");
 }
@@ -509,12 +507,8 @@ fn other_metrics_match_their_definition() {
         for (name, sites) in cases(61, 47) {
             let truth = nearest_distances_metric(&sites, &frame, metric);
             for speedup in SPEEDUPS {
-                let d = voronoi(
-                    &m,
-                    &sites,
-                    &VoronoiOptions::exact(frame).metric(metric).speedup(speedup),
-                )
-                .unwrap_or_else(|e| panic!("{metric} {name} {speedup:?}: {e}"));
+                let d = voronoi(&m, &sites, &cones(frame).metric(metric).speedup(speedup))
+                    .unwrap_or_else(|e| panic!("{metric} {name} {speedup:?}: {e}"));
                 for (k, &label) in d.labels.iter().enumerate() {
                     let q = DVec2::new((k % 61) as f64, (k / 61) as f64);
                     assert_ne!(
@@ -558,9 +552,7 @@ fn fans_of_other_metrics_stay_inside_their_bounds() {
     ];
     // No ε bounds a fan of a ball that is not convex: refused.
     for p in [0.5, 0.1] {
-        let fan = VoronoiOptions::exact(frame)
-            .metric(Metric::Lp(p))
-            .accuracy(Accuracy::FAN);
+        let fan = cones(frame).metric(Metric::Lp(p)).accuracy(Accuracy::FAN);
         let refused = voronoi(&m, &[DVec2::new(30.0, 20.0)], &fan).unwrap_err();
         assert!(refused.to_string().contains("not convex"), "{refused}");
     }
@@ -601,7 +593,7 @@ fn fans_of_other_metrics_stay_inside_their_bounds() {
                 let d = voronoi(
                     &m,
                     &sites,
-                    &VoronoiOptions::exact(frame)
+                    &cones(frame)
                         .metric(metric)
                         .accuracy(accuracy)
                         .speedup(speedup),
@@ -669,10 +661,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
             let d = voronoi(
                 &m,
                 sites,
-                &VoronoiOptions::exact(frame)
-                    .metric(metric)
-                    .ties(true)
-                    .max_tile(Some(20)),
+                &cones(frame).metric(metric).ties(true).max_tile(Some(20)),
             )
             .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
             let mut tied = 0;
@@ -687,7 +676,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
             assert!(tied > 0, "{metric} {name}: no ties to count");
             // Without the count, the smallest index of the tied sites wins,
             // whatever order a screen tile lists them in.
-            let d = voronoi(&m, sites, &VoronoiOptions::exact(frame).metric(metric))
+            let d = voronoi(&m, sites, &cones(frame).metric(metric))
                 .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
             for (k, &label) in d.labels.iter().enumerate() {
                 let q = p((k % 48) as f64, (k / 48) as f64);
@@ -699,9 +688,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
         }
     }
     // Fans have no exact ties to count.
-    let fan = VoronoiOptions::exact(frame)
-        .ties(true)
-        .accuracy(Accuracy::FAN);
+    let fan = cones(frame).ties(true).accuracy(Accuracy::FAN);
     assert!(voronoi(&m, &[DVec2::ZERO], &fan).is_err());
 }
 
@@ -714,7 +701,7 @@ fn repeated_sites_cost_nothing_and_the_first_wins() {
     let mut rng = ChaCha8Rng::seed_from_u64(8);
     let distinct = uniform(&mut rng, 25, 64.0, 48.0);
     let sites: Vec<DVec2> = (0..4000).map(|k| distinct[(k * 7 + k / 13) % 25]).collect();
-    let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    let d = voronoi(&m, &sites, &cones(frame)).unwrap();
     assert_eq!(d.stats.sites, 4000);
     let truth = nearest_distances_metric(&sites, &frame, Metric::L2);
     for (k, &label) in d.labels.iter().enumerate() {
@@ -731,7 +718,7 @@ fn repeated_sites_cost_nothing_and_the_first_wins() {
         .collect();
     let sites: Vec<DVec2> = (0..6000).map(|k| lattice[(k * 5 + k / 7) % 12]).collect();
     for metric in [Metric::L1, Metric::L2] {
-        let options = VoronoiOptions::exact(frame).metric(metric).ties(true);
+        let options = cones(frame).metric(metric).ties(true);
         let d = voronoi(&m, &sites, &options).unwrap();
         for (k, &count) in d.ties.iter().enumerate() {
             let q = DVec2::new((k % 64) as f64, (k / 64) as f64);
@@ -750,9 +737,13 @@ fn sites_beyond_float32_are_refused_on_the_device() {
     let m = machine();
     let frame = Frame::pixels(64, 64).unwrap();
     let far = [DVec2::new(-1e8, 5.0), DVec2::new(1e8, 30.0)];
-    let e = voronoi(&m, &far, &VoronoiOptions::exact(frame)).unwrap_err();
+    let e = voronoi(&m, &far, &cones(frame)).unwrap_err();
     assert!(e.to_string().contains("--device cpu"), "{e}");
     let d = pixgeo::algorithms::cpu::k_nearest(&far, &frame, 1, Metric::L2).unwrap();
+    // The grid works in doubles and answers the same.
+    let grid = VoronoiOptions::exact(frame).method(Method::Grid);
+    let searched = voronoi(&m, &far, &grid).unwrap();
+    assert_eq!(searched.labels, d.labels);
     // At x = 0 the first site is nearer exactly where y < 17.5.
     for j in 0..64 {
         assert_eq!(d.labels[j * 64], u32::from(j >= 18), "row {j}");
@@ -771,7 +762,7 @@ fn far_sites_under_quadtree_fans_answer_or_are_refused() {
         DVec2::new(1e15, -1e15),
         DVec2::new(-1e300, 1e300),
     ];
-    let options = VoronoiOptions::exact(frame)
+    let options = cones(frame)
         .accuracy(Accuracy::FAN)
         .speedup(Speedup::Quadtree);
     match voronoi(&m, &sites, &options) {
@@ -791,12 +782,7 @@ fn pipelines_are_kept_between_machines_and_a_broken_cache_file_is_ignored() {
         DVec2::new(11.0, 25.0),
     ];
     let diagram = |machine: &Machine| {
-        voronoi(
-            machine,
-            &sites,
-            &VoronoiOptions::exact(Frame::pixels(32, 32).unwrap()),
-        )
-        .unwrap()
+        voronoi(machine, &sites, &cones(Frame::pixels(32, 32).unwrap())).unwrap()
     };
     let cache_file = || {
         let files: Vec<_> = std::fs::read_dir(&folder).unwrap().flatten().collect();

@@ -36,7 +36,10 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
         (args.furthest, "--furthest"),
         (args.window.is_some(), "--window"),
         (args.contours.is_some(), "--contours"),
-        (args.method != Method::Cones, "--method"),
+        (
+            !matches!(args.method, Method::Auto | Method::Cones),
+            "--method",
+        ),
         (args.mode != Accuracy::Exact, "--mode"),
         (args.png().is_none() && args.output.is_some(), "-o *.svg"),
     ];

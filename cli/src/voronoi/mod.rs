@@ -16,7 +16,10 @@ use pixgeo::{
         cpu,
         higher_order::{self, KNearestOptions},
         sites::voronoi_sites,
-        voronoi::{voronoi_bands, Accuracy, Speedup, VoronoiDiagram, VoronoiOptions, VoronoiStats},
+        voronoi::{
+            voronoi_bands, voronoi_bands_on_cpu, Accuracy, Band, Method as LabelMethod, Speedup,
+            VoronoiDiagram, VoronoiOptions, VoronoiStats,
+        },
     },
     geometry::{
         metric::Metric,
@@ -214,12 +217,15 @@ pub struct Args {
     #[arg(long)]
     peel: bool,
 
-    /// How the label map is made: `cones` (the lower envelope, the default),
+    /// How the label map is made: `auto` (the default: `grid` for exact
+    /// Euclidean diagrams without a GPU, `cones` otherwise), `cones` (the
+    /// lower envelope drawn on the device), `grid` (a search of a grid of the
+    /// sites on the CPU, proven like the cones: the same labels bit for bit),
     /// `flood` (the digital Voronoi diagram by flooding of Cao, Edelsbrunner
     /// and Tan: every region connected, the dual a triangulation) or `jfa`
     /// (jump flooding: fast, a few pixels wrong). `flood` and `jfa` work on the
     /// sites' pixels, which must be distinct and inside the picture.
-    #[arg(long, value_enum, default_value = "cones")]
+    #[arg(long, value_enum, default_value = "auto")]
     method: Method,
 
     /// `power`: the sites carry power weights `w` (the CSV column `w`, the
@@ -248,9 +254,28 @@ fn parse_metric_choice(text: &str) -> Result<MetricChoice, String> {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum Method {
+    Auto,
     Cones,
+    Grid,
     Flood,
     Jfa,
+}
+
+impl Method {
+    /// Whether the diagram is the lower envelope of the sites' distances
+    /// (drawn, or found by the grid), not flooded from their pixels.
+    fn is_envelope(self) -> bool {
+        !matches!(self, Method::Flood | Method::Jfa)
+    }
+
+    /// The library's way to an ordinary diagram's labels.
+    fn labels(self) -> LabelMethod {
+        match self {
+            Method::Cones => LabelMethod::Cones,
+            Method::Grid => LabelMethod::Grid,
+            _ => LabelMethod::Auto,
+        }
+    }
 }
 
 fn parse_window(s: &str) -> Result<PixelRect, String> {
@@ -347,7 +372,7 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         })
         .collect();
     let (accuracy, speedup) = (args.accuracy(), args.speedup());
-    if args.method != Method::Cones {
+    if !args.method.is_envelope() {
         return seed_pixels(args, &sites, world);
     }
     let kind = match (args.degree, args.order, args.furthest) {
@@ -356,15 +381,25 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         (_, _, true) => Kind::Furthest,
         _ => Kind::Ordinary,
     };
-    // Ordinary diagrams of points come out bit for bit the same from both;
-    // their exact vector cells come from the device's path.
+    if args.method == Method::Grid && kind != Kind::Ordinary {
+        bail!("--method grid finds the labels of ordinary diagrams; drop --degree, --order and --furthest");
+    }
+    // Ordinary diagrams of points come out bit for bit the same from every
+    // route; their exact vector cells come from the device's path. Without
+    // a GPU, exact Euclidean labels take the grid at any size, and other
+    // diagrams the CPU's pixel algorithms on small pictures.
     let vectors = args.vectors();
+    let grid_alone = kind == Kind::Ordinary
+        && !vectors.any()
+        && args.metric == Metric::L2
+        && accuracy == Accuracy::Exact
+        && args.method != Method::Cones;
     let small = kind == Kind::Ordinary
         && args.window.is_none()
-        && vectors.geojson.is_none()
-        && vectors.svg.is_none()
+        && !vectors.any()
+        && args.method == Method::Auto
         && frame.width as u64 * frame.height as u64 <= crate::device::CPU_FASTER_PIXELS;
-    let backend = args.backend(small)?;
+    let backend = args.backend(small || grid_alone)?;
     if let Kind::Degree(k) | Kind::Order(k) = kind {
         // Sites at one place are one site to a pixel's nearest.
         let distinct: std::collections::HashSet<[u64; 2]> = sites
@@ -384,10 +419,12 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         }
     }
     let machine = match &backend {
-        Backend::Gpu(machine) if kind == Kind::Ordinary => machine,
+        Backend::Gpu(machine) if kind == Kind::Ordinary => Some(&**machine),
+        Backend::Cpu if grid_alone => None,
         _ => return whole_picture(args, &backend, &sites, world, accuracy, speedup, kind),
     };
     let options = VoronoiOptions::exact(frame)
+        .method(args.method.labels())
         .metric(args.metric)
         .accuracy(accuracy)
         .speedup(speedup)
@@ -428,7 +465,7 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
     let contour_step = args.contours.map(|s| s as f32);
     // A tiled picture shows its progress, band by band.
     let progress = Progress::new("voronoi: rows of tiles", args.json);
-    let stats = voronoi_bands(machine, &sites, &options, |band| {
+    let mut sink = |band: Band| {
         progress.report(
             (band.y0 + band.height - window.y) as u64,
             window.height as u64,
@@ -464,23 +501,31 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
             out.write(&rgb)?;
         }
         Ok(())
-    })?;
+    };
+    let stats = match machine {
+        Some(machine) => voronoi_bands(machine, &sites, &options, &mut sink)?,
+        None => voronoi_bands_on_cpu(&sites, &options, &mut sink)?,
+    };
     drop(progress);
     labels.map(RasterStream::finish).transpose()?;
     distances.map(RasterStream::finish).transpose()?;
     ties.map(RasterStream::finish).transpose()?;
     png.map(PngStream::finish).transpose()?;
-    let source = match traced {
-        true => cells::Source::Traced {
+    let source = match (traced, machine) {
+        (true, _) => Some(cells::Source::Traced {
             labels: &all_labels,
             describe: &cells::site,
-        },
-        false => cells::Source::Exact {
+        }),
+        (false, Some(machine)) => Some(cells::Source::Exact {
             machine,
             sites: &sites,
-        },
+        }),
+        // No cells were asked for.
+        (false, None) => None,
     };
-    cells::write(args.vectors(), world, source, &sites)?;
+    if let Some(source) = source {
+        cells::write(args.vectors(), world, source, &sites)?;
+    }
 
     let s = &stats;
     if args.json {
@@ -490,7 +535,17 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
             "speedup": speedup,
             "stats": s,
         });
-        envelope::print_world("voronoi", machine.device_name(), world, &summary)?;
+        envelope::print_world("voronoi", &s.device, world, &summary)?;
+    } else if s.method == "grid" {
+        note!(
+            "{} sites, {}x{} pixels by a grid search on the CPU: {:.1} ms searching, {} label(s) \
+             mended by the exact check",
+            s.sites,
+            frame.width,
+            frame.height,
+            s.render_ms,
+            s.mended
+        );
     } else {
         note!(
             "{} sites, {}x{} pixels on {}: {} cone(s), {} tile(s), {} pass(es), radius \

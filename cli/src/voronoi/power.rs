@@ -32,7 +32,10 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
         (args.furthest, "--furthest"),
         (args.contours.is_some(), "--contours"),
         (args.metric_choice.is_some(), "--metric"),
-        (args.method != Method::Cones, "--method"),
+        (
+            !matches!(args.method, Method::Auto | Method::Cones),
+            "--method",
+        ),
         (args.mode != Accuracy::Exact, "--mode"),
     ];
     if let Some((_, flag)) = other.iter().find(|(given, _)| *given) {

@@ -10,8 +10,8 @@ pub(super) fn general_sites(args: &Args, sites: &[Site], world: &World) -> Resul
     if args.degree.is_some() || args.order.is_some() || args.furthest || args.peel {
         bail!("--degree, --order, --furthest and --peel take unweighted points; these sites have weights or shapes");
     }
-    if args.method != Method::Cones {
-        bail!("--method flood and jfa flood from unweighted points' pixels; these sites have weights or shapes (use --method cones)");
+    if !matches!(args.method, Method::Auto | Method::Cones) {
+        bail!("--method grid, flood and jfa take unweighted points; these sites have weights or shapes (use --method cones)");
     }
     let backend = args.backend(false)?;
     let options = VoronoiOptions::exact(frame)

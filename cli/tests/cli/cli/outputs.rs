@@ -211,6 +211,8 @@ fn trace_holds_the_host_phases_and_the_device_passes() {
         "voronoi",
         "--device",
         "lavapipe",
+        "--method",
+        "cones",
         "--random",
         "50",
         "--size",

@@ -210,7 +210,8 @@ fn a_signal_removes_every_temporary_file() {
         let dir = folder(&format!("signal-{signal}"), &names);
         let child = std::process::Command::new(env!("CARGO_BIN_EXE_pixgeo"))
             .args([
-                "voronoi", "--random", "3000", "--size", "6000", "--device", "cpu",
+                "voronoi", "--random", "3000", "--size", "6000", "--device", "cpu", "--metric",
+                "l1",
             ])
             .arg("--labels")
             .arg(dir.join("l.npy"))

@@ -172,8 +172,27 @@ fn voronoi_windows_tile_into_the_whole_picture() {
         ]);
         assert!(!ok && stderr.contains(message), "{window}: {stderr}");
     }
+    // Without Vulkan, the grid gives the same window.
+    let out = temp("w-cpu.npy");
+    let (ok, _, stderr) = pixgeo(&[
+        "voronoi",
+        "--sites",
+        s,
+        "--size",
+        "64x48",
+        "--window",
+        "0,0,25,48",
+        "--device",
+        "cpu",
+        "--labels",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (_, cpu): (Vec<u64>, Vec<u32>) = npy::read(&out).unwrap();
+    assert_eq!(cpu, halves[0].1);
     let (ok, _, stderr) = pixgeo(&[
         "voronoi", "--sites", s, "--size", "64x48", "--window", "0,0,8,8", "--device", "cpu",
+        "--metric", "l1",
     ]);
     assert!(!ok && stderr.contains("--window takes"), "{stderr}");
 }
