@@ -388,8 +388,8 @@ def threads_line():
     cores = os.cpu_count()
     opencv = f"OpenCV {cv2.getNumThreads()} threads" if cv2 is not None else "OpenCV absent"
     print(f"pixgeo: device {os.environ.get('PIXGEO_DEVICE', 'auto')} (lavapipe without a GPU, "
-          f"LP_NUM_THREADS={os.environ.get('LP_NUM_THREADS', 'one per core')}), CPU steps on "
-          f"{cores} threads; cKDTree 2 workers; SciPy's ndimage, griddata, directed_hausdorff and "
+          f"LP_NUM_THREADS={os.environ.get('LP_NUM_THREADS', 'one per core')}; exact labels by "
+          f"the grid on the CPU there, without Vulkan), CPU steps on {cores} threads; cKDTree 2 workers; SciPy's ndimage, griddata, directed_hausdorff and "
           f"MetPy 1 thread; {opencv}; {cores} cores.\n")
 
 

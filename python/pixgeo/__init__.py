@@ -18,6 +18,7 @@ device ``DeviceError`` and a bug of pixgeo's ``InternalError``, all three
 from __future__ import annotations
 
 import operator
+import sys
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
 
@@ -274,13 +275,18 @@ class Circle:
 
 def _unmasked(a, name: str):
     """``a``, refused where it is a masked array with masked values: asarray
-    would read the values under the mask as if they were data."""
-    if isinstance(a, np.ma.MaskedArray) and np.ma.is_masked(a):
+    would read the values under the mask as if they were data. A masked
+    array's module is loaded by whoever made it; NumPy loads it lazily, and
+    loading it here would cost a first call more than the call itself."""
+    ma = sys.modules.get("numpy.ma")
+    if ma is None or not isinstance(a, ma.MaskedArray):
+        return a
+    if ma.is_masked(a):
         raise ValueError(
-            f"{name}: a masked array with {np.ma.count_masked(a)} masked value(s); "
+            f"{name}: a masked array with {ma.count_masked(a)} masked value(s); "
             "fill or compress it first (a.filled(...) or a.compressed())"
         )
-    return np.ma.getdata(a) if isinstance(a, np.ma.MaskedArray) else a
+    return ma.getdata(a)
 
 
 def _count(v, name: str) -> int:
