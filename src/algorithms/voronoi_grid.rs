@@ -170,8 +170,10 @@ impl Lists {
         // Where sites are dense, quarters of the block take shorter lists,
         // drawn from the block's, which holds every site that can be nearest
         // to one of their pixels, and the site nearest their centres too.
+        // A block split in quarters only hands its sites on.
         let dense = self.block.len() > PART_FROM;
         if !dense {
+            order(&mut self.block, first, last);
             if let Some(owner) = sole_owner(apart, &self.block, 0, first, last) {
                 return fill(labels, [0, 0], size, owner);
             }
@@ -187,6 +189,7 @@ impl Lists {
                     let nearest = self.block.iter().map(nearest).fold(f64::INFINITY, f64::min);
                     let within = self.block.iter().map(|c| (c.at, c.id));
                     gather(within, first, last, nearest.sqrt(), error, &mut self.part);
+                    order(&mut self.part, first, last);
                     (&self.part, 0)
                 } else {
                     let keys = self.block.iter().map(nearest).enumerate();
@@ -269,7 +272,8 @@ fn gather_reach(first: DVec2, last: DVec2, nearest: f64, error: f64) -> f64 {
 
 /// Into `out`, the candidates of the block of pixels from `first` to `last`
 /// among `sites` (every site that can be nearest to one of its pixels, and
-/// the site nearest its centre, `nearest` from it), nearest the centre first.
+/// the site nearest its centre, `nearest` from it), unordered, each `bound`
+/// its squared distance from the centre until [`order`].
 fn gather(
     sites: impl Iterator<Item = (DVec2, u32)>,
     first: DVec2,
@@ -279,7 +283,6 @@ fn gather(
     out: &mut Vec<Candidate>,
 ) {
     let centre = (first + last) / 2.0;
-    let half_diagonal = first.distance(last) / 2.0;
     let reach = gather_reach(first, last, nearest, error);
     let within = reach * reach;
     out.clear();
@@ -293,9 +296,16 @@ fn gather(
             });
         }
     }
+}
+
+/// Orders the candidates [`gather`] left, nearest the centre of the block
+/// from `first` to `last` first, each with a lower bound of its key over
+/// the block.
+fn order(list: &mut [Candidate], first: DVec2, last: DVec2) {
+    let half_diagonal = first.distance(last) / 2.0;
     // Non-negative doubles order as their bits do.
-    out.sort_unstable_by_key(|c| c.bound.to_bits());
-    for c in out.iter_mut() {
+    list.sort_unstable_by_key(|c| c.bound.to_bits());
+    for c in list.iter_mut() {
         let gap = ((c.bound.sqrt() - half_diagonal) * (1.0 - SLACK) - 1e-9).max(0.0);
         c.bound = gap * gap;
     }
@@ -396,6 +406,7 @@ mod tests {
                 let sites = [(owner, 0), (other, 1)];
                 let nearest = owner.distance((first + last) / 2.0);
                 gather(sites.into_iter(), first, last, nearest, 0.0, &mut list);
+                order(&mut list, first, last);
                 let corner = DVec2::ZERO;
                 if exact_key(corner, other) > exact_key(corner, owner) {
                     continue;
