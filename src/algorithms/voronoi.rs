@@ -19,7 +19,9 @@
 //!
 //! The cones are sized, shaped and drawn by the envelope module
 //! (`algorithms/envelope/`); this file is the diagram's pass script and its
-//! readback.
+//! readback. On a software rasterizer exact Euclidean labels are searched
+//! for on the CPU instead ([`Method::Grid`], `voronoi_grid.rs`), with the
+//! same answer.
 
 use super::ms;
 use std::time::Instant;
@@ -78,8 +80,6 @@ pub struct VoronoiOptions {
 /// How an exact diagram's labels are found; every way gives the same labels,
 /// distances and ties, bit for bit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Method {
     /// [`Method::Grid`] for Euclidean exact diagrams on a software rasterizer,
     /// where it is faster; [`Method::Cones`] otherwise.
