@@ -366,10 +366,7 @@ fn voronoi<'py>(
     });
     // Without a GPU, the grid needs no Vulkan device, whose start would
     // cost more than the diagram.
-    let grid = options.metric == Metric::L2
-        && options.accuracy == Accuracy::Exact
-        && options.method != VoronoiMethod::Cones;
-    let d = if grid && cpu_alone(device) {
+    let d = if options.on_cpu_alone() && cpu_alone(device) {
         on_cpu(py, || diagram::voronoi_on_cpu(&sites, &options))?
     } else {
         on_machine(py, device, |m| diagram::voronoi(m, &sites, &options))?

@@ -93,14 +93,9 @@ pub enum Method {
 }
 
 impl Method {
-    /// Whether the grid finds the labels `options` ask for.
-    fn grid_fits(options: &VoronoiOptions) -> bool {
-        options.metric == Metric::L2 && options.accuracy == Accuracy::Exact
-    }
-
     /// Refuses options this method cannot compute.
     fn check(self, options: &VoronoiOptions) -> Result<()> {
-        if self == Method::Grid && !Self::grid_fits(options) {
+        if self == Method::Grid && !options.grid_fits() {
             return Err(Error::InvalidInput(
                 "the grid method finds exact Euclidean labels; other metrics and fan mode \
                  take the cones"
@@ -115,7 +110,7 @@ impl Method {
         self.check(options)?;
         let software = machine.device_class() == DeviceClass::Software;
         Ok(match self {
-            Method::Auto if software && Self::grid_fits(options) => Method::Grid,
+            Method::Auto if software && options.grid_fits() => Method::Grid,
             Method::Auto => Method::Cones,
             method => method,
         })
@@ -172,6 +167,18 @@ impl VoronoiOptions {
 
     pub fn method(self, method: Method) -> Self {
         Self { method, ..self }
+    }
+
+    /// Whether [`Method::Grid`] finds the labels these options ask for:
+    /// exact and Euclidean.
+    pub fn grid_fits(&self) -> bool {
+        self.metric == Metric::L2 && self.accuracy == Accuracy::Exact
+    }
+
+    /// Whether these options' labels can be found without a Vulkan device
+    /// ([`voronoi_on_cpu`]): the grid fits, and the cones are not asked for.
+    pub fn on_cpu_alone(&self) -> bool {
+        self.grid_fits() && self.method != Method::Cones
     }
 
     /// The window's pixels in the frame: the whole frame without one; an error

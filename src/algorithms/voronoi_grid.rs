@@ -92,16 +92,19 @@ pub(crate) fn grid_bands(
         labels
             .par_chunks_mut(width * BLOCK as usize)
             .enumerate()
-            .try_for_each_init(Lists::default, |lists, (row, labels)| {
-                watch.check()?;
-                let y = y0 + row as u32 * BLOCK;
-                for x in (0..window.width).step_by(BLOCK as usize) {
-                    let corner = [window.x + x, y];
-                    let size = [BLOCK.min(window.width - x), (labels.len() / width) as u32];
-                    lists.block(&certifier, corner, size, &mut labels[x as usize..], width);
-                }
-                Ok::<_, crate::Error>(())
-            })?;
+            .try_for_each_init(
+                || Lists::new(&certifier),
+                |lists, (row, labels)| {
+                    watch.check()?;
+                    let y = y0 + row as u32 * BLOCK;
+                    for x in (0..window.width).step_by(BLOCK as usize) {
+                        let corner = [window.x + x, y];
+                        let size = [BLOCK.min(window.width - x), (labels.len() / width) as u32];
+                        lists.block(&certifier, corner, size, &mut labels[x as usize..], width);
+                    }
+                    Ok::<_, crate::Error>(())
+                },
+            )?;
         stats.render_ms += ms(started);
         let started = std::time::Instant::now();
         let mut ties = if options.ties {
@@ -128,14 +131,22 @@ pub(crate) fn grid_bands(
     Ok(stats)
 }
 
-/// Candidate lists reused from block to block.
-#[derive(Default)]
+/// Candidate lists reused from block to block, and the keys' error bound.
 struct Lists {
+    apart: Apart,
     block: Vec<Candidate>,
     part: Vec<Candidate>,
 }
 
 impl Lists {
+    fn new(certifier: &Certifier<'_>) -> Self {
+        Self {
+            apart: Apart::new(certifier.largest_error()),
+            block: Vec::new(),
+            part: Vec::new(),
+        }
+    }
+
     /// Labels the block of `size` pixels whose first is the frame's pixel
     /// `corner`, into `labels` (its first pixel first, rows `stride` apart).
     fn block(
@@ -147,11 +158,11 @@ impl Lists {
         stride: usize,
     ) {
         let (places, grid) = (certifier.places(), certifier.grid());
-        let error = certifier.largest_error();
-        let apart = Apart::new(error);
+        let (error, apart) = (certifier.largest_error(), self.apart);
         let first = DVec2::new(corner[0] as f64, corner[1] as f64);
         let last = first + DVec2::new(size[0] as f64 - 1.0, size[1] as f64 - 1.0);
-        let Some((_, nearest)) = grid.nearest((first + last) / 2.0) else {
+        let centre = (first + last) / 2.0;
+        let Some((_, nearest)) = grid.nearest(centre) else {
             for j in 0..size[1] as usize {
                 labels[j * stride..][..size[0] as usize].fill(u32::MAX);
             }
@@ -159,7 +170,7 @@ impl Lists {
         };
         let reach = gather_reach(first, last, nearest, error);
         let around = grid
-            .around((first + last) / 2.0, reach)
+            .around(centre, reach)
             .map(|id| (places[id as usize], id));
         gather(around, first, last, nearest, error, &mut self.block);
         let fill = |labels: &mut [u32], [dx, dy]: [u32; 2], [w, h]: [u32; 2], label: u32| {

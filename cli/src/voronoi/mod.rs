@@ -389,11 +389,16 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
     // a GPU, exact Euclidean labels take the grid at any size, and other
     // diagrams the CPU's pixel algorithms on small pictures.
     let vectors = args.vectors();
-    let grid_alone = kind == Kind::Ordinary
-        && !vectors.any()
-        && args.metric == Metric::L2
-        && accuracy == Accuracy::Exact
-        && args.method != Method::Cones;
+    let options = VoronoiOptions::exact(frame)
+        .method(args.method.labels())
+        .metric(args.metric)
+        .accuracy(accuracy)
+        .speedup(speedup)
+        .distances(args.distance.is_some() || args.contours.is_some())
+        .ties(args.ties.is_some())
+        .max_tile(args.max_tile)
+        .window(args.window);
+    let grid_alone = kind == Kind::Ordinary && !vectors.any() && options.on_cpu_alone();
     let small = kind == Kind::Ordinary
         && args.window.is_none()
         && !vectors.any()
@@ -423,15 +428,6 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         Backend::Cpu if grid_alone => None,
         _ => return whole_picture(args, &backend, &sites, world, accuracy, speedup, kind),
     };
-    let options = VoronoiOptions::exact(frame)
-        .method(args.method.labels())
-        .metric(args.metric)
-        .accuracy(accuracy)
-        .speedup(speedup)
-        .distances(args.distance.is_some() || args.contours.is_some())
-        .ties(args.ties.is_some())
-        .max_tile(args.max_tile)
-        .window(args.window);
     let window = options.window_rect()?;
 
     // Outputs are streamed band by band as the tiles come in.
