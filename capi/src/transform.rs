@@ -1,7 +1,7 @@
 //! Distance and feature transforms of a raster.
 
 use super::*;
-use pixgeo::algorithms::transform::{distance_transform, TransformOptions};
+use pixgeo::algorithms::transform::{distance_transform, distances_only, TransformOptions};
 
 /// The distance and feature transform of a `width` x `height` raster (the
 /// picture size of `options`): `mask` holds `width * height` bytes, row-major,
@@ -47,6 +47,14 @@ pub unsafe extern "C" fn pixgeo_distance_transform(
             unsafe { [*sampling, *sampling.add(1)] }
         };
         let options = TransformOptions::new().metric(metric).sampling(sampling);
+        // Without the feature planes, their time and memory are saved.
+        if feature_rows.is_null() && feature_columns.is_null() {
+            let d = distances_only(&features, o.width, o.height, &options).map_err(failed)?;
+            // SAFETY: a non-null output has room for `width * height` values
+            // (caller contract).
+            unsafe { copy_out(distances, &d) };
+            return Ok(());
+        }
         let t = distance_transform(&features, o.width, o.height, &options).map_err(failed)?;
         // SAFETY: each non-null output has room for `width * height` values
         // (caller contract).

@@ -3,6 +3,7 @@
 //! pixgeo checks the values. The GIL is released while pixgeo works.
 
 use std::{
+    borrow::Cow,
     sync::{
         atomic::{AtomicBool, Ordering},
         mpsc::RecvTimeoutError,
@@ -30,8 +31,8 @@ use pixgeo::{
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
         transform::{
-            distance_transform as transform_of, medial_axis as axis_of, Pruning, Transform,
-            TransformOptions,
+            distance_transform as transform_of, distances_only, medial_axis as axis_of, Pruning,
+            Transform, TransformOptions,
         },
         voronoi::{self as diagram, Accuracy, Method as VoronoiMethod, VoronoiOptions},
     },
@@ -259,6 +260,31 @@ type Triangulation<'py> = (Bound<'py, PyArray2<u32>>, Bound<'py, PyArray2<u32>>)
 /// nearest feature.
 type Transformed<'py> = (Bound<'py, PyArray2<f64>>, Option<Bound<'py, PyArray3<i32>>>);
 
+/// A (H, W) `features` raster's width and height, and the transform's
+/// options.
+fn transform_input(
+    features: &numpy::PyReadonlyArray2<'_, bool>,
+    sampling: [f64; 2],
+    metric_name: &str,
+) -> PyResult<([u32; 2], TransformOptions)> {
+    let (h, w) = features.as_array().dim();
+    let side = |n: usize| {
+        u32::try_from(n).map_err(|_| PyValueError::new_err(format!("a side of {n} is too long")))
+    };
+    let options = TransformOptions::new()
+        .metric(metric(metric_name)?)
+        .sampling(sampling);
+    Ok(([side(w)?, side(h)?], options))
+}
+
+/// A raster's values row-major: borrowed where they lie so already.
+fn row_major<'a>(features: &'a numpy::PyReadonlyArray2<'_, bool>) -> Cow<'a, [bool]> {
+    match features.as_slice() {
+        Ok(contiguous) => Cow::Borrowed(contiguous),
+        Err(_) => Cow::Owned(features.as_array().iter().copied().collect()),
+    }
+}
+
 /// The transform of a (H, W) `features` raster, with its options.
 fn transform(
     py: Python<'_>,
@@ -266,18 +292,8 @@ fn transform(
     sampling: [f64; 2],
     metric_name: &str,
 ) -> PyResult<(Transform, TransformOptions)> {
-    let (h, w) = features.as_array().dim();
-    let side = |n: usize| {
-        u32::try_from(n).map_err(|_| PyValueError::new_err(format!("a side of {n} is too long")))
-    };
-    let (width, height) = (side(w)?, side(h)?);
-    let mask: Vec<bool> = match features.as_slice() {
-        Ok(contiguous) => contiguous.to_vec(),
-        Err(_) => features.as_array().iter().copied().collect(),
-    };
-    let options = TransformOptions::new()
-        .metric(metric(metric_name)?)
-        .sampling(sampling);
+    let ([width, height], options) = transform_input(&features, sampling, metric_name)?;
+    let mask = row_major(&features);
     let t = on_cpu(py, || transform_of(&mask, width, height, &options))?;
     Ok((t, options))
 }
@@ -293,12 +309,15 @@ fn distance_transform<'py>(
     metric_name: &str,
     indices: bool,
 ) -> PyResult<Transformed<'py>> {
+    if !indices {
+        let ([width, height], options) = transform_input(&features, sampling, metric_name)?;
+        let mask = row_major(&features);
+        let d = on_cpu(py, || distances_only(&mask, width, height, &options))?;
+        return Ok((raster(py, d, height, width)?, None));
+    }
     let (t, _) = transform(py, features, sampling, metric_name)?;
     let (h, w) = (t.height as usize, t.width as usize);
     let distances = raster(py, t.distances, t.height, t.width)?;
-    if !indices {
-        return Ok((distances, None));
-    }
     let mut planes = t.feature_rows;
     planes.extend_from_slice(&t.feature_columns);
     let indices = Array3::from_shape_vec((2, h, w), planes)
