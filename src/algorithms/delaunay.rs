@@ -10,9 +10,11 @@
 //! 4. **shifting**: the boundary is made convex, then every seed moves to its
 //!    true position where its triangles stay counter-clockwise (and the hull
 //!    convex); a seed that cannot is taken out and its hole refilled;
-//! 5. **insertion**: the seeds taken out and the points that shared a pixel
-//!    are inserted by a walk from their pixel's seed;
-//! 6. **flips**: Lawson's flips until every edge is locally Delaunay.
+//! 5. **flips**: Lawson's flips until every edge of the seeds' triangulation
+//!    is locally Delaunay (its hull is convex, so it is then Delaunay);
+//! 6. **insertion**: the seeds taken out and the points that shared a pixel
+//!    are inserted by a walk from their pixel's seed, each legalized by
+//!    flips, which keeps the triangulation Delaunay.
 //!
 //! Every step keeps a valid triangulation and every predicate is exact, so
 //! the result is a Delaunay triangulation of the input, whatever the grid.
@@ -104,7 +106,7 @@ pub struct DelaunayStats {
     pub insert_ms: f64,
     pub inserted: usize,
     pub insertion_flips: usize,
-    /// Lawson's flips over the whole triangulation.
+    /// Lawson's flips over the seeds' triangulation, before insertion.
     pub flip_ms: f64,
     pub delaunay_flips: usize,
     /// Why the triangulation was built by insertion alone, if it was: too
@@ -386,9 +388,20 @@ fn triangulate(
     stats.shift_ms = ms(started);
     progress(3, STEPS);
 
-    // 5. Insertion, each point walking from its pixel's seed.
+    // 5. Lawson's flips make the seeds' triangulation (its hull convex)
+    // Delaunay; inserting each other point and legalizing the edges it
+    // makes keeps it so (insertion alone builds a Delaunay one too).
+    watch.check()?;
     let started = Instant::now();
-    let mut mesh = match mesh {
+    if let Some(mesh) = &mut mesh {
+        stats.delaunay_flips = mesh.make_delaunay();
+    }
+    stats.flip_ms = ms(started);
+    progress(4, STEPS);
+
+    // 6. Insertion, each point walking from its pixel's seed.
+    let started = Instant::now();
+    let mesh = match mesh {
         None => {
             let (built, flips) = insert_all(real.clone(), &watch)?;
             stats.inserted = real.len() - 3;
@@ -425,20 +438,13 @@ fn triangulate(
             mesh
         }
     };
-    stats.insert_ms = ms(started);
-    progress(4, STEPS);
-
-    // 6. Lawson's flips.
-    watch.check()?;
-    let started = Instant::now();
-    stats.delaunay_flips = mesh.make_delaunay();
     let triangles: Vec<[u32; 3]> = mesh
         .triangles()
         .into_iter()
         .filter(|t| !t.contains(&DUMMY))
         .map(|t| t.map(|v| unique[v as usize]))
         .collect();
-    stats.flip_ms = ms(started);
+    stats.insert_ms = ms(started);
     progress(5, STEPS);
     Ok(Delaunay {
         triangles,

@@ -24,6 +24,7 @@
 //! the colouring read back.
 
 use super::ms;
+use rayon::prelude::*;
 use std::{cmp::Reverse, collections::BinaryHeap, time::Instant};
 
 use glam::DVec2;
@@ -440,7 +441,7 @@ pub fn dualize(
                 .collect();
             // Appended as the device's invocations finish: sorted, so that
             // the meshes built from them are the same on every run.
-            triangles.sort_unstable();
+            triangles.par_sort_unstable();
             return Ok(triangles);
         }
         capacity = count;
