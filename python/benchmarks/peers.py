@@ -186,9 +186,9 @@ def hausdorff_rows(args):
     pixgeo.hausdorff(rng.random((100, 2)), rng.random((100, 2)))
     print(
         "| m | sets | pixgeo (ms) | cKDTree ×2 (ms) | scipy directed_hausdorff ×2 (ms) "
-        "| cKDTree / pixgeo | scipy / pixgeo | same distance |"
+        "| cKDTree / pixgeo | scipy / pixgeo | peers' distance | peak MiB: pixgeo / cKDTree / scipy |"
     )
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|")
     for m in (int(s) for s in args.m.split(",")):
         a = rng.random((m, 2))
         sets = {
@@ -202,8 +202,42 @@ def hausdorff_rows(args):
                 cKDTree(b).query(a, workers=2)[0].max(), cKDTree(a).query(b, workers=2)[0].max()))
             scipy, e = timed(args.repeats, lambda: max(
                 directed_hausdorff(a, b)[0], directed_hausdorff(b, a)[0]))
+            memory = "–"
+            if args.memory:
+                memory = " / ".join(f"{peak_mib(*hausdorff_calls(m, name, tool)):.1f}"
+                                    for tool in ("pixgeo", "cKDTree", "scipy"))
             print(f"| {m} | {name} | {ours:.1f} | {tree:.1f} | {scipy:.1f} | {tree / ours:.2f}× "
-                  f"| {scipy / ours:.2f}× | {'yes' if h[0] == d == e else 'no'} |", flush=True)
+                  f"| {scipy / ours:.2f}× | {agreement(h[0], d, e)} | {memory} |",
+                  flush=True)
+
+
+def agreement(exact, *peers):
+    """How far the peers' distances lie from pixgeo's, which is the exact
+    distance correctly rounded: "equal", or the most ulps apart."""
+    ulps = max(abs(float(p) - exact) / np.spacing(exact) for p in peers)
+    return "equal" if ulps == 0 else f"{ulps:.0f} ulp off"
+
+
+HAUSDORFF_CALLS = {
+    "pixgeo": "pixgeo.hausdorff({a}, {b})",
+    "cKDTree": "max(cKDTree({b}).query({a}, workers=2)[0].max(), "
+               "cKDTree({a}).query({b}, workers=2)[0].max())",
+    "scipy": "max(directed_hausdorff({a}, {b})[0], directed_hausdorff({b}, {a})[0])",
+}
+
+
+def hausdorff_calls(m, name, tool):
+    """peak_mib's setup, warm-up and call for one tool's Hausdorff distance
+    between m uniform points and m points of set `name`."""
+    setup = "\n".join([
+        "from scipy.spatial.distance import directed_hausdorff",
+        "rng = np.random.default_rng(2)",
+        f"a = rng.random(({m}, 2))",
+        f"b = rng.random(({m}, 2)) if {name!r} == 'uniform' else np.vstack(["
+        f"rng.normal(0.3, 0.01, ({m} // 2, 2)), rng.normal(0.7, 0.05, ({m} - {m} // 2, 2))])",
+    ])
+    call = HAUSDORFF_CALLS[tool]
+    return setup, call.format(a="a[:100]", b="b[:100]"), call.format(a="a", b="b")
 
 
 def scipy_lloyd_step(sites, centres, weights):

@@ -10,7 +10,7 @@
 //! could still reach the best value are checked exactly, so every answer is exact
 //! while the checks stay few.
 
-use std::cmp::Ordering;
+use std::{borrow::Cow, cmp::Ordering};
 
 use crate::geometry::predicates::convex_hull;
 use glam::DVec2;
@@ -152,19 +152,23 @@ fn picture_error(frame: &Frame, d: f64) -> f64 {
 /// of two into the range where squared distances neither overflow nor underflow
 /// (coordinates past 1e154 or closer than 1e-154). The pair names each point by
 /// its first index in its set, and its distance is scaled back, exact to rounding.
-fn in_range(
-    a: &[DVec2],
-    b: &[DVec2],
+fn in_range<'p>(
+    a: &'p [DVec2],
+    b: &'p [DVec2],
     answer: impl FnOnce(&[DVec2], &[DVec2]) -> Result<Answer>,
 ) -> Result<Answer> {
     check_sets(&[("first set", a), ("second set", b)])?;
     let (a_kept, b_kept) = (first_of_each(a), first_of_each(b));
-    let pick = |set: &[DVec2], kept: &[u32]| -> Vec<DVec2> {
-        kept.iter().map(|&i| set[i as usize]).collect()
+    // A set without repeats is taken as it is, not copied.
+    let pick = |set: &'p [DVec2], kept: &[u32]| -> Cow<'p, [DVec2]> {
+        if kept.len() == set.len() {
+            Cow::Borrowed(set)
+        } else {
+            Cow::Owned(kept.iter().map(|&i| set[i as usize]).collect())
+        }
     };
     let (a, b) = (pick(a, &a_kept), pick(b, &b_kept));
-    let both: Vec<DVec2> = a.iter().chain(&b).copied().collect();
-    let k = scale::predicate_exponent(&both)?;
+    let k = scale::common_predicate_exponent(&[&a, &b])?;
     let mut found = if k == 0 {
         answer(&a, &b)?
     } else {
@@ -311,19 +315,18 @@ fn directed_by_grid(a: &[DVec2], b: &[DVec2]) -> Result<Answer> {
     let lo = a.iter().fold(DVec2::INFINITY, |m, p| m.min(*p));
     let hi = a.iter().fold(DVec2::NEG_INFINITY, |m, p| m.max(*p));
     let to_cell = 65535.0 / (hi - lo).max_element().max(f64::MIN_POSITIVE);
-    let mut order: Vec<(u64, u32)> = a
+    // Cells of at most 2^16 a side: the curve's index fits in 32 bits.
+    let mut order: Vec<(u32, u32)> = a
         .iter()
         .enumerate()
         .map(|(i, p)| {
             let c = (*p - lo) * to_cell;
-            (
-                super::envelope::hilbert_index(c.x as u32, c.y as u32),
-                i as u32,
-            )
+            let index = super::envelope::hilbert_index(c.x as u32, c.y as u32);
+            (index as u32, i as u32)
         })
         .collect();
     order.sort_unstable();
-    let mut runs: Vec<&[(u64, u32)]> = order.chunks(256).collect();
+    let mut runs: Vec<&[(u32, u32)]> = order.chunks(256).collect();
     runs.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(0x4a75));
     // The largest nearest distance so far (its bits: positive doubles order
     // as their bits do); the float nearest is within rounding of the exact.
@@ -335,39 +338,32 @@ fn directed_by_grid(a: &[DVec2], b: &[DVec2]) -> Result<Answer> {
         .flat_map_iter(|run| {
             let (grid, largest) = (grid_ref, largest_ref);
             let mut hint: Option<u32> = None;
-            run.iter().map(move |&(_, q)| {
+            // A query with a partner nearer than the floor is below the
+            // answer (its bound, rounded, stays under the floor less 8
+            // ulps, refine's margin): only the others are kept.
+            run.iter().filter_map(move |&(_, q)| {
                 let p = a[q as usize];
                 let floor = f64::from_bits(largest.load(Atomic::Relaxed)) * slack;
-                // A partner nearer than the floor: this query's value is
-                // below the answer's.
                 let nearer = |j: &u32| b[*j as usize].distance(p) < floor;
-                let near = hint
+                if let Some(j) = hint
                     .filter(nearer)
-                    .or_else(|| grid.around(p, floor).find(nearer));
-                let estimate = match near {
-                    Some(j) => {
-                        let d = b[j as usize].distance(p);
-                        hint = Some(j);
-                        Estimate {
-                            partner: j,
-                            partner_distance: d,
-                            lower: 0.0,
-                            upper: d,
-                        }
-                    }
-                    None => {
-                        let (j, d) = grid.nearest(p).expect("a set has points");
-                        largest.fetch_max(d.to_bits(), Atomic::Relaxed);
-                        hint = Some(j);
-                        Estimate {
-                            partner: j,
-                            partner_distance: d,
-                            lower: d * slack,
-                            upper: d,
-                        }
-                    }
-                };
-                (q, estimate)
+                    .or_else(|| grid.around(p, floor).find(nearer))
+                {
+                    hint = Some(j);
+                    return None;
+                }
+                let (j, d) = grid.nearest(p).expect("a set has points");
+                largest.fetch_max(d.to_bits(), Atomic::Relaxed);
+                hint = Some(j);
+                Some((
+                    q,
+                    Estimate {
+                        partner: j,
+                        partner_distance: d,
+                        lower: d * slack,
+                        upper: d,
+                    },
+                ))
             })
         })
         .collect();

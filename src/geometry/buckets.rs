@@ -97,10 +97,14 @@ impl<'a> PointGrid<'a> {
             start: Vec::new(),
             order: Vec::new(),
         };
-        let buckets: Vec<usize> = grid.points.iter().map(|p| grid.bucket(*p)).collect();
+        // At most 2^24 buckets.
+        let buckets: Vec<u32> = grid.points.iter().map(|p| grid.bucket(*p) as u32).collect();
         (grid.start, grid.order) = group_by_bucket(
             nx * ny,
-            buckets.iter().enumerate().map(|(i, &b)| (b, i as u32)),
+            buckets
+                .iter()
+                .enumerate()
+                .map(|(i, &b)| (b as usize, i as u32)),
         );
         grid
     }

@@ -261,7 +261,8 @@ pub(crate) fn lexicographic(p: DVec2) -> (i64, i64) {
 
 /// The first index of each distinct point of `points`, in increasing order.
 pub(crate) fn first_of_each(points: &[DVec2]) -> Vec<u32> {
-    let mut kept = distinct_by(points, 0..points.len() as u32, lexicographic).0;
+    // Equal points already sort together by the tie-break's key.
+    let mut kept = distinct_by(points, 0..points.len() as u32, |_| ()).0;
     kept.sort_unstable();
     kept
 }

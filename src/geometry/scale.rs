@@ -21,34 +21,42 @@ pub(crate) fn times_power_of_two(x: f64, k: i32) -> f64 {
 /// distances. Refuses coordinates spanning more than 2^400 in ratio, where
 /// products of their differences would underflow and lose the sign.
 pub(crate) fn predicate_exponent(points: &[DVec2]) -> Result<i32> {
-    exponent_within(points, 400)
+    exponent_within(&[points], 400)
+}
+
+/// [`predicate_exponent`] of several sets together, as if one, without
+/// joining them.
+pub(crate) fn common_predicate_exponent(sets: &[&[DVec2]]) -> Result<i32> {
+    exponent_within(sets, 400)
 }
 
 /// [`predicate_exponent`] for the degree-4 incircle test: coordinates may span
 /// at most 2^170 in ratio.
 pub(crate) fn incircle_exponent(points: &[DVec2]) -> Result<i32> {
-    exponent_within(points, 170)
+    exponent_within(&[points], 170)
 }
 
 /// With the largest coordinate within 2^±16 and none below 2^-(16 + span),
 /// differences are at least 2^-(68 + span) and products of four of them stay
 /// above 2^-969, where the predicates' expansions are exact.
-fn exponent_within(points: &[DVec2], span_bits: i32) -> Result<i32> {
-    let largest = points
-        .iter()
-        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+fn exponent_within(sets: &[&[DVec2]], span_bits: i32) -> Result<i32> {
+    let points = || sets.iter().flat_map(|set| set.iter());
+    let largest = points().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
     if largest == 0.0 {
         return Ok(0);
     }
     let floor = largest * 2f64.powi(-span_bits);
     let too_small = |x: f64| x != 0.0 && x.abs() < floor;
-    if let Some(i) = points.iter().position(|p| too_small(p.x) || too_small(p.y)) {
+    if let Some((i, p)) = points()
+        .enumerate()
+        .find(|(_, p)| too_small(p.x) || too_small(p.y))
+    {
         return Err(Error::InvalidInput(format!(
             "point {i} ({:?}, {:?}) is too small beside the largest coordinate {largest:e}: \
              exact predicates take coordinates spanning at most 2^{span_bits} (about {:.0e}) in \
              ratio; round the small ones to 0 or drop the far points",
-            points[i].x,
-            points[i].y,
+            p.x,
+            p.y,
             2f64.powi(span_bits)
         )));
     }
@@ -57,12 +65,15 @@ fn exponent_within(points: &[DVec2], span_bits: i32) -> Result<i32> {
     }
     let k = -(largest.log2().floor() as i32);
     let exact = |x: f64| times_power_of_two(times_power_of_two(x, k), -k) == x;
-    match points.iter().position(|p| !exact(p.x) || !exact(p.y)) {
+    match points()
+        .enumerate()
+        .find(|(_, p)| !exact(p.x) || !exact(p.y))
+    {
         None => Ok(k),
-        Some(i) => Err(Error::InvalidInput(format!(
+        Some((i, p)) => Err(Error::InvalidInput(format!(
             "point {i} ({:?}, {:?}) cannot be scaled exactly beside the largest coordinate \
              {largest:e}",
-            points[i].x, points[i].y
+            p.x, p.y
         ))),
     }
 }
