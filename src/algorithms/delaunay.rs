@@ -208,7 +208,7 @@ pub fn delaunay(
 }
 
 /// [`delaunay`], calling `progress(done, STEPS)` as each of its five steps
-/// ends: flooding, dualization, moving the seeds, insertion, flips. The steps
+/// ends: flooding, dualization, moving the seeds, flips, insertion. The steps
 /// on the CPU look at the cancel flag ([`crate::cancel`]) as they go.
 pub fn delaunay_with_progress(
     machine: &Machine,

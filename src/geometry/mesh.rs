@@ -62,6 +62,8 @@ pub(crate) struct Mesh {
     pub weights: Vec<f64>,
     /// Weighted vertices left out or taken out: their power cells are empty.
     pub hidden: Vec<u32>,
+    /// The edges [`Mesh::legalize`] has yet to check, kept between calls.
+    stack: Vec<(u32, usize)>,
 }
 
 impl Mesh {
@@ -171,6 +173,7 @@ impl Mesh {
             walk: 0x9e37_79b9_7f4a_7c15,
             weights: Vec::new(),
             hidden: Vec::new(),
+            stack: Vec::new(),
         };
         mesh.check(&twin_edges, |v| {
             (start[slot(v) + 1] - start[slot(v)]) as usize
@@ -355,7 +358,14 @@ impl Mesh {
         if tv[0] == FREE || tv.contains(&DUMMY) {
             return false;
         }
-        let d = self.quad(t, e).vertices[3];
+        // The far corner of the triangle beyond: its vertices less the
+        // edge's two (no search for the twin edge).
+        let uv = self.triangles[self.adjacent[t as usize][e] as usize];
+        let d = uv
+            .iter()
+            .fold(0u32, |sum, &v| sum.wrapping_add(v))
+            .wrapping_sub(tv[e])
+            .wrapping_sub(tv[next(e)]);
         d != DUMMY && self.conflicts(tv, d)
     }
 
@@ -390,7 +400,11 @@ impl Mesh {
 
     /// Lawson's flips from the edges on `stack` until every edge they reach is
     /// locally Delaunay; returns the number of flips.
-    fn legalize(&mut self, mut stack: Vec<(u32, usize)>) -> usize {
+    fn legalize(&mut self, edges: &[(u32, usize)]) -> usize {
+        // One stack for every insertion's flips, not an allocation each.
+        let mut stack = std::mem::take(&mut self.stack);
+        stack.clear();
+        stack.extend_from_slice(edges);
         let mut flips = 0;
         while let Some((t, e)) = stack.pop() {
             if self.is_illegal(t, e) && !self.unflippable(t, e, &mut stack) {
@@ -400,6 +414,7 @@ impl Mesh {
                 stack.extend([(t, 0), (t, 1), (u, 0), (u, 1)]);
             }
         }
+        self.stack = stack;
         flips
     }
 
@@ -412,7 +427,7 @@ impl Mesh {
             .flat_map_iter(|t| (0..3).map(move |e| (t, e)))
             .filter(|&(t, e)| t < self.adjacent[t as usize][e] && self.is_illegal(t, e))
             .collect();
-        self.legalize(stack)
+        self.legalize(&stack)
     }
 
     /// The ghost after ghost `g` along the boundary: with `g` = (a, b, D), the
@@ -725,7 +740,7 @@ impl Mesh {
         self.set(t, [a, b, q], [n_ab, t1, t2]);
         self.repoint(n_bc, t, t1);
         self.repoint(n_ca, t, t2);
-        self.legalize(vec![(t, 0), (t1, 0), (t2, 0)])
+        self.legalize(&[(t, 0), (t1, 0), (t2, 0)])
     }
 
     fn split_edge(&mut self, t: u32, e: usize, q: u32) -> usize {
@@ -741,7 +756,7 @@ impl Mesh {
         self.set(u1, [b, q, d], [t, u, n_db]);
         self.repoint(n_ca, t, t1);
         self.repoint(n_db, u, u1);
-        self.legalize(vec![(t, 1), (t1, 2), (u, 1), (u1, 2)])
+        self.legalize(&[(t, 1), (t1, 2), (u, 1), (u1, 2)])
     }
 
     /// Inserts `q` beyond the hull edge of ghost `g`, then flips ghosts until
@@ -790,6 +805,6 @@ impl Mesh {
             inner.push((finite, 1));
             ghost = if self.is_ghost(ghost) { ghost } else { after };
         }
-        flips + self.legalize(inner)
+        flips + self.legalize(&inner)
     }
 }
