@@ -182,9 +182,9 @@ fn transform(
             "a raster of {width} x {height} pixels has 2^32 pixels or more, or a side of 2^31"
         )));
     }
-    // Outputs of 16 bytes a pixel (8 without the planes), and the column
-    // pass's 4.
-    let bytes = if planes { 20 } else { 12 };
+    // Outputs of 16 bytes a pixel (8 without the planes), and at most one
+    // more for the column pass's strips.
+    let bytes = if planes { 17 } else { 9 };
     crate::memory::reserve_picture(width, height, bytes, "a distance transform")?;
     let [sy, sx] = options.sampling;
     if !(sy.is_finite() && sx.is_finite() && sy > 0.0 && sx > 0.0) {

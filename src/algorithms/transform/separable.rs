@@ -174,7 +174,9 @@ fn nearest_rows(
     out: &mut [f64],
     (watch, tally): (&Watch, &Tally),
 ) {
-    let strip = h.div_ceil(4 * rayon::current_num_threads()).max(1);
+    // Four strips a thread, of 16 rows at least: the strips' four rows of
+    // answers (16 bytes a column) stay within a byte a pixel.
+    let strip = h.div_ceil(4 * rayon::current_num_threads()).max(16);
     let rows_of = |k: usize| &features[k * strip * w..((k + 1) * strip).min(h) * w];
     let strips = h.div_ceil(strip);
     // Each strip's first and last feature row in each column.

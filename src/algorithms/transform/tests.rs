@@ -42,8 +42,9 @@ fn masks() -> Vec<(String, usize, usize, Vec<bool>)> {
         let diagonal = (0..w * h).map(|i| i % w == i / w).collect();
         out.push((format!("{w}x{h} diagonal"), w, h, diagonal));
     }
-    // Wider than one band of the column pass.
-    for (w, h) in [(600, 3), (513, 5)] {
+    // Wide rows, and columns over several strips of the column pass, some
+    // with no feature in a strip.
+    for (w, h) in [(600, 3), (513, 5), (7, 100)] {
         for density in [0.004, 0.2] {
             let mask = (0..w * h).map(|_| rng.gen_bool(density)).collect();
             out.push((format!("{w}x{h} random {density}"), w, h, mask));
