@@ -438,13 +438,13 @@ fn triangulate(
             mesh
         }
     };
+    stats.insert_ms = ms(started);
     let triangles: Vec<[u32; 3]> = mesh
         .triangles()
         .into_iter()
         .filter(|t| !t.contains(&DUMMY))
         .map(|t| t.map(|v| unique[v as usize]))
         .collect();
-    stats.insert_ms = ms(started);
     progress(5, STEPS);
     Ok(Delaunay {
         triangles,

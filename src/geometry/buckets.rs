@@ -97,15 +97,14 @@ impl<'a> PointGrid<'a> {
             start: Vec::new(),
             order: Vec::new(),
         };
-        // At most 2^24 buckets.
-        let buckets: Vec<u32> = grid.points.iter().map(|p| grid.bucket(*p) as u32).collect();
-        (grid.start, grid.order) = group_by_bucket(
+        let (start, order) = group_by_bucket(
             nx * ny,
-            buckets
+            grid.points
                 .iter()
                 .enumerate()
-                .map(|(i, &b)| (b as usize, i as u32)),
+                .map(|(i, p)| (grid.bucket(*p), i as u32)),
         );
+        (grid.start, grid.order) = (start, order);
         grid
     }
 
