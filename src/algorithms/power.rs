@@ -238,6 +238,7 @@ pub fn power_diagram_window(
         .window_rect()?;
     let regular = regular_triangulation(sites)?;
     let neighbours = regular.neighbours(sites.len());
+    let copies = copies(sites);
     let start = regular.triangles[0][0];
     let watch = Watch::current();
     let rows: Vec<Vec<(u32, u32, f64)>> = (rect.y..rect.y + rect.height)
@@ -247,7 +248,7 @@ pub fn power_diagram_window(
             let mut at = start;
             let row = (rect.x..rect.x + rect.width).map(|i| {
                 let p = frame.to_world(DVec2::new(i as f64, j as f64));
-                let (least, ties) = least_power(p, sites, &neighbours, at);
+                let (least, ties) = least_power(p, sites, &neighbours, &copies, at);
                 at = least;
                 (least, ties, power_of(p, sites[least as usize]))
             });
@@ -263,9 +264,36 @@ pub fn power_diagram_window(
     })
 }
 
+/// For each site, how many later sites repeat it (the same point and
+/// weight): the triangulation keeps the first alone.
+fn copies(sites: &[Weighted]) -> Vec<u32> {
+    let key = |i: u32| {
+        let s = sites[i as usize];
+        (
+            (s.at.x + 0.0).to_bits(),
+            (s.at.y + 0.0).to_bits(),
+            (s.weight + 0.0).to_bits(),
+        )
+    };
+    let mut order: Vec<u32> = (0..sites.len() as u32).collect();
+    order.sort_unstable_by_key(|&i| (key(i), i));
+    let mut copies = vec![0; sites.len()];
+    for run in order.chunk_by(|&a, &b| key(a) == key(b)) {
+        copies[run[0] as usize] = run.len() as u32 - 1;
+    }
+    copies
+}
+
 /// The site of least power at `p` (the lowest index of equals) and how many
-/// share it, walking from `from` over the triangulation's edges.
-fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32) -> (u32, u32) {
+/// share it, repeats counted ([`copies`]), walking from `from` over the
+/// triangulation's edges.
+fn least_power(
+    p: DVec2,
+    sites: &[Weighted],
+    neighbours: &[Vec<u32>],
+    copies: &[u32],
+    from: u32,
+) -> (u32, u32) {
     let mut at = from;
     // In doubles first: a neighbour surely of less power is the next step;
     // with every neighbour surely of more, `at` is the only least.
@@ -283,7 +311,7 @@ fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32)
             }
         }
         if !unsure {
-            return (at, 1);
+            return (at, 1 + copies[at as usize]);
         }
         let less = |n: &&u32| compare_power(p, sites[**n as usize], sites[at as usize]).is_lt();
         match neighbours[at as usize].iter().find(less) {
@@ -305,8 +333,6 @@ fn least_power(p: DVec2, sites: &[Weighted], neighbours: &[Vec<u32>], from: u32)
             }
         }
     }
-    (
-        *equal.iter().min().expect("at least one"),
-        equal.len() as u32,
-    )
+    let ties = equal.iter().map(|&e| 1 + copies[e as usize]).sum();
+    (*equal.iter().min().expect("at least one"), ties)
 }

@@ -178,8 +178,27 @@ fn power_diagram_labels_have_the_least_power() {
     let lattice: Vec<DVec2> = (0..20)
         .map(|k| DVec2::new(2.0 + 8.0 * (k % 5) as f64, 1.5 + 10.0 * (k / 5) as f64))
         .collect();
+    // Repeated sites: a copy of equal weight ties everywhere, a lighter
+    // one nowhere.
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    let repeats = weighted(
+        &[
+            p(5.0, 5.0),
+            p(15.0, 5.0),
+            p(5.0, 15.0),
+            p(30.0, 20.0),
+            p(30.0, 20.0),
+            p(12.0, 30.0),
+            p(12.0, 30.0),
+        ],
+        &[0.0, 0.0, 0.0, 10.0, 10.0, 3.0, 1.0],
+    );
     let mut tied = 0;
-    for sites in [weighted(&points, &weights), weighted(&lattice, &[4.0; 20])] {
+    for sites in [
+        weighted(&points, &weights),
+        weighted(&lattice, &[4.0; 20]),
+        repeats,
+    ] {
         let d = power_diagram(&sites, &frame).unwrap();
         for (k, (&label, &power)) in d.labels.iter().zip(&d.powers).enumerate() {
             let p = DVec2::new((k % 48) as f64, (k / 48) as f64);
