@@ -321,6 +321,16 @@ impl Input {
 
     /// The picture --size and --bbox give, in the computing world (y down).
     fn frame(&self) -> Result<Frame> {
+        let mut frame = self.unplaced_frame()?;
+        if let (Some(b), YAxis::Up) = (self.place.bbox, self.place.y_axis()) {
+            // Random sites fall inside the picture [`Self::placed`] keeps.
+            frame.origin.y = b[3] - frame.height as f64 / frame.scale;
+        }
+        Ok(frame)
+    }
+
+    /// [`Self::frame`] with the box's bottom edge kept.
+    fn unplaced_frame(&self) -> Result<Frame> {
         let (width, height) = self.size;
         Ok(match (self.place.bbox, height) {
             // A tall box: N is its height, the scale N pixels to its height,
@@ -347,9 +357,14 @@ impl Input {
     fn placed(&self, frame: Frame) -> World {
         match self.place.y_axis() {
             YAxis::Down => self.world_of(frame),
+            // North-up, the box's top edge is row 0's, as Python places it
+            // (the first pixel's corner is the box's, down or up).
             YAxis::Up => {
-                let height = frame.height as f64 / frame.scale;
-                let origin = DVec2::new(frame.origin.x, -(frame.origin.y + height));
+                let top = match self.place.bbox {
+                    Some(b) => b[3],
+                    None => frame.origin.y + frame.height as f64 / frame.scale,
+                };
+                let origin = DVec2::new(frame.origin.x, 0.0 - top);
                 self.world_of(Frame { origin, ..frame })
             }
         }
