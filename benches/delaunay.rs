@@ -8,6 +8,7 @@
 //! measured in a fresh process of this benchmark. Triangle is skipped with a note if Python cannot import it
 //! (`tools/setup --bench` installs it).
 
+use pixgeo::Backend;
 use std::{path::PathBuf, process::Command};
 
 use glam::DVec2;
@@ -59,7 +60,7 @@ const TOOLS: [&str; 3] = ["pixgeo", "spade", "delaunator"];
 /// Triangulates `pts` with `tool` once; returns the triangles.
 fn run_tool(tool: &str, machine: &Machine, pts: &[DVec2]) -> anyhow::Result<usize> {
     Ok(match tool {
-        "pixgeo" => delaunay(machine, pts, &DelaunayOptions::default())?
+        "pixgeo" => delaunay(&Backend::Device(machine), pts, &DelaunayOptions::default())?
             .triangles
             .len(),
         "spade" => {
@@ -136,7 +137,11 @@ fn main() -> anyhow::Result<()> {
     std::fs::create_dir_all(&out_dir)?;
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());
-    delaunay(&machine, &points(1000), &DelaunayOptions::default())?;
+    delaunay(
+        &Backend::Device(&machine),
+        &points(1000),
+        &DelaunayOptions::default(),
+    )?;
 
     let files: Vec<PathBuf> = ns
         .iter()
@@ -160,7 +165,11 @@ fn main() -> anyhow::Result<()> {
     for (&n, file) in ns.iter().zip(&files) {
         let pts = points(n);
         let (ours, result): (f64, Delaunay) = time(repeats, || {
-            Ok(delaunay(&machine, &pts, &DelaunayOptions::default())?)
+            Ok(delaunay(
+                &Backend::Device(&machine),
+                &pts,
+                &DelaunayOptions::default(),
+            )?)
         })?;
         let (spade_ms, spade_count) = time(repeats, || run_tool("spade", &machine, &pts))?;
         let (delaunator_ms, delaunator_count) =

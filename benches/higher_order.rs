@@ -9,6 +9,7 @@
 //! the site counts, `HO_REPEATS` sets the repeats (median reported),
 //! `HO_HAUSDORFF=10000,100000` the Hausdorff set sizes.
 
+use pixgeo::Backend;
 use std::{path::PathBuf, process::Command, time::Instant};
 
 use common::plot::{Series, PALETTE};
@@ -130,7 +131,7 @@ fn main() -> anyhow::Result<()> {
         }
         let mut distance = 0.0;
         let t = time(repeats, || {
-            distance = hausdorff(&machine, &a, &b, None)?.distance;
+            distance = hausdorff(&Backend::Device(&machine), &a, &b, None)?.distance;
             Ok(())
         })?;
         eprintln!("hausdorff {m:>7} points: {t:.1} ms, distance {distance}");

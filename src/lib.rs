@@ -45,6 +45,7 @@
 //! with a `// SAFETY:` note; the rest of the crate forbids it.
 
 pub mod algorithms;
+pub mod backend;
 pub mod cancel;
 pub mod error;
 pub mod geometry;
@@ -54,6 +55,7 @@ pub mod memory;
 mod names;
 mod simple;
 
+pub use backend::{Backend, Chosen, Need};
 pub use error::{Error, Result};
 pub use geometry::{
     metric::Metric,
@@ -63,7 +65,8 @@ pub use geometry::{
 pub use machine::{DeviceChoice, Machine, MachineOptions};
 pub use simple::{
     alpha_hull, delaunay, diameter, enclosing_circle, extremal_quadrangle, extremal_triangle,
-    furthest, hausdorff, k_nearest, largest_empty_circle, settle, voronoi, with_default_machine,
+    furthest, hausdorff, k_nearest, largest_empty_circle, settle, voronoi, with_default_backend,
+    with_default_machine,
 };
 
 /// What pixgeo's own tests, oracles and benchmarks check against beyond the

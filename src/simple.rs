@@ -31,27 +31,43 @@ use crate::{
         voronoi::{self as diagram, VoronoiDiagram, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    Machine, Result,
+    Backend, Machine, MachineOptions, Need, Result,
 };
 
 static DEFAULT: Mutex<Option<Machine>> = Mutex::new(None);
 
-/// Runs `f` on the machine the calls of this module share: made on first use
-/// as [`Machine::from_env`] makes one (`PIXGEO_DEVICE`, `PIXGEO_VALIDATION`)
-/// and kept for the life of the process. Calls from several threads take
-/// turns; threads that should compute at once make a [`Machine`] each. A
-/// failed creation is not kept: the next call tries again.
+/// Runs `f` on the backend the calls of this module share, chosen by
+/// [`Backend::choose`]'s rule for `need` from the environment
+/// (`PIXGEO_DEVICE`, `PIXGEO_VALIDATION`): the CPU, or a machine made on
+/// first use and kept for the life of the process. Calls from several
+/// threads take turns on the machine; threads that should compute at once
+/// make a [`Machine`] each. A failed creation is not kept: the next call
+/// tries again.
+pub fn with_default_backend<T>(need: Need, f: impl FnOnce(&Backend) -> Result<T>) -> Result<T> {
+    let options = MachineOptions::from_env();
+    if Backend::cpu_first(&options, need)? {
+        return f(&Backend::Cpu);
+    }
+    let mut slot = DEFAULT.lock().unwrap_or_else(|e| e.into_inner());
+    if slot.is_none() {
+        match Machine::new(&options) {
+            Ok(machine) => *slot = Some(machine),
+            Err(e) => return f(&Backend::instead_of_device(&options, need, e)?.backend()),
+        }
+    }
+    f(&Backend::from(slot.as_ref().expect("made above")))
+}
+
+/// Runs `f` on the machine the calls of this module share
+/// ([`with_default_backend`]), for work drawn on a Vulkan device.
 ///
 /// ```
 /// let name = pixgeo::with_default_machine(|machine| Ok(machine.device_name().to_string()))?;
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn with_default_machine<T>(f: impl FnOnce(&Machine) -> Result<T>) -> Result<T> {
-    let mut slot = DEFAULT.lock().unwrap_or_else(|e| e.into_inner());
-    if slot.is_none() {
-        *slot = Some(Machine::from_env()?);
-    }
-    f(slot.as_ref().expect("made above"))
+    let need = Need::Drawing("this call");
+    with_default_backend(need, |backend| f(backend.device_for("this call")?))
 }
 
 /// The exact Euclidean Voronoi diagram of `points` on `width` x `height`
@@ -110,7 +126,9 @@ pub fn furthest(points: &[DVec2], width: u32, height: u32) -> Result<Furthest> {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn delaunay(points: &[DVec2]) -> Result<Delaunay> {
-    with_default_machine(|m| delaunay::delaunay(m, points, &DelaunayOptions::default()))
+    with_default_backend(Need::DeviceIfAny, |b| {
+        delaunay::delaunay(b, points, &DelaunayOptions::default())
+    })
 }
 
 /// The Hausdorff distance between point sets `a` and `b`, both directions,
@@ -123,7 +141,9 @@ pub fn delaunay(points: &[DVec2]) -> Result<Delaunay> {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn hausdorff(a: &[DVec2], b: &[DVec2]) -> Result<Hausdorff> {
-    with_default_machine(|m| distances::hausdorff(m, a, b, None))
+    with_default_backend(Need::CpuUnlessGpu, |backend| {
+        distances::hausdorff(backend, a, b, None)
+    })
 }
 
 /// The two points farthest apart, exact (thesis §3.11.2).

@@ -197,7 +197,11 @@ typedef struct PixgeoContextOptions {
   bool validation;
   // Null, or a device named as `PIXGEO_DEVICE` and the command line's
   // `--device` name one (`auto`, `lavapipe`, `gpu`, an index, or part of a
-  // device's name), in place of `device`. Read during the call.
+  // device's name), in place of `device`; `cpu` makes a context without
+  // Vulkan, whose calls with a CPU algorithm answer as a device's would
+  // and whose drawings return `PIXGEO_STATUS_NO_DEVICE`. With `auto` and
+  // no Vulkan driver, the context is such a CPU one (its device name
+  // says why). Read during the call.
   const char *device_name;
   // Keep compiled pipelines in a file between processes (true by default):
   // in `PIXGEO_CACHE_DIR`, else `$XDG_CACHE_HOME/pixgeo` or

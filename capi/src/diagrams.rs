@@ -6,7 +6,7 @@ use super::*;
 use pixgeo::algorithms::{
     higher_order::{self, KNearestOptions},
     sites::voronoi_sites,
-    voronoi::voronoi_bands,
+    voronoi::{voronoi_bands, voronoi_bands_on_cpu, Band, VoronoiOptions, VoronoiStats},
 };
 
 /// The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
@@ -46,7 +46,7 @@ pub unsafe extern "C" fn pixgeo_voronoi(
             // SAFETY: as above.
             .then(|| unsafe { std::slice::from_raw_parts_mut(distances, pixels) });
         let width = window.width as usize;
-        voronoi_bands(&context.machine, &sites, &options, |band| {
+        bands(context, &sites, &options, |band| {
             let start = (band.y0 - window.y) as usize * width;
             labels[start..start + band.labels.len()].copy_from_slice(&band.labels);
             if let Some(d) = distances.as_mut() {
@@ -55,7 +55,6 @@ pub unsafe extern "C" fn pixgeo_voronoi(
             Ok(())
         })
         .map(|_| ())
-        .map_err(failed)
     })
 }
 
@@ -87,7 +86,12 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
         // SAFETY: `sites` holds `count` sites (caller contract); the count fits.
         let given = unsafe { std::slice::from_raw_parts(sites, count) };
         let sites = sites_of(given)?;
-        let d = voronoi_sites(&context.machine, &sites, &options).map_err(failed)?;
+        let d = voronoi_sites(
+            context.machine("a diagram of weighted or extended sites")?,
+            &sites,
+            &options,
+        )
+        .map_err(failed)?;
         // SAFETY: the caller's arrays have room for the answer (caller contract).
         unsafe { write_diagram(&d.labels, labels, &d.distances, distances) };
         Ok(())
@@ -131,7 +135,7 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
         let d = higher_order::k_nearest(
-            &context.machine,
+            context.machine("the k nearest sites")?,
             &sites,
             &KNearestOptions::exact(frame, k)
                 .metric(metric_of(&o)?)
@@ -170,7 +174,11 @@ pub unsafe extern "C" fn pixgeo_furthest(
         let (frame, _, _) = picture_of(o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let f = higher_order::furthest(&context.machine, &sites, &frame, metric).map_err(failed)?;
+        let f = match context.backend_for(Need::DeviceIfAny)? {
+            Backend::Device(machine) => higher_order::furthest(machine, &sites, &frame, metric),
+            Backend::Cpu => pixgeo::algorithms::cpu::furthest(&sites, &frame, metric),
+        }
+        .map_err(failed)?;
         // SAFETY: the caller's arrays have room for the answer (caller contract).
         unsafe { write_diagram(&f.labels, labels, &f.distances, distances) };
         Ok(())
@@ -232,7 +240,7 @@ pub unsafe extern "C" fn pixgeo_voronoi_bands(
         let sites = unsafe { points(xy, count) }?;
         let window = options.window_rect().map_err(failed)?;
         let mut stopped = false;
-        let outcome = voronoi_bands(&context.machine, &sites, &options, |band| {
+        let outcome = bands(context, &sites, &options, |band| {
             let view = PixgeoBand {
                 x0: window.x,
                 y0: band.y0,
@@ -252,8 +260,8 @@ pub unsafe extern "C" fn pixgeo_voronoi_bands(
         });
         match outcome {
             Ok(_) => Ok(()),
-            Err(e) if stopped => Err((PixgeoStatus::Stopped, e.to_string())),
-            Err(e) => Err(failed(e)),
+            Err((_, text)) if stopped => Err((PixgeoStatus::Stopped, text)),
+            Err(e) => Err(e),
         }
     })
 }
@@ -265,4 +273,24 @@ fn or_null<T>(values: &[T]) -> *const T {
     } else {
         values.as_ptr()
     }
+}
+
+/// The bands of a diagram where the context's rule runs them: the grid on the
+/// CPU where the options allow it and no GPU is there, else the device.
+fn bands(
+    context: &PixgeoContext,
+    sites: &[glam::DVec2],
+    options: &VoronoiOptions,
+    sink: impl FnMut(Band) -> pixgeo::Result<()>,
+) -> Result<VoronoiStats, (PixgeoStatus, String)> {
+    let need = if options.on_cpu_alone() {
+        Need::CpuUnlessGpu
+    } else {
+        Need::Drawing("this diagram's options (cones, fans or another metric)")
+    };
+    match context.backend_for(need)? {
+        Backend::Device(machine) => voronoi_bands(machine, sites, options, sink),
+        Backend::Cpu => voronoi_bands_on_cpu(sites, options, sink),
+    }
+    .map_err(failed)
 }

@@ -59,7 +59,8 @@ pub unsafe extern "C" fn pixgeo_hausdorff(
     with_context(ctx, |context| {
         // SAFETY: sizes as documented (caller contract).
         let (a, b) = unsafe { (points(a, a_count)?, points(b, b_count)?) };
-        let h = distances::hausdorff(&context.machine, &a, &b, None).map_err(failed)?;
+        let h = distances::hausdorff(&context.backend_for(Need::CpuUnlessGpu)?, &a, &b, None)
+            .map_err(failed)?;
         answer_into(a_to_b, h.a_to_b)?;
         answer_into(b_to_a, h.b_to_a)
     })
@@ -81,7 +82,8 @@ pub unsafe extern "C" fn pixgeo_diameter(
     with_context(ctx, |context| {
         // SAFETY: size as documented (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let d = distances::diameter(&context.machine, &sites, None).map_err(failed)?;
+        let d =
+            distances::diameter(context.machine("the diameter")?, &sites, None).map_err(failed)?;
         answer_into(out, d)
     })
 }
@@ -103,7 +105,8 @@ pub unsafe extern "C" fn pixgeo_max_distance(
     with_context(ctx, |context| {
         // SAFETY: sizes as documented (caller contract).
         let (a, b) = unsafe { (points(a, a_count)?, points(b, b_count)?) };
-        let d = distances::max_distance(&context.machine, &a, &b, None).map_err(failed)?;
+        let d = distances::max_distance(context.machine("the largest distance")?, &a, &b, None)
+            .map_err(failed)?;
         answer_into(out, d)
     })
 }

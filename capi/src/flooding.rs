@@ -49,8 +49,8 @@ pub unsafe extern "C" fn pixgeo_flood(
         let seeds = seeds_of(&frame, &sites).map_err(failed)?;
         let (width, height) = (frame.width, frame.height);
         let found = match method {
-            0 => flood(&context.machine, width, height, &seeds).map(|f| f.labels),
-            1 => jump_flood(&context.machine, width, height, &seeds),
+            0 => flood(context.machine("flooding")?, width, height, &seeds).map(|f| f.labels),
+            1 => jump_flood(context.machine("jump flooding")?, width, height, &seeds),
             other => {
                 return Err(invalid(format!(
                     "method {other} is not a PixgeoFloodMethod (0 flood, 1 jump flood)"

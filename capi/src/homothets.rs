@@ -116,8 +116,14 @@ pub unsafe extern "C" fn pixgeo_enclose(
         check_count(count, std::mem::size_of::<PixgeoSite>(), "sites")?;
         // SAFETY: `sites` holds `count` sites (caller contract); the count fits.
         let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) })?;
-        let answer =
-            homothet::enclose_sites(&context.machine, &given, unit, k, side).map_err(failed)?;
+        let answer = homothet::enclose_sites(
+            context.machine("an enclosing homothet")?,
+            &given,
+            unit,
+            k,
+            side,
+        )
+        .map_err(failed)?;
         homothet_into(out, &answer)
     })
 }
@@ -175,9 +181,15 @@ pub unsafe extern "C" fn pixgeo_empty(
                 at += n;
             }
         }
-        let answer =
-            homothet::largest_empty_sites(&context.machine, &given, unit, &region, inside, side)
-                .map_err(failed)?;
+        let answer = homothet::largest_empty_sites(
+            context.machine("a largest empty homothet")?,
+            &given,
+            unit,
+            &region,
+            inside,
+            side,
+        )
+        .map_err(failed)?;
         homothet_into(out, &answer)
     })
 }

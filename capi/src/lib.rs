@@ -25,7 +25,7 @@ use std::{
 
 use pixgeo::{
     machine::{DeviceChoice, Machine, MachineOptions},
-    Error,
+    Backend, Error, Need,
 };
 
 mod delaunay;
@@ -140,7 +140,11 @@ pub struct PixgeoContextOptions {
     pub validation: bool,
     /// Null, or a device named as `PIXGEO_DEVICE` and the command line's
     /// `--device` name one (`auto`, `lavapipe`, `gpu`, an index, or part of a
-    /// device's name), in place of `device`. Read during the call.
+    /// device's name), in place of `device`; `cpu` makes a context without
+    /// Vulkan, whose calls with a CPU algorithm answer as a device's would
+    /// and whose drawings return `PIXGEO_STATUS_NO_DEVICE`. With `auto` and
+    /// no Vulkan driver, the context is such a CPU one (its device name
+    /// says why). Read during the call.
     pub device_name: *const c_char,
     /// Keep compiled pipelines in a file between processes (true by default):
     /// in `PIXGEO_CACHE_DIR`, else `$XDG_CACHE_HOME/pixgeo` or
@@ -155,7 +159,11 @@ pub struct PixgeoContextOptions {
 /// running returns `PIXGEO_STATUS_BUSY`. Different contexts may be used from
 /// different threads at once.
 pub struct PixgeoContext {
-    machine: Machine,
+    /// The device's machine; `None`: the context computes on the CPU
+    /// (`device_name` is `cpu`, or no Vulkan driver or device was there).
+    machine: Option<Machine>,
+    /// The choice the context was made with.
+    options: MachineOptions,
     device_name: CString,
     last_error: CString,
     /// A call is running on the context.
@@ -163,6 +171,32 @@ pub struct PixgeoContext {
     /// Set by [`pixgeo_context_cancel`] from any thread; cleared when a call
     /// returns.
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl PixgeoContext {
+    /// Where a call with `need` runs, by the core's one rule
+    /// ([`Backend::choose`]) over this context's choice and backend.
+    fn backend_for(&self, need: Need) -> Result<Backend<'_>, (PixgeoStatus, String)> {
+        if Backend::cpu_first(&self.options, need).map_err(failed)? {
+            return Ok(Backend::Cpu);
+        }
+        match (&self.machine, need) {
+            (Some(machine), _) => Ok(Backend::Device(machine)),
+            (None, Need::Drawing(what)) => Err(failed(Error::Unsupported(format!(
+                "{what}: it is drawn by a Vulkan device, and this context has none ({})",
+                self.device_name.to_string_lossy()
+            )))),
+            (None, _) => Ok(Backend::Cpu),
+        }
+    }
+
+    /// The machine of a call drawn on a device alone.
+    fn machine(&self, what: &'static str) -> Result<&Machine, (PixgeoStatus, String)> {
+        match self.backend_for(Need::Drawing(what))? {
+            Backend::Device(machine) => Ok(machine),
+            Backend::Cpu => Err(failed(Error::Internal(format!("{what} was given the CPU")))),
+        }
+    }
 }
 
 thread_local! {
@@ -334,26 +368,27 @@ pub unsafe extern "C" fn pixgeo_context_create(
                 let name = name
                     .to_str()
                     .map_err(|_| Error::InvalidInput("device_name is not UTF-8".into()))?;
-                machine_options.device = match DeviceChoice::parse(name) {
-                    DeviceChoice::Cpu => {
-                        return Err(Error::InvalidInput(
-                            "device_name `cpu` names the command line's CPU algorithms; a \
-                             context needs a Vulkan device (lavapipe is the software one)"
-                                .into(),
-                        ))
-                    }
-                    choice => choice,
-                };
+                machine_options.device = DeviceChoice::parse(name);
             }
         }
-        Machine::new(&machine_options)
+        let chosen = Backend::choose(&machine_options, Need::DeviceIfAny)?;
+        Ok((chosen, machine_options))
     });
     let (status, text) = match outcome {
-        Ok(Ok(machine)) => {
+        Ok(Ok((chosen, options))) => {
+            let cancel = match &chosen.machine {
+                Some(machine) => machine.cancel_flag(),
+                None => Default::default(),
+            };
+            let name = match &chosen.fallback {
+                Some(why) => format!("cpu ({why})"),
+                None => chosen.backend().name().to_string(),
+            };
             let context = Box::new(PixgeoContext {
-                device_name: message(machine.device_name()),
-                cancel: machine.cancel_flag(),
-                machine,
+                device_name: message(&name),
+                cancel,
+                machine: chosen.machine,
+                options,
                 last_error: CString::default(),
                 busy: Default::default(),
             });

@@ -72,7 +72,7 @@ pub unsafe extern "C" fn pixgeo_lloyd(
             lloyd_options = lloyd_options.tolerance(tolerance);
         }
         let answer = lloyd::lloyd(
-            Some(&context.machine),
+            context.backend_for(Need::DeviceIfAny)?.machine(),
             &sites,
             &lloyd_options,
             density,

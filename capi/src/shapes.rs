@@ -110,7 +110,13 @@ unsafe fn extremal(
                 } else {
                     o.side
                 };
-                (search.roofs)(&context.machine, &sites, extreme, side, no_progress)
+                (search.roofs)(
+                    context.machine("the extremal shapes' roofs")?,
+                    &sites,
+                    extreme,
+                    side,
+                    no_progress,
+                )
             }
             other => {
                 return Err(invalid(format!(
@@ -294,8 +300,14 @@ pub unsafe extern "C" fn pixgeo_alpha_hull(
         };
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let hull = alpha_hull::alpha_hull(&context.machine, &sites, o.alpha, method, side)
-            .map_err(failed)?;
+        let hull = alpha_hull::alpha_hull(
+            context.machine("an alpha hull")?,
+            &sites,
+            o.alpha,
+            method,
+            side,
+        )
+        .map_err(failed)?;
         let answer = PixgeoAlphaHull {
             width: hull.width,
             height: hull.height,

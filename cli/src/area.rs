@@ -104,9 +104,10 @@ fn solve(c: &Common, roofs: RoofSearch, sweep: SweepSearch, what: &str) -> Resul
         .clone()
         .or_else(|| std::env::var("PIXGEO_DEVICE").ok())
         .unwrap_or_else(|| "cpu".into());
-    let backend = Backend::choose(Some(&device), false)?;
+    let chosen = crate::device::choose(Some(&device), crate::device::need(false))?;
+    let backend = chosen.backend();
     let (answer, device) = match &backend {
-        Backend::Gpu(machine) => {
+        Backend::Device(machine) => {
             let side = c.size.unwrap_or(default_side(points.len()));
             let progress = Progress::new(&format!("{what}: roofs of site pairs"), c.json);
             let answer = roofs(machine, &points, c.extreme(), side, &mut |done, total| {

@@ -16,7 +16,7 @@ use pixgeo::{
     },
     geometry::power::Weighted,
     io::sites::GeoJsonSources,
-    Machine,
+    Backend,
 };
 use serde_json::{json, Map, Value};
 
@@ -33,7 +33,7 @@ use crate::{
 pub enum Source<'a> {
     /// The exact cells of point sites under L2.
     Exact {
-        machine: &'a Machine,
+        backend: &'a Backend<'a>,
         sites: &'a [DVec2],
     },
     /// The exact power cells of weighted sites, from their regular
@@ -80,9 +80,9 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
     let picture = |p: DVec2| frame.to_pixel(p) + DVec2::splat(0.5);
     let dots: Vec<DVec2> = sites.iter().map(|&p| picture(p)).collect();
     match source {
-        Source::Exact { machine, sites } => {
+        Source::Exact { backend, sites } => {
             let cells = with_progress(outputs, |report| {
-                voronoi_cells_with_progress(machine, sites, &world.clip_rect(), report)
+                voronoi_cells_with_progress(backend, sites, &world.clip_rect(), report)
             })?;
             emit_exact(outputs, world, &dots, &cells, None)
         }

@@ -8,14 +8,15 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        delaunay::{self, Delaunay, DelaunayOptions},
+        delaunay::{self, Delaunay, DelaunayOptions, DigitalDiagram},
         power::regular_triangulation,
     },
     geometry::{power::Weighted, triangulation::check_delaunay},
+    Need,
 };
 
 use crate::{
-    device::VulkanDevice,
+    device::DeviceArg,
     envelope,
     input::Points,
     progress::Progress,
@@ -92,7 +93,7 @@ pub struct Args {
     #[arg(long, value_enum)]
     weights: Option<crate::input::Weights>,
     #[command(flatten)]
-    device: VulkanDevice,
+    device: DeviceArg,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -103,11 +104,12 @@ pub fn run(args: Args) -> Result<()> {
         output::check_extension(path, "geojson", "triangles")?;
     }
     let points = args.points.read()?;
-    let machine = args.device.machine()?;
+    let chosen = args.device.choose(Need::DeviceIfAny)?;
+    let backend = chosen.backend();
     let options = DelaunayOptions::default().grid(args.grid).check(args.check);
     let result = {
         let progress = Progress::new("delaunay: flooding, duals, insertion, flips", args.json);
-        delaunay::delaunay_with_progress(&machine, &points, &options, &mut |done, total| {
+        delaunay::delaunay_with_progress(&backend, &points, &options, &mut |done, total| {
             progress.report(done, total)
         })?
     };
@@ -136,8 +138,8 @@ pub fn run(args: Args) -> Result<()> {
             "check": problems,
             "stats": result.stats,
         });
-        let texture = result.digital.frame();
-        envelope::print("delaunay", machine.device_name(), Some(&texture), &mesh)?;
+        let texture = result.digital.as_ref().map(DigitalDiagram::frame);
+        envelope::print("delaunay", backend.name(), texture.as_ref(), &mesh)?;
     } else {
         report(&result, points.len(), problems.as_deref());
     }
@@ -306,19 +308,46 @@ fn write_triangle_files(
     Ok(())
 }
 
+/// A texture without labels around `points`, `side` pixels along the
+/// longer side, a twentieth of it spare all round.
+fn blank_texture(points: &[DVec2], side: u32) -> DigitalDiagram {
+    let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
+        (lo.min(p), hi.max(p))
+    });
+    let margin = (side / 20).max(1);
+    let inner = side.saturating_sub(2 * margin).max(1);
+    let cell = (hi - lo).max_element() / inner as f64;
+    let extent = ((hi - lo) / cell).ceil();
+    DigitalDiagram {
+        width: extent.x as u32 + 2 * margin,
+        height: extent.y as u32 + 2 * margin,
+        origin: lo - DVec2::splat(margin as f64 * cell),
+        cell,
+        ..Default::default()
+    }
+}
+
 /// A picture like Cao, Edelsbrunner and Tan's Fig. 3: the digital Voronoi
 /// diagram (each pixel `zoom` pixels wide, `zoom` chosen so the longer side is
 /// about `side`) with the Delaunay triangulation drawn over it in dark lines
 /// and the points as dots. Returns width, height and RGB bytes.
 fn picture(result: &Delaunay, points: &[DVec2], side: u32) -> (u32, u32, Vec<u8>) {
-    let d = &result.digital;
+    let blank;
+    let d = match &result.digital {
+        Some(d) => d,
+        None => {
+            blank = blank_texture(points, side);
+            &blank
+        }
+    };
     let zoom = (side / d.width.max(d.height)).max(1);
     let (w, h) = (d.width * zoom, d.height * zoom);
     let mut rgb = vec![0u8; (w * h * 3) as usize];
     for y in 0..h {
         for x in 0..w {
-            let label = d.labels[((y / zoom) * d.width + x / zoom) as usize];
-            let colour = site_color(label);
+            let label = d.labels.get(((y / zoom) * d.width + x / zoom) as usize);
+            // Without a digital diagram (on the CPU) the mesh is drawn on white.
+            let colour = label.map_or([255; 3], |&l| site_color(l));
             let k = ((y * w + x) * 3) as usize;
             rgb[k..k + 3].copy_from_slice(&colour);
         }

@@ -2,8 +2,14 @@
 //! `--device` (else `PIXGEO_DEVICE`), with the machine timed by the tool's
 //! profiler.
 
+use std::sync::Mutex;
+
 use anyhow::{Context, Result};
-use pixgeo::machine::{has_gpu, DeviceChoice, Machine, MachineOptions};
+pub use pixgeo::Backend;
+use pixgeo::{
+    machine::{DeviceChoice, Machine, MachineOptions},
+    Chosen, Need,
+};
 
 /// The machine's options for `device` (else as PIXGEO_DEVICE says).
 fn options(device: Option<&str>) -> MachineOptions {
@@ -35,53 +41,57 @@ impl VulkanDevice {
     }
 }
 
-/// Where diagrams are computed.
-pub enum Backend {
-    /// The pixel machine on a Vulkan device.
-    Gpu(Box<Machine>),
-    /// The thesis's CPU pixel algorithms (§3.12): no Vulkan needed.
-    Cpu,
+/// `--device` of the commands with an exact CPU algorithm.
+#[derive(clap::Args)]
+pub struct DeviceArg {
+    /// Where to compute: auto, cpu, lavapipe, gpu, an index, or part of a
+    /// device name (default: PIXGEO_DEVICE). Every choice gives the same
+    /// answer; without a Vulkan driver, auto computes on the CPU, with a note.
+    #[arg(long = "device")]
+    pub name: Option<String>,
+}
+
+impl DeviceArg {
+    /// Where the work runs ([`choose`]).
+    pub fn choose(&self, need: Need) -> Result<Chosen> {
+        choose(self.name.as_deref(), need)
+    }
+}
+
+/// Why the CPU computed where a device was asked for, once announced: the
+/// `fallback` of the `--json` envelope.
+static FALLBACK: Mutex<Option<String>> = Mutex::new(None);
+
+/// The fallback this run announced, if any.
+pub fn fallback() -> Option<String> {
+    FALLBACK.lock().ok().and_then(|f| f.clone())
+}
+
+/// Where the work runs, by the core's one rule ([`Backend::choose`]) from
+/// `--device` (else `PIXGEO_DEVICE`); a fallback to the CPU is announced on
+/// stderr and in the `--json` envelope.
+pub fn choose(device: Option<&str>, need: Need) -> Result<Chosen> {
+    let chosen = Backend::choose(&options(device), need).context("starting the pixel machine")?;
+    if let Some(why) = &chosen.fallback {
+        note!("note: {why}");
+        if let Ok(mut slot) = FALLBACK.lock() {
+            *slot = Some(why.clone());
+        }
+    }
+    Ok(chosen)
+}
+
+/// The need of work with an exact CPU algorithm: pictures the CPU draws
+/// faster than a software rasterizer are `small`.
+pub fn need(small: bool) -> Need {
+    if small {
+        Need::CpuUnlessGpu
+    } else {
+        Need::DeviceIfAny
+    }
 }
 
 /// Pictures up to this many pixels are drawn faster by the CPU pixel
 /// algorithms than by a software rasterizer, whose start alone (loading its
 /// compiler) outweighs them (`docs/benchmarks.md` has the measurements).
 pub const CPU_FASTER_PIXELS: u64 = 512 * 512;
-
-impl Backend {
-    /// `--device cpu` (or PIXGEO_DEVICE=cpu) asks for the CPU algorithms; any other
-    /// choice is a Vulkan device. Without a choice, `small` work (a picture the
-    /// CPU algorithms draw faster than a software rasterizer, giving the same
-    /// answer) on a machine with no GPU takes the CPU algorithms. Without a
-    /// Vulkan driver the CPU algorithms step in, with a notice.
-    pub fn choose(device: Option<&str>, small: bool) -> Result<Self> {
-        let wanted = device
-            .map(str::to_string)
-            .or_else(|| std::env::var("PIXGEO_DEVICE").ok());
-        let auto = wanted
-            .as_deref()
-            .is_none_or(|w| w.trim().is_empty() || w.trim().eq_ignore_ascii_case("auto"));
-        if wanted
-            .as_deref()
-            .is_some_and(|w| w.trim().eq_ignore_ascii_case("cpu"))
-            || (auto && small && !has_gpu())
-        {
-            return Ok(Self::Cpu);
-        }
-        match Machine::new(&options(device)) {
-            Ok(machine) => Ok(Self::Gpu(Box::new(machine))),
-            Err(pixgeo::Error::NoVulkan(why)) => {
-                note!("note: no Vulkan driver ({why}); using the CPU pixel algorithms");
-                Ok(Self::Cpu)
-            }
-            Err(e) => Err(e).context("starting the pixel machine"),
-        }
-    }
-
-    pub fn name(&self) -> &str {
-        match self {
-            Self::Gpu(machine) => machine.device_name(),
-            Self::Cpu => "cpu (thesis §3.12 pixel algorithms)",
-        }
-    }
-}

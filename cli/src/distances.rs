@@ -11,10 +11,11 @@ use pixgeo::{
     geometry::check_sites,
     io::sites,
     machine::Machine,
+    Need,
 };
 use serde_json::{json, Value};
 
-use crate::{device::VulkanDevice, envelope, input::Points, progress::Progress, text::Real};
+use crate::{device::DeviceArg, envelope, input::Points, progress::Progress, text::Real};
 
 /// Options every distance command shares.
 #[derive(ClapArgs)]
@@ -29,12 +30,13 @@ pub struct Common {
     json: bool,
 
     #[command(flatten)]
-    device: VulkanDevice,
+    device: DeviceArg,
 }
 
 impl Common {
+    /// The machine of the commands drawn on a device alone.
     fn machine(&self) -> Result<Machine> {
-        self.device.machine()
+        crate::device::machine_on(self.device.name.as_deref())
     }
 }
 
@@ -161,14 +163,19 @@ fn describe(answer: &Answer, from: &[DVec2], to: &[DVec2], names: [&str; 2]) -> 
 pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
     let red = read(&args.red, "red")?;
     let blue = read(&args.blue, "blue")?;
-    let machine = args.common.machine()?;
+    let need = match args.method {
+        MethodChoice::Pixels => Need::Drawing("hausdorff --method pixels"),
+        _ => Need::CpuUnlessGpu,
+    };
+    let chosen = args.common.device.choose(need)?;
+    let backend = chosen.backend();
     let working = Progress::working("hausdorff", args.common.json);
     let method = match args.method {
-        MethodChoice::Auto => Method::for_device(&machine),
+        MethodChoice::Auto => Method::for_backend(&backend),
         MethodChoice::Pixels => Method::Pixels,
         MethodChoice::Grid => Method::Grid,
     };
-    let h = distances::hausdorff_by(&machine, &red, &blue, Some(args.common.size), method)?;
+    let h = distances::hausdorff_by(&backend, &red, &blue, Some(args.common.size), method)?;
     drop(working);
     if args.common.json {
         let summary = json!({
@@ -178,7 +185,7 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
         });
         // A grid draws no picture.
         let frame = (method == Method::Pixels).then_some(&h.a_to_b.frame);
-        envelope::print("hausdorff", machine.device_name(), frame, &summary)?;
+        envelope::print("hausdorff", backend.name(), frame, &summary)?;
     } else {
         outln!("Hausdorff distance {}", Real(h.distance));
         outln!(

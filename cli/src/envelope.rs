@@ -1,7 +1,7 @@
 //! The one JSON envelope of every `--json` answer (`cli/schema/`):
 //!
 //! ```text
-//! {"schema": "pixgeo/1", "pixgeo_version", "command", "device",
+//! {"schema": "pixgeo/1", "pixgeo_version", "command", "device", "fallback",
 //!  "frame": {"width", "height", "bbox", "origin", "scale", "y_axis", "crs"}
 //!  or null,
 //!  "timings_ms": {...}, "gpu_ms": {...}, "result": {...}}
@@ -105,6 +105,7 @@ fn wrap(
         "pixgeo_version": env!("CARGO_PKG_VERSION"),
         "command": command,
         "device": device,
+        "fallback": crate::device::fallback(),
         "frame": frame.map(frame_json),
         "timings_ms": timings,
         "gpu_ms": gpu_ms,

@@ -9,11 +9,12 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::interpolate::{interpolate, Interpolation, Method},
     geometry::Frame,
+    Need,
 };
 use serde_json::json;
 
 use crate::{
-    device::VulkanDevice,
+    device::DeviceArg,
     envelope,
     input::{named, Input},
     progress::Progress,
@@ -75,7 +76,7 @@ pub struct Args {
     json: bool,
 
     #[command(flatten)]
-    device: VulkanDevice,
+    device: DeviceArg,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -92,11 +93,16 @@ pub fn run(args: Args) -> Result<()> {
     args.input.check_world_file()?;
     let (world, samples) = args.input.world_and_samples(&args.value)?;
     let frame = world.frame;
-    let machine = args.device.machine()?;
+    let need = match args.method {
+        Method::Nearest => Need::CpuUnlessGpu,
+        _ => Need::DeviceIfAny,
+    };
+    let chosen = args.device.choose(need)?;
+    let backend = chosen.backend();
     let started = std::time::Instant::now();
     let progress = Progress::new("interpolate: rows", args.json);
     let answer = interpolate(
-        &machine,
+        &backend,
         &samples.points,
         &samples.values,
         &frame,
@@ -129,7 +135,7 @@ pub fn run(args: Args) -> Result<()> {
             "decided_exactly": answer.decided_exactly,
             "stats": { "compute_ms": compute_ms },
         });
-        envelope::print_world("interpolate", machine.device_name(), &world, &result)?;
+        envelope::print_world("interpolate", backend.name(), &world, &result)?;
     } else {
         outln!(
             "{} samples onto {w}x{h} pixels ({:?}): {} with a value, from {} to {}",

@@ -13,7 +13,6 @@ use pixgeo::{
 use serde_json::json;
 
 use crate::{
-    device::Backend,
     envelope,
     input::{Input, World},
     progress::Progress,
@@ -137,11 +136,9 @@ pub fn run(args: Args) -> Result<()> {
         options = options.tolerance(t);
     }
     let small = frame.len() as u64 <= crate::device::CPU_FASTER_PIXELS;
-    let backend = Backend::choose(args.device.as_deref(), small)?;
-    let machine = match &backend {
-        Backend::Gpu(m) => Some(m.as_ref()),
-        Backend::Cpu => None,
-    };
+    let chosen = crate::device::choose(args.device.as_deref(), crate::device::need(small))?;
+    let backend = chosen.backend();
+    let machine = backend.machine();
     let started = std::time::Instant::now();
     let progress = Progress::new("lloyd: iterations", args.json);
     let answer = lloyd(

@@ -137,9 +137,10 @@ pub fn run(args: Args) -> Result<()> {
     };
     let own: Vec<DVec2> = own.into_iter().map(|p| world.to_user(p)).collect();
     let method = args.method;
-    let backend = Backend::choose(args.device.as_deref(), false)?;
+    let chosen = crate::device::choose(args.device.as_deref(), crate::device::need(false))?;
+    let backend = chosen.backend();
     let map = match &backend {
-        Backend::Gpu(machine) => {
+        Backend::Device(machine) => {
             let message = format!("counting discs ({method:?})").to_lowercase();
             let progress = Progress::new(&message, args.json);
             let options = SettleOptions::new(frame).metric(metric).method(method);

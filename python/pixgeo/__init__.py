@@ -638,11 +638,14 @@ def furthest(
 
 
 def delaunay(points, *, device: Optional[str] = None) -> Triangulation:
-    """The Delaunay triangulation by flooding (Cao, Edelsbrunner and Tan):
-    counter-clockwise triangles as indices into ``points``, the same triangles
-    as ``scipy.spatial.Delaunay(points).simplices`` up to order where no four
-    points are co-circular. Repeated points are dropped and reported.
-    ``features()`` gives the triangles as GeoJSON-like features."""
+    """The Delaunay triangulation by flooding (Cao, Edelsbrunner and Tan) on
+    a device, by insertion on the CPU: counter-clockwise triangles as indices
+    into ``points``, each starting at its least index, sorted; the same on
+    every device. Co-circular points are decided by their order in
+    ``points``, so the triangulation is unique; where no four points are
+    co-circular it is ``scipy.spatial.Delaunay(points).simplices`` up to
+    order. Repeated points are dropped and reported. ``features()`` gives the
+    triangles as GeoJSON-like features."""
     p = _points(points, "points")
     simplices, duplicates = _pixgeo.delaunay(p, device)
     return Triangulation(simplices.astype(np.intp), duplicates.astype(np.intp), p)

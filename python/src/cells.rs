@@ -9,7 +9,9 @@ use pixgeo::{
 };
 use pyo3::prelude::*;
 
-use crate::{fields::weighted, on_cpu, on_machine, points, InternalError};
+use pixgeo::Need;
+
+use crate::{fields::weighted, on_backend, on_cpu, points, InternalError};
 
 /// Each site's cell's corners, and the repeated sites (Voronoi) or the
 /// hidden ones (power).
@@ -27,7 +29,9 @@ pub fn voronoi_cells<'py>(
     device: Option<&str>,
 ) -> PyResult<CellsTuple<'py, Bound<'py, PyArray2<u32>>>> {
     let p = self::points(&points);
-    let cells = on_machine(py, device, |m| cells_of(m, &p, &rect(bbox)))?;
+    let cells = on_backend(py, device, Need::DeviceIfAny, |b| {
+        cells_of(b, &p, &rect(bbox))
+    })?;
     let duplicates = Array2::from_shape_vec(
         (cells.duplicates.len(), 2),
         cells.duplicates.iter().flatten().copied().collect(),

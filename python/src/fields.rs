@@ -13,7 +13,9 @@ use pixgeo::{
 };
 use pyo3::prelude::*;
 
-use crate::{frame, named, on_cpu, on_machine, points, raster, InternalError};
+use pixgeo::Need;
+
+use crate::{frame, named, on_backend, on_cpu, points, raster, InternalError};
 
 /// `values` interpolated at every pixel centre of the picture (or with
 /// `window = (x0, y0, width, height)` of those pixels) by `method`; NaN where
@@ -41,8 +43,12 @@ pub fn interpolate<'py>(
         width: w,
         height: h,
     };
-    let answer = on_machine(py, device, |m| {
-        interpolate_window(m, &sites, &values, &f, rect, method, &mut |_, _| {})
+    let need = match method {
+        Method::Nearest => Need::CpuUnlessGpu,
+        _ => Need::DeviceIfAny,
+    };
+    let answer = on_backend(py, device, need, |b| {
+        interpolate_window(b, &sites, &values, &f, rect, method, &mut |_, _| {})
     })?;
     raster(py, answer.values, h, w)
 }
@@ -61,8 +67,8 @@ pub fn interpolate_at<'py>(
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let (sites, values, at) = (points(&sites), values.as_array().to_vec(), points(&at));
     let method = named::<Method>(method)?;
-    let answer = on_machine(py, device, |m| {
-        interpolate_points(m, &sites, &values, &at, method)
+    let answer = on_backend(py, device, Need::DeviceIfAny, |b| {
+        interpolate_points(b, &sites, &values, &at, method)
     })?;
     Ok(answer.values.into_pyarray(py))
 }

@@ -41,8 +41,8 @@ use pixgeo::{
         site::{Shape, Site},
         Frame,
     },
-    machine::{has_gpu, DeviceChoice, PixelRect},
-    Error, Machine, MachineOptions,
+    machine::{DeviceChoice, PixelRect},
+    Backend, Error, Machine, MachineOptions, Need,
 };
 use pyo3::{
     create_exception,
@@ -72,8 +72,6 @@ create_exception!(
     "pixgeo broke one of its own invariants: a bug, to be reported with the input."
 );
 
-/// One machine per device name, made on first use and shared; a mutex keeps
-/// one call at a time on each.
 /// A device's machine, and the flag that cancels the call using it.
 struct Device {
     machine: Mutex<Machine>,
@@ -82,21 +80,28 @@ struct Device {
 
 type Shared = Arc<Device>;
 
-fn machine(device: Option<&str>) -> PyResult<Shared> {
+/// The machine options for `device` (else `PIXGEO_DEVICE`).
+fn options(device: Option<&str>) -> MachineOptions {
+    let mut options = MachineOptions::from_env();
+    if let Some(d) = device {
+        options.device = DeviceChoice::parse(d);
+    }
+    options
+}
+
+/// One machine per device name, made on first use and shared; a mutex keeps
+/// one call at a time on each. A failed start is not kept.
+fn machine(device: Option<&str>) -> pixgeo::Result<Shared> {
     static MACHINES: OnceLock<Mutex<Vec<(String, Shared)>>> = OnceLock::new();
     let key = device.unwrap_or("").to_string();
     let mut machines = MACHINES
         .get_or_init(Default::default)
         .lock()
-        .map_err(|_| PyRuntimeError::new_err("a pixgeo call panicked"))?;
+        .unwrap_or_else(|e| e.into_inner());
     if let Some((_, m)) = machines.iter().find(|(k, _)| *k == key) {
         return Ok(m.clone());
     }
-    let mut options = MachineOptions::from_env();
-    if let Some(d) = device {
-        options.device = DeviceChoice::parse(d);
-    }
-    let machine = Machine::new(&options).map_err(to_py)?;
+    let machine = Machine::new(&options(device))?;
     let m = Arc::new(Device {
         cancel: machine.cancel_flag(),
         machine: Mutex::new(machine),
@@ -105,29 +110,45 @@ fn machine(device: Option<&str>) -> PyResult<Shared> {
     Ok(m)
 }
 
-/// Runs `work` on the device's machine, [`interruptible`] by its cancel flag,
-/// which stops the work at its next submission to the device or its next
-/// look at the flag on the CPU.
+/// Runs `work` where the core's one rule ([`Backend::choose`]) puts work
+/// with `need`: the CPU, or the device's shared machine, [`interruptible`]
+/// by its cancel flag. Falling back to the CPU (no Vulkan driver) warns.
+fn on_backend<T: Send>(
+    py: Python<'_>,
+    device: Option<&str>,
+    need: Need,
+    work: impl FnOnce(&Backend) -> pixgeo::Result<T> + Send,
+) -> PyResult<T> {
+    let options = options(device);
+    if Backend::cpu_first(&options, need).map_err(to_py)? {
+        return on_cpu(py, || work(&Backend::Cpu));
+    }
+    let shared = match py.detach(|| machine(device)) {
+        Ok(shared) => shared,
+        Err(e) => {
+            // A fallback is to the CPU, or an error.
+            let chosen = Backend::instead_of_device(&options, need, e).map_err(to_py)?;
+            if let Some(why) = &chosen.fallback {
+                let warning = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+                PyErr::warn(py, &warning, &std::ffi::CString::new(why.as_str())?, 1)?;
+            }
+            return on_cpu(py, || work(&Backend::Cpu));
+        }
+    };
+    interruptible(py, &shared.cancel, || match shared.machine.lock() {
+        Ok(machine) => work(&Backend::Device(&machine)).map_err(to_py),
+        Err(_) => Err(PyRuntimeError::new_err("a pixgeo call panicked")),
+    })
+}
+
+/// Runs `work` on the device's machine ([`on_backend`] for a drawing).
 fn on_machine<T: Send>(
     py: Python<'_>,
     device: Option<&str>,
     work: impl FnOnce(&Machine) -> pixgeo::Result<T> + Send,
 ) -> PyResult<T> {
-    let shared = py.detach(|| machine(device))?;
-    interruptible(py, &shared.cancel, || match shared.machine.lock() {
-        Ok(m) => work(&m).map_err(to_py),
-        Err(_) => Err(PyRuntimeError::new_err("a pixgeo call panicked")),
-    })
-}
-
-/// Whether `device` (else `PIXGEO_DEVICE`) leaves work that the CPU can do
-/// alone to the CPU: `cpu`, or the default on a machine without a GPU.
-fn cpu_alone(device: Option<&str>) -> bool {
-    match device.map_or_else(DeviceChoice::from_env, DeviceChoice::parse) {
-        DeviceChoice::Cpu => true,
-        DeviceChoice::Auto => !has_gpu(),
-        _ => false,
-    }
+    let need = Need::Drawing("this call");
+    on_backend(py, device, need, |b| work(b.device_for("this call")?))
 }
 
 /// [`interruptible`] work on the CPU alone, with a flag of its own.
@@ -385,11 +406,15 @@ fn voronoi<'py>(
     });
     // Without a GPU, the grid needs no Vulkan device, whose start would
     // cost more than the diagram.
-    let d = if options.on_cpu_alone() && cpu_alone(device) {
-        on_cpu(py, || diagram::voronoi_on_cpu(&sites, &options))?
+    let need = if options.on_cpu_alone() {
+        Need::CpuUnlessGpu
     } else {
-        on_machine(py, device, |m| diagram::voronoi(m, &sites, &options))?
+        Need::Drawing("this diagram's options (cones, fans or another metric)")
     };
+    let d = on_backend(py, device, need, |backend| match backend {
+        Backend::Device(m) => diagram::voronoi(m, &sites, &options),
+        Backend::Cpu => diagram::voronoi_on_cpu(&sites, &options),
+    })?;
     Ok((
         raster(py, d.labels, d.height, d.width)?,
         raster(py, d.distances, d.height, d.width)?,
@@ -556,14 +581,10 @@ fn lloyd<'py>(
         }
         None => None,
     };
-    let run = |m: Option<&Machine>| {
+    let answer = on_backend(py, device, Need::DeviceIfAny, |backend| {
+        let m = backend.machine();
         lloyd_iterations(m, &sites, &options, density.as_deref(), &mut |_, _| {})
-    };
-    let answer = if device.is_some_and(|d| d.trim().eq_ignore_ascii_case("cpu")) {
-        on_cpu(py, || run(None))?
-    } else {
-        on_machine(py, device, |m| run(Some(m)))?
-    };
+    })?;
     let flat: Vec<f64> = answer.sites.iter().flat_map(|p| [p.x, p.y]).collect();
     let points = Array2::from_shape_vec((answer.sites.len(), 2), flat)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
@@ -648,7 +669,9 @@ fn delaunay<'py>(
 ) -> PyResult<Triangulation<'py>> {
     let p = self::points(&points);
     let options = DelaunayOptions::default();
-    let d = on_machine(py, device, |m| triangulate(m, &p, &options))?;
+    let d = on_backend(py, device, Need::DeviceIfAny, |b| {
+        triangulate(b, &p, &options)
+    })?;
     let triangles = Array2::from_shape_vec(
         (d.triangles.len(), 3),
         d.triangles.iter().flatten().copied().collect(),
@@ -700,19 +723,19 @@ fn great_circle<'py>(
 ) -> PyResult<GreatCircleTuple<'py>> {
     let sites = points(&sites);
     let (lons, lats) = (lons.as_slice()?.to_vec(), lats.as_slice()?.to_vec());
-    let (answer, name) = if cpu_alone(device) {
-        let places: Vec<DVec2> = lats
-            .iter()
-            .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))
-            .collect();
-        let answer = on_cpu(py, || great_circle_nearest(&sites, &places, &|_, _| {}))?;
-        (answer, "cpu".to_string())
-    } else {
-        on_machine(py, device, |m| {
-            let answer = great_circle_grid(m, &sites, &lons, &lats, &|_, _| {})?;
-            Ok((answer, m.device_name().to_string()))
-        })?
-    };
+    let (answer, name) = on_backend(py, device, Need::CpuUnlessGpu, |backend| {
+        let answer = match backend {
+            Backend::Device(m) => great_circle_grid(m, &sites, &lons, &lats, &|_, _| {})?,
+            Backend::Cpu => {
+                let places: Vec<DVec2> = lats
+                    .iter()
+                    .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))
+                    .collect();
+                great_circle_nearest(&sites, &places, &|_, _| {})?
+            }
+        };
+        Ok((answer, backend.name().to_string()))
+    })?;
     Ok((
         answer.labels.into_pyarray(py),
         answer.distances.into_pyarray(py),
@@ -758,9 +781,13 @@ fn hausdorff<'py>(
             )))
         }
     };
-    let h = on_machine(py, device, |m| {
-        let method = method.unwrap_or_else(|| distances::Method::for_device(m));
-        distances::hausdorff_by(m, &a, &b, None, method)
+    let need = match method {
+        Some(distances::Method::Pixels) => Need::Drawing("the pixels method of Hausdorff"),
+        _ => Need::CpuUnlessGpu,
+    };
+    let h = on_backend(py, device, need, |backend| {
+        let method = method.unwrap_or_else(|| distances::Method::for_backend(backend));
+        distances::hausdorff_by(backend, &a, &b, None, method)
     })?;
     Ok((h.distance, pair(h.a_to_b.pair), pair(h.b_to_a.pair)))
 }

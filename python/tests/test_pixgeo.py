@@ -2,6 +2,7 @@
 inputs: duplicates, collinear points, lattices, sites outside the frame, bbox
 frames."""
 
+import os
 import threading
 
 import numpy as np
@@ -391,3 +392,68 @@ def test_ambiguous_input_is_refused_not_guessed():
     image = np.ma.masked_array(np.ones((8, 8)), mask=np.eye(8, dtype=bool))
     with pytest.raises(ValueError, match="masked"):
         pixgeo.distance_transform_edt(image)
+
+
+def test_without_a_vulkan_driver_the_cpu_algorithms_give_the_devices_answers(tmp_path):
+    # A process whose Vulkan loader finds no driver: every call with a CPU
+    # algorithm answers there, bit for bit as on the device here.
+    import subprocess
+    import sys
+
+    rng = np.random.default_rng(3)
+    lattice = np.array([[x, y] for x in range(5) for y in range(5)], float)
+    points = np.vstack([rng.uniform(0, 4, (40, 2)), lattice])
+    values = points[:, 0] * 2 - points[:, 1]
+    np.save(tmp_path / "points.npy", points)
+    np.save(tmp_path / "values.npy", values)
+    script = """
+import sys, warnings
+import numpy as np, pixgeo
+warnings.simplefilter("always")
+d = sys.argv[1]
+points = np.load(d + "/points.npy")
+values = np.load(d + "/values.npy")
+np.save(d + "/simplices.npy", pixgeo.delaunay(points).simplices)
+cells = pixgeo.voronoi_cells(points, bbox=(-1, -1, 5, 5), geojson=True)
+np.save(d + "/cells.npy", np.concatenate([np.asarray(c["coordinates"][0]).ravel() for c in cells.polygons if c]))
+np.save(d + "/natural.npy", pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4)))
+np.save(d + "/hausdorff.npy", np.array(pixgeo.hausdorff(points[:30], points[30:])))
+np.save(d + "/labels.npy", pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4)).labels)
+"""
+    env = dict(os.environ, VK_DRIVER_FILES=str(tmp_path / "none.json"))
+    env.pop("PIXGEO_DEVICE", None)
+    done = subprocess.run(
+        [sys.executable, "-c", script, str(tmp_path)], env=env, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    # Where a device was wanted, the fallback warns.
+    assert "RuntimeWarning" in done.stderr and "computing on the CPU" in done.stderr
+    cells = pixgeo.voronoi_cells(points, bbox=(-1, -1, 5, 5), geojson=True, device="lavapipe")
+    here = {
+        "simplices": pixgeo.delaunay(points, device="lavapipe").simplices,
+        "cells": np.concatenate(
+            [np.asarray(c["coordinates"][0]).ravel() for c in cells.polygons if c]
+        ),
+        "natural": pixgeo.natural_neighbor(
+            points, values, (20, 20), bbox=(0, 0, 4, 4), device="lavapipe"
+        ),
+        "hausdorff": np.array(pixgeo.hausdorff(points[:30], points[30:], device="lavapipe")),
+        "labels": pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4), device="lavapipe").labels,
+    }
+    for name, want in here.items():
+        got = np.load(tmp_path / f"{name}.npy")
+        assert got.dtype == want.dtype and np.array_equal(got, want, equal_nan=True), name
+
+
+def test_a_box_of_part_pixels_is_placed_as_the_command_line_places_it(tmp_path):
+    # 7 rows over a box 7.4 high: row 0 is the box's top edge's, here and in
+    # the command line, north-up.
+    sites = np.array([[1.0, 0.3], [8.0, 7.2], [4.5, 3.9], [2.0, 6.9]])
+    csv = tmp_path / "sites.csv"
+    csv.write_text("x,y\n" + "".join(f"{float(x)!r},{float(y)!r}\n" for x, y in sites))
+    out = tmp_path / "labels.npy"
+    args = ["pixgeo", "voronoi", "--sites", str(csv), "--size", "10x7", "--bbox", "0,0,10,7.4"]
+    assert pixgeo._pixgeo.cli(args + ["--labels", str(out), "-q"]) == 0
+    d = pixgeo.voronoi(sites, (7, 10), bbox=(0, 0, 10, 7.4))
+    assert np.array_equal(np.load(out), d.labels)
+    assert d.frame.origin == (0.0, 7.4)

@@ -21,7 +21,7 @@ use super::delaunay::{delaunay, DelaunayOptions};
 use crate::{
     error::{Error, Result},
     geometry::{cell::Rect, exact_cell::CellBuilder, predicates::orient},
-    Machine,
+    Backend,
 };
 
 /// The cells of a set of sites.
@@ -56,19 +56,19 @@ impl Cells {
 ///
 /// let sites = [DVec2::new(1.0, 1.0), DVec2::new(3.0, 1.0), DVec2::new(2.0, 3.0)];
 /// let rect = Rect { lo: DVec2::ZERO, hi: DVec2::new(4.0, 4.0) };
-/// let cells = pixgeo::with_default_machine(|m| voronoi_cells(m, &sites, &rect))?;
+/// let cells = voronoi_cells(&pixgeo::Backend::Cpu, &sites, &rect)?;
 /// let total: f64 = (0..3).map(|i| cells.area(i)).sum();
 /// assert!((total - 16.0).abs() < 1e-12);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn voronoi_cells(machine: &Machine, sites: &[DVec2], rect: &Rect) -> Result<Cells> {
-    voronoi_cells_with_progress(machine, sites, rect, &mut |_, _| {})
+pub fn voronoi_cells(backend: &Backend, sites: &[DVec2], rect: &Rect) -> Result<Cells> {
+    voronoi_cells_with_progress(backend, sites, rect, &mut |_, _| {})
 }
 
 /// [`voronoi_cells`], calling `progress(done, total)` as the cells are built
 /// and looking at the cancel flag ([`crate::cancel`]) as it goes.
 pub fn voronoi_cells_with_progress(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     rect: &Rect,
     progress: &mut dyn FnMut(u64, u64),
@@ -91,7 +91,7 @@ pub fn voronoi_cells_with_progress(
             }
         }
     }
-    let neighbours = neighbours(machine, sites, &distinct)?;
+    let neighbours = neighbours(backend, sites, &distinct)?;
     let jobs: Vec<(u32, &[u32])> = distinct
         .iter()
         .zip(&neighbours)
@@ -112,7 +112,7 @@ pub fn voronoi_cells_with_progress(
 }
 
 /// Each distinct site's Voronoi neighbours (input indices).
-fn neighbours(machine: &Machine, sites: &[DVec2], distinct: &[u32]) -> Result<Vec<Vec<u32>>> {
+fn neighbours(backend: &Backend, sites: &[DVec2], distinct: &[u32]) -> Result<Vec<Vec<u32>>> {
     let at = |i: u32| sites[i as usize];
     let on_one_line = distinct.len() < 3 || {
         let (a, b) = (at(distinct[0]), at(distinct[1]));
@@ -138,7 +138,7 @@ fn neighbours(machine: &Machine, sites: &[DVec2], distinct: &[u32]) -> Result<Ve
         return Ok(around);
     }
     let points: Vec<DVec2> = distinct.iter().map(|&i| at(i)).collect();
-    let mesh = delaunay(machine, &points, &DelaunayOptions::default())?;
+    let mesh = delaunay(backend, &points, &DelaunayOptions::default())?;
     for t in &mesh.triangles {
         for k in 0..3 {
             let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);

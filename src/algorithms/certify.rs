@@ -690,6 +690,73 @@ impl Certifier<'_> {
             });
     }
 
+    /// Proves the proposed furthest sites of every pixel of the frame in
+    /// `labels`, mending those that are not the exact furthest of `owners`
+    /// (equal distances to the smaller index), and writes every pixel's
+    /// distance as [`Certifier::label_distances`] does, so that every route
+    /// gives the same bits. Returns the number of pixels mended.
+    pub fn furthest(
+        &self,
+        owners: &[u32],
+        labels: &mut [u32],
+        distances: &mut [f32],
+    ) -> Result<usize> {
+        let width = self.frame.width as usize;
+        let watch = Watch::current();
+        let mended = labels
+            .par_chunks_mut(width)
+            .enumerate()
+            .map(|(y, row)| {
+                watch.check()?;
+                let mut scratch = Vec::with_capacity(owners.len());
+                let mut mended = 0;
+                for (x, label) in row.iter_mut().enumerate() {
+                    let far = self.furthest_of([x as i64, y as i64], owners, &mut scratch)?;
+                    mended += usize::from(far != *label);
+                    *label = far;
+                }
+                Ok(mended)
+            })
+            .sum::<Result<usize>>()?;
+        let region = Region {
+            x0: 0,
+            y0: 0,
+            width: self.frame.width,
+            height: self.frame.height,
+            stride: width,
+            k: 1,
+        };
+        self.label_distances(region, labels, distances);
+        Ok(mended)
+    }
+
+    /// The furthest of `owners` (distinct positions, the first index of
+    /// each) from pixel `p`, exactly.
+    fn furthest_of(
+        &self,
+        p: [i64; 2],
+        owners: &[u32],
+        scratch: &mut Vec<Candidate>,
+    ) -> Result<u32> {
+        let at = DVec2::new(p[0] as f64, p[1] as f64);
+        scratch.clear();
+        scratch.extend(owners.iter().map(|&id| self.candidate(at, id)));
+        let floor = scratch
+            .iter()
+            .map(|c| c.lo)
+            .fold(f64::NEG_INFINITY, f64::max);
+        scratch.retain(|c| c.hi >= floor);
+        let mut exact = vec![None; scratch.len()];
+        let mut best = 0;
+        for n in 1..scratch.len() {
+            let order = self.compare(p, scratch, &mut exact, best, n)?;
+            if order.then(scratch[n].id.cmp(&scratch[best].id)) == Ordering::Less {
+                best = n;
+            }
+        }
+        Ok(scratch.get(best).map_or(u32::MAX, |c| c.id))
+    }
+
     /// The shader's code (`glsl/metric.glsl`) for the keys a disc's radius is
     /// given in: sums of powers for integer p from 3 to 16, whose integer
     /// offsets' keys are integers, the metric's own keys otherwise.

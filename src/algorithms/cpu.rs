@@ -34,7 +34,8 @@ use crate::{
 
 use super::certify::certify_levels;
 use super::higher_order::{
-    furthest_candidates, with_repeats, Furthest, KNearest, KNearestStats, MAX_LEVELS,
+    exactly_furthest, furthest_candidates, with_repeats, Furthest, KNearest, KNearestStats,
+    MAX_LEVELS,
 };
 use super::sites::{check_exact_metric, SiteCertifier};
 
@@ -285,7 +286,8 @@ fn insert(list: &mut [(f64, u32)], key: (f64, u32)) {
 }
 
 /// The furthest-site diagram on the CPU: every pixel against the convex hull's
-/// sites, the only ones that own furthest regions.
+/// sites, the only ones that own furthest regions, proposed in doubles and
+/// proved exactly, as the device's are.
 pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthest> {
     check_sites(sites)?;
     frame.check()?;
@@ -296,33 +298,21 @@ pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthe
         .map(|&i| frame.to_pixel(sites[i as usize]))
         .collect();
     let w = frame.width as usize;
-    let to_world = 1.0 / frame.scale;
-    let (labels, distances) = (0..frame.len())
+    let labels = (0..frame.len())
         .into_par_iter()
         .map(|p| {
             let q = DVec2::new((p % w) as f64, (p / w) as f64);
-            let (i, key) = hull
-                .iter()
+            hull.iter()
                 .zip(&pixels)
                 .map(|(&i, s)| (i, metric.key(q - *s)))
-                .fold((u32::MAX, -1.0), |best, x| {
-                    if x.1 > best.1 || (x.1 == best.1 && x.0 < best.0) {
-                        x
-                    } else {
-                        best
-                    }
-                });
-            (i, (metric.distance_of_key(key) * to_world) as f32)
+                .fold(
+                    (u32::MAX, -1.0),
+                    |best, x| if x.1 > best.1 { x } else { best },
+                )
+                .0
         })
-        .unzip();
-    Ok(Furthest {
-        width: frame.width,
-        height: frame.height,
-        frame: *frame,
-        labels,
-        distances,
-        hull,
-    })
+        .collect();
+    exactly_furthest(sites, frame, metric, labels, hull)
 }
 
 /// The Voronoi diagram of sites of any shape and weight on the CPU: every pixel

@@ -46,7 +46,9 @@ use crate::{
         Frame,
     },
     machine::Machine,
+    Backend,
 };
+use rayon::prelude::*;
 
 /// Empty pixels kept around the points, so that the outside never pinches a
 /// region against the texture's border.
@@ -57,9 +59,11 @@ pub(crate) const MARGIN: u32 = 4;
 #[non_exhaustive]
 pub struct DelaunayOptions {
     /// Texture pixels along the longer side of the bounding box (margins
-    /// included); `None` chooses `default_grid`.
+    /// included); `None` chooses `default_grid`. The CPU, which floods no
+    /// texture, checks it and leaves it unused.
     pub grid: Option<u32>,
-    /// Check conditions I–III on the digital triangulation.
+    /// Check conditions I–III on the digital triangulation (on a device;
+    /// the CPU makes none).
     pub check: bool,
 }
 
@@ -126,8 +130,9 @@ pub struct Delaunay {
     /// Conditions I–III on the digital triangulation, when asked for.
     pub digital_validity: Option<Validity>,
     pub stats: DelaunayStats,
+    /// The flooded digital diagram, on a device; `None` on the CPU.
     #[cfg_attr(feature = "serde", serde(skip))]
-    pub digital: DigitalDiagram,
+    pub digital: Option<DigitalDiagram>,
 }
 
 impl Delaunay {
@@ -195,40 +200,45 @@ fn three_bit_ceil(x: f64) -> f64 {
 ///
 /// let points: Vec<DVec2> = (0..100).map(|i| DVec2::new((i % 10) as f64, (i / 10) as f64 * 1.1)).collect();
 /// let options = DelaunayOptions::default().grid(Some(32));
-/// let mesh = pixgeo::with_default_machine(|m| delaunay(m, &points, &options))?;
+/// let mesh = pixgeo::with_default_backend(pixgeo::Need::DeviceIfAny, |b| delaunay(b, &points, &options))?;
 /// assert_eq!(mesh.triangles.len(), 2 * 9 * 9); // a lattice of 10 x 10 points
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn delaunay(
-    machine: &Machine,
+    backend: &Backend,
     points: &[DVec2],
     options: &DelaunayOptions,
 ) -> Result<Delaunay> {
-    delaunay_with_progress(machine, points, options, &mut |_, _| {})
+    delaunay_with_progress(backend, points, options, &mut |_, _| {})
 }
 
 /// [`delaunay`], calling `progress(done, STEPS)` as each of its five steps
 /// ends: flooding, dualization, moving the seeds, flips, insertion. The steps
-/// on the CPU look at the cancel flag ([`crate::cancel`]) as they go.
+/// on the CPU look at the cancel flag ([`crate::cancel`]) as they go. On
+/// [`Backend::Cpu`] the points are inserted in Hilbert order alone; both
+/// routes give the same triangles, ties included (co-circular points are
+/// decided by the input order, [`crate::geometry`]'s mesh).
 pub fn delaunay_with_progress(
-    machine: &Machine,
+    backend: &Backend,
     points: &[DVec2],
     options: &DelaunayOptions,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Delaunay> {
     check_sites(points)?;
     let k = scale::incircle_exponent(points)?;
+    let machine = backend.machine();
     if k == 0 {
         return triangulate(machine, points, options, progress);
     }
     let mut result = triangulate(machine, &scale::scaled(points, k), options, progress)?;
-    let d = &mut result.digital;
-    d.origin = DVec2::new(
-        scale::times_power_of_two(d.origin.x, -k),
-        scale::times_power_of_two(d.origin.y, -k),
-    );
-    d.cell = scale::times_power_of_two(d.cell, -k);
-    result.stats.cell = d.cell;
+    if let Some(d) = &mut result.digital {
+        d.origin = DVec2::new(
+            scale::times_power_of_two(d.origin.x, -k),
+            scale::times_power_of_two(d.origin.y, -k),
+        );
+        d.cell = scale::times_power_of_two(d.cell, -k);
+        result.stats.cell = d.cell;
+    }
     Ok(result)
 }
 
@@ -238,8 +248,106 @@ pub(crate) const STEPS: u64 = 5;
 /// Points moved or inserted between looks at the cancel flag.
 const WATCH_EVERY: usize = 1 << 14;
 
+/// The distinct points of an input, in an order of the triangulation's.
+struct Distinct {
+    /// Input indices, the first of equal points.
+    unique: Vec<u32>,
+    /// (dropped, kept), sorted.
+    duplicates: Vec<[u32; 2]>,
+    /// The points of `unique`.
+    real: Vec<DVec2>,
+}
+
+/// The distinct points (the first of equal ones) in `key`'s order, or why
+/// they have no triangulation.
+fn distinct_points<K: Ord + Send>(
+    points: &[DVec2],
+    key: impl Fn(DVec2) -> K + Sync,
+) -> Result<Distinct> {
+    let (unique, duplicates) = distinct_by(points, 0..points.len() as u32, key);
+    if unique.len() < 3 {
+        return Err(Error::InvalidInput(format!(
+            "a triangulation needs three distinct points; there are {}",
+            unique.len()
+        )));
+    }
+    let real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).collect();
+    if !(2..real.len()).any(|k| orient(real[0], real[1], real[k]) != 0.0) {
+        return Err(Error::InvalidInput(
+            "all points lie on one line: there is no triangle".into(),
+        ));
+    }
+    Ok(Distinct {
+        unique,
+        duplicates,
+        real,
+    })
+}
+
+/// The finite triangles of `mesh` over input indices (`unique` maps the
+/// mesh's vertices to them), each starting at its least index, sorted: the
+/// same list whichever route built the mesh.
+fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Vec<[u32; 3]> {
+    let mut triangles: Vec<[u32; 3]> = mesh
+        .triangles()
+        .into_iter()
+        .filter(|t| !t.contains(&DUMMY))
+        .map(|t| {
+            let [a, b, c] = t.map(|v| unique[v as usize]);
+            if a < b && a < c {
+                [a, b, c]
+            } else if b < c {
+                [b, c, a]
+            } else {
+                [c, a, b]
+            }
+        })
+        .collect();
+    triangles.par_sort_unstable();
+    triangles
+}
+
+/// The CPU route: the distinct points inserted in Hilbert order.
+fn by_insertion(points: &[DVec2], progress: &mut dyn FnMut(u64, u64)) -> Result<Delaunay> {
+    let watch = Watch::current();
+    let (lo, hi) = bounds(points);
+    let scale = 65535.0 / (hi - lo).max_element();
+    let Distinct {
+        unique,
+        duplicates,
+        real,
+    } = distinct_points(points, |p| {
+        let g = (p - lo) * scale;
+        hilbert_index(g.x as u32, g.y as u32)
+    })?;
+    let started = Instant::now();
+    let (mesh, flips) = insert_all(real, &unique, &watch)?;
+    let stats = DelaunayStats {
+        points: unique.len(),
+        insert_ms: ms(started),
+        inserted: unique.len() - 3,
+        insertion_flips: flips,
+        incremental: Some("on the CPU, by insertion alone".into()),
+        ..Default::default()
+    };
+    progress(STEPS, STEPS);
+    Ok(Delaunay {
+        triangles: canonical_triangles(&mesh, &unique),
+        duplicates,
+        digital_validity: None,
+        stats,
+        digital: None,
+    })
+}
+
+fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
+    points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
+        (lo.min(p), hi.max(p))
+    })
+}
+
 fn triangulate(
-    machine: &Machine,
+    machine: Option<&Machine>,
     points: &[DVec2],
     options: &DelaunayOptions,
     progress: &mut dyn FnMut(u64, u64),
@@ -248,11 +356,15 @@ fn triangulate(
     if points.len() >= u32::MAX as usize / 2 {
         return Err(Error::InvalidInput("too many points".into()));
     }
-    let watch = Watch::current();
-    // 1. The grid over the bounding box.
-    let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
-        (lo.min(p), hi.max(p))
-    });
+    let (lo, hi) = bounds(points);
+    let span = (hi - lo).max_element();
+    if span == 0.0 {
+        return Err(Error::InvalidInput(format!(
+            "all {} points are one point: a triangulation needs three distinct points not on one line",
+            points.len()
+        )));
+    }
+    // The grid is checked on both routes, so that they take the same options.
     let side = options.grid.unwrap_or_else(|| default_grid(points.len()));
     // The texture comes out at most two pixels wider than the grid.
     if side > crate::algorithms::flooding::MAX_SIDE - 2 {
@@ -266,13 +378,11 @@ fn triangulate(
             "a grid of {side} pixels leaves no room inside its {MARGIN}-pixel margins"
         )));
     }
-    let span = (hi - lo).max_element();
-    if span == 0.0 {
-        return Err(Error::InvalidInput(format!(
-            "all {} points are one point: a triangulation needs three distinct points not on one line",
-            points.len()
-        )));
-    }
+    let Some(machine) = machine else {
+        return by_insertion(points, progress);
+    };
+    let watch = Watch::current();
+    // 1. The grid over the bounding box.
     let cell = three_bit_ceil(span / (side - 2 * MARGIN - 1) as f64);
     let first = (lo / cell).floor() - MARGIN as f64;
     let origin = first * cell;
@@ -287,22 +397,14 @@ fn triangulate(
     };
     // The distinct points in Hilbert order over the pixels, so that neighbours
     // in the mesh are mostly neighbours in memory; equal points sort together.
-    let (unique, duplicates) = distinct_by(points, 0..points.len() as u32, |p| {
+    let Distinct {
+        unique,
+        duplicates,
+        real,
+    } = distinct_points(points, |p| {
         let s = pixel_of(p);
         hilbert_index(s[0] as u32, s[1] as u32)
-    });
-    if unique.len() < 3 {
-        return Err(Error::InvalidInput(format!(
-            "a triangulation needs three distinct points; there are {}",
-            unique.len()
-        )));
-    }
-    let real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).collect();
-    if !(2..real.len()).any(|k| orient(real[0], real[1], real[k]) != 0.0) {
-        return Err(Error::InvalidInput(
-            "all points lie on one line: there is no triangle".into(),
-        ));
-    }
+    })?;
     let mut stats = DelaunayStats {
         points: real.len(),
         width,
@@ -364,6 +466,7 @@ fn triangulate(
                 stats.incremental = Some(format!("the digital triangulation is not valid: {e}"))
             }
             Ok(mut m) => {
+                m.rank = unique.clone();
                 stats.hull_flips = m.convexify();
                 for (k, &v) in seed_point.iter().enumerate() {
                     if k % WATCH_EVERY == 0 {
@@ -403,7 +506,7 @@ fn triangulate(
     let started = Instant::now();
     let mesh = match mesh {
         None => {
-            let (built, flips) = insert_all(real.clone(), &watch)?;
+            let (built, flips) = insert_all(real.clone(), &unique, &watch)?;
             stats.inserted = real.len() - 3;
             stats.insertion_flips = flips;
             built
@@ -439,19 +542,14 @@ fn triangulate(
         }
     };
     stats.insert_ms = ms(started);
-    let triangles: Vec<[u32; 3]> = mesh
-        .triangles()
-        .into_iter()
-        .filter(|t| !t.contains(&DUMMY))
-        .map(|t| t.map(|v| unique[v as usize]))
-        .collect();
+    let triangles = canonical_triangles(&mesh, &unique);
     progress(5, STEPS);
     Ok(Delaunay {
         triangles,
         duplicates,
         digital_validity,
         stats,
-        digital: DigitalDiagram {
+        digital: Some(DigitalDiagram {
             width,
             height,
             origin,
@@ -470,17 +568,15 @@ fn triangulate(
                     })
                 })
                 .collect(),
-        },
+        }),
     })
 }
 
 /// A triangulation by insertion alone in Hilbert order, each point walking
 /// from the one before, from a first counter-clockwise triangle (the points
 /// are distinct and not all on one line).
-fn insert_all(points: Vec<DVec2>, watch: &Watch) -> Result<(Mesh, usize)> {
-    let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), &p| {
-        (lo.min(p), hi.max(p))
-    });
+fn insert_all(points: Vec<DVec2>, rank: &[u32], watch: &Watch) -> Result<(Mesh, usize)> {
+    let (lo, hi) = bounds(&points);
     let scale = 65535.0 / (hi - lo).max_element();
     let mut order: Vec<u32> = (0..points.len() as u32).collect();
     order.sort_by_cached_key(|&v| {
@@ -497,6 +593,7 @@ fn insert_all(points: Vec<DVec2>, watch: &Watch) -> Result<(Mesh, usize)> {
         [order[1], order[0], order[c]]
     };
     let mut mesh = Mesh::triangle(points, first);
+    mesh.rank = rank.to_vec();
     let mut flips = 0;
     let mut last = first[2];
     for (k, &v) in order.iter().filter(|v| !first.contains(v)).enumerate() {

@@ -27,6 +27,7 @@ use crate::{
         scale, Frame,
     },
     machine::Machine,
+    Backend,
 };
 
 use super::{
@@ -61,13 +62,13 @@ pub enum Method {
 }
 
 impl Method {
-    /// The faster on `machine`'s kind of device, as measured
-    /// (`docs/benchmarks.md`): a software rasterizer draws the picture
-    /// slower than the CPU searches the grid.
-    pub fn for_device(machine: &Machine) -> Self {
-        match machine.device_class() {
-            crate::machine::DeviceClass::Software => Method::Grid,
-            crate::machine::DeviceClass::Gpu => Method::Pixels,
+    /// The faster on `backend`, as measured (`docs/benchmarks.md`): a
+    /// software rasterizer draws the picture slower than the CPU searches
+    /// the grid, and the CPU has only the grid.
+    pub fn for_backend(backend: &Backend) -> Self {
+        match backend.machine().map(Machine::device_class) {
+            Some(crate::machine::DeviceClass::Gpu) => Method::Pixels,
+            _ => Method::Grid,
         }
     }
 }
@@ -265,27 +266,32 @@ fn refine(
 
 /// The directed Hausdorff distance from `a` to `b`: the point of `a` farthest from
 /// its nearest point of `b`, read off the Voronoi diagram of `b` (thesis §3.11.1)
-/// or found with a grid, whichever is faster on the device ([`Method::for_device`]).
+/// or found with a grid, whichever is faster on the device ([`Method::for_backend`]).
 pub fn directed_hausdorff(
-    machine: &Machine,
+    backend: &Backend,
     a: &[DVec2],
     b: &[DVec2],
     side: Option<u32>,
 ) -> Result<Answer> {
-    directed_hausdorff_by(machine, a, b, side, Method::for_device(machine))
+    directed_hausdorff_by(backend, a, b, side, Method::for_backend(backend))
 }
 
 /// [`directed_hausdorff`] by the method given; `side` sizes the picture of
 /// [`Method::Pixels`].
 pub fn directed_hausdorff_by(
-    machine: &Machine,
+    backend: &Backend,
     a: &[DVec2],
     b: &[DVec2],
     side: Option<u32>,
     method: Method,
 ) -> Result<Answer> {
     in_range(a, b, |a, b| match method {
-        Method::Pixels => directed_in_range(machine, a, b, side),
+        Method::Pixels => directed_in_range(
+            backend.device_for("the pixels method of Hausdorff")?,
+            a,
+            b,
+            side,
+        ),
         Method::Grid => directed_by_grid(a, b),
     })
 }
@@ -414,26 +420,26 @@ fn directed_in_range(
 }
 
 /// The Hausdorff distance between `a` and `b`, both directions, by the
-/// faster method on the device ([`Method::for_device`]).
+/// faster method on the device ([`Method::for_backend`]).
 pub fn hausdorff(
-    machine: &Machine,
+    backend: &Backend,
     a: &[DVec2],
     b: &[DVec2],
     side: Option<u32>,
 ) -> Result<Hausdorff> {
-    hausdorff_by(machine, a, b, side, Method::for_device(machine))
+    hausdorff_by(backend, a, b, side, Method::for_backend(backend))
 }
 
 /// [`hausdorff`] by the method given.
 pub fn hausdorff_by(
-    machine: &Machine,
+    backend: &Backend,
     a: &[DVec2],
     b: &[DVec2],
     side: Option<u32>,
     method: Method,
 ) -> Result<Hausdorff> {
-    let a_to_b = directed_hausdorff_by(machine, a, b, side, method)?;
-    let b_to_a = directed_hausdorff_by(machine, b, a, side, method)?;
+    let a_to_b = directed_hausdorff_by(backend, a, b, side, method)?;
+    let b_to_a = directed_hausdorff_by(backend, b, a, side, method)?;
     Ok(Hausdorff {
         a_to_b,
         b_to_a,

@@ -64,6 +64,10 @@ pub(crate) struct Mesh {
     pub hidden: Vec<u32>,
     /// The edges [`Mesh::legalize`] has yet to check, kept between calls.
     stack: Vec<(u32, usize)>,
+    /// Each vertex's rank in the tie rule of [`Mesh::conflicts`] (the input
+    /// index, so that every route builds the same triangulation); empty:
+    /// the vertex's own number.
+    pub rank: Vec<u32>,
 }
 
 impl Mesh {
@@ -92,10 +96,36 @@ impl Mesh {
     fn conflicts(&self, t: [u32; 3], q: u32) -> bool {
         if self.weights.is_empty() {
             let [a, b, c] = t.map(|v| self.at(v));
-            return incircle(a, b, c, self.at(q)) > 0.0;
+            let inside = incircle(a, b, c, self.at(q));
+            return inside > 0.0 || (inside == 0.0 && self.perturbed_inside(t, q));
         }
         let [a, b, c] = t.map(|v| self.weighted(v));
         power_test(a, b, c, self.weighted(q)) == Ordering::Greater
+    }
+
+    /// For `q` on the circle through `t`'s corners: whether it is inside once
+    /// each vertex's lift onto the paraboloid is raised by ε^(1 + rank), ε
+    /// infinitesimal (simulation of simplicity). The incircle determinant's
+    /// derivative by each lift is an orientation of the other three points;
+    /// the first that is not zero, in rank order, gives the sign. The lifted
+    /// points are then in general position, so the Delaunay triangulation is
+    /// unique: flips and insertion, in any order, end with the same
+    /// triangles.
+    fn perturbed_inside(&self, [a, b, c]: [u32; 3], d: u32) -> bool {
+        let rank = |v: u32| self.rank.get(v as usize).copied().unwrap_or(v);
+        let [pa, pb, pc, pd] = [a, b, c, d].map(|v| self.at(v));
+        let mut terms = [
+            (rank(a), orient(pb, pc, pd)),
+            (rank(b), -orient(pa, pc, pd)),
+            (rank(c), orient(pa, pb, pd)),
+            (rank(d), -orient(pa, pb, pc)),
+        ];
+        terms.sort_unstable_by_key(|&(r, _)| r);
+        // q's own term is -orient(a, b, c), not zero for a finite triangle.
+        terms
+            .iter()
+            .find(|&&(_, s)| s != 0.0)
+            .is_some_and(|&(_, s)| s > 0.0)
     }
 
     fn is_ghost(&self, t: u32) -> bool {
@@ -174,6 +204,7 @@ impl Mesh {
             weights: Vec::new(),
             hidden: Vec::new(),
             stack: Vec::new(),
+            rank: Vec::new(),
         };
         mesh.check(&twin_edges, |v| {
             (start[slot(v) + 1] - start[slot(v)]) as usize

@@ -2,6 +2,7 @@
 //! stops with `Error::Cancelled`, and runs to its answer once the flag is
 //! clear. (The device's runs look at their machine's flag instead.)
 
+use pixgeo::Backend;
 use std::sync::{
     atomic::{AtomicBool, Ordering},
     Arc,
@@ -51,13 +52,19 @@ fn every_step_on_the_cpu_stops_when_cancelled() {
     let machine = machine();
     let points = scattered(500);
     cancelled_then_answered("delaunay", || {
-        delaunay(&machine, &points, &DelaunayOptions::default())
+        delaunay(
+            &Backend::Device(&machine),
+            &points,
+            &DelaunayOptions::default(),
+        )
     });
     let rect = Rect {
         lo: DVec2::ZERO,
         hi: DVec2::splat(100.0),
     };
-    cancelled_then_answered("cells", || voronoi_cells(&machine, &points, &rect));
+    cancelled_then_answered("cells", || {
+        voronoi_cells(&Backend::Device(&machine), &points, &rect)
+    });
     // Refined by a branch and bound among points, inside a square.
     let sites: Vec<Site> = points[..20].iter().map(|&p| Site::point(p)).collect();
     let square = Region {
@@ -88,9 +95,12 @@ fn cells_report_their_progress_to_the_whole() {
         hi: DVec2::splat(100.0),
     };
     let mut reports = Vec::new();
-    voronoi_cells_with_progress(&machine, &points, &rect, &mut |done, total| {
-        reports.push((done, total))
-    })
+    voronoi_cells_with_progress(
+        &Backend::Device(&machine),
+        &points,
+        &rect,
+        &mut |done, total| reports.push((done, total)),
+    )
     .unwrap();
     // Every 16384 cells, then the whole: rising to the total.
     assert!(reports.len() >= 3, "{reports:?}");

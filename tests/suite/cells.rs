@@ -10,6 +10,7 @@
 use glam::DVec2;
 use num_rational::BigRational;
 use num_traits::Signed;
+use pixgeo::Backend;
 use pixgeo::{algorithms::cells::voronoi_cells, geometry::cell::Rect};
 use pixgeo_reference::exact::{clipped_voronoi_corners, is_nearest, signed_double_area};
 use rand::{Rng, SeedableRng};
@@ -79,7 +80,7 @@ fn cell_corners_are_the_nearest_doubles_of_the_exact_corners() {
     let mut checked = 0;
     for round in 0..36 {
         let (sites, rect) = case(&mut rng, round % 3);
-        let cells = voronoi_cells(&machine, &sites, &rect).unwrap();
+        let cells = voronoi_cells(&Backend::Device(&machine), &sites, &rect).unwrap();
         // Distinct sites (the first of equal ones) and the exact corners.
         let mut distinct: Vec<u32> = Vec::new();
         for (i, p) in sites.iter().enumerate() {

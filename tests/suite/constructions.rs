@@ -17,6 +17,7 @@ use pixgeo::algorithms::{
     distances::{diameter, directed_hausdorff_by, max_distance, Method, Pair},
     homothet::{enclose, Unit},
 };
+use pixgeo::Backend;
 use pixgeo_reference::exact::{
     directed_hausdorff_squared, double_area, extremal_quadrangle_double_area, extremal_triangles,
     is_nearest, is_nearest_root, max_squared_distance, smallest_enclosing_circle, squared,
@@ -154,7 +155,7 @@ proptest! {
         let far = max_distance(&m, a, b, None).unwrap().pair;
         prop_assert!(check(far, a, b, max_squared_distance(a, b)), "{what}");
         for method in [Method::Pixels, Method::Grid] {
-            let h = directed_hausdorff_by(&m, a, b, None, method).unwrap().pair;
+            let h = directed_hausdorff_by(&Backend::Device(&m), a, b, None, method).unwrap().pair;
             prop_assert!(check(h, a, b, directed_hausdorff_squared(a, b)), "{what} {method:?}");
         }
     }

@@ -7,6 +7,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::delaunay::{delaunay, Delaunay, DelaunayOptions},
     geometry::triangulation::check_delaunay,
+    Backend,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -15,7 +16,8 @@ use rand_chacha::ChaCha8Rng;
 /// empty-circle property against every point.
 fn triangulate(name: &str, points: &[DVec2], options: &DelaunayOptions, brute: bool) -> Delaunay {
     let machine = crate::common::machine();
-    let result = delaunay(&machine, points, options).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let result =
+        on_both_routes(name, &machine, points, options).unwrap_or_else(|e| panic!("{name}: {e}"));
     let expected = result.distinct();
     let problems = check_delaunay(points, &result.triangles, &expected);
     assert!(problems.is_empty(), "{name}: {problems:?}");
@@ -41,6 +43,40 @@ fn triangulate(name: &str, points: &[DVec2], options: &DelaunayOptions, brute: b
         }
     }
     result
+}
+
+/// The triangulation on the device and on the CPU, which must be the same
+/// bit for bit (co-circular points included) or the same error.
+fn on_both_routes(
+    name: &str,
+    machine: &pixgeo::Machine,
+    points: &[DVec2],
+    options: &DelaunayOptions,
+) -> pixgeo::Result<Delaunay> {
+    let device = delaunay(&Backend::Device(machine), points, options);
+    let cpu = delaunay(&Backend::Cpu, points, options);
+    match (&device, &cpu) {
+        (Ok(d), Ok(c)) => {
+            assert!(
+                d.triangles == c.triangles && d.duplicates == c.duplicates,
+                "{name}: {} triangles on the device, {} on the CPU, differing at {:?}",
+                d.triangles.len(),
+                c.triangles.len(),
+                d.triangles
+                    .iter()
+                    .zip(&c.triangles)
+                    .position(|(a, b)| a != b)
+            );
+            assert!(c.digital.is_none() && d.digital.is_some(), "{name}");
+        }
+        (Err(d), Err(c)) => assert_eq!(d.to_string(), c.to_string(), "{name}"),
+        _ => panic!(
+            "{name}: the device gave {:?}, the CPU {:?}",
+            device.as_ref().err(),
+            cpu.as_ref().err()
+        ),
+    }
+    device
 }
 
 fn spade_triangles(points: &[DVec2]) -> Vec<[u32; 3]> {
@@ -220,13 +256,13 @@ fn bad_input_is_a_clear_error() {
             "non-finite coordinate",
         ),
     ] {
-        let error = delaunay(&machine, &points, &options)
+        let error = on_both_routes(says, &machine, &points, &options)
             .unwrap_err()
             .to_string();
         assert!(error.contains(says), "{error}");
     }
     let error = delaunay(
-        &machine,
+        &Backend::Device(&machine),
         &[p(0.0, 0.0), p(1.0, 0.0), p(0.0, 1.0)],
         &DelaunayOptions::default().grid(Some(5)),
     )
@@ -258,7 +294,8 @@ fn hundreds_of_degenerate_sets_on_every_kind_of_grid() {
             .collect();
         let grid = [None, Some(10), Some(16), Some(33), Some(200)][rng.gen_range(0..5)];
         let options = DelaunayOptions::default().grid(grid);
-        let result = match delaunay(&machine, &points, &options) {
+        let name = format!("round {round}");
+        let result = match on_both_routes(&name, &machine, &points, &options) {
             Ok(result) => result,
             Err(e) => {
                 let e = e.to_string();
@@ -347,8 +384,8 @@ fn voronoi_cells_tile_the_frame_and_hold_their_nearest_points() {
     cases.push(("huge coordinates", far, far_rect));
     cases.push(("tiny coordinates", tiny, tiny_rect));
     for (name, sites, rect) in cases {
-        let cells =
-            voronoi_cells(&machine, &sites, &rect).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let cells = voronoi_cells(&Backend::Device(&machine), &sites, &rect)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         let first: Vec<usize> = (0..sites.len())
             .map(|i| (0..=i).find(|&j| sites[j] == sites[i]).unwrap())
             .collect();

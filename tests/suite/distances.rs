@@ -6,6 +6,7 @@ use glam::DVec2;
 use pixgeo::algorithms::distances::{
     diameter, directed_hausdorff_by, hausdorff, hausdorff_by, max_distance, Method,
 };
+use pixgeo::Backend;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -94,10 +95,15 @@ fn hausdorff_is_exact() {
     ];
     for (name, a, b) in pairs() {
         for (method, side) in ways {
-            let h =
-                hausdorff_by(&m, &a, &b, side, method).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let h = hausdorff_by(&Backend::Device(&m), &a, &b, side, method)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(h.a_to_b.method, method);
-            assert_eq!(hausdorff(&m, &a, &b, side).unwrap().distance, h.distance);
+            assert_eq!(
+                hausdorff(&Backend::Device(&m), &a, &b, side)
+                    .unwrap()
+                    .distance,
+                h.distance
+            );
             let (ab, ba) = (brute_directed(&a, &b), brute_directed(&b, &a));
             assert!(same(h.a_to_b.pair.distance, ab), "{name} {side:?} a->b");
             assert!(same(h.b_to_a.pair.distance, ba), "{name} {side:?} b->a");
@@ -141,7 +147,7 @@ fn the_picture_leaves_few_points_to_check() {
     let a = uniform(&mut rng, 3000, 1000.0, 1000.0);
     let b = uniform(&mut rng, 3000, 1000.0, 1000.0);
     for method in [Method::Pixels, Method::Grid] {
-        let h = directed_hausdorff_by(&m, &a, &b, None, method).unwrap();
+        let h = directed_hausdorff_by(&Backend::Device(&m), &a, &b, None, method).unwrap();
         assert_eq!(h.pair.distance, brute_directed(&a, &b));
         assert!(
             h.checked < 30,
@@ -155,7 +161,7 @@ fn the_picture_leaves_few_points_to_check() {
 fn empty_or_invalid_sets_are_clear_errors() {
     let m = machine();
     let a = [DVec2::new(0.0, 0.0)];
-    assert!(hausdorff(&m, &a, &[], None).is_err());
+    assert!(hausdorff(&Backend::Device(&m), &a, &[], None).is_err());
     assert!(diameter(&m, &[], None).is_err());
     assert!(max_distance(&m, &[DVec2::new(f64::NAN, 1.0)], &a, None).is_err());
 }
@@ -197,7 +203,7 @@ fn repeated_points_are_checked_once() {
         DVec2::new(9.0, 9.0),
         DVec2::new(0.0, 0.0),
     ];
-    let h = hausdorff(&m, &a, &b, None).unwrap();
+    let h = hausdorff(&Backend::Device(&m), &a, &b, None).unwrap();
     assert_eq!(h.a_to_b.pair.distance, brute_directed(&a, &b));
     assert_eq!(h.b_to_a.pair.distance, brute_directed(&b, &a));
     assert_eq!((h.a_to_b.pair.from, h.a_to_b.pair.to), (100_000, 0));
@@ -283,7 +289,7 @@ fn extreme_pairs_are_exact_under_ulp_ties() {
             max_squared_distance(&a, &b),
         );
         for method in [Method::Pixels, Method::Grid] {
-            let h = directed_hausdorff_by(&m, &a, &b, None, method)
+            let h = directed_hausdorff_by(&Backend::Device(&m), &a, &b, None, method)
                 .unwrap()
                 .pair;
             check(

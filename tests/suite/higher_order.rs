@@ -519,3 +519,79 @@ fn cpu_growth_reports_its_progress() {
     );
     assert!(told.windows(2).all(|w| w[0].0 < w[1].0), "{told:?}");
 }
+
+/// The furthest site of every pixel against rational arithmetic from the
+/// doubles given, equal distances to the smaller index, and the same labels
+/// and distances bit for bit on the device and on the CPU: on sites one ulp
+/// off a lattice, on exact ties, and on the sites where a float key names the
+/// wrong site.
+#[test]
+fn furthest_is_exact_and_the_same_on_every_route() {
+    use pixgeo_reference::exact::exact_key;
+    let m = machine();
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    let nudge = |v: f64, k: i64| f64::from_bits((v.to_bits() as i64 + k) as u64);
+    let mut cases: Vec<(&str, Frame, Vec<DVec2>)> = vec![
+        (
+            "a float key names site 1",
+            Frame::pixels(40, 32).unwrap(),
+            vec![p(40.00000000000001, 32.0), p(0.0, 32.0), p(0.0, 8.0)],
+        ),
+        (
+            "two sites, a tied column",
+            Frame::pixels(8, 4).unwrap(),
+            vec![p(0.0, 0.0), p(4.0, 0.0)],
+        ),
+        (
+            "repeats on the hull",
+            Frame::pixels(12, 10).unwrap(),
+            vec![
+                p(9.0, 1.0),
+                p(1.0, 1.0),
+                p(9.0, 1.0),
+                p(5.0, 9.0),
+                p(1.0, 1.0),
+            ],
+        ),
+    ];
+    for (k, name) in [
+        (1, "lattice + 1 ulp"),
+        (-1, "lattice - 1 ulp"),
+        (0, "lattice"),
+    ] {
+        let sites = (0..16)
+            .map(|i| {
+                let (x, y) = ((i % 4 * 7) as f64 + 3.0, (i / 4 * 5) as f64 + 2.0);
+                p(nudge(x, k * (i % 3 - 1)), nudge(y, k * (i % 2)))
+            })
+            .collect();
+        cases.push((name, Frame::pixels(30, 24).unwrap(), sites));
+    }
+    for metric in [Metric::L2, Metric::LInf, Metric::L1] {
+        for (name, frame, sites) in &cases {
+            let name = format!("{metric} {name}");
+            let device = furthest(&m, sites, frame, metric).unwrap();
+            let on_cpu = cpu::furthest(sites, frame, metric).unwrap();
+            assert!(
+                device.labels == on_cpu.labels,
+                "{name}: labels differ by route"
+            );
+            let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert!(
+                bits(&device.distances) == bits(&on_cpu.distances),
+                "{name}: distances differ by route"
+            );
+            let w = frame.width;
+            for (q, &label) in device.labels.iter().enumerate() {
+                let (i, j) = (q as u32 % w, q as u32 / w);
+                let keys: Vec<_> = sites
+                    .iter()
+                    .map(|&s| exact_key(frame, metric, s, i, j))
+                    .collect();
+                let far = keys.iter().max().unwrap();
+                let first = keys.iter().position(|k| k == far).unwrap() as u32;
+                assert_eq!(label, first, "{name}: pixel ({i}, {j})");
+            }
+        }
+    }
+}

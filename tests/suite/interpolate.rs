@@ -8,6 +8,7 @@
 use crate::common::{machine, ulps, uniform};
 use glam::DVec2;
 use num_rational::BigRational;
+use pixgeo::Backend;
 use pixgeo::{
     algorithms::interpolate::{
         discrete_sibson, interpolate, interpolate_points, interpolate_window, Method,
@@ -186,7 +187,17 @@ fn linear_in(
 /// Returns the pixels rationals settled, for both methods.
 fn check_against_definitions(sites: &[DVec2], values: &[f64], frame: &Frame, half: f64) -> u64 {
     let machine = machine();
-    let run = |method| interpolate(&machine, sites, values, frame, method, &mut |_, _| {}).unwrap();
+    let run = |method| {
+        interpolate(
+            &Backend::Device(&machine),
+            sites,
+            values,
+            frame,
+            method,
+            &mut |_, _| {},
+        )
+        .unwrap()
+    };
     let (exact, linear) = (run(Method::Exact), run(Method::Linear));
     let w = frame.width as usize;
     let triangles = delaunay_by_brute_force(sites);
@@ -293,14 +304,21 @@ fn interpolation_refuses_what_it_cannot_answer() {
     let sites = [DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::ONE];
     let frame = Frame::pixels(4, 4).unwrap();
     let go = |values: &[f64], method| {
-        interpolate(&machine, &sites, values, &frame, method, &mut |_, _| {})
+        interpolate(
+            &Backend::Device(&machine),
+            &sites,
+            values,
+            &frame,
+            method,
+            &mut |_, _| {},
+        )
     };
     assert!(go(&[1.0, 2.0, 3.0], Method::Exact).is_err());
     assert!(go(&[1.0, 2.0, f64::NAN, 4.0], Method::Linear).is_err());
     // The same point with two values.
     let twice = [DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::ZERO];
     let err = interpolate(
-        &machine,
+        &Backend::Device(&machine),
         &twice,
         &[1.0, 2.0, 3.0, 4.0],
         &frame,
@@ -312,7 +330,7 @@ fn interpolation_refuses_what_it_cannot_answer() {
     assert!(err.contains("same point"), "{err}");
     // With equal values a repeated point is one.
     assert!(interpolate(
-        &machine,
+        &Backend::Device(&machine),
         &twice,
         &[1.0, 2.0, 3.0, 1.0],
         &frame,
@@ -321,14 +339,26 @@ fn interpolation_refuses_what_it_cannot_answer() {
     )
     .is_ok());
     let points = [DVec2::new(0.25, 0.5), DVec2::new(f64::NAN, 0.0)];
-    assert!(interpolate_points(&machine, &sites, &[0.0; 4], &points, Method::Exact).is_err());
-    assert!(
-        interpolate_points(&machine, &sites, &[0.0; 4], &points[..1], Method::Discrete).is_err()
-    );
+    assert!(interpolate_points(
+        &Backend::Device(&machine),
+        &sites,
+        &[0.0; 4],
+        &points,
+        Method::Exact
+    )
+    .is_err());
+    assert!(interpolate_points(
+        &Backend::Device(&machine),
+        &sites,
+        &[0.0; 4],
+        &points[..1],
+        Method::Discrete
+    )
+    .is_err());
     // Sites on one line have no inside: every pixel is NaN.
     let line = [DVec2::ZERO, DVec2::ONE, DVec2::splat(2.0)];
     let on_line = interpolate(
-        &machine,
+        &Backend::Device(&machine),
         &line,
         &[1.0; 3],
         &frame,
@@ -346,18 +376,40 @@ fn interpolants_at_points_match_the_raster() {
     let values: Vec<f64> = sites.iter().map(|p| p.x * p.y).collect();
     let frame = Frame::pixels(30, 30).unwrap();
     for method in [Method::Exact, Method::Linear] {
-        let raster =
-            interpolate(&machine, &sites, &values, &frame, method, &mut |_, _| {}).unwrap();
+        let raster = interpolate(
+            &Backend::Device(&machine),
+            &sites,
+            &values,
+            &frame,
+            method,
+            &mut |_, _| {},
+        )
+        .unwrap();
         let centres: Vec<DVec2> = (0..900)
             .map(|k| DVec2::new((k % 30) as f64, (k / 30) as f64))
             .collect();
-        let at = interpolate_points(&machine, &sites, &values, &centres, method).unwrap();
+        let at = interpolate_points(
+            &Backend::Device(&machine),
+            &sites,
+            &values,
+            &centres,
+            method,
+        )
+        .unwrap();
         for k in 0..900 {
             assert_eq!(raster.values[k].to_bits(), at.values[k].to_bits());
         }
         // Nearest and linear data: Sibson and linear reproduce a plane.
         let plane: Vec<f64> = sites.iter().map(|p| 3.0 * p.x - 2.0 * p.y + 1.0).collect();
-        let flat = interpolate(&machine, &sites, &plane, &frame, method, &mut |_, _| {}).unwrap();
+        let flat = interpolate(
+            &Backend::Device(&machine),
+            &sites,
+            &plane,
+            &frame,
+            method,
+            &mut |_, _| {},
+        )
+        .unwrap();
         for (k, v) in flat.values.iter().enumerate() {
             let p = centres[k];
             assert!(
@@ -367,7 +419,7 @@ fn interpolants_at_points_match_the_raster() {
         }
     }
     let near = interpolate(
-        &machine,
+        &Backend::Device(&machine),
         &sites,
         &values,
         &frame,
@@ -383,10 +435,17 @@ fn interpolants_at_points_match_the_raster() {
         height: 5,
     };
     for method in [Method::Exact, Method::Linear, Method::Nearest] {
-        let whole = interpolate(&machine, &sites, &values, &frame, method, &mut |_, _| {});
+        let whole = interpolate(
+            &Backend::Device(&machine),
+            &sites,
+            &values,
+            &frame,
+            method,
+            &mut |_, _| {},
+        );
         let whole = whole.unwrap().values;
         let part = interpolate_window(
-            &machine,
+            &Backend::Device(&machine),
             &sites,
             &values,
             &frame,
@@ -401,7 +460,7 @@ fn interpolants_at_points_match_the_raster() {
     }
     let discrete = Method::Discrete;
     let refused = interpolate_window(
-        &machine,
+        &Backend::Device(&machine),
         &sites,
         &values,
         &frame,

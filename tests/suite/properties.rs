@@ -4,6 +4,7 @@
 //! — at every scale from 2^-40 to 2^40 (a power of two changes no answer).
 
 use glam::DVec2;
+use pixgeo::Backend;
 use pixgeo::{
     algorithms::{
         area::{extremal_quadrangle, extremal_triangle, Extreme},
@@ -375,7 +376,8 @@ fn hausdorff_and_diameter_are_exact() {
             .fold(0.0, f64::max);
         prop_assert_eq!(d.pair.distance, want);
         if !b.is_empty() {
-            let h = hausdorff(&m, a, b, None).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            let h = hausdorff(&Backend::Device(&m), a, b, None)
+                .map_err(|e| TestCaseError::fail(e.to_string()))?;
             prop_assert_eq!(h.distance, brute_directed(a, b).max(brute_directed(b, a)));
         }
         Ok(())

@@ -2,6 +2,7 @@
 //! point on coordinates from the edges of f64 (NaN, infinities, 1e308,
 //! subnormals, repeats, empty sets) returns `Ok` or `Err`, never unwinds.
 
+use pixgeo::Backend;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use glam::DVec2;
@@ -88,10 +89,10 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
         furthest(m, p, &frame, Metric::L2).map(|_| ())
     });
     no_panic("delaunay", &p, || {
-        delaunay(m, p, &DelaunayOptions::default()).map(|_| ())
+        delaunay(&Backend::Device(m), p, &DelaunayOptions::default()).map(|_| ())
     });
     no_panic("hausdorff", &(p, q), || {
-        hausdorff(m, p, q, Some(32)).map(|_| ())
+        hausdorff(&Backend::Device(m), p, q, Some(32)).map(|_| ())
     });
     no_panic("diameter", &p, || diameter(m, p, Some(32)).map(|_| ()));
     no_panic("triangle", &p, || {

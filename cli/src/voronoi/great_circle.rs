@@ -74,12 +74,13 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
     let lats: Vec<f64> = (0..h).map(|j| centre(0, j).y).collect();
     // Without a GPU the k-d tree on the CPU is faster than the filter on a
     // software rasterizer (`docs/benchmarks.md`).
-    let backend = Backend::choose(args.device.as_deref(), true)?;
+    let chosen = crate::device::choose(args.device.as_deref(), crate::device::need(true))?;
+    let backend = chosen.backend();
     let started = std::time::Instant::now();
     let progress = Progress::new("voronoi: great circles", args.json);
     let report = |done, total| progress.report(done, total);
     let answer = match &backend {
-        Backend::Gpu(machine) => great_circle_grid(machine, &sites, &lons, &lats, &report)?,
+        Backend::Device(machine) => great_circle_grid(machine, &sites, &lons, &lats, &report)?,
         Backend::Cpu => {
             let places: Vec<DVec2> = lats
                 .iter()
@@ -90,7 +91,7 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
     };
     drop(progress);
     let device = match &backend {
-        Backend::Gpu(machine) => machine.device_name(),
+        Backend::Device(machine) => machine.device_name(),
         Backend::Cpu => "cpu",
     };
     let compute_ms = started.elapsed().as_secs_f64() * 1e3;

@@ -60,7 +60,9 @@ pub(super) fn whole_picture(
             bail!("the furthest-site diagram is computed exactly; drop --mode");
         }
         let f = match backend {
-            Backend::Gpu(machine) => higher_order::furthest(machine, sites, &frame, args.metric)?,
+            Backend::Device(machine) => {
+                higher_order::furthest(machine, sites, &frame, args.metric)?
+            }
             Backend::Cpu => cpu::furthest(sites, &frame, args.metric)?,
         };
         let size = [frame.width, frame.height, 1];
@@ -90,7 +92,7 @@ pub(super) fn whole_picture(
             _ => (1, false),
         };
         let d = match backend {
-            Backend::Gpu(machine) => {
+            Backend::Device(machine) => {
                 let options = KNearestOptions::exact(frame, k)
                     .metric(args.metric)
                     .accuracy(accuracy)
@@ -191,8 +193,8 @@ fn write_level_cells(
     if !outputs.any() {
         return Ok(());
     }
-    if let (Kind::Ordinary, Backend::Gpu(machine), Metric::L2) = (kind, backend, args.metric) {
-        let source = cells::Source::Exact { machine, sites };
+    if (kind, args.metric) == (Kind::Ordinary, Metric::L2) {
+        let source = cells::Source::Exact { backend, sites };
         return cells::write(outputs, world, source, sites);
     }
     let k = d.k;

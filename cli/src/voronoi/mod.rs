@@ -404,7 +404,8 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         && !vectors.any()
         && args.method == Method::Auto
         && frame.width as u64 * frame.height as u64 <= crate::device::CPU_FASTER_PIXELS;
-    let backend = args.backend(small || grid_alone)?;
+    let chosen = args.backend(small || grid_alone)?;
+    let backend = chosen.backend();
     if let Kind::Degree(k) | Kind::Order(k) = kind {
         // Sites at one place are one site to a pixel's nearest.
         let distinct: std::collections::HashSet<[u64; 2]> = sites
@@ -424,7 +425,7 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         }
     }
     let machine = match &backend {
-        Backend::Gpu(machine) if kind == Kind::Ordinary => Some(&**machine),
+        Backend::Device(machine) if kind == Kind::Ordinary => Some(machine),
         Backend::Cpu if grid_alone => None,
         _ => return whole_picture(args, &backend, &sites, world, accuracy, speedup, kind),
     };
@@ -512,12 +513,10 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
             labels: &all_labels,
             describe: &cells::site,
         }),
-        (false, Some(machine)) => Some(cells::Source::Exact {
-            machine,
+        (false, _) => Some(cells::Source::Exact {
+            backend: &backend,
             sites: &sites,
         }),
-        // No cells were asked for.
-        (false, None) => None,
     };
     if let Some(source) = source {
         cells::write(args.vectors(), world, source, &sites)?;
@@ -637,13 +636,13 @@ impl Args {
     /// Where to compute; the CPU pixel algorithms refuse the cones' options.
     /// `small`: work the CPU algorithms do faster than a software rasterizer,
     /// with the same answer, unless the cones' options were given.
-    fn backend(&self, small: bool) -> Result<Backend> {
+    fn backend(&self, small: bool) -> Result<pixgeo::Chosen> {
         let small = small && self.refuse_cone_options("").is_ok();
-        let backend = Backend::choose(self.device.as_deref(), small)?;
-        if matches!(backend, Backend::Cpu) {
+        let chosen = crate::device::choose(self.device.as_deref(), crate::device::need(small))?;
+        if chosen.machine.is_none() {
             self.refuse_cone_options("the exact CPU pixel algorithm")?;
         }
-        Ok(backend)
+        Ok(chosen)
     }
 
     fn speedup(&self) -> Speedup {

@@ -13,7 +13,8 @@ pub(super) fn general_sites(args: &Args, sites: &[Site], world: &World) -> Resul
     if !matches!(args.method, Method::Auto | Method::Cones) {
         bail!("--method grid, flood and jfa take unweighted points; these sites have weights or shapes (use --method cones)");
     }
-    let backend = args.backend(false)?;
+    let chosen = args.backend(false)?;
+    let backend = chosen.backend();
     let options = VoronoiOptions::exact(frame)
         .metric(args.metric)
         .accuracy(args.accuracy())
@@ -22,7 +23,7 @@ pub(super) fn general_sites(args: &Args, sites: &[Site], world: &World) -> Resul
         .max_tile(args.max_tile);
     let device = backend.name().to_string();
     let d = match backend {
-        Backend::Gpu(machine) => voronoi_sites(&machine, sites, &options)?,
+        Backend::Device(machine) => voronoi_sites(machine, sites, &options)?,
         Backend::Cpu => {
             let started = std::time::Instant::now();
             let (labels, distances) = cpu::voronoi_sites(sites, &frame, args.metric)?;

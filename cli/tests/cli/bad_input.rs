@@ -187,8 +187,10 @@ fn every_command_refuses_bad_input_clearly() {
             "voronoi --random 5 --method flood --speedup quadtree --labels out.npy",
             "flooding",
         ),
-        ("hausdorff --red ok.csv --blue ok.csv --device cpu", "CPU"),
-        ("delaunay --random 20 --device cpu", "CPU"),
+        (
+            "hausdorff --red ok.csv --blue ok.csv --method pixels --device cpu",
+            "CPU",
+        ),
         // Outputs named for another format.
         ("voronoi --random 5 -o out.jpg", ".png"),
         ("voronoi --random 5 --labels out.txt", ".npy"),

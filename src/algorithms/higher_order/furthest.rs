@@ -41,18 +41,44 @@ pub fn furthest(
     let ids = drawn.ids.as_ref().expect("labels were asked for");
     let rect = PixelRect::of(ids);
     let labels = machine.read_u32(ids, rect)?;
-    let depths = machine.read_f32(&drawn.depth, rect)?;
-    let (metric, scale) = (drawn.metric, drawn.scale);
-    let distances = distances_of(&depths, &labels, |z| {
-        distance_of_depth(metric, scale, z, frame)
-    });
+    exactly_furthest(sites, frame, metric, labels, drawn.owners)
+}
+
+/// The sites that may own furthest regions, each the first index of its
+/// position, so that equal distances go to the smaller index.
+fn furthest_owners(sites: &[DVec2], metric: Metric) -> Vec<u32> {
+    let first = first_of_each(sites);
+    let points: Vec<DVec2> = first.iter().map(|&i| sites[i as usize]).collect();
+    furthest_candidates(&points, &convex_hull(&points), metric)
+        .into_iter()
+        .map(|k| first[k as usize])
+        .collect()
+}
+
+/// The furthest-site diagram from `proposed` labels (the device's or the
+/// CPU's in doubles), each proved or mended exactly: the same labels and
+/// distances on every route, equal distances to the smaller index.
+pub(crate) fn exactly_furthest(
+    sites: &[DVec2],
+    frame: &Frame,
+    metric: Metric,
+    mut labels: Vec<u32>,
+    hull: Vec<u32>,
+) -> Result<Furthest> {
+    let mut distances =
+        crate::memory::filled(labels.len(), 0.0f32, "the furthest sites' distances")?;
+    Certifier::new(sites, frame, metric)?.furthest(
+        &furthest_owners(sites, metric),
+        &mut labels,
+        &mut distances,
+    )?;
     Ok(Furthest {
         width: frame.width,
         height: frame.height,
         frame: *frame,
         labels,
         distances,
-        hull: drawn.owners,
+        hull,
     })
 }
 
@@ -63,7 +89,6 @@ pub(crate) struct DrawnFurthest {
     /// The envelope's keys times `scale`.
     pub depth: Image,
     pub scale: f64,
-    pub metric: Metric,
     /// The sites drawn.
     pub owners: Vec<u32>,
 }
@@ -196,7 +221,6 @@ pub(crate) fn draw_furthest(
         ids,
         depth,
         scale,
-        metric,
         owners,
     })
 }

@@ -30,7 +30,7 @@ use crate::{
     geometry::{
         chain::{unit_fan_over, MetricFan},
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
-        frame::{check_sites, distance2_to_rect},
+        frame::{check_sites, distance2_to_rect, first_of_each},
         metric::Metric,
         predicates::convex_hull,
         radius, Frame,
@@ -46,8 +46,7 @@ use super::cones::{
     CONE_K_NEAREST, CONE_K_NEAREST_FAN, CONE_PEEL,
 };
 
-use super::certify::certify_levels;
-use super::envelope::distances_of;
+use super::certify::{certify_levels, Certifier};
 use super::envelope::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 
 mod furthest;

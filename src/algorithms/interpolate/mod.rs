@@ -34,12 +34,12 @@ use rayon::prelude::*;
 use crate::{
     algorithms::{
         delaunay::{delaunay, DelaunayOptions},
-        voronoi::{voronoi, VoronoiOptions},
+        voronoi::{voronoi, voronoi_on_cpu, VoronoiOptions},
     },
     cancel::Watch,
     geometry::{bounded::Bounded, exact::nearest_double, scale, Frame},
     machine::PixelRect,
-    Error, Machine, Result,
+    Backend, Error, Result,
 };
 use formulas::{centre_offset, linear, nearest, on_plane, sibson, slopes, Point};
 use walk::{Place, Triangles};
@@ -75,7 +75,7 @@ const BAND: usize = 16;
 /// `values` (one per site) interpolated at every pixel centre of `frame` by
 /// `method`, calling `progress(done, total)` as rows are done.
 pub fn interpolate(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     values: &[f64],
     frame: &Frame,
@@ -83,7 +83,7 @@ pub fn interpolate(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Interpolation> {
     let whole = PixelRect::sized(frame.width, frame.height);
-    interpolate_window(machine, sites, values, frame, whole, method, progress)
+    interpolate_window(backend, sites, values, frame, whole, method, progress)
 }
 
 /// [`interpolate`] over the pixels of `window` alone, a rectangle of
@@ -91,7 +91,7 @@ pub fn interpolate(
 /// tile into the whole raster. The discrete method takes the whole frame
 /// only (its values depend on the pixels drawn around them).
 pub fn interpolate_window(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     values: &[f64],
     frame: &Frame,
@@ -106,7 +106,10 @@ pub fn interpolate_window(
     let rect = diagram.window_rect()?;
     let values = match method {
         Method::Nearest => {
-            let labels = voronoi(machine, sites, &diagram)?.labels;
+            let labels = match backend.machine() {
+                Some(machine) => voronoi(machine, sites, &diagram)?.labels,
+                None => voronoi_on_cpu(sites, &diagram)?.labels,
+            };
             labels.iter().map(|&l| values[l as usize]).collect()
         }
         Method::Discrete if rect != PixelRect::sized(frame.width, frame.height) => {
@@ -116,13 +119,13 @@ pub fn interpolate_window(
                     .into(),
             ))
         }
-        Method::Discrete => discrete_sibson(Some(machine), sites, values, frame)?,
+        Method::Discrete => discrete_sibson(backend.machine(), sites, values, frame)?,
         Method::Exact | Method::Linear => {
             let centres: Vec<DVec2> = (0..rect.height)
                 .flat_map(|j| (0..rect.width).map(move |i| (rect.x + i, rect.y + j)))
                 .map(|(i, j)| frame.to_world(DVec2::new(i as f64, j as f64)))
                 .collect();
-            let corners = triangulated(machine, sites, values)?;
+            let corners = triangulated(backend, sites, values)?;
             let run = rect.width as usize;
             let sibson = method == Method::Exact;
             return on_triangles(sites, &corners, values, &centres, run, sibson, progress);
@@ -139,7 +142,7 @@ pub fn interpolate_window(
 /// the linear method: the double nearest the interpolant at the doubles
 /// given.
 pub fn interpolate_points(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     values: &[f64],
     points: &[DVec2],
@@ -158,15 +161,15 @@ pub fn interpolate_points(
              the linear method"
         )));
     }
-    let corners = triangulated(machine, sites, values)?;
+    let corners = triangulated(backend, sites, values)?;
     let sibson = method == Method::Exact;
     on_triangles(sites, &corners, values, points, 256, sibson, &mut |_, _| {})
 }
 
 /// The Delaunay triangles of the sites, whose repeated points must agree on
 /// their value.
-fn triangulated(machine: &Machine, sites: &[DVec2], values: &[f64]) -> Result<Vec<[u32; 3]>> {
-    let mesh = delaunay(machine, sites, &DelaunayOptions::default())?;
+fn triangulated(backend: &Backend, sites: &[DVec2], values: &[f64]) -> Result<Vec<[u32; 3]>> {
+    let mesh = delaunay(backend, sites, &DelaunayOptions::default())?;
     let differ =
         |[d, k]: &&[u32; 2]| values[*d as usize].to_bits() != values[*k as usize].to_bits();
     if let Some(&[dropped, kept]) = mesh.duplicates.iter().find(differ) {

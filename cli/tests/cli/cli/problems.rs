@@ -440,3 +440,96 @@ fn a_json_key_given_twice_is_refused() {
     ]);
     assert!(!ok && stderr.contains("\"x\" is given twice"), "{stderr}");
 }
+
+/// The commands with a CPU algorithm give the same answer on every device,
+/// and without any Vulkan driver compute on the CPU, saying so on stderr and
+/// in the envelope's `fallback`.
+#[test]
+fn every_device_gives_the_same_answer_and_a_fallback_is_announced() {
+    let red = temp("routes-red.csv");
+    let blue = temp("routes-blue.csv");
+    std::fs::write(&red, "x,y\n0,0\n4,0\n4,3\n0,3\n2,1.5\n").unwrap();
+    std::fs::write(&blue, "x,y\n1,1\n9,0.5\n3,3\n").unwrap();
+    let (red, blue) = (red.to_str().unwrap(), blue.to_str().unwrap());
+    let lattice = temp("routes-lattice.csv");
+    let points: String = (0..64).map(|k| format!("{},{}\n", k % 8, k / 8)).collect();
+    std::fs::write(&lattice, format!("x,y\n{points}")).unwrap();
+    let lattice = lattice.to_str().unwrap();
+    let labels = temp("routes-labels.npy");
+    let labels = labels.to_str().unwrap();
+    let furthest = [
+        "--sites",
+        lattice,
+        "--size",
+        "40",
+        "--furthest",
+        "--bbox",
+        "-1,-1,9,9",
+        "--labels",
+        labels,
+    ];
+    let commands: [(&str, Vec<&str>, &str); 3] = [
+        ("delaunay", vec!["--sites", lattice], "triangles"),
+        ("hausdorff", vec!["--red", red, "--blue", blue], "hausdorff"),
+        ("voronoi", furthest.to_vec(), "labels"),
+    ];
+    let none = temp("no-driver.json");
+    for (command, args, key) in commands {
+        let run = |device: Option<&str>, no_driver: bool| {
+            let mut all: Vec<&str> = vec![command];
+            all.extend(&args);
+            all.push("--json");
+            if let Some(d) = device {
+                all.extend(["--device", d]);
+            }
+            let mut c = Command::new(env!("CARGO_BIN_EXE_pixgeo"));
+            if no_driver {
+                c.env("VK_DRIVER_FILES", &none).env_remove("PIXGEO_DEVICE");
+            }
+            let out = c.args(&all).output().expect("run pixgeo");
+            let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+            let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+            assert!(out.status.success(), "{all:?}: {stderr}");
+            let mut envelope = enveloped(&stdout, command);
+            if key == "labels" {
+                envelope["result"]["labels"] = std::fs::read(labels).unwrap().into();
+            }
+            (envelope, stderr)
+        };
+        let (default, _) = run(None, false);
+        let (lavapipe, _) = run(Some("lavapipe"), false);
+        let (cpu, _) = run(Some("cpu"), false);
+        let (fallen, stderr) = run(None, true);
+        for (name, other) in [
+            ("lavapipe", &lavapipe),
+            ("cpu", &cpu),
+            ("no driver", &fallen),
+        ] {
+            assert_eq!(
+                default["result"][key], other["result"][key],
+                "{command}: {name} differs from the default"
+            );
+        }
+        assert!(
+            default["fallback"].is_null() && cpu["fallback"].is_null(),
+            "{command}"
+        );
+        assert_eq!(fallen["device"], "cpu", "{command}");
+        // Work the CPU does faster than a software rasterizer starts no
+        // device, and has nothing to announce.
+        if default["device"] == "cpu" {
+            assert!(
+                fallen["fallback"].is_null() && stderr.is_empty(),
+                "{command}: {stderr}"
+            );
+        } else {
+            assert!(
+                fallen["fallback"]
+                    .as_str()
+                    .is_some_and(|f| f.contains("no Vulkan driver"))
+                    && stderr.contains("computing on the CPU"),
+                "{command}: {stderr}"
+            );
+        }
+    }
+}
