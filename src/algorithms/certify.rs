@@ -78,6 +78,13 @@ impl FloatKey {
         }
     }
 
+    fn of_distance(self, distance: f64) -> f64 {
+        match self {
+            Self::Metric(metric) | Self::Gauge(metric, _) => metric.key_of_distance(distance),
+            Self::PowerSum(p) => distance.powi(p),
+        }
+    }
+
     /// The key of the exact offset `(x, y)` as an interval. A polygon's gauge
     /// is found from an angle, linear on its sector with gradients up to its
     /// Lipschitz constant: its error is a few ulps of that times the offset.
@@ -765,6 +772,15 @@ impl Certifier<'_> {
             FloatKey::PowerSum(p) => (4, p as f32),
             _ => metric.shader_code().unwrap_or((0, 2.0)),
         }
+    }
+
+    /// A float32 key above that of every offset between two pixels of the
+    /// frame: a disc of a larger radius covers the picture as this one does,
+    /// and its bounds stay within the shaders' integers.
+    pub fn covering_radius(&self) -> f32 {
+        let (w, h) = (self.frame.width as f64, self.frame.height as f64);
+        let reach = w.hypot(h) * self.metric.euclidean_bounds().1 * 2.0 + 2.0;
+        round_up_f32(self.keys.of_distance(reach))
     }
 
     /// The float32 radius for a strict `key < radius` test of the float32

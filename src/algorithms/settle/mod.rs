@@ -217,6 +217,8 @@ fn disc_radius_keys(
         .map(|labels| Certifier::new(own, frame, metric).map(|c| (c, labels)))
         .transpose()?;
     let w = frame.width as usize;
+    // Sites far outside the picture give discs that cover it whole.
+    let covering = rival_sites.covering_radius();
     Ok((0..frame.len())
         .into_par_iter()
         .map(|k| {
@@ -226,7 +228,9 @@ fn disc_radius_keys(
             });
             match owned {
                 true => 0.0,
-                false => rival_sites.disc_radius_f32(&rival_sites.disc(pixel, rival_labels[k])),
+                false => rival_sites
+                    .disc_radius_f32(&rival_sites.disc(pixel, rival_labels[k]))
+                    .min(covering),
             }
         })
         .collect())
