@@ -671,21 +671,23 @@ impl Certifier<'_> {
         self.keys.distance(disc.hi) / lower
     }
 
-    /// Each labelled pixel's distance in `region` (world units, float32) to
+    /// Each label's distance in `region` (world units, float32, every level) to
     /// its site, from the label alone: from the site's pixel position to the
     /// pixel's centre, as the CPU's diagram computes it, so that tiles,
     /// windows and devices agree to the bit.
     pub fn label_distances(&self, region: Region, labels: &[u32], distances: &mut [f32]) {
         let (metric, to_world) = (self.metric, 1.0 / self.frame.scale);
+        let k = region.k;
         distances
-            .par_chunks_mut(region.stride)
-            .zip(labels.par_chunks(region.stride))
+            .par_chunks_mut(region.stride * k)
+            .zip(labels.par_chunks(region.stride * k))
             .take(region.height as usize)
             .enumerate()
             .for_each(|(row, (d, l))| {
                 let y = (region.y0 as usize + row) as f64;
-                let row = d.iter_mut().zip(l).take(region.width as usize);
-                for (column, (d, &id)) in row.enumerate() {
+                let row = d.iter_mut().zip(l).take(region.width as usize * k);
+                for (at, (d, &id)) in row.enumerate() {
+                    let column = at / k;
                     *d = match self.places.get(id as usize) {
                         None => f32::INFINITY,
                         Some(&site) => {
@@ -908,6 +910,8 @@ pub(crate) fn certify_levels(near: &mut KNearest, sites: &[DVec2], metric: Metri
     let certifier = Certifier::new(sites, &near.frame, metric)?;
     near.stats.mended =
         certifier.certify(region, &mut near.labels, Some(&mut near.distances), None)?;
+    // Every route computes the distances from the labels alike.
+    certifier.label_distances(region, &near.labels, &mut near.distances);
     near.stats.certify_ms = started.elapsed().as_secs_f64() * 1e3;
     Ok(())
 }

@@ -382,6 +382,17 @@ fn the_thesis_peeling_gives_the_same_levels() {
             let d = k_nearest_peeled(&m, &sites, &options)
                 .unwrap_or_else(|e| panic!("{name} {speedup:?}: {e}"));
             assert_levels(&d, &sites, &frame, &format!("peeled {name} {speedup:?}"));
+            // The same labels and distances, bit for bit, as the default's and
+            // the CPU's.
+            let drawn = k_nearest(&m, &sites, &options).unwrap();
+            let on_cpu = cpu::k_nearest(&sites, &frame, 5, Metric::L2).unwrap();
+            let bits = |d: &KNearest| d.distances.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            for (route, other) in [("default", &drawn), ("cpu", &on_cpu)] {
+                assert!(
+                    d.labels == other.labels && bits(&d) == bits(other),
+                    "{name} {speedup:?}: peeled and {route} differ"
+                );
+            }
         }
     }
 }
