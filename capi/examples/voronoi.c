@@ -290,6 +290,9 @@ int main(void) {
     memcpy(moved, xy, sizeof moved);
     PixgeoLloyd lloyd;
     options = pixgeo_voronoi_options_default(W, H);
+    CHECK(pixgeo_lloyd(ctx, moved, N, &options, 1, NAN, NULL, NULL, &lloyd) ==
+              PIXGEO_STATUS_INVALID_ARGUMENT,
+          "lloyd took a NaN tolerance");
     status = pixgeo_lloyd(ctx, moved, N, &options, 1, 0.0, NULL, NULL, &lloyd);
     CHECK(status == PIXGEO_STATUS_OK && lloyd.iterations == 1, "lloyd: %s",
           pixgeo_context_last_error(ctx));

@@ -28,7 +28,8 @@ pub struct PixgeoLloyd {
 /// negative; null for a uniform one) and moves each site to its region's
 /// centroid, exact for the digital region (whole-number sums, rounded
 /// once). At most `iterations`; stops once no site moves farther than
-/// `tolerance` (world units; negative for a hundredth of a pixel). Unless
+/// `tolerance` (world units; negative for a hundredth of a pixel; NaN is an
+/// invalid argument). Unless
 /// null, `labels` receives every pixel's nearest final site.
 ///
 /// # Safety
@@ -68,7 +69,8 @@ pub unsafe extern "C" fn pixgeo_lloyd(
             Some(unsafe { std::slice::from_raw_parts(density, frame.len()) })
         };
         let mut lloyd_options = LloydOptions::new(frame).iterations(iterations);
-        if tolerance >= 0.0 {
+        // Negative asks for the default; NaN is refused with the rest.
+        if !(tolerance < 0.0) {
             lloyd_options = lloyd_options.tolerance(tolerance);
         }
         let answer = lloyd::lloyd(

@@ -125,6 +125,29 @@ fn discrete_sibson_reproduces_linear_data_near_sibsons_interpolant() {
     assert!(discrete_sibson(None, &sites, &values[1..], &frame).is_err());
 }
 
+/// Values near the largest double are averaged as small ones are: the
+/// raster of values times 2^1020 is the raster of the values, times 2^1020,
+/// bit for bit, with no overflow to infinity or NaN.
+#[test]
+fn discrete_sibson_of_values_near_the_largest_double() {
+    let frame = Frame::pixels(40, 30).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let sites = uniform(&mut rng, 12, 40.0, 30.0);
+    let values: Vec<f64> = (0..12)
+        .map(|i| if i % 2 == 0 { 1.5 } else { -1.75 })
+        .collect();
+    let huge: Vec<f64> = values.iter().map(|v| v * 2f64.powi(1020)).collect();
+    let small = discrete_sibson(None, &sites, &values, &frame).unwrap();
+    let large = discrete_sibson(None, &sites, &huge, &frame).unwrap();
+    assert!(large.iter().any(|v| v.is_finite()));
+    for (a, b) in small.iter().zip(&large) {
+        assert!(
+            (a.is_nan() && b.is_nan()) || (a * 2f64.powi(1020)).to_bits() == b.to_bits(),
+            "{a} {b}"
+        );
+    }
+}
+
 fn rational(x: f64) -> BigRational {
     BigRational::from_float(x).unwrap()
 }

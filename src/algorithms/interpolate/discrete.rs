@@ -28,6 +28,7 @@ use crate::{
     cancel::Watch,
     geometry::{
         predicates::{convex_hull, orient},
+        scale::times_power_of_two,
         Frame,
     },
     Machine, Result,
@@ -68,6 +69,15 @@ pub fn discrete_sibson(
         .collect();
     // Every disc cut into row spans: +1 and +value where a span starts, -1
     // and -value past its end, then sums along the rows.
+    // Sums of up to a value per pixel stay finite: values near the largest
+    // double are summed scaled down by a power of two, and scaled back.
+    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let room = f64::MAX / ((w + 1) * h) as f64 / 4.0;
+    let shift = if largest > room {
+        (largest / room).log2().ceil() as i32
+    } else {
+        0
+    };
     let mut count = vec![0i64; (w + 1) * h];
     let mut sum = vec![0.0f64; (w + 1) * h];
     let watch = Watch::current();
@@ -76,7 +86,7 @@ pub fn discrete_sibson(
             watch.check()?;
         }
         let (px, py) = ((k % w) as i64, (k / w) as i64);
-        let v = values[labels[k] as usize];
+        let v = times_power_of_two(values[labels[k] as usize], -shift);
         let radius = r2.sqrt().floor() as i64 + 1;
         for dy in -radius..=radius {
             let y = py + dy;
@@ -127,7 +137,7 @@ pub fn discrete_sibson(
                     s = t;
                     let centre = padded.to_world(DVec2::new(i as f64, j as f64));
                     if n > 0 && inside(centre) {
-                        (s + c) / n as f64
+                        times_power_of_two((s + c) / n as f64, shift)
                     } else {
                         f64::NAN
                     }
