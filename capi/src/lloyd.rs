@@ -70,7 +70,7 @@ pub unsafe extern "C" fn pixgeo_lloyd(
         };
         let mut lloyd_options = LloydOptions::new(frame).iterations(iterations);
         // Negative asks for the default; NaN is refused with the rest.
-        if !(tolerance < 0.0) {
+        if tolerance.is_nan() || tolerance >= 0.0 {
             lloyd_options = lloyd_options.tolerance(tolerance);
         }
         let answer = lloyd::lloyd(

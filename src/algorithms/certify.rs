@@ -27,6 +27,7 @@ use crate::{
     cancel::Watch,
     error::{Error, Result},
     geometry::{
+        bisector::Bisectors,
         buckets::PointGrid,
         exact::{
             exact_float_key, exact_key, exact_order, pixel_offset, to_pixel_bounded, two_difference,
@@ -127,6 +128,8 @@ pub(crate) struct Certifier<'a> {
     errors: Vec<f64>,
     largest_error: f64,
     keys: FloatKey,
+    /// L2's near ties, decided by each pair's exact bisector.
+    bisectors: Bisectors,
 }
 
 /// A part of a diagram's arrays: `width` x `height` pixels whose first is the
@@ -225,6 +228,7 @@ impl<'a> Certifier<'a> {
             errors,
             largest_error,
             keys: FloatKey::of(metric),
+            bisectors: Bisectors::default(),
         })
     }
 
@@ -616,6 +620,10 @@ impl<'a> Certifier<'a> {
             if sorted(oa) == sorted(ob) {
                 return Ok(Ordering::Equal);
             }
+        }
+        if self.metric == Metric::L2 {
+            let (frame, sites) = (&self.frame, self.sites);
+            return Ok(self.bisectors.order(frame, sites, ca.id, cb.id, p));
         }
         for n in [a, b] {
             if exact[n].is_none() {

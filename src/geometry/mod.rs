@@ -3,6 +3,7 @@
 //! width bounds that truncate the cones (§3.5).
 #![forbid(unsafe_code)]
 
+pub(crate) mod bisector;
 pub(crate) mod bounded;
 pub(crate) mod buckets;
 pub mod cell;

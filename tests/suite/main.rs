@@ -20,6 +20,7 @@ mod homothet;
 mod interpolate;
 mod lloyd;
 mod machine;
+mod magnitudes;
 mod polygon;
 mod power;
 mod predicates;

@@ -88,13 +88,20 @@ pub fn discrete_sibson(
         let (px, py) = ((k % w) as i64, (k / w) as i64);
         let v = times_power_of_two(values[labels[k] as usize], -shift);
         let radius = r2.sqrt().floor() as i64 + 1;
-        for dy in -radius..=radius {
+        // Only the disc's rows inside the picture: a site far outside it
+        // makes a disc far larger.
+        for dy in (-radius).max(-py)..=radius.min(h as i64 - 1 - py) {
             let y = py + dy;
             let rest = r2 - (dy * dy) as f64;
-            if y < 0 || y >= h as i64 || rest < 0.0 {
+            if rest < 0.0 {
                 continue;
             }
-            let half = whole_root(rest);
+            // A half-width past the row's length spans it all (and its
+            // square would overflow).
+            let half = match rest >= (w * w) as f64 {
+                true => w as i64,
+                false => whole_root(rest),
+            };
             let (x0, x1) = ((px - half).max(0), (px + half).min(w as i64 - 1));
             if x0 > x1 {
                 continue;
