@@ -22,7 +22,7 @@ use crate::{
     algorithms::{
         alpha_hull::{self, AlphaHull, AlphaMethod},
         area::{AreaAnswer, Extreme},
-        area_sweep,
+        area_sweep, cpu,
         delaunay::{self, Delaunay, DelaunayOptions},
         distances::{self, Answer, Hausdorff},
         higher_order::{self, Furthest, KNearest, KNearestOptions},
@@ -83,7 +83,10 @@ pub fn with_default_machine<T>(f: impl FnOnce(&Machine) -> Result<T>) -> Result<
 /// ```
 pub fn voronoi(points: &[DVec2], width: u32, height: u32) -> Result<VoronoiDiagram> {
     let options = VoronoiOptions::exact(Frame::pixels(width, height)?);
-    with_default_machine(|m| diagram::voronoi(m, points, &options))
+    with_default_backend(Need::CpuUnlessGpu, |backend| match backend {
+        Backend::Device(m) => diagram::voronoi(m, points, &options),
+        Backend::Cpu => diagram::voronoi_on_cpu(points, &options),
+    })
 }
 
 /// Every pixel's `k` nearest points in order, exact (thesis §3.7), on pixels
@@ -97,8 +100,12 @@ pub fn voronoi(points: &[DVec2], width: u32, height: u32) -> Result<VoronoiDiagr
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn k_nearest(points: &[DVec2], width: u32, height: u32, k: u32) -> Result<KNearest> {
-    let options = KNearestOptions::exact(Frame::pixels(width, height)?, k);
-    with_default_machine(|m| higher_order::k_nearest(m, points, &options))
+    let frame = Frame::pixels(width, height)?;
+    let options = KNearestOptions::exact(frame, k);
+    with_default_backend(Need::DeviceIfAny, |backend| match backend {
+        Backend::Device(m) => higher_order::k_nearest(m, points, &options),
+        Backend::Cpu => cpu::k_nearest(points, &frame, k, Metric::L2),
+    })
 }
 
 /// Every pixel's furthest point (thesis §3.7.1), on pixels as [`voronoi`] lays
@@ -112,7 +119,10 @@ pub fn k_nearest(points: &[DVec2], width: u32, height: u32, k: u32) -> Result<KN
 /// ```
 pub fn furthest(points: &[DVec2], width: u32, height: u32) -> Result<Furthest> {
     let frame = Frame::pixels(width, height)?;
-    with_default_machine(|m| higher_order::furthest(m, points, &frame, Metric::L2))
+    with_default_backend(Need::DeviceIfAny, |backend| match backend {
+        Backend::Device(m) => higher_order::furthest(m, points, &frame, Metric::L2),
+        Backend::Cpu => cpu::furthest(points, &frame, Metric::L2),
+    })
 }
 
 /// The Delaunay triangulation of `points` by flooding (Cao, Edelsbrunner and
@@ -248,8 +258,9 @@ pub fn settle(rivals: &[DVec2], width: u32, height: u32) -> Result<Refined> {
         metric: Metric::L2,
         method: SettleMethod::Spans,
     };
-    let map = with_default_machine(|m| {
-        settle::potential_areas(m, rivals, &[], &options, &mut |_, _| {})
+    let map = with_default_backend(Need::DeviceIfAny, |backend| match backend {
+        Backend::Device(m) => settle::potential_areas(m, rivals, &[], &options, &mut |_, _| {}),
+        Backend::Cpu => settle::potential_areas_cpu(rivals, &[], &options.frame, Metric::L2),
     })?;
     settle::refine(rivals, &[], &options.frame, &map.leaders(8))
 }

@@ -21,6 +21,7 @@ mod interpolate;
 mod lloyd;
 mod machine;
 mod magnitudes;
+mod one_call;
 mod polygon;
 mod power;
 mod predicates;
