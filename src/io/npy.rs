@@ -16,8 +16,29 @@ pub fn read<T: npyz::Deserialize>(path: &Path) -> Result<(Vec<u64>, Vec<T>)> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     let array = npyz::NpyFile::new(&bytes[..]).map_err(|e| io_error(path, e))?;
     let shape = array.shape().to_vec();
+    room_for(path, &shape, &bytes, std::mem::size_of::<T>() as u64)?;
     let data = array.into_vec().map_err(|e| io_error(path, e))?;
     Ok((shape, data))
+}
+
+/// Refuses an array whose header declares more values than its file holds
+/// (`bytes` its whole content), or more than this process can hold as
+/// values of `each` bytes, before they are taken.
+fn room_for(path: &Path, shape: &[u64], bytes: &[u8], each: u64) -> Result<()> {
+    let count = shape.iter().try_fold(1u64, |n, &d| n.checked_mul(d));
+    let held = bytes.len() as u64;
+    match count {
+        Some(n) if n <= held => crate::memory::reserve(n.saturating_mul(each), || {
+            format!("{}: {n} values", path.display())
+        }),
+        _ => Err(Error::Parse {
+            path: path.to_path_buf(),
+            message: format!(
+                "the header declares an array of shape {shape:?}, more values than the file's \
+                 {held} bytes hold"
+            ),
+        }),
+    }
 }
 
 /// Reads a numeric `.npy` array (floats or integers of any width) as `f64`.
@@ -30,6 +51,9 @@ pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
     let array = npyz::NpyFile::new(&bytes[..]).map_err(parse)?;
     let shape = array.shape().to_vec();
     let fortran = array.order() == npyz::Order::Fortran;
+    // The values as they are read (up to 8 bytes), as doubles, and again
+    // reordered where the file holds columns first.
+    room_for(path, &shape, &bytes, if fortran { 24 } else { 16 })?;
     let descr = array.dtype().descr();
     // `descr` is the header's Python literal, quotes included: `'<f8'`.
     let values = match descr.trim_matches('\'').trim_start_matches(['<', '|', '=']) {
@@ -105,6 +129,32 @@ mod tests {
         assert_eq!(read_f64(&path).unwrap().1, [1.0, 0.0]);
         write(&path, &[2], &[-3i32, 4]);
         assert_eq!(read_f64(&path).unwrap().1, [-3.0, 4.0]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A header that declares 4 GB of values over a file of a few bytes is
+    /// refused before anything is taken.
+    #[test]
+    fn a_header_larger_than_its_file_is_refused() {
+        let dir = std::env::temp_dir().join(format!("pixgeo-npy-big-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.npy");
+        write(&path, &[4, 2], &[0.0f64; 8]);
+        let bytes = std::fs::read(&path).unwrap();
+        let at = bytes.windows(5).position(|w| w == b"(4, 2").unwrap();
+        let mut patched = bytes.clone();
+        // The header's padding of spaces takes the longer shape.
+        let big = b"(268435456, 2";
+        patched.splice(at..at + 5, big.iter().copied());
+        let pad = patched.iter().position(|&b| b == b'\n').unwrap();
+        patched.drain(pad - (big.len() - 5)..pad);
+        std::fs::write(&path, &patched).unwrap();
+        for error in [
+            read_f64(&path).unwrap_err().to_string(),
+            read::<f64>(&path).unwrap_err().to_string(),
+        ] {
+            assert!(error.contains("more values than the file"), "{error}");
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

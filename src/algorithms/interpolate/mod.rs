@@ -104,6 +104,14 @@ pub fn interpolate_window(
         .distances(false)
         .window(Some(window));
     let rect = diagram.window_rect()?;
+    // Bytes a pixel: the centres and values, the labels and values, or the
+    // discrete method's pictures over the frame and its margins.
+    let each = match method {
+        Method::Exact | Method::Linear => 24,
+        Method::Nearest => 12,
+        Method::Discrete => 72,
+    };
+    crate::memory::reserve_picture(rect.width, rect.height, each, "an interpolated raster")?;
     let values = match method {
         Method::Nearest => {
             let labels = match backend.machine() {

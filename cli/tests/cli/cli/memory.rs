@@ -69,4 +69,35 @@ fn work_larger_than_the_process_may_hold_is_refused_with_its_size() {
     ];
     let stderr = refused_under_limit(&transform, &out);
     assert!(stderr.contains("distance transform"), "{stderr}");
+    // The same as .npy: its values as doubles, before the transform.
+    let npy = temp("memory-mask.npy");
+    write_npy(&npy, &[12000, 12000], &vec![false; 12000 * 12000]);
+    let transform = [
+        "transform",
+        "--mask",
+        npy.to_str().unwrap(),
+        "--distance",
+        o,
+    ];
+    let stderr = refused_under_limit(&transform, &out);
+    assert!(stderr.contains("144000000 values"), "{stderr}");
+    std::fs::remove_file(&npy).unwrap();
+    let samples = temp("memory-samples.csv");
+    std::fs::write(&samples, "x,y,z\n10,10,1\n100,20,2\n50,90,3\n").unwrap();
+    let s = samples.to_str().unwrap();
+    for method in ["exact", "nearest", "discrete"] {
+        let interpolate = [
+            "interpolate",
+            "--sites",
+            s,
+            "--size",
+            "16384",
+            "--method",
+            method,
+            "--raster",
+            o,
+        ];
+        let stderr = refused_under_limit(&interpolate, &out);
+        assert!(stderr.contains("an interpolated raster"), "{stderr}");
+    }
 }
