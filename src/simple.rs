@@ -136,7 +136,7 @@ pub fn furthest(points: &[DVec2], width: u32, height: u32) -> Result<Furthest> {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn delaunay(points: &[DVec2]) -> Result<Delaunay> {
-    with_default_backend(Need::DeviceIfAny, |b| {
+    with_default_backend(Need::CpuUnlessGpu, |b| {
         delaunay::delaunay(b, points, &DelaunayOptions::default())
     })
 }

@@ -702,7 +702,8 @@ enum PixgeoStatus pixgeo_interpolate(struct PixgeoContext *ctx,
 // negative; null for a uniform one) and moves each site to its region's
 // centroid, exact for the digital region (whole-number sums, rounded
 // once). At most `iterations`; stops once no site moves farther than
-// `tolerance` (world units; negative for a hundredth of a pixel). Unless
+// `tolerance` (world units; negative for a hundredth of a pixel; NaN is an
+// invalid argument). Unless
 // null, `labels` receives every pixel's nearest final site.
 //
 // # Safety

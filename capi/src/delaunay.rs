@@ -41,8 +41,9 @@ pub unsafe extern "C" fn pixgeo_delaunay(
         let options = delaunay::DelaunayOptions::default()
             .grid((grid > 0).then_some(grid))
             .check(false);
-        let result = delaunay::delaunay(&context.backend_for(Need::DeviceIfAny)?, &given, &options)
-            .map_err(failed)?;
+        let result =
+            delaunay::delaunay(&context.backend_for(Need::CpuUnlessGpu)?, &given, &options)
+                .map_err(failed)?;
         // SAFETY: the caller's buffers (caller contract).
         unsafe { write_triangles(&result.triangles, triangles, capacity, triangle_count) }?;
         if !duplicate_count.is_null() {

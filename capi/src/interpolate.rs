@@ -65,7 +65,7 @@ pub unsafe extern "C" fn pixgeo_interpolate(
         // SAFETY: `count` doubles (caller contract); `points` checked the count.
         let values = unsafe { std::slice::from_raw_parts(values, count) };
         let answer = interpolate(
-            &context.backend_for(Need::DeviceIfAny)?,
+            &context.backend_for(method.need())?,
             &sites,
             values,
             &frame,

@@ -104,7 +104,15 @@ pub fn run(args: Args) -> Result<()> {
         output::check_extension(path, "geojson", "triangles")?;
     }
     let points = args.points.read()?;
-    let chosen = args.device.choose(Need::DeviceIfAny)?;
+    // The flooding's own outputs (its grid, its picture, its conditions)
+    // ask for the flooding; the triangles alone come faster by insertion
+    // without a GPU.
+    let flooding = args.grid.is_some() || args.output.is_some() || args.check;
+    let need = match flooding {
+        true => Need::DeviceIfAny,
+        false => Need::CpuUnlessGpu,
+    };
+    let chosen = args.device.choose(need)?;
     let backend = chosen.backend();
     let options = DelaunayOptions::default().grid(args.grid).check(args.check);
     let result = {
@@ -159,6 +167,14 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
         result.duplicates.len(),
         result.triangles.len()
     );
+    if result.digital.is_none() {
+        outln!(
+            "  inserted in Hilbert order on the CPU: {:.1} ms, {} flips",
+            s.insert_ms,
+            s.insertion_flips
+        );
+        return;
+    }
     outln!(
         "  grid {}x{} ({:?} per pixel): {} seeds, {} points shared a pixel",
         s.width,

@@ -9,7 +9,6 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::interpolate::{interpolate, Interpolation, Method},
     geometry::Frame,
-    Need,
 };
 use serde_json::json;
 
@@ -93,11 +92,7 @@ pub fn run(args: Args) -> Result<()> {
     args.input.check_world_file()?;
     let (world, samples) = args.input.world_and_samples(&args.value)?;
     let frame = world.frame;
-    let need = match args.method {
-        Method::Nearest => Need::CpuUnlessGpu,
-        _ => Need::DeviceIfAny,
-    };
-    let chosen = args.device.choose(need)?;
+    let chosen = args.device.choose(args.method.need())?;
     let backend = chosen.backend();
     let started = std::time::Instant::now();
     let progress = Progress::new("interpolate: rows", args.json);

@@ -13,8 +13,6 @@ use pixgeo::{
 };
 use pyo3::prelude::*;
 
-use pixgeo::Need;
-
 use crate::{frame, named, on_backend, on_cpu, points, raster, InternalError};
 
 /// `values` interpolated at every pixel centre of the picture (or with
@@ -43,11 +41,7 @@ pub fn interpolate<'py>(
         width: w,
         height: h,
     };
-    let need = match method {
-        Method::Nearest => Need::CpuUnlessGpu,
-        _ => Need::DeviceIfAny,
-    };
-    let answer = on_backend(py, device, need, |b| {
+    let answer = on_backend(py, device, method.need(), |b| {
         interpolate_window(b, &sites, &values, &f, rect, method, &mut |_, _| {})
     })?;
     raster(py, answer.values, h, w)
@@ -67,7 +61,7 @@ pub fn interpolate_at<'py>(
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let (sites, values, at) = (points(&sites), values.as_array().to_vec(), points(&at));
     let method = named::<Method>(method)?;
-    let answer = on_backend(py, device, Need::DeviceIfAny, |b| {
+    let answer = on_backend(py, device, method.need(), |b| {
         interpolate_points(b, &sites, &values, &at, method)
     })?;
     Ok(answer.values.into_pyarray(py))

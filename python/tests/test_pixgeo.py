@@ -419,6 +419,8 @@ np.save(d + "/cells.npy", np.concatenate([np.asarray(c["coordinates"][0]).ravel(
 np.save(d + "/natural.npy", pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4)))
 np.save(d + "/hausdorff.npy", np.array(pixgeo.hausdorff(points[:30], points[30:])))
 np.save(d + "/labels.npy", pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4)).labels)
+# The discrete method is drawn where a device starts: here, with a warning.
+pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="discrete")
 """
     env = dict(os.environ, VK_DRIVER_FILES=str(tmp_path / "none.json"))
     env.pop("PIXGEO_DEVICE", None)

@@ -48,7 +48,6 @@ use crate::{
     machine::Machine,
     Backend,
 };
-use rayon::prelude::*;
 
 /// Empty pixels kept around the points, so that the outside never pinches a
 /// region against the texture's border.
@@ -288,7 +287,7 @@ fn distinct_points<K: Ord + Send>(
 /// mesh's vertices to them), each starting at its least index, sorted: the
 /// same list whichever route built the mesh.
 fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Vec<[u32; 3]> {
-    let mut triangles: Vec<[u32; 3]> = mesh
+    let rotated = mesh
         .triangles()
         .into_iter()
         .filter(|t| !t.contains(&DUMMY))
@@ -301,10 +300,26 @@ fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Vec<[u32; 3]> {
             } else {
                 [c, a, b]
             }
-        })
-        .collect();
-    triangles.par_sort_unstable();
-    triangles
+        });
+    // A counting sort by the least index (a vertex is the least of about
+    // two triangles), then each run in order.
+    let n = unique.iter().max().map_or(0, |&m| m as usize + 1);
+    let mut start = vec![0u32; n + 1];
+    let rotated: Vec<[u32; 3]> = rotated.inspect(|t| start[t[0] as usize + 1] += 1).collect();
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut next = start.clone();
+    let mut sorted = vec![[0; 3]; rotated.len()];
+    for t in rotated {
+        let at = &mut next[t[0] as usize];
+        sorted[*at as usize] = t;
+        *at += 1;
+    }
+    for run in start.windows(2) {
+        sorted[run[0] as usize..run[1] as usize].sort_unstable();
+    }
+    sorted
 }
 
 /// The CPU route: the distinct points inserted in Hilbert order.

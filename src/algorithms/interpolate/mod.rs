@@ -39,7 +39,7 @@ use crate::{
     cancel::Watch,
     geometry::{bounded::Bounded, exact::nearest_double, scale, Frame},
     machine::PixelRect,
-    Backend, Error, Result,
+    Backend, Error, Need, Result,
 };
 use formulas::{centre_offset, linear, nearest, on_plane, sibson, slopes, Point};
 use walk::{Place, Triangles};
@@ -56,6 +56,18 @@ pub enum Method {
     Linear,
     /// The nearest site's value.
     Nearest,
+}
+
+impl Method {
+    /// What the method needs of a device ([`Backend::choose`]): the CPU's
+    /// triangulation and grid beat a software rasterizer; the discrete
+    /// method draws its diagram with a margin, faster on a device.
+    pub fn need(self) -> Need {
+        match self {
+            Method::Discrete => Need::DeviceIfAny,
+            _ => Need::CpuUnlessGpu,
+        }
+    }
 }
 
 /// An interpolated raster.
