@@ -728,7 +728,11 @@ impl Certifier<'_> {
                 let mut scratch = Vec::with_capacity(owners.len());
                 let mut mended = 0;
                 for (x, label) in row.iter_mut().enumerate() {
-                    let far = self.furthest_of([x as i64, y as i64], owners, &mut scratch)?;
+                    let p = [x as i64, y as i64];
+                    let far = match self.clearly_furthest(p, owners) {
+                        Some(far) => far,
+                        None => self.furthest_of(p, owners, &mut scratch)?,
+                    };
                     mended += usize::from(far != *label);
                     *label = far;
                 }
@@ -745,6 +749,41 @@ impl Certifier<'_> {
         };
         self.label_distances(region, labels, distances);
         Ok(mended)
+    }
+
+    /// The furthest of `owners` from pixel `p` where doubles show it: under
+    /// a norm, each owner's distance in doubles is within `slack` of its
+    /// exact one (its place's error and the subtraction's, times the norm's
+    /// Euclidean bound, and the key's rounding), so a furthest ahead of the
+    /// next by twice that is the furthest. `None` where they cannot tell,
+    /// and for metrics that are not norms.
+    fn clearly_furthest(&self, p: [i64; 2], owners: &[u32]) -> Option<u32> {
+        let norm = match self.metric {
+            Metric::L2 | Metric::L1 | Metric::LInf => true,
+            Metric::Lp(q) => q >= 1.0,
+            Metric::Polygon(_) => false,
+        };
+        if !norm || owners.len() < 2 {
+            return None;
+        }
+        let at = DVec2::new(p[0] as f64, p[1] as f64);
+        let (mut best, mut second) = ((f64::NEG_INFINITY, u32::MAX), f64::NEG_INFINITY);
+        for &id in owners {
+            let d = (at - self.places[id as usize]).abs();
+            let key = self.keys.key(d.x, d.y);
+            if key > best.0 {
+                second = best.0;
+                best = (key, id);
+            } else if key > second {
+                second = key;
+            }
+        }
+        let far = self.keys.distance(best.0);
+        let u = f64::EPSILON;
+        let moved = self.largest_error + (far + at.abs().max_element()) * 4.0 * u;
+        let bound = self.metric.euclidean_bounds().1;
+        let slack = 2.0 * bound * moved + far * (4.0 * self.keys.rounding() + 4.0 * u);
+        (far - self.keys.distance(second) > 2.0 * slack).then_some(best.1)
     }
 
     /// The furthest of `owners` (distinct positions, the first index of

@@ -286,33 +286,15 @@ fn insert(list: &mut [(f64, u32)], key: (f64, u32)) {
 }
 
 /// The furthest-site diagram on the CPU: every pixel against the convex hull's
-/// sites, the only ones that own furthest regions, proposed in doubles and
-/// proved exactly, as the device's are.
+/// sites, the only ones that own furthest regions, found as the device's
+/// proposals are proved: in doubles where they tell, exactly elsewhere.
 pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthest> {
     check_sites(sites)?;
     frame.check()?;
     frame.reserve(16, "the CPU's furthest sites")?;
     let hull = furthest_candidates(sites, &convex_hull(sites), metric);
-    let pixels: Vec<DVec2> = hull
-        .iter()
-        .map(|&i| frame.to_pixel(sites[i as usize]))
-        .collect();
-    let w = frame.width as usize;
-    let labels = (0..frame.len())
-        .into_par_iter()
-        .map(|p| {
-            let q = DVec2::new((p % w) as f64, (p / w) as f64);
-            hull.iter()
-                .zip(&pixels)
-                .map(|(&i, s)| (i, metric.key(q - *s)))
-                .fold(
-                    (u32::MAX, -1.0),
-                    |best, x| if x.1 > best.1 { x } else { best },
-                )
-                .0
-        })
-        .collect();
-    exactly_furthest(sites, frame, metric, labels, hull)
+    let none = crate::memory::filled(frame.len(), u32::MAX, "the furthest sites")?;
+    exactly_furthest(sites, frame, metric, none, hull)
 }
 
 /// The Voronoi diagram of sites of any shape and weight on the CPU: every pixel
