@@ -8,6 +8,7 @@
 //! `cargo bench --bench homothet` writes `target/homothet/homothet.md`.
 //! `HM_N=100,1000` sets the site counts, `HM_REPEATS` the repeats (median).
 
+use pixgeo::Backend;
 use std::path::PathBuf;
 
 use glam::DVec2;
@@ -113,7 +114,7 @@ fn main() -> anyhow::Result<()> {
     eprintln!("device: {}", machine.device_name());
     let frame = Frame::pixels(1000, 1000)?;
     let warm = frame.random_points(100, 1);
-    enclose(&machine, &warm, Unit::Circle, 0, SIZE)?;
+    enclose(&Backend::Device(&machine), &warm, Unit::Circle, 0, SIZE)?;
     largest_empty(&machine, &warm, Unit::Circle, &Region::default(), SIZE)?;
 
     let mut table = String::from(
@@ -122,7 +123,13 @@ fn main() -> anyhow::Result<()> {
     for &n in &ns {
         let sites = frame.random_points(n, n as u64);
         let (ours, a) = time(repeats, || {
-            Ok(enclose(&machine, &sites, Unit::Circle, 0, SIZE)?)
+            Ok(enclose(
+                &Backend::Device(&machine),
+                &sites,
+                Unit::Circle,
+                0,
+                SIZE,
+            )?)
         })?;
         let (theirs, w) = time(repeats, || Ok(welzl(&sites)))?;
         let same_enclose = (a.exact.scale - w.radius).abs() <= 1e-9 * w.radius;

@@ -179,7 +179,9 @@ pub fn diameter(points: &[DVec2]) -> Result<Answer> {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn enclosing_circle(points: &[DVec2]) -> Result<HomothetAnswer> {
-    with_default_machine(|m| homothet::enclose(m, points, Unit::Circle, 0, DEFAULT_SIDE))
+    with_default_backend(Need::CpuUnlessGpu, |backend| {
+        homothet::enclose(backend, points, Unit::Circle, 0, DEFAULT_SIDE)
+    })
 }
 
 /// The largest circle centred in the points' bounding box that holds none of

@@ -116,14 +116,12 @@ pub unsafe extern "C" fn pixgeo_enclose(
         check_count(count, std::mem::size_of::<PixgeoSite>(), "sites")?;
         // SAFETY: `sites` holds `count` sites (caller contract); the count fits.
         let given = sites_of(unsafe { std::slice::from_raw_parts(sites, count) })?;
-        let answer = homothet::enclose_sites(
-            context.machine("an enclosing homothet")?,
-            &given,
-            unit,
-            k,
-            side,
-        )
-        .map_err(failed)?;
+        let need = match k == 0 || k == count {
+            true => Need::CpuUnlessGpu,
+            false => Need::Drawing("the smallest homothet holding k of the sites"),
+        };
+        let answer = homothet::enclose_sites(&context.backend_for(need)?, &given, unit, k, side)
+            .map_err(failed)?;
         homothet_into(out, &answer)
     })
 }

@@ -11,7 +11,7 @@ use pixgeo::{
         self, Envelope, EnvelopeLabels, HomothetAnswer, PixelStage, Region, Unit,
     },
     io::sites,
-    Machine, Metric, Shape as SiteShape, Site,
+    Backend, Machine, Metric, Shape as SiteShape, Site,
 };
 use serde_json::Value;
 
@@ -159,7 +159,7 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let side = args.shape.size;
     let k = args.at_least.unwrap_or(0);
     let working = Progress::working("enclose", args.shape.json);
-    let answer = homothet::enclose_sites(&machine, &shapes, unit, k, side)?;
+    let answer = homothet::enclose_sites(&Backend::Device(&machine), &shapes, unit, k, side)?;
     drop(working);
     let json = args
         .shape

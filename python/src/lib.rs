@@ -820,8 +820,8 @@ fn enclosing_circle<'py>(
     device: Option<&str>,
 ) -> PyResult<Circle> {
     let p = points(&p);
-    let h = on_machine(py, device, |m| {
-        homothet::enclose(m, &p, Unit::Circle, 0, DEFAULT_SIDE)
+    let h = on_backend(py, device, Need::CpuUnlessGpu, |b| {
+        homothet::enclose(b, &p, Unit::Circle, 0, DEFAULT_SIDE)
     })?;
     Ok(circle(h))
 }

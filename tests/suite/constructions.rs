@@ -107,7 +107,7 @@ proptest! {
         let what = format!("{sites:?}");
 
         // The smallest enclosing circle.
-        let circle = enclose(&m, &sites, Unit::Circle, 0, 256).unwrap();
+        let circle = enclose(&Backend::Device(&m), &sites, Unit::Circle, 0, 256).unwrap();
         let (centre, r2) = smallest_enclosing_circle(&sites);
         let [x, y] = circle.exact.centre;
         prop_assert!(is_nearest(x, &centre[0]) && is_nearest(y, &centre[1]), "{what}: centre");

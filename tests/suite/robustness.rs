@@ -105,7 +105,7 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
         alpha_hull(m, p, scalar, AlphaMethod::Hull, 32).map(|_| ())
     });
     no_panic("enclose", &p, || {
-        enclose(m, p, Unit::Circle, 1, 32).map(|_| ())
+        enclose(&Backend::Device(m), p, Unit::Circle, 1, 32).map(|_| ())
     });
     no_panic("largest empty", &p, || {
         largest_empty(m, p, Unit::Circle, &Region { rings: Vec::new() }, 32).map(|_| ())

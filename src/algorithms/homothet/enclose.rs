@@ -3,6 +3,7 @@
 //! a branch and bound on their exact distances.
 
 use super::*;
+use crate::{algorithms::cpu, Backend};
 
 /// The smallest homothet of `unit` holding at least `k` of the point `sites`
 /// (every site when `k` is 0 or the number of sites); exact, from Welzl's
@@ -15,12 +16,12 @@ use super::*;
 ///
 /// let sites = [DVec2::ZERO, DVec2::new(10.0, 0.0), DVec2::new(5.0, 1.0), DVec2::new(50.0, 50.0)];
 /// // The smallest circle holding at least 3 of the 4 sites.
-/// let c = pixgeo::with_default_machine(|m| enclose(m, &sites, Unit::Circle, 3, DEFAULT_SIDE))?;
+/// let c = pixgeo::with_default_machine(|m| enclose(&m.into(), &sites, Unit::Circle, 3, DEFAULT_SIDE))?;
 /// assert!((c.exact.scale - 5.0).abs() < 1e-9);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn enclose(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     unit: Unit,
     k: usize,
@@ -31,7 +32,7 @@ pub fn enclose(
     // a power of two, exactly, so that no distance overflows or underflows.
     let shift = scale::predicate_exponent(sites)?;
     if shift != 0 {
-        let answer = enclose(machine, &scale::scaled(sites, shift), unit, k, side)?;
+        let answer = enclose(backend, &scale::scaled(sites, shift), unit, k, side)?;
         return Ok(answer.scaled(-shift));
     }
     let n = sites.len();
@@ -53,7 +54,7 @@ pub fn enclose(
         let kept = first_of_each(sites);
         if kept.len() < n {
             let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
-            let mut answer = enclose(machine, &distinct, unit, 0, side)?;
+            let mut answer = enclose(backend, &distinct, unit, 0, side)?;
             for homothet in [&mut answer.exact, &mut answer.pixel] {
                 for site in &mut homothet.sites {
                     *site = kept[*site as usize];
@@ -67,7 +68,18 @@ pub fn enclose(
     let bound = half_diagonal(&frame) * unit.lipschitz();
     // The sites drawn in the upper envelope are the only ones that can be
     // furthest (the hull's, for convex units).
-    let (pixel, value, near_pixels, owners) = if k == n {
+    let (pixel, value, near_pixels, owners) = if let (true, None) = (k == n, backend.machine()) {
+        // The upper envelope from the CPU's furthest sites: its lowest
+        // pixel and those within twice the bound of it.
+        let far = cpu::furthest(sites, &frame, metric)?;
+        let lowest = lowest_of(&far.distances);
+        let value = far.distances[lowest] as f64;
+        let near = (0..far.distances.len())
+            .filter(|&p| (far.distances[p] as f64) <= value + 2.0 * bound)
+            .take(NEAR_PIXELS as usize)
+            .collect();
+        (lowest, value, near, far.hull)
+    } else if let (true, Some(machine)) = (k == n, backend.machine()) {
         let drawn = draw_furthest(machine, sites, &frame, metric, false)?;
         // Every pixel that could be the optimum's: within twice the bound. L2
         // keys are squared distances (pixels); the others are distances.
@@ -89,14 +101,13 @@ pub fn enclose(
         (lowest.at_min, value, lowest.near, drawn.owners)
     } else {
         // The k-th level of the lower envelope, read back: its lowest pixel.
+        // Equal optima are many here (on lattices), and which one the
+        // search meets depends on the levels' rounding: the device's alone.
+        let machine = backend.device_for("the smallest homothet holding k of the sites")?;
         let levels = kth_levels(machine, sites, frame, metric, k)?;
         let kth = levels.level_distances(k as u32 - 1);
-        let (at, d) = kth
-            .iter()
-            .enumerate()
-            .min_by(|a, b| a.1.total_cmp(b.1))
-            .expect("a picture has pixels");
-        let d = *d as f64;
+        let at = lowest_of(&kth);
+        let d = kth[at] as f64;
         let near: Vec<usize> = (0..kth.len())
             .filter(|&p| (kth[p] as f64) <= d + 2.0 * bound)
             .take(NEAR_PIXELS as usize)
@@ -304,7 +315,7 @@ fn farthest_gauge(unit: Unit, shape: Shape, c: DVec2) -> f64 {
 /// decide); the rest are drawn as points on them and refined by a branch and
 /// bound on their farthest gauges, to a relative gap of 1e-9.
 pub fn enclose_sites(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[Site],
     unit: Unit,
     k: usize,
@@ -372,7 +383,7 @@ pub fn enclose_sites(
             }
         }
     }
-    let mut answer = enclose(machine, &samples, unit, k, side)?;
+    let mut answer = enclose(backend, &samples, unit, k, side)?;
     // The picture saw chords of the curves.
     let chord_loss = sites
         .iter()
@@ -470,4 +481,13 @@ pub(super) fn kth_levels(
         speedup: Speedup::Quadtree,
     };
     k_nearest(machine, sites, &options)
+}
+
+/// The first pixel of least distance.
+fn lowest_of(distances: &[f32]) -> usize {
+    distances
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map_or(0, |(at, _)| at)
 }

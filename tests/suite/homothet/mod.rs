@@ -1,6 +1,7 @@
 //! Smallest enclosing and largest empty homothets (thesis ch. 4, 5) against
 //! Welzl's algorithm and exhaustive searches over candidate determining sites.
 
+use pixgeo::Backend;
 use std::f64::consts::TAU;
 
 use glam::DVec2;
@@ -101,7 +102,7 @@ fn close(a: f64, b: f64) -> bool {
 fn smallest_enclosing_circle_equals_welzl() {
     let machine = machine();
     for (name, sites) in inputs() {
-        let answer = enclose(&machine, &sites, Unit::Circle, 0, 256).unwrap();
+        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, 0, 256).unwrap();
         let truth = welzl(&sites);
         assert!(
             close(answer.exact.scale, truth.radius),
@@ -148,7 +149,7 @@ fn smallest_k_enclosing_circle_against_brute_force() {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let sites = uniform(&mut rng, 14, 60.0, 50.0);
     for k in [1, 2, 5, 9] {
-        let answer = enclose(&machine, &sites, Unit::Circle, k, 256).unwrap();
+        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, k, 256).unwrap();
         let (_, r) = oracle::smallest_k_circle(&sites, k);
         assert!(
             close(answer.exact.scale, r),
@@ -165,7 +166,8 @@ fn smallest_enclosing_polygon_against_brute_force() {
     let sites = uniform(&mut rng, 9, 60.0, 50.0);
     for (name, g) in polygons() {
         for k in [sites.len(), 4] {
-            let answer = enclose(&machine, &sites, Unit::Polygon(g), k, 256).unwrap();
+            let answer =
+                enclose(&Backend::Device(&machine), &sites, Unit::Polygon(g), k, 256).unwrap();
             let (_, truth) = oracle::smallest_k_homothet(&sites, &g.vertices, |v| g.of(v), k);
             assert!(
                 close(answer.exact.scale, truth),
@@ -360,9 +362,16 @@ fn largest_empty_polygon_against_brute_force() {
 fn bad_input_is_an_error() {
     let machine = machine();
     let sites = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0)];
-    assert!(enclose(&machine, &sites, Unit::Circle, 3, 64).is_err());
-    assert!(enclose(&machine, &[], Unit::Circle, 0, 64).is_err());
-    assert!(enclose(&machine, &[DVec2::new(f64::NAN, 0.0)], Unit::Circle, 0, 64).is_err());
+    assert!(enclose(&Backend::Device(&machine), &sites, Unit::Circle, 3, 64).is_err());
+    assert!(enclose(&Backend::Device(&machine), &[], Unit::Circle, 0, 64).is_err());
+    assert!(enclose(
+        &Backend::Device(&machine),
+        &[DVec2::new(f64::NAN, 0.0)],
+        Unit::Circle,
+        0,
+        64
+    )
+    .is_err());
     let thin = Region {
         rings: vec![vec![DVec2::ZERO, DVec2::X]],
     };
@@ -379,11 +388,11 @@ fn more_levels_than_kept_are_refused_by_name() {
     let machine = machine();
     let mut rng = ChaCha8Rng::seed_from_u64(12);
     let sites = uniform(&mut rng, 300, 100.0, 100.0);
-    let e = enclose(&machine, &sites, Unit::Circle, 280, 128)
+    let e = enclose(&Backend::Device(&machine), &sites, Unit::Circle, 280, 128)
         .unwrap_err()
         .to_string();
     assert!(e.contains("at most 256 levels"), "{e}");
-    assert!(enclose(&machine, &sites, Unit::Circle, 300, 128).is_ok());
+    assert!(enclose(&Backend::Device(&machine), &sites, Unit::Circle, 300, 128).is_ok());
 }
 
 /// The circles at far magnitudes and near-degenerate ones: the
@@ -487,7 +496,7 @@ fn smallest_enclosing_circle_is_exact_at_every_magnitude() {
         ],
     ));
     for (name, sites) in cases {
-        let answer = enclose(&machine, &sites, Unit::Circle, 0, 256)
+        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, 0, 256)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let (centre, r2) = smallest_enclosing_circle(&sites);
         let [x, y] = answer.exact.centre;
@@ -539,8 +548,8 @@ fn smallest_enclosing_circle_of_repeated_sites() {
     ];
     let mut repeated = vec![distinct[0]; 1000];
     repeated.extend(&distinct[1..]);
-    let once = enclose(&machine, &distinct, Unit::Circle, 0, 256).unwrap();
-    let many = enclose(&machine, &repeated, Unit::Circle, 0, 256).unwrap();
+    let once = enclose(&Backend::Device(&machine), &distinct, Unit::Circle, 0, 256).unwrap();
+    let many = enclose(&Backend::Device(&machine), &repeated, Unit::Circle, 0, 256).unwrap();
     assert_eq!(many.exact.centre, once.exact.centre);
     assert_eq!(many.exact.scale, once.exact.scale);
     let named = |sites: &[u32]| {
@@ -604,7 +613,7 @@ fn smallest_k_enclosing_circle_is_exact() {
         cases.push((format!("lattice {round}"), sites, k));
     }
     for (name, sites, k) in cases {
-        let answer = enclose(&machine, &sites, Unit::Circle, k, 256).unwrap();
+        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, k, 256).unwrap();
         let (centre, r2) = smallest_k_enclosing_circle(&sites, k);
         let [x, y] = answer.exact.centre;
         assert!(
@@ -705,4 +714,40 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     let refused =
         largest_empty_sites(&machine, &mixed, Unit::Circle, &square(1e80), true, 1024).unwrap_err();
     assert!(refused.to_string().contains("1e75"), "{refused}");
+}
+
+/// The smallest enclosing circle and polygons on the CPU alone: the same
+/// exact homothet as the device's, on random, co-circular, lattice and
+/// repeated sites.
+#[test]
+fn enclosing_on_the_cpu_is_the_devices_answer() {
+    let m = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let square: Vec<DVec2> = [(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0), (2.0, 2.0)]
+        .map(|(x, y)| DVec2::new(x, y))
+        .to_vec();
+    let lattice: Vec<DVec2> = (0..36)
+        .map(|k| DVec2::new((k % 6) as f64 * 0.7, (k / 6) as f64 * 0.3))
+        .collect();
+    let mut repeats = uniform(&mut rng, 30, 50.0, 40.0);
+    repeats.extend(repeats.clone());
+    let cases = [
+        ("uniform", uniform(&mut rng, 200, 90.0, 70.0)),
+        ("square", square),
+        ("lattice", lattice),
+        ("repeats", repeats),
+    ];
+    let units: Vec<Unit> = std::iter::once(Unit::Circle)
+        .chain(polygons().into_iter().map(|(_, g)| Unit::Polygon(g)))
+        .collect();
+    for (name, sites) in cases {
+        for &unit in &units {
+            let device = enclose(&Backend::Device(&m), &sites, unit, 0, 256).unwrap();
+            let cpu = enclose(&Backend::Cpu, &sites, unit, 0, 256).unwrap();
+            assert_eq!(device.exact, cpu.exact, "{name} {unit:?}");
+        }
+        // Holding k of them, equal optima are many: the device alone.
+        let error = enclose(&Backend::Cpu, &sites, Unit::Circle, 3, 256).unwrap_err();
+        assert!(error.to_string().contains("holding k"), "{error}");
+    }
 }

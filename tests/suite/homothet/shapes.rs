@@ -3,6 +3,7 @@
 //! sites' boundaries.
 
 use super::*;
+use pixgeo::Backend;
 
 /// The largest clearance over a grid of allowed centres (spacing `h`): the
 /// definition evaluated per point.
@@ -145,7 +146,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
             radius: 3.0,
         }),
     ];
-    let answer = enclose_sites(&machine, &two, Unit::Circle, 0, 256).unwrap();
+    let answer = enclose_sites(&Backend::Device(&machine), &two, Unit::Circle, 0, 256).unwrap();
     assert!((answer.exact.scale - 7.0).abs() < 1e-7, "{answer:?}");
     assert!(DVec2::from(answer.exact.centre).distance(DVec2::new(6.0, 0.0)) < 1e-6);
     // Segments: Welzl on their ends.
@@ -161,7 +162,8 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         DVec2::new(7.0, -4.0),
         DVec2::new(3.0, -6.0),
     ];
-    let answer = enclose_sites(&machine, &segments, Unit::Circle, 0, 256).unwrap();
+    let answer =
+        enclose_sites(&Backend::Device(&machine), &segments, Unit::Circle, 0, 256).unwrap();
     assert!(close(answer.exact.scale, welzl(&ends).radius));
     // Mixed with an arc: no grid centre does better, none much worse.
     let mut mixed = segments.to_vec();
@@ -175,7 +177,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         center: DVec2::new(10.0, 8.0),
         radius: 2.5,
     }));
-    let answer = enclose_sites(&machine, &mixed, Unit::Circle, 0, 256).unwrap();
+    let answer = enclose_sites(&Backend::Device(&machine), &mixed, Unit::Circle, 0, 256).unwrap();
     let farthest = |c: DVec2| {
         let mut far = 0.0f64;
         for s in &mixed {
@@ -202,7 +204,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         "{} vs {grid}",
         answer.exact.scale
     );
-    assert!(enclose_sites(&machine, &mixed, Unit::Circle, 2, 64).is_err());
+    assert!(enclose_sites(&Backend::Device(&machine), &mixed, Unit::Circle, 2, 64).is_err());
 }
 
 #[test]
@@ -230,7 +232,14 @@ fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
         )),
         Site::point(DVec2::new(25.0, 28.0)),
     ];
-    let answer = enclose_sites(&machine, &sites, Unit::Polygon(triangle), 0, 256).unwrap();
+    let answer = enclose_sites(
+        &Backend::Device(&machine),
+        &sites,
+        Unit::Polygon(triangle),
+        0,
+        256,
+    )
+    .unwrap();
     // The definition: the largest gauge over dense samples of each shape.
     let samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 20000)).collect();
     let c = DVec2::from(answer.exact.centre);
@@ -356,7 +365,14 @@ fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
         }),
         Site::point(DVec2::new(-4.0, 12.0)),
     ];
-    let answer = enclose_sites(&machine, &sites, Unit::Polygon(star), 0, 256).unwrap();
+    let answer = enclose_sites(
+        &Backend::Device(&machine),
+        &sites,
+        Unit::Polygon(star),
+        0,
+        256,
+    )
+    .unwrap();
     let samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 3000)).collect();
     let held = |c: DVec2| samples.iter().map(|p| star.of(*p - c)).fold(0.0, f64::max);
     let c = DVec2::from(answer.exact.centre);
