@@ -119,9 +119,8 @@ pub fn k_nearest(points: &[DVec2], width: u32, height: u32, k: u32) -> Result<KN
 /// ```
 pub fn furthest(points: &[DVec2], width: u32, height: u32) -> Result<Furthest> {
     let frame = Frame::pixels(width, height)?;
-    with_default_backend(Need::DeviceIfAny, |backend| match backend {
-        Backend::Device(m) => higher_order::furthest(m, points, &frame, Metric::L2),
-        Backend::Cpu => cpu::furthest(points, &frame, Metric::L2),
+    with_default_backend(Need::DeviceIfAny, |backend| {
+        higher_order::furthest(backend, points, &frame, Metric::L2)
     })
 }
 

@@ -174,11 +174,8 @@ pub unsafe extern "C" fn pixgeo_furthest(
         let (frame, _, _) = picture_of(o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let f = match context.backend_for(Need::DeviceIfAny)? {
-            Backend::Device(machine) => higher_order::furthest(machine, &sites, &frame, metric),
-            Backend::Cpu => pixgeo::algorithms::cpu::furthest(&sites, &frame, metric),
-        }
-        .map_err(failed)?;
+        let backend = context.backend_for(Need::DeviceIfAny)?;
+        let f = higher_order::furthest(&backend, &sites, &frame, metric).map_err(failed)?;
         // SAFETY: the caller's arrays have room for the answer (caller contract).
         unsafe { write_diagram(&f.labels, labels, &f.distances, distances) };
         Ok(())

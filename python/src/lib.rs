@@ -649,8 +649,8 @@ fn furthest<'py>(
     let sites = points(&sites);
     let f = frame(width, height, bbox)?;
     let m = metric(metric_name)?;
-    let d = on_machine(py, device, |machine| {
-        higher_order::furthest(machine, &sites, &f, m)
+    let d = on_backend(py, device, Need::DeviceIfAny, |backend| {
+        higher_order::furthest(backend, &sites, &f, m)
     })?;
     Ok((
         raster(py, d.labels, d.height, d.width)?,

@@ -420,6 +420,7 @@ np.save(d + "/natural.npy", pixgeo.natural_neighbor(points, values, (20, 20), bb
 np.save(d + "/hausdorff.npy", np.array(pixgeo.hausdorff(points[:30], points[30:])))
 np.save(d + "/labels.npy", pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4)).labels)
 c = pixgeo.enclosing_circle(points)
+np.save(d + "/furthest.npy", pixgeo.furthest(points, (20, 20), bbox=(0, 0, 4, 4)).labels)
 np.save(d + "/circle.npy", np.array([*c.centre, c.radius, *c.sites]))
 # The discrete method is drawn where a device starts: here, with a warning.
 pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="discrete")
@@ -444,6 +445,8 @@ pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="dis
         "hausdorff": np.array(pixgeo.hausdorff(points[:30], points[30:], device="lavapipe")),
         "labels": pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4), device="lavapipe").labels,
     }
+    far = pixgeo.furthest(points, (20, 20), bbox=(0, 0, 4, 4), device="lavapipe")
+    here["furthest"] = far.labels
     c = pixgeo.enclosing_circle(points, device="lavapipe")
     here["circle"] = np.array([*c.centre, c.radius, *c.sites])
     for name, want in here.items():

@@ -478,7 +478,7 @@ fn max_distance_in_range(
 ) -> Result<Answer> {
     let side = side.unwrap_or_else(|| default_side(machine, convex_hull(b).len()));
     let frame = frame_around(&[a, b], side)?;
-    let diagram = furthest(machine, b, &frame, Metric::L2)?;
+    let diagram = furthest(&Backend::Device(machine), b, &frame, Metric::L2)?;
     // The farthest point from a fixed point over a set is a hull vertex, and the
     // distance to the farthest point of b is convex, so its maximum over a is at a
     // hull vertex of a. The picture's partner's distance is a lower bound, the

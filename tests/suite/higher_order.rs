@@ -5,6 +5,7 @@
 use crate::common::{cases, machine};
 use glam::DVec2;
 use pixgeo::geometry::predicates::convex_hull;
+use pixgeo::Backend;
 use pixgeo::{
     algorithms::{
         cpu,
@@ -226,7 +227,8 @@ fn furthest_site_matches_the_definition() {
     for metric in metrics {
         for (name, sites) in cases(80, 60) {
             let name = format!("{metric} {name}");
-            let f = furthest(&m, &sites, &frame, metric).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let f = furthest(&Backend::Device(&m), &sites, &frame, metric)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
             let (_, best) = furthest_brute_force(&sites, &frame, metric);
             let w = frame.width as usize;
             for (p, &label) in f.labels.iter().enumerate() {
@@ -308,7 +310,7 @@ fn bad_input_is_a_clear_error() {
     assert!(k_nearest(&m, &sites, &opts(100_000)).is_err());
     assert!(k_nearest(&m, &[], &opts(2)).is_err());
     assert!(k_nearest(&m, &[DVec2::new(f64::NAN, 0.0)], &opts(2)).is_err());
-    assert!(furthest(&m, &[], &frame, Metric::L2).is_err());
+    assert!(furthest(&Backend::Device(&m), &[], &frame, Metric::L2).is_err());
 }
 
 #[test]
@@ -354,7 +356,7 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                 }
             }
             let f = cpu::furthest(&sites, &frame, metric).unwrap();
-            let g = furthest(&m, &sites, &frame, metric).unwrap();
+            let g = furthest(&Backend::Device(&m), &sites, &frame, metric).unwrap();
             for (a, b) in f.distances.iter().zip(&g.distances) {
                 assert!(
                     close(*a as f64, *b as f64),
@@ -581,7 +583,7 @@ fn furthest_is_exact_and_the_same_on_every_route() {
     for metric in [Metric::L2, Metric::LInf, Metric::L1] {
         for (name, frame, sites) in &cases {
             let name = format!("{metric} {name}");
-            let device = furthest(&m, sites, frame, metric).unwrap();
+            let device = furthest(&Backend::Device(&m), sites, frame, metric).unwrap();
             let on_cpu = cpu::furthest(sites, frame, metric).unwrap();
             assert!(
                 device.labels == on_cpu.labels,

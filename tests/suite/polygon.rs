@@ -2,6 +2,7 @@
 //! around its kernel point, convex or not, symmetric or not. Every diagram kind
 //! against its definition.
 
+use pixgeo::Backend;
 use std::f64::consts::TAU;
 
 use glam::DVec2;
@@ -161,7 +162,7 @@ fn levels_furthest_and_cpu_match_the_definition() {
                 }
             }
             let (_, far) = furthest_brute_force(&sites, &frame, metric);
-            let f = furthest(&m, &sites, &frame, metric).unwrap();
+            let f = furthest(&Backend::Device(&m), &sites, &frame, metric).unwrap();
             let fc = cpu::furthest(&sites, &frame, metric).unwrap();
             for (p, &want) in far.iter().enumerate() {
                 let (gpu, cpu) = (f.distances[p] as f64, fc.distances[p] as f64);

@@ -86,7 +86,7 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
         cpu::k_nearest(p, &frame, 1, Metric::L1).map(|_| ())
     });
     no_panic("furthest", &p, || {
-        furthest(m, p, &frame, Metric::L2).map(|_| ())
+        furthest(&Backend::Device(m), p, &frame, Metric::L2).map(|_| ())
     });
     no_panic("delaunay", &p, || {
         delaunay(&Backend::Device(m), p, &DelaunayOptions::default()).map(|_| ())

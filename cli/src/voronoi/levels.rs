@@ -59,12 +59,7 @@ pub(super) fn whole_picture(
         if accuracy != Accuracy::Exact {
             bail!("the furthest-site diagram is computed exactly; drop --mode");
         }
-        let f = match backend {
-            Backend::Device(machine) => {
-                higher_order::furthest(machine, sites, &frame, args.metric)?
-            }
-            Backend::Cpu => cpu::furthest(sites, &frame, args.metric)?,
-        };
+        let f = higher_order::furthest(backend, sites, &frame, args.metric)?;
         let size = [frame.width, frame.height, 1];
         if let Some(path) = &args.labels {
             raster::write(path, size, &f.labels, Some(&geo))?;

@@ -2,6 +2,7 @@
 //! sites that may own furthest regions.
 
 use super::*;
+use crate::Backend;
 
 /// The sites that may own furthest regions: for a convex unit ball (L_p with
 /// p >= 1, convex polygons) a distance is a convex function, largest over the
@@ -30,13 +31,19 @@ pub struct Furthest {
     pub hull: Vec<u32>,
 }
 
-/// Computes the furthest-site diagram of `sites` (world coordinates) on `frame`.
+/// Computes the furthest-site diagram of `sites` (world coordinates) on
+/// `frame`: drawn as the upper envelope on a device, searched on the CPU
+/// ([`crate::algorithms::cpu::furthest`]); both proved exactly, the same
+/// labels and distances.
 pub fn furthest(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     frame: &Frame,
     metric: Metric,
 ) -> Result<Furthest> {
+    let Some(machine) = backend.machine() else {
+        return crate::algorithms::cpu::furthest(sites, frame, metric);
+    };
     let drawn = draw_furthest(machine, sites, frame, metric, true)?;
     let ids = drawn.ids.as_ref().expect("labels were asked for");
     let rect = PixelRect::of(ids);

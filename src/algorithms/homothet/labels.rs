@@ -57,7 +57,8 @@ pub fn envelope_labels(
     let sites = &sites[..];
     let labels = match envelope {
         Envelope::Enclosing { k } if k == 0 || k >= sites.len() => {
-            crate::algorithms::higher_order::furthest(machine, sites, &frame, metric)?.labels
+            crate::algorithms::higher_order::furthest(&machine.into(), sites, &frame, metric)?
+                .labels
         }
         Envelope::Enclosing { k } => {
             kth_levels(machine, sites, frame, metric, k)?.level_labels(k as u32 - 1)
