@@ -119,7 +119,7 @@ pub fn k_nearest(points: &[DVec2], width: u32, height: u32, k: u32) -> Result<KN
 /// ```
 pub fn furthest(points: &[DVec2], width: u32, height: u32) -> Result<Furthest> {
     let frame = Frame::pixels(width, height)?;
-    with_default_backend(Need::DeviceIfAny, |backend| {
+    with_default_backend(Need::CpuUnlessGpu, |backend| {
         higher_order::furthest(backend, points, &frame, Metric::L2)
     })
 }

@@ -174,7 +174,7 @@ pub unsafe extern "C" fn pixgeo_furthest(
         let (frame, _, _) = picture_of(o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
-        let backend = context.backend_for(Need::DeviceIfAny)?;
+        let backend = context.backend_for(Need::CpuUnlessGpu)?;
         let f = higher_order::furthest(&backend, &sites, &frame, metric).map_err(failed)?;
         // SAFETY: the caller's arrays have room for the answer (caller contract).
         unsafe { write_diagram(&f.labels, labels, &f.distances, distances) };

@@ -649,7 +649,7 @@ fn furthest<'py>(
     let sites = points(&sites);
     let f = frame(width, height, bbox)?;
     let m = metric(metric_name)?;
-    let d = on_backend(py, device, Need::DeviceIfAny, |backend| {
+    let d = on_backend(py, device, Need::CpuUnlessGpu, |backend| {
         higher_order::furthest(backend, &sites, &f, m)
     })?;
     Ok((

@@ -404,7 +404,9 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         && !vectors.any()
         && args.method == Method::Auto
         && frame.width as u64 * frame.height as u64 <= crate::device::CPU_FASTER_PIXELS;
-    let chosen = args.backend(small || grid_alone)?;
+    // The CPU's furthest sites beat lavapipe's envelope at every size
+    // measured (`docs/benchmarks.md`).
+    let chosen = args.backend(small || grid_alone || kind == Kind::Furthest)?;
     let backend = chosen.backend();
     if let Kind::Degree(k) | Kind::Order(k) = kind {
         // Sites at one place are one site to a pixel's nearest.
