@@ -51,7 +51,7 @@ impl Chosen {
     }
 }
 
-impl Backend<'_> {
+impl<'m> Backend<'m> {
     /// The one rule: `cpu` asks for the CPU (refused for a drawing); `auto`
     /// takes the CPU for [`Need::CpuUnlessGpu`] on a machine without a GPU,
     /// else starts a device and falls back to the CPU, announced, when no
@@ -104,7 +104,7 @@ impl Backend<'_> {
     }
 
     /// The device's machine; `None` on the CPU.
-    pub fn machine(&self) -> Option<&Machine> {
+    pub fn machine(&self) -> Option<&'m Machine> {
         match *self {
             Backend::Device(machine) => Some(machine),
             Backend::Cpu => None,
@@ -113,7 +113,7 @@ impl Backend<'_> {
 
     /// The device's machine, or an error naming `what` as a drawing that
     /// needs one.
-    pub fn device_for(&self, what: &str) -> Result<&Machine> {
+    pub fn device_for(&self, what: &str) -> Result<&'m Machine> {
         self.machine().ok_or_else(|| drawn_only(what))
     }
 

@@ -192,10 +192,8 @@ impl PixgeoContext {
 
     /// The machine of a call drawn on a device alone.
     fn machine(&self, what: &'static str) -> Result<&Machine, (PixgeoStatus, String)> {
-        match self.backend_for(Need::Drawing(what))? {
-            Backend::Device(machine) => Ok(machine),
-            Backend::Cpu => Err(failed(Error::Internal(format!("{what} was given the CPU")))),
-        }
+        let backend = self.backend_for(Need::Drawing(what))?;
+        backend.device_for(what).map_err(failed)
     }
 }
 
