@@ -31,6 +31,19 @@ pub fn reserve_picture(width: u32, height: u32, bytes_per_pixel: u64, what: &str
     })
 }
 
+/// Host memory an algorithm may take per site, at most: the ordinary Voronoi
+/// diagram's cones, footprints and sort keys (docs/tuning.md has the figures).
+pub const MEMORY_PER_SITE: u64 = 512;
+
+/// Refuses `n` sites when the process cannot have their working memory
+/// ([`MEMORY_PER_SITE`] bytes each): where sites enter pixgeo, before they
+/// are copied.
+pub fn reserve_sites(n: usize) -> Result<()> {
+    reserve((n as u64).saturating_mul(MEMORY_PER_SITE), || {
+        format!("{n} sites ({MEMORY_PER_SITE} bytes a site)")
+    })
+}
+
 /// A vector of `len` copies of `value`, or the [`reserve`] error where the
 /// process cannot have it.
 pub(crate) fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {

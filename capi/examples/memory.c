@@ -1,7 +1,9 @@
 /* A host with little memory: under a 3 GB address-space limit, a distance
- * transform of a 20000 x 20000 raster (16 GB of work) returns
- * PIXGEO_STATUS_NO_MEMORY with the size it needs, where an allocation failure
- * would abort the host; the context keeps working afterwards. */
+ * transform of a 20000 x 20000 raster (16 GB of work) and a power diagram of
+ * 5e7 sites return PIXGEO_STATUS_NO_MEMORY with the size they need, and so
+ * does an interpolation of 8192 x 8192 pixels under 1.5 GB, where an
+ * allocation failure would abort the host; the context keeps working
+ * afterwards. */
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +14,13 @@
 #include "pixgeo.h"
 
 #define SIDE 20000u
+
+/* The call's status is PIXGEO_STATUS_NO_MEMORY, with the size it needs. */
+static void expect_no_memory(PixgeoContext *ctx, PixgeoStatus status, const char *what) {
+    CHECK(status == PIXGEO_STATUS_NO_MEMORY &&
+              strstr(pixgeo_context_last_error(ctx), "needs about") != NULL,
+          "%s: status %s: %s", what, pixgeo_status_string(status), pixgeo_context_last_error(ctx));
+}
 
 int main(void) {
     const struct rlimit limit = {3ul << 30, 3ul << 30};
@@ -31,11 +40,44 @@ int main(void) {
     if (mask != NULL) {
         mask[0] = 1;
         PixgeoVoronoiOptions raster = pixgeo_voronoi_options_default(SIDE, SIDE);
-        PixgeoStatus status = pixgeo_distance_transform(ctx, mask, &raster, NULL, NULL, NULL, NULL);
-        CHECK(status == PIXGEO_STATUS_NO_MEMORY &&
-                  strstr(pixgeo_context_last_error(ctx), "needs about") != NULL,
-              "status %s: %s", pixgeo_status_string(status), pixgeo_context_last_error(ctx));
+        expect_no_memory(ctx, pixgeo_distance_transform(ctx, mask, &raster, NULL, NULL, NULL, NULL),
+                         "a 20000 x 20000 transform");
         free(mask);
+    }
+    /* 5e7 sites (800 MB of coordinates, 400 MB of weights) on a small picture:
+     * their order and buckets would take more than the 1.8 GB left. */
+    const size_t many = 50000000;
+    double *xy = malloc(many * 2 * sizeof(double));
+    double *weights = calloc(many, sizeof(double));
+    CHECK(xy != NULL && weights != NULL, "no room for the sites themselves");
+    if (xy != NULL && weights != NULL) {
+        for (size_t i = 0; i < many; i++) {
+            xy[2 * i] = (double)(i % 7919) / 79.19;
+            xy[2 * i + 1] = (double)(i / 7919) / 631.0;
+        }
+        PixgeoVoronoiOptions picture = pixgeo_voronoi_options_default(64, 64);
+        uint32_t labels[64 * 64];
+        expect_no_memory(ctx, pixgeo_power_diagram(ctx, xy, weights, many, &picture, labels, NULL, NULL),
+                         "a power diagram of 5e7 sites");
+    }
+    free(xy);
+    free(weights);
+    /* An 8192 x 8192 interpolation under 1.5 GB: the 512 MB raster is the
+     * host's, the 24 bytes a pixel of work are not there. */
+    const struct rlimit less = {3ul << 29, 3ul << 29};
+    CHECK(setrlimit(RLIMIT_AS, &less) == 0, "setrlimit 1.5 GB");
+    const size_t side = 8192;
+    double *heights = malloc(side * side * sizeof(double));
+    CHECK(heights != NULL, "no room for the raster itself");
+    if (heights != NULL) {
+        const double samples[8] = {0, 0, 8191, 0, 0, 8191, 8191, 8191};
+        const double values[4] = {1, 2, 3, 4};
+        PixgeoVoronoiOptions picture = pixgeo_voronoi_options_default(side, side);
+        expect_no_memory(ctx,
+                         pixgeo_interpolate(ctx, samples, values, 4, &picture,
+                                            PIXGEO_INTERPOLATION_EXACT, heights, NULL),
+                         "an 8192 x 8192 interpolation");
+        free(heights);
     }
     uint8_t small[4] = {1, 0, 0, 0};
     double d[4];

@@ -277,6 +277,8 @@ pub(super) unsafe fn points(
         return Err(invalid("a point array is null"));
     }
     check_count(count, 16, "points")?;
+    // The work on the points, asked for before their copy takes its share.
+    pixgeo::memory::reserve_sites(count).map_err(failed)?;
     // SAFETY: `xy` holds `2 * count` doubles (caller contract); the count
     // was checked to fit.
     let coords = unsafe { std::slice::from_raw_parts(xy, 2 * count) };

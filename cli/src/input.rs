@@ -300,7 +300,7 @@ impl Input {
             }
             (Some(path), None) => sites::read_general_sites(path)?,
             (None, Some(n)) if n > 0 => {
-                pixgeo::geometry::check_memory_for(n)?;
+                pixgeo::memory::reserve_sites(n)?;
                 frame
                     .random_points(n, self.seed)
                     .into_iter()
@@ -487,7 +487,7 @@ impl Points {
     fn random(&self) -> Result<Vec<DVec2>> {
         match self.random {
             Some(n) if n > 0 => {
-                pixgeo::geometry::check_memory_for(n)?;
+                pixgeo::memory::reserve_sites(n)?;
                 Ok(Frame::pixels(1000, 1000)?.random_points(n, self.seed))
             }
             Some(_) => bail!("--random needs at least one point"),

@@ -28,7 +28,7 @@ pub fn voronoi_cells<'py>(
     bbox: [f64; 4],
     device: Option<&str>,
 ) -> PyResult<CellsTuple<'py, Bound<'py, PyArray2<u32>>>> {
-    let p = self::points(&points);
+    let p = self::points(&points)?;
     let cells = on_backend(py, device, Need::DeviceIfAny, |b| {
         cells_of(b, &p, &rect(bbox))
     })?;
@@ -50,7 +50,7 @@ pub fn power_cells<'py>(
     weights: PyReadonlyArray1<'py, f64>,
     bbox: [f64; 4],
 ) -> PyResult<CellsTuple<'py, Vec<u32>>> {
-    let sites = weighted(&points, &weights);
+    let sites = weighted(&points, &weights)?;
     let (cells, hidden) = on_cpu(py, || {
         let regular = regular_triangulation(&sites)?;
         let cells = regular.cells(&sites, &rect(bbox), &mut |_, _| {})?;

@@ -32,7 +32,7 @@ pub fn interpolate<'py>(
     device: Option<&str>,
     window: Option<[u32; 4]>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let (sites, values) = (points(&sites), values.as_array().to_vec());
+    let (sites, values) = (points(&sites)?, values.as_array().to_vec());
     let (f, method) = (frame(width, height, bbox)?, named::<Method>(method)?);
     let [x, y, w, h] = window.unwrap_or([0, 0, width, height]);
     let rect = PixelRect {
@@ -59,7 +59,7 @@ pub fn interpolate_at<'py>(
     method: &str,
     device: Option<&str>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let (sites, values, at) = (points(&sites), values.as_array().to_vec(), points(&at));
+    let (sites, values, at) = (points(&sites)?, values.as_array().to_vec(), points(&at)?);
     let method = named::<Method>(method)?;
     let answer = on_backend(py, device, method.need(), |b| {
         interpolate_points(b, &sites, &values, &at, method)
@@ -71,8 +71,11 @@ pub fn interpolate_at<'py>(
 pub(crate) fn weighted(
     points: &PyReadonlyArray2<'_, f64>,
     weights: &PyReadonlyArray1<'_, f64>,
-) -> Vec<Weighted> {
-    Weighted::zip(&crate::points(points), &weights.as_array().to_vec())
+) -> PyResult<Vec<Weighted>> {
+    Ok(Weighted::zip(
+        &crate::points(points)?,
+        &weights.as_array().to_vec(),
+    ))
 }
 
 type PowerTuple<'py> = (
@@ -96,7 +99,7 @@ pub fn power_diagram<'py>(
     bbox: Option<[f64; 4]>,
     window: Option<[u32; 4]>,
 ) -> PyResult<PowerTuple<'py>> {
-    let (sites, f) = (weighted(&sites, &weights), frame(width, height, bbox)?);
+    let (sites, f) = (weighted(&sites, &weights)?, frame(width, height, bbox)?);
     let [x, y, w, h] = window.unwrap_or([0, 0, width, height]);
     let rect = PixelRect {
         x,
@@ -122,7 +125,7 @@ pub fn regular_triangulation<'py>(
     sites: PyReadonlyArray2<'py, f64>,
     weights: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<(Bound<'py, PyArray2<u32>>, Vec<u32>)> {
-    let sites = weighted(&sites, &weights);
+    let sites = weighted(&sites, &weights)?;
     let r = on_cpu(py, || triangulate(&sites))?;
     let flat: Vec<u32> = r.triangles.iter().flatten().copied().collect();
     let triangles = Array2::from_shape_vec((r.triangles.len(), 3), flat)

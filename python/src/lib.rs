@@ -219,12 +219,15 @@ fn to_py(e: Error) -> PyErr {
     }
 }
 
-fn points(a: &PyReadonlyArray2<'_, f64>) -> Vec<DVec2> {
-    a.as_array()
-        .rows()
+/// The rows of an (n, 2) array as points, once the work on n sites has its
+/// memory (a `MemoryError` otherwise).
+fn points(a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<DVec2>> {
+    let a = a.as_array();
+    pixgeo::memory::reserve_sites(a.nrows()).map_err(to_py)?;
+    Ok(a.rows()
         .into_iter()
         .map(|r| DVec2::new(r[0], r[1]))
-        .collect()
+        .collect())
 }
 
 fn frame(width: u32, height: u32, bbox: Option<[f64; 4]>) -> PyResult<Frame> {
@@ -393,7 +396,7 @@ fn voronoi<'py>(
     window: Option<[u32; 4]>,
     method: &str,
 ) -> PyResult<Rasters<'py>> {
-    let sites = points(&sites);
+    let sites = points(&sites)?;
     let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
     options.metric = metric(metric_name)?;
     options.accuracy = named::<Accuracy>(mode)?;
@@ -438,9 +441,9 @@ fn voronoi_weighted<'py>(
     mode: &str,
     device: Option<&str>,
 ) -> PyResult<Rasters<'py>> {
-    let sites: Vec<Site> = points(&sites)
+    let sites: Vec<Site> = points(&sites)?
         .into_iter()
-        .zip(points(&weights))
+        .zip(points(&weights)?)
         .map(|(p, w)| Site {
             multiplicative: w.x,
             additive: w.y,
@@ -473,7 +476,7 @@ fn alpha_hull_of<'py>(
     method: &str,
     device: Option<&str>,
 ) -> PyResult<Hull<'py>> {
-    let p = points(&p);
+    let p = points(&p)?;
     let method: AlphaMethod = named(method)?;
     let h = on_machine(py, device, |m| {
         alpha_hull::alpha_hull(m, &p, alpha, method, side)
@@ -512,7 +515,7 @@ fn settle<'py>(
     refine_from: usize,
     device: Option<&str>,
 ) -> PyResult<SettleMap<'py>> {
-    let (rivals, own) = (points(&rivals), points(&own));
+    let (rivals, own) = (points(&rivals)?, points(&own)?);
     let options = SettleOptions::new(frame(width, height, bbox)?).metric(metric(metric_name)?);
     let f = options.frame;
     let map = on_machine(py, device, |m| {
@@ -562,7 +565,7 @@ fn lloyd<'py>(
     density: Option<PyReadonlyArray2<'py, f64>>,
     device: Option<&str>,
 ) -> PyResult<LloydTuple<'py>> {
-    let sites = points(&sites);
+    let sites = points(&sites)?;
     let f = frame(width, height, bbox)?;
     let mut options = LloydOptions::new(f).iterations(iterations);
     if let Some(t) = tolerance {
@@ -617,7 +620,7 @@ fn k_nearest<'py>(
     mode: &str,
     device: Option<&str>,
 ) -> PyResult<Levels<'py>> {
-    let sites = points(&sites);
+    let sites = points(&sites)?;
     let options = KNearestOptions::exact(frame(width, height, bbox)?, k)
         .metric(metric(metric_name)?)
         .accuracy(named::<Accuracy>(mode)?);
@@ -646,7 +649,7 @@ fn furthest<'py>(
     metric_name: &str,
     device: Option<&str>,
 ) -> PyResult<Rasters<'py>> {
-    let sites = points(&sites);
+    let sites = points(&sites)?;
     let f = frame(width, height, bbox)?;
     let m = metric(metric_name)?;
     let d = on_backend(py, device, Need::CpuUnlessGpu, |backend| {
@@ -667,7 +670,7 @@ fn delaunay<'py>(
     points: PyReadonlyArray2<'py, f64>,
     device: Option<&str>,
 ) -> PyResult<Triangulation<'py>> {
-    let p = self::points(&points);
+    let p = self::points(&points)?;
     let options = DelaunayOptions::default();
     let d = on_backend(py, device, Need::DeviceIfAny, |b| {
         triangulate(b, &p, &options)
@@ -721,7 +724,7 @@ fn great_circle<'py>(
     lats: PyReadonlyArray1<'py, f64>,
     device: Option<&str>,
 ) -> PyResult<GreatCircleTuple<'py>> {
-    let sites = points(&sites);
+    let sites = points(&sites)?;
     let (lons, lats) = (lons.as_slice()?.to_vec(), lats.as_slice()?.to_vec());
     let (answer, name) = on_backend(py, device, Need::CpuUnlessGpu, |backend| {
         let answer = match backend {
@@ -770,7 +773,7 @@ fn hausdorff<'py>(
     device: Option<&str>,
     method: Option<&str>,
 ) -> PyResult<(f64, PairTuple, PairTuple)> {
-    let (a, b) = (points(&a), points(&b));
+    let (a, b) = (points(&a)?, points(&b)?);
     let method = match method {
         None => None,
         Some("pixels") => Some(distances::Method::Pixels),
@@ -799,7 +802,7 @@ fn diameter<'py>(
     p: PyReadonlyArray2<'py, f64>,
     device: Option<&str>,
 ) -> PyResult<PairTuple> {
-    let p = points(&p);
+    let p = points(&p)?;
     let d = on_machine(py, device, |m| distances::diameter(m, &p, None))?;
     Ok(pair(d.pair))
 }
@@ -819,7 +822,7 @@ fn enclosing_circle<'py>(
     p: PyReadonlyArray2<'py, f64>,
     device: Option<&str>,
 ) -> PyResult<Circle> {
-    let p = points(&p);
+    let p = points(&p)?;
     let h = on_backend(py, device, Need::CpuUnlessGpu, |b| {
         homothet::enclose(b, &p, Unit::Circle, 0, DEFAULT_SIDE)
     })?;
@@ -839,10 +842,10 @@ fn largest_empty_circle<'py>(
     inside: bool,
     device: Option<&str>,
 ) -> PyResult<Circle> {
-    let p = points(&p);
+    let p = points(&p)?;
     let segments = segments.as_array();
     let region = Region {
-        rings: region.iter().map(points).collect(),
+        rings: region.iter().map(points).collect::<PyResult<_>>()?,
     };
     let h = on_machine(py, device, |m| {
         if segments.nrows() == 0 && !inside {
@@ -873,7 +876,7 @@ fn extremal_polygon<'py>(
     corners: u32,
     largest: bool,
 ) -> PyResult<(Bound<'py, PyArray1<u32>>, f64)> {
-    let p = points(&p);
+    let p = points(&p)?;
     let extreme = if largest {
         Extreme::Largest
     } else {

@@ -32,6 +32,9 @@ def run_limited(code: str, gigabytes: float) -> subprocess.CompletedProcess:
     [
         "pixgeo.voronoi(np.array([[1.0, 2.0], [50.0, 70.0]]), (100000, 100000))",
         "pixgeo.distance_transform_edt(np.ones((30000, 30000), dtype=bool))",
+        "pixgeo.natural_neighbor(np.array([[0.0, 0], [1, 0], [0, 1]]), np.zeros(3), (20000, 20000))",
+        # 1.2 GB of sites the interpreter holds; their work would take 25 GB.
+        "pixgeo.power_diagram(np.zeros((50_000_000, 2)), np.zeros(50_000_000), (64, 64))",
     ],
 )
 def test_work_beyond_the_address_space_raises_memory_error(call):

@@ -232,20 +232,7 @@ pub fn check_sites(sites: &[DVec2]) -> Result<()> {
             sites.len()
         )));
     }
-    check_memory_for(sites.len())
-}
-
-/// Host memory an algorithm may take per site, at most: the ordinary Voronoi
-/// diagram's cones, footprints and sort keys (docs/tuning.md has the figures).
-pub(crate) const MEMORY_PER_SITE: usize = 512;
-
-/// Refuses `n` sites when the process cannot have their working memory (512
-/// bytes each), as an error rather than an abort partway through.
-pub fn check_memory_for(n: usize) -> Result<()> {
-    let bytes = (n as u64).saturating_mul(MEMORY_PER_SITE as u64);
-    crate::memory::reserve(bytes, || {
-        format!("{n} sites ({MEMORY_PER_SITE} bytes a site)")
-    })
+    crate::memory::reserve_sites(sites.len())
 }
 
 /// A key that orders finite coordinates as numbers, with −0.0 equal to 0.0,

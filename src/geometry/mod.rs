@@ -30,4 +30,4 @@ pub(crate) mod sweep;
 pub(crate) mod triangle;
 pub mod triangulation;
 
-pub use frame::{check_memory_for, check_sites, Frame};
+pub use frame::{check_sites, Frame};
