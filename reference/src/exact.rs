@@ -79,17 +79,25 @@ pub fn ranked_sites(
     j: u32,
     k: usize,
 ) -> Vec<(u32, Key)> {
-    // Measured from the frame's origin, so that far frames keep their digits.
-    let centre = (DVec2::new(i as f64, j as f64) + 0.5) / frame.scale;
-    let offsets: Vec<DVec2> = sites.iter().map(|s| centre - (*s - frame.origin)).collect();
-    let float: Vec<f64> = offsets.iter().map(|d| metric.distance(*d)).collect();
+    // Measured from the frame's origin, so that far frames keep their
+    // digits, in pixels, so that squares of 1e±300 neither overflow nor
+    // vanish (every metric scales with its offset).
+    let centre = DVec2::new(i as f64, j as f64) + 0.5;
+    let places: Vec<DVec2> = sites
+        .iter()
+        .map(|s| (*s - frame.origin) * frame.scale)
+        .collect();
+    let float: Vec<f64> = places
+        .iter()
+        .map(|p| metric.distance(centre - *p))
+        .collect();
     let mut sorted = float.clone();
     sorted.sort_by(f64::total_cmp);
     let kth = sorted[k.min(sorted.len()) - 1];
     // Doubles hold the offsets to within this.
-    let magnitude = sites
+    let magnitude = places
         .iter()
-        .map(|s| (*s - frame.origin).abs().max_element())
+        .map(|p| p.abs().max_element())
         .fold(centre.abs().max_element(), f64::max);
     let tolerance = 1e-12 * (magnitude + kth) + 1e-300;
     let mut near: Vec<(u32, f64)> = float

@@ -22,6 +22,7 @@ mod lloyd;
 mod machine;
 mod magnitudes;
 mod one_call;
+mod parity;
 mod polygon;
 mod power;
 mod predicates;
