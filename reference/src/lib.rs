@@ -9,6 +9,7 @@ pub mod exact;
 pub mod flooding;
 pub mod higher_order;
 pub mod homothet;
+pub mod hostile;
 pub mod npy;
 pub mod settle;
 pub mod sibson;

@@ -11,6 +11,7 @@ mod interpolate;
 mod lloyd;
 mod memory;
 mod outputs;
+mod parity;
 mod power;
 mod problems;
 mod transaction;
