@@ -389,6 +389,11 @@ impl Input {
         self.random.map(|n| (n, self.seed))
     }
 
+    /// Whether y runs up (north-up rasters, y negated in the computing world).
+    pub fn y_up(&self) -> bool {
+        self.place.y_axis() == YAxis::Up
+    }
+
     /// Whether the picture is the user's (--bbox), not fitted by the command.
     pub fn has_bbox(&self) -> bool {
         self.place.bbox.is_some()

@@ -119,6 +119,13 @@ pub fn run(args: Args) -> Result<()> {
     crate::wrote([args.raster.as_deref(), args.output.as_deref()]);
     args.input.write_world_file(&world, (0, 0))?;
     let summary = Summary::of(&answer);
+    if summary.with_value == 0 {
+        note!(
+            "note: no pixel centre lies inside the samples' convex hull, so every value is NaN: \
+             give a --bbox over the samples (they span {})",
+            span(&samples.points, args.input.y_up())
+        );
+    }
     if args.json {
         let result = json!({
             "method": format!("{:?}", args.method).to_lowercase(),
@@ -142,6 +149,22 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The samples' bounding box as `XMIN,YMIN,XMAX,YMAX`, in the user's y.
+fn span(points: &[DVec2], y_up: bool) -> String {
+    let lo = points
+        .iter()
+        .copied()
+        .reduce(DVec2::min)
+        .unwrap_or_default();
+    let hi = points
+        .iter()
+        .copied()
+        .reduce(DVec2::max)
+        .unwrap_or_default();
+    let (y0, y1) = if y_up { (-hi.y, -lo.y) } else { (lo.y, hi.y) };
+    format!("{:?},{:?},{:?},{:?}", lo.x, y0, hi.x, y1)
 }
 
 /// The pixels with a value and their range.

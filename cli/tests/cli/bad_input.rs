@@ -156,6 +156,7 @@ fn every_command_refuses_bad_input_clearly() {
             "epsilon",
         ),
         ("voronoi --random 5 --contours 0 -o out.png", "positive"),
+        ("lloyd --random 5 --size 64 --tolerance NaN", "not NaN"),
         (
             "voronoi --random 5 --metric lp:1e-9 --labels out.npy",
             "0.01",

@@ -9,6 +9,7 @@ use pixgeo::io::npy;
 
 mod interpolate;
 mod lloyd;
+mod magnitudes;
 mod memory;
 mod outputs;
 mod parity;

@@ -65,10 +65,7 @@ fn the_command_line_answers_as_the_core_on_every_route() {
                 let got = npy::read::<u32>(&labels).unwrap().1;
                 assert!(got == *want_labels, "{name} {extra:?}: labels");
                 let got = npy::read::<f32>(&distances).unwrap().1;
-                assert!(
-                    bits(&got) == *want_bits,
-                    "{name} {extra:?}: distances"
-                );
+                assert!(bits(&got) == *want_bits, "{name} {extra:?}: distances");
             }
             let (ok, out, err) = pixgeo(&[
                 "delaunay",
