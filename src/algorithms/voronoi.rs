@@ -461,10 +461,10 @@ fn repeats_once(
     // wins every pixel any of them would: the others are dropped up front, so
     // repeats cost nothing. Tie counts add the repeats of each position tied
     // (found exactly where more than one is), over the whole picture.
+    check_sites(sites)?;
     if options.ties && options.window.is_some() {
         return draw(sites, sink);
     }
-    check_sites(sites)?;
     let (mut kept, repeats) = distinct_by(sites, 0..sites.len() as u32, |_| ());
     if repeats.is_empty() {
         return draw(sites, sink);
@@ -608,7 +608,7 @@ pub(crate) struct TileExtras {
 
 /// Draws the Voronoi diagram of points tile by tile, handing each tile to
 /// `visit` while it is on the device (tiles of a row of tiles left to right, rows
-/// top to bottom).
+/// top to bottom). The caller has checked the sites where they entered.
 pub(crate) fn draw_point_tiles(
     machine: &Machine,
     sites: &[DVec2],
@@ -616,7 +616,6 @@ pub(crate) fn draw_point_tiles(
     extras: TileExtras,
     mut visit: impl FnMut(&DrawnTile<'_>) -> Result<()>,
 ) -> Result<VoronoiStats> {
-    check_sites(sites)?;
     options.frame.check()?;
     if options.ties && matches!(options.metric, Metric::Polygon(_)) {
         return Err(Error::InvalidInput(

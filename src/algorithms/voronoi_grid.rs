@@ -29,7 +29,7 @@ use super::voronoi::{Band, VoronoiOptions, VoronoiStats};
 use crate::{
     cancel::Watch,
     error::Result,
-    geometry::{frame::check_sites, metric::Metric},
+    geometry::metric::Metric,
 };
 
 /// Pixels a side of the blocks that share one candidate list.
@@ -48,14 +48,13 @@ struct Candidate {
 }
 
 /// The diagram of the distinct `sites` over `options`' window, L2 and exact,
-/// handed to `sink` as bands of rows.
+/// handed to `sink` as bands of rows; the caller has checked the sites.
 pub(crate) fn grid_bands(
     sites: &[DVec2],
     options: &VoronoiOptions,
     device: &str,
     sink: &mut dyn FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
-    check_sites(sites)?;
     options.frame.check()?;
     if sites.len() >= MARK as usize {
         return Err(crate::Error::InvalidInput(format!(
