@@ -16,7 +16,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     geometry::Frame,
-    Machine,
+    Backend, Machine,
 };
 use pixgeo_reference::voronoi::nearest_sites_grid;
 use plotters::style::RGBColor;
@@ -95,7 +95,7 @@ fn main() -> anyhow::Result<()> {
     let warm = frame.random_points(100, 0);
     for c in &CONFIGS {
         voronoi(
-            &machine,
+            &Backend::Device(&machine),
             &warm,
             &VoronoiOptions::exact(frame)
                 .accuracy(c.accuracy)
@@ -133,7 +133,7 @@ fn main() -> anyhow::Result<()> {
             };
             for _ in 0..reps {
                 let t = Instant::now();
-                let d = voronoi(&machine, &sites, &opts)?;
+                let d = voronoi(&Backend::Device(&machine), &sites, &opts)?;
                 total.push(t.elapsed().as_secs_f64() * 1e3);
                 render.push(d.stats.render_ms);
             }

@@ -28,7 +28,7 @@ use pixgeo::{
         site::{Shape, Site},
         Frame,
     },
-    Machine,
+    Backend, Machine,
 };
 
 const SIZE: u32 = 1024;
@@ -155,7 +155,7 @@ fn main() -> anyhow::Result<()> {
                 let started = Instant::now();
                 match sites {
                     Some(s) => drop(voronoi_sites(&machine, s, &options)?),
-                    None => drop(voronoi(&machine, &positions, &options)?),
+                    None => drop(voronoi(&Backend::Device(&machine), &positions, &options)?),
                 }
                 Ok(started.elapsed().as_secs_f64() * 1e3)
             };

@@ -75,7 +75,11 @@ fn main() -> anyhow::Result<()> {
         ("no speedup", Speedup::None),
     ];
     let warm = frame.random_points(100, 0);
-    voronoi(&machine, &warm, &VoronoiOptions::exact(frame))?;
+    voronoi(
+        &Backend::Device(&machine),
+        &warm,
+        &VoronoiOptions::exact(frame),
+    )?;
     let order = |speedup| KNearestOptions::exact(frame, LEVELS).speedup(speedup);
     k_nearest(&machine, &warm, &order(Speedup::Local))?;
 
@@ -110,7 +114,7 @@ fn main() -> anyhow::Result<()> {
         times.push(Some(on_cpu));
         let opts = VoronoiOptions::exact(frame).distances(false);
         let one = time(repeats, || {
-            voronoi(&machine, &sites, &opts)?;
+            voronoi(&Backend::Device(&machine), &sites, &opts)?;
             Ok(())
         })?;
         eprintln!("n = {n:>5}  one diagram                    {one:>9.1} ms");

@@ -10,7 +10,7 @@ use pixgeo::{
     algorithms::voronoi::{voronoi, VoronoiOptions},
     geometry::Frame,
     io::sites::read_sites,
-    with_default_machine,
+    with_default_machine, Backend,
 };
 
 fn main() -> Result<(), pixgeo::Error> {
@@ -19,7 +19,9 @@ fn main() -> Result<(), pixgeo::Error> {
     let lo = shops.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = shops.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
     let frame = Frame::fitting(256, lo, hi)?;
-    let diagram = with_default_machine(|m| voronoi(m, &shops, &VoronoiOptions::exact(frame)))?;
+    let diagram = with_default_machine(|m| {
+        voronoi(&Backend::Device(m), &shops, &VoronoiOptions::exact(frame))
+    })?;
 
     // Each shop's share: the pixels nearest to it.
     let mut share = vec![0usize; shops.len()];

@@ -32,11 +32,12 @@
 //!
 //! ```no_run
 //! use glam::DVec2;
-//! use pixgeo::{algorithms::voronoi::{voronoi, VoronoiOptions}, geometry::Frame, Machine};
+//! use pixgeo::{algorithms::voronoi::{voronoi, VoronoiOptions}, geometry::Frame, Backend, Machine};
 //!
 //! let machine = Machine::from_env()?; // PIXGEO_DEVICE, PIXGEO_VALIDATION
 //! let sites = [DVec2::new(10.0, 20.0), DVec2::new(40.5, 7.0)];
-//! let diagram = voronoi(&machine, &sites, &VoronoiOptions::exact(Frame::pixels(64, 48)?))?;
+//! let options = VoronoiOptions::exact(Frame::pixels(64, 48)?);
+//! let diagram = voronoi(&Backend::Device(&machine), &sites, &options)?;
 //! assert_eq!(diagram.labels[20 * 64 + 10], 0);
 //! # Ok::<(), pixgeo::Error>(())
 //! ```

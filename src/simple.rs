@@ -83,9 +83,8 @@ pub fn with_default_machine<T>(f: impl FnOnce(&Machine) -> Result<T>) -> Result<
 /// ```
 pub fn voronoi(points: &[DVec2], width: u32, height: u32) -> Result<VoronoiDiagram> {
     let options = VoronoiOptions::exact(Frame::pixels(width, height)?);
-    with_default_backend(Need::CpuUnlessGpu, |backend| match backend {
-        Backend::Device(m) => diagram::voronoi(m, points, &options),
-        Backend::Cpu => diagram::voronoi_on_cpu(points, &options),
+    with_default_backend(Need::CpuUnlessGpu, |backend| {
+        diagram::voronoi(backend, points, &options)
     })
 }
 

@@ -6,7 +6,7 @@ use super::*;
 use pixgeo::algorithms::{
     higher_order::{self, KNearestOptions},
     sites::voronoi_sites,
-    voronoi::{voronoi_bands, voronoi_bands_on_cpu, Band, VoronoiOptions, VoronoiStats},
+    voronoi::{voronoi_bands, Band, VoronoiOptions, VoronoiStats},
 };
 
 /// The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
@@ -285,9 +285,5 @@ fn bands(
     } else {
         Need::Drawing("this diagram's options (cones, fans or another metric)")
     };
-    match context.backend_for(need)? {
-        Backend::Device(machine) => voronoi_bands(machine, sites, options, sink),
-        Backend::Cpu => voronoi_bands_on_cpu(sites, options, sink),
-    }
-    .map_err(failed)
+    voronoi_bands(&context.backend_for(need)?, sites, options, sink).map_err(failed)
 }

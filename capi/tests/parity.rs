@@ -8,7 +8,7 @@ use pixgeo::{
     algorithms::{
         delaunay::{delaunay, DelaunayOptions},
         higher_order::furthest,
-        voronoi::{voronoi_on_cpu, VoronoiOptions},
+        voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
     Backend,
@@ -65,7 +65,7 @@ fn the_c_library_answers_as_the_core_on_every_context() {
             options.bbox = bbox;
             let (mut labels, mut distances) = (vec![0u32; frame.len()], vec![0f32; frame.len()]);
 
-            let want = voronoi_on_cpu(&case.sites, &VoronoiOptions::exact(frame)).unwrap();
+            let want = voronoi(&Backend::Cpu, &case.sites, &VoronoiOptions::exact(frame)).unwrap();
             // SAFETY: `xy` holds 2n doubles; the rasters hold the picture's pixels.
             let status = unsafe {
                 pixgeo_voronoi(

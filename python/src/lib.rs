@@ -414,9 +414,8 @@ fn voronoi<'py>(
     } else {
         Need::Drawing("this diagram's options (cones, fans or another metric)")
     };
-    let d = on_backend(py, device, need, |backend| match backend {
-        Backend::Device(m) => diagram::voronoi(m, &sites, &options),
-        Backend::Cpu => diagram::voronoi_on_cpu(&sites, &options),
+    let d = on_backend(py, device, need, |backend| {
+        diagram::voronoi(backend, &sites, &options)
     })?;
     Ok((
         raster(py, d.labels, d.height, d.width)?,

@@ -394,7 +394,7 @@ fn directed_in_range(
     let frame = frame_around(&[a, b], side)?;
     // The picture the method is named for, drawn whichever the device.
     let options = VoronoiOptions::exact(frame).method(VoronoiMethod::Cones);
-    let diagram = voronoi(machine, b, &options)?;
+    let diagram = voronoi(&Backend::Device(machine), b, &options)?;
     // Per point of a: the picture's partner, whose distance is an upper bound, and
     // a lower bound (the pixel's distance less the offset from the pixel centre).
     let queries: Vec<u32> = (0..a.len() as u32).collect();

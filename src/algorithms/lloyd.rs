@@ -28,7 +28,7 @@ use crate::{
         metric::Metric,
         Frame,
     },
-    Error, Machine, Result,
+    Backend, Error, Machine, Result,
 };
 
 /// Lloyd's iterations on `frame`: at most `iterations`, stopping once no site
@@ -158,7 +158,12 @@ pub(crate) fn nearest_labels(
     frame: &Frame,
 ) -> Result<Vec<u32>> {
     match machine {
-        Some(m) => Ok(voronoi(m, sites, &VoronoiOptions::exact(*frame).distances(false))?.labels),
+        Some(m) => Ok(voronoi(
+            &Backend::Device(m),
+            sites,
+            &VoronoiOptions::exact(*frame).distances(false),
+        )?
+        .labels),
         None => Ok(cpu::k_nearest(sites, frame, 1, Metric::L2)?.labels),
     }
 }

@@ -38,6 +38,7 @@ use crate::{
         Frame,
     },
     machine::{DeviceClass, Machine, PixelRect},
+    Backend,
 };
 
 use super::certify::{Certifier, Region};
@@ -176,7 +177,7 @@ impl VoronoiOptions {
     }
 
     /// Whether these options' labels can be found without a Vulkan device
-    /// ([`voronoi_on_cpu`]): the grid fits, and the cones are not asked for.
+    /// ([`voronoi`] on [`Backend::Cpu`]): the grid fits, and the cones are not asked for.
     pub fn on_cpu_alone(&self) -> bool {
         self.grid_fits() && self.method != Method::Cones
     }
@@ -306,41 +307,31 @@ pub struct Band {
     pub ties: Vec<u32>,
 }
 
-/// Computes the Voronoi diagram of `sites` (world coordinates).
+/// Computes the Voronoi diagram of `sites` (world coordinates) on
+/// `backend`: cones or the grid on a device's machine (as
+/// [`VoronoiOptions::method`] picks), the grid on the CPU alone (Euclidean
+/// exact diagrams only). Every route gives the same diagram bit for bit.
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::{algorithms::voronoi::{voronoi, VoronoiOptions}, geometry::{metric::Metric, Frame}};
+/// use pixgeo::{algorithms::voronoi::{voronoi, VoronoiOptions}, geometry::{metric::Metric, Frame}, Backend};
 ///
 /// let sites = [DVec2::new(2.0, 2.0), DVec2::new(6.0, 2.0)];
-/// let options = VoronoiOptions::exact(Frame::pixels(9, 5)?).metric(Metric::L1).ties(true);
-/// let d = pixgeo::with_default_machine(|m| voronoi(m, &sites, &options))?;
+/// let options = VoronoiOptions::exact(Frame::pixels(9, 5)?).ties(true);
+/// let d = voronoi(&Backend::Cpu, &sites, &options)?;
+/// assert_eq!((d.labels[2 * 9 + 3], d.labels[2 * 9 + 5]), (0, 1));
 /// assert_eq!(d.ties[2 * 9 + 4], 2); // pixel (4, 2) is as near to both
+/// let l1 = options.metric(Metric::L1);
+/// let d = pixgeo::with_default_machine(|m| voronoi(&Backend::Device(m), &sites, &l1))?;
+/// assert_eq!(d.ties[2 * 9 + 4], 2);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn voronoi(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
-    whole_diagram(options, |sink| voronoi_bands(machine, sites, options, sink))
-}
-
-/// [`voronoi`] by [`Method::Grid`] on the CPU alone, with no Vulkan device:
-/// the same diagram bit for bit. Euclidean exact diagrams only.
-///
-/// ```
-/// use glam::DVec2;
-/// use pixgeo::{algorithms::voronoi::{voronoi_on_cpu, VoronoiOptions}, geometry::Frame};
-///
-/// let sites = [DVec2::new(2.0, 2.0), DVec2::new(6.0, 2.0)];
-/// let d = voronoi_on_cpu(&sites, &VoronoiOptions::exact(Frame::pixels(9, 5)?).ties(true))?;
-/// assert_eq!((d.labels[2 * 9 + 3], d.labels[2 * 9 + 5]), (0, 1));
-/// assert_eq!(d.ties[2 * 9 + 4], 2); // pixel (4, 2) is as near to both
-/// # Ok::<(), pixgeo::Error>(())
-/// ```
-pub fn voronoi_on_cpu(sites: &[DVec2], options: &VoronoiOptions) -> Result<VoronoiDiagram> {
-    whole_diagram(options, |sink| voronoi_bands_on_cpu(sites, options, sink))
+    whole_diagram(options, |sink| voronoi_bands(backend, sites, options, sink))
 }
 
 /// The diagram of `options`' window from the bands `bands` hands over.
@@ -392,11 +383,11 @@ fn room_for_all<T>(v: &mut Vec<T>, pixels: usize) {
     }
 }
 
-/// Computes the Voronoi diagram of `sites` (world coordinates) and hands it to
-/// `sink` as bands of rows, top to bottom. A band is one row of tiles; tiles are as
-/// large as the device (or [`VoronoiOptions::max_tile`]) allows, so only one band
-/// is held at a time. The result does not depend on the tiling: every tile draws the
-/// cones that reach it in the same order, so even ties resolve alike.
+/// Computes the Voronoi diagram of `sites` (world coordinates) on `backend`
+/// and hands it to `sink` as bands of rows, top to bottom. On a device a band
+/// is one row of tiles; tiles are as large as the device (or
+/// [`VoronoiOptions::max_tile`]) allows, so only one band is held at a time.
+/// The result does not depend on the tiling or the route.
 ///
 /// ```
 /// use glam::DVec2;
@@ -406,7 +397,7 @@ fn room_for_all<T>(v: &mut Vec<T>, pixels: usize) {
 /// let options = VoronoiOptions::exact(Frame::pixels(1000, 800)?).max_tile(Some(256));
 /// let mut rows = 0;
 /// pixgeo::with_default_machine(|m| {
-///     voronoi_bands(m, &sites, &options, |band| {
+///     voronoi_bands(&pixgeo::Backend::Device(m), &sites, &options, |band| {
 ///         rows += band.height; // write band.labels to a file here
 ///         Ok(())
 ///     })
@@ -415,34 +406,29 @@ fn room_for_all<T>(v: &mut Vec<T>, pixels: usize) {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn voronoi_bands(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     options: &VoronoiOptions,
     mut sink: impl FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
-    repeats_once(sites, options, &mut sink, &mut |sites, sink| {
-        distinct_bands(machine, sites, options, sink)
-    })
-}
-
-/// [`voronoi_bands`] by [`Method::Grid`] on the CPU alone, with no Vulkan
-/// device (see [`voronoi_on_cpu`]).
-pub fn voronoi_bands_on_cpu(
-    sites: &[DVec2],
-    options: &VoronoiOptions,
-    mut sink: impl FnMut(Band) -> Result<()>,
-) -> Result<VoronoiStats> {
-    if options.method == Method::Cones {
-        return Err(Error::InvalidInput(
-            "cones are drawn on a Vulkan device; on the CPU alone labels are found by the grid"
-                .into(),
-        ));
+    match backend {
+        Backend::Device(machine) => repeats_once(sites, options, &mut sink, &mut |sites, sink| {
+            distinct_bands(machine, sites, options, sink)
+        }),
+        Backend::Cpu => {
+            if options.method == Method::Cones {
+                return Err(Error::InvalidInput(
+                    "cones are drawn on a Vulkan device; on the CPU alone labels are found by the grid"
+                        .into(),
+                ));
+            }
+            let options = &options.method(Method::Grid);
+            Method::Grid.check(options)?;
+            repeats_once(sites, options, &mut sink, &mut |sites, sink| {
+                grid_bands(sites, options, "cpu", sink)
+            })
+        }
     }
-    let options = &options.method(Method::Grid);
-    Method::Grid.check(options)?;
-    repeats_once(sites, options, &mut sink, &mut |sites, sink| {
-        grid_bands(sites, options, "cpu", sink)
-    })
 }
 
 /// A route that hands the bands of the diagram of distinct sites to a sink.

@@ -26,11 +26,7 @@ use glam::DVec2;
 use super::certify::{Certifier, Region, MARK};
 use super::ms;
 use super::voronoi::{Band, VoronoiOptions, VoronoiStats};
-use crate::{
-    cancel::Watch,
-    error::Result,
-    geometry::metric::Metric,
-};
+use crate::{cancel::Watch, error::Result, geometry::metric::Metric};
 
 /// Pixels a side of the blocks that share one candidate list.
 const BLOCK: u32 = 8;

@@ -11,11 +11,11 @@ use pixgeo::{
     algorithms::{
         cpu,
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
-        voronoi::{voronoi, voronoi_on_cpu, Method, Speedup, VoronoiOptions},
+        voronoi::{voronoi, Method, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
     machine::PixelRect,
-    Machine,
+    Backend, Machine,
 };
 use pixgeo_reference::exact::exact_k_nearest;
 use rand::{Rng, SeedableRng};
@@ -160,7 +160,8 @@ fn diagrams_are_exact(
         methods.push(Method::Grid);
     }
     for (route, options) in routes {
-        let d = voronoi(m, sites, &options).unwrap_or_else(|e| panic!("{}: {e}", what(route)));
+        let d = voronoi(&Backend::Device(m), sites, &options)
+            .unwrap_or_else(|e| panic!("{}: {e}", what(route)));
         check(failures, &what(route), &d.labels, &nearest);
         // Distances from the labels: the CPU's, to the bit.
         let distances = what(&format!("{route} distances"));
@@ -187,7 +188,7 @@ fn diagrams_are_exact(
     for method in methods {
         let what = |route: &str| what(&format!("{route} by {method:?}"));
         let base = base.method(method);
-        let counted = voronoi(m, sites, &base.ties(true)).unwrap();
+        let counted = voronoi(&Backend::Device(m), sites, &base.ties(true)).unwrap();
         check(
             failures,
             &what("tie-counting labels"),
@@ -195,7 +196,12 @@ fn diagrams_are_exact(
             &nearest,
         );
         check(failures, &what("tie counts"), &counted.ties, &capped);
-        let part = voronoi(m, sites, &base.window(Some(window)).max_tile(Some(8))).unwrap();
+        let part = voronoi(
+            &Backend::Device(m),
+            sites,
+            &base.window(Some(window)).max_tile(Some(8)),
+        )
+        .unwrap();
         check(
             failures,
             &what("window"),
@@ -210,7 +216,7 @@ fn diagrams_are_exact(
         );
     }
     if metric == Metric::L2 {
-        let alone = voronoi_on_cpu(sites, &base.ties(true)).unwrap();
+        let alone = voronoi(&Backend::Cpu, sites, &base.ties(true)).unwrap();
         check(failures, &what("grid on the cpu"), &alone.labels, &nearest);
         check(
             failures,
@@ -266,7 +272,12 @@ fn random_doubles_over_a_large_picture() {
     let (ranks, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
     let mut failures = Vec::new();
     for method in [Method::Cones, Method::Grid] {
-        let d = voronoi(&m, &sites, &VoronoiOptions::exact(frame).method(method)).unwrap();
+        let d = voronoi(
+            &Backend::Device(&m),
+            &sites,
+            &VoronoiOptions::exact(frame).method(method),
+        )
+        .unwrap();
         check(
             &mut failures,
             &format!("random doubles by {method:?}"),
@@ -318,12 +329,12 @@ proptest::proptest! {
         let frame = Frame::with_bbox(32, Some(24), [0.0, 0.0, 3.2, 2.4]).unwrap();
         let (ranks, _) = exact_k_nearest(&sites, &frame, metric, 1);
         let options = VoronoiOptions::exact(frame).metric(metric);
-        let device = voronoi(&m, &sites, &options.method(Method::Cones)).unwrap();
+        let device = voronoi(&Backend::Device(&m), &sites, &options.method(Method::Cones)).unwrap();
         let grown = cpu::k_nearest(&sites, &frame, 1, metric).unwrap();
         proptest::prop_assert_eq!(&device.labels, &ranks);
         proptest::prop_assert_eq!(&grown.labels, &ranks);
         if metric == Metric::L2 {
-            let grid = voronoi_on_cpu(&sites, &options).unwrap();
+            let grid = voronoi(&Backend::Cpu, &sites, &options).unwrap();
             proptest::prop_assert_eq!(&grid.labels, &ranks);
         }
     }
@@ -392,7 +403,7 @@ fn polygon_labels_are_exact_in_every_tile() {
                 ("screen tiles", base),
                 ("tiles of 16", base.max_tile(Some(16))),
             ] {
-                let d = voronoi(&m, sites, &options).unwrap();
+                let d = voronoi(&Backend::Device(&m), sites, &options).unwrap();
                 check(&mut failures, &what(route), &d.labels, &nearest);
                 let distances = what(&format!("{route} distances"));
                 check(
@@ -408,7 +419,12 @@ fn polygon_labels_are_exact_in_every_tile() {
                 width: 20,
                 height: 13,
             };
-            let part = voronoi(&m, sites, &base.window(Some(window)).max_tile(Some(8))).unwrap();
+            let part = voronoi(
+                &Backend::Device(&m),
+                sites,
+                &base.window(Some(window)).max_tile(Some(8)),
+            )
+            .unwrap();
             check(
                 &mut failures,
                 &what("window"),
@@ -429,7 +445,9 @@ fn the_grid_refuses_bad_input() {
     let frame = Frame::pixels(16, 16).unwrap();
     let options = VoronoiOptions::exact(frame);
     let err = |sites: &[DVec2], options: &VoronoiOptions| {
-        voronoi_on_cpu(sites, options).unwrap_err().to_string()
+        voronoi(&Backend::Cpu, sites, options)
+            .unwrap_err()
+            .to_string()
     };
     assert!(err(&[], &options).contains("empty"));
     assert!(err(&[DVec2::new(f64::NAN, 1.0)], &options).contains("non-finite"));
@@ -437,7 +455,7 @@ fn the_grid_refuses_bad_input() {
         width: Frame::MAX_SIDE + 1,
         ..frame
     };
-    let e = voronoi_on_cpu(&[DVec2::ZERO], &options.frame(big)).unwrap_err();
+    let e = voronoi(&Backend::Cpu, &[DVec2::ZERO], &options.frame(big)).unwrap_err();
     assert!(matches!(e, pixgeo::Error::PictureTooLarge { .. }), "{e}");
     let l1 = options.metric(Metric::L1);
     assert!(err(&[DVec2::ZERO], &l1).contains("Euclidean"));
@@ -445,7 +463,7 @@ fn the_grid_refuses_bad_input() {
     assert!(err(&[DVec2::ZERO], &drawn).contains("Vulkan device"));
     // Sites whose squared distances overflow doubles are still decided.
     let far = [DVec2::new(-1.7e308, 2.4e10), DVec2::new(1e308, 5.0)];
-    let d = voronoi_on_cpu(&far, &options).unwrap();
+    let d = voronoi(&Backend::Cpu, &far, &options).unwrap();
     assert!(d.labels.iter().all(|&l| l < 2));
 }
 
@@ -464,7 +482,7 @@ fn a_near_tie_at_a_blocks_corner_is_decided_exactly() {
         let sites = [owner, nearer];
         let (ranks, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
         assert_eq!(ranks[0], 1, "{far}");
-        let d = voronoi_on_cpu(&sites, &VoronoiOptions::exact(frame)).unwrap();
+        let d = voronoi(&Backend::Cpu, &sites, &VoronoiOptions::exact(frame)).unwrap();
         assert_eq!(d.labels, ranks, "{far}");
         let key = |s: DVec2| s.length_squared();
         wrong_in_floats += usize::from(key(nearer) >= key(owner));

@@ -8,7 +8,7 @@ use pixgeo::{
         distances::{directed_hausdorff_by, Method},
         interpolate::discrete_sibson,
         lloyd::{lloyd, LloydOptions},
-        voronoi::{voronoi, voronoi_on_cpu, VoronoiOptions},
+        voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
     Backend,
@@ -33,8 +33,16 @@ fn sites_at_1e_minus_300_get_exact_labels() {
     let frame = Frame::pixels(24, 20).unwrap();
     let options = VoronoiOptions::exact(frame);
     let (want, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
-    assert_eq!(voronoi_on_cpu(&sites, &options).unwrap().labels, want);
-    assert_eq!(voronoi(&machine, &sites, &options).unwrap().labels, want);
+    assert_eq!(
+        voronoi(&Backend::Cpu, &sites, &options).unwrap().labels,
+        want
+    );
+    assert_eq!(
+        voronoi(&Backend::Device(&machine), &sites, &options)
+            .unwrap()
+            .labels,
+        want
+    );
     let lloyd_options = LloydOptions::new(Frame::pixels(64, 64).unwrap()).iterations(2);
     let moved = lloyd(None, &tiny_sites(40), &lloyd_options, None, &mut |_, _| {}).unwrap();
     assert_eq!(moved.labels.len(), 64 * 64);

@@ -10,7 +10,7 @@ use pixgeo::{
         delaunay::{delaunay, DelaunayOptions},
         distances::{directed_hausdorff_by, Method as HausdorffMethod},
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
-        voronoi::{voronoi, voronoi_on_cpu, Method, Speedup, VoronoiOptions},
+        voronoi::{voronoi, Method, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
     machine::PixelRect,
@@ -58,16 +58,19 @@ fn nearest_sites_are_the_same_on_every_route() {
         let grown = cpu::k_nearest(&sites, &frame, 1, Metric::L2).unwrap();
         differences.check(format!("{name}: growth on the CPU"), &grown.labels, &want);
         let routes = [
-            ("cones", voronoi(&m, &sites, &cones)),
+            ("cones", voronoi(&Backend::Device(&m), &sites, &cones)),
             (
                 "cones without a speed-up",
-                voronoi(&m, &sites, &cones.speedup(Speedup::None)),
+                voronoi(&Backend::Device(&m), &sites, &cones.speedup(Speedup::None)),
             ),
             (
                 "cones in tiles of 8",
-                voronoi(&m, &sites, &cones.max_tile(Some(8))),
+                voronoi(&Backend::Device(&m), &sites, &cones.max_tile(Some(8))),
             ),
-            ("grid", voronoi_on_cpu(&sites, &base.method(Method::Grid))),
+            (
+                "grid",
+                voronoi(&Backend::Cpu, &sites, &base.method(Method::Grid)),
+            ),
         ];
         for (route, diagram) in routes {
             let d = diagram.unwrap_or_else(|e| panic!("{name}, {route}: {e}"));
@@ -91,8 +94,8 @@ fn nearest_sites_are_the_same_on_every_route() {
         for method in [Method::Cones, Method::Grid] {
             let options = base.method(method).window(Some(window));
             let d = match method {
-                Method::Grid => voronoi_on_cpu(&sites, &options),
-                _ => voronoi(&m, &sites, &options),
+                Method::Grid => voronoi(&Backend::Cpu, &sites, &options),
+                _ => voronoi(&Backend::Device(&m), &sites, &options),
             }
             .unwrap();
             differences.check(format!("{name}: window by {method:?}"), &d.labels, &inside);

@@ -69,7 +69,7 @@ fn ordinary_diagrams_match_the_definition_with_every_speedup() {
                 for accuracy in [Accuracy::Exact, Accuracy::FAN] {
                     let what = format!("{name} {case} {speedup:?} {accuracy:?}");
                     let d = voronoi(
-                        &m,
+                        &Backend::Device(&m),
                         &sites,
                         &VoronoiOptions::exact(frame)
                             .metric(metric)
@@ -226,7 +226,7 @@ fn unsupported_combinations_are_clear_errors() {
     let frame = Frame::pixels(16, 16).unwrap();
     let (_, metric) = polygons().remove(0);
     let ties = VoronoiOptions::exact(frame).metric(metric).ties(true);
-    assert!(voronoi(&m, &[DVec2::ZERO], &ties).is_err());
+    assert!(voronoi(&Backend::Device(&m), &[DVec2::ZERO], &ties).is_err());
     let settle =
         pixgeo::algorithms::settle::potential_areas_cpu(&[DVec2::ZERO], &[], &frame, metric);
     assert!(settle.is_err());
@@ -251,7 +251,7 @@ fn polygons_of_every_size_float32_holds_and_no_other() {
         let metric = square(e).unwrap();
         let truth = nearest_distances_metric(&sites, &frame, metric);
         let options = VoronoiOptions::exact(frame).metric(metric);
-        let d = voronoi(&m, &sites, &options).unwrap();
+        let d = voronoi(&Backend::Device(&m), &sites, &options).unwrap();
         for (k, &label) in d.labels.iter().enumerate() {
             let q = DVec2::new((k % 64) as f64, (k / 64) as f64);
             let mine = metric.distance(sites[label as usize] - q);

@@ -165,7 +165,7 @@ fn linf_quadtree_labels_the_nearest_site() {
     let options = VoronoiOptions::exact(pixel_frame())
         .metric(Metric::LInf)
         .speedup(Speedup::Quadtree);
-    let d = voronoi(&m, &sites, &options).unwrap();
+    let d = voronoi(&Backend::Device(&m), &sites, &options).unwrap();
     // Pixel (0, 0): site 1 at L∞ distance 24, site 2 at 28.
     assert_eq!(d.labels[0], 1);
 }
@@ -179,7 +179,7 @@ fn exact_diagrams(metrics: &[Metric], speedups: &[Speedup]) {
             let truth = nearest_distances_metric(&px, &pixel_frame(), metric);
             for &speedup in speedups {
                 let options = VoronoiOptions::exact(frame).metric(metric).speedup(speedup);
-                let d = voronoi(&m, &sites, &options)
+                let d = voronoi(&Backend::Device(&m), &sites, &options)
                     .map_err(|e| TestCaseError::fail(format!("{metric} {speedup:?}: {e}")))?;
                 for (k, &label) in d.labels.iter().enumerate() {
                     let (q, best) = (pixel(k), truth[k]);
@@ -223,7 +223,7 @@ fn fan_diagrams_keep_their_bound_on_every_pixel() {
                 epsilon,
                 triangles: None,
             });
-            let d = voronoi(&m, &sites, &options)
+            let d = voronoi(&Backend::Device(&m), &sites, &options)
                 .map_err(|e| TestCaseError::fail(format!("fan {epsilon}: {e}")))?;
             for (k, &label) in d.labels.iter().enumerate() {
                 let (q, best) = (pixel(k), truth[k]);

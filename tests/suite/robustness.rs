@@ -66,17 +66,17 @@ fn no_panic<T>(what: &str, input: &impl std::fmt::Debug, call: impl FnOnce() -> 
 fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
     let frame = Frame::pixels(24, 20).unwrap();
     no_panic("voronoi", &p, || {
-        voronoi(m, p, &VoronoiOptions::exact(frame)).map(|_| ())
+        voronoi(&Backend::Device(m), p, &VoronoiOptions::exact(frame)).map(|_| ())
     });
     no_panic("voronoi fan", &p, || {
         let options = VoronoiOptions::exact(frame)
             .accuracy(Accuracy::FAN)
             .speedup(Speedup::Quadtree);
-        voronoi(m, p, &options).map(|_| ())
+        voronoi(&Backend::Device(m), p, &options).map(|_| ())
     });
     no_panic("bbox frame", &(p, scalar), || {
         Frame::with_bbox(24, None, [scalar, scalar, scalar.abs() * 2.0 + 1.0, 3.0])
-            .and_then(|f| voronoi(m, p, &VoronoiOptions::exact(f)).map(|_| ()))
+            .and_then(|f| voronoi(&Backend::Device(m), p, &VoronoiOptions::exact(f)).map(|_| ()))
     });
     no_panic("k_nearest", &p, || {
         let options = KNearestOptions::exact(frame, 2);

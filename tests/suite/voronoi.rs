@@ -7,7 +7,7 @@ use pixgeo::{
     geometry::{metric::Metric, Frame},
     machine::{MachineOptions, PixelRect},
     testing::bisector_deviation,
-    Machine,
+    Backend, Machine,
 };
 use pixgeo_reference::voronoi::{nearest_distances_metric, nearest_sites_brute_force};
 
@@ -30,8 +30,12 @@ fn run(
     accuracy: Accuracy,
     speedup: Speedup,
 ) -> VoronoiDiagram {
-    voronoi(m, sites, &cones(frame).accuracy(accuracy).speedup(speedup))
-        .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
+    voronoi(
+        &Backend::Device(m),
+        sites,
+        &cones(frame).accuracy(accuracy).speedup(speedup),
+    )
+    .unwrap_or_else(|e| panic!("{accuracy:?} {speedup:?}: {e}"))
 }
 
 /// Exact mode: every pixel's site is at the minimum distance (ties either way), and
@@ -151,7 +155,7 @@ fn screen_tiles_and_their_fallback_match_the_definition() {
     for metric in [Metric::L2, Metric::LInf, Metric::Lp(3.0), Metric::Lp(0.7)] {
         for (sites, drawn) in [(&spread, "tiles"), (&piled, "polygon")] {
             let options = cones(frame).metric(metric);
-            let d = voronoi(&m, sites, &options).unwrap();
+            let d = voronoi(&Backend::Device(&m), sites, &options).unwrap();
             let kinds: Vec<&str> = d.stats.groups.iter().map(|g| g.kind).collect();
             assert_eq!(kinds, [drawn], "{metric}: how the cones were drawn");
             let truth = nearest_distances_metric(sites, &frame, metric);
@@ -275,7 +279,11 @@ fn bad_input_is_a_clear_error() {
     let m = machine();
     let frame = Frame::pixels(16, 16).unwrap();
     let opts = cones(frame);
-    let err = |sites: &[DVec2]| voronoi(&m, sites, &opts).unwrap_err().to_string();
+    let err = |sites: &[DVec2]| {
+        voronoi(&Backend::Device(&m), sites, &opts)
+            .unwrap_err()
+            .to_string()
+    };
     assert!(err(&[]).contains("empty"));
     assert!(err(&[DVec2::new(f64::NAN, 1.0)]).contains("non-finite"));
     assert!(err(&[DVec2::new(1.0, f64::INFINITY)]).contains("non-finite"));
@@ -284,13 +292,13 @@ fn bad_input_is_a_clear_error() {
         width: Frame::MAX_SIDE + 1,
         ..frame
     };
-    let e = voronoi(&m, &[DVec2::ZERO], &opts.frame(big)).unwrap_err();
+    let e = voronoi(&Backend::Device(&m), &[DVec2::ZERO], &opts.frame(big)).unwrap_err();
     assert!(matches!(e, pixgeo::Error::PictureTooLarge { .. }), "{e}");
     let bad_fan = opts.accuracy(Accuracy::Fan {
         epsilon: 0.0,
         triangles: None,
     });
-    assert!(voronoi(&m, &[DVec2::ZERO], &bad_fan).is_err());
+    assert!(voronoi(&Backend::Device(&m), &[DVec2::ZERO], &bad_fan).is_err());
 }
 
 #[test]
@@ -331,13 +339,13 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
                 .speedup(speedup)
                 .max_tile(max_tile)
         };
-        let whole = voronoi(&m, &sites, &options(None)).unwrap();
+        let whole = voronoi(&Backend::Device(&m), &sites, &options(None)).unwrap();
         assert_eq!(whole.stats.tiles, 1);
         if metric == Metric::L2 {
             assert_exact(&whole, &sites, &frame, "whole");
         }
         for tile in [40, 64, 100] {
-            let tiled = voronoi(&m, &sites, &options(Some(tile))).unwrap();
+            let tiled = voronoi(&Backend::Device(&m), &sites, &options(Some(tile))).unwrap();
             assert_eq!(
                 tiled.stats.tiles,
                 (w.div_ceil(tile) * h.div_ceil(tile)) as usize
@@ -360,7 +368,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
     }
     // Fan cones are bounded the same way in every tile.
     let fan = cones(frame).accuracy(Accuracy::FAN).max_tile(Some(50));
-    let d = voronoi(&m, &sites, &fan).unwrap();
+    let d = voronoi(&Backend::Device(&m), &sites, &fan).unwrap();
     assert_fan(&d, &sites, &frame, 1.0, None, "fan tiles");
 }
 
@@ -394,7 +402,7 @@ fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
                 .max_tile(Some(48))
                 .window(window)
         };
-        let whole = voronoi(&m, &sites, &options(None)).unwrap();
+        let whole = voronoi(&Backend::Device(&m), &sites, &options(None)).unwrap();
         // Cut the picture at random columns and rows into windows.
         let cuts = |side: u32, rng: &mut ChaCha8Rng| {
             let mut c: Vec<u32> = (0..3).map(|_| rng.gen_range(1..side)).collect();
@@ -413,7 +421,7 @@ fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
                     width: x[1] - x[0],
                     height: y[1] - y[0],
                 };
-                let part = voronoi(&m, &sites, &options(Some(window))).unwrap();
+                let part = voronoi(&Backend::Device(&m), &sites, &options(Some(window))).unwrap();
                 assert_eq!((part.width, part.height), (window.width, window.height));
                 for j in 0..window.height {
                     let row = |v: &[u32], width: u32, x0: u32, y0: u32| {
@@ -464,7 +472,7 @@ fn random_windows_tile_into_the_whole_diagram_bit_for_bit() {
             height: bad.3,
         };
         let options = cones(frame).window(Some(window));
-        let err = voronoi(&m, &sites, &options).unwrap_err();
+        let err = voronoi(&Backend::Device(&m), &sites, &options).unwrap_err();
         assert!(
             err.to_string().contains("inside the 150x110 picture"),
             "{err}"
@@ -480,7 +488,7 @@ fn pictures_wider_than_the_device_are_tiled() {
     let sites: Vec<DVec2> = (0..40)
         .map(|k| DVec2::new(k as f64 * w as f64 / 40.0 + 7.3, (k % 3) as f64))
         .collect();
-    let d = voronoi(&m, &sites, &cones(frame)).unwrap();
+    let d = voronoi(&Backend::Device(&m), &sites, &cones(frame)).unwrap();
     assert_eq!(d.stats.tiles, 2);
     assert_exact(&d, &sites, &frame, "wide");
 }
@@ -507,8 +515,12 @@ fn other_metrics_match_their_definition() {
         for (name, sites) in cases(61, 47) {
             let truth = nearest_distances_metric(&sites, &frame, metric);
             for speedup in SPEEDUPS {
-                let d = voronoi(&m, &sites, &cones(frame).metric(metric).speedup(speedup))
-                    .unwrap_or_else(|e| panic!("{metric} {name} {speedup:?}: {e}"));
+                let d = voronoi(
+                    &Backend::Device(&m),
+                    &sites,
+                    &cones(frame).metric(metric).speedup(speedup),
+                )
+                .unwrap_or_else(|e| panic!("{metric} {name} {speedup:?}: {e}"));
                 for (k, &label) in d.labels.iter().enumerate() {
                     let q = DVec2::new((k % 61) as f64, (k / 61) as f64);
                     assert_ne!(
@@ -553,7 +565,7 @@ fn fans_of_other_metrics_stay_inside_their_bounds() {
     // No ε bounds a fan of a ball that is not convex: refused.
     for p in [0.5, 0.1] {
         let fan = cones(frame).metric(Metric::Lp(p)).accuracy(Accuracy::FAN);
-        let refused = voronoi(&m, &[DVec2::new(30.0, 20.0)], &fan).unwrap_err();
+        let refused = voronoi(&Backend::Device(&m), &[DVec2::new(30.0, 20.0)], &fan).unwrap_err();
         assert!(refused.to_string().contains("not convex"), "{refused}");
     }
     for metric in metrics {
@@ -591,7 +603,7 @@ fn fans_of_other_metrics_stay_inside_their_bounds() {
             ] {
                 let what = format!("{metric} {name} {accuracy:?} {speedup:?}");
                 let d = voronoi(
-                    &m,
+                    &Backend::Device(&m),
                     &sites,
                     &cones(frame)
                         .metric(metric)
@@ -659,7 +671,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
         };
         for (name, sites) in &inputs {
             let d = voronoi(
-                &m,
+                &Backend::Device(&m),
                 sites,
                 &cones(frame).metric(metric).ties(true).max_tile(Some(20)),
             )
@@ -676,7 +688,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
             assert!(tied > 0, "{metric} {name}: no ties to count");
             // Without the count, the smallest index of the tied sites wins,
             // whatever order a screen tile lists them in.
-            let d = voronoi(&m, sites, &cones(frame).metric(metric))
+            let d = voronoi(&Backend::Device(&m), sites, &cones(frame).metric(metric))
                 .unwrap_or_else(|e| panic!("{metric} {name}: {e}"));
             for (k, &label) in d.labels.iter().enumerate() {
                 let q = p((k % 48) as f64, (k / 48) as f64);
@@ -689,7 +701,7 @@ fn ties_count_the_sites_at_the_smallest_distance() {
     }
     // Fans have no exact ties to count.
     let fan = cones(frame).ties(true).accuracy(Accuracy::FAN);
-    assert!(voronoi(&m, &[DVec2::ZERO], &fan).is_err());
+    assert!(voronoi(&Backend::Device(&m), &[DVec2::ZERO], &fan).is_err());
 }
 
 #[test]
@@ -701,7 +713,7 @@ fn repeated_sites_cost_nothing_and_the_first_wins() {
     let mut rng = ChaCha8Rng::seed_from_u64(8);
     let distinct = uniform(&mut rng, 25, 64.0, 48.0);
     let sites: Vec<DVec2> = (0..4000).map(|k| distinct[(k * 7 + k / 13) % 25]).collect();
-    let d = voronoi(&m, &sites, &cones(frame)).unwrap();
+    let d = voronoi(&Backend::Device(&m), &sites, &cones(frame)).unwrap();
     assert_eq!(d.stats.sites, 4000);
     let truth = nearest_distances_metric(&sites, &frame, Metric::L2);
     for (k, &label) in d.labels.iter().enumerate() {
@@ -719,7 +731,7 @@ fn repeated_sites_cost_nothing_and_the_first_wins() {
     let sites: Vec<DVec2> = (0..6000).map(|k| lattice[(k * 5 + k / 7) % 12]).collect();
     for metric in [Metric::L1, Metric::L2] {
         let options = cones(frame).metric(metric).ties(true);
-        let d = voronoi(&m, &sites, &options).unwrap();
+        let d = voronoi(&Backend::Device(&m), &sites, &options).unwrap();
         for (k, &count) in d.ties.iter().enumerate() {
             let q = DVec2::new((k % 64) as f64, (k / 64) as f64);
             let key = |s: &DVec2| metric.key(q - *s);
@@ -737,12 +749,12 @@ fn sites_beyond_float32_are_refused_on_the_device() {
     let m = machine();
     let frame = Frame::pixels(64, 64).unwrap();
     let far = [DVec2::new(-1e8, 5.0), DVec2::new(1e8, 30.0)];
-    let e = voronoi(&m, &far, &cones(frame)).unwrap_err();
+    let e = voronoi(&Backend::Device(&m), &far, &cones(frame)).unwrap_err();
     assert!(e.to_string().contains("--device cpu"), "{e}");
     let d = pixgeo::algorithms::cpu::k_nearest(&far, &frame, 1, Metric::L2).unwrap();
     // The grid works in doubles and answers the same.
     let grid = VoronoiOptions::exact(frame).method(Method::Grid);
-    let searched = voronoi(&m, &far, &grid).unwrap();
+    let searched = voronoi(&Backend::Device(&m), &far, &grid).unwrap();
     assert_eq!(searched.labels, d.labels);
     // At x = 0 the first site is nearer exactly where y < 17.5.
     for j in 0..64 {
@@ -765,7 +777,7 @@ fn far_sites_under_quadtree_fans_answer_or_are_refused() {
     let options = cones(frame)
         .accuracy(Accuracy::FAN)
         .speedup(Speedup::Quadtree);
-    match voronoi(&m, &sites, &options) {
+    match voronoi(&Backend::Device(&m), &sites, &options) {
         Ok(d) => assert!(d.labels.iter().all(|&l| l < 2)),
         Err(e) => assert!(e.to_string().contains("triangles"), "{e}"),
     }
@@ -782,7 +794,12 @@ fn pipelines_are_kept_between_machines_and_a_broken_cache_file_is_ignored() {
         DVec2::new(11.0, 25.0),
     ];
     let diagram = |machine: &Machine| {
-        voronoi(machine, &sites, &cones(Frame::pixels(32, 32).unwrap())).unwrap()
+        voronoi(
+            &Backend::Device(machine),
+            &sites,
+            &cones(Frame::pixels(32, 32).unwrap()),
+        )
+        .unwrap()
     };
     let cache_file = || {
         let files: Vec<_> = std::fs::read_dir(&folder).unwrap().flatten().collect();

@@ -17,8 +17,8 @@ use pixgeo::{
         higher_order::{self, KNearestOptions},
         sites::voronoi_sites,
         voronoi::{
-            voronoi_bands, voronoi_bands_on_cpu, Accuracy, Band, Method as LabelMethod, Speedup,
-            VoronoiDiagram, VoronoiOptions, VoronoiStats,
+            voronoi_bands, Accuracy, Band, Method as LabelMethod, Speedup, VoronoiDiagram,
+            VoronoiOptions, VoronoiStats,
         },
     },
     geometry::{
@@ -426,11 +426,13 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
             );
         }
     }
-    let machine = match &backend {
-        Backend::Device(machine) if kind == Kind::Ordinary => Some(machine),
-        Backend::Cpu if grid_alone => None,
-        _ => return whole_picture(args, &backend, &sites, world, accuracy, speedup, kind),
+    let streamed = match &backend {
+        Backend::Device(_) => kind == Kind::Ordinary,
+        Backend::Cpu => grid_alone,
     };
+    if !streamed {
+        return whole_picture(args, &backend, &sites, world, accuracy, speedup, kind);
+    }
     let window = options.window_rect()?;
 
     // Outputs are streamed band by band as the tiles come in.
@@ -501,28 +503,23 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
         }
         Ok(())
     };
-    let stats = match machine {
-        Some(machine) => voronoi_bands(machine, &sites, &options, &mut sink)?,
-        None => voronoi_bands_on_cpu(&sites, &options, &mut sink)?,
-    };
+    let stats = voronoi_bands(&backend, &sites, &options, &mut sink)?;
     drop(progress);
     labels.map(RasterStream::finish).transpose()?;
     distances.map(RasterStream::finish).transpose()?;
     ties.map(RasterStream::finish).transpose()?;
     png.map(PngStream::finish).transpose()?;
-    let source = match (traced, machine) {
-        (true, _) => Some(cells::Source::Traced {
+    let source = match traced {
+        true => cells::Source::Traced {
             labels: &all_labels,
             describe: &cells::site,
-        }),
-        (false, _) => Some(cells::Source::Exact {
+        },
+        false => cells::Source::Exact {
             backend: &backend,
             sites: &sites,
-        }),
+        },
     };
-    if let Some(source) = source {
-        cells::write(args.vectors(), world, source, &sites)?;
-    }
+    cells::write(args.vectors(), world, source, &sites)?;
 
     let s = &stats;
     if args.json {

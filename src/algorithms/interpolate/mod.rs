@@ -34,7 +34,7 @@ use rayon::prelude::*;
 use crate::{
     algorithms::{
         delaunay::{delaunay, DelaunayOptions},
-        voronoi::{voronoi, voronoi_on_cpu, VoronoiOptions},
+        voronoi::{voronoi, VoronoiOptions},
     },
     cancel::Watch,
     geometry::{bounded::Bounded, exact::nearest_double, scale, Frame},
@@ -126,10 +126,7 @@ pub fn interpolate_window(
     crate::memory::reserve_picture(rect.width, rect.height, each, "an interpolated raster")?;
     let values = match method {
         Method::Nearest => {
-            let labels = match backend.machine() {
-                Some(machine) => voronoi(machine, sites, &diagram)?.labels,
-                None => voronoi_on_cpu(sites, &diagram)?.labels,
-            };
+            let labels = voronoi(backend, sites, &diagram)?.labels;
             labels.iter().map(|&l| values[l as usize]).collect()
         }
         Method::Discrete if rect != PixelRect::sized(frame.width, frame.height) => {

@@ -51,6 +51,7 @@ use crate::{
         DepthTest, Draw, DrawParams, Format, Fragments, GraphicsProgram, Machine, PixelRect,
         RasterState, StencilOp, StencilTest, Target, Topology, MAX_GROUPS,
     },
+    Backend,
 };
 
 use super::certify::Certifier;
@@ -296,11 +297,11 @@ pub fn potential_areas(
         distances: false,
         ..VoronoiOptions::exact(frame)
     };
-    let rival_labels = voronoi(machine, rivals, &diagram_options)?.labels;
+    let rival_labels = voronoi(&Backend::Device(machine), rivals, &diagram_options)?.labels;
     let own_labels = if own.is_empty() {
         None
     } else {
-        Some(voronoi(machine, own, &diagram_options)?.labels)
+        Some(voronoi(&Backend::Device(machine), own, &diagram_options)?.labels)
     };
     let keys = disc_radius_keys(
         &frame,

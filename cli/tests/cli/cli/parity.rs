@@ -6,7 +6,7 @@ use pixgeo::{
     algorithms::{
         delaunay::{delaunay, DelaunayOptions},
         higher_order::furthest,
-        voronoi::{voronoi_on_cpu, VoronoiOptions},
+        voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
     io::npy,
@@ -32,7 +32,7 @@ fn the_command_line_answers_as_the_core_on_every_route() {
         write_npy(&sites, &[case.sites.len() as u64, 2], &xy);
         let bbox = case.bbox();
         let frame = Frame::with_bbox(28, Some(20), bbox).unwrap();
-        let nearest = voronoi_on_cpu(&case.sites, &VoronoiOptions::exact(frame)).unwrap();
+        let nearest = voronoi(&Backend::Cpu, &case.sites, &VoronoiOptions::exact(frame)).unwrap();
         let far = furthest(&Backend::Cpu, &case.sites, &frame, Metric::L2).unwrap();
         let answers = [
             (None, (nearest.labels, bits(&nearest.distances))),
