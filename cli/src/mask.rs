@@ -49,6 +49,10 @@ pub fn read(path: &Path, values: Option<&[f64]>) -> Result<Source> {
 
 /// The first band of a GeoTIFF as doubles, and its placement.
 fn read_geotiff(path: &Path) -> Result<(Values, Option<GeoReference>)> {
+    pixgeo::io::decoding::decoding(path, "TIFF", || decode_geotiff(path))?
+}
+
+fn decode_geotiff(path: &Path) -> Result<(Values, Option<GeoReference>)> {
     let file = File::open(path).with_context(|| format!("{}", path.display()))?;
     let not_tiff = |e: tiff::TiffError| anyhow!("{}: not a TIFF pixgeo reads: {e}", path.display());
     let mut decoder = Decoder::new(BufReader::new(file)).map_err(not_tiff)?;

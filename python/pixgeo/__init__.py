@@ -306,12 +306,33 @@ def _points(a, name: str) -> np.ndarray:
         p = np.asarray(a)
     except Exception as e:  # ragged lists and the like
         raise ValueError(f"{name}: not an array of points ({e})") from None
+    if p.dtype.kind == "O" and p.ndim == 1:
+        p = _shapely_points(p, name)
     if p.dtype.kind not in "fiu" or p.dtype.kind == "c":
         raise ValueError(f"{name}: points must be real numbers, not dtype {p.dtype}")
     if p.ndim != 2 or p.shape[1] != 2:
         raise ValueError(f"{name}: points must have shape (n, 2), not {p.shape}")
     # Aligned too: arrays unpickled from a buffer (as Dask sends them) may not be.
     return np.require(p, dtype=np.float64, requirements=["C_CONTIGUOUS", "ALIGNED"])
+
+
+def _shapely_points(a: np.ndarray, name: str) -> np.ndarray:
+    """The (n, 2) coordinates of a sequence of shapely Points (a GeoSeries of
+    points, say); ValueError for anything else."""
+    try:
+        import shapely
+    except ImportError:
+        raise ValueError(f"{name}: an array of objects; give (n, 2) numbers") from None
+    try:
+        kinds = shapely.get_type_id(a)
+    except TypeError:
+        raise ValueError(f"{name}: an array of objects that are not shapely geometries; "
+                         "give (n, 2) numbers or shapely Points") from None
+    if len(a) and not (kinds == 0).all():
+        raise ValueError(f"{name}: geometries other than Points; give (n, 2) numbers or Points")
+    if shapely.is_empty(a).any():
+        raise ValueError(f"{name}: an empty Point has no coordinates")
+    return shapely.get_coordinates(a).reshape(-1, 2)
 
 
 def _shape(shape) -> Tuple[int, int]:

@@ -11,12 +11,13 @@ from pathlib import Path
 import json
 
 import numpy as np
+from scipy import ndimage
 import pytest
 import shapely
 from shapely.geometry import MultiPoint, Point, box, shape
 
 import rasterio
-from rasterio.transform import Affine
+from rasterio.transform import Affine, from_origin
 
 ROOT = Path(__file__).resolve().parents[2]
 CLI = Path(os.environ.get("PIXGEO_CLI", ROOT / "target" / "debug" / "pixgeo"))
@@ -720,3 +721,51 @@ def test_python_great_circles_are_the_command_lines(tmp_path):
     refused = subprocess.run([str(CLI), "voronoi", "--random", "5", "--bbox", "0,0,10,100",
                               "--crs", "EPSG:4326"], capture_output=True, text=True)
     assert refused.returncode == 1 and "latitude in [-90, 90]" in refused.stderr
+
+
+GDAL_LAYOUTS = [
+    (compress, predictor, dtype, tiled)
+    for compress in ("none", "lzw", "deflate", "packbits")
+    for predictor in (None, 2)
+    for dtype in ("uint8", "int16", "uint16", "float32")
+    for tiled in (True, False)
+    if not (predictor and compress in ("none", "packbits"))
+]
+
+
+@pytest.mark.parametrize("compress,predictor,dtype,tiled", GDAL_LAYOUTS)
+def test_geotiffs_as_gdal_writes_them_are_read_bit_for_bit(tmp_path, compress, predictor, dtype,
+                                                          tiled):
+    """A mask GDAL writes in each of its compressions (none, LZW, DEFLATE,
+    PackBits, with and without the horizontal predictor), sample types and
+    layouts (one 256-pixel tile over 232 rows, as the issue's crashing file;
+    strips) is read value for value: the transform of value 1 equals SciPy's."""
+    values = np.random.default_rng(5).integers(0, 4, (232, 256)).astype(dtype)
+    layout = {"tiled": True, "blockxsize": 256, "blockysize": 256} if tiled else {}
+    if predictor:
+        layout["predictor"] = predictor
+    path = tmp_path / "mask.tif"
+    with rasterio.open(path, "w", driver="GTiff", width=256, height=232, count=1, dtype=dtype,
+                       compress=compress, transform=from_origin(0, 232, 1, 1),
+                       **layout) as out:
+        out.write(values, 1)
+    done = subprocess.run([str(CLI), "transform", "--mask", str(path), "--values", "1",
+                           "--distance", str(tmp_path / "d.npy"), "-q"], capture_output=True,
+                          text=True)
+    assert done.returncode == 0, done.stderr
+    want = ndimage.distance_transform_edt(values != 1)
+    np.testing.assert_array_equal(np.load(tmp_path / "d.npy"), want)
+
+
+def test_shapely_points_and_geoseries_are_points():
+    """Sites given as an array of shapely Points (as a GeoSeries of points
+    converts) are their coordinates; other geometries are refused with what
+    to give."""
+    import pixgeo
+
+    xy = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 3.0], [5.0, 5.0]])
+    want = pixgeo.delaunay(xy).simplices
+    points = np.array([Point(p) for p in xy], dtype=object)
+    assert np.array_equal(pixgeo.delaunay(points).simplices, want)
+    with pytest.raises(ValueError, match="other than Points"):
+        pixgeo.delaunay(np.array([box(0, 0, 1, 1)] * 3, dtype=object))

@@ -63,6 +63,10 @@ pub(crate) struct Png {
 
 /// Reads the PNG picture at `path`, any colour type and depth.
 pub(crate) fn read_png(path: &Path) -> Result<Png> {
+    super::decoding::decoding(path, "PNG", || decode_png(path))?
+}
+
+fn decode_png(path: &Path) -> Result<Png> {
     let parse = |message: String| parse_error(path, message);
     let file = std::fs::File::open(path).map_err(|e| Error::Io {
         path: path.to_path_buf(),

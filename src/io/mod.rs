@@ -2,6 +2,7 @@
 //! (NumPy arrays, PNGs).
 #![forbid(unsafe_code)]
 
+pub mod decoding;
 pub(crate) mod json;
 pub mod mask;
 pub mod npy;

@@ -13,6 +13,10 @@ fn io_error(path: &Path, source: std::io::Error) -> Error {
 
 /// Reads an `.npy` array: its shape and values.
 pub fn read<T: npyz::Deserialize>(path: &Path) -> Result<(Vec<u64>, Vec<T>)> {
+    super::decoding::decoding(path, "NumPy", || read_typed(path))?
+}
+
+fn read_typed<T: npyz::Deserialize>(path: &Path) -> Result<(Vec<u64>, Vec<T>)> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     let array = npyz::NpyFile::new(&bytes[..]).map_err(|e| io_error(path, e))?;
     let shape = array.shape().to_vec();
@@ -41,8 +45,19 @@ fn room_for(path: &Path, shape: &[u64], bytes: &[u8], each: u64) -> Result<()> {
     }
 }
 
-/// Reads a numeric `.npy` array (floats or integers of any width) as `f64`.
+/// Reads a numeric `.npy` array (floats, integers of any width or bools) as
+/// `f64`.
 pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
+    super::decoding::decoding(path, "NumPy", || read_widened(path, true))?
+}
+
+/// [`read_f64`] for coordinates and values: a bool array, whose 0 and 1
+/// would be read as numbers, is refused.
+pub fn read_numbers(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
+    super::decoding::decoding(path, "NumPy", || read_widened(path, false))?
+}
+
+fn read_widened(path: &Path, bools: bool) -> Result<(Vec<u64>, Vec<f64>)> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     let parse = |e: std::io::Error| Error::Parse {
         path: path.to_path_buf(),
@@ -76,7 +91,14 @@ pub fn read_f64(path: &Path) -> Result<(Vec<u64>, Vec<f64>)> {
         "u2" => widen(array.into_vec::<u16>().map_err(parse)?),
         "u1" => widen(array.into_vec::<u8>().map_err(parse)?),
         "i1" => widen(array.into_vec::<i8>().map_err(parse)?),
-        "b1" => widen(array.into_vec::<bool>().map_err(parse)?),
+        "b1" if bools => widen(array.into_vec::<bool>().map_err(parse)?),
+        "b1" => {
+            return Err(Error::Parse {
+                path: path.to_path_buf(),
+                message: "a bool array holds no coordinates or values: give float64 or integers"
+                    .into(),
+            })
+        }
         _ => {
             return Err(Error::Parse {
                 path: path.to_path_buf(),

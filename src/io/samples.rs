@@ -41,7 +41,7 @@ pub fn read_samples(path: &Path, column: &str) -> Result<Samples> {
     };
     let samples = match SiteFormat::of(path)? {
         SiteFormat::Npy => {
-            let (shape, values) = super::npy::read_f64(path)?;
+            let (shape, values) = super::npy::read_numbers(path)?;
             match shape[..] {
                 [_, 3] => {
                     let mut samples = Samples::default();

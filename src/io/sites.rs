@@ -87,7 +87,7 @@ pub fn read_general_sites(path: &Path) -> Result<Vec<Site>> {
     };
     let format = SiteFormat::of(path)?;
     let sites = if format == SiteFormat::Npy {
-        let (shape, values) = super::npy::read_f64(path)?;
+        let (shape, values) = super::npy::read_numbers(path)?;
         sites_from_array(&shape, &values).map_err(failed)?
     } else {
         let text = read_text(path)?;

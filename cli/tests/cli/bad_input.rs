@@ -37,6 +37,10 @@ fn inputs() -> PathBuf {
         ("notnpy.npy", b"1,2\n3,4\n"),
         ("poly.geojson", br#"{"type": "Polygon", "coordinates": []}"#),
         ("far.csv", b"0,0\n1e300,1e300\n-1e300,5\n7,-1e300\n"),
+        (
+            "bool.npy",
+            b"\x93NUMPY\x01\x00v\x00{'descr': '|b1', 'fortran_order': False, 'shape': (3, 2), }                                                          \n\x01\x00\x00\x01\x01\x01",
+        ),
     ];
     for (name, bytes) in files {
         std::fs::write(dir.join(name), bytes).unwrap();
@@ -72,6 +76,7 @@ const SITE_FILES: &[(&str, &str)] = &[
     ("binary.csv", "UTF-8"),
     ("sites.xlsx", "unknown site file format"),
     ("notnpy.npy", "NumPy"),
+    ("bool.npy", "bool array holds no coordinates"),
     ("poly.geojson", "Polygon"),
     ("missing.csv", "No such file"),
 ];
