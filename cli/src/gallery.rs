@@ -665,6 +665,6 @@ pub fn run(args: Args, run: impl Fn(Command) -> Result<()>) -> Result<()> {
     html.push_str("</main>\n");
     let index = args.dir.join("index.html");
     std::fs::write(&index, html).with_context(|| format!("writing {}", index.display()))?;
-    eprintln!("wrote {}", index.display());
+    note!("wrote {}", index.display());
     Ok(())
 }

@@ -9,9 +9,9 @@ macro_rules! outln {
     ($($arg:tt)*) => { $crate::answer_line(format_args!($($arg)*)) };
 }
 
-/// `eprintln!` for messages other than errors: silent under `-q`.
+/// A message other than an error on stderr: silent under `-q`.
 macro_rules! note {
-    ($($arg:tt)*) => { if !$crate::quiet() { eprintln!($($arg)*) } };
+    ($($arg:tt)*) => { if !$crate::quiet() { $crate::say(format_args!($($arg)*)) } };
 }
 
 mod alpha;
@@ -101,6 +101,13 @@ enum Command {
     Gallery(gallery::Args),
 }
 
+/// Writes a line to stderr. A closed or full stderr drops the message: the
+/// exit code still says what happened.
+fn say(line: std::fmt::Arguments) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
 fn answer_line(line: std::fmt::Arguments) {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
@@ -112,7 +119,7 @@ fn answer_line(line: std::fmt::Arguments) {
         Ok(()) => {}
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
         Err(e) => {
-            eprintln!("Error: writing the answer to stdout: {e}");
+            say(format_args!("Error: writing the answer to stdout: {e}"));
             std::process::exit(1);
         }
     }
@@ -133,7 +140,7 @@ pub fn epsg_code(text: &str) -> Result<u16, String> {
 
 /// Runs the command line on `args` (the program's name first) and returns
 /// its exit status: 0, 1 with the error on stderr, 2 for a usage error (as
-/// clap reports it), 130 at a signal.
+/// clap reports it), 128 plus the signal's number at SIGINT, SIGTERM or SIGHUP.
 pub fn main_with<I, T>(args: I) -> i32
 where
     I: IntoIterator<Item = T>,
@@ -142,10 +149,36 @@ where
     match main_result(args) {
         Ok(()) => 0,
         Err(error) => {
-            eprintln!("Error: {error:?}");
+            say(format_args!("Error: {}", report(&error)));
             1
         }
     }
+}
+
+/// An error and its causes, as anyhow writes them; with a backtrace (where
+/// `RUST_BACKTRACE` captured one) only for a bug of pixgeo's own.
+fn report(error: &anyhow::Error) -> String {
+    let internal = error.chain().any(|e| {
+        matches!(
+            e.downcast_ref::<pixgeo::Error>(),
+            Some(pixgeo::Error::Internal(_))
+        )
+    });
+    if internal {
+        return format!("{error:?}");
+    }
+    let causes: Vec<String> = error.chain().skip(1).map(|e| e.to_string()).collect();
+    let mut text = error.to_string();
+    if !causes.is_empty() {
+        text += "\n\nCaused by:";
+        for (i, cause) in causes.iter().enumerate() {
+            text += &match causes.len() {
+                1 => format!("\n    {cause}"),
+                _ => format!("\n    {i}: {cause}"),
+            };
+        }
+    }
+    text
 }
 
 fn main_result<I, T>(args: I) -> anyhow::Result<()>

@@ -34,13 +34,22 @@ fn with<T>(f: impl FnOnce(&mut Transaction) -> T) -> T {
     f(guard.get_or_insert_with(Transaction::default))
 }
 
-/// Removes every temporary file and exits at SIGINT, SIGTERM and SIGHUP (130,
-/// as shells report an interrupted command).
+/// Removes every temporary file and exits at SIGINT, SIGTERM and SIGHUP
+/// with 128 plus the signal's number (130, 143, 129), as shells and
+/// supervisors read a command ended by a signal.
 pub fn on_signals_abandon() {
-    // A handler can only fail to install where one is set already.
-    let _ = ctrlc::set_handler(|| {
-        abandon();
-        std::process::exit(130);
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    static WATCHING: std::sync::Once = std::sync::Once::new();
+    WATCHING.call_once(|| {
+        // Signals are only refused where the process cannot take them at all.
+        if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+            std::thread::spawn(move || {
+                if let Some(signal) = signals.forever().next() {
+                    abandon();
+                    std::process::exit(128 + signal);
+                }
+            });
+        }
     });
 }
 
@@ -65,9 +74,16 @@ pub fn claim(path: &Path, option: &str) -> Result<()> {
     })
 }
 
-/// The file `path` writes: the target of a link, in a folder that exists.
+/// The file `path` writes: the target of a link, in a folder that exists,
+/// not a folder itself.
 fn resolve(path: &Path) -> Result<PathBuf> {
     if let Ok(target) = std::fs::canonicalize(path) {
+        if target.is_dir() {
+            return Err(Error::InvalidInput(format!(
+                "{} is a folder; give the output a file name",
+                path.display()
+            )));
+        }
         return Ok(target);
     }
     let name = path
@@ -114,7 +130,7 @@ pub fn finish(quiet: bool) -> Result<()> {
     }
     if !quiet {
         for path in announced {
-            eprintln!("wrote {}", path.display());
+            note!("wrote {}", path.display());
         }
     }
     Ok(())

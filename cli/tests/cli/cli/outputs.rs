@@ -563,3 +563,43 @@ fn a_tall_box_takes_its_size_as_its_height_whatever_its_aspect() {
         assert_eq!(file.shape(), shape, "{size}");
     }
 }
+
+/// Messages to a full stderr are dropped, never a panic: the exit code alone
+/// says what happened. A refusal under `RUST_BACKTRACE=1` prints its
+/// message and causes, not a backtrace.
+#[test]
+fn stderr_full_or_backtraces_asked_for_change_no_answer() {
+    let labels = temp("full-stderr.npy");
+    let labels = labels.to_str().unwrap();
+    let run = |args: &[&str], stderr: std::process::Stdio| {
+        Command::new(env!("CARGO_BIN_EXE_pixgeo"))
+            .args(args)
+            .env("RUST_BACKTRACE", "1")
+            .stderr(stderr)
+            .output()
+            .unwrap()
+    };
+    let full = || {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap()
+            .into()
+    };
+    let ok = [
+        "voronoi", "--random", "30", "--size", "64", "--labels", labels,
+    ];
+    assert_eq!(run(&ok, full()).status.code(), Some(0));
+    let missing = missing("sites.csv");
+    let refused = ["voronoi", "--sites", &missing, "--labels", labels];
+    assert_eq!(run(&refused, full()).status.code(), Some(1));
+    let out = run(&refused, std::process::Stdio::piped());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr.starts_with("Error: ")
+            && stderr.contains("No such file")
+            && !stderr.contains("acktrace"),
+        "{stderr}"
+    );
+}

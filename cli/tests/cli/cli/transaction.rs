@@ -205,7 +205,8 @@ fn a_link_is_written_through_to_its_file() {
 
 #[test]
 fn a_signal_removes_every_temporary_file() {
-    for signal in ["INT", "TERM", "HUP"] {
+    // 128 plus the signal's number, as shells and supervisors expect.
+    for (signal, code) in [("INT", 130), ("TERM", 143), ("HUP", 129)] {
         let names = ["l.npy", "d.npy"];
         let dir = folder(&format!("signal-{signal}"), &names);
         let child = std::process::Command::new(env!("CARGO_BIN_EXE_pixgeo"))
@@ -229,7 +230,7 @@ fn a_signal_removes_every_temporary_file() {
             .unwrap();
         assert!(killed.success());
         let status = child.wait_with_output().unwrap().status;
-        assert_eq!(status.code(), Some(130), "SIG{signal}");
+        assert_eq!(status.code(), Some(code), "SIG{signal}");
         untouched(&dir, &names, &format!("SIG{signal}"));
     }
 }
@@ -320,5 +321,72 @@ fn the_same_input_gives_the_same_bytes() {
                 assert!(a == b, "{name} differs in run {round}");
             }
         }
+    }
+}
+
+/// An output that names a folder is refused before any file is touched, by
+/// every command that writes several.
+#[test]
+fn an_output_naming_a_folder_is_refused_first() {
+    let dir = folder("folder-output", &[]);
+    let mask = dir.join("mask.npy");
+    write_npy(&mask, &[16, 16], &[false; 256]);
+    let samples = dir.join("s.csv");
+    std::fs::write(&samples, "x,y,z\n1,1,1\n50,5,2\n20,60,3\n").unwrap();
+    let (mask, samples) = (mask.to_str().unwrap(), samples.to_str().unwrap());
+    let cases: [(&str, Vec<&str>); 4] = [
+        (
+            "voronoi",
+            vec![
+                "voronoi", "--random", "20", "--size", "32", "--labels", "@l.npy", "-o", "@d.png",
+            ],
+        ),
+        (
+            "lloyd",
+            vec![
+                "lloyd", "--random", "20", "--size", "32", "--labels", "@l.npy", "-o", "@d.png",
+            ],
+        ),
+        (
+            "interpolate",
+            vec![
+                "interpolate",
+                "--sites",
+                samples,
+                "--value",
+                "z",
+                "--size",
+                "32",
+                "--raster",
+                "@d.npy",
+                "-o",
+                "@l.png",
+            ],
+        ),
+        (
+            "transform",
+            vec![
+                "transform",
+                "--mask",
+                mask,
+                "--distance",
+                "@l.npy",
+                "--indices",
+                "@d.npy",
+            ],
+        ),
+    ];
+    for (case, args) in cases {
+        let names = ["l.npy", "l.png"];
+        let dir = folder(&format!("folder-{case}"), &names);
+        for d in ["d.png", "d.npy"] {
+            std::fs::create_dir(dir.join(d)).unwrap();
+        }
+        let (ok, _, stderr) = pixgeo(&in_folder(&dir, &args));
+        assert!(!ok && stderr.contains("is a folder"), "{case}: {stderr}");
+        for d in ["d.png", "d.npy"] {
+            std::fs::remove_dir(dir.join(d)).unwrap();
+        }
+        untouched(&dir, &names, case);
     }
 }
