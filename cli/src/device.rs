@@ -11,6 +11,35 @@ use pixgeo::{
     Chosen, Need,
 };
 
+/// Work asked of a route that only a Vulkan device draws: an option of the
+/// cones, say, where the CPU computes.
+#[derive(Debug)]
+pub struct DrawnOnly(pub String);
+
+impl std::fmt::Display for DrawnOnly {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for DrawnOnly {}
+
+/// Whether `error` says its work needs a Vulkan device this run has not: no
+/// driver, no such device, or a drawing asked of the CPU.
+pub fn needs_a_device(error: &anyhow::Error) -> bool {
+    error.chain().any(|e| {
+        e.is::<DrawnOnly>()
+            || matches!(
+                e.downcast_ref::<pixgeo::Error>(),
+                Some(
+                    pixgeo::Error::NoVulkan(_)
+                        | pixgeo::Error::NoDevice(_)
+                        | pixgeo::Error::Unsupported(_)
+                )
+            )
+    })
+}
+
 /// The machine's options for `device` (else as PIXGEO_DEVICE says).
 fn options(device: Option<&str>) -> MachineOptions {
     let mut options = MachineOptions::from_env().profiler(Some(crate::profiler().clone()));

@@ -9,7 +9,7 @@ use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::{device::VulkanDevice, Cli, Command};
+use crate::{device::needs_a_device, Cli, Command};
 
 /// Renders the gallery: one picture per capability pixgeo has, each the output of
 /// a `pixgeo` command shown beneath it, and an index.html that shows them all.
@@ -21,8 +21,12 @@ pub struct Args {
     /// Directory to write the pictures, their site files and index.html into.
     dir: PathBuf,
 
-    #[command(flatten)]
-    device: VulkanDevice,
+    /// Where each picture's command computes: auto, cpu, lavapipe, gpu, an
+    /// index, or part of a device name (default: PIXGEO_DEVICE). Pictures
+    /// that only a Vulkan device draws are skipped where there is none, and
+    /// listed.
+    #[arg(long = "device")]
+    device: Option<String>,
 }
 
 struct Entry {
@@ -623,6 +627,7 @@ pub fn run(args: Args, run: impl Fn(Command) -> Result<()>) -> Result<()> {
         std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;
     }
     std::fs::write(args.dir.join("sphere.png"), sphere_png()?).context("writing sphere.png")?;
+    let (mut skipped, mut failed) = (Vec::new(), None);
     for entry in entries() {
         if let Some((name, text)) = &entry.sites {
             std::fs::write(args.dir.join(name), text).with_context(|| format!("writing {name}"))?;
@@ -651,20 +656,49 @@ pub fn run(args: Args, run: impl Fn(Command) -> Result<()>) -> Result<()> {
         let takes_device = Cli::command()
             .find_subcommand(entry.command)
             .is_some_and(|c| c.get_arguments().any(|a| a.get_long() == Some("device")));
-        if let (Some(d), true) = (&args.device.name, takes_device) {
+        if let (Some(d), true) = (&args.device, takes_device) {
             real.extend(["--device".into(), d.clone()]);
         }
         let cli = Cli::try_parse_from(&real).with_context(|| format!("gallery command {shown}"))?;
-        run(cli.command)?;
-        let _ = write!(
-            html,
-            "<figure>\n<img src=\"{}\" alt=\"{}\">\n<figcaption><b>{}.</b> {}<code>{}</code></figcaption>\n</figure>\n",
-            entry.picture, entry.title, entry.title, entry.caption, shown
-        );
+        match run(cli.command) {
+            Ok(()) => {
+                let _ = write!(
+                    html,
+                    "<figure>\n<img src=\"{}\" alt=\"{}\">\n<figcaption><b>{}.</b> {}<code>{}</code></figcaption>\n</figure>\n",
+                    entry.picture, entry.title, entry.title, entry.caption, shown
+                );
+            }
+            Err(e) if needs_a_device(&e) => {
+                let _ = write!(
+                    html,
+                    "<figure>\n<figcaption><b>{}.</b> Not drawn here: {}<code>{}</code></figcaption>\n</figure>\n",
+                    entry.title, escaped(&e.to_string()), shown
+                );
+                skipped.push(entry.title);
+            }
+            Err(e) => {
+                failed = Some(e.context(format!("gallery command {shown}")));
+                break;
+            }
+        }
     }
     html.push_str("</main>\n");
     let index = args.dir.join("index.html");
     std::fs::write(&index, html).with_context(|| format!("writing {}", index.display()))?;
     note!("wrote {}", index.display());
-    Ok(())
+    if !skipped.is_empty() {
+        note!(
+            "note: {} pictures need a Vulkan device and were not drawn: {}",
+            skipped.len(),
+            skipped.join(", ")
+        );
+    }
+    failed.map_or(Ok(()), Err)
+}
+
+/// `text` with HTML's special characters escaped.
+fn escaped(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }

@@ -150,7 +150,10 @@ pub fn run(args: Args) -> Result<()> {
         }
         Backend::Cpu => {
             if args.method == SettleMethod::Faithful {
-                bail!("--method faithful draws discs on a Vulkan device; the CPU counts spans");
+                return Err(crate::device::DrawnOnly(
+                    "--method faithful draws discs on a Vulkan device; the CPU counts spans".into(),
+                )
+                .into());
             }
             potential_areas_cpu(&rivals, &own, &frame, metric)?
         }

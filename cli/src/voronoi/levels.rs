@@ -25,7 +25,10 @@ pub(super) fn whole_picture(
 ) -> Result<()> {
     refuse_window(args, "this diagram")?;
     if args.ties.is_some() {
-        bail!("--ties counts equal distances of ordinary diagrams on a Vulkan device");
+        return Err(crate::device::DrawnOnly(
+            "--ties counts equal distances of ordinary diagrams on a Vulkan device".into(),
+        )
+        .into());
     }
     if args.max_tile.is_some() {
         bail!(

@@ -298,7 +298,7 @@ fn parse_window(s: &str) -> Result<PixelRect, String> {
 /// Refuses --window where this run computes the whole picture.
 fn refuse_window(args: &Args, what: &str) -> Result<()> {
     if args.window.is_some() {
-        bail!("--window takes the ordinary diagram of points on a Vulkan device; {what} is computed whole");
+        return Err(crate::device::DrawnOnly(format!("--window takes the ordinary diagram of points on a Vulkan device; {what} is computed whole")).into());
     }
     Ok(())
 }
@@ -681,9 +681,10 @@ impl Args {
             ("--ties", self.ties.is_some()),
         ];
         match given.iter().find(|(_, set)| *set) {
-            Some((name, _)) => {
-                bail!("{name} shapes the cones of a Vulkan device; {path} draws none")
-            }
+            Some((name, _)) => Err(crate::device::DrawnOnly(format!(
+                "{name} shapes the cones of a Vulkan device; {path} draws none"
+            ))
+            .into()),
             None => Ok(()),
         }
     }

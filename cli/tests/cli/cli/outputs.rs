@@ -98,6 +98,26 @@ fn gallery_renders_every_picture_and_an_index() {
         assert!(img.width() >= 256, "{p}");
     }
     assert!(index.contains("<code>pixgeo voronoi"), "commands shown");
+    assert!(!index.contains("Not drawn here"), "{index}");
+}
+
+/// On the CPU the gallery draws what the CPU computes, lists the pictures
+/// only a Vulkan device draws, and writes its index.
+#[test]
+fn gallery_on_the_cpu_skips_and_lists_the_drawings() {
+    let dir = temp("gallery-cpu");
+    let (ok, _, stderr) = pixgeo(&["gallery", dir.to_str().unwrap(), "--device", "cpu"]);
+    assert!(
+        ok && stderr.contains("need a Vulkan device and were not drawn"),
+        "{stderr}"
+    );
+    let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let drawn = index.matches("<img src=").count();
+    let skipped = index.matches("Not drawn here").count();
+    assert!(
+        drawn >= 12 && skipped >= 1,
+        "{drawn} drawn, {skipped} skipped"
+    );
 }
 
 #[test]
