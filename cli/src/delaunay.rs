@@ -168,14 +168,14 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
         result.triangles.len()
     );
     if result.digital.is_none() {
-        outln!(
+        note!(
             "  inserted in Hilbert order on the CPU: {:.1} ms, {} flips",
             s.insert_ms,
             s.insertion_flips
         );
         return;
     }
-    outln!(
+    note!(
         "  grid {}x{} ({:?} per pixel): {} seeds, {} points shared a pixel",
         s.width,
         s.height,
@@ -183,7 +183,7 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
         s.seeds,
         s.points - s.seeds
     );
-    outln!(
+    note!(
         "  colouring {:.1} ms, repair {:.1} ms ({} debris pixels recoloured), dualization {:.1} ms ({} triangles)",
         f.colour_ms,
         f.debris_ms + f.repair_ms,
@@ -191,7 +191,7 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
         s.dualize_ms,
         s.digital_triangles
     );
-    outln!(
+    note!(
         "  shifting {:.1} ms ({} hull flips, {} seeds moved, {} taken out), insertion {:.1} ms ({} points, {} flips), flips {:.1} ms ({})",
         s.shift_ms,
         s.hull_flips,
@@ -204,7 +204,7 @@ fn report(result: &Delaunay, n: usize, problems: Option<&[String]>) {
         s.delaunay_flips
     );
     if let Some(why) = &s.incremental {
-        outln!("  built by insertion alone: {why}");
+        note!("  built by insertion alone: {why}");
     }
     if let Some(v) = &result.digital_validity {
         if v.is_valid() {

@@ -254,7 +254,7 @@ fn print_summary(s: &Value) {
         );
     }
     let stats = &s["stats"];
-    outln!(
+    note!(
         "{} on {}: radii {:.1} ms, counting {:.1} ms, readback {:.1} ms",
         s["method"].as_str().unwrap_or_default(),
         stats["device"].as_str().unwrap_or_default(),

@@ -623,3 +623,19 @@ fn stderr_full_or_backtraces_asked_for_change_no_answer() {
         "{stderr}"
     );
 }
+
+/// Answers on stdout, timings on stderr (or in --json): a run's stdout is
+/// the same from run to run.
+#[test]
+fn timings_go_to_stderr() {
+    for args in [
+        &["delaunay", "--random", "200"][..],
+        &["delaunay", "--random", "200", "--device", "lavapipe"],
+        &["settle", "--random", "20", "--size", "64"],
+    ] {
+        let (ok, stdout, stderr) = pixgeo(args);
+        assert!(ok, "{args:?}: {stderr}");
+        assert!(!stdout.contains(" ms"), "{args:?}: {stdout}");
+        assert!(stderr.contains(" ms"), "{args:?}: {stderr}");
+    }
+}
