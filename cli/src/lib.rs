@@ -29,6 +29,7 @@ mod lloyd;
 mod mask;
 mod progress;
 mod settle;
+mod shell;
 mod text;
 mod transform;
 mod voronoi;
@@ -99,6 +100,8 @@ enum Command {
     Delaunay(Box<delaunay::Args>),
     Transform(transform::Args),
     Gallery(gallery::Args),
+    Completions(shell::CompletionsArgs),
+    Man(shell::ManArgs),
 }
 
 /// Writes a line to stderr. A closed or full stderr drops the message: the
@@ -106,6 +109,11 @@ enum Command {
 fn say(line: std::fmt::Arguments) {
     use std::io::Write;
     let _ = writeln!(std::io::stderr(), "{line}");
+}
+
+/// Writes `text` as the answer on stdout, as [`answer_line`] does a line.
+fn answer(text: &str) {
+    answer_line(format_args!("{}", text.trim_end_matches('\n')));
 }
 
 fn answer_line(line: std::fmt::Arguments) {
@@ -247,5 +255,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             run(command)?;
             Ok(write::output::finish(quiet())?)
         }),
+        Command::Completions(args) => shell::completions(args),
+        Command::Man(args) => shell::man(args),
     }
 }

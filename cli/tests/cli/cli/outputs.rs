@@ -639,3 +639,52 @@ fn timings_go_to_stderr() {
         assert!(stderr.contains(" ms"), "{args:?}: {stderr}");
     }
 }
+
+/// Completions and manual pages come from the command line's own
+/// definition: every command is in each, and bash reads its script.
+#[test]
+fn completions_and_manual_pages_name_every_command() {
+    let commands = [
+        "voronoi",
+        "hausdorff",
+        "diameter",
+        "maxdist",
+        "settle",
+        "lloyd",
+        "interpolate",
+        "enclose",
+        "empty",
+        "alpha",
+        "triangle",
+        "quadrangle",
+        "delaunay",
+        "transform",
+        "gallery",
+    ];
+    for shell in ["bash", "zsh", "fish"] {
+        let (ok, script, stderr) = pixgeo(&["completions", shell]);
+        assert!(ok, "{shell}: {stderr}");
+        for c in commands {
+            assert!(script.contains(c), "{shell} completes no {c}");
+        }
+        if shell == "bash" {
+            let path = temp("completion.bash");
+            std::fs::write(&path, &script).unwrap();
+            let checked = Command::new("bash").arg("-n").arg(&path).status().unwrap();
+            assert!(checked.success(), "bash cannot read its completions");
+        }
+    }
+    let dir = temp("man1");
+    let _ = std::fs::remove_dir_all(&dir);
+    let (ok, _, stderr) = pixgeo(&["man", dir.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    for page in std::iter::once("pixgeo".to_string()).chain(commands.map(|c| format!("pixgeo-{c}")))
+    {
+        let text = std::fs::read_to_string(dir.join(format!("{page}.1"))).unwrap();
+        assert!(
+            text.starts_with(".ie") || text.contains(".TH"),
+            "{page}: {}",
+            &text[..80]
+        );
+    }
+}
