@@ -17,6 +17,7 @@ device ``DeviceError`` and a bug of pixgeo's ``InternalError``, all three
 
 from __future__ import annotations
 
+import functools
 import operator
 import sys
 from dataclasses import dataclass
@@ -195,11 +196,74 @@ class Triangulation:
     the repeated points ``(d, 2)`` as (dropped, kept) pairs. As GeoJSON-like
     features (``features()``, ``__geo_interface__``: geopandas'
     ``GeoDataFrame.from_features(t)``), each triangle is a Polygon with its
-    ``vertices`` in its properties, as ``pixgeo delaunay --geojson`` writes it."""
+    ``vertices`` in its properties, as ``pixgeo delaunay --geojson`` writes it.
+
+    As ``scipy.spatial.Delaunay``: ``neighbors``, ``convex_hull``,
+    ``vertex_neighbor_vertices`` and ``find_simplex``, with SciPy's
+    conventions."""
 
     simplices: np.ndarray
     duplicates: np.ndarray
     points: Optional[np.ndarray] = None
+
+    def _edges(self) -> Tuple[np.ndarray, np.ndarray]:
+        """Every directed edge (from, to) of the triangles, three a triangle
+        (edge k from corner k to k + 1), and each one's reverse's index in
+        that list, -1 on the hull."""
+        s = np.asarray(self.simplices, dtype=np.int64).reshape(-1, 3)
+        heads, tails = s.reshape(-1), np.roll(s, -1, axis=1).reshape(-1)
+        if len(heads) == 0:
+            return np.zeros((0, 2), np.int64), np.zeros(0, np.int64)
+        n = int(heads.max()) + 1
+        key = heads * n + tails
+        order = np.argsort(key)
+        at = np.minimum(np.searchsorted(key[order], tails * n + heads), len(key) - 1)
+        twin = np.where(key[order][at] == tails * n + heads, order[at], -1)
+        return np.stack([heads, tails], axis=1), twin
+
+    @functools.cached_property
+    def neighbors(self) -> np.ndarray:
+        """``(m, 3)``: ``neighbors[i, j]`` is the triangle across from corner
+        j of triangle i, -1 where that edge is on the convex hull (SciPy's
+        ``Delaunay.neighbors``)."""
+        _, twin = self._edges()
+        across = np.where(twin >= 0, twin // 3, -1).reshape(-1, 3)
+        # Corner j faces the edge from corner j + 1 to j + 2.
+        return np.roll(across, -1, axis=1).astype(np.intp)
+
+    @functools.cached_property
+    def convex_hull(self) -> np.ndarray:
+        """``(h, 2)``: the edges of the convex hull as point index pairs, each
+        counter-clockwise around the hull (SciPy's ``Delaunay.convex_hull``)."""
+        edges, twin = self._edges()
+        return edges[twin < 0].astype(np.intp)
+
+    @functools.cached_property
+    def vertex_neighbor_vertices(self) -> Tuple[np.ndarray, np.ndarray]:
+        """``(indptr, indices)``: the points joined to point k by an edge are
+        ``indices[indptr[k]:indptr[k + 1]]``, in increasing order (SciPy's
+        ``Delaunay.vertex_neighbor_vertices``)."""
+        edges, _ = self._edges()
+        both = np.unique(np.concatenate([edges, edges[:, ::-1]]), axis=0)
+        n = len(self.points) if self.points is not None else int(both.max(initial=-1)) + 1
+        indptr = np.searchsorted(both[:, 0], np.arange(n + 1)).astype(np.intc)
+        return indptr, both[:, 1].astype(np.intc)
+
+    def find_simplex(self, xi) -> np.ndarray:
+        """The triangle holding each point of ``xi`` (``(..., 2)``), by exact
+        orientation tests: -1 outside the hull; a point on an edge or a
+        corner gets the smallest index among the triangles holding it
+        (SciPy's ``Delaunay.find_simplex``, without its tolerance)."""
+        if self.points is None:
+            raise ValueError("this triangulation has no points to find in")
+        q = np.asarray(xi, dtype=np.float64)
+        if q.shape[-1:] != (2,):
+            raise ValueError(f"xi must have shape (..., 2), not {q.shape}")
+        found = _pixgeo.find_simplex(
+            self.points, np.ascontiguousarray(self.simplices, dtype=np.uint32),
+            np.ascontiguousarray(q.reshape(-1, 2)),
+        )
+        return found.astype(np.intp).reshape(q.shape[:-1])
 
     def features(self) -> list:
         """The triangles as GeoJSON-like Feature mappings."""

@@ -671,7 +671,7 @@ fn delaunay<'py>(
 ) -> PyResult<Triangulation<'py>> {
     let p = self::points(&points)?;
     let options = DelaunayOptions::default();
-    let d = on_backend(py, device, Need::DeviceIfAny, |b| {
+    let d = on_backend(py, device, Need::CpuUnlessGpu, |b| {
         triangulate(b, &p, &options)
     })?;
     let triangles = Array2::from_shape_vec(
@@ -685,6 +685,38 @@ fn delaunay<'py>(
     )
     .map_err(|e| InternalError::new_err(e.to_string()))?;
     Ok((triangles.into_pyarray(py), duplicates.into_pyarray(py)))
+}
+
+/// The triangle of `simplices` (m, 3) over `points` holding each query of
+/// `xi` (q, 2), exactly: -1 outside the hull.
+#[pyfunction]
+fn find_simplex<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    simplices: PyReadonlyArray2<'py, u32>,
+    xi: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<i64>>> {
+    let (p, q) = (self::points(&points)?, self::points(&xi)?);
+    let triangles: Vec<[u32; 3]> = simplices
+        .as_array()
+        .rows()
+        .into_iter()
+        .map(|r| [r[0], r[1], r[2]])
+        .collect();
+    let found = on_cpu(py, || {
+        pixgeo::algorithms::locate::locate(&p, &triangles, &q)
+    })?;
+    let indices: Vec<i64> = found
+        .into_iter()
+        .map(|t| {
+            if t == pixgeo::algorithms::locate::OUTSIDE {
+                -1
+            } else {
+                t as i64
+            }
+        })
+        .collect();
+    Ok(indices.into_pyarray(py))
 }
 
 /// Whether EPSG's coordinate system `code` is geographic.
@@ -904,6 +936,7 @@ fn _pixgeo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(k_nearest, m)?)?;
     m.add_function(wrap_pyfunction!(furthest, m)?)?;
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;
+    m.add_function(wrap_pyfunction!(find_simplex, m)?)?;
     m.add_function(wrap_pyfunction!(cells::voronoi_cells, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
     m.add_function(wrap_pyfunction!(is_geographic, m)?)?;

@@ -466,3 +466,48 @@ def test_a_box_of_part_pixels_is_placed_as_the_command_line_places_it(tmp_path):
     d = pixgeo.voronoi(sites, (7, 10), bbox=(0, 0, 10, 7.4))
     assert np.array_equal(np.load(out), d.labels)
     assert d.frame.origin == (0.0, 7.4)
+
+
+def test_triangulation_answers_as_scipys_delaunay():
+    """On 10⁴ random points, ``neighbors``, ``convex_hull``,
+    ``vertex_neighbor_vertices`` and ``find_simplex`` equal
+    ``scipy.spatial.Delaunay``'s, up to the order of the simplices."""
+    from scipy.spatial import Delaunay
+
+    rng = np.random.default_rng(4)
+    p = rng.random((10_000, 2))
+    ours, theirs = pixgeo.delaunay(p), Delaunay(p)
+    name = lambda simplices, i: tuple(sorted(simplices[i])) if i >= 0 else None
+    index = {name(theirs.simplices, i): i for i in range(len(theirs.simplices))}
+    assert set(index) == {name(ours.simplices, i) for i in range(len(ours.simplices))}
+    for i, corners in enumerate(ours.simplices):
+        j = index[name(ours.simplices, i)]
+        for c, v in enumerate(corners):
+            k = list(theirs.simplices[j]).index(v)
+            assert name(ours.simplices, ours.neighbors[i, c]) == name(
+                theirs.simplices, theirs.neighbors[j, k])
+    edges = lambda e: {tuple(sorted(x)) for x in e}
+    assert edges(ours.convex_hull) == edges(theirs.convex_hull)
+    (a, b), (sa, sb) = ours.vertex_neighbor_vertices, theirs.vertex_neighbor_vertices
+    for k in range(len(p)):
+        assert list(b[a[k]:a[k + 1]]) == sorted(sb[sa[k]:sa[k + 1]])
+    q = rng.random((20_000, 2)) * 1.2 - 0.1
+    for f, g in zip(ours.find_simplex(q), theirs.find_simplex(q)):
+        assert name(ours.simplices, f) == name(theirs.simplices, g)
+    assert ours.find_simplex(q[:6].reshape(2, 3, 2)).shape == (2, 3)
+
+
+def test_find_simplex_is_exact_on_edges_and_corners():
+    """A point on a shared edge or corner goes to the smallest triangle
+    holding it; one a ulp outside the hull to none."""
+    p = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0], [1.0, 1.0]])
+    t = pixgeo.delaunay(p)
+    cross = lambda u, v: u[0] * v[1] - u[1] * v[0]
+    holding = lambda q: [i for i, s in enumerate(t.simplices)
+                         if all(cross(p[s[(k + 1) % 3]] - p[s[k]], q - p[s[k]]) >= 0
+                                for k in range(3))]
+    for q in ([1.0, 1.0], [0.5, 0.5], [1.0, 0.0], [0.0, 0.0]):
+        assert t.find_simplex([q])[0] == min(holding(np.array(q))), q
+    assert t.find_simplex([[1.0, np.nextafter(0.0, -1.0)]])[0] == -1
+    with pytest.raises(ValueError, match="counter-clockwise"):
+        pixgeo.Triangulation(t.simplices[:, ::-1], t.duplicates, p).find_simplex([[1.0, 0.5]])

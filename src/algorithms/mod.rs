@@ -17,6 +17,7 @@ pub mod higher_order;
 pub mod homothet;
 pub mod interpolate;
 pub mod lloyd;
+pub mod locate;
 pub mod power;
 pub mod settle;
 pub mod sites;

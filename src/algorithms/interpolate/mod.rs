@@ -23,7 +23,7 @@
 
 mod discrete;
 mod formulas;
-mod walk;
+pub(crate) mod walk;
 
 pub use discrete::discrete_sibson;
 
