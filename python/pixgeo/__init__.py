@@ -302,6 +302,9 @@ class Cells:
     --cells`` writes it. Power cells (:func:`power_cells`) carry the
     ``weights`` and the ``hidden`` sites (ascending), whose cells are empty;
     their features say ``weight`` and ``hidden``.
+
+    The cells are a sequence of their polygons: ``len(cells)``,
+    ``cells[i]``, ``for cell in cells``.
     """
 
     polygons: list
@@ -310,6 +313,15 @@ class Cells:
     crs: Optional[str] = None
     weights: Optional[np.ndarray] = None
     hidden: Optional[np.ndarray] = None
+
+    def __len__(self) -> int:
+        return len(self.polygons)
+
+    def __getitem__(self, i):
+        return self.polygons[i]
+
+    def __iter__(self):
+        return iter(self.polygons)
 
     @property
     def __geo_interface__(self) -> dict:
@@ -1069,6 +1081,17 @@ def medial_axis(
     return axis
 
 
+def __getattr__(name: str):
+    # A user of the command line's `pixgeo interpolate` reaches for it here.
+    if name == "interpolate":
+        raise AttributeError(
+            "pixgeo has no interpolate: the command line's `pixgeo interpolate` is "
+            "pixgeo.natural_neighbor(points, values, shape, method='exact' | 'discrete' | "
+            "'linear' | 'nearest')"
+        )
+    raise AttributeError(f"module 'pixgeo' has no attribute {name!r}")
+
+
 from .lloyd import Lloyd, lloyd  # noqa: E402  (it builds on the helpers above)
-from .interpolate import natural_neighbor  # noqa: E402
+from ._interpolate import natural_neighbor  # noqa: E402
 from .power import PowerDiagram, power_cells, power_diagram, regular_triangulation  # noqa: E402

@@ -28,7 +28,7 @@ except ImportError as e:  # pragma: no cover - the extra is missing
 from fractions import Fraction
 
 from . import Diagram, Lloyd, _pixgeo, _place, _planar, _points
-from .interpolate import METHODS, _values
+from ._interpolate import METHODS, _values
 from .lloyd import _iterations
 
 __all__ = ["voronoi", "lloyd", "natural_neighbor", "power_diagram"]

@@ -10,7 +10,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from . import Cells, Frame, _cells_box, _crs, _pixgeo, _place, _points, _polygons
-from .interpolate import _values
+from ._interpolate import _values
 
 
 @dataclass(frozen=True)

@@ -527,6 +527,8 @@ def test_python_cells_are_the_command_lines_in_input_order(tmp_path):
         ours = np.asarray(cells.polygons[i].exterior.coords)
         theirs = np.asarray(feature["geometry"]["coordinates"][0])
         np.testing.assert_array_equal(ours, theirs)
+    assert len(cells) == 60 and cells[3] is cells.polygons[3]
+    assert list(cells) == cells.polygons
     mappings = pixgeo.voronoi_cells(xy, bbox=square, geojson=True)
     assert shape(mappings.polygons[0]).equals(cells.polygons[0])
     features = mappings.__geo_interface__["features"]

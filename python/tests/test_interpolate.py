@@ -182,3 +182,22 @@ def test_dask_blocks_tile_into_the_whole_raster(method):
     np.testing.assert_array_equal(blocks.compute(scheduler="sync"), whole)
     with pytest.raises(ValueError, match="discrete"):
         pixgeo.dask.natural_neighbor(points, values, (49, 61), bbox=(0, 0, 100, 80), method="discrete")
+
+
+def test_griddatas_forms_of_xi_and_fill_value():
+    """``xi`` as griddata takes it, a tuple of meshgrid arrays or (..., 2)
+    coordinates, answered in its shape, with ``fill_value`` outside the
+    hull: SciPy's linear answer."""
+    rng = np.random.default_rng(2)
+    p = rng.random((50, 2)) * 10
+    v = np.sin(p[:, 0]) + p[:, 1]
+    gx, gy = np.meshgrid(np.linspace(-1, 11, 7), np.linspace(-1, 11, 5))
+    ours = pixgeo.natural_neighbor(p, v, xi=(gx, gy), method="linear", fill_value=-9.0)
+    theirs = griddata(p, v, (gx, gy), method="linear", fill_value=-9.0)
+    assert ours.shape == (5, 7)
+    np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-12)
+    assert (ours == -9.0).sum() == (theirs == -9.0).sum() > 0
+    stacked = pixgeo.natural_neighbor(p, v, xi=np.stack([gx, gy], axis=-1))
+    assert stacked.shape == (5, 7) and np.isnan(stacked).sum() == (theirs == -9.0).sum()
+    with pytest.raises(AttributeError, match="natural_neighbor"):
+        pixgeo.interpolate

@@ -37,12 +37,15 @@ def natural_neighbor(
     crs=None,
     xi=None,
     method: str = "exact",
+    fill_value: float = np.nan,
     device: Optional[str] = None,
 ) -> np.ndarray:
     """``values`` at ``points`` (n, 2) interpolated at every pixel centre of
     the picture (``shape=(height, width)`` with ``bbox``, or ``bbox`` and
-    ``res``), as an array of that shape, rows as pixgeo's rasters; or, with
-    ``xi`` (m, 2), at those points, as an array (m,).
+    ``res``), as an array of that shape, rows as pixgeo's rasters; or at the
+    points ``xi`` in any of SciPy ``griddata``'s forms: ``(m, 2)`` (or
+    ``(..., 2)``) coordinates, or a tuple of coordinate arrays ``(gx, gy)``
+    (``np.meshgrid``'s), the answer shaped as they are.
 
     ``method``:
 
@@ -56,8 +59,9 @@ def natural_neighbor(
       rounded (SciPy's ``griddata(..., method="linear")``);
     - ``"nearest"``: the nearest point's value, everywhere (rasters only).
 
-    Outside the points' convex hull the other methods give NaN, as MetPy's
-    ``natural_neighbor_to_grid`` does."""
+    Outside the points' convex hull the other methods give ``fill_value``,
+    NaN by default, as MetPy's ``natural_neighbor_to_grid`` and SciPy's
+    ``griddata`` do."""
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}: use {', '.join(METHODS)}")
     p = _points(points, "points")
@@ -67,8 +71,29 @@ def natural_neighbor(
             raise ValueError("give xi= (points) or a picture (shape=, bbox=, res=), not both")
         if method not in ("exact", "linear"):
             raise ValueError(f"the {method} method interpolates onto rasters; at points use exact or linear")
-        return _pixgeo.interpolate_at(p, v, _points(xi, "xi"), method, device)
-    place = _place(shape, bbox, res, y_axis, crs)
-    return _pixgeo.interpolate(
-        place.sites(p), v, place.width, place.height, place.bbox, method, device
-    )
+        q, answer_shape = _queries(xi)
+        out = _pixgeo.interpolate_at(p, v, _points(q, "xi"), method, device).reshape(answer_shape)
+    else:
+        place = _place(shape, bbox, res, y_axis, crs)
+        out = _pixgeo.interpolate(
+            place.sites(p), v, place.width, place.height, place.bbox, method, device
+        )
+    if not np.isnan(fill_value):
+        out[np.isnan(out)] = fill_value
+    return out
+
+
+def _queries(xi) -> tuple:
+    """``xi`` in griddata's forms as (m, 2) points, and the answer's shape."""
+    if isinstance(xi, tuple):
+        if len(xi) != 2:
+            raise ValueError(f"xi as a tuple holds the x and the y arrays, not {len(xi)} arrays")
+        try:
+            gx, gy = np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in xi))
+        except ValueError as e:
+            raise ValueError(f"xi's x and y arrays do not match: {e}") from None
+        return np.stack([gx, gy], axis=-1).reshape(-1, 2), gx.shape
+    q = np.asarray(xi)
+    if q.shape[-1:] != (2,):
+        raise ValueError(f"xi must have shape (..., 2) or be a tuple (x, y), not shape {q.shape}")
+    return q.reshape(-1, 2), q.shape[:-1]
