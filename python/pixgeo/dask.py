@@ -4,7 +4,7 @@ Each block is a window of the diagram computed on a worker: the sites travel
 once (one task of the graph that every block depends on) and pixgeo culls them
 per window to the cones that reach it. Windows are bit for bit the whole
 diagram's pixels, so the result equals :func:`pixgeo.voronoi` pixel for pixel
-however it is chunked. Install with ``pip install ./python[dask]``.
+however it is chunked. Install with ``pip install 'pixgeo[dask]'``.
 
 The same code runs on any Dask cluster (``LocalCluster``, dask-jobqueue,
 Kubernetes): each worker process makes its own device on first use, a GPU where
@@ -23,7 +23,7 @@ try:
     import dask
     import dask.array as da
 except ImportError as e:  # pragma: no cover - the extra is missing
-    raise ImportError("pixgeo.dask needs Dask: pip install ./python[dask]") from e
+    raise ImportError("pixgeo.dask needs Dask: pip install 'pixgeo[dask]'") from e
 
 from fractions import Fraction
 

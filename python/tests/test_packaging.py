@@ -64,3 +64,16 @@ def test_the_package_installs_the_command_line(tmp_path):
     refused = subprocess.run([*command, "voronoi", "--sites", str(tmp_path / "none.csv")],
                              capture_output=True, text=True)
     assert refused.returncode == 1 and refused.stderr.startswith("Error:")
+
+
+def test_the_wheel_carries_its_licenses():
+    """The installed distribution states its SPDX licence and holds both
+    licence texts."""
+    from importlib import metadata
+
+    meta = metadata.metadata("pixgeo")
+    assert meta["License-Expression"] == "MIT OR Apache-2.0"
+    assert sorted(meta.get_all("License-File")) == ["LICENSE-APACHE", "LICENSE-MIT"]
+    texts = [f for f in metadata.files("pixgeo") if f.name.startswith("LICENSE-")]
+    assert {f.name for f in texts} == {"LICENSE-APACHE", "LICENSE-MIT"}
+    assert all("Copyright" in f.read_text() or "Apache" in f.read_text() for f in texts)
