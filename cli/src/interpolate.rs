@@ -91,6 +91,7 @@ pub fn run(args: Args) -> Result<()> {
     ])?;
     args.input.check_world_file()?;
     let (world, samples) = args.input.world_and_samples(&args.value)?;
+    world.warn_if_geographic("the natural neighbours' areas and the triangles are taken");
     let frame = world.frame;
     let chosen = args.device.choose(args.method.need())?;
     let backend = chosen.backend();

@@ -198,8 +198,15 @@ pub fn run(args: Args) -> Result<()> {
     let mask = source.mask;
     let placed_by_mask = source.placed.is_some();
     let geo = placement(&args, source.placed, mask.width, mask.height)?;
-    if args.distance_units == DistanceUnits::Geo {
-        crate::input::warn_if_geographic(geo.epsg, "the distances are in degrees,");
+    let geographic = geo.epsg.filter(|&c| {
+        crate::write::geotiff::crs_kind(c) == Ok(crate::write::geotiff::CrsKind::Geographic)
+    });
+    if let (DistanceUnits::Geo, Some(code)) = (args.distance_units, geographic) {
+        bail!(
+            "--distance-units geo on EPSG:{code}, a geographic system, would give degrees of \
+             longitude and latitude, not distances on the Earth, and pixgeo has no great-circle \
+             transform: give --distance-units pixel, or a raster in a projected system"
+        );
     }
     let sampling = match (args.distance_units, args.sampling) {
         (DistanceUnits::Pixel, sampling) => sampling.unwrap_or([1.0, 1.0]),

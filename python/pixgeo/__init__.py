@@ -632,6 +632,23 @@ def _planar(metric: Optional[str], crs: Optional[str], what: str) -> str:
     return metric
 
 
+def _euclidean(metric: Optional[str], crs: Optional[str], what: str) -> None:
+    """Refuses a Euclidean-only problem under a geographic ``crs`` unless
+    ``metric='l2'`` asks for the longitude-latitude plane (which warns)."""
+    if _planar(metric, crs, what) != "l2":
+        raise ValueError(f"{what} is Euclidean: metric='l2' or none")
+
+
+def _warn_planar(crs: Optional[str], what: str) -> None:
+    """Warns that ``what`` is taken on the longitude-latitude plane where
+    ``crs`` is geographic."""
+    if crs is not None and _pixgeo.is_geographic(int(crs[5:])):
+        import warnings
+
+        warnings.warn(f"{crs} is geographic: {what} on the longitude-latitude plane, "
+                      "not on the Earth", stacklevel=3)
+
+
 def _great_circle(sites: np.ndarray, place: "_Placement", device: Optional[str]) -> Diagram:
     """Every pixel's nearest site by great circle, and the distance in metres:
     on the CPU without a GPU (or for ``device="cpu"``), else on the device."""
@@ -749,16 +766,21 @@ def delaunay(points, *, device: Optional[str] = None) -> Triangulation:
 
 
 def voronoi_cells(
-    points, *, bbox=None, crs=None, geojson: bool = False, device: Optional[str] = None
+    points, *, bbox=None, crs=None, metric: Optional[str] = None, geojson: bool = False,
+    device: Optional[str] = None,
 ) -> Cells:
     """The exact Euclidean Voronoi cells of ``points`` clipped to ``bbox``
     (default: the points' bounding box), in input order: shapely polygons,
     or GeoJSON-like mappings without shapely or with ``geojson=True``. See
-    :class:`Cells`; ``crs`` (``"EPSG:N"``) is carried to it."""
+    :class:`Cells`; ``crs`` (``"EPSG:N"``) is carried to it. Under a
+    geographic ``crs`` cells on the sphere are not computed: ``metric='l2'``
+    asks for cells on the longitude-latitude plane (with a warning)."""
+    crs = _crs(crs)
+    _euclidean(metric, crs, "voronoi_cells")
     p = _points(points, "points")
     box = _cells_box(p, bbox)
     corners, duplicates = _pixgeo.voronoi_cells(p, box, device)
-    return Cells(_polygons(corners, geojson), duplicates.astype(np.intp), box, _crs(crs))
+    return Cells(_polygons(corners, geojson), duplicates.astype(np.intp), box, crs)
 
 
 def _cells_box(p: np.ndarray, bbox) -> Tuple[float, float, float, float]:

@@ -8,7 +8,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from . import _pixgeo, _place, _points, _unmasked
+from . import _crs, _pixgeo, _place, _points, _unmasked, _warn_planar
 
 METHODS = ("exact", "discrete", "linear", "nearest")
 
@@ -64,6 +64,7 @@ def natural_neighbor(
     ``griddata`` do."""
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}: use {', '.join(METHODS)}")
+    _warn_planar(_crs(crs), "the natural neighbours' areas and the triangles are taken")
     p = _points(points, "points")
     v = _values(values, len(p))
     if xi is not None:

@@ -27,7 +27,7 @@ except ImportError as e:  # pragma: no cover - the extra is missing
 
 from fractions import Fraction
 
-from . import Diagram, Lloyd, _pixgeo, _place, _planar, _points
+from . import Diagram, Lloyd, _pixgeo, _place, _planar, _points, _warn_planar
 from ._interpolate import METHODS, _values
 from .lloyd import _iterations
 
@@ -168,6 +168,7 @@ def lloyd(
     the final sites' diagram; the energies are summed block by block, so they
     may differ from :func:`pixgeo.lloyd`'s in the last bits."""
     place = _place(shape, bbox, res, y_axis, crs)
+    _warn_planar(place.crs, "Lloyd's centroids are taken")
     h, w, box = place.height, place.width, place.bbox
     points = place.sites(_points(sites, "sites"))
     frame = _pixgeo.frame_of(w, h, box)
@@ -270,6 +271,7 @@ def natural_neighbor(
             "discrete value depends on the pixels drawn around it, so blocks would not tile"
         )
     place = _place(shape, bbox, res, y_axis, crs)
+    _warn_planar(place.crs, "the natural neighbours' areas and the triangles are taken")
     h, w, box = place.height, place.width, place.bbox
     p = place.sites(_points(points, "points"))
     v = _values(values, len(p))
@@ -318,6 +320,7 @@ def power_diagram(
     (which builds the regular triangulation itself): the same values bit for
     bit however it is chunked."""
     place = _place(shape, bbox, res, y_axis, crs)
+    _warn_planar(place.crs, "powers are measured")
     h, w, box = place.height, place.width, place.bbox
     p = place.sites(_points(points, "points"))
     v = _values(weights, len(p), "weights")

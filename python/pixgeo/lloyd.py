@@ -9,7 +9,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from . import Frame, _pixgeo, _place, _points
+from . import Frame, _pixgeo, _place, _points, _warn_planar
 
 
 @dataclass(frozen=True)
@@ -59,6 +59,7 @@ def lloyd(
     than ``tolerance`` (world units; default a hundredth of a pixel).
     ``device="cpu"`` runs the CPU pixel algorithms, to the same answer."""
     place = _place(shape, bbox, res, y_axis, crs)
+    _warn_planar(place.crs, "Lloyd's centroids are taken")
     if place.crs is not None and _pixgeo.is_geographic(int(place.crs[5:])):
         warnings.warn(
             f"{place.crs} is geographic: Lloyd's centroids are taken on the longitude-latitude "

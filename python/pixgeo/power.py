@@ -9,7 +9,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import Cells, Frame, _cells_box, _crs, _pixgeo, _place, _points, _polygons
+from . import Cells, Frame, _cells_box, _crs, _euclidean, _pixgeo, _place, _points, _polygons, _warn_planar
 from ._interpolate import _values
 
 
@@ -41,6 +41,7 @@ def power_diagram(
     the picture, exact: on the CPU, by a walk over the regular
     triangulation."""
     place = _place(shape, bbox, res, y_axis, crs)
+    _warn_planar(place.crs, "powers are measured")
     p = _points(points, "points")
     labels, powers, ties, hidden = _pixgeo.power_diagram(
         place.sites(p), _values(weights, len(p), "weights"), place.width, place.height, place.bbox
@@ -49,19 +50,24 @@ def power_diagram(
     return PowerDiagram(labels, powers, ties, np.asarray(hidden, dtype=np.uint32), frame)
 
 
-def power_cells(points, weights, *, bbox=None, crs=None, geojson: bool = False) -> Cells:
+def power_cells(
+    points, weights, *, bbox=None, crs=None, metric: Optional[str] = None, geojson: bool = False
+) -> Cells:
     """The exact power cells of ``points`` (n, 2) with power ``weights`` (n,)
     clipped to ``bbox`` (default: the points' bounding box), in input order,
     as :class:`pixgeo.Cells`: every corner the double nearest the exact
     corner, so neighbouring cells share corners bit for bit and the cells
     tile the box; a hidden site's cell is empty. On the CPU, from the exact
-    regular triangulation."""
+    regular triangulation. Under a geographic ``crs``, as
+    :func:`pixgeo.voronoi_cells`: ``metric='l2'`` asks for the plane."""
+    crs = _crs(crs)
+    _euclidean(metric, crs, "power_cells")
     p = _points(points, "points")
     v = _values(weights, len(p), "weights")
     box = _cells_box(p, bbox)
     corners, hidden = _pixgeo.power_cells(p, v, box)
     return Cells(
-        _polygons(corners, geojson), np.empty((0, 2), dtype=np.intp), box, _crs(crs),
+        _polygons(corners, geojson), np.empty((0, 2), dtype=np.intp), box, crs,
         weights=v, hidden=np.asarray(hidden, dtype=np.uint32),
     )
 

@@ -771,3 +771,34 @@ def test_shapely_points_and_geoseries_are_points():
     assert np.array_equal(pixgeo.delaunay(points).simplices, want)
     with pytest.raises(ValueError, match="other than Points"):
         pixgeo.delaunay(np.array([box(0, 0, 1, 1)] * 3, dtype=object))
+
+
+def test_one_geographic_rule(tmp_path):
+    """Under EPSG:4326 nothing is planar in degrees unasked: cells on the
+    sphere are refused with the reason (and given on the plane for
+    metric='l2', with a warning); planar interpolation, Lloyd and power
+    diagrams warn; the command line's geographic distance transform is
+    refused."""
+    import pixgeo
+
+    xy = np.array([[10.0, 50.0], [11.0, 51.0], [12.0, 50.0], [11.0, 49.0]])
+    for cells in (lambda **kw: pixgeo.voronoi_cells(xy, crs="EPSG:4326", **kw),
+                  lambda **kw: pixgeo.power_cells(xy, np.zeros(4), crs="EPSG:4326", **kw)):
+        with pytest.raises(ValueError, match="on the plane, not on the Earth"):
+            cells()
+        with pytest.warns(UserWarning, match="EPSG:4326 is geographic"):
+            assert len(cells(metric="l2")) == 4
+    box = dict(bbox=(9, 48, 13, 52), crs="EPSG:4326")
+    for call in (lambda: pixgeo.natural_neighbor(xy, np.arange(4.0), (8, 8), **box),
+                 lambda: pixgeo.lloyd(xy, (8, 8), iterations=1, **box),
+                 lambda: pixgeo.power_diagram(xy, np.zeros(4), (8, 8), **box)):
+        with pytest.warns(UserWarning, match="EPSG:4326 is geographic"):
+            call()
+    mask = tmp_path / "m.tif"
+    with rasterio.open(mask, "w", driver="GTiff", width=8, height=8, count=1, dtype="uint8",
+                       crs="EPSG:4326", transform=from_origin(10, 51, 0.5, 0.5)) as out:
+        out.write(np.eye(8, dtype=np.uint8), 1)
+    done = subprocess.run([str(CLI), "transform", "--mask", str(mask), "--distance-units", "geo",
+                           "--distance", str(tmp_path / "d.tif")], capture_output=True, text=True)
+    assert done.returncode == 1 and "not distances on the Earth" in done.stderr, done.stderr
+    assert not (tmp_path / "d.tif").exists()

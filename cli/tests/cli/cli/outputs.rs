@@ -688,3 +688,27 @@ fn completions_and_manual_pages_name_every_command() {
         );
     }
 }
+
+/// Under a geographic system the planar commands say so on stderr.
+#[test]
+fn planar_work_under_a_geographic_system_warns() {
+    let samples = temp("geographic.csv");
+    std::fs::write(&samples, "x,y,z\n10,50,1\n11,51,2\n12,50,3\n11,49,4\n").unwrap();
+    let raster = temp("geographic.npy");
+    let (ok, _, stderr) = pixgeo(&[
+        "interpolate",
+        "--sites",
+        samples.to_str().unwrap(),
+        "--value",
+        "z",
+        "--bbox",
+        "9,48,13,52",
+        "--size",
+        "16",
+        "--crs",
+        "EPSG:4326",
+        "--raster",
+        raster.to_str().unwrap(),
+    ]);
+    assert!(ok && stderr.contains("EPSG:4326 is geographic"), "{stderr}");
+}
