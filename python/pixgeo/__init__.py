@@ -132,6 +132,21 @@ class Frame:
         y = self.origin[1] + (np.arange(self.height) + 0.5) * self._step()
         return x, y
 
+    def to_xarray(self, **rasters):
+        """Rasters of this frame's shape (``name=array``) as an
+        ``xarray.Dataset`` placed as :meth:`Diagram.to_xarray` places its
+        own: for :func:`natural_neighbor`'s values, say
+        (``pixgeo.frame(shape, bbox=..., crs=...).to_xarray(heights=z)``).
+        Float rasters take NaN as nodata."""
+        for name, array in rasters.items():
+            if np.shape(array)[:2] != (self.height, self.width):
+                raise ValueError(f"{name} has shape {np.shape(array)}, not the frame's "
+                                 f"({self.height}, {self.width})")
+        return _georeferenced(self, {
+            name: (a, np.nan if np.asarray(a).dtype.kind == "f" else None)
+            for name, a in rasters.items()
+        })
+
 
 def _georeferenced(frame: Frame, arrays: dict):
     """``arrays`` (name: (array, nodata)) as an ``xarray.Dataset`` on the
@@ -183,10 +198,13 @@ class Diagram:
         centres' ``x`` and ``y``, with the frame's CRS and affine in a CF
         ``spatial_ref`` grid mapping, so that rioxarray reads them
         (``ds.labels.rio.crs``, ``ds.labels.rio.transform()``,
-        ``ds.labels.rio.to_raster("labels.tif")``). Dask arrays (from
+        ``ds.labels.rio.to_raster("labels.tif")``). Each carries its nodata,
+        :data:`NO_SITE` and infinity: a GeoTIFF holds one type and one nodata,
+        so write each raster to its own file. Dask arrays (from
         :func:`pixgeo.dask.voronoi`) stay lazy."""
         return _georeferenced(
-            self.frame, {"labels": (self.labels, NO_SITE), "distances": (self.distances, None)}
+            self.frame,
+            {"labels": (self.labels, NO_SITE), "distances": (self.distances, np.float32(np.inf))},
         )
 
 

@@ -26,6 +26,11 @@ class PowerDiagram:
     hidden: np.ndarray
     frame: Frame
 
+    def to_xarray(self):
+        """``labels``, ``powers`` and ``ties`` as an ``xarray.Dataset``,
+        placed and georeferenced as :meth:`pixgeo.Diagram.to_xarray`."""
+        return self.frame.to_xarray(labels=self.labels, powers=self.powers, ties=self.ties)
+
 
 def power_diagram(
     points,

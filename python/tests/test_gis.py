@@ -623,6 +623,21 @@ def test_results_as_georeferenced_xarray(tmp_path):
     np.testing.assert_array_equal(lazy.labels.values, d.labels)
     s = pixgeo.settle(xy, bbox=BBOX, res=8, crs="EPSG:32633").to_xarray()
     assert s.area.rio.crs.to_epsg() == 32633
+    # Distances carry their nodata; every raster result reaches xarray.
+    assert ds.distances.rio.nodata == np.inf
+    ds.distances.rio.to_raster(tmp_path / "distances.tif")
+    with rasterio.open(tmp_path / "distances.tif") as r:
+        assert r.nodata == np.inf and np.array_equal(r.read(1), d.distances)
+    power = pixgeo.power_diagram(xy, np.zeros(30), bbox=BBOX, res=8, crs="EPSG:32633").to_xarray()
+    assert power.powers.rio.crs.to_epsg() == 32633 and power.labels.shape == (100, 125)
+    z = pixgeo.natural_neighbor(xy, xy[:, 0], bbox=BBOX, res=8, crs="EPSG:32633")
+    grid = pixgeo.frame(bbox=BBOX, res=8, crs="EPSG:32633").to_xarray(z=z)
+    assert grid.z.rio.transform() == labels.rio.transform() and np.isnan(grid.z.rio.nodata)
+    grid.z.rio.to_raster(tmp_path / "z.tif")
+    with rasterio.open(tmp_path / "z.tif") as r:
+        np.testing.assert_array_equal(r.read(1), z)
+    with pytest.raises(ValueError, match="not the frame's"):
+        d.frame.to_xarray(z=z[1:])
 
 
 def test_great_circle_labels_and_distances_match_pyproj(tmp_path):
