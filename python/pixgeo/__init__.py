@@ -1121,6 +1121,11 @@ def medial_axis(
     return axis
 
 
+def __dir__() -> list:
+    # What a user completes on: the public names, not the helpers' imports.
+    return sorted({*__all__, "__version__"})
+
+
 def __getattr__(name: str):
     # A user of the command line's `pixgeo interpolate` reaches for it here.
     if name == "interpolate":

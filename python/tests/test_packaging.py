@@ -77,3 +77,14 @@ def test_the_wheel_carries_its_licenses():
     texts = [f for f in metadata.files("pixgeo") if f.name.startswith("LICENSE-")]
     assert {f.name for f in texts} == {"LICENSE-APACHE", "LICENSE-MIT"}
     assert all("Copyright" in f.read_text() or "Apache" in f.read_text() for f in texts)
+
+
+def test_the_namespace_shows_what_pixgeo_offers():
+    """``dir(pixgeo)`` (what completion offers) lists the public names, not
+    the modules pixgeo imports for itself; every one of them is there."""
+    import pixgeo
+
+    shown = dir(pixgeo)
+    assert not {"np", "sys", "Optional", "dataclass", "functools"} & set(shown)
+    assert {"voronoi", "delaunay", "natural_neighbor", "__version__"} <= set(shown)
+    assert all(hasattr(pixgeo, name) for name in pixgeo.__all__)
