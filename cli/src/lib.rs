@@ -118,6 +118,10 @@ fn answer(text: &str) {
 
 fn answer_line(line: std::fmt::Arguments) {
     use std::io::Write;
+    // An output holds stdout: the answer's lines go beside the messages.
+    if write::output::stdout_taken() {
+        return say(line);
+    }
     let mut out = std::io::stdout().lock();
     let written = out
         .write_fmt(line)
@@ -203,6 +207,7 @@ where
         .and_then(|(_, sub)| sub.try_get_one::<bool>("json").ok().flatten())
         == Some(&true);
     write::output::on_signals_abandon();
+    write::output::answers_as_json(json);
     let phase = profiler().phase(format!("pixgeo {name}"));
     let mut done = match &cli.trace {
         Some(path) => write::output::check_extension(path, "json", "traces")

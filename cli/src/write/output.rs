@@ -25,6 +25,10 @@ struct Transaction {
     claimed: Vec<(PathBuf, String)>,
     written: Vec<(PathBuf, String)>,
     announced: Vec<PathBuf>,
+    /// The option whose output goes to stdout (`-`).
+    stdout: Option<String>,
+    /// Whether the answer is printed as JSON, on stdout.
+    json: bool,
 }
 
 static TRANSACTION: Mutex<Option<Transaction>> = Mutex::new(None);
@@ -57,6 +61,20 @@ pub fn on_signals_abandon() {
 /// of the command names the same file (after following links and `.` and
 /// `..`), or where its folder does not exist.
 pub fn claim(path: &Path, option: &str) -> Result<()> {
+    if is_stdout(path) || resolve(path).is_ok_and(|t| t == Path::new("/dev/stdout")) {
+        return with(|t| match (&t.stdout, t.json) {
+            (Some(other), _) if other != option => Err(Error::InvalidInput(format!(
+                "{other} and {option} both write to stdout; give one of them a file"
+            ))),
+            (_, true) => Err(Error::InvalidInput(format!(
+                "--json and {option} both write to stdout; give {option} a file"
+            ))),
+            _ => {
+                t.stdout = Some(option.to_string());
+                Ok(())
+            }
+        });
+    }
     if is_device(path) {
         return Ok(());
     }
@@ -178,8 +196,17 @@ impl OutputFile {
             path: path.to_path_buf(),
             cause: source,
         };
+        // Outputs that are not claimed up front take stdout as they open.
+        if is_stdout(path) && !stdout_taken() {
+            claim(path, what)?;
+        }
         if is_device(path) {
-            let file = File::options().write(true).open(path).map_err(io)?;
+            let device = if is_stdout(path) {
+                Path::new("/dev/stdout")
+            } else {
+                path
+            };
+            let file = File::options().write(true).open(device).map_err(io)?;
             return Ok((
                 Self {
                     target: path.to_path_buf(),
@@ -306,9 +333,25 @@ pub fn extension_among<'a>(path: &Path, extensions: &[&'a str]) -> Option<&'a st
 }
 
 /// A path to an existing non-regular file (a device or a pipe), which takes any
-/// format: `-o /dev/stdout`.
+/// format: `-o /dev/stdout`, or `-`, stdout.
 fn is_device(path: &Path) -> bool {
-    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+    is_stdout(path) || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Whether `path` is `-`, as Unix tools name stdout.
+fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Says whether the command prints its answer as JSON: stdout is then the
+/// answer's, and no output may take it.
+pub fn answers_as_json(json: bool) {
+    with(|t| t.json = json);
+}
+
+/// Whether an output goes to stdout: answers then go to stderr.
+pub fn stdout_taken() -> bool {
+    with(|t| t.stdout.is_some())
 }
 
 /// Refuses two outputs of one command on the same file (after following links

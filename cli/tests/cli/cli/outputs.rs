@@ -712,3 +712,45 @@ fn planar_work_under_a_geographic_system_warns() {
     ]);
     assert!(ok && stderr.contains("EPSG:4326 is geographic"), "{stderr}");
 }
+
+/// `-` writes an output to stdout, as it streams: `.npy` for rasters, PNG
+/// for pictures, GeoJSON for vectors; the answer's lines go to stderr then,
+/// and two writers of stdout are refused.
+#[test]
+fn a_dash_writes_an_output_to_stdout() {
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_pixgeo"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[
+        "voronoi", "--random", "10", "--size", "8x6", "--labels", "-",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let path = temp("dash.npy");
+    std::fs::write(&path, &out.stdout).unwrap();
+    let (shape, labels) = npy::read::<u32>(&path).unwrap();
+    assert_eq!((shape, labels.len()), (vec![6, 8], 48));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("10 sites"));
+    let out = run(&["voronoi", "--random", "10", "--size", "8", "-o", "-"]);
+    assert!(out.status.success() && out.stdout.starts_with(b"\x89PNG"));
+    let out = run(&["delaunay", "--random", "20", "--geojson", "-"]);
+    let geojson: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(geojson["type"], "FeatureCollection");
+    for (args, says) in [
+        (&["-o", "-", "--labels", "-"][..], "both write to stdout"),
+        (
+            &["--labels", "-", "--json"],
+            "--json and --labels both write to stdout",
+        ),
+    ] {
+        let out = run(&[&["voronoi", "--random", "10", "--size", "8"], args].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains(says), "{stderr}");
+    }
+}
