@@ -81,6 +81,11 @@ pub struct VoronoiOptions {
 /// How an exact diagram's labels are found; every way gives the same labels,
 /// distances and ties, bit for bit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "lowercase")
+)]
 pub enum Method {
     /// [`Method::Grid`] for Euclidean exact diagrams on a software rasterizer,
     /// where it is faster; [`Method::Cones`] otherwise.
@@ -225,8 +230,8 @@ impl Default for VoronoiOptions {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct VoronoiStats {
     pub device: String,
-    /// How the labels were found: `cones` or `grid` ([`Method`]).
-    pub method: String,
+    /// How the labels were found: [`Method::Cones`] or [`Method::Grid`].
+    pub method: Method,
     pub sites: usize,
     /// Cones drawn (sites whose cone reaches the picture).
     pub cones: usize,
@@ -623,7 +628,7 @@ pub(crate) fn draw_point_tiles(
     let frame = options.frame;
     let mut stats = VoronoiStats {
         device: machine.device_name().to_string(),
-        method: "cones".into(),
+        method: Method::Cones,
         sites: sites.len(),
         ..Default::default()
     };

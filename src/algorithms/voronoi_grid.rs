@@ -61,7 +61,7 @@ pub(crate) fn grid_bands(
     let window = options.window_rect()?;
     let mut stats = VoronoiStats {
         device: device.to_string(),
-        method: "grid".into(),
+        method: super::voronoi::Method::Grid,
         sites: sites.len(),
         ..Default::default()
     };

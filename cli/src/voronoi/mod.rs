@@ -530,7 +530,7 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
             "stats": s,
         });
         envelope::print_world("voronoi", &s.device, world, &summary)?;
-    } else if s.method == "grid" {
+    } else if s.method == LabelMethod::Grid {
         note!(
             "{} sites, {}x{} pixels by a grid search on the CPU: {:.1} ms searching, {} label(s) \
              mended by the exact check",
