@@ -47,6 +47,16 @@ impl Drop for Context {
     }
 }
 
+/// `pixgeo_voronoi` and `pixgeo_furthest`: labels and distances of a picture.
+type Raster = unsafe extern "C" fn(
+    *mut PixgeoContext,
+    *const f64,
+    usize,
+    *const PixgeoVoronoiOptions,
+    *mut u32,
+    *mut f32,
+) -> PixgeoStatus;
+
 fn bits(d: &[f32]) -> Vec<u32> {
     d.iter().map(|v| v.to_bits()).collect()
 }
@@ -65,43 +75,32 @@ fn the_c_library_answers_as_the_core_on_every_context() {
             options.bbox = bbox;
             let (mut labels, mut distances) = (vec![0u32; frame.len()], vec![0f32; frame.len()]);
 
-            let want = voronoi(&Backend::Cpu, &case.sites, &VoronoiOptions::exact(frame)).unwrap();
-            // SAFETY: `xy` holds 2n doubles; the rasters hold the picture's pixels.
-            let status = unsafe {
-                pixgeo_voronoi(
-                    ctx.0,
-                    xy.as_ptr(),
-                    case.sites.len(),
-                    &options,
-                    labels.as_mut_ptr(),
-                    distances.as_mut_ptr(),
-                )
-            };
-            assert_eq!(status, PixgeoStatus::Ok, "{name}: {}", ctx.error());
-            assert!(labels == want.labels, "{name}: nearest labels");
-            assert!(
-                bits(&distances) == bits(&want.distances),
-                "{name}: distances"
-            );
-
-            let want = furthest(&Backend::Cpu, &case.sites, &frame, Metric::L2).unwrap();
-            // SAFETY: as above.
-            let status = unsafe {
-                pixgeo_furthest(
-                    ctx.0,
-                    xy.as_ptr(),
-                    case.sites.len(),
-                    &options,
-                    labels.as_mut_ptr(),
-                    distances.as_mut_ptr(),
-                )
-            };
-            assert_eq!(status, PixgeoStatus::Ok, "{name}: {}", ctx.error());
-            assert!(labels == want.labels, "{name}: furthest labels");
-            assert!(
-                bits(&distances) == bits(&want.distances),
-                "{name}: furthest distances"
-            );
+            let nearest =
+                voronoi(&Backend::Cpu, &case.sites, &VoronoiOptions::exact(frame)).unwrap();
+            let far = furthest(&Backend::Cpu, &case.sites, &frame, Metric::L2).unwrap();
+            let rasters: [(&str, Raster, _, _); 2] = [
+                ("nearest", pixgeo_voronoi, nearest.labels, nearest.distances),
+                ("furthest", pixgeo_furthest, far.labels, far.distances),
+            ];
+            for (what, call, want_labels, want_distances) in rasters {
+                // SAFETY: `xy` holds 2n doubles; the rasters hold the picture's pixels.
+                let status = unsafe {
+                    call(
+                        ctx.0,
+                        xy.as_ptr(),
+                        case.sites.len(),
+                        &options,
+                        labels.as_mut_ptr(),
+                        distances.as_mut_ptr(),
+                    )
+                };
+                assert_eq!(status, PixgeoStatus::Ok, "{name} {what}: {}", ctx.error());
+                assert!(labels == want_labels, "{name}: {what} labels");
+                assert!(
+                    bits(&distances) == bits(&want_distances),
+                    "{name}: {what} distances"
+                );
+            }
 
             let want = delaunay(&Backend::Cpu, &case.sites, &DelaunayOptions::default());
             let capacity = 2 * case.sites.len();

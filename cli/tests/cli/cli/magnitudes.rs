@@ -4,23 +4,42 @@
 //! (as the unscaled input does) or is refused with a reason. A hang fails
 //! after two minutes rather than holding the suite.
 
-use std::process::Command;
+use std::{path::Path, process::Command};
 
-use super::{answer, temp};
+use super::{answer, outcome, temp};
 
 /// Runs pixgeo with `args` for at most two minutes: (success, stdout, stderr).
 fn bounded(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new("timeout")
-        .arg("120")
-        .arg(env!("CARGO_BIN_EXE_pixgeo"))
-        .args(args)
-        .output()
-        .expect("run pixgeo");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
+    outcome(
+        Command::new("timeout")
+            .arg("120")
+            .arg(env!("CARGO_BIN_EXE_pixgeo"))
+            .args(args),
     )
+}
+
+/// `interpolate --json` of the samples in `file` over `bbox` by `method`,
+/// on 48 pixels: its result, after a successful run.
+fn interpolated(file: &Path, bbox: &str, method: &str) -> serde_json::Value {
+    let raster = temp(&format!("magnitudes-{method}.npy"));
+    let (ok, out, err) = bounded(&[
+        "interpolate",
+        "--sites",
+        file.to_str().unwrap(),
+        "--value",
+        "z",
+        "--bbox",
+        bbox,
+        "--size",
+        "48",
+        "--method",
+        method,
+        "--raster",
+        raster.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(ok, "{} {method}: {err}", file.display());
+    answer(&out, "interpolate")
 }
 
 /// 40 samples on [0, 100)², their values x + y, the coordinates times
@@ -36,29 +55,13 @@ fn samples(scale: f64) -> String {
 
 #[test]
 fn samples_at_1e_minus_300_and_1e300_interpolate_as_unscaled_ones() {
-    let raster = temp("magnitudes.npy");
     let count = |scale: f64, method: &str| {
         let file = temp(&format!("magnitudes-{scale:e}.csv"));
         std::fs::write(&file, samples(scale)).unwrap();
         let bbox = format!("0,0,{:?},{:?}", 100.0 * scale, 100.0 * scale);
-        let (ok, out, err) = bounded(&[
-            "interpolate",
-            "--sites",
-            file.to_str().unwrap(),
-            "--value",
-            "z",
-            "--bbox",
-            &bbox,
-            "--size",
-            "48",
-            "--method",
-            method,
-            "--raster",
-            raster.to_str().unwrap(),
-            "--json",
-        ]);
-        assert!(ok, "{scale:e} {method}: {err}");
-        answer(&out, "interpolate")["with_value"].as_u64().unwrap()
+        interpolated(&file, &bbox, method)["with_value"]
+            .as_u64()
+            .unwrap()
     };
     for method in ["exact", "linear", "nearest", "discrete"] {
         let unscaled = count(1.0, method);
@@ -161,26 +164,8 @@ fn values_near_the_largest_double_interpolate() {
         text += &format!("{xy},{}\n", if k % 2 == 0 { -1.7e308 } else { 1.7e308 });
     }
     std::fs::write(&file, text).unwrap();
-    let raster = temp("magnitudes-values.npy");
     for method in ["exact", "linear", "discrete"] {
-        let (ok, out, err) = bounded(&[
-            "interpolate",
-            "--sites",
-            file.to_str().unwrap(),
-            "--value",
-            "z",
-            "--bbox",
-            "0,0,100,100",
-            "--size",
-            "48",
-            "--method",
-            method,
-            "--raster",
-            raster.to_str().unwrap(),
-            "--json",
-        ]);
-        assert!(ok, "{method}: {err}");
-        let result = answer(&out, "interpolate");
+        let result = interpolated(&file, "0,0,100,100", method);
         assert!(
             result["with_value"].as_u64().unwrap() > 0,
             "{method}: {result}"

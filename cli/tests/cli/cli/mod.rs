@@ -20,10 +20,12 @@ mod transform;
 mod voronoi;
 
 fn pixgeo<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_pixgeo"))
-        .args(args)
-        .output()
-        .expect("run pixgeo");
+    outcome(Command::new(env!("CARGO_BIN_EXE_pixgeo")).args(args))
+}
+
+/// Runs `command` to its end: (success, stdout, stderr).
+fn outcome(command: &mut Command) -> (bool, String, String) {
+    let out = command.output().expect("run pixgeo");
     (
         out.status.success(),
         String::from_utf8_lossy(&out.stdout).into_owned(),
