@@ -57,7 +57,7 @@ fn main() {
             .expect("file name")
             .to_string();
         // One axis per leading `// variants:` line; every combination is built.
-        let mut builds: Vec<Vec<String>> = vec![Vec::new()];
+        let mut builds: Vec<Vec<String>> = Vec::from([Vec::new()]);
         for axis in source
             .lines()
             .map_while(|l| l.strip_prefix("// variants:"))
@@ -144,7 +144,7 @@ fn main() {
             let family = ident[..ident.len() - last.len() - 1].to_string();
             match families.iter_mut().find(|(name, _)| *name == family) {
                 Some((_, members)) => members.push(ident),
-                None => families.push((family, vec![ident])),
+                None => families.push((family, Vec::from([ident]))),
             }
         }
     }

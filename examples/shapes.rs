@@ -3,6 +3,11 @@
 //! triangles, with a check of each against the definition.
 //!
 //!     cargo run --example shapes
+#![allow(
+    clippy::disallowed_macros,
+    clippy::disallowed_methods,
+    reason = "the rule on allocations (clippy.toml) binds the library, not its users"
+)]
 
 use glam::DVec2;
 use pixgeo::algorithms::area::Extreme;

@@ -4,6 +4,11 @@
 //! farthest from every shop.
 //!
 //!     cargo run --example shops
+#![allow(
+    clippy::disallowed_macros,
+    clippy::disallowed_methods,
+    reason = "the rule on allocations (clippy.toml) binds the library, not its users"
+)]
 
 use glam::DVec2;
 use pixgeo::{

@@ -12,7 +12,9 @@ use crate::{Error, Result};
 pub fn reserve(bytes: u64, what: impl FnOnce() -> String) -> Result<()> {
     let probe =
         || usize::try_from(bytes).is_ok_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
-    if bytes <= cgroup_room() && probe() {
+    // Reading the control group's files costs more than a small allocation.
+    let within_group = bytes < 1 << 20 || bytes <= cgroup_room();
+    if within_group && probe() {
         Ok(())
     } else {
         Err(Error::HostMemory {
@@ -45,11 +47,26 @@ pub fn reserve_sites(n: usize) -> Result<()> {
 }
 
 /// A vector of `len` copies of `value`, or the [`reserve`] error where the
-/// process cannot have it.
+/// process cannot have it. Allocations that grow with the input go through
+/// here or [`room`]: clippy refuses `vec!` and `Vec::with_capacity` elsewhere
+/// in the library (`clippy.toml`).
+#[allow(clippy::disallowed_macros)]
 pub(crate) fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
-    let bytes = (len as u64).saturating_mul(std::mem::size_of::<T>() as u64);
-    reserve(bytes, || format!("{what} of {len} values"))?;
+    reserve_values::<T>(len, what)?;
     Ok(vec![value; len])
+}
+
+/// An empty vector with room for `len` values, or the [`reserve`] error
+/// where the process cannot have it.
+#[allow(clippy::disallowed_methods)]
+pub(crate) fn room<T>(len: usize, what: &str) -> Result<Vec<T>> {
+    reserve_values::<T>(len, what)?;
+    Ok(Vec::with_capacity(len))
+}
+
+fn reserve_values<T>(len: usize, what: &str) -> Result<()> {
+    let bytes = (len as u64).saturating_mul(std::mem::size_of::<T>() as u64);
+    reserve(bytes, || format!("{what} ({len} values)"))
 }
 
 /// What this process's control group (cgroup v2) leaves it; unlimited

@@ -263,7 +263,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.medial_axis {
         raster::write(path, size, &axis, Some(&geo))?;
     }
-    let (labels, count) = components(&mask.features, mask.width as usize);
+    let (labels, count) = components(&mask.features, mask.width as usize)?;
     let largest = t
         .distances
         .iter()

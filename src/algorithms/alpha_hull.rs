@@ -312,7 +312,7 @@ fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, canvas: Canvas) -> R
         distances: false,
         ..VoronoiOptions::exact(frame)
     };
-    let mut centre = vec![false; w * h];
+    let mut centre = crate::memory::filled(w * h, false, "disc centres")?;
     draw_point_tiles(machine, sites, &options, TileExtras::default(), |tile| {
         let key = tile.keys.scale * r_px * r_px;
         let (tw, th) = (tile.ids.width(), tile.ids.height());
@@ -417,7 +417,11 @@ fn convex(machine: &Machine, sites: &[DVec2], canvas: Canvas) -> Result<AlphaHul
     // A vertex buffer may not be empty.
     triangles.push([0.0; 3]);
     let mesh = machine.vertex_buffer(&triangles)?;
-    let ones = machine.vertex_buffer(&vec![1u32; triangles.len()])?;
+    let ones = machine.vertex_buffer(&crate::memory::filled(
+        triangles.len(),
+        1u32,
+        "triangle ids",
+    )?)?;
     draw_on(machine, &image, ClearColor::Uint([0; 4]), |pass| {
         draw_cones(
             pass,
@@ -521,14 +525,14 @@ fn draw_discs(
     };
     // A vertex buffer may not be empty.
     let instances = if discs.is_empty() {
-        vec![[0.0f32; 4]]
+        Vec::from([[0.0f32; 4]])
     } else {
         discs.to_vec()
     };
     let buffer = machine.vertex_buffer(&instances)?;
     // Runs of discs covering about DISC_PIXELS_PER_RUN pixels each, so that a
     // cancel (which the machine looks at every run) stops large pictures soon.
-    let mut runs = vec![0u32];
+    let mut runs = Vec::from([0u32]);
     let mut covered = 0.0;
     for (k, d) in discs.iter().enumerate() {
         covered += 4.0 * f64::from(d[2]).powi(2).min(f64::from(w) * f64::from(h));
@@ -615,7 +619,7 @@ fn hull_walk(
         .expect("a hull point");
     let slack = 1e-9 * radius;
     let holds = |c: DVec2| (0..n).all(|k| p(k).distance(c) <= radius + slack);
-    let (mut passed, mut centres) = (vec![hull[start]], Vec::new());
+    let (mut passed, mut centres) = (Vec::from([hull[start]]), Vec::new());
     let mut s = start;
     // Every step advances s, so the walk ends within one turn.
     while s < start + n {

@@ -98,7 +98,7 @@ pub fn voronoi_cells_with_progress(
         .map(|(&i, around)| (i, &around[..]))
         .collect();
     let built = CellBuilder::new(sites, *rect).cells(&jobs, progress)?;
-    let mut polygons = vec![Vec::new(); sites.len()];
+    let mut polygons = crate::memory::filled(sites.len(), Vec::new(), "cells")?;
     for (&i, cell) in distinct.iter().zip(built) {
         polygons[i as usize] = cell;
     }
@@ -119,7 +119,7 @@ fn neighbours(backend: &Backend, sites: &[DVec2], distinct: &[u32]) -> Result<Ve
         distinct[2..].iter().all(|&c| orient(a, b, at(c)) == 0.0)
     };
     let slot: HashMap<u32, usize> = distinct.iter().enumerate().map(|(k, &i)| (i, k)).collect();
-    let mut around = vec![Vec::new(); distinct.len()];
+    let mut around = crate::memory::filled(distinct.len(), Vec::new(), "the sites' neighbours")?;
     if on_one_line {
         // Neighbours along the line, in the order of the first two sites.
         let mut order: Vec<u32> = distinct.to_vec();

@@ -203,8 +203,8 @@ struct Mend {
 impl<'a> Certifier<'a> {
     /// For `sites` (world coordinates, finite) on `frame` under `metric`.
     pub fn new(sites: &'a [DVec2], frame: &Frame, metric: Metric) -> Result<Self> {
-        let mut places = Vec::with_capacity(sites.len());
-        let mut errors = Vec::with_capacity(sites.len());
+        let mut places = crate::memory::room(sites.len(), "the sites' places")?;
+        let mut errors = crate::memory::room(sites.len(), "the sites' errors")?;
         for (i, s) in sites.iter().enumerate() {
             let (x, ex) = to_pixel_bounded(s.x, frame.origin.x, frame.scale);
             let (y, ey) = to_pixel_bounded(s.y, frame.origin.y, frame.scale);
@@ -569,8 +569,9 @@ impl<'a> Certifier<'a> {
     ) -> Result<()> {
         // An insertion sort: nearly sorted already, and most comparisons are
         // decided by the intervals.
-        let mut exact: Vec<Option<[BigRational; 2]>> = vec![None; candidates.len()];
-        let mut ranked: Vec<usize> = Vec::with_capacity(candidates.len());
+        let mut exact: Vec<Option<[BigRational; 2]>> =
+            crate::memory::filled(candidates.len(), None, "exact candidates")?;
+        let mut ranked: Vec<usize> = crate::memory::room(candidates.len(), "ranked candidates")?;
         for n in 0..candidates.len() {
             let mut slot = ranked.len();
             while slot > 0 {
@@ -725,7 +726,7 @@ impl Certifier<'_> {
             .enumerate()
             .map(|(y, row)| {
                 watch.check()?;
-                let mut scratch = Vec::with_capacity(owners.len());
+                let mut scratch = crate::memory::room(owners.len(), "owners' scratch")?;
                 let mut mended = 0;
                 for (x, label) in row.iter_mut().enumerate() {
                     let p = [x as i64, y as i64];
@@ -802,7 +803,7 @@ impl Certifier<'_> {
             .map(|c| c.lo)
             .fold(f64::NEG_INFINITY, f64::max);
         scratch.retain(|c| c.hi >= floor);
-        let mut exact = vec![None; scratch.len()];
+        let mut exact = crate::memory::filled(scratch.len(), None, "exact owners")?;
         let mut best = 0;
         for n in 1..scratch.len() {
             let order = self.compare(p, scratch, &mut exact, best, n)?;

@@ -164,10 +164,10 @@ fn grown_k_nearest(
         })
         .collect();
     spans.sort_unstable();
-    let mut keys = vec![(f64::INFINITY, u32::MAX); w * h * ku];
+    let mut keys = crate::memory::filled(w * h * ku, (f64::INFINITY, u32::MAX), "levels' keys")?;
     // A pixel's list can hold at most this many sites.
     let full = ku.min(sites.len());
-    let mut done = vec![false; h.div_ceil(BAND_ROWS as usize)];
+    let mut done = crate::memory::filled(h.div_ceil(BAND_ROWS as usize), false, "bands done")?;
     let lower = metric.euclidean_bounds().0;
     // Ring r of the offset table holds the offsets of length in (r - 1, r]; the
     // sites visit it row by row of the band.
@@ -335,7 +335,7 @@ fn nearest_by_blocks(
     let boxes: Vec<(DVec2, DVec2)> = pixels.iter().map(Site::bounds).collect();
     let lower = metric.euclidean_bounds().0;
     let block = BAND_ROWS as usize;
-    let mut best = vec![(f64::INFINITY, u32::MAX); w * h];
+    let mut best = crate::memory::filled(w * h, (f64::INFINITY, u32::MAX), "nearest keys")?;
     let watch = Watch::current();
     best.par_chunks_mut(block * w)
         .enumerate()

@@ -286,7 +286,7 @@ fn distinct_points<K: Ord + Send>(
 /// The finite triangles of `mesh` over input indices (`unique` maps the
 /// mesh's vertices to them), each starting at its least index, sorted: the
 /// same list whichever route built the mesh.
-fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Vec<[u32; 3]> {
+fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Result<Vec<[u32; 3]>> {
     let rotated = mesh
         .triangles()
         .into_iter()
@@ -304,13 +304,13 @@ fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Vec<[u32; 3]> {
     // A counting sort by the least index (a vertex is the least of about
     // two triangles), then each run in order.
     let n = unique.iter().max().map_or(0, |&m| m as usize + 1);
-    let mut start = vec![0u32; n + 1];
+    let mut start = crate::memory::filled(n + 1, 0u32, "triangles by vertex")?;
     let rotated: Vec<[u32; 3]> = rotated.inspect(|t| start[t[0] as usize + 1] += 1).collect();
     for v in 0..n {
         start[v + 1] += start[v];
     }
     let mut next = start.clone();
-    let mut sorted = vec![[0; 3]; rotated.len()];
+    let mut sorted = crate::memory::filled(rotated.len(), [0; 3], "sorted triangles")?;
     for t in rotated {
         let at = &mut next[t[0] as usize];
         sorted[*at as usize] = t;
@@ -319,7 +319,7 @@ fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Vec<[u32; 3]> {
     for run in start.windows(2) {
         sorted[run[0] as usize..run[1] as usize].sort_unstable();
     }
-    sorted
+    Ok(sorted)
 }
 
 /// The CPU route: the distinct points inserted in Hilbert order.
@@ -347,7 +347,7 @@ fn by_insertion(points: &[DVec2], progress: &mut dyn FnMut(u64, u64)) -> Result<
     };
     progress(STEPS, STEPS);
     Ok(Delaunay {
-        triangles: canonical_triangles(&mesh, &unique),
+        triangles: canonical_triangles(&mesh, &unique)?,
         duplicates,
         digital_validity: None,
         stats,
@@ -427,7 +427,8 @@ fn triangulate(
         cell,
         ..Default::default()
     };
-    let mut seed_at = vec![u32::MAX; width as usize * height as usize];
+    let mut seed_at =
+        crate::memory::filled(width as usize * height as usize, u32::MAX, "seeds' pixels")?;
     let mut seeds: Vec<Seed> = Vec::new();
     let mut seed_point: Vec<u32> = Vec::new();
     for (k, &p) in real.iter().enumerate() {
@@ -531,7 +532,7 @@ fn triangulate(
                 let s = pixel_of(p);
                 seed_point[flooding.labels[s[1] as usize * width as usize + s[0] as usize] as usize]
             };
-            let mut is_seed = vec![false; real.len()];
+            let mut is_seed = crate::memory::filled(real.len(), false, "seed flags")?;
             for &v in &seed_point {
                 is_seed[v as usize] = true;
             }
@@ -557,7 +558,7 @@ fn triangulate(
         }
     };
     stats.insert_ms = ms(started);
-    let triangles = canonical_triangles(&mesh, &unique);
+    let triangles = canonical_triangles(&mesh, &unique)?;
     progress(5, STEPS);
     Ok(Delaunay {
         triangles,

@@ -98,7 +98,7 @@ pub const MAX_SIDE: u32 = 16_000;
 /// grows one region from each seed pixel.
 pub fn seeds_of(frame: &Frame, sites: &[DVec2]) -> Result<Vec<Seed>> {
     let mut seen = std::collections::HashMap::new();
-    let mut seeds = Vec::with_capacity(sites.len());
+    let mut seeds = crate::memory::room(sites.len(), "seeds")?;
     for (i, p) in sites.iter().enumerate() {
         let c = frame.to_pixel(*p).round();
         if !(c.x >= 0.0 && c.y >= 0.0 && c.x < frame.width as f64 && c.y < frame.height as f64) {
@@ -192,7 +192,7 @@ fn colouring(
     }
     let pixels = width as usize * height as usize;
     // The seed map, room for the column pass, the seeds' packed positions.
-    let mut input = vec![NONE; 2 * pixels + seeds.len()];
+    let mut input = crate::memory::filled(2 * pixels + seeds.len(), NONE, "flooding's input")?;
     for (i, s) in seeds.iter().enumerate() {
         input[s[1] as usize * width as usize + s[0] as usize] = i as u32;
         input[2 * pixels + i] = s[0] as u32 | (s[1] as u32) << 16;
@@ -240,7 +240,7 @@ pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Resu
     let w = width as i32;
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let colour = |labels: &[u32], p: [i32; 2]| labels[at(p)];
-    let mut debris = vec![false; labels.len()];
+    let mut debris = crate::memory::filled(labels.len(), false, "debris flags")?;
     let mut stack: Vec<[i32; 2]> = Vec::new();
     for &k in &roots {
         if debris[k] {
@@ -292,7 +292,7 @@ pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Resu
             }
         }
     }
-    let mut done = vec![false; labels.len()];
+    let mut done = crate::memory::filled(labels.len(), false, "done flags")?;
     while let Some(Reverse((_, event, p, c))) = queue.pop() {
         match event {
             Event::Coloured => {}
@@ -343,7 +343,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
     const NO_SEED: u32 = u32::MAX;
     let pack = |s: Seed| s[0] as u32 | (s[1] as u32) << 16;
     let pixels = width as usize * height as usize;
-    let mut start = vec![NO_SEED; pixels];
+    let mut start = crate::memory::filled(pixels, NO_SEED, "seeds' starts")?;
     for s in seeds {
         start[(s[1] as u32 * width + s[0] as u32) as usize] = pack(*s);
     }
@@ -373,7 +373,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
     })?;
     let result = if steps.len() % 2 == 1 { &b } else { &a };
     // The seed at each seed pixel, to turn positions back into indices.
-    let mut seed_at = vec![NONE; pixels];
+    let mut seed_at = crate::memory::filled(pixels, NONE, "seeds' pixels")?;
     for (i, s) in seeds.iter().enumerate() {
         seed_at[(s[1] as u32 * width + s[0] as u32) as usize] = i as u32;
     }

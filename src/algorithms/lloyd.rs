@@ -119,7 +119,7 @@ pub fn lloyd(
     let mut converged = false;
     for _ in 0..options.iterations {
         watch.check()?;
-        let sums = weights.sums(&frame, &labels, sites.len());
+        let sums = weights.sums(&frame, &labels, sites.len())?;
         let energy = weights.energy(&frame, &labels, &sites);
         let mut largest_move: f64 = 0.0;
         for (site, sum) in sites.iter_mut().zip(&sums) {
@@ -139,7 +139,7 @@ pub fn lloyd(
             break;
         }
     }
-    let sums = weights.sums(&frame, &labels, sites.len());
+    let sums = weights.sums(&frame, &labels, sites.len())?;
     Ok(Lloyd {
         energy: weights.energy(&frame, &labels, &sites),
         idle: sums.iter().filter(|s| s.weight == 0).count(),
@@ -294,34 +294,31 @@ impl Weights {
     }
 
     /// Each site's sums over its region.
-    fn sums(&self, frame: &Frame, labels: &[u32], sites: usize) -> Vec<Sums> {
+    fn sums(&self, frame: &Frame, labels: &[u32], sites: usize) -> Result<Vec<Sums>> {
         let width = frame.width as usize;
+        let zero = || crate::memory::filled(sites, Sums::default(), "the regions' sums");
         labels
             .par_chunks(width)
             .enumerate()
-            .fold(
-                || vec![Sums::default(); sites],
-                |mut sums, (j, row)| {
-                    for (i, &l) in row.iter().enumerate() {
-                        let q = self.q(j * width + i) as u128;
-                        if q == 0 || l as usize >= sites {
-                            continue;
-                        }
-                        let s = &mut sums[l as usize];
-                        s.weight += q;
-                        s.x += q * (2 * i as u128 + 1);
-                        s.y += q * (2 * j as u128 + 1);
+            .fold(zero, |sums, (j, row)| {
+                let mut sums = sums?;
+                for (i, &l) in row.iter().enumerate() {
+                    let q = self.q(j * width + i) as u128;
+                    if q == 0 || l as usize >= sites {
+                        continue;
                     }
-                    sums
-                },
-            )
-            .reduce(
-                || vec![Sums::default(); sites],
-                |mut a, b| {
-                    a.iter_mut().zip(&b).for_each(|(a, b)| a.add(b));
-                    a
-                },
-            )
+                    let s = &mut sums[l as usize];
+                    s.weight += q;
+                    s.x += q * (2 * i as u128 + 1);
+                    s.y += q * (2 * j as u128 + 1);
+                }
+                Ok(sums)
+            })
+            .reduce(zero, |a, b| {
+                let (mut a, b) = (a?, b?);
+                a.iter_mut().zip(&b).for_each(|(a, b)| a.add(b));
+                Ok(a)
+            })
     }
 
     /// Σ density · squared distance from each pixel's centre to its site.

@@ -62,7 +62,7 @@ pub fn locate(points: &[DVec2], triangles: &[[u32; 3]], queries: &[DVec2]) -> Re
         format!("the triangles of {} query points", queries.len())
     })?;
     if triangles.is_empty() {
-        return Ok(vec![OUTSIDE; queries.len()]);
+        return crate::memory::filled(queries.len(), OUTSIDE, "the queries' triangles");
     }
     let mesh = Triangles::new(points, triangles);
     let mut start = 0;
@@ -96,7 +96,7 @@ pub fn locate(points: &[DVec2], triangles: &[[u32; 3]], queries: &[DVec2]) -> Re
 /// The smallest index among the triangles that hold `q`, from `t`, one of
 /// them: those reached across edges that `q` lies on.
 fn least_holding(mesh: &Triangles<'_>, q: DVec2, t: u32) -> u32 {
-    let (mut seen, mut todo, mut least) = (vec![t], vec![t], t);
+    let (mut seen, mut todo, mut least) = (Vec::from([t]), Vec::from([t]), t);
     while let Some(t) = todo.pop() {
         least = least.min(t);
         let p = mesh.corner_points(t);

@@ -56,8 +56,8 @@ pub struct Regular {
 
 impl Regular {
     /// Each of `sites` sites' neighbours in the triangulation, ascending.
-    pub fn neighbours(&self, sites: usize) -> Vec<Vec<u32>> {
-        let mut neighbours = vec![Vec::new(); sites];
+    pub fn neighbours(&self, sites: usize) -> Result<Vec<Vec<u32>>> {
+        let mut neighbours = crate::memory::filled(sites, Vec::new(), "the sites' neighbours")?;
         for t in &self.triangles {
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -69,7 +69,7 @@ impl Regular {
             n.sort_unstable();
             n.dedup();
         }
-        neighbours
+        Ok(neighbours)
     }
 
     /// The power cells of `sites`, whose regular triangulation this is,
@@ -83,7 +83,7 @@ impl Regular {
         rect.check()?;
         let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
         let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();
-        let neighbours = self.neighbours(sites.len());
+        let neighbours = self.neighbours(sites.len())?;
         // A hidden site has no cell.
         let jobs: Vec<(u32, &[u32])> = neighbours
             .iter()
@@ -92,7 +92,7 @@ impl Regular {
             .map(|(i, around)| (i as u32, &around[..]))
             .collect();
         let built = CellBuilder::weighted(&points, &weights, *rect).cells(&jobs, progress)?;
-        let mut polygons = vec![Vec::new(); sites.len()];
+        let mut polygons = crate::memory::filled(sites.len(), Vec::new(), "power cells")?;
         for (&(i, _), cell) in jobs.iter().zip(built) {
             polygons[i as usize] = cell;
         }
@@ -237,8 +237,8 @@ pub fn power_diagram_window(
         .window(Some(window))
         .window_rect()?;
     let regular = regular_triangulation(sites)?;
-    let neighbours = regular.neighbours(sites.len());
-    let copies = copies(sites);
+    let neighbours = regular.neighbours(sites.len())?;
+    let copies = copies(sites)?;
     let start = regular.triangles[0][0];
     let watch = Watch::current();
     let rows: Vec<Vec<(u32, u32, f64)>> = (rect.y..rect.y + rect.height)
@@ -266,7 +266,7 @@ pub fn power_diagram_window(
 
 /// For each site, how many later sites repeat it (the same point and
 /// weight): the triangulation keeps the first alone.
-fn copies(sites: &[Weighted]) -> Vec<u32> {
+fn copies(sites: &[Weighted]) -> Result<Vec<u32>> {
     let key = |i: u32| {
         let s = sites[i as usize];
         (
@@ -277,11 +277,11 @@ fn copies(sites: &[Weighted]) -> Vec<u32> {
     };
     let mut order: Vec<u32> = (0..sites.len() as u32).collect();
     order.sort_unstable_by_key(|&i| (key(i), i));
-    let mut copies = vec![0; sites.len()];
+    let mut copies = crate::memory::filled(sites.len(), 0, "the sites' copies")?;
     for run in order.chunk_by(|&a, &b| key(a) == key(b)) {
         copies[run[0] as usize] = run.len() as u32 - 1;
     }
-    copies
+    Ok(copies)
 }
 
 /// The site of least power at `p` (the lowest index of equals) and how many
@@ -321,7 +321,7 @@ fn least_power(
     }
     // Sites of equal least power own p together; their cells meet there,
     // so each is reached from another over an edge.
-    let mut equal = vec![at];
+    let mut equal = Vec::from([at]);
     let mut k = 0;
     while k < equal.len() {
         let s = equal[k];

@@ -101,7 +101,7 @@ fn rings(edges: &[(Corner, u8)]) -> Vec<Vec<Corner>> {
         if !taken(&mut from, start, first) {
             continue;
         }
-        let mut ring = vec![start];
+        let mut ring = Vec::from([start]);
         let (mut at, mut step) = (next(start, first), first);
         loop {
             // The sharpest left turn first: left, straight, right, which keeps
@@ -169,7 +169,7 @@ fn holds(ring: &[Corner], (x, y): (i64, i64)) -> bool {
 /// holes (clockwise) inside it.
 fn polygons(rings: Vec<Vec<Corner>>) -> Vec<Vec<Vec<Corner>>> {
     let (outer, holes): (Vec<_>, Vec<_>) = rings.into_iter().partition(|r| twice_area(r) > 0);
-    let mut out: Vec<Vec<Vec<Corner>>> = outer.into_iter().map(|r| vec![r]).collect();
+    let mut out: Vec<Vec<Vec<Corner>>> = outer.into_iter().map(|r| Vec::from([r])).collect();
     for hole in holes {
         // The pixel on the left of the hole's first edge is the label's, and
         // inside exactly one outer ring: the smallest that holds it.

@@ -462,7 +462,7 @@ fn repeats_once(
     }
     kept.sort_unstable();
     let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
-    let mut repeated = vec![1u32; distinct.len()];
+    let mut repeated = crate::memory::filled(distinct.len(), 1u32, "repeats")?;
     let position = |i: u32| kept.binary_search(&i).expect("a kept site");
     for &[_, first] in &repeats {
         repeated[position(first)] += 1;
@@ -532,14 +532,14 @@ fn distinct_bands(
             band = Some(Band {
                 y0: tile.y0,
                 height: tile.inner.height,
-                labels: vec![0; pixels],
+                labels: crate::memory::filled(pixels, 0, "labels")?,
                 distances: if options.distances {
-                    vec![0.0; pixels]
+                    crate::memory::filled(pixels, 0.0, "distances")?
                 } else {
                     Vec::new()
                 },
                 ties: if options.ties {
-                    vec![0; pixels]
+                    crate::memory::filled(pixels, 0, "tie counts")?
                 } else {
                     Vec::new()
                 },

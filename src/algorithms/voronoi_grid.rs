@@ -83,7 +83,7 @@ pub(crate) fn grid_bands(
             k: 1,
         };
         let started = std::time::Instant::now();
-        let mut labels = vec![0u32; width * height as usize];
+        let mut labels = crate::memory::filled(width * height as usize, 0u32, "labels")?;
         labels
             .par_chunks_mut(width * BLOCK as usize)
             .enumerate()
@@ -103,7 +103,7 @@ pub(crate) fn grid_bands(
         stats.render_ms += ms(started);
         let started = std::time::Instant::now();
         let mut ties = if options.ties {
-            vec![1; labels.len()]
+            crate::memory::filled(labels.len(), 1, "tie counts")?
         } else {
             Vec::new()
         };
@@ -111,7 +111,7 @@ pub(crate) fn grid_bands(
         stats.mended += certifier.certify_marked(region, &mut labels, None, counts)?;
         let mut distances = Vec::new();
         if options.distances {
-            distances = vec![0.0; labels.len()];
+            distances = crate::memory::filled(labels.len(), 0.0, "distances")?;
             certifier.label_distances(region, &labels, &mut distances);
         }
         stats.certify_ms += ms(started);

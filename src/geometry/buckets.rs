@@ -34,6 +34,10 @@ pub(crate) fn for_ring_cells(
 /// Items grouped by bucket (a counting sort, stable): those of bucket `b` are
 /// `grouped[start[b]..start[b + 1]]`, in the order `items` gives them. Returns
 /// `(start, grouped)`; `items` is walked twice.
+#[expect(
+    clippy::disallowed_macros,
+    reason = "as many as the items, within the budget the caller reserved"
+)]
 pub(crate) fn group_by_bucket<T: Copy + Default>(
     buckets: usize,
     items: impl Iterator<Item = (usize, T)> + Clone,

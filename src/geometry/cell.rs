@@ -61,7 +61,7 @@ impl Polygon {
     fn rect(rect: &Rect, centre: DVec2) -> Self {
         let (lo, hi) = (rect.lo - centre, rect.hi - centre);
         Self {
-            corners: vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)],
+            corners: Vec::from([lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]),
         }
     }
 
@@ -79,6 +79,7 @@ impl Polygon {
     }
 
     /// Keeps the part with `v . normal <= limit`.
+    #[expect(clippy::disallowed_methods, reason = "a cell's corners")]
     fn clip(&mut self, normal: DVec2, limit: f64) {
         if self.corners.iter().all(|v| v.dot(normal) <= limit) {
             return;

@@ -64,7 +64,7 @@ pub(crate) fn picture_radius(metric: Metric, side: f64) -> f64 {
 /// y axis.
 fn quadrant(p: f64, r: f64, epsilon: f64) -> Vec<DVec2> {
     if epsilon >= r {
-        return vec![DVec2::new(r, 0.0)];
+        return Vec::from([DVec2::new(r, 0.0)]);
     }
     let inner = r - epsilon;
     let outer_curve = Curve { p, r };
@@ -76,7 +76,7 @@ fn quadrant(p: f64, r: f64, epsilon: f64) -> Vec<DVec2> {
     } else {
         (inner_curve, outer_curve)
     };
-    let mut vertices = vec![DVec2::new(on.r, 0.0)];
+    let mut vertices = Vec::from([DVec2::new(on.r, 0.0)]);
     let mut x = on.r;
     // Thousands of edges at most for any p and radius a picture can need; the cap
     // guards against a walk that stops advancing in floating point.
@@ -163,6 +163,7 @@ fn bisect(h: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 /// The whole polygon from the first quadrant's vertices (x axis first, y axis
 /// not included), counter-clockwise: the quadrant closes at the y axis vertex
 /// (0, r), the swap of its first; the other quadrants mirror it in the axes.
+#[expect(clippy::disallowed_methods, reason = "one ball's quadrant, reflected")]
 fn reflect(q1: &[DVec2]) -> Vec<DVec2> {
     let (first, rest) = (q1[0], &q1[1..]);
     let m = |v: &DVec2, sx: f64, sy: f64| DVec2::new(v.x * sx, v.y * sy);
@@ -215,7 +216,7 @@ pub(crate) fn norm_range_on_segment(metric: Metric, a: DVec2, b: DVec2) -> (f64,
     if matches!(metric, Metric::L1 | Metric::LInf) {
         return (piecewise_linear_minimum(metric, a, b), at(0.0).max(at(1.0)));
     }
-    let mut cuts = vec![0.0, 1.0];
+    let mut cuts = Vec::from([0.0, 1.0]);
     for axis in 0..2 {
         let (u, v) = (a[axis], b[axis]);
         if u != v {

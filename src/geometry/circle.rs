@@ -75,7 +75,7 @@ pub(crate) fn through_two(a: DVec2, b: DVec2, ia: usize, ib: usize) -> Circle {
     let half = BigRational::new(1.into(), 2.into());
     let [ea, eb] = [a, b].map(rational_point);
     let centre = [(&ea[0] + &eb[0]) * &half, (&ea[1] + &eb[1]) * &half];
-    rounded(&centre, a, vec![ia, ib])
+    rounded(&centre, a, Vec::from([ia, ib]))
 }
 
 /// The circle through three points (the two farthest apart when they are
@@ -111,7 +111,7 @@ pub fn welzl(points: &[DVec2]) -> Circle {
         Some(&i) => Circle {
             centre: points[i],
             radius: 0.0,
-            support: vec![i],
+            support: Vec::from([i]),
         },
     };
     for i in 1..order.len() {
@@ -121,7 +121,7 @@ pub fn welzl(points: &[DVec2]) -> Circle {
         c = Circle {
             centre: p(i),
             radius: 0.0,
-            support: vec![order[i]],
+            support: Vec::from([order[i]]),
         };
         for j in 0..i {
             if c.holds(points, p(j)) {

@@ -110,6 +110,7 @@ impl FanShape {
 
 /// The unit fan of `triangles`: the apex (0, 0, 0), then `triangles + 1` rim
 /// vertices (cos, sin, 1), the last closing the fan.
+#[expect(clippy::disallowed_methods, reason = "one cone's fan")]
 pub(crate) fn unit_fan(triangles: u32) -> Vec<[f32; 3]> {
     let mut v = Vec::with_capacity(triangles as usize + 2);
     v.push([0.0, 0.0, 0.0]);

@@ -105,7 +105,7 @@ impl<'a> CellBuilder<'a> {
     ) -> crate::Result<Vec<Vec<DVec2>>> {
         use rayon::prelude::*;
         let (watch, total) = (crate::cancel::Watch::current(), jobs.len() as u64);
-        let mut cells = Vec::with_capacity(jobs.len());
+        let mut cells = crate::memory::room(jobs.len(), "exact cells")?;
         for part in jobs.chunks(CELLS_PER_LOOK) {
             watch.check()?;
             progress(cells.len() as u64, total);
@@ -122,6 +122,7 @@ impl<'a> CellBuilder<'a> {
     /// The cell of site `s` bounded by the lines with `neighbours`: its
     /// corners counter-clockwise, each the double nearest the exact corner;
     /// empty where the exact cell has no area in the rectangle.
+    #[expect(clippy::disallowed_methods, reason = "one cell's corners")]
     pub fn cell(&mut self, s: u32, neighbours: &[u32]) -> Vec<DVec2> {
         let site = self.sites[s as usize];
         let (lo, hi) = (self.rect.lo, self.rect.hi);
@@ -133,12 +134,12 @@ impl<'a> CellBuilder<'a> {
                 Bounded::difference(y, site.y),
             ],
         };
-        let mut corners = vec![
+        let mut corners = Vec::from([
             corner(lo.x, lo.y, 0, 1),
             corner(hi.x, lo.y, 1, 2),
             corner(hi.x, hi.y, 2, 3),
             corner(lo.x, hi.y, 3, 0),
-        ];
+        ]);
         // Nearer neighbours first: they clip the most.
         let mut order: Vec<u32> = neighbours.to_vec();
         order.sort_by(|&a, &b| {
@@ -169,6 +170,7 @@ impl<'a> CellBuilder<'a> {
 
     /// Keeps the part of the cell of no more power from `s` than from `k`:
     /// the exact intersection, with no corner repeated.
+    #[expect(clippy::disallowed_methods, reason = "one cell's corners")]
     fn clip(&self, s: u32, corners: &[Corner], k: u32) -> Vec<Corner> {
         let sides: Vec<Ordering> = corners.iter().map(|c| self.side(s, c, k)).collect();
         if sides.iter().all(|&o| o != Ordering::Greater) {

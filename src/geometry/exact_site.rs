@@ -262,8 +262,8 @@ fn segment_distance(metric: Metric, q: &Point, a: &Point, b: &Point) -> Option<S
         ));
     }
     let rays: Vec<Point> = match metric {
-        Metric::L1 => vec![unit(1, 0), unit(0, 1)],
-        Metric::LInf => vec![unit(1, 1), unit(1, -1)],
+        Metric::L1 => Vec::from([unit(1, 0), unit(0, 1)]),
+        Metric::LInf => Vec::from([unit(1, 1), unit(1, -1)]),
         Metric::Polygon(g) => g
             .vertices
             .iter()
@@ -273,7 +273,7 @@ fn segment_distance(metric: Metric, q: &Point, a: &Point, b: &Point) -> Option<S
     };
     let one = BigRational::from_integer(1.into());
     let zero = BigRational::zero();
-    let mut cuts = vec![zero.clone(), one.clone()];
+    let mut cuts = Vec::from([zero.clone(), one.clone()]);
     for v in &rays {
         // v × (o - t e) = 0.
         let den = cross(v, &e);

@@ -257,6 +257,10 @@ pub(crate) fn first_of_each(points: &[DVec2]) -> Vec<u32> {
 /// The distinct points among `indices`: sorted by `key`, the first index of
 /// each run of equal points kept (−0.0 equals 0.0). Returns the kept indices in
 /// key order, and the others as (dropped, kept), sorted.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "the distinct keys, at most the sites given"
+)]
 pub(crate) fn distinct_by<K: Ord + Send>(
     points: &[DVec2],
     indices: impl IntoIterator<Item = u32>,

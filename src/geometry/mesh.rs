@@ -138,6 +138,10 @@ impl Mesh {
     /// more than one ring, an Euler characteristic other than 2, or a finite
     /// triangle that is not counter-clockwise. (That the boundary is simple is
     /// not checked; [`super::triangulation::validate`] checks everything.)
+    #[expect(
+        clippy::disallowed_macros,
+        reason = "as many as the points and triangles, within the budget the caller reserved"
+    )]
     pub fn new(points: Vec<DVec2>, triangles: Vec<[u32; 3]>) -> Result<Self, String> {
         let n = points.len();
         let slot = |v: u32| if v == DUMMY { n } else { v as usize };
@@ -278,7 +282,7 @@ impl Mesh {
     /// The triangle a, b, c (counter-clockwise, distinct points) and its three
     /// ghosts: the start of an incremental triangulation.
     pub fn triangle(points: Vec<DVec2>, [a, b, c]: [u32; 3]) -> Self {
-        let triangles = vec![[a, b, c], [b, a, DUMMY], [c, b, DUMMY], [a, c, DUMMY]];
+        let triangles = Vec::from([[a, b, c], [b, a, DUMMY], [c, b, DUMMY], [a, c, DUMMY]]);
         Self::new(points, triangles).expect("a triangle and its ghosts are a sphere")
     }
 
@@ -331,6 +335,7 @@ impl Mesh {
     }
 
     /// The triangles around `v`, counter-clockwise, each with `v`'s index.
+    #[expect(clippy::disallowed_methods, reason = "one vertex's ring")]
     fn ring(&self, v: u32) -> Vec<(u32, usize)> {
         let first = self.corner[self.slot(v)];
         let mut ring = Vec::with_capacity(8);
@@ -485,9 +490,13 @@ impl Mesh {
     /// a and c and no other boundary site lies in triangle (a, b, c), the
     /// ghosts (a, b, D) and (b, c, D) become (a, b, c) and (a, c, D). Returns
     /// the number of flips.
+    #[expect(
+        clippy::disallowed_macros,
+        reason = "a flag a point, within the budget the caller reserved"
+    )]
     pub(crate) fn convexify(&mut self) -> usize {
         let first = self.corner[self.points.len()];
-        let mut ghosts = vec![first];
+        let mut ghosts = Vec::from([first]);
         let mut g = self.next_ghost(first);
         while g != first {
             ghosts.push(g);
@@ -593,6 +602,7 @@ impl Mesh {
     }
 
     /// [`Mesh::remove`] without its guard.
+    #[expect(clippy::disallowed_methods, reason = "one vertex's ring")]
     fn take_out(&mut self, v: u32) {
         let ring = self.ring(v);
         // The link cycle, each edge with the triangle beyond it.
@@ -621,6 +631,7 @@ impl Mesh {
     }
 
     /// Ear clipping of a simple counter-clockwise polygon of sites.
+    #[expect(clippy::disallowed_methods, reason = "one vertex's ring")]
     fn ears(&self, polygon: &[u32]) -> Vec<[u32; 3]> {
         let mut left = polygon.to_vec();
         let mut out = Vec::with_capacity(polygon.len() - 2);
@@ -652,6 +663,7 @@ impl Mesh {
     /// The triangles between a removed hull vertex's link chain and the
     /// chain's convex side toward it (a Graham scan; the chain is sorted by
     /// angle around the removed vertex), and the ghosts of the new hull edges.
+    #[expect(clippy::disallowed_methods, reason = "one vertex's ring")]
     fn pocket(&self, chain: &[u32]) -> Vec<[u32; 3]> {
         let mut out = Vec::new();
         let mut hull: Vec<u32> = Vec::with_capacity(chain.len());
@@ -806,7 +818,7 @@ impl Mesh {
         self.repoint(n_bd, g, g2);
         self.present += 1;
         let mut flips = 0;
-        let mut inner = vec![(g, 0)];
+        let mut inner = Vec::from([(g, 0)]);
         // Walk back over a while z → a → q turns left, then on over b.
         let mut ghost = g1;
         loop {

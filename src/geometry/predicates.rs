@@ -108,6 +108,10 @@ pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
 /// Indices of the convex hull's vertices, counter-clockwise, points on its edges
 /// left out (Andrew's monotone chain with exact orientation tests). Duplicates
 /// appear once; one or two distinct points are their own hull.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "the hull's vertices, at most the points given"
+)]
 pub fn convex_hull(points: &[DVec2]) -> Vec<u32> {
     let turn = orient;
     // Akl–Toussaint: points strictly inside the octagon of the extreme points in

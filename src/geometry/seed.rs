@@ -27,7 +27,8 @@ pub fn check_seeds(width: u32, height: u32, seeds: &[Seed]) -> Result<()> {
     if width == 0 || height == 0 {
         return Err(Error::InvalidInput("the texture has no pixels".into()));
     }
-    let mut seen = vec![false; width as usize * height as usize];
+    let mut seen =
+        crate::memory::filled(width as usize * height as usize, false, "the seeds' pixels")?;
     for (i, s) in seeds.iter().enumerate() {
         if s[0] < 0 || s[1] < 0 || s[0] >= width as i32 || s[1] >= height as i32 {
             return Err(Error::InvalidInput(format!(

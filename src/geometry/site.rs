@@ -94,9 +94,9 @@ impl Site {
     /// circle's or arc's centre.
     pub fn anchors(&self) -> Vec<DVec2> {
         match self.shape {
-            Shape::Point(p) => vec![p],
-            Shape::Segment(a, b) => vec![a, b],
-            Shape::Circle { center, .. } | Shape::Arc { center, .. } => vec![center],
+            Shape::Point(p) => Vec::from([p]),
+            Shape::Segment(a, b) => Vec::from([a, b]),
+            Shape::Circle { center, .. } | Shape::Arc { center, .. } => Vec::from([center]),
         }
     }
 
@@ -367,9 +367,9 @@ pub(crate) fn polygonal_curve_distance(
 /// L∞ and polygon balls, and the axes for p < 1.
 pub(crate) fn kink_rays(metric: Metric) -> Vec<DVec2> {
     match metric {
-        Metric::L1 => vec![DVec2::X, DVec2::Y],
-        Metric::Lp(p) if p < 1.0 => vec![DVec2::X, DVec2::Y],
-        Metric::LInf => vec![DVec2::ONE, DVec2::new(1.0, -1.0)],
+        Metric::L1 => Vec::from([DVec2::X, DVec2::Y]),
+        Metric::Lp(p) if p < 1.0 => Vec::from([DVec2::X, DVec2::Y]),
+        Metric::LInf => Vec::from([DVec2::ONE, DVec2::new(1.0, -1.0)]),
         Metric::Polygon(g) => g.vertices.clone(),
         _ => Vec::new(),
     }
@@ -499,15 +499,15 @@ pub(crate) fn check_general_sites(sites: &[Site]) -> Result<()> {
     for (i, s) in sites.iter().enumerate() {
         let bad = |what: &str| Err(Error::InvalidInput(format!("site {i}: {what}")));
         let numbers: Vec<f64> = match s.shape {
-            Shape::Point(p) => vec![p.x, p.y],
-            Shape::Segment(a, b) => vec![a.x, a.y, b.x, b.y],
-            Shape::Circle { center, radius } => vec![center.x, center.y, radius],
+            Shape::Point(p) => Vec::from([p.x, p.y]),
+            Shape::Segment(a, b) => Vec::from([a.x, a.y, b.x, b.y]),
+            Shape::Circle { center, radius } => Vec::from([center.x, center.y, radius]),
             Shape::Arc {
                 center,
                 radius,
                 start,
                 end,
-            } => vec![center.x, center.y, radius, start, end],
+            } => Vec::from([center.x, center.y, radius, start, end]),
         };
         if numbers
             .iter()

@@ -192,8 +192,8 @@ pub(crate) fn fan_surface(
     let chord_error = metric.displacement_error(outer, chord);
     let mut out = Triangles::new();
     let polyline = match site.shape {
-        Shape::Point(p) => vec![p],
-        Shape::Segment(a, b) => vec![a, b],
+        Shape::Point(p) => Vec::from([p]),
+        Shape::Segment(a, b) => Vec::from([a, b]),
         Shape::Circle { center, radius } => {
             chords(center, radius, 0.0, std::f64::consts::TAU, chord)
         }
@@ -237,7 +237,7 @@ fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> 
     let span = span.clamp(0.0, std::f64::consts::TAU);
     if radius == 0.0 || span == 0.0 {
         let p = center + radius * DVec2::new(start.cos(), start.sin());
-        return vec![p];
+        return Vec::from([p]);
     }
     // A chord over angle 2t deviates by r (1 - cos t).
     let step = if deviation >= radius {

@@ -75,14 +75,14 @@ pub(crate) fn for_each_line(
         let (p, q) = (points[a as usize], points[b as usize]);
         p.y.total_cmp(&q.y).then(p.x.total_cmp(&q.x))
     });
-    let mut position = vec![0usize; n];
+    let mut position = crate::memory::filled(n, 0usize, "the points' sweep positions")?;
     for (k, &s) in order.iter().enumerate() {
         position[s as usize] = k;
     }
     // Per point, the first position of its line and its partners at the
     // current direction.
-    let mut first = vec![usize::MAX; n];
-    let mut partners = vec![0usize; n];
+    let mut first = crate::memory::filled(n, usize::MAX, "the points' first partners")?;
+    let mut partners = crate::memory::filled(n, 0usize, "the points' partners")?;
     let mut start = 0;
     let watch = crate::cancel::Watch::current();
     while start < events.len() {

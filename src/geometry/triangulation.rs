@@ -83,6 +83,7 @@ fn note(problems: &mut Vec<String>, condition: &str, what: String) {
 
 /// Checks conditions I–III for `triangles` over `points` (indices, or
 /// [`DUMMY`]).
+#[expect(clippy::disallowed_macros, reason = "a flag a point")]
 pub fn validate(points: &[DVec2], triangles: &[[u32; 3]]) -> Validity {
     let mut problems: Vec<String> = Vec::new();
     let n = points.len();
@@ -213,7 +214,7 @@ pub fn validate(points: &[DVec2], triangles: &[[u32; 3]]) -> Validity {
     let boundary: Vec<u32> = match next.get(&DUMMY) {
         Some(ring) => {
             let &start = ring.keys().next().expect("the dummy has triangles");
-            let mut cycle = vec![start];
+            let mut cycle = Vec::from([start]);
             while let Some(&to) = ring.get(cycle.last().expect("non-empty")) {
                 if to == start || cycle.len() > ring.len() {
                     break;
@@ -286,12 +287,13 @@ pub fn validate(points: &[DVec2], triangles: &[[u32; 3]]) -> Validity {
 /// - the triangles' areas add up to the hull's;
 /// - every inner edge is locally Delaunay (exact incircle), which for a
 ///   triangulation of the convex hull means Delaunay.
+#[expect(clippy::disallowed_macros, reason = "a flag a point")]
 pub fn check_delaunay(points: &[DVec2], triangles: &[[u32; 3]], expected: &[u32]) -> Vec<String> {
     let mut problems = Vec::new();
     // The predicates' signs are those of the points scaled into their range.
     let points = &match super::scale::incircle_exponent(points) {
         Ok(k) => super::scale::scaled(points, k),
-        Err(e) => return vec![e.to_string()],
+        Err(e) => return Vec::from([e.to_string()]),
     };
     let p = |v: u32| points[v as usize];
     let mut owner: HashMap<(u32, u32), usize> = HashMap::with_capacity(3 * triangles.len());
@@ -336,7 +338,7 @@ pub fn check_delaunay(points: &[DVec2], triangles: &[[u32; 3]], expected: &[u32]
         note(&mut problems, "boundary", "there is no boundary".into());
         return problems;
     };
-    let mut hull = vec![start];
+    let mut hull = Vec::from([start]);
     while let Some(&b) = next.get(hull.last().expect("non-empty")) {
         if b == start || hull.len() > next.len() {
             break;

@@ -80,7 +80,7 @@ fn decode_png(path: &Path) -> Result<Png> {
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| parse("the picture is too large to read".into()))?;
-    let mut pixels = vec![0u8; size];
+    let mut pixels = crate::memory::filled(size, 0u8, "a mask's pixels")?;
     let info = reader
         .next_frame(&mut pixels)
         .map_err(|e| parse(format!("not a PNG picture: {e}")))?;

@@ -156,7 +156,7 @@ fn parse_geojson(text: &str, column: &str) -> std::result::Result<Samples, Strin
     let value = super::json::parse(text)?;
     let features = match value.get("features") {
         Some(Value::Array(f)) => f.clone(),
-        _ => vec![value],
+        _ => Vec::from([value]),
     };
     let mut samples = Samples::default();
     for (i, feature) in features.iter().enumerate() {
@@ -165,7 +165,7 @@ fn parse_geojson(text: &str, column: &str) -> std::result::Result<Samples, Strin
         let kind = geometry.get("type").and_then(Value::as_str).unwrap_or("");
         let coordinates = geometry.get("coordinates");
         let points = match (kind, coordinates) {
-            ("Point", Some(c)) => vec![c.clone()],
+            ("Point", Some(c)) => Vec::from([c.clone()]),
             ("MultiPoint", Some(Value::Array(cs))) => cs.clone(),
             _ => {
                 return Err(format!(

@@ -245,7 +245,7 @@ impl CsvColumns {
             ));
         }
         Ok(Self {
-            names: vec!["x", "y"],
+            names: Vec::from(["x", "y"]),
         })
     }
 }

@@ -324,6 +324,10 @@ impl Buffer {
     }
 
     /// Reads `count` values of `T` from the start of the buffer.
+    #[expect(
+        clippy::disallowed_macros,
+        reason = "a copy of a device buffer the caller made"
+    )]
     pub(crate) fn read<T: bytemuck::Pod>(&self, count: usize) -> Vec<T> {
         let bytes = self.mapped();
         let n = count.min(bytes.len() / std::mem::size_of::<T>());

@@ -679,7 +679,11 @@ impl Machine {
             ((bins.low as f32).to_bits(), (bins.width as f32).to_bits())
         };
         let mut buffer = self.readback_buffer(4 * bins.bins as u64)?;
-        buffer.write(&vec![0u32; bins.bins as usize]);
+        buffer.write(&crate::memory::filled(
+            bins.bins as usize,
+            0u32,
+            "cleared bins",
+        )?);
         self.run(|pass| {
             pass.reduce(
                 Kernel::Histogram,

@@ -81,7 +81,12 @@ impl Pipelines {
         let mut pipelines = Self {
             ctx: ctx.clone(),
             cache: PipelineCache::open(ctx, cache_folder)?,
-            modules: RefCell::new(vec![vk::ShaderModule::null(); shaders::ALL.len()]),
+            modules: RefCell::new(
+                shaders::ALL
+                    .iter()
+                    .map(|_| vk::ShaderModule::null())
+                    .collect(),
+            ),
             graphics_layout: vk::PipelineLayout::null(),
             graphics_set_layout: vk::DescriptorSetLayout::null(),
             compute_set_layout: vk::DescriptorSetLayout::null(),

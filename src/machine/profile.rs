@@ -68,7 +68,7 @@ impl Timeline {
     /// track and the device's passes on another, in microseconds.
     pub fn chrome_trace(&self) -> Value {
         let track = |tid: u32, name: &str| json!({"name": "thread_name", "ph": "M", "pid": 1, "tid": tid, "args": {"name": name}});
-        let mut events = vec![track(1, "host"), track(2, "device")];
+        let mut events = Vec::from([track(1, "host"), track(2, "device")]);
         for span in &self.host {
             events.push(json!({
                 "name": span.name, "ph": "X", "pid": 1, "tid": 1,
@@ -274,7 +274,7 @@ impl Sections {
                 .collect());
         };
         let queries = 2 * self.labels.len();
-        let mut stamps = vec![0u64; queries];
+        let mut stamps = crate::memory::filled(queries, 0u64, "timestamps")?;
         for (chunk, pool) in stamps.chunks_mut(POOL_QUERIES as usize).zip(&self.pools) {
             // SAFETY: the queries were written by the completed submission.
             unsafe {

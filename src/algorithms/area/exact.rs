@@ -43,7 +43,12 @@ pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Result<O
             let c = (0..sites.len() as u32)
                 .find(|&c| c != a && c != b)
                 .expect("n >= 3");
-            return Ok(Some(decided(extreme, vec![a, b, c], 0.0, "duplicates")));
+            return Ok(Some(decided(
+                extreme,
+                Vec::from([a, b, c]),
+                0.0,
+                "duplicates",
+            )));
         }
     }
     let hull = convex_hull(sites);

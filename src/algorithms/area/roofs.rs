@@ -101,9 +101,10 @@ impl<'m> Roofs<'m> {
         let pad = DVec2::splat(0.01 * (hi - lo).max_element());
         let frame = Frame::fitting(side, lo - pad, hi + pad)?;
         let (w, h) = (frame.width as usize, frame.height as usize);
-        let mut owner = vec![NO_SITE; w * h];
+        let mut owner = crate::memory::filled(w * h, NO_SITE, "the roofs' owners")?;
         let mut shared = Vec::new();
-        let mut position: Vec<[f64; 2]> = Vec::with_capacity(points.len());
+        let mut position: Vec<[f64; 2]> =
+            crate::memory::room(points.len(), "the sites' positions")?;
         for (k, p) in points.iter().enumerate() {
             let c = frame.to_pixel(*p);
             position.push([c.x, c.y]);

@@ -123,7 +123,7 @@ pub(super) fn cone_attempts(
     frame: &Frame,
     speedup: Speedup,
     metric: Metric,
-) -> Vec<(Option<f64>, Vec<Cone>)> {
+) -> crate::Result<Vec<(Option<f64>, Vec<Cone>)>> {
     // The radius that reaches every pixel from a site, plus half a pixel so that
     // rasterization rules at a footprint's rim never drop a pixel centre.
     let picture_wide: Vec<f64> = pixels
@@ -149,13 +149,15 @@ pub(super) fn cone_attempts(
             .filter(|c| c.radius > 0.0 && frame.distance_to_pixels(c.site) <= c.radius)
             .collect()
     };
-    match speedup {
-        Speedup::None => vec![(None, cones_with(&|i| picture_wide[i]))],
+    Ok(match speedup {
+        Speedup::None => Vec::from([(None, cones_with(&|i| picture_wide[i]))]),
         Speedup::Local if metric != Metric::L2 => {
             // L1 and L∞ regions lie in boxes from their neighbours, clipped to the
             // picture's pixel centres.
-            let boxes = radius::region_boxes(pixels, frame, metric)
-                .unwrap_or_else(|| vec![None; pixels.len()]);
+            let boxes = radius::region_boxes(pixels, frame, metric).map_or_else(
+                || crate::memory::filled(pixels.len(), None, "regions' boxes"),
+                Ok,
+            )?;
             let (first, last) = frame.pixel_centres();
             let clipped: Vec<Option<(DVec2, DVec2)>> = boxes
                 .iter()
@@ -171,7 +173,11 @@ pub(super) fn cone_attempts(
             // Each with the box of the cover's cells the site may own a pixel of.
             let everywhere = (DVec2::NEG_INFINITY, DVec2::INFINITY);
             let cover: Vec<(f64, f64, (DVec2, DVec2))> = if !covered {
-                vec![(f64::INFINITY, f64::INFINITY, everywhere); pixels.len()]
+                crate::memory::filled(
+                    pixels.len(),
+                    (f64::INFINITY, f64::INFINITY, everywhere),
+                    "covers",
+                )?
             } else if let Some(regions) = radius::local_metric_regions(pixels, frame, metric) {
                 regions
                     .into_iter()
@@ -206,7 +212,7 @@ pub(super) fn cone_attempts(
                     cone.hi = cone.hi.min(hi + 0.5);
                 }
             }
-            vec![(None, cones)]
+            Vec::from([(None, cones)])
         }
         Speedup::Local => {
             let bounds =
@@ -218,7 +224,7 @@ pub(super) fn cone_attempts(
                 cone.lo = cone.lo.max(b.lo - 0.5);
                 cone.hi = cone.hi.min(b.hi + 0.5);
             }
-            vec![(None, cones)]
+            Vec::from([(None, cones)])
         }
         Speedup::Quadtree => {
             let bounds = radius::quadtree_width_bounds(pixels, frame);
@@ -243,7 +249,7 @@ pub(super) fn cone_attempts(
                 .map(|r| (Some(r), cones_with(&|i| (r + 0.5).min(picture_wide[i]))))
                 .collect()
         }
-    }
+    })
 }
 
 /// Chooses each cone's footprint and sorts the cones into draw order: batched

@@ -122,8 +122,8 @@ impl ConePlan {
             _ => None,
         };
         let attempts = match &candidates {
-            Some(c) => vec![(None, reach_cones(&sites, frame, spec.metric, &c.reaches))],
-            None => cone_attempts(&sites, frame, spec.speedup, spec.metric),
+            Some(c) => Vec::from([(None, reach_cones(&sites, frame, spec.metric, &c.reaches))]),
+            None => cone_attempts(&sites, frame, spec.speedup, spec.metric)?,
         };
         // Exact cones discard fragments beyond their radius.
         let exact_reach = attempts
@@ -294,11 +294,11 @@ impl ConePlan {
     pub fn groups(&self, attempt: usize, drawn_by_tiles: bool) -> Vec<ConeGroup> {
         let cones = &self.attempts[attempt].cones;
         if drawn_by_tiles {
-            return vec![ConeGroup {
+            return Vec::from([ConeGroup {
                 kind: "tiles",
                 size: SCREEN_TILE_SIDE,
                 cones: cones.len(),
-            }];
+            }]);
         }
         groups_of(cones)
             .into_iter()

@@ -134,7 +134,7 @@ fn render_tiles(
     draws: &Draws<'_>,
     push: &ConePush,
 ) -> Result<bool> {
-    let Some(texels) = tile_records(view, draws) else {
+    let Some(texels) = tile_records(view, draws)? else {
         return Ok(false);
     };
     let Some((upload, records)) = records_image(machine, texels)? else {
@@ -193,7 +193,7 @@ pub(super) fn render(
         .collect();
     let groups = groups_of(&visible);
     let mut mesh: Vec<[f32; 3]> = UNIT_SQUARE.to_vec();
-    let mut ranges = Vec::with_capacity(groups.len());
+    let mut ranges = crate::memory::room(groups.len(), "draw ranges")?;
     for g in &groups {
         let vertices = match g.footprint {
             Footprint::Batch => unreachable!("batched cones are drawn as batches"),

@@ -5,9 +5,12 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use crate::geometry::{
-    metric::{DepthKey, Metric},
-    radius::TileCandidates,
+use crate::{
+    geometry::{
+        metric::{DepthKey, Metric},
+        radius::TileCandidates,
+    },
+    Result,
 };
 
 use super::{
@@ -36,7 +39,7 @@ impl ScreenTiles {
         width: u32,
         height: u32,
         boxes: impl Iterator<Item = (u32, DVec2, DVec2)>,
-    ) -> Option<Self> {
+    ) -> Result<Option<Self>> {
         let side = SCREEN_TILE_SIDE as usize;
         let across = (width as usize).div_ceil(side);
         let tiles = across * (height as usize).div_ceil(side);
@@ -57,7 +60,7 @@ impl ScreenTiles {
         let rows = |[x0, y0, x1, y1]: [usize; 4]| {
             (y0..=y1).map(move |y| y * across + x0..=y * across + x1)
         };
-        let mut start = vec![0u32; tiles + 1];
+        let mut start = crate::memory::filled(tiles + 1, 0u32, "tile starts")?;
         for &(_, span) in &spans {
             for row in rows(span) {
                 for t in row {
@@ -69,10 +72,10 @@ impl ScreenTiles {
             start[t + 1] += start[t];
         }
         if start[tiles] as u64 > width as u64 * height as u64 {
-            return None;
+            return Ok(None);
         }
         let mut next = start[..tiles].to_vec();
-        let mut items = vec![0u32; start[tiles] as usize];
+        let mut items = crate::memory::filled(start[tiles] as usize, 0u32, "tile lists")?;
         for (id, span) in spans {
             for row in rows(span) {
                 for t in row {
@@ -81,12 +84,12 @@ impl ScreenTiles {
                 }
             }
         }
-        Some(Self {
+        Ok(Some(Self {
             start,
             items,
             across,
             last,
-        })
+        }))
     }
 
     /// The tiles of a `width` x `height` target whose pixel (0, 0) is picture
@@ -98,7 +101,7 @@ impl ScreenTiles {
         origin: DVec2,
         width: u32,
         height: u32,
-    ) -> Option<Self> {
+    ) -> Result<Option<Self>> {
         debug_assert_eq!(candidates.side, SCREEN_TILE_SIDE);
         let side = SCREEN_TILE_SIDE as usize;
         let across = (width as usize).div_ceil(side);
@@ -114,21 +117,21 @@ impl ScreenTiles {
                 &[]
             }
         };
-        let mut start = Vec::with_capacity(across * down + 1);
+        let mut start = crate::memory::room(across * down + 1, "tile starts")?;
         start.push(0u32);
         for t in 0..across * down {
             start.push(start[t] + list(t).len() as u32);
         }
         if start[across * down] as u64 > width as u64 * height as u64 {
-            return None;
+            return Ok(None);
         }
         let items = (0..across * down).flat_map(list).copied().collect();
-        Some(Self {
+        Ok(Some(Self {
             start,
             items,
             across,
             last: DVec2::new(width as f64 - 1.0, height as f64 - 1.0),
-        })
+        }))
     }
 
     /// The first and last pixel centre of tile `t` (target pixels).
@@ -158,7 +161,7 @@ impl ScreenTiles {
 /// needs ids only for its nearest: two texels per pair of sites (x, y, x, y as
 /// float bits; 0, 0, id, id), a tile with an odd number repeating its last.
 /// `None` where the lists would be too long.
-pub(super) fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u32; 4]>> {
+pub(super) fn tile_records(view: &TileView, draws: &Draws<'_>) -> Result<Option<Vec<[u32; 4]>>> {
     let key = draws.key;
     let ordered = !matches!(
         key,
@@ -176,6 +179,9 @@ pub(super) fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u3
             ScreenTiles::bin(view.origin, view.width, view.height, boxes)?
         }
     };
+    let Some(bins) = bins else {
+        return Ok(None);
+    };
     let tiles = bins.tiles();
     let site_texels = |t: usize| {
         let count = bins.range(t).1 as usize;
@@ -185,7 +191,8 @@ pub(super) fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u3
             2 * count.div_ceil(2)
         }
     };
-    let mut texels: Vec<[u32; 4]> = Vec::with_capacity(tiles + bins.items.len() + tiles);
+    let mut texels: Vec<[u32; 4]> =
+        crate::memory::room(tiles + bins.items.len() + tiles, "tile records")?;
     let mut next = tiles;
     texels.extend((0..tiles).map(|t| {
         let first = next as u32;
@@ -194,7 +201,7 @@ pub(super) fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u3
     }));
     texels.resize(next, [0; 4]);
     let mut sites = &mut texels[tiles..];
-    let mut lists = Vec::with_capacity(tiles);
+    let mut lists = crate::memory::room(tiles, "tiles' records")?;
     for t in 0..tiles {
         let (list, rest) = sites.split_at_mut(site_texels(t));
         lists.push(list);
@@ -237,5 +244,5 @@ pub(super) fn tile_records(view: &TileView, draws: &Draws<'_>) -> Option<Vec<[u3
                 }
             }
         });
-    Some(texels)
+    Ok(Some(texels))
 }

@@ -115,7 +115,12 @@ pub fn great_circle_grid(
             .par_chunks(width)
             .zip(band.clone())
             .map(|(labels, j)| {
-                let mut row = (Vec::with_capacity(width), Vec::with_capacity(width), 0, 0);
+                let mut row = (
+                    crate::memory::room(width, "a row's labels")?,
+                    crate::memory::room(width, "a row's distances")?,
+                    0,
+                    0,
+                );
                 for (i, &flag) in labels.iter().enumerate() {
                     let u = grid_vector(columns[i], rows[j]);
                     let mut label = flag & !UNSURE;
@@ -129,9 +134,9 @@ pub fn great_circle_grid(
                     row.1
                         .push(angle(u, tree.points[label as usize]) * EARTH_RADIUS);
                 }
-                row
+                Ok(row)
             })
-            .collect();
+            .collect::<Result<_>>()?;
         for (labels, distances, tied, on_host) in decided {
             answer.labels.extend(labels);
             answer.distances.extend(distances);
@@ -169,7 +174,10 @@ impl Grid<'_> {
             .into_par_iter()
             .map(|t| self.candidates(tree, t % across, t / across))
             .collect();
-        let mut words = Vec::with_capacity(tiles + 1 + lists.iter().map(Vec::len).sum::<usize>());
+        let mut words = crate::memory::room(
+            tiles + 1 + lists.iter().map(Vec::len).sum::<usize>(),
+            "words",
+        )?;
         let mut start = 0u32;
         for list in &lists {
             words.push(start);

@@ -126,8 +126,8 @@ pub fn great_circle_nearest(
         .par_chunks(PLACES_PER_LOOK)
         .map(|chunk| {
             watch.check()?;
-            let mut labels = Vec::with_capacity(chunk.len());
-            let mut distances = Vec::with_capacity(chunk.len());
+            let mut labels = crate::memory::room(chunk.len(), "labels")?;
+            let mut distances = crate::memory::room(chunk.len(), "distances")?;
             let mut equidistant = 0;
             for &place in chunk {
                 let u = unit_vector(place);

@@ -172,7 +172,7 @@ pub(crate) fn draw_furthest(
             .map(|k| Some(furthest_region_box(&owned, k, frame.width, frame.height)))
             .collect()
     } else {
-        vec![None]
+        Vec::from([None])
     };
     // The upper envelope: the furthest fragment wins, ties the last drawn (or-equal,
     // so that a lone site's own pixel at distance 0 still gets it).
@@ -238,12 +238,12 @@ pub(crate) fn draw_furthest(
 /// pixel to spare; zero-sized when that part misses the picture.
 fn furthest_region_box(sites: &[DVec2], k: usize, width: u32, height: u32) -> [u32; 4] {
     let (w, h) = (width as f64 - 0.5, height as f64 - 0.5);
-    let mut polygon = vec![
+    let mut polygon = Vec::from([
         DVec2::new(-0.5, -0.5),
         DVec2::new(w, -0.5),
         DVec2::new(w, h),
         DVec2::new(-0.5, h),
-    ];
+    ]);
     let n = sites.len();
     let others = (1..n).map(|d| (k + if d % 2 == 1 { d / 2 + 1 } else { n - d / 2 }) % n);
     let p = sites[k];

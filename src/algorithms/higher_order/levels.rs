@@ -116,13 +116,13 @@ pub(super) fn read_labels(
     pixels: &[DVec2],
     options: &KNearestOptions,
     mut stats: KNearestStats,
-) -> KNearest {
+) -> Result<KNearest> {
     let started = Instant::now();
     let (frame, k, metric) = (options.frame, options.k as usize, options.metric);
     let width = frame.width as usize;
     let ids: &[u32] = bytemuck::cast_slice(&ids.mapped()[..frame.len() * k * 4]);
-    let mut labels = vec![0u32; ids.len()];
-    let mut distances = vec![0f32; ids.len()];
+    let mut labels = crate::memory::filled(ids.len(), 0u32, "the levels' labels")?;
+    let mut distances = crate::memory::filled(ids.len(), 0f32, "the levels' distances")?;
     let to_world = (1.0 / frame.scale) as f32;
     let row = k * width;
     ids.par_chunks(row)
@@ -150,7 +150,7 @@ pub(super) fn read_labels(
             }
         });
     stats.readback_ms = ms(started);
-    KNearest {
+    Ok(KNearest {
         width: frame.width,
         height: frame.height,
         frame,
@@ -158,7 +158,7 @@ pub(super) fn read_labels(
         labels,
         distances,
         stats,
-    }
+    })
 }
 
 /// The distances in world units of row `j`'s levels (`k` per pixel), each

@@ -68,7 +68,7 @@ fn peel(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result
     let instance_buffer = machine.vertex_buffer(&instances)?;
     // The previous level: depth -1 (below every cone) and no site.
     let mut previous = machine.readback_buffer(8 * pixels as u64)?;
-    let mut words = vec![(-1.0f32).to_bits(); pixels];
+    let mut words = crate::memory::filled(pixels, (-1.0f32).to_bits(), "depths")?;
     words.resize(2 * pixels, u32::MAX);
     previous.write(&words);
     let push = ConePush {
@@ -101,8 +101,8 @@ fn peel(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result
         depth_stencil: Some(&depth),
     };
     let params = DrawParams::default();
-    let mut labels = vec![u32::MAX; pixels * k as usize];
-    let mut distances = vec![f32::INFINITY; pixels * k as usize];
+    let mut labels = crate::memory::filled(pixels * k as usize, u32::MAX, "labels")?;
+    let mut distances = crate::memory::filled(pixels * k as usize, f32::INFINITY, "distances")?;
     let to_world = (1.0 / frame.scale) as f32;
     let unscale = (1.0 / scale) as f32;
     for level in 0..k as usize {

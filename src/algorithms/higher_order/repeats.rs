@@ -35,14 +35,15 @@ pub(crate) fn with_repeats(
     }
     kept.sort_unstable();
     // The sites at each position, ascending (the kept one is the smallest).
-    let mut position = vec![0u32; sites.len()];
+    let mut position = crate::memory::filled(sites.len(), 0u32, "the sites' positions")?;
     for (d, &i) in kept.iter().enumerate() {
         position[i as usize] = d as u32;
     }
     for &[repeat, first] in &repeats {
         position[repeat as usize] = position[first as usize];
     }
-    let mut members: Vec<Vec<u32>> = vec![Vec::new(); kept.len()];
+    let mut members: Vec<Vec<u32>> =
+        crate::memory::filled(kept.len(), Vec::new(), "repeated sites")?;
     for (i, &d) in position.iter().enumerate() {
         members[d as usize].push(i as u32);
     }
@@ -55,8 +56,8 @@ pub(crate) fn with_repeats(
             && certifier.no_farther(b, &certifier, a, pixel)
     };
     let (w, kd, ku) = (frame.width as usize, levels as usize, k as usize);
-    let mut labels = vec![u32::MAX; frame.len() * ku];
-    let mut distances = vec![f32::INFINITY; frame.len() * ku];
+    let mut labels = crate::memory::filled(frame.len() * ku, u32::MAX, "labels")?;
+    let mut distances = crate::memory::filled(frame.len() * ku, f32::INFINITY, "distances")?;
     labels
         .par_chunks_mut(ku)
         .zip(distances.par_chunks_mut(ku))
@@ -65,7 +66,7 @@ pub(crate) fn with_repeats(
             let pixel = [(p % w) as i64, (p / w) as i64];
             let found = &near.labels[p * kd..][..kd];
             let far = &near.distances[p * kd..][..kd];
-            let mut spread: Vec<(u32, f32)> = Vec::with_capacity(ku);
+            let mut spread: Vec<(u32, f32)> = Vec::new();
             let mut run: Vec<(u32, f32)> = Vec::new();
             let mut l = 0;
             while l < kd && found[l] != u32::MAX && spread.len() < ku {

@@ -43,7 +43,7 @@ pub(super) fn k_nearest_tiled(
         tiles
     } else {
         let radii = k_radii(&pixels, &frame, k as usize, options.speedup, options.metric);
-        bin_to_tiles(&pixels, &frame, radii)
+        bin_to_tiles(&pixels, &frame, radii)?
     };
     let cones = drawn_cones(&pixels, &tiles.radii, &frame);
     let mut stats = cone_stats(machine, sites.len(), options.k, cones);
@@ -52,7 +52,7 @@ pub(super) fn k_nearest_tiled(
     // each) for the fragment shader, rows of RECORD_ROW texels. Every tile is
     // drawn, those without cones too: its fragments write "no site", so the keys
     // need no filling first.
-    let mut words: Vec<u32> = Vec::with_capacity(6 * binned.len());
+    let mut words: Vec<u32> = crate::memory::room(6 * binned.len(), "tile words")?;
     let mut next = 0u32;
     for (t, list) in binned.iter().enumerate() {
         let (lo, hi) = tiles.rect(t, &frame);
@@ -69,7 +69,7 @@ pub(super) fn k_nearest_tiled(
             most * RECORD_ROW
         )));
     }
-    let mut texels: Vec<[u32; 4]> = Vec::with_capacity(rows * RECORD_ROW);
+    let mut texels: Vec<[u32; 4]> = crate::memory::room(rows * RECORD_ROW, "tile records")?;
     let lower = options.metric.euclidean_bounds().0;
     for (t, list) in binned.iter().enumerate() {
         let (lo, hi) = tiles.rect(t, &frame);
@@ -120,19 +120,20 @@ pub(super) fn k_nearest_tiled(
         },
     )?;
     stats.render_ms = ms(started);
-    Ok(read_labels(&labels, &pixels, options, stats))
+    read_labels(&labels, &pixels, options, stats)
 }
 
 /// Site indices per screen tile for cones of the given radii: a cone goes to
 /// every tile its disc meets, nearest to the tile's centre first.
-fn bin_to_tiles(pixels: &[DVec2], frame: &Frame, radii: Vec<f64>) -> radius::TileLists {
+fn bin_to_tiles(pixels: &[DVec2], frame: &Frame, radii: Vec<f64>) -> Result<radius::TileLists> {
     let mut tiles = radius::TileLists {
         across: frame.width.div_ceil(TILE_SIDE) as usize,
         side: TILE_SIDE,
         ..Default::default()
     };
     let down = frame.height.div_ceil(TILE_SIDE) as usize;
-    let mut binned: Vec<Vec<(f64, u32)>> = vec![Vec::new(); tiles.across * down];
+    let mut binned: Vec<Vec<(f64, u32)>> =
+        crate::memory::filled(tiles.across * down, Vec::new(), "screen tiles' lists")?;
     for (i, p, r) in drawn_cones(pixels, &radii, frame) {
         let cell = |v: f64, n: usize| ((v / TILE_SIDE as f64).floor().max(0.0) as usize).min(n - 1);
         for y in cell(p.y - r, down)..=cell(p.y + r, down) {
@@ -153,5 +154,5 @@ fn bin_to_tiles(pixels: &[DVec2], frame: &Frame, radii: Vec<f64>) -> radius::Til
         })
         .collect();
     tiles.radii = radii;
-    tiles
+    Ok(tiles)
 }

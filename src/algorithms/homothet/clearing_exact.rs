@@ -406,7 +406,7 @@ impl Local {
             }
         }
         let solutions = match (linear.as_slice(), circle) {
-            ([p, q, r], None) => vec![cramer(p, q, r, bits)?],
+            ([p, q, r], None) => Vec::from([cramer(p, q, r, bits)?]),
             ([p, q], Some(centre)) => line_meets_circle(p, q, &centre, bits)?,
             _ => return None,
         };
@@ -495,10 +495,10 @@ fn line_meets_circle(
     let root = b.square().minus(&four_ac).sqrt_of(bits + 8);
     let ts: Vec<Interval> = if a.is_nonzero() {
         let twice_a = a.affine(&two(), &BigRational::zero());
-        vec![
+        Vec::from([
             root.minus(&b).over(&twice_a)?,
             root.plus(&b).negated().over(&twice_a)?,
-        ]
+        ])
     } else if b.is_nonzero() {
         // The near root, without cancellation: c / q for q = −(b ± √…)/2.
         let q = if b.lo.is_positive() {
@@ -507,7 +507,7 @@ fn line_meets_circle(
             b.minus(&root)
         }
         .affine(&-(one() / two()), &BigRational::zero());
-        vec![c.over(&q)?]
+        Vec::from([c.over(&q)?])
     } else {
         return None;
     };

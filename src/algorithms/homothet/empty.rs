@@ -181,7 +181,7 @@ fn empty_points(
     // Per tile: its highest value and the pixels near it, exact at pixel centres.
     let seeds = match stage {
         Some(PixelStage::Cones) => None,
-        _ => snapped_seeds(machine, sites, unit, &frame),
+        _ => snapped_seeds(machine, sites, unit, &frame)?,
     };
     if stage == Some(PixelStage::DistanceTransform) && seeds.is_none() {
         return Err(Error::InvalidInput(format!(
@@ -213,7 +213,7 @@ fn empty_points(
             if pixels.is_empty() {
                 Vec::new()
             } else {
-                vec![(top, pixels)]
+                Vec::from([(top, pixels)])
             }
         }
         None => {
@@ -732,7 +732,12 @@ fn region_and_frame(
     let defaulted = region.rings.is_empty();
     let region = if defaulted {
         Region {
-            rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
+            rings: Vec::from([Vec::from([
+                lo,
+                DVec2::new(hi.x, lo.y),
+                hi,
+                DVec2::new(lo.x, hi.y),
+            ])]),
         }
     } else {
         check_region(region)?;
@@ -809,14 +814,14 @@ fn snapped_seeds(
     sites: &[DVec2],
     unit: Unit,
     frame: &Frame,
-) -> Option<(Vec<Seed>, f64)> {
+) -> Result<Option<(Vec<Seed>, f64)>> {
     let (w, h) = (frame.width, frame.height);
     let side = flooding::MAX_SIDE.min(machine.max_picture_side());
     if unit != Unit::Circle || w > side || h > side {
-        return None;
+        return Ok(None);
     }
     let far = DVec2::new((w - 1) as f64, (h - 1) as f64);
-    let mut taken = vec![false; w as usize * h as usize];
+    let mut taken = crate::memory::filled(w as usize * h as usize, false, "the sites' pixels")?;
     let mut seeds = Vec::new();
     let mut moved2: f64 = 0.0;
     for p in sites {
@@ -824,14 +829,14 @@ fn snapped_seeds(
         let pixel = q.round().clamp(DVec2::ZERO, far);
         moved2 = moved2.max(q.distance_squared(pixel));
         if moved2 > 1.0 {
-            return None;
+            return Ok(None);
         }
         let (i, j) = (pixel.x as u32, pixel.y as u32);
         if !std::mem::replace(&mut taken[(j * w + i) as usize], true) {
             seeds.push([i as i32, j as i32]);
         }
     }
-    Some((seeds, moved2.sqrt()))
+    Ok(Some((seeds, moved2.sqrt())))
 }
 
 /// The pixel stage of the largest empty circle by the exact Euclidean distance

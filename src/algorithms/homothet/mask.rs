@@ -66,7 +66,8 @@ pub(super) fn mask_outside(
     vertices.push([0.0; 3]);
     let mesh = machine.vertex_buffer(&vertices)?;
     // Site ids, one per vertex.
-    let zeros = machine.vertex_buffer(&vec![0u32; vertices.len()])?;
+    let zeros =
+        machine.vertex_buffer(&crate::memory::filled(vertices.len(), 0u32, "vertex ids")?)?;
     let parity = RasterState {
         stencil: StencilTest::on_pass(Compare::Always, 1, 1, StencilOp::Invert),
         color_mask: ChannelMask::NONE,

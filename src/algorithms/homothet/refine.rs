@@ -15,7 +15,11 @@ pub(super) fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
     // a tiny `a` gives the near root as c / q and a far one that distance
     // filters drop.
     if a == 0.0 {
-        return if b != 0.0 { vec![-c / b] } else { Vec::new() };
+        return if b != 0.0 {
+            Vec::from([-c / b])
+        } else {
+            Vec::new()
+        };
     }
     let disc = b * b - 4.0 * a * c;
     if disc < -1e-12 * b * b {
@@ -25,9 +29,9 @@ pub(super) fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
     // The stable pair: no cancellation between b and the root.
     let q = -0.5 * (b + b.signum() * root);
     if q == 0.0 {
-        return vec![0.0];
+        return Vec::from([0.0]);
     }
-    vec![q / a, c / q]
+    Vec::from([q / a, c / q])
 }
 
 /// Cells a branch and bound may evaluate before it stops with its gap.

@@ -78,8 +78,8 @@ pub fn discrete_sibson(
     } else {
         0
     };
-    let mut count = vec![0i64; (w + 1) * h];
-    let mut sum = vec![0.0f64; (w + 1) * h];
+    let mut count = crate::memory::filled((w + 1) * h, 0i64, "the discrete counts")?;
+    let mut sum = crate::memory::filled((w + 1) * h, 0.0f64, "the discrete sums")?;
     let watch = Watch::current();
     for (k, &r2) in reach.iter().enumerate() {
         if k % (1 << 16) == 0 {

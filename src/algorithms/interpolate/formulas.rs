@@ -178,6 +178,7 @@ pub(crate) fn sibson<T: Number>(
         .map(|&t| relative(triangles.corners[t as usize][0]).plus(&offset(t)))
         .collect();
     // Twice the stolen area of each natural neighbour, by site.
+    #[expect(clippy::disallowed_methods, reason = "one query's cavity")]
     let mut stolen: Vec<(u32, T)> = Vec::with_capacity(cavity.len() + 2);
     for (i, &t) in cavity.iter().enumerate() {
         let corners = triangles.corners[t as usize];

@@ -230,7 +230,7 @@ fn on_triangles(
     sibson_weights: bool,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Interpolation> {
-    let mut out = vec![f64::NAN; queries.len()];
+    let mut out = crate::memory::filled(queries.len(), f64::NAN, "interpolated values")?;
     let runs = queries.len().div_ceil(run) as u64;
     if corners.is_empty() {
         // Sites on one line: the hull has no inside.

@@ -67,7 +67,7 @@ pub fn potential_areas_cpu(
         .chunks(w)
         .map(|row| row.iter().copied().max().unwrap_or(-1))
         .collect();
-    let mut area = vec![0i32; w * h];
+    let mut area = crate::memory::filled(w * h, 0i32, "regions' areas")?;
     area.par_chunks_mut(BAND_ROWS * w)
         .enumerate()
         .for_each(|(b, band)| {

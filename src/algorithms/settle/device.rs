@@ -177,8 +177,8 @@ pub(super) fn count_faithful(
         color: Some(&color),
         depth_stencil: Some(&depth_stencil),
     };
-    let mut total = vec![0u32; pixels as usize];
-    let mut rgba = vec![0u32; pixels as usize];
+    let mut total = crate::memory::filled(pixels as usize, 0u32, "counts")?;
+    let mut rgba = crate::memory::filled(pixels as usize, 0u32, "colours")?;
     let mut count_ms = 0.0;
     let mut readback_ms = 0.0;
     let mut first = 0;

@@ -77,8 +77,8 @@ fn up(x: f64) -> f64 {
 impl<'a> SiteCertifier<'a> {
     /// For `sites` (world coordinates, checked) on `frame` under `metric`.
     pub fn new(sites: &'a [Site], frame: &Frame, metric: Metric) -> Result<Self> {
-        let mut pixels = Vec::with_capacity(sites.len());
-        let mut errors = Vec::with_capacity(sites.len());
+        let mut pixels = crate::memory::room(sites.len(), "the sites' pixels")?;
+        let mut errors = crate::memory::room(sites.len(), "the sites' errors")?;
         for (i, s) in sites.iter().enumerate() {
             let mut error = 0.0f64;
             let pixel = s.to_pixels(

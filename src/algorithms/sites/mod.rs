@@ -178,9 +178,9 @@ fn proposed_diagram(
     let frame = options.frame;
     let width = frame.width as usize;
     frame.reserve(8, "a Voronoi diagram of sites")?;
-    let mut labels = vec![u32::MAX; frame.len()];
+    let mut labels = crate::memory::filled(frame.len(), u32::MAX, "labels")?;
     let mut depths = if options.distances {
-        vec![0.0f32; frame.len()]
+        crate::memory::filled(frame.len(), 0.0f32, "distances")?
     } else {
         Vec::new()
     };
@@ -302,7 +302,7 @@ pub(crate) fn draw_sites(
     let (reaches, envelope_reach) = match options.speedup {
         Speedup::None => picture_wide(&pixels, frame.width, frame.height, metric, frame.scale),
         Speedup::Local | Speedup::Quadtree => {
-            cull(&pixels, frame.width, frame.height, metric, frame.scale)
+            cull(&pixels, frame.width, frame.height, metric, frame.scale)?
         }
     };
     let drawn: Vec<f64> = reaches.iter().flatten().map(|(_, r)| *r).collect();
@@ -414,10 +414,10 @@ pub(crate) fn draw_sites(
             plain.append(leaving);
             let [mut folded, leaving] = folded;
             folded.append(leaving);
-            vec![
+            Vec::from([
                 plain.upload(machine, &SITE_FAN)?,
                 folded.upload(machine, &SITE_FAN_FOLDED)?,
-            ]
+            ])
         }
     };
     for (x0, y0, inner) in tiling.tiles() {

@@ -23,7 +23,7 @@ pub(super) fn cull(
     height: u32,
     metric: Metric,
     scale: f64,
-) -> (Vec<Option<Reach>>, f64) {
+) -> Result<(Vec<Option<Reach>>, f64)> {
     let spacing = (width as f64 * height as f64 / sites.len() as f64).sqrt();
     // Cells of half the spacing bound faster than a third, with rectangles
     // only a little larger. Few sites have few cells to walk: down to 16
@@ -35,7 +35,7 @@ pub(super) fn cull(
         .max(spacing / 8.0)
         .clamp(3.0, 64.0)
         .floor();
-    let cells = CellBounds::new(sites, width, height, metric, scale, side);
+    let cells = CellBounds::new(sites, width, height, metric, scale, side)?;
     let reaches = (0..sites.len())
         .into_par_iter()
         .map(|k| {
@@ -62,7 +62,7 @@ pub(super) fn cull(
             })
         })
         .collect();
-    (reaches, cells.reach)
+    Ok((reaches, cells.reach))
 }
 
 /// The picture in square cells, each with an upper bound on the weighted
@@ -108,7 +108,7 @@ impl<'a> CellBounds<'a> {
         metric: Metric,
         scale: f64,
         side: f64,
-    ) -> Self {
+    ) -> Result<Self> {
         let (across, down) = (
             (width as f64 / side).ceil() as usize,
             (height as f64 / side).ceil() as usize,
@@ -158,7 +158,7 @@ impl<'a> CellBounds<'a> {
         // whose bound is usually near its own, so that the gap test skips most
         // of the others.
         let cells_ref = &cells;
-        let mut upper = vec![0.0; across * down];
+        let mut upper = crate::memory::filled(across * down, 0.0, "the cells' bounds")?;
         upper
             .par_chunks_mut(across)
             .enumerate()
@@ -207,7 +207,8 @@ impl<'a> CellBounds<'a> {
                 }
             });
         let blocks_across = across.div_ceil(CULL_BLOCK);
-        let mut block_bounds = vec![f64::NEG_INFINITY; blocks_across * down.div_ceil(CULL_BLOCK)];
+        let blocks = blocks_across * down.div_ceil(CULL_BLOCK);
+        let mut block_bounds = crate::memory::filled(blocks, f64::NEG_INFINITY, "blocks' bounds")?;
         for (c, &bound) in upper.iter().enumerate() {
             let b = c / across / CULL_BLOCK * blocks_across + c % across / CULL_BLOCK;
             block_bounds[b] = block_bounds[b].max(bound);
@@ -215,7 +216,7 @@ impl<'a> CellBounds<'a> {
         cells.reach = upper.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         cells.upper = upper;
         cells.block_bounds = block_bounds;
-        cells
+        Ok(cells)
     }
 
     fn cell_of(&self, v: f64, n: usize) -> usize {

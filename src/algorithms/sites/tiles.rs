@@ -32,7 +32,7 @@ pub(super) fn draw_site_tiles(
     };
     let side = (SCREEN_TILE_SIDE * per_cell) as f64;
     let metric = options.metric;
-    let cells = CellBounds::new(pixels, width, height, metric, frame.scale, side);
+    let cells = CellBounds::new(pixels, width, height, metric, frame.scale, side)?;
     // Per site: its cells with its smallest weighted distance there, and the
     // largest shape distance where it may win.
     let owned: Vec<(Vec<(u32, f64)>, f64)> = (0..pixels.len())
@@ -109,7 +109,11 @@ pub(super) fn draw_site_tiles(
         // A header per screen tile: its cell's list.
         let across = width.div_ceil(SCREEN_TILE_SIDE) as usize;
         let screen = across * height.div_ceil(SCREEN_TILE_SIDE) as usize;
-        let mut texels = vec![[0u32; 4]; screen + words_per_site * (last - first)];
+        let mut texels = crate::memory::filled(
+            screen + words_per_site * (last - first),
+            [0u32; 4],
+            "texels",
+        )?;
         let (headers, lists) = texels.split_at_mut(screen);
         let per_cell = per_cell as usize;
         for (t, header) in headers.iter_mut().enumerate() {
@@ -120,7 +124,7 @@ pub(super) fn draw_site_tiles(
         }
         // Each cell's sites by their smallest distance there (ties by id).
         let mut rest = lists;
-        let mut cell_lists = Vec::with_capacity(cell_count);
+        let mut cell_lists = crate::memory::room(cell_count, "cells' lists")?;
         for c in 0..cell_count {
             let (list, tail) = rest.split_at_mut(words_per_site * range(c).len());
             cell_lists.push((c, list));

@@ -9,9 +9,9 @@ pub const NO_COMPONENT: u32 = u32::MAX;
 /// 8-connectivity (pixels that share an edge or a corner): each feature
 /// pixel's component, numbered 0, 1, ... in the order of their first pixel
 /// (row by row), [`NO_COMPONENT`] elsewhere; and their number.
-pub fn components(features: &[bool], width: usize) -> (Vec<u32>, u32) {
+pub fn components(features: &[bool], width: usize) -> crate::Result<(Vec<u32>, u32)> {
     let mut parent: Vec<u32> = Vec::new();
-    let mut labels = vec![NO_COMPONENT; features.len()];
+    let mut labels = crate::memory::filled(features.len(), NO_COMPONENT, "component labels")?;
     fn root(parent: &mut [u32], mut a: u32) -> u32 {
         while parent[a as usize] != a {
             parent[a as usize] = parent[parent[a as usize] as usize];
@@ -51,7 +51,7 @@ pub fn components(features: &[bool], width: usize) -> (Vec<u32>, u32) {
     }
     // Provisional labels were made in scan order and merged into the smaller,
     // so numbering the roots in order numbers components by first pixel.
-    let mut number = vec![NO_COMPONENT; parent.len()];
+    let mut number = crate::memory::filled(parent.len(), NO_COMPONENT, "component numbers")?;
     let mut count = 0;
     for a in 0..parent.len() as u32 {
         let r = root(&mut parent, a);
@@ -63,5 +63,5 @@ pub fn components(features: &[bool], width: usize) -> (Vec<u32>, u32) {
     for l in labels.iter_mut().filter(|l| **l != NO_COMPONENT) {
         *l = number[root(&mut parent, *l) as usize];
     }
-    (labels, count)
+    Ok((labels, count))
 }

@@ -73,23 +73,23 @@ pub fn medial_axis(
     let angle = angle.to_radians();
     let (w, h) = (t.width as usize, t.height as usize);
     let free: Vec<bool> = (0..w * h).map(|p| is_free(t, p)).collect();
-    let separations = separations(t, options, angle, &free);
-    let (regions, count) = components(&free, w);
+    let separations = separations(t, options, angle, &free)?;
+    let (regions, count) = components(&free, w)?;
     let pruned: Vec<bool> = separations.iter().map(|&s| s > length).collect();
-    let (pieces, piece_count) = components(&pruned, w);
-    let mut piece_size = vec![0u32; piece_count as usize];
+    let (pieces, piece_count) = components(&pruned, w)?;
+    let mut piece_size = crate::memory::filled(piece_count as usize, 0u32, "pieces' sizes")?;
     for &piece in pieces.iter().filter(|&&c| c != NO_COMPONENT) {
         piece_size[piece as usize] += 1;
     }
     let in_piece = |p: usize| pruned[p] && piece_size[pieces[p] as usize] > 1;
     // Per region: whether it has a piece of two pixels or more, a pruned
     // pixel, and its largest separation.
-    let mut has_piece = vec![false; count as usize];
-    let mut has_pruned = vec![false; count as usize];
-    let mut widest = vec![0.0f64; count as usize];
+    let mut has_piece = crate::memory::filled(count as usize, false, "regions' pieces")?;
+    let mut has_pruned = crate::memory::filled(count as usize, false, "regions' pruned pieces")?;
+    let mut widest = crate::memory::filled(count as usize, 0.0f64, "regions' widths")?;
     // A region all of whose pixels are nearest one feature has no axis.
-    let mut feature = vec![None; count as usize];
-    let mut has_axis = vec![false; count as usize];
+    let mut feature = crate::memory::filled(count as usize, None, "regions' features")?;
+    let mut has_axis = crate::memory::filled(count as usize, false, "regions' axes")?;
     for p in (0..w * h).filter(|&p| free[p]) {
         let r = regions[p] as usize;
         has_pruned[r] |= pruned[p];
@@ -126,7 +126,12 @@ fn is_free(t: &Transform, p: usize) -> bool {
 /// Per pixel, how far apart the features are of the widest pair that puts it
 /// on the axis, among the pairs with a neighbour whose features subtend more
 /// than `angle` (radians) at the two; 0 where none does.
-fn separations(t: &Transform, options: &TransformOptions, angle: f64, free: &[bool]) -> Vec<f64> {
+fn separations(
+    t: &Transform,
+    options: &TransformOptions,
+    angle: f64,
+    free: &[bool],
+) -> Result<Vec<f64>> {
     let (w, h) = (t.width as usize, t.height as usize);
     let [sy, sx] = options.sampling;
     let metric = options.metric;
@@ -156,7 +161,7 @@ fn separations(t: &Transform, options: &TransformOptions, angle: f64, free: &[bo
         let q_margin = metric.distance(offset(q, fp)) - t.distances[q];
         (p_margin < q_margin || (p_margin == q_margin && p < q)).then(|| (a - b).length())
     };
-    let mut separations = vec![0.0; w * h];
+    let mut separations = crate::memory::filled(w * h, 0.0, "feature separations")?;
     separations
         .par_chunks_mut(w)
         .enumerate()
@@ -179,5 +184,5 @@ fn separations(t: &Transform, options: &TransformOptions, angle: f64, free: &[bo
                     .fold(0.0, f64::max);
             }
         });
-    separations
+    Ok(separations)
 }

@@ -208,11 +208,11 @@ fn transform(
             (metric, combine, [sy, sx]),
             planes,
             (&watch, &tally),
-        ),
+        )?,
         None if sy == sx => {
             let (rows, columns) = grown(features, width, height, metric)?;
             tally.add(h);
-            let distances = distances_to(&rows, &columns, (w, sx), metric, (&watch, &tally));
+            let distances = distances_to(&rows, &columns, (w, sx), metric, (&watch, &tally))?;
             (distances, planes.then_some((rows, columns)))
         }
         None => {
@@ -234,8 +234,8 @@ fn distances_to(
     (w, spacing): (usize, f64),
     metric: Metric,
     (watch, tally): (&Watch, &Tally),
-) -> Vec<f64> {
-    let mut distances = vec![0.0; feature_rows.len()];
+) -> Result<Vec<f64>> {
+    let mut distances = crate::memory::filled(feature_rows.len(), 0.0, "distances")?;
     distances
         .par_chunks_mut(w)
         .zip(feature_rows.par_chunks(w))
@@ -257,7 +257,7 @@ fn distances_to(
                 };
             }
         });
-    distances
+    Ok(distances)
 }
 
 /// Pieces of work done of all the passes, told to `progress` every hundredth.
@@ -301,7 +301,10 @@ fn grown(
         .filter(|&i| features[i as usize])
         .collect();
     if pixels.is_empty() {
-        return Ok((vec![-1; features.len()], vec![-1; features.len()]));
+        return Ok((
+            crate::memory::filled(features.len(), -1, "feature rows")?,
+            crate::memory::filled(features.len(), -1, "feature columns")?,
+        ));
     }
     let sites: Vec<glam::DVec2> = pixels
         .iter()

@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 use super::{Tally, NONE};
-use crate::{cancel::Watch, geometry::metric::Metric};
+use crate::{cancel::Watch, geometry::metric::Metric, memory, Result};
 
 /// How a separable metric combines the two axes' offsets (already sampled,
 /// non-negative) into a key that grows with each: the distance is a monotone
@@ -69,10 +69,14 @@ pub(super) fn separable(
     (metric, combine, [sy, sx]): (Metric, Combine, [f64; 2]),
     planes: bool,
     (watch, tally): (&Watch, &Tally),
-) -> Outputs {
-    let mut distances = vec![0.0; w * h];
-    nearest_rows(features, (w, h), &mut distances, (watch, tally));
-    let mut planes = planes.then(|| (vec![-1; w * h], vec![-1; w * h]));
+) -> Result<Outputs> {
+    let mut distances = memory::filled(w * h, 0.0, "distances")?;
+    nearest_rows(features, (w, h), &mut distances, (watch, tally))?;
+    let plane = || memory::filled(w * h, -1, "feature planes");
+    let mut planes = match planes {
+        true => Some((plane()?, plane()?)),
+        false => None,
+    };
     let plane_rows: Vec<Option<(&mut [i32], &mut [i32])>> = match &mut planes {
         Some((rows, columns)) => rows
             .chunks_mut(w)
@@ -140,7 +144,7 @@ pub(super) fn separable(
                 write_row(y, row, stack, metric, [sy, sx], out, planes);
             },
         );
-    (distances, planes)
+    Ok((distances, planes))
 }
 
 /// One thread's scratch for the row pass.
@@ -153,6 +157,11 @@ struct Row {
 }
 
 impl Row {
+    #[expect(
+        clippy::disallowed_macros,
+        clippy::disallowed_methods,
+        reason = "a row's scratch, a thread's, within the transform's picture"
+    )]
     fn new(w: usize) -> Self {
         Self {
             row: vec![NONE; w],
@@ -173,17 +182,18 @@ fn nearest_rows(
     (w, h): (usize, usize),
     out: &mut [f64],
     (watch, tally): (&Watch, &Tally),
-) {
+) -> Result<()> {
     // Four strips a thread, of 16 rows at least: the strips' four rows of
     // answers (16 bytes a column) stay within a byte a pixel.
     let strip = h.div_ceil(4 * rayon::current_num_threads()).max(16);
     let rows_of = |k: usize| &features[k * strip * w..((k + 1) * strip).min(h) * w];
     let strips = h.div_ceil(strip);
     // Each strip's first and last feature row in each column.
+    let columns = || memory::filled(w, NONE, "a strip's feature rows");
     let ends: Vec<(Vec<u32>, Vec<u32>)> = (0..strips)
         .into_par_iter()
         .map(|k| {
-            let (mut first, mut last) = (vec![NONE; w], vec![NONE; w]);
+            let (mut first, mut last) = (columns()?, columns()?);
             for (i, features) in rows_of(k).chunks_exact(w).enumerate() {
                 let y = (k * strip + i) as u32;
                 for ((f, l), &feature) in first.iter_mut().zip(&mut last).zip(features) {
@@ -193,12 +203,12 @@ fn nearest_rows(
                     }
                 }
             }
-            (first, last)
+            Ok((first, last))
         })
-        .collect();
+        .collect::<Result<_>>()?;
     // The nearest feature row above each strip, and below it.
-    let mut above = vec![vec![NONE; w]; strips];
-    let mut below = vec![vec![NONE; w]; strips];
+    let mut above = memory::filled(strips, columns()?, "feature rows above strips")?;
+    let mut below = memory::filled(strips, columns()?, "feature rows below strips")?;
     for k in 1..strips {
         let (done, rest) = above.split_at_mut(k);
         for ((a, &before), &last) in rest[0].iter_mut().zip(&done[k - 1]).zip(&ends[k - 1].1) {
@@ -246,6 +256,7 @@ fn nearest_rows(
             }
             tally.add(features.len() / w);
         });
+    Ok(())
 }
 
 /// A row index held in an `f64`'s bits: the column pass's answers live in

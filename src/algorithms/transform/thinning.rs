@@ -33,7 +33,7 @@ fn is_simple(around: u8) -> bool {
             }
             // Those of the piece of `start`; it counts if one of them
             // touches the pixel as the connectivity asks.
-            let mut stack = vec![start];
+            let mut stack = Vec::from([start]);
             seen[start] = true;
             let mut touches = false;
             while let Some(k) = stack.pop() {

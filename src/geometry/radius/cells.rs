@@ -37,6 +37,10 @@ pub(crate) struct CellBound {
 /// Where sites are dense the radii shrink to the local spacing, while a site next
 /// to an empty quarter still reaches across it: the thesis's worst case costs only
 /// the cones that need the reach.
+#[expect(
+    clippy::disallowed_macros,
+    reason = "a bound a site, within the budget the caller reserved"
+)]
 pub(crate) fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
     let picture = picture_corners(frame);
     let mut bounds: Vec<Option<CellBound>> = vec![None; sites.len()];
@@ -67,6 +71,7 @@ pub(crate) fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellB
 /// Delaunay: every edge is checked (each triangle's circle holds neither
 /// opposite corner, within the margin), and a strip that fails clips every
 /// site by its neighbours instead, as it does the sites on its hull.
+#[expect(clippy::disallowed_macros, reason = "a flag a point of one strip")]
 pub(super) fn strip_cell_bounds(
     sites: &[DVec2],
     strip: &Strip<'_>,
@@ -343,6 +348,7 @@ pub(super) fn delaunay_strips<T: Send>(
 
 /// The directed edges (a, b) of a strip's triangulation (site indices) whose
 /// first end the strip owns.
+#[expect(clippy::disallowed_methods, reason = "one strip's edges")]
 pub(super) fn strip_edges(strip: &Strip<'_>) -> Vec<(u32, u32)> {
     let (corners, twins) = (
         &strip.triangulation.triangles,

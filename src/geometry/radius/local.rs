@@ -81,6 +81,11 @@ pub(crate) struct TileCandidates {
 /// [`TileCandidates`] under `metric` (any but polygon gauges, `None` then), the
 /// sites in pixel coordinates: a tile's candidates are found as a cover cell's
 /// are (`Grid::k_candidates`), with no region bounded per site.
+#[expect(
+    clippy::disallowed_macros,
+    clippy::disallowed_methods,
+    reason = "a list a screen tile, within the picture its caller reserved"
+)]
 pub fn tile_candidates(
     sites: &[DVec2],
     frame: &Frame,

@@ -79,6 +79,10 @@ pub(crate) fn quadtree_k_radius(sites: &[DVec2], frame: &Frame, k: usize) -> Opt
 
 /// The root side of the picture's quadtree and its deepest level whose cells
 /// (those meeting the picture) all hold at least `k` sites of the picture.
+#[expect(
+    clippy::disallowed_macros,
+    reason = "a count a quadtree cell, fewer than the sites"
+)]
 fn deepest_full_level(sites: &[DVec2], frame: &Frame, k: usize) -> (f64, Option<u32>) {
     let (w, h) = (frame.width as f64, frame.height as f64);
     let side = (frame.width.max(frame.height) as f64)

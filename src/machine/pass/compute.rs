@@ -111,7 +111,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             &[result],
         )?;
         self.use_image(image, Usage::ComputeRead)?;
-        let mut words = vec![rect.x, rect.y, rect.width, rect.height];
+        let mut words = Vec::from([rect.x, rect.y, rect.width, rect.height]);
         words.extend_from_slice(extra_push);
         let layout = self.machine.pipelines.compute_layout;
         self.begin_section(&format!("reduce {kernel:?}"))?;
