@@ -88,6 +88,7 @@ pub mod testing {
         buckets::PointGrid,
         cone::bisector_deviation,
         flips::make_delaunay,
+        frame::site_checks,
         triangle::{sides_of, triangle_area},
     };
 }

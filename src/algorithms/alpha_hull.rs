@@ -43,7 +43,7 @@ use crate::{
     error::{Error, Result},
     geometry::circle::welzl,
     geometry::{
-        frame::{check_sites, first_of_each},
+        frame::{first_of_each, Checked},
         Frame,
     },
     machine::{
@@ -150,7 +150,13 @@ pub fn alpha_hull(
             machine.max_picture_side()
         )));
     }
-    hull_on(machine, sites, alpha, method, Canvas::Side(side))
+    hull_on(
+        machine,
+        Checked::new(sites)?,
+        alpha,
+        method,
+        Canvas::Side(side),
+    )
 }
 
 /// The α-hull of `sites` on the picture `frame` (a map's extent, say). Pixels
@@ -164,7 +170,13 @@ pub fn alpha_hull_in(
     method: AlphaMethod,
     frame: Frame,
 ) -> Result<AlphaHull> {
-    hull_on(machine, sites, alpha, method, Canvas::Frame(frame))
+    hull_on(
+        machine,
+        Checked::new(sites)?,
+        alpha,
+        method,
+        Canvas::Frame(frame),
+    )
 }
 
 /// Where a hull is drawn: a picture of so many pixels along its longer side,
@@ -200,12 +212,12 @@ impl Canvas {
 
 fn hull_on(
     machine: &Machine,
-    sites: &[DVec2],
+    sites: Checked<'_>,
     alpha: f64,
     method: AlphaMethod,
     canvas: Canvas,
 ) -> Result<AlphaHull> {
-    check_sites(sites)?;
+    let sites = sites.sites();
     if !alpha.is_finite() {
         return Err(Error::InvalidInput(format!("alpha {alpha} is not finite")));
     }
@@ -215,7 +227,7 @@ fn hull_on(
     let kept = first_of_each(sites);
     if kept.len() < sites.len() {
         let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
-        let mut hull = hull_on(machine, &distinct, alpha, method, canvas)?;
+        let mut hull = hull_on(machine, Checked::derived(&distinct), alpha, method, canvas)?;
         for site in &mut hull.boundary_sites {
             *site = kept[*site as usize];
         }
@@ -657,7 +669,12 @@ pub struct HullCircles {
 /// The α-hull's circles for α = 1/`radius` > 0; a radius below the smallest
 /// enclosing circle's is an error.
 pub fn hull_circles(sites: &[DVec2], radius: f64) -> Result<HullCircles> {
-    check_sites(sites)?;
+    circles_of(Checked::new(sites)?, radius)
+}
+
+/// [`hull_circles`] of sites checked where they entered.
+fn circles_of(sites: Checked<'_>, radius: f64) -> Result<HullCircles> {
+    let sites = sites.sites();
     let hull = convex_hull(sites);
     let corners: Vec<DVec2> = hull.iter().map(|&i| sites[i as usize]).collect();
     let mec = welzl(&corners);
@@ -698,7 +715,7 @@ fn positive(
     method: AlphaMethod,
     canvas: Canvas,
 ) -> Result<AlphaHull> {
-    let circles = hull_circles(sites, 1.0 / alpha)?;
+    let circles = circles_of(Checked::derived(sites), 1.0 / alpha)?;
     let radius = circles.radius;
     match method {
         AlphaMethod::Hull => {

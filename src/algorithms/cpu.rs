@@ -25,7 +25,7 @@ use crate::{
     cancel::Watch,
     error::{Error, Result},
     geometry::{
-        frame::check_sites,
+        frame::Checked,
         metric::Metric,
         site::{check_general_sites, Site},
         Frame,
@@ -97,6 +97,17 @@ pub fn k_nearest_with_progress(
     metric: Metric,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<KNearest> {
+    k_nearest_checked(Checked::new(sites)?, frame, k, metric, progress)
+}
+
+/// [`k_nearest_with_progress`] of sites checked where they entered.
+pub(crate) fn k_nearest_checked(
+    sites: Checked<'_>,
+    frame: &Frame,
+    k: u32,
+    metric: Metric,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<KNearest> {
     with_repeats(sites, frame, metric, k, |sites, k| {
         let mut near = grown_k_nearest(sites, frame, k, metric, progress)?;
         certify_levels(&mut near, sites, metric)?;
@@ -112,7 +123,6 @@ fn grown_k_nearest(
     metric: Metric,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<KNearest> {
-    check_sites(sites)?;
     frame.check()?;
     if k == 0 || k > MAX_LEVELS {
         return Err(Error::InvalidInput(format!(
@@ -289,7 +299,16 @@ fn insert(list: &mut [(f64, u32)], key: (f64, u32)) {
 /// sites, the only ones that own furthest regions, found as the device's
 /// proposals are proved: in doubles where they tell, exactly elsewhere.
 pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthest> {
-    check_sites(sites)?;
+    furthest_checked(Checked::new(sites)?, frame, metric)
+}
+
+/// [`furthest`] of sites checked where they entered.
+pub(crate) fn furthest_checked(
+    sites: Checked<'_>,
+    frame: &Frame,
+    metric: Metric,
+) -> Result<Furthest> {
+    let sites = sites.sites();
     frame.check()?;
     frame.reserve(16, "the CPU's furthest sites")?;
     let hull = furthest_candidates(sites, &convex_hull(sites), metric);

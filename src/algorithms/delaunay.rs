@@ -38,7 +38,7 @@ use crate::{
     error::{Error, Result},
     geometry::seed::Seed,
     geometry::{
-        frame::{check_sites, distinct_by},
+        frame::{distinct_by, Checked},
         mesh::Mesh,
         predicates::orient,
         scale,
@@ -223,7 +223,17 @@ pub fn delaunay_with_progress(
     options: &DelaunayOptions,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Delaunay> {
-    check_sites(points)?;
+    delaunay_checked(backend, Checked::new(points)?, options, progress)
+}
+
+/// [`delaunay_with_progress`] of points checked where they entered.
+pub(crate) fn delaunay_checked(
+    backend: &Backend,
+    points: Checked<'_>,
+    options: &DelaunayOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Delaunay> {
+    let points = points.sites();
     let k = scale::incircle_exponent(points)?;
     let machine = backend.machine();
     if k == 0 {

@@ -22,7 +22,7 @@ use crate::{
     geometry::{
         buckets::PointGrid,
         exact::{compare_distances, nearest_distance},
-        frame::{check_sites, first_of_each},
+        frame::{first_of_each, Checked},
         metric::Metric,
         scale, Frame,
     },
@@ -31,8 +31,8 @@ use crate::{
 };
 
 use super::{
-    higher_order::furthest,
-    voronoi::{voronoi, Method as VoronoiMethod, VoronoiOptions},
+    higher_order::furthest_checked,
+    voronoi::{voronoi_checked, Method as VoronoiMethod, VoronoiOptions},
 };
 
 /// Two points, one of each set (indices into the sets as given), and their
@@ -154,11 +154,11 @@ fn picture_error(frame: &Frame, d: f64) -> f64 {
 /// (coordinates past 1e154 or closer than 1e-154). The pair names each point by
 /// its first index in its set, and its distance is scaled back, exact to rounding.
 fn in_range<'p>(
-    a: &'p [DVec2],
-    b: &'p [DVec2],
-    answer: impl FnOnce(&[DVec2], &[DVec2]) -> Result<Answer>,
+    a: Checked<'p>,
+    b: Checked<'p>,
+    answer: impl FnOnce(Checked<'_>, Checked<'_>) -> Result<Answer>,
 ) -> Result<Answer> {
-    check_sets(&[("first set", a), ("second set", b)])?;
+    let (a, b) = (a.sites(), b.sites());
     let (a_kept, b_kept) = (first_of_each(a), first_of_each(b));
     // A set without repeats is taken as it is, not copied.
     let pick = |set: &'p [DVec2], kept: &[u32]| -> Cow<'p, [DVec2]> {
@@ -170,10 +170,12 @@ fn in_range<'p>(
     };
     let (a, b) = (pick(a, &a_kept), pick(b, &b_kept));
     let k = scale::common_predicate_exponent(&[&a, &b])?;
+    // The distinct points, scaled: derived from the checked sets.
     let mut found = if k == 0 {
-        answer(&a, &b)?
+        answer(Checked::derived(&a), Checked::derived(&b))?
     } else {
-        answer(&scale::scaled(&a, k), &scale::scaled(&b, k))?
+        let (a, b) = (scale::scaled(&a, k), scale::scaled(&b, k));
+        answer(Checked::derived(&a), Checked::derived(&b))?
     };
     found.frame.origin *= 2f64.powi(-k);
     found.frame.scale *= 2f64.powi(k);
@@ -185,11 +187,10 @@ fn in_range<'p>(
     Ok(found)
 }
 
-fn check_sets(sets: &[(&str, &[DVec2])]) -> Result<()> {
-    for (name, set) in sets {
-        check_sites(set).map_err(|e| e.about(name))?;
-    }
-    Ok(())
+/// The two sets, checked, each named in its error.
+fn checked_sets<'p>(a: &'p [DVec2], b: &'p [DVec2]) -> Result<(Checked<'p>, Checked<'p>)> {
+    let check = |name: &str, set| Checked::new(set).map_err(|e| e.about(name));
+    Ok((check("first set", a)?, check("second set", b)?))
 }
 
 /// What the picture says of one query point: the partner its pixel names, that
@@ -285,6 +286,18 @@ pub fn directed_hausdorff_by(
     side: Option<u32>,
     method: Method,
 ) -> Result<Answer> {
+    let (a, b) = checked_sets(a, b)?;
+    directed_checked(backend, a, b, side, method)
+}
+
+/// [`directed_hausdorff_by`] of sets checked where they entered.
+fn directed_checked(
+    backend: &Backend,
+    a: Checked<'_>,
+    b: Checked<'_>,
+    side: Option<u32>,
+    method: Method,
+) -> Result<Answer> {
     in_range(a, b, |a, b| match method {
         Method::Pixels => directed_in_range(
             backend.device_for("the pixels method of Hausdorff")?,
@@ -292,7 +305,7 @@ pub fn directed_hausdorff_by(
             b,
             side,
         ),
-        Method::Grid => directed_by_grid(a, b),
+        Method::Grid => directed_by_grid(a.sites(), b.sites()),
     })
 }
 
@@ -386,15 +399,16 @@ fn directed_by_grid(a: &[DVec2], b: &[DVec2]) -> Result<Answer> {
 
 fn directed_in_range(
     machine: &Machine,
-    a: &[DVec2],
-    b: &[DVec2],
+    a: Checked<'_>,
+    b_checked: Checked<'_>,
     side: Option<u32>,
 ) -> Result<Answer> {
+    let (a, b) = (a.sites(), b_checked.sites());
     let side = side.unwrap_or_else(|| default_side(machine, b.len()));
     let frame = frame_around(&[a, b], side)?;
     // The picture the method is named for, drawn whichever the device.
     let options = VoronoiOptions::exact(frame).method(VoronoiMethod::Cones);
-    let diagram = voronoi(&Backend::Device(machine), b, &options)?;
+    let diagram = voronoi_checked(&Backend::Device(machine), b_checked, &options)?;
     // Per point of a: the picture's partner, whose distance is an upper bound, and
     // a lower bound (the pixel's distance less the offset from the pixel centre).
     let queries: Vec<u32> = (0..a.len() as u32).collect();
@@ -438,8 +452,9 @@ pub fn hausdorff_by(
     side: Option<u32>,
     method: Method,
 ) -> Result<Hausdorff> {
-    let a_to_b = directed_hausdorff_by(backend, a, b, side, method)?;
-    let b_to_a = directed_hausdorff_by(backend, b, a, side, method)?;
+    let (a, b) = checked_sets(a, b)?;
+    let a_to_b = directed_checked(backend, a, b, side, method)?;
+    let b_to_a = directed_checked(backend, b, a, side, method)?;
     Ok(Hausdorff {
         a_to_b,
         b_to_a,
@@ -467,18 +482,20 @@ pub fn max_distance(
     b: &[DVec2],
     side: Option<u32>,
 ) -> Result<Answer> {
+    let (a, b) = checked_sets(a, b)?;
     in_range(a, b, |a, b| max_distance_in_range(machine, a, b, side))
 }
 
 fn max_distance_in_range(
     machine: &Machine,
-    a: &[DVec2],
-    b: &[DVec2],
+    a: Checked<'_>,
+    b_checked: Checked<'_>,
     side: Option<u32>,
 ) -> Result<Answer> {
+    let (a, b) = (a.sites(), b_checked.sites());
     let side = side.unwrap_or_else(|| default_side(machine, convex_hull(b).len()));
     let frame = frame_around(&[a, b], side)?;
-    let diagram = furthest(&Backend::Device(machine), b, &frame, Metric::L2)?;
+    let diagram = furthest_checked(&Backend::Device(machine), b_checked, &frame, Metric::L2)?;
     // The farthest point from a fixed point over a set is a hull vertex, and the
     // distance to the farthest point of b is convex, so its maximum over a is at a
     // hull vertex of a. The picture's partner's distance is a lower bound, the

@@ -20,11 +20,12 @@ use rayon::prelude::*;
 use crate::{
     algorithms::{
         cpu,
-        voronoi::{voronoi, VoronoiOptions},
+        voronoi::{voronoi_checked, VoronoiOptions},
     },
     cancel::Watch,
     geometry::{
         exact::{nearest_double, rational},
+        frame::Checked,
         metric::Metric,
         Frame,
     },
@@ -98,12 +99,7 @@ pub fn lloyd(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Lloyd> {
     let frame = options.frame;
-    if sites.is_empty() {
-        return Err(Error::InvalidInput("no sites".into()));
-    }
-    if let Some(i) = sites.iter().position(|p| !p.is_finite()) {
-        return Err(Error::InvalidInput(format!("site {i} is not finite")));
-    }
+    let checked = Checked::new(sites)?;
     if options.tolerance.is_nan() || options.tolerance < 0.0 {
         return Err(Error::InvalidInput(format!(
             "the tolerance is a distance of 0 or more, not {}",
@@ -111,10 +107,11 @@ pub fn lloyd(
         )));
     }
     let weights = Weights::new(&frame, density)?;
-    let label = |sites: &[DVec2]| nearest_labels(machine, sites, &frame);
+    // The moved sites are centroids of pixel centres: finite, as many.
+    let label = |sites: &[DVec2]| nearest_labels(machine, Checked::derived(sites), &frame);
     let watch = Watch::current();
+    let mut labels = nearest_labels(machine, checked, &frame)?;
     let mut sites = sites.to_vec();
-    let mut labels = label(&sites)?;
     let mut steps = Vec::new();
     let mut converged = false;
     for _ in 0..options.iterations {
@@ -154,17 +151,17 @@ pub fn lloyd(
 /// `machine` or by the CPU pixel algorithms without one.
 pub(crate) fn nearest_labels(
     machine: Option<&Machine>,
-    sites: &[DVec2],
+    sites: Checked<'_>,
     frame: &Frame,
 ) -> Result<Vec<u32>> {
     match machine {
-        Some(m) => Ok(voronoi(
+        Some(m) => Ok(voronoi_checked(
             &Backend::Device(m),
             sites,
             &VoronoiOptions::exact(*frame).distances(false),
         )?
         .labels),
-        None => Ok(cpu::k_nearest(sites, frame, 1, Metric::L2)?.labels),
+        None => Ok(cpu::k_nearest_checked(sites, frame, 1, Metric::L2, &mut |_, _| {})?.labels),
     }
 }
 

@@ -33,7 +33,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         cone::fan_distance_error,
-        frame::{check_sites, distinct_by},
+        frame::{distinct_by, Checked},
         metric::Metric,
         Frame,
     },
@@ -336,7 +336,16 @@ pub fn voronoi(
     sites: &[DVec2],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
-    whole_diagram(options, |sink| voronoi_bands(backend, sites, options, sink))
+    voronoi_checked(backend, Checked::new(sites)?, options)
+}
+
+/// [`voronoi`] of sites checked where they entered.
+pub(crate) fn voronoi_checked(
+    backend: &Backend,
+    sites: Checked<'_>,
+    options: &VoronoiOptions,
+) -> Result<VoronoiDiagram> {
+    whole_diagram(options, |sink| bands(backend, sites, options, sink))
 }
 
 /// The diagram of `options`' window from the bands `bands` hands over.
@@ -414,8 +423,19 @@ pub fn voronoi_bands(
     backend: &Backend,
     sites: &[DVec2],
     options: &VoronoiOptions,
+    sink: impl FnMut(Band) -> Result<()>,
+) -> Result<VoronoiStats> {
+    bands(backend, Checked::new(sites)?, options, sink)
+}
+
+/// [`voronoi_bands`] of sites checked where they entered.
+fn bands(
+    backend: &Backend,
+    sites: Checked<'_>,
+    options: &VoronoiOptions,
     mut sink: impl FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
+    let sites = sites.sites();
     match backend {
         Backend::Device(machine) => repeats_once(sites, options, &mut sink, &mut |sites, sink| {
             distinct_bands(machine, sites, options, sink)
@@ -452,7 +472,6 @@ fn repeats_once(
     // wins every pixel any of them would: the others are dropped up front, so
     // repeats cost nothing. Tie counts add the repeats of each position tied
     // (found exactly where more than one is), over the whole picture.
-    check_sites(sites)?;
     if options.ties && options.window.is_some() {
         return draw(sites, sink);
     }

@@ -215,8 +215,19 @@ pub(crate) fn farthest2_in_rect(p: DVec2, lo: DVec2, hi: DVec2) -> f64 {
     ((p - (lo + hi) * 0.5).abs() + (hi - lo) * 0.5).length_squared()
 }
 
+thread_local! {
+    static SITE_CHECKS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// How many site lists this thread has checked ([`check_sites`]): a problem
+/// checks its input once, where it enters, and the tests count that.
+pub fn site_checks() -> u64 {
+    SITE_CHECKS.with(std::cell::Cell::get)
+}
+
 /// Checks a site list: not empty, every coordinate finite.
 pub fn check_sites(sites: &[DVec2]) -> Result<()> {
+    SITE_CHECKS.with(|c| c.set(c.get() + 1));
     if sites.is_empty() {
         return Err(Error::InvalidInput("the site list is empty".into()));
     }
@@ -233,6 +244,30 @@ pub fn check_sites(sites: &[DVec2]) -> Result<()> {
         )));
     }
     crate::memory::reserve_sites(sites.len())
+}
+
+/// Sites that passed [`check_sites`] where they entered, or that pixgeo made
+/// from such (scaled by a power of two, moved to centroids): the problems that
+/// call one another hand these on and do not check them again.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Checked<'a>(&'a [DVec2]);
+
+impl<'a> Checked<'a> {
+    /// `sites`, checked.
+    pub(crate) fn new(sites: &'a [DVec2]) -> Result<Self> {
+        check_sites(sites)?;
+        Ok(Self(sites))
+    }
+
+    /// Sites pixgeo derived from checked ones: as many, each finite.
+    pub(crate) fn derived(sites: &'a [DVec2]) -> Self {
+        debug_assert!(sites.iter().all(|p| p.is_finite()));
+        Self(sites)
+    }
+
+    pub(crate) fn sites(self) -> &'a [DVec2] {
+        self.0
+    }
 }
 
 /// A key that orders finite coordinates as numbers, with −0.0 equal to 0.0,

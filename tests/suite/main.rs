@@ -32,6 +32,7 @@ mod polygon;
 mod power;
 mod predicates;
 mod properties;
+mod read_once;
 mod robustness;
 mod settle;
 mod sites;

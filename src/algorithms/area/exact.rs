@@ -7,12 +7,12 @@ use num_rational::BigRational;
 
 /// The sites a quadrangle's vertices are searched among (the distinct ones;
 /// for the largest, the hull's vertices where there are four), and the hull; an
-/// error for fewer than four distinct sites or all on a line.
+/// error for fewer than four distinct sites or all on a line. The sites are
+/// those [`super::in_range`] checked.
 pub(crate) fn quadrangle_candidates(
     sites: &[DVec2],
     extreme: Extreme,
 ) -> Result<(Vec<u32>, Vec<u32>)> {
-    check_sites(sites)?;
     let distinct = first_of_each(sites);
     let hull = convex_hull(sites);
     if distinct.len() < 4 || hull.len() < 3 {
@@ -29,9 +29,9 @@ pub(crate) fn quadrangle_candidates(
 }
 
 /// The answer when two sites coincide (the smallest triangle) or all sites lie
-/// on a line: area 0 either way; an error for bad sites or fewer than three.
+/// on a line: area 0 either way; an error for fewer than three. The sites are
+/// those [`super::in_range`] checked.
 pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Result<Option<AreaAnswer>> {
-    check_sites(sites)?;
     if sites.len() < 3 {
         return Err(Error::InvalidInput(format!(
             "a triangle needs three sites; there are {}",

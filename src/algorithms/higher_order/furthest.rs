@@ -41,10 +41,21 @@ pub fn furthest(
     frame: &Frame,
     metric: Metric,
 ) -> Result<Furthest> {
+    furthest_checked(backend, Checked::new(sites)?, frame, metric)
+}
+
+/// [`furthest`] of sites checked where they entered.
+pub(crate) fn furthest_checked(
+    backend: &Backend,
+    sites: Checked<'_>,
+    frame: &Frame,
+    metric: Metric,
+) -> Result<Furthest> {
     let Some(machine) = backend.machine() else {
-        return crate::algorithms::cpu::furthest(sites, frame, metric);
+        return crate::algorithms::cpu::furthest_checked(sites, frame, metric);
     };
     let drawn = draw_furthest(machine, sites, frame, metric, true)?;
+    let sites = sites.sites();
     let ids = drawn.ids.as_ref().expect("labels were asked for");
     let rect = PixelRect::of(ids);
     let labels = machine.read_u32(ids, rect)?;
@@ -109,12 +120,12 @@ pub(crate) fn distance_of_depth(metric: Metric, scale: f64, z: f32, frame: &Fram
 /// sites that can own a region).
 pub(crate) fn draw_furthest(
     machine: &Machine,
-    sites: &[DVec2],
+    sites: Checked<'_>,
     frame: &Frame,
     metric: Metric,
     labels: bool,
 ) -> Result<DrawnFurthest> {
-    check_sites(sites)?;
+    let sites = sites.sites();
     frame.check()?;
     let side = machine.max_picture_side();
     if frame.width > side || frame.height > side {

@@ -215,12 +215,7 @@ fn sort_levels(labels: &mut [u32], distances: &mut [f32]) {
 }
 
 /// The checks every way of computing levels shares.
-pub(super) fn check_levels(
-    machine: &Machine,
-    sites: &[DVec2],
-    options: &KNearestOptions,
-) -> Result<()> {
-    check_sites(sites)?;
+pub(super) fn check_levels(machine: &Machine, options: &KNearestOptions) -> Result<()> {
     options.accuracy.check_for(options.metric)?;
     let frame = options.frame;
     frame.check()?;

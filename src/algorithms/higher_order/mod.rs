@@ -30,7 +30,7 @@ use crate::{
     geometry::{
         chain::{unit_fan_over, MetricFan},
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
-        frame::{check_sites, distance2_to_rect, first_of_each},
+        frame::{distance2_to_rect, first_of_each, Checked},
         metric::Metric,
         predicates::convex_hull,
         radius, Frame,
@@ -218,6 +218,15 @@ pub fn k_nearest(
     sites: &[DVec2],
     options: &KNearestOptions,
 ) -> Result<KNearest> {
+    k_nearest_checked(machine, Checked::new(sites)?, options)
+}
+
+/// [`k_nearest`] of sites checked where they entered.
+pub(crate) fn k_nearest_checked(
+    machine: &Machine,
+    sites: Checked<'_>,
+    options: &KNearestOptions,
+) -> Result<KNearest> {
     with_repeats(
         sites,
         &options.frame,
@@ -246,7 +255,7 @@ fn proposed_k_nearest(
     };
     let frame = options.frame;
     let k = options.k;
-    check_levels(machine, sites, options)?;
+    check_levels(machine, options)?;
     let key_bytes = frame.len() as u64 * k as u64 * 8;
     if key_bytes > MAX_KEY_BYTES {
         return Err(Error::InvalidInput(format!(

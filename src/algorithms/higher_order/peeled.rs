@@ -23,7 +23,7 @@ pub fn k_nearest_peeled(
     options: &KNearestOptions,
 ) -> Result<KNearest> {
     with_repeats(
-        sites,
+        Checked::new(sites)?,
         &options.frame,
         options.metric,
         options.k,
@@ -33,7 +33,7 @@ pub fn k_nearest_peeled(
 
 /// [`k_nearest_peeled`] of distinct sites.
 fn peel(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result<KNearest> {
-    check_levels(machine, sites, options)?;
+    check_levels(machine, options)?;
     if options.accuracy != Accuracy::Exact || matches!(options.metric, Metric::Polygon(_)) {
         return Err(Error::InvalidInput(
             "peeling draws exact cones of the L_p metrics; use the default level method for fans and polygons".into(),

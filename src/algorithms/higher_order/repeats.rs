@@ -10,7 +10,7 @@ use crate::{
     algorithms::certify::Certifier,
     error::Result,
     geometry::{
-        frame::{check_sites, distinct_by},
+        frame::{distinct_by, Checked},
         metric::Metric,
         Frame,
     },
@@ -22,13 +22,13 @@ use crate::{
 /// (consecutive levels, compared exactly) give their sites in index order, as
 /// the diagram of all sites orders ties.
 pub(crate) fn with_repeats(
-    sites: &[DVec2],
+    sites: Checked<'_>,
     frame: &Frame,
     metric: Metric,
     k: u32,
     compute: impl FnOnce(&[DVec2], u32) -> Result<KNearest>,
 ) -> Result<KNearest> {
-    check_sites(sites)?;
+    let sites = sites.sites();
     let (mut kept, repeats) = distinct_by(sites, 0..sites.len() as u32, |_| ());
     if repeats.is_empty() {
         return compute(sites, k);

@@ -27,12 +27,24 @@ pub fn enclose(
     k: usize,
     side: u32,
 ) -> Result<HomothetAnswer> {
-    check_sites(sites)?;
+    enclose_checked(backend, Checked::new(sites)?, unit, k, side)
+}
+
+/// [`enclose`] of sites checked where they entered.
+fn enclose_checked(
+    backend: &Backend,
+    checked: Checked<'_>,
+    unit: Unit,
+    k: usize,
+    side: u32,
+) -> Result<HomothetAnswer> {
+    let sites = checked.sites();
     // Homothets scale with their sites: far magnitudes are brought near 1 by
     // a power of two, exactly, so that no distance overflows or underflows.
     let shift = scale::predicate_exponent(sites)?;
     if shift != 0 {
-        let answer = enclose(backend, &scale::scaled(sites, shift), unit, k, side)?;
+        let scaled = scale::scaled(sites, shift);
+        let answer = enclose_checked(backend, Checked::derived(&scaled), unit, k, side)?;
         return Ok(answer.scaled(-shift));
     }
     let n = sites.len();
@@ -54,7 +66,7 @@ pub fn enclose(
         let kept = first_of_each(sites);
         if kept.len() < n {
             let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
-            let mut answer = enclose(backend, &distinct, unit, 0, side)?;
+            let mut answer = enclose_checked(backend, Checked::derived(&distinct), unit, 0, side)?;
             for homothet in [&mut answer.exact, &mut answer.pixel] {
                 for site in &mut homothet.sites {
                     *site = kept[*site as usize];
@@ -71,7 +83,7 @@ pub fn enclose(
     let (pixel, value, near_pixels, owners) = if let (true, None) = (k == n, backend.machine()) {
         // The upper envelope from the CPU's furthest sites: its lowest
         // pixel and those within twice the bound of it.
-        let far = cpu::furthest(sites, &frame, metric)?;
+        let far = cpu::furthest_checked(checked, &frame, metric)?;
         let lowest = lowest_of(&far.distances);
         let value = far.distances[lowest] as f64;
         let near = (0..far.distances.len())
@@ -80,7 +92,7 @@ pub fn enclose(
             .collect();
         (lowest, value, near, far.hull)
     } else if let (true, Some(machine)) = (k == n, backend.machine()) {
-        let drawn = draw_furthest(machine, sites, &frame, metric, false)?;
+        let drawn = draw_furthest(machine, checked, &frame, metric, false)?;
         // Every pixel that could be the optimum's: within twice the bound. L2
         // keys are squared distances (pixels); the others are distances.
         let lowest = machine.depth_extremes(
@@ -104,7 +116,7 @@ pub fn enclose(
         // Equal optima are many here (on lattices), and which one the
         // search meets depends on the levels' rounding: the device's alone.
         let machine = backend.device_for("the smallest homothet holding k of the sites")?;
-        let levels = kth_levels(machine, sites, frame, metric, k)?;
+        let levels = kth_levels(machine, checked, frame, metric, k)?;
         let kth = levels.level_distances(k as u32 - 1);
         let at = lowest_of(&kth);
         let d = kth[at] as f64;
@@ -468,7 +480,7 @@ pub fn enclose_sites(
 /// The k nearest sites of every pixel, exact.
 pub(super) fn kth_levels(
     machine: &Machine,
-    sites: &[DVec2],
+    sites: Checked<'_>,
     frame: Frame,
     metric: Metric,
     k: usize,
@@ -480,7 +492,7 @@ pub(super) fn kth_levels(
         accuracy: Accuracy::Exact,
         speedup: Speedup::Quadtree,
     };
-    k_nearest(machine, sites, &options)
+    k_nearest_checked(machine, sites, &options)
 }
 
 /// The first pixel of least distance.

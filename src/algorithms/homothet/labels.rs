@@ -61,7 +61,7 @@ pub fn envelope_labels(
                 .labels
         }
         Envelope::Enclosing { k } => {
-            kth_levels(machine, sites, frame, metric, k)?.level_labels(k as u32 - 1)
+            kth_levels(machine, Checked::new(sites)?, frame, metric, k)?.level_labels(k as u32 - 1)
         }
         Envelope::Empty => {
             let options = VoronoiOptions {

@@ -31,7 +31,7 @@ use crate::{
     geometry::{
         buckets::PointGrid,
         chain::segment_distance,
-        frame::{check_sites, first_of_each},
+        frame::{check_sites, first_of_each, Checked},
         metric::{Gauge, Metric},
         scale,
         site::{check_general_sites, Shape, Site},
@@ -58,7 +58,7 @@ use refine::{
 
 use super::{
     flooding,
-    higher_order::{draw_furthest, k_nearest, KNearestOptions, MAX_LEVELS},
+    higher_order::{draw_furthest, k_nearest_checked, KNearestOptions, MAX_LEVELS},
     sites::draw_sites,
     voronoi::{draw_point_tiles, Accuracy, Speedup, TileExtras, VoronoiOptions},
 };

@@ -27,6 +27,7 @@ use crate::{
     algorithms::lloyd::nearest_labels,
     cancel::Watch,
     geometry::{
+        frame::Checked,
         predicates::{convex_hull, orient},
         scale::times_power_of_two,
         Frame,
@@ -47,6 +48,17 @@ pub fn discrete_sibson(
     frame: &Frame,
 ) -> Result<Vec<f64>> {
     super::check_values(sites, values)?;
+    of_checked(machine, Checked::new(sites)?, values, frame)
+}
+
+/// [`discrete_sibson`] of sites checked where they entered, with as many
+/// finite values.
+pub(super) fn of_checked(
+    machine: Option<&Machine>,
+    sites: Checked<'_>,
+    values: &[f64],
+    frame: &Frame,
+) -> Result<Vec<f64>> {
     // Pixels beyond the frame scatter into it too: the diagram is drawn
     // with a margin of MARGIN times the larger side all round.
     let margin = ((frame.width.max(frame.height) as f64 * MARGIN).ceil() as u32).max(1);
@@ -57,6 +69,7 @@ pub fn discrete_sibson(
         ..*frame
     };
     let labels = nearest_labels(machine, sites, &padded)?;
+    let sites = sites.sites();
     let (w, h) = (padded.width as usize, padded.height as usize);
     // Each pixel's squared distance to its site, in pixels.
     let reach: Vec<f64> = labels

@@ -33,11 +33,11 @@ use rayon::prelude::*;
 
 use crate::{
     algorithms::{
-        delaunay::{delaunay, DelaunayOptions},
-        voronoi::{voronoi, VoronoiOptions},
+        delaunay::{delaunay_checked, DelaunayOptions},
+        voronoi::{voronoi_checked, VoronoiOptions},
     },
     cancel::Watch,
-    geometry::{bounded::Bounded, exact::nearest_double, scale, Frame},
+    geometry::{bounded::Bounded, exact::nearest_double, frame::Checked, scale, Frame},
     machine::PixelRect,
     Backend, Error, Need, Result,
 };
@@ -112,6 +112,7 @@ pub fn interpolate_window(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Interpolation> {
     check_values(sites, values)?;
+    let checked = Checked::new(sites)?;
     let diagram = VoronoiOptions::exact(*frame)
         .distances(false)
         .window(Some(window));
@@ -126,7 +127,7 @@ pub fn interpolate_window(
     crate::memory::reserve_picture(rect.width, rect.height, each, "an interpolated raster")?;
     let values = match method {
         Method::Nearest => {
-            let labels = voronoi(backend, sites, &diagram)?.labels;
+            let labels = voronoi_checked(backend, checked, &diagram)?.labels;
             labels.iter().map(|&l| values[l as usize]).collect()
         }
         Method::Discrete if rect != PixelRect::sized(frame.width, frame.height) => {
@@ -136,13 +137,13 @@ pub fn interpolate_window(
                     .into(),
             ))
         }
-        Method::Discrete => discrete_sibson(backend.machine(), sites, values, frame)?,
+        Method::Discrete => discrete::of_checked(backend.machine(), checked, values, frame)?,
         Method::Exact | Method::Linear => {
             let centres: Vec<DVec2> = (0..rect.height)
                 .flat_map(|j| (0..rect.width).map(move |i| (rect.x + i, rect.y + j)))
                 .map(|(i, j)| frame.to_world(DVec2::new(i as f64, j as f64)))
                 .collect();
-            let corners = triangulated(backend, sites, values)?;
+            let corners = triangulated(backend, checked, values)?;
             let run = rect.width as usize;
             let sibson = method == Method::Exact;
             return on_triangles(sites, &corners, values, &centres, run, sibson, progress);
@@ -178,15 +179,15 @@ pub fn interpolate_points(
              the linear method"
         )));
     }
-    let corners = triangulated(backend, sites, values)?;
+    let corners = triangulated(backend, Checked::new(sites)?, values)?;
     let sibson = method == Method::Exact;
     on_triangles(sites, &corners, values, points, 256, sibson, &mut |_, _| {})
 }
 
 /// The Delaunay triangles of the sites, whose repeated points must agree on
 /// their value.
-fn triangulated(backend: &Backend, sites: &[DVec2], values: &[f64]) -> Result<Vec<[u32; 3]>> {
-    let mesh = delaunay(backend, sites, &DelaunayOptions::default())?;
+fn triangulated(backend: &Backend, sites: Checked<'_>, values: &[f64]) -> Result<Vec<[u32; 3]>> {
+    let mesh = delaunay_checked(backend, sites, &DelaunayOptions::default(), &mut |_, _| {})?;
     let differ =
         |[d, k]: &&[u32; 2]| values[*d as usize].to_bits() != values[*k as usize].to_bits();
     if let Some(&[dropped, kept]) = mesh.duplicates.iter().find(differ) {

@@ -168,7 +168,10 @@ fn add_band_spans(
     }
 }
 
-/// Nearest site per pixel on the CPU: the thesis's growing sites (§3.12.1).
+/// Nearest site per pixel on the CPU: the thesis's growing sites (§3.12.1),
+/// of the distinct sites of a checked set.
 fn nearest_labels_cpu(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Vec<u32>> {
-    Ok(crate::algorithms::cpu::k_nearest(sites, frame, 1, metric)?.labels)
+    let sites = Checked::derived(sites);
+    let near = crate::algorithms::cpu::k_nearest_checked(sites, frame, 1, metric, &mut |_, _| {})?;
+    Ok(near.labels)
 }

@@ -42,7 +42,7 @@ use crate::{
     error::{Error, Result},
     geometry::{
         cell,
-        frame::{check_sites, first_of_each},
+        frame::{check_sites, first_of_each, Checked},
         metric::Metric,
         Frame,
     },
@@ -55,7 +55,7 @@ use crate::{
 };
 
 use super::certify::Certifier;
-use super::voronoi::{voronoi, VoronoiOptions};
+use super::voronoi::{voronoi_checked, VoronoiOptions};
 
 mod cpu;
 mod device;
@@ -297,11 +297,19 @@ pub fn potential_areas(
         distances: false,
         ..VoronoiOptions::exact(frame)
     };
-    let rival_labels = voronoi(&Backend::Device(machine), rivals, &diagram_options)?.labels;
+    // The distinct sites of the sets checked above.
+    let labels = |sites| {
+        voronoi_checked(
+            &Backend::Device(machine),
+            Checked::derived(sites),
+            &diagram_options,
+        )
+    };
+    let rival_labels = labels(rivals)?.labels;
     let own_labels = if own.is_empty() {
         None
     } else {
-        Some(voronoi(&Backend::Device(machine), own, &diagram_options)?.labels)
+        Some(labels(own)?.labels)
     };
     let keys = disc_radius_keys(
         &frame,
