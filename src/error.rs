@@ -26,9 +26,9 @@ pub enum Error {
     /// Device memory could not be allocated (the allocator's message).
     #[error("device memory: {0}")]
     Memory(String),
-    /// The input is not something pixgeo can compute with.
+    /// The input is not something pixgeo can compute with: why, by kind.
     #[error("invalid input: {0}")]
-    InvalidInput(String),
+    InvalidInput(Invalid),
     /// The picture (or one image of the device) is larger than allowed.
     #[error("picture {width}x{height} is too large: sides of at most {limit} pixels")]
     PictureTooLarge { width: u32, height: u32, limit: u32 },
@@ -91,8 +91,105 @@ impl Error {
     /// Names what an invalid input was (`first set: site 3 ...`), once.
     pub(crate) fn about(self, what: &str) -> Self {
         match self {
-            Self::InvalidInput(message) => Self::InvalidInput(format!("{what}: {message}")),
+            Self::InvalidInput(why) => Self::InvalidInput(why.about(what)),
             other => other,
+        }
+    }
+
+    /// A value that is NaN or infinite, at `index` of its list if it has one.
+    pub fn not_finite(index: Option<usize>, message: String) -> Self {
+        Self::InvalidInput(Invalid::NotFinite { index, message })
+    }
+
+    /// Fewer items than the work needs.
+    pub fn too_few(needed: usize, given: usize, message: String) -> Self {
+        Self::InvalidInput(Invalid::TooFew {
+            needed,
+            given,
+            message,
+        })
+    }
+
+    /// Input in a position with no answer ([`Invalid::Degenerate`]).
+    pub fn degenerate(message: String) -> Self {
+        Self::InvalidInput(Invalid::Degenerate(message))
+    }
+
+    /// A number or size beyond what works ([`Invalid::OutOfRange`]).
+    pub fn out_of_range(message: String) -> Self {
+        Self::InvalidInput(Invalid::OutOfRange(message))
+    }
+
+    /// An option this work does not take ([`Invalid::UnsupportedOption`]).
+    pub fn unsupported_option(message: String) -> Self {
+        Self::InvalidInput(Invalid::UnsupportedOption(message))
+    }
+
+    /// Input that contradicts itself ([`Invalid::Malformed`]).
+    pub fn malformed(message: String) -> Self {
+        Self::InvalidInput(Invalid::Malformed(message))
+    }
+}
+
+/// Why pixgeo refused an input ([`Error::InvalidInput`]): the kind, for a
+/// program to act on, and a message that says what works, for a person.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Invalid {
+    /// A value that is NaN or infinite; `index` is its place in its list
+    /// (a site, a value, a query point), where it has one.
+    #[error("{message}")]
+    NotFinite {
+        index: Option<usize>,
+        message: String,
+    },
+    /// Fewer items than the work needs: no sites, two points for a triangle.
+    #[error("{message}")]
+    TooFew {
+        needed: usize,
+        given: usize,
+        message: String,
+    },
+    /// Input in a position with no answer: all on one line, one point, a
+    /// region without a pixel centre.
+    #[error("{0}")]
+    Degenerate(String),
+    /// A number or size beyond what pixgeo, or this device, computes with;
+    /// the message names the range that works.
+    #[error("{0}")]
+    OutOfRange(String),
+    /// An option, or a combination of options, that this problem or route
+    /// does not take.
+    #[error("{0}")]
+    UnsupportedOption(String),
+    /// Input that contradicts itself or its description: lengths that
+    /// differ, repeated or misplaced items, a malformed box, an unknown name.
+    #[error("{0}")]
+    Malformed(String),
+}
+
+impl Invalid {
+    /// The message, prefixed by what the input was.
+    fn about(self, what: &str) -> Self {
+        let named = |message: String| format!("{what}: {message}");
+        match self {
+            Self::NotFinite { index, message } => Self::NotFinite {
+                index,
+                message: named(message),
+            },
+            Self::TooFew {
+                needed,
+                given,
+                message,
+            } => Self::TooFew {
+                needed,
+                given,
+                message: named(message),
+            },
+            Self::Degenerate(m) => Self::Degenerate(named(m)),
+            Self::OutOfRange(m) => Self::OutOfRange(named(m)),
+            Self::UnsupportedOption(m) => Self::UnsupportedOption(named(m)),
+            Self::Malformed(m) => Self::Malformed(named(m)),
         }
     }
 }

@@ -61,7 +61,7 @@ mod names;
 mod simple;
 
 pub use backend::{Backend, Chosen, Need};
-pub use error::{Error, Result};
+pub use error::{Error, Invalid, Result};
 pub use geometry::{
     metric::Metric,
     site::{Shape, Site},

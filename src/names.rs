@@ -23,7 +23,7 @@ fn by_name<T: Copy>(what: &str, text: &str, table: &[(&str, T)]) -> Result<T> {
         .map(|&(_, value)| value)
         .ok_or_else(|| {
             let names: Vec<&str> = table.iter().map(|(name, _)| *name).collect();
-            Error::InvalidInput(format!("unknown {what} `{text}`: use {}", names.join(", ")))
+            Error::malformed(format!("unknown {what} `{text}`: use {}", names.join(", ")))
         })
 }
 
@@ -116,12 +116,12 @@ impl FromStr for Accuracy {
                     triangles: Some(triangles),
                 },
                 Some(Err(_)) => {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::malformed(format!(
                         "`{text}`: a fan has a whole number of triangles"
                     )))
                 }
                 None => {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::malformed(format!(
                         "unknown mode `{text}`: use exact, fan or fan:T"
                     )))
                 }
@@ -136,7 +136,7 @@ impl FromStr for Metric {
     type Err = Error;
     /// `l2`, `l1`, `linf`, `lp:P` and the other names [`Metric::parse`] reads.
     fn from_str(text: &str) -> Result<Self> {
-        Metric::parse(text).map_err(Error::InvalidInput)
+        Metric::parse(text).map_err(Error::malformed)
     }
 }
 

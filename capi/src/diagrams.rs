@@ -251,7 +251,7 @@ pub unsafe extern "C" fn pixgeo_voronoi_bands(
             // arrays live until it returns.
             if unsafe { callback(&view, user_data) } != 0 {
                 stopped = true;
-                return Err(Error::InvalidInput("stopped by the band callback".into()));
+                return Err(Error::malformed("stopped by the band callback".into()));
             }
             Ok(())
         });

@@ -345,7 +345,7 @@ pub unsafe extern "C" fn pixgeo_context_create(
         if !options.is_null() {
             // SAFETY: non-null and valid (caller contract).
             let o = unsafe { read_options(options, "pixgeo_context_options_default") }
-                .map_err(|(_, text)| Error::InvalidInput(text))?;
+                .map_err(|(_, text)| Error::malformed(text))?;
             machine_options.validation = o.validation;
             if !o.pipeline_cache {
                 machine_options.pipeline_cache = None;
@@ -355,7 +355,7 @@ pub unsafe extern "C" fn pixgeo_context_create(
                 1 => machine_options.device = DeviceChoice::Lavapipe,
                 2 => machine_options.device = DeviceChoice::Gpu,
                 other => {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::malformed(format!(
                         "device {other} is not a PixgeoDevice (0 auto, 1 lavapipe, 2 gpu)"
                     )))
                 }
@@ -365,7 +365,7 @@ pub unsafe extern "C" fn pixgeo_context_create(
                 let name = unsafe { std::ffi::CStr::from_ptr(o.device_name) };
                 let name = name
                     .to_str()
-                    .map_err(|_| Error::InvalidInput("device_name is not UTF-8".into()))?;
+                    .map_err(|_| Error::malformed("device_name is not UTF-8".into()))?;
                 machine_options.device = DeviceChoice::parse(name);
             }
         }

@@ -12,7 +12,7 @@
 //! `gpu_ms` holds the device's milliseconds by pass.
 
 use anyhow::Result;
-use pixgeo::geometry::Frame;
+use pixgeo::{geometry::Frame, Invalid};
 
 use crate::{
     input::{World, YAxis},
@@ -49,11 +49,34 @@ pub fn print(
 /// message and its chain of causes, outermost first (`cli/schema/error.json`).
 pub fn error(command: &str, error: &anyhow::Error) -> Value {
     let causes: Vec<String> = error.chain().map(|c| c.to_string()).collect();
+    let mut body = json!({"message": error.to_string(), "causes": causes});
+    if let Some(reason) = reason(error) {
+        body["reason"] = reason;
+    }
     json!({
         "schema": SCHEMA,
         "pixgeo_version": env!("CARGO_PKG_VERSION"),
         "command": command,
-        "error": {"message": error.to_string(), "causes": causes},
+        "error": body,
+    })
+}
+
+/// Why the input was refused, by kind, where pixgeo refused it.
+fn reason(error: &anyhow::Error) -> Option<Value> {
+    let why = error.chain().find_map(|cause| match cause.downcast_ref() {
+        Some(pixgeo::Error::InvalidInput(why)) => Some(why),
+        _ => None,
+    })?;
+    Some(match why {
+        Invalid::NotFinite { index, .. } => json!({"kind": "not_finite", "index": index}),
+        Invalid::TooFew { needed, given, .. } => {
+            json!({"kind": "too_few", "needed": needed, "given": given})
+        }
+        Invalid::Degenerate(_) => json!({"kind": "degenerate"}),
+        Invalid::OutOfRange(_) => json!({"kind": "out_of_range"}),
+        Invalid::UnsupportedOption(_) => json!({"kind": "unsupported_option"}),
+        Invalid::Malformed(_) => json!({"kind": "malformed"}),
+        _ => json!({"kind": "invalid_input"}),
     })
 }
 

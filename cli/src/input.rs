@@ -505,7 +505,7 @@ impl Points {
 /// `fan:12`, `quadtree`, `pixels`, ...).
 pub fn named<T: std::str::FromStr<Err = pixgeo::Error>>(s: &str) -> Result<T, String> {
     s.parse().map_err(|e: pixgeo::Error| match e {
-        pixgeo::Error::InvalidInput(message) => message,
+        pixgeo::Error::InvalidInput(why) => why.to_string(),
         other => other.to_string(),
     })
 }

@@ -145,7 +145,7 @@ pub fn alpha_hull(
     side: u32,
 ) -> Result<AlphaHull> {
     if side == 0 || side > machine.max_picture_side() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "picture side {side}: it must be between 1 and {} on this device",
             machine.max_picture_side()
         )));
@@ -219,7 +219,10 @@ fn hull_on(
 ) -> Result<AlphaHull> {
     let sites = sites.sites();
     if !alpha.is_finite() {
-        return Err(Error::InvalidInput(format!("alpha {alpha} is not finite")));
+        return Err(Error::not_finite(
+            None,
+            format!("alpha {alpha} is not finite"),
+        ));
     }
     // The hull depends on where sites are, not on how many stand at one
     // place: the first of each position stands for all (a million copies
@@ -679,7 +682,7 @@ fn circles_of(sites: Checked<'_>, radius: f64) -> Result<HullCircles> {
     let corners: Vec<DVec2> = hull.iter().map(|&i| sites[i as usize]).collect();
     let mec = welzl(&corners);
     if radius.is_nan() || radius < mec.radius * (1.0 - 1e-12) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "alpha {} gives radius {radius}, smaller than the smallest enclosing circle's \
              radius {}: no disc of that radius holds every site (use alpha <= {})",
             1.0 / radius,
@@ -785,7 +788,7 @@ fn positive(
         }
         AlphaMethod::Pixels => {
             if sites.len() >= 1 << 24 {
-                return Err(Error::InvalidInput(
+                return Err(Error::out_of_range(
                     "the pixel method counts sites in float32: at most 2^24 of them".into(),
                 ));
             }
@@ -799,7 +802,7 @@ fn positive(
             let covered =
                 frame.origin + DVec2::new(frame.width as f64, frame.height as f64) / frame.scale;
             if frame.origin.cmpgt(lo).any() || covered.cmplt(hi).any() {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::out_of_range(format!(
                     "the pixel method draws every centre of a disc holding the sites, which \
                      lie in [{}, {}] x [{}, {}]; the picture covers [{}, {}] x [{}, {}]: use \
                      the hull method or a picture that holds them",
@@ -809,7 +812,7 @@ fn positive(
             let side = frame.width.max(frame.height);
             let hull_px = 2.0 * circles.mec_radius * frame.scale;
             if hull_px < MIN_PIXEL_HULL {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::out_of_range(format!(
                     "the pixel method's picture reaches 1/α = {radius:e} around the sites, \
                      so their hull spans {hull_px:.2} of its {side} pixels (at least \
                      {MIN_PIXEL_HULL} needed): use the hull method, a larger α or a larger size"
@@ -838,7 +841,7 @@ fn positive(
                 }
             }
             if rims.is_empty() {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::out_of_range(format!(
                     "radius {radius} is so close to the smallest enclosing circle's ({}) that \
                      no pixel centre of a {}x{} picture can centre a disc holding every site: \
                      use the hull method or a larger picture",

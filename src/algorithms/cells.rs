@@ -74,7 +74,10 @@ pub fn voronoi_cells_with_progress(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Cells> {
     if let Some(i) = sites.iter().position(|p| !p.is_finite()) {
-        return Err(Error::InvalidInput(format!("site {i} is not finite")));
+        return Err(Error::not_finite(
+            Some(i),
+            format!("site {i} is not finite"),
+        ));
     }
     rect.check()?;
     // The first of equal sites stands for them all.

@@ -209,7 +209,7 @@ impl<'a> Certifier<'a> {
             let (x, ex) = to_pixel_bounded(s.x, frame.origin.x, frame.scale);
             let (y, ey) = to_pixel_bounded(s.y, frame.origin.y, frame.scale);
             if !(x.is_finite() && y.is_finite() && ex.is_finite() && ey.is_finite()) {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::out_of_range(format!(
                     "site {i} ({}, {}) lies beyond the range of doubles in this picture's \
                      pixels (scale {} pixels a unit); keep sites within about 1e300 pixels",
                     s.x, s.y, frame.scale
@@ -635,7 +635,7 @@ impl<'a> Certifier<'a> {
         let (ea, eb) = (exact[a].as_ref().unwrap(), exact[b].as_ref().unwrap());
         match exact_order(self.metric, ea, eb) {
             Some(order) => Ok(order),
-            None => Err(Error::InvalidInput(format!(
+            None => Err(Error::out_of_range(format!(
                 "pixel ({}, {}) is as far from site {} as from site {} under {} to 4096 bits, \
                  and pixgeo decides such near ties exactly for L1, L2, L∞ and L_p with p a \
                  fraction m/n of n up to 64; use one of those",

@@ -125,7 +125,7 @@ fn grown_k_nearest(
 ) -> Result<KNearest> {
     frame.check()?;
     if k == 0 || k > MAX_LEVELS {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "the number of levels must be 1 to {MAX_LEVELS}, not {k}"
         )));
     }
@@ -155,7 +155,7 @@ fn grown_k_nearest(
         return Ok(levels(frame, k, sites.len(), started, labels, distances));
     }
     if reach > MAX_RING {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "a site lies {reach:.3e} pixels from the picture; the CPU pixel algorithm \
              grows sites at most {MAX_RING:e} pixels for more than the nearest site"
         )));

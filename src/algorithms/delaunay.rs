@@ -275,14 +275,18 @@ fn distinct_points<K: Ord + Send>(
 ) -> Result<Distinct> {
     let (unique, duplicates) = distinct_by(points, 0..points.len() as u32, key);
     if unique.len() < 3 {
-        return Err(Error::InvalidInput(format!(
-            "a triangulation needs three distinct points; there are {}",
-            unique.len()
-        )));
+        return Err(Error::too_few(
+            3,
+            unique.len(),
+            format!(
+                "a triangulation needs three distinct points; there are {}",
+                unique.len()
+            ),
+        ));
     }
     let real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).collect();
     if !(2..real.len()).any(|k| orient(real[0], real[1], real[k]) != 0.0) {
-        return Err(Error::InvalidInput(
+        return Err(Error::degenerate(
             "all points lie on one line: there is no triangle".into(),
         ));
     }
@@ -379,12 +383,12 @@ fn triangulate(
 ) -> Result<Delaunay> {
     // Triangles (about two per point) are numbered in 32 bits too.
     if points.len() >= u32::MAX as usize / 2 {
-        return Err(Error::InvalidInput("too many points".into()));
+        return Err(Error::out_of_range("too many points".into()));
     }
     let (lo, hi) = bounds(points);
     let span = (hi - lo).max_element();
     if span == 0.0 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::degenerate(format!(
             "all {} points are one point: a triangulation needs three distinct points not on one line",
             points.len()
         )));
@@ -393,13 +397,13 @@ fn triangulate(
     let side = options.grid.unwrap_or_else(|| default_grid(points.len()));
     // The texture comes out at most two pixels wider than the grid.
     if side > crate::algorithms::flooding::MAX_SIDE - 2 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "a grid of {side} pixels is larger than {}",
             crate::algorithms::flooding::MAX_SIDE - 2
         )));
     }
     if side < 2 * MARGIN + 2 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "a grid of {side} pixels leaves no room inside its {MARGIN}-pixel margins"
         )));
     }

@@ -213,7 +213,7 @@ fn refine(
     estimates: &[Estimate],
     exact: impl Fn(u32) -> Option<u32> + Sync,
 ) -> Result<Answer> {
-    let empty = || Error::InvalidInput("empty set".into());
+    let empty = || Error::too_few(1, 0, "empty set".into());
     // Bounds are floats: a few ulps lower keeps every query that may tie.
     let floor = estimates.iter().map(|e| e.lower).fold(0.0, f64::max) * (1.0 - 8.0 * f64::EPSILON);
     let (q, e) = queries

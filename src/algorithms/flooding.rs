@@ -102,13 +102,13 @@ pub fn seeds_of(frame: &Frame, sites: &[DVec2]) -> Result<Vec<Seed>> {
     for (i, p) in sites.iter().enumerate() {
         let c = frame.to_pixel(*p).round();
         if !(c.x >= 0.0 && c.y >= 0.0 && c.x < frame.width as f64 && c.y < frame.height as f64) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "site {i} at {p} lies outside the picture; flooding starts from the sites' pixels"
             )));
         }
         let seed = [c.x as i32, c.y as i32];
         if let Some(j) = seen.insert(seed, i) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "sites {j} and {i} fall in pixel {seed:?}; flooding needs one site per pixel \
                  (use a larger picture)"
             )));
@@ -186,7 +186,7 @@ fn colouring(
     // Squares of coordinates must fit 32 bits, and a row's invocation loops
     // at most 4 x width times (lavapipe stops a shader's loops at 65535).
     if width > MAX_SIDE || height > MAX_SIDE {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "the Euclidean colouring takes sides up to {MAX_SIDE}: {width}x{height} is larger"
         )));
     }
@@ -336,7 +336,7 @@ pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Resu
 pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Result<Vec<u32>> {
     check_seeds(width, height, seeds)?;
     if width >= 1 << 16 || height >= 1 << 16 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "jump flooding packs seed positions in 16 bits: {width}x{height} is too large"
         )));
     }
@@ -399,7 +399,7 @@ pub fn dualize(
 ) -> Result<Vec<[u32; 3]>> {
     let pixels = width as usize * height as usize;
     if labels.len() != pixels || pixels == 0 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::malformed(format!(
             "{} labels for a {width}x{height} texture",
             labels.len()
         )));

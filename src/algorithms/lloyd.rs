@@ -101,7 +101,7 @@ pub fn lloyd(
     let frame = options.frame;
     let checked = Checked::new(sites)?;
     if options.tolerance.is_nan() || options.tolerance < 0.0 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "the tolerance is a distance of 0 or more, not {}",
             options.tolerance
         )));
@@ -168,10 +168,13 @@ pub(crate) fn nearest_labels(
 /// Refuses density values that are negative or not finite.
 pub fn check_density(values: &[f64]) -> Result<()> {
     match values.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
-        Some(i) => Err(Error::InvalidInput(format!(
-            "density value {i} is {}: densities are finite and not negative",
-            values[i]
-        ))),
+        Some(i) => Err(Error::not_finite(
+            Some(i),
+            format!(
+                "density value {i} is {}: densities are finite and not negative",
+                values[i]
+            ),
+        )),
         None => Ok(()),
     }
 }
@@ -230,7 +233,7 @@ impl Weights {
         };
         let pixels = frame.len();
         if values.len() != pixels {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "the density has {} values for a {}x{} picture",
                 values.len(),
                 frame.width,
@@ -248,7 +251,7 @@ impl Weights {
             })
             .reduce(|| (i32::MAX, i32::MIN), |a, b| (a.0.min(b.0), a.1.max(b.1)));
         if low == i32::MAX {
-            return Err(Error::InvalidInput(
+            return Err(Error::degenerate(
                 "the density is zero everywhere: no site has a region to move to".into(),
             ));
         }
@@ -259,7 +262,7 @@ impl Weights {
         let pixel_bits = 64 - (pixels as u64).leading_zeros() as i32;
         let room = 127 - side_bits - pixel_bits;
         if q_bits > room.min(64) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "the density's values need {q_bits} bits as whole multiples of one power of \
                  two, above the {} that keep this picture's sums exact: round them (to 8 or \
                  16-bit levels, say)",

@@ -36,16 +36,19 @@ pub const OUTSIDE: u32 = u32::MAX;
 pub fn locate(points: &[DVec2], triangles: &[[u32; 3]], queries: &[DVec2]) -> Result<Vec<u32>> {
     check_sites(points)?;
     if let Some((i, q)) = queries.iter().enumerate().find(|(_, q)| !q.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "query point {i} has a non-finite coordinate ({:?}, {:?})",
-            q.x, q.y
-        )));
+        return Err(Error::not_finite(
+            Some(i),
+            format!(
+                "query point {i} has a non-finite coordinate ({:?}, {:?})",
+                q.x, q.y
+            ),
+        ));
     }
     if let Some(t) = triangles
         .iter()
         .position(|t| t.iter().any(|&c| c as usize >= points.len()))
     {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::malformed(format!(
             "triangle {t} names a point beyond the {} given",
             points.len()
         )));
@@ -54,7 +57,7 @@ pub fn locate(points: &[DVec2], triangles: &[[u32; 3]], queries: &[DVec2]) -> Re
         let [a, b, c] = t.map(|c| points[c as usize]);
         orient(a, b, c) <= 0.0
     }) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::malformed(format!(
             "triangle {t} is not counter-clockwise: give the triangulation's own triangles"
         )));
     }

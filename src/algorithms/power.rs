@@ -134,10 +134,10 @@ pub fn regular_triangulation(sites: &[Weighted]) -> Result<Regular> {
     let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
     check_sites(&points)?;
     if let Some(i) = sites.iter().position(|s| !s.weight.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "site {i}'s weight {} is not finite",
-            sites[i].weight
-        )));
+        return Err(Error::not_finite(
+            Some(i),
+            format!("site {i}'s weight {} is not finite", sites[i].weight),
+        ));
     }
     // Of sites at one point the heaviest stays.
     let mut order: Vec<u32> = (0..sites.len() as u32).collect();
@@ -167,7 +167,7 @@ pub fn regular_triangulation(sites: &[Weighted]) -> Result<Regular> {
     });
     let p = |k: usize| points[order[k] as usize];
     let Some(c) = (2..order.len()).find(|&k| orient(p(0), p(1), p(k)) != 0.0) else {
-        return Err(Error::InvalidInput(
+        return Err(Error::degenerate(
             "the sites lie on one line: a regular triangulation needs three not in line".into(),
         ));
     };

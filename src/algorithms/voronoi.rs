@@ -102,7 +102,7 @@ impl Method {
     /// Refuses options this method cannot compute.
     fn check(self, options: &VoronoiOptions) -> Result<()> {
         if self == Method::Grid && !options.grid_fits() {
-            return Err(Error::InvalidInput(
+            return Err(Error::unsupported_option(
                 "the grid method finds exact Euclidean labels; other metrics and fan mode \
                  take the cones"
                     .into(),
@@ -195,7 +195,7 @@ impl VoronoiOptions {
             return Ok(PixelRect::sized(f.width, f.height));
         };
         if self.accuracy != Accuracy::Exact {
-            return Err(Error::InvalidInput(
+            return Err(Error::unsupported_option(
                 "a window takes exact mode: a fan's interpolated depths round by where its \
                  tile lies, so fan windows would not match the whole diagram bit for bit"
                     .into(),
@@ -207,7 +207,7 @@ impl VoronoiOptions {
             || !inside(w.x, w.width, f.width)
             || !inside(w.y, w.height, f.height)
         {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "window {},{},{},{} (x0,y0,width,height) must be a nonempty rectangle inside the \
                  {}x{} picture",
                 w.x, w.y, w.width, w.height, f.width, f.height
@@ -442,10 +442,8 @@ fn bands(
         }),
         Backend::Cpu => {
             if options.method == Method::Cones {
-                return Err(Error::InvalidInput(
-                    "cones are drawn on a Vulkan device; on the CPU alone labels are found by the grid"
-                        .into(),
-                ));
+                return Err(Error::unsupported_option("cones are drawn on a Vulkan device; on the CPU alone labels are found by the grid"
+                        .into(),));
             }
             let options = &options.method(Method::Grid);
             Method::Grid.check(options)?;
@@ -628,9 +626,7 @@ pub(crate) fn draw_point_tiles(
 ) -> Result<VoronoiStats> {
     options.frame.check()?;
     if options.ties && matches!(options.metric, Metric::Polygon(_)) {
-        return Err(Error::InvalidInput(
-            "equal distances are counted for the L_p metrics; polygonal distances are drawn as fans".into(),
-        ));
+        return Err(Error::unsupported_option("equal distances are counted for the L_p metrics; polygonal distances are drawn as fans".into(),));
     }
     // Windows take exact mode, polygons' (drawn as fans, then certified) too.
     let window = options.window_rect()?;
@@ -639,7 +635,7 @@ pub(crate) fn draw_point_tiles(
         ..*options
     };
     if options.ties && options.accuracy != Accuracy::Exact {
-        return Err(Error::InvalidInput(
+        return Err(Error::unsupported_option(
             "equal distances are counted in exact mode only".into(),
         ));
     }

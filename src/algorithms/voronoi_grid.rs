@@ -53,7 +53,7 @@ pub(crate) fn grid_bands(
 ) -> Result<VoronoiStats> {
     options.frame.check()?;
     if sites.len() >= MARK as usize {
-        return Err(crate::Error::InvalidInput(format!(
+        return Err(crate::Error::out_of_range(format!(
             "the grid labels fewer than {MARK} sites; {} given",
             sites.len()
         )));

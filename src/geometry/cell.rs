@@ -43,7 +43,7 @@ impl Rect {
         if lo.is_finite() && hi.is_finite() && lo.x < hi.x && lo.y < hi.y {
             return Ok(());
         }
-        Err(crate::Error::InvalidInput(format!(
+        Err(crate::Error::malformed(format!(
             "the rectangle {lo:?} to {hi:?} is empty or not finite"
         )))
     }

@@ -35,7 +35,7 @@ pub(crate) fn check_fan_size(radius: f64, epsilon: f64) -> crate::Result<()> {
         (PI / ((radius - epsilon) / radius).acos()).ceil()
     };
     if needed > MAX_FAN_TRIANGLES as f64 {
-        return Err(crate::Error::InvalidInput(format!(
+        return Err(crate::Error::out_of_range(format!(
             "a fan within {epsilon} pixels at radius {radius:.1} needs {needed:.0} triangles, more \
              than {MAX_FAN_TRIANGLES}: give a larger epsilon, or use exact mode"
         )));

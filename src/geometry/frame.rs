@@ -65,7 +65,7 @@ impl Frame {
     pub fn check(&self) -> Result<()> {
         let (width, height) = (self.width, self.height);
         if width == 0 || height == 0 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "picture size {width}x{height}: both sides must be at least 1"
             )));
         }
@@ -77,7 +77,7 @@ impl Frame {
             });
         }
         if !(self.scale > 0.0 && self.scale.is_finite() && self.origin.is_finite()) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "picture frame with scale {} and origin {}",
                 self.scale, self.origin
             )));
@@ -92,30 +92,30 @@ impl Frame {
     pub fn with_bbox(width: u32, height: Option<u32>, bbox: [f64; 4]) -> Result<Self> {
         let [xmin, ymin, xmax, ymax] = bbox;
         if !bbox.iter().all(|v| v.is_finite()) || xmax <= xmin || ymax <= ymin {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?}: need finite XMIN < XMAX and YMIN < YMAX"
             )));
         }
         if width == 0 {
-            return Err(Error::InvalidInput(
+            return Err(Error::out_of_range(
                 "picture width must be at least 1".into(),
             ));
         }
         let (dx, dy) = (xmax - xmin, ymax - ymin);
         if !(dx.is_finite() && dy.is_finite()) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?} is wider than the largest float: its sides must be finite"
             )));
         }
         let scale = width as f64 / dx;
         let natural = dy * scale;
         if !(scale.is_normal() && natural.is_finite()) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?} cannot be mapped onto {width} pixels: its scale {scale:e} pixels per unit is out of range"
             )));
         }
         if height.is_none() && natural > Self::MAX_SIDE as f64 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "bbox {xmin:?},{ymin:?},{xmax:?},{ymax:?} at width {width} gives a height of {natural:.0} pixels, more than {}: give a wider picture or a flatter box",
                 Self::MAX_SIDE
             )));
@@ -123,7 +123,7 @@ impl Frame {
         let height = match height {
             Some(h) => {
                 if (h as f64 - natural).abs() > 1.0 {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::malformed(format!(
                         "bbox aspect ratio gives a height of {natural:.1} pixels for width {width}, not {h}: \
                          pixels are square, so give a height of {:.0} or only the width",
                         natural.round().max(1.0)
@@ -134,7 +134,7 @@ impl Frame {
             None => natural.round().max(1.0) as u32,
         };
         if height == 0 {
-            return Err(Error::InvalidInput(
+            return Err(Error::out_of_range(
                 "picture height must be at least 1".into(),
             ));
         }
@@ -229,16 +229,19 @@ pub fn site_checks() -> u64 {
 pub fn check_sites(sites: &[DVec2]) -> Result<()> {
     SITE_CHECKS.with(|c| c.set(c.get() + 1));
     if sites.is_empty() {
-        return Err(Error::InvalidInput("the site list is empty".into()));
+        return Err(Error::too_few(1, 0, "the site list is empty".into()));
     }
     if let Some((i, p)) = sites.iter().enumerate().find(|(_, p)| !p.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "site {i} has a non-finite coordinate ({:?}, {:?})",
-            p.x, p.y
-        )));
+        return Err(Error::not_finite(
+            Some(i),
+            format!(
+                "site {i} has a non-finite coordinate ({:?}, {:?})",
+                p.x, p.y
+            ),
+        ));
     }
     if sites.len() >= u32::MAX as usize {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "{} sites: ids must fit below u32::MAX",
             sites.len()
         )));

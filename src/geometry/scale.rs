@@ -51,7 +51,7 @@ fn exponent_within(sets: &[&[DVec2]], span_bits: i32) -> Result<i32> {
         .enumerate()
         .find(|(_, p)| too_small(p.x) || too_small(p.y))
     {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "point {i} ({:?}, {:?}) is too small beside the largest coordinate {largest:e}: \
              exact predicates take coordinates spanning at most 2^{span_bits} (about {:.0e}) in \
              ratio; round the small ones to 0 or drop the far points",
@@ -70,7 +70,7 @@ fn exponent_within(sets: &[&[DVec2]], span_bits: i32) -> Result<i32> {
         .find(|(_, p)| !exact(p.x) || !exact(p.y))
     {
         None => Ok(k),
-        Some((i, p)) => Err(Error::InvalidInput(format!(
+        Some((i, p)) => Err(Error::out_of_range(format!(
             "point {i} ({:?}, {:?}) cannot be scaled exactly beside the largest coordinate \
              {largest:e}",
             p.x, p.y

@@ -25,19 +25,19 @@ pub fn priority(a: [i32; 2], s: Seed) -> Priority {
 /// A clear error for an empty texture, or a seed outside it or repeated.
 pub fn check_seeds(width: u32, height: u32, seeds: &[Seed]) -> Result<()> {
     if width == 0 || height == 0 {
-        return Err(Error::InvalidInput("the texture has no pixels".into()));
+        return Err(Error::malformed("the texture has no pixels".into()));
     }
     let mut seen =
         crate::memory::filled(width as usize * height as usize, false, "the seeds' pixels")?;
     for (i, s) in seeds.iter().enumerate() {
         if s[0] < 0 || s[1] < 0 || s[0] >= width as i32 || s[1] >= height as i32 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "seed {i} at {s:?} lies outside the {width}x{height} texture"
             )));
         }
         let pixel = &mut seen[s[1] as usize * width as usize + s[0] as usize];
         if std::mem::replace(pixel, true) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "seed {i} at {s:?} repeats a seed pixel"
             )));
         }

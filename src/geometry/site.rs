@@ -488,16 +488,16 @@ pub(crate) fn on_arc(angle: f64, start: f64, end: f64) -> bool {
 /// end after they start.
 pub(crate) fn check_general_sites(sites: &[Site]) -> Result<()> {
     if sites.is_empty() {
-        return Err(Error::InvalidInput("the site list is empty".into()));
+        return Err(Error::too_few(1, 0, "the site list is empty".into()));
     }
     if sites.len() >= u32::MAX as usize {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "{} sites: ids must fit below u32::MAX",
             sites.len()
         )));
     }
     for (i, s) in sites.iter().enumerate() {
-        let bad = |what: &str| Err(Error::InvalidInput(format!("site {i}: {what}")));
+        let bad = |what: &str| Err(Error::malformed(format!("site {i}: {what}")));
         let numbers: Vec<f64> = match s.shape {
             Shape::Point(p) => Vec::from([p.x, p.y]),
             Shape::Segment(a, b) => Vec::from([a.x, a.y, b.x, b.y]),

@@ -43,7 +43,7 @@ pub(crate) fn for_each_line(
         for j in i + 1..n as u32 {
             let d = points[j as usize] - points[i as usize];
             if d == DVec2::ZERO {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::malformed(format!(
                     "points {i} and {j} coincide; the sweep takes distinct points"
                 )));
             }
@@ -62,7 +62,7 @@ pub(crate) fn for_each_line(
     };
     events.par_sort_unstable_by(compare);
     if inexact.load(AtomicOrdering::Relaxed) {
-        return Err(Error::InvalidInput(
+        return Err(Error::out_of_range(
             "two of the points' directions differ by less than floats can resolve beside their \
              coordinates (about 1e-290 in ratio); scale or round the coordinates"
                 .into(),

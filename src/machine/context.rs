@@ -191,6 +191,8 @@ pub(crate) struct Context {
     pub float64: bool,
     /// Colour targets may be combined with logic operations.
     pub logic_op: bool,
+    /// Shaders' buffer accesses are kept within the bound ranges.
+    pub robust_buffer_access: bool,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
@@ -311,6 +313,11 @@ impl Context {
         // insert 64-bit keys with atomic min.
         let fragment_stores =
             optional && supported.features.fragment_stores_and_atomics == vk::TRUE;
+        // A shader's reach past a buffer's end stays inside it (reads give
+        // zeros or values of the buffer, writes are dropped), so that no
+        // draw or dispatch from safe code touches memory it was not given;
+        // not optional, but where the device offers it.
+        let robust_buffer_access = supported.features.robust_buffer_access == vk::TRUE;
         let fragment_atomics64 = fragment_stores
             && supported.features.shader_int64 == vk::TRUE
             && supported12.shader_buffer_int64_atomics == vk::TRUE;
@@ -328,6 +335,7 @@ impl Context {
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
         let features = vk::PhysicalDeviceFeatures::default()
+            .robust_buffer_access(robust_buffer_access)
             .logic_op(logic_op)
             .independent_blend(true)
             .fragment_stores_and_atomics(fragment_stores)
@@ -383,6 +391,7 @@ impl Context {
             fragment_atomics64,
             float64,
             logic_op,
+            robust_buffer_access,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
         context.check_validation()?;

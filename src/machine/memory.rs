@@ -94,7 +94,7 @@ impl Image {
     pub(crate) fn new(ctx: &Arc<Context>, format: Format, width: u32, height: u32) -> Result<Self> {
         let limit = ctx.properties.limits.max_image_dimension2_d;
         if width == 0 || height == 0 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "picture size {width}x{height}: both sides must be at least 1"
             )));
         }

@@ -390,7 +390,7 @@ impl Machine {
         stride: usize,
     ) -> Result<()> {
         if !matches!(image.format(), Format::R32Uint | Format::Rgba8Unorm) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "read_u32 reads R32Uint or Rgba8Unorm images, not {:?}",
                 image.format()
             )));
@@ -421,7 +421,7 @@ impl Machine {
             image.format(),
             Format::R32Float | Format::Rgba32Float | Format::DepthStencil | Format::Depth
         ) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "read_f32 reads float images or depth, not {:?}",
                 image.format()
             )));
@@ -440,7 +440,7 @@ impl Machine {
     ) -> Result<()> {
         let (w, h) = (rect.width as usize, rect.height as usize);
         if stride < w || out.len() < h.saturating_sub(1) * stride + w {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "stencil readback of {w}x{h} pixels does not fit {} values with stride {stride}",
                 out.len()
             )));
@@ -467,7 +467,7 @@ impl Machine {
             (rect.width as u64 * image.format().texel_bytes()) as usize / std::mem::size_of::<T>();
         let needed = (rect.height as usize).saturating_sub(1) * stride + row;
         if stride < row || out.len() < needed {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "readback of {}x{} pixels needs {needed} values with stride {stride}, got {}",
                 rect.width,
                 rect.height,
@@ -483,10 +483,10 @@ impl Machine {
         }
         let buffer = scratch
             .as_ref()
-            .ok_or_else(|| Error::InvalidInput("no readback buffer".into()))?;
+            .ok_or_else(|| Error::Usage("no readback buffer".into()))?;
         self.run(|pass| pass.copy_to_buffer(image, rect, buffer))?;
         let src: &[T] = bytemuck::try_cast_slice(&buffer.mapped()[..bytes as usize])
-            .map_err(|e| Error::InvalidInput(format!("readback buffer: {e}")))?;
+            .map_err(|e| Error::Usage(format!("readback buffer: {e}")))?;
         for (r, src_row) in src.chunks_exact(row).enumerate() {
             out[r * stride..][..row].copy_from_slice(src_row);
         }
@@ -519,6 +519,12 @@ impl Machine {
     /// Whether colour targets may be combined with logic operations.
     pub fn has_logic_op(&self) -> bool {
         self.ctx.logic_op
+    }
+
+    /// Whether shaders' buffer accesses are kept within the bound buffers
+    /// (`robustBufferAccess`, enabled wherever the device offers it).
+    pub fn has_robust_buffer_access(&self) -> bool {
+        self.ctx.robust_buffer_access
     }
 
     /// The minmax function (thesis §1.7) over `rect`, computed on the device; only
@@ -569,7 +575,7 @@ impl Machine {
         near: Option<NearExtreme>,
     ) -> Result<DepthExtremes> {
         if !matches!(depth.format(), Format::Depth | Format::DepthStencil) {
-            return Err(Error::InvalidInput(
+            return Err(Error::Usage(
                 "depth extremes are taken of a depth image".into(),
             ));
         }
@@ -657,7 +663,7 @@ impl Machine {
     /// the device; only the bin counts come back.
     pub fn histogram(&self, image: &Image, rect: PixelRect, bins: Bins) -> Result<Vec<u32>> {
         if bins.bins == 0 || bins.width.is_nan() || bins.width <= 0.0 || !bins.low.is_finite() {
-            return Err(Error::InvalidInput(format!("histogram bins {bins:?}")));
+            return Err(Error::Usage(format!("histogram bins {bins:?}")));
         }
         let channels = if image.format() == Format::Rgba32Float {
             4
@@ -665,7 +671,7 @@ impl Machine {
             1
         };
         if bins.channel >= channels {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "channel {} of a {}-channel picture",
                 bins.channel, channels
             )));

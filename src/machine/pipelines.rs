@@ -239,12 +239,10 @@ impl Pipelines {
     ) -> Result<vk::Pipeline> {
         let uint_target = key.color == Some(Format::R32Uint);
         if matches!(key.state.color, ColorUpdate::Blend(_)) && uint_target {
-            return Err(Error::InvalidInput(
-                "blending needs a float colour target (integer targets only overwrite or use logic ops)".into(),
-            ));
+            return Err(Error::Usage("blending needs a float colour target (integer targets only overwrite or use logic ops)".into(),));
         }
         if matches!(key.state.color, ColorUpdate::Logic(_)) && !uint_target {
-            return Err(Error::InvalidInput(
+            return Err(Error::Usage(
                 "logic operations need an integer colour target".into(),
             ));
         }
@@ -373,7 +371,7 @@ impl Pipelines {
             Format::R32Float => 1,
             Format::Rgba32Float => 2,
             other => {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::Usage(format!(
                     "reductions read R32Uint, R32Float or Rgba32Float pictures, not {other:?}"
                 )))
             }

@@ -5,7 +5,7 @@
 use glam::DVec2;
 use pixgeo::{
     algorithms::alpha_hull::{alpha_hull, class, AlphaHull, AlphaMethod},
-    Error,
+    Error, Invalid,
 };
 use pixgeo_reference::alpha_hull::{EmptyDiscs, HoldingDiscs};
 use rand::SeedableRng;
@@ -215,12 +215,15 @@ fn a_radius_below_the_smallest_enclosing_circle_is_an_error() {
     for method in [AlphaMethod::Hull, AlphaMethod::Pixels] {
         let err = alpha_hull(&machine, &sites, 1.0 / 4.0, method, SIDE).unwrap_err();
         assert!(
-            matches!(&err, Error::InvalidInput(m) if m.contains("smallest enclosing circle")),
+            matches!(&err, Error::InvalidInput(Invalid::OutOfRange(m)) if m.contains("smallest enclosing circle")),
             "{err}"
         );
     }
     let err = alpha_hull(&machine, &sites, f64::NAN, AlphaMethod::Hull, SIDE).unwrap_err();
-    assert!(matches!(err, Error::InvalidInput(_)));
+    assert!(matches!(
+        err,
+        Error::InvalidInput(Invalid::NotFinite { index: None, .. })
+    ));
     assert!(alpha_hull(&machine, &[], -1.0, AlphaMethod::Hull, SIDE).is_err());
 }
 

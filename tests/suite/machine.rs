@@ -345,8 +345,10 @@ fn bad_requests_are_errors() {
         });
         assert!(r.is_err(), "{} with metric {metric:?}", program.name);
     }
-    // A draw must give its program's push bytes and vertex buffers, and a
-    // program writing ids needs an integer target.
+    // Shaders' buffer accesses stay within the bound buffers.
+    assert!(m.has_robust_buffer_access());
+    // A draw must give its program's push bytes and vertex buffers, ranges
+    // within those buffers, and a program writing ids needs an integer target.
     let floats = m.image(Format::R32Float, 4, 4).unwrap();
     let push = ConePush {
         picture_size: [4.0, 4.0],
@@ -359,27 +361,16 @@ fn bad_requests_are_errors() {
     let cones = m
         .vertex_buffer(&[ConeInstance::new(0, [1.0, 1.0], 2.0, 2.0)])
         .unwrap();
-    let draws = [
-        (
-            &ids,
-            &bytemuck::bytes_of(&push)[..8],
-            vec![&mesh, &cones],
-            "push",
-        ),
-        (
-            &ids,
-            bytemuck::bytes_of(&push),
-            vec![&mesh],
-            "vertex buffers",
-        ),
-        (
-            &floats,
-            bytemuck::bytes_of(&push),
-            vec![&mesh, &cones],
-            "needs a",
-        ),
+    let whole = bytemuck::bytes_of(&push);
+    let both = [&mesh, &cones];
+    let draws: [(&Image, &[u8], &[&Buffer], _, _, &str); 5] = [
+        (&ids, &whole[..8], &both, 0..6, 0..1, "push"),
+        (&ids, whole, &both[..1], 0..6, 0..1, "vertex buffers"),
+        (&floats, whole, &both, 0..6, 0..1, "needs a"),
+        (&ids, whole, &both, 0..7, 0..1, "of a vertex buffer of 72"),
+        (&ids, whole, &both, 0..6, 1..2, "2 instances"),
     ];
-    for (target, push, buffers, refusal) in draws {
+    for (target, push, buffers, vertices, instances, refusal) in draws {
         let r = m.run(|p| {
             p.begin(
                 Target {
@@ -395,15 +386,16 @@ fn bad_requests_are_errors() {
                     program: &CONE_EXACT,
                     variant: 0,
                     push,
-                    vertex_buffers: &buffers,
-                    vertices: 0..6,
-                    instances: 0..1,
+                    vertex_buffers: buffers,
+                    vertices,
+                    instances,
                 },
             )?;
             p.end()
         });
+        let usage = matches!(r, Err(pixgeo::Error::Usage(_)));
         let message = r.err().map(|e| e.to_string()).unwrap_or_default();
-        assert!(message.contains(refusal), "{refusal}: {message}");
+        assert!(usage && message.contains(refusal), "{refusal}: {message}");
     }
 }
 
@@ -634,7 +626,7 @@ fn a_failed_run_leaves_its_images_as_they_were() {
         .run(|p| {
             p.begin(clear_ids(&ids), Clear::default())?;
             p.end()?;
-            Err::<(), _>(pixgeo::Error::InvalidInput("stop".into()))
+            Err::<(), _>(pixgeo::Error::malformed("stop".into()))
         })
         .unwrap_err();
     assert!(matches!(err, pixgeo::Error::InvalidInput(_)));

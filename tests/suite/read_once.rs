@@ -20,7 +20,7 @@ use pixgeo::{
     },
     geometry::{cell::Rect, metric::Metric, Frame},
     testing::site_checks,
-    Backend,
+    Backend, Error, Invalid,
 };
 
 use crate::common::machine;
@@ -134,4 +134,30 @@ fn every_problem_checks_its_sites_once() {
     let run = || extremal_quadrangle(m, &sites, Extreme::Largest, 64);
     count("quadrangle", 1, checks("quadrangle", run));
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn refused_sites_say_why_by_kind() {
+    let options = VoronoiOptions::exact(Frame::pixels(8, 8).unwrap());
+    let err = voronoi(&Backend::Cpu, &[], &options).unwrap_err();
+    let few = matches!(
+        err,
+        Error::InvalidInput(Invalid::TooFew {
+            needed: 1,
+            given: 0,
+            ..
+        })
+    );
+    assert!(few, "{err}");
+    let sites = [DVec2::ZERO, DVec2::ONE, DVec2::new(f64::NAN, 1.0)];
+    let err = voronoi(&Backend::Cpu, &sites, &options).unwrap_err();
+    let nan = matches!(
+        err,
+        Error::InvalidInput(Invalid::NotFinite { index: Some(2), .. })
+    );
+    assert!(nan, "{err}");
+    let err = hausdorff(&Backend::Cpu, &sites[..2], &sites, None).unwrap_err();
+    let named = matches!(&err, Error::InvalidInput(Invalid::NotFinite { index: Some(2), message })
+        if message.starts_with("second set"));
+    assert!(named, "{err}");
 }

@@ -44,7 +44,7 @@ impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
     /// Appends values.
     pub fn write(&mut self, data: &[T]) -> Result<()> {
         if data.len() as u64 > self.remaining {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "{}: more values than the array's shape holds",
                 self.output.path().display()
             )));
@@ -58,7 +58,7 @@ impl<T: npyz::Serialize + npyz::AutoSerialize + Copy> NpyStream<T> {
     /// Finishes the file; every value of the shape must have been written.
     pub fn finish(self) -> Result<()> {
         if self.remaining != 0 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "{}: {} values missing",
                 self.output.path().display(),
                 self.remaining
@@ -78,7 +78,7 @@ where
 {
     let expected: u64 = shape.iter().product();
     if expected != data.len() as u64 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::malformed(format!(
             "array of {} values does not have shape {shape:?}",
             data.len()
         )));

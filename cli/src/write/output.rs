@@ -63,10 +63,10 @@ pub fn on_signals_abandon() {
 pub fn claim(path: &Path, option: &str) -> Result<()> {
     if is_stdout(path) || resolve(path).is_ok_and(|t| t == Path::new("/dev/stdout")) {
         return with(|t| match (&t.stdout, t.json) {
-            (Some(other), _) if other != option => Err(Error::InvalidInput(format!(
+            (Some(other), _) if other != option => Err(Error::malformed(format!(
                 "{other} and {option} both write to stdout; give one of them a file"
             ))),
-            (_, true) => Err(Error::InvalidInput(format!(
+            (_, true) => Err(Error::malformed(format!(
                 "--json and {option} both write to stdout; give {option} a file"
             ))),
             _ => {
@@ -80,7 +80,7 @@ pub fn claim(path: &Path, option: &str) -> Result<()> {
     }
     let target = resolve(path)?;
     with(|t| match t.claimed.iter().find(|(p, _)| *p == target) {
-        Some((_, other)) if other != option => Err(Error::InvalidInput(format!(
+        Some((_, other)) if other != option => Err(Error::malformed(format!(
             "{other} and {option} both name {}; give each output its own file",
             path.display()
         ))),
@@ -97,7 +97,7 @@ pub fn claim(path: &Path, option: &str) -> Result<()> {
 fn resolve(path: &Path) -> Result<PathBuf> {
     if let Ok(target) = std::fs::canonicalize(path) {
         if target.is_dir() {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "{} is a folder; give the output a file name",
                 path.display()
             )));
@@ -106,13 +106,13 @@ fn resolve(path: &Path) -> Result<PathBuf> {
     }
     let name = path
         .file_name()
-        .ok_or_else(|| Error::InvalidInput(format!("{}: not a file name", path.display())))?;
+        .ok_or_else(|| Error::malformed(format!("{}: not a file name", path.display())))?;
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
     let folder = std::fs::canonicalize(parent).map_err(|_| {
-        Error::InvalidInput(format!(
+        Error::malformed(format!(
             "{}: the folder {} does not exist",
             path.display(),
             parent.display()
@@ -217,7 +217,7 @@ impl OutputFile {
         }
         let target = resolve(path)?;
         with(|t| match t.written.iter().find(|(p, _)| *p == target) {
-            Some((_, other)) => Err(Error::InvalidInput(format!(
+            Some((_, other)) => Err(Error::malformed(format!(
                 "{} would be written twice, as {other} and as {what}; give each output \
                  its own file",
                 path.display()
@@ -315,7 +315,7 @@ pub fn check_extensions(path: &Path, extensions: &[&str], what: &str) -> Result<
     }
     let dotted: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
     let named: Vec<String> = extensions.iter().map(|e| format!("*.{e}")).collect();
-    Err(Error::InvalidInput(format!(
+    Err(Error::malformed(format!(
         "{}: {what} are written as {}; name the file {}",
         path.display(),
         dotted.join(" or "),

@@ -80,7 +80,7 @@ pub fn write<T: Sample + npyz::Serialize + npyz::AutoSerialize>(
     geo: Option<&GeoReference>,
 ) -> Result<()> {
     let bands = u16::try_from(bands).map_err(|_| {
-        pixgeo::Error::InvalidInput(format!("{bands} bands are more than a raster holds"))
+        pixgeo::Error::out_of_range(format!("{bands} bands are more than a raster holds"))
     })?;
     let mut stream = RasterStream::create(path, width, height, bands, geo)?;
     stream.write(data)?;

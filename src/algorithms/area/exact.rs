@@ -15,11 +15,21 @@ pub(crate) fn quadrangle_candidates(
 ) -> Result<(Vec<u32>, Vec<u32>)> {
     let distinct = first_of_each(sites);
     let hull = convex_hull(sites);
-    if distinct.len() < 4 || hull.len() < 3 {
-        return Err(Error::InvalidInput(format!(
-            "a quadrangle needs four distinct sites, not all on a line; there are {} distinct",
-            distinct.len()
-        )));
+    if distinct.len() < 4 {
+        return Err(Error::too_few(
+            4,
+            distinct.len(),
+            format!(
+                "a quadrangle needs four distinct sites, not all on a line; there are {} distinct",
+                distinct.len()
+            ),
+        ));
+    }
+    if hull.len() < 3 {
+        return Err(Error::degenerate(
+            "a quadrangle needs four distinct sites, not all on a line; these lie on one line"
+                .into(),
+        ));
     }
     let chosen = match extreme {
         Extreme::Largest if hull.len() >= 4 => hull.clone(),
@@ -33,10 +43,11 @@ pub(crate) fn quadrangle_candidates(
 /// those [`super::in_range`] checked.
 pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Result<Option<AreaAnswer>> {
     if sites.len() < 3 {
-        return Err(Error::InvalidInput(format!(
-            "a triangle needs three sites; there are {}",
-            sites.len()
-        )));
+        return Err(Error::too_few(
+            3,
+            sites.len(),
+            format!("a triangle needs three sites; there are {}", sites.len()),
+        ));
     }
     if extreme == Extreme::Smallest {
         if let Some((a, b)) = duplicate_pair(sites, &first_of_each(sites)) {

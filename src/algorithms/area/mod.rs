@@ -234,7 +234,7 @@ pub(crate) fn in_range(
     found.pixel_area = found.pixel_area.map(|a| scale::times_power_of_two(a, back));
     found.bound = found.bound.map(|a| scale::times_power_of_two(a, back));
     if !found.area.is_finite() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "the {}'s area is beyond the largest float ({:e})",
             if found.sites.len() == 3 {
                 "triangle"

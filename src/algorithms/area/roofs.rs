@@ -78,19 +78,19 @@ impl<'m> Roofs<'m> {
         hull: &[u32],
     ) -> Result<Self> {
         if !machine.has_float64() || !machine.has_fragment_atomics64() {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::unsupported_option(format!(
                 "{} lacks double precision or 64-bit atomics in shaders, which the saddle roofs need",
                 machine.device_name()
             )));
         }
         if chosen.len() > 65535 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "{} sites make more pairs than one draw can number; at most 65535",
                 chosen.len()
             )));
         }
         if side == 0 || side > machine.max_picture_side() {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "picture side {side}: it must be between 1 and {} on this device",
                 machine.max_picture_side()
             )));

@@ -36,13 +36,13 @@ impl Accuracy {
     pub fn check(self) -> Result<()> {
         if let Self::Fan { epsilon, triangles } = self {
             if !(epsilon >= MIN_FAN_EPSILON && epsilon.is_finite()) {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::out_of_range(format!(
                     "fan epsilon {epsilon:?} must be a finite distance of at least {MIN_FAN_EPSILON} \
                      pixels (the rasterizer's subpixel grid is 1/256 pixel)"
                 )));
             }
             if triangles.is_some_and(|t| !(3..=MAX_FAN_TRIANGLES).contains(&t)) {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::out_of_range(format!(
                     "a fan has at least 3 and at most {MAX_FAN_TRIANGLES} triangles"
                 )));
             }
@@ -57,10 +57,12 @@ impl Accuracy {
     pub fn check_for(self, metric: Metric) -> Result<()> {
         self.check()?;
         match (self, metric) {
-            (Self::Fan { .. }, Metric::Lp(p)) if p < 1.0 => Err(Error::InvalidInput(format!(
-                "fans cannot keep a distance bound under L_p with p = {p} < 1, whose ball is \
+            (Self::Fan { .. }, Metric::Lp(p)) if p < 1.0 => {
+                Err(Error::unsupported_option(format!(
+                    "fans cannot keep a distance bound under L_p with p = {p} < 1, whose ball is \
                  not convex; draw it exactly (the default mode), which has no error"
-            ))),
+                )))
+            }
             _ => Ok(()),
         }
     }

@@ -133,7 +133,7 @@ impl ConePlan {
             .fold(1.0, f64::max)
             * 1.001;
         if spec.accuracy == Accuracy::Exact && exact_reach > MAX_EXACT_REACH {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "sites lie up to {exact_reach:.3e} pixels from pixels they own: the device's \
                  float32 resolves distances there to {:.2e} pixels, not exactly (up to {MAX_EXACT_REACH} \
                  pixels it resolves a sixtieth); use the CPU algorithm (--device cpu), exact in f64",
@@ -179,7 +179,7 @@ impl ConePlan {
             Footprint::Fan(t) if t > MAX_FAN_TRIANGLES => Some(t),
             _ => None,
         }) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "a fan cone would need {t} triangles, more than {MAX_FAN_TRIANGLES}: \
                  give a larger epsilon, or use exact mode"
             )));

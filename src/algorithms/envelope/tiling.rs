@@ -27,7 +27,7 @@ impl Tiling {
         let side = machine.max_picture_side();
         let max_tile = max_tile.unwrap_or(side).min(side);
         if max_tile == 0 {
-            return Err(Error::InvalidInput("tile size must be at least 1".into()));
+            return Err(Error::out_of_range("tile size must be at least 1".into()));
         }
         Ok(Self {
             window,

@@ -54,7 +54,7 @@ impl Tuning {
     pub fn with(mut self, text: &str) -> Result<Self> {
         for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let bad = |why: &str| {
-                Error::InvalidInput(format!(
+                Error::malformed(format!(
                     "PIXGEO_TUNING: `{pair}` {why}; it takes name=value pairs, comma-separated, \
                      of triangle_fragments, batch_radius and batch_radius_lp"
                 ))

@@ -58,10 +58,10 @@ pub fn great_circle_grid(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<GreatCircle> {
     if sites.is_empty() {
-        return Err(Error::InvalidInput("no sites".into()));
+        return Err(Error::too_few(1, 0, "no sites".into()));
     }
     if sites.len() >= UNSURE as usize {
-        return Err(Error::InvalidInput("too many sites".into()));
+        return Err(Error::out_of_range("too many sites".into()));
     }
     check(sites, "site")?;
     let corners: Vec<DVec2> = lons.iter().map(|&x| DVec2::new(x, 0.0)).collect();
@@ -74,7 +74,7 @@ pub fn great_circle_grid(
     }
     let side = tile_side(width * lats.len(), sites.len());
     if width * side > BAND_PIXELS {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "a grid {width} pixels wide: great circles on the device take at most {} \
              columns",
             BAND_PIXELS / side

@@ -93,7 +93,7 @@ fn check(points: &[DVec2], what: &str) -> Result<()> {
         .iter()
         .position(|p| !(p.x.is_finite() && (-90.0..=90.0).contains(&p.y)))
     {
-        Some(i) => Err(Error::InvalidInput(format!(
+        Some(i) => Err(Error::out_of_range(format!(
             "{what} {i} at ({}, {}): under a geographic coordinate system x is a \
              longitude and y a latitude in [-90, 90], degrees",
             points[i].x, points[i].y
@@ -111,10 +111,10 @@ pub fn great_circle_nearest(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<GreatCircle> {
     if sites.is_empty() {
-        return Err(Error::InvalidInput("no sites".into()));
+        return Err(Error::too_few(1, 0, "no sites".into()));
     }
     if sites.len() >= u32::MAX as usize {
-        return Err(Error::InvalidInput("too many sites".into()));
+        return Err(Error::out_of_range("too many sites".into()));
     }
     check(sites, "site")?;
     check(places, "place")?;

@@ -129,7 +129,7 @@ pub(crate) fn draw_furthest(
     frame.check()?;
     let side = machine.max_picture_side();
     if frame.width > side || frame.height > side {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "the upper envelope is drawn in one image of at most {side}x{side} pixels on this device"
         )));
     }

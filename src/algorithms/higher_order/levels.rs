@@ -221,13 +221,13 @@ pub(super) fn check_levels(machine: &Machine, options: &KNearestOptions) -> Resu
     frame.check()?;
     let k = options.k;
     if k == 0 || k > MAX_LEVELS {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "the number of levels must be 1 to {MAX_LEVELS}, not {k}"
         )));
     }
     let side = machine.max_picture_side();
     if frame.width > side || frame.height > side {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "higher-order diagrams are drawn in one image of at most {side}x{side} pixels on this device"
         )));
     }

@@ -258,7 +258,7 @@ fn proposed_k_nearest(
     check_levels(machine, options)?;
     let key_bytes = frame.len() as u64 * k as u64 * 8;
     if key_bytes > MAX_KEY_BYTES {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "{k} levels of {}x{} pixels need {} MiB of keys; use fewer levels or a smaller picture",
             frame.width,
             frame.height,
@@ -274,7 +274,7 @@ fn proposed_k_nearest(
         machine.has_fragment_atomics64()
     };
     if !supported {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::unsupported_option(format!(
             "{} cannot write storage buffers (with 64-bit atomics for fans or more than \
              {TILE_LEVELS} levels) from fragment shaders, which the k nearest sites need; \
              use --device cpu",

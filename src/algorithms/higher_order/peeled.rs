@@ -35,9 +35,7 @@ pub fn k_nearest_peeled(
 fn peel(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result<KNearest> {
     check_levels(machine, options)?;
     if options.accuracy != Accuracy::Exact || matches!(options.metric, Metric::Polygon(_)) {
-        return Err(Error::InvalidInput(
-            "peeling draws exact cones of the L_p metrics; use the default level method for fans and polygons".into(),
-        ));
+        return Err(Error::unsupported_option("peeling draws exact cones of the L_p metrics; use the default level method for fans and polygons".into(),));
     }
     let (frame, k) = (options.frame, options.k);
     let started = Instant::now();

@@ -63,7 +63,7 @@ pub(super) fn k_nearest_tiled(
     let rows = (next as usize).div_ceil(RECORD_ROW).max(1);
     let most = machine.max_picture_side() as usize;
     if rows > most {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "the cones of {k} levels meet screen tiles {next} times, more than this device \
              holds ({}); use the speedup, fewer levels or a smaller picture",
             most * RECORD_ROW

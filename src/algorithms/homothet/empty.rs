@@ -184,7 +184,7 @@ fn empty_points(
         _ => snapped_seeds(machine, sites, unit, &frame)?,
     };
     if stage == Some(PixelStage::DistanceTransform) && seeds.is_none() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::unsupported_option(format!(
             "the distance transform takes circles, sites on the picture (within a pixel) and sides up to {}: use cones",
             flooding::MAX_SIDE.min(machine.max_picture_side())
         )));
@@ -251,7 +251,7 @@ fn empty_points(
     };
     let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
     if tiles.is_empty() {
-        return Err(Error::InvalidInput(
+        return Err(Error::degenerate(
             "no pixel centre lies in the region".into(),
         ));
     }
@@ -297,7 +297,7 @@ fn empty_points(
             sites, unit, around, reach, sets, &edges, goal, 1, window, allowed, nearest, kept,
         )
     })
-    .ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+    .ok_or_else(|| Error::degenerate("no empty homothet found".into()))?;
     // Circles: the vertices rounding may put above the best, decided exactly.
     let rounding = 64.0 * f64::EPSILON * (c.abs().max_element() + v);
     let mut contenders = contenders.into_inner();
@@ -367,7 +367,7 @@ pub fn largest_empty_sites_by(
         return largest_empty_by(machine, &points, unit, region, side, stage);
     }
     if stage == Some(PixelStage::DistanceTransform) {
-        return Err(Error::InvalidInput(
+        return Err(Error::unsupported_option(
             "the distance transform takes unweighted points without `inside`: use cones".into(),
         ));
     }
@@ -464,7 +464,7 @@ fn refine_empty(
     })?;
     let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
     if tiles.is_empty() {
-        return Err(Error::InvalidInput(
+        return Err(Error::degenerate(
             "no pixel centre lies in the region".into(),
         ));
     }
@@ -603,7 +603,7 @@ fn refine_empty(
         }
     }
     let (c, v, gap, cells) =
-        best.ok_or_else(|| Error::InvalidInput("no empty homothet found".into()))?;
+        best.ok_or_else(|| Error::degenerate("no empty homothet found".into()))?;
     let certified = if unit == Unit::Circle && all.iter().all(is_plain_point_or_segment) {
         contenders.retain(|(vertex, value)| {
             *value >= v - gap - decided_within && within(&region, vertex)
@@ -667,7 +667,7 @@ fn exponent_or_refusal(numbers: &[f64], (lo, hi): (f64, f64)) -> Result<i32> {
         .map(|x| x.abs())
         .filter(|&x| x > 0.0)
         .fold(f64::INFINITY, f64::min);
-    Err(Error::InvalidInput(format!(
+    Err(Error::out_of_range(format!(
         "coordinates reach {largest:e}: the largest empty homothet is refined in doubles, \
          which hold its products of coordinates from about {lo:e} to {hi:e}, and no power \
          of two brings these coordinates there exactly (the smallest, {smallest:e}, would \
@@ -751,7 +751,7 @@ fn region_and_frame(
             (a.min(*p), b.max(*p))
         });
     if !(hi - lo).cmpgt(DVec2::ZERO).all() {
-        return Err(Error::InvalidInput(if defaulted {
+        return Err(Error::degenerate(if defaulted {
             "the sites' bounding box has no area (one site, or all on a line along an axis): give a region".into()
         } else {
             "the region has no area".into()
@@ -875,15 +875,16 @@ fn near_top(tiles: &[(f64, Vec<usize>)], value: f64, bound: f64) -> Vec<usize> {
 fn check_region(region: &Region) -> Result<()> {
     for (r, ring) in region.rings.iter().enumerate() {
         if ring.len() < 3 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "region ring {r} has {} vertices; it needs 3",
                 ring.len()
             )));
         }
         if ring.iter().any(|p| !p.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "region ring {r} has a coordinate that is not finite"
-            )));
+            return Err(Error::not_finite(
+                Some(r),
+                format!("region ring {r} has a coordinate that is not finite"),
+            ));
         }
     }
     Ok(())

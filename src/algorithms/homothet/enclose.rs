@@ -50,12 +50,12 @@ fn enclose_checked(
     let n = sites.len();
     let k = if k == 0 { n } else { k };
     if k > n {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "cannot enclose {k} of {n} sites"
         )));
     }
     if k < n && k > MAX_LEVELS as usize {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "holding {k} of {n} sites reads the {k}-th nearest site of every pixel, and pixgeo \
              keeps at most {MAX_LEVELS} levels: k takes 1 to {MAX_LEVELS}, or all {n} sites"
         )));
@@ -173,7 +173,7 @@ fn enclose_checked(
                 None,
             )
         })
-        .ok_or_else(|| Error::InvalidInput("no enclosing homothet found".into()))?;
+        .ok_or_else(|| Error::degenerate("no enclosing homothet found".into()))?;
         // A circle holding k of the sites is decided again exactly from the
         // sites on it.
         let exact = match unit {
@@ -338,7 +338,7 @@ pub fn enclose_sites(
         .iter()
         .any(|s| s.multiplicative != 1.0 || s.additive != 0.0)
     {
-        return Err(Error::InvalidInput(
+        return Err(Error::unsupported_option(
             "enclosing homothets take unweighted sites".into(),
         ));
     }
@@ -347,7 +347,7 @@ pub fn enclose_sites(
         .any(|s| matches!(s.shape, Shape::Circle { .. } | Shape::Arc { .. }));
     let points_only = sites.iter().all(|s| matches!(s.shape, Shape::Point(_)));
     if !points_only && k != 0 && k != sites.len() {
-        return Err(Error::InvalidInput(
+        return Err(Error::unsupported_option(
             "the smallest k-enclosing homothet takes point sites".into(),
         ));
     }
@@ -455,7 +455,7 @@ pub fn enclose_sites(
             |_, _| true,
             (None, |best: f64| 1e-9 * (1.0 + best.abs())),
         )?
-        .ok_or_else(|| Error::InvalidInput("no enclosing circle found".into()))?;
+        .ok_or_else(|| Error::degenerate("no enclosing circle found".into()))?;
         // The optimum is inside the square searched, or (convex units) the
         // square was too small.
         if !convex || (c - start).abs().max_element() < reach * 0.99 {

@@ -107,7 +107,7 @@ impl Unit {
             Unit::Circle => Ok(Metric::L2),
             Unit::Polygon(g) => {
                 let reflected: Vec<DVec2> = g.vertices.iter().map(|v| -*v).collect();
-                Metric::polygon(&reflected, DVec2::ZERO).map_err(Error::InvalidInput)
+                Metric::polygon(&reflected, DVec2::ZERO).map_err(Error::malformed)
             }
         }
     }

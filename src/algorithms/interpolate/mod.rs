@@ -131,7 +131,7 @@ pub fn interpolate_window(
             labels.iter().map(|&l| values[l as usize]).collect()
         }
         Method::Discrete if rect != PixelRect::sized(frame.width, frame.height) => {
-            return Err(Error::InvalidInput(
+            return Err(Error::unsupported_option(
                 "the discrete method interpolates whole rasters: a pixel's value depends on \
                  the pixels drawn around it, so windows would not tile into the whole"
                     .into(),
@@ -168,13 +168,13 @@ pub fn interpolate_points(
 ) -> Result<Interpolation> {
     check_values(sites, values)?;
     if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "point {i} ({}, {}) is not finite",
-            points[i].x, points[i].y
-        )));
+        return Err(Error::not_finite(
+            Some(i),
+            format!("point {i} ({}, {}) is not finite", points[i].x, points[i].y),
+        ));
     }
     if !matches!(method, Method::Exact | Method::Linear) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::unsupported_option(format!(
             "the {method:?} method interpolates onto rasters; at points, use the exact or \
              the linear method"
         )));
@@ -191,7 +191,7 @@ fn triangulated(backend: &Backend, sites: Checked<'_>, values: &[f64]) -> Result
     let differ =
         |[d, k]: &&[u32; 2]| values[*d as usize].to_bits() != values[*k as usize].to_bits();
     if let Some(&[dropped, kept]) = mesh.duplicates.iter().find(differ) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::malformed(format!(
             "sites {kept} and {dropped} lie at the same point with values {} and {}: give one \
              value for each point",
             values[kept as usize], values[dropped as usize]
@@ -204,17 +204,17 @@ fn triangulated(backend: &Backend, sites: Checked<'_>, values: &[f64]) -> Result
 /// finite.
 fn check_values(sites: &[DVec2], values: &[f64]) -> Result<()> {
     if values.len() != sites.len() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::malformed(format!(
             "{} values for {} sites: give one value per site",
             values.len(),
             sites.len()
         )));
     }
     match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(Error::InvalidInput(format!(
-            "value {i} is {}: values are finite",
-            values[i]
-        ))),
+        Some(i) => Err(Error::not_finite(
+            Some(i),
+            format!("value {i} is {}: values are finite", values[i]),
+        )),
         None => Ok(()),
     }
 }

@@ -106,7 +106,7 @@ pub(super) fn count_spans(
         let count = step.min(pixels - first);
         machine.run(|pass| {
             let kernel = SETTLE_SPANS.get(kind as usize).ok_or_else(|| {
-                Error::InvalidInput(format!(
+                Error::unsupported_option(format!(
                     "settle spans are not built for distance kind {kind}"
                 ))
             })?;

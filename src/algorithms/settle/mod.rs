@@ -188,7 +188,7 @@ fn check(rivals: &[DVec2], own: &[DVec2], frame: &Frame, metric: Metric) -> Resu
     frame.check()?;
     if let Metric::Polygon(_) = metric {
         // A star-shaped disc's rows need not be single spans.
-        return Err(Error::InvalidInput(
+        return Err(Error::unsupported_option(
             "the settle point takes the L_p metrics; polygonal distances are not counted yet"
                 .into(),
         ));
@@ -282,7 +282,7 @@ pub fn potential_areas(
     // Each of the span counting's difference pictures is one storage buffer.
     let bytes = 4 * frame.len() as u64;
     if options.method == SettleMethod::Spans && bytes > machine.max_storage_buffer_bytes() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "span counting needs {} MB per picture of {}x{} counts; the device allows {} MB \
              per buffer (use a smaller picture)",
             bytes >> 20,

@@ -26,7 +26,7 @@ pub struct Refined {
 pub fn refine(rivals: &[DVec2], own: &[DVec2], frame: &Frame, starts: &[usize]) -> Result<Refined> {
     check(rivals, own, frame, Metric::L2)?;
     if starts.is_empty() {
-        return Err(Error::InvalidInput("no pixel to refine from".into()));
+        return Err(Error::degenerate("no pixel to refine from".into()));
     }
     let rivals = to_pixels(&distinct(rivals), frame);
     let own = to_pixels(&distinct(own), frame);
@@ -56,7 +56,7 @@ pub fn refine(rivals: &[DVec2], own: &[DVec2], frame: &Frame, starts: &[usize]) 
     climbs
         .into_iter()
         .max_by(|a, b| a.area.total_cmp(&b.area))
-        .ok_or_else(|| Error::InvalidInput("no pixel to refine from".into()))
+        .ok_or_else(|| Error::degenerate("no pixel to refine from".into()))
 }
 
 /// Climbs `f` from `start` within `bounds` by compass steps (eight directions),

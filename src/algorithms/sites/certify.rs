@@ -95,7 +95,7 @@ impl<'a> SiteCertifier<'a> {
             }
             let (lo, hi) = pixel.bounds();
             if !(lo.is_finite() && hi.is_finite() && error.is_finite()) {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::out_of_range(format!(
                     "site {i} lies beyond the range of doubles in this picture's pixels \
                      (scale {} pixels a unit); keep sites within about 1e300 pixels",
                     frame.scale
@@ -347,7 +347,7 @@ impl<'a> SiteCertifier<'a> {
     fn compare(&self, a: u32, b: u32, pixel: [i64; 2]) -> Result<Ordering> {
         let (sa, sb) = (&self.sites[a as usize], &self.sites[b as usize]);
         self.exact.order(sa, sb, self.metric, pixel).ok_or_else(|| {
-            Error::InvalidInput(format!(
+            Error::out_of_range(format!(
                 "pixel ({}, {}) is as near site {a} as site {b} under {} to 1024 bits, and \
                  pixgeo cannot decide such a tie: an arc's end at an angle other than 0 is a \
                  transcendental point (arcs mirrored about the pixel tie there), and under L_p \

@@ -94,7 +94,7 @@ pub fn voronoi_sites(
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
     if options.window.is_some() {
-        return Err(Error::InvalidInput(
+        return Err(Error::unsupported_option(
             "windows take point sites: compute segments, circles, arcs and weighted sites \
              on the whole picture"
                 .into(),
@@ -127,7 +127,7 @@ pub(crate) fn check_exact_metric(sites: &[Site], metric: Metric) -> Result<()> {
         _ => None,
     };
     match refused {
-        Some(site) => Err(Error::InvalidInput(format!(
+        Some(site) => Err(Error::unsupported_option(format!(
             "{} under {metric} have no exact distance (a minimum along the shape with no \
              closed form): exact mode takes segments, circles and arcs under L1, L2 and L∞, \
              and segments under polygons; fan mode draws them within its reported bound \
@@ -257,7 +257,7 @@ pub(crate) fn draw_sites(
     check_general_sites(sites)?;
     options.accuracy.check_for(options.metric)?;
     if options.ties {
-        return Err(Error::InvalidInput(
+        return Err(Error::unsupported_option(
             "equal distances are counted for unweighted points only".into(),
         ));
     }

@@ -65,7 +65,7 @@ pub fn medial_axis(
 ) -> Result<Vec<bool>> {
     let Pruning { length, angle } = pruning;
     if !(length.is_finite() && length >= 0.0 && (0.0..=180.0).contains(&angle)) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "pruning by length {length} and angle {angle}: give a finite length of 0 or more \
              and an angle from 0 to 180 degrees"
         )));

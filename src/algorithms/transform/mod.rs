@@ -171,14 +171,14 @@ fn transform(
 ) -> Result<separable::Outputs> {
     let (w, h) = (width as usize, height as usize);
     if width == 0 || height == 0 || w.checked_mul(h) != Some(features.len()) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::malformed(format!(
             "a {width} x {height} raster needs {} values and has {}",
             w.saturating_mul(h),
             features.len()
         )));
     }
     if w * h >= u32::MAX as usize || w > i32::MAX as usize || h > i32::MAX as usize {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "a raster of {width} x {height} pixels has 2^32 pixels or more, or a side of 2^31"
         )));
     }
@@ -188,13 +188,13 @@ fn transform(
     crate::memory::reserve_picture(width, height, bytes, "a distance transform")?;
     let [sy, sx] = options.sampling;
     if !(sy.is_finite() && sx.is_finite() && sy > 0.0 && sx > 0.0) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::out_of_range(format!(
             "sampling {sy},{sx} must be two finite spacings above 0"
         )));
     }
     let metric = options.metric;
     if let Metric::Lp(p) = metric {
-        Metric::lp(p).map_err(Error::InvalidInput)?;
+        Metric::lp(p).map_err(Error::out_of_range)?;
     }
     // The longest and the shortest offsets the keys must hold.
     let range = [sy.min(sx), (w as f64 * sx).max(h as f64 * sy)];
@@ -216,7 +216,7 @@ fn transform(
             (distances, planes.then_some((rows, columns)))
         }
         None => {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::unsupported_option(format!(
                 "the {metric} metric takes equal sampling on both axes: its distance does not \
                  separate into rows and columns"
             )))

@@ -30,21 +30,19 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         check_push(kernel.name, kernel.push_bytes, push)?;
         if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
             )));
         }
         if self.rendering.is_some() {
-            return Err(Error::InvalidInput(
-                "dispatch inside a rendering pass".into(),
-            ));
+            return Err(Error::Usage("dispatch inside a rendering pass".into()));
         }
         if width == 0 || height == 0 {
             return Ok(());
         }
         let groups = (width.div_ceil(kernel.group()), height);
         if groups.0 > MAX_GROUPS || groups.1 > MAX_GROUPS {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::out_of_range(format!(
                 "a {width}x{height} grid of invocations needs more than {MAX_GROUPS} workgroups along a side: split it"
             )));
         }

@@ -14,7 +14,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * 4;
         if image.format().texel_bytes() != 4 || offset + bytes > buffer.size() {
-            return Err(Error::InvalidInput(
+            return Err(Error::Usage(
                 "fragment buffer too small for the image".into(),
             ));
         }
@@ -32,7 +32,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * 4;
         if !image.format().is_depth() || offset + bytes > buffer.size() {
-            return Err(Error::InvalidInput(
+            return Err(Error::Usage(
                 "a depth upload needs a depth image and a float per pixel".into(),
             ));
         }
@@ -49,7 +49,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         let bytes = image.width() as u64 * image.height() as u64 * image.format().texel_bytes();
         if image.format().is_depth() || bytes > buffer.size() {
-            return Err(Error::InvalidInput(
+            return Err(Error::Usage(
                 "an upload needs a colour image and a buffer that holds all of it".into(),
             ));
         }
@@ -106,7 +106,7 @@ impl<'m, 'r> Pass<'m, 'r> {
         rect.check_inside(image)?;
         let bytes = rect.width as u64 * rect.height as u64 * image.format().texel_bytes();
         if bytes > buffer.size() {
-            return Err(Error::InvalidInput("readback buffer too small".into()));
+            return Err(Error::Usage("readback buffer too small".into()));
         }
         self.record_copy(image, rect, buffer, 0)
     }
@@ -137,7 +137,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         rect.check_inside(image)?;
         if !image.format().has_stencil() || rect.width as u64 * rect.height as u64 > buffer.size() {
-            return Err(Error::InvalidInput(
+            return Err(Error::Usage(
                 "stencil readback needs a DepthStencil image and room for a byte per pixel".into(),
             ));
         }

@@ -7,31 +7,23 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// Begins rendering into `target`, clearing what `clear` names.
     pub fn begin(&mut self, target: Target<'r>, clear: Clear) -> Result<()> {
         if self.rendering.is_some() {
-            return Err(Error::InvalidInput(
-                "a rendering pass is already open".into(),
-            ));
+            return Err(Error::Usage("a rendering pass is already open".into()));
         }
         let (width, height) = match (target.color, target.depth_stencil) {
             (Some(c), _) => (c.width(), c.height()),
             (None, Some(d)) => (d.width(), d.height()),
-            (None, None) => {
-                return Err(Error::InvalidInput(
-                    "a rendering pass needs a target".into(),
-                ))
-            }
+            (None, None) => return Err(Error::Usage("a rendering pass needs a target".into())),
         };
         if let Some(d) = target.depth_stencil {
             if d.width() != width || d.height() != height || !d.format().is_depth() {
-                return Err(Error::InvalidInput(
+                return Err(Error::Usage(
                     "depth/stencil target must be a DepthStencil image of the colour target's size"
                         .into(),
                 ));
             }
         }
         if target.color.is_some_and(|c| c.format().is_depth()) {
-            return Err(Error::InvalidInput(
-                "colour target has a depth format".into(),
-            ));
+            return Err(Error::Usage("colour target has a depth format".into()));
         }
         self.begin_section(&format!("render {width}x{height}"))?;
         if let Some(c) = target.color {
@@ -135,7 +127,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     /// Ends the rendering pass begun with [`Pass::begin`].
     pub fn end(&mut self) -> Result<()> {
         let Some(rendering) = self.rendering.take() else {
-            return Err(Error::InvalidInput("no rendering pass is open".into()));
+            return Err(Error::Usage("no rendering pass is open".into()));
         };
         // SAFETY: a rendering pass was begun in this command buffer.
         unsafe { self.device().cmd_end_rendering(self.cmd) };
@@ -155,10 +147,10 @@ impl<'m, 'r> Pass<'m, 'r> {
         let r = self
             .rendering
             .as_ref()
-            .ok_or_else(|| Error::InvalidInput("draw outside a rendering pass".into()))?;
+            .ok_or_else(|| Error::Usage("draw outside a rendering pass".into()))?;
         check_push(program.name, program.push_bytes, push)?;
         let fragment = program.fragment(variant).ok_or_else(|| {
-            Error::InvalidInput(format!(
+            Error::Usage(format!(
                 "{} has no build for variant {variant}",
                 program.name
             ))
@@ -170,7 +162,7 @@ impl<'m, 'r> Pass<'m, 'r> {
             Output::Float => r.color.is_none() || !uint_target,
         };
         if !fits {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "{} writes {} values and needs a {} colour target (or none)",
                 program.name,
                 if uint_target { "float" } else { "integer" },
@@ -237,12 +229,10 @@ impl<'m, 'r> Pass<'m, 'r> {
         records: Option<&'r Image>,
     ) -> Result<()> {
         if (buffers.is_empty() && records.is_none()) || buffers.len() > 3 {
-            return Err(Error::InvalidInput(
-                "graphics programs take up to three storage buffers and a records image, at least one of them".into(),
-            ));
+            return Err(Error::Usage("graphics programs take up to three storage buffers and a records image, at least one of them".into(),));
         }
         if self.rendering.is_some() {
-            return Err(Error::InvalidInput(
+            return Err(Error::Usage(
                 "bind fragment buffers before `begin`, where their barriers can be recorded".into(),
             ));
         }
@@ -283,7 +273,7 @@ impl<'m, 'r> Pass<'m, 'r> {
     ) -> Result<()> {
         let program = draw.program;
         if draw.vertex_buffers.len() != program.vertex_buffers.len() {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "{} reads {} vertex buffers, not {}",
                 program.name,
                 program.vertex_buffers.len(),
@@ -292,6 +282,28 @@ impl<'m, 'r> Pass<'m, 'r> {
         }
         if draw.vertices.is_empty() || draw.instances.is_empty() {
             return Ok(());
+        }
+        // The vertex input reads element `end - 1` of each buffer: past its
+        // end is undefined behaviour, which safe code must not reach.
+        for (layout, buffer) in program.vertex_buffers.iter().zip(draw.vertex_buffers) {
+            let end = match layout.per_instance {
+                true => draw.instances.end,
+                false => draw.vertices.end,
+            };
+            let needed = u64::from(end) * u64::from(layout.stride);
+            if needed > buffer.size() {
+                return Err(Error::Usage(format!(
+                    "{} reads {needed} bytes of a vertex buffer of {} ({end} {} of {} bytes)",
+                    program.name,
+                    buffer.size(),
+                    if layout.per_instance {
+                        "instances"
+                    } else {
+                        "vertices"
+                    },
+                    layout.stride
+                )));
+            }
         }
         for &buffer in draw.vertex_buffers {
             self.use_buffer(buffer, BufferUse::VertexInput)?;

@@ -92,7 +92,7 @@ impl PixelRect {
                 .checked_add(self.height)
                 .is_none_or(|b| b > image.height())
         {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Usage(format!(
                 "rectangle {self:?} is empty or not inside the {}x{} picture",
                 image.width(),
                 image.height()
@@ -267,7 +267,7 @@ impl<'m, 'r> Pass<'m, 'r> {
         let from = buffer.last_use.get();
         if let Some(barrier) = sync::buffer_barrier(buffer.raw, from, usage) {
             if self.rendering.is_some() {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::Usage(format!(
                     "a buffer last used as {from:?} is used as {usage:?} inside a rendering pass: use it before `begin`"
                 )));
             }
@@ -341,7 +341,7 @@ fn check_push(program: &str, bytes: u32, push: &[u8]) -> Result<()> {
     if push.len() == bytes as usize {
         return Ok(());
     }
-    Err(Error::InvalidInput(format!(
+    Err(Error::Usage(format!(
         "{program} takes {bytes} bytes of push constants, not {}",
         push.len()
     )))

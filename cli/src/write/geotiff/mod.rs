@@ -99,7 +99,7 @@ struct Layout {
 impl Layout {
     fn new(width: u32, height: u32, bands: u16, sample: usize, cog: bool) -> Result<Self> {
         if bands == 0 || width == 0 || height == 0 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "a GeoTIFF of {width} x {height} pixels and {bands} bands holds nothing"
             )));
         }
@@ -462,7 +462,7 @@ impl<T: Sample> TiffStream<T> {
     /// Appends values.
     pub fn write(&mut self, data: &[T]) -> Result<()> {
         if data.len() as u64 > self.remaining() {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::malformed(format!(
                 "{}: more values than the raster holds",
                 self.output.path().display()
             )));
@@ -671,7 +671,7 @@ impl<T: Sample> TiffStream<T> {
     }
 
     fn missing(&self) -> Result<()> {
-        Err(Error::InvalidInput(format!(
+        Err(Error::malformed(format!(
             "{}: {} values missing",
             self.output.path().display(),
             self.remaining()

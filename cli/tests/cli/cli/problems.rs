@@ -47,6 +47,18 @@ fn distance_commands_answer_with_the_pair() {
         message.contains("blue") && stderr.contains(message),
         "{stdout}"
     );
+    // A refused input names why, by kind.
+    let two = temp("two.csv");
+    std::fs::write(&two, "x,y\n0,0\n1,1\n").unwrap();
+    let (ok, stdout, _) = pixgeo(&["triangle", "--sites", two.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert!(!ok && validator.is_valid(&v), "{stdout}");
+    let reason = &v["error"]["reason"];
+    assert_eq!(
+        (&reason["kind"], &reason["needed"], &reason["given"]),
+        (&"too_few".into(), &3.into(), &2.into()),
+        "{stdout}"
+    );
 }
 
 #[test]
