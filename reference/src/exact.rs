@@ -159,6 +159,55 @@ pub fn exact_k_nearest(
     (labels, ties)
 }
 
+/// Each pixel's Euclidean distance (world units) to the site `labels` names,
+/// as the float32 nearest the exact distance (ties to even).
+pub fn exact_distances(sites: &[DVec2], frame: &Frame, labels: &[u32]) -> Vec<f32> {
+    let w = frame.width;
+    labels
+        .par_iter()
+        .enumerate()
+        .map(|(p, &l)| {
+            let square = exact_key(
+                frame,
+                Metric::L2,
+                sites[l as usize],
+                p as u32 % w,
+                p as u32 / w,
+            );
+            rounded_sqrt(&square)
+        })
+        .collect()
+}
+
+/// The float32 nearest the square root of `square` (ties to even): from the
+/// double estimate, stepped to the float32 whose midpoints with its
+/// neighbours bracket the root, compared exactly by their squares.
+fn rounded_sqrt(square: &BigRational) -> f32 {
+    use num_traits::ToPrimitive;
+    let mut c = (square.to_f64().unwrap_or(f64::INFINITY).sqrt()) as f32;
+    // Is the root beyond the midpoint of a and b (a < b), ties to the even one?
+    let beyond = |a: f32, b: f32| {
+        let m = exact((a as f64 + b as f64) / 2.0);
+        match square.cmp(&(&m * &m)) {
+            std::cmp::Ordering::Equal => a.to_bits() % 2 == 1,
+            order => order == std::cmp::Ordering::Greater,
+        }
+    };
+    loop {
+        let (down, up) = (
+            f32::from_bits(c.to_bits().wrapping_sub(1)),
+            f32::from_bits(c.to_bits() + 1),
+        );
+        if c > 0.0 && c.is_finite() && !beyond(down, c) {
+            c = down;
+        } else if up.is_finite() && beyond(c, up) {
+            c = up;
+        } else {
+            return c;
+        }
+    }
+}
+
 fn point(p: DVec2) -> [BigRational; 2] {
     [exact(p.x), exact(p.y)]
 }

@@ -30,7 +30,8 @@ use crate::{
         bisector::Bisectors,
         buckets::PointGrid,
         exact::{
-            exact_float_key, exact_key, exact_order, pixel_offset, to_pixel_bounded, two_difference,
+            exact_float_key, exact_key, exact_order, pixel_offset, rational, to_pixel_parts,
+            two_difference,
         },
         metric::Metric,
         Frame,
@@ -125,6 +126,8 @@ pub(crate) struct Certifier<'a> {
     /// where exact).
     grid: PointGrid<'static>,
     places: Vec<DVec2>,
+    /// What the places leave out of the exact positions, signed.
+    rests: Vec<DVec2>,
     errors: Vec<f64>,
     largest_error: f64,
     keys: FloatKey,
@@ -204,10 +207,11 @@ impl<'a> Certifier<'a> {
     /// For `sites` (world coordinates, finite) on `frame` under `metric`.
     pub fn new(sites: &'a [DVec2], frame: &Frame, metric: Metric) -> Result<Self> {
         let mut places = crate::memory::room(sites.len(), "the sites' places")?;
+        let mut rests = crate::memory::room(sites.len(), "the sites' rests")?;
         let mut errors = crate::memory::room(sites.len(), "the sites' errors")?;
         for (i, s) in sites.iter().enumerate() {
-            let (x, ex) = to_pixel_bounded(s.x, frame.origin.x, frame.scale);
-            let (y, ey) = to_pixel_bounded(s.y, frame.origin.y, frame.scale);
+            let (x, rx, ex) = to_pixel_parts(s.x, frame.origin.x, frame.scale);
+            let (y, ry, ey) = to_pixel_parts(s.y, frame.origin.y, frame.scale);
             if !(x.is_finite() && y.is_finite() && ex.is_finite() && ey.is_finite()) {
                 return Err(Error::out_of_range(format!(
                     "site {i} ({}, {}) lies beyond the range of doubles in this picture's \
@@ -216,6 +220,7 @@ impl<'a> Certifier<'a> {
                 )));
             }
             places.push(DVec2::new(x, y));
+            rests.push(DVec2::new(rx, ry));
             errors.push(ex.max(ey));
         }
         let largest_error = errors.iter().copied().fold(0.0, f64::max);
@@ -225,6 +230,7 @@ impl<'a> Certifier<'a> {
             metric,
             grid: PointGrid::owning(places.clone()),
             places,
+            rests,
             errors,
             largest_error,
             keys: FloatKey::of(metric),
@@ -681,11 +687,11 @@ impl Certifier<'_> {
     }
 
     /// Each label's distance in `region` (world units, float32, every level) to
-    /// its site, from the label alone: from the site's pixel position to the
-    /// pixel's centre, as the CPU's diagram computes it, so that tiles,
-    /// windows and devices agree to the bit.
+    /// its site, from the label alone, so that tiles, windows and devices
+    /// agree to the bit: the float32 nearest the exact distance from the
+    /// site given to the pixel's centre (L_p with p not whole: within a few
+    /// units of the double's last place of it).
     pub fn label_distances(&self, region: Region, labels: &[u32], distances: &mut [f32]) {
-        let (metric, to_world) = (self.metric, 1.0 / self.frame.scale);
         let k = region.k;
         distances
             .par_chunks_mut(region.stride * k)
@@ -697,15 +703,58 @@ impl Certifier<'_> {
                 let row = d.iter_mut().zip(l).take(region.width as usize * k);
                 for (at, (d, &id)) in row.enumerate() {
                     let column = at / k;
-                    *d = match self.places.get(id as usize) {
-                        None => f32::INFINITY,
-                        Some(&site) => {
-                            let q = DVec2::new((region.x0 as usize + column) as f64, y);
-                            (metric.distance_of_key(metric.key(q - site)) * to_world) as f32
-                        }
-                    };
+                    let x = (region.x0 as usize + column) as f64;
+                    *d = self.rounded_distance(id, DVec2::new(x, y));
                 }
             });
+    }
+
+    /// The float32 nearest the distance (world units) from site `id` to the
+    /// centre of `pixel` (integer pixel coordinates); infinite for no site.
+    /// The double estimate from the site's place and rest settles it unless
+    /// its error bound straddles a float32 rounding boundary; then the exact
+    /// key does, where the metric has one.
+    fn rounded_distance(&self, id: u32, pixel: DVec2) -> f32 {
+        let Some(&place) = self.places.get(id as usize) else {
+            return f32::INFINITY;
+        };
+        let (rest, bound) = (self.rests[id as usize], self.errors[id as usize]);
+        let along = |q: f64, p: f64, r: f64| {
+            let (d, e) = two_difference(q, p);
+            d + (e - r)
+        };
+        let offset = DVec2::new(
+            along(pixel.x, place.x, rest.x),
+            along(pixel.y, place.y, rest.y),
+        );
+        let metric = self.metric;
+        let estimate = metric.distance_of_key(metric.key(offset));
+        // The offset within 4ε of itself and the rest's bound; the metric's
+        // arithmetic (powers and roots for L_p) within 64ε.
+        let u = f64::EPSILON;
+        let slack = 64.0 * u * estimate
+            + 8.0 * (u * (offset.abs().max_element() + bound) + 4.0 * f64::MIN_POSITIVE);
+        let scale = self.frame.scale;
+        if !estimate.is_finite() {
+            return (estimate / scale) as f32;
+        }
+        // + 0.0: a negative zero's bits would order it above every float.
+        let (lo, hi) = (
+            (estimate - slack).max(0.0) / scale + 0.0,
+            (estimate + slack) / scale,
+        );
+        let (lo, hi) = ((lo * (1.0 - 2.0 * u)) as f32, (hi * (1.0 + 2.0 * u)) as f32);
+        if lo == hi {
+            return lo;
+        }
+        let at = [pixel.x as i64, pixel.y as i64];
+        let Some(key) = exact_key(
+            metric,
+            &pixel_offset(&self.frame, self.sites[id as usize], at),
+        ) else {
+            return (estimate / scale) as f32;
+        };
+        rounded_root(&key, key_power(metric), scale, lo, hi)
     }
 
     /// Proves the proposed furthest sites of every pixel of the frame in
@@ -973,4 +1022,47 @@ fn round_up_f32(x: f64) -> f32 {
     } else {
         f
     }
+}
+
+/// The power of the distance that [`exact_key`] gives for `metric`: 2 for
+/// L2, p for L_p with p whole, 1 for L1, L∞ and polygons.
+fn key_power(metric: Metric) -> u32 {
+    match metric {
+        Metric::L2 => 2,
+        Metric::Lp(p) => p as u32,
+        _ => 1,
+    }
+}
+
+/// The float32 nearest `d = key^(1/power) / scale` (ties to even), known to
+/// lie in `[lo, hi]` (non-negative): a binary search over the float32s
+/// between, each step comparing `d` exactly with the midpoint above a
+/// float32 as `(midpoint · scale)^power` against `key`.
+fn rounded_root(key: &BigRational, power: u32, scale: f64, lo: f32, hi: f32) -> f32 {
+    let scale = rational(scale);
+    // Whether d lies beyond the midpoint of r and the float32 above it (on
+    // it, towards the even one).
+    let above = |r: f32| {
+        let up = f32::from_bits(r.to_bits() + 1);
+        // Past the largest float32, the overflow threshold.
+        let mid = match up.is_finite() {
+            true => (r as f64 + up as f64) / 2.0,
+            false => f32::MAX as f64 + 2f64.powi(103),
+        };
+        match num_traits::pow(rational(mid) * &scale, power as usize).cmp(key) {
+            Ordering::Less => true,
+            Ordering::Equal => r.to_bits() % 2 == 1,
+            Ordering::Greater => false,
+        }
+    };
+    let (mut a, mut b) = (lo.to_bits(), hi.to_bits());
+    while a < b {
+        let m = a + (b - a) / 2;
+        if above(f32::from_bits(m)) {
+            a = m + 1;
+        } else {
+            b = m;
+        }
+    }
+    f32::from_bits(a)
 }

@@ -239,6 +239,14 @@ pub(crate) fn exact_float_key(metric: Metric, dx: f64, dy: f64) -> Option<f64> {
 /// `x` as a double in pixel coordinates, `(x - o) s - 1/2`, with a bound on its
 /// error (zero when it is exact).
 pub(crate) fn to_pixel_bounded(x: f64, origin: f64, scale: f64) -> (f64, f64) {
+    let (q, _, error) = to_pixel_parts(x, origin, scale);
+    (q, error)
+}
+
+/// [`to_pixel_bounded`] with the signed rest: `(q, rest, bound)`, where the
+/// exact value is within `4ε bound` (and a few smallest normals) of
+/// `q + rest`.
+pub(crate) fn to_pixel_parts(x: f64, origin: f64, scale: f64) -> (f64, f64, f64) {
     let (t, e1) = two_difference(x, origin);
     let (m, e2) = two_product(t, scale);
     let (q, e3) = two_difference(m, 0.5);
@@ -255,7 +263,7 @@ pub(crate) fn to_pixel_bounded(x: f64, origin: f64, scale: f64) -> (f64, f64) {
     } else {
         error * (1.0 + 1e-9) + f64::MIN_POSITIVE
     };
-    (q, error)
+    (q, e3 + e2 + e1 * scale, error)
 }
 
 /// The double nearest to `r` (ties to even).

@@ -16,7 +16,9 @@ use pixgeo::{
     machine::PixelRect,
     Backend,
 };
-use pixgeo_reference::exact::{directed_hausdorff_squared, exact_k_nearest, exact_key, squared};
+use pixgeo_reference::exact::{
+    directed_hausdorff_squared, exact_distances, exact_k_nearest, exact_key, squared,
+};
 
 use crate::common::{hostile, machine, Hostile};
 
@@ -57,6 +59,12 @@ fn nearest_sites_are_the_same_on_every_route() {
         let cones = base.method(Method::Cones);
         let grown = cpu::k_nearest(&sites, &frame, 1, Metric::L2).unwrap();
         differences.check(format!("{name}: growth on the CPU"), &grown.labels, &want);
+        // Every route's distances are the CPU's: the float32s nearest the exact ones.
+        differences.check(
+            format!("{name}: distances"),
+            &bits(&grown.distances),
+            &bits(&exact_distances(&sites, &frame, &want)),
+        );
         let routes = [
             ("cones", voronoi(&Backend::Device(&m), &sites, &cones)),
             (

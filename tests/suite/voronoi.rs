@@ -835,3 +835,37 @@ fn pipelines_are_kept_between_machines_and_a_broken_cache_file_is_ignored() {
     );
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// Distances are the float32s nearest the exact ones, on every route: a site
+/// 2⁻⁵³ below a pixel centre is 2⁻⁵³ from it, not 0 (the site's pixel
+/// position rounds onto the centre), and a distance 2⁻⁸¹ past the midpoint
+/// of 1 and the next float32 rounds up, though its double rounds to the
+/// midpoint itself.
+#[test]
+fn distances_are_the_nearest_float32s_of_the_exact_ones() {
+    let m = machine();
+    let frame = Frame::pixels(4, 2).unwrap();
+    let cases = [
+        (
+            DVec2::new(1.0, 1.0 - 2f64.powi(-53)),
+            (1, 1),
+            2f32.powi(-53),
+        ),
+        (
+            DVec2::new(-(2f64.powi(-24)), 2f64.powi(-40)),
+            (1, 0),
+            1.0 + 2f32.powi(-23),
+        ),
+    ];
+    for (site, (i, j), want) in cases {
+        for backend in [Backend::Device(&m), Backend::Cpu] {
+            let d = voronoi(&backend, &[site], &VoronoiOptions::exact(frame)).unwrap();
+            let got = d.distances[j * 4 + i];
+            assert_eq!(
+                got.to_bits(),
+                want.to_bits(),
+                "{site}: {got:e}, not {want:e}"
+            );
+        }
+    }
+}

@@ -45,7 +45,13 @@ fn enclose_checked(
     if shift != 0 {
         let scaled = scale::scaled(sites, shift);
         let answer = enclose_checked(backend, Checked::derived(&scaled), unit, k, side)?;
-        return Ok(answer.scaled(-shift));
+        let mut answer = answer.scaled(-shift);
+        // Scaled back into the subnormals, a rounded centre would round
+        // again: a circle is rounded once, from its sites as given.
+        if unit == Unit::Circle {
+            answer.exact = circle_through(sites, answer.exact);
+        }
+        return Ok(answer);
     }
     let n = sites.len();
     let k = if k == 0 { n } else { k };
@@ -502,4 +508,21 @@ fn lowest_of(distances: &[f32]) -> usize {
         .enumerate()
         .min_by(|a, b| a.1.total_cmp(b.1))
         .map_or(0, |(at, _)| at)
+}
+
+/// The circle through the sites that determine `circle` (its `sites`, one to
+/// three), its centre and radius rounded once from the exact ones.
+fn circle_through(sites: &[DVec2], circle: Homothet) -> Homothet {
+    let at = |k: usize| sites[circle.sites[k] as usize];
+    let index = |k: usize| circle.sites[k] as usize;
+    let exact = match circle.sites.len() {
+        2 => crate::geometry::circle::through_two(at(0), at(1), index(0), index(1)),
+        3 => crate::geometry::circle::through_three([at(0), at(1), at(2)], [0, 1, 2].map(index)),
+        _ => return circle,
+    };
+    Homothet {
+        centre: exact.centre.to_array(),
+        scale: exact.radius,
+        ..circle
+    }
 }

@@ -10,7 +10,7 @@ use pixgeo::{
     geometry::metric::{Gauge, Metric},
 };
 use pixgeo_reference::homothet::{self as oracle, welzl};
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::common::{clustered, machine, uniform};
@@ -583,7 +583,6 @@ fn largest_empty_circle_on_a_picture_coarser_than_its_sites() {
 #[test]
 fn smallest_k_enclosing_circle_is_exact() {
     use pixgeo_reference::exact::{is_nearest, is_nearest_root, smallest_k_enclosing_circle};
-    use rand::Rng;
     let machine = machine();
     let mut rng = ChaCha8Rng::seed_from_u64(48);
     let mut cases: Vec<(String, Vec<DVec2>, usize)> = vec![(
@@ -749,5 +748,31 @@ fn enclosing_on_the_cpu_is_the_devices_answer() {
         // Holding k of them, equal optima are many: the device alone.
         let error = enclose(&Backend::Cpu, &sites, Unit::Circle, 3, 256).unwrap_err();
         assert!(error.to_string().contains("holding k"), "{error}");
+    }
+}
+
+/// The smallest enclosing circle of points in the subnormal range is rounded
+/// once, at their magnitude: its centre is the double nearest the exact
+/// centre and its radius the double nearest the exact radius.
+#[test]
+fn enclosing_circles_of_subnormal_points_are_rounded_once() {
+    let m = machine();
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    for _ in 0..20 {
+        let points: Vec<DVec2> = (0..5)
+            .map(|_| DVec2::new(rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0)) * 1e-308)
+            .collect();
+        let (centre, squared) = pixgeo_reference::exact::smallest_enclosing_circle(&points);
+        for backend in [Backend::Device(&m), Backend::Cpu] {
+            let c = enclose(&backend, &points, Unit::Circle, 0, 64)
+                .unwrap()
+                .exact;
+            for (got, want) in c.centre.iter().zip(&centre) {
+                let nearest = pixgeo_reference::exact::is_nearest(*got, want);
+                assert!(nearest, "centre {:?} of {points:?}", c.centre);
+            }
+            let root = pixgeo_reference::exact::is_nearest_root(c.scale, &squared);
+            assert!(root, "radius {:e} of {points:?}", c.scale);
+        }
     }
 }
