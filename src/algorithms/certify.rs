@@ -692,7 +692,7 @@ impl Certifier<'_> {
     /// site given to the pixel's centre (L_p with p not whole: within a few
     /// units of the double's last place of it).
     pub fn label_distances(&self, region: Region, labels: &[u32], distances: &mut [f32]) {
-        let k = region.k;
+        let (k, to_world) = (region.k, 1.0 / self.frame.scale);
         distances
             .par_chunks_mut(region.stride * k)
             .zip(labels.par_chunks(region.stride * k))
@@ -704,7 +704,7 @@ impl Certifier<'_> {
                 for (at, (d, &id)) in row.enumerate() {
                     let column = at / k;
                     let x = (region.x0 as usize + column) as f64;
-                    *d = self.rounded_distance(id, DVec2::new(x, y));
+                    *d = self.rounded_distance(id, DVec2::new(x, y), to_world);
                 }
             });
     }
@@ -714,45 +714,37 @@ impl Certifier<'_> {
     /// The double estimate from the site's place and rest settles it unless
     /// its error bound straddles a float32 rounding boundary; then the exact
     /// key does, where the metric has one.
-    fn rounded_distance(&self, id: u32, pixel: DVec2) -> f32 {
+    fn rounded_distance(&self, id: u32, pixel: DVec2, to_world: f64) -> f32 {
         let Some(&place) = self.places.get(id as usize) else {
             return f32::INFINITY;
         };
         let (rest, bound) = (self.rests[id as usize], self.errors[id as usize]);
-        let along = |q: f64, p: f64, r: f64| {
-            let (d, e) = two_difference(q, p);
-            d + (e - r)
-        };
-        let offset = DVec2::new(
-            along(pixel.x, place.x, rest.x),
-            along(pixel.y, place.y, rest.y),
-        );
+        // Within ε of the offset and of the rest, which the slack takes in.
+        let offset = (pixel - place) - rest;
         let metric = self.metric;
         let estimate = metric.distance_of_key(metric.key(offset));
-        // The offset within 4ε of itself and the rest's bound; the metric's
-        // arithmetic (powers and roots for L_p) within 64ε.
+        // The offset within 4ε of itself and the place's bound; the
+        // metric's arithmetic (powers and roots for L_p) within 64ε.
         let u = f64::EPSILON;
         let slack = 64.0 * u * estimate
             + 8.0 * (u * (offset.abs().max_element() + bound) + 4.0 * f64::MIN_POSITIVE);
-        let scale = self.frame.scale;
         if !estimate.is_finite() {
-            return (estimate / scale) as f32;
+            return (estimate * to_world) as f32;
         }
+        // to_world is 1 / scale within ε, and each product within ε more.
         // + 0.0: a negative zero's bits would order it above every float.
-        let (lo, hi) = (
-            (estimate - slack).max(0.0) / scale + 0.0,
-            (estimate + slack) / scale,
-        );
-        let (lo, hi) = ((lo * (1.0 - 2.0 * u)) as f32, (hi * (1.0 + 2.0 * u)) as f32);
+        let lo = ((estimate - slack).max(0.0) * to_world * (1.0 - 4.0 * u) + 0.0) as f32;
+        let hi = ((estimate + slack) * to_world * (1.0 + 4.0 * u)) as f32;
         if lo == hi {
             return lo;
         }
+        let scale = self.frame.scale;
         let at = [pixel.x as i64, pixel.y as i64];
         let Some(key) = exact_key(
             metric,
             &pixel_offset(&self.frame, self.sites[id as usize], at),
         ) else {
-            return (estimate / scale) as f32;
+            return (estimate * to_world) as f32;
         };
         rounded_root(&key, key_power(metric), scale, lo, hi)
     }
