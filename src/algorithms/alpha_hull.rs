@@ -274,13 +274,15 @@ fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
 /// few percent so that the hull's rim shows and the box never collapses.
 fn frame_around(lo: DVec2, hi: DVec2, pad: f64, side: u32) -> Result<Frame> {
     let extent = (hi - lo).max_element();
-    // Relative to the points' own magnitude: a set of any size fills the
-    // picture, and one point still gets a box.
+    // Relative to the set's extent, so that a set of any size and at any
+    // offset fills the picture; one point gets a box relative to its
+    // magnitude.
     let magnitude = lo.abs().max(hi.abs()).max_element();
-    let pad = pad
-        .max(0.03 * extent)
-        .max(1e-9 * magnitude)
-        .max(f64::MIN_POSITIVE);
+    let pad = match extent > 0.0 {
+        true => pad.max(0.03 * extent),
+        false => pad.max(1e-9 * magnitude),
+    }
+    .max(f64::MIN_POSITIVE);
     Frame::fitting(side, lo - pad, hi + pad)
 }
 
@@ -624,7 +626,11 @@ fn hull_walk(
     radius: f64,
     mec_centre: DVec2,
 ) -> (Vec<u32>, Vec<DVec2>) {
-    let p = |k: usize| points[hull[k % hull.len()] as usize];
+    // Measured from a hull point, so that circles of a set far from the
+    // origin (1e9 away, say) keep the digits their radius needs.
+    let o = points[hull[0] as usize];
+    let p = |k: usize| points[hull[k % hull.len()] as usize] - o;
+    let mec_centre = mec_centre - o;
     let n = hull.len();
     let start = (0..n)
         .max_by(|&a, &b| {
@@ -644,7 +650,7 @@ fn hull_walk(
                 .map(|c| (t, c))
         });
         let Some((t, c)) = next else { break };
-        centres.push(c);
+        centres.push(c + o);
         if t < start + n {
             passed.push(hull[t % n]);
         }

@@ -275,3 +275,41 @@ fn repeated_sites_give_the_hull_of_their_positions() {
         assert_eq!(many.boundary_sites, moved, "alpha {alpha}");
     }
 }
+
+/// A hull far from the origin is the hull near it: the picture is fitted to
+/// the set's extent, not its magnitude (at 1e15 the convex hull was 0 pixels,
+/// a 2e6-wide box around a triangle 4 wide), and the circles are measured
+/// from a hull point (at 1e9, α = 0.4 found no circle: "a pixgeo bug").
+#[test]
+fn hulls_far_from_the_origin_are_the_hulls_near_it() {
+    let machine = machine();
+    let triangle = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(4.0, 0.0),
+        DVec2::new(1.0, 3.0),
+    ];
+    let hull = |offset: f64, alpha: f64| {
+        let sites = triangle.map(|p| p + DVec2::new(offset, 0.0));
+        alpha_hull(&machine, &sites, alpha, AlphaMethod::Hull, 64)
+            .unwrap_or_else(|e| panic!("{offset:e}, {alpha}: {e}"))
+    };
+    for alpha in [0.0, 0.4] {
+        let near = hull(0.0, alpha);
+        for offset in [1e9, 1e15] {
+            let far = hull(offset, alpha);
+            assert_eq!(
+                (far.width, far.height),
+                (near.width, near.height),
+                "{offset:e}, {alpha}"
+            );
+            // Circle centres at 1e15 are doubles 0.125 apart: a pixel may move.
+            let moved = far.inside.abs_diff(near.inside);
+            assert!(
+                moved <= 2,
+                "{offset:e}, α {alpha}: {} inside, not {}",
+                far.inside,
+                near.inside
+            );
+        }
+    }
+}

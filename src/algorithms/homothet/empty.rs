@@ -61,19 +61,26 @@ pub fn largest_empty(
     largest_empty_by(machine, sites, unit, region, side, None)
 }
 
-/// A corner to move `sites` and `region` by, where they lie far from the
-/// origin beside their extent (more than 2^20 times) and every difference
-/// from the corner is exact; `None` otherwise.
-fn exact_shift(points: &[DVec2]) -> Option<DVec2> {
-    let points = || points.iter();
-    let lo = points().fold(DVec2::INFINITY, |a, p| a.min(*p));
-    let hi = points().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
-    let far = lo.abs().max(hi.abs()).max_element() > (hi - lo).max_element() * 2f64.powi(20);
-    let exact = |v: f64, o: f64| {
-        let (d, e) = two_difference(v, o);
-        e == 0.0 && d + o == v
+/// A corner to move `sites` and `region` by: on each axis where they lie far
+/// from the origin beside their extent (more than 2^20 times) and every
+/// difference from the corner is exact, the corner's coordinate; 0 on the
+/// others.
+fn exact_shift(points: &[DVec2]) -> DVec2 {
+    let along = |axis: fn(&DVec2) -> f64| {
+        let values = || points.iter().map(axis);
+        let lo = values().fold(f64::INFINITY, f64::min);
+        let hi = values().fold(f64::NEG_INFINITY, f64::max);
+        let far = lo.abs().max(hi.abs()) > (hi - lo) * 2f64.powi(20);
+        let exact = |v: f64| {
+            let (d, e) = two_difference(v, lo);
+            e == 0.0 && d + lo == v
+        };
+        match far && values().all(exact) {
+            true => lo,
+            false => 0.0,
+        }
     };
-    (far && points().all(|p| exact(p.x, lo.x) && exact(p.y, lo.y))).then_some(lo)
+    DVec2::new(along(|p| p.x), along(|p| p.y))
 }
 
 /// More pixels near the largest value than this, and the picture is too coarse
@@ -103,7 +110,7 @@ pub fn largest_empty_by(
         .chain(region.rings.iter().flatten())
         .copied()
         .collect();
-    let origin = exact_shift(&anchors).unwrap_or(DVec2::ZERO);
+    let origin = exact_shift(&anchors);
     let numbers: Vec<f64> = anchors
         .iter()
         .flat_map(|p| [p.x - origin.x, p.y - origin.y])
@@ -382,7 +389,7 @@ pub fn largest_empty_sites_by(
         .flat_map(Site::anchors)
         .chain(region.rings.iter().flatten().copied())
         .collect();
-    let origin = exact_shift(&anchors).unwrap_or(DVec2::ZERO);
+    let origin = exact_shift(&anchors);
     let placed = |sites: Vec<Site>, region: Region, f: &dyn Fn(DVec2) -> DVec2| {
         let rings = region
             .rings

@@ -776,3 +776,29 @@ fn enclosing_circles_of_subnormal_points_are_rounded_once() {
         }
     }
 }
+
+/// Sites far from the origin along one axis alone are moved near it on that
+/// axis: at x = 1e15 beside y near 50, no empty circle was found (the shift
+/// asked for exact differences on both axes, and y's are not).
+#[test]
+fn empty_circles_far_along_one_axis_are_the_ones_near_the_origin() {
+    let m = machine();
+    let sites = [
+        DVec2::new(86.5, 85.686),
+        DVec2::new(78.125, 45.183),
+        DVec2::new(85.5, 18.99),
+    ];
+    let none = Region { rings: Vec::new() };
+    let near = largest_empty(&m, &sites, Unit::Circle, &none, 256)
+        .unwrap()
+        .exact;
+    let far: Vec<DVec2> = sites.iter().map(|p| *p + DVec2::new(1e15, 0.0)).collect();
+    let far = largest_empty(&m, &far, Unit::Circle, &none, 256)
+        .unwrap()
+        .exact;
+    assert_eq!(
+        (far.scale, far.centre[1], &far.sites),
+        (near.scale, near.centre[1], &near.sites)
+    );
+    assert_eq!(far.centre[0], near.centre[0] + 1e15);
+}
