@@ -169,6 +169,20 @@ pub enum Invalid {
 }
 
 impl Invalid {
+    /// The kind's name as the command line's JSON and Python give it:
+    /// `not_finite`, `too_few`, `degenerate`, `out_of_range`,
+    /// `unsupported_option` or `malformed`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::NotFinite { .. } => "not_finite",
+            Self::TooFew { .. } => "too_few",
+            Self::Degenerate(_) => "degenerate",
+            Self::OutOfRange(_) => "out_of_range",
+            Self::UnsupportedOption(_) => "unsupported_option",
+            Self::Malformed(_) => "malformed",
+        }
+    }
+
     /// The message, prefixed by what the input was.
     fn about(self, what: &str) -> Self {
         let named = |message: String| format!("{what}: {message}");

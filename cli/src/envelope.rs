@@ -67,17 +67,15 @@ fn reason(error: &anyhow::Error) -> Option<Value> {
         Some(pixgeo::Error::InvalidInput(why)) => Some(why),
         _ => None,
     })?;
-    Some(match why {
-        Invalid::NotFinite { index, .. } => json!({"kind": "not_finite", "index": index}),
+    let mut reason = json!({"kind": why.kind()});
+    match why {
+        Invalid::NotFinite { index, .. } => reason["index"] = json!(index),
         Invalid::TooFew { needed, given, .. } => {
-            json!({"kind": "too_few", "needed": needed, "given": given})
+            (reason["needed"], reason["given"]) = (json!(needed), json!(given));
         }
-        Invalid::Degenerate(_) => json!({"kind": "degenerate"}),
-        Invalid::OutOfRange(_) => json!({"kind": "out_of_range"}),
-        Invalid::UnsupportedOption(_) => json!({"kind": "unsupported_option"}),
-        Invalid::Malformed(_) => json!({"kind": "malformed"}),
-        _ => json!({"kind": "invalid_input"}),
-    })
+        _ => {}
+    }
+    Some(reason)
 }
 
 /// [`print()`] for a command whose rasters may run north-up.

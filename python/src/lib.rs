@@ -42,12 +42,13 @@ use pixgeo::{
         Frame,
     },
     machine::{DeviceChoice, PixelRect},
-    Backend, Error, Machine, MachineOptions, Need,
+    Backend, Error, Invalid, Machine, MachineOptions, Need,
 };
 use pyo3::{
     create_exception,
     exceptions::{PyOSError, PyRuntimeError, PyValueError},
     prelude::*,
+    types::PyDict,
 };
 
 mod cells;
@@ -193,15 +194,33 @@ fn interruptible<T: Send>(
 }
 
 /// Each kind of error as its exception: bad input a `ValueError` with
-/// pixgeo's message, a file an `OSError` (its errno's subclass, such as
+/// pixgeo's message and its `reason` (`kind`, and `index` or `needed` and
+/// `given` where the kind has them), a file an `OSError` (its errno's subclass, such as
 /// `FileNotFoundError`), the device's failures the `RuntimeError` subclasses
 /// above.
 fn to_py(e: Error) -> PyErr {
     let text = e.to_string();
     match e {
-        Error::InvalidInput(_) | Error::PictureTooLarge { .. } | Error::Parse { .. } => {
-            PyValueError::new_err(text)
+        Error::InvalidInput(why) => {
+            let err = PyValueError::new_err(text);
+            Python::attach(|py| {
+                let reason = PyDict::new(py);
+                let _ = reason.set_item("kind", why.kind());
+                match why {
+                    Invalid::NotFinite { index, .. } => {
+                        let _ = reason.set_item("index", index);
+                    }
+                    Invalid::TooFew { needed, given, .. } => {
+                        let _ = reason.set_item("needed", needed);
+                        let _ = reason.set_item("given", given);
+                    }
+                    _ => {}
+                }
+                let _ = err.value(py).setattr("reason", reason);
+            });
+            err
         }
+        Error::PictureTooLarge { .. } | Error::Parse { .. } => PyValueError::new_err(text),
         Error::Io { path, cause } => PyOSError::new_err((
             cause.raw_os_error().unwrap_or(0),
             cause.to_string(),

@@ -294,6 +294,22 @@ def test_bad_input_raises_value_error(call, message):
     assert message in str(e.value), str(e.value)
 
 
+@pytest.mark.parametrize(
+    "call, reason",
+    [
+        (lambda: pixgeo.voronoi([[0, 0], [1, 1], [1, np.nan]], (8, 8)), {"kind": "not_finite", "index": 2}),
+        (lambda: pixgeo.smallest_triangle([[0, 0], [1, 1]]), {"kind": "too_few", "needed": 3, "given": 2}),
+        (lambda: pixgeo.delaunay([[0, 0], [1, 1], [2, 2]]), {"kind": "degenerate"}),
+        (lambda: pixgeo.voronoi([[0, 0]], (8, 8), bbox=(1, 1, 0, 0)), {"kind": "malformed"}),
+    ],
+)
+def test_bad_input_says_why_by_kind(call, reason):
+    """pixgeo's refusals carry `reason`, as the command line's JSON does."""
+    with pytest.raises(ValueError) as e:
+        call()
+    assert e.value.reason == reason, str(e.value)
+
+
 def test_an_unknown_device_is_a_no_device_error():
     with pytest.raises(pixgeo.NoDeviceError, match="no-such-device-anywhere"):
         pixgeo.voronoi([[0, 0]], (8, 8), device="no-such-device-anywhere")
