@@ -183,6 +183,18 @@ impl Invalid {
         }
     }
 
+    /// The numbers the kind carries, by name: `index` for `NotFinite`,
+    /// `needed` and `given` for `TooFew`, none for the others.
+    pub fn numbers(&self) -> Vec<(&'static str, Option<usize>)> {
+        match *self {
+            Self::NotFinite { index, .. } => Vec::from([("index", index)]),
+            Self::TooFew { needed, given, .. } => {
+                Vec::from([("needed", Some(needed)), ("given", Some(given))])
+            }
+            _ => Vec::new(),
+        }
+    }
+
     /// The message, prefixed by what the input was.
     fn about(self, what: &str) -> Self {
         let named = |message: String| format!("{what}: {message}");

@@ -12,7 +12,7 @@
 //! `gpu_ms` holds the device's milliseconds by pass.
 
 use anyhow::Result;
-use pixgeo::{geometry::Frame, Invalid};
+use pixgeo::geometry::Frame;
 
 use crate::{
     input::{World, YAxis},
@@ -68,12 +68,8 @@ fn reason(error: &anyhow::Error) -> Option<Value> {
         _ => None,
     })?;
     let mut reason = json!({"kind": why.kind()});
-    match why {
-        Invalid::NotFinite { index, .. } => reason["index"] = json!(index),
-        Invalid::TooFew { needed, given, .. } => {
-            (reason["needed"], reason["given"]) = (json!(needed), json!(given));
-        }
-        _ => {}
+    for (name, number) in why.numbers() {
+        reason[name] = json!(number);
     }
     Some(reason)
 }

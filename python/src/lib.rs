@@ -42,7 +42,7 @@ use pixgeo::{
         Frame,
     },
     machine::{DeviceChoice, PixelRect},
-    Backend, Error, Invalid, Machine, MachineOptions, Need,
+    Backend, Error, Machine, MachineOptions, Need,
 };
 use pyo3::{
     create_exception,
@@ -206,15 +206,8 @@ fn to_py(e: Error) -> PyErr {
             Python::attach(|py| {
                 let reason = PyDict::new(py);
                 let _ = reason.set_item("kind", why.kind());
-                match why {
-                    Invalid::NotFinite { index, .. } => {
-                        let _ = reason.set_item("index", index);
-                    }
-                    Invalid::TooFew { needed, given, .. } => {
-                        let _ = reason.set_item("needed", needed);
-                        let _ = reason.set_item("given", given);
-                    }
-                    _ => {}
+                for (name, number) in why.numbers() {
+                    let _ = reason.set_item(name, number);
                 }
                 let _ = err.value(py).setattr("reason", reason);
             });

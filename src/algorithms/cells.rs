@@ -17,10 +17,15 @@ use std::collections::HashMap;
 
 use glam::DVec2;
 
-use super::delaunay::{delaunay, DelaunayOptions};
+use super::delaunay::{delaunay_checked, DelaunayOptions};
 use crate::{
-    error::{Error, Result},
-    geometry::{cell::Rect, exact_cell::CellBuilder, predicates::orient},
+    error::Result,
+    geometry::{
+        cell::Rect,
+        exact_cell::CellBuilder,
+        frame::{check_sites, Checked},
+        predicates::orient,
+    },
     Backend,
 };
 
@@ -73,12 +78,11 @@ pub fn voronoi_cells_with_progress(
     rect: &Rect,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Cells> {
-    if let Some(i) = sites.iter().position(|p| !p.is_finite()) {
-        return Err(Error::not_finite(
-            Some(i),
-            format!("site {i} is not finite"),
-        ));
+    if sites.is_empty() {
+        rect.check()?;
+        return Ok(Cells::default());
     }
+    check_sites(sites)?;
     rect.check()?;
     // The first of equal sites stands for them all.
     let mut first: HashMap<(u64, u64), u32> = HashMap::new();
@@ -140,8 +144,10 @@ fn neighbours(backend: &Backend, sites: &[DVec2], distinct: &[u32]) -> Result<Ve
         }
         return Ok(around);
     }
+    // The distinct sites of a list checked where it entered.
     let points: Vec<DVec2> = distinct.iter().map(|&i| at(i)).collect();
-    let mesh = delaunay(backend, &points, &DelaunayOptions::default())?;
+    let options = DelaunayOptions::default();
+    let mesh = delaunay_checked(backend, Checked::derived(&points), &options, &mut |_, _| {})?;
     for t in &mesh.triangles {
         for k in 0..3 {
             let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
