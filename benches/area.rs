@@ -11,12 +11,11 @@ use std::path::PathBuf;
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::{
-        area::{default_side, extremal_quadrangle, extremal_triangle, Extreme},
-        area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
+    algorithms::area::{
+        default_side, extremal_quadrangle, extremal_triangle, AreaOptions, Extreme,
     },
     geometry::Frame,
-    Machine,
+    Backend, Machine,
 };
 
 /// The picture side: `AREA_SIZE`, else pixgeo's default for n sites.
@@ -99,8 +98,16 @@ fn main() -> anyhow::Result<()> {
     let frame = Frame::pixels(1000, 1000)?;
     let warm = frame.random_points(50, 1);
     for extreme in [Extreme::Smallest, Extreme::Largest] {
-        extremal_triangle(&machine, &warm, extreme, size(50))?;
-        extremal_quadrangle(&machine, &warm, extreme, size(50))?;
+        extremal_triangle(
+            &Backend::Device(&machine),
+            &warm,
+            &AreaOptions::new(extreme).side(Some(size(50))),
+        )?;
+        extremal_quadrangle(
+            &Backend::Device(&machine),
+            &warm,
+            &AreaOptions::new(extreme).side(Some(size(50))),
+        )?;
     }
 
     let mut smallest = String::from(
@@ -116,15 +123,17 @@ fn main() -> anyhow::Result<()> {
         let sites = frame.random_points(n, n as u64);
         let (ours, a) = time(repeats, || {
             Ok(extremal_triangle(
-                &machine,
+                &Backend::Device(&machine),
                 &sites,
-                Extreme::Smallest,
-                size(n),
+                &AreaOptions::new(Extreme::Smallest).side(Some(size(n))),
             )?)
         })?;
         let (brute, b) = time(repeats, || Ok(exhaustive_triangle(&sites, false)))?;
         let (sweep, s) = time(repeats, || {
-            Ok(extremal_triangle_sweep(&sites, Extreme::Smallest, &mut |_, _| {})?.area)
+            Ok(
+                extremal_triangle(&Backend::Cpu, &sites, &AreaOptions::new(Extreme::Smallest))?
+                    .area,
+            )
         })?;
         eprintln!(
             "n = {n}: smallest triangle {ours:.1} ms ({:.1}/{:.1}/{:.1}/{:.1}), exhaustive {brute:.1} ms, sweep {sweep:.1} ms; areas {} {b} {s}",
@@ -145,10 +154,9 @@ fn main() -> anyhow::Result<()> {
 
         let (ours, a) = time(repeats, || {
             Ok(extremal_triangle(
-                &machine,
+                &Backend::Device(&machine),
                 &sites,
-                Extreme::Largest,
-                size(n),
+                &AreaOptions::new(Extreme::Largest).side(Some(size(n))),
             )?)
         })?;
         let (brute, b) = time(repeats, || Ok(exhaustive_triangle(&sites, true)))?;
@@ -174,22 +182,25 @@ fn main() -> anyhow::Result<()> {
         if n <= 500 {
             let (ours, a) = time(repeats, || {
                 Ok(extremal_quadrangle(
-                    &machine,
+                    &Backend::Device(&machine),
                     &sites,
-                    Extreme::Smallest,
-                    size(n),
+                    &AreaOptions::new(Extreme::Smallest).side(Some(size(n))),
                 )?)
             })?;
             let (brute, b) = time(repeats, || Ok(exhaustive_quadrangle(&sites, false)))?;
             let (sweep, s) = time(repeats, || {
-                Ok(extremal_quadrangle_sweep(&sites, Extreme::Smallest, &mut |_, _| {})?.area)
+                Ok(extremal_quadrangle(
+                    &Backend::Cpu,
+                    &sites,
+                    &AreaOptions::new(Extreme::Smallest),
+                )?
+                .area)
             })?;
             let (ours_max, c) = time(repeats, || {
                 Ok(extremal_quadrangle(
-                    &machine,
+                    &Backend::Device(&machine),
                     &sites,
-                    Extreme::Largest,
-                    size(n),
+                    &AreaOptions::new(Extreme::Largest).side(Some(size(n))),
                 )?)
             })?;
             let (brute_max, d) = time(repeats, || Ok(exhaustive_quadrangle(&sites, true)))?;

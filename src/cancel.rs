@@ -19,7 +19,7 @@ thread_local! {
 }
 
 /// Runs `work` on this thread with `flag` as its cancellation flag.
-pub fn within<T>(flag: Arc<AtomicBool>, work: impl FnOnce() -> T) -> T {
+pub(crate) fn within<T>(flag: Arc<AtomicBool>, work: impl FnOnce() -> T) -> T {
     let before = FLAG.with(|f| f.replace(Some(flag)));
     let result = work();
     FLAG.with(|f| *f.borrow_mut() = before);

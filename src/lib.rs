@@ -51,7 +51,8 @@
 
 pub mod algorithms;
 pub mod backend;
-pub mod cancel;
+mod cancel;
+pub mod control;
 pub mod error;
 pub mod geometry;
 pub mod io;
@@ -61,6 +62,7 @@ mod names;
 mod simple;
 
 pub use backend::{Backend, Chosen, Need};
+pub use control::Control;
 pub use error::{Error, Invalid, Result};
 pub use geometry::{
     metric::Metric,

@@ -21,8 +21,8 @@ use glam::DVec2;
 use crate::{
     algorithms::{
         alpha_hull::{self, AlphaHull, AlphaMethod},
-        area::{AreaAnswer, Extreme},
-        area_sweep, cpu,
+        area::{self, AreaAnswer, AreaOptions, Extreme},
+        cpu,
         delaunay::{self, Delaunay, DelaunayOptions},
         distances::{self, Answer, Hausdorff},
         higher_order::{self, Furthest, KNearest, KNearestOptions},
@@ -225,7 +225,7 @@ pub fn alpha_hull(points: &[DVec2], alpha: f64) -> Result<AlphaHull> {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn extremal_triangle(points: &[DVec2], extreme: Extreme) -> Result<AreaAnswer> {
-    area_sweep::extremal_triangle_sweep(points, extreme, &mut |_, _| {})
+    area::extremal_triangle(&Backend::Cpu, points, &AreaOptions::new(extreme))
 }
 
 /// The smallest or largest simple quadrangle with four of `points` as
@@ -239,7 +239,7 @@ pub fn extremal_triangle(points: &[DVec2], extreme: Extreme) -> Result<AreaAnswe
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn extremal_quadrangle(points: &[DVec2], extreme: Extreme) -> Result<AreaAnswer> {
-    area_sweep::extremal_quadrangle_sweep(points, extreme, &mut |_, _| {})
+    area::extremal_quadrangle(&Backend::Cpu, points, &AreaOptions::new(extreme))
 }
 
 /// The settle point (thesis §3.10): where a new point among `rivals` would be

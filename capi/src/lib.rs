@@ -282,7 +282,9 @@ fn with_context(
     // SAFETY: this call holds the flag, so no other call uses the context.
     let context = unsafe { &mut *ctx };
     let cancel = context.cancel.clone();
-    let outcome = pixgeo::cancel::within(cancel, || guarded(|| f(context)));
+    let outcome = pixgeo::Control::new()
+        .cancel(cancel)
+        .run(|| guarded(|| f(context)));
     let (status, text) = match outcome {
         Ok(Ok(())) => (PixgeoStatus::Ok, String::new()),
         Ok(Err(e)) => e,

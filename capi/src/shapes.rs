@@ -4,8 +4,7 @@
 use super::*;
 use pixgeo::algorithms::{
     alpha_hull::{self, AlphaMethod},
-    area::{self, default_side, Extreme, RoofSearch, SweepSearch},
-    area_sweep,
+    area::{self, AreaOptions, AreaSearch, Extreme},
 };
 
 /// Which extreme [`pixgeo_triangle`] and [`pixgeo_quadrangle`] find.
@@ -63,12 +62,6 @@ pub struct PixgeoPolygonAnswer {
     pub area: f64,
 }
 
-/// The search a call asked for: triangle or quadrangle, sweep or roofs.
-struct AreaSearch {
-    roofs: RoofSearch,
-    sweep: SweepSearch,
-}
-
 /// Runs `search` with the caller's arguments (the safety contract of
 /// [`pixgeo_triangle`]).
 unsafe fn extremal(
@@ -96,35 +89,18 @@ unsafe fn extremal(
                 )))
             }
         };
-        let no_progress = &mut |_, _| {};
-        let answer = match o.method {
-            0 if o.side != 0 => {
-                return Err(invalid(
-                    "side sets the roofs' picture; the sweep draws none",
-                ))
-            }
-            0 => (search.sweep)(&sites, extreme, no_progress),
-            1 => {
-                let side = if o.side == 0 {
-                    default_side(sites.len())
-                } else {
-                    o.side
-                };
-                (search.roofs)(
-                    context.machine("the extremal shapes' roofs")?,
-                    &sites,
-                    extreme,
-                    side,
-                    no_progress,
-                )
-            }
+        let side = (o.side != 0).then_some(o.side);
+        let backend = match o.method {
+            0 => Backend::Cpu,
+            1 => Backend::Device(context.machine("the extremal shapes' roofs")?),
             other => {
                 return Err(invalid(format!(
                     "method {other} is not a PixgeoAreaMethod (0 sweep, 1 roofs)"
                 )))
             }
-        }
-        .map_err(failed)?;
+        };
+        let answer =
+            search(&backend, &sites, &AreaOptions::new(extreme).side(side)).map_err(failed)?;
         let mut polygon = PixgeoPolygonAnswer {
             vertex_count: answer.sites.len() as u32,
             area: answer.area,
@@ -151,12 +127,8 @@ pub unsafe extern "C" fn pixgeo_triangle(
     options: *const PixgeoAreaOptions,
     out: *mut PixgeoPolygonAnswer,
 ) -> PixgeoStatus {
-    let search = AreaSearch {
-        roofs: area::extremal_triangle_with_progress,
-        sweep: area_sweep::extremal_triangle_sweep,
-    };
     // SAFETY: the caller's contract is `extremal`'s.
-    unsafe { extremal(ctx, xy, count, options, out, search) }
+    unsafe { extremal(ctx, xy, count, options, out, area::extremal_triangle) }
 }
 
 /// The smallest or largest quadrangle (simple, possibly not convex) with four
@@ -172,12 +144,8 @@ pub unsafe extern "C" fn pixgeo_quadrangle(
     options: *const PixgeoAreaOptions,
     out: *mut PixgeoPolygonAnswer,
 ) -> PixgeoStatus {
-    let search = AreaSearch {
-        roofs: area::extremal_quadrangle_with_progress,
-        sweep: area_sweep::extremal_quadrangle_sweep,
-    };
     // SAFETY: the caller's contract is `extremal`'s.
-    unsafe { extremal(ctx, xy, count, options, out, search) }
+    unsafe { extremal(ctx, xy, count, options, out, area::extremal_quadrangle) }
 }
 
 /// How [`pixgeo_alpha_hull`] computes a hull for α > 0.

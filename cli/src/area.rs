@@ -4,10 +4,7 @@
 use anyhow::Result;
 use clap::Args as ClapArgs;
 use glam::DVec2;
-use pixgeo::algorithms::{
-    area::{self, default_side, AreaAnswer, Extreme, RoofSearch, SweepSearch},
-    area_sweep,
-};
+use pixgeo::algorithms::area::{self, AreaAnswer, AreaOptions, AreaSearch, Extreme};
 
 use crate::{device::Backend, envelope, input::Points, progress::Progress, text::Real};
 
@@ -80,24 +77,14 @@ impl Common {
 }
 
 pub fn triangle(args: TriangleArgs) -> Result<()> {
-    solve(
-        &args.common,
-        area::extremal_triangle_with_progress,
-        area_sweep::extremal_triangle_sweep,
-        "triangle",
-    )
+    solve(&args.common, area::extremal_triangle, "triangle")
 }
 
 pub fn quadrangle(args: QuadrangleArgs) -> Result<()> {
-    solve(
-        &args.common,
-        area::extremal_quadrangle_with_progress,
-        area_sweep::extremal_quadrangle_sweep,
-        "quadrangle",
-    )
+    solve(&args.common, area::extremal_quadrangle, "quadrangle")
 }
 
-fn solve(c: &Common, roofs: RoofSearch, sweep: SweepSearch, what: &str) -> Result<()> {
+fn solve(c: &Common, search: AreaSearch, what: &str) -> Result<()> {
     let points = c.points.read()?;
     let device = c
         .device
@@ -106,29 +93,16 @@ fn solve(c: &Common, roofs: RoofSearch, sweep: SweepSearch, what: &str) -> Resul
         .unwrap_or_else(|| "cpu".into());
     let chosen = crate::device::choose(Some(&device), crate::device::need(false))?;
     let backend = chosen.backend();
-    let (answer, device) = match &backend {
-        Backend::Device(machine) => {
-            let side = c.size.unwrap_or(default_side(points.len()));
-            let progress = Progress::new(&format!("{what}: roofs of site pairs"), c.json);
-            let answer = roofs(machine, &points, c.extreme(), side, &mut |done, total| {
-                progress.report(done, total)
-            })?;
-            (answer, machine.device_name())
-        }
-        Backend::Cpu => {
-            if c.size.is_some() {
-                anyhow::bail!(
-                    "--size sets the roofs' picture; the cpu sweep draws none (name a Vulkan \
-                     device with --device to draw the roofs)"
-                );
-            }
-            let progress = Progress::new(&format!("{what}: sweep over site pairs"), c.json);
-            let answer = sweep(&points, c.extreme(), &mut |done, total| {
-                progress.report(done, total)
-            })?;
-            (answer, "cpu (rotational sweep)")
-        }
+    let (step, device) = match &backend {
+        Backend::Device(machine) => ("roofs of site pairs", machine.device_name()),
+        Backend::Cpu => ("sweep over site pairs", "cpu (rotational sweep)"),
     };
+    let progress = Progress::new(&format!("{what}: {step}"), c.json);
+    let options = AreaOptions::new(c.extreme())
+        .side(c.size)
+        .control(progress.control());
+    let answer = search(&backend, &points, &options)?;
+    drop(progress);
     if c.json {
         return envelope::print(what, device, answer.frame.as_ref(), &answer);
     }

@@ -10,7 +10,7 @@ use anyhow::Result;
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        cells::{voronoi_cells_with_progress, Cells},
+        cells::{voronoi_cells, Cells, CellsOptions},
         power::Regular,
         trace::trace_regions,
     },
@@ -81,15 +81,15 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
     let dots: Vec<DVec2> = sites.iter().map(|&p| picture(p)).collect();
     match source {
         Source::Exact { backend, sites } => {
-            let cells = with_progress(outputs, |report| {
-                voronoi_cells_with_progress(backend, sites, &world.clip_rect(), report)
-            })?;
+            let progress = Progress::new("cells", outputs.json);
+            let options = CellsOptions::new(world.clip_rect()).control(progress.control());
+            let cells = voronoi_cells(backend, sites, &options)?;
             emit_exact(outputs, world, &dots, &cells, None)
         }
         Source::Power { regular, sites } => {
-            let cells = with_progress(outputs, |report| {
-                regular.cells(sites, &world.clip_rect(), report)
-            })?;
+            let progress = Progress::new("cells", outputs.json);
+            let options = CellsOptions::new(world.clip_rect()).control(progress.control());
+            let cells = regular.cells(sites, &options)?;
             emit_exact(
                 outputs,
                 world,
@@ -137,16 +137,6 @@ pub fn write(outputs: Outputs, world: &World, source: Source, sites: &[DVec2]) -
             emit(outputs, world, &dots, features, || shapes)
         }
     }
-}
-
-/// Builds cells with a progress bar, unless the answer is `--json`.
-fn with_progress(
-    outputs: Outputs,
-    build: impl FnOnce(&mut dyn FnMut(u64, u64)) -> pixgeo::Result<Cells>,
-) -> Result<Cells> {
-    let progress = Progress::new("cells", outputs.json);
-    let cells = build(&mut |done, total| progress.report(done, total))?;
-    Ok(cells)
 }
 
 /// Writes exact cells, one feature per site; `power`, the weighted sites of

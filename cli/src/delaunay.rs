@@ -114,13 +114,13 @@ pub fn run(args: Args) -> Result<()> {
     };
     let chosen = args.device.choose(need)?;
     let backend = chosen.backend();
-    let options = DelaunayOptions::default().grid(args.grid).check(args.check);
-    let result = {
-        let progress = Progress::new("delaunay: flooding, duals, insertion, flips", args.json);
-        delaunay::delaunay_with_progress(&backend, &points, &options, &mut |done, total| {
-            progress.report(done, total)
-        })?
-    };
+    let progress = Progress::new("delaunay: flooding, duals, insertion, flips", args.json);
+    let options = DelaunayOptions::default()
+        .grid(args.grid)
+        .check(args.check)
+        .control(progress.control());
+    let result = delaunay::delaunay(&backend, &points, &options)?;
+    drop(progress);
     let problems = args
         .check
         .then(|| check_delaunay(&points, &result.triangles, &result.distinct()));

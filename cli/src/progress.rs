@@ -4,6 +4,7 @@
 use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressStyle};
+use pixgeo::Control;
 
 pub struct Progress {
     bar: Option<ProgressBar>,
@@ -47,10 +48,22 @@ impl Progress {
     /// The library's `progress(done, total)` callback.
     pub fn report(&self, done: u64, total: u64) {
         if let Some(bar) = &self.bar {
-            bar.set_length(total);
-            bar.set_position(done);
+            show(bar, done, total);
         }
     }
+
+    /// A control for the library's options that moves this bar.
+    pub fn control(&self) -> Control {
+        match self.bar.clone() {
+            Some(bar) => Control::new().progress(move |done, total| show(&bar, done, total)),
+            None => Control::new(),
+        }
+    }
+}
+
+fn show(bar: &ProgressBar, done: u64, total: u64) {
+    bar.set_length(total);
+    bar.set_position(done);
 }
 
 impl Drop for Progress {

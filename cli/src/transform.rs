@@ -6,8 +6,8 @@ use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use pixgeo::{
     algorithms::transform::{
-        components, distance_transform_with_progress, medial_axis, Pruning, Transform,
-        TransformOptions, NO_COMPONENT,
+        components, distance_transform, medial_axis, Pruning, Transform, TransformOptions,
+        NO_COMPONENT,
     },
     geometry::metric::Metric,
 };
@@ -216,17 +216,12 @@ pub fn run(args: Args) -> Result<()> {
         }
     };
     let started = std::time::Instant::now();
+    let progress = Progress::new("transform: rows", args.json);
     let options = TransformOptions::new()
         .metric(args.metric)
-        .sampling(sampling);
-    let progress = Progress::new("transform: rows", args.json);
-    let t = distance_transform_with_progress(
-        &mask.features,
-        mask.width,
-        mask.height,
-        &options,
-        &|done, total| progress.report(done, total),
-    )?;
+        .sampling(sampling)
+        .control(progress.control());
+    let t = distance_transform(&mask.features, mask.width, mask.height, &options)?;
     drop(progress);
     let transform_ms = started.elapsed().as_secs_f64() * 1e3;
     let mut axis = match &args.medial_axis {

@@ -4,7 +4,11 @@
 use glam::DVec2;
 use numpy::{ndarray::Array2, IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pixgeo::{
-    algorithms::{cells::voronoi_cells as cells_of, cells::Cells, power::regular_triangulation},
+    algorithms::{
+        cells::voronoi_cells as cells_of,
+        cells::{Cells, CellsOptions},
+        power::regular_triangulation,
+    },
     geometry::cell::Rect,
 };
 use pyo3::prelude::*;
@@ -30,7 +34,7 @@ pub fn voronoi_cells<'py>(
 ) -> PyResult<CellsTuple<'py, Bound<'py, PyArray2<u32>>>> {
     let p = self::points(&points)?;
     let cells = on_backend(py, device, Need::DeviceIfAny, |b| {
-        cells_of(b, &p, &rect(bbox))
+        cells_of(b, &p, &options(bbox))
     })?;
     let duplicates = Array2::from_shape_vec(
         (cells.duplicates.len(), 2),
@@ -53,17 +57,17 @@ pub fn power_cells<'py>(
     let sites = weighted(&points, &weights)?;
     let (cells, hidden) = on_cpu(py, || {
         let regular = regular_triangulation(&sites)?;
-        let cells = regular.cells(&sites, &rect(bbox), &mut |_, _| {})?;
+        let cells = regular.cells(&sites, &options(bbox))?;
         Ok((cells, regular.hidden))
     })?;
     Ok((corners(py, &cells)?, hidden))
 }
 
-fn rect(bbox: [f64; 4]) -> Rect {
-    Rect {
+fn options(bbox: [f64; 4]) -> CellsOptions {
+    CellsOptions::new(Rect {
         lo: DVec2::new(bbox[0], bbox[1]),
         hi: DVec2::new(bbox[2], bbox[3]),
-    }
+    })
 }
 
 /// Each cell's corners as an array (k, 2).

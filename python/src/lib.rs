@@ -20,8 +20,7 @@ use numpy::{
 use pixgeo::{
     algorithms::{
         alpha_hull::{self, AlphaMethod},
-        area::Extreme,
-        area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
+        area::{self, AreaOptions, Extreme},
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
         great_circle::{great_circle_grid, great_circle_nearest},
@@ -170,7 +169,7 @@ fn interruptible<T: Send>(
     let (done, mut finished) = std::sync::mpsc::channel::<()>();
     std::thread::scope(|scope| {
         let worker = scope.spawn(|| {
-            let result = pixgeo::cancel::within(cancel.clone(), work);
+            let result = pixgeo::Control::new().cancel(cancel.clone()).run(work);
             drop(done);
             result
         });
@@ -926,8 +925,8 @@ fn extremal_polygon<'py>(
         Extreme::Smallest
     };
     let answer = on_cpu(py, || match corners {
-        3 => extremal_triangle_sweep(&p, extreme, &mut |_, _| {}),
-        _ => extremal_quadrangle_sweep(&p, extreme, &mut |_, _| {}),
+        3 => area::extremal_triangle(&Backend::Cpu, &p, &AreaOptions::new(extreme)),
+        _ => area::extremal_quadrangle(&Backend::Cpu, &p, &AreaOptions::new(extreme)),
     })?;
     Ok((answer.sites.into_pyarray(py), answer.area))
 }

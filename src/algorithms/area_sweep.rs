@@ -22,7 +22,7 @@ use crate::{
 };
 
 /// The smallest or largest triangle with three of `sites` as vertices.
-pub fn extremal_triangle_sweep(
+pub(crate) fn extremal_triangle_sweep(
     sites: &[DVec2],
     extreme: Extreme,
     progress: &mut dyn FnMut(u64, u64),
@@ -68,7 +68,7 @@ pub fn extremal_triangle_sweep(
 
 /// The smallest or largest quadrangle with four of `sites` as vertices: a
 /// diagonal with one vertex strictly on each side.
-pub fn extremal_quadrangle_sweep(
+pub(crate) fn extremal_quadrangle_sweep(
     sites: &[DVec2],
     extreme: Extreme,
     progress: &mut dyn FnMut(u64, u64),

@@ -26,8 +26,31 @@ use crate::{
         frame::{check_sites, Checked},
         predicates::orient,
     },
-    Backend,
+    Backend, Control,
 };
+
+/// Where the cells are built: the rectangle they are clipped to, and the
+/// work's progress (cells built of all) and cancellation.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CellsOptions {
+    pub rect: Rect,
+    pub control: Control,
+}
+
+impl CellsOptions {
+    /// Cells clipped to `rect`.
+    pub fn new(rect: Rect) -> Self {
+        Self {
+            rect,
+            control: Control::new(),
+        }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
+    }
+}
 
 /// The cells of a set of sites.
 #[derive(Clone, Debug, Default)]
@@ -53,31 +76,26 @@ impl Cells {
     }
 }
 
-/// The Voronoi cells of `sites` (finite) clipped to `rect`.
+/// The Voronoi cells of `sites` (finite) clipped to `options.rect`, reporting
+/// the cells built to `options.control`.
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::{algorithms::cells::voronoi_cells, geometry::cell::Rect};
+/// use pixgeo::{algorithms::cells::{voronoi_cells, CellsOptions}, geometry::cell::Rect};
 ///
 /// let sites = [DVec2::new(1.0, 1.0), DVec2::new(3.0, 1.0), DVec2::new(2.0, 3.0)];
 /// let rect = Rect { lo: DVec2::ZERO, hi: DVec2::new(4.0, 4.0) };
-/// let cells = voronoi_cells(&pixgeo::Backend::Cpu, &sites, &rect)?;
+/// let cells = voronoi_cells(&pixgeo::Backend::Cpu, &sites, &CellsOptions::new(rect))?;
 /// let total: f64 = (0..3).map(|i| cells.area(i)).sum();
 /// assert!((total - 16.0).abs() < 1e-12);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn voronoi_cells(backend: &Backend, sites: &[DVec2], rect: &Rect) -> Result<Cells> {
-    voronoi_cells_with_progress(backend, sites, rect, &mut |_, _| {})
+pub fn voronoi_cells(backend: &Backend, sites: &[DVec2], options: &CellsOptions) -> Result<Cells> {
+    options.control.run(|| cells_of(backend, sites, options))
 }
 
-/// [`voronoi_cells`], calling `progress(done, total)` as the cells are built
-/// and looking at the cancel flag ([`crate::cancel`]) as it goes.
-pub fn voronoi_cells_with_progress(
-    backend: &Backend,
-    sites: &[DVec2],
-    rect: &Rect,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<Cells> {
+fn cells_of(backend: &Backend, sites: &[DVec2], options: &CellsOptions) -> Result<Cells> {
+    let rect = &options.rect;
     if sites.is_empty() {
         rect.check()?;
         return Ok(Cells::default());
@@ -104,7 +122,7 @@ pub fn voronoi_cells_with_progress(
         .zip(&neighbours)
         .map(|(&i, around)| (i, &around[..]))
         .collect();
-    let built = CellBuilder::new(sites, *rect).cells(&jobs, progress)?;
+    let built = CellBuilder::new(sites, *rect).cells(&jobs, &options.control)?;
     let mut polygons = crate::memory::filled(sites.len(), Vec::new(), "cells")?;
     for (&i, cell) in distinct.iter().zip(built) {
         polygons[i as usize] = cell;

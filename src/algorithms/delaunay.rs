@@ -46,7 +46,7 @@ use crate::{
         Frame,
     },
     machine::Machine,
-    Backend,
+    Backend, Control,
 };
 
 /// Empty pixels kept around the points, so that the outside never pinches a
@@ -64,6 +64,9 @@ pub struct DelaunayOptions {
     /// Check conditions I–III on the digital triangulation (on a device;
     /// the CPU makes none).
     pub check: bool,
+    /// Progress, `(done, STEPS)` as each of the five steps ends (flooding,
+    /// dualization, moving the seeds, flips, insertion), and cancellation.
+    pub control: Control,
 }
 
 impl DelaunayOptions {
@@ -73,6 +76,10 @@ impl DelaunayOptions {
 
     pub fn check(self, check: bool) -> Self {
         Self { check, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
     }
 }
 
@@ -191,7 +198,9 @@ fn three_bit_ceil(x: f64) -> f64 {
 /// line; repeated points are reported and dropped). Any finite coordinates are
 /// taken exactly: points whose magnitudes would overflow or underflow the exact
 /// predicates are triangulated scaled by a power of two, which changes no
-/// triangle.
+/// triangle. On [`Backend::Cpu`] the points are inserted in Hilbert order
+/// alone; both routes give the same triangles, ties included (co-circular
+/// points are decided by the input order, [`crate::geometry`]'s mesh).
 ///
 /// ```
 /// use glam::DVec2;
@@ -208,25 +217,17 @@ pub fn delaunay(
     points: &[DVec2],
     options: &DelaunayOptions,
 ) -> Result<Delaunay> {
-    delaunay_with_progress(backend, points, options, &mut |_, _| {})
+    options.control.run(|| {
+        delaunay_checked(
+            backend,
+            Checked::new(points)?,
+            options,
+            &mut |done, total| options.control.report(done, total),
+        )
+    })
 }
 
-/// [`delaunay`], calling `progress(done, STEPS)` as each of its five steps
-/// ends: flooding, dualization, moving the seeds, flips, insertion. The steps
-/// on the CPU look at the cancel flag ([`crate::cancel`]) as they go. On
-/// [`Backend::Cpu`] the points are inserted in Hilbert order alone; both
-/// routes give the same triangles, ties included (co-circular points are
-/// decided by the input order, [`crate::geometry`]'s mesh).
-pub fn delaunay_with_progress(
-    backend: &Backend,
-    points: &[DVec2],
-    options: &DelaunayOptions,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<Delaunay> {
-    delaunay_checked(backend, Checked::new(points)?, options, progress)
-}
-
-/// [`delaunay_with_progress`] of points checked where they entered.
+/// [`delaunay`] of points checked where they entered.
 pub(crate) fn delaunay_checked(
     backend: &Backend,
     points: Checked<'_>,

@@ -26,12 +26,11 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::{
-    algorithms::cells::Cells,
+    algorithms::cells::{Cells, CellsOptions},
     algorithms::envelope::hilbert_index,
     algorithms::voronoi::VoronoiOptions,
     cancel::Watch,
     geometry::{
-        cell::Rect,
         exact_cell::CellBuilder,
         frame::check_sites,
         mesh::Mesh,
@@ -73,13 +72,13 @@ impl Regular {
     }
 
     /// The power cells of `sites`, whose regular triangulation this is,
-    /// clipped to `rect`, calling `progress(done, total)` as they are built.
-    pub fn cells(
-        &self,
-        sites: &[Weighted],
-        rect: &Rect,
-        progress: &mut dyn FnMut(u64, u64),
-    ) -> Result<Cells> {
+    /// clipped to `options.rect`.
+    pub fn cells(&self, sites: &[Weighted], options: &CellsOptions) -> Result<Cells> {
+        options.control.run(|| self.cells_of(sites, options))
+    }
+
+    fn cells_of(&self, sites: &[Weighted], options: &CellsOptions) -> Result<Cells> {
+        let rect = &options.rect;
         rect.check()?;
         let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
         let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();
@@ -91,7 +90,8 @@ impl Regular {
             .filter(|(i, _)| self.hidden.binary_search(&(*i as u32)).is_err())
             .map(|(i, around)| (i as u32, &around[..]))
             .collect();
-        let built = CellBuilder::weighted(&points, &weights, *rect).cells(&jobs, progress)?;
+        let built =
+            CellBuilder::weighted(&points, &weights, *rect).cells(&jobs, &options.control)?;
         let mut polygons = crate::memory::filled(sites.len(), Vec::new(), "power cells")?;
         for (&(i, _), cell) in jobs.iter().zip(built) {
             polygons[i as usize] = cell;
@@ -111,7 +111,7 @@ impl Regular {
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::{algorithms::power::power_cells, geometry::{cell::Rect, power::Weighted}};
+/// use pixgeo::{algorithms::{cells::CellsOptions, power::power_cells}, geometry::{cell::Rect, power::Weighted}};
 ///
 /// let at = [(1.0, 1.0, 0.0), (3.0, 1.0, 0.0), (2.0, 3.0, 0.0), (2.0, 1.6, -9.0)];
 /// let sites: Vec<Weighted> = at
@@ -119,14 +119,14 @@ impl Regular {
 ///     .map(|&(x, y, weight)| Weighted { at: DVec2::new(x, y), weight })
 ///     .collect();
 /// let rect = Rect { lo: DVec2::ZERO, hi: DVec2::new(4.0, 4.0) };
-/// let cells = power_cells(&sites, &rect)?;
+/// let cells = power_cells(&sites, &CellsOptions::new(rect))?;
 /// assert!(cells.polygons[3].is_empty()); // too light to own a point
 /// let total: f64 = (0..4).map(|i| cells.area(i)).sum();
 /// assert!((total - 16.0).abs() < 1e-12);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn power_cells(sites: &[Weighted], rect: &Rect) -> Result<Cells> {
-    regular_triangulation(sites)?.cells(sites, rect, &mut |_, _| {})
+pub fn power_cells(sites: &[Weighted], options: &CellsOptions) -> Result<Cells> {
+    regular_triangulation(sites)?.cells(sites, options)
 }
 
 /// The regular triangulation of `sites` (finite, not all on one line).

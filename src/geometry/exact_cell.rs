@@ -96,26 +96,26 @@ impl<'a> CellBuilder<'a> {
     }
 
     /// The cells of `jobs` (each a site and its neighbours), in order, built
-    /// in parallel in blocks; before each block the cancel flag
-    /// ([`crate::cancel`]) is looked at and `progress(done, total)` called.
+    /// in parallel in blocks; before each block the cancel flag is looked at
+    /// and the cells built reported to `control`.
     pub fn cells(
         &self,
         jobs: &[(u32, &[u32])],
-        progress: &mut dyn FnMut(u64, u64),
+        control: &crate::Control,
     ) -> crate::Result<Vec<Vec<DVec2>>> {
         use rayon::prelude::*;
         let (watch, total) = (crate::cancel::Watch::current(), jobs.len() as u64);
         let mut cells = crate::memory::room(jobs.len(), "exact cells")?;
         for part in jobs.chunks(CELLS_PER_LOOK) {
             watch.check()?;
-            progress(cells.len() as u64, total);
+            control.report(cells.len() as u64, total);
             let built: Vec<Vec<DVec2>> = part
                 .par_iter()
                 .map_init(|| self.clone(), |b, &(s, around)| b.cell(s, around))
                 .collect();
             cells.extend(built);
         }
-        progress(total, total);
+        control.report(total, total);
         Ok(cells)
     }
 

@@ -3,16 +3,13 @@
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::area::{
-        extremal_quadrangle, extremal_quadrangle_with_progress, extremal_triangle,
-        extremal_triangle_with_progress, AreaAnswer, Extreme,
-    },
-    algorithms::area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
-    Error, Invalid,
+    algorithms::area::{extremal_quadrangle, extremal_triangle, AreaAnswer, AreaOptions, Extreme},
+    Backend, Control, Error, Invalid,
 };
 use pixgeo_reference::area::{self as oracle, triangle_area};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::sync::{Arc, Mutex};
 
 use crate::common::{machine, uniform};
 
@@ -72,8 +69,12 @@ const METHODS: [&str; 2] = ["roofs", "sweep"];
 
 fn triangle_by(method: &str, machine: &pixgeo::Machine, sites: &[DVec2], e: Extreme) -> AreaAnswer {
     match method {
-        "roofs" => extremal_triangle(machine, sites, e, SIDE),
-        _ => extremal_triangle_sweep(sites, e, &mut |_, _| {}),
+        "roofs" => extremal_triangle(
+            &Backend::Device(machine),
+            sites,
+            &AreaOptions::new(e).side(Some(SIDE)),
+        ),
+        _ => extremal_triangle(&Backend::Cpu, sites, &AreaOptions::new(e)),
     }
     .unwrap()
 }
@@ -85,8 +86,12 @@ fn quadrangle_by(
     e: Extreme,
 ) -> AreaAnswer {
     match method {
-        "roofs" => extremal_quadrangle(machine, sites, e, SIDE),
-        _ => extremal_quadrangle_sweep(sites, e, &mut |_, _| {}),
+        "roofs" => extremal_quadrangle(
+            &Backend::Device(machine),
+            sites,
+            &AreaOptions::new(e).side(Some(SIDE)),
+        ),
+        _ => extremal_quadrangle(&Backend::Cpu, sites, &AreaOptions::new(e)),
     }
     .unwrap()
 }
@@ -181,7 +186,12 @@ fn quadrangles_on_lattice_subsets_match_exhaustive_search() {
         let Some((_, want)) = oracle::extremal_quadrangle(&sites, false) else {
             continue;
         };
-        let answer = extremal_quadrangle(&machine, &sites, Extreme::Smallest, 64).unwrap();
+        let answer = extremal_quadrangle(
+            &Backend::Device(&machine),
+            &sites,
+            &AreaOptions::new(Extreme::Smallest).side(Some(64)),
+        )
+        .unwrap();
         assert_close(&format!("lattice subset {round}"), answer.area, want);
     }
 }
@@ -216,11 +226,13 @@ fn the_exact_sweep_orders_directions_rounding_cannot_tell_apart() {
             let largest = extreme == Extreme::Largest;
             let name = format!("nudged lattice {round} {extreme:?}");
             if let Some((_, want)) = oracle::extremal_triangle(&sites, largest) {
-                let got = extremal_triangle_sweep(&sites, extreme, &mut |_, _| {}).unwrap();
+                let got =
+                    extremal_triangle(&Backend::Cpu, &sites, &AreaOptions::new(extreme)).unwrap();
                 assert_close(&name, got.area, want);
             }
             if let Some((_, want)) = oracle::extremal_quadrangle(&sites, largest) {
-                let got = extremal_quadrangle_sweep(&sites, extreme, &mut |_, _| {}).unwrap();
+                let got =
+                    extremal_quadrangle(&Backend::Cpu, &sites, &AreaOptions::new(extreme)).unwrap();
                 assert_close(&name, got.area, want);
             }
         }
@@ -231,7 +243,12 @@ fn the_exact_sweep_orders_directions_rounding_cannot_tell_apart() {
 fn too_few_sites_are_clear_errors() {
     let machine = machine();
     let two = [DVec2::ZERO, DVec2::ONE];
-    let err = extremal_triangle(&machine, &two, Extreme::Smallest, SIDE).unwrap_err();
+    let err = extremal_triangle(
+        &Backend::Device(&machine),
+        &two,
+        &AreaOptions::new(Extreme::Smallest).side(Some(SIDE)),
+    )
+    .unwrap_err();
     assert!(
         matches!(
             &err,
@@ -244,19 +261,34 @@ fn too_few_sites_are_clear_errors() {
         "{err}"
     );
     let line: Vec<DVec2> = (0..6).map(|i| DVec2::splat(i as f64)).collect();
-    let err = extremal_quadrangle(&machine, &line, Extreme::Largest, SIDE).unwrap_err();
+    let err = extremal_quadrangle(
+        &Backend::Device(&machine),
+        &line,
+        &AreaOptions::new(Extreme::Largest).side(Some(SIDE)),
+    )
+    .unwrap_err();
     assert!(
         matches!(&err, Error::InvalidInput(Invalid::Degenerate(m)) if m.contains("one line")),
         "{err}"
     );
     // All on a line: every triangle is flat.
-    let flat = extremal_triangle(&machine, &line, Extreme::Largest, SIDE).unwrap();
+    let flat = extremal_triangle(
+        &Backend::Device(&machine),
+        &line,
+        &AreaOptions::new(Extreme::Largest).side(Some(SIDE)),
+    )
+    .unwrap();
     assert_eq!(flat.area, 0.0);
     assert_eq!(flat.decided_by, "collinear");
     // All at one point: three distinct sites of area 0.
     let point = [DVec2::ONE; 4];
     for extreme in [Extreme::Smallest, Extreme::Largest] {
-        let a = extremal_triangle(&machine, &point, extreme, SIDE).unwrap();
+        let a = extremal_triangle(
+            &Backend::Device(&machine),
+            &point,
+            &AreaOptions::new(extreme).side(Some(SIDE)),
+        )
+        .unwrap();
         assert_eq!(a.area, 0.0);
         let set: std::collections::HashSet<_> = a.sites.iter().collect();
         assert_eq!(set.len(), 3, "{:?}", a.sites);
@@ -269,26 +301,37 @@ fn progress_runs_to_the_end_over_many_submissions() {
     let machine = machine();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let sites = uniform(&mut rng, 600, 300.0, 300.0);
-    let mut seen: Vec<(u64, u64)> = Vec::new();
-    let with =
-        extremal_quadrangle_with_progress(&machine, &sites, Extreme::Smallest, 256, &mut |d, t| {
-            seen.push((d, t))
-        })
-        .unwrap();
-    let plain = extremal_quadrangle(&machine, &sites, Extreme::Smallest, 256).unwrap();
+    let device = Backend::Device(&machine);
+    let (reports, options) = reported(AreaOptions::new(Extreme::Smallest).side(Some(256)));
+    let with = extremal_quadrangle(&device, &sites, &options).unwrap();
+    let seen = reports.lock().unwrap().clone();
+    let plain = extremal_quadrangle(
+        &Backend::Device(&machine),
+        &sites,
+        &AreaOptions::new(Extreme::Smallest).side(Some(256)),
+    )
+    .unwrap();
     assert_eq!((with.area, with.sites), (plain.area, plain.sites));
     let total = 2 * 600 * 599 / 2;
     assert!(seen.iter().all(|&(_, t)| t == total), "{seen:?}");
     assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0), "{seen:?}");
     assert!(seen.len() > 11, "{} reports", seen.len());
-    let mut seen = Vec::new();
-    extremal_triangle_with_progress(&machine, &sites, Extreme::Largest, 256, &mut |d, t| {
-        seen.push((d, t))
-    })
-    .unwrap();
+    let (reports, options) = reported(AreaOptions::new(Extreme::Largest).side(Some(256)));
+    extremal_triangle(&device, &sites, &options).unwrap();
+    let seen = reports.lock().unwrap().clone();
     // The largest triangle's roofs are those of the hull's pairs.
     let &(done, total) = seen.last().unwrap();
     assert!(done == total && total > 0, "{seen:?}");
+}
+
+type Reports = Arc<Mutex<Vec<(u64, u64)>>>;
+
+/// `options` reporting their progress to the list returned.
+fn reported(options: AreaOptions) -> (Reports, AreaOptions) {
+    let reports = Reports::default();
+    let told = reports.clone();
+    let control = Control::new().progress(move |d, t| told.lock().unwrap().push((d, t)));
+    (reports, options.control(control))
 }
 
 /// Nearly collinear doubles (the four sites on y = 7x in tenths,

@@ -11,14 +11,13 @@ use std::sync::{
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        cells::voronoi_cells,
+        cells::{voronoi_cells, CellsOptions},
         delaunay::{delaunay, DelaunayOptions},
         homothet::{largest_empty_sites, Region, Unit},
         settle::refine,
     },
-    cancel::within,
     geometry::{cell::Rect, site::Site, Frame},
-    Error,
+    Control, Error,
 };
 
 use crate::common::machine;
@@ -27,10 +26,10 @@ use crate::common::machine;
 /// answered second.
 fn cancelled_then_answered<T: std::fmt::Debug>(what: &str, work: impl Fn() -> pixgeo::Result<T>) {
     let flag = Arc::new(AtomicBool::new(true));
-    let first = within(flag.clone(), &work);
+    let first = Control::new().cancel(flag.clone()).run(&work);
     assert!(matches!(first, Err(Error::Cancelled)), "{what}: {first:?}");
     flag.store(false, Ordering::Relaxed);
-    if let Err(e) = within(flag, &work) {
+    if let Err(e) = Control::new().cancel(flag).run(&work) {
         panic!("{what}: {e}");
     }
 }
@@ -63,7 +62,11 @@ fn every_step_on_the_cpu_stops_when_cancelled() {
         hi: DVec2::splat(100.0),
     };
     cancelled_then_answered("cells", || {
-        voronoi_cells(&Backend::Device(&machine), &points, &rect)
+        voronoi_cells(
+            &Backend::Device(&machine),
+            &points,
+            &CellsOptions::new(rect),
+        )
     });
     // Refined by a branch and bound among points, inside a square.
     let sites: Vec<Site> = points[..20].iter().map(|&p| Site::point(p)).collect();
@@ -87,21 +90,19 @@ fn every_step_on_the_cpu_stops_when_cancelled() {
 
 #[test]
 fn cells_report_their_progress_to_the_whole() {
-    use pixgeo::algorithms::cells::voronoi_cells_with_progress;
     let machine = machine();
     let points = scattered(40_000);
     let rect = Rect {
         lo: DVec2::ZERO,
         hi: DVec2::splat(100.0),
     };
-    let mut reports = Vec::new();
-    voronoi_cells_with_progress(
-        &Backend::Device(&machine),
-        &points,
-        &rect,
-        &mut |done, total| reports.push((done, total)),
-    )
-    .unwrap();
+    let reports = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let told = reports.clone();
+    let control =
+        Control::new().progress(move |done, total| told.lock().unwrap().push((done, total)));
+    let options = CellsOptions::new(rect).control(control);
+    voronoi_cells(&Backend::Device(&machine), &points, &options).unwrap();
+    let reports = reports.lock().unwrap().clone();
     // Every 16384 cells, then the whole: rising to the total.
     assert!(reports.len() >= 3, "{reports:?}");
     assert!(reports.windows(2).all(|w| w[0].0 <= w[1].0));

@@ -11,7 +11,10 @@ use glam::DVec2;
 use num_rational::BigRational;
 use num_traits::Signed;
 use pixgeo::Backend;
-use pixgeo::{algorithms::cells::voronoi_cells, geometry::cell::Rect};
+use pixgeo::{
+    algorithms::cells::{voronoi_cells, CellsOptions},
+    geometry::cell::Rect,
+};
 use pixgeo_reference::exact::{clipped_voronoi_corners, is_nearest, signed_double_area};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -80,7 +83,8 @@ fn cell_corners_are_the_nearest_doubles_of_the_exact_corners() {
     let mut checked = 0;
     for round in 0..36 {
         let (sites, rect) = case(&mut rng, round % 3);
-        let cells = voronoi_cells(&Backend::Device(&machine), &sites, &rect).unwrap();
+        let cells =
+            voronoi_cells(&Backend::Device(&machine), &sites, &CellsOptions::new(rect)).unwrap();
         // Distinct sites (the first of equal ones) and the exact corners.
         let mut distinct: Vec<u32> = Vec::new();
         for (i, p) in sites.iter().enumerate() {

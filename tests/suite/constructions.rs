@@ -12,8 +12,7 @@
 use glam::DVec2;
 use num_rational::BigRational;
 use pixgeo::algorithms::{
-    area::{extremal_quadrangle, extremal_triangle, AreaAnswer, Extreme},
-    area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
+    area::{extremal_quadrangle, extremal_triangle, AreaAnswer, AreaOptions, Extreme},
     distances::{diameter, directed_hausdorff_by, max_distance, Method, Pair},
     homothet::{enclose, Unit},
 };
@@ -118,8 +117,8 @@ proptest! {
             // Triangles, by the roofs and the sweep.
             let (best, twice) = extremal_triangles(&sites, largest);
             let answers = [
-                extremal_triangle(&m, &sites, extreme, 64),
-                extremal_triangle_sweep(&sites, extreme, &mut |_, _| {}),
+                extremal_triangle(&Backend::Device(&m), &sites, &AreaOptions::new(extreme).side(Some(64))),
+                extremal_triangle(&Backend::Cpu, &sites, &AreaOptions::new(extreme)),
             ];
             for answer in answers {
                 let Some(answer) = representable(answer, &twice) else { continue };
@@ -131,8 +130,8 @@ proptest! {
             // Quadrangles.
             if let Some(twice) = extremal_quadrangle_double_area(&sites, largest) {
                 let answers = [
-                    extremal_quadrangle(&m, &sites, extreme, 64),
-                    extremal_quadrangle_sweep(&sites, extreme, &mut |_, _| {}),
+                    extremal_quadrangle(&Backend::Device(&m), &sites, &AreaOptions::new(extreme).side(Some(64))),
+                    extremal_quadrangle(&Backend::Cpu, &sites, &AreaOptions::new(extreme)),
                 ];
                 for answer in answers {
                     let Some(answer) = representable(answer, &twice) else { continue };

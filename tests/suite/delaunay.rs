@@ -321,7 +321,10 @@ fn hundreds_of_degenerate_sets_on_every_kind_of_grid() {
 /// sites.
 #[test]
 fn voronoi_cells_tile_the_frame_and_hold_their_nearest_points() {
-    use pixgeo::{algorithms::cells::voronoi_cells, geometry::cell::Rect};
+    use pixgeo::{
+        algorithms::cells::{voronoi_cells, CellsOptions},
+        geometry::cell::Rect,
+    };
     let machine = crate::common::machine();
     let rect = Rect {
         lo: DVec2::new(-1.0, -2.0),
@@ -384,7 +387,7 @@ fn voronoi_cells_tile_the_frame_and_hold_their_nearest_points() {
     cases.push(("huge coordinates", far, far_rect));
     cases.push(("tiny coordinates", tiny, tiny_rect));
     for (name, sites, rect) in cases {
-        let cells = voronoi_cells(&Backend::Device(&machine), &sites, &rect)
+        let cells = voronoi_cells(&Backend::Device(&machine), &sites, &CellsOptions::new(rect))
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let first: Vec<usize> = (0..sites.len())
             .map(|i| (0..=i).find(|&j| sites[j] == sites[i]).unwrap())

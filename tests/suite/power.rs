@@ -12,6 +12,7 @@ use crate::{
 use glam::DVec2;
 use num_rational::BigRational;
 use pixgeo::{
+    algorithms::cells::CellsOptions,
     algorithms::power::{power_cells, power_diagram, power_diagram_window, regular_triangulation},
     geometry::{cell::Rect, power::Weighted, predicates::orient, Frame},
     machine::PixelRect,
@@ -328,7 +329,7 @@ fn power_cell_corners_are_the_nearest_doubles_of_the_exact_corners() {
     let mut checked = 0;
     for round in 0..30 {
         let (sites, rect) = cell_case(&mut rng, round % 3);
-        let cells = power_cells(&sites, &rect).unwrap();
+        let cells = power_cells(&sites, &CellsOptions::new(rect)).unwrap();
         let hidden = regular_triangulation(&sites).unwrap().hidden;
         let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
         let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();

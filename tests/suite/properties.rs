@@ -7,8 +7,7 @@ use glam::DVec2;
 use pixgeo::Backend;
 use pixgeo::{
     algorithms::{
-        area::{extremal_quadrangle, extremal_triangle, Extreme},
-        area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
+        area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
         distances::{diameter, hausdorff},
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
@@ -312,22 +311,34 @@ fn extremal_triangles_and_quadrangles_match_exhaustive_search() {
             let cases = [
                 (
                     "triangle",
-                    extremal_triangle(&m, &sites, extreme, 64).map(|a| a.area),
+                    extremal_triangle(
+                        &Backend::Device(&m),
+                        &sites,
+                        &AreaOptions::new(extreme).side(Some(64)),
+                    )
+                    .map(|a| a.area),
                     area_oracle::extremal_triangle(&sites, largest).map(|(_, a)| a),
                 ),
                 (
                     "quadrangle",
-                    extremal_quadrangle(&m, &sites, extreme, 64).map(|a| a.area),
+                    extremal_quadrangle(
+                        &Backend::Device(&m),
+                        &sites,
+                        &AreaOptions::new(extreme).side(Some(64)),
+                    )
+                    .map(|a| a.area),
                     area_oracle::extremal_quadrangle(&sites, largest).map(|(_, a)| a),
                 ),
                 (
                     "triangle by sweep",
-                    extremal_triangle_sweep(&sites, extreme, &mut |_, _| {}).map(|a| a.area),
+                    extremal_triangle(&Backend::Cpu, &sites, &AreaOptions::new(extreme))
+                        .map(|a| a.area),
                     area_oracle::extremal_triangle(&sites, largest).map(|(_, a)| a),
                 ),
                 (
                     "quadrangle by sweep",
-                    extremal_quadrangle_sweep(&sites, extreme, &mut |_, _| {}).map(|a| a.area),
+                    extremal_quadrangle(&Backend::Cpu, &sites, &AreaOptions::new(extreme))
+                        .map(|a| a.area),
                     area_oracle::extremal_quadrangle(&sites, largest).map(|(_, a)| a),
                 ),
             ];

@@ -6,8 +6,8 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         alpha_hull::{alpha_hull, AlphaMethod},
-        area::{extremal_quadrangle, extremal_triangle, Extreme},
-        cells::voronoi_cells,
+        area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
+        cells::{voronoi_cells, CellsOptions},
         cpu,
         delaunay::{delaunay, DelaunayOptions},
         distances::{diameter, hausdorff, max_distance},
@@ -73,7 +73,9 @@ fn every_problem_checks_its_sites_once() {
         count(
             "cells",
             1,
-            checks("cells", || voronoi_cells(on, &sites, &rect)),
+            checks("cells", || {
+                voronoi_cells(on, &sites, &CellsOptions::new(rect))
+            }),
         );
         count(
             "hausdorff",
@@ -129,9 +131,21 @@ fn every_problem_checks_its_sites_once() {
         let run = || alpha_hull(m, &sites, 0.03, method, 64);
         count(&format!("alpha by {method:?}"), 1, checks("alpha", run));
     }
-    let run = || extremal_triangle(m, &sites, Extreme::Smallest, 64);
+    let run = || {
+        extremal_triangle(
+            &Backend::Device(m),
+            &sites,
+            &AreaOptions::new(Extreme::Smallest).side(Some(64)),
+        )
+    };
     count("triangle", 1, checks("triangle", run));
-    let run = || extremal_quadrangle(m, &sites, Extreme::Largest, 64);
+    let run = || {
+        extremal_quadrangle(
+            &Backend::Device(m),
+            &sites,
+            &AreaOptions::new(Extreme::Largest).side(Some(64)),
+        )
+    };
     count("quadrangle", 1, checks("quadrangle", run));
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }

@@ -9,7 +9,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         alpha_hull::{alpha_hull, AlphaMethod},
-        area::{extremal_quadrangle, extremal_triangle, Extreme},
+        area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
         cpu,
         delaunay::{delaunay, DelaunayOptions},
         distances::{diameter, hausdorff},
@@ -96,10 +96,20 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
     });
     no_panic("diameter", &p, || diameter(m, p, Some(32)).map(|_| ()));
     no_panic("triangle", &p, || {
-        extremal_triangle(m, p, Extreme::Smallest, 32).map(|_| ())
+        extremal_triangle(
+            &Backend::Device(m),
+            p,
+            &AreaOptions::new(Extreme::Smallest).side(Some(32)),
+        )
+        .map(|_| ())
     });
     no_panic("quadrangle", &p, || {
-        extremal_quadrangle(m, p, Extreme::Largest, 32).map(|_| ())
+        extremal_quadrangle(
+            &Backend::Device(m),
+            p,
+            &AreaOptions::new(Extreme::Largest).side(Some(32)),
+        )
+        .map(|_| ())
     });
     no_panic("alpha hull", &(p, scalar), || {
         alpha_hull(m, p, scalar, AlphaMethod::Hull, 32).map(|_| ())

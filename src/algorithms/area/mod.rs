@@ -36,6 +36,7 @@ use std::{cmp::Ordering, time::Instant};
 use glam::DVec2;
 
 use crate::{
+    algorithms::area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
     error::{Error, Result},
     geometry::{
         frame::{check_sites, first_of_each},
@@ -50,6 +51,7 @@ use crate::{
         Fragments, GraphicsProgram, Image, Machine, NearExtreme, PixelRect, RasterState, Target,
         Topology,
     },
+    Backend, Control,
 };
 
 mod exact;
@@ -65,14 +67,49 @@ pub fn default_side(n: usize) -> u32 {
     (8.0 * (n as f64).sqrt()).clamp(64.0, 1024.0) as u32
 }
 
-/// An extremal search drawn with the roofs: machine, sites, extreme, picture
-/// side, progress (`extremal_triangle_with_progress`, `extremal_quadrangle_with_progress`).
-pub type RoofSearch =
-    fn(&Machine, &[DVec2], Extreme, u32, &mut dyn FnMut(u64, u64)) -> Result<AreaAnswer>;
+/// An extremal search, [`extremal_triangle`] or [`extremal_quadrangle`].
+pub type AreaSearch = fn(&Backend, &[DVec2], &AreaOptions) -> Result<AreaAnswer>;
 
-/// An extremal search by the rotational sweep: sites, extreme, progress
-/// (`extremal_triangle_sweep`, `extremal_quadrangle_sweep`).
-pub type SweepSearch = fn(&[DVec2], Extreme, &mut dyn FnMut(u64, u64)) -> Result<AreaAnswer>;
+/// How to search: the extreme, the side of the roofs' picture on a device
+/// (`None`: [`default_side`]; the CPU's sweep draws none and takes none), and
+/// the work's progress and cancellation.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct AreaOptions {
+    pub extreme: Extreme,
+    pub side: Option<u32>,
+    pub control: Control,
+}
+
+impl AreaOptions {
+    pub fn new(extreme: Extreme) -> Self {
+        Self {
+            extreme,
+            side: None,
+            control: Control::new(),
+        }
+    }
+
+    pub fn side(self, side: Option<u32>) -> Self {
+        Self { side, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
+    }
+}
+
+/// The roofs' side on a device; on the CPU, a side is refused.
+fn side_on(backend: &Backend, sites: &[DVec2], options: &AreaOptions) -> Result<u32> {
+    match (backend, options.side) {
+        (Backend::Cpu, Some(_)) => Err(Error::unsupported_option(
+            "a side sets the roofs' picture; the CPU's rotational sweep draws none (name a \
+             Vulkan device to draw the roofs)"
+                .into(),
+        )),
+        (_, side) => Ok(side.unwrap_or(default_side(sites.len()))),
+    }
+}
 
 /// Which extreme to find.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -180,37 +217,32 @@ pub struct AreaAnswer {
     pub exact_ms: f64,
 }
 
-/// The smallest or largest triangle with three of `sites` as vertices.
+/// The smallest or largest triangle with three of `sites` as vertices: on a
+/// device by the thesis's roofs, on the CPU by the rotational sweep
+/// ([`crate::algorithms::area_sweep`]); both exact, the same triangle.
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::algorithms::area::{extremal_triangle, Extreme};
+/// use pixgeo::algorithms::area::{extremal_triangle, AreaOptions, Extreme};
 ///
 /// let sites = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(0.0, 3.0), DVec2::new(1.0, 1.0)];
-/// // The thesis's roofs, on a 64-pixel picture.
-/// let t = pixgeo::with_default_machine(|m| extremal_triangle(m, &sites, Extreme::Smallest, 64))?;
+/// let options = AreaOptions::new(Extreme::Smallest);
+/// let t = extremal_triangle(&pixgeo::Backend::Cpu, &sites, &options)?;
 /// assert_eq!(t.area, 1.5); // (0, 0), (0, 3), (1, 1)
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn extremal_triangle(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
-    extreme: Extreme,
-    side: u32,
+    options: &AreaOptions,
 ) -> Result<AreaAnswer> {
-    extremal_triangle_with_progress(machine, sites, extreme, side, &mut |_, _| {})
-}
-
-/// [`extremal_triangle`], calling `progress(done, total)` as the roofs are drawn.
-pub fn extremal_triangle_with_progress(
-    machine: &Machine,
-    sites: &[DVec2],
-    extreme: Extreme,
-    side: u32,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<AreaAnswer> {
-    in_range(sites, |sites| {
-        triangle_in_range(machine, sites, extreme, side, progress)
+    let side = side_on(backend, sites, options)?;
+    let (extreme, progress) = (options.extreme, &mut |d, t| options.control.report(d, t));
+    options.control.run(|| match backend {
+        Backend::Device(machine) => in_range(sites, |sites| {
+            triangle_in_range(machine, sites, extreme, side, progress)
+        }),
+        Backend::Cpu => extremal_triangle_sweep(sites, extreme, progress),
     })
 }
 
@@ -284,7 +316,7 @@ fn triangle_in_range(
     // sweep decides instead.
     let within = (2.0 * roofs.depth_error()).max(1e-6);
     if within > 0.25 {
-        return crate::algorithms::area_sweep::extremal_triangle_sweep(sites, extreme, progress);
+        return extremal_triangle_sweep(sites, extreme, progress);
     }
     let frame = roofs.frame;
     let prepare_ms = ms(started);
@@ -381,25 +413,17 @@ fn triangle_in_range(
 /// diagonal with one vertex strictly on each side (sites on the diagonal's
 /// line make no quadrangle with it).
 pub fn extremal_quadrangle(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
-    extreme: Extreme,
-    side: u32,
+    options: &AreaOptions,
 ) -> Result<AreaAnswer> {
-    extremal_quadrangle_with_progress(machine, sites, extreme, side, &mut |_, _| {})
-}
-
-/// [`extremal_quadrangle`], calling `progress(done, total)` as the roofs are
-/// drawn and their sides reduced.
-pub fn extremal_quadrangle_with_progress(
-    machine: &Machine,
-    sites: &[DVec2],
-    extreme: Extreme,
-    side: u32,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<AreaAnswer> {
-    in_range(sites, |sites| {
-        quadrangle_in_range(machine, sites, extreme, side, progress)
+    let side = side_on(backend, sites, options)?;
+    let (extreme, progress) = (options.extreme, &mut |d, t| options.control.report(d, t));
+    options.control.run(|| match backend {
+        Backend::Device(machine) => in_range(sites, |sites| {
+            quadrangle_in_range(machine, sites, extreme, side, progress)
+        }),
+        Backend::Cpu => extremal_quadrangle_sweep(sites, extreme, progress),
     })
 }
 
@@ -421,7 +445,7 @@ fn quadrangle_in_range(
     // As for triangles: sites too nearly collinear for the picture's depths
     // go to the exact sweep.
     if 2.0 * roofs.depth_error() > 0.25 {
-        return crate::algorithms::area_sweep::extremal_quadrangle_sweep(sites, extreme, progress);
+        return extremal_quadrangle_sweep(sites, extreme, progress);
     }
     let frame = roofs.frame;
     let px2 = frame.scale * frame.scale;
@@ -490,7 +514,7 @@ fn quadrangle_in_range(
     // Where many pairs have a site on their line (lattices, decimal ones
     // nearly), the pixels cannot order them: the exact sweep decides.
     if extreme == Extreme::Smallest && lined > pairs / 16 {
-        return crate::algorithms::area_sweep::extremal_quadrangle_sweep(sites, extreme, progress);
+        return extremal_quadrangle_sweep(sites, extreme, progress);
     }
     // Pairs in the order of their pixel sums, searched exactly over every site
     // until no pair's sum, less its rounding, can beat the best exact one. A

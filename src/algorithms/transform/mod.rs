@@ -34,18 +34,22 @@ use separable::{separable, Combine};
 
 use crate::{
     cancel::Watch,
+    control::Control,
     error::{Error, Result},
     geometry::{metric::Metric, Frame},
 };
 
 /// What to compute. Start from [`TransformOptions::new`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct TransformOptions {
     pub metric: Metric,
     /// The distance between rows and between columns: `[rows, columns]`, as
     /// SciPy's `sampling`.
     pub sampling: [f64; 2],
+    /// Progress, reported from any of the passes' threads as they finish
+    /// rows, and cancellation.
+    pub control: Control,
 }
 
 impl TransformOptions {
@@ -54,6 +58,7 @@ impl TransformOptions {
         Self {
             metric: Metric::L2,
             sampling: [1.0, 1.0],
+            control: Control::new(),
         }
     }
 
@@ -63,6 +68,10 @@ impl TransformOptions {
 
     pub fn sampling(self, sampling: [f64; 2]) -> Self {
         Self { sampling, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
     }
 }
 
@@ -108,7 +117,7 @@ impl Transform {
 const NONE: u32 = u32::MAX;
 
 /// The distance and feature transform of `features` (row-major, `width` x
-/// `height`, `true` at feature pixels).
+/// `height`, `true` at feature pixels), reporting progress to `options.control`.
 ///
 /// ```
 /// use pixgeo::algorithms::transform::{distance_transform, TransformOptions};
@@ -126,19 +135,10 @@ pub fn distance_transform(
     height: u32,
     options: &TransformOptions,
 ) -> Result<Transform> {
-    distance_transform_with_progress(features, width, height, options, &|_, _| {})
-}
-
-/// [`distance_transform`], calling `progress(done, total)` (from any of its
-/// threads) as its passes finish rows.
-pub fn distance_transform_with_progress(
-    features: &[bool],
-    width: u32,
-    height: u32,
-    options: &TransformOptions,
-    progress: &(dyn Fn(u64, u64) + Sync),
-) -> Result<Transform> {
-    let (distances, planes) = transform(features, width, height, options, true, progress)?;
+    let (distances, planes) = options.control.run(|| {
+        let progress = |done, total| options.control.report(done, total);
+        transform(features, width, height, options, true, &progress)
+    })?;
     let (feature_rows, feature_columns) = planes.expect("the planes were asked for");
     Ok(Transform {
         width,
@@ -157,7 +157,11 @@ pub fn distances_only(
     height: u32,
     options: &TransformOptions,
 ) -> Result<Vec<f64>> {
-    Ok(transform(features, width, height, options, false, &|_, _| {})?.0)
+    let progress = |done, total| options.control.report(done, total);
+    Ok(options
+        .control
+        .run(|| transform(features, width, height, options, false, &progress))?
+        .0)
 }
 
 /// The distances, and the feature planes where `planes` asks for them.

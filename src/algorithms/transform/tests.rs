@@ -528,11 +528,12 @@ fn progress_counts_every_row_of_every_pass() {
     let (w, h) = (600usize, 70usize);
     let mut features = vec![false; w * h];
     features[5 * w + 7] = true;
-    let told = std::sync::Mutex::new(Vec::new());
-    let report = |done: u64, total: u64| told.lock().unwrap().push((done, total));
-    let options = TransformOptions::new();
-    distance_transform_with_progress(&features, w as u32, h as u32, &options, &report).unwrap();
-    let told = told.into_inner().unwrap();
+    let told = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let tell = told.clone();
+    let report = move |done: u64, total: u64| tell.lock().unwrap().push((done, total));
+    let options = TransformOptions::new().control(crate::Control::new().progress(report));
+    distance_transform(&features, w as u32, h as u32, &options).unwrap();
+    let told = told.lock().unwrap().clone();
     // The rows of each pass.
     let total = 2 * h as u64;
     assert!(

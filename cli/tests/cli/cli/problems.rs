@@ -377,7 +377,7 @@ fn triangle_and_quadrangle_print_exact_areas() {
     );
     let (ok, _, stderr) = pixgeo(&["quadrangle", "--sites", s, "--size", "64"]);
     assert!(
-        !ok && stderr.contains("the cpu sweep draws none"),
+        !ok && stderr.contains("the CPU's rotational sweep draws none"),
         "{stderr}"
     );
 }
