@@ -16,7 +16,7 @@ use common::plot::{Series, PALETTE};
 use pixgeo::{
     algorithms::{
         cpu,
-        distances::hausdorff,
+        distances::{hausdorff, HausdorffOptions},
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Speedup, VoronoiOptions},
     },
@@ -135,7 +135,13 @@ fn main() -> anyhow::Result<()> {
         }
         let mut distance = 0.0;
         let t = time(repeats, || {
-            distance = hausdorff(&Backend::Device(&machine), &a, &b, None)?.distance;
+            distance = hausdorff(
+                &Backend::Device(&machine),
+                &a,
+                &b,
+                &HausdorffOptions::default(),
+            )?
+            .distance;
             Ok(())
         })?;
         eprintln!("hausdorff {m:>7} points: {t:.1} ms, distance {distance}");

@@ -150,7 +150,7 @@ pub fn delaunay(points: &[DVec2]) -> Result<Delaunay> {
 /// ```
 pub fn hausdorff(a: &[DVec2], b: &[DVec2]) -> Result<Hausdorff> {
     with_default_backend(Need::CpuUnlessGpu, |backend| {
-        distances::hausdorff(backend, a, b, None)
+        distances::hausdorff(backend, a, b, &distances::HausdorffOptions::default())
     })
 }
 

@@ -59,8 +59,13 @@ pub unsafe extern "C" fn pixgeo_hausdorff(
     with_context(ctx, |context| {
         // SAFETY: sizes as documented (caller contract).
         let (a, b) = unsafe { (points(a, a_count)?, points(b, b_count)?) };
-        let h = distances::hausdorff(&context.backend_for(Need::CpuUnlessGpu)?, &a, &b, None)
-            .map_err(failed)?;
+        let h = distances::hausdorff(
+            &context.backend_for(Need::CpuUnlessGpu)?,
+            &a,
+            &b,
+            &distances::HausdorffOptions::default(),
+        )
+        .map_err(failed)?;
         answer_into(a_to_b, h.a_to_b)?;
         answer_into(b_to_a, h.b_to_a)
     })

@@ -1,7 +1,7 @@
 //! Scattered values interpolated onto a raster.
 
 use super::*;
-use pixgeo::algorithms::interpolate::{interpolate, Method};
+use pixgeo::algorithms::interpolate::{interpolate, InterpolateOptions, Method};
 
 /// How [`pixgeo_interpolate`] interpolates.
 #[repr(C)]
@@ -68,9 +68,7 @@ pub unsafe extern "C" fn pixgeo_interpolate(
             &context.backend_for(method.need())?,
             &sites,
             values,
-            &frame,
-            method,
-            &mut |_, _| {},
+            &InterpolateOptions::new(frame, method),
         )
         .map_err(failed)?;
         // SAFETY: caller-owned array of `width * height` doubles.

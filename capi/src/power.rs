@@ -2,7 +2,7 @@
 
 use super::*;
 use pixgeo::{
-    algorithms::power::{power_diagram, regular_triangulation},
+    algorithms::power::{power_diagram, regular_triangulation, PowerOptions},
     geometry::power::Weighted,
 };
 
@@ -117,7 +117,7 @@ pub unsafe extern "C" fn pixgeo_power_diagram(
         let (frame, _, _) = picture_of(&o)?;
         // SAFETY: the arrays' sizes (caller contract).
         let sites = unsafe { weighted(xy, weights, count) }?;
-        let d = power_diagram(&sites, &frame).map_err(failed)?;
+        let d = power_diagram(&sites, &PowerOptions::new(frame)).map_err(failed)?;
         // SAFETY: room for `width * height` values (caller contract).
         unsafe { std::slice::from_raw_parts_mut(labels, d.labels.len()) }
             .copy_from_slice(&d.labels);

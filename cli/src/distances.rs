@@ -175,7 +175,10 @@ pub fn hausdorff(args: HausdorffArgs) -> Result<()> {
         MethodChoice::Pixels => Method::Pixels,
         MethodChoice::Grid => Method::Grid,
     };
-    let h = distances::hausdorff_by(&backend, &red, &blue, Some(args.common.size), method)?;
+    let options = distances::HausdorffOptions::default()
+        .method(Some(method))
+        .side(Some(args.common.size));
+    let h = distances::hausdorff(&backend, &red, &blue, &options)?;
     drop(working);
     if args.common.json {
         let summary = json!({

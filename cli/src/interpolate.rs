@@ -7,7 +7,7 @@ use anyhow::Result;
 use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
-    algorithms::interpolate::{interpolate, Interpolation, Method},
+    algorithms::interpolate::{interpolate, InterpolateOptions, Interpolation, Method},
     geometry::Frame,
 };
 use serde_json::json;
@@ -97,14 +97,8 @@ pub fn run(args: Args) -> Result<()> {
     let backend = chosen.backend();
     let started = std::time::Instant::now();
     let progress = Progress::new("interpolate: rows", args.json);
-    let answer = interpolate(
-        &backend,
-        &samples.points,
-        &samples.values,
-        &frame,
-        args.method,
-        &mut |done, total| progress.report(done, total),
-    )?;
+    let options = InterpolateOptions::new(frame, args.method).control(progress.control());
+    let answer = interpolate(&backend, &samples.points, &samples.values, &options)?;
     drop(progress);
     let compute_ms = started.elapsed().as_secs_f64() * 1e3;
     let (w, h) = (frame.width, frame.height);

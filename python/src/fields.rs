@@ -5,8 +5,10 @@
 use numpy::{ndarray::Array2, IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pixgeo::{
     algorithms::{
-        interpolate::{interpolate_points, interpolate_window, Method},
-        power::{power_diagram_window as diagram_of, regular_triangulation as triangulate},
+        interpolate::{
+            interpolate as interpolated, interpolate_points, InterpolateOptions, Method,
+        },
+        power::{power_diagram as diagram_of, regular_triangulation as triangulate, PowerOptions},
     },
     geometry::power::Weighted,
     machine::PixelRect,
@@ -42,7 +44,12 @@ pub fn interpolate<'py>(
         height: h,
     };
     let answer = on_backend(py, device, method.need(), |b| {
-        interpolate_window(b, &sites, &values, &f, rect, method, &mut |_, _| {})
+        interpolated(
+            b,
+            &sites,
+            &values,
+            &InterpolateOptions::new(f, method).window(Some(rect)),
+        )
     })?;
     raster(py, answer.values, h, w)
 }
@@ -107,7 +114,8 @@ pub fn power_diagram<'py>(
         width: w,
         height: h,
     };
-    let d = on_cpu(py, || diagram_of(&sites, &f, rect))?;
+    let options = PowerOptions::new(f).window(Some(rect));
+    let d = on_cpu(py, || diagram_of(&sites, &options))?;
     Ok((
         raster(py, d.labels, h, w)?,
         raster(py, d.powers, h, w)?,

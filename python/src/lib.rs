@@ -832,7 +832,12 @@ fn hausdorff<'py>(
     };
     let h = on_backend(py, device, need, |backend| {
         let method = method.unwrap_or_else(|| distances::Method::for_backend(backend));
-        distances::hausdorff_by(backend, &a, &b, None, method)
+        distances::hausdorff(
+            backend,
+            &a,
+            &b,
+            &distances::HausdorffOptions::default().method(Some(method)),
+        )
     })?;
     Ok((h.distance, pair(h.a_to_b.pair), pair(h.b_to_a.pair)))
 }

@@ -73,6 +73,30 @@ impl Method {
     }
 }
 
+/// How to find a Hausdorff distance: the method (`None`: the faster on the
+/// backend, [`Method::for_backend`]) and the side of [`Method::Pixels`]'
+/// picture (`None`: chosen from the sets).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct HausdorffOptions {
+    pub method: Option<Method>,
+    pub side: Option<u32>,
+}
+
+impl HausdorffOptions {
+    pub fn method(self, method: Option<Method>) -> Self {
+        Self { method, ..self }
+    }
+
+    pub fn side(self, side: Option<u32>) -> Self {
+        Self { side, ..self }
+    }
+
+    fn method_on(&self, backend: &Backend) -> Method {
+        self.method.unwrap_or(Method::for_backend(backend))
+    }
+}
+
 /// An exact answer and how it was found.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -267,30 +291,18 @@ fn refine(
 
 /// The directed Hausdorff distance from `a` to `b`: the point of `a` farthest from
 /// its nearest point of `b`, read off the Voronoi diagram of `b` (thesis §3.11.1)
-/// or found with a grid, whichever is faster on the device ([`Method::for_backend`]).
+/// or found with a grid, as `options` say.
 pub fn directed_hausdorff(
     backend: &Backend,
     a: &[DVec2],
     b: &[DVec2],
-    side: Option<u32>,
-) -> Result<Answer> {
-    directed_hausdorff_by(backend, a, b, side, Method::for_backend(backend))
-}
-
-/// [`directed_hausdorff`] by the method given; `side` sizes the picture of
-/// [`Method::Pixels`].
-pub fn directed_hausdorff_by(
-    backend: &Backend,
-    a: &[DVec2],
-    b: &[DVec2],
-    side: Option<u32>,
-    method: Method,
+    options: &HausdorffOptions,
 ) -> Result<Answer> {
     let (a, b) = checked_sets(a, b)?;
-    directed_checked(backend, a, b, side, method)
+    directed_checked(backend, a, b, options.side, options.method_on(backend))
 }
 
-/// [`directed_hausdorff_by`] of sets checked where they entered.
+/// [`directed_hausdorff`] of sets checked where they entered.
 fn directed_checked(
     backend: &Backend,
     a: Checked<'_>,
@@ -433,25 +445,15 @@ fn directed_in_range(
     })
 }
 
-/// The Hausdorff distance between `a` and `b`, both directions, by the
-/// faster method on the device ([`Method::for_backend`]).
+/// The Hausdorff distance between `a` and `b`, both directions, as `options`
+/// say.
 pub fn hausdorff(
     backend: &Backend,
     a: &[DVec2],
     b: &[DVec2],
-    side: Option<u32>,
+    options: &HausdorffOptions,
 ) -> Result<Hausdorff> {
-    hausdorff_by(backend, a, b, side, Method::for_backend(backend))
-}
-
-/// [`hausdorff`] by the method given.
-pub fn hausdorff_by(
-    backend: &Backend,
-    a: &[DVec2],
-    b: &[DVec2],
-    side: Option<u32>,
-    method: Method,
-) -> Result<Hausdorff> {
+    let (side, method) = (options.side, options.method_on(backend));
     let (a, b) = checked_sets(a, b)?;
     let a_to_b = directed_checked(backend, a, b, side, method)?;
     let b_to_a = directed_checked(backend, b, a, side, method)?;

@@ -20,7 +20,10 @@
 //! crossing its edge lowers the power), then the lowest index among those
 //! of equal power. The powers are the doubles nearest the exact ones.
 
-use std::cmp::Ordering;
+use std::{
+    cmp::Ordering,
+    sync::atomic::{AtomicU64, Ordering as AtomicOrdering},
+};
 
 use glam::DVec2;
 use rayon::prelude::*;
@@ -30,6 +33,7 @@ use crate::{
     algorithms::envelope::hilbert_index,
     algorithms::voronoi::VoronoiOptions,
     cancel::Watch,
+    control::Control,
     geometry::{
         exact_cell::CellBuilder,
         frame::check_sites,
@@ -220,27 +224,54 @@ pub struct PowerDiagram {
     pub regular: Regular,
 }
 
-/// The power diagram of `sites` at every pixel centre of `frame`.
-pub fn power_diagram(sites: &[Weighted], frame: &Frame) -> Result<PowerDiagram> {
-    power_diagram_window(sites, frame, PixelRect::sized(frame.width, frame.height))
+/// Where to draw a power diagram: the picture, a window of its pixels
+/// (`None`: all of them), and the work's progress (rows done) and
+/// cancellation.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct PowerOptions {
+    pub frame: Frame,
+    pub window: Option<PixelRect>,
+    pub control: Control,
 }
 
-/// [`power_diagram`] over the pixels of `window` alone, a rectangle of
-/// `frame`'s: the same labels and powers bit for bit, so that windows
-/// computed apart tile into the whole diagram.
-pub fn power_diagram_window(
-    sites: &[Weighted],
-    frame: &Frame,
-    window: PixelRect,
-) -> Result<PowerDiagram> {
+impl PowerOptions {
+    pub fn new(frame: Frame) -> Self {
+        Self {
+            frame,
+            window: None,
+            control: Control::new(),
+        }
+    }
+
+    /// Only the pixels of `window`, a rectangle of the frame's: the same
+    /// labels and powers bit for bit, so that windows computed apart tile
+    /// into the whole diagram.
+    pub fn window(self, window: Option<PixelRect>) -> Self {
+        Self { window, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
+    }
+}
+
+/// The power diagram of `sites` at every pixel centre of `options.frame` (or
+/// of its window).
+pub fn power_diagram(sites: &[Weighted], options: &PowerOptions) -> Result<PowerDiagram> {
+    options.control.run(|| diagram_of(sites, options))
+}
+
+fn diagram_of(sites: &[Weighted], options: &PowerOptions) -> Result<PowerDiagram> {
+    let frame = &options.frame;
     let rect = VoronoiOptions::exact(*frame)
-        .window(Some(window))
+        .window(options.window)
         .window_rect()?;
     let regular = regular_triangulation(sites)?;
     let neighbours = regular.neighbours(sites.len())?;
     let copies = copies(sites)?;
     let start = regular.triangles[0][0];
-    let watch = Watch::current();
+    let (watch, rows_done) = (Watch::current(), AtomicU64::new(0));
     let rows: Vec<Vec<(u32, u32, f64)>> = (rect.y..rect.y + rect.height)
         .into_par_iter()
         .map(|j| {
@@ -252,7 +283,10 @@ pub fn power_diagram_window(
                 at = least;
                 (least, ties, power_of(p, sites[least as usize]))
             });
-            Ok(row.collect())
+            let row = row.collect();
+            let done = rows_done.fetch_add(1, AtomicOrdering::Relaxed) + 1;
+            options.control.report(done, rect.height as u64);
+            Ok(row)
         })
         .collect::<Result<_>>()?;
     let pixels = rows.iter().flatten();

@@ -13,7 +13,7 @@ use glam::DVec2;
 use num_rational::BigRational;
 use pixgeo::algorithms::{
     area::{extremal_quadrangle, extremal_triangle, AreaAnswer, AreaOptions, Extreme},
-    distances::{diameter, directed_hausdorff_by, max_distance, Method, Pair},
+    distances::{diameter, directed_hausdorff, max_distance, HausdorffOptions, Method, Pair},
     homothet::{enclose, Unit},
 };
 use pixgeo::Backend;
@@ -154,7 +154,7 @@ proptest! {
         let far = max_distance(&m, a, b, None).unwrap().pair;
         prop_assert!(check(far, a, b, max_squared_distance(a, b)), "{what}");
         for method in [Method::Pixels, Method::Grid] {
-            let h = directed_hausdorff_by(&Backend::Device(&m), a, b, None, method).unwrap().pair;
+            let h = directed_hausdorff(&Backend::Device(&m), a, b, &HausdorffOptions::default().method(Some(method))).unwrap().pair;
             prop_assert!(check(h, a, b, directed_hausdorff_squared(a, b)), "{what} {method:?}");
         }
     }

@@ -4,7 +4,7 @@
 use crate::common::{clustered, machine, uniform};
 use glam::DVec2;
 use pixgeo::algorithms::distances::{
-    diameter, directed_hausdorff_by, hausdorff, hausdorff_by, max_distance, Method,
+    diameter, directed_hausdorff, hausdorff, max_distance, HausdorffOptions, Method,
 };
 use pixgeo::Backend;
 use rand::SeedableRng;
@@ -95,13 +95,23 @@ fn hausdorff_is_exact() {
     ];
     for (name, a, b) in pairs() {
         for (method, side) in ways {
-            let h = hausdorff_by(&Backend::Device(&m), &a, &b, side, method)
-                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let h = hausdorff(
+                &Backend::Device(&m),
+                &a,
+                &b,
+                &HausdorffOptions::default().method(Some(method)).side(side),
+            )
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(h.a_to_b.method, method);
             assert_eq!(
-                hausdorff(&Backend::Device(&m), &a, &b, side)
-                    .unwrap()
-                    .distance,
+                hausdorff(
+                    &Backend::Device(&m),
+                    &a,
+                    &b,
+                    &HausdorffOptions::default().side(side)
+                )
+                .unwrap()
+                .distance,
                 h.distance
             );
             let (ab, ba) = (brute_directed(&a, &b), brute_directed(&b, &a));
@@ -147,7 +157,13 @@ fn the_picture_leaves_few_points_to_check() {
     let a = uniform(&mut rng, 3000, 1000.0, 1000.0);
     let b = uniform(&mut rng, 3000, 1000.0, 1000.0);
     for method in [Method::Pixels, Method::Grid] {
-        let h = directed_hausdorff_by(&Backend::Device(&m), &a, &b, None, method).unwrap();
+        let h = directed_hausdorff(
+            &Backend::Device(&m),
+            &a,
+            &b,
+            &HausdorffOptions::default().method(Some(method)),
+        )
+        .unwrap();
         assert_eq!(h.pair.distance, brute_directed(&a, &b));
         assert!(
             h.checked < 30,
@@ -161,7 +177,7 @@ fn the_picture_leaves_few_points_to_check() {
 fn empty_or_invalid_sets_are_clear_errors() {
     let m = machine();
     let a = [DVec2::new(0.0, 0.0)];
-    assert!(hausdorff(&Backend::Device(&m), &a, &[], None).is_err());
+    assert!(hausdorff(&Backend::Device(&m), &a, &[], &HausdorffOptions::default()).is_err());
     assert!(diameter(&m, &[], None).is_err());
     assert!(max_distance(&m, &[DVec2::new(f64::NAN, 1.0)], &a, None).is_err());
 }
@@ -203,7 +219,7 @@ fn repeated_points_are_checked_once() {
         DVec2::new(9.0, 9.0),
         DVec2::new(0.0, 0.0),
     ];
-    let h = hausdorff(&Backend::Device(&m), &a, &b, None).unwrap();
+    let h = hausdorff(&Backend::Device(&m), &a, &b, &HausdorffOptions::default()).unwrap();
     assert_eq!(h.a_to_b.pair.distance, brute_directed(&a, &b));
     assert_eq!(h.b_to_a.pair.distance, brute_directed(&b, &a));
     assert_eq!((h.a_to_b.pair.from, h.a_to_b.pair.to), (100_000, 0));
@@ -289,9 +305,14 @@ fn extreme_pairs_are_exact_under_ulp_ties() {
             max_squared_distance(&a, &b),
         );
         for method in [Method::Pixels, Method::Grid] {
-            let h = directed_hausdorff_by(&Backend::Device(&m), &a, &b, None, method)
-                .unwrap()
-                .pair;
+            let h = directed_hausdorff(
+                &Backend::Device(&m),
+                &a,
+                &b,
+                &HausdorffOptions::default().method(Some(method)),
+            )
+            .unwrap()
+            .pair;
             check(
                 format!("{name} hausdorff by {method:?}"),
                 h,

@@ -11,7 +11,7 @@ use num_rational::BigRational;
 use pixgeo::Backend;
 use pixgeo::{
     algorithms::interpolate::{
-        discrete_sibson, interpolate, interpolate_points, interpolate_window, Method,
+        discrete_sibson, interpolate, interpolate_points, InterpolateOptions, Method,
     },
     geometry::{
         predicates::{incircle, orient},
@@ -215,9 +215,7 @@ fn check_against_definitions(sites: &[DVec2], values: &[f64], frame: &Frame, hal
             &Backend::Device(&machine),
             sites,
             values,
-            frame,
-            method,
-            &mut |_, _| {},
+            &InterpolateOptions::new(*frame, method),
         )
         .unwrap()
     };
@@ -331,9 +329,7 @@ fn interpolation_refuses_what_it_cannot_answer() {
             &Backend::Device(&machine),
             &sites,
             values,
-            &frame,
-            method,
-            &mut |_, _| {},
+            &InterpolateOptions::new(frame, method),
         )
     };
     assert!(go(&[1.0, 2.0, 3.0], Method::Exact).is_err());
@@ -344,9 +340,7 @@ fn interpolation_refuses_what_it_cannot_answer() {
         &Backend::Device(&machine),
         &twice,
         &[1.0, 2.0, 3.0, 4.0],
-        &frame,
-        Method::Exact,
-        &mut |_, _| {},
+        &InterpolateOptions::new(frame, Method::Exact),
     )
     .unwrap_err()
     .to_string();
@@ -356,9 +350,7 @@ fn interpolation_refuses_what_it_cannot_answer() {
         &Backend::Device(&machine),
         &twice,
         &[1.0, 2.0, 3.0, 1.0],
-        &frame,
-        Method::Exact,
-        &mut |_, _| {}
+        &InterpolateOptions::new(frame, Method::Exact)
     )
     .is_ok());
     let points = [DVec2::new(0.25, 0.5), DVec2::new(f64::NAN, 0.0)];
@@ -384,9 +376,7 @@ fn interpolation_refuses_what_it_cannot_answer() {
         &Backend::Device(&machine),
         &line,
         &[1.0; 3],
-        &frame,
-        Method::Exact,
-        &mut |_, _| {},
+        &InterpolateOptions::new(frame, Method::Exact),
     );
     assert!(on_line.map_or(true, |i| i.values.iter().all(|v| v.is_nan())));
 }
@@ -403,9 +393,7 @@ fn interpolants_at_points_match_the_raster() {
             &Backend::Device(&machine),
             &sites,
             &values,
-            &frame,
-            method,
-            &mut |_, _| {},
+            &InterpolateOptions::new(frame, method),
         )
         .unwrap();
         let centres: Vec<DVec2> = (0..900)
@@ -428,9 +416,7 @@ fn interpolants_at_points_match_the_raster() {
             &Backend::Device(&machine),
             &sites,
             &plane,
-            &frame,
-            method,
-            &mut |_, _| {},
+            &InterpolateOptions::new(frame, method),
         )
         .unwrap();
         for (k, v) in flat.values.iter().enumerate() {
@@ -445,9 +431,7 @@ fn interpolants_at_points_match_the_raster() {
         &Backend::Device(&machine),
         &sites,
         &values,
-        &frame,
-        Method::Nearest,
-        &mut |_, _| {},
+        &InterpolateOptions::new(frame, Method::Nearest),
     );
     assert!(near.unwrap().values.iter().all(|v| v.is_finite()));
     // A window is the whole raster's pixels bit for bit; discrete refuses one.
@@ -462,19 +446,14 @@ fn interpolants_at_points_match_the_raster() {
             &Backend::Device(&machine),
             &sites,
             &values,
-            &frame,
-            method,
-            &mut |_, _| {},
+            &InterpolateOptions::new(frame, method),
         );
         let whole = whole.unwrap().values;
-        let part = interpolate_window(
+        let part = interpolate(
             &Backend::Device(&machine),
             &sites,
             &values,
-            &frame,
-            window,
-            method,
-            &mut |_, _| {},
+            &InterpolateOptions::new(frame, method).window(Some(window)),
         );
         for (k, v) in part.unwrap().values.iter().enumerate() {
             let (i, j) = (7 + k % 13, 11 + k / 13);
@@ -482,14 +461,11 @@ fn interpolants_at_points_match_the_raster() {
         }
     }
     let discrete = Method::Discrete;
-    let refused = interpolate_window(
+    let refused = interpolate(
         &Backend::Device(&machine),
         &sites,
         &values,
-        &frame,
-        window,
-        discrete,
-        &mut |_, _| {},
+        &InterpolateOptions::new(frame, discrete).window(Some(window)),
     );
     assert!(refused.is_err());
 }

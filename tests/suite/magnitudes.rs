@@ -5,7 +5,7 @@
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        distances::{directed_hausdorff_by, Method},
+        distances::{directed_hausdorff, HausdorffOptions, Method},
         interpolate::discrete_sibson,
         lloyd::{lloyd, LloydOptions},
         voronoi::{voronoi, VoronoiOptions},
@@ -56,8 +56,22 @@ fn points_one_ulp_apart_are_told_apart_quickly() {
     let red = [DVec2::new(3.0, 4.0), DVec2::new(5.0, 1.0)];
     let blue = [DVec2::new(1.0, 1.0), DVec2::new(1.0000000000000002, 1.0)];
     let device = Backend::Device(&machine);
-    let pixels = directed_hausdorff_by(&device, &red, &blue, Some(256), Method::Pixels).unwrap();
-    let grid = directed_hausdorff_by(&Backend::Cpu, &red, &blue, None, Method::Grid).unwrap();
+    let pixels = directed_hausdorff(
+        &device,
+        &red,
+        &blue,
+        &HausdorffOptions::default()
+            .method(Some(Method::Pixels))
+            .side(Some(256)),
+    )
+    .unwrap();
+    let grid = directed_hausdorff(
+        &Backend::Cpu,
+        &red,
+        &blue,
+        &HausdorffOptions::default().method(Some(Method::Grid)),
+    )
+    .unwrap();
     assert_eq!(pixels.pair, grid.pair);
 }
 

@@ -8,7 +8,7 @@ use pixgeo::{
     algorithms::{
         cpu,
         delaunay::{delaunay, DelaunayOptions},
-        distances::{directed_hausdorff_by, Method as HausdorffMethod},
+        distances::{directed_hausdorff, HausdorffOptions, Method as HausdorffMethod},
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Method, Speedup, VoronoiOptions},
     },
@@ -217,15 +217,22 @@ fn hausdorff_is_the_same_on_every_route() {
     for Hostile { name, sites, .. } in hostile(W, H) {
         let (a, b) = sites.split_at(sites.len() / 2);
         let want = directed_hausdorff_squared(a, b);
-        let pixels = directed_hausdorff_by(
+        let pixels = directed_hausdorff(
             &Backend::Device(&m),
             a,
             b,
-            Some(64),
-            HausdorffMethod::Pixels,
+            &HausdorffOptions::default()
+                .method(Some(HausdorffMethod::Pixels))
+                .side(Some(64)),
         )
         .unwrap();
-        let grid = directed_hausdorff_by(&Backend::Cpu, a, b, None, HausdorffMethod::Grid).unwrap();
+        let grid = directed_hausdorff(
+            &Backend::Cpu,
+            a,
+            b,
+            &HausdorffOptions::default().method(Some(HausdorffMethod::Grid)),
+        )
+        .unwrap();
         assert_eq!(
             (pixels.pair.from, pixels.pair.to),
             (grid.pair.from, grid.pair.to),

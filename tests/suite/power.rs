@@ -13,7 +13,7 @@ use glam::DVec2;
 use num_rational::BigRational;
 use pixgeo::{
     algorithms::cells::CellsOptions,
-    algorithms::power::{power_cells, power_diagram, power_diagram_window, regular_triangulation},
+    algorithms::power::{power_cells, power_diagram, regular_triangulation, PowerOptions},
     geometry::{cell::Rect, power::Weighted, predicates::orient, Frame},
     machine::PixelRect,
 };
@@ -200,7 +200,7 @@ fn power_diagram_labels_have_the_least_power() {
         weighted(&lattice, &[4.0; 20]),
         repeats,
     ] {
-        let d = power_diagram(&sites, &frame).unwrap();
+        let d = power_diagram(&sites, &PowerOptions::new(frame)).unwrap();
         for (k, (&label, &power)) in d.labels.iter().zip(&d.powers).enumerate() {
             let p = DVec2::new((k % 48) as f64, (k / 48) as f64);
             let want = (0..sites.len())
@@ -237,14 +237,14 @@ fn power_diagram_windows_are_the_whole_diagrams_pixels() {
     let points = uniform(&mut rng, 25, 40.0, 30.0);
     let weights: Vec<f64> = (0..25).map(|_| rng.gen_range(0.0..20.0)).collect();
     let sites = weighted(&points, &weights);
-    let whole = power_diagram(&sites, &frame).unwrap();
+    let whole = power_diagram(&sites, &PowerOptions::new(frame)).unwrap();
     let window = PixelRect {
         x: 9,
         y: 4,
         width: 17,
         height: 11,
     };
-    let part = power_diagram_window(&sites, &frame, window).unwrap();
+    let part = power_diagram(&sites, &PowerOptions::new(frame).window(Some(window))).unwrap();
     for (k, (&l, &p)) in part.labels.iter().zip(&part.powers).enumerate() {
         let at = (4 + k / 17) * 40 + 9 + k % 17;
         assert_eq!(
@@ -258,7 +258,7 @@ fn power_diagram_windows_are_the_whole_diagrams_pixels() {
         width: 20,
         height: 5,
     };
-    assert!(power_diagram_window(&sites, &frame, outside).is_err());
+    assert!(power_diagram(&sites, &PowerOptions::new(frame).window(Some(outside))).is_err());
 }
 
 /// One case of weighted sites and a rectangle, far out or tiny by `scale`

@@ -8,7 +8,7 @@ use pixgeo::Backend;
 use pixgeo::{
     algorithms::{
         area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
-        distances::{diameter, hausdorff},
+        distances::{diameter, hausdorff, HausdorffOptions},
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
@@ -387,7 +387,7 @@ fn hausdorff_and_diameter_are_exact() {
             .fold(0.0, f64::max);
         prop_assert_eq!(d.pair.distance, want);
         if !b.is_empty() {
-            let h = hausdorff(&Backend::Device(&m), a, b, None)
+            let h = hausdorff(&Backend::Device(&m), a, b, &HausdorffOptions::default())
                 .map_err(|e| TestCaseError::fail(e.to_string()))?;
             prop_assert_eq!(h.distance, brute_directed(a, b).max(brute_directed(b, a)));
         }

@@ -10,10 +10,10 @@ use pixgeo::{
         cells::{voronoi_cells, CellsOptions},
         cpu,
         delaunay::{delaunay, DelaunayOptions},
-        distances::{diameter, hausdorff, max_distance},
+        distances::{diameter, hausdorff, max_distance, HausdorffOptions},
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
         homothet::{enclose, largest_empty, Region, Unit},
-        interpolate::{interpolate, Method as Natural},
+        interpolate::{interpolate, InterpolateOptions, Method as Natural},
         lloyd::{lloyd, LloydOptions},
         settle::{potential_areas, potential_areas_cpu, SettleOptions},
         voronoi::{voronoi, VoronoiOptions},
@@ -80,7 +80,9 @@ fn every_problem_checks_its_sites_once() {
         count(
             "hausdorff",
             2,
-            checks("hausdorff", || hausdorff(on, a, b, Some(64))),
+            checks("hausdorff", || {
+                hausdorff(on, a, b, &HausdorffOptions::default().side(Some(64)))
+            }),
         );
         let circle = || enclose(on, &sites, Unit::Circle, 0, 64);
         count("enclose", 1, checks("enclose", circle));
@@ -90,7 +92,7 @@ fn every_problem_checks_its_sites_once() {
             Natural::Nearest,
             Natural::Discrete,
         ] {
-            let run = || interpolate(on, &sites, &values, &frame, method, &mut |_, _| {});
+            let run = || interpolate(on, &sites, &values, &InterpolateOptions::new(frame, method));
             count(&format!("{method:?}"), 1, checks("interpolate", run));
         }
         let run = || lloyd(on.machine(), &sites, &lloyds, None, &mut |_, _| {});
@@ -170,7 +172,13 @@ fn refused_sites_say_why_by_kind() {
         Error::InvalidInput(Invalid::NotFinite { index: Some(2), .. })
     );
     assert!(nan, "{err}");
-    let err = hausdorff(&Backend::Cpu, &sites[..2], &sites, None).unwrap_err();
+    let err = hausdorff(
+        &Backend::Cpu,
+        &sites[..2],
+        &sites,
+        &HausdorffOptions::default(),
+    )
+    .unwrap_err();
     let named = matches!(&err, Error::InvalidInput(Invalid::NotFinite { index: Some(2), message })
         if message.starts_with("second set"));
     assert!(named, "{err}");

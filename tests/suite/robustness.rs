@@ -12,7 +12,7 @@ use pixgeo::{
         area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
         cpu,
         delaunay::{delaunay, DelaunayOptions},
-        distances::{diameter, hausdorff},
+        distances::{diameter, hausdorff, HausdorffOptions},
         higher_order::{furthest, k_nearest, KNearestOptions},
         homothet::{enclose, largest_empty, Region, Unit},
         settle::{potential_areas, SettleOptions},
@@ -92,7 +92,13 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
         delaunay(&Backend::Device(m), p, &DelaunayOptions::default()).map(|_| ())
     });
     no_panic("hausdorff", &(p, q), || {
-        hausdorff(&Backend::Device(m), p, q, Some(32)).map(|_| ())
+        hausdorff(
+            &Backend::Device(m),
+            p,
+            q,
+            &HausdorffOptions::default().side(Some(32)),
+        )
+        .map(|_| ())
     });
     no_panic("diameter", &p, || diameter(m, p, Some(32)).map(|_| ()));
     no_panic("triangle", &p, || {

@@ -5,7 +5,7 @@ use anyhow::{bail, Result};
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        power::power_diagram_window,
+        power::{power_diagram, PowerOptions},
         voronoi::{Accuracy, VoronoiOptions},
     },
     geometry::power::Weighted,
@@ -18,6 +18,7 @@ use super::{Args, Method};
 use crate::{
     cells, envelope,
     input::World,
+    progress::Progress,
     write::{
         picture::{site_color, PngStream},
         raster,
@@ -59,7 +60,12 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
     let (w, h) = (window.width, window.height);
     reserve_picture(w, h, 12, "a power diagram")?;
     let started = std::time::Instant::now();
-    let answer = power_diagram_window(&sites, &frame, window)?;
+    let progress = Progress::new("voronoi: power rows", args.json);
+    let options = PowerOptions::new(frame)
+        .window(Some(window))
+        .control(progress.control());
+    let answer = power_diagram(&sites, &options)?;
+    drop(progress);
     let compute_ms = started.elapsed().as_secs_f64() * 1e3;
     let geo = world.georeference_from(window.x, window.y);
     if let Some(path) = &args.labels {

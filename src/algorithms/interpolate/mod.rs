@@ -37,6 +37,7 @@ use crate::{
         voronoi::{voronoi_checked, VoronoiOptions},
     },
     cancel::Watch,
+    control::Control,
     geometry::{bounded::Bounded, exact::nearest_double, frame::Checked, scale, Frame},
     machine::PixelRect,
     Backend, Error, Need, Result,
@@ -84,33 +85,66 @@ pub struct Interpolation {
 /// flag.
 const BAND: usize = 16;
 
-/// `values` (one per site) interpolated at every pixel centre of `frame` by
-/// `method`, calling `progress(done, total)` as rows are done.
+/// Where and how to interpolate: the picture, the method, a window of the
+/// picture's pixels (`None`: all of them), and the work's progress (rows done)
+/// and cancellation.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct InterpolateOptions {
+    pub frame: Frame,
+    pub method: Method,
+    pub window: Option<PixelRect>,
+    pub control: Control,
+}
+
+impl InterpolateOptions {
+    pub fn new(frame: Frame, method: Method) -> Self {
+        Self {
+            frame,
+            method,
+            window: None,
+            control: Control::new(),
+        }
+    }
+
+    /// Only the pixels of `window`, a rectangle of the frame's: the same
+    /// values bit for bit, so that windows computed apart tile into the
+    /// whole raster. The discrete method takes the whole frame only (its
+    /// values depend on the pixels drawn around them).
+    pub fn window(self, window: Option<PixelRect>) -> Self {
+        Self { window, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
+    }
+}
+
+/// `values` (one per site) interpolated at every pixel centre of
+/// `options.frame` (or of its window) by `options.method`.
 pub fn interpolate(
     backend: &Backend,
     sites: &[DVec2],
     values: &[f64],
-    frame: &Frame,
-    method: Method,
-    progress: &mut dyn FnMut(u64, u64),
+    options: &InterpolateOptions,
 ) -> Result<Interpolation> {
-    let whole = PixelRect::sized(frame.width, frame.height);
-    interpolate_window(backend, sites, values, frame, whole, method, progress)
+    let progress = &mut |done, total| options.control.report(done, total);
+    options
+        .control
+        .run(|| interpolate_on(backend, sites, values, options, progress))
 }
 
-/// [`interpolate`] over the pixels of `window` alone, a rectangle of
-/// `frame`'s: the same values bit for bit, so that windows computed apart
-/// tile into the whole raster. The discrete method takes the whole frame
-/// only (its values depend on the pixels drawn around them).
-pub fn interpolate_window(
+fn interpolate_on(
     backend: &Backend,
     sites: &[DVec2],
     values: &[f64],
-    frame: &Frame,
-    window: PixelRect,
-    method: Method,
+    options: &InterpolateOptions,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Interpolation> {
+    let (frame, method) = (&options.frame, options.method);
+    let window = options
+        .window
+        .unwrap_or(PixelRect::sized(frame.width, frame.height));
     check_values(sites, values)?;
     let checked = Checked::new(sites)?;
     let diagram = VoronoiOptions::exact(*frame)
