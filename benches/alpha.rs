@@ -17,7 +17,7 @@ use std::path::PathBuf;
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::alpha_hull::{alpha_hull, hull_circles, AlphaHull, AlphaMethod},
+    algorithms::alpha_hull::{alpha_hull, hull_circles, AlphaHull, AlphaMethod, AlphaOptions},
     geometry::Frame,
     testing::PointGrid,
     Machine,
@@ -129,8 +129,14 @@ fn main() -> anyhow::Result<()> {
     eprintln!("device: {}", machine.device_name());
     let world = Frame::pixels(1000, 1000)?;
     let warm = world.random_points(100, 1);
-    alpha_hull(&machine, &warm, -0.02, AlphaMethod::Hull, SIZE)?;
-    alpha_hull(&machine, &warm, 1.0 / 2000.0, AlphaMethod::Pixels, SIZE)?;
+    alpha_hull(&machine, &warm, &AlphaOptions::new(-0.02).side(SIZE))?;
+    alpha_hull(
+        &machine,
+        &warm,
+        &AlphaOptions::new(1.0 / 2000.0)
+            .method(AlphaMethod::Pixels)
+            .side(SIZE),
+    )?;
 
     let mut table = String::from(
         "| n | r = -1/α | pixgeo α < 0 (ms) | CPU definition (ms) | pixgeo / CPU | pixels differing | R = 1/α | pixgeo hull walk (ms) | pixgeo pixels only (ms) | CPU circles (ms) | hull walk / CPU | pixels differing (walk, pixels only) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
@@ -144,9 +150,7 @@ fn main() -> anyhow::Result<()> {
             Ok(alpha_hull(
                 &machine,
                 &sites,
-                -1.0 / r,
-                AlphaMethod::Hull,
-                SIZE,
+                &AlphaOptions::new(-1.0 / r).side(SIZE),
             )?)
         })?;
         let (cpu, neg_cpu) = time(repeats, || Ok(negative_cpu(&sites, r, &neg.frame)))?;
@@ -156,18 +160,16 @@ fn main() -> anyhow::Result<()> {
             Ok(alpha_hull(
                 &machine,
                 &sites,
-                1.0 / big,
-                AlphaMethod::Hull,
-                SIZE,
+                &AlphaOptions::new(1.0 / big).side(SIZE),
             )?)
         })?;
         let (pixels, pix) = time(repeats, || {
             Ok(alpha_hull(
                 &machine,
                 &sites,
-                1.0 / big,
-                AlphaMethod::Pixels,
-                SIZE,
+                &AlphaOptions::new(1.0 / big)
+                    .method(AlphaMethod::Pixels)
+                    .side(SIZE),
             )?)
         })?;
         let (cpu_pos, pos_cpu) = time(repeats, || positive_cpu(&sites, big, &pos.frame))?;

@@ -13,7 +13,9 @@ use std::path::PathBuf;
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::homothet::{enclose, largest_empty, largest_empty_by, PixelStage, Region, Unit},
+    algorithms::homothet::{
+        enclose, largest_empty, EmptyOptions, EncloseOptions, PixelStage, Unit,
+    },
     geometry::Frame,
     Machine,
 };
@@ -114,8 +116,12 @@ fn main() -> anyhow::Result<()> {
     eprintln!("device: {}", machine.device_name());
     let frame = Frame::pixels(1000, 1000)?;
     let warm = frame.random_points(100, 1);
-    enclose(&Backend::Device(&machine), &warm, Unit::Circle, 0, SIZE)?;
-    largest_empty(&machine, &warm, Unit::Circle, &Region::default(), SIZE)?;
+    enclose(
+        &Backend::Device(&machine),
+        &warm,
+        &EncloseOptions::new(Unit::Circle).side(SIZE),
+    )?;
+    largest_empty(&machine, &warm, &EmptyOptions::new(Unit::Circle).side(SIZE))?;
 
     let mut table = String::from(
         "| n | pixgeo enclose (ms) | Welzl (ms) | enclose / Welzl | same radius | pixgeo empty (ms) | empty with cones (ms) | Delaunay (spade) (ms) | empty / Delaunay | cones / Delaunay | same radius |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
@@ -126,9 +132,7 @@ fn main() -> anyhow::Result<()> {
             Ok(enclose(
                 &Backend::Device(&machine),
                 &sites,
-                Unit::Circle,
-                0,
-                SIZE,
+                &EncloseOptions::new(Unit::Circle).side(SIZE),
             )?)
         })?;
         let (theirs, w) = time(repeats, || Ok(welzl(&sites)))?;
@@ -137,20 +141,17 @@ fn main() -> anyhow::Result<()> {
             Ok(largest_empty(
                 &machine,
                 &sites,
-                Unit::Circle,
-                &Region::default(),
-                SIZE,
+                &EmptyOptions::new(Unit::Circle).side(SIZE),
             )?)
         })?;
         // The thesis's pixel stage, for comparison: the envelope of cones.
         let (cones_e, c) = time(repeats, || {
-            Ok(largest_empty_by(
+            Ok(largest_empty(
                 &machine,
                 &sites,
-                Unit::Circle,
-                &Region::default(),
-                SIZE,
-                Some(PixelStage::Cones),
+                &EmptyOptions::new(Unit::Circle)
+                    .side(SIZE)
+                    .stage(Some(PixelStage::Cones)),
             )?)
         })?;
         let (theirs_e, d) = time(repeats, || delaunay_empty_circle(&sites))?;

@@ -20,13 +20,13 @@ use glam::DVec2;
 
 use crate::{
     algorithms::{
-        alpha_hull::{self, AlphaHull, AlphaMethod},
+        alpha_hull::{self, AlphaHull, AlphaOptions},
         area::{self, AreaAnswer, AreaOptions, Extreme},
         cpu,
         delaunay::{self, Delaunay, DelaunayOptions},
         distances::{self, Answer, Hausdorff},
         higher_order::{self, Furthest, KNearest, KNearestOptions},
-        homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+        homothet::{self, EmptyOptions, EncloseOptions, HomothetAnswer, Unit},
         settle::{self, Refined, SettleMethod, SettleOptions},
         voronoi::{self as diagram, VoronoiDiagram, VoronoiOptions},
     },
@@ -178,7 +178,7 @@ pub fn diameter(points: &[DVec2]) -> Result<Answer> {
 /// ```
 pub fn enclosing_circle(points: &[DVec2]) -> Result<HomothetAnswer> {
     with_default_backend(Need::CpuUnlessGpu, |backend| {
-        homothet::enclose(backend, points, Unit::Circle, 0, DEFAULT_SIDE)
+        homothet::enclose(backend, points, &EncloseOptions::new(Unit::Circle))
     })
 }
 
@@ -193,10 +193,8 @@ pub fn enclosing_circle(points: &[DVec2]) -> Result<HomothetAnswer> {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn largest_empty_circle(points: &[DVec2]) -> Result<HomothetAnswer> {
-    let region = Region::default();
-    with_default_machine(|m| {
-        homothet::largest_empty(m, points, Unit::Circle, &region, DEFAULT_SIDE)
-    })
+    let options = EmptyOptions::new(Unit::Circle);
+    with_default_machine(|m| homothet::largest_empty(m, points, &options))
 }
 
 /// The α-hull of `points` (thesis §3.12) on a picture of 512 pixels along its
@@ -210,8 +208,7 @@ pub fn largest_empty_circle(points: &[DVec2]) -> Result<HomothetAnswer> {
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn alpha_hull(points: &[DVec2], alpha: f64) -> Result<AlphaHull> {
-    let side = alpha_hull::DEFAULT_SIDE;
-    with_default_machine(|m| alpha_hull::alpha_hull(m, points, alpha, AlphaMethod::Hull, side))
+    with_default_machine(|m| alpha_hull::alpha_hull(m, points, &AlphaOptions::new(alpha)))
 }
 
 /// The smallest or largest triangle with three of `points` as vertices, exact

@@ -4,7 +4,9 @@ use glam::DVec2;
 
 use super::*;
 use pixgeo::{
-    algorithms::homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+    algorithms::homothet::{
+        self, EmptyOptions, EncloseOptions, HomothetAnswer, Region, Unit, DEFAULT_SIDE,
+    },
     geometry::metric::Metric,
 };
 
@@ -120,8 +122,12 @@ pub unsafe extern "C" fn pixgeo_enclose(
             true => Need::CpuUnlessGpu,
             false => Need::Drawing("the smallest homothet holding k of the sites"),
         };
-        let answer = homothet::enclose_sites(&context.backend_for(need)?, &given, unit, k, side)
-            .map_err(failed)?;
+        let answer = homothet::enclose_sites(
+            &context.backend_for(need)?,
+            &given,
+            &EncloseOptions::new(unit).k(k).side(side),
+        )
+        .map_err(failed)?;
         homothet_into(out, &answer)
     })
 }
@@ -182,10 +188,10 @@ pub unsafe extern "C" fn pixgeo_empty(
         let answer = homothet::largest_empty_sites(
             context.machine("a largest empty homothet")?,
             &given,
-            unit,
-            &region,
-            inside,
-            side,
+            &EmptyOptions::new(unit)
+                .region(region)
+                .inside(inside)
+                .side(side),
         )
         .map_err(failed)?;
         homothet_into(out, &answer)

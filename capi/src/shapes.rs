@@ -3,7 +3,7 @@
 
 use super::*;
 use pixgeo::algorithms::{
-    alpha_hull::{self, AlphaMethod},
+    alpha_hull::{self, AlphaMethod, AlphaOptions},
     area::{self, AreaOptions, AreaSearch, Extreme},
 };
 
@@ -271,9 +271,7 @@ pub unsafe extern "C" fn pixgeo_alpha_hull(
         let hull = alpha_hull::alpha_hull(
             context.machine("an alpha hull")?,
             &sites,
-            o.alpha,
-            method,
-            side,
+            &AlphaOptions::new(o.alpha).method(method).side(side),
         )
         .map_err(failed)?;
         let answer = PixgeoAlphaHull {

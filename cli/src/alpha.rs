@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args as ClapArgs;
 use glam::DVec2;
-use pixgeo::algorithms::alpha_hull::{self, class, AlphaHull, AlphaMethod};
+use pixgeo::algorithms::alpha_hull::{self, class, AlphaHull, AlphaMethod, AlphaOptions};
 
 use crate::{
     device::VulkanDevice,
@@ -86,10 +86,12 @@ pub fn run(args: Args) -> Result<()> {
     let machine = args.device.machine()?;
     let (alpha, method) = (args.alpha, args.method);
     let working = Progress::working("alpha", args.json);
-    let hull = match fitted {
-        Some(side) => alpha_hull::alpha_hull(&machine, &points, alpha, method, side)?,
-        None => alpha_hull::alpha_hull_in(&machine, &points, alpha, method, world.frame)?,
+    let options = AlphaOptions::new(alpha).method(method);
+    let options = match fitted {
+        Some(side) => options.side(side),
+        None => options.frame(world.frame),
     };
+    let hull = alpha_hull::alpha_hull(&machine, &points, &options)?;
     drop(working);
     let world = args.input.world_of(hull.frame);
     if args.json {

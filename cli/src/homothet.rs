@@ -8,7 +8,8 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::homothet::{
-        self, Envelope, EnvelopeLabels, HomothetAnswer, PixelStage, Region, Unit,
+        self, EmptyOptions, EncloseOptions, Envelope, EnvelopeLabels, HomothetAnswer, PixelStage,
+        Region, Unit,
     },
     io::sites,
     Backend, Machine, Metric, Shape as SiteShape, Site,
@@ -159,7 +160,11 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let side = args.shape.size;
     let k = args.at_least.unwrap_or(0);
     let working = Progress::working("enclose", args.shape.json);
-    let answer = homothet::enclose_sites(&Backend::Device(&machine), &shapes, unit, k, side)?;
+    let answer = homothet::enclose_sites(
+        &Backend::Device(&machine),
+        &shapes,
+        &EncloseOptions::new(unit).k(k).side(side),
+    )?;
     drop(working);
     let json = args
         .shape
@@ -186,14 +191,14 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         StageChoice::Transform => Some(PixelStage::DistanceTransform),
     };
     let working = Progress::working("empty", args.shape.json);
-    let answer = homothet::largest_empty_sites_by(
+    let answer = homothet::largest_empty_sites(
         &machine,
         &shapes,
-        unit,
-        &region,
-        args.inside,
-        side,
-        stage,
+        &EmptyOptions::new(unit)
+            .region(region.clone())
+            .inside(args.inside)
+            .side(side)
+            .stage(stage),
     )?;
     drop(working);
     let json = args.shape.json.then_some(("empty", machine.device_name()));

@@ -19,13 +19,13 @@ use numpy::{
 };
 use pixgeo::{
     algorithms::{
-        alpha_hull::{self, AlphaMethod},
+        alpha_hull::{self, AlphaMethod, AlphaOptions},
         area::{self, AreaOptions, Extreme},
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
         great_circle::{great_circle_grid, great_circle_nearest},
         higher_order::{self, KNearestOptions},
-        homothet::{self, HomothetAnswer, Region, Unit, DEFAULT_SIDE},
+        homothet::{self, EmptyOptions, EncloseOptions, HomothetAnswer, Region, Unit},
         lloyd::{lloyd as lloyd_iterations, LloydOptions},
         settle::{potential_areas, refine, SettleOptions},
         sites::voronoi_sites,
@@ -489,7 +489,7 @@ fn alpha_hull_of<'py>(
     let p = points(&p)?;
     let method: AlphaMethod = named(method)?;
     let h = on_machine(py, device, |m| {
-        alpha_hull::alpha_hull(m, &p, alpha, method, side)
+        alpha_hull::alpha_hull(m, &p, &AlphaOptions::new(alpha).method(method).side(side))
     })?;
     let f = (h.width, h.height, h.origin[0], h.origin[1], h.scale);
     Ok((
@@ -871,7 +871,7 @@ fn enclosing_circle<'py>(
 ) -> PyResult<Circle> {
     let p = points(&p)?;
     let h = on_backend(py, device, Need::CpuUnlessGpu, |b| {
-        homothet::enclose(b, &p, Unit::Circle, 0, DEFAULT_SIDE)
+        homothet::enclose(b, &p, &EncloseOptions::new(Unit::Circle))
     })?;
     Ok(circle(h))
 }
@@ -894,9 +894,12 @@ fn largest_empty_circle<'py>(
     let region = Region {
         rings: region.iter().map(points).collect::<PyResult<_>>()?,
     };
+    let options = EmptyOptions::new(Unit::Circle)
+        .region(region)
+        .inside(inside);
     let h = on_machine(py, device, |m| {
-        if segments.nrows() == 0 && !inside {
-            return homothet::largest_empty(m, &p, Unit::Circle, &region, DEFAULT_SIDE);
+        if segments.nrows() == 0 {
+            return homothet::largest_empty(m, &p, &options);
         }
         let sites: Vec<Site> = p
             .iter()
@@ -908,7 +911,7 @@ fn largest_empty_circle<'py>(
                 ))
             }))
             .collect();
-        homothet::largest_empty_sites(m, &sites, Unit::Circle, &region, inside, DEFAULT_SIDE)
+        homothet::largest_empty_sites(m, &sites, &options)
     })?;
     Ok(circle(h))
 }

@@ -124,65 +124,84 @@ impl AlphaHull {
     }
 }
 
-/// The α-hull of `sites` on a picture whose longer side has `side` pixels, fitted
-/// to where the hull can be; `method` chooses the algorithm for α > 0.
+/// Which α-hull to draw, and where: α (0 the convex hull, > 0 discs of
+/// radius 1/α holding every site, < 0 discs of radius 1/|α| holding none),
+/// the algorithm for α > 0, and the picture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct AlphaOptions {
+    pub alpha: f64,
+    pub method: AlphaMethod,
+    pub canvas: Canvas,
+}
+
+impl AlphaOptions {
+    /// The hull of `alpha` by [`AlphaMethod::Hull`] on a picture of
+    /// [`DEFAULT_SIDE`] pixels.
+    pub fn new(alpha: f64) -> Self {
+        Self {
+            alpha,
+            method: AlphaMethod::Hull,
+            canvas: Canvas::Side(DEFAULT_SIDE),
+        }
+    }
+
+    pub fn method(self, method: AlphaMethod) -> Self {
+        Self { method, ..self }
+    }
+
+    /// A picture whose longer side has `side` pixels, fitted to where the
+    /// hull can be.
+    pub fn side(self, side: u32) -> Self {
+        let canvas = Canvas::Side(side);
+        Self { canvas, ..self }
+    }
+
+    /// The picture `frame` (a map's extent, say). Pixels within -1/α of its
+    /// border may be overestimated for α < 0 (the answer counts them); the
+    /// pixel method needs the frame to hold every centre of a disc holding
+    /// the sites.
+    pub fn frame(self, frame: Frame) -> Self {
+        let canvas = Canvas::Frame(frame);
+        Self { canvas, ..self }
+    }
+}
+
+/// The α-hull of `sites` as `options` say.
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::algorithms::alpha_hull::{alpha_hull, AlphaMethod};
+/// use pixgeo::algorithms::alpha_hull::{alpha_hull, AlphaOptions};
 ///
 /// let sites = [DVec2::ZERO, DVec2::new(10.0, 0.0), DVec2::new(10.0, 10.0), DVec2::new(0.0, 10.0)];
 /// // Discs of radius 20 holding every site: a square with bulging sides.
-/// let hull = pixgeo::with_default_machine(|m| alpha_hull(m, &sites, 0.05, AlphaMethod::Hull, 256))?;
+/// let options = AlphaOptions::new(0.05).side(256);
+/// let hull = pixgeo::with_default_machine(|m| alpha_hull(m, &sites, &options))?;
 /// assert_eq!(hull.boundary_sites.len(), 4);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn alpha_hull(
-    machine: &Machine,
-    sites: &[DVec2],
-    alpha: f64,
-    method: AlphaMethod,
-    side: u32,
-) -> Result<AlphaHull> {
-    if side == 0 || side > machine.max_picture_side() {
-        return Err(Error::out_of_range(format!(
-            "picture side {side}: it must be between 1 and {} on this device",
-            machine.max_picture_side()
-        )));
+pub fn alpha_hull(machine: &Machine, sites: &[DVec2], options: &AlphaOptions) -> Result<AlphaHull> {
+    if let Canvas::Side(side) = options.canvas {
+        if side == 0 || side > machine.max_picture_side() {
+            return Err(Error::out_of_range(format!(
+                "picture side {side}: it must be between 1 and {} on this device",
+                machine.max_picture_side()
+            )));
+        }
     }
     hull_on(
         machine,
         Checked::new(sites)?,
-        alpha,
-        method,
-        Canvas::Side(side),
-    )
-}
-
-/// The α-hull of `sites` on the picture `frame` (a map's extent, say). Pixels
-/// within -1/α of its border may be overestimated for α < 0 (the answer counts
-/// them); the pixel method needs the frame to hold every centre of a disc
-/// holding the sites.
-pub fn alpha_hull_in(
-    machine: &Machine,
-    sites: &[DVec2],
-    alpha: f64,
-    method: AlphaMethod,
-    frame: Frame,
-) -> Result<AlphaHull> {
-    hull_on(
-        machine,
-        Checked::new(sites)?,
-        alpha,
-        method,
-        Canvas::Frame(frame),
+        options.alpha,
+        options.method,
+        options.canvas,
     )
 }
 
 /// Where a hull is drawn: a picture of so many pixels along its longer side,
 /// fitted around where the hull can be, or the user's frame.
-#[derive(Clone, Copy)]
-enum Canvas {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Canvas {
     Side(u32),
     Frame(Frame),
 }

@@ -4,7 +4,7 @@
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::alpha_hull::{alpha_hull, class, AlphaHull, AlphaMethod},
+    algorithms::alpha_hull::{alpha_hull, class, AlphaHull, AlphaMethod, AlphaOptions},
     Error, Invalid,
 };
 use pixgeo_reference::alpha_hull::{EmptyDiscs, HoldingDiscs};
@@ -61,7 +61,8 @@ fn negative_alpha_lies_between_the_definition_and_its_pixel_bound() {
         // Radii in the sites' own units.
         let unit = if name.ends_with("1e-12") { 1e-12 } else { 1.0 };
         for r in [7.3 * unit, 16.9 * unit] {
-            let hull = alpha_hull(&machine, &sites, -1.0 / r, AlphaMethod::Hull, SIDE).unwrap();
+            let hull =
+                alpha_hull(&machine, &sites, &AlphaOptions::new(-1.0 / r).side(SIDE)).unwrap();
             let tau = 1e-3 / hull.frame.scale;
             let h = std::f64::consts::FRAC_1_SQRT_2 / hull.frame.scale;
             let exact = EmptyDiscs::new(&sites, r);
@@ -105,7 +106,12 @@ fn positive_alpha_with_the_hull_walk_is_the_definition() {
         // (computed as the convex hull).
         for factor in [1.0, 1.2, 3.0, 1e2, 1e3, 1e4, 1e5, 1e7] {
             let radius = mec * factor;
-            let hull = alpha_hull(&machine, &sites, 1.0 / radius, AlphaMethod::Hull, SIDE).unwrap();
+            let hull = alpha_hull(
+                &machine,
+                &sites,
+                &AlphaOptions::new(1.0 / radius).side(SIDE),
+            )
+            .unwrap();
             let tau = 1e-3 / hull.frame.scale;
             let oracle = HoldingDiscs::new(&sites, radius * (1.0 + 1e-12));
             let mut checked = 0;
@@ -139,7 +145,13 @@ fn positive_alpha_by_pixels_alone_lies_between_the_definition_and_its_bound() {
         let mec = pixgeo_reference::homothet::welzl(&sites).radius;
         for factor in [1.1, 2.0, 1e3, 1e5] {
             let radius = mec * factor;
-            let hull = match alpha_hull(&machine, &sites, 1.0 / radius, AlphaMethod::Pixels, SIDE) {
+            let hull = match alpha_hull(
+                &machine,
+                &sites,
+                &AlphaOptions::new(1.0 / radius)
+                    .method(AlphaMethod::Pixels)
+                    .side(SIDE),
+            ) {
                 Ok(hull) => hull,
                 // Discs far larger than the sites leave their hull under a pixel.
                 Err(e) if factor >= 1e3 => {
@@ -177,7 +189,7 @@ fn positive_alpha_by_pixels_alone_lies_between_the_definition_and_its_bound() {
 fn alpha_zero_is_the_convex_hull() {
     let machine = machine();
     for (name, sites) in inputs() {
-        let hull = alpha_hull(&machine, &sites, 0.0, AlphaMethod::Hull, SIDE).unwrap();
+        let hull = alpha_hull(&machine, &sites, &AlphaOptions::new(0.0).side(SIDE)).unwrap();
         assert_eq!(hull.method, "convex");
         let corners: Vec<DVec2> = hull
             .boundary_sites
@@ -213,18 +225,23 @@ fn a_radius_below_the_smallest_enclosing_circle_is_an_error() {
         DVec2::new(5.0, 8.0),
     ];
     for method in [AlphaMethod::Hull, AlphaMethod::Pixels] {
-        let err = alpha_hull(&machine, &sites, 1.0 / 4.0, method, SIDE).unwrap_err();
+        let err = alpha_hull(
+            &machine,
+            &sites,
+            &AlphaOptions::new(1.0 / 4.0).method(method).side(SIDE),
+        )
+        .unwrap_err();
         assert!(
             matches!(&err, Error::InvalidInput(Invalid::OutOfRange(m)) if m.contains("smallest enclosing circle")),
             "{err}"
         );
     }
-    let err = alpha_hull(&machine, &sites, f64::NAN, AlphaMethod::Hull, SIDE).unwrap_err();
+    let err = alpha_hull(&machine, &sites, &AlphaOptions::new(f64::NAN).side(SIDE)).unwrap_err();
     assert!(matches!(
         err,
         Error::InvalidInput(Invalid::NotFinite { index: None, .. })
     ));
-    assert!(alpha_hull(&machine, &[], -1.0, AlphaMethod::Hull, SIDE).is_err());
+    assert!(alpha_hull(&machine, &[], &AlphaOptions::new(-1.0).side(SIDE)).is_err());
 }
 
 #[test]
@@ -234,13 +251,16 @@ fn alpha_hulls_grow_with_alpha() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let sites = uniform(&mut rng, 40, 100.0, 100.0);
     let mec = pixgeo_reference::homothet::welzl(&sites).radius;
-    let small = alpha_hull(&machine, &sites, 1.0 / (3.0 * mec), AlphaMethod::Hull, SIDE).unwrap();
+    let small = alpha_hull(
+        &machine,
+        &sites,
+        &AlphaOptions::new(1.0 / (3.0 * mec)).side(SIDE),
+    )
+    .unwrap();
     let large = alpha_hull(
         &machine,
         &sites,
-        1.0 / (1.05 * mec),
-        AlphaMethod::Hull,
-        SIDE,
+        &AlphaOptions::new(1.0 / (1.05 * mec)).side(SIDE),
     )
     .unwrap();
     assert_eq!(small.frame, large.frame);
@@ -264,8 +284,8 @@ fn repeated_sites_give_the_hull_of_their_positions() {
     let mut repeated = vec![distinct[0]; 500];
     repeated.extend(&distinct[1..]);
     for alpha in [-0.01, 0.0, 0.01] {
-        let once = alpha_hull(&machine, &distinct, alpha, AlphaMethod::Hull, SIDE).unwrap();
-        let many = alpha_hull(&machine, &repeated, alpha, AlphaMethod::Hull, SIDE).unwrap();
+        let once = alpha_hull(&machine, &distinct, &AlphaOptions::new(alpha).side(SIDE)).unwrap();
+        let many = alpha_hull(&machine, &repeated, &AlphaOptions::new(alpha).side(SIDE)).unwrap();
         assert_eq!(many.pixels, once.pixels, "alpha {alpha}");
         let moved: Vec<u32> = once
             .boundary_sites
@@ -290,7 +310,7 @@ fn hulls_far_from_the_origin_are_the_hulls_near_it() {
     ];
     let hull = |offset: f64, alpha: f64| {
         let sites = triangle.map(|p| p + DVec2::new(offset, 0.0));
-        alpha_hull(&machine, &sites, alpha, AlphaMethod::Hull, 64)
+        alpha_hull(&machine, &sites, &AlphaOptions::new(alpha).side(64))
             .unwrap_or_else(|e| panic!("{offset:e}, {alpha}: {e}"))
     };
     for alpha in [0.0, 0.4] {

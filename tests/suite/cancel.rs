@@ -13,7 +13,7 @@ use pixgeo::{
     algorithms::{
         cells::{voronoi_cells, CellsOptions},
         delaunay::{delaunay, DelaunayOptions},
-        homothet::{largest_empty_sites, Region, Unit},
+        homothet::{largest_empty_sites, EmptyOptions, Region, Unit},
         settle::refine,
     },
     geometry::{cell::Rect, site::Site, Frame},
@@ -79,7 +79,14 @@ fn every_step_on_the_cpu_stops_when_cancelled() {
         ]],
     };
     cancelled_then_answered("empty", || {
-        largest_empty_sites(&machine, &sites, Unit::Circle, &square, true, 128)
+        largest_empty_sites(
+            &machine,
+            &sites,
+            &EmptyOptions::new(Unit::Circle)
+                .region(square.clone())
+                .inside(true)
+                .side(128),
+        )
     });
     let frame = Frame::pixels(64, 64).unwrap();
     let rivals = [DVec2::new(10.0, 10.0), DVec2::new(50.0, 40.0)];

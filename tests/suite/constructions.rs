@@ -14,7 +14,7 @@ use num_rational::BigRational;
 use pixgeo::algorithms::{
     area::{extremal_quadrangle, extremal_triangle, AreaAnswer, AreaOptions, Extreme},
     distances::{diameter, directed_hausdorff, max_distance, HausdorffOptions, Method, Pair},
-    homothet::{enclose, Unit},
+    homothet::{enclose, EncloseOptions, Unit},
 };
 use pixgeo::Backend;
 use pixgeo_reference::exact::{
@@ -106,7 +106,7 @@ proptest! {
         let what = format!("{sites:?}");
 
         // The smallest enclosing circle.
-        let circle = enclose(&Backend::Device(&m), &sites, Unit::Circle, 0, 256).unwrap();
+        let circle = enclose(&Backend::Device(&m), &sites, &EncloseOptions::new(Unit::Circle).side(256)).unwrap();
         let (centre, r2) = smallest_enclosing_circle(&sites);
         let [x, y] = circle.exact.centre;
         prop_assert!(is_nearest(x, &centre[0]) && is_nearest(y, &centre[1]), "{what}: centre");

@@ -5,14 +5,14 @@
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        alpha_hull::{alpha_hull, AlphaMethod},
+        alpha_hull::{alpha_hull, AlphaMethod, AlphaOptions},
         area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
         cells::{voronoi_cells, CellsOptions},
         cpu,
         delaunay::{delaunay, DelaunayOptions},
         distances::{diameter, hausdorff, max_distance, HausdorffOptions},
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
-        homothet::{enclose, largest_empty, Region, Unit},
+        homothet::{enclose, largest_empty, EmptyOptions, EncloseOptions, Region, Unit},
         interpolate::{interpolate, InterpolateOptions, Method as Natural},
         lloyd::{lloyd, LloydOptions},
         settle::{potential_areas, potential_areas_cpu, SettleOptions},
@@ -84,7 +84,7 @@ fn every_problem_checks_its_sites_once() {
                 hausdorff(on, a, b, &HausdorffOptions::default().side(Some(64)))
             }),
         );
-        let circle = || enclose(on, &sites, Unit::Circle, 0, 64);
+        let circle = || enclose(on, &sites, &EncloseOptions::new(Unit::Circle).side(64));
         count("enclose", 1, checks("enclose", circle));
         for method in [
             Natural::Exact,
@@ -111,7 +111,13 @@ fn every_problem_checks_its_sites_once() {
         1,
         checks("peeled", || k_nearest_peeled(m, &sites, &second)),
     );
-    let run = || enclose(&Backend::Device(m), &sites, Unit::Circle, 30, 64);
+    let run = || {
+        enclose(
+            &Backend::Device(m),
+            &sites,
+            &EncloseOptions::new(Unit::Circle).k(30).side(64),
+        )
+    };
     count("enclose 30 of 40", 1, checks("enclose", run));
     let run = || potential_areas(m, a, b, &settle, &mut |_, _| {});
     count("settle", 2, checks("settle", run));
@@ -127,10 +133,18 @@ fn every_problem_checks_its_sites_once() {
         2,
         checks("diameter", || diameter(m, &sites, None)),
     );
-    let run = || largest_empty(m, &sites, Unit::Circle, &no_region, 64);
+    let run = || {
+        largest_empty(
+            m,
+            &sites,
+            &EmptyOptions::new(Unit::Circle)
+                .region(no_region.clone())
+                .side(64),
+        )
+    };
     count("empty", 1, checks("empty", run));
     for method in [AlphaMethod::Hull, AlphaMethod::Pixels] {
-        let run = || alpha_hull(m, &sites, 0.03, method, 64);
+        let run = || alpha_hull(m, &sites, &AlphaOptions::new(0.03).method(method).side(64));
         count(&format!("alpha by {method:?}"), 1, checks("alpha", run));
     }
     let run = || {

@@ -8,13 +8,13 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        alpha_hull::{alpha_hull, AlphaMethod},
+        alpha_hull::{alpha_hull, AlphaOptions},
         area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
         cpu,
         delaunay::{delaunay, DelaunayOptions},
         distances::{diameter, hausdorff, HausdorffOptions},
         higher_order::{furthest, k_nearest, KNearestOptions},
-        homothet::{enclose, largest_empty, Region, Unit},
+        homothet::{enclose, largest_empty, EmptyOptions, EncloseOptions, Region, Unit},
         settle::{potential_areas, SettleOptions},
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
@@ -118,13 +118,25 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
         .map(|_| ())
     });
     no_panic("alpha hull", &(p, scalar), || {
-        alpha_hull(m, p, scalar, AlphaMethod::Hull, 32).map(|_| ())
+        alpha_hull(m, p, &AlphaOptions::new(scalar).side(32)).map(|_| ())
     });
     no_panic("enclose", &p, || {
-        enclose(&Backend::Device(m), p, Unit::Circle, 1, 32).map(|_| ())
+        enclose(
+            &Backend::Device(m),
+            p,
+            &EncloseOptions::new(Unit::Circle).k(1).side(32),
+        )
+        .map(|_| ())
     });
     no_panic("largest empty", &p, || {
-        largest_empty(m, p, Unit::Circle, &Region { rings: Vec::new() }, 32).map(|_| ())
+        largest_empty(
+            m,
+            p,
+            &EmptyOptions::new(Unit::Circle)
+                .region(Region { rings: Vec::new() })
+                .side(32),
+        )
+        .map(|_| ())
     });
     no_panic("settle", &(p, q), || {
         let options = SettleOptions::new(frame);

@@ -41,11 +41,12 @@ impl Region {
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::algorithms::homothet::{largest_empty, Region, Unit, DEFAULT_SIDE};
+/// use pixgeo::algorithms::homothet::{largest_empty, EmptyOptions, Region, Unit};
 ///
 /// let sites = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(0.0, 3.0)];
 /// let square = Region { rings: vec![vec![DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(4.0, 4.0), DVec2::new(0.0, 4.0)]] };
-/// let c = pixgeo::with_default_machine(|m| largest_empty(m, &sites, Unit::Circle, &square, DEFAULT_SIDE))?;
+/// let options = EmptyOptions::new(Unit::Circle).region(square);
+/// let c = pixgeo::with_default_machine(|m| largest_empty(m, &sites, &options))?;
 /// // On the top side, as far from (0, 3) as from (4, 0): farther than the corner (4, 4).
 /// assert_eq!(c.exact.centre, [3.875, 4.0]);
 /// assert!(c.exact.scale > 4.0);
@@ -54,11 +55,62 @@ impl Region {
 pub fn largest_empty(
     machine: &Machine,
     sites: &[DVec2],
-    unit: Unit,
-    region: &Region,
-    side: u32,
+    options: &EmptyOptions,
 ) -> Result<HomothetAnswer> {
-    largest_empty_by(machine, sites, unit, region, side, None)
+    if options.inside {
+        check_sites(sites)?;
+        let general: Vec<Site> = sites.iter().map(|&p| Site::point(p)).collect();
+        return largest_empty_sites(machine, &general, options);
+    }
+    let o = options;
+    empty_of_points(machine, sites, o.unit, &o.region, o.side, o.stage)
+}
+
+/// Which empty homothet to find: the unit, the region its centre lies in
+/// (empty: the sites' bounding box), whether the whole homothet lies
+/// `inside` the region, the picture's side, and the pixel stage (`None`:
+/// the distance transform where it applies, that is circles, unweighted
+/// points, every site on the picture or within a pixel of it, a picture
+/// the device holds whole, and cones elsewhere; asking for the transform
+/// where it does not apply is an error).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct EmptyOptions {
+    pub unit: Unit,
+    pub region: Region,
+    pub inside: bool,
+    pub side: u32,
+    pub stage: Option<PixelStage>,
+}
+
+impl EmptyOptions {
+    /// The largest empty homothet of `unit` centred in the sites' bounding
+    /// box, on a picture of [`super::DEFAULT_SIDE`] pixels.
+    pub fn new(unit: Unit) -> Self {
+        Self {
+            unit,
+            region: Region::default(),
+            inside: false,
+            side: super::DEFAULT_SIDE,
+            stage: None,
+        }
+    }
+
+    pub fn region(self, region: Region) -> Self {
+        Self { region, ..self }
+    }
+
+    pub fn inside(self, inside: bool) -> Self {
+        Self { inside, ..self }
+    }
+
+    pub fn side(self, side: u32) -> Self {
+        Self { side, ..self }
+    }
+
+    pub fn stage(self, stage: Option<PixelStage>) -> Self {
+        Self { stage, ..self }
+    }
 }
 
 /// A corner to move `sites` and `region` by: on each axis where they lie far
@@ -90,11 +142,8 @@ const MAX_NEAR_PIXELS: usize = 1024;
 /// The side up to which a coarse picture is refined.
 const MAX_REFINED_SIDE: u32 = 4096;
 
-/// [`largest_empty`] with its pixel stage chosen: `None` takes the distance
-/// transform where it applies (circles, every site on the picture or within a
-/// pixel of it, a picture the device holds whole) and cones elsewhere; asking
-/// for the transform where it does not apply is an error.
-pub fn largest_empty_by(
+/// [`largest_empty`] of points without `inside`.
+fn empty_of_points(
     machine: &Machine,
     sites: &[DVec2],
     unit: Unit,
@@ -104,7 +153,7 @@ pub fn largest_empty_by(
 ) -> Result<HomothetAnswer> {
     check_sites(sites)?;
     // Homothets move and scale with their sites, so the sites are placed near
-    // the origin and near 1 where that is exact (see `largest_empty_sites_by`).
+    // the origin and near 1 where that is exact (see `empty_of_sites`).
     let anchors: Vec<DVec2> = sites
         .iter()
         .chain(region.rings.iter().flatten())
@@ -336,12 +385,10 @@ fn empty_points(
 pub fn largest_empty_sites(
     machine: &Machine,
     sites: &[Site],
-    unit: Unit,
-    region: &Region,
-    inside: bool,
-    side: u32,
+    options: &EmptyOptions,
 ) -> Result<HomothetAnswer> {
-    largest_empty_sites_by(machine, sites, unit, region, inside, side, None)
+    let o = options;
+    empty_of_sites(machine, sites, o.unit, &o.region, o.inside, o.side, o.stage)
 }
 
 /// The magnitudes the refinement among segments, shapes or `inside` a region
@@ -351,9 +398,8 @@ const REFINED_SITES: (f64, f64) = (1e-75, 1e75);
 /// The magnitudes the refinement among points holds: squared distances.
 const REFINED_POINTS: (f64, f64) = (1e-150, 1e150);
 
-/// [`largest_empty_sites`] with its pixel stage chosen, as for
-/// [`largest_empty_by`]: the distance transform takes plain points only.
-pub fn largest_empty_sites_by(
+/// [`largest_empty_sites`] with the options taken apart.
+fn empty_of_sites(
     machine: &Machine,
     sites: &[Site],
     unit: Unit,
@@ -371,7 +417,7 @@ pub fn largest_empty_sites_by(
                 _ => unreachable!("plain points"),
             })
             .collect();
-        return largest_empty_by(machine, &points, unit, region, side, stage);
+        return empty_of_points(machine, &points, unit, region, side, stage);
     }
     if stage == Some(PixelStage::DistanceTransform) {
         return Err(Error::unsupported_option(
@@ -417,7 +463,7 @@ pub fn largest_empty_sites_by(
     Ok(placed_back(answer, exact, placement))
 }
 
-/// [`largest_empty_sites_by`] on sites placed near the origin and near 1 by
+/// [`largest_empty_sites`] on sites placed near the origin and near 1 by
 /// `placement`: the answer there, and the exact one in the sites' own
 /// coordinates where the exact refinement decides it.
 fn refine_empty(

@@ -12,22 +12,52 @@ use crate::{algorithms::cpu, Backend};
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::algorithms::homothet::{enclose, Unit, DEFAULT_SIDE};
+/// use pixgeo::algorithms::homothet::{enclose, EncloseOptions, Unit};
 ///
 /// let sites = [DVec2::ZERO, DVec2::new(10.0, 0.0), DVec2::new(5.0, 1.0), DVec2::new(50.0, 50.0)];
 /// // The smallest circle holding at least 3 of the 4 sites.
-/// let c = pixgeo::with_default_machine(|m| enclose(&m.into(), &sites, Unit::Circle, 3, DEFAULT_SIDE))?;
+/// let options = EncloseOptions::new(Unit::Circle).k(3);
+/// let c = pixgeo::with_default_machine(|m| enclose(&m.into(), &sites, &options))?;
 /// assert!((c.exact.scale - 5.0).abs() < 1e-9);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn enclose(
     backend: &Backend,
     sites: &[DVec2],
-    unit: Unit,
-    k: usize,
-    side: u32,
+    options: &EncloseOptions,
 ) -> Result<HomothetAnswer> {
+    let EncloseOptions { unit, k, side } = *options;
     enclose_checked(backend, Checked::new(sites)?, unit, k, side)
+}
+
+/// Which enclosing homothet to find: the unit, how many sites it holds at
+/// least (0: all of them), and the picture's side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct EncloseOptions {
+    pub unit: Unit,
+    pub k: usize,
+    pub side: u32,
+}
+
+impl EncloseOptions {
+    /// The smallest homothet of `unit` holding every site, on a picture of
+    /// [`DEFAULT_SIDE`] pixels.
+    pub fn new(unit: Unit) -> Self {
+        Self {
+            unit,
+            k: 0,
+            side: DEFAULT_SIDE,
+        }
+    }
+
+    pub fn k(self, k: usize) -> Self {
+        Self { k, ..self }
+    }
+
+    pub fn side(self, side: u32) -> Self {
+        Self { side, ..self }
+    }
 }
 
 /// [`enclose`] of sites checked where they entered.
@@ -335,10 +365,9 @@ fn farthest_gauge(unit: Unit, shape: Shape, c: DVec2) -> f64 {
 pub fn enclose_sites(
     backend: &Backend,
     sites: &[Site],
-    unit: Unit,
-    k: usize,
-    side: u32,
+    options: &EncloseOptions,
 ) -> Result<HomothetAnswer> {
+    let EncloseOptions { unit, k, .. } = *options;
     check_general_sites(sites)?;
     if sites
         .iter()
@@ -401,7 +430,7 @@ pub fn enclose_sites(
             }
         }
     }
-    let mut answer = enclose(backend, &samples, unit, k, side)?;
+    let mut answer = enclose(backend, &samples, options)?;
     // The picture saw chords of the curves.
     let chord_loss = sites
         .iter()

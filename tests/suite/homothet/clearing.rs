@@ -6,7 +6,7 @@
 use super::*;
 use num_rational::BigRational;
 use pixgeo::{
-    algorithms::homothet::{largest_empty, largest_empty_sites},
+    algorithms::homothet::{largest_empty, largest_empty_sites, EmptyOptions},
     geometry::site::{Shape, Site},
 };
 use pixgeo_reference::{
@@ -62,7 +62,13 @@ fn largest_empty_among_points_is_the_nearest_double() {
         };
         // An ulp above 0 is 5e-324: beside 1e299, no power of two scales both
         // exactly, and the refusal says so.
-        let answer = match largest_empty(&machine, &points, Unit::Circle, &region, 128) {
+        let answer = match largest_empty(
+            &machine,
+            &points,
+            &EmptyOptions::new(Unit::Circle)
+                .region(region.clone())
+                .side(128),
+        ) {
             Err(e) if h > 1e150 && e.to_string().contains("round the smallest to 0") => {
                 refused += 1;
                 continue;
@@ -140,8 +146,15 @@ fn largest_empty_among_points_and_segments_is_the_nearest_double() {
         let region = Region {
             rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
         };
-        let answer =
-            largest_empty_sites(&machine, &sites, Unit::Circle, &region, true, 128).unwrap();
+        let answer = largest_empty_sites(
+            &machine,
+            &sites,
+            &EmptyOptions::new(Unit::Circle)
+                .region(region.clone())
+                .inside(true)
+                .side(128),
+        )
+        .unwrap();
         let (radius, centres) = largest_empty_in_box(&points, &segments, lo, hi);
         let label = format!("{round}: {points:?} {segments:?} in {hi:?}: {answer:?}");
         assert_eq!(answer.tolerance, 0.0, "{label}");

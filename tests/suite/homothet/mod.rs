@@ -6,7 +6,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::homothet::{enclose, largest_empty, Region, Unit},
+    algorithms::homothet::{enclose, largest_empty, EmptyOptions, EncloseOptions, Region, Unit},
     geometry::metric::{Gauge, Metric},
 };
 use pixgeo_reference::homothet::{self as oracle, welzl};
@@ -102,7 +102,12 @@ fn close(a: f64, b: f64) -> bool {
 fn smallest_enclosing_circle_equals_welzl() {
     let machine = machine();
     for (name, sites) in inputs() {
-        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, 0, 256).unwrap();
+        let answer = enclose(
+            &Backend::Device(&machine),
+            &sites,
+            &EncloseOptions::new(Unit::Circle).side(256),
+        )
+        .unwrap();
         let truth = welzl(&sites);
         assert!(
             close(answer.exact.scale, truth.radius),
@@ -149,7 +154,12 @@ fn smallest_k_enclosing_circle_against_brute_force() {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let sites = uniform(&mut rng, 14, 60.0, 50.0);
     for k in [1, 2, 5, 9] {
-        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, k, 256).unwrap();
+        let answer = enclose(
+            &Backend::Device(&machine),
+            &sites,
+            &EncloseOptions::new(Unit::Circle).k(k).side(256),
+        )
+        .unwrap();
         let (_, r) = oracle::smallest_k_circle(&sites, k);
         assert!(
             close(answer.exact.scale, r),
@@ -166,8 +176,12 @@ fn smallest_enclosing_polygon_against_brute_force() {
     let sites = uniform(&mut rng, 9, 60.0, 50.0);
     for (name, g) in polygons() {
         for k in [sites.len(), 4] {
-            let answer =
-                enclose(&Backend::Device(&machine), &sites, Unit::Polygon(g), k, 256).unwrap();
+            let answer = enclose(
+                &Backend::Device(&machine),
+                &sites,
+                &EncloseOptions::new(Unit::Polygon(g)).k(k).side(256),
+            )
+            .unwrap();
             let (_, truth) = oracle::smallest_k_homothet(&sites, &g.vertices, |v| g.of(v), k);
             assert!(
                 close(answer.exact.scale, truth),
@@ -220,7 +234,14 @@ fn largest_empty_circle_against_brute_force() {
     let plain = Region::default();
     let holed = square_with_hole();
     for (name, region) in [("bounding box", &plain), ("square with a hole", &holed)] {
-        let answer = largest_empty(&machine, &sites, Unit::Circle, region, 256).unwrap();
+        let answer = largest_empty(
+            &machine,
+            &sites,
+            &EmptyOptions::new(Unit::Circle)
+                .region(region.clone())
+                .side(256),
+        )
+        .unwrap();
         let truth = brute_empty_circle(&sites, region);
         assert!(
             close(answer.exact.scale, truth),
@@ -310,8 +331,14 @@ fn largest_empty_circle_on_every_kind_of_picture() {
         for (place, region) in &regions {
             let truth = brute_empty_circle(sites, region);
             for side in [6, 40, 300] {
-                let answer = largest_empty(&machine, sites, Unit::Circle, region, side)
-                    .unwrap_or_else(|e| panic!("{name} in {place} at {side} px: {e}"));
+                let answer = largest_empty(
+                    &machine,
+                    sites,
+                    &EmptyOptions::new(Unit::Circle)
+                        .region(region.clone())
+                        .side(side),
+                )
+                .unwrap_or_else(|e| panic!("{name} in {place} at {side} px: {e}"));
                 assert!(
                     close(answer.exact.scale, truth),
                     "{name} in {place} at {side} px: {} vs brute force {truth}",
@@ -336,7 +363,14 @@ fn largest_empty_polygon_against_brute_force() {
     let region = square_with_hole();
     let e = edges(&region);
     for (name, g) in polygons() {
-        let answer = largest_empty(&machine, &sites, Unit::Polygon(g), &region, 256).unwrap();
+        let answer = largest_empty(
+            &machine,
+            &sites,
+            &EmptyOptions::new(Unit::Polygon(g))
+                .region(region.clone())
+                .side(256),
+        )
+        .unwrap();
         let on_edge = |c: DVec2| {
             e.iter().any(|(a, b)| {
                 let t = ((c - *a).dot(*b - *a) / (*b - *a).length_squared()).clamp(0.0, 1.0);
@@ -362,23 +396,38 @@ fn largest_empty_polygon_against_brute_force() {
 fn bad_input_is_an_error() {
     let machine = machine();
     let sites = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0)];
-    assert!(enclose(&Backend::Device(&machine), &sites, Unit::Circle, 3, 64).is_err());
-    assert!(enclose(&Backend::Device(&machine), &[], Unit::Circle, 0, 64).is_err());
+    assert!(enclose(
+        &Backend::Device(&machine),
+        &sites,
+        &EncloseOptions::new(Unit::Circle).k(3).side(64)
+    )
+    .is_err());
+    assert!(enclose(
+        &Backend::Device(&machine),
+        &[],
+        &EncloseOptions::new(Unit::Circle).side(64)
+    )
+    .is_err());
     assert!(enclose(
         &Backend::Device(&machine),
         &[DVec2::new(f64::NAN, 0.0)],
-        Unit::Circle,
-        0,
-        64
+        &EncloseOptions::new(Unit::Circle).side(64)
     )
     .is_err());
     let thin = Region {
         rings: vec![vec![DVec2::ZERO, DVec2::X]],
     };
-    assert!(largest_empty(&machine, &sites, Unit::Circle, &thin, 64).is_err());
+    assert!(largest_empty(
+        &machine,
+        &sites,
+        &EmptyOptions::new(Unit::Circle)
+            .region(thin.clone())
+            .side(64)
+    )
+    .is_err());
     // One site has no bounding box to search.
     let lone = [DVec2::new(5.0, 5.0)];
-    assert!(largest_empty(&machine, &lone, Unit::Circle, &Region::default(), 64).is_err());
+    assert!(largest_empty(&machine, &lone, &EmptyOptions::new(Unit::Circle).side(64)).is_err());
 }
 
 #[test]
@@ -388,11 +437,20 @@ fn more_levels_than_kept_are_refused_by_name() {
     let machine = machine();
     let mut rng = ChaCha8Rng::seed_from_u64(12);
     let sites = uniform(&mut rng, 300, 100.0, 100.0);
-    let e = enclose(&Backend::Device(&machine), &sites, Unit::Circle, 280, 128)
-        .unwrap_err()
-        .to_string();
+    let e = enclose(
+        &Backend::Device(&machine),
+        &sites,
+        &EncloseOptions::new(Unit::Circle).k(280).side(128),
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("at most 256 levels"), "{e}");
-    assert!(enclose(&Backend::Device(&machine), &sites, Unit::Circle, 300, 128).is_ok());
+    assert!(enclose(
+        &Backend::Device(&machine),
+        &sites,
+        &EncloseOptions::new(Unit::Circle).k(300).side(128)
+    )
+    .is_ok());
 }
 
 /// The circles at far magnitudes and near-degenerate ones: the
@@ -409,7 +467,7 @@ fn largest_empty_circle_among_points_at_every_magnitude() {
     let machine = machine();
     let quad = [(3.0, 4.0), (4.0, 0.0), (1.0, 0.0), (0.0, 3.0)].map(|(x, y)| DVec2::new(x, y));
     let empty = |sites: &[DVec2]| {
-        largest_empty(&machine, sites, Unit::Circle, &Region::default(), 256).unwrap()
+        largest_empty(&machine, sites, &EmptyOptions::new(Unit::Circle).side(256)).unwrap()
     };
     let unit = empty(&quad);
     for k in [-1000, -500, 500, 1000] {
@@ -496,8 +554,12 @@ fn smallest_enclosing_circle_is_exact_at_every_magnitude() {
         ],
     ));
     for (name, sites) in cases {
-        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, 0, 256)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let answer = enclose(
+            &Backend::Device(&machine),
+            &sites,
+            &EncloseOptions::new(Unit::Circle).side(256),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
         let (centre, r2) = smallest_enclosing_circle(&sites);
         let [x, y] = answer.exact.centre;
         assert!(
@@ -525,8 +587,22 @@ fn largest_empty_circle_far_from_the_origin() {
     ];
     let far: Vec<DVec2> = near.iter().map(|p| *p + DVec2::new(1e15, 0.0)).collect();
     let region = Region::default();
-    let a = largest_empty(&machine, &near, Unit::Circle, &region, 256).unwrap();
-    let b = largest_empty(&machine, &far, Unit::Circle, &region, 256).unwrap();
+    let a = largest_empty(
+        &machine,
+        &near,
+        &EmptyOptions::new(Unit::Circle)
+            .region(region.clone())
+            .side(256),
+    )
+    .unwrap();
+    let b = largest_empty(
+        &machine,
+        &far,
+        &EmptyOptions::new(Unit::Circle)
+            .region(region.clone())
+            .side(256),
+    )
+    .unwrap();
     assert_eq!(b.exact.scale, a.exact.scale);
     assert_eq!(
         b.exact.centre,
@@ -548,8 +624,18 @@ fn smallest_enclosing_circle_of_repeated_sites() {
     ];
     let mut repeated = vec![distinct[0]; 1000];
     repeated.extend(&distinct[1..]);
-    let once = enclose(&Backend::Device(&machine), &distinct, Unit::Circle, 0, 256).unwrap();
-    let many = enclose(&Backend::Device(&machine), &repeated, Unit::Circle, 0, 256).unwrap();
+    let once = enclose(
+        &Backend::Device(&machine),
+        &distinct,
+        &EncloseOptions::new(Unit::Circle).side(256),
+    )
+    .unwrap();
+    let many = enclose(
+        &Backend::Device(&machine),
+        &repeated,
+        &EncloseOptions::new(Unit::Circle).side(256),
+    )
+    .unwrap();
     assert_eq!(many.exact.centre, once.exact.centre);
     assert_eq!(many.exact.scale, once.exact.scale);
     let named = |sites: &[u32]| {
@@ -569,8 +655,22 @@ fn largest_empty_circle_on_a_picture_coarser_than_its_sites() {
     let machine = machine();
     let sites = uniform(&mut ChaCha8Rng::seed_from_u64(7), 1000, 1000.0, 1000.0);
     let region = Region::default();
-    let coarse = largest_empty(&machine, &sites, Unit::Circle, &region, 2).unwrap();
-    let fine = largest_empty(&machine, &sites, Unit::Circle, &region, 1024).unwrap();
+    let coarse = largest_empty(
+        &machine,
+        &sites,
+        &EmptyOptions::new(Unit::Circle)
+            .region(region.clone())
+            .side(2),
+    )
+    .unwrap();
+    let fine = largest_empty(
+        &machine,
+        &sites,
+        &EmptyOptions::new(Unit::Circle)
+            .region(region.clone())
+            .side(1024),
+    )
+    .unwrap();
     assert_eq!(coarse.exact, fine.exact);
     assert!(coarse.width >= 64, "{}", coarse.width);
 }
@@ -612,7 +712,12 @@ fn smallest_k_enclosing_circle_is_exact() {
         cases.push((format!("lattice {round}"), sites, k));
     }
     for (name, sites, k) in cases {
-        let answer = enclose(&Backend::Device(&machine), &sites, Unit::Circle, k, 256).unwrap();
+        let answer = enclose(
+            &Backend::Device(&machine),
+            &sites,
+            &EncloseOptions::new(Unit::Circle).k(k).side(256),
+        )
+        .unwrap();
         let (centre, r2) = smallest_k_enclosing_circle(&sites, k);
         let [x, y] = answer.exact.centre;
         assert!(
@@ -638,7 +743,7 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     // it, at every magnitude.
     use num_rational::BigRational;
     use pixgeo::{
-        algorithms::homothet::largest_empty_sites,
+        algorithms::homothet::{largest_empty_sites, EmptyOptions},
         geometry::site::{Shape, Site},
     };
     use pixgeo_reference::exact::is_nearest_surd;
@@ -670,8 +775,15 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
                 _ => unreachable!("points"),
             })
             .collect();
-        let answer =
-            largest_empty_sites(&machine, &scaled, Unit::Circle, &square(m), true, 1024).unwrap();
+        let answer = largest_empty_sites(
+            &machine,
+            &scaled,
+            &EmptyOptions::new(Unit::Circle)
+                .region(square(m))
+                .inside(true)
+                .side(1024),
+        )
+        .unwrap();
         // The double nearest m (2 - √2) = 2m - √(2m²), its centre the nearest
         // to (-m + r, -m + r) in the corner nearest (0, 0) and (1, 1)'s
         // far side, and no bound left.
@@ -696,10 +808,10 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     let answer = largest_empty_sites(
         &machine,
         &[Site::point(DVec2::new(50.0, 2.0))],
-        Unit::Circle,
-        &corridor,
-        true,
-        256,
+        &EmptyOptions::new(Unit::Circle)
+            .region(corridor.clone())
+            .inside(true)
+            .side(256),
     )
     .unwrap();
     assert!(
@@ -710,8 +822,15 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     // Where no power of two brings every magnitude near 1 exactly, the
     // refusal names the range.
     let mixed = [Site::point(DVec2::new(0.0, 5e-324)), sites[1], sites[2]];
-    let refused =
-        largest_empty_sites(&machine, &mixed, Unit::Circle, &square(1e80), true, 1024).unwrap_err();
+    let refused = largest_empty_sites(
+        &machine,
+        &mixed,
+        &EmptyOptions::new(Unit::Circle)
+            .region(square(1e80))
+            .inside(true)
+            .side(1024),
+    )
+    .unwrap_err();
     assert!(refused.to_string().contains("1e75"), "{refused}");
 }
 
@@ -741,12 +860,22 @@ fn enclosing_on_the_cpu_is_the_devices_answer() {
         .collect();
     for (name, sites) in cases {
         for &unit in &units {
-            let device = enclose(&Backend::Device(&m), &sites, unit, 0, 256).unwrap();
-            let cpu = enclose(&Backend::Cpu, &sites, unit, 0, 256).unwrap();
+            let device = enclose(
+                &Backend::Device(&m),
+                &sites,
+                &EncloseOptions::new(unit).side(256),
+            )
+            .unwrap();
+            let cpu = enclose(&Backend::Cpu, &sites, &EncloseOptions::new(unit).side(256)).unwrap();
             assert_eq!(device.exact, cpu.exact, "{name} {unit:?}");
         }
         // Holding k of them, equal optima are many: the device alone.
-        let error = enclose(&Backend::Cpu, &sites, Unit::Circle, 3, 256).unwrap_err();
+        let error = enclose(
+            &Backend::Cpu,
+            &sites,
+            &EncloseOptions::new(Unit::Circle).k(3).side(256),
+        )
+        .unwrap_err();
         assert!(error.to_string().contains("holding k"), "{error}");
     }
 }
@@ -764,9 +893,13 @@ fn enclosing_circles_of_subnormal_points_are_rounded_once() {
             .collect();
         let (centre, squared) = pixgeo_reference::exact::smallest_enclosing_circle(&points);
         for backend in [Backend::Device(&m), Backend::Cpu] {
-            let c = enclose(&backend, &points, Unit::Circle, 0, 64)
-                .unwrap()
-                .exact;
+            let c = enclose(
+                &backend,
+                &points,
+                &EncloseOptions::new(Unit::Circle).side(64),
+            )
+            .unwrap()
+            .exact;
             for (got, want) in c.centre.iter().zip(&centre) {
                 let nearest = pixgeo_reference::exact::is_nearest(*got, want);
                 assert!(nearest, "centre {:?} of {points:?}", c.centre);
@@ -789,13 +922,25 @@ fn empty_circles_far_along_one_axis_are_the_ones_near_the_origin() {
         DVec2::new(85.5, 18.99),
     ];
     let none = Region { rings: Vec::new() };
-    let near = largest_empty(&m, &sites, Unit::Circle, &none, 256)
-        .unwrap()
-        .exact;
+    let near = largest_empty(
+        &m,
+        &sites,
+        &EmptyOptions::new(Unit::Circle)
+            .region(none.clone())
+            .side(256),
+    )
+    .unwrap()
+    .exact;
     let far: Vec<DVec2> = sites.iter().map(|p| *p + DVec2::new(1e15, 0.0)).collect();
-    let far = largest_empty(&m, &far, Unit::Circle, &none, 256)
-        .unwrap()
-        .exact;
+    let far = largest_empty(
+        &m,
+        &far,
+        &EmptyOptions::new(Unit::Circle)
+            .region(none.clone())
+            .side(256),
+    )
+    .unwrap()
+    .exact;
     assert_eq!(
         (far.scale, far.centre[1], &far.sites),
         (near.scale, near.centre[1], &near.sites)

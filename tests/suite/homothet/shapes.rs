@@ -30,7 +30,7 @@ fn grid_best(
 #[test]
 fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
     use pixgeo::{
-        algorithms::homothet::largest_empty_sites,
+        algorithms::homothet::{largest_empty_sites, EmptyOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -75,8 +75,15 @@ fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
         ("segments inside", &segments, true),
         ("weighted", &weighted, false),
     ] {
-        let answer =
-            largest_empty_sites(&machine, sites, Unit::Circle, &region, inside, 256).unwrap();
+        let answer = largest_empty_sites(
+            &machine,
+            sites,
+            &EmptyOptions::new(Unit::Circle)
+                .region(region.clone())
+                .inside(inside)
+                .side(256),
+        )
+        .unwrap();
         let clearance = |c: DVec2| {
             let to_sites = sites
                 .iter()
@@ -131,7 +138,7 @@ fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
 #[test]
 fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
     use pixgeo::{
-        algorithms::homothet::enclose_sites,
+        algorithms::homothet::{enclose_sites, EncloseOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -146,7 +153,12 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
             radius: 3.0,
         }),
     ];
-    let answer = enclose_sites(&Backend::Device(&machine), &two, Unit::Circle, 0, 256).unwrap();
+    let answer = enclose_sites(
+        &Backend::Device(&machine),
+        &two,
+        &EncloseOptions::new(Unit::Circle).side(256),
+    )
+    .unwrap();
     assert!((answer.exact.scale - 7.0).abs() < 1e-7, "{answer:?}");
     assert!(DVec2::from(answer.exact.centre).distance(DVec2::new(6.0, 0.0)) < 1e-6);
     // Segments: Welzl on their ends.
@@ -162,8 +174,12 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         DVec2::new(7.0, -4.0),
         DVec2::new(3.0, -6.0),
     ];
-    let answer =
-        enclose_sites(&Backend::Device(&machine), &segments, Unit::Circle, 0, 256).unwrap();
+    let answer = enclose_sites(
+        &Backend::Device(&machine),
+        &segments,
+        &EncloseOptions::new(Unit::Circle).side(256),
+    )
+    .unwrap();
     assert!(close(answer.exact.scale, welzl(&ends).radius));
     // Mixed with an arc: no grid centre does better, none much worse.
     let mut mixed = segments.to_vec();
@@ -177,7 +193,12 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         center: DVec2::new(10.0, 8.0),
         radius: 2.5,
     }));
-    let answer = enclose_sites(&Backend::Device(&machine), &mixed, Unit::Circle, 0, 256).unwrap();
+    let answer = enclose_sites(
+        &Backend::Device(&machine),
+        &mixed,
+        &EncloseOptions::new(Unit::Circle).side(256),
+    )
+    .unwrap();
     let farthest = |c: DVec2| {
         let mut far = 0.0f64;
         for s in &mixed {
@@ -204,13 +225,18 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         "{} vs {grid}",
         answer.exact.scale
     );
-    assert!(enclose_sites(&Backend::Device(&machine), &mixed, Unit::Circle, 2, 64).is_err());
+    assert!(enclose_sites(
+        &Backend::Device(&machine),
+        &mixed,
+        &EncloseOptions::new(Unit::Circle).k(2).side(64)
+    )
+    .is_err());
 }
 
 #[test]
 fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
     use pixgeo::{
-        algorithms::homothet::enclose_sites,
+        algorithms::homothet::{enclose_sites, EncloseOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -235,9 +261,7 @@ fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
     let answer = enclose_sites(
         &Backend::Device(&machine),
         &sites,
-        Unit::Polygon(triangle),
-        0,
-        256,
+        &EncloseOptions::new(Unit::Polygon(triangle)).side(256),
     )
     .unwrap();
     // The definition: the largest gauge over dense samples of each shape.
@@ -271,7 +295,7 @@ fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
 #[test]
 fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
     use pixgeo::{
-        algorithms::homothet::largest_empty_sites,
+        algorithms::homothet::{largest_empty_sites, EmptyOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -302,10 +326,10 @@ fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
     let answer = largest_empty_sites(
         &machine,
         &sites,
-        Unit::Polygon(triangle),
-        &region,
-        true,
-        256,
+        &EmptyOptions::new(Unit::Polygon(triangle))
+            .region(region.clone())
+            .inside(true)
+            .side(256),
     )
     .unwrap();
     // The definition on dense samples of every shape and of the region's edges.
@@ -346,7 +370,7 @@ fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
 #[test]
 fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
     use pixgeo::{
-        algorithms::homothet::enclose_sites,
+        algorithms::homothet::{enclose_sites, EncloseOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -368,9 +392,7 @@ fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
     let answer = enclose_sites(
         &Backend::Device(&machine),
         &sites,
-        Unit::Polygon(star),
-        0,
-        256,
+        &EncloseOptions::new(Unit::Polygon(star)).side(256),
     )
     .unwrap();
     let samples: Vec<DVec2> = sites.iter().flat_map(|s| along(s, 3000)).collect();
