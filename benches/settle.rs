@@ -13,11 +13,9 @@ use std::{path::PathBuf, time::Instant};
 use common::plot::{Series, PALETTE};
 use glam::DVec2;
 use pixgeo::{
-    algorithms::settle::{
-        potential_areas, potential_areas_cpu, PotentialAreas, SettleMethod, SettleOptions,
-    },
-    geometry::{metric::Metric, Frame},
-    Machine,
+    algorithms::settle::{potential_areas, PotentialAreas, SettleMethod, SettleOptions},
+    geometry::Frame,
+    Backend, Machine,
 };
 
 mod common {
@@ -51,11 +49,10 @@ fn gpu(
     let options = SettleOptions::new(frame).method(method);
     timed(|| {
         Ok(potential_areas(
-            machine,
+            &Backend::Device(machine),
             sites,
             &[],
             &options,
-            &mut |_, _| {},
         )?)
     })
 }
@@ -88,7 +85,14 @@ fn main() -> anyhow::Result<()> {
     for &n in &ns {
         let sites = frame.random_points(n, 1);
         let (t_spans, spans) = gpu(&machine, &sites, frame, SettleMethod::Spans)?;
-        let (t_cpu, cpu) = timed(|| Ok(potential_areas_cpu(&sites, &[], &frame, Metric::L2)?))?;
+        let (t_cpu, cpu) = timed(|| {
+            Ok(potential_areas(
+                &Backend::Cpu,
+                &sites,
+                &[],
+                &SettleOptions::new(frame),
+            )?)
+        })?;
         anyhow::ensure!(spans.area == cpu.area, "n = {n}: the CPU variant disagrees");
         eprintln!("{SIZE}² n={n}: spans {t_spans:.2} s, cpu {t_cpu:.2} s");
         md += &format!(

@@ -127,7 +127,7 @@ impl<'m> Backend<'m> {
 }
 
 /// The refusal of a drawing without a device.
-fn drawn_only(what: &str) -> Error {
+pub(crate) fn drawn_only(what: &str) -> Error {
     Error::Unsupported(format!(
         "{what} on the CPU: it is drawn by a Vulkan device; choose a device (auto, lavapipe, \
          gpu) instead of cpu"

@@ -27,7 +27,7 @@ use crate::{
         distances::{self, Answer, Hausdorff},
         higher_order::{self, Furthest, KNearest, KNearestOptions},
         homothet::{self, EmptyOptions, EncloseOptions, HomothetAnswer, Unit},
-        settle::{self, Refined, SettleMethod, SettleOptions},
+        settle::{self, Refined, SettleOptions},
         voronoi::{self as diagram, VoronoiDiagram, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
@@ -250,14 +250,9 @@ pub fn extremal_quadrangle(points: &[DVec2], extreme: Extreme) -> Result<AreaAns
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn settle(rivals: &[DVec2], width: u32, height: u32) -> Result<Refined> {
-    let options = SettleOptions {
-        frame: Frame::pixels(width, height)?,
-        metric: Metric::L2,
-        method: SettleMethod::Spans,
-    };
-    let map = with_default_backend(Need::DeviceIfAny, |backend| match backend {
-        Backend::Device(m) => settle::potential_areas(m, rivals, &[], &options, &mut |_, _| {}),
-        Backend::Cpu => settle::potential_areas_cpu(rivals, &[], &options.frame, Metric::L2),
+    let options = SettleOptions::new(Frame::pixels(width, height)?);
+    let map = with_default_backend(Need::DeviceIfAny, |backend| {
+        settle::potential_areas(backend, rivals, &[], &options)
     })?;
     settle::refine(rivals, &[], &options.frame, &map.leaders(8))
 }

@@ -74,11 +74,10 @@ pub unsafe extern "C" fn pixgeo_lloyd(
             lloyd_options = lloyd_options.tolerance(tolerance);
         }
         let answer = lloyd::lloyd(
-            context.backend_for(Need::DeviceIfAny)?.machine(),
+            &context.backend_for(Need::DeviceIfAny)?,
             &sites,
-            &lloyd_options,
             density,
-            &mut |_, _| {},
+            &lloyd_options,
         )
         .map_err(failed)?;
         // SAFETY: `2 * count` writable doubles (caller contract).

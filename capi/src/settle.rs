@@ -86,14 +86,12 @@ pub unsafe extern "C" fn pixgeo_settle(
             }
         };
         let options = SettleOptions::new(frame).metric(metric).method(method);
-        let map = settle::potential_areas(
-            context.machine("the settle map")?,
-            &rivals,
-            &own,
-            &options,
-            &mut |_, _| {},
-        )
-        .map_err(failed)?;
+        let need = match method {
+            SettleMethod::Faithful => Need::Drawing("the faithful method's disc count"),
+            SettleMethod::Spans => Need::DeviceIfAny,
+        };
+        let map = settle::potential_areas(&context.backend_for(need)?, &rivals, &own, &options)
+            .map_err(failed)?;
         let refined = if metric == Metric::L2 {
             Some(settle::refine(&rivals, &own, &frame, &map.leaders(8)).map_err(failed)?)
         } else {

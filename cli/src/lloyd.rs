@@ -138,16 +138,10 @@ pub fn run(args: Args) -> Result<()> {
     let small = frame.len() as u64 <= crate::device::CPU_FASTER_PIXELS;
     let chosen = crate::device::choose(args.device.as_deref(), crate::device::need(small))?;
     let backend = chosen.backend();
-    let machine = backend.machine();
     let started = std::time::Instant::now();
     let progress = Progress::new("lloyd: iterations", args.json);
-    let answer = lloyd(
-        machine,
-        &sites,
-        &options,
-        density.as_deref(),
-        &mut |done, total| progress.report(done, total),
-    )?;
+    let options = options.control(progress.control());
+    let answer = lloyd(&backend, &sites, density.as_deref(), &options)?;
     drop(progress);
     let compute_ms = started.elapsed().as_secs_f64() * 1e3;
     let user: Vec<DVec2> = answer.sites.iter().map(|&p| world.to_user(p)).collect();

@@ -7,8 +7,7 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::settle::{
-        potential_areas, potential_areas_cpu, refine, PotentialAreas, Refined, SettleMethod,
-        SettleOptions,
+        potential_areas, refine, PotentialAreas, Refined, SettleMethod, SettleOptions,
     },
     geometry::{metric::Metric, Frame},
     io::sites,
@@ -139,25 +138,17 @@ pub fn run(args: Args) -> Result<()> {
     let method = args.method;
     let chosen = crate::device::choose(args.device.as_deref(), crate::device::need(false))?;
     let backend = chosen.backend();
-    let map = match &backend {
-        Backend::Device(machine) => {
-            let message = format!("counting discs ({method:?})").to_lowercase();
-            let progress = Progress::new(&message, args.json);
-            let options = SettleOptions::new(frame).metric(metric).method(method);
-            potential_areas(machine, &rivals, &own, &options, &mut |done, total| {
-                progress.report(done, total)
-            })?
-        }
-        Backend::Cpu => {
-            if args.method == SettleMethod::Faithful {
-                return Err(crate::device::DrawnOnly(
-                    "--method faithful draws discs on a Vulkan device; the CPU counts spans".into(),
-                )
-                .into());
-            }
-            potential_areas_cpu(&rivals, &own, &frame, metric)?
-        }
+    let message = match backend {
+        Backend::Device(_) => format!("counting discs ({method:?})").to_lowercase(),
+        Backend::Cpu => "counting spans".into(),
     };
+    let progress = Progress::new(&message, args.json);
+    let options = SettleOptions::new(frame)
+        .metric(metric)
+        .method(method)
+        .control(progress.control());
+    let map = potential_areas(&backend, &rivals, &own, &options)?;
+    drop(progress);
     let refined = if metric == Metric::L2 && args.refine_from > 0 {
         Some(refine(
             &rivals,

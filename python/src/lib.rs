@@ -528,8 +528,8 @@ fn settle<'py>(
     let (rivals, own) = (points(&rivals)?, points(&own)?);
     let options = SettleOptions::new(frame(width, height, bbox)?).metric(metric(metric_name)?);
     let f = options.frame;
-    let map = on_machine(py, device, |m| {
-        potential_areas(m, &rivals, &own, &options, &mut |_, _| {})
+    let map = on_backend(py, device, Need::DeviceIfAny, |backend| {
+        potential_areas(backend, &rivals, &own, &options)
     })?;
     let refined = if options.metric == Metric::L2 && refine_from > 0 {
         let r = on_cpu(py, || refine(&rivals, &own, &f, &map.leaders(refine_from)))?;
@@ -595,8 +595,7 @@ fn lloyd<'py>(
         None => None,
     };
     let answer = on_backend(py, device, Need::DeviceIfAny, |backend| {
-        let m = backend.machine();
-        lloyd_iterations(m, &sites, &options, density.as_deref(), &mut |_, _| {})
+        lloyd_iterations(backend, &sites, density.as_deref(), &options)
     })?;
     let flat: Vec<f64> = answer.sites.iter().flat_map(|p| [p.x, p.y]).collect();
     let points = Array2::from_shape_vec((answer.sites.len(), 2), flat)

@@ -438,6 +438,7 @@ np.save(d + "/labels.npy", pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4)).l
 c = pixgeo.enclosing_circle(points)
 np.save(d + "/furthest.npy", pixgeo.furthest(points, (20, 20), bbox=(0, 0, 4, 4)).labels)
 np.save(d + "/circle.npy", np.array([*c.centre, c.radius, *c.sites]))
+np.save(d + "/settle.npy", pixgeo.settle(points[:20], (20, 20), bbox=(0, 0, 4, 4)).area)
 # The discrete method is drawn where a device starts: here, with a warning.
 pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="discrete")
 """
@@ -465,6 +466,7 @@ pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="dis
     here["furthest"] = far.labels
     c = pixgeo.enclosing_circle(points, device="lavapipe")
     here["circle"] = np.array([*c.centre, c.radius, *c.sites])
+    here["settle"] = pixgeo.settle(points[:20], (20, 20), bbox=(0, 0, 4, 4), device="lavapipe").area
     for name, want in here.items():
         got = np.load(tmp_path / f"{name}.npy")
         assert got.dtype == want.dtype and np.array_equal(got, want, equal_nan=True), name

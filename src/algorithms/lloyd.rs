@@ -29,16 +29,19 @@ use crate::{
         metric::Metric,
         Frame,
     },
-    Backend, Error, Machine, Result,
+    Backend, Control, Error, Machine, Result,
 };
 
 /// Lloyd's iterations on `frame`: at most `iterations`, stopping once no site
-/// moves farther than `tolerance` (world units).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// moves farther than `tolerance` (world units); progress is reported after
+/// each iteration.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct LloydOptions {
     pub frame: Frame,
     pub iterations: u32,
     pub tolerance: f64,
+    pub control: Control,
 }
 
 impl LloydOptions {
@@ -48,6 +51,7 @@ impl LloydOptions {
             frame,
             iterations: 50,
             tolerance: 0.01 / frame.scale,
+            control: Control::new(),
         }
     }
 
@@ -57,6 +61,10 @@ impl LloydOptions {
 
     pub fn tolerance(self, tolerance: f64) -> Self {
         Self { tolerance, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
     }
 }
 
@@ -87,16 +95,26 @@ pub struct Lloyd {
     pub idle: usize,
 }
 
-/// Lloyd's iterations from `sites` (world coordinates) on `machine`, or on
-/// the CPU pixel algorithms without one, over `density` (one value per pixel
-/// of the frame, row-major, finite and not negative; uniform without one).
-/// `progress(done, total)` is called after each iteration.
+/// Lloyd's iterations from `sites` (world coordinates) on `backend` (the
+/// device's cones or the CPU pixel algorithms, the same labels), over
+/// `density` (one value per pixel of the frame, row-major, finite and not
+/// negative; uniform without one).
 pub fn lloyd(
+    backend: &Backend,
+    sites: &[DVec2],
+    density: Option<&[f64]>,
+    options: &LloydOptions,
+) -> Result<Lloyd> {
+    options
+        .control
+        .run(|| iterate(backend.machine(), sites, density, options))
+}
+
+fn iterate(
     machine: Option<&Machine>,
     sites: &[DVec2],
-    options: &LloydOptions,
     density: Option<&[f64]>,
-    progress: &mut dyn FnMut(u64, u64),
+    options: &LloydOptions,
 ) -> Result<Lloyd> {
     let frame = options.frame;
     let checked = Checked::new(sites)?;
@@ -130,7 +148,9 @@ pub fn lloyd(
             largest_move,
         });
         labels = label(&sites)?;
-        progress(steps.len() as u64, options.iterations as u64);
+        options
+            .control
+            .report(steps.len() as u64, options.iterations as u64);
         if largest_move <= options.tolerance {
             converged = true;
             break;

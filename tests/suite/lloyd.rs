@@ -5,6 +5,7 @@
 
 use crate::common::{machine, uniform};
 use glam::DVec2;
+use pixgeo::Backend;
 use pixgeo::{
     algorithms::lloyd::{lloyd, LloydOptions},
     geometry::Frame,
@@ -67,15 +68,8 @@ fn lloyd_matches_brute_force_on_the_device_and_the_cpu() {
     for q in [vec![1u64; w * h], density(w, h)] {
         let levels: Vec<f64> = q.iter().map(|&v| v as f64).collect();
         let options = LloydOptions::new(frame).iterations(6).tolerance(0.0);
-        let on_device = lloyd(
-            Some(&machine),
-            &start,
-            &options,
-            Some(&levels),
-            &mut |_, _| {},
-        )
-        .unwrap();
-        let on_cpu = lloyd(None, &start, &options, Some(&levels), &mut |_, _| {}).unwrap();
+        let on_device = lloyd(&Backend::Device(&machine), &start, Some(&levels), &options).unwrap();
+        let on_cpu = lloyd(&Backend::Cpu, &start, Some(&levels), &options).unwrap();
         assert_eq!(on_device, on_cpu);
         let mut sites = start.clone();
         for _ in 0..6 {
@@ -101,7 +95,7 @@ fn a_lattice_of_cell_centres_is_its_own_fixed_point() {
         .flat_map(|a| (0..4).map(move |b| DVec2::new(10.0 * a as f64 + 4.5, 10.0 * b as f64 + 4.5)))
         .collect();
     let options = LloydOptions::new(frame);
-    let answer = lloyd(Some(&machine), &sites, &options, None, &mut |_, _| {}).unwrap();
+    let answer = lloyd(&Backend::Device(&machine), &sites, None, &options).unwrap();
     assert_eq!(answer.sites, sites);
     assert!(answer.converged && answer.steps.len() == 1);
     assert_eq!(answer.steps[0].largest_move, 0.0);
@@ -113,7 +107,7 @@ fn lloyd_refuses_densities_it_cannot_sum_exactly() {
     let frame = Frame::pixels(8, 8).unwrap();
     let sites = [DVec2::new(2.0, 2.0), DVec2::new(5.0, 5.0)];
     let options = LloydOptions::new(frame);
-    let run = |d: &[f64]| lloyd(None, &sites, &options, Some(d), &mut |_, _| {});
+    let run = |d: &[f64]| lloyd(&Backend::Cpu, &sites, Some(d), &options);
     let mut d = vec![1.0; 64];
     d[3] = -1.0;
     assert!(run(&d).unwrap_err().to_string().contains("not negative"));

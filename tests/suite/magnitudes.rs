@@ -44,7 +44,7 @@ fn sites_at_1e_minus_300_get_exact_labels() {
         want
     );
     let lloyd_options = LloydOptions::new(Frame::pixels(64, 64).unwrap()).iterations(2);
-    let moved = lloyd(None, &tiny_sites(40), &lloyd_options, None, &mut |_, _| {}).unwrap();
+    let moved = lloyd(&Backend::Cpu, &tiny_sites(40), None, &lloyd_options).unwrap();
     assert_eq!(moved.labels.len(), 64 * 64);
 }
 

@@ -227,8 +227,13 @@ fn unsupported_combinations_are_clear_errors() {
     let (_, metric) = polygons().remove(0);
     let ties = VoronoiOptions::exact(frame).metric(metric).ties(true);
     assert!(voronoi(&Backend::Device(&m), &[DVec2::ZERO], &ties).is_err());
-    let settle =
-        pixgeo::algorithms::settle::potential_areas_cpu(&[DVec2::ZERO], &[], &frame, metric);
+    use pixgeo::algorithms::settle::{potential_areas, SettleOptions};
+    let settle = potential_areas(
+        &Backend::Cpu,
+        &[DVec2::ZERO],
+        &[],
+        &SettleOptions::new(frame).metric(metric),
+    );
     assert!(settle.is_err());
 }
 

@@ -15,7 +15,7 @@ use pixgeo::{
         homothet::{enclose, largest_empty, EmptyOptions, EncloseOptions, Region, Unit},
         interpolate::{interpolate, InterpolateOptions, Method as Natural},
         lloyd::{lloyd, LloydOptions},
-        settle::{potential_areas, potential_areas_cpu, SettleOptions},
+        settle::{potential_areas, SettleOptions},
         voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{cell::Rect, metric::Metric, Frame},
@@ -95,7 +95,7 @@ fn every_problem_checks_its_sites_once() {
             let run = || interpolate(on, &sites, &values, &InterpolateOptions::new(frame, method));
             count(&format!("{method:?}"), 1, checks("interpolate", run));
         }
-        let run = || lloyd(on.machine(), &sites, &lloyds, None, &mut |_, _| {});
+        let run = || lloyd(on, &sites, None, &lloyds);
         count("lloyd", 1, checks("lloyd", run));
     }
     let mut count = |what: &str, sets: u64, n: u64| once(what.to_string(), sets, n);
@@ -119,9 +119,9 @@ fn every_problem_checks_its_sites_once() {
         )
     };
     count("enclose 30 of 40", 1, checks("enclose", run));
-    let run = || potential_areas(m, a, b, &settle, &mut |_, _| {});
+    let run = || potential_areas(&Backend::Device(m), a, b, &settle);
     count("settle", 2, checks("settle", run));
-    let run = || potential_areas_cpu(a, b, &frame, Metric::L2);
+    let run = || potential_areas(&Backend::Cpu, a, b, &SettleOptions::new(frame));
     count("settle on the cpu", 2, checks("settle", run));
     count(
         "max distance",

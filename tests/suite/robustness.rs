@@ -140,7 +140,7 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
     });
     no_panic("settle", &(p, q), || {
         let options = SettleOptions::new(frame);
-        potential_areas(m, p, q, &options, &mut |_, _| {}).map(|_| ())
+        potential_areas(&Backend::Device(m), p, q, &options).map(|_| ())
     });
 }
 

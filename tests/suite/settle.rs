@@ -3,10 +3,9 @@
 //! refinement.
 
 use glam::DVec2;
+use pixgeo::Backend;
 use pixgeo::{
-    algorithms::settle::{
-        potential_areas, potential_areas_cpu, refine, PotentialAreas, SettleMethod, SettleOptions,
-    },
+    algorithms::settle::{potential_areas, refine, PotentialAreas, SettleMethod, SettleOptions},
     geometry::{metric::Metric, Frame},
     Machine,
 };
@@ -23,7 +22,7 @@ fn gpu(
     method: SettleMethod,
 ) -> PotentialAreas {
     let options = SettleOptions::new(frame).metric(metric).method(method);
-    potential_areas(machine, rivals, own, &options, &mut |_, _| {}).unwrap()
+    potential_areas(&Backend::Device(machine), rivals, own, &options).unwrap()
 }
 
 /// Checks `area` against the definition: equal for metrics with exact integer
@@ -185,13 +184,25 @@ fn cpu_variant_matches_the_device() {
     let rivals = crate::common::uniform(&mut rng, 9, 120.0, 90.0);
     let own = crate::common::uniform(&mut rng, 2, 120.0, 90.0);
     for metric in [Metric::L2, Metric::L1, Metric::LInf] {
-        let cpu = potential_areas_cpu(&rivals, &own, &frame, metric).unwrap();
+        let cpu = potential_areas(
+            &Backend::Cpu,
+            &rivals,
+            &own,
+            &SettleOptions::new(frame).metric(metric),
+        )
+        .unwrap();
         let gpu = gpu(&machine, &rivals, &own, frame, metric, SettleMethod::Spans);
         assert_eq!(cpu.area, gpu.area, "{metric}");
     }
     // L_p's powers round differently on the two processors: almost all agree.
     let metric = Metric::Lp(0.5);
-    let cpu = potential_areas_cpu(&rivals, &[], &frame, metric).unwrap();
+    let cpu = potential_areas(
+        &Backend::Cpu,
+        &rivals,
+        &[],
+        &SettleOptions::new(frame).metric(metric),
+    )
+    .unwrap();
     let gpu = gpu(&machine, &rivals, &[], frame, metric, SettleMethod::Spans);
     let differ = cpu
         .area
@@ -241,7 +252,7 @@ fn bad_input_is_an_error() {
     let frame = Frame::pixels(16, 16).unwrap();
     let options = SettleOptions::new(frame);
     let run = |rivals: &[DVec2], own: &[DVec2]| {
-        potential_areas(&machine, rivals, own, &options, &mut |_, _| {})
+        potential_areas(&Backend::Device(&machine), rivals, own, &options)
     };
     assert!(run(&[], &[]).is_err());
     assert!(run(&[DVec2::new(f64::NAN, 1.0)], &[]).is_err());
@@ -249,7 +260,7 @@ fn bad_input_is_an_error() {
     // Beyond one storage buffer's reach (lavapipe: 128 MB, 5792² counts).
     if machine.max_storage_buffer_bytes() < 4 * 8192 * 8192 {
         let huge = options.frame(Frame::pixels(8192, 8192).unwrap());
-        let error = potential_areas(&machine, &[DVec2::ONE], &[], &huge, &mut |_, _| {});
+        let error = potential_areas(&Backend::Device(&machine), &[DVec2::ONE], &[], &huge);
         assert!(error.unwrap_err().to_string().contains("smaller picture"));
     }
 }
@@ -298,7 +309,13 @@ fn cpu_counts_are_exact_for_integer_sites() {
             Metric::Lp(3.0),
             Metric::Lp(4.0),
         ] {
-            let cpu = potential_areas_cpu(&rivals, &[], &frame, metric).unwrap();
+            let cpu = potential_areas(
+                &Backend::Cpu,
+                &rivals,
+                &[],
+                &SettleOptions::new(frame).metric(metric),
+            )
+            .unwrap();
             for method in [SettleMethod::Spans, SettleMethod::Faithful] {
                 let device = gpu(&machine, &rivals, &[], frame, metric, method);
                 assert_eq!(device.area, cpu.area, "{sites:?} {metric} {method:?}");
@@ -349,7 +366,13 @@ fn device_counts_are_exact_for_the_doubles_given() {
     };
     let (rivals, own) = (lattice(7), lattice(2));
     for metric in [Metric::L2, Metric::L1, Metric::LInf] {
-        let cpu = potential_areas_cpu(&rivals, &own, &frame, metric).unwrap();
+        let cpu = potential_areas(
+            &Backend::Cpu,
+            &rivals,
+            &own,
+            &SettleOptions::new(frame).metric(metric),
+        )
+        .unwrap();
         for method in [SettleMethod::Spans, SettleMethod::Faithful] {
             let device = gpu(&machine, &rivals, &own, frame, metric, method);
             let differ = cpu
@@ -373,8 +396,15 @@ fn repeated_rivals_count_as_one() {
     let mut copies = vec![distinct[0]; 100_000];
     copies.push(distinct[1]);
     let own = [DVec2::new(20.0, 25.0), DVec2::new(20.0, 25.0)];
-    let cpu = potential_areas_cpu(&distinct, &own[..1], &frame, Metric::L2).unwrap();
-    let repeated = potential_areas_cpu(&copies, &own, &frame, Metric::L2).unwrap();
+    let cpu = potential_areas(
+        &Backend::Cpu,
+        &distinct,
+        &own[..1],
+        &SettleOptions::new(frame),
+    )
+    .unwrap();
+    let repeated =
+        potential_areas(&Backend::Cpu, &copies, &own, &SettleOptions::new(frame)).unwrap();
     assert_eq!(cpu.area, repeated.area);
     let device = gpu(
         &machine,
@@ -405,7 +435,13 @@ fn far_rivals_cover_the_picture_on_every_route() {
         metric,
         SettleMethod::Faithful,
     );
-    let cpu = potential_areas_cpu(&rivals, &[], &frame, metric).unwrap();
+    let cpu = potential_areas(
+        &Backend::Cpu,
+        &rivals,
+        &[],
+        &SettleOptions::new(frame).metric(metric),
+    )
+    .unwrap();
     assert!(
         spans.area.iter().all(|&a| a == 1600),
         "{:?}",

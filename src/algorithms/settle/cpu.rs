@@ -10,7 +10,7 @@ use crate::algorithms::certify::{Certifier, Disc};
 /// the band walks only the band's rows. Nearest sites come from
 /// the CPU Voronoi diagram (Euclidean) or a search over all sites (other
 /// metrics).
-pub fn potential_areas_cpu(
+pub(crate) fn potential_areas_cpu(
     rivals: &[DVec2],
     own: &[DVec2],
     frame: &Frame,

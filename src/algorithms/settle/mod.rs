@@ -39,6 +39,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::{
+    backend::drawn_only,
     error::{Error, Result},
     geometry::{
         cell,
@@ -51,7 +52,7 @@ use crate::{
         DepthTest, Draw, DrawParams, Format, Fragments, GraphicsProgram, Machine, PixelRect,
         RasterState, StencilOp, StencilTest, Target, Topology, MAX_GROUPS,
     },
-    Backend,
+    Backend, Control,
 };
 
 use super::certify::Certifier;
@@ -61,7 +62,7 @@ mod cpu;
 mod device;
 mod refine;
 
-pub use cpu::potential_areas_cpu;
+use cpu::potential_areas_cpu;
 use device::{count_faithful, count_spans, Push};
 pub use refine::{refine, Refined};
 
@@ -76,13 +77,14 @@ pub enum SettleMethod {
     Faithful,
 }
 
-/// What to compute.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What to compute, and the work's progress (on a device) and cancellation.
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct SettleOptions {
     pub frame: Frame,
     pub metric: Metric,
     pub method: SettleMethod,
+    pub control: Control,
 }
 
 impl SettleOptions {
@@ -92,6 +94,7 @@ impl SettleOptions {
             frame,
             metric: Metric::L2,
             method: SettleMethod::Spans,
+            control: Control::new(),
         }
     }
 
@@ -105,6 +108,10 @@ impl SettleOptions {
 
     pub fn method(self, method: SettleMethod) -> Self {
         Self { method, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
     }
 }
 
@@ -248,8 +255,9 @@ pub(crate) fn distinct(points: &[DVec2]) -> Vec<DVec2> {
 }
 
 /// The potential-area map of a new site among `rivals`, not counting pixels that
-/// `own` stores already hold (world coordinates), on the pixel machine.
-/// `progress(done, total)` is called as the counting proceeds.
+/// `own` stores already hold (world coordinates): on a device by the method
+/// the options name, on the CPU by row spans ([`SettleMethod::Faithful`]
+/// draws, so it needs a device); the same counts on every route.
 ///
 /// ```
 /// use glam::DVec2;
@@ -257,11 +265,30 @@ pub(crate) fn distinct(points: &[DVec2]) -> Vec<DVec2> {
 ///
 /// let rivals = [DVec2::new(5.0, 5.0), DVec2::new(58.0, 42.0)];
 /// let options = SettleOptions::new(Frame::pixels(64, 48)?);
-/// let map = pixgeo::with_default_machine(|m| potential_areas(m, &rivals, &[], &options, &mut |_, _| {}))?;
+/// let map = potential_areas(&pixgeo::Backend::Cpu, &rivals, &[], &options)?;
 /// assert!(map.best_area > 0 && map.area.len() == 64 * 48);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn potential_areas(
+    backend: &Backend,
+    rivals: &[DVec2],
+    own: &[DVec2],
+    options: &SettleOptions,
+) -> Result<PotentialAreas> {
+    let progress = &mut |done, total| options.control.report(done, total);
+    options.control.run(|| match (backend, options.method) {
+        (Backend::Device(machine), _) => drawn(machine, rivals, own, options, progress),
+        (Backend::Cpu, SettleMethod::Spans) => {
+            potential_areas_cpu(rivals, own, &options.frame, options.metric)
+        }
+        (Backend::Cpu, SettleMethod::Faithful) => {
+            Err(drawn_only("the faithful method's disc count"))
+        }
+    })
+}
+
+/// [`potential_areas`] on a device.
+fn drawn(
     machine: &Machine,
     rivals: &[DVec2],
     own: &[DVec2],
