@@ -23,7 +23,7 @@ use pixgeo::{
         area::{self, AreaOptions, Extreme},
         delaunay::{delaunay as triangulate, DelaunayOptions},
         distances::{self, Pair},
-        great_circle::{great_circle_grid, great_circle_nearest},
+        great_circle::great_circle_grid,
         higher_order::{self, KNearestOptions},
         homothet::{self, EmptyOptions, EncloseOptions, HomothetAnswer, Region, Unit},
         lloyd::{lloyd as lloyd_iterations, LloydOptions},
@@ -768,16 +768,7 @@ fn great_circle<'py>(
     let sites = points(&sites)?;
     let (lons, lats) = (lons.as_slice()?.to_vec(), lats.as_slice()?.to_vec());
     let (answer, name) = on_backend(py, device, Need::CpuUnlessGpu, |backend| {
-        let answer = match backend {
-            Backend::Device(m) => great_circle_grid(m, &sites, &lons, &lats, &|_, _| {})?,
-            Backend::Cpu => {
-                let places: Vec<DVec2> = lats
-                    .iter()
-                    .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))
-                    .collect();
-                great_circle_nearest(&sites, &places, &|_, _| {})?
-            }
-        };
+        let answer = great_circle_grid(backend, &sites, &lons, &lats, &Default::default())?;
         Ok((answer, backend.name().to_string()))
     })?;
     Ok((

@@ -8,6 +8,7 @@ use glam::DVec2;
 use pixgeo::algorithms::great_circle::{
     distance, great_circle_grid, great_circle_nearest, DISTANCE_ERROR,
 };
+use pixgeo::Backend;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -90,8 +91,21 @@ fn great_circles_on_the_device_are_the_cpus_answer() {
             .iter()
             .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))
             .collect();
-        let cpu = great_circle_nearest(&sites, &places, &|_, _| {}).unwrap();
-        let device = great_circle_grid(&machine, &sites, &lons, &lats, &|_, _| {}).unwrap();
+        let cpu = great_circle_nearest(&sites, &places, &Default::default()).unwrap();
+        let grid = great_circle_grid(&Backend::Cpu, &sites, &lons, &lats, &Default::default());
+        let grid = grid.unwrap();
+        assert!(
+            grid.labels == cpu.labels && grid.distances == cpu.distances,
+            "{name}"
+        );
+        let device = great_circle_grid(
+            &Backend::Device(&machine),
+            &sites,
+            &lons,
+            &lats,
+            &Default::default(),
+        )
+        .unwrap();
         let first_difference = |a: &[u32], b: &[u32]| a.iter().zip(b).position(|(a, b)| a != b);
         assert_eq!(
             first_difference(&device.labels, &cpu.labels),
@@ -130,8 +144,22 @@ fn great_circles_on_the_device_are_the_cpus_answer() {
 fn great_circles_on_the_device_refuse_places_off_the_earth() {
     let machine = machine();
     let sites = [DVec2::new(0.0, 0.0)];
-    let err = great_circle_grid(&machine, &sites, &[0.0], &[91.0], &|_, _| {}).unwrap_err();
+    let err = great_circle_grid(
+        &Backend::Device(&machine),
+        &sites,
+        &[0.0],
+        &[91.0],
+        &Default::default(),
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("latitude"), "{err}");
-    let err = great_circle_grid(&machine, &[], &[0.0], &[0.0], &|_, _| {}).unwrap_err();
+    let err = great_circle_grid(
+        &Backend::Device(&machine),
+        &[],
+        &[0.0],
+        &[0.0],
+        &Default::default(),
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("no sites"), "{err}");
 }

@@ -7,7 +7,7 @@ use anyhow::{bail, Result};
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        great_circle::{great_circle_grid, great_circle_nearest, DISTANCE_ERROR, EARTH_RADIUS},
+        great_circle::{great_circle_grid, GreatCircleOptions, DISTANCE_ERROR, EARTH_RADIUS},
         voronoi::Accuracy,
     },
     geometry::site::{Shape, Site},
@@ -78,17 +78,8 @@ pub(super) fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<
     let backend = chosen.backend();
     let started = std::time::Instant::now();
     let progress = Progress::new("voronoi: great circles", args.json);
-    let report = |done, total| progress.report(done, total);
-    let answer = match &backend {
-        Backend::Device(machine) => great_circle_grid(machine, &sites, &lons, &lats, &report)?,
-        Backend::Cpu => {
-            let places: Vec<DVec2> = lats
-                .iter()
-                .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y)))
-                .collect();
-            great_circle_nearest(&sites, &places, &report)?
-        }
-    };
+    let options = GreatCircleOptions::default().control(progress.control());
+    let answer = great_circle_grid(&backend, &sites, &lons, &lats, &options)?;
     drop(progress);
     let device = match &backend {
         Backend::Device(machine) => machine.device_name(),

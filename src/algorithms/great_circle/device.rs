@@ -44,13 +44,11 @@ const BAND_PIXELS: usize = MAX_GROUPS as usize * 64;
 /// The label bit the device sets where the host must decide.
 const UNSURE: u32 = 1 << 31;
 
-/// Every pixel's nearest site by great circle and its distance, computed on
-/// `machine`, for the grid whose columns have longitudes `lons` and whose
-/// rows have latitudes `lats` (degrees; places row by row). The answer is
+/// [`super::great_circle_grid`] on `machine`: the answer is
 /// [`super::great_circle_nearest`]'s for the same places, with
 /// [`GreatCircle::decided_on_host`] counting the pixels the device left to
 /// the host.
-pub fn great_circle_grid(
+pub(super) fn grid(
     machine: &Machine,
     sites: &[DVec2],
     lons: &[f64],

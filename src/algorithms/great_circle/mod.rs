@@ -29,15 +29,14 @@ use num_rational::BigRational;
 
 mod device;
 
-pub use device::great_circle_grid;
-
 use crate::{
     cancel::Watch,
+    control::Control,
     geometry::{
         exact::rational,
         precise::{cos_sin_of, Interval},
     },
-    Error, Result,
+    Backend, Error, Result,
 };
 
 /// The sphere's radius: the IUGG mean radius of the Earth (R1), in metres.
@@ -102,10 +101,60 @@ fn check(points: &[DVec2], what: &str) -> Result<()> {
     }
 }
 
+/// How to find nearest sites by great circle: the work's progress (places
+/// done) and cancellation.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct GreatCircleOptions {
+    pub control: Control,
+}
+
+impl GreatCircleOptions {
+    pub fn control(self, control: Control) -> Self {
+        Self { control }
+    }
+}
+
+/// Every pixel's nearest site by great circle and its distance, for the grid
+/// whose columns have longitudes `lons` and whose rows have latitudes `lats`
+/// (degrees; places row by row): on a device by a float filter the host
+/// decides where it is unsure ([`GreatCircle::decided_on_host`]), on the CPU
+/// by [`great_circle_nearest`]; the same answer bit for bit.
+pub fn great_circle_grid(
+    backend: &Backend,
+    sites: &[DVec2],
+    lons: &[f64],
+    lats: &[f64],
+    options: &GreatCircleOptions,
+) -> Result<GreatCircle> {
+    let control = &options.control;
+    let progress = |done, total| control.report(done, total);
+    control.run(|| match backend {
+        Backend::Device(machine) => device::grid(machine, sites, lons, lats, &progress),
+        Backend::Cpu => {
+            let count = lons.len().saturating_mul(lats.len());
+            let mut places = crate::memory::room(count, "the grid's places")?;
+            places.extend(
+                lats.iter()
+                    .flat_map(|&y| lons.iter().map(move |&x| DVec2::new(x, y))),
+            );
+            nearest_places(sites, &places, &progress)
+        }
+    })
+}
+
 /// Each of `places`' nearest site among `sites` by great circle, and the
-/// distance to it, calling `progress(done, total)` and looking at the cancel
-/// flag as it goes.
+/// distance to it.
 pub fn great_circle_nearest(
+    sites: &[DVec2],
+    places: &[DVec2],
+    options: &GreatCircleOptions,
+) -> Result<GreatCircle> {
+    let control = &options.control;
+    control.run(|| nearest_places(sites, places, &|done, total| control.report(done, total)))
+}
+
+fn nearest_places(
     sites: &[DVec2],
     places: &[DVec2],
     progress: &(dyn Fn(u64, u64) + Sync),
@@ -367,7 +416,7 @@ mod tests {
                 )
             })
             .collect();
-        let answer = great_circle_nearest(&sites, &places, &|_, _| {}).unwrap();
+        let answer = great_circle_nearest(&sites, &places, &Default::default()).unwrap();
         for (k, &place) in places.iter().enumerate() {
             let brute = sites
                 .iter()
@@ -378,7 +427,9 @@ mod tests {
                 "{k}"
             );
         }
-        assert!(great_circle_nearest(&sites, &[DVec2::new(0.0, 91.0)], &|_, _| {}).is_err());
+        assert!(
+            great_circle_nearest(&sites, &[DVec2::new(0.0, 91.0)], &Default::default()).is_err()
+        );
     }
 
     #[test]
@@ -395,7 +446,7 @@ mod tests {
         let tree = Tree::new(sites.iter().map(|&p| unit_vector(p)).collect());
         let [(first, i), (second, _)] = tree.two_nearest(unit_vector(place));
         assert_eq!((first, i), (second, 0));
-        let answer = great_circle_nearest(&sites, &[place], &|_, _| {}).unwrap();
+        let answer = great_circle_nearest(&sites, &[place], &Default::default()).unwrap();
         assert_eq!((answer.labels[0], answer.equidistant), (1, 0));
         // Truly equidistant sites (and a third one farther) stay tied: the
         // lower index, counted.
@@ -404,11 +455,13 @@ mod tests {
             DVec2::new(10.0, 0.0),
             DVec2::new(-10.0, 0.0),
         ];
-        let answer = great_circle_nearest(&sites, &[DVec2::new(0.0, 0.0)], &|_, _| {}).unwrap();
+        let answer =
+            great_circle_nearest(&sites, &[DVec2::new(0.0, 0.0)], &Default::default()).unwrap();
         assert_eq!((answer.labels[0], answer.equidistant), (1, 1));
         // The same longitude a turn apart is the same meridian.
         let sites = [DVec2::new(370.0, 0.0), DVec2::new(-10.0, 0.0)];
-        let answer = great_circle_nearest(&sites, &[DVec2::new(0.0, 0.0)], &|_, _| {}).unwrap();
+        let answer =
+            great_circle_nearest(&sites, &[DVec2::new(0.0, 0.0)], &Default::default()).unwrap();
         assert_eq!((answer.labels[0], answer.equidistant), (0, 1));
     }
 }
