@@ -15,12 +15,11 @@ use std::{path::PathBuf, process::Command, time::Instant};
 use common::plot::{Series, PALETTE};
 use pixgeo::{
     algorithms::{
-        cpu,
         distances::{hausdorff, HausdorffOptions},
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Speedup, VoronoiOptions},
     },
-    geometry::{metric::Metric, Frame},
+    geometry::Frame,
     Machine,
 };
 use plotters::style::RGBColor;
@@ -81,7 +80,7 @@ fn main() -> anyhow::Result<()> {
         &VoronoiOptions::exact(frame),
     )?;
     let order = |speedup| KNearestOptions::exact(frame, LEVELS).speedup(speedup);
-    k_nearest(&machine, &warm, &order(Speedup::Local))?;
+    k_nearest(&Backend::Device(&machine), &warm, &order(Speedup::Local))?;
 
     // rows[n] = (times per speedup, one diagram)
     let mut rows: Vec<(Vec<Option<f64>>, f64)> = Vec::new();
@@ -94,7 +93,7 @@ fn main() -> anyhow::Result<()> {
                 continue;
             }
             let t = time(repeats, || {
-                k_nearest(&machine, &sites, &order(speedup))?;
+                k_nearest(&Backend::Device(&machine), &sites, &order(speedup))?;
                 Ok(())
             })?;
             eprintln!("n = {n:>5}  order {LEVELS}, {name:<22} {t:>9.1} ms");
@@ -107,7 +106,11 @@ fn main() -> anyhow::Result<()> {
         eprintln!("n = {n:>5}  order {LEVELS}, thesis peeling         {peeled:>9.1} ms");
         times.push(Some(peeled));
         let on_cpu = time(repeats, || {
-            cpu::k_nearest(&sites, &frame, LEVELS, Metric::L2)?;
+            k_nearest(
+                &Backend::Cpu,
+                &sites,
+                &KNearestOptions::exact(frame, LEVELS),
+            )?;
             Ok(())
         })?;
         eprintln!("n = {n:>5}  order {LEVELS}, CPU pixel algorithm    {on_cpu:>9.1} ms");

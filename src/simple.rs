@@ -22,7 +22,6 @@ use crate::{
     algorithms::{
         alpha_hull::{self, AlphaHull, AlphaOptions},
         area::{self, AreaAnswer, AreaOptions, Extreme},
-        cpu,
         delaunay::{self, Delaunay, DelaunayOptions},
         distances::{self, Answer, Hausdorff},
         higher_order::{self, Furthest, KNearest, KNearestOptions},
@@ -101,9 +100,8 @@ pub fn voronoi(points: &[DVec2], width: u32, height: u32) -> Result<VoronoiDiagr
 pub fn k_nearest(points: &[DVec2], width: u32, height: u32, k: u32) -> Result<KNearest> {
     let frame = Frame::pixels(width, height)?;
     let options = KNearestOptions::exact(frame, k);
-    with_default_backend(Need::DeviceIfAny, |backend| match backend {
-        Backend::Device(m) => higher_order::k_nearest(m, points, &options),
-        Backend::Cpu => cpu::k_nearest(points, &frame, k, Metric::L2),
+    with_default_backend(Need::DeviceIfAny, |backend| {
+        higher_order::k_nearest(backend, points, &options)
     })
 }
 

@@ -6,7 +6,7 @@ use super::*;
 use pixgeo::algorithms::{
     higher_order::{self, KNearestOptions},
     sites::voronoi_sites,
-    voronoi::{voronoi_bands, Band, VoronoiOptions, VoronoiStats},
+    voronoi::{voronoi_bands, Accuracy, Band, VoronoiOptions, VoronoiStats},
 };
 
 /// The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
@@ -134,8 +134,12 @@ pub unsafe extern "C" fn pixgeo_k_nearest(
         let (frame, accuracy, speedup) = picture_of(&o)?;
         // SAFETY: `xy` holds `2 * count` doubles (caller contract).
         let sites = unsafe { points(xy, count) }?;
+        let need = match accuracy {
+            Accuracy::Exact => Need::DeviceIfAny,
+            _ => Need::Drawing("the fast mode's fans"),
+        };
         let d = higher_order::k_nearest(
-            context.machine("the k nearest sites")?,
+            &context.backend_for(need)?,
             &sites,
             &KNearestOptions::exact(frame, k)
                 .metric(metric_of(&o)?)

@@ -138,11 +138,13 @@ pub fn run(args: Args) -> Result<()> {
     let method = args.method;
     let chosen = crate::device::choose(args.device.as_deref(), crate::device::need(false))?;
     let backend = chosen.backend();
-    let message = match backend {
-        Backend::Device(_) => format!("counting discs ({method:?})").to_lowercase(),
-        Backend::Cpu => "counting spans".into(),
+    let progress = match backend {
+        Backend::Device(_) => Progress::new(
+            &format!("counting discs ({method:?})").to_lowercase(),
+            args.json,
+        ),
+        Backend::Cpu => Progress::working("counting spans", args.json),
     };
-    let progress = Progress::new(&message, args.json);
     let options = SettleOptions::new(frame)
         .metric(metric)
         .method(method)

@@ -633,7 +633,13 @@ fn k_nearest<'py>(
     let options = KNearestOptions::exact(frame(width, height, bbox)?, k)
         .metric(metric(metric_name)?)
         .accuracy(named::<Accuracy>(mode)?);
-    let d = on_machine(py, device, |m| higher_order::k_nearest(m, &sites, &options))?;
+    let need = match options.accuracy {
+        Accuracy::Exact => Need::DeviceIfAny,
+        _ => Need::Drawing("the fast mode's fans"),
+    };
+    let d = on_backend(py, device, need, |backend| {
+        higher_order::k_nearest(backend, &sites, &options)
+    })?;
     let shape = (d.height as usize, d.width as usize, d.k as usize);
     let wrong = |e: numpy::ndarray::ShapeError| InternalError::new_err(e.to_string());
     Ok((

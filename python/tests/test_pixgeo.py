@@ -439,6 +439,7 @@ c = pixgeo.enclosing_circle(points)
 np.save(d + "/furthest.npy", pixgeo.furthest(points, (20, 20), bbox=(0, 0, 4, 4)).labels)
 np.save(d + "/circle.npy", np.array([*c.centre, c.radius, *c.sites]))
 np.save(d + "/settle.npy", pixgeo.settle(points[:20], (20, 20), bbox=(0, 0, 4, 4)).area)
+np.save(d + "/levels.npy", pixgeo.k_nearest(points, (20, 20), 3, bbox=(0, 0, 4, 4)).labels)
 # The discrete method is drawn where a device starts: here, with a warning.
 pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="discrete")
 """
@@ -467,6 +468,8 @@ pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="dis
     c = pixgeo.enclosing_circle(points, device="lavapipe")
     here["circle"] = np.array([*c.centre, c.radius, *c.sites])
     here["settle"] = pixgeo.settle(points[:20], (20, 20), bbox=(0, 0, 4, 4), device="lavapipe").area
+    levels = pixgeo.k_nearest(points, (20, 20), 3, bbox=(0, 0, 4, 4), device="lavapipe")
+    here["levels"] = levels.labels
     for name, want in here.items():
         got = np.load(tmp_path / f"{name}.npy")
         assert got.dtype == want.dtype and np.array_equal(got, want, equal_nan=True), name

@@ -83,24 +83,8 @@ fn isqrt(v: i64) -> i64 {
 }
 
 /// Every pixel's `k` nearest sites (world coordinates) on `frame`, computed on the
-/// CPU by growing the sites (thesis §3.12.2).
-pub fn k_nearest(sites: &[DVec2], frame: &Frame, k: u32, metric: Metric) -> Result<KNearest> {
-    k_nearest_with_progress(sites, frame, k, metric, &mut |_, _| {})
-}
-
-/// [`k_nearest`], calling `progress(done, total)` as the sites' rings grow
-/// (radii in pixels).
-pub fn k_nearest_with_progress(
-    sites: &[DVec2],
-    frame: &Frame,
-    k: u32,
-    metric: Metric,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<KNearest> {
-    k_nearest_checked(Checked::new(sites)?, frame, k, metric, progress)
-}
-
-/// [`k_nearest_with_progress`] of sites checked where they entered.
+/// CPU by growing the sites (thesis §3.12.2), of sites checked where they
+/// entered; `progress(done, total)` as the sites' rings grow (radii in pixels).
 pub(crate) fn k_nearest_checked(
     sites: Checked<'_>,
     frame: &Frame,
@@ -295,14 +279,10 @@ fn insert(list: &mut [(f64, u32)], key: (f64, u32)) {
     list[at] = key;
 }
 
-/// The furthest-site diagram on the CPU: every pixel against the convex hull's
-/// sites, the only ones that own furthest regions, found as the device's
-/// proposals are proved: in doubles where they tell, exactly elsewhere.
-pub fn furthest(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Furthest> {
-    furthest_checked(Checked::new(sites)?, frame, metric)
-}
-
-/// [`furthest`] of sites checked where they entered.
+/// The furthest-site diagram on the CPU, of sites checked where they entered:
+/// every pixel against the convex hull's sites, the only ones that own
+/// furthest regions, found as the device's proposals are proved: in doubles
+/// where they tell, exactly elsewhere.
 pub(crate) fn furthest_checked(
     sites: Checked<'_>,
     frame: &Frame,
@@ -321,7 +301,7 @@ pub(crate) fn furthest_checked(
 /// and that distance (world units), row-major. Exact.
 ///
 /// The thesis's growth through one offset table (§3.12.1) assumes sites that are
-/// unweighted points ([`k_nearest`]); here each 32² block of pixels orders the
+/// unweighted points (`k_nearest_checked`); here each 32² block of pixels orders the
 /// sites by a lower bound of their weighted distance over the block (from the
 /// Euclidean gap between the block and the shape's box) and every pixel stops at
 /// the first site whose bound exceeds its best.

@@ -9,7 +9,6 @@
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        cpu,
         higher_order::{k_nearest, k_nearest_peeled, KNearestOptions},
         voronoi::{voronoi, Method, Speedup, VoronoiOptions},
     },
@@ -146,7 +145,12 @@ fn diagrams_are_exact(
     let what = |route: &str| format!("{name}, {metric}, {route}");
     let base = VoronoiOptions::exact(frame).metric(metric);
     let cones = base.method(Method::Cones);
-    let grown = cpu::k_nearest(sites, &frame, 1, metric).unwrap();
+    let grown = k_nearest(
+        &Backend::Cpu,
+        sites,
+        &KNearestOptions::exact(frame, 1).metric(metric),
+    )
+    .unwrap();
     let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<u32>>();
     let mut routes = vec![
         ("screen tiles", cones),
@@ -230,7 +234,9 @@ fn diagrams_are_exact(
     check(
         failures,
         &what("3 nearest"),
-        &k_nearest(m, sites, &options).unwrap().labels,
+        &k_nearest(&Backend::Device(m), sites, &options)
+            .unwrap()
+            .labels,
         &ranks,
     );
     check(
@@ -242,7 +248,13 @@ fn diagrams_are_exact(
     check(
         failures,
         &what("3 nearest on the cpu"),
-        &cpu::k_nearest(sites, &frame, 3, metric).unwrap().labels,
+        &k_nearest(
+            &Backend::Cpu,
+            sites,
+            &KNearestOptions::exact(frame, 3).metric(metric),
+        )
+        .unwrap()
+        .labels,
         &ranks,
     );
 }
@@ -330,7 +342,7 @@ proptest::proptest! {
         let (ranks, _) = exact_k_nearest(&sites, &frame, metric, 1);
         let options = VoronoiOptions::exact(frame).metric(metric);
         let device = voronoi(&Backend::Device(&m), &sites, &options.method(Method::Cones)).unwrap();
-        let grown = cpu::k_nearest(&sites, &frame, 1, metric).unwrap();
+        let grown = k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 1).metric(metric)).unwrap();
         proptest::prop_assert_eq!(&device.labels, &ranks);
         proptest::prop_assert_eq!(&grown.labels, &ranks);
         if metric == Metric::L2 {
@@ -397,7 +409,12 @@ fn polygon_labels_are_exact_in_every_tile() {
             let all = PixelRect::sized(frame.width, frame.height);
             let nearest = levels_in(&ranks, 3, 1, &frame, all);
             let base = VoronoiOptions::exact(frame).metric(metric);
-            let grown = cpu::k_nearest(sites, &frame, 1, metric).unwrap();
+            let grown = k_nearest(
+                &Backend::Cpu,
+                sites,
+                &KNearestOptions::exact(frame, 1).metric(metric),
+            )
+            .unwrap();
             check(&mut failures, &what("cpu"), &grown.labels, &nearest);
             for (route, options) in [
                 ("screen tiles", base),
@@ -432,7 +449,7 @@ fn polygon_labels_are_exact_in_every_tile() {
                 &levels_in(&ranks, 3, 1, &frame, window),
             );
             let options = KNearestOptions::exact(frame, 3).metric(metric);
-            let three = k_nearest(&m, sites, &options).unwrap();
+            let three = k_nearest(&Backend::Device(&m), sites, &options).unwrap();
             check(&mut failures, &what("3 nearest"), &three.labels, &ranks);
         }
     }

@@ -8,7 +8,6 @@ use pixgeo::geometry::predicates::convex_hull;
 use pixgeo::Backend;
 use pixgeo::{
     algorithms::{
-        cpu,
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearest, KNearestOptions},
         voronoi::{Accuracy, Speedup},
     },
@@ -73,7 +72,7 @@ fn k_nearest_sites_match_the_definition() {
         for speedup in SPEEDUPS {
             for k in [1, 4, 10] {
                 let d = k_nearest(
-                    &m,
+                    &Backend::Device(&m),
                     &sites,
                     &KNearestOptions::exact(frame, k).speedup(speedup),
                 )
@@ -92,7 +91,7 @@ fn many_cones_fill_several_rows_of_records() {
     let frame = Frame::pixels(160, 100).unwrap();
     let sites = frame.random_points(900, 7);
     let d = k_nearest(
-        &m,
+        &Backend::Device(&m),
         &sites,
         &KNearestOptions::exact(frame, 6).speedup(Speedup::None),
     )
@@ -106,7 +105,12 @@ fn long_lists_insert_with_atomics() {
     let m = machine();
     let frame = Frame::pixels(24, 20).unwrap();
     let (_, sites) = cases(24, 20).remove(0);
-    let d = k_nearest(&m, &sites, &KNearestOptions::exact(frame, 40)).unwrap();
+    let d = k_nearest(
+        &Backend::Device(&m),
+        &sites,
+        &KNearestOptions::exact(frame, 40),
+    )
+    .unwrap();
     assert_levels(&d, &sites, &frame, "k=40");
 }
 
@@ -131,7 +135,7 @@ fn fan_levels_stay_inside_their_bound() {
         let truth = k_nearest_by_metric(&sites, &frame, k as usize, metric);
         for speedup in SPEEDUPS {
             let d = k_nearest(
-                &m,
+                &Backend::Device(&m),
                 &sites,
                 &KNearestOptions::exact(frame, k)
                     .metric(metric)
@@ -167,7 +171,7 @@ fn equal_distances_keep_their_multiplicity() {
         .collect();
     for speedup in SPEEDUPS {
         let d = k_nearest(
-            &m,
+            &Backend::Device(&m),
             &sites,
             &KNearestOptions::exact(frame, 12).speedup(speedup),
         )
@@ -190,7 +194,12 @@ fn more_levels_than_sites_stay_empty() {
         DVec2::new(20.5, 11.0),
         DVec2::new(3.0, 4.0),
     ];
-    let d = k_nearest(&m, &sites, &KNearestOptions::exact(frame, 5)).unwrap();
+    let d = k_nearest(
+        &Backend::Device(&m),
+        &sites,
+        &KNearestOptions::exact(frame, 5),
+    )
+    .unwrap();
     assert_levels(&d, &sites, &frame, "three sites, five levels");
 }
 
@@ -200,7 +209,12 @@ fn order_sets_are_the_sets_of_nearest_sites() {
     let frame = Frame::pixels(64, 48).unwrap();
     let (_, sites) = cases(64, 48).remove(0);
     let k = 3;
-    let d = k_nearest(&m, &sites, &KNearestOptions::exact(frame, k)).unwrap();
+    let d = k_nearest(
+        &Backend::Device(&m),
+        &sites,
+        &KNearestOptions::exact(frame, k),
+    )
+    .unwrap();
     let sets = d.order_sets();
     let truth = k_nearest_brute_force(&sites, &frame, k as usize);
     for (p, expected) in truth.iter().enumerate() {
@@ -306,10 +320,10 @@ fn bad_input_is_a_clear_error() {
     let frame = Frame::pixels(10, 10).unwrap();
     let sites = [DVec2::new(1.0, 1.0)];
     let opts = |k| KNearestOptions::exact(frame, k);
-    assert!(k_nearest(&m, &sites, &opts(0)).is_err());
-    assert!(k_nearest(&m, &sites, &opts(100_000)).is_err());
-    assert!(k_nearest(&m, &[], &opts(2)).is_err());
-    assert!(k_nearest(&m, &[DVec2::new(f64::NAN, 0.0)], &opts(2)).is_err());
+    assert!(k_nearest(&Backend::Device(&m), &sites, &opts(0)).is_err());
+    assert!(k_nearest(&Backend::Device(&m), &sites, &opts(100_000)).is_err());
+    assert!(k_nearest(&Backend::Device(&m), &[], &opts(2)).is_err());
+    assert!(k_nearest(&Backend::Device(&m), &[DVec2::new(f64::NAN, 0.0)], &opts(2)).is_err());
     assert!(furthest(&Backend::Device(&m), &[], &frame, Metric::L2).is_err());
 }
 
@@ -330,8 +344,12 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
         for (name, sites) in cases(97, 73) {
             let name = format!("{metric} {name}");
             for k in [1, 4] {
-                let c = cpu::k_nearest(&sites, &frame, k, metric)
-                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+                let c = k_nearest(
+                    &Backend::Cpu,
+                    &sites,
+                    &KNearestOptions::exact(frame, k).metric(metric),
+                )
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
                 if metric == Metric::L2 {
                     assert_levels(&c, &sites, &frame, &format!("cpu {name} k={k}"));
                 } else {
@@ -346,8 +364,12 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                         }
                     }
                 }
-                let g = k_nearest(&m, &sites, &KNearestOptions::exact(frame, k).metric(metric))
-                    .unwrap();
+                let g = k_nearest(
+                    &Backend::Device(&m),
+                    &sites,
+                    &KNearestOptions::exact(frame, k).metric(metric),
+                )
+                .unwrap();
                 for (a, b) in c.distances.iter().zip(&g.distances) {
                     assert!(
                         a == b || close(*a as f64, *b as f64),
@@ -355,7 +377,7 @@ fn cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                     );
                 }
             }
-            let f = cpu::furthest(&sites, &frame, metric).unwrap();
+            let f = furthest(&Backend::Cpu, &sites, &frame, metric).unwrap();
             let g = furthest(&Backend::Device(&m), &sites, &frame, metric).unwrap();
             for (a, b) in f.distances.iter().zip(&g.distances) {
                 assert!(
@@ -386,8 +408,9 @@ fn the_thesis_peeling_gives_the_same_levels() {
             assert_levels(&d, &sites, &frame, &format!("peeled {name} {speedup:?}"));
             // The same labels and distances, bit for bit, as the default's and
             // the CPU's.
-            let drawn = k_nearest(&m, &sites, &options).unwrap();
-            let on_cpu = cpu::k_nearest(&sites, &frame, 5, Metric::L2).unwrap();
+            let drawn = k_nearest(&Backend::Device(&m), &sites, &options).unwrap();
+            let on_cpu =
+                k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 5)).unwrap();
             let bits = |d: &KNearest| d.distances.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
             for (route, other) in [("default", &drawn), ("cpu", &on_cpu)] {
                 assert!(
@@ -412,8 +435,8 @@ fn other_metrics_give_their_k_nearest() {
                         .metric(metric)
                         .speedup(speedup);
                     let what = format!("{metric} {name} {speedup:?} k={k}");
-                    let d =
-                        k_nearest(&m, &sites, &options).unwrap_or_else(|e| panic!("{what}: {e}"));
+                    let d = k_nearest(&Backend::Device(&m), &sites, &options)
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
                     assert_levels_in(&d, &sites, &frame, &what, metric);
                 }
                 let options = KNearestOptions::exact(frame, 3)
@@ -443,18 +466,20 @@ fn the_cpu_growth_skips_to_far_sites() {
         DVec2::new(2e8, -3e8),
     ];
     let started = std::time::Instant::now();
-    let d = cpu::k_nearest(&sites, &frame, 2, Metric::L2).unwrap();
+    let d = k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 2)).unwrap();
     assert!(started.elapsed().as_secs() < 5);
     assert_levels(&d, &sites, &frame, "far sites on the CPU");
     // Past 1e9 pixels the nearest site comes from the search by blocks; more
     // levels are refused.
     let farther = [DVec2::new(1e12, 0.0), DVec2::new(-1e12, 3.0)];
-    let d = cpu::k_nearest(&farther, &frame, 1, Metric::L2).unwrap();
+    let d = k_nearest(&Backend::Cpu, &farther, &KNearestOptions::exact(frame, 1)).unwrap();
     assert_levels(&d, &farther, &frame, "sites 1e12 out on the CPU");
-    assert!(cpu::k_nearest(&farther, &frame, 2, Metric::L2)
-        .unwrap_err()
-        .to_string()
-        .contains("pixels from the picture"));
+    assert!(
+        k_nearest(&Backend::Cpu, &farther, &KNearestOptions::exact(frame, 2))
+            .unwrap_err()
+            .to_string()
+            .contains("pixels from the picture")
+    );
 }
 
 #[test]
@@ -479,9 +504,20 @@ fn repeated_sites_cost_one_position_and_keep_their_ids() {
     for metric in [Metric::L2, Metric::L1] {
         let options = KNearestOptions::exact(frame, k).metric(metric);
         let routes = [
-            ("levels", k_nearest(&m, &sites, &options).unwrap()),
+            (
+                "levels",
+                k_nearest(&Backend::Device(&m), &sites, &options).unwrap(),
+            ),
             ("peeled", k_nearest_peeled(&m, &sites, &options).unwrap()),
-            ("cpu", cpu::k_nearest(&sites, &frame, k, metric).unwrap()),
+            (
+                "cpu",
+                k_nearest(
+                    &Backend::Cpu,
+                    &sites,
+                    &KNearestOptions::exact(frame, k).metric(metric),
+                )
+                .unwrap(),
+            ),
         ];
         let distinct: Vec<DVec2> = positions.iter().map(|&p| sites[p as usize]).collect();
         let truth = k_nearest_by_metric(&distinct, &frame, distinct.len(), metric);
@@ -512,18 +548,19 @@ fn repeated_sites_cost_one_position_and_keep_their_ids() {
 /// without a report.
 #[test]
 fn cpu_growth_reports_its_progress() {
-    use pixgeo::algorithms::cpu;
     let frame = Frame::pixels(64, 48).unwrap();
     let sites = [
         DVec2::new(3.0, 4.0),
         DVec2::new(40.5, 20.0),
         DVec2::new(60.0, 45.0),
     ];
-    let mut told = Vec::new();
-    let reported =
-        cpu::k_nearest_with_progress(&sites, &frame, 2, Metric::L2, &mut |d, t| told.push((d, t)))
-            .unwrap();
-    let plain = cpu::k_nearest(&sites, &frame, 2, Metric::L2).unwrap();
+    let told = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let tell = told.clone();
+    let control = pixgeo::Control::new().progress(move |d, t| tell.lock().unwrap().push((d, t)));
+    let options = KNearestOptions::exact(frame, 2).control(control);
+    let reported = k_nearest(&Backend::Cpu, &sites, &options).unwrap();
+    let told = told.lock().unwrap().clone();
+    let plain = k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 2)).unwrap();
     assert_eq!(reported.labels, plain.labels);
     let total = told.last().unwrap().1;
     assert!(
@@ -584,7 +621,7 @@ fn furthest_is_exact_and_the_same_on_every_route() {
         for (name, frame, sites) in &cases {
             let name = format!("{metric} {name}");
             let device = furthest(&Backend::Device(&m), sites, frame, metric).unwrap();
-            let on_cpu = cpu::furthest(sites, frame, metric).unwrap();
+            let on_cpu = furthest(&Backend::Cpu, sites, frame, metric).unwrap();
             assert!(
                 device.labels == on_cpu.labels,
                 "{name}: labels differ by route"

@@ -6,7 +6,6 @@
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        cpu,
         delaunay::{delaunay, DelaunayOptions},
         distances::{directed_hausdorff, HausdorffOptions, Method as HausdorffMethod},
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
@@ -57,7 +56,7 @@ fn nearest_sites_are_the_same_on_every_route() {
         let (want, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
         let base = VoronoiOptions::exact(frame);
         let cones = base.method(Method::Cones);
-        let grown = cpu::k_nearest(&sites, &frame, 1, Metric::L2).unwrap();
+        let grown = k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 1)).unwrap();
         differences.check(format!("{name}: growth on the CPU"), &grown.labels, &want);
         // Every route's distances are the CPU's: the float32s nearest the exact ones.
         differences.check(
@@ -120,9 +119,12 @@ fn second_nearest_sites_are_the_same_on_every_route() {
     for Hostile { name, frame, sites } in hostile(W, H) {
         let (want, _) = exact_k_nearest(&sites, &frame, Metric::L2, 2);
         let options = KNearestOptions::exact(frame, 2);
-        let grown = cpu::k_nearest(&sites, &frame, 2, Metric::L2).unwrap();
+        let grown = k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 2)).unwrap();
         let routes = [
-            ("levels", k_nearest(&m, &sites, &options).unwrap()),
+            (
+                "levels",
+                k_nearest(&Backend::Device(&m), &sites, &options).unwrap(),
+            ),
             ("peeled", k_nearest_peeled(&m, &sites, &options).unwrap()),
             ("growth on the CPU", grown.clone()),
         ];

@@ -8,7 +8,6 @@ use std::f64::consts::TAU;
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        cpu,
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
         sites::voronoi_sites,
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
@@ -150,8 +149,14 @@ fn levels_furthest_and_cpu_match_the_definition() {
             let k = 3;
             let truth = k_nearest_by_metric(&sites, &frame, k, metric);
             let options = KNearestOptions::exact(frame, k as u32).metric(metric);
-            let g = k_nearest(&m, &sites, &options).unwrap_or_else(|e| panic!("{what}: {e}"));
-            let c = cpu::k_nearest(&sites, &frame, k as u32, metric).unwrap();
+            let g = k_nearest(&Backend::Device(&m), &sites, &options)
+                .unwrap_or_else(|e| panic!("{what}: {e}"));
+            let c = k_nearest(
+                &Backend::Cpu,
+                &sites,
+                &KNearestOptions::exact(frame, k as u32).metric(metric),
+            )
+            .unwrap();
             for (p, expected) in truth.iter().enumerate() {
                 for (l, &(_, dist)) in expected.iter().enumerate() {
                     let (gd, cd) = (g.distances[p * k + l] as f64, c.distances[p * k + l] as f64);
@@ -163,7 +168,7 @@ fn levels_furthest_and_cpu_match_the_definition() {
             }
             let (_, far) = furthest_brute_force(&sites, &frame, metric);
             let f = furthest(&Backend::Device(&m), &sites, &frame, metric).unwrap();
-            let fc = cpu::furthest(&sites, &frame, metric).unwrap();
+            let fc = furthest(&Backend::Cpu, &sites, &frame, metric).unwrap();
             for (p, &want) in far.iter().enumerate() {
                 let (gpu, cpu) = (f.distances[p] as f64, fc.distances[p] as f64);
                 assert!(

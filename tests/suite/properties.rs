@@ -256,7 +256,7 @@ fn k_nearest_levels_with_and_without_peeling() {
                 let d = if peeled {
                     k_nearest_peeled(&m, &sites, &options)
                 } else {
-                    k_nearest(&m, &sites, &options)
+                    k_nearest(&Backend::Device(&m), &sites, &options)
                 }
                 .map_err(|e| TestCaseError::fail(format!("k={k} peeled={peeled}: {e}")))?;
                 for (p, expected) in truth.iter().enumerate() {

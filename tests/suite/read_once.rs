@@ -8,7 +8,6 @@ use pixgeo::{
         alpha_hull::{alpha_hull, AlphaMethod, AlphaOptions},
         area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
         cells::{voronoi_cells, CellsOptions},
-        cpu,
         delaunay::{delaunay, DelaunayOptions},
         distances::{diameter, hausdorff, max_distance, HausdorffOptions},
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
@@ -102,9 +101,11 @@ fn every_problem_checks_its_sites_once() {
     count(
         "k nearest",
         1,
-        checks("k nearest", || k_nearest(m, &sites, &second)),
+        checks("k nearest", || {
+            k_nearest(&Backend::Device(m), &sites, &second)
+        }),
     );
-    let run = || cpu::k_nearest(&sites, &frame, 2, Metric::L2);
+    let run = || k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 2));
     count("k nearest on the cpu", 1, checks("k nearest", run));
     count(
         "peeled",

@@ -10,7 +10,6 @@ use pixgeo::{
     algorithms::{
         alpha_hull::{alpha_hull, AlphaOptions},
         area::{extremal_quadrangle, extremal_triangle, AreaOptions, Extreme},
-        cpu,
         delaunay::{delaunay, DelaunayOptions},
         distances::{diameter, hausdorff, HausdorffOptions},
         higher_order::{furthest, k_nearest, KNearestOptions},
@@ -80,10 +79,15 @@ fn entry_points(m: &Machine, p: &[DVec2], q: &[DVec2], scalar: f64) {
     });
     no_panic("k_nearest", &p, || {
         let options = KNearestOptions::exact(frame, 2);
-        k_nearest(m, p, &options).map(|_| ())
+        k_nearest(&Backend::Device(m), p, &options).map(|_| ())
     });
     no_panic("cpu k_nearest", &p, || {
-        cpu::k_nearest(p, &frame, 1, Metric::L1).map(|_| ())
+        k_nearest(
+            &Backend::Cpu,
+            p,
+            &KNearestOptions::exact(frame, 1).metric(Metric::L1),
+        )
+        .map(|_| ())
     });
     no_panic("furthest", &p, || {
         furthest(&Backend::Device(m), p, &frame, Metric::L2).map(|_| ())

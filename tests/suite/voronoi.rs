@@ -751,7 +751,8 @@ fn sites_beyond_float32_are_refused_on_the_device() {
     let far = [DVec2::new(-1e8, 5.0), DVec2::new(1e8, 30.0)];
     let e = voronoi(&Backend::Device(&m), &far, &cones(frame)).unwrap_err();
     assert!(e.to_string().contains("--device cpu"), "{e}");
-    let d = pixgeo::algorithms::cpu::k_nearest(&far, &frame, 1, Metric::L2).unwrap();
+    use pixgeo::algorithms::higher_order::{k_nearest, KNearestOptions};
+    let d = k_nearest(&Backend::Cpu, &far, &KNearestOptions::exact(frame, 1)).unwrap();
     // The grid works in doubles and answers the same.
     let grid = VoronoiOptions::exact(frame).method(Method::Grid);
     let searched = voronoi(&Backend::Device(&m), &far, &grid).unwrap();

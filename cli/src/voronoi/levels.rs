@@ -89,25 +89,22 @@ pub(super) fn whole_picture(
             Kind::Degree(k) => (k, false),
             _ => (1, false),
         };
-        let d = match backend {
-            Backend::Device(machine) => {
-                let options = KNearestOptions::exact(frame, k)
-                    .metric(args.metric)
-                    .accuracy(accuracy)
-                    .speedup(speedup);
-                if args.peel {
-                    higher_order::k_nearest_peeled(machine, sites, &options)?
-                } else {
-                    higher_order::k_nearest(machine, sites, &options)?
-                }
-            }
-            Backend::Cpu => {
-                let progress = Progress::new("voronoi: growing the sites", args.json);
-                cpu::k_nearest_with_progress(sites, &frame, k, args.metric, &mut |done, total| {
-                    progress.report(done, total)
-                })?
-            }
+        let progress = match backend {
+            Backend::Cpu => Progress::new("voronoi: growing the sites", args.json),
+            Backend::Device(_) => Progress::working("voronoi: drawing the levels", args.json),
         };
+        let options = KNearestOptions::exact(frame, k)
+            .metric(args.metric)
+            .accuracy(accuracy)
+            .speedup(speedup)
+            .control(progress.control());
+        let d = match backend {
+            Backend::Device(machine) if args.peel => {
+                higher_order::k_nearest_peeled(machine, sites, &options)?
+            }
+            _ => higher_order::k_nearest(backend, sites, &options)?,
+        };
+        drop(progress);
         // (rows, columns) for an ordinary diagram, (rows, columns, k) else.
         let bands = if kind == Kind::Ordinary { 1 } else { k };
         let size = [frame.width, frame.height, bands];

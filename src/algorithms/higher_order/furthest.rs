@@ -33,7 +33,7 @@ pub struct Furthest {
 
 /// Computes the furthest-site diagram of `sites` (world coordinates) on
 /// `frame`: drawn as the upper envelope on a device, searched on the CPU
-/// ([`crate::algorithms::cpu::furthest`]); both proved exactly, the same
+/// (`cpu::furthest_checked`); both proved exactly, the same
 /// labels and distances.
 pub fn furthest(
     backend: &Backend,

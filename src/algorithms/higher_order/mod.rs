@@ -39,6 +39,7 @@ use crate::{
         Buffer, Clear, ClearColor, Compare, DepthTest, DrawParams, Format, Image, Machine, Pass,
         PixelRect, RasterState, Target,
     },
+    Backend, Control,
 };
 
 use super::cones::{
@@ -47,6 +48,7 @@ use super::cones::{
 };
 
 use super::certify::{certify_levels, Certifier};
+use super::cpu;
 use super::envelope::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 
 mod furthest;
@@ -73,7 +75,7 @@ const MAX_KEY_BYTES: u64 = 4 << 30;
 
 /// What to compute: start from [`KNearestOptions::exact`] and change what
 /// differs, by field or by setter.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct KNearestOptions {
     pub frame: Frame,
@@ -89,6 +91,8 @@ pub struct KNearestOptions {
     /// at least k sites bound the cone height), [`Speedup::Local`] a radius per site
     /// from the k-th nearest sites around it.
     pub speedup: Speedup,
+    /// Progress (the CPU's growing rings) and cancellation.
+    pub control: Control,
 }
 
 impl KNearestOptions {
@@ -100,6 +104,7 @@ impl KNearestOptions {
             metric: Metric::L2,
             accuracy: Accuracy::Exact,
             speedup: Speedup::Local,
+            control: Control::new(),
         }
     }
 
@@ -121,6 +126,10 @@ impl KNearestOptions {
 
     pub fn speedup(self, speedup: Speedup) -> Self {
         Self { speedup, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
     }
 }
 
@@ -201,7 +210,10 @@ impl KNearest {
     }
 }
 
-/// Computes every pixel's k nearest sites (world coordinates).
+/// Computes every pixel's k nearest sites (world coordinates): on a device by
+/// cones and the depth test, on the CPU by growing the sites (thesis
+/// §3.12.2); in exact mode both proved, the same labels and distances. The
+/// CPU takes no drawing options: its answer is always the exact one.
 ///
 /// ```
 /// use glam::DVec2;
@@ -209,19 +221,29 @@ impl KNearest {
 ///
 /// let sites = [DVec2::new(1.0, 1.0), DVec2::new(7.0, 1.0), DVec2::new(4.0, 6.0)];
 /// let options = KNearestOptions::exact(Frame::pixels(8, 8)?, 3).metric(Metric::LInf);
-/// let near = pixgeo::with_default_machine(|m| k_nearest(m, &sites, &options))?;
+/// let near = k_nearest(&pixgeo::Backend::Cpu, &sites, &options)?;
 /// assert_eq!(near.level_labels(2)[0], 1); // the farthest of pixel (0, 0)
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn k_nearest(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[DVec2],
     options: &KNearestOptions,
 ) -> Result<KNearest> {
-    k_nearest_checked(machine, Checked::new(sites)?, options)
+    options.control.run(|| {
+        let sites = Checked::new(sites)?;
+        match backend {
+            Backend::Device(machine) => k_nearest_checked(machine, sites, options),
+            Backend::Cpu => {
+                let (frame, k, metric) = (&options.frame, options.k, options.metric);
+                let progress = &mut |done, total| options.control.report(done, total);
+                cpu::k_nearest_checked(sites, frame, k, metric, progress)
+            }
+        }
+    })
 }
 
-/// [`k_nearest`] of sites checked where they entered.
+/// [`k_nearest`] on a device, of sites checked where they entered.
 pub(crate) fn k_nearest_checked(
     machine: &Machine,
     sites: Checked<'_>,
@@ -233,7 +255,10 @@ pub(crate) fn k_nearest_checked(
         options.metric,
         options.k,
         |sites, k| {
-            let options = &KNearestOptions { k, ..*options };
+            let options = &KNearestOptions {
+                k,
+                ..options.clone()
+            };
             let mut near = proposed_k_nearest(machine, sites, options)?;
             if options.accuracy == Accuracy::Exact {
                 certify_levels(&mut near, sites, options.metric)?;
@@ -251,7 +276,7 @@ fn proposed_k_nearest(
 ) -> Result<KNearest> {
     let options = &KNearestOptions {
         accuracy: drawn_accuracy(options.metric, options.accuracy),
-        ..*options
+        ..options.clone()
     };
     let frame = options.frame;
     let k = options.k;

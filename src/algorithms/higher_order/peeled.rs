@@ -27,7 +27,13 @@ pub fn k_nearest_peeled(
         &options.frame,
         options.metric,
         options.k,
-        |sites, k| peel(machine, sites, &KNearestOptions { k, ..*options }),
+        |sites, k| {
+            let options = KNearestOptions {
+                k,
+                ..options.clone()
+            };
+            peel(machine, sites, &options)
+        },
     )
 }
 

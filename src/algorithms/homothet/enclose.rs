@@ -520,13 +520,9 @@ pub(super) fn kth_levels(
     metric: Metric,
     k: usize,
 ) -> Result<crate::algorithms::higher_order::KNearest> {
-    let options = KNearestOptions {
-        frame,
-        k: k as u32,
-        metric,
-        accuracy: Accuracy::Exact,
-        speedup: Speedup::Quadtree,
-    };
+    let options = KNearestOptions::exact(frame, k as u32)
+        .metric(metric)
+        .speedup(Speedup::Quadtree);
     k_nearest_checked(machine, sites, &options)
 }
 

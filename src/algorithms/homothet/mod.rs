@@ -60,7 +60,7 @@ use super::{
     flooding,
     higher_order::{draw_furthest, k_nearest_checked, KNearestOptions, MAX_LEVELS},
     sites::draw_sites,
-    voronoi::{draw_point_tiles, Accuracy, Speedup, TileExtras, VoronoiOptions},
+    voronoi::{draw_point_tiles, Speedup, TileExtras, VoronoiOptions},
 };
 
 mod cell_bound;

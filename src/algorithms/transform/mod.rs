@@ -315,7 +315,8 @@ fn grown(
         .map(|&i| glam::DVec2::new((i as usize % w) as f64, (i as usize / w) as f64))
         .collect();
     let frame = Frame::pixels(width, height)?;
-    let diagram = super::cpu::k_nearest(&sites, &frame, 1, metric)?;
+    let sites = crate::geometry::frame::Checked::new(&sites)?;
+    let diagram = super::cpu::k_nearest_checked(sites, &frame, 1, metric, &mut |_, _| {})?;
     let plane = |of: fn(u32, usize) -> i32| {
         diagram
             .labels
