@@ -4,7 +4,7 @@
 use anyhow::Result;
 use clap::Args as ClapArgs;
 use glam::DVec2;
-use pixgeo::algorithms::area::{self, AreaAnswer, AreaOptions, AreaSearch, Extreme};
+use pixgeo::algorithms::area::{self, AreaAnswer, AreaOptions, AreaSearch, Decided, Extreme};
 
 use crate::{device::Backend, envelope, input::Points, progress::Progress, text::Real};
 
@@ -119,7 +119,7 @@ fn report(answer: &AreaAnswer, points: &[DVec2], what: &str) -> Result<()> {
         let p = points[i as usize];
         outln!("  site {i}: ({}, {})", Real(p.x), Real(p.y));
     }
-    if answer.decided_by == "pixels" {
+    if answer.decided_by == Decided::Pixels {
         outln!(
             "  {} roofs on {}x{} pixels proposed area {:.6e}; {} searched exactly",
             answer.roofs,
@@ -128,7 +128,7 @@ fn report(answer: &AreaAnswer, points: &[DVec2], what: &str) -> Result<()> {
             answer.pixel_area.unwrap_or(f64::NAN),
             answer.checked
         );
-    } else if answer.decided_by == "sweep" {
+    } else if answer.decided_by == Decided::Sweep {
         outln!(
             "  the rotational sweep met {} lines through two or more sites",
             answer.checked

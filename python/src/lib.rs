@@ -472,7 +472,7 @@ fn voronoi_weighted<'py>(
 }
 
 /// Pixel classes, the frame, the boundary sites and the method used.
-type Hull<'py> = (Bound<'py, PyArray2<u8>>, FrameTuple, Vec<u32>, &'static str);
+type Hull<'py> = (Bound<'py, PyArray2<u8>>, FrameTuple, Vec<u32>, String);
 
 /// The α-hull on a picture fitted to it: pixel classes, the frame, the
 /// boundary sites (hull method and α = 0) and the method used.
@@ -496,7 +496,7 @@ fn alpha_hull_of<'py>(
         raster(py, h.pixels, h.height, h.width)?,
         f,
         h.boundary_sites,
-        h.method,
+        h.method.to_string(),
     ))
 }
 

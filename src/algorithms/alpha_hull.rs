@@ -88,8 +88,8 @@ pub struct AlphaHull {
     pub alpha: f64,
     /// |1/α| in world units; `None` for the convex hull (α = 0).
     pub radius: Option<f64>,
-    /// `envelope` (α < 0), `hull` or `pixels` (α > 0), `convex` (α = 0).
-    pub method: &'static str,
+    /// How the hull was found.
+    pub method: HullMethod,
     pub width: u32,
     pub height: u32,
     /// World point at the picture's corner (-0.5, -0.5), and pixels per world unit.
@@ -305,10 +305,36 @@ fn frame_around(lo: DVec2, hi: DVec2, pad: f64, side: u32) -> Result<Frame> {
     Frame::fitting(side, lo - pad, hi + pad)
 }
 
+/// How an α-hull was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum HullMethod {
+    /// α < 0: the envelope of the empty discs.
+    Envelope,
+    /// α > 0: circles through consecutive hull points.
+    Hull,
+    /// α > 0: intersections of discs, counted on the device.
+    Pixels,
+    /// α = 0: the convex hull.
+    Convex,
+}
+
+impl std::fmt::Display for HullMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            HullMethod::Envelope => "envelope",
+            HullMethod::Hull => "hull",
+            HullMethod::Pixels => "pixels",
+            HullMethod::Convex => "convex",
+        })
+    }
+}
+
 /// The answer's frame fields and counts from its pixels.
 fn finish(
     alpha: f64,
-    method: &'static str,
+    method: HullMethod,
     frame: Frame,
     pixels: Vec<u8>,
     discs: usize,
@@ -417,7 +443,7 @@ fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, canvas: Canvas) -> R
             }
         })
         .collect();
-    let mut hull = finish(alpha, "envelope", frame, pixels, rim.len());
+    let mut hull = finish(alpha, HullMethod::Envelope, frame, pixels, rim.len());
     hull.border_band = r;
     hull.uncertain = (0..w * h)
         .filter(|&k| {
@@ -486,7 +512,7 @@ fn convex(machine: &Machine, sites: &[DVec2], canvas: Canvas) -> Result<AlphaHul
             }
         })
         .collect();
-    let mut answer = finish(0.0, "convex", frame, pixels, 0);
+    let mut answer = finish(0.0, HullMethod::Convex, frame, pixels, 0);
     answer.boundary_sites = hull;
     Ok(answer)
 }
@@ -807,7 +833,7 @@ fn positive(
                     })
                     .collect()
             };
-            let mut answer = finish(alpha, "hull", frame, pixels, discs.len());
+            let mut answer = finish(alpha, HullMethod::Hull, frame, pixels, discs.len());
             answer.boundary_sites = circles.boundary;
             Ok(answer)
         }
@@ -890,7 +916,7 @@ fn positive(
                 .collect();
             Ok(finish(
                 alpha,
-                "pixels",
+                HullMethod::Pixels,
                 frame,
                 pixels,
                 around_sites.len() + rims.len(),

@@ -15,7 +15,7 @@ use glam::DVec2;
 use crate::{
     algorithms::area::{
         counter_clockwise, decided, degenerate_triangle, in_range, quadrangle_candidates,
-        AreaAnswer, BestRing, Extreme,
+        AreaAnswer, BestRing, Decided, Extreme,
     },
     error::{Error, Result},
     geometry::{frame::first_of_each, sweep::for_each_line},
@@ -125,7 +125,7 @@ fn sweep(
         3 => counter_clockwise(sites, vertices),
         _ => vertices,
     };
-    let mut answer = decided(extreme, vertices, area, "sweep");
+    let mut answer = decided(extreme, vertices, area, Decided::Sweep);
     answer.checked = lines;
     answer.exact_ms = started.elapsed().as_secs_f64() * 1e3;
     Ok(answer)

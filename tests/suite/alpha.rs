@@ -4,7 +4,7 @@
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::alpha_hull::{alpha_hull, class, AlphaHull, AlphaMethod, AlphaOptions},
+    algorithms::alpha_hull::{alpha_hull, class, AlphaHull, AlphaMethod, AlphaOptions, HullMethod},
     Error, Invalid,
 };
 use pixgeo_reference::alpha_hull::{EmptyDiscs, HoldingDiscs};
@@ -89,7 +89,7 @@ fn negative_alpha_lies_between_the_definition_and_its_pixel_bound() {
             }
             assert!(outside > 0, "{name}: something is erased");
             assert_eq!(hull.inside, inside);
-            assert_eq!(hull.method, "envelope");
+            assert_eq!(hull.method, HullMethod::Envelope);
             if name.starts_with("uniform") {
                 assert!(inside > 0, "{name} r {r}: a hull is left");
             }
@@ -161,7 +161,10 @@ fn positive_alpha_by_pixels_alone_lies_between_the_definition_and_its_bound() {
                 Err(e) => panic!("{name} {factor}: {e}"),
             };
             // Caps thinner than the picture resolves: the convex hull, exactly.
-            assert!(hull.method == "pixels" || (factor >= 1e3 && hull.method == "convex"));
+            assert!(
+                hull.method == HullMethod::Pixels
+                    || (factor >= 1e3 && hull.method == HullMethod::Convex)
+            );
             let tau = 1e-3 / hull.frame.scale;
             let h = std::f64::consts::FRAC_1_SQRT_2 / hull.frame.scale;
             let exact = HoldingDiscs::new(&sites, radius);
@@ -180,7 +183,7 @@ fn positive_alpha_by_pixels_alone_lies_between_the_definition_and_its_bound() {
                 }
             }
             // Collinear sites' convex hull holds no pixel centre.
-            assert!(hull.inside > 0 || (name == "collinear" && hull.method == "convex"));
+            assert!(hull.inside > 0 || (name == "collinear" && hull.method == HullMethod::Convex));
         }
     }
 }
@@ -190,7 +193,7 @@ fn alpha_zero_is_the_convex_hull() {
     let machine = machine();
     for (name, sites) in inputs() {
         let hull = alpha_hull(&machine, &sites, &AlphaOptions::new(0.0).side(SIDE)).unwrap();
-        assert_eq!(hull.method, "convex");
+        assert_eq!(hull.method, HullMethod::Convex);
         let corners: Vec<DVec2> = hull
             .boundary_sites
             .iter()

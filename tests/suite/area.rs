@@ -3,7 +3,9 @@
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::area::{extremal_quadrangle, extremal_triangle, AreaAnswer, AreaOptions, Extreme},
+    algorithms::area::{
+        extremal_quadrangle, extremal_triangle, AreaAnswer, AreaOptions, Decided, Extreme,
+    },
     Backend, Control, Error, Invalid,
 };
 use pixgeo_reference::area::{self as oracle, triangle_area};
@@ -141,7 +143,7 @@ fn triangles_match_exhaustive_search() {
                 assert!(bound <= box_area / (sites.len() - 2) as f64 * (1.0 + 1e-5));
                 assert!(answer.area <= bound);
             }
-            if name == "crowded (roofs)" && !largest && answer.decided_by == "pixels" {
+            if name == "crowded (roofs)" && !largest && answer.decided_by == Decided::Pixels {
                 assert!(answer.shared > 0, "{name}: sites share pixels");
             }
         }
@@ -279,7 +281,7 @@ fn too_few_sites_are_clear_errors() {
     )
     .unwrap();
     assert_eq!(flat.area, 0.0);
-    assert_eq!(flat.decided_by, "collinear");
+    assert_eq!(flat.decided_by, Decided::Collinear);
     // All at one point: three distinct sites of area 0.
     let point = [DVec2::ONE; 4];
     for extreme in [Extreme::Smallest, Extreme::Largest] {

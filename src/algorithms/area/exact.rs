@@ -58,7 +58,7 @@ pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Result<O
                 extreme,
                 Vec::from([a, b, c]),
                 0.0,
-                "duplicates",
+                Decided::Duplicates,
             )));
         }
     }
@@ -70,17 +70,12 @@ pub(crate) fn degenerate_triangle(sites: &[DVec2], extreme: Extreme) -> Result<O
                 .filter(|c| !hull.contains(c))
                 .take(3 - v.len()),
         );
-        return Ok(Some(decided(extreme, v, 0.0, "collinear")));
+        return Ok(Some(decided(extreme, v, 0.0, Decided::Collinear)));
     }
     Ok(None)
 }
 
-pub(crate) fn decided(
-    extreme: Extreme,
-    sites: Vec<u32>,
-    area: f64,
-    by: &'static str,
-) -> AreaAnswer {
+pub(crate) fn decided(extreme: Extreme, sites: Vec<u32>, area: f64, by: Decided) -> AreaAnswer {
     AreaAnswer {
         extreme,
         sites,

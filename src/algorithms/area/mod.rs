@@ -205,16 +205,43 @@ pub struct AreaAnswer {
     /// answer decided before drawing).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub frame: Option<Frame>,
-    /// What decided the answer: `pixels`, `neighbours` (a triangle of
-    /// neighbouring sites has area 0), `duplicates` (two sites coincide) or
-    /// `collinear` (all sites on a line).
-    pub decided_by: &'static str,
+    /// What decided the answer.
+    pub decided_by: Decided,
     /// Milliseconds: bounds and buffers on the CPU, drawing the roofs, the
     /// reduction and readback, the exact search.
     pub prepare_ms: f64,
     pub draw_ms: f64,
     pub reduce_ms: f64,
     pub exact_ms: f64,
+}
+
+/// What decided an extremal shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Decided {
+    /// The roofs' pixels proposed it, an exact search settled it.
+    Pixels,
+    /// The rotational sweep.
+    Sweep,
+    /// A triangle of neighbouring sites has area 0.
+    Neighbours,
+    /// Two sites coincide.
+    Duplicates,
+    /// All sites lie on a line.
+    Collinear,
+}
+
+impl std::fmt::Display for Decided {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Decided::Pixels => "pixels",
+            Decided::Sweep => "sweep",
+            Decided::Neighbours => "neighbours",
+            Decided::Duplicates => "duplicates",
+            Decided::Collinear => "collinear",
+        })
+    }
 }
 
 /// The smallest or largest triangle with three of `sites` as vertices: on a
@@ -302,7 +329,7 @@ fn triangle_in_range(
         Extreme::Smallest => {
             let (triple, area, bound) = neighbour_triangle(sites, &chosen, hull.len());
             if area == 0.0 {
-                return Ok(decided(extreme, ordered(triple), 0.0, "neighbours"));
+                return Ok(decided(extreme, ordered(triple), 0.0, Decided::Neighbours));
             }
             best.offer(sites, &triple);
             Some(bound)
@@ -401,7 +428,7 @@ fn triangle_in_range(
         width: frame.width,
         height: frame.height,
         frame: Some(frame),
-        decided_by: "pixels",
+        decided_by: Decided::Pixels,
         prepare_ms,
         draw_ms,
         reduce_ms,
@@ -567,7 +594,7 @@ fn quadrangle_in_range(
         width: frame.width,
         height: frame.height,
         frame: Some(frame),
-        decided_by: "pixels",
+        decided_by: Decided::Pixels,
         prepare_ms,
         draw_ms,
         reduce_ms,
