@@ -154,7 +154,7 @@ fn main() -> anyhow::Result<()> {
                     .distances(false);
                 let started = Instant::now();
                 match sites {
-                    Some(s) => drop(voronoi_sites(&machine, s, &options)?),
+                    Some(s) => drop(voronoi_sites(&Backend::Device(&machine), s, &options)?),
                     None => drop(voronoi(&Backend::Device(&machine), &positions, &options)?),
                 }
                 Ok(started.elapsed().as_secs_f64() * 1e3)

@@ -86,12 +86,11 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
         // SAFETY: `sites` holds `count` sites (caller contract); the count fits.
         let given = unsafe { std::slice::from_raw_parts(sites, count) };
         let sites = sites_of(given)?;
-        let d = voronoi_sites(
-            context.machine("a diagram of weighted or extended sites")?,
-            &sites,
-            &options,
-        )
-        .map_err(failed)?;
+        let need = match options.accuracy == Accuracy::Exact && !options.ties {
+            true => Need::DeviceIfAny,
+            false => Need::Drawing("fans and counted ties of weighted or extended sites"),
+        };
+        let d = voronoi_sites(&context.backend_for(need)?, &sites, &options).map_err(failed)?;
         // SAFETY: the caller's arrays have room for the answer (caller contract).
         unsafe { write_diagram(&d.labels, labels, &d.distances, distances) };
         Ok(())

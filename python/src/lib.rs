@@ -463,7 +463,13 @@ fn voronoi_weighted<'py>(
     let mut options = VoronoiOptions::exact(frame(width, height, bbox)?);
     options.metric = metric(metric_name)?;
     options.accuracy = named::<Accuracy>(mode)?;
-    let d = on_machine(py, device, |m| voronoi_sites(m, &sites, &options))?;
+    let need = match options.accuracy {
+        Accuracy::Exact => Need::DeviceIfAny,
+        _ => Need::Drawing("the fans of weighted sites"),
+    };
+    let d = on_backend(py, device, need, |backend| {
+        voronoi_sites(backend, &sites, &options)
+    })?;
     Ok((
         raster(py, d.labels, d.height, d.width)?,
         raster(py, d.distances, d.height, d.width)?,

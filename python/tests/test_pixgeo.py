@@ -440,6 +440,8 @@ np.save(d + "/furthest.npy", pixgeo.furthest(points, (20, 20), bbox=(0, 0, 4, 4)
 np.save(d + "/circle.npy", np.array([*c.centre, c.radius, *c.sites]))
 np.save(d + "/settle.npy", pixgeo.settle(points[:20], (20, 20), bbox=(0, 0, 4, 4)).area)
 np.save(d + "/levels.npy", pixgeo.k_nearest(points, (20, 20), 3, bbox=(0, 0, 4, 4)).labels)
+weights = 1 + (np.arange(len(points)) % 3) / 4
+np.save(d + "/weighted.npy", pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4), weights=weights).labels)
 # The discrete method is drawn where a device starts: here, with a warning.
 pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="discrete")
 """
@@ -470,6 +472,9 @@ pixgeo.natural_neighbor(points, values, (20, 20), bbox=(0, 0, 4, 4), method="dis
     here["settle"] = pixgeo.settle(points[:20], (20, 20), bbox=(0, 0, 4, 4), device="lavapipe").area
     levels = pixgeo.k_nearest(points, (20, 20), 3, bbox=(0, 0, 4, 4), device="lavapipe")
     here["levels"] = levels.labels
+    weights = 1 + (np.arange(len(points)) % 3) / 4
+    weighted = pixgeo.voronoi(points, (20, 20), bbox=(0, 0, 4, 4), weights=weights, device="lavapipe")
+    here["weighted"] = weighted.labels
     for name, want in here.items():
         got = np.load(tmp_path / f"{name}.npy")
         assert got.dtype == want.dtype and np.array_equal(got, want, equal_nan=True), name

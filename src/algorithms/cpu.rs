@@ -305,7 +305,7 @@ pub(crate) fn furthest_checked(
 /// sites by a lower bound of their weighted distance over the block (from the
 /// Euclidean gap between the block and the shape's box) and every pixel stops at
 /// the first site whose bound exceeds its best.
-pub fn voronoi_sites(
+pub(crate) fn voronoi_sites(
     sites: &[Site],
     frame: &Frame,
     metric: Metric,

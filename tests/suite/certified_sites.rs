@@ -6,8 +6,9 @@
 //! their rounding decides each tie; and on the same ties moved by an ulp.
 
 use glam::DVec2;
+use pixgeo::Backend;
 use pixgeo::{
-    algorithms::{cpu, sites::voronoi_sites, voronoi::VoronoiOptions},
+    algorithms::{sites::voronoi_sites, voronoi::VoronoiOptions},
     geometry::{
         metric::Metric,
         site::{Shape, Site},
@@ -122,9 +123,10 @@ const DECIMAL: Frame = Frame {
 /// exact ties, and those whose two nearest are within 1e-12 in doubles.
 fn check(m: &Machine, sites: &[Site], frame: Frame, metric: Metric, what: &str) -> [usize; 2] {
     let exact = VoronoiOptions::exact(frame).metric(metric);
-    let device = voronoi_sites(m, sites, &exact).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let tiled = voronoi_sites(m, sites, &exact.max_tile(Some(16))).unwrap();
-    let (labels, distances) = cpu::voronoi_sites(sites, &frame, metric).unwrap();
+    let device =
+        voronoi_sites(&Backend::Device(m), sites, &exact).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let tiled = voronoi_sites(&Backend::Device(m), sites, &exact.max_tile(Some(16))).unwrap();
+    let (labels, distances) = crate::common::cpu_sites(sites, &frame, metric).unwrap();
     let truth = nearest_general_sites(sites, &frame, metric);
     let w = frame.width as usize;
     let mut counts = [0, 0];
@@ -263,16 +265,17 @@ fn general_sites_refuse_what_exact_arithmetic_cannot_hold() {
             end: -0.25,
         }),
     ];
-    let refused = voronoi_sites(&m, &arcs, &VoronoiOptions::exact(frame)).unwrap_err();
+    let refused =
+        voronoi_sites(&Backend::Device(&m), &arcs, &VoronoiOptions::exact(frame)).unwrap_err();
     assert!(
         refused.to_string().contains("transcendental point"),
         "{refused}"
     );
-    assert!(cpu::voronoi_sites(&arcs, &frame, Metric::L2).is_err());
+    assert!(crate::common::cpu_sites(&arcs, &frame, Metric::L2).is_err());
     // Segments under L_p have no closed-form distance.
     let segment = [Site::new(Shape::Segment(p(1.0, 1.0), p(20.0, 9.0)))];
     let lp = VoronoiOptions::exact(frame).metric(Metric::Lp(3.0));
-    let refused = voronoi_sites(&m, &segment, &lp).unwrap_err();
+    let refused = voronoi_sites(&Backend::Device(&m), &segment, &lp).unwrap_err();
     assert!(
         refused.to_string().contains("no exact distance"),
         "{refused}"

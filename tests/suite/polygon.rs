@@ -120,12 +120,14 @@ fn curves_are_refused_in_exact_mode_and_bounded_in_fan_mode() {
         sites.push(circle);
     }
     let exact = VoronoiOptions::exact(frame).metric(star);
-    let refused = voronoi_sites(&m, &sites, &exact).unwrap_err().to_string();
+    let refused = voronoi_sites(&Backend::Device(&m), &sites, &exact)
+        .unwrap_err()
+        .to_string();
     assert!(refused.contains("no exact distance"), "{refused}");
-    assert!(pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, star).is_err());
+    assert!(crate::common::cpu_sites(&sites, &frame, star).is_err());
     let truth = nearest_weighted_distances(&sites, &frame, star);
     let fan = exact.accuracy(Accuracy::FAN);
-    let d = voronoi_sites(&m, &sites, &fan).unwrap();
+    let d = voronoi_sites(&Backend::Device(&m), &sites, &fan).unwrap();
     let bound = d.stats.distance_error_bound;
     for (k, &label) in d.labels.iter().enumerate() {
         let q = DVec2::new((k % 96) as f64, (k / 96) as f64);
@@ -204,7 +206,7 @@ fn weighted_points_and_segments_match_the_definition() {
         let truth = nearest_weighted_distances(&sites, &frame, metric);
         for accuracy in [Accuracy::Exact, Accuracy::FAN] {
             let d = voronoi_sites(
-                &m,
+                &Backend::Device(&m),
                 &sites,
                 &VoronoiOptions::exact(frame)
                     .metric(metric)

@@ -5,6 +5,7 @@
 use std::f64::consts::PI;
 
 use glam::DVec2;
+use pixgeo::Backend;
 use pixgeo::{
     algorithms::{
         sites::voronoi_sites,
@@ -121,7 +122,7 @@ fn check_with(
     what: &str,
 ) {
     let d = voronoi_sites(
-        m,
+        &Backend::Device(m),
         sites,
         &VoronoiOptions::exact(frame).metric(metric).speedup(speedup),
     )
@@ -172,7 +173,7 @@ fn mixed_weighted_sites_match_the_definition() {
         let kinds: &[u32] = if matches!(metric, Metric::Lp(_)) {
             let segments = random_sites(&mut rng, 4, &[1], false, 71.0, 53.0);
             let exact = VoronoiOptions::exact(frame).metric(metric);
-            let refused = voronoi_sites(&m, &segments, &exact).unwrap_err();
+            let refused = voronoi_sites(&Backend::Device(&m), &segments, &exact).unwrap_err();
             assert!(
                 refused.to_string().contains("no exact distance"),
                 "{refused}"
@@ -247,11 +248,11 @@ fn bad_sites_are_clear_errors() {
         epsilon: 0.0,
         triangles: None,
     });
-    assert!(voronoi_sites(&m, &[circle], &fan).is_err());
+    assert!(voronoi_sites(&Backend::Device(&m), &[circle], &fan).is_err());
     let mut zero = circle;
     zero.multiplicative = 0.0;
-    assert!(voronoi_sites(&m, &[zero], &options).is_err());
-    assert!(voronoi_sites(&m, &[], &options).is_err());
+    assert!(voronoi_sites(&Backend::Device(&m), &[zero], &options).is_err());
+    assert!(voronoi_sites(&Backend::Device(&m), &[], &options).is_err());
 }
 
 /// Fan mode: the distance map within the reported bound of the definition (either
@@ -273,7 +274,8 @@ fn check_fan(
 
 fn check_fan_with(m: &Machine, sites: &[Site], options: &VoronoiOptions, what: &str) {
     let (frame, metric) = (options.frame, options.metric);
-    let d = voronoi_sites(m, sites, options).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let d = voronoi_sites(&Backend::Device(m), sites, options)
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
     let bound = d.stats.distance_error_bound;
     assert!(bound > 0.0, "{what}");
     let truth = nearest_weighted_distances(sites, &frame, metric);
@@ -367,7 +369,8 @@ fn fans_under_concave_metrics_are_refused() {
                     epsilon: 0.25,
                     triangles: None,
                 });
-            let refused = voronoi_sites(&m, &[weighted(shape, 1.0, 0.0)], &fan).unwrap_err();
+            let refused = voronoi_sites(&Backend::Device(&m), &[weighted(shape, 1.0, 0.0)], &fan)
+                .unwrap_err();
             assert!(
                 refused.to_string().contains("not convex"),
                 "{shape:?}: {refused}"
@@ -426,8 +429,7 @@ fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
         inputs.push((metric, random_sites(&mut rng, 25, kinds, true, 57.0, 43.0)));
     }
     for (metric, sites) in inputs {
-        let (labels, distances) =
-            pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric).unwrap();
+        let (labels, distances) = crate::common::cpu_sites(&sites, &frame, metric).unwrap();
         let truth = nearest_weighted_distances(&sites, &frame, metric);
         for (k, (&label, &d)) in labels.iter().zip(&distances).enumerate() {
             let q = frame.to_world(DVec2::new((k % 57) as f64, (k / 57) as f64));
@@ -439,7 +441,12 @@ fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                 truth[k]
             );
         }
-        let g = voronoi_sites(&m, &sites, &VoronoiOptions::exact(frame).metric(metric)).unwrap();
+        let g = voronoi_sites(
+            &Backend::Device(&m),
+            &sites,
+            &VoronoiOptions::exact(frame).metric(metric),
+        )
+        .unwrap();
         let steep = if matches!(metric, Metric::Lp(p) if p < 1.0) {
             10.0
         } else {
@@ -480,16 +487,16 @@ fn circles_and_arcs_under_every_metric() {
             // Curved under a gauge or L_p: no exact distance, refused on
             // every device.
             let exact = VoronoiOptions::exact(frame).metric(metric);
-            let refused = voronoi_sites(&m, &sites, &exact).unwrap_err();
+            let refused = voronoi_sites(&Backend::Device(&m), &sites, &exact).unwrap_err();
             assert!(
                 refused.to_string().contains("no exact distance"),
                 "{refused}"
             );
-            let cpu = pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric);
+            let cpu = crate::common::cpu_sites(&sites, &frame, metric);
             assert!(cpu.is_err());
         } else {
             check(&m, &sites, frame, metric, &format!("curves {metric}"));
-            let (_, cpu) = pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric).unwrap();
+            let (_, cpu) = crate::common::cpu_sites(&sites, &frame, metric).unwrap();
             let truth = nearest_weighted_distances(&sites, &frame, metric);
             let slack = curve_sampling_slack(&sites, metric);
             for (k, (&c, &t)) in cpu.iter().zip(&truth).enumerate() {
@@ -527,7 +534,12 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         Site::point(p(-25.0, 20.0)),
     ]);
     let run = |max_tile| {
-        voronoi_sites(&m, &sites, &VoronoiOptions::exact(frame).max_tile(max_tile)).unwrap()
+        voronoi_sites(
+            &Backend::Device(&m),
+            &sites,
+            &VoronoiOptions::exact(frame).max_tile(max_tile),
+        )
+        .unwrap()
     };
     let (whole, tiled) = (run(None), run(Some(16)));
     assert_eq!(whole.stats.tiles, 1);
@@ -551,7 +563,7 @@ fn additive_weights_far_apart_keep_float32_in_range() {
         weighted(Shape::Point(DVec2::new(10.0, 10.0)), 1.0, -1e18),
         weighted(Shape::Point(DVec2::new(40.0, 40.0)), 1.0, 0.0),
     ];
-    let d = voronoi_sites(&m, &heavy, &VoronoiOptions::exact(frame)).unwrap();
+    let d = voronoi_sites(&Backend::Device(&m), &heavy, &VoronoiOptions::exact(frame)).unwrap();
     assert!(d.labels.iter().all(|&l| l == 0));
     assert!(d.distances.iter().all(|&x| x == -1e18));
     let mut rng = ChaCha8Rng::seed_from_u64(4);
@@ -563,8 +575,13 @@ fn additive_weights_far_apart_keep_float32_in_range() {
             ..*s
         })
         .collect();
-    let a = voronoi_sites(&m, &sites, &VoronoiOptions::exact(frame)).unwrap();
-    let b = voronoi_sites(&m, &shifted, &VoronoiOptions::exact(frame)).unwrap();
+    let a = voronoi_sites(&Backend::Device(&m), &sites, &VoronoiOptions::exact(frame)).unwrap();
+    let b = voronoi_sites(
+        &Backend::Device(&m),
+        &shifted,
+        &VoronoiOptions::exact(frame),
+    )
+    .unwrap();
     assert_eq!(a.labels, b.labels);
 }
 
@@ -592,8 +609,8 @@ fn curves_under_l1_and_linf_match_the_cpu_on_the_device() {
     .map(|s| weighted(s, 1.0, 0.0));
     for metric in [Metric::L1, Metric::LInf] {
         let options = VoronoiOptions::exact(frame).metric(metric);
-        let device = voronoi_sites(&m, &sites, &options).unwrap();
-        let (_, cpu) = pixgeo::algorithms::cpu::voronoi_sites(&sites, &frame, metric).unwrap();
+        let device = voronoi_sites(&Backend::Device(&m), &sites, &options).unwrap();
+        let (_, cpu) = crate::common::cpu_sites(&sites, &frame, metric).unwrap();
         for (k, (&d, &c)) in device.distances.iter().zip(&cpu).enumerate() {
             assert!(
                 (d - c).abs() <= 1e-4,

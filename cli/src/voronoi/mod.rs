@@ -13,13 +13,9 @@ use clap::Args as ClapArgs;
 use glam::DVec2;
 use pixgeo::{
     algorithms::{
-        cpu,
         higher_order::{self, KNearestOptions},
         sites::voronoi_sites,
-        voronoi::{
-            voronoi_bands, Accuracy, Band, Method as LabelMethod, Speedup, VoronoiDiagram,
-            VoronoiOptions, VoronoiStats,
-        },
+        voronoi::{voronoi_bands, Accuracy, Band, Method as LabelMethod, Speedup, VoronoiOptions},
     },
     geometry::{
         metric::Metric,

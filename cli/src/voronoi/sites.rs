@@ -22,20 +22,7 @@ pub(super) fn general_sites(args: &Args, sites: &[Site], world: &World) -> Resul
         .ties(args.ties.is_some())
         .max_tile(args.max_tile);
     let device = backend.name().to_string();
-    let d = match backend {
-        Backend::Device(machine) => voronoi_sites(machine, sites, &options)?,
-        Backend::Cpu => {
-            let started = std::time::Instant::now();
-            let (labels, distances) = cpu::voronoi_sites(sites, &frame, args.metric)?;
-            let stats = VoronoiStats {
-                device: "cpu".into(),
-                sites: sites.len(),
-                render_ms: started.elapsed().as_secs_f64() * 1e3,
-                ..Default::default()
-            };
-            VoronoiDiagram::whole(frame, labels, distances, stats)
-        }
-    };
+    let d = voronoi_sites(&backend, sites, &options)?;
     let (size, geo) = ([frame.width, frame.height, 1], world.georeference());
     if let Some(p) = &args.labels {
         raster::write(p, size, &d.labels, Some(&geo))?;

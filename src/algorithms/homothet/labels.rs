@@ -69,7 +69,7 @@ pub fn envelope_labels(
                 distances: false,
                 ..VoronoiOptions::exact(frame)
             };
-            crate::algorithms::sites::voronoi_sites(machine, shapes, &options)?.labels
+            crate::algorithms::sites::voronoi_sites(&machine.into(), shapes, &options)?.labels
         }
     };
     Ok(EnvelopeLabels { frame, labels })

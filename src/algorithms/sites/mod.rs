@@ -29,6 +29,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use crate::{
+    backend::drawn_only,
     error::{Error, Result},
     geometry::cone::check_fan_size,
     geometry::{
@@ -43,6 +44,7 @@ use crate::{
         Buffer, Clear, ClearColor, DrawParams, Format, GraphicsProgram, Machine, PixelRect,
         RasterState, Target,
     },
+    Backend,
 };
 
 use super::cones::{
@@ -50,6 +52,7 @@ use super::cones::{
     SITE_EXACT, SITE_EXACT_BATCH, SITE_FAN, SITE_FAN_FOLDED, SITE_TILES,
 };
 
+use super::cpu;
 use super::envelope::{
     distances_of, drawn_accuracy, hilbert_index, metric_fan, records_image, Accuracy, DepthMap,
     DrawnTile, Speedup, Tiling, Tuning, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
@@ -84,12 +87,12 @@ use tiles::*;
 /// let road = Site::new(Shape::Segment(DVec2::new(0.0, 10.0), DVec2::new(31.0, 10.0)));
 /// let town = Site { multiplicative: 2.0, ..Site::point(DVec2::new(16.0, 2.0)) };
 /// let options = VoronoiOptions::exact(Frame::pixels(32, 16)?);
-/// let d = pixgeo::with_default_machine(|m| voronoi_sites(m, &[road, town], &options))?;
+/// let d = voronoi_sites(&pixgeo::Backend::Cpu, &[road, town], &options)?;
 /// assert_eq!(d.labels[15 * 32], 0); // the bottom-left corner is nearest the road
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
 pub fn voronoi_sites(
-    machine: &Machine,
+    backend: &Backend,
     sites: &[Site],
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
@@ -100,6 +103,42 @@ pub fn voronoi_sites(
                 .into(),
         ));
     }
+    match backend {
+        Backend::Device(machine) => drawn_sites(machine, sites, options),
+        Backend::Cpu => {
+            if options.ties || options.accuracy != Accuracy::Exact {
+                return Err(drawn_only(
+                    "fans and counts of equal distances for weighted or extended sites",
+                ));
+            }
+            let started = Instant::now();
+            let (labels, distances) = cpu::voronoi_sites(sites, &options.frame, options.metric)?;
+            let stats = VoronoiStats {
+                device: "cpu".into(),
+                sites: sites.len(),
+                render_ms: ms(started),
+                ..Default::default()
+            };
+            let distances = match options.distances {
+                true => distances,
+                false => Vec::new(),
+            };
+            Ok(VoronoiDiagram::whole(
+                options.frame,
+                labels,
+                distances,
+                stats,
+            ))
+        }
+    }
+}
+
+/// [`voronoi_sites`] drawn on `machine`, then proved in exact mode.
+fn drawn_sites(
+    machine: &Machine,
+    sites: &[Site],
+    options: &VoronoiOptions,
+) -> Result<VoronoiDiagram> {
     check_general_sites(sites)?;
     let exact = options.accuracy == Accuracy::Exact;
     if exact {

@@ -147,3 +147,15 @@ pub fn ulps(x: f64, steps: i64) -> f64 {
 }
 
 pub use pixgeo_reference::hostile::{hostile, Hostile};
+
+/// The CPU's labels and distances for weighted or extended `sites`.
+pub fn cpu_sites(
+    sites: &[pixgeo::Site],
+    frame: &pixgeo::Frame,
+    metric: pixgeo::Metric,
+) -> pixgeo::Result<(Vec<u32>, Vec<f32>)> {
+    use pixgeo::algorithms::{sites::voronoi_sites, voronoi::VoronoiOptions};
+    let options = VoronoiOptions::exact(*frame).metric(metric);
+    let d = voronoi_sites(&pixgeo::Backend::Cpu, sites, &options)?;
+    Ok((d.labels, d.distances))
+}
