@@ -21,7 +21,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import _pixgeo
+from . import _docs, _pixgeo
 from ._input import (  # noqa: F401  (lloyd, power and the others import them from here)
     _cells_box,
     _circle,
@@ -97,6 +97,7 @@ __all__ = [
 ]
 
 
+@_docs.fill
 def voronoi(
     sites,
     shape: Optional[Sequence[int]] = None,
@@ -114,42 +115,38 @@ def voronoi(
 ) -> Diagram:
     """The Voronoi diagram of ``sites`` as a label and distance raster.
 
-    ``shape`` is ``(H, W)``. Without ``bbox`` world and pixel coordinates
-    agree (pixel (i, j) centred at (i, j)); with ``bbox = (xmin, ymin, xmax,
-    ymax)`` that rectangle fills the picture (pixels are square, so H must
-    match its aspect ratio to within a pixel), or ``res`` gives the pixels'
-    side instead of ``shape`` (``bbox=(0, 0, 1000, 800), res=10``: 80 x 100).
-    With a bbox the rasters are north-up, as the command line and GIS tools
-    hold them (row 0 the largest y); ``y_axis="down"`` puts the smallest y in
-    row 0. ``crs`` (``"EPSG:N"``) is carried to the frame, whose
-    ``transform`` places the rasters.
+    With a ``bbox`` the rasters are north-up, as the command line and GIS
+    tools hold them, and the frame's ``transform`` places them. Under a
+    geographic ``crs`` the default metric is great circles: distances in
+    metres on the sphere of :data:`EARTH_RADIUS`, found on the CPU where
+    there is no GPU, else with the device as a filter, the same answer.
 
-    ``metric="great-circle"`` measures distances on the Earth: x and y are
-    longitude and latitude in degrees, and ``distances`` are metres along
-    great circles of the sphere of the Earth's mean radius
-    (:data:`EARTH_RADIUS`). It is the default under a geographic ``crs``
-    (EPSG:4326, say); a planar metric there measures degrees and warns. Great
-    circles are found on the CPU where there is no GPU (or with
-    ``device="cpu"``), else with the device as a filter; both give the same
-    answer. ``metric`` is ``l2``, ``l1``,
-    ``linf`` or ``lp:P``; ``mode`` is ``exact`` (every pixel's nearest site,
-    ties to the smaller index) or the thesis's triangle fans, ``fan`` (distance
-    error within a pixel) or ``fan:T``. ``device``: ``auto``, ``lavapipe``,
-    ``gpu``, an index or part of a name (default: ``PIXGEO_DEVICE``).
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2)
+        Finite x, y coordinates.
+    {placement}
+    {metric}
+    {mode}
+    weights : array_like, shape (n,) or (n, 2), optional
+        Multiplicative weights m, or rows ``(m, a)``: a site's distance is
+        divided by m > 0, then a is added (thesis §3.8); ``distances`` are
+        then the weighted ones.
+    {device}
+    window : tuple of int, optional
+        ``(x0, y0, width, height)``: only those pixels of the picture (exact
+        mode), equal to the whole diagram's there bit for bit, so windows
+        computed apart tile into it (:func:`pixgeo.dask.voronoi`).
+    method : {"auto", "cones", "grid"}, optional
+        Exact Euclidean labels by cones drawn on a device or by a grid
+        search on the CPU, both proven exact and equal bit for bit;
+        ``"auto"`` takes the grid where there is no GPU, the cones on one.
 
-    ``weights`` is ``(n,)`` multiplicative weights m or ``(n, 2)`` rows
-    ``(m, a)``: a site's distance is divided by m > 0, then a is added (thesis
-    §3.8); ``distances`` are then the weighted ones.
-
-    ``window = (x0, y0, width, height)`` computes only those pixels of the
-    picture (exact mode): the arrays are ``(height, width)`` and equal the whole
-    diagram's there bit for bit, so windows computed apart tile into it
-    (:func:`pixgeo.dask.voronoi` does that on a cluster).
-
-    ``method`` finds exact Euclidean labels by ``cones`` drawn on the device
-    or by a ``grid`` search on the CPU, both proven exact and equal bit for
-    bit; ``auto`` takes the grid where there is no GPU (without starting
-    Vulkan) and the cones on a GPU.
+    Returns
+    -------
+    Diagram
+        ``labels`` (H, W) uint32, each pixel's nearest site (:data:`NO_SITE`
+        where none), ``distances`` (H, W) float32, and the ``frame``.
     """
     place = _place(shape, bbox, res, y_axis, crs)
     metric = _metric_for(metric, place.crs)
@@ -197,6 +194,7 @@ def _great_circle(sites: np.ndarray, place: "_Placement", device: Optional[str])
     return Diagram(labels.reshape(shape), distances.astype(np.float32).reshape(shape), frame)
 
 
+@_docs.fill
 def frame(
     shape: Optional[Sequence[int]] = None,
     *,
@@ -206,11 +204,22 @@ def frame(
     crs=None,
 ) -> Frame:
     """The frame :func:`voronoi` uses for these arguments, computed without
-    drawing."""
+    drawing.
+
+    Parameters
+    ----------
+    {placement}
+
+    Returns
+    -------
+    Frame
+        The picture's size, placement, ``transform`` and CRS.
+    """
     place = _place(shape, bbox, res, y_axis, crs)
     return place.frame(_pixgeo.frame_of(place.width, place.height, place.bbox))
 
 
+@_docs.fill
 def k_nearest(
     sites,
     shape: Optional[Sequence[int]] = None,
@@ -224,9 +233,28 @@ def k_nearest(
     mode: str = "exact",
     device: Optional[str] = None,
 ) -> Diagram:
-    """Every pixel's k nearest sites, nearest first: labels and distances of
-    shape ``(H, W, k)``; :data:`NO_SITE` (and inf) where fewer than k sites
-    exist. Arguments as for :func:`voronoi`."""
+    """Every pixel's k nearest sites, nearest first.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2)
+        Finite x, y coordinates.
+    shape : tuple of int, optional
+        As for :func:`voronoi`.
+    k : int, optional
+        The levels, 1 to 256.
+    bbox, res, y_axis, crs
+        As for :func:`voronoi`.
+    {planar_metric}
+    {mode}
+    {device}
+
+    Returns
+    -------
+    Diagram
+        ``labels`` and ``distances`` of shape ``(H, W, k)``;
+        :data:`NO_SITE` (and inf) where fewer than k sites exist.
+    """
     place = _place(shape, bbox, res, y_axis, crs)
     metric = _planar(metric, place.crs, "k_nearest")
     k = _count(k, "k")
@@ -239,6 +267,7 @@ def k_nearest(
     return Diagram(labels, distances, place.frame(frame))
 
 
+@_docs.fill
 def furthest(
     sites,
     shape: Optional[Sequence[int]] = None,
@@ -251,7 +280,22 @@ def furthest(
     device: Optional[str] = None,
 ) -> Diagram:
     """The furthest-site diagram: every pixel's farthest site and the distance
-    to it. Arguments as for :func:`voronoi`."""
+    to it.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2)
+        Finite x, y coordinates.
+    {placement}
+    {planar_metric}
+    {device}
+
+    Returns
+    -------
+    Diagram
+        ``labels`` (H, W), each pixel's farthest site (ties to the smaller
+        index), ``distances`` (H, W) and the ``frame``.
+    """
     place = _place(shape, bbox, res, y_axis, crs)
     metric = _planar(metric, place.crs, "furthest")
     labels, distances, frame = _pixgeo.furthest(
@@ -260,30 +304,68 @@ def furthest(
     return Diagram(labels, distances, place.frame(frame))
 
 
+@_docs.fill
 def delaunay(points, *, device: Optional[str] = None) -> Triangulation:
-    """The Delaunay triangulation by flooding (Cao, Edelsbrunner and Tan) on
-    a device, by insertion on the CPU: counter-clockwise triangles as indices
-    into ``points``, each starting at its least index, sorted; the same on
-    every device. Co-circular points are decided by their order in
-    ``points``, so the triangulation is unique; where no four points are
-    co-circular it is ``scipy.spatial.Delaunay(points).simplices`` up to
-    order. Repeated points are dropped and reported. ``features()`` gives the
-    triangles as GeoJSON-like features."""
+    """The Delaunay triangulation, exact.
+
+    By flooding (Cao, Edelsbrunner and Tan) on a device, by insertion on the
+    CPU, the same triangles on every device. Co-circular points are decided
+    by their order in ``points``, so the triangulation is unique; where no
+    four points are co-circular it is ``scipy.spatial.Delaunay(points)``'s
+    up to order.
+
+    Parameters
+    ----------
+    {points}
+    {device}
+
+    Returns
+    -------
+    Triangulation
+        Counter-clockwise ``simplices`` as indices into ``points``, each
+        starting at its least index, sorted; the repeated points dropped
+        (``duplicates``); SciPy's ``neighbors``, ``convex_hull``,
+        ``vertex_neighbor_vertices`` and ``find_simplex``.
+    """
     p = _points(points, "points")
     simplices, duplicates = _pixgeo.delaunay(p, device)
     return Triangulation(simplices.astype(np.intp), duplicates.astype(np.intp), p)
 
 
+@_docs.fill
 def voronoi_cells(
     points, *, bbox=None, crs=None, metric: Optional[str] = None, geojson: bool = False,
     device: Optional[str] = None,
 ) -> Cells:
-    """The exact Euclidean Voronoi cells of ``points`` clipped to ``bbox``
-    (default: the points' bounding box), in input order: shapely polygons,
-    or GeoJSON-like mappings without shapely or with ``geojson=True``. See
-    :class:`Cells`; ``crs`` (``"EPSG:N"``) is carried to it. Under a
-    geographic ``crs`` cells on the sphere are not computed: ``metric='l2'``
-    asks for cells on the longitude-latitude plane (with a warning)."""
+    """The exact Euclidean Voronoi cells of ``points``, in input order.
+
+    Every corner is the double nearest the exact corner, so neighbouring
+    cells share corners bit for bit and the cells tile the box. Under a
+    geographic ``crs`` cells on the sphere are not computed:
+    ``metric='l2'`` asks for cells on the longitude-latitude plane (with a
+    warning).
+
+    Parameters
+    ----------
+    {points}
+    bbox : tuple of float, optional
+        ``(xmin, ymin, xmax, ymax)`` the cells are clipped to (default: the
+        points' bounding box).
+    crs : str, optional
+        ``"EPSG:N"``, carried to the answer.
+    metric : {"l2"}, optional
+        ``"l2"`` under a geographic ``crs``: the plane, asked for.
+    geojson : bool, optional
+        GeoJSON-like mappings instead of shapely polygons.
+    {device}
+
+    Returns
+    -------
+    Cells
+        A sequence of the cells (shapely polygons, or mappings without
+        shapely or with ``geojson=True``; empty where a cell misses the
+        box) and the repeated points.
+    """
     crs = _crs(crs)
     _euclidean(metric, crs, "voronoi_cells")
     p = _points(points, "points")
@@ -292,31 +374,70 @@ def voronoi_cells(
     return Cells(_polygons(corners, geojson), duplicates.astype(np.intp), box, crs)
 
 
+@_docs.fill
 def hausdorff(
     a, b, *, device: Optional[str] = None, method: Optional[str] = None
 ) -> Tuple[float, int, int]:
-    """The Hausdorff distance between point sets ``a`` and ``b``, exact, and
-    the pair that attains it: ``(distance, index in a, index in b)``.
-    ``method`` is what proposes the partners before the exact check:
-    ``"pixels"`` (the Voronoi picture), ``"grid"`` (a bucket grid on the CPU),
-    or None, the faster on the device (the grid on lavapipe)."""
+    """The Hausdorff distance between point sets ``a`` and ``b``, exact.
+
+    Parameters
+    ----------
+    a, b : array_like, shape (n, 2) and (m, 2)
+        Finite x, y coordinates.
+    {device}
+    method : {"pixels", "grid"}, optional
+        What proposes the partners before the exact check: the Voronoi
+        picture, or a bucket grid on the CPU (default: the faster on the
+        device, the grid on lavapipe).
+
+    Returns
+    -------
+    tuple of (float, int, int)
+        ``(distance, index in a, index in b)`` of the pair that attains it.
+    """
     d, ab, ba = _pixgeo.hausdorff(_points(a, "a"), _points(b, "b"), device, method)
     if ab[0] >= ba[0]:
         return (d, ab[1], ab[2])
     return (d, ba[2], ba[1])
 
 
+@_docs.fill
 def diameter(points, *, device: Optional[str] = None) -> Tuple[float, int, int]:
-    """The largest distance between two of the points, exact: ``(distance, i, j)``."""
+    """The largest distance between two of the points, exact.
+
+    Parameters
+    ----------
+    {points}
+    {device}
+
+    Returns
+    -------
+    tuple of (float, int, int)
+        ``(distance, i, j)``.
+    """
     return tuple(_pixgeo.diameter(_points(points, "points"), device))
 
 
+@_docs.fill
 def enclosing_circle(points, *, device: Optional[str] = None) -> Circle:
-    """The smallest circle holding every point (exact, by Welzl's algorithm on
-    the candidates the picture leaves)."""
+    """The smallest circle holding every point, exact (Welzl's algorithm on
+    the candidates the picture leaves).
+
+    Parameters
+    ----------
+    {points}
+    {device}
+
+    Returns
+    -------
+    Circle
+        Its ``centre`` and ``radius``, each the double nearest the exact
+        one, and the ``sites`` on it.
+    """
     return _circle(_pixgeo.enclosing_circle(_points(points, "points"), device))
 
 
+@_docs.fill
 def largest_empty_circle(
     points,
     *,
@@ -326,11 +447,27 @@ def largest_empty_circle(
     device: Optional[str] = None,
 ) -> Circle:
     """The largest circle holding none of the points and crossing none of
-    the ``segments`` ((k, 4) rows x0, y0, x1, y1), its centre inside
-    ``region`` (a sequence of rings, each an (m, 2) array, even-odd; default:
-    the sites' bounding box); with ``inside`` the whole circle inside it. The
-    radius is the double nearest the exact one. ``sites`` numbers the points,
-    then the segments, then (with ``inside``) the region's edges."""
+    the segments, its centre in a region.
+
+    Parameters
+    ----------
+    {points}
+    segments : array_like, shape (k, 4), optional
+        Rows ``x0, y0, x1, y1``.
+    region : sequence of array_like, optional
+        Rings, each an (m, 2) array, even-odd (default: the sites'
+        bounding box).
+    inside : bool, optional
+        The whole circle inside the region, not only its centre.
+    {device}
+
+    Returns
+    -------
+    Circle
+        The radius is the double nearest the exact one; ``sites`` numbers
+        the points, then the segments, then (with ``inside``) the region's
+        edges.
+    """
     rings = [] if region is None else [_points(r, "region ring") for r in region]
     bars = np.zeros((0, 4)) if segments is None else np.asarray(segments, dtype=np.float64)
     if bars.ndim != 2 or bars.shape[1] != 4:
@@ -341,20 +478,40 @@ def largest_empty_circle(
     return _circle(found)
 
 
+@_docs.fill
 def alpha_hull(
     points, alpha: float, *, side: int = 1024, method: str = "hull", device: Optional[str] = None
 ) -> AlphaHull:
-    """The α-hull of the points (thesis ch. 6): α = 0 the convex hull, α > 0 the
-    intersection of discs of radius 1/α holding every point, α < 0 the
-    complement of the empty discs of radius 1/|α|. The picture is fitted to
-    where the hull can be, ``side`` pixels along its longer axis; ``method``
-    (α > 0) is ``hull`` (circles through hull points) or ``pixels``."""
+    """The α-hull of the points (thesis ch. 6), on a picture fitted to where
+    the hull can be.
+
+    Parameters
+    ----------
+    {points}
+    alpha : float
+        0 the convex hull, > 0 the intersection of discs of radius 1/α
+        holding every point, < 0 the complement of the empty discs of
+        radius 1/|α|.
+    side : int, optional
+        Pixels along the picture's longer axis.
+    method : {"hull", "pixels"}, optional
+        For α > 0: circles through hull points, or intersections of discs
+        counted on the device.
+    {device}
+
+    Returns
+    -------
+    AlphaHull
+        The ``inside`` raster, its ``frame``, the ``boundary`` sites and the
+        ``method`` that found it.
+    """
     classes, frame, boundary, used = _pixgeo.alpha_hull_of(
         _points(points, "points"), float(alpha), _count(side, "side"), method, device
     )
     return AlphaHull(classes == 1, _frame(frame), tuple(boundary), used)
 
 
+@_docs.fill
 def settle(
     sites,
     shape: Optional[Sequence[int]] = None,
@@ -369,9 +526,30 @@ def settle(
     device: Optional[str] = None,
 ) -> Settle:
     """Where a new store wins the largest market among rival ``sites``
-    (thesis §3.11.3), not counting pixels that ``own`` stores already hold:
-    the map on the picture, then under L2 an exact compass search from the
-    ``refine_from`` best pixels."""
+    (thesis §3.11.3), not counting pixels that ``own`` stores already hold.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2)
+        The rivals.
+    shape : tuple of int, optional
+        As for :func:`voronoi`.
+    own : array_like, shape (m, 2), optional
+        Stores whose pixels do not count.
+    bbox, res, y_axis, crs
+        As for :func:`voronoi`.
+    metric : str, optional
+        ``"l2"``, ``"l1"``, ``"linf"`` or ``"lp:P"``; planar only.
+    refine_from : int, optional
+        Under L2, an exact compass search from this many best pixels.
+    {device}
+
+    Returns
+    -------
+    Settle
+        The ``area`` map (each pixel's market), its ``frame``, the
+        ``best_area`` and, under L2, the ``refined`` position and area.
+    """
     place = _place(shape, bbox, res, y_axis, crs)
     metric = _planar(metric, place.crs, "settle")
     own = np.zeros((0, 2)) if own is None else own
@@ -395,26 +573,69 @@ def _polygon(points, corners: int, largest: bool) -> Tuple[np.ndarray, float]:
     return vertices.astype(np.intp), area
 
 
+@_docs.fill
 def smallest_triangle(points) -> Tuple[np.ndarray, float]:
-    """The smallest-area triangle with vertices among the points: its vertex
-    indices counter-clockwise and its area, exact (rotational sweep,
-    O(n² log n))."""
+    """The smallest-area triangle with vertices among the points (rotational
+    sweep, O(n² log n)).
+
+    Parameters
+    ----------
+    {points}
+
+    Returns
+    -------
+    tuple of (ndarray, float)
+        The vertex indices counter-clockwise, and the area, exact.
+    """
     return _polygon(points, 3, False)
 
 
+@_docs.fill
 def largest_triangle(points) -> Tuple[np.ndarray, float]:
-    """The largest-area triangle with vertices among the points, exact."""
+    """The largest-area triangle with vertices among the points.
+
+    Parameters
+    ----------
+    {points}
+
+    Returns
+    -------
+    tuple of (ndarray, float)
+        The vertex indices counter-clockwise, and the area, exact.
+    """
     return _polygon(points, 3, True)
 
 
+@_docs.fill
 def smallest_quadrangle(points) -> Tuple[np.ndarray, float]:
     """The smallest quadrangle with vertices among the points: a diagonal with
-    one vertex strictly on each side; indices counter-clockwise, area."""
+    one vertex strictly on each side.
+
+    Parameters
+    ----------
+    {points}
+
+    Returns
+    -------
+    tuple of (ndarray, float)
+        The vertex indices counter-clockwise, and the area, exact.
+    """
     return _polygon(points, 4, False)
 
 
+@_docs.fill
 def largest_quadrangle(points) -> Tuple[np.ndarray, float]:
-    """The largest quadrangle with vertices among the points, exact."""
+    """The largest quadrangle with vertices among the points.
+
+    Parameters
+    ----------
+    {points}
+
+    Returns
+    -------
+    tuple of (ndarray, float)
+        The vertex indices counter-clockwise, and the area, exact.
+    """
     return _polygon(points, 4, True)
 
 
@@ -428,17 +649,32 @@ def distance_transform_edt(
     *,
     metric: str = "l2",
 ):
-    """SciPy's ``scipy.ndimage.distance_transform_edt`` for 2-D arrays: each
-    non-zero element's distance to the nearest zero element, exact, with
-    ``sampling`` (one spacing, or one per axis) and the nearest zero's indices
-    in SciPy's layout, int32 ``(2, H, W)``. ``distances`` (float64) and
-    ``indices`` (int32) may be given to be filled in place, as in SciPy.
+    """SciPy's ``scipy.ndimage.distance_transform_edt`` for 2-D arrays, exact.
 
-    ``metric`` goes beyond SciPy: ``"l1"``, ``"linf"``, ``"lp:P"`` or
-    ``"polygon:FILE"`` (exact too; polygons and p < 1 take equal sampling).
+    Where ``input`` has no zero at all, distances are infinite and indices
+    -1 (SciPy's answer there is not a distance to any element).
 
-    Where ``input`` has no zero at all, distances are infinite and indices -1
-    (SciPy's answer there is not a distance to any element).
+    Parameters
+    ----------
+    input : array_like, shape (H, W)
+        Each non-zero element gets its distance to the nearest zero one.
+    sampling : float or tuple of float, optional
+        One spacing, or one per axis (rows, columns).
+    return_distances, return_indices : bool, optional
+        Which arrays to return.
+    distances : ndarray of float64, optional
+        Filled in place, as in SciPy.
+    indices : ndarray of int32, shape (2, H, W), optional
+        Filled in place, as in SciPy.
+    metric : str, optional
+        Beyond SciPy: ``"l1"``, ``"linf"``, ``"lp:P"`` or ``"polygon:FILE"``
+        (exact too; polygons and p < 1 take equal sampling).
+
+    Returns
+    -------
+    ndarray or tuple of ndarray
+        The distances (float64) and the nearest zero's indices in SciPy's
+        layout (int32, ``(2, H, W)``), as asked and not given in place.
     """
     a = _raster(input)
     # SciPy's argument rules, and its messages.
@@ -489,22 +725,39 @@ def medial_axis(
     metric: str = "l2",
 ):
     """The medial axis of ``image``'s non-zero pixels, as
-    ``skimage.morphology.medial_axis`` takes it: a boolean array, and with
-    ``return_distance`` the distance transform (each pixel's distance to the
-    nearest zero pixel). Where ``mask`` is given, only the pixels that are
-    non-zero in both count.
+    ``skimage.morphology.medial_axis`` takes it.
 
-    It is Hesselink and Roerdink's integer medial axis, computed from pixgeo's
-    exact feature transform: a pixel is on it when it and a neighbour have
-    nearest zero pixels more than ``prune`` apart (in ``sampling``'s units)
-    seen under more than ``prune_angle`` degrees, and it is the one of the two
-    nearer their bisector. Those pixels anchor a thinning of the shape that
-    joins them along its middle, so the axis is thin and keeps the topology:
-    one connected axis per connected shape with a loop around each hole, thin
-    shapes included (anchored by their farthest-apart pairs). ``metric`` and
-    ``sampling`` are those of :func:`distance_transform_edt`. ``rng`` is
-    taken, as skimage takes it, and has no effect: skimage draws on it to
-    break ties in its thinning's order, and pixgeo's axis has no random part.
+    It is Hesselink and Roerdink's integer medial axis, computed from
+    pixgeo's exact feature transform: a pixel is on it when it and a
+    neighbour have nearest zero pixels more than ``prune`` apart seen under
+    more than ``prune_angle`` degrees, and it is the one of the two nearer
+    their bisector. Those pixels anchor a thinning that joins them along the
+    shape's middle, so the axis is thin and keeps the topology: one
+    connected axis per connected shape with a loop around each hole.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+        The shape: its non-zero pixels.
+    mask : array_like, shape (H, W), optional
+        Only pixels non-zero in both count.
+    return_distance : bool, optional
+        Return the distance transform too.
+    rng : optional
+        Taken, as skimage takes it, with no effect: pixgeo's axis has no
+        random part.
+    prune : float, optional
+        The least distance, in ``sampling``'s units, between two nearest
+        zero pixels that makes an anchor.
+    prune_angle : float, optional
+        The least angle, in degrees, they are seen under.
+    sampling, metric
+        As for :func:`distance_transform_edt`.
+
+    Returns
+    -------
+    ndarray of bool or tuple of ndarray
+        The axis, and with ``return_distance`` the distance transform.
     """
     del rng  # deterministic: see above
     a = _raster(image) != 0

@@ -8,7 +8,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from . import _crs, _pixgeo, _place, _points, _unmasked, _warn_planar
+from . import _docs, _crs, _pixgeo, _place, _points, _unmasked, _warn_planar
 
 METHODS = ("exact", "discrete", "linear", "nearest")
 
@@ -26,6 +26,7 @@ def _values(values, n: int, name: str = "values") -> np.ndarray:
     return np.ascontiguousarray(v, dtype=np.float64)
 
 
+@_docs.fill
 def natural_neighbor(
     points,
     values,
@@ -40,28 +41,39 @@ def natural_neighbor(
     fill_value: float = np.nan,
     device: Optional[str] = None,
 ) -> np.ndarray:
-    """``values`` at ``points`` (n, 2) interpolated at every pixel centre of
-    the picture (``shape=(height, width)`` with ``bbox``, or ``bbox`` and
-    ``res``), as an array of that shape, rows as pixgeo's rasters; or at the
-    points ``xi`` in any of SciPy ``griddata``'s forms: ``(m, 2)`` (or
-    ``(..., 2)``) coordinates, or a tuple of coordinate arrays ``(gx, gy)``
-    (``np.meshgrid``'s), the answer shaped as they are.
+    """``values`` at ``points`` interpolated at every pixel centre of the
+    picture, or at the points ``xi``.
 
-    ``method``:
+    Outside the points' convex hull the methods but ``"nearest"`` give
+    ``fill_value``, as MetPy's ``natural_neighbor_to_grid`` and SciPy's
+    ``griddata`` do.
 
-    - ``"exact"``: Sibson's natural-neighbour interpolant, each weight the
-      area a new site would steal from a natural neighbour's Voronoi region,
-      from the exact Delaunay triangulation; every value is the double
-      nearest the exact interpolant at the pixel centre's (or point's)
-      doubles;
-    - ``"discrete"``: the rendered discrete Sibson interpolant (rasters only);
-    - ``"linear"``: barycentric in the exact Delaunay triangle, correctly
-      rounded (SciPy's ``griddata(..., method="linear")``);
-    - ``"nearest"``: the nearest point's value, everywhere (rasters only).
+    Parameters
+    ----------
+    {points}
+    values : array_like, shape (n,)
+        One finite value a point.
+    {placement}
+    xi : array_like or tuple of array_like, optional
+        Any of SciPy ``griddata``'s forms: ``(m, 2)`` (or ``(..., 2)``)
+        coordinates, or a tuple of coordinate arrays ``(gx, gy)``
+        (``np.meshgrid``'s), instead of the picture.
+    method : {"exact", "discrete", "linear", "nearest"}, optional
+        ``"exact"``: Sibson's interpolant from the exact Delaunay
+        triangulation, each value the double nearest the exact one;
+        ``"discrete"``: the rendered discrete Sibson interpolant (rasters
+        only); ``"linear"``: barycentric in the exact Delaunay triangle,
+        correctly rounded; ``"nearest"``: the nearest point's value
+        (rasters only).
+    fill_value : float, optional
+        Outside the convex hull (default NaN).
+    {device}
 
-    Outside the points' convex hull the other methods give ``fill_value``,
-    NaN by default, as MetPy's ``natural_neighbor_to_grid`` and SciPy's
-    ``griddata`` do."""
+    Returns
+    -------
+    ndarray of float64
+        The picture's shape, rows as pixgeo's rasters; or shaped as ``xi``.
+    """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}: use {', '.join(METHODS)}")
     _warn_planar(_crs(crs), "the natural neighbours' areas and the triangles are taken")

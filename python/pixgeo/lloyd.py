@@ -9,7 +9,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from . import Frame, _pixgeo, _place, _points, _warn_planar
+from . import _docs, Frame, _pixgeo, _place, _points, _warn_planar
 
 
 @dataclass(frozen=True)
@@ -37,6 +37,7 @@ def _iterations(iterations) -> int:
     return int(iterations)
 
 
+@_docs.fill
 def lloyd(
     sites,
     shape: Optional[Sequence[int]] = None,
@@ -50,14 +51,35 @@ def lloyd(
     density=None,
     device: Optional[str] = None,
 ) -> Lloyd:
-    """Lloyd's iterations from ``sites`` on the picture: each iteration takes
-    the exact Voronoi diagram, sums every region's pixels (weighted by
-    ``density``, an array of the picture's shape, finite and not negative,
-    rows as the rasters'; uniform without one) and moves each site to its
-    region's centroid, exact for the digital region (whole-number sums,
-    rounded once). At most ``iterations``; stops once no site moves farther
-    than ``tolerance`` (world units; default a hundredth of a pixel).
-    ``device="cpu"`` runs the CPU pixel algorithms, to the same answer."""
+    """Lloyd's iterations from ``sites`` on the picture.
+
+    Each iteration takes the exact Voronoi diagram, sums every region's
+    pixels (weighted by ``density``) and moves each site to its region's
+    centroid, exact for the digital region (whole-number sums, rounded
+    once). ``device="cpu"`` runs the CPU pixel algorithms, to the same
+    answer.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2)
+        The starting sites.
+    {placement}
+    iterations : int, optional
+        At most this many.
+    tolerance : float, optional
+        Stop once no site moves farther (world units; default a hundredth
+        of a pixel).
+    density : array_like, optional
+        The picture's shape, finite and not negative, rows as the rasters'
+        (uniform without one).
+    {device}
+
+    Returns
+    -------
+    Lloyd
+        The moved ``points``, their ``labels``, the ``energy`` and
+        ``largest_move`` of each iteration, and whether it ``converged``.
+    """
     place = _place(shape, bbox, res, y_axis, crs)
     _warn_planar(place.crs, "Lloyd's centroids are taken")
     if place.crs is not None and _pixgeo.is_geographic(int(place.crs[5:])):

@@ -9,7 +9,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import Cells, Frame, _cells_box, _crs, _euclidean, _pixgeo, _place, _points, _polygons, _warn_planar
+from . import _docs, Cells, Frame, _cells_box, _crs, _euclidean, _pixgeo, _place, _points, _polygons, _warn_planar
 from ._interpolate import _values
 
 
@@ -32,6 +32,7 @@ class PowerDiagram:
         return self.frame.to_xarray(labels=self.labels, powers=self.powers, ties=self.ties)
 
 
+@_docs.fill
 def power_diagram(
     points,
     weights,
@@ -42,9 +43,22 @@ def power_diagram(
     y_axis: Optional[str] = None,
     crs=None,
 ) -> PowerDiagram:
-    """The power diagram of ``points`` (n, 2) with power ``weights`` (n,) on
-    the picture, exact: on the CPU, by a walk over the regular
-    triangulation."""
+    """The power diagram on the picture, exact: on the CPU, by a walk over
+    the regular triangulation.
+
+    Parameters
+    ----------
+    {points}
+    weights : array_like, shape (n,)
+        Power weights w: a pixel's power from a site s is ``|p - s|² - w``.
+    {placement}
+
+    Returns
+    -------
+    PowerDiagram
+        Each pixel's site of least power, that power, how many sites share
+        it, and the hidden sites.
+    """
     place = _place(shape, bbox, res, y_axis, crs)
     _warn_planar(place.crs, "powers are measured")
     p = _points(points, "points")
@@ -55,16 +69,37 @@ def power_diagram(
     return PowerDiagram(labels, powers, ties, np.asarray(hidden, dtype=np.uint32), frame)
 
 
+@_docs.fill
 def power_cells(
     points, weights, *, bbox=None, crs=None, metric: Optional[str] = None, geojson: bool = False
 ) -> Cells:
-    """The exact power cells of ``points`` (n, 2) with power ``weights`` (n,)
-    clipped to ``bbox`` (default: the points' bounding box), in input order,
-    as :class:`pixgeo.Cells`: every corner the double nearest the exact
-    corner, so neighbouring cells share corners bit for bit and the cells
-    tile the box; a hidden site's cell is empty. On the CPU, from the exact
-    regular triangulation. Under a geographic ``crs``, as
-    :func:`pixgeo.voronoi_cells`: ``metric='l2'`` asks for the plane."""
+    """The exact power cells of the points, in input order.
+
+    Every corner is the double nearest the exact corner, so neighbouring
+    cells share corners bit for bit and the cells tile the box; a hidden
+    site's cell is empty. On the CPU, from the exact regular triangulation.
+
+    Parameters
+    ----------
+    {points}
+    weights : array_like, shape (n,)
+        Power weights.
+    bbox : tuple of float, optional
+        ``(xmin, ymin, xmax, ymax)`` the cells are clipped to (default: the
+        points' bounding box).
+    crs : str, optional
+        As for :func:`pixgeo.voronoi_cells`: under a geographic one,
+        ``metric='l2'`` asks for the plane.
+    metric : {"l2"}, optional
+        The plane, asked for under a geographic ``crs``.
+    geojson : bool, optional
+        GeoJSON-like mappings instead of shapely polygons.
+
+    Returns
+    -------
+    Cells
+        The cells, with ``weights`` and the ``hidden`` sites.
+    """
     crs = _crs(crs)
     _euclidean(metric, crs, "power_cells")
     p = _points(points, "points")
@@ -77,10 +112,22 @@ def power_cells(
     )
 
 
+@_docs.fill
 def regular_triangulation(points, weights) -> Tuple[np.ndarray, np.ndarray]:
-    """The regular (weighted Delaunay) triangulation of ``points`` with power
-    ``weights``, exact: counter-clockwise triangles (m, 3) and the hidden
-    points (ascending), whose power cells are empty."""
+    """The regular (weighted Delaunay) triangulation, exact.
+
+    Parameters
+    ----------
+    {points}
+    weights : array_like, shape (n,)
+        Power weights.
+
+    Returns
+    -------
+    tuple of ndarray
+        Counter-clockwise triangles (m, 3), and the hidden points
+        (ascending), whose power cells are empty.
+    """
     p = _points(points, "points")
     triangles, hidden = _pixgeo.regular_triangulation(p, _values(weights, len(p), "weights"))
     return triangles, np.asarray(hidden, dtype=np.uint32)

@@ -88,3 +88,28 @@ def test_the_namespace_shows_what_pixgeo_offers():
     assert not {"np", "sys", "Optional", "dataclass", "functools"} & set(shown)
     assert {"voronoi", "delaunay", "natural_neighbor", "__version__"} <= set(shown)
     assert all(hasattr(pixgeo, name) for name in pixgeo.__all__)
+
+
+def test_every_function_documents_its_parameters_in_numpydoc_sections():
+    import inspect
+
+    import pixgeo
+    from pixgeo import _docs
+
+    functions = [getattr(pixgeo, name) for name in pixgeo.__all__]
+    functions = [f for f in functions if inspect.isfunction(f)]
+    assert len(functions) > 20
+    for f in functions:
+        doc = inspect.getdoc(f)
+        assert "\nParameters\n----------\n" in doc, f.__name__
+        assert "\nReturns\n-------\n" in doc, f.__name__
+        assert not any("{%s}" % part in doc for part in _docs.PARTS), f.__name__
+        section = doc.split("\nParameters\n----------\n")[1].split("\nReturns\n")[0]
+        # Each parameter names a line of its own: "name : type" or a list
+        # of names sharing one.
+        named = set()
+        for line in section.split("\n"):
+            if line and not line.startswith(" "):
+                named.update(n.strip() for n in line.split(" : ")[0].split(","))
+        missing = set(inspect.signature(f).parameters) - named
+        assert not missing, f"{f.__name__}: {sorted(missing)}"
