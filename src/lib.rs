@@ -77,9 +77,8 @@ pub use simple::{
 };
 
 /// What pixgeo's own tests, oracles and benchmarks check against beyond the
-/// API: the cone drawing, the fan error bound, the flips, the triangle
-/// predicates and the point buckets. Not part of the API; it changes without
-/// notice.
+/// API: the cone drawing, the fan error bound, the flips and the point
+/// buckets. Not part of the API; it changes without notice.
 #[doc(hidden)]
 pub mod testing {
     pub use crate::algorithms::cones::{
@@ -87,10 +86,6 @@ pub mod testing {
         SITE_EXACT_BATCH,
     };
     pub use crate::geometry::{
-        buckets::PointGrid,
-        cone::bisector_deviation,
-        flips::make_delaunay,
-        frame::site_checks,
-        triangle::{sides_of, triangle_area},
+        buckets::PointGrid, cone::bisector_deviation, flips::make_delaunay, frame::site_checks,
     };
 }

@@ -5,12 +5,56 @@
 //! has l strictly on its left and r strictly on its right: every simple
 //! quadrangle has such a diagonal, and its area is the two triangles' sum.
 
-use glam::DVec2;
+use std::cmp::Ordering;
 
-pub use pixgeo::{
-    geometry::predicates::orient,
-    testing::{sides_of, triangle_area},
-};
+use glam::DVec2;
+use num_rational::BigRational;
+use num_traits::{Signed, ToPrimitive, Zero};
+
+use crate::exact::signed_double_area;
+
+/// The sign of a, b, c's exact orientation: 1 counter-clockwise, -1
+/// clockwise, 0 on a line.
+pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    match signed_double_area(a, b, c).cmp(&BigRational::zero()) {
+        Ordering::Greater => 1.0,
+        Ordering::Less => -1.0,
+        Ordering::Equal => 0.0,
+    }
+}
+
+/// The area of triangle a, b, c: the exact area, rounded to the nearest
+/// double.
+pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    let half = BigRational::new(1.into(), 2.into());
+    (signed_double_area(a, b, c).abs() * half)
+        .to_f64()
+        .expect("a finite area")
+}
+
+/// The best site strictly on each side of the line p → q (left, right): the
+/// nearest (`largest` false) or farthest by exact area, the first on a tie,
+/// with its triangle's area rounded to the nearest double.
+pub fn sides_of(sites: &[DVec2], p: usize, q: usize, largest: bool) -> [Option<(u32, f64)>; 2] {
+    let mut best: [Option<(u32, BigRational)>; 2] = [None, None];
+    for (s, &site) in sites.iter().enumerate() {
+        let signed = signed_double_area(sites[p], sites[q], site);
+        let side = match signed.cmp(&BigRational::zero()) {
+            Ordering::Equal => continue,
+            Ordering::Greater => 0,
+            Ordering::Less => 1,
+        };
+        let area = signed.abs();
+        let better = best[side]
+            .as_ref()
+            .is_none_or(|(_, b)| if largest { area > *b } else { area < *b });
+        if better {
+            best[side] = Some((s as u32, area));
+        }
+    }
+    let half = BigRational::new(1.into(), 2.into());
+    best.map(|b| b.map(|(s, area)| (s, (area * &half).to_f64().expect("a finite area"))))
+}
 
 /// The smallest (`largest` false) or largest triangle over all triples of
 /// sites: its sites and area. `None` for fewer than three sites.
@@ -103,7 +147,8 @@ pub fn smallest_triangle_sweep(sites: &[DVec2]) -> Option<([u32; 3], f64)> {
                 .flatten()
             {
                 let s = order[k];
-                let area = triangle_area(sites[i as usize], sites[j as usize], sites[s as usize]);
+                let (a, b, c) = (sites[i as usize], sites[j as usize], sites[s as usize]);
+                let area = 0.5 * (b - a).perp_dot(c - a).abs();
                 if best.is_none_or(|b| area < b.1) {
                     best = Some(([i, j, s], area));
                 }

@@ -4,7 +4,95 @@
 
 use glam::DVec2;
 
-pub use pixgeo::geometry::circle::{through_three, welzl, Circle};
+use rand::{seq::SliceRandom, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A circle in doubles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Circle {
+    pub centre: DVec2,
+    pub radius: f64,
+}
+
+impl Circle {
+    fn on_diameter(a: DVec2, b: DVec2) -> Self {
+        let centre = (a + b) / 2.0;
+        Circle {
+            centre,
+            radius: a.distance(centre).max(b.distance(centre)),
+        }
+    }
+
+    /// Holds `p`, with a relative slack for the doubles' rounding.
+    fn holds(&self, p: DVec2) -> bool {
+        p.distance(self.centre) <= self.radius * (1.0 + 1e-12) + f64::MIN_POSITIVE
+    }
+}
+
+/// The circle through `a`, `b` and `c` (their circumcircle); `None` on a
+/// line.
+pub fn through_three(a: DVec2, b: DVec2, c: DVec2) -> Option<Circle> {
+    let (u, v) = (b - a, c - a);
+    let d = 2.0 * u.perp_dot(v);
+    if d == 0.0 {
+        return None;
+    }
+    let (uu, vv) = (u.length_squared(), v.length_squared());
+    let centre = a + DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d;
+    let radius = [a, b, c]
+        .map(|p| p.distance(centre))
+        .into_iter()
+        .fold(0.0, f64::max);
+    Some(Circle { centre, radius })
+}
+
+/// The smallest circle holding every point: Welzl's algorithm in its
+/// iterative form (Welzl 1991, three nested passes over the points in a
+/// shuffled order), in doubles. Points on a line take the circle on their
+/// two farthest as diameter.
+pub fn welzl(points: &[DVec2]) -> Circle {
+    let mut p = points.to_vec();
+    p.shuffle(&mut ChaCha8Rng::seed_from_u64(7));
+    let Some(&first) = p.first() else {
+        return Circle {
+            centre: DVec2::ZERO,
+            radius: 0.0,
+        };
+    };
+    let mut c = Circle {
+        centre: first,
+        radius: 0.0,
+    };
+    for i in 1..p.len() {
+        if c.holds(p[i]) {
+            continue;
+        }
+        c = Circle {
+            centre: p[i],
+            radius: 0.0,
+        };
+        for j in 0..i {
+            if c.holds(p[j]) {
+                continue;
+            }
+            c = Circle::on_diameter(p[i], p[j]);
+            for k in 0..j {
+                if c.holds(p[k]) {
+                    continue;
+                }
+                c = through_three(p[i], p[j], p[k]).unwrap_or_else(|| {
+                    let pairs = [(p[i], p[j]), (p[i], p[k]), (p[j], p[k])];
+                    let (a, b) = pairs
+                        .into_iter()
+                        .max_by(|x, y| x.0.distance(x.1).total_cmp(&y.0.distance(y.1)))
+                        .expect("three pairs");
+                    Circle::on_diameter(a, b)
+                });
+            }
+        }
+    }
+    c
+}
 
 /// The k-th smallest of `values` (1-based).
 fn kth(mut values: Vec<f64>, k: usize) -> f64 {
@@ -21,8 +109,9 @@ fn circle_centres(points: &[DVec2]) -> Vec<DVec2> {
         for b in a + 1..n {
             out.push((points[a] + points[b]) / 2.0);
             for c in b + 1..n {
-                let t = through_three([points[a], points[b], points[c]], [a, b, c]);
-                out.push(t.centre);
+                if let Some(t) = through_three(points[a], points[b], points[c]) {
+                    out.push(t.centre);
+                }
             }
         }
     }

@@ -11,15 +11,15 @@ use super::{
     predicates::orient,
 };
 
-/// The area of triangle (a, b, c).
-pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    0.5 * orient(a, b, c).abs()
-}
-
 /// The best site strictly on each side of the line p → q (left, right): the
 /// nearest (`largest` false) or farthest, by exact area (the first on a tie),
 /// with its triangle's area as a float.
-pub fn sides_of(sites: &[DVec2], p: usize, q: usize, largest: bool) -> [Option<(u32, f64)>; 2] {
+pub(crate) fn sides_of(
+    sites: &[DVec2],
+    p: usize,
+    q: usize,
+    largest: bool,
+) -> [Option<(u32, f64)>; 2] {
     // Per side: the triangle and its area's float bounds.
     type Best = Option<([u32; 3], (f64, f64))>;
     let mut best: [Best; 2] = [None, None];
