@@ -11,8 +11,62 @@
 
 use std::{cmp::Reverse, collections::BinaryHeap};
 
-pub use pixgeo::geometry::seed::{check_seeds, neighbours, priority, Priority, Seed, NONE};
-use pixgeo::{error::Result, geometry::triangulation::DUMMY};
+use pixgeo::{Error, Result};
+
+/// No seed: a pixel with no colour.
+pub const NONE: u32 = u32::MAX;
+
+/// The dual triangulation's vertex outside the texture.
+pub const DUMMY: u32 = u32::MAX;
+
+/// A seed pixel: its column and row.
+pub type Seed = [i32; 2];
+
+/// A (pixel, seed) pair's place in the total order: squared distance, then
+/// the pixel's and the seed's coordinates.
+pub type Priority = (i64, i32, i32, i32, i32);
+
+/// The priority of colouring pixel `a` with the seed at `s`: smaller first.
+pub fn priority(a: [i32; 2], s: Seed) -> Priority {
+    let (dx, dy) = (i64::from(a[0] - s[0]), i64::from(a[1] - s[1]));
+    (dx * dx + dy * dy, a[0], a[1], s[0], s[1])
+}
+
+/// Refuses an empty texture, and a seed outside it or on another's pixel.
+pub fn check_seeds(width: u32, height: u32, seeds: &[Seed]) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(Error::malformed("no pixels".into()));
+    }
+    let inside = |s: &Seed| s[0] >= 0 && s[1] >= 0 && s[0] < width as i32 && s[1] < height as i32;
+    let mut sorted = seeds.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    match seeds.iter().all(inside) && sorted.len() == seeds.len() {
+        true => Ok(()),
+        false => Err(Error::malformed(
+            "a seed outside the texture, or repeated".into(),
+        )),
+    }
+}
+
+/// The up to eight pixels sharing a side or a corner with (x, y), inside
+/// the texture.
+pub fn neighbours(x: i32, y: i32, width: u32, height: u32) -> impl Iterator<Item = [i32; 2]> {
+    let around = [
+        (-1, -1),
+        (0, -1),
+        (1, -1),
+        (-1, 0),
+        (1, 0),
+        (-1, 1),
+        (0, 1),
+        (1, 1),
+    ];
+    around
+        .into_iter()
+        .map(move |(dx, dy)| [x + dx, y + dy])
+        .filter(move |&[a, b]| a >= 0 && b >= 0 && a < width as i32 && b < height as i32)
+}
 
 /// The Euclidean colouring: every pixel the colour of its nearest seed.
 pub fn euclidean(width: u32, height: u32, seeds: &[Seed]) -> Result<Vec<u32>> {
