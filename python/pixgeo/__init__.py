@@ -578,14 +578,7 @@ def smallest_triangle(points) -> Tuple[np.ndarray, float]:
     """The smallest-area triangle with vertices among the points (rotational
     sweep, O(n² log n)).
 
-    Parameters
-    ----------
-    {points}
-
-    Returns
-    -------
-    tuple of (ndarray, float)
-        The vertex indices counter-clockwise, and the area, exact.
+    {extremal}
     """
     return _polygon(points, 3, False)
 
@@ -594,14 +587,7 @@ def smallest_triangle(points) -> Tuple[np.ndarray, float]:
 def largest_triangle(points) -> Tuple[np.ndarray, float]:
     """The largest-area triangle with vertices among the points.
 
-    Parameters
-    ----------
-    {points}
-
-    Returns
-    -------
-    tuple of (ndarray, float)
-        The vertex indices counter-clockwise, and the area, exact.
+    {extremal}
     """
     return _polygon(points, 3, True)
 
@@ -611,14 +597,7 @@ def smallest_quadrangle(points) -> Tuple[np.ndarray, float]:
     """The smallest quadrangle with vertices among the points: a diagonal with
     one vertex strictly on each side.
 
-    Parameters
-    ----------
-    {points}
-
-    Returns
-    -------
-    tuple of (ndarray, float)
-        The vertex indices counter-clockwise, and the area, exact.
+    {extremal}
     """
     return _polygon(points, 4, False)
 
@@ -627,14 +606,7 @@ def smallest_quadrangle(points) -> Tuple[np.ndarray, float]:
 def largest_quadrangle(points) -> Tuple[np.ndarray, float]:
     """The largest quadrangle with vertices among the points.
 
-    Parameters
-    ----------
-    {points}
-
-    Returns
-    -------
-    tuple of (ndarray, float)
-        The vertex indices counter-clockwise, and the area, exact.
+    {extremal}
     """
     return _polygon(points, 4, True)
 

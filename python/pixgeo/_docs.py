@@ -45,19 +45,31 @@ mode : str, optional
 points : array_like, shape (n, 2)
     Finite x, y coordinates; a GeoSeries or an array of shapely points is
     taken too.""",
+    "extremal": """\
+Parameters
+----------
+{points}
+
+Returns
+-------
+tuple of (ndarray, float)
+    The vertex indices counter-clockwise, and the area, exact.""",
 }
+
+
+def _expand(line: str) -> list:
+    """``line``, or the shared text it names at its indentation, its own
+    names expanded in turn."""
+    name = line.strip()
+    if not (name.startswith("{") and name.endswith("}") and name[1:-1] in PARTS):
+        return [line]
+    indent = line[: len(line) - len(line.lstrip())]
+    return [l for part in PARTS[name[1:-1]].split("\n") for l in _expand(indent + part)]
 
 
 def fill(function):
     """``function`` with each line ``{name}`` of its docstring replaced by
     the shared text, at that line's indentation."""
-    lines = []
-    for line in function.__doc__.split("\n"):
-        name = line.strip()
-        if name.startswith("{") and name.endswith("}") and name[1:-1] in PARTS:
-            indent = line[: len(line) - len(line.lstrip())]
-            lines += [indent + part for part in PARTS[name[1:-1]].split("\n")]
-        else:
-            lines.append(line)
-    function.__doc__ = "\n".join(lines)
+    lines = function.__doc__.split("\n")
+    function.__doc__ = "\n".join(l for line in lines for l in _expand(line))
     return function

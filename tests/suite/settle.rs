@@ -25,6 +25,12 @@ fn gpu(
     potential_areas(&Backend::Device(machine), rivals, own, &options).unwrap()
 }
 
+/// The map of the CPU's span count.
+fn cpu(rivals: &[DVec2], own: &[DVec2], frame: Frame, metric: Metric) -> PotentialAreas {
+    let options = SettleOptions::new(frame).metric(metric);
+    potential_areas(&Backend::Cpu, rivals, own, &options).unwrap()
+}
+
 /// Checks `area` against the definition: equal for metrics with exact integer
 /// keys, within the float32 rounding bracket for L_p; returns how many pixels
 /// the bracket left open.
@@ -184,25 +190,13 @@ fn cpu_variant_matches_the_device() {
     let rivals = crate::common::uniform(&mut rng, 9, 120.0, 90.0);
     let own = crate::common::uniform(&mut rng, 2, 120.0, 90.0);
     for metric in [Metric::L2, Metric::L1, Metric::LInf] {
-        let cpu = potential_areas(
-            &Backend::Cpu,
-            &rivals,
-            &own,
-            &SettleOptions::new(frame).metric(metric),
-        )
-        .unwrap();
+        let cpu = cpu(&rivals, &own, frame, metric);
         let gpu = gpu(&machine, &rivals, &own, frame, metric, SettleMethod::Spans);
         assert_eq!(cpu.area, gpu.area, "{metric}");
     }
     // L_p's powers round differently on the two processors: almost all agree.
     let metric = Metric::Lp(0.5);
-    let cpu = potential_areas(
-        &Backend::Cpu,
-        &rivals,
-        &[],
-        &SettleOptions::new(frame).metric(metric),
-    )
-    .unwrap();
+    let cpu = cpu(&rivals, &[], frame, metric);
     let gpu = gpu(&machine, &rivals, &[], frame, metric, SettleMethod::Spans);
     let differ = cpu
         .area
@@ -309,13 +303,7 @@ fn cpu_counts_are_exact_for_integer_sites() {
             Metric::Lp(3.0),
             Metric::Lp(4.0),
         ] {
-            let cpu = potential_areas(
-                &Backend::Cpu,
-                &rivals,
-                &[],
-                &SettleOptions::new(frame).metric(metric),
-            )
-            .unwrap();
+            let cpu = cpu(&rivals, &[], frame, metric);
             for method in [SettleMethod::Spans, SettleMethod::Faithful] {
                 let device = gpu(&machine, &rivals, &[], frame, metric, method);
                 assert_eq!(device.area, cpu.area, "{sites:?} {metric} {method:?}");
@@ -366,13 +354,7 @@ fn device_counts_are_exact_for_the_doubles_given() {
     };
     let (rivals, own) = (lattice(7), lattice(2));
     for metric in [Metric::L2, Metric::L1, Metric::LInf] {
-        let cpu = potential_areas(
-            &Backend::Cpu,
-            &rivals,
-            &own,
-            &SettleOptions::new(frame).metric(metric),
-        )
-        .unwrap();
+        let cpu = cpu(&rivals, &own, frame, metric);
         for method in [SettleMethod::Spans, SettleMethod::Faithful] {
             let device = gpu(&machine, &rivals, &own, frame, metric, method);
             let differ = cpu
@@ -396,13 +378,7 @@ fn repeated_rivals_count_as_one() {
     let mut copies = vec![distinct[0]; 100_000];
     copies.push(distinct[1]);
     let own = [DVec2::new(20.0, 25.0), DVec2::new(20.0, 25.0)];
-    let cpu = potential_areas(
-        &Backend::Cpu,
-        &distinct,
-        &own[..1],
-        &SettleOptions::new(frame),
-    )
-    .unwrap();
+    let cpu = cpu(&distinct, &own[..1], frame, Metric::L2);
     let repeated =
         potential_areas(&Backend::Cpu, &copies, &own, &SettleOptions::new(frame)).unwrap();
     assert_eq!(cpu.area, repeated.area);
@@ -435,13 +411,7 @@ fn far_rivals_cover_the_picture_on_every_route() {
         metric,
         SettleMethod::Faithful,
     );
-    let cpu = potential_areas(
-        &Backend::Cpu,
-        &rivals,
-        &[],
-        &SettleOptions::new(frame).metric(metric),
-    )
-    .unwrap();
+    let cpu = cpu(&rivals, &[], frame, metric);
     assert!(
         spans.area.iter().all(|&a| a == 1600),
         "{:?}",
