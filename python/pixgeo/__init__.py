@@ -123,8 +123,7 @@ def voronoi(
 
     Parameters
     ----------
-    sites : array_like, shape (n, 2)
-        Finite x, y coordinates.
+    {sites}
     {placement}
     {metric}
     {mode}
@@ -237,8 +236,7 @@ def k_nearest(
 
     Parameters
     ----------
-    sites : array_like, shape (n, 2)
-        Finite x, y coordinates.
+    {sites}
     shape : tuple of int, optional
         As for :func:`voronoi`.
     k : int, optional
@@ -284,8 +282,7 @@ def furthest(
 
     Parameters
     ----------
-    sites : array_like, shape (n, 2)
-        Finite x, y coordinates.
+    {sites}
     {placement}
     {planar_metric}
     {device}

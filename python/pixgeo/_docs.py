@@ -45,6 +45,9 @@ mode : str, optional
 points : array_like, shape (n, 2)
     Finite x, y coordinates; a GeoSeries or an array of shapely points is
     taken too.""",
+    "sites": """\
+sites : array_like, shape (n, 2)
+    Finite x, y coordinates.""",
     "extremal": """\
 Parameters
 ----------
