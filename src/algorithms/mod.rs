@@ -3,7 +3,6 @@
 
 pub mod alpha_hull;
 pub mod area;
-pub mod area_sweep;
 pub mod cells;
 pub(crate) mod certify;
 pub(crate) mod cones;
@@ -24,7 +23,6 @@ pub mod sites;
 pub mod trace;
 pub mod transform;
 pub mod voronoi;
-mod voronoi_grid;
 
 /// Milliseconds since `since`, for the timings answers report.
 pub(crate) fn ms(since: std::time::Instant) -> f64 {

@@ -36,7 +36,6 @@ use std::{cmp::Ordering, time::Instant};
 use glam::DVec2;
 
 use crate::{
-    algorithms::area_sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep},
     error::{Error, Result},
     geometry::{
         frame::{check_sites, first_of_each},
@@ -56,9 +55,11 @@ use crate::{
 
 mod exact;
 mod roofs;
+mod sweep;
 
 pub(crate) use exact::*;
 use roofs::*;
+use sweep::{extremal_quadrangle_sweep, extremal_triangle_sweep};
 
 /// The picture side (pixels, longer axis) for `n` sites when none is given:
 /// about 64 pixels per site, so that few sites share a pixel (those are
@@ -246,7 +247,7 @@ impl std::fmt::Display for Decided {
 
 /// The smallest or largest triangle with three of `sites` as vertices: on a
 /// device by the thesis's roofs, on the CPU by the rotational sweep
-/// ([`crate::algorithms::area_sweep`]); both exact, the same triangle.
+/// (`sweep.rs`); both exact, the same triangle.
 ///
 /// ```
 /// use glam::DVec2;

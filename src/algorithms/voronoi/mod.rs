@@ -20,7 +20,7 @@
 //! The cones are sized, shaped and drawn by the envelope module
 //! (`algorithms/envelope/`); this file is the diagram's pass script and its
 //! readback. On a software rasterizer exact Euclidean labels are searched
-//! for on the CPU instead ([`Method::Grid`], `voronoi_grid.rs`), with the
+//! for on the CPU instead ([`Method::Grid`], `grid.rs`), with the
 //! same answer.
 
 use super::ms;
@@ -46,7 +46,9 @@ use super::envelope::{
     drawn_accuracy, metric_fan, ConePlan, ConeSpec, DrawnTile, Picture, TileView, Tiling,
     SCREEN_TILE_SIDE,
 };
-use super::voronoi_grid::grid_bands;
+mod grid;
+
+use grid::grid_bands;
 
 pub use super::envelope::{Accuracy, ConeGroup, Speedup, MAX_EXACT_REACH};
 

@@ -4,7 +4,7 @@
 //! nearest on either side, and the first and last the farthest. A triangle is a
 //! pair and one such site, a quadrangle a diagonal pair and one site on each
 //! side. O(n² log n) whatever the sites' spacing, where the roofs' pixels
-//! (thesis ch. 7, [`crate::algorithms::area`]) leave sites that share a pixel
+//! (thesis ch. 7, [`super`]) leave sites that share a pixel
 //! to an exhaustive search.
 
 use crate::geometry::predicates::convex_hull;

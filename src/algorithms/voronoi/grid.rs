@@ -1,5 +1,5 @@
 //! Exact Euclidean Voronoi labels found on the CPU, for devices whose
-//! rasterizer is software and slower than a search ([`super::voronoi::Method::Grid`]).
+//! rasterizer is software and slower than a search ([`super::Method::Grid`]).
 //!
 //! Each block of 8 x 8 pixels gathers, from a grid of the sites, every site that
 //! can be nearest to one of its pixels: those within the distance of the site
@@ -23,9 +23,9 @@ use rayon::prelude::*;
 
 use glam::DVec2;
 
-use super::certify::{Certifier, Region, MARK};
-use super::ms;
-use super::voronoi::{Band, VoronoiOptions, VoronoiStats};
+use super::{Band, VoronoiOptions, VoronoiStats};
+use crate::algorithms::certify::{Certifier, Region, MARK};
+use crate::algorithms::ms;
 use crate::{cancel::Watch, error::Result, geometry::metric::Metric};
 
 /// Pixels a side of the blocks that share one candidate list.
@@ -61,7 +61,7 @@ pub(crate) fn grid_bands(
     let window = options.window_rect()?;
     let mut stats = VoronoiStats {
         device: device.to_string(),
-        method: super::voronoi::Method::Grid,
+        method: super::Method::Grid,
         sites: sites.len(),
         ..Default::default()
     };
