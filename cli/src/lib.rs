@@ -2,6 +2,8 @@
 //! the arguments given. The `pixgeo` binary and the Python package's
 //! `pixgeo` command both call it.
 
+#![forbid(unsafe_code)]
+
 /// `println!` for answers: a reader that has gone (`| head`) ends the program
 /// quietly, as other Unix tools do; stdout that cannot be written (a full disk)
 /// is an error with a non-zero exit.

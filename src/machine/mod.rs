@@ -10,6 +10,8 @@
 //! | read back a rectangle | [`Machine::read_u32`], [`Machine::read_f32`] |
 //! | minmax, histogram | [`Machine::minmax`], [`Machine::histogram`] (compute) |
 
+#![allow(unsafe_code)]
+
 mod cache;
 mod context;
 mod conv;
