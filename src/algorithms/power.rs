@@ -31,7 +31,6 @@ use rayon::prelude::*;
 use crate::{
     algorithms::cells::{Cells, CellsOptions},
     algorithms::envelope::hilbert_index,
-    algorithms::voronoi::VoronoiOptions,
     cancel::Watch,
     control::Control,
     geometry::{
@@ -264,9 +263,7 @@ pub fn power_diagram(sites: &[Weighted], options: &PowerOptions) -> Result<Power
 
 fn diagram_of(sites: &[Weighted], options: &PowerOptions) -> Result<PowerDiagram> {
     let frame = &options.frame;
-    let rect = VoronoiOptions::exact(*frame)
-        .window(options.window)
-        .window_rect()?;
+    let rect = frame.window_rect(options.window)?;
     let regular = regular_triangulation(sites)?;
     let neighbours = regular.neighbours(sites.len())?;
     let copies = copies(sites)?;

@@ -5,7 +5,10 @@ use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::error::{Error, Result};
+use crate::{
+    error::{Error, Result},
+    machine::PixelRect,
+};
 
 /// A picture of `width` x `height` pixels and the world rectangle it shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +61,27 @@ impl Frame {
     /// at once when the process cannot have them ([`crate::memory::reserve`]).
     pub fn reserve(&self, bytes_per_pixel: u64, what: &str) -> Result<()> {
         crate::memory::reserve_picture(self.width, self.height, bytes_per_pixel, what)
+    }
+
+    /// The pixels of `window` in this picture: the whole picture without
+    /// one; an error for a window that is empty or leaves the picture.
+    pub fn window_rect(&self, window: Option<PixelRect>) -> Result<PixelRect> {
+        let Some(w) = window else {
+            return Ok(PixelRect::sized(self.width, self.height));
+        };
+        let inside = |at: u32, len: u32, side: u32| at.checked_add(len).is_some_and(|e| e <= side);
+        if w.width == 0
+            || w.height == 0
+            || !inside(w.x, w.width, self.width)
+            || !inside(w.y, w.height, self.height)
+        {
+            return Err(Error::malformed(format!(
+                "window {},{},{},{} (x0,y0,width,height) must be a nonempty rectangle inside the \
+                 {}x{} picture",
+                w.x, w.y, w.width, w.height, self.width, self.height
+            )));
+        }
+        Ok(w)
     }
 
     /// Checks the picture size: both sides at least 1 and at most [`Self::MAX_SIDE`],

@@ -6,7 +6,7 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         power::{power_diagram, PowerOptions},
-        voronoi::{Accuracy, VoronoiOptions},
+        voronoi::Accuracy,
     },
     geometry::power::Weighted,
     io::samples::Samples,
@@ -54,9 +54,7 @@ pub(super) fn diagram(args: &Args, world: &World, samples: Samples) -> Result<()
     }
     let sites = Weighted::zip(&samples.points, &samples.values);
     let frame = world.frame;
-    let window = VoronoiOptions::exact(frame)
-        .window(args.window)
-        .window_rect()?;
+    let window = frame.window_rect(args.window)?;
     let (w, h) = (window.width, window.height);
     reserve_picture(w, h, 12, "a power diagram")?;
     let started = std::time::Instant::now();

@@ -142,15 +142,12 @@ fn interpolate_on(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Interpolation> {
     let (frame, method) = (&options.frame, options.method);
-    let window = options
-        .window
-        .unwrap_or(PixelRect::sized(frame.width, frame.height));
     check_values(sites, values)?;
     let checked = Checked::new(sites)?;
+    let rect = frame.window_rect(options.window)?;
     let diagram = VoronoiOptions::exact(*frame)
         .distances(false)
-        .window(Some(window));
-    let rect = diagram.window_rect()?;
+        .window(Some(rect));
     // Bytes a pixel: the centres and values, the labels and values, or the
     // discrete method's pictures over the frame and its margins.
     let each = match method {

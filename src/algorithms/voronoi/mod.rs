@@ -189,33 +189,17 @@ impl VoronoiOptions {
         self.grid_fits() && self.method != Method::Cones
     }
 
-    /// The window's pixels in the frame: the whole frame without one; an error
-    /// for a window that is empty or leaves the frame.
+    /// The window's pixels in the frame ([`Frame::window_rect`]); windows
+    /// take exact mode.
     pub fn window_rect(&self) -> Result<PixelRect> {
-        let f = self.frame;
-        let Some(w) = self.window else {
-            return Ok(PixelRect::sized(f.width, f.height));
-        };
-        if self.accuracy != Accuracy::Exact {
+        if self.window.is_some() && self.accuracy != Accuracy::Exact {
             return Err(Error::unsupported_option(
                 "a window takes exact mode: a fan's interpolated depths round by where its \
                  tile lies, so fan windows would not match the whole diagram bit for bit"
                     .into(),
             ));
         }
-        let inside = |at: u32, len: u32, side: u32| at.checked_add(len).is_some_and(|e| e <= side);
-        if w.width == 0
-            || w.height == 0
-            || !inside(w.x, w.width, f.width)
-            || !inside(w.y, w.height, f.height)
-        {
-            return Err(Error::malformed(format!(
-                "window {},{},{},{} (x0,y0,width,height) must be a nonempty rectangle inside the \
-                 {}x{} picture",
-                w.x, w.y, w.width, w.height, f.width, f.height
-            )));
-        }
-        Ok(w)
+        self.frame.window_rect(self.window)
     }
 }
 
