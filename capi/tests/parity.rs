@@ -1,17 +1,19 @@
 //! The C library answers as the core does, bit for bit, on a context without
-//! Vulkan (`device_name = "cpu"`) and on a device's: the nearest and furthest
-//! sites and Delaunay triangles of every input of the parity generator.
+//! Vulkan (`device_name = "cpu"`) and on a device's: the nearest, the two
+//! nearest and the furthest sites and Delaunay triangles of every input of the
+//! parity generator, and a diagram of weighted sites.
 
 use std::{ffi::CStr, ptr};
 
 use pixgeo::{
     algorithms::{
         delaunay::{delaunay, DelaunayOptions},
-        higher_order::furthest,
+        higher_order::{furthest, k_nearest, KNearestOptions},
+        sites::voronoi_sites,
         voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    Backend,
+    Backend, Site,
 };
 use pixgeo_c::*;
 use pixgeo_reference::hostile::hostile;
@@ -102,6 +104,38 @@ fn the_c_library_answers_as_the_core_on_every_context() {
                 );
             }
 
+            let two = k_nearest(
+                &Backend::Cpu,
+                &case.sites,
+                &KNearestOptions::exact(frame, 2),
+            );
+            let (mut levels, mut level_distances) =
+                (vec![0u32; 2 * frame.len()], vec![0f32; 2 * frame.len()]);
+            // SAFETY: `xy` holds 2n doubles; the rasters hold two levels a pixel.
+            let status = unsafe {
+                pixgeo_k_nearest(
+                    ctx.0,
+                    xy.as_ptr(),
+                    case.sites.len(),
+                    &options,
+                    2,
+                    levels.as_mut_ptr(),
+                    level_distances.as_mut_ptr(),
+                )
+            };
+            let two = two.unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(
+                status,
+                PixgeoStatus::Ok,
+                "{name} two nearest: {}",
+                ctx.error()
+            );
+            assert!(levels == two.labels, "{name}: two nearest labels");
+            assert!(
+                bits(&level_distances) == bits(&two.distances),
+                "{name}: two nearest distances"
+            );
+
             let want = delaunay(&Backend::Cpu, &case.sites, &DelaunayOptions::default());
             let capacity = 2 * case.sites.len();
             let (mut triangles, mut count, mut repeats) = (vec![0u32; 3 * capacity], 0, 0);
@@ -135,5 +169,55 @@ fn the_c_library_answers_as_the_core_on_every_context() {
                 }
             }
         }
+    }
+}
+
+#[test]
+fn weighted_sites_answer_as_the_core_on_every_context() {
+    let frame = Frame::pixels(24, 16).unwrap();
+    let at = [
+        (3.0, 4.0, 1.0),
+        (17.5, 9.0, 2.0),
+        (9.0, 12.5, 0.5),
+        (20.0, 2.0, 1.5),
+    ];
+    let sites: Vec<Site> = at
+        .iter()
+        .map(|&(x, y, m)| Site {
+            multiplicative: m,
+            ..Site::point(glam::DVec2::new(x, y))
+        })
+        .collect();
+    let given: Vec<PixgeoSite> = at
+        .iter()
+        .map(|&(x, y, m)| PixgeoSite {
+            kind: PixgeoSiteKind::Point as u32,
+            coords: [x, y, 0.0, 0.0, 0.0],
+            multiplicative: m,
+            additive: 0.0,
+        })
+        .collect();
+    let want = voronoi_sites(&Backend::Cpu, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    for device in [c"cpu", c"lavapipe"] {
+        let ctx = Context::new(device);
+        let options = pixgeo_voronoi_options_default(24, 16);
+        let (mut labels, mut distances) = (vec![0u32; frame.len()], vec![0f32; frame.len()]);
+        // SAFETY: `given` holds its sites; the rasters hold the picture's pixels.
+        let status = unsafe {
+            pixgeo_voronoi_sites(
+                ctx.0,
+                given.as_ptr(),
+                given.len(),
+                &options,
+                labels.as_mut_ptr(),
+                distances.as_mut_ptr(),
+            )
+        };
+        assert_eq!(status, PixgeoStatus::Ok, "{device:?}: {}", ctx.error());
+        assert!(labels == want.labels, "{device:?}: labels");
+        assert!(
+            bits(&distances) == bits(&want.distances),
+            "{device:?}: distances"
+        );
     }
 }
