@@ -16,7 +16,7 @@ use crate::exact::signed_double_area;
 /// The sign of a, b, c's exact orientation: 1 counter-clockwise, -1
 /// clockwise, 0 on a line.
 pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    match signed_double_area(a, b, c).cmp(&BigRational::zero()) {
+    match side_of(a, b, c) {
         Ordering::Greater => 1.0,
         Ordering::Less => -1.0,
         Ordering::Equal => 0.0,
@@ -32,46 +32,104 @@ pub fn triangle_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
         .expect("a finite area")
 }
 
+/// Twice the signed area of a, b, c in doubles and a bound on its error
+/// (Shewchuk's orientation filter); `None` where the products leave the
+/// range the bound holds in.
+fn signed_estimate(a: DVec2, b: DVec2, c: DVec2) -> Option<(f64, f64)> {
+    let (l, r) = ((b.x - a.x) * (c.y - a.y), (b.y - a.y) * (c.x - a.x));
+    let size = l.abs() + r.abs();
+    let normal = size == 0.0 || (1e-250..1e250).contains(&size);
+    normal.then_some((l - r, 3.4e-16 * size))
+}
+
+/// Twice the area of a, b, c in doubles and a bound on its error.
+fn estimate(a: DVec2, b: DVec2, c: DVec2) -> Option<(f64, f64)> {
+    signed_estimate(a, b, c).map(|(d, e)| (d.abs(), e))
+}
+
+/// The side of a → b that c lies on: by the estimate where it tells,
+/// exactly where not.
+fn side_of(a: DVec2, b: DVec2, c: DVec2) -> Ordering {
+    match signed_estimate(a, b, c) {
+        Some((d, e)) if d.abs() > e => d.total_cmp(&0.0),
+        _ => signed_double_area(a, b, c).cmp(&BigRational::zero()),
+    }
+}
+
+/// How twice the area of triangle `x` compares with triangle `y`'s: by their
+/// estimates where those tell, exactly where not.
+fn compare_areas(x: [DVec2; 3], y: [DVec2; 3]) -> Ordering {
+    if let (Some((dx, ex)), Some((dy, ey))) =
+        (estimate(x[0], x[1], x[2]), estimate(y[0], y[1], y[2]))
+    {
+        if dx - ex > dy + ey {
+            return Ordering::Greater;
+        }
+        if dx + ex < dy - ey {
+            return Ordering::Less;
+        }
+    }
+    let twice = |t: [DVec2; 3]| signed_double_area(t[0], t[1], t[2]).abs();
+    twice(x).cmp(&twice(y))
+}
+
 /// The best site strictly on each side of the line p → q (left, right): the
 /// nearest (`largest` false) or farthest by exact area, the first on a tie,
 /// with its triangle's area rounded to the nearest double.
 pub fn sides_of(sites: &[DVec2], p: usize, q: usize, largest: bool) -> [Option<(u32, f64)>; 2] {
-    let mut best: [Option<(u32, BigRational)>; 2] = [None, None];
+    let (a, b) = (sites[p], sites[q]);
+    let wanted = if largest {
+        Ordering::Greater
+    } else {
+        Ordering::Less
+    };
+    let mut best: [Option<u32>; 2] = [None, None];
     for (s, &site) in sites.iter().enumerate() {
-        let signed = signed_double_area(sites[p], sites[q], site);
-        let side = match signed.cmp(&BigRational::zero()) {
+        let side = match side_of(a, b, site) {
             Ordering::Equal => continue,
             Ordering::Greater => 0,
             Ordering::Less => 1,
         };
-        let area = signed.abs();
         let better = best[side]
-            .as_ref()
-            .is_none_or(|(_, b)| if largest { area > *b } else { area < *b });
+            .is_none_or(|t| compare_areas([a, b, site], [a, b, sites[t as usize]]) == wanted);
         if better {
-            best[side] = Some((s as u32, area));
+            best[side] = Some(s as u32);
         }
     }
-    let half = BigRational::new(1.into(), 2.into());
-    best.map(|b| b.map(|(s, area)| (s, (area * &half).to_f64().expect("a finite area"))))
+    best.map(|t| t.map(|t| (t, triangle_area(a, b, sites[t as usize]))))
 }
 
 /// The smallest (`largest` false) or largest triangle over all triples of
 /// sites: its sites and area. `None` for fewer than three sites.
 pub fn extremal_triangle(sites: &[DVec2], largest: bool) -> Option<([u32; 3], f64)> {
     let n = sites.len();
-    let mut best: Option<([u32; 3], f64)> = None;
-    for i in 0..n {
-        for j in i + 1..n {
-            for k in j + 1..n {
-                let area = triangle_area(sites[i], sites[j], sites[k]);
-                if best.is_none_or(|b| if largest { area > b.1 } else { area < b.1 }) {
-                    best = Some(([i as u32, j as u32, k as u32], area));
+    let wanted = if largest {
+        Ordering::Greater
+    } else {
+        Ordering::Less
+    };
+    let corners = |t: [u32; 3]| t.map(|i| sites[i as usize]);
+    let mut best: Option<[u32; 3]> = None;
+    for i in 0..n as u32 {
+        for j in i + 1..n as u32 {
+            for k in j + 1..n as u32 {
+                let t = [i, j, k];
+                if best.is_none_or(|b| compare_areas(corners(t), corners(b)) == wanted) {
+                    best = Some(t);
                 }
             }
         }
     }
-    best
+    best.map(|t| {
+        (
+            t,
+            triangle_area(
+                sites[t[0] as usize],
+                sites[t[1] as usize],
+                sites[t[2] as usize],
+            ),
+        )
+    })
 }
 
 /// The smallest or largest quadrangle over all diagonals and sides: its sites
