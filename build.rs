@@ -21,6 +21,9 @@
 //! programs use as their builds by variant. A program naming a build that does
 //! not exist fails to compile.
 
+// The build script runs at build time, outside the library's memory rule.
+#![allow(clippy::disallowed_methods)]
+
 use std::{
     env,
     fmt::Write as _,

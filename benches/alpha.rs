@@ -128,7 +128,7 @@ fn main() -> anyhow::Result<()> {
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());
     let world = Frame::pixels(1000, 1000)?;
-    let warm = world.random_points(100, 1);
+    let warm = world.random_points(100, 1).unwrap();
     alpha_hull(&machine, &warm, &AlphaOptions::new(-0.02).side(SIZE))?;
     alpha_hull(
         &machine,
@@ -142,7 +142,7 @@ fn main() -> anyhow::Result<()> {
         "| n | r = -1/α | pixgeo α < 0 (ms) | CPU definition (ms) | pixgeo / CPU | pixels differing | R = 1/α | pixgeo hull walk (ms) | pixgeo pixels only (ms) | CPU circles (ms) | hull walk / CPU | pixels differing (walk, pixels only) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
-        let sites = world.random_points(n, n as u64);
+        let sites = world.random_points(n, n as u64).unwrap();
         // Empty discs twice the mean spacing across; holding discs half again
         // the smallest enclosing circle.
         let r = (1e6 / n as f64).sqrt();

@@ -96,7 +96,7 @@ fn main() -> anyhow::Result<()> {
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());
     let frame = Frame::pixels(1000, 1000)?;
-    let warm = frame.random_points(50, 1);
+    let warm = frame.random_points(50, 1).unwrap();
     for extreme in [Extreme::Smallest, Extreme::Largest] {
         extremal_triangle(
             &Backend::Device(&machine),
@@ -120,7 +120,7 @@ fn main() -> anyhow::Result<()> {
         "| n | roofs smallest (ms) | draw (ms) | sweep (ms) | exhaustive O(n³) (ms) | exhaustive / roofs | roofs / sweep | same area | roofs largest (ms) | exhaustive O(n³) (ms) | exhaustive / roofs | same area |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
-        let sites = frame.random_points(n, n as u64);
+        let sites = frame.random_points(n, n as u64).unwrap();
         let (ours, a) = time(repeats, || {
             Ok(extremal_triangle(
                 &Backend::Device(&machine),

@@ -92,7 +92,7 @@ fn main() -> anyhow::Result<()> {
     eprintln!("device: {}", machine.device_name());
 
     // Warm up every pipeline: lavapipe compiles shaders on first draw.
-    let warm = frame.random_points(100, 0);
+    let warm = frame.random_points(100, 0).unwrap();
     for c in &CONFIGS {
         voronoi(
             &Backend::Device(&machine),
@@ -109,7 +109,7 @@ fn main() -> anyhow::Result<()> {
     let mut cpu_ms = Vec::new();
     let mut site_files = Vec::new();
     for &n in &ns {
-        let sites = frame.random_points(n, n as u64);
+        let sites = frame.random_points(n, n as u64).unwrap();
         let file = out_dir.join(format!("sites_{n}.npy"));
         common::points::write_npy(&file, &sites)?;
         site_files.push(file);

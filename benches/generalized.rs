@@ -144,7 +144,7 @@ fn main() -> anyhow::Result<()> {
         "| sites | mode | plain L2 points (ms) | generalization | ms | × L2 points |\n| --- | --- | --- | --- | --- | --- |\n",
     );
     for &n in &ns {
-        let positions = frame.random_points(n, 1);
+        let positions = frame.random_points(n, 1).unwrap();
         for (mode, accuracy) in modes {
             // One diagram: plain points without a kind.
             let run = |kind: Option<Kind>, sites: &Option<Vec<Site>>| -> anyhow::Result<f64> {

@@ -73,7 +73,7 @@ fn main() -> anyhow::Result<()> {
         ("quadtree (Thm. 3.3)", Speedup::Quadtree),
         ("no speedup", Speedup::None),
     ];
-    let warm = frame.random_points(100, 0);
+    let warm = frame.random_points(100, 0).unwrap();
     voronoi(
         &Backend::Device(&machine),
         &warm,
@@ -85,7 +85,7 @@ fn main() -> anyhow::Result<()> {
     // rows[n] = (times per speedup, one diagram)
     let mut rows: Vec<(Vec<Option<f64>>, f64)> = Vec::new();
     for &n in &ns {
-        let sites = frame.random_points(n, n as u64);
+        let sites = frame.random_points(n, n as u64).unwrap();
         let mut times = Vec::new();
         for (name, speedup) in speedups {
             if speedup == Speedup::None && n > NO_SPEEDUP_MAX_N {
@@ -129,8 +129,8 @@ fn main() -> anyhow::Result<()> {
     let mut ours = Vec::new();
     for &m in &sets {
         let box_frame = Frame::pixels(1000, 1000)?;
-        let a = box_frame.random_points(m, 2 * m as u64);
-        let b = box_frame.random_points(m, 2 * m as u64 + 1);
+        let a = box_frame.random_points(m, 2 * m as u64).unwrap();
+        let b = box_frame.random_points(m, 2 * m as u64 + 1).unwrap();
         for (name, set) in [("a", &a), ("b", &b)] {
             let file = out_dir.join(format!("hausdorff_{m}_{name}.npy"));
             common::points::write_npy(&file, set)?;

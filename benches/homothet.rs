@@ -115,7 +115,7 @@ fn main() -> anyhow::Result<()> {
     let machine = Machine::from_env()?;
     eprintln!("device: {}", machine.device_name());
     let frame = Frame::pixels(1000, 1000)?;
-    let warm = frame.random_points(100, 1);
+    let warm = frame.random_points(100, 1).unwrap();
     enclose(
         &Backend::Device(&machine),
         &warm,
@@ -127,7 +127,7 @@ fn main() -> anyhow::Result<()> {
         "| n | pixgeo enclose (ms) | Welzl (ms) | enclose / Welzl | same radius | pixgeo empty (ms) | empty with cones (ms) | Delaunay (spade) (ms) | empty / Delaunay | cones / Delaunay | same radius |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for &n in &ns {
-        let sites = frame.random_points(n, n as u64);
+        let sites = frame.random_points(n, n as u64).unwrap();
         let (ours, a) = time(repeats, || {
             Ok(enclose(
                 &Backend::Device(&machine),

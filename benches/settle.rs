@@ -67,7 +67,7 @@ fn main() -> anyhow::Result<()> {
     let frame = Frame::pixels(SIZE, SIZE)?;
     gpu(
         &machine,
-        &frame.random_points(50, 0),
+        &frame.random_points(50, 0).unwrap(),
         Frame::pixels(64, 64)?,
         SettleMethod::Spans,
     )?;
@@ -83,7 +83,7 @@ fn main() -> anyhow::Result<()> {
     let mut spans_points = Vec::new();
     let mut cpu_points = Vec::new();
     for &n in &ns {
-        let sites = frame.random_points(n, 1);
+        let sites = frame.random_points(n, 1).unwrap();
         let (t_spans, spans) = gpu(&machine, &sites, frame, SettleMethod::Spans)?;
         let (t_cpu, cpu) = timed(|| {
             Ok(potential_areas(
@@ -126,7 +126,7 @@ fn main() -> anyhow::Result<()> {
         );
         let mut points = Vec::new();
         for &n in &ns {
-            let sites = frame.random_points(n, 1);
+            let sites = frame.random_points(n, 1).unwrap();
             let (t_faithful, faithful) = gpu(&machine, &sites, frame, SettleMethod::Faithful)?;
             let (t_spans, spans) = gpu(&machine, &sites, frame, SettleMethod::Spans)?;
             anyhow::ensure!(

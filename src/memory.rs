@@ -48,8 +48,8 @@ pub fn reserve_sites(n: usize) -> Result<()> {
 
 /// A vector of `len` copies of `value`, or the [`reserve`] error where the
 /// process cannot have it. Allocations that grow with the input go through
-/// here or [`room`]: clippy refuses `vec!` and `Vec::with_capacity` elsewhere
-/// in the library (`clippy.toml`).
+/// here, [`room`] or [`Gather`]: clippy refuses `vec!`, `Vec::with_capacity`
+/// and `collect` elsewhere in the library (`clippy.toml`).
 #[allow(clippy::disallowed_macros)]
 pub(crate) fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
     reserve_values::<T>(len, what)?;
@@ -64,8 +64,40 @@ pub(crate) fn room<T>(len: usize, what: &str) -> Result<Vec<T>> {
     Ok(Vec::with_capacity(len))
 }
 
+/// Collecting that asks for its room first: the library's `collect`, which
+/// clippy refuses elsewhere in it (`clippy.toml`).
+pub(crate) trait Gather: Iterator + Sized {
+    /// Collects into `C` once the process can have the most values the
+    /// iterator says it yields (its upper bound, or its lower where it has
+    /// none), or gives the [`reserve`] error.
+    #[allow(clippy::disallowed_methods)]
+    fn gather<C: FromIterator<Self::Item>>(self, what: &str) -> Result<C> {
+        let (low, high) = self.size_hint();
+        reserve_values::<Self::Item>(high.unwrap_or(low), what)?;
+        Ok(self.collect())
+    }
+
+    /// [`Gather::gather`] of fallible values: the first error, or them all.
+    fn try_gather<T, C: FromIterator<T>>(self, what: &str) -> Result<C>
+    where
+        Self: Iterator<Item = Result<T>>,
+    {
+        self.gather::<Result<C>>(what)?
+    }
+}
+
+impl<I: Iterator> Gather for I {}
+
+/// Below this many bytes an allocation is not probed: a process that cannot
+/// have it cannot go on anyway, and the probe would double the cost of the
+/// small vectors built in loops.
+const UNPROBED_BYTES: u64 = 1 << 16;
+
 fn reserve_values<T>(len: usize, what: &str) -> Result<()> {
     let bytes = (len as u64).saturating_mul(std::mem::size_of::<T>() as u64);
+    if bytes < UNPROBED_BYTES {
+        return Ok(());
+    }
     reserve(bytes, || format!("{what} ({len} values)"))
 }
 
@@ -90,5 +122,29 @@ pub fn amount(bytes: u64) -> String {
         n if n >= 1_000_000 => format!("{:.1} MB", n as f64 / 1e6),
         n if n >= 1_000 => format!("{:.1} kB", n as f64 / 1e3),
         n => format!("{n} bytes"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gather_refuses_what_no_process_can_hold_before_taking_any() {
+        let huge = (0..u64::MAX / 4).map(|i| i as f64);
+        match huge.gather::<Vec<f64>>("samples") {
+            Err(Error::HostMemory { what, bytes }) => {
+                assert!(what.starts_with("samples ("), "{what}");
+                assert!(bytes >= 1 << 62);
+            }
+            other => panic!("{:?}", other.map(|v| v.len())),
+        }
+        let fallible = (0..u64::MAX / 4).map(|i| Ok(i as f64));
+        assert!(matches!(
+            fallible.try_gather::<_, Vec<f64>>("samples"),
+            Err(Error::HostMemory { .. })
+        ));
+        let small: Vec<u32> = (0..5).gather("ids").unwrap();
+        assert_eq!(small, [0, 1, 2, 3, 4]);
     }
 }

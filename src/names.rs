@@ -15,6 +15,7 @@ use crate::{
 };
 
 /// The value `text` names in `table`, or an error that lists the names.
+#[expect(clippy::disallowed_methods, reason = "a table's names")]
 fn by_name<T: Copy>(what: &str, text: &str, table: &[(&str, T)]) -> Result<T> {
     let key = text.trim().to_ascii_lowercase();
     table

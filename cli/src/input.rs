@@ -302,7 +302,7 @@ impl Input {
             (None, Some(n)) if n > 0 => {
                 pixgeo::memory::reserve_sites(n)?;
                 frame
-                    .random_points(n, self.seed)
+                    .random_points(n, self.seed)?
                     .into_iter()
                     .map(Site::point)
                     .collect()
@@ -493,7 +493,7 @@ impl Points {
         match self.random {
             Some(n) if n > 0 => {
                 pixgeo::memory::reserve_sites(n)?;
-                Ok(Frame::pixels(1000, 1000)?.random_points(n, self.seed))
+                Ok(Frame::pixels(1000, 1000)?.random_points(n, self.seed)?)
             }
             Some(_) => bail!("--random needs at least one point"),
             None => bail!("give the points: --sites FILE or --random N"),

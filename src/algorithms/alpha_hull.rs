@@ -32,6 +32,7 @@
 //! every site.
 
 use crate::geometry::predicates::convex_hull;
+use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -116,6 +117,10 @@ pub struct AlphaHull {
 
 impl AlphaHull {
     /// 1 inside the hull, 0 outside, row-major: the `--mask` array.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-pixel values of a picture whose room was reserved where it was placed"
+    )]
     pub fn mask(&self) -> Vec<u8> {
         self.pixels
             .iter()
@@ -248,7 +253,7 @@ fn hull_on(
     // were a million cones and discs).
     let kept = first_of_each(sites);
     if kept.len() < sites.len() {
-        let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+        let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).gather("distinct")?;
         let mut hull = hull_on(machine, Checked::derived(&distinct), alpha, method, canvas)?;
         for site in &mut hull.boundary_sites {
             *site = kept[*site as usize];
@@ -442,7 +447,7 @@ fn negative(machine: &Machine, sites: &[DVec2], alpha: f64, canvas: Canvas) -> R
                 class::INSIDE
             }
         })
-        .collect();
+        .gather("pixels")?;
     let mut hull = finish(alpha, HullMethod::Envelope, frame, pixels, rim.len());
     hull.border_band = r;
     hull.uncertain = (0..w * h)
@@ -466,7 +471,7 @@ fn convex(machine: &Machine, sites: &[DVec2], canvas: Canvas) -> Result<AlphaHul
     let corners: Vec<DVec2> = hull
         .iter()
         .map(|&i| frame.to_pixel(sites[i as usize]))
-        .collect();
+        .gather("corners")?;
     let mut triangles: Vec<[f32; 3]> = Vec::new();
     for k in 1..corners.len().saturating_sub(1) {
         for v in [corners[0], corners[k], corners[k + 1]] {
@@ -511,7 +516,7 @@ fn convex(machine: &Machine, sites: &[DVec2], canvas: Canvas) -> Result<AlphaHul
                 class::OUTSIDE
             }
         })
-        .collect();
+        .gather("pixels")?;
     let mut answer = finish(0.0, HullMethod::Convex, frame, pixels, 0);
     answer.boundary_sites = hull;
     Ok(answer)
@@ -730,7 +735,7 @@ pub fn hull_circles(sites: &[DVec2], radius: f64) -> Result<HullCircles> {
 fn circles_of(sites: Checked<'_>, radius: f64) -> Result<HullCircles> {
     let sites = sites.sites();
     let hull = convex_hull(sites);
-    let corners: Vec<DVec2> = hull.iter().map(|&i| sites[i as usize]).collect();
+    let corners: Vec<DVec2> = hull.iter().map(|&i| sites[i as usize]).gather("corners")?;
     let mec = welzl(&corners);
     if radius.is_nan() || radius < mec.radius * (1.0 - 1e-12) {
         return Err(Error::out_of_range(format!(
@@ -762,6 +767,10 @@ fn circles_of(sites: Checked<'_>, radius: f64) -> Result<HullCircles> {
 }
 
 /// α > 0 (§6.4).
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn positive(
     machine: &Machine,
     sites: &[DVec2],
@@ -778,7 +787,11 @@ fn positive(
             let frame =
                 canvas.around(circles.mec_centre - reach, circles.mec_centre + reach, 0.0)?;
             let r_px = radius * frame.scale;
-            let centres: Vec<DVec2> = circles.centres.iter().map(|c| frame.to_pixel(*c)).collect();
+            let centres: Vec<DVec2> = circles
+                .centres
+                .iter()
+                .map(|c| frame.to_pixel(*c))
+                .gather("centres")?;
             // Float32 places a far centre within a few of its ulps: discs that
             // much smaller mark what is surely inside, that much larger what
             // is surely outside, and the pixels between are decided in f64.
@@ -808,7 +821,7 @@ fn positive(
                             class::OUTSIDE
                         }
                     })
-                    .collect()
+                    .gather("hull classes")?
             } else {
                 let inner = draw_discs(machine, &frame, &discs_of(r_px - slack), true)?;
                 let outer = draw_discs(machine, &frame, &discs_of(r_px + slack), true)?;
@@ -876,7 +889,7 @@ fn positive(
                     let c = frame.to_pixel(*s);
                     [c.x as f32, c.y as f32, r_px, 1.0]
                 })
-                .collect();
+                .gather("discs")?;
             let counts = draw_discs(machine, &frame, &around_sites, true)?;
             let n = sites.len() as f32;
             let w = frame.width as usize;
@@ -913,7 +926,7 @@ fn positive(
                         class::OUTSIDE
                     }
                 })
-                .collect();
+                .gather("values")?;
             Ok(finish(
                 alpha,
                 HullMethod::Pixels,

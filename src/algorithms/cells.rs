@@ -13,6 +13,7 @@
 //! distinct) are neighbours in their order along it; sites outside the
 //! rectangle may have an empty cell.
 
+use crate::memory::Gather;
 use std::collections::HashMap;
 
 use glam::DVec2;
@@ -121,7 +122,7 @@ fn cells_of(backend: &Backend, sites: &[DVec2], options: &CellsOptions) -> Resul
         .iter()
         .zip(&neighbours)
         .map(|(&i, around)| (i, &around[..]))
-        .collect();
+        .gather("jobs")?;
     let built = CellBuilder::new(sites, *rect).cells(&jobs, &options.control)?;
     let mut polygons = crate::memory::filled(sites.len(), Vec::new(), "cells")?;
     for (&i, cell) in distinct.iter().zip(built) {
@@ -143,7 +144,11 @@ fn neighbours(backend: &Backend, sites: &[DVec2], distinct: &[u32]) -> Result<Ve
         let (a, b) = (at(distinct[0]), at(distinct[1]));
         distinct[2..].iter().all(|&c| orient(a, b, at(c)) == 0.0)
     };
-    let slot: HashMap<u32, usize> = distinct.iter().enumerate().map(|(k, &i)| (i, k)).collect();
+    let slot: HashMap<u32, usize> = distinct
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| (i, k))
+        .gather("slot")?;
     let mut around = crate::memory::filled(distinct.len(), Vec::new(), "the sites' neighbours")?;
     if on_one_line {
         // Neighbours along the line, in the order of the first two sites.
@@ -163,7 +168,7 @@ fn neighbours(backend: &Backend, sites: &[DVec2], distinct: &[u32]) -> Result<Ve
         return Ok(around);
     }
     // The distinct sites of a list checked where it entered.
-    let points: Vec<DVec2> = distinct.iter().map(|&i| at(i)).collect();
+    let points: Vec<DVec2> = distinct.iter().map(|&i| at(i)).gather("points")?;
     let options = DelaunayOptions::default();
     let mesh = delaunay_checked(backend, Checked::derived(&points), &options, &mut |_, _| {})?;
     for t in &mesh.triangles {

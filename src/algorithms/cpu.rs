@@ -18,6 +18,7 @@
 //! so that each offset visits only the sites that land in the band.
 
 use crate::geometry::predicates::convex_hull;
+use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -117,14 +118,14 @@ fn grown_k_nearest(
     let started = std::time::Instant::now();
     let (w, h) = (frame.width as usize, frame.height as usize);
     let ku = k as usize;
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).gather("pixels")?;
     // Sites by the row of the pixel centre they grow from. A site farther than the
     // picture's diagonal from it never needs to grow past that diagonal.
     let mut by_row: Vec<(i64, i64, u32)> = pixels
         .iter()
         .enumerate()
         .map(|(i, p)| (p.y.round() as i64, p.x.round() as i64, i as u32))
-        .collect();
+        .gather("by row")?;
     by_row.sort_unstable();
     // No pixel is farther than this from the centre a site grows from.
     let reach = pixels
@@ -134,7 +135,7 @@ fn grown_k_nearest(
     // Ring radii are squared in 64 bits; farther sites' nearest-site maps take
     // the search by blocks instead.
     if reach > MAX_RING && k == 1 {
-        let points: Vec<Site> = sites.iter().map(|&p| Site::point(p)).collect();
+        let points: Vec<Site> = sites.iter().map(|&p| Site::point(p)).gather("points")?;
         let (labels, distances) = nearest_by_blocks(&points, frame, metric)?;
         return Ok(levels(frame, k, sites.len(), started, labels, distances));
     }
@@ -156,7 +157,7 @@ fn grown_k_nearest(
                 frame.farthest_pixel(c).ceil() as i64 + 1,
             )
         })
-        .collect();
+        .gather("pixel ranges")?;
     spans.sort_unstable();
     let mut keys = crate::memory::filled(w * h * ku, (f64::INFINITY, u32::MAX), "levels' keys")?;
     // A pixel's list can hold at most this many sites.
@@ -318,6 +319,10 @@ pub(crate) fn voronoi_sites(
 }
 
 /// [`voronoi_sites`] in f64, before the exact check.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn nearest_by_blocks(
     sites: &[Site],
     frame: &Frame,
@@ -330,8 +335,8 @@ fn nearest_by_blocks(
     let pixels: Vec<Site> = sites
         .iter()
         .map(|s| s.to_pixels(|p| frame.to_pixel(p), frame.scale))
-        .collect();
-    let boxes: Vec<(DVec2, DVec2)> = pixels.iter().map(Site::bounds).collect();
+        .gather("pixels")?;
+    let boxes: Vec<(DVec2, DVec2)> = pixels.iter().map(Site::bounds).gather("boxes")?;
     let lower = metric.euclidean_bounds().0;
     let block = BAND_ROWS as usize;
     let mut best = crate::memory::filled(w * h, (f64::INFINITY, u32::MAX), "nearest keys")?;

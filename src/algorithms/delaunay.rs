@@ -28,6 +28,7 @@
 //! instead ([`DelaunayStats::incremental`] says why).
 
 use super::{envelope::hilbert_index, ms};
+use crate::memory::Gather;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -143,6 +144,10 @@ pub struct Delaunay {
 
 impl Delaunay {
     /// The input points in the triangulation: all but the repeats, in order.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub fn distinct(&self) -> Vec<u32> {
         let n = (self.stats.points + self.duplicates.len()) as u32;
         let mut repeats = self.duplicates.iter().map(|d| d[0]).peekable();
@@ -285,7 +290,7 @@ fn distinct_points<K: Ord + Send>(
             ),
         ));
     }
-    let real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).collect();
+    let real: Vec<DVec2> = unique.iter().map(|&i| points[i as usize]).gather("real")?;
     if !(2..real.len()).any(|k| orient(real[0], real[1], real[k]) != 0.0) {
         return Err(Error::degenerate(
             "all points lie on one line: there is no triangle".into(),
@@ -320,7 +325,9 @@ fn canonical_triangles(mesh: &Mesh, unique: &[u32]) -> Result<Vec<[u32; 3]>> {
     // two triangles), then each run in order.
     let n = unique.iter().max().map_or(0, |&m| m as usize + 1);
     let mut start = crate::memory::filled(n + 1, 0u32, "triangles by vertex")?;
-    let rotated: Vec<[u32; 3]> = rotated.inspect(|t| start[t[0] as usize + 1] += 1).collect();
+    let rotated: Vec<[u32; 3]> = rotated
+        .inspect(|t| start[t[0] as usize + 1] += 1)
+        .gather("rotated")?;
     for v in 0..n {
         start[v + 1] += start[v];
     }
@@ -376,6 +383,10 @@ fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
     })
 }
 
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn triangulate(
     machine: Option<&Machine>,
     points: &[DVec2],
@@ -473,7 +484,7 @@ fn triangulate(
             seed_point[v as usize]
         }
     };
-    let digital: Vec<[u32; 3]> = dual.iter().map(|t| t.map(to_point)).collect();
+    let digital: Vec<[u32; 3]> = dual.iter().map(|t| t.map(to_point)).gather("digital")?;
     let centre = |s: Seed| origin + DVec2::new(s[0] as f64, s[1] as f64) * cell;
     let mut placed = real.clone();
     for (i, &s) in seeds.iter().enumerate() {
@@ -586,7 +597,10 @@ fn triangulate(
             origin,
             cell,
             labels: flooding.labels,
-            seeds: seed_point.iter().map(|&v| unique[v as usize]).collect(),
+            seeds: seed_point
+                .iter()
+                .map(|&v| unique[v as usize])
+                .gather("labels")?,
             triangles: dual
                 .iter()
                 .map(|t| {
@@ -598,7 +612,7 @@ fn triangulate(
                         }
                     })
                 })
-                .collect(),
+                .gather("triangles")?,
         }),
     })
 }
@@ -609,7 +623,7 @@ fn triangulate(
 fn insert_all(points: Vec<DVec2>, rank: &[u32], watch: &Watch) -> Result<(Mesh, usize)> {
     let (lo, hi) = bounds(&points);
     let scale = 65535.0 / (hi - lo).max_element();
-    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    let mut order: Vec<u32> = (0..points.len() as u32).gather("order")?;
     order.sort_by_cached_key(|&v| {
         let g = (points[v as usize] - lo) * scale;
         hilbert_index(g.x as u32, g.y as u32)

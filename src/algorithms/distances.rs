@@ -10,6 +10,7 @@
 //! could still reach the best value are checked exactly, so every answer is exact
 //! while the checks stay few.
 
+use crate::memory::Gather;
 use std::{borrow::Cow, cmp::Ordering};
 
 use crate::geometry::predicates::convex_hull;
@@ -177,6 +178,10 @@ fn picture_error(frame: &Frame, d: f64) -> f64 {
 /// of two into the range where squared distances neither overflow nor underflow
 /// (coordinates past 1e154 or closer than 1e-154). The pair names each point by
 /// its first index in its set, and its distance is scaled back, exact to rounding.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn in_range<'p>(
     a: Checked<'p>,
     b: Checked<'p>,
@@ -255,7 +260,7 @@ fn refine(
         .zip(estimates)
         .filter(|(_, e)| e.upper >= floor)
         .map(|(q, _)| *q)
-        .collect();
+        .gather("candidates")?;
     // The largest exactly; of equal ones the first query.
     let pairs: Vec<(u32, u32)> = candidates
         .par_iter()
@@ -355,9 +360,9 @@ fn directed_by_grid(a: &[DVec2], b: &[DVec2]) -> Result<Answer> {
             let index = super::envelope::hilbert_index(c.x as u32, c.y as u32);
             (index as u32, i as u32)
         })
-        .collect();
+        .gather("Hilbert keys")?;
     order.sort_unstable();
-    let mut runs: Vec<&[(u32, u32)]> = order.chunks(256).collect();
+    let mut runs: Vec<&[(u32, u32)]> = order.chunks(256).gather("runs")?;
     runs.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(0x4a75));
     // The largest nearest distance so far (its bits: positive doubles order
     // as their bits do); the float nearest is within rounding of the exact.
@@ -423,7 +428,7 @@ fn directed_in_range(
     let diagram = voronoi_checked(&Backend::Device(machine), b_checked, &options)?;
     // Per point of a: the picture's partner, whose distance is an upper bound, and
     // a lower bound (the pixel's distance less the offset from the pixel centre).
-    let queries: Vec<u32> = (0..a.len() as u32).collect();
+    let queries: Vec<u32> = (0..a.len() as u32).gather("queries")?;
     let estimates: Vec<Estimate> = a
         .par_iter()
         .map(|p| {

@@ -24,6 +24,7 @@
 //! the colouring read back.
 
 use super::ms;
+use crate::memory::Gather;
 use rayon::prelude::*;
 use std::{cmp::Reverse, collections::BinaryHeap, time::Instant};
 
@@ -142,7 +143,9 @@ fn colouring_and_roots(
     let pixels = width as usize * height as usize;
     let output = colouring(machine, width, height, seeds, PixelPhase::Roots)?;
     let words = output.read::<u32>(2 * pixels);
-    let roots = (0..pixels).filter(|&k| words[pixels + k] == 1).collect();
+    let roots = (0..pixels)
+        .filter(|&k| words[pixels + k] == 1)
+        .gather("roots")?;
     let mut labels = words;
     labels.truncate(pixels);
     Ok((labels, roots))
@@ -259,7 +262,9 @@ pub fn flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) -> Resu
             }
         }
     }
-    let debris_pixels: Vec<usize> = (0..labels.len()).filter(|&k| debris[k]).collect();
+    let debris_pixels: Vec<usize> = (0..labels.len())
+        .filter(|&k| debris[k])
+        .gather("debris pixels")?;
     stats.debris = debris_pixels.len();
     stats.debris_ms = ms(started);
 
@@ -354,7 +359,7 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
     let side = width.max(height).next_power_of_two();
     let steps: Vec<u32> = std::iter::successors(Some(side / 2), |s| (*s > 1).then_some(s / 2))
         .filter(|&s| s > 0)
-        .collect();
+        .gather("steps")?;
     let chunk = crate::machine::MAX_GROUPS * JUMP_FLOOD.group();
     machine.run(|pass| {
         for (k, &step) in steps.iter().enumerate() {
@@ -377,14 +382,14 @@ pub fn jump_flood(machine: &Machine, width: u32, height: u32, seeds: &[Seed]) ->
     for (i, s) in seeds.iter().enumerate() {
         seed_at[(s[1] as u32 * width + s[0] as u32) as usize] = i as u32;
     }
-    Ok(result
+    result
         .read::<u32>(pixels)
         .into_iter()
         .map(|p| match p {
             NO_SEED => NONE,
             p => seed_at[((p >> 16) * width + (p & 0xFFFF)) as usize],
         })
-        .collect())
+        .gather("seed at")
 }
 
 /// The dual of a colouring on the device (`glsl/dualize.comp`): a triangle for
@@ -438,7 +443,7 @@ pub fn dualize(
                     let first = (0..3).min_by_key(|&k| t[k]).expect("three");
                     [t[first], t[(first + 1) % 3], t[(first + 2) % 3]]
                 })
-                .collect();
+                .gather("triangles")?;
             // Appended as the device's invocations finish: sorted, so that
             // the meshes built from them are the same on every run.
             triangles.par_sort_unstable();

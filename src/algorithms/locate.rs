@@ -2,6 +2,7 @@
 //! decided by exact orientation tests (SciPy's `Delaunay.find_simplex`, with
 //! no tolerance).
 
+use crate::memory::Gather;
 use glam::DVec2;
 
 use crate::{
@@ -79,7 +80,7 @@ pub fn locate(points: &[DVec2], triangles: &[[u32; 3]], queries: &[DVec2]) -> Re
             None => Place::Outside(0),
         }
     };
-    Ok(queries
+    queries
         .iter()
         .map(
             |&q| match mesh.locate(q, start).unwrap_or_else(|_| search(q)) {
@@ -93,7 +94,7 @@ pub fn locate(points: &[DVec2], triangles: &[[u32; 3]], queries: &[DVec2]) -> Re
                 }
             },
         )
-        .collect())
+        .gather("values")
 }
 
 /// The smallest index among the triangles that hold `q`, from `t`, one of

@@ -20,6 +20,7 @@
 //! crossing its edge lowers the power), then the lowest index among those
 //! of equal power. The powers are the doubles nearest the exact ones.
 
+use crate::memory::Gather;
 use std::{
     cmp::Ordering,
     sync::atomic::{AtomicU64, Ordering as AtomicOrdering},
@@ -83,8 +84,8 @@ impl Regular {
     fn cells_of(&self, sites: &[Weighted], options: &CellsOptions) -> Result<Cells> {
         let rect = &options.rect;
         rect.check()?;
-        let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
-        let weights: Vec<f64> = sites.iter().map(|s| s.weight).collect();
+        let points: Vec<DVec2> = sites.iter().map(|s| s.at).gather("points")?;
+        let weights: Vec<f64> = sites.iter().map(|s| s.weight).gather("weights")?;
         let neighbours = self.neighbours(sites.len())?;
         // A hidden site has no cell.
         let jobs: Vec<(u32, &[u32])> = neighbours
@@ -92,7 +93,7 @@ impl Regular {
             .enumerate()
             .filter(|(i, _)| self.hidden.binary_search(&(*i as u32)).is_err())
             .map(|(i, around)| (i as u32, &around[..]))
-            .collect();
+            .gather("jobs")?;
         let built =
             CellBuilder::weighted(&points, &weights, *rect).cells(&jobs, &options.control)?;
         let mut polygons = crate::memory::filled(sites.len(), Vec::new(), "power cells")?;
@@ -134,7 +135,7 @@ pub fn power_cells(sites: &[Weighted], options: &CellsOptions) -> Result<Cells> 
 
 /// The regular triangulation of `sites` (finite, not all on one line).
 pub fn regular_triangulation(sites: &[Weighted]) -> Result<Regular> {
-    let points: Vec<DVec2> = sites.iter().map(|s| s.at).collect();
+    let points: Vec<DVec2> = sites.iter().map(|s| s.at).gather("points")?;
     check_sites(&points)?;
     if let Some(i) = sites.iter().position(|s| !s.weight.is_finite()) {
         return Err(Error::not_finite(
@@ -143,7 +144,7 @@ pub fn regular_triangulation(sites: &[Weighted]) -> Result<Regular> {
         ));
     }
     // Of sites at one point the heaviest stays.
-    let mut order: Vec<u32> = (0..sites.len() as u32).collect();
+    let mut order: Vec<u32> = (0..sites.len() as u32).gather("order")?;
     order.sort_by(|&a, &b| {
         let (p, q) = (sites[a as usize], sites[b as usize]);
         (p.at.x, p.at.y)
@@ -180,7 +181,7 @@ pub fn regular_triangulation(sites: &[Weighted]) -> Result<Regular> {
         [order[1], order[0], order[c]]
     };
     let mut mesh = Mesh::triangle(points, first);
-    mesh.weights = sites.iter().map(|s| s.weight).collect();
+    mesh.weights = sites.iter().map(|s| s.weight).gather("mesh")?;
     let watch = Watch::current();
     let mut last = first[2];
     for (k, &v) in order.iter().filter(|v| !first.contains(v)).enumerate() {
@@ -206,7 +207,7 @@ pub fn regular_triangulation(sites: &[Weighted]) -> Result<Regular> {
             .triangles()
             .into_iter()
             .filter(|t| !t.contains(&DUMMY))
-            .collect(),
+            .gather("triangles")?,
         hidden,
     })
 }
@@ -280,7 +281,7 @@ fn diagram_of(sites: &[Weighted], options: &PowerOptions) -> Result<PowerDiagram
                 at = least;
                 (least, ties, power_of(p, sites[least as usize]))
             });
-            let row = row.collect();
+            let row = row.gather("row")?;
             let done = rows_done.fetch_add(1, AtomicOrdering::Relaxed) + 1;
             options.control.report(done, rect.height as u64);
             Ok(row)
@@ -288,9 +289,9 @@ fn diagram_of(sites: &[Weighted], options: &PowerOptions) -> Result<PowerDiagram
         .collect::<Result<_>>()?;
     let pixels = rows.iter().flatten();
     Ok(PowerDiagram {
-        labels: pixels.clone().map(|p| p.0).collect(),
-        ties: pixels.clone().map(|p| p.1).collect(),
-        powers: pixels.map(|p| p.2).collect(),
+        labels: pixels.clone().map(|p| p.0).gather("pixels")?,
+        ties: pixels.clone().map(|p| p.1).gather("labels")?,
+        powers: pixels.map(|p| p.2).gather("ties")?,
         regular,
     })
 }
@@ -306,7 +307,7 @@ fn copies(sites: &[Weighted]) -> Result<Vec<u32>> {
             (s.weight + 0.0).to_bits(),
         )
     };
-    let mut order: Vec<u32> = (0..sites.len() as u32).collect();
+    let mut order: Vec<u32> = (0..sites.len() as u32).gather("order")?;
     order.sort_unstable_by_key(|&i| (key(i), i));
     let mut copies = crate::memory::filled(sites.len(), 0, "the sites' copies")?;
     for run in order.chunk_by(|&a, &b| key(a) == key(b)) {

@@ -31,6 +31,10 @@ const STEPS: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
 
 /// The regions of every label of `labels` (row-major, `width` wide) except
 /// `skip` (no site), in increasing label order.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-pixel values of a picture whose room was reserved where it was placed"
+)]
 pub fn trace_regions(labels: &[u32], width: u32, skip: u32) -> Vec<Region> {
     let w = width as usize;
     let h = labels.len() / w.max(1);
@@ -167,6 +171,10 @@ fn holds(ring: &[Corner], (x, y): (i64, i64)) -> bool {
 
 /// Groups rings into polygons: each outer ring (counter-clockwise) with the
 /// holes (clockwise) inside it.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-pixel values of a picture whose room was reserved where it was placed"
+)]
 fn polygons(rings: Vec<Vec<Corner>>) -> Vec<Vec<Vec<Corner>>> {
     let (outer, holes): (Vec<_>, Vec<_>) = rings.into_iter().partition(|r| twice_area(r) > 0);
     let mut out: Vec<Vec<Vec<Corner>>> = outer.into_iter().map(|r| Vec::from([r])).collect();

@@ -65,6 +65,7 @@ impl Polygon {
         }
     }
 
+    #[expect(clippy::disallowed_methods, reason = "a cell's corners")]
     fn shifted(&self, by: DVec2) -> Self {
         Self {
             corners: self.corners.iter().map(|&v| v + by).collect(),
@@ -110,6 +111,10 @@ impl Polygon {
     /// nearest first, stopping once the rest lie beyond twice the farthest
     /// corner: their bisectors miss the polygon. Sites at the centre itself are
     /// skipped.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     fn clip_by_sites(&mut self, centre: DVec2, sites: &[DVec2]) {
         let mut offsets: Vec<(f64, DVec2)> = sites
             .iter()
@@ -160,6 +165,10 @@ pub(crate) struct StolenArea {
 }
 
 impl StolenArea {
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub fn new(origin: DVec2, rivals: &[DVec2], own: &[DVec2], rect: &Rect) -> Self {
         let mut sites: Vec<(f64, DVec2)> = rivals
             .iter()

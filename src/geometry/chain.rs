@@ -27,6 +27,7 @@ use super::metric::Metric;
 /// `epsilon`: the polygon's vertices counter-clockwise from the positive x axis.
 /// L2 gets the regular polygon of [`super::cone::triangles_for_distance_error`]'s
 /// count; L1 and L∞ are their own 4-gons.
+#[expect(clippy::disallowed_methods, reason = "one metric ball's chain")]
 pub fn chain(metric: Metric, radius: f64, epsilon: f64) -> Vec<DVec2> {
     match metric {
         Metric::L1 => reflect(&[DVec2::new(radius, 0.0)]),
@@ -414,6 +415,7 @@ impl FanMeshes {
 /// The fan over `polygon` (vertices of a ball of radius `radius`) as a unit mesh:
 /// the apex (0, 0, 0), then the rim vertices divided by `radius` at height 1, the
 /// first repeated to close the fan (the layout of [`super::cone::unit_fan`]).
+#[expect(clippy::disallowed_methods, reason = "one metric ball's chain")]
 pub(crate) fn unit_fan_over(polygon: &[DVec2], radius: f64) -> Vec<[f32; 3]> {
     let rim = polygon.iter().chain(polygon.first());
     std::iter::once([0.0, 0.0, 0.0])
@@ -423,6 +425,7 @@ pub(crate) fn unit_fan_over(polygon: &[DVec2], radius: f64) -> Vec<[f32; 3]> {
 
 /// The `metric` unit circle sampled at `corners` equally spaced angles: the rim
 /// of a fan with a fixed number of triangles.
+#[expect(clippy::disallowed_methods, reason = "one metric ball's chain")]
 pub(crate) fn uniform_polygon(metric: Metric, corners: u32) -> Vec<DVec2> {
     (0..corners)
         .map(|k| {

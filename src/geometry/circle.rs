@@ -96,6 +96,10 @@ pub fn through_three(p: [DVec2; 3], i: [usize; 3]) -> Circle {
 /// The smallest circle holding every point (Welzl 1991, iterative
 /// move-to-front form, in a fixed random order). Empty input gives radius 0 at
 /// the origin.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub fn welzl(points: &[DVec2]) -> Circle {
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.shuffle(&mut ChaCha8Rng::seed_from_u64(0x5e1f));

@@ -124,6 +124,7 @@ pub(crate) fn unit_fan(triangles: u32) -> Vec<[f32; 3]> {
 /// A regular polygon of `corners` with circumradius 1, as a fan from its first
 /// corner (`corners - 2` triangles): the footprint of an exact cone, whose depth
 /// comes from the fragment shader rather than from the vertices.
+#[expect(clippy::disallowed_methods, reason = "one fan's rim")]
 pub(crate) fn unit_footprint(corners: u32) -> Vec<[f32; 3]> {
     (0..corners)
         .map(|k| {

@@ -79,6 +79,7 @@ pub(crate) fn exact_key(metric: Metric, d: &[BigRational; 2]) -> Option<BigRatio
 /// The gauge of offset `d` for the polygon of `vertices` (counter-clockwise,
 /// star-shaped around the origin), exactly: on the sector of the edge p q
 /// that holds d, the linear `(d × (q - p)) / (p × q)`.
+#[expect(clippy::disallowed_methods, reason = "the unit ball's corners")]
 fn exact_gauge(vertices: &[DVec2], d: &[BigRational; 2]) -> BigRational {
     if d[0].is_zero() && d[1].is_zero() {
         return BigRational::zero();

@@ -133,6 +133,7 @@ impl From<Surd> for Distance {
 const PRECISIONS: [u64; 5] = [64, 128, 256, 512, 1024];
 
 impl Distance {
+    #[expect(clippy::disallowed_methods, reason = "one site's arc ends")]
     fn weighted(self, k: &BigRational, c: &BigRational) -> Self {
         Self {
             exact: self.exact.map(|s| s.affine(k, c)),
@@ -239,6 +240,7 @@ fn point_distance(metric: Metric, d: &Point) -> Option<Surd> {
 /// L∞ and a polygon's gauge the distance is linear between the parameters
 /// where the offset crosses a ray through a corner of the unit ball, so the
 /// smallest is at an end or at one of those.
+#[expect(clippy::disallowed_methods, reason = "one polyline's vertices")]
 fn segment_distance(metric: Metric, q: &Point, a: &Point, b: &Point) -> Option<Surd> {
     let e = offset(b, a);
     let o = offset(q, a);
@@ -315,6 +317,7 @@ fn circle_distance(metric: Metric, q: &Point, c: &Point, r: BigRational) -> Opti
 /// lies clearly inside or outside the wedge (or on an end at angle 0) and
 /// the nearest is clearly nearer than the transcendental ends; `None`
 /// otherwise.
+#[expect(clippy::disallowed_methods, reason = "one arc's ends")]
 fn arc_distance(
     metric: Metric,
     q: &Point,

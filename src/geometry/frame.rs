@@ -1,6 +1,7 @@
 //! Where the picture lies in the world. Pixel (i, j) is the unit square centred at
 //! pixel coordinates (i, j); without a bounding box, world = pixel coordinates.
 
+use crate::memory::Gather;
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -32,8 +33,9 @@ impl Frame {
     pub const DEFAULT_SIDE: u32 = 1024;
 
     /// `n` points drawn uniformly over the world rectangle the picture shows,
-    /// the same for the same `seed` (the command line's `--random N --seed S`).
-    pub fn random_points(&self, n: usize, seed: u64) -> Vec<DVec2> {
+    /// the same for the same `seed` (the command line's `--random N --seed S`),
+    /// or the memory error where the process cannot hold them.
+    pub fn random_points(&self, n: usize, seed: u64) -> Result<Vec<DVec2>> {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let lo = self.to_world(DVec2::splat(-0.5));
         let hi = self.to_world(DVec2::new(
@@ -42,7 +44,7 @@ impl Frame {
         ));
         (0..n)
             .map(|_| DVec2::new(rng.gen_range(lo.x..hi.x), rng.gen_range(lo.y..hi.y)))
-            .collect()
+            .gather("random points")
     }
 
     /// World = pixel coordinates: pixel (i, j) centred at world (i, j).

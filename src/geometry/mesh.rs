@@ -220,6 +220,10 @@ impl Mesh {
     /// twice), each vertex's triangles form one ring (`degree` of them), the
     /// Euler characteristic is a sphere's, and every finite triangle is
     /// counter-clockwise.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     fn check(
         &self,
         twin_edges: &[[u8; 3]],
@@ -292,6 +296,10 @@ impl Mesh {
     }
 
     /// The triangles (ghosts included), in no particular order.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         self.triangles
             .iter()
@@ -494,6 +502,10 @@ impl Mesh {
         clippy::disallowed_macros,
         reason = "a flag a point, within the budget the caller reserved"
     )]
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub(crate) fn convexify(&mut self) -> usize {
         let first = self.corner[self.points.len()];
         let mut ghosts = Vec::from([first]);
@@ -685,6 +697,7 @@ impl Mesh {
 
     /// Puts triangles `new`, which fill `polygon` (edge k from vertex k to
     /// k + 1, with `outside[k]` beyond it), into the mesh.
+    #[expect(clippy::disallowed_methods, reason = "one vertex's ring")]
     fn stitch(&mut self, polygon: &[u32], outside: &[u32], new: &[[u32; 3]]) {
         let slots: Vec<u32> = new.iter().map(|_| self.allocate()).collect();
         let k = polygon.len();

@@ -162,6 +162,7 @@ impl Metric {
 
     /// The polygonal distance whose unit ball is `vertices` (any orientation)
     /// around `kernel`: an error unless the polygon is star-shaped around it.
+    #[expect(clippy::disallowed_methods, reason = "the unit ball's vertices")]
     pub fn polygon(vertices: &[DVec2], kernel: DVec2) -> Result<Self, String> {
         if vertices.len() < 3 {
             return Err(format!(
@@ -245,6 +246,7 @@ impl Metric {
     /// The same metric in the world mirrored across the x axis (y to -y), as
     /// a north-up raster computes it: a polygon is mirrored, the other
     /// metrics are symmetric.
+    #[expect(clippy::disallowed_methods, reason = "the unit ball's vertices")]
     pub fn mirrored_y(self) -> Self {
         match self {
             Self::Polygon(g) => {

@@ -22,6 +22,10 @@ pub struct Weighted {
 
 impl Weighted {
     /// Each point with its weight, in order (the shorter list decides how many).
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub fn zip(points: &[DVec2], weights: &[f64]) -> Vec<Self> {
         points
             .iter()

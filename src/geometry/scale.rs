@@ -79,6 +79,10 @@ fn exponent_within(sets: &[&[DVec2]], span_bits: i32) -> Result<i32> {
 }
 
 /// The points scaled by `2^k`.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub fn scaled(points: &[DVec2], k: i32) -> Vec<DVec2> {
     points
         .iter()

@@ -244,6 +244,7 @@ const CURVE_REFINEMENTS: usize = 40;
 /// a norm's distance has a valley on each side of `q`; star-shaped balls
 /// (p < 1, star polygons) may add valleys at their spikes, which the extra
 /// brackets cover. The tests compare it with dense sampling.
+#[expect(clippy::disallowed_methods, reason = "one curve's samples")]
 pub(crate) fn curve_distance(
     metric: Metric,
     q: DVec2,

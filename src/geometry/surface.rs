@@ -49,6 +49,7 @@ struct Base {
 impl Base {
     /// A base covering metric distance `reach` with the accuracy of `fan` (whose
     /// ε is in pixels of shape distance).
+    #[expect(clippy::disallowed_methods, reason = "one fan's rim")]
     fn new(meshes: &FanMeshes, fan: MetricFan, reach: f64) -> Self {
         let metric = meshes.metric();
         let b = metric.euclidean_bounds().1;
@@ -119,6 +120,7 @@ impl Base {
     }
 
     /// The quads the rulings sweep along the segment `a b` (no end cones).
+    #[expect(clippy::disallowed_methods, reason = "two extreme points")]
     fn sweep(&self, a: DVec2, b: DVec2, out: &mut Triangles) {
         let e = b - a;
         if e == DVec2::ZERO {
@@ -233,6 +235,7 @@ pub(crate) fn fan_surface(
 /// Points of the circle of `radius` around `center` from angle `start` over
 /// `span` (clamped to a full turn), close enough that every chord stays within
 /// `deviation` of the arc (Euclidean).
+#[expect(clippy::disallowed_methods, reason = "one chord fan")]
 fn chords(center: DVec2, radius: f64, start: f64, span: f64, deviation: f64) -> Vec<DVec2> {
     let span = span.clamp(0.0, std::f64::consts::TAU);
     if radius == 0.0 || span == 0.0 {

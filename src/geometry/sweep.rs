@@ -8,6 +8,7 @@
 //! Exact for any distinct points: directions are compared by an exact sign,
 //! and the points on one line, which all swap at one moment, reverse as a block.
 
+use crate::memory::Gather;
 use std::{
     cmp::Ordering,
     ops::Range,
@@ -70,7 +71,7 @@ pub(crate) fn for_each_line(
     }
 
     // Just before angle 0 the distance to the line ranks by y, then x.
-    let mut order: Vec<u32> = (0..n as u32).collect();
+    let mut order: Vec<u32> = (0..n as u32).gather("order")?;
     order.sort_unstable_by(|&a, &b| {
         let (p, q) = (points[a as usize], points[b as usize]);
         p.y.total_cmp(&q.y).then(p.x.total_cmp(&q.x))

@@ -84,6 +84,10 @@ fn note(problems: &mut Vec<String>, condition: &str, what: String) {
 /// Checks conditions I–III for `triangles` over `points` (indices, or
 /// [`DUMMY`]).
 #[expect(clippy::disallowed_macros, reason = "a flag a point")]
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub fn validate(points: &[DVec2], triangles: &[[u32; 3]]) -> Validity {
     let mut problems: Vec<String> = Vec::new();
     let n = points.len();

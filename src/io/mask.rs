@@ -4,6 +4,7 @@
 //! is not zero, whatever its alpha). Row 0 is the array's first row, the
 //! picture's top row.
 
+use crate::memory::Gather;
 use std::{io::BufReader, path::Path};
 
 use crate::error::{Error, Result};
@@ -29,7 +30,7 @@ pub fn read_mask(path: &Path) -> Result<Mask> {
                 .samples
                 .chunks_exact(picture.channels)
                 .map(|p| p[..colours].iter().any(|&c| c != 0))
-                .collect();
+                .gather("features")?;
             mask(picture.width as u64, picture.height as u64, features).map_err(parse)
         }
         _ => Err(parse(
@@ -89,7 +90,7 @@ fn decode_png(path: &Path) -> Result<Png> {
         .chunks_exact(info.line_size)
         .flat_map(|row| &row[..info.width as usize * channels])
         .copied()
-        .collect();
+        .gather("samples")?;
     Ok(Png {
         width: info.width,
         height: info.height,
@@ -118,7 +119,7 @@ pub fn read_density(path: &Path) -> Result<Values> {
                     };
                     (255 - grey) as f64
                 })
-                .collect();
+                .gather("grey")?;
             Ok(Values {
                 width: picture.width as u64,
                 height: picture.height as u64,
@@ -143,6 +144,10 @@ pub struct Values {
 impl Values {
     /// The mask of the pixels whose value is among `picked`, or (without)
     /// of those not zero, where NaN is neither and refused.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-pixel values of a raster already read"
+    )]
     pub fn mask(self, picked: Option<&[f64]>) -> std::result::Result<Mask, String> {
         let features = match picked {
             Some(picked) => self.values.iter().map(|v| picked.contains(v)).collect(),

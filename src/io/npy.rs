@@ -1,5 +1,6 @@
 //! NumPy `.npy` arrays read as sites and masks: any numeric dtype as `f64`.
 
+use crate::memory::Gather;
 use std::path::Path;
 
 use crate::error::{Error, Result};
@@ -83,7 +84,7 @@ fn read_widened(path: &Path, bools: bool) -> Result<(Vec<u64>, Vec<f64>)> {
                     message: format!("{v} is beyond 2^53 and would not be read exactly"),
                 });
             }
-            wide.into_iter().map(|v| v as f64).collect()
+            wide.into_iter().map(|v| v as f64).gather("array values")?
         }
         "i4" => widen(array.into_vec::<i32>().map_err(parse)?),
         "u4" => widen(array.into_vec::<u32>().map_err(parse)?),
@@ -113,12 +114,16 @@ fn read_widened(path: &Path, bools: bool) -> Result<(Vec<u64>, Vec<f64>)> {
         let (rows, columns) = (shape[0] as usize, shape[1] as usize);
         let row_major = (0..rows * columns)
             .map(|k| values[(k % columns) * rows + k / columns])
-            .collect();
+            .gather("row major")?;
         return Ok((shape, row_major));
     }
     Ok((shape, values))
 }
 
+#[expect(
+    clippy::disallowed_methods,
+    reason = "the array the header declared, whose room was reserved before it was read"
+)]
 fn widen<T: Into<f64>>(values: Vec<T>) -> Vec<f64> {
     values.into_iter().map(Into::into).collect()
 }

@@ -13,6 +13,7 @@
 //! Numbers are read bit for bit: the site is the number the file spells.
 //! Also: the `--metric` grammar, whose `polygon:FILE` is read here.
 
+use crate::memory::Gather;
 use std::path::Path;
 
 use glam::DVec2;
@@ -76,7 +77,7 @@ pub fn read_sites(path: &Path) -> Result<Vec<DVec2>> {
                 message: format!("site {i}: this command takes unweighted points"),
             }),
         })
-        .collect()
+        .gather("sites")?
 }
 
 /// Reads sites of every shape and weight; a file without sites is an error.
@@ -125,6 +126,10 @@ pub(crate) fn read_text(path: &Path) -> Result<String> {
 }
 
 /// Sites from an n×2, n×3 or n×4 array, row-major: `x, y[, m[, a]]`.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "values of a document already read, fewer than its bytes"
+)]
 pub fn sites_from_array(shape: &[u64], values: &[f64]) -> Result<Vec<Site>, String> {
     let columns = match shape {
         [_, c @ 2..=4] => *c as usize,
@@ -201,7 +206,7 @@ pub fn read_polygon(path: &Path) -> Result<(Vec<DVec2>, DVec2)> {
             Shape::Point(p) if s.is_plain_point() => Ok(p),
             _ => Err(failed("polygon vertices are points [x, y]".into())),
         })
-        .collect::<Result<_>>()?;
+        .try_gather("polygon vertices")?;
     Ok((points, kernel))
 }
 
@@ -394,6 +399,10 @@ pub fn read_geojson_sources(path: &Path) -> Result<(Vec<Site>, GeoJsonSources)> 
     Ok((sites, sources))
 }
 
+#[expect(
+    clippy::disallowed_methods,
+    reason = "values of a document already read, fewer than its bytes"
+)]
 fn geojson_object(v: &Value, weights: (f64, f64), out: &mut Vec<Site>) -> Result<(), String> {
     let kind = v.get("type").and_then(Value::as_str).unwrap_or_default();
     let coordinates = || {
@@ -504,6 +513,10 @@ pub fn parse_json(text: &str) -> Result<Vec<Site>, String> {
     json_list(list)
 }
 
+#[expect(
+    clippy::disallowed_methods,
+    reason = "values of a document already read, fewer than its bytes"
+)]
 fn json_list(list: &[Value]) -> Result<Vec<Site>, String> {
     list.iter()
         .enumerate()

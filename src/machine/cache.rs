@@ -81,6 +81,7 @@ impl Drop for PipelineCache {
 }
 
 /// `pipelines-VENDOR-DEVICE-DRIVER-UUID.bin`, all in hexadecimal.
+#[expect(clippy::disallowed_methods, reason = "a 16-byte UUID")]
 fn file_name(properties: &vk::PhysicalDeviceProperties) -> String {
     let uuid: String = properties
         .pipeline_cache_uuid

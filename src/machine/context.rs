@@ -2,6 +2,7 @@
 //! every other machine object depends on. Shared through an `Arc` so that images and
 //! buffers can destroy themselves in `Drop`.
 
+use crate::memory::Gather;
 use std::{
     ffi::{c_void, CStr},
     mem::ManuallyDrop,
@@ -518,6 +519,7 @@ impl Drop for Partial<'_> {
     }
 }
 
+#[expect(clippy::disallowed_methods, reason = "the devices' names")]
 fn choose_device(
     instance: &ash::Instance,
     choice: &DeviceChoice,
@@ -532,7 +534,7 @@ fn choose_device(
             let props = unsafe { instance.get_physical_device_properties(d) };
             (d, props)
         })
-        .collect();
+        .gather("props")?;
     let name = |p: &vk::PhysicalDeviceProperties| {
         p.device_name_as_c_str()
             .map(|n| n.to_string_lossy().into_owned())
@@ -550,7 +552,7 @@ fn choose_device(
                 let (major, minor) = (vk::api_version_major(v), vk::api_version_minor(v));
                 format!("{} (Vulkan {major}.{minor})", name(p))
             })
-            .collect();
+            .gather("device names")?;
         return Err(Error::NoVulkan(if found.is_empty() {
             "no device supports Vulkan 1.3 (install mesa-vulkan-drivers for lavapipe)".into()
         } else {

@@ -2,6 +2,7 @@
 //! reference: a set lives until its run has completed, and sets of one run
 //! with the same resources are one set.
 
+use crate::memory::Gather;
 use std::{cell::RefCell, collections::HashMap, sync::Arc};
 
 use ash::vk;
@@ -52,7 +53,7 @@ impl DescriptorSets {
             layout,
             image: image.map(|(image, binding)| (image.view, binding)),
             first_buffer,
-            buffers: buffers.iter().map(|b| b.raw).collect(),
+            buffers: buffers.iter().map(|b| b.raw).gather("image")?,
         };
         if let Some(set) = self.sets.borrow().get(&key) {
             return Ok(*set);
@@ -108,6 +109,7 @@ impl DescriptorSets {
         unsafe { self.ctx.device.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")
     }
 
+    #[expect(clippy::disallowed_methods, reason = "one set's bindings")]
     fn write(
         &self,
         set: vk::DescriptorSet,

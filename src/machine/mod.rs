@@ -32,6 +32,7 @@ pub mod shaders {
     include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 }
 
+use crate::memory::Gather;
 use std::sync::Arc;
 
 use ash::vk;
@@ -613,7 +614,7 @@ impl Machine {
         let listed: Vec<(usize, u32)> = raw[5..5 + 2 * near_count.min(capacity as usize)]
             .chunks_exact(2)
             .map(|p| (p[0] as usize, p[1]))
-            .collect();
+            .gather("listed")?;
         let (mut at_min, mut at_max) = (raw[2] as usize, raw[3] as usize);
         if let Some(n) = near {
             // The first pixel holding the extreme among those listed; a list that
@@ -656,7 +657,10 @@ impl Machine {
             max: decode(raw[1]),
             at_min,
             at_max,
-            near: listed.iter().map(|(i, _)| *i).collect(),
+            near: listed
+                .iter()
+                .map(|(i, _)| *i)
+                .gather("pixels near the extremes")?,
             near_count,
         })
     }

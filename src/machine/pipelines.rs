@@ -2,6 +2,7 @@
 //! state) becomes one `VkPipeline`, created on first use from the program's
 //! declaration (`program.rs`).
 
+use crate::memory::Gather;
 use std::{cell::RefCell, collections::HashMap, path::Path, sync::Arc};
 
 use ash::vk;
@@ -85,7 +86,7 @@ impl Pipelines {
                 shaders::ALL
                     .iter()
                     .map(|_| vk::ShaderModule::null())
-                    .collect(),
+                    .gather("modules")?,
             ),
             graphics_layout: vk::PipelineLayout::null(),
             graphics_set_layout: vk::DescriptorSetLayout::null(),
@@ -162,7 +163,7 @@ impl Pipelines {
                     .descriptor_count(1)
                     .stage_flags(vk::ShaderStageFlags::COMPUTE)
             })
-            .collect();
+            .gather("bindings")?;
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; destroyed in `Drop`.
         pipelines.buffer_set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
@@ -276,7 +277,7 @@ impl Pipelines {
                         vk::VertexInputRate::VERTEX
                     })
             })
-            .collect();
+            .gather("values")?;
         let attributes: Vec<_> = (0u32..)
             .zip(program.vertex_buffers)
             .flat_map(|(binding, buffer)| {
@@ -288,7 +289,7 @@ impl Pipelines {
                         .format(a.format.vk())
                 })
             })
-            .collect();
+            .gather("attributes")?;
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(&bindings)
             .vertex_attribute_descriptions(&attributes);
@@ -325,7 +326,8 @@ impl Pipelines {
             vk::DynamicState::BLEND_CONSTANTS,
         ];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
-        let color_formats: Vec<vk::Format> = key.color.iter().map(|f| f.vk()).collect();
+        let color_formats: Vec<vk::Format> =
+            key.color.iter().map(|f| f.vk()).gather("color formats")?;
         let depth_format = key.depth.map_or(vk::Format::UNDEFINED, Format::vk);
         let stencil_format = match key.depth {
             Some(f) if f.has_stencil() => f.vk(),

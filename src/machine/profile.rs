@@ -9,6 +9,7 @@
 //! timestamp queries, and each run on the host; the [`Timeline`] sums the
 //! device's milliseconds by pass and writes a Chrome trace (Perfetto opens it).
 
+use crate::memory::Gather;
 use std::{
     collections::BTreeMap,
     sync::{Arc, Mutex},
@@ -263,7 +264,7 @@ impl Sections {
     pub fn spans(&self, profiler: &Profiler, submitted: Instant) -> Result<Vec<PassSpan>> {
         let start_ms = profiler.ms_since_start(submitted);
         let Some(period_ns) = self.ctx.timestamp_period.filter(|_| self.timed) else {
-            return Ok(self
+            return self
                 .labels
                 .iter()
                 .map(|label| PassSpan {
@@ -271,7 +272,7 @@ impl Sections {
                     start_ms,
                     gpu_ms: None,
                 })
-                .collect());
+                .gather("gpu ms");
         };
         let queries = 2 * self.labels.len();
         let mut stamps = crate::memory::filled(queries, 0u64, "timestamps")?;
@@ -289,8 +290,7 @@ impl Sections {
         }
         let ms = |ticks: u64| ticks as f64 * period_ns as f64 * 1e-6;
         let first = stamps.first().copied().unwrap_or(0);
-        Ok(self
-            .labels
+        self.labels
             .iter()
             .zip(stamps.chunks_exact(2))
             .map(|(label, pair)| PassSpan {
@@ -298,7 +298,7 @@ impl Sections {
                 start_ms: start_ms + ms(pair[0].wrapping_sub(first) & self.ctx.timestamp_mask),
                 gpu_ms: Some(ms(pair[1].wrapping_sub(pair[0]) & self.ctx.timestamp_mask)),
             })
-            .collect())
+            .gather("gpu ms")
     }
 }
 

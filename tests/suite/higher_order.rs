@@ -89,7 +89,7 @@ fn many_cones_fill_several_rows_of_records() {
     // sixteen rows of the fragment shader's records.
     let m = machine();
     let frame = Frame::pixels(160, 100).unwrap();
-    let sites = frame.random_points(900, 7);
+    let sites = frame.random_points(900, 7).unwrap();
     let d = k_nearest(
         &Backend::Device(&m),
         &sites,

@@ -148,6 +148,10 @@ pub(super) fn polygon_area(sites: &[DVec2], ring: &[u32]) -> f64 {
 
 /// Neighbouring sites along rows of square cells (boustrophedon), whose
 /// consecutive triples and quadruples are small shapes: the sample of §7.3.3.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn neighbour_order(points: &[DVec2]) -> Vec<usize> {
     let lo = points.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
     let hi = points.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
@@ -167,6 +171,7 @@ pub(super) fn neighbour_order(points: &[DVec2]) -> Vec<usize> {
 /// bound on the smallest triangle: that area or the pigeonhole bound (the
 /// hull's area over the 2n - h - 2 triangles of any triangulation, at least
 /// n - 2), whichever is smaller.
+#[expect(clippy::disallowed_methods, reason = "a triangle's three corners")]
 pub(super) fn neighbour_triangle(
     sites: &[DVec2],
     chosen: &[u32],

@@ -31,6 +31,7 @@
 
 use super::ms;
 use crate::geometry::predicates::convex_hull;
+use crate::memory::Gather;
 use std::{cmp::Ordering, time::Instant};
 
 use glam::DVec2;
@@ -378,7 +379,7 @@ fn triangle_in_range(
     } else {
         std::iter::once(extreme_at(&near, extreme))
             .chain(near.near.iter().copied())
-            .collect()
+            .gather("pixels")?
     };
     let pair_ids = roofs.pairs_at(machine, &pairs, &pixels)?;
     let reduce_ms = ms(started);
@@ -397,13 +398,17 @@ fn triangle_in_range(
     // Then every triangle at every searched site, and at every site that shares
     // a pixel (the roof of a triangle's longest edge finds it at the opposite
     // vertex only if that vertex shows), exactly.
-    let shared: Vec<u32> = roofs.shared.iter().map(|&k| chosen[k as usize]).collect();
+    let shared: Vec<u32> = roofs
+        .shared
+        .iter()
+        .map(|&k| chosen[k as usize])
+        .gather("shared")?;
     let searched: Vec<u32> = pixels
         .iter()
         .filter(|&&at| roofs.owner[at] != NO_SITE)
         .map(|&at| chosen[roofs.owner[at] as usize])
         .chain(shared.iter().copied())
-        .collect();
+        .gather("searched")?;
     for &s in &searched {
         for (a, &i) in chosen.iter().enumerate() {
             for &j in &chosen[a + 1..] {
@@ -464,7 +469,7 @@ fn quadrangle_in_range(
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
     let (chosen, hull) = quadrangle_candidates(sites, extreme)?;
-    let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
+    let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).gather("points")?;
     let bound = match extreme {
         Extreme::Smallest => neighbour_quadrangle(&points),
         Extreme::Largest => None,

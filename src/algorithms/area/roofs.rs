@@ -2,6 +2,7 @@
 //! test so each pixel keeps its extreme triangle or quadrangle.
 
 use super::*;
+use crate::memory::Gather;
 
 /// Push constants of the roof programs (`glsl/roof.glsl`): `[width, height,
 /// bound, depth per area, maximum, segment]`.
@@ -95,7 +96,7 @@ impl<'m> Roofs<'m> {
                 machine.max_picture_side()
             )));
         }
-        let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
+        let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).gather("points")?;
         let lo = points.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
         let hi = points.iter().fold(DVec2::NEG_INFINITY, |a, p| a.max(*p));
         let pad = DVec2::splat(0.01 * (hi - lo).max_element());
@@ -290,6 +291,10 @@ impl<'m> Roofs<'m> {
     }
 
     /// The pixels that show a site.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-pixel values of a picture whose room was reserved where it was placed"
+    )]
     pub(super) fn owned_pixels(&self) -> Vec<usize> {
         (0..self.owner.len())
             .filter(|&k| self.owner[k] != NO_SITE)
@@ -307,7 +312,7 @@ impl<'m> Roofs<'m> {
         let w = self.frame.width as usize;
         if pixels.len() > 16 {
             let all = machine.read_u32(pairs, PixelRect::of(pairs))?;
-            return Ok(pixels.iter().map(|&k| all[k]).collect());
+            return pixels.iter().map(|&k| all[k]).gather("roof pixels");
         }
         pixels
             .iter()
@@ -320,7 +325,7 @@ impl<'m> Roofs<'m> {
                 };
                 Ok(machine.read_u32(pairs, rect)?[0])
             })
-            .collect()
+            .gather("roof heights")?
     }
 }
 

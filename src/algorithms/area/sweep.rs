@@ -8,6 +8,7 @@
 //! to an exhaustive search.
 
 use crate::geometry::predicates::convex_hull;
+use crate::memory::Gather;
 use std::{ops::Range, time::Instant};
 
 use glam::DVec2;
@@ -110,7 +111,7 @@ fn sweep(
     mut visit: impl FnMut(&[u32], Range<usize>, &mut dyn FnMut(&[u32])),
 ) -> Result<AreaAnswer> {
     let started = Instant::now();
-    let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
+    let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).gather("points")?;
     let mut best = BestRing::new(extreme);
     let mut lines = 0;
     for_each_line(&points, progress, |order, line| {
@@ -120,7 +121,10 @@ fn sweep(
     let (vertices, area) = best
         .exact(&points)
         .ok_or_else(|| Error::Internal("the sweep found no candidate".into()))?;
-    let vertices: Vec<u32> = vertices.iter().map(|&k| chosen[k as usize]).collect();
+    let vertices: Vec<u32> = vertices
+        .iter()
+        .map(|&k| chosen[k as usize])
+        .gather("vertices")?;
     let vertices = match vertices.len() {
         3 => counter_clockwise(sites, vertices),
         _ => vertices,

@@ -144,6 +144,7 @@ impl Certifier<'_> {
 
     /// The sites exactly as near pixel `pixel` (picture pixels) as `nearest`,
     /// itself included.
+    #[expect(clippy::disallowed_methods, reason = "the sites tied at one pixel")]
     pub fn tied_with(&self, pixel: [i64; 2], nearest: u32) -> Vec<u32> {
         let p = DVec2::new(pixel[0] as f64, pixel[1] as f64);
         let reach = self.reach(p, &[nearest]);

@@ -19,6 +19,7 @@ mod discs;
 mod distances;
 mod furthest;
 
+use crate::memory::Gather;
 use std::cmp::Ordering;
 
 use glam::DVec2;
@@ -307,7 +308,7 @@ impl<'a> Certifier<'a> {
             .clone()
             .flat_map(|j| columns.clone().map(move |i| (i, j)))
             .map(|(i, j)| self.reach(pixel(i, j), proposed(i, j)))
-            .collect();
+            .gather("reaches")?;
         let first = pixel(columns.start, rows.start);
         let last = pixel(columns.end - 1, rows.end - 1);
         let centre = (first + last) / 2.0;
@@ -319,7 +320,7 @@ impl<'a> Certifier<'a> {
             .grid
             .around(centre, radius)
             .map(|id| (self.places[id as usize].distance(centre), id))
-            .collect();
+            .gather("candidates")?;
         candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
 
         let mut mends = Vec::new();
@@ -351,6 +352,7 @@ impl<'a> Certifier<'a> {
 
     /// The mend of one pixel's proposal, from `near`: every site within the
     /// pixel's reach (and maybe more); `None` where the proposal is exact.
+    #[expect(clippy::disallowed_methods, reason = "one pixel's k levels")]
     fn decide(
         &self,
         proposal: &Proposal<'_>,
@@ -597,7 +599,7 @@ impl<'a> Certifier<'a> {
         for w in ranked.windows(2) {
             tied.push(self.compare(p, candidates, &mut exact, w[0], w[1])? == Ordering::Equal);
         }
-        *candidates = ranked.iter().map(|&n| candidates[n]).collect();
+        *candidates = ranked.iter().map(|&n| candidates[n]).gather("values")?;
         Ok(())
     }
 

@@ -2,6 +2,7 @@
 //! quadtree's radius, or a radius per site), the polygon, ball, fan or batch
 //! each is drawn with, and the draw order that keeps batches of neighbours.
 
+use crate::memory::Gather;
 use std::f64::consts::TAU;
 
 use glam::DVec2;
@@ -91,6 +92,10 @@ pub(super) const BALL_CORNERS: u32 = 8;
 /// Cones of the `reaches` (in the metric) of tile candidates, half a
 /// Euclidean pixel wider as other local radii are, each in the square of its
 /// reach.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn reach_cones(
     pixels: &[DVec2],
     frame: &Frame,
@@ -118,6 +123,10 @@ pub(super) fn reach_cones(
 }
 
 /// The cones of each pass to try, with the quadtree radius a pass uses (if any).
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn cone_attempts(
     pixels: &[DVec2],
     frame: &Frame,
@@ -129,7 +138,7 @@ pub(super) fn cone_attempts(
     let picture_wide: Vec<f64> = pixels
         .iter()
         .map(|p| frame.farthest_pixel(*p) + 0.5)
-        .collect();
+        .gather("picture wide")?;
     let b = metric.euclidean_bounds().1;
     let cones_with = |radius: &dyn Fn(usize) -> f64| -> Vec<Cone> {
         pixels
@@ -162,7 +171,7 @@ pub(super) fn cone_attempts(
             let clipped: Vec<Option<(DVec2, DVec2)>> = boxes
                 .iter()
                 .map(|b| b.map(|(lo, hi)| (lo.clamp(first, last), hi.clamp(first, last))))
-                .collect();
+                .gather("clipped")?;
             // The other metrics, the sites left without a box, and L∞'s boxes
             // (which hold diamonds) are bounded by the cover measured in the
             // metric (radius::local_metric_radii), half a Euclidean pixel wider
@@ -182,13 +191,13 @@ pub(super) fn cone_attempts(
                 regions
                     .into_iter()
                     .map(|r| ((r.reach + 0.5 * b) / a, r.reach + 0.5 * b, (r.lo, r.hi)))
-                    .collect()
+                    .gather("cover")?
             } else {
                 let (cell, bin) = radius::k_cell_and_bin(frame, pixels.len(), 1);
                 radius::k_local_radii(pixels, frame, 1, cell, bin, metric.stretch())
                     .into_iter()
                     .map(|r| (r + 0.5, b * (r + 0.5), everywhere))
-                    .collect()
+                    .gather("values")?
             };
             let mut cones = cones_with(&|i| {
                 let corner = clipped[i].map_or(f64::INFINITY, |(lo, hi)| {
@@ -247,7 +256,7 @@ pub(super) fn cone_attempts(
             radii
                 .into_iter()
                 .map(|r| (Some(r), cones_with(&|i| (r + 0.5).min(picture_wide[i]))))
-                .collect()
+                .gather("radii")?
         }
     })
 }
@@ -259,6 +268,10 @@ pub(super) fn cone_attempts(
 /// With ties every exact cone gets a footprint of its own: counting ties
 /// needs each cone's own fragments. `key` is what exact cones write: keys that
 /// need powers batch only short cones.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn shape_cones(
     cones: &[Cone],
     frame: &Frame,
@@ -415,6 +428,10 @@ pub(super) fn shape_cones(
 /// Instances of the batch program: the batched cones (a prefix of `shaped`) in
 /// runs of [`BATCH`], each with the bounding box of its cones' footprints. The
 /// last batch repeats its last cone to fill its slots.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn batches_of(shaped: &[Shaped]) -> Vec<ConeBatch> {
     let batched = shaped
         .iter()

@@ -2,6 +2,7 @@
 //! and every try: the thesis's §3.5 bounds or a radius per site, each cone's
 //! footprint, and the depth scale they share.
 
+use crate::memory::Gather;
 use glam::DVec2;
 
 use crate::{
@@ -99,6 +100,10 @@ pub(crate) struct ConePlan {
 
 impl ConePlan {
     /// Sizes and shapes the cones of `sites` (picture pixels).
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub fn new(
         machine: &Machine,
         sites: Vec<DVec2>,
@@ -172,7 +177,7 @@ impl ConePlan {
                     cones,
                 }
             })
-            .collect();
+            .gather("batches")?;
         // A cone sized by the quadtree may reach past every pixel a site owns.
         let shaped = || attempts.iter().flat_map(|a| &a.cones);
         if let Some(t) = shaped().find_map(|s| match s.footprint {
@@ -277,6 +282,10 @@ impl ConePlan {
     }
 
     /// The quadtree radii of tries up to `attempt`.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "one radius per attempt, a handful"
+    )]
     pub(crate) fn radii_tried(&self, attempt: usize) -> Vec<f64> {
         self.attempts[..=attempt]
             .iter()
@@ -291,6 +300,10 @@ impl ConePlan {
 
     /// Try `attempt`'s cones by footprint, or as screen tiles where every tile
     /// was drawn from lists.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub fn groups(&self, attempt: usize, drawn_by_tiles: bool) -> Vec<ConeGroup> {
         let cones = &self.attempts[attempt].cones;
         if drawn_by_tiles {

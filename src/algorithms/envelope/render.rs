@@ -2,6 +2,7 @@
 //! fans, or taken per screen tile from lists of sites
 //! ([`crate::algorithms::cones::NEAREST_TILES`]).
 
+use crate::memory::Gather;
 use glam::DVec2;
 
 use crate::{
@@ -184,13 +185,13 @@ pub(super) fn render(
         .iter()
         .filter(|b| view.meets([b.rect[0], b.rect[1]], [b.rect[2], b.rect[3]]))
         .copied()
-        .collect();
+        .gather("batches")?;
     let visible: Vec<Shaped> = draws
         .cones
         .iter()
         .filter(|s| s.footprint != Footprint::Batch && view.reaches(s.cone.site, s.cone.radius))
         .copied()
-        .collect();
+        .gather("visible")?;
     let groups = groups_of(&visible);
     let mut mesh: Vec<[f32; 3]> = UNIT_SQUARE.to_vec();
     let mut ranges = crate::memory::room(groups.len(), "draw ranges")?;
@@ -238,7 +239,7 @@ pub(super) fn render(
             }
         })
         .chain(std::iter::once(bytemuck::Zeroable::zeroed()))
-        .collect();
+        .gather("clip")?;
     let mesh_buffer = machine.vertex_buffer(&mesh)?;
     let instance_buffer = machine.vertex_buffer(&instances)?;
     let batch_buffer = if batches.is_empty() {

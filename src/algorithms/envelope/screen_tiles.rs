@@ -2,6 +2,7 @@
 //! sites per screen tile that [`crate::algorithms::cones::NEAREST_TILES`]
 //! reads.
 
+use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -56,7 +57,7 @@ impl ScreenTiles {
                     )
                 })
             })
-            .collect();
+            .gather("tile spans")?;
         let rows = |[x0, y0, x1, y1]: [usize; 4]| {
             (y0..=y1).map(move |y| y * across + x0..=y * across + x1)
         };
@@ -125,7 +126,7 @@ impl ScreenTiles {
         if start[across * down] as u64 > width as u64 * height as u64 {
             return Ok(None);
         }
-        let items = (0..across * down).flat_map(list).copied().collect();
+        let items = (0..across * down).flat_map(list).copied().gather("items")?;
         Ok(Some(Self {
             start,
             items,

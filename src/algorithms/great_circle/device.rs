@@ -14,6 +14,7 @@
 //! intervals. Distances are computed on the host in doubles from the label,
 //! so both paths give the same labels and distances bit for bit.
 
+use crate::memory::Gather;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -48,6 +49,10 @@ const UNSURE: u32 = 1 << 31;
 /// [`super::great_circle_nearest`]'s for the same places, with
 /// [`GreatCircle::decided_on_host`] counting the pixels the device left to
 /// the host.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "one angle per grid line of a picture whose room was reserved where it was placed"
+)]
 pub(super) fn grid(
     machine: &Machine,
     sites: &[DVec2],
@@ -62,9 +67,9 @@ pub(super) fn grid(
         return Err(Error::out_of_range("too many sites".into()));
     }
     check(sites, "site")?;
-    let corners: Vec<DVec2> = lons.iter().map(|&x| DVec2::new(x, 0.0)).collect();
+    let corners: Vec<DVec2> = lons.iter().map(|&x| DVec2::new(x, 0.0)).gather("corners")?;
     check(&corners, "column")?;
-    let corners: Vec<DVec2> = lats.iter().map(|&y| DVec2::new(0.0, y)).collect();
+    let corners: Vec<DVec2> = lats.iter().map(|&y| DVec2::new(0.0, y)).gather("corners")?;
     check(&corners, "row")?;
     let width = lons.len();
     if width == 0 || lats.is_empty() {
@@ -78,7 +83,12 @@ pub(super) fn grid(
             BAND_PIXELS / side
         )));
     }
-    let tree = Tree::new(sites.iter().map(|&p| super::unit_vector(p)).collect());
+    let tree = Tree::new(
+        sites
+            .iter()
+            .map(|&p| super::unit_vector(p))
+            .gather("tree")?,
+    );
     let angles = |degrees: &[f64]| -> Vec<(f64, f64)> {
         degrees
             .iter()
@@ -91,7 +101,7 @@ pub(super) fn grid(
         .points
         .iter()
         .map(|v| [v.x as f32, v.y as f32, v.z as f32, 0.0])
-        .collect();
+        .gather("vectors")?;
     site_buffer.write(&vectors);
     let band_rows = (BAND_PIXELS / width) / side * side;
     let watch = Watch::current();
@@ -190,7 +200,7 @@ impl Grid<'_> {
             .iter()
             .chain(self.rows)
             .map(|&(c, s)| [c as f32, s as f32])
-            .collect();
+            .gather("cosines")?;
         let mut grid_buffer = machine.storage_buffer(8 * cosines.len() as u64)?;
         grid_buffer.write(&cosines);
         let pixels = width * height;
@@ -214,6 +224,10 @@ impl Grid<'_> {
     }
 
     /// The sites that can be nearest to a pixel of tile (`tx`, `ty`).
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     fn candidates(&self, tree: &Tree, tx: usize, ty: usize) -> Vec<u32> {
         let side = self.side;
         let last = |n: usize, t: usize| (t * side, ((t + 1) * side).min(n) - 1);

@@ -21,6 +21,7 @@
 //! longitude-latitude grid with the device as a filter (`device.rs`), to the
 //! same answer.
 
+use crate::memory::Gather;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -167,7 +168,7 @@ fn nearest_places(
     }
     check(sites, "site")?;
     check(places, "place")?;
-    let tree = Tree::new(sites.iter().map(|&p| unit_vector(p)).collect());
+    let tree = Tree::new(sites.iter().map(|&p| unit_vector(p)).gather("tree")?);
     let watch = Watch::current();
     let total = places.len() as u64;
     let done = std::sync::atomic::AtomicU64::new(0);
@@ -214,6 +215,10 @@ fn nearest(tree: &Tree, sites: &[DVec2], place: DVec2, u: DVec3) -> (u32, bool) 
 /// The nearest of the `candidates` (site indices) to `place` by great circle,
 /// decided in rational intervals; and whether two or more stay equidistant
 /// at the finest precision (the lowest index among them wins).
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn nearest_exactly(place: DVec2, sites: &[DVec2], candidates: &[u32]) -> (u32, bool) {
     let mut order = candidates.to_vec();
     order.sort_unstable();
@@ -296,6 +301,10 @@ struct Tree {
 }
 
 impl Tree {
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     fn new(points: Vec<DVec3>) -> Self {
         let mut order: Vec<u32> = (0..points.len() as u32).collect();
         build(&points, &mut order, 0);

@@ -2,11 +2,16 @@
 //! sites that may own furthest regions.
 
 use super::*;
+use crate::memory::Gather;
 use crate::Backend;
 
 /// The sites that may own furthest regions: for a convex unit ball (L_p with
 /// p >= 1, convex polygons) a distance is a convex function, largest over the
 /// sites at a corner of their convex hull; otherwise every site may.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(crate) fn furthest_candidates(sites: &[DVec2], hull: &[u32], metric: Metric) -> Vec<u32> {
     if metric.is_convex() {
         hull.to_vec()
@@ -64,6 +69,10 @@ pub(crate) fn furthest_checked(
 
 /// The sites that may own furthest regions, each the first index of its
 /// position, so that equal distances go to the smaller index.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn furthest_owners(sites: &[DVec2], metric: Metric) -> Vec<u32> {
     let first = first_of_each(sites);
     let points: Vec<DVec2> = first.iter().map(|&i| sites[i as usize]).collect();
@@ -134,7 +143,7 @@ pub(crate) fn draw_furthest(
         )));
     }
     let owners = furthest_candidates(sites, &convex_hull(sites), metric);
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).gather("pixels")?;
     // A polygon's distance is drawn exactly by the fan over the polygon; the other
     // metrics' cones evaluate the distance per fragment.
     let (program, unit) = match metric {
@@ -155,7 +164,7 @@ pub(crate) fn draw_furthest(
             };
             ConeInstance::new(i, p.into(), outer, r)
         })
-        .collect();
+        .gather("outer")?;
     let reach = instances
         .iter()
         .map(|c| c.site[3] as f64)
@@ -178,10 +187,10 @@ pub(crate) fn draw_furthest(
     // bounding box of a region that holds its own (one draw per cone with a
     // scissor), instead of over the whole picture.
     let scissors: Vec<Option<[u32; 4]>> = if metric == Metric::L2 && owners.len() >= 3 {
-        let owned: Vec<DVec2> = owners.iter().map(|&i| pixels[i as usize]).collect();
+        let owned: Vec<DVec2> = owners.iter().map(|&i| pixels[i as usize]).gather("owned")?;
         (0..owned.len())
             .map(|k| Some(furthest_region_box(&owned, k, frame.width, frame.height)))
-            .collect()
+            .gather("owned")?
     } else {
         Vec::from([None])
     };

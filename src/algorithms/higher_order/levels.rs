@@ -236,6 +236,10 @@ pub(super) fn check_levels(machine: &Machine, options: &KNearestOptions) -> Resu
 
 /// The cones (site index, pixel position, radius) that reach the picture, and the
 /// statistics that describe them.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn level_cones(
     machine: &Machine,
     sites: &[DVec2],
@@ -300,6 +304,10 @@ pub(super) fn cone_stats(
 
 /// Cone radii (pixels) that keep the k lowest layers of the arrangement over the
 /// picture, plus half a pixel so that rasterization never drops a rim pixel.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn k_radii(
     pixels: &[DVec2],
     frame: &Frame,

@@ -20,6 +20,7 @@
 //! furthest regions, so only their cones are drawn.
 
 use super::ms;
+use crate::memory::Gather;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -185,6 +186,10 @@ pub struct KNearest {
 
 impl KNearest {
     /// Level `l` (0 = nearest) as a row-major picture of labels.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-pixel values of a picture whose room was reserved where it was placed"
+    )]
     pub fn level_labels(&self, l: u32) -> Vec<u32> {
         self.labels
             .chunks_exact(self.k as usize)
@@ -193,6 +198,10 @@ impl KNearest {
     }
 
     /// Level `l` (0 = nearest) as a row-major picture of distances.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-pixel values of a picture whose room was reserved where it was placed"
+    )]
     pub fn level_distances(&self, l: u32) -> Vec<f32> {
         self.distances
             .chunks_exact(self.k as usize)
@@ -352,7 +361,7 @@ fn proposed_k_nearest(
     let instances: Vec<ConeInstance> = cones
         .iter()
         .map(|&(i, p, r)| ConeInstance::new(i, p.into(), outer.radius(r), r))
-        .collect();
+        .gather("instances")?;
     // Fan heights map into the depth range by a power of two, which keeps them
     // exact; exact keys hold squared distances as they are.
     let reach = instances

@@ -2,6 +2,7 @@
 //! previous level's depths as the second depth test.
 
 use super::*;
+use crate::memory::Gather;
 
 /// Computes every pixel's k nearest sites by the thesis's peeling (§3.7): level
 /// by level, the cones are drawn against the previous level's depth z and site,
@@ -57,7 +58,7 @@ fn peel(machine: &Machine, sites: &[DVec2], options: &KNearestOptions) -> Result
             )
         })
         .chain(std::iter::once(bytemuck::Zeroable::zeroed()))
-        .collect();
+        .gather("instances")?;
     let reach = cones.iter().map(|c| c.2).fold(1.0, f64::max) * 1.001;
     let metric = options.metric;
     let scale = metric.key_scale(reach);

@@ -2,6 +2,7 @@
 //! back over every input site at that position. A million copies of one point
 //! would otherwise be a million cones at every pixel.
 
+use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -47,7 +48,7 @@ pub(crate) fn with_repeats(
     for (i, &d) in position.iter().enumerate() {
         members[d as usize].push(i as u32);
     }
-    let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+    let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).gather("distinct")?;
     let levels = k.min(distinct.len() as u32);
     let near = compute(&distinct, levels)?;
     let certifier = Certifier::new(&distinct, frame, metric)?;

@@ -2,6 +2,7 @@
 //! layers of the tile's cones (`glsl/cone_tiles.frag`).
 
 use super::*;
+use crate::memory::Gather;
 
 /// Most levels a tile fragment keeps (`glsl/cone_tiles.frag`: MAX_LEVELS).
 pub(super) const TILE_LEVELS: u32 = 32;
@@ -28,7 +29,7 @@ pub(super) fn k_nearest_tiled(
     started: Instant,
 ) -> Result<KNearest> {
     let (frame, k) = (options.frame, options.k);
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).gather("pixels")?;
     let tiles = if options.speedup == Speedup::Local {
         let mut tiles = radius::k_tile_lists(
             &pixels,
@@ -125,6 +126,10 @@ pub(super) fn k_nearest_tiled(
 
 /// Site indices per screen tile for cones of the given radii: a cone goes to
 /// every tile its disc meets, nearest to the tile's centre first.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn bin_to_tiles(pixels: &[DVec2], frame: &Frame, radii: Vec<f64>) -> Result<radius::TileLists> {
     let mut tiles = radius::TileLists {
         across: frame.width.div_ceil(TILE_SIDE) as usize,

@@ -49,6 +49,10 @@ impl Vertex {
 /// candidates for the largest circle clearing points and segments (whose ends
 /// are among `points`). Circles through three points are kept when `keep`
 /// accepts their radius.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn clearing_vertices(
     points: &[DVec2],
     lines: &[(DVec2, DVec2)],

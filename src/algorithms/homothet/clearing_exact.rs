@@ -62,6 +62,10 @@ const PRECISIONS: [u64; 5] = [96, 192, 384, 768, 1536];
 /// included), where it is the double nearest to the middle of its bracket.
 /// `None` where no precision decides (a contender whose pieces stay
 /// degenerate), and the caller keeps its bound.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn certify(
     contenders: &[(Vertex, f64)],
     (obstacles, near): (&[Obstacle], &dyn Fn(DVec2, f64) -> Vec<u32>),
@@ -262,6 +266,10 @@ impl Local {
 
     /// The vertex's centre, its exact clearance to the `near` obstacles, and
     /// the distances; `None` where its pieces are degenerate at `bits`.
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     fn evaluate(
         &self,
         vertex: &Vertex,
@@ -453,6 +461,7 @@ fn cramer(p: &Linear, q: &Linear, r: &Linear, bits: u64) -> Option<[Interval; 3]
 
 /// The points (x, y, r) on the line two linear equations leave where
 /// |c − centre| = r.
+#[expect(clippy::disallowed_methods, reason = "a line's three coordinates")]
 fn line_meets_circle(
     p: &Linear,
     q: &Linear,

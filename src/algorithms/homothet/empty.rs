@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::geometry::exact::two_difference;
+use crate::memory::Gather;
 
 /// Where the centre of the largest empty homothet may lie.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -59,7 +60,7 @@ pub fn largest_empty(
 ) -> Result<HomothetAnswer> {
     if options.inside {
         check_sites(sites)?;
-        let general: Vec<Site> = sites.iter().map(|&p| Site::point(p)).collect();
+        let general: Vec<Site> = sites.iter().map(|&p| Site::point(p)).gather("general")?;
         return largest_empty_sites(machine, &general, options);
     }
     let o = options;
@@ -143,6 +144,10 @@ const MAX_NEAR_PIXELS: usize = 1024;
 const MAX_REFINED_SIDE: u32 = 4096;
 
 /// [`largest_empty`] of points without `inside`.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn empty_of_points(
     machine: &Machine,
     sites: &[DVec2],
@@ -158,22 +163,22 @@ fn empty_of_points(
         .iter()
         .chain(region.rings.iter().flatten())
         .copied()
-        .collect();
+        .gather("anchors")?;
     let origin = exact_shift(&anchors);
     let numbers: Vec<f64> = anchors
         .iter()
         .flat_map(|p| [p.x - origin.x, p.y - origin.y])
-        .collect();
+        .gather("numbers")?;
     let k = exponent_or_refusal(&numbers, REFINED_POINTS)?;
     let t = |x: f64| scale::times_power_of_two(x, k);
     let place = |p: &DVec2| DVec2::new(t(p.x - origin.x), t(p.y - origin.y));
-    let sites: Vec<DVec2> = sites.iter().map(place).collect();
+    let sites: Vec<DVec2> = sites.iter().map(place).gather("sites")?;
     let region = Region {
         rings: region
             .rings
             .iter()
             .map(|r| r.iter().map(place).collect())
-            .collect(),
+            .gather("rings")?,
     };
     let placement = Placement { k, origin };
     let (answer, exact) = empty_points(machine, &sites, unit, &region, side, stage, placement)?;
@@ -202,6 +207,10 @@ fn placed_back(
 /// [`largest_empty_by`] on sites placed near the origin and near 1 by
 /// `placement`: the answer there, and for circles the exact one in the sites'
 /// own coordinates.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn empty_points(
     machine: &Machine,
     sites: &[DVec2],
@@ -261,11 +270,11 @@ fn empty_points(
             let mut exact: Vec<(f64, usize)> = listed
                 .into_iter()
                 .map(|p| (nearest(pixel_centre(&frame, p)), p))
-                .collect();
+                .gather("exact")?;
             exact.sort_by(|a, b| b.0.total_cmp(&a.0));
             let top = exact.first().map_or(0.0, |e| e.0);
             exact.retain(|e| e.0 >= top - 2.0 * bound);
-            let pixels: Vec<usize> = exact.into_iter().map(|e| e.1).collect();
+            let pixels: Vec<usize> = exact.into_iter().map(|e| e.1).gather("pixels")?;
             if pixels.is_empty() {
                 Vec::new()
             } else {
@@ -302,7 +311,7 @@ fn empty_points(
             tiles
                 .into_iter()
                 .map(|(z, p)| (depth.distance(z), p))
-                .collect()
+                .gather("depth")?
         }
     };
     let value = tiles.iter().map(|t| t.0).fold(f64::NEG_INFINITY, f64::max);
@@ -361,7 +370,10 @@ fn empty_points(
         .retain(|(vertex, value)| *value >= v - CONTENDING * rounding && within(&region, vertex));
     contenders.sort_by(|a, b| b.1.total_cmp(&a.1));
     contenders.truncate(MAX_CONTENDERS);
-    let obstacles: Vec<Obstacle> = sites.iter().map(|&p| Obstacle::Point(p)).collect();
+    let obstacles: Vec<Obstacle> = sites
+        .iter()
+        .map(|&p| Obstacle::Point(p))
+        .gather("obstacles")?;
     let near = |c: DVec2, r: f64| grid.around(c, r).collect();
     let slack = CONTENDING * rounding;
     let certified = certify(&contenders, (&obstacles, &near), slack, placement);
@@ -399,6 +411,10 @@ const REFINED_SITES: (f64, f64) = (1e-75, 1e75);
 const REFINED_POINTS: (f64, f64) = (1e-150, 1e150);
 
 /// [`largest_empty_sites`] with the options taken apart.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn empty_of_sites(
     machine: &Machine,
     sites: &[Site],
@@ -416,7 +432,7 @@ fn empty_of_sites(
                 Shape::Point(p) => p,
                 _ => unreachable!("plain points"),
             })
-            .collect();
+            .gather("points")?;
         return empty_of_points(machine, &points, unit, region, side, stage);
     }
     if stage == Some(PixelStage::DistanceTransform) {
@@ -434,7 +450,7 @@ fn empty_of_sites(
         .iter()
         .flat_map(Site::anchors)
         .chain(region.rings.iter().flatten().copied())
-        .collect();
+        .gather("anchors")?;
     let origin = exact_shift(&anchors);
     let placed = |sites: Vec<Site>, region: Region, f: &dyn Fn(DVec2) -> DVec2| {
         let rings = region
@@ -449,15 +465,17 @@ fn empty_of_sites(
         )
     };
     let (sites, region) = placed(
-        sites.iter().map(|s| s.moved_back(origin)).collect(),
+        sites.iter().map(|s| s.moved_back(origin)).gather("rings")?,
         region.clone(),
         &|p| p - origin,
     );
     let k = exponent_or_refusal(&numbers_of(&sites, &region), REFINED_SITES)?;
     let t = |x: f64| scale::times_power_of_two(x, k);
-    let (sites, region) = placed(sites.iter().map(|s| s.scaled(k)).collect(), region, &|p| {
-        DVec2::new(t(p.x), t(p.y))
-    });
+    let (sites, region) = placed(
+        sites.iter().map(|s| s.scaled(k)).gather("scaled sites")?,
+        region,
+        &|p| DVec2::new(t(p.x), t(p.y)),
+    );
     let placement = Placement { k, origin };
     let (answer, exact) = refine_empty(machine, &sites, unit, &region, inside, side, placement)?;
     Ok(placed_back(answer, exact, placement))
@@ -466,6 +484,10 @@ fn empty_of_sites(
 /// [`largest_empty_sites`] on sites placed near the origin and near 1 by
 /// `placement`: the answer there, and the exact one in the sites' own
 /// coordinates where the exact refinement decides it.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn refine_empty(
     machine: &Machine,
     sites: &[Site],
@@ -531,7 +553,7 @@ fn refine_empty(
             .map(|s| s.distance(metric, c))
             .fold(f64::INFINITY, f64::min)
     };
-    let edges: Vec<(DVec2, DVec2)> = region.edges().collect();
+    let edges: Vec<(DVec2, DVec2)> = region.edges().gather("edges")?;
     // Whether the disc of radius r around c meets the region.
     let meets = |c: DVec2, r: f64| {
         region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) <= r)
@@ -548,7 +570,7 @@ fn refine_empty(
             .iter()
             .filter(|s| s.distance(metric, around) <= value + slack)
             .copied()
-            .collect();
+            .gather("near")?;
         let allowed = |c: DVec2| {
             let tol = 1e-9 * (1.0 + c.abs().max_element());
             region.contains(c) || edges.iter().any(|(a, b)| segment_distance(c, *a, *b) < tol)
@@ -574,7 +596,7 @@ fn refine_empty(
                 .iter()
                 .filter(|(a, b)| segment_distance(around, *a, *b) <= reach)
                 .copied()
-                .collect();
+                .gather("walls")?;
             let mut candidates = clearing_vertices(&points, &lines, &walls, |_| true);
             let given = walls
                 .iter()
@@ -588,7 +610,7 @@ fn refine_empty(
             let mut bounded: Vec<(Vertex, f64)> = candidates
                 .into_iter()
                 .map(|v| (v, clearance(v.centre, &near)))
-                .collect();
+                .gather("bounded")?;
             bounded.sort_by(|a, b| b.1.total_cmp(&a.1));
             let mut best: Option<(DVec2, f64)> = None;
             for &(v, upper) in &bounded {
@@ -662,7 +684,7 @@ fn refine_empty(
             *value >= v - gap - decided_within && within(&region, vertex)
         });
         contenders.sort_by(|a, b| b.1.total_cmp(&a.1));
-        let obstacles: Vec<Obstacle> = all.iter().map(obstacle).collect();
+        let obstacles: Vec<Obstacle> = all.iter().map(obstacle).gather("obstacles")?;
         let near = |c: DVec2, r: f64| {
             let near =
                 (0..obstacles.len() as u32).filter(|&i| obstacles[i as usize].distance(c) <= r);
@@ -681,7 +703,7 @@ fn refine_empty(
     };
     let on: Vec<u32> = (0..all.len() as u32)
         .filter(|&i| (all[i as usize].distance(metric, c) - v).abs() <= tol)
-        .collect();
+        .gather("on")?;
     let homothet = Homothet {
         centre: c.to_array(),
         scale: v,
@@ -730,6 +752,10 @@ fn exponent_or_refusal(numbers: &[f64], (lo, hi): (f64, f64)) -> Result<i32> {
 }
 
 /// The coordinates, radii and weights of `sites` and `region`.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn numbers_of(sites: &[Site], region: &Region) -> Vec<f64> {
     let of_sites = sites.iter().flat_map(|s| {
         let radius = match s.shape {
@@ -827,6 +853,7 @@ type Tile<'a> = (
 /// A tile's highest depth inside the region (its `triangles`, the rest masked)
 /// and the picture pixels near it (the highest first), unless the whole tile
 /// is masked.
+#[expect(clippy::disallowed_methods, reason = "the pixels near one maximum")]
 fn highest_in_region(
     machine: &Machine,
     frame: &Frame,
@@ -917,6 +944,10 @@ fn listed_of_transform(
 
 /// The pixels of the tiles whose highest value is within `2 bound` of the
 /// highest of all, `value`.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-pixel values of a picture whose room was reserved where it was placed"
+)]
 fn near_top(tiles: &[(f64, Vec<usize>)], value: f64, bound: f64) -> Vec<usize> {
     tiles
         .iter()

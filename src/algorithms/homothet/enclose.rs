@@ -3,6 +3,7 @@
 //! a branch and bound on their exact distances.
 
 use super::*;
+use crate::memory::Gather;
 use crate::{algorithms::cpu, Backend};
 
 /// The smallest homothet of `unit` holding at least `k` of the point `sites`
@@ -61,6 +62,10 @@ impl EncloseOptions {
 }
 
 /// [`enclose`] of sites checked where they entered.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn enclose_checked(
     backend: &Backend,
     checked: Checked<'_>,
@@ -101,7 +106,8 @@ fn enclose_checked(
     if k == n {
         let kept = first_of_each(sites);
         if kept.len() < n {
-            let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+            let distinct: Vec<DVec2> =
+                kept.iter().map(|&i| sites[i as usize]).gather("distinct")?;
             let mut answer = enclose_checked(backend, Checked::derived(&distinct), unit, 0, side)?;
             for homothet in [&mut answer.exact, &mut answer.pixel] {
                 for site in &mut homothet.sites {
@@ -125,7 +131,7 @@ fn enclose_checked(
         let near = (0..far.distances.len())
             .filter(|&p| (far.distances[p] as f64) <= value + 2.0 * bound)
             .take(NEAR_PIXELS as usize)
-            .collect();
+            .gather("near")?;
         (lowest, value, near, far.hull)
     } else if let (true, Some(machine)) = (k == n, backend.machine()) {
         let drawn = draw_furthest(machine, checked, &frame, metric, false)?;
@@ -159,7 +165,7 @@ fn enclose_checked(
         let near: Vec<usize> = (0..kth.len())
             .filter(|&p| (kth[p] as f64) <= d + 2.0 * bound)
             .take(NEAR_PIXELS as usize)
-            .collect();
+            .gather("near")?;
         (at, d, near, Vec::new())
     };
     let centre = pixel_centre(&frame, pixel);
@@ -447,7 +453,7 @@ pub fn enclose_sites(
         .sites
         .iter()
         .map(|&s| owner[s as usize])
-        .collect();
+        .gather("named")?;
     named.dedup();
     answer.exact.sites = named;
     if !curved && (convex || points_only) {
@@ -502,7 +508,7 @@ pub fn enclose_sites(
                     .filter(|&i| {
                         (farthest_gauge(unit, sites[i as usize].shape, c) + v).abs() <= tol.max(gap)
                     })
-                    .collect(),
+                    .gather("sites")?,
             };
             answer.tolerance = gap;
             answer.checked += cells;

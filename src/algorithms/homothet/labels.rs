@@ -1,6 +1,7 @@
 //! The envelope a homothet is found on, as each pixel's site.
 
 use super::*;
+use crate::memory::Gather;
 
 /// Which envelope a picture shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,7 +54,7 @@ pub fn envelope_labels(
             Shape::Point(p) => Some(p),
             _ => None,
         })
-        .collect();
+        .gather("sites")?;
     let sites = &sites[..];
     let labels = match envelope {
         Envelope::Enclosing { k } if k == 0 || k >= sites.len() => {

@@ -13,6 +13,10 @@ pub(super) struct RegionMesh {
 }
 
 impl RegionMesh {
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub(super) fn new(region: &Region, frame: &Frame) -> Self {
         let vertex = |v: DVec2| [v.x as f32, v.y as f32, 0.0];
         let mut fans = Vec::new();

@@ -23,6 +23,7 @@
 //! `enclose.rs` and `empty.rs` hold the two searches, `refine.rs` their exact
 //! refinement; the candidates and exact evaluation they share are here.
 
+use crate::memory::Gather;
 use glam::DVec2;
 
 use crate::{
@@ -106,7 +107,7 @@ impl Unit {
         match self {
             Unit::Circle => Ok(Metric::L2),
             Unit::Polygon(g) => {
-                let reflected: Vec<DVec2> = g.vertices.iter().map(|v| -*v).collect();
+                let reflected: Vec<DVec2> = g.vertices.iter().map(|v| -*v).gather("reflected")?;
                 Metric::polygon(&reflected, DVec2::ZERO).map_err(Error::malformed)
             }
         }
@@ -309,6 +310,10 @@ const NEAR_PIXELS: u32 = 4096;
 
 /// A disc holding every centre the near-extreme pixels stand for: around their
 /// bounding box's middle, reaching its corners and a pixel beyond.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-pixel values of a picture whose room was reserved where it was placed"
+)]
 fn surroundings(frame: &Frame, pixels: &[usize]) -> (DVec2, f64) {
     let centres: Vec<DVec2> = pixels.iter().map(|&p| pixel_centre(frame, p)).collect();
     let lo = centres.iter().fold(DVec2::INFINITY, |a, p| a.min(*p));
@@ -340,6 +345,10 @@ fn half_diagonal(frame: &Frame) -> f64 {
 }
 
 /// The homothet at `centre` of scale `v` with the sites on its boundary.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn homothet_at(sites: &[DVec2], unit: Unit, centre: DVec2, v: f64) -> Homothet {
     let tol = 1e-9 * (1.0 + v + centre.abs().max_element());
     Homothet {
@@ -351,6 +360,10 @@ fn homothet_at(sites: &[DVec2], unit: Unit, centre: DVec2, v: f64) -> Homothet {
     }
 }
 
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn candidates(sites: &[DVec2], keep: impl Fn(DVec2) -> bool) -> Vec<u32> {
     (0..sites.len() as u32)
         .filter(|&i| keep(sites[i as usize]))
@@ -358,6 +371,10 @@ fn candidates(sites: &[DVec2], keep: impl Fn(DVec2) -> bool) -> Vec<u32> {
 }
 
 /// The k-th smallest gauge from `c` to the sites (1 = nearest; n = furthest).
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn kth_gauge(sites: &[DVec2], unit: Unit, c: DVec2, k: usize) -> Option<f64> {
     let mut g: Vec<f64> = sites.iter().map(|s| unit.gauge(*s - c)).collect();
     let (_, kth, _) = g.select_nth_unstable_by(k - 1, f64::total_cmp);

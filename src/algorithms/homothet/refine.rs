@@ -116,6 +116,10 @@ pub(super) fn branch_and_bound(
 }
 
 /// Groups pixels (row-major indices) into clusters of 8-connected pixels.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-pixel values of a picture whose room was reserved where it was placed"
+)]
 pub(super) fn clusters(frame: &Frame, pixels: &[usize]) -> Vec<Vec<usize>> {
     use std::collections::HashMap;
     let w = frame.width as i64;
@@ -173,6 +177,10 @@ pub(super) fn best_of_clusters(
 /// The smallest enclosing circle, exact: Welzl's algorithm on the sites the
 /// picture names as far from its centre, repeated with every site it left out
 /// until none is.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn smallest_circle(
     sites: &[DVec2],
     centre: DVec2,
@@ -234,6 +242,10 @@ struct Plane {
 /// `near` sites (a superset of the generators: every site that can matter
 /// within the reach), then evaluated with `full` over all sites.
 #[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn best_vertex(
     sites: &[DVec2],
     unit: Unit,
@@ -460,6 +472,10 @@ pub(super) fn circumcentre(a: DVec2, b: DVec2, c: DVec2) -> Option<DVec2> {
 /// clear of the boundary). The least,
 /// as the doubles nearest its centre and radius, with the sites exactly on
 /// it; `None` where none holds k sites.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn exact_k_circle(
     sites: &[DVec2],
     k: usize,

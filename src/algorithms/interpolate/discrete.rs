@@ -20,6 +20,7 @@
 //! 99th percentile 0.58 and the largest 1.20, near the hull's edges, where
 //! the regions a pixel steals reach farthest (`tests/suite/interpolate.rs`).
 
+use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -53,6 +54,10 @@ pub fn discrete_sibson(
 
 /// [`discrete_sibson`] of sites checked where they entered, with as many
 /// finite values.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-pixel values of a picture whose room was reserved where it was placed"
+)]
 pub(super) fn of_checked(
     machine: Option<&Machine>,
     sites: Checked<'_>,
@@ -129,7 +134,7 @@ pub(super) fn of_checked(
     let hull: Vec<DVec2> = convex_hull(sites)
         .iter()
         .map(|&i| sites[i as usize])
-        .collect();
+        .gather("hull")?;
     let inside = |q: DVec2| {
         hull.len() >= 3
             && (0..hull.len()).all(|i| orient(hull[i], hull[(i + 1) % hull.len()], q) >= 0.0)

@@ -165,6 +165,7 @@ pub(crate) fn on_plane<T: Number>(
 /// Sibson's interpolant at `q`, strictly inside the hull, given the cavity
 /// of triangles whose circumcircles hold `q` and each triangle's
 /// [`centre_offset`].
+#[expect(clippy::disallowed_methods, reason = "one query's cavity")]
 pub(crate) fn sibson<T: Number>(
     q: DVec2,
     triangles: &Triangles,

@@ -27,6 +27,7 @@ pub(crate) mod walk;
 
 pub use discrete::discrete_sibson;
 
+use crate::memory::Gather;
 use glam::DVec2;
 use num_rational::BigRational;
 use rayon::prelude::*;
@@ -159,7 +160,10 @@ fn interpolate_on(
     let values = match method {
         Method::Nearest => {
             let labels = voronoi_checked(backend, checked, &diagram)?.labels;
-            labels.iter().map(|&l| values[l as usize]).collect()
+            labels
+                .iter()
+                .map(|&l| values[l as usize])
+                .gather("labels")?
         }
         Method::Discrete if rect != PixelRect::sized(frame.width, frame.height) => {
             return Err(Error::unsupported_option(
@@ -173,7 +177,7 @@ fn interpolate_on(
             let centres: Vec<DVec2> = (0..rect.height)
                 .flat_map(|j| (0..rect.width).map(move |i| (rect.x + i, rect.y + j)))
                 .map(|(i, j)| frame.to_world(DVec2::new(i as f64, j as f64)))
-                .collect();
+                .gather("centres")?;
             let corners = triangulated(backend, checked, values)?;
             let run = rect.width as usize;
             let sibson = method == Method::Exact;

@@ -43,6 +43,10 @@ pub(crate) enum Place {
 }
 
 impl<'a> Triangles<'a> {
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub fn new(sites: &'a [DVec2], corners: &'a [[u32; 3]]) -> Self {
         let mut edges = HashMap::with_capacity(corners.len() * 3);
         for (t, c) in corners.iter().enumerate() {

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::algorithms::certify::{Certifier, Disc};
+use crate::memory::Gather;
 
 /// The potential-area map computed on the CPU with the thesis's own variant
 /// (§3.12.3): every disc's border is walked row by row, +1 and -1 mark each row
@@ -66,7 +67,7 @@ pub(crate) fn potential_areas_cpu(
     let row_reach: Vec<i64> = reaches
         .chunks(w)
         .map(|row| row.iter().copied().max().unwrap_or(-1))
-        .collect();
+        .gather("row reach")?;
     let mut area = crate::memory::filled(w * h, 0i32, "regions' areas")?;
     area.par_chunks_mut(BAND_ROWS * w)
         .enumerate()
@@ -94,7 +95,7 @@ pub(crate) fn potential_areas_cpu(
             }
         });
     stats.count_ms = ms(start);
-    let area = area.into_iter().map(|v| v as u32).collect();
+    let area = area.into_iter().map(|v| v as u32).gather("area")?;
     Ok(PotentialAreas::new(frame, area, stats))
 }
 

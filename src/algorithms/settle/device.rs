@@ -2,6 +2,7 @@
 //! discs counted by stencil wrap-around and blending.
 
 use super::*;
+use crate::memory::Gather;
 
 /// Push constants of the settle programs (`glsl/settle.glsl`): `[width,
 /// height, metric kind, p, first, count, channel]`.
@@ -93,8 +94,8 @@ pub(super) fn count_spans(
             picture.fill(0);
             Ok(picture)
         })
-        .collect::<Result<Vec<_>>>()?;
-    let buffers: Vec<_> = std::iter::once(radii).chain(&pictures).collect();
+        .try_gather::<_, Vec<_>>("span pictures")?;
+    let buffers: Vec<_> = std::iter::once(radii).chain(&pictures).gather("buffers")?;
     let start = Instant::now();
     let kind = push.metric_code().0;
     // About 64 submissions, for progress; each within one dispatch's limits.

@@ -176,6 +176,10 @@ impl PotentialAreas {
     }
 
     /// Up to `count` pixels in order of decreasing potential area (ties by index).
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-pixel values of a picture whose room was reserved where it was placed"
+    )]
     pub fn leaders(&self, count: usize) -> Vec<usize> {
         let mut order: Vec<usize> = (0..self.area.len()).collect();
         let count = count.min(order.len());
@@ -247,6 +251,10 @@ fn disc_radius_keys(
 /// Each position of `points` once, in their first order: the areas depend on
 /// where sites are, not on how many stand at one place, and every repeat
 /// would be a candidate at every pixel's check.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(crate) fn distinct(points: &[DVec2]) -> Vec<DVec2> {
     first_of_each(points)
         .iter()

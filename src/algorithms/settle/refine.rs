@@ -89,6 +89,10 @@ fn compass_search(start: DVec2, f: &dyn Fn(DVec2) -> f64, bounds: &cell::Rect) -
     (x, best)
 }
 
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn to_pixels(sites: &[DVec2], frame: &Frame) -> Vec<DVec2> {
     sites.iter().map(|&s| frame.to_pixel(s)).collect()
 }

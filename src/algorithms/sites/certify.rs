@@ -10,6 +10,7 @@
 //! smaller index. Distances are then recomputed from the labels as the CPU's
 //! algorithm computes them, so devices and tilings agree to the bit.
 
+use crate::memory::Gather;
 use std::cmp::Ordering;
 
 use glam::DVec2;
@@ -104,19 +105,19 @@ impl<'a> SiteCertifier<'a> {
             pixels.push(pixel);
             errors.push(error);
         }
-        let wedges = pixels.iter().map(Site::wedge).collect();
-        let boxes: Vec<(DVec2, DVec2)> = pixels.iter().map(Site::bounds).collect();
+        let wedges = pixels.iter().map(Site::wedge).gather("wedges")?;
+        let boxes: Vec<(DVec2, DVec2)> = pixels.iter().map(Site::bounds).gather("boxes")?;
         Ok(Self {
             sites,
             magnitudes: boxes
                 .iter()
                 .map(|(a, b)| a.abs().max(b.abs()).length())
-                .collect(),
+                .gather("magnitudes")?,
             boxes,
             per_unit: pixels
                 .iter()
                 .map(|s| frame.scale * s.multiplicative)
-                .collect(),
+                .gather("per unit")?,
             lower: metric.euclidean_bounds().0,
             pixels,
             errors,
@@ -244,7 +245,7 @@ impl<'a> SiteCertifier<'a> {
                 let proposed = labels[y * width + x] as usize;
                 (proposed < self.sites.len()).then(|| self.bounds(proposed, pixel(x, y)))
             })
-            .collect();
+            .gather("proposed")?;
         let reach = proposals
             .iter()
             .map(|b| b.map_or(f64::INFINITY, |b| b.hi))
@@ -253,7 +254,7 @@ impl<'a> SiteCertifier<'a> {
         let mut order: Vec<(f64, usize)> = (0..self.pixels.len())
             .map(|i| (self.lower_bound(i, lo, hi), i))
             .filter(|&(bound, _)| bound <= reach)
-            .collect();
+            .gather("order")?;
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut mended = 0;
         let mut near = Vec::new();

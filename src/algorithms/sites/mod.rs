@@ -23,6 +23,7 @@
 //! few sites instead of every site whose rectangle covers it.
 
 use super::ms;
+use crate::memory::Gather;
 use std::time::Instant;
 
 use glam::{DVec2, DVec3};
@@ -203,7 +204,7 @@ fn proposed_diagram(
                 additive: sites[i as usize].additive - shift,
                 ..sites[i as usize]
             })
-            .collect();
+            .gather("additive")?;
         let mut d = proposed_diagram(machine, &chosen, options)?;
         for label in d.labels.iter_mut().filter(|l| **l != u32::MAX) {
             *label = kept[*label as usize];
@@ -246,6 +247,10 @@ fn proposed_diagram(
 /// the smallest additive weight bounds the envelope everywhere by that weight
 /// plus its farthest weighted distance from the picture, and a site whose
 /// weight alone exceeds the bound wins nowhere.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn winners_by_weight(sites: &[Site], frame: &crate::geometry::Frame, metric: Metric) -> Vec<u32> {
     let Some(least) = sites
         .iter()
@@ -306,7 +311,7 @@ pub(crate) fn draw_sites(
     let pixels: Vec<Site> = sites
         .iter()
         .map(|s| s.to_pixels(|p| frame.to_pixel(p), frame.scale))
-        .collect();
+        .gather("pixels")?;
     let least_additive = sites
         .iter()
         .map(|s| s.additive)
@@ -344,7 +349,7 @@ pub(crate) fn draw_sites(
             cull(&pixels, frame.width, frame.height, metric, frame.scale)?
         }
     };
-    let drawn: Vec<f64> = reaches.iter().flatten().map(|(_, r)| *r).collect();
+    let drawn: Vec<f64> = reaches.iter().flatten().map(|(_, r)| *r).gather("drawn")?;
     let mut stats = site_stats(machine, sites.len(), &drawn);
     let weighted = |s: &Site, d: f64| d / (frame.scale * s.multiplicative) + s.additive;
     // Exact sites are rectangles with per-fragment distances; fans are triangles
@@ -358,7 +363,7 @@ pub(crate) fn draw_sites(
                 .filter_map(|(i, (s, r))| {
                     r.map(|(rect, _)| instance(i as u32, s, rect, frame.scale, least_additive))
                 })
-                .collect();
+                .gather("instances")?;
             // One draw per shape, each with its own program.
             instances.sort_by_key(|i| SiteShape::of_kind(i.kind_id[0]) as u8);
             let (batches, singles) = batch_sites(instances, metric, &Tuning::of(machine)?);
@@ -479,7 +484,11 @@ pub(crate) fn draw_sites(
                         .filter(|(_, b)| meets(&b.rect))
                         .copied()
                         .unzip(),
-                    singles.iter().filter(|i| meets(&i.rect)).copied().collect(),
+                    singles
+                        .iter()
+                        .filter(|i| meets(&i.rect))
+                        .copied()
+                        .gather("meets")?,
                 ),
                 SiteDraw::Fan(_) => Default::default(),
             };

@@ -2,6 +2,7 @@
 //! box, culling, and the range of a site's distances over a box.
 
 use super::*;
+use crate::memory::Gather;
 
 /// A site's rectangle (pixel coordinates) and the largest shape distance (pixels)
 /// it may have where it wins.
@@ -113,7 +114,7 @@ impl<'a> CellBounds<'a> {
             (width as f64 / side).ceil() as usize,
             (height as f64 / side).ceil() as usize,
         );
-        let wedges = sites.iter().map(Site::wedge).collect();
+        let wedges = sites.iter().map(Site::wedge).gather("wedges")?;
         let mut cells = Self {
             sites,
             metric,
@@ -343,6 +344,10 @@ impl<'a> CellBounds<'a> {
 
 /// Every site over the whole picture (no speedup), reaching the farthest pixel:
 /// the Euclidean distance to the far corner of its box, stretched by the metric.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn picture_wide(
     sites: &[Site],
     width: u32,
@@ -501,7 +506,7 @@ mod tests {
     #[test]
     fn ranges_over_a_box_hold_its_distances() {
         let frame = crate::geometry::Frame::pixels(64, 64).unwrap();
-        let ends = frame.random_points(120, 11);
+        let ends = frame.random_points(120, 11).unwrap();
         let (centre, half) = (DVec2::new(30.0, 33.0), DVec2::new(3.5, 3.5));
         let mut sites: Vec<Site> = ends
             .chunks_exact(2)

@@ -3,6 +3,7 @@
 //! tile's list (`glsl/site_tiles.frag`).
 
 use super::*;
+use crate::memory::Gather;
 
 /// The diagram of sites (pixels) under L2, L1 or L∞ in exact mode from screen
 /// tiles ([`SITE_TILES`]), one pass per shape: each cell of [`CellBounds`]
@@ -55,7 +56,7 @@ pub(super) fn draw_site_tiles(
         .iter()
         .filter(|(its, _)| !its.is_empty())
         .map(|(_, far)| far + 1.0)
-        .collect();
+        .gather("drawn")?;
     let mut stats = VoronoiStats {
         tiles: 1,
         ..site_stats(machine, pixels.len(), &drawn)
@@ -80,7 +81,7 @@ pub(super) fn draw_site_tiles(
                 i.weights.map(f32::to_bits),
             )
         })
-        .collect();
+        .gather("bits")?;
     // Entries (smallest distance, site) by shape, then by cell.
     let (start, entries) = group_by_bucket(
         SHAPES.len() * cell_count,

@@ -22,6 +22,7 @@
 //! larger piece; a region all of whose pixels are nearest one feature has no
 //! axis.
 
+use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -72,10 +73,10 @@ pub fn medial_axis(
     }
     let angle = angle.to_radians();
     let (w, h) = (t.width as usize, t.height as usize);
-    let free: Vec<bool> = (0..w * h).map(|p| is_free(t, p)).collect();
+    let free: Vec<bool> = (0..w * h).map(|p| is_free(t, p)).gather("free")?;
     let separations = separations(t, options, angle, &free)?;
     let (regions, count) = components(&free, w)?;
-    let pruned: Vec<bool> = separations.iter().map(|&s| s > length).collect();
+    let pruned: Vec<bool> = separations.iter().map(|&s| s > length).gather("pruned")?;
     let (pieces, piece_count) = components(&pruned, w)?;
     let mut piece_size = crate::memory::filled(piece_count as usize, 0u32, "pieces' sizes")?;
     for &piece in pieces.iter().filter(|&&c| c != NO_COMPONENT) {
@@ -110,10 +111,10 @@ pub fn medial_axis(
                     widest[r] > 0.0 && separations[p] == widest[r]
                 }
         })
-        .collect();
+        .gather("medial axis pixels")?;
     let shape: Vec<bool> = (0..w * h)
         .map(|p| free[p] && has_axis[regions[p] as usize])
-        .collect();
+        .gather("shape")?;
     Ok(thin(&shape, &anchors, &t.distances, w))
 }
 

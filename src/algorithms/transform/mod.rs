@@ -20,6 +20,7 @@
 //!
 //! Rasters are row-major, row 0 first, as NumPy holds them.
 
+use crate::memory::Gather;
 use rayon::prelude::*;
 
 mod components;
@@ -303,7 +304,7 @@ fn grown(
     let w = width as usize;
     let pixels: Vec<u32> = (0..features.len() as u32)
         .filter(|&i| features[i as usize])
-        .collect();
+        .gather("pixels")?;
     if pixels.is_empty() {
         return Ok((
             crate::memory::filled(features.len(), -1, "feature rows")?,
@@ -313,7 +314,7 @@ fn grown(
     let sites: Vec<glam::DVec2> = pixels
         .iter()
         .map(|&i| glam::DVec2::new((i as usize % w) as f64, (i as usize / w) as f64))
-        .collect();
+        .gather("sites")?;
     let frame = Frame::pixels(width, height)?;
     let sites = crate::geometry::frame::Checked::new(&sites)?;
     let diagram = super::cpu::k_nearest_checked(sites, &frame, 1, metric, &mut |_, _| {})?;

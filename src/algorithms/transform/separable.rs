@@ -3,6 +3,7 @@
 //! the lower envelope of the columns' distance curves and writes the
 //! distances (and, when asked, each pixel's feature) as it walks the envelope.
 
+use crate::memory::Gather;
 use rayon::prelude::*;
 
 use super::{Tally, NONE};
@@ -82,8 +83,8 @@ pub(super) fn separable(
             .chunks_mut(w)
             .zip(columns.chunks_mut(w))
             .map(Some)
-            .collect(),
-        None => (0..h).map(|_| None).collect(),
+            .gather("plane rows")?,
+        None => (0..h).map(|_| None).gather("plane rows")?,
     };
     // Along each row, the lower envelope of the columns' curves
     // key(sx |x - u|, sy |y - row(u)|). Unit Euclidean sampling takes

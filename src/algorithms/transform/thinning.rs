@@ -64,6 +64,10 @@ fn is_simple(around: u8) -> bool {
 /// Thins `shape` (row-major, `width` wide) in the order of `depth` (smaller
 /// first, to float precision, then the smaller index), keeping every pixel of `anchors`: passes
 /// in that order over the pixels still there, until one takes none.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-pixel values of a picture whose room was reserved where it was placed"
+)]
 pub(super) fn thin(shape: &[bool], anchors: &[bool], depth: &[f64], width: usize) -> Vec<bool> {
     let simple: Vec<bool> = (0..=255u8).map(is_simple).collect();
     let height = shape.len() / width.max(1);

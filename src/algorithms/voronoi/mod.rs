@@ -24,6 +24,7 @@
 //! same answer.
 
 use super::ms;
+use crate::memory::Gather;
 use std::time::Instant;
 
 use glam::DVec2;
@@ -464,7 +465,7 @@ fn repeats_once(
         return draw(sites, sink);
     }
     kept.sort_unstable();
-    let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).collect();
+    let distinct: Vec<DVec2> = kept.iter().map(|&i| sites[i as usize]).gather("distinct")?;
     let mut repeated = crate::memory::filled(distinct.len(), 1u32, "repeats")?;
     let position = |i: u32| kept.binary_search(&i).expect("a kept site");
     for &[_, first] in &repeats {
@@ -635,7 +636,7 @@ pub(crate) fn draw_point_tiles(
     };
 
     let started = Instant::now();
-    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).collect();
+    let pixels: Vec<DVec2> = sites.iter().map(|p| frame.to_pixel(*p)).gather("pixels")?;
     let spec = ConeSpec {
         metric: options.metric,
         accuracy: options.accuracy,

@@ -41,6 +41,10 @@ pub(crate) struct CellBound {
     clippy::disallowed_macros,
     reason = "a bound a site, within the budget the caller reserved"
 )]
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(crate) fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellBound> {
     let picture = picture_corners(frame);
     let mut bounds: Vec<Option<CellBound>> = vec![None; sites.len()];
@@ -72,6 +76,10 @@ pub(crate) fn cell_bounds(sites: &[DVec2], frame: &Frame, bin: f64) -> Vec<CellB
 /// opposite corner, within the margin), and a strip that fails clips every
 /// site by its neighbours instead, as it does the sites on its hull.
 #[expect(clippy::disallowed_macros, reason = "a flag a point of one strip")]
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn strip_cell_bounds(
     sites: &[DVec2],
     strip: &Strip<'_>,
@@ -305,6 +313,10 @@ pub(super) const STRIP_SITES: usize = 1500;
 /// once. A site takes what it needs from its own strip: near an edge its
 /// triangles may miss a site beyond the margin, which can only leave its region
 /// in the strip larger than among all sites.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn delaunay_strips<T: Send>(
     sites: &[DVec2],
     frame: &Frame,

@@ -166,6 +166,10 @@ impl Grid {
         cover
     }
 
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub(super) fn new(sites: &[DVec2], frame: &Frame, cell: f64) -> Self {
         let cell = cell.max(1.0);
         let nx = (frame.width as f64 / cell).ceil().max(1.0) as usize;

@@ -17,6 +17,10 @@ use super::*;
 /// a factor `stretch` of each other relative to the Euclidean ones (the ratio of
 /// its Euclidean bounds, `Metric::stretch`): a point whose k-th nearest site is
 /// within Euclidean U has its k metric-nearest within Euclidean `stretch * U`.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(crate) fn k_local_radii(
     sites: &[DVec2],
     frame: &Frame,
@@ -161,6 +165,10 @@ pub fn tile_candidates(
     })
 }
 
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(super) fn local_regions_by(
     sites: &[DVec2],
     frame: &Frame,
@@ -317,6 +325,10 @@ impl TileLists {
 /// from them: `maxdist(s, B) <= maxdist(s, T)` makes U(B) <= U(T) and puts every
 /// site with `mindist(s, B) <= U(B)` among the tile's candidates. A tile's list
 /// holds the candidates of its cells.
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 pub(crate) fn k_tile_lists(
     sites: &[DVec2],
     frame: &Frame,
@@ -444,6 +456,10 @@ impl LpTable {
     /// that the rounding margins keep them normal).
     pub(super) const SMALLEST: f64 = 2.0 * f32::MIN_POSITIVE as f64;
 
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub(super) fn new(p: f64) -> Self {
         let g = (0..Self::LEN)
             .map(|i| Self::exact(p, f64::from(f32::from_bits(i << 16))))
@@ -485,6 +501,10 @@ impl LpTable {
 pub(super) struct Radii(Vec<AtomicU64>);
 
 impl Radii {
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub(super) fn new(n: usize) -> Self {
         Self((0..n).map(|_| AtomicU64::new(0)).collect())
     }
@@ -499,6 +519,10 @@ impl Radii {
         }
     }
 
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub(super) fn into_radii(self, measure: Measure) -> Vec<f64> {
         self.0
             .into_iter()
@@ -512,6 +536,10 @@ impl Radii {
 pub(super) struct CellBoxes(Vec<[AtomicU32; 4]>);
 
 impl CellBoxes {
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+    )]
     pub(super) fn new(n: usize) -> Self {
         Self(
             (0..n)

@@ -83,6 +83,10 @@ pub(crate) fn quadtree_k_radius(sites: &[DVec2], frame: &Frame, k: usize) -> Opt
     clippy::disallowed_macros,
     reason = "a count a quadtree cell, fewer than the sites"
 )]
+#[expect(
+    clippy::disallowed_methods,
+    reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
+)]
 fn deepest_full_level(sites: &[DVec2], frame: &Frame, k: usize) -> (f64, Option<u32>) {
     let (w, h) = (frame.width as f64, frame.height as f64);
     let side = (frame.width.max(frame.height) as f64)

@@ -114,7 +114,7 @@ fn cell_bounds_from_strips_hold_every_owned_pixel() {
     // strips' edge (co-circular everywhere), random sites, duplicates and
     // a collinear run.
     let frame = Frame::pixels(120, 90).unwrap();
-    let mut sites = frame.random_points(1800, 11);
+    let mut sites = frame.random_points(1800, 11).unwrap();
     sites.extend((0..1200).map(|i| DVec2::new((i % 40) as f64 * 3.0, 30.0 + (i / 40) as f64)));
     sites.extend_from_within(..200);
     sites.extend((0..100).map(|i| DVec2::new(i as f64 * 1.2, 45.0)));
@@ -128,7 +128,7 @@ fn cell_bounds_are_the_region_boxes() {
     // within the picture, whether from circumcentres or clipping, up to
     // the margins for rounding.
     let frame = Frame::pixels(200, 150).unwrap();
-    let sites = frame.random_points(300, 3);
+    let sites = frame.random_points(300, 3).unwrap();
     let bounds = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()));
     let picture = picture_corners(&frame);
     let mut inside = 0;
@@ -157,7 +157,7 @@ fn a_triangulation_that_is_not_delaunay_is_not_trusted() {
         .iter()
         .map(|p| delaunator::Point { x: p.x, y: p.y })
         .collect();
-    let jitter = Frame::pixels(2, 2).unwrap().random_points(64, 9);
+    let jitter = Frame::pixels(2, 2).unwrap().random_points(64, 9).unwrap();
     let sites: Vec<DVec2> = lattice
         .iter()
         .zip(&jitter)
@@ -190,7 +190,7 @@ fn a_triangulation_that_is_not_delaunay_is_not_trusted() {
 /// and sites outside the picture.
 fn awkward_sites() -> (Frame, Vec<DVec2>) {
     let frame = Frame::pixels(64, 48).unwrap();
-    let mut sites = frame.random_points(60, 5);
+    let mut sites = frame.random_points(60, 5).unwrap();
     sites.extend((0..12).map(|i| DVec2::new(8.0 * (i % 4) as f64, 30.0 + 6.0 * (i / 4) as f64)));
     sites.extend((0..6).map(|i| DVec2::new(40.0 + 3.0 * i as f64, 3.0 * i as f64)));
     sites.extend_from_within(..5);
@@ -343,7 +343,7 @@ fn cell_bounds_are_the_region_widths() {
     // lies within a pixel diagonal of the farthest owned pixel centre unless
     // the corner sits in a sliver between pixel centres.
     let frame = Frame::pixels(200, 150).unwrap();
-    let sites = frame.random_points(300, 7);
+    let sites = frame.random_points(300, 7).unwrap();
     let radii: Vec<f64> = cell_bounds(&sites, &frame, default_bin(&frame, sites.len()))
         .iter()
         .map(|b| b.radius)
@@ -375,7 +375,7 @@ fn tile_lists_hold_every_pixels_k_nearest() {
     // Every site among a pixel's k nearest (ties included) is in its tile's
     // list and within its radius; lists run nearest to the centre first.
     let frame = Frame::pixels(75, 52).unwrap();
-    let mut sites = frame.random_points(60, 3);
+    let mut sites = frame.random_points(60, 3).unwrap();
     sites.extend([DVec2::new(-9.0, 20.0), DVec2::new(30.0, 30.0)]);
     sites.extend((0..9).map(|i| DVec2::new(60.0 + (i % 3) as f64, 40.0 + (i / 3) as f64)));
     for (k, side, stretch) in [(1, 16, 1.0), (5, 16, 1.0), (12, 7, 1.0), (3, 16, 1.5)] {

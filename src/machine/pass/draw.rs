@@ -2,6 +2,7 @@
 //! pipeline and buffers, and drawing.
 
 use super::*;
+use crate::memory::Gather;
 
 impl<'m, 'r> Pass<'m, 'r> {
     /// Begins rendering into `target`, clearing what `clear` names.
@@ -67,7 +68,7 @@ impl<'m, 'r> Pass<'m, 'r> {
                     .store_op(vk::AttachmentStoreOp::STORE)
                     .clear_value(color_clear)
             })
-            .collect();
+            .gather("color attachments")?;
         let ds_clear = vk::ClearValue {
             depth_stencil: vk::ClearDepthStencilValue {
                 depth: clear.depth.unwrap_or(1.0),

@@ -285,6 +285,7 @@ impl<'m, 'r> Pass<'m, 'r> {
 
     /// Ends the run's recording: closes a rendering pass left open, and makes
     /// the device's writes to every buffer used visible to the host.
+    #[expect(clippy::disallowed_methods, reason = "one pass's buffers")]
     pub(crate) fn finish(&mut self) {
         if let Some(rendering) = self.rendering.take() {
             // SAFETY: close a pass the caller left open so the buffer can end.
