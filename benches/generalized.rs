@@ -19,10 +19,7 @@ use std::time::Instant;
 
 use glam::DVec2;
 use pixgeo::{
-    algorithms::{
-        sites::voronoi_sites,
-        voronoi::{voronoi, Accuracy, VoronoiOptions},
-    },
+    algorithms::voronoi::{voronoi, Accuracy, VoronoiOptions},
     geometry::{
         metric::Metric,
         site::{Shape, Site},
@@ -154,7 +151,7 @@ fn main() -> anyhow::Result<()> {
                     .distances(false);
                 let started = Instant::now();
                 match sites {
-                    Some(s) => drop(voronoi_sites(&Backend::Device(&machine), s, &options)?),
+                    Some(s) => drop(voronoi(&Backend::Device(&machine), s, &options)?),
                     None => drop(voronoi(&Backend::Device(&machine), &positions, &options)?),
                 }
                 Ok(started.elapsed().as_secs_f64() * 1e3)

@@ -5,8 +5,7 @@ use std::{ffi::c_void, ptr};
 use super::*;
 use pixgeo::algorithms::{
     higher_order::{self, KNearestOptions},
-    sites::voronoi_sites,
-    voronoi::{voronoi_bands, Accuracy, Band, VoronoiOptions, VoronoiStats},
+    voronoi::{voronoi, voronoi_bands, Accuracy, Band, VoronoiOptions, VoronoiStats},
 };
 
 /// The Voronoi diagram of `count` point sites `xy = {x0, y0, x1, y1, ...}` (world
@@ -90,7 +89,7 @@ pub unsafe extern "C" fn pixgeo_voronoi_sites(
             true => Need::DeviceIfAny,
             false => Need::Drawing("fans and counted ties of weighted or extended sites"),
         };
-        let d = voronoi_sites(&context.backend_for(need)?, &sites, &options).map_err(failed)?;
+        let d = voronoi(&context.backend_for(need)?, &sites, &options).map_err(failed)?;
         // SAFETY: the caller's arrays have room for the answer (caller contract).
         unsafe { write_diagram(&d.labels, labels, &d.distances, distances) };
         Ok(())

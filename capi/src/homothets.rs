@@ -122,7 +122,7 @@ pub unsafe extern "C" fn pixgeo_enclose(
             true => Need::CpuUnlessGpu,
             false => Need::Drawing("the smallest homothet holding k of the sites"),
         };
-        let answer = homothet::enclose_sites(
+        let answer = homothet::enclose(
             &context.backend_for(need)?,
             &given,
             &EncloseOptions::new(unit).k(k).side(side),
@@ -185,7 +185,7 @@ pub unsafe extern "C" fn pixgeo_empty(
                 at += n;
             }
         }
-        let answer = homothet::largest_empty_sites(
+        let answer = homothet::largest_empty(
             context.machine("a largest empty homothet")?,
             &given,
             &EmptyOptions::new(unit)

@@ -9,7 +9,6 @@ use pixgeo::{
     algorithms::{
         delaunay::{delaunay, DelaunayOptions},
         higher_order::{furthest, k_nearest, KNearestOptions},
-        sites::voronoi_sites,
         voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
@@ -197,7 +196,7 @@ fn weighted_sites_answer_as_the_core_on_every_context() {
             additive: 0.0,
         })
         .collect();
-    let want = voronoi_sites(&Backend::Cpu, &sites, &VoronoiOptions::exact(frame)).unwrap();
+    let want = voronoi(&Backend::Cpu, &sites, &VoronoiOptions::exact(frame)).unwrap();
     for device in [c"cpu", c"lavapipe"] {
         let ctx = Context::new(device);
         let options = pixgeo_voronoi_options_default(24, 16);

@@ -160,7 +160,7 @@ pub fn enclose(args: EncloseArgs) -> Result<()> {
     let side = args.shape.size;
     let k = args.at_least.unwrap_or(0);
     let working = Progress::working("enclose", args.shape.json);
-    let answer = homothet::enclose_sites(
+    let answer = homothet::enclose(
         &Backend::Device(&machine),
         &shapes,
         &EncloseOptions::new(unit).k(k).side(side),
@@ -191,7 +191,7 @@ pub fn empty(args: EmptyArgs) -> Result<()> {
         StageChoice::Transform => Some(PixelStage::DistanceTransform),
     };
     let working = Progress::working("empty", args.shape.json);
-    let answer = homothet::largest_empty_sites(
+    let answer = homothet::largest_empty(
         &machine,
         &shapes,
         &EmptyOptions::new(unit)

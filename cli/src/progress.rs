@@ -45,13 +45,6 @@ impl Progress {
         !json && !crate::quiet() && std::io::stderr().is_terminal()
     }
 
-    /// The library's `progress(done, total)` callback.
-    pub fn report(&self, done: u64, total: u64) {
-        if let Some(bar) = &self.bar {
-            show(bar, done, total);
-        }
-    }
-
     /// A control for the library's options that moves this bar.
     pub fn control(&self) -> Control {
         match self.bar.clone() {

@@ -30,7 +30,6 @@ use pixgeo::{
         homothet::{self, EmptyOptions, EncloseOptions, HomothetAnswer, Region, Unit},
         lloyd::{lloyd as lloyd_iterations, LloydOptions},
         settle::{potential_areas, refine, SettleOptions},
-        sites::voronoi_sites,
         transform::{
             distance_transform as transform_of, distances_only, medial_axis as axis_of, Pruning,
             Transform, TransformOptions,
@@ -470,7 +469,7 @@ fn voronoi_weighted<'py>(
         _ => Need::Drawing("the fans of weighted sites"),
     };
     let d = on_backend(py, device, need, |backend| {
-        voronoi_sites(backend, &sites, &options)
+        pixgeo::algorithms::voronoi::voronoi(backend, &sites, &options)
     })?;
     Ok((
         raster(py, d.labels, d.height, d.width)?,
@@ -915,7 +914,7 @@ fn largest_empty_circle<'py>(
                 ))
             }))
             .collect();
-        homothet::largest_empty_sites(m, &sites, &options)
+        homothet::largest_empty(m, &sites, &options)
     })?;
     Ok(circle(h))
 }

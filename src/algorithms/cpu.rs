@@ -318,7 +318,7 @@ pub(crate) fn voronoi_sites(
     Ok((labels, distances))
 }
 
-/// [`voronoi_sites`] in f64, before the exact check.
+/// The diagram of general sites in f64, before the exact check.
 #[expect(
     clippy::disallowed_methods,
     reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"

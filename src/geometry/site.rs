@@ -39,6 +39,38 @@ pub enum Shape {
     },
 }
 
+/// The sites a problem takes: plain points, or general sites (segments,
+/// circles, arcs, weights). Problems that take both take either through
+/// `impl Into<Sites>`, so `&[DVec2]`, `&Vec<Site>` and arrays of either pass
+/// as they are.
+#[derive(Clone, Copy, Debug)]
+pub enum Sites<'a> {
+    Points(&'a [DVec2]),
+    General(&'a [Site]),
+}
+
+macro_rules! sites_from {
+    ($item:ty, $variant:ident) => {
+        impl<'a> From<&'a [$item]> for Sites<'a> {
+            fn from(sites: &'a [$item]) -> Self {
+                Self::$variant(sites)
+            }
+        }
+        impl<'a> From<&'a Vec<$item>> for Sites<'a> {
+            fn from(sites: &'a Vec<$item>) -> Self {
+                Self::$variant(sites)
+            }
+        }
+        impl<'a, const N: usize> From<&'a [$item; N]> for Sites<'a> {
+            fn from(sites: &'a [$item; N]) -> Self {
+                Self::$variant(sites)
+            }
+        }
+    };
+}
+sites_from!(DVec2, Points);
+sites_from!(Site, General);
+
 /// A site: a shape with its weights.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Site {

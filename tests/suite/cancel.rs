@@ -13,8 +13,9 @@ use pixgeo::{
     algorithms::{
         cells::{voronoi_cells, CellsOptions},
         delaunay::{delaunay, DelaunayOptions},
-        homothet::{largest_empty_sites, EmptyOptions, Region, Unit},
+        homothet::{largest_empty, EmptyOptions, Region, Unit},
         settle::refine,
+        voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{cell::Rect, site::Site, Frame},
     Control, Error,
@@ -79,7 +80,7 @@ fn every_step_on_the_cpu_stops_when_cancelled() {
         ]],
     };
     cancelled_then_answered("empty", || {
-        largest_empty_sites(
+        largest_empty(
             &machine,
             &sites,
             &EmptyOptions::new(Unit::Circle)
@@ -114,4 +115,26 @@ fn cells_report_their_progress_to_the_whole() {
     assert!(reports.len() >= 3, "{reports:?}");
     assert!(reports.windows(2).all(|w| w[0].0 <= w[1].0));
     assert_eq!(reports.last(), Some(&(40_000, 40_000)));
+}
+
+#[test]
+fn a_voronoi_diagram_reports_its_rows_and_stops_at_its_controls_flag() {
+    let points = scattered(300);
+    let frame = Frame::with_bbox(96, Some(80), [0.0, 0.0, 120.0, 100.0]).unwrap();
+    let reports = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let told = reports.clone();
+    let flag = Arc::new(AtomicBool::new(true));
+    let control = Control::new()
+        .progress(move |done, total| told.lock().unwrap().push((done, total)))
+        .cancel(flag.clone());
+    let options = VoronoiOptions::exact(frame).control(control);
+    let first = voronoi(&Backend::Cpu, &points, &options);
+    assert!(matches!(first, Err(Error::Cancelled)), "{first:?}");
+    flag.store(false, Ordering::Relaxed);
+    reports.lock().unwrap().clear();
+    let d = voronoi(&Backend::Cpu, &points, &options).unwrap();
+    assert_eq!(d.labels.len(), 96 * 80);
+    let reports = reports.lock().unwrap().clone();
+    assert!(reports.windows(2).all(|w| w[0].0 <= w[1].0), "{reports:?}");
+    assert_eq!(reports.last(), Some(&(80, 80)));
 }

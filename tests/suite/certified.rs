@@ -144,7 +144,7 @@ fn diagrams_are_exact(
     );
     let what = |route: &str| format!("{name}, {metric}, {route}");
     let base = VoronoiOptions::exact(frame).metric(metric);
-    let cones = base.method(Method::Cones);
+    let cones = base.clone().method(Method::Cones);
     let grown = k_nearest(
         &Backend::Cpu,
         sites,
@@ -153,14 +153,14 @@ fn diagrams_are_exact(
     .unwrap();
     let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<u32>>();
     let mut routes = vec![
-        ("screen tiles", cones),
-        ("cones", cones.speedup(Speedup::None)),
-        ("quadtree", cones.speedup(Speedup::Quadtree)),
+        ("screen tiles", cones.clone()),
+        ("cones", cones.clone().speedup(Speedup::None)),
+        ("quadtree", cones.clone().speedup(Speedup::Quadtree)),
         ("tiles of 16", cones.max_tile(Some(16))),
     ];
     let mut methods = vec![Method::Cones];
     if metric == Metric::L2 {
-        routes.push(("grid", base.method(Method::Grid)));
+        routes.push(("grid", base.clone().method(Method::Grid)));
         methods.push(Method::Grid);
     }
     for (route, options) in routes {
@@ -191,8 +191,8 @@ fn diagrams_are_exact(
     let capped: Vec<u32> = ties.iter().map(|t| (*t).min(255)).collect();
     for method in methods {
         let what = |route: &str| what(&format!("{route} by {method:?}"));
-        let base = base.method(method);
-        let counted = voronoi(&Backend::Device(m), sites, &base.ties(true)).unwrap();
+        let base = base.clone().method(method);
+        let counted = voronoi(&Backend::Device(m), sites, &base.clone().ties(true)).unwrap();
         check(
             failures,
             &what("tie-counting labels"),
@@ -341,7 +341,7 @@ proptest::proptest! {
         let frame = Frame::with_bbox(32, Some(24), [0.0, 0.0, 3.2, 2.4]).unwrap();
         let (ranks, _) = exact_k_nearest(&sites, &frame, metric, 1);
         let options = VoronoiOptions::exact(frame).metric(metric);
-        let device = voronoi(&Backend::Device(&m), &sites, &options.method(Method::Cones)).unwrap();
+        let device = voronoi(&Backend::Device(&m), &sites, &options.clone().method(Method::Cones)).unwrap();
         let grown = k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 1).metric(metric)).unwrap();
         proptest::prop_assert_eq!(&device.labels, &ranks);
         proptest::prop_assert_eq!(&grown.labels, &ranks);
@@ -417,8 +417,8 @@ fn polygon_labels_are_exact_in_every_tile() {
             .unwrap();
             check(&mut failures, &what("cpu"), &grown.labels, &nearest);
             for (route, options) in [
-                ("screen tiles", base),
-                ("tiles of 16", base.max_tile(Some(16))),
+                ("screen tiles", base.clone()),
+                ("tiles of 16", base.clone().max_tile(Some(16))),
             ] {
                 let d = voronoi(&Backend::Device(&m), sites, &options).unwrap();
                 check(&mut failures, &what(route), &d.labels, &nearest);
@@ -472,11 +472,11 @@ fn the_grid_refuses_bad_input() {
         width: Frame::MAX_SIDE + 1,
         ..frame
     };
-    let e = voronoi(&Backend::Cpu, &[DVec2::ZERO], &options.frame(big)).unwrap_err();
+    let e = voronoi(&Backend::Cpu, &[DVec2::ZERO], &options.clone().frame(big)).unwrap_err();
     assert!(matches!(e, pixgeo::Error::PictureTooLarge { .. }), "{e}");
-    let l1 = options.metric(Metric::L1);
+    let l1 = options.clone().metric(Metric::L1);
     assert!(err(&[DVec2::ZERO], &l1).contains("Euclidean"));
-    let drawn = options.method(Method::Cones);
+    let drawn = options.clone().method(Method::Cones);
     assert!(err(&[DVec2::ZERO], &drawn).contains("Vulkan device"));
     // Sites whose squared distances overflow doubles are still decided.
     let far = [DVec2::new(-1.7e308, 2.4e10), DVec2::new(1e308, 5.0)];

@@ -8,7 +8,7 @@
 use glam::DVec2;
 use pixgeo::Backend;
 use pixgeo::{
-    algorithms::{sites::voronoi_sites, voronoi::VoronoiOptions},
+    algorithms::voronoi::{voronoi, VoronoiOptions},
     geometry::{
         metric::Metric,
         site::{Shape, Site},
@@ -124,8 +124,8 @@ const DECIMAL: Frame = Frame {
 fn check(m: &Machine, sites: &[Site], frame: Frame, metric: Metric, what: &str) -> [usize; 2] {
     let exact = VoronoiOptions::exact(frame).metric(metric);
     let device =
-        voronoi_sites(&Backend::Device(m), sites, &exact).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let tiled = voronoi_sites(&Backend::Device(m), sites, &exact.max_tile(Some(16))).unwrap();
+        voronoi(&Backend::Device(m), sites, &exact).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let tiled = voronoi(&Backend::Device(m), sites, &exact.max_tile(Some(16))).unwrap();
     let (labels, distances) = crate::common::cpu_sites(sites, &frame, metric).unwrap();
     let truth = nearest_general_sites(sites, &frame, metric);
     let w = frame.width as usize;
@@ -265,8 +265,7 @@ fn general_sites_refuse_what_exact_arithmetic_cannot_hold() {
             end: -0.25,
         }),
     ];
-    let refused =
-        voronoi_sites(&Backend::Device(&m), &arcs, &VoronoiOptions::exact(frame)).unwrap_err();
+    let refused = voronoi(&Backend::Device(&m), &arcs, &VoronoiOptions::exact(frame)).unwrap_err();
     assert!(
         refused.to_string().contains("transcendental point"),
         "{refused}"
@@ -275,7 +274,7 @@ fn general_sites_refuse_what_exact_arithmetic_cannot_hold() {
     // Segments under L_p have no closed-form distance.
     let segment = [Site::new(Shape::Segment(p(1.0, 1.0), p(20.0, 9.0)))];
     let lp = VoronoiOptions::exact(frame).metric(Metric::Lp(3.0));
-    let refused = voronoi_sites(&Backend::Device(&m), &segment, &lp).unwrap_err();
+    let refused = voronoi(&Backend::Device(&m), &segment, &lp).unwrap_err();
     assert!(
         refused.to_string().contains("no exact distance"),
         "{refused}"

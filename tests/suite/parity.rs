@@ -55,7 +55,7 @@ fn nearest_sites_are_the_same_on_every_route() {
     for Hostile { name, frame, sites } in hostile(W, H) {
         let (want, _) = exact_k_nearest(&sites, &frame, Metric::L2, 1);
         let base = VoronoiOptions::exact(frame);
-        let cones = base.method(Method::Cones);
+        let cones = base.clone().method(Method::Cones);
         let grown = k_nearest(&Backend::Cpu, &sites, &KNearestOptions::exact(frame, 1)).unwrap();
         differences.check(format!("{name}: growth on the CPU"), &grown.labels, &want);
         // Every route's distances are the CPU's: the float32s nearest the exact ones.
@@ -68,7 +68,11 @@ fn nearest_sites_are_the_same_on_every_route() {
             ("cones", voronoi(&Backend::Device(&m), &sites, &cones)),
             (
                 "cones without a speed-up",
-                voronoi(&Backend::Device(&m), &sites, &cones.speedup(Speedup::None)),
+                voronoi(
+                    &Backend::Device(&m),
+                    &sites,
+                    &cones.clone().speedup(Speedup::None),
+                ),
             ),
             (
                 "cones in tiles of 8",
@@ -76,7 +80,7 @@ fn nearest_sites_are_the_same_on_every_route() {
             ),
             (
                 "grid",
-                voronoi(&Backend::Cpu, &sites, &base.method(Method::Grid)),
+                voronoi(&Backend::Cpu, &sites, &base.clone().method(Method::Grid)),
             ),
         ];
         for (route, diagram) in routes {
@@ -99,7 +103,7 @@ fn nearest_sites_are_the_same_on_every_route() {
             .map(|p| want[p])
             .collect();
         for method in [Method::Cones, Method::Grid] {
-            let options = base.method(method).window(Some(window));
+            let options = base.clone().method(method).window(Some(window));
             let d = match method {
                 Method::Grid => voronoi(&Backend::Cpu, &sites, &options),
                 _ => voronoi(&Backend::Device(&m), &sites, &options),

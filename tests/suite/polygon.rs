@@ -9,7 +9,6 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         higher_order::{furthest, k_nearest, k_nearest_peeled, KNearestOptions},
-        sites::voronoi_sites,
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{
@@ -120,14 +119,14 @@ fn curves_are_refused_in_exact_mode_and_bounded_in_fan_mode() {
         sites.push(circle);
     }
     let exact = VoronoiOptions::exact(frame).metric(star);
-    let refused = voronoi_sites(&Backend::Device(&m), &sites, &exact)
+    let refused = voronoi(&Backend::Device(&m), &sites, &exact)
         .unwrap_err()
         .to_string();
     assert!(refused.contains("no exact distance"), "{refused}");
     assert!(crate::common::cpu_sites(&sites, &frame, star).is_err());
     let truth = nearest_weighted_distances(&sites, &frame, star);
     let fan = exact.accuracy(Accuracy::FAN);
-    let d = voronoi_sites(&Backend::Device(&m), &sites, &fan).unwrap();
+    let d = voronoi(&Backend::Device(&m), &sites, &fan).unwrap();
     let bound = d.stats.distance_error_bound;
     for (k, &label) in d.labels.iter().enumerate() {
         let q = DVec2::new((k % 96) as f64, (k / 96) as f64);
@@ -205,7 +204,7 @@ fn weighted_points_and_segments_match_the_definition() {
     for (name, metric) in polygons() {
         let truth = nearest_weighted_distances(&sites, &frame, metric);
         for accuracy in [Accuracy::Exact, Accuracy::FAN] {
-            let d = voronoi_sites(
+            let d = voronoi(
                 &Backend::Device(&m),
                 &sites,
                 &VoronoiOptions::exact(frame)

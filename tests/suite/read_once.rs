@@ -170,7 +170,7 @@ fn every_problem_checks_its_sites_once() {
 #[test]
 fn refused_sites_say_why_by_kind() {
     let options = VoronoiOptions::exact(Frame::pixels(8, 8).unwrap());
-    let err = voronoi(&Backend::Cpu, &[], &options).unwrap_err();
+    let err = voronoi(&Backend::Cpu, &[] as &[DVec2], &options).unwrap_err();
     let few = matches!(
         err,
         Error::InvalidInput(Invalid::TooFew {

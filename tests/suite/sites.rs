@@ -7,10 +7,7 @@ use std::f64::consts::PI;
 use glam::DVec2;
 use pixgeo::Backend;
 use pixgeo::{
-    algorithms::{
-        sites::voronoi_sites,
-        voronoi::{Accuracy, Speedup, VoronoiOptions},
-    },
+    algorithms::voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     geometry::{
         metric::Metric,
         site::{Shape, Site},
@@ -121,7 +118,7 @@ fn check_with(
     speedup: Speedup,
     what: &str,
 ) {
-    let d = voronoi_sites(
+    let d = voronoi(
         &Backend::Device(m),
         sites,
         &VoronoiOptions::exact(frame).metric(metric).speedup(speedup),
@@ -173,7 +170,7 @@ fn mixed_weighted_sites_match_the_definition() {
         let kinds: &[u32] = if matches!(metric, Metric::Lp(_)) {
             let segments = random_sites(&mut rng, 4, &[1], false, 71.0, 53.0);
             let exact = VoronoiOptions::exact(frame).metric(metric);
-            let refused = voronoi_sites(&Backend::Device(&m), &segments, &exact).unwrap_err();
+            let refused = voronoi(&Backend::Device(&m), &segments, &exact).unwrap_err();
             assert!(
                 refused.to_string().contains("no exact distance"),
                 "{refused}"
@@ -244,15 +241,15 @@ fn bad_sites_are_clear_errors() {
         center: DVec2::ZERO,
         radius: 3.0,
     });
-    let fan = options.accuracy(Accuracy::Fan {
+    let fan = options.clone().accuracy(Accuracy::Fan {
         epsilon: 0.0,
         triangles: None,
     });
-    assert!(voronoi_sites(&Backend::Device(&m), &[circle], &fan).is_err());
+    assert!(voronoi(&Backend::Device(&m), &[circle], &fan).is_err());
     let mut zero = circle;
     zero.multiplicative = 0.0;
-    assert!(voronoi_sites(&Backend::Device(&m), &[zero], &options).is_err());
-    assert!(voronoi_sites(&Backend::Device(&m), &[], &options).is_err());
+    assert!(voronoi(&Backend::Device(&m), &[zero], &options).is_err());
+    assert!(voronoi(&Backend::Device(&m), &[] as &[Site], &options).is_err());
 }
 
 /// Fan mode: the distance map within the reported bound of the definition (either
@@ -274,8 +271,7 @@ fn check_fan(
 
 fn check_fan_with(m: &Machine, sites: &[Site], options: &VoronoiOptions, what: &str) {
     let (frame, metric) = (options.frame, options.metric);
-    let d = voronoi_sites(&Backend::Device(m), sites, options)
-        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let d = voronoi(&Backend::Device(m), sites, options).unwrap_or_else(|e| panic!("{what}: {e}"));
     let bound = d.stats.distance_error_bound;
     assert!(bound > 0.0, "{what}");
     let truth = nearest_weighted_distances(sites, &frame, metric);
@@ -369,8 +365,8 @@ fn fans_under_concave_metrics_are_refused() {
                     epsilon: 0.25,
                     triangles: None,
                 });
-            let refused = voronoi_sites(&Backend::Device(&m), &[weighted(shape, 1.0, 0.0)], &fan)
-                .unwrap_err();
+            let refused =
+                voronoi(&Backend::Device(&m), &[weighted(shape, 1.0, 0.0)], &fan).unwrap_err();
             assert!(
                 refused.to_string().contains("not convex"),
                 "{shape:?}: {refused}"
@@ -441,7 +437,7 @@ fn the_cpu_pixel_algorithm_matches_the_definition_and_the_gpu() {
                 truth[k]
             );
         }
-        let g = voronoi_sites(
+        let g = voronoi(
             &Backend::Device(&m),
             &sites,
             &VoronoiOptions::exact(frame).metric(metric),
@@ -487,7 +483,7 @@ fn circles_and_arcs_under_every_metric() {
             // Curved under a gauge or L_p: no exact distance, refused on
             // every device.
             let exact = VoronoiOptions::exact(frame).metric(metric);
-            let refused = voronoi_sites(&Backend::Device(&m), &sites, &exact).unwrap_err();
+            let refused = voronoi(&Backend::Device(&m), &sites, &exact).unwrap_err();
             assert!(
                 refused.to_string().contains("no exact distance"),
                 "{refused}"
@@ -534,7 +530,7 @@ fn tiles_give_the_same_diagram_pixel_for_pixel() {
         Site::point(p(-25.0, 20.0)),
     ]);
     let run = |max_tile| {
-        voronoi_sites(
+        voronoi(
             &Backend::Device(&m),
             &sites,
             &VoronoiOptions::exact(frame).max_tile(max_tile),
@@ -563,7 +559,7 @@ fn additive_weights_far_apart_keep_float32_in_range() {
         weighted(Shape::Point(DVec2::new(10.0, 10.0)), 1.0, -1e18),
         weighted(Shape::Point(DVec2::new(40.0, 40.0)), 1.0, 0.0),
     ];
-    let d = voronoi_sites(&Backend::Device(&m), &heavy, &VoronoiOptions::exact(frame)).unwrap();
+    let d = voronoi(&Backend::Device(&m), &heavy, &VoronoiOptions::exact(frame)).unwrap();
     assert!(d.labels.iter().all(|&l| l == 0));
     assert!(d.distances.iter().all(|&x| x == -1e18));
     let mut rng = ChaCha8Rng::seed_from_u64(4);
@@ -575,8 +571,8 @@ fn additive_weights_far_apart_keep_float32_in_range() {
             ..*s
         })
         .collect();
-    let a = voronoi_sites(&Backend::Device(&m), &sites, &VoronoiOptions::exact(frame)).unwrap();
-    let b = voronoi_sites(
+    let a = voronoi(&Backend::Device(&m), &sites, &VoronoiOptions::exact(frame)).unwrap();
+    let b = voronoi(
         &Backend::Device(&m),
         &shifted,
         &VoronoiOptions::exact(frame),
@@ -609,7 +605,7 @@ fn curves_under_l1_and_linf_match_the_cpu_on_the_device() {
     .map(|s| weighted(s, 1.0, 0.0));
     for metric in [Metric::L1, Metric::LInf] {
         let options = VoronoiOptions::exact(frame).metric(metric);
-        let device = voronoi_sites(&Backend::Device(&m), &sites, &options).unwrap();
+        let device = voronoi(&Backend::Device(&m), &sites, &options).unwrap();
         let (_, cpu) = crate::common::cpu_sites(&sites, &frame, metric).unwrap();
         for (k, (&d, &c)) in device.distances.iter().zip(&cpu).enumerate() {
             assert!(

@@ -292,7 +292,12 @@ fn bad_input_is_a_clear_error() {
         width: Frame::MAX_SIDE + 1,
         ..frame
     };
-    let e = voronoi(&Backend::Device(&m), &[DVec2::ZERO], &opts.frame(big)).unwrap_err();
+    let e = voronoi(
+        &Backend::Device(&m),
+        &[DVec2::ZERO],
+        &opts.clone().frame(big),
+    )
+    .unwrap_err();
     assert!(matches!(e, pixgeo::Error::PictureTooLarge { .. }), "{e}");
     let bad_fan = opts.accuracy(Accuracy::Fan {
         epsilon: 0.0,

@@ -14,7 +14,6 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::{
         higher_order::{self, KNearestOptions},
-        sites::voronoi_sites,
         voronoi::{voronoi_bands, Accuracy, Band, Method as LabelMethod, Speedup, VoronoiOptions},
     },
     geometry::{
@@ -462,11 +461,8 @@ fn diagram(args: &Args, world: &World, general: Vec<Site>) -> Result<()> {
     let contour_step = args.contours.map(|s| s as f32);
     // A tiled picture shows its progress, band by band.
     let progress = Progress::new("voronoi: rows of tiles", args.json);
+    let options = options.control(progress.control());
     let mut sink = |band: Band| {
-        progress.report(
-            (band.y0 + band.height - window.y) as u64,
-            window.height as u64,
-        );
         if let Some(out) = labels.as_mut() {
             out.write(&band.labels)?;
         }

@@ -22,7 +22,7 @@ pub(super) fn general_sites(args: &Args, sites: &[Site], world: &World) -> Resul
         .ties(args.ties.is_some())
         .max_tile(args.max_tile);
     let device = backend.name().to_string();
-    let d = voronoi_sites(&backend, sites, &options)?;
+    let d = pixgeo::algorithms::voronoi::voronoi(&backend, sites, &options)?;
     let (size, geo) = ([frame.width, frame.height, 1], world.georeference());
     if let Some(p) = &args.labels {
         raster::write(p, size, &d.labels, Some(&geo))?;

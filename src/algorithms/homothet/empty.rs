@@ -36,9 +36,17 @@ impl Region {
     }
 }
 
-/// The largest homothet of `unit` containing none of the point `sites`, its
-/// centre in `region` (empty: the sites' bounding box); exact, from the points
-/// where three of the candidate sites' distance pieces or region edges meet.
+/// The largest homothet of `unit` containing none of `sites`, its centre in
+/// `region` (empty: the sites' bounding box). Plain points without `inside`
+/// are exact, from the points where three of the candidate sites' distance
+/// pieces or region edges meet. General sites (segments, circles and arcs,
+/// with multiplicative weights scaling the clearance each demands, thesis
+/// §5.4.2–5.4.3), and any sites with `inside` (the whole homothet inside the
+/// region, its boundary added as segment sites, §5.4.1): circles clearing
+/// unweighted points and segments take the vertices of their Voronoi diagram;
+/// the others a branch and bound on the exact distances around the candidate
+/// pixels, to a relative gap of 1e-9 (reported as
+/// [`HomothetAnswer::tolerance`]).
 ///
 /// ```
 /// use glam::DVec2;
@@ -53,18 +61,27 @@ impl Region {
 /// assert!(c.exact.scale > 4.0);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn largest_empty(
+pub fn largest_empty<'a>(
     machine: &Machine,
-    sites: &[DVec2],
+    sites: impl Into<Sites<'a>>,
     options: &EmptyOptions,
 ) -> Result<HomothetAnswer> {
-    if options.inside {
-        check_sites(sites)?;
-        let general: Vec<Site> = sites.iter().map(|&p| Site::point(p)).gather("general")?;
-        return largest_empty_sites(machine, &general, options);
-    }
     let o = options;
-    empty_of_points(machine, sites, o.unit, &o.region, o.side, o.stage)
+    match sites.into() {
+        Sites::Points(points) if o.inside => {
+            check_sites(points)?;
+            let general: Vec<Site> = points.iter().map(|&p| Site::point(p)).gather("sites")?;
+            empty_of_sites(
+                machine, &general, o.unit, &o.region, o.inside, o.side, o.stage,
+            )
+        }
+        Sites::Points(points) => {
+            empty_of_points(machine, points, o.unit, &o.region, o.side, o.stage)
+        }
+        Sites::General(sites) => {
+            empty_of_sites(machine, sites, o.unit, &o.region, o.inside, o.side, o.stage)
+        }
+    }
 }
 
 /// Which empty homothet to find: the unit, the region its centre lies in
@@ -385,24 +402,6 @@ fn empty_points(
     Ok((answer, certified))
 }
 
-/// The largest homothet of `unit` meeting none of `sites` (points, segments,
-/// circles and arcs, with multiplicative weights scaling the clearance each
-/// demands, thesis §5.4.2–5.4.3), its centre in `region`; with `inside`, the
-/// whole homothet inside the region, its boundary added as segment sites
-/// (§5.4.1). Plain points without `inside` take [`largest_empty`]'s exact
-/// vertices; circles clearing unweighted points and segments the vertices of
-/// their Voronoi diagram; the others a branch and bound on the exact distances
-/// around the candidate pixels, to a relative gap of 1e-9 (reported as
-/// [`HomothetAnswer::tolerance`]).
-pub fn largest_empty_sites(
-    machine: &Machine,
-    sites: &[Site],
-    options: &EmptyOptions,
-) -> Result<HomothetAnswer> {
-    let o = options;
-    empty_of_sites(machine, sites, o.unit, &o.region, o.inside, o.side, o.stage)
-}
-
 /// The magnitudes the refinement among segments, shapes or `inside` a region
 /// holds in doubles: it forms products of four coordinates.
 const REFINED_SITES: (f64, f64) = (1e-75, 1e75);
@@ -410,7 +409,7 @@ const REFINED_SITES: (f64, f64) = (1e-75, 1e75);
 /// The magnitudes the refinement among points holds: squared distances.
 const REFINED_POINTS: (f64, f64) = (1e-150, 1e150);
 
-/// [`largest_empty_sites`] with the options taken apart.
+/// [`largest_empty`] of general sites, with the options taken apart.
 #[expect(
     clippy::disallowed_methods,
     reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
@@ -481,7 +480,7 @@ fn empty_of_sites(
     Ok(placed_back(answer, exact, placement))
 }
 
-/// [`largest_empty_sites`] on sites placed near the origin and near 1 by
+/// [`largest_empty`] on general sites placed near the origin and near 1 by
 /// `placement`: the answer there, and the exact one in the sites' own
 /// coordinates where the exact refinement decides it.
 #[expect(

@@ -6,10 +6,13 @@ use super::*;
 use crate::memory::Gather;
 use crate::{algorithms::cpu, Backend};
 
-/// The smallest homothet of `unit` holding at least `k` of the point `sites`
-/// (every site when `k` is 0 or the number of sites); exact, from Welzl's
+/// The smallest homothet of `unit` holding at least `k` of `sites` (every
+/// site when `k` is 0 or the number of sites). Points are exact, from Welzl's
 /// algorithm (circles, all sites) or the points where three of the candidate
-/// sites' distance pieces meet.
+/// sites' distance pieces meet. General sites (segments, circles, arcs) are
+/// exact where their ends decide (segments under convex units), and refined
+/// otherwise by a branch and bound on their farthest gauges to a relative gap
+/// of 1e-9.
 ///
 /// ```
 /// use glam::DVec2;
@@ -22,13 +25,16 @@ use crate::{algorithms::cpu, Backend};
 /// assert!((c.exact.scale - 5.0).abs() < 1e-9);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn enclose(
+pub fn enclose<'a>(
     backend: &Backend,
-    sites: &[DVec2],
+    sites: impl Into<Sites<'a>>,
     options: &EncloseOptions,
 ) -> Result<HomothetAnswer> {
     let EncloseOptions { unit, k, side } = *options;
-    enclose_checked(backend, Checked::new(sites)?, unit, k, side)
+    match sites.into() {
+        Sites::Points(points) => enclose_checked(backend, Checked::new(points)?, unit, k, side),
+        Sites::General(sites) => enclose_general(backend, sites, options),
+    }
 }
 
 /// Which enclosing homothet to find: the unit, how many sites it holds at
@@ -363,12 +369,12 @@ fn farthest_gauge(unit: Unit, shape: Shape, c: DVec2) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The smallest homothet of `unit` holding every site: points, segments,
-/// circles and arcs (thesis §4.4: the minimum enclosing circle of circles). Points and
-/// segments under convex units are exact through [`enclose`] (a segment's ends
-/// decide); the rest are drawn as points on them and refined by a branch and
-/// bound on their farthest gauges, to a relative gap of 1e-9.
-pub fn enclose_sites(
+/// [`enclose`] of general sites: segments, circles and arcs (thesis §4.4:
+/// the minimum enclosing circle of circles). Points and segments under convex
+/// units are exact through the points' route (a segment's ends decide); the
+/// rest are drawn as points on them and refined by a branch and bound on their
+/// farthest gauges, to a relative gap of 1e-9.
+fn enclose_general(
     backend: &Backend,
     sites: &[Site],
     options: &EncloseOptions,

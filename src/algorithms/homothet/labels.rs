@@ -70,7 +70,7 @@ pub fn envelope_labels(
                 distances: false,
                 ..VoronoiOptions::exact(frame)
             };
-            crate::algorithms::sites::voronoi_sites(&machine.into(), shapes, &options)?.labels
+            crate::algorithms::voronoi::voronoi(&machine.into(), shapes, &options)?.labels
         }
     };
     Ok(EnvelopeLabels { frame, labels })

@@ -35,7 +35,7 @@ use crate::{
         frame::{check_sites, first_of_each, Checked},
         metric::{Gauge, Metric},
         scale,
-        site::{check_general_sites, Shape, Site},
+        site::{check_general_sites, Shape, Site, Sites},
         Frame,
     },
     machine::{

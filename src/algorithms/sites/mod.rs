@@ -81,18 +81,18 @@ use tiles::*;
 /// ```
 /// use glam::DVec2;
 /// use pixgeo::{
-///     algorithms::{sites::voronoi_sites, voronoi::VoronoiOptions},
+///     algorithms::voronoi::{voronoi, VoronoiOptions},
 ///     geometry::{site::{Shape, Site}, Frame},
 /// };
 ///
 /// let road = Site::new(Shape::Segment(DVec2::new(0.0, 10.0), DVec2::new(31.0, 10.0)));
 /// let town = Site { multiplicative: 2.0, ..Site::point(DVec2::new(16.0, 2.0)) };
 /// let options = VoronoiOptions::exact(Frame::pixels(32, 16)?);
-/// let d = voronoi_sites(&pixgeo::Backend::Cpu, &[road, town], &options)?;
+/// let d = voronoi(&pixgeo::Backend::Cpu, &[road, town], &options)?;
 /// assert_eq!(d.labels[15 * 32], 0); // the bottom-left corner is nearest the road
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn voronoi_sites(
+pub(crate) fn voronoi_of_sites(
     backend: &Backend,
     sites: &[Site],
     options: &VoronoiOptions,
@@ -134,7 +134,7 @@ pub fn voronoi_sites(
     }
 }
 
-/// [`voronoi_sites`] drawn on `machine`, then proved in exact mode.
+/// [`voronoi_of_sites`] drawn on `machine`, then proved in exact mode.
 fn drawn_sites(
     machine: &Machine,
     sites: &[Site],
@@ -285,7 +285,7 @@ pub(crate) fn draw_sites(
     let accuracy = match (options.metric, options.accuracy) {
         // Fans over a polygon are exact for points and segments; circles and arcs
         // take chords within a thousandth of a pixel (which is why
-        // `voronoi_sites` refuses them in exact mode).
+        // `voronoi_of_sites` refuses them in exact mode).
         (Metric::Polygon(_), Accuracy::Exact) => Accuracy::Fan {
             epsilon: 1e-3,
             triangles: None,
@@ -294,7 +294,7 @@ pub(crate) fn draw_sites(
     };
     let options = &VoronoiOptions {
         accuracy,
-        ..*options
+        ..options.clone()
     };
     let (frame, metric) = (options.frame, options.metric);
     frame.check()?;

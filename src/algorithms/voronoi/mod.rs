@@ -36,10 +36,11 @@ use crate::{
         cone::fan_distance_error,
         frame::{distinct_by, Checked},
         metric::Metric,
+        site::Sites,
         Frame,
     },
     machine::{DeviceClass, Machine, PixelRect},
-    Backend,
+    Backend, Control,
 };
 
 use super::certify::{Certifier, Region};
@@ -57,7 +58,7 @@ pub use super::envelope::{Accuracy, ConeGroup, Speedup, MAX_EXACT_REACH};
 /// 1024 x 1024 picture) and change what differs, by field or by setter:
 /// `VoronoiOptions::exact(frame).metric(Metric::L1).ties(true)`. New fields
 /// may be added, so the struct is not built by a literal outside pixgeo.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct VoronoiOptions {
     pub frame: Frame,
@@ -79,6 +80,8 @@ pub struct VoronoiOptions {
     pub window: Option<PixelRect>,
     /// How exact labels are found: drawn, or searched for on the CPU.
     pub method: Method,
+    /// Progress (rows of the window done) and cancellation.
+    pub control: Control,
 }
 
 /// How an exact diagram's labels are found; every way gives the same labels,
@@ -139,6 +142,7 @@ impl VoronoiOptions {
             max_tile: None,
             window: None,
             method: Method::Auto,
+            control: Control::default(),
         }
     }
 
@@ -176,6 +180,10 @@ impl VoronoiOptions {
 
     pub fn method(self, method: Method) -> Self {
         Self { method, ..self }
+    }
+
+    pub fn control(self, control: Control) -> Self {
+        Self { control, ..self }
     }
 
     /// Whether [`Method::Grid`] finds the labels these options ask for:
@@ -303,6 +311,8 @@ pub struct Band {
 /// `backend`: cones or the grid on a device's machine (as
 /// [`VoronoiOptions::method`] picks), the grid on the CPU alone (Euclidean
 /// exact diagrams only). Every route gives the same diagram bit for bit.
+/// Sites of any shape and weight ([`Site`](crate::geometry::site::Site)) take
+/// the route of [`crate::algorithms::sites`].
 ///
 /// ```
 /// use glam::DVec2;
@@ -318,12 +328,15 @@ pub struct Band {
 /// assert_eq!(d.ties[2 * 9 + 4], 2);
 /// # Ok::<(), pixgeo::Error>(())
 /// ```
-pub fn voronoi(
+pub fn voronoi<'a>(
     backend: &Backend,
-    sites: &[DVec2],
+    sites: impl Into<Sites<'a>>,
     options: &VoronoiOptions,
 ) -> Result<VoronoiDiagram> {
-    voronoi_checked(backend, Checked::new(sites)?, options)
+    match sites.into() {
+        Sites::Points(points) => voronoi_checked(backend, Checked::new(points)?, options),
+        Sites::General(sites) => super::sites::voronoi_of_sites(backend, sites, options),
+    }
 }
 
 /// [`voronoi`] of sites checked where they entered.
@@ -423,7 +436,13 @@ fn bands(
     mut sink: impl FnMut(Band) -> Result<()>,
 ) -> Result<VoronoiStats> {
     let sites = sites.sites();
-    match backend {
+    let window = options.window_rect()?;
+    let mut sink = |band: Band| {
+        let rows = band.y0 + band.height - window.y;
+        options.control.report(rows.into(), window.height.into());
+        sink(band)
+    };
+    options.control.run(|| match backend {
         Backend::Device(machine) => repeats_once(sites, options, &mut sink, &mut |sites, sink| {
             distinct_bands(machine, sites, options, sink)
         }),
@@ -432,13 +451,13 @@ fn bands(
                 return Err(Error::unsupported_option("cones are drawn on a Vulkan device; on the CPU alone labels are found by the grid"
                         .into(),));
             }
-            let options = &options.method(Method::Grid);
+            let options = &options.clone().method(Method::Grid);
             Method::Grid.check(options)?;
             repeats_once(sites, options, &mut sink, &mut |sites, sink| {
                 grid_bands(sites, options, "cpu", sink)
             })
         }
-    }
+    })
 }
 
 /// A route that hands the bands of the diagram of distinct sites to a sink.
@@ -619,7 +638,7 @@ pub(crate) fn draw_point_tiles(
     let window = options.window_rect()?;
     let options = &VoronoiOptions {
         accuracy: drawn_accuracy(options.metric, options.accuracy),
-        ..*options
+        ..options.clone()
     };
     if options.ties && options.accuracy != Accuracy::Exact {
         return Err(Error::unsupported_option(

@@ -154,8 +154,8 @@ pub fn cpu_sites(
     frame: &pixgeo::Frame,
     metric: pixgeo::Metric,
 ) -> pixgeo::Result<(Vec<u32>, Vec<f32>)> {
-    use pixgeo::algorithms::{sites::voronoi_sites, voronoi::VoronoiOptions};
+    use pixgeo::algorithms::voronoi::{voronoi, VoronoiOptions};
     let options = VoronoiOptions::exact(*frame).metric(metric);
-    let d = voronoi_sites(&pixgeo::Backend::Cpu, sites, &options)?;
+    let d = voronoi(&pixgeo::Backend::Cpu, sites, &options)?;
     Ok((d.labels, d.distances))
 }

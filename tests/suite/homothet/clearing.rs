@@ -6,7 +6,7 @@
 use super::*;
 use num_rational::BigRational;
 use pixgeo::{
-    algorithms::homothet::{largest_empty, largest_empty_sites, EmptyOptions},
+    algorithms::homothet::{largest_empty, EmptyOptions},
     geometry::site::{Shape, Site},
 };
 use pixgeo_reference::{
@@ -146,7 +146,7 @@ fn largest_empty_among_points_and_segments_is_the_nearest_double() {
         let region = Region {
             rings: vec![vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]],
         };
-        let answer = largest_empty_sites(
+        let answer = largest_empty(
             &machine,
             &sites,
             &EmptyOptions::new(Unit::Circle)

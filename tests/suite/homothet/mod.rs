@@ -404,7 +404,7 @@ fn bad_input_is_an_error() {
     .is_err());
     assert!(enclose(
         &Backend::Device(&machine),
-        &[],
+        &[] as &[DVec2],
         &EncloseOptions::new(Unit::Circle).side(64)
     )
     .is_err());
@@ -743,7 +743,7 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     // it, at every magnitude.
     use num_rational::BigRational;
     use pixgeo::{
-        algorithms::homothet::{largest_empty_sites, EmptyOptions},
+        algorithms::homothet::{largest_empty, EmptyOptions},
         geometry::site::{Shape, Site},
     };
     use pixgeo_reference::exact::is_nearest_surd;
@@ -775,7 +775,7 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
                 _ => unreachable!("points"),
             })
             .collect();
-        let answer = largest_empty_sites(
+        let answer = largest_empty(
             &machine,
             &scaled,
             &EmptyOptions::new(Unit::Circle)
@@ -805,7 +805,7 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
             DVec2::new(0.0, 4.0),
         ]],
     };
-    let answer = largest_empty_sites(
+    let answer = largest_empty(
         &machine,
         &[Site::point(DVec2::new(50.0, 2.0))],
         &EmptyOptions::new(Unit::Circle)
@@ -822,7 +822,7 @@ fn a_region_far_larger_than_its_sites_answers_right_or_is_refused() {
     // Where no power of two brings every magnitude near 1 exactly, the
     // refusal names the range.
     let mixed = [Site::point(DVec2::new(0.0, 5e-324)), sites[1], sites[2]];
-    let refused = largest_empty_sites(
+    let refused = largest_empty(
         &machine,
         &mixed,
         &EmptyOptions::new(Unit::Circle)

@@ -30,7 +30,7 @@ fn grid_best(
 #[test]
 fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
     use pixgeo::{
-        algorithms::homothet::{largest_empty_sites, EmptyOptions},
+        algorithms::homothet::{largest_empty, EmptyOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -75,7 +75,7 @@ fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
         ("segments inside", &segments, true),
         ("weighted", &weighted, false),
     ] {
-        let answer = largest_empty_sites(
+        let answer = largest_empty(
             &machine,
             sites,
             &EmptyOptions::new(Unit::Circle)
@@ -138,7 +138,7 @@ fn largest_empty_among_segments_arcs_weights_and_inside_against_a_grid() {
 #[test]
 fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
     use pixgeo::{
-        algorithms::homothet::{enclose_sites, EncloseOptions},
+        algorithms::homothet::{enclose, EncloseOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -153,7 +153,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
             radius: 3.0,
         }),
     ];
-    let answer = enclose_sites(
+    let answer = enclose(
         &Backend::Device(&machine),
         &two,
         &EncloseOptions::new(Unit::Circle).side(256),
@@ -174,7 +174,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         DVec2::new(7.0, -4.0),
         DVec2::new(3.0, -6.0),
     ];
-    let answer = enclose_sites(
+    let answer = enclose(
         &Backend::Device(&machine),
         &segments,
         &EncloseOptions::new(Unit::Circle).side(256),
@@ -193,7 +193,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         center: DVec2::new(10.0, 8.0),
         radius: 2.5,
     }));
-    let answer = enclose_sites(
+    let answer = enclose(
         &Backend::Device(&machine),
         &mixed,
         &EncloseOptions::new(Unit::Circle).side(256),
@@ -225,7 +225,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
         "{} vs {grid}",
         answer.exact.scale
     );
-    assert!(enclose_sites(
+    assert!(enclose(
         &Backend::Device(&machine),
         &mixed,
         &EncloseOptions::new(Unit::Circle).k(2).side(64)
@@ -236,7 +236,7 @@ fn smallest_enclosing_circle_of_segments_circles_and_arcs() {
 #[test]
 fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
     use pixgeo::{
-        algorithms::homothet::{enclose_sites, EncloseOptions},
+        algorithms::homothet::{enclose, EncloseOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -258,7 +258,7 @@ fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
         )),
         Site::point(DVec2::new(25.0, 28.0)),
     ];
-    let answer = enclose_sites(
+    let answer = enclose(
         &Backend::Device(&machine),
         &sites,
         &EncloseOptions::new(Unit::Polygon(triangle)).side(256),
@@ -295,7 +295,7 @@ fn smallest_enclosing_polygon_of_circles_arcs_and_segments_against_sampling() {
 #[test]
 fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
     use pixgeo::{
-        algorithms::homothet::{largest_empty_sites, EmptyOptions},
+        algorithms::homothet::{largest_empty, EmptyOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -323,7 +323,7 @@ fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
             DVec2::new(0.0, 80.0),
         ]],
     };
-    let answer = largest_empty_sites(
+    let answer = largest_empty(
         &machine,
         &sites,
         &EmptyOptions::new(Unit::Polygon(triangle))
@@ -370,7 +370,7 @@ fn largest_empty_polygon_among_obstacles_against_sampled_gauges() {
 #[test]
 fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
     use pixgeo::{
-        algorithms::homothet::{enclose_sites, EncloseOptions},
+        algorithms::homothet::{enclose, EncloseOptions},
         geometry::site::{Shape, Site},
     };
     let machine = machine();
@@ -389,7 +389,7 @@ fn smallest_enclosing_star_of_segments_and_circles_against_the_definition() {
         }),
         Site::point(DVec2::new(-4.0, 12.0)),
     ];
-    let answer = enclose_sites(
+    let answer = enclose(
         &Backend::Device(&machine),
         &sites,
         &EncloseOptions::new(Unit::Polygon(star)).side(256),
