@@ -16,6 +16,10 @@
 //! The header `capi/include/pixgeo.h` is generated from these files by cbindgen; a
 //! test fails when the two drift apart.
 
+// The C boundary: the workspace denies unsafe code, and this crate allows it,
+// each block with a `// SAFETY:` note.
+#![allow(unsafe_code)]
+
 use std::{
     cell::RefCell,
     ffi::{c_char, CString},

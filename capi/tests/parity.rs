@@ -3,6 +3,9 @@
 //! nearest and the furthest sites and Delaunay triangles of every input of the
 //! parity generator, and a diagram of weighted sites.
 
+// The tests call the C boundary as a C host does.
+#![allow(unsafe_code)]
+
 use std::{ffi::CStr, ptr};
 
 use pixgeo::{

@@ -2,8 +2,6 @@
 //! Arrays arrive already checked for shape and dtype by `pixgeo/__init__.py`;
 //! pixgeo checks the values. The GIL is released while pixgeo works.
 
-#![deny(unsafe_code)]
-
 use std::{
     borrow::Cow,
     sync::{
