@@ -14,9 +14,9 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::voronoi::{voronoi, VoronoiOptions},
     geometry::Frame,
-    io::sites::read_sites,
     with_default_machine, Backend,
 };
+use pixgeo_io::sites::read_sites;
 
 fn main() -> Result<(), pixgeo::Error> {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/shops.csv");

@@ -4,9 +4,9 @@
 //! one cone per site with a depth test paints every pixel with its nearest site
 //! (M. Denny, *Algorithmic Geometry via Graphics Hardware*, 2003). pixgeo runs that
 //! machine on Vulkan ([`machine`]), builds the surfaces it draws in [`geometry`],
-//! writes the problems on it in [`algorithms`], and reads and writes files in
-//! [`io`]. Beside it, `pixgeo-cli` is the command line, `pixgeo-capi` the C
-//! library, and the tests check every result against the brute-force
+//! and writes the problems on it in [`algorithms`]. Beside it, `pixgeo-io`
+//! reads and writes files, `pixgeo-cli` is the command line, `pixgeo-capi` the
+//! C library, and the tests check every result against the brute-force
 //! definitions of `pixgeo-reference`.
 //!
 //! # The thesis's model and the machine's types
@@ -55,7 +55,6 @@ mod cancel;
 pub mod control;
 pub mod error;
 pub mod geometry;
-pub mod io;
 pub mod machine;
 pub mod memory;
 mod names;

@@ -51,7 +51,7 @@ pub fn reserve_sites(n: usize) -> Result<()> {
 /// here, [`room`] or [`Gather`]: clippy refuses `vec!`, `Vec::with_capacity`
 /// and `collect` elsewhere in the library (`clippy.toml`).
 #[allow(clippy::disallowed_macros)]
-pub(crate) fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
+pub fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
     reserve_values::<T>(len, what)?;
     Ok(vec![value; len])
 }
@@ -59,14 +59,14 @@ pub(crate) fn filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T
 /// An empty vector with room for `len` values, or the [`reserve`] error
 /// where the process cannot have it.
 #[allow(clippy::disallowed_methods)]
-pub(crate) fn room<T>(len: usize, what: &str) -> Result<Vec<T>> {
+pub fn room<T>(len: usize, what: &str) -> Result<Vec<T>> {
     reserve_values::<T>(len, what)?;
     Ok(Vec::with_capacity(len))
 }
 
 /// Collecting that asks for its room first: the library's `collect`, which
 /// clippy refuses elsewhere in it (`clippy.toml`).
-pub(crate) trait Gather: Iterator + Sized {
+pub trait Gather: Iterator + Sized {
     /// Collects into `C` once the process can have the most values the
     /// iterator says it yields (its upper bound, or its lower where it has
     /// none), or gives the [`reserve`] error.

@@ -15,9 +15,9 @@ use pixgeo::{
         trace::trace_regions,
     },
     geometry::power::Weighted,
-    io::sites::GeoJsonSources,
     Backend,
 };
+use pixgeo_io::sites::GeoJsonSources;
 use serde_json::{json, Map, Value};
 
 use crate::{

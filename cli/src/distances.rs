@@ -9,10 +9,10 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::distances::{self, Answer, Method},
     geometry::check_sites,
-    io::sites,
     machine::Machine,
     Need,
 };
+use pixgeo_io::sites;
 use serde_json::{json, Value};
 
 use crate::{device::DeviceArg, envelope, input::Points, progress::Progress, text::Real};

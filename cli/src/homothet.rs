@@ -11,9 +11,9 @@ use pixgeo::{
         self, EmptyOptions, EncloseOptions, Envelope, EnvelopeLabels, HomothetAnswer, PixelStage,
         Region, Unit,
     },
-    io::sites,
     Backend, Machine, Metric, Shape as SiteShape, Site,
 };
+use pixgeo_io::sites;
 use serde_json::Value;
 
 use crate::{

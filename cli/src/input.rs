@@ -5,17 +5,15 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use clap::{Args as ClapArgs, ValueEnum};
 use glam::DVec2;
-use pixgeo::{
-    geometry::{
-        cell::Rect,
-        metric::Metric,
-        site::{Shape, Site},
-        Frame,
-    },
-    io::{
-        samples::{read_samples, Samples},
-        sites::{self, GeoJsonSources},
-    },
+use pixgeo::geometry::{
+    cell::Rect,
+    metric::Metric,
+    site::{Shape, Site},
+    Frame,
+};
+use pixgeo_io::{
+    samples::{read_samples, Samples},
+    sites::{self, GeoJsonSources},
 };
 
 use crate::write::{

@@ -235,7 +235,7 @@ where
 
 /// The run's host phases and device passes as a Chrome trace.
 fn write_trace(path: &std::path::Path) -> anyhow::Result<()> {
-    let trace = serde_json::to_string(&profiler().timeline().chrome_trace())?;
+    let trace = serde_json::to_string(&pixgeo_io::trace::chrome_trace(&profiler().timeline()))?;
     write::output::write_text(path, "json", "traces", |w| w.write_all(trace.as_bytes()))?;
     wrote([Some(path)]);
     Ok(())

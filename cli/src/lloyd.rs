@@ -8,8 +8,8 @@ use glam::DVec2;
 use pixgeo::{
     algorithms::lloyd::{check_density, lloyd, Lloyd, LloydOptions},
     geometry::Frame,
-    io::mask::read_density,
 };
+use pixgeo_io::mask::read_density;
 use serde_json::json;
 
 use crate::{

@@ -5,7 +5,7 @@
 use std::{fs::File, io::BufReader, path::Path};
 
 use anyhow::{anyhow, bail, Context, Result};
-use pixgeo::io::mask::{read_mask, read_npy_values, Mask, Values};
+use pixgeo_io::mask::{read_mask, read_npy_values, Mask, Values};
 use tiff::{
     decoder::{Decoder, DecodingResult},
     tags::Tag,
@@ -49,7 +49,7 @@ pub fn read(path: &Path, values: Option<&[f64]>) -> Result<Source> {
 
 /// The first band of a GeoTIFF as doubles, and its placement.
 fn read_geotiff(path: &Path) -> Result<(Values, Option<GeoReference>)> {
-    pixgeo::io::decoding::decoding(path, "TIFF", || decode_geotiff(path))?
+    pixgeo_io::decoding::decoding(path, "TIFF", || decode_geotiff(path))?
 }
 
 fn decode_geotiff(path: &Path) -> Result<(Values, Option<GeoReference>)> {

@@ -10,8 +10,8 @@ use pixgeo::{
         potential_areas, refine, PotentialAreas, Refined, SettleMethod, SettleOptions,
     },
     geometry::{metric::Metric, Frame},
-    io::sites,
 };
+use pixgeo_io::sites;
 use serde_json::{json, Value};
 
 use crate::{
@@ -64,7 +64,7 @@ pub struct Args {
     /// the metric's ball). The exact refinement is Euclidean only. Default:
     /// l2; under a geographic --crs, where the settle point is not computed
     /// on the Earth, give it to measure degrees on the plane.
-    #[arg(long, value_parser = pixgeo::io::sites::parse_metric)]
+    #[arg(long, value_parser = pixgeo_io::sites::parse_metric)]
     metric: Option<Metric>,
 
     /// How the discs are counted (on a Vulkan device): `spans`, +1/-1 at

@@ -119,7 +119,7 @@ pub struct Args {
     output: Option<PathBuf>,
     /// Distance function: `l2`, `l1`, `linf`, `lp:P` or `polygon:FILE` (see
     /// `pixgeo voronoi --help`).
-    #[arg(long, default_value = "l2", value_parser = pixgeo::io::sites::parse_metric)]
+    #[arg(long, default_value = "l2", value_parser = pixgeo_io::sites::parse_metric)]
     metric: Metric,
     /// Spacing of rows and of columns, `SY,SX` (or one for both), as SciPy's
     /// `sampling`.

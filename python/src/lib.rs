@@ -249,7 +249,7 @@ fn frame(width: u32, height: u32, bbox: Option<[f64; 4]>) -> PyResult<Frame> {
 }
 
 fn metric(text: &str) -> PyResult<Metric> {
-    pixgeo::io::sites::parse_metric(text).map_err(PyValueError::new_err)
+    pixgeo_io::sites::parse_metric(text).map_err(PyValueError::new_err)
 }
 
 /// An option by its name, as the command line reads it.

@@ -111,11 +111,11 @@ fn intern(gauge: Gauge) -> &'static Gauge {
 impl Metric {
     /// Parses `l2`, `l1`, `linf` or `lp:P` (P a positive number; `lp:1`, `lp:2`
     /// and `lp:inf` name the special cases). `polygon:FILE` names a file, which
-    /// [`crate::io::sites::parse_metric`] reads.
+    /// `pixgeo_io::sites::parse_metric` reads.
     pub fn parse(text: &str) -> Result<Self, String> {
         if text.trim().starts_with("polygon:") {
             return Err(format!(
-                "`{text}` names a file: read it with pixgeo::io::sites::parse_metric"
+                "`{text}` names a file: read it with pixgeo_io::sites::parse_metric"
             ));
         }
         let t = text.trim().to_ascii_lowercase();

@@ -7,7 +7,8 @@
 //!
 //! A machine given a [`Profiler`] also times each section on the device with
 //! timestamp queries, and each run on the host; the [`Timeline`] sums the
-//! device's milliseconds by pass and writes a Chrome trace (Perfetto opens it).
+//! device's milliseconds by pass (`pixgeo_io::trace` writes it as a Chrome
+//! trace, which Perfetto opens).
 
 use crate::memory::Gather;
 use std::{
@@ -17,7 +18,6 @@ use std::{
 };
 
 use ash::vk;
-use serde_json::{json, Value};
 
 use super::context::Context;
 use crate::error::{Result, VkContext};
@@ -63,28 +63,6 @@ impl Timeline {
             }
         }
         sums
-    }
-
-    /// The timeline in the Chrome trace event format: the host's spans on one
-    /// track and the device's passes on another, in microseconds.
-    pub fn chrome_trace(&self) -> Value {
-        let track = |tid: u32, name: &str| json!({"name": "thread_name", "ph": "M", "pid": 1, "tid": tid, "args": {"name": name}});
-        let mut events = Vec::from([track(1, "host"), track(2, "device")]);
-        for span in &self.host {
-            events.push(json!({
-                "name": span.name, "ph": "X", "pid": 1, "tid": 1,
-                "ts": span.start_ms * 1e3, "dur": span.ms * 1e3,
-            }));
-        }
-        for pass in &self.passes {
-            if let Some(ms) = pass.gpu_ms {
-                events.push(json!({
-                    "name": pass.label, "ph": "X", "pid": 1, "tid": 2,
-                    "ts": pass.start_ms * 1e3, "dur": ms * 1e3,
-                }));
-            }
-        }
-        json!({"traceEvents": events, "displayTimeUnit": "ms"})
     }
 }
 

@@ -525,7 +525,7 @@ fn a_profiler_labels_and_times_every_pass_and_run() {
     let by_pass = timeline.gpu_ms_by_pass();
     assert_eq!(by_pass.len(), 4);
 
-    let trace = timeline.chrome_trace();
+    let trace = pixgeo_io::trace::chrome_trace(&timeline);
     let events = trace["traceEvents"].as_array().unwrap();
     let spans = events.iter().filter(|e| e["ph"] == "X").count();
     assert_eq!(spans, timeline.passes.len() + timeline.host.len());

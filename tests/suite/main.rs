@@ -16,6 +16,7 @@ mod cells;
 mod certified;
 mod certified_sites;
 mod constructions;
+mod crates;
 mod delaunay;
 mod distances;
 mod flooding;

@@ -18,9 +18,9 @@ use pixgeo::{
         voronoi::{voronoi, Accuracy, Speedup, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    io::sites::{parse_csv, parse_geojson, parse_json, sites_from_array},
     Machine,
 };
+use pixgeo_io::sites::{parse_csv, parse_geojson, parse_json, sites_from_array};
 use proptest::prelude::*;
 
 /// Coordinates a user may give, ordinary or not.
@@ -174,7 +174,7 @@ proptest! {
         std::fs::create_dir_all(&dir).unwrap();
         let file = dir.join("sites.npy");
         std::fs::write(&file, &bytes).unwrap();
-        no_panic("npy", &bytes, || pixgeo::io::sites::read_general_sites(&file).map(|_| ()));
+        no_panic("npy", &bytes, || pixgeo_io::sites::read_general_sites(&file).map(|_| ()));
     }
 
     #[test]

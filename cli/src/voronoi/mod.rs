@@ -243,7 +243,7 @@ enum MetricChoice {
 fn parse_metric_choice(text: &str) -> Result<MetricChoice, String> {
     match text {
         "great-circle" | "great_circle" => Ok(MetricChoice::GreatCircle),
-        _ => pixgeo::io::sites::parse_metric(text).map(MetricChoice::Plane),
+        _ => pixgeo_io::sites::parse_metric(text).map(MetricChoice::Plane),
     }
 }
 

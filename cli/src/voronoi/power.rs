@@ -9,9 +9,9 @@ use pixgeo::{
         voronoi::Accuracy,
     },
     geometry::power::Weighted,
-    io::samples::Samples,
     memory::reserve_picture,
 };
+use pixgeo_io::samples::Samples;
 use serde_json::json;
 
 use super::{Args, Method};

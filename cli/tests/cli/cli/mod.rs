@@ -5,7 +5,7 @@ use std::{
     process::Command,
 };
 
-use pixgeo::io::npy;
+use pixgeo_io::npy;
 
 mod interpolate;
 mod lloyd;

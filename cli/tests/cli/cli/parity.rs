@@ -9,9 +9,9 @@ use pixgeo::{
         voronoi::{voronoi, VoronoiOptions},
     },
     geometry::{metric::Metric, Frame},
-    io::npy,
     Backend,
 };
+use pixgeo_io::npy;
 use pixgeo_reference::hostile::hostile;
 
 use super::{answer, pixgeo, temp, write_npy};

@@ -16,7 +16,7 @@ use glam::DVec2;
 use serde_json::Value;
 
 use super::sites::{read_text, SiteFormat};
-use crate::error::{Error, Result};
+use pixgeo::error::{Error, Result};
 
 /// Points and their values, in file order.
 #[derive(Clone, Debug, Default, PartialEq)]

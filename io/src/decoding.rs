@@ -9,7 +9,7 @@ use std::{
     sync::Once,
 };
 
-use crate::{Error, Result};
+use pixgeo::{Error, Result};
 
 thread_local! {
     /// Whether this thread is inside a decoder: its panics are answered, not

@@ -1,9 +1,9 @@
 //! NumPy `.npy` arrays read as sites and masks: any numeric dtype as `f64`.
 
-use crate::memory::Gather;
+use pixgeo::memory::Gather;
 use std::path::Path;
 
-use crate::error::{Error, Result};
+use pixgeo::error::{Error, Result};
 
 fn io_error(path: &Path, source: std::io::Error) -> Error {
     Error::Io {
@@ -33,7 +33,7 @@ fn room_for(path: &Path, shape: &[u64], bytes: &[u8], each: u64) -> Result<()> {
     let count = shape.iter().try_fold(1u64, |n, &d| n.checked_mul(d));
     let held = bytes.len() as u64;
     match count {
-        Some(n) if n <= held => crate::memory::reserve(n.saturating_mul(each), || {
+        Some(n) if n <= held => pixgeo::memory::reserve(n.saturating_mul(each), || {
             format!("{}: {n} values", path.display())
         }),
         _ => Err(Error::Parse {

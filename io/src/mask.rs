@@ -4,10 +4,10 @@
 //! is not zero, whatever its alpha). Row 0 is the array's first row, the
 //! picture's top row.
 
-use crate::memory::Gather;
+use pixgeo::memory::Gather;
 use std::{io::BufReader, path::Path};
 
-use crate::error::{Error, Result};
+use pixgeo::error::{Error, Result};
 
 /// A raster of features, row-major.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -81,7 +81,7 @@ fn decode_png(path: &Path) -> Result<Png> {
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| parse("the picture is too large to read".into()))?;
-    let mut pixels = crate::memory::filled(size, 0u8, "a mask's pixels")?;
+    let mut pixels = pixgeo::memory::filled(size, 0u8, "a mask's pixels")?;
     let info = reader
         .next_frame(&mut pixels)
         .map_err(|e| parse(format!("not a PNG picture: {e}")))?;

@@ -13,13 +13,13 @@
 //! Numbers are read bit for bit: the site is the number the file spells.
 //! Also: the `--metric` grammar, whose `polygon:FILE` is read here.
 
-use crate::memory::Gather;
+use pixgeo::memory::Gather;
 use std::path::Path;
 
 use glam::DVec2;
 use serde_json::Value;
 
-use crate::{
+use pixgeo::{
     error::{Error, Result},
     geometry::{
         metric::Metric,
