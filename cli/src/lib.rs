@@ -35,7 +35,7 @@ mod shell;
 mod text;
 mod transform;
 mod voronoi;
-mod write;
+use pixgeo_io::write;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
@@ -139,19 +139,6 @@ fn answer_line(line: std::fmt::Arguments) {
     }
 }
 
-/// Whether EPSG's coordinate system `code` is geographic (longitude and
-/// latitude), as the registry the GeoTIFF writer uses says; why not a
-/// system for maps otherwise.
-pub fn is_geographic(code: u16) -> Result<bool, String> {
-    write::geotiff::crs_kind(code).map(|k| k == write::geotiff::CrsKind::Geographic)
-}
-
-/// The EPSG code of a coordinate system as `--crs` reads it (`EPSG:N`, an
-/// OGC URN, WKT, PROJ, a .prj file), or why none.
-pub fn epsg_code(text: &str) -> Result<u16, String> {
-    write::geotiff::parse_crs(text)
-}
-
 /// Runs the command line on `args` (the program's name first) and returns
 /// its exit status: 0, 1 with the error on stderr, 2 for a usage error (as
 /// clap reports it), 128 plus the signal's number at SIGINT, SIGTERM or SIGHUP.
@@ -208,7 +195,7 @@ where
         .subcommand()
         .and_then(|(_, sub)| sub.try_get_one::<bool>("json").ok().flatten())
         == Some(&true);
-    write::output::on_signals_abandon();
+    on_signals_abandon();
     write::output::answers_as_json(json);
     let phase = profiler().phase(format!("pixgeo {name}"));
     let mut done = match &cli.trace {
@@ -222,7 +209,7 @@ where
     if let (Some(path), Ok(())) = (&cli.trace, &done) {
         done = write_trace(path);
     }
-    done = done.and_then(|()| write::output::finish(quiet()).map_err(anyhow::Error::from));
+    done = done.and_then(|()| put_in_place());
     if done.is_err() {
         write::output::abandon();
     }
@@ -231,6 +218,14 @@ where
         outln!("{}", envelope::error(name, error));
     }
     done
+}
+
+/// Puts the finished outputs in place and tells of them (unless `-q`).
+fn put_in_place() -> anyhow::Result<()> {
+    for path in write::output::finish()? {
+        note!("wrote {}", path.display());
+    }
+    Ok(())
 }
 
 /// The run's host phases and device passes as a Chrome trace.
@@ -260,9 +255,28 @@ fn run(command: Command) -> anyhow::Result<()> {
         // Each picture's command puts its outputs in place before the next.
         Command::Gallery(args) => gallery::run(args, |command| {
             run(command)?;
-            Ok(write::output::finish(quiet())?)
+            put_in_place()
         }),
         Command::Completions(args) => shell::completions(args),
         Command::Man(args) => shell::man(args),
     }
+}
+
+/// Removes every temporary file and exits at SIGINT, SIGTERM and SIGHUP
+/// with 128 plus the signal's number (130, 143, 129), as shells and
+/// supervisors read a command ended by a signal.
+pub fn on_signals_abandon() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    static WATCHING: std::sync::Once = std::sync::Once::new();
+    WATCHING.call_once(|| {
+        // Signals are only refused where the process cannot take them at all.
+        if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+            std::thread::spawn(move || {
+                if let Some(signal) = signals.forever().next() {
+                    write::output::abandon();
+                    std::process::exit(128 + signal);
+                }
+            });
+        }
+    });
 }

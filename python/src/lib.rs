@@ -743,14 +743,14 @@ fn find_simplex<'py>(
 /// Whether EPSG's coordinate system `code` is geographic.
 #[pyfunction]
 fn is_geographic(code: u16) -> PyResult<bool> {
-    pixgeo_cli::is_geographic(code).map_err(PyValueError::new_err)
+    pixgeo_io::crs::is_geographic(code).map_err(PyValueError::new_err)
 }
 
 /// The EPSG code of a coordinate system (`EPSG:N`, an OGC URN, WKT, PROJ, a
 /// .prj file), as the command line's `--crs` reads it.
 #[pyfunction]
 fn epsg_code(text: &str) -> PyResult<u16> {
-    pixgeo_cli::epsg_code(text).map_err(PyValueError::new_err)
+    pixgeo_io::crs::parse_crs(text).map_err(PyValueError::new_err)
 }
 
 /// Labels, distances (metres), the count of pixels left equidistant and of

@@ -31,6 +31,12 @@ pub fn crs_kind(code: u16) -> Result<CrsKind, String> {
     }
 }
 
+/// Whether EPSG's coordinate system `code` is geographic (longitude and
+/// latitude); why it is no system for maps otherwise.
+pub fn is_geographic(code: u16) -> Result<bool, String> {
+    crs_kind(code).map(|k| k == CrsKind::Geographic)
+}
+
 /// Parses a coordinate system to its EPSG code (which GeoTIFF keys and
 /// GeoJSON carry): `EPSG:N`; an OGC URN or URL naming EPSG's N; a WKT string
 /// (WKT1, WKT2 or ESRI's) whose outermost AUTHORITY or ID is EPSG's, or an

@@ -38,25 +38,6 @@ fn with<T>(f: impl FnOnce(&mut Transaction) -> T) -> T {
     f(guard.get_or_insert_with(Transaction::default))
 }
 
-/// Removes every temporary file and exits at SIGINT, SIGTERM and SIGHUP
-/// with 128 plus the signal's number (130, 143, 129), as shells and
-/// supervisors read a command ended by a signal.
-pub fn on_signals_abandon() {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    static WATCHING: std::sync::Once = std::sync::Once::new();
-    WATCHING.call_once(|| {
-        // Signals are only refused where the process cannot take them at all.
-        if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
-            std::thread::spawn(move || {
-                if let Some(signal) = signals.forever().next() {
-                    abandon();
-                    std::process::exit(128 + signal);
-                }
-            });
-        }
-    });
-}
-
 /// Claims `path` for the output `option` names: refused where another option
 /// of the command names the same file (after following links and `.` and
 /// `..`), or where its folder does not exist.
@@ -122,8 +103,8 @@ fn resolve(path: &Path) -> Result<PathBuf> {
 }
 
 /// Puts every finished output in place, in the order they were finished, and
-/// tells of them (unless `-q`).
-pub fn finish(quiet: bool) -> Result<()> {
+/// returns those to tell of.
+pub fn finish() -> Result<Vec<PathBuf>> {
     let (staged, announced) = with(|t| {
         t.claimed.clear();
         t.written.clear();
@@ -146,12 +127,7 @@ pub fn finish(quiet: bool) -> Result<()> {
         }
         with(|t| t.temporaries.retain(|p| *p != temporary));
     }
-    if !quiet {
-        for path in announced {
-            note!("wrote {}", path.display());
-        }
-    }
-    Ok(())
+    Ok(announced)
 }
 
 /// Removes every temporary file, finished or not: the targets stay as they
@@ -397,7 +373,7 @@ mod tests {
         file.write_all(b"more").unwrap();
         out.commit().unwrap();
         assert_eq!(std::fs::read(&a).unwrap(), b"old");
-        finish(true).unwrap();
+        finish().unwrap();
         assert_eq!(std::fs::read(&a).unwrap(), b"new");
         assert_eq!(std::fs::read(&b).unwrap(), b"more");
         let (out, _) = OutputFile::create(&a, "npy", "arrays").unwrap();

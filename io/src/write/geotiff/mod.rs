@@ -8,13 +8,13 @@
 //! it: ModelPixelScale and ModelTiepoint for a north-up raster
 //! (ModelTransformation for one whose rows run north), and a GeoKey directory
 //! with the raster type and, when known, the EPSG code, geographic or
-//! projected as EPSG's registry says ([`crs`]). Rows stream in; each row of
+//! projected as EPSG's registry says ([`crate::crs`]). Rows stream in; each row of
 //! tiles is compressed (in parallel) and written as it fills, the directory
 //! after the tiles, and the header is then pointed at it: a file past 4 GiB
 //! becomes a BigTIFF.
 
-mod crs;
 mod directory;
+mod read;
 mod sample;
 
 use std::{
@@ -26,8 +26,9 @@ use std::{
 use flate2::{write::ZlibEncoder, Compression};
 use rayon::prelude::*;
 
-pub use crs::{crs_kind, crs_name, parse_crs, CrsKind};
+pub use crate::crs::{crs_kind, crs_name, parse_crs, CrsKind};
 use directory::Value;
+pub use read::read_geotiff;
 pub use sample::Sample;
 
 use super::output::OutputFile;
@@ -757,7 +758,7 @@ mod tests {
             stream.write(chunk).unwrap();
         }
         stream.finish().unwrap();
-        crate::write::output::finish(true).unwrap();
+        crate::write::output::finish().unwrap();
         let mut decoder = Decoder::new(File::open(&path).unwrap()).unwrap();
         std::fs::remove_file(&path).unwrap();
         assert_eq!(decoder.dimensions().unwrap(), (width, height));
