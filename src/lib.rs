@@ -20,7 +20,7 @@
 //! | a set of triangles entering the pipeline | [`algorithms::cones::draw_cones`] (instanced fans, one per site) and [`machine::Pass::draw_rect`] |
 //! | display list translated per site | one unit fan mesh drawn instanced with a per-site buffer |
 //! | cone bases of other metrics (§3.6) | `geometry::chain`: the polygonal chains of L_p circles, polygons as unit balls ([`geometry::metric::Metric::Polygon`]) |
-//! | roofs, straw huts, weighted cones (§3.8–3.9) | `geometry::surface` (fan mode) and the per-fragment weighted distance of [`algorithms::sites`] (exact mode) |
+//! | roofs, straw huts, weighted cones (§3.8–3.9) | `geometry::surface` (fan mode) and the per-fragment weighted distance of [`algorithms::voronoi::sites`] (exact mode) |
 //! | depth texture (exact distance) | the fragment shader writes the squared distance as depth |
 //! | second z buffer z' of the k-th level peeling (§3.7) | the previous level's depth in a storage buffer the fragment shader reads ([`algorithms::higher_order::k_nearest_peeled`]) |
 //! | stencil counting equal distances | the stencil's low bits, incremented by the depth test EQUAL |

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use crate::{
     algorithms::{
-        cpu,
+        higher_order::cpu,
         voronoi::{voronoi_checked, VoronoiOptions},
     },
     cancel::Watch,

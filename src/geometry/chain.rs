@@ -21,7 +21,7 @@ use std::{
 
 use glam::DVec2;
 
-use super::metric::Metric;
+use super::metric::{segment_distance, Metric};
 
 /// The chain approximating the `metric` circle of radius `radius` within
 /// `epsilon`: the polygon's vertices counter-clockwise from the positive x axis.
@@ -189,17 +189,6 @@ pub(crate) fn norm_range(metric: Metric, polygon: &[DVec2]) -> (f64, f64) {
         .fold((f64::INFINITY, 0.0), |(lo, hi), (a, b)| {
             (lo.min(a), hi.max(b))
         })
-}
-
-/// The Euclidean distance from `p` to the segment `a b` (a point where a = b).
-pub(crate) fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let e = b - a;
-    let t = if e == DVec2::ZERO {
-        0.0
-    } else {
-        ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0)
-    };
-    (p - a - e * t).length()
 }
 
 /// The smallest and largest `metric` norm on the segment `a b`. The segment

@@ -1,5 +1,5 @@
 //! Exact weighted distances from a pixel's centre to sites beyond points, for
-//! the near ties that float bounds cannot order (`algorithms::sites::certify`).
+//! the near ties that float bounds cannot order (`algorithms::voronoi::sites::certify`).
 //!
 //! Everything is measured in the picture's pixels, from the user's doubles: a
 //! site's pixel coordinates are `(x - origin) s - 1/2` and a pixel's centre its

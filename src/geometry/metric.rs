@@ -208,7 +208,7 @@ impl Metric {
             .map(|p| (p.y.atan2(p.x) - first).rem_euclid(TAU) + first)
             .collect();
         let near = (0..n)
-            .map(|k| super::chain::norm_range_on_segment(Self::L2, v[k], v[(k + 1) % n]).0)
+            .map(|k| segment_distance(DVec2::ZERO, v[k], v[(k + 1) % n]))
             .fold(f64::INFINITY, f64::min);
         let far = v.iter().map(|p| p.length()).fold(0.0, f64::max);
         // Distances in pixels are then up to 2^24 / near and down to 1 / far, which
@@ -455,6 +455,17 @@ impl fmt::Display for Metric {
             Self::Polygon(g) => write!(f, "polygon ({} vertices)", g.vertices.len()),
         }
     }
+}
+
+/// The Euclidean distance from `p` to the segment `a b` (a point where a = b).
+pub(crate) fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let e = b - a;
+    let t = if e == DVec2::ZERO {
+        0.0
+    } else {
+        ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0)
+    };
+    (p - a - e * t).length()
 }
 
 #[cfg(test)]

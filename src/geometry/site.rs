@@ -14,10 +14,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec2;
 
-use super::{
-    chain::{norm_range_on_segment, segment_distance},
-    metric::Metric,
-};
+use super::{chain::norm_range_on_segment, metric::segment_distance, metric::Metric};
 use crate::error::{Error, Result};
 
 /// The geometric part of a site, in world coordinates.

@@ -21,6 +21,7 @@ mod pass;
 mod pipelines;
 mod profile;
 pub mod program;
+mod sections;
 pub mod state;
 mod sync;
 
@@ -55,7 +56,7 @@ use crate::error::{Error, Result, VkContext};
 use context::Context;
 use descriptors::DescriptorSets;
 use pipelines::{Kernel, Pipelines};
-use profile::Sections;
+use sections::Sections;
 
 /// The extremes of a float picture and their first indices, in two phases
 /// (push `[width, height, phase, within, capacity, squared scale]`, one

@@ -1,5 +1,6 @@
-//! The core compiles no file format: the readers and writers live in
-//! `pixgeo-io`, which a library user need not take.
+//! The core's shape: it compiles no file format (the readers and writers live
+//! in `pixgeo-io`, which a library user need not take), and no two of its
+//! modules import each other (a route is its problem's child, not its peer).
 
 #[test]
 fn the_core_depends_on_no_file_format() {
@@ -19,4 +20,91 @@ fn the_core_depends_on_no_file_format() {
     for format in ["csv", "npyz", "png", "serde_json", "tiff"] {
         assert!(!names.contains(&format), "the core depends on {format}");
     }
+}
+
+/// The core's modules by path (`["algorithms", "voronoi"]`), each with the
+/// text of its file up to its unit tests.
+fn modules() -> Vec<(Vec<String>, String)> {
+    fn walk(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for entry in std::fs::read_dir(dir).expect("the core's sources") {
+            let path = entry.expect("a source").path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    walk(&src, &mut files);
+    files
+        .into_iter()
+        .map(|file| {
+            let relative = file.strip_prefix(&src).unwrap().with_extension("");
+            let mut path: Vec<String> = relative
+                .iter()
+                .map(|p| p.to_string_lossy().into_owned())
+                .collect();
+            if matches!(path.last().map(String::as_str), Some("mod" | "lib")) {
+                path.pop();
+            }
+            let text = std::fs::read_to_string(&file).unwrap();
+            let text = text.split("#[cfg(test)]").next().unwrap_or("").to_string();
+            (path, text)
+        })
+        .collect()
+}
+
+/// The modules `text` (the module `me`) names through `crate::` and `super::`
+/// paths, as the longest prefixes that are modules.
+fn named(me: &[String], text: &str, known: &[Vec<String>]) -> Vec<Vec<String>> {
+    let mut found = Vec::new();
+    let words: Vec<&str> = text
+        .split(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+        .collect();
+    for word in words {
+        let mut parts: Vec<&str> = word.split("::").filter(|p| !p.is_empty()).collect();
+        let mut target: Vec<String> = match parts.first() {
+            Some(&"crate") => Vec::new(),
+            Some(&"super") => me.to_vec(),
+            _ => continue,
+        };
+        if parts[0] == "crate" {
+            parts.remove(0);
+        }
+        while parts.first() == Some(&"super") {
+            parts.remove(0);
+            target.pop();
+        }
+        target.extend(parts.iter().map(|p| p.to_string()));
+        while !target.is_empty() && !known.contains(&target) {
+            target.pop();
+        }
+        if !target.is_empty() {
+            found.push(target);
+        }
+    }
+    found
+}
+
+#[test]
+fn no_two_modules_of_the_core_import_each_other() {
+    let modules = modules();
+    let known: Vec<Vec<String>> = modules.iter().map(|(p, _)| p.clone()).collect();
+    let edges: std::collections::BTreeSet<(Vec<String>, Vec<String>)> = modules
+        .iter()
+        .flat_map(|(me, text)| named(me, text, &known).into_iter().map(|t| (me.clone(), t)))
+        .collect();
+    assert!(edges.len() > 100, "{} imports found", edges.len());
+    let related = |a: &[String], b: &[String]| a.starts_with(b) || b.starts_with(a);
+    let circles: Vec<_> = edges
+        .iter()
+        .filter(|(a, b)| a < b && !related(a, b) && edges.contains(&(b.clone(), a.clone())))
+        .map(|(a, b)| format!("{} <-> {}", a.join("/"), b.join("/")))
+        .collect();
+    assert!(
+        circles.is_empty(),
+        "modules importing each other: {circles:?}"
+    );
 }

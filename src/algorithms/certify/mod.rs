@@ -28,7 +28,6 @@ use rayon::prelude::*;
 
 pub(crate) use discs::Disc;
 
-use super::higher_order::KNearest;
 use crate::{
     cancel::Watch,
     error::{Error, Result},
@@ -653,26 +652,4 @@ impl<'a> Certifier<'a> {
             ))),
         }
     }
-}
-
-/// Proves a k-nearest diagram of the whole frame in place (exact cones, fans
-/// of a polygon, or the CPU's pixel algorithm), counting the mended pixels in
-/// its stats.
-pub(crate) fn certify_levels(near: &mut KNearest, sites: &[DVec2], metric: Metric) -> Result<()> {
-    let region = Region {
-        x0: 0,
-        y0: 0,
-        width: near.width,
-        height: near.height,
-        stride: near.width as usize,
-        k: near.k as usize,
-    };
-    let started = std::time::Instant::now();
-    let certifier = Certifier::new(sites, &near.frame, metric)?;
-    near.stats.mended =
-        certifier.certify(region, &mut near.labels, Some(&mut near.distances), None)?;
-    // Every route computes the distances from the labels alike.
-    certifier.label_distances(region, &near.labels, &mut near.distances);
-    near.stats.certify_ms = started.elapsed().as_secs_f64() * 1e3;
-    Ok(())
 }

@@ -57,7 +57,7 @@ pub(crate) fn furthest_checked(
     metric: Metric,
 ) -> Result<Furthest> {
     let Some(machine) = backend.machine() else {
-        return crate::algorithms::cpu::furthest_checked(sites, frame, metric);
+        return super::cpu::furthest_checked(sites, frame, metric);
     };
     let drawn = draw_furthest(machine, sites, frame, metric, true)?;
     let sites = sites.sites();

@@ -48,10 +48,10 @@ use super::cones::{
     CONE_K_NEAREST, CONE_K_NEAREST_FAN, CONE_PEEL,
 };
 
-use super::certify::{certify_levels, Certifier};
-use super::cpu;
+use super::certify::{Certifier, Region};
 use super::envelope::{drawn_accuracy, metric_fan, Accuracy, Speedup};
 
+pub(crate) mod cpu;
 mod furthest;
 mod levels;
 mod peeled;
@@ -405,4 +405,26 @@ fn proposed_k_nearest(
 
     let fan_scale = (options.accuracy != Accuracy::Exact).then_some(1.0 / vertex_scale);
     Ok(read_keys(&keys, options, fan_scale, stats))
+}
+
+/// Proves a k-nearest diagram of the whole frame in place (exact cones, fans
+/// of a polygon, or the CPU's pixel algorithm), counting the mended pixels in
+/// its stats.
+pub(crate) fn certify_levels(near: &mut KNearest, sites: &[DVec2], metric: Metric) -> Result<()> {
+    let region = Region {
+        x0: 0,
+        y0: 0,
+        width: near.width,
+        height: near.height,
+        stride: near.width as usize,
+        k: near.k as usize,
+    };
+    let started = std::time::Instant::now();
+    let certifier = Certifier::new(sites, &near.frame, metric)?;
+    near.stats.mended =
+        certifier.certify(region, &mut near.labels, Some(&mut near.distances), None)?;
+    // Every route computes the distances from the labels alike.
+    certifier.label_distances(region, &near.labels, &mut near.distances);
+    near.stats.certify_ms = started.elapsed().as_secs_f64() * 1e3;
+    Ok(())
 }

@@ -50,7 +50,7 @@ pub(super) fn clearance_over_square(
             Some(plane) => planes.push(plane),
             None => {
                 bound = bound.min(farthest(&|x| {
-                    crate::geometry::chain::segment_distance(x, a, b)
+                    crate::geometry::metric::segment_distance(x, a, b)
                 }))
             }
         }

@@ -1,7 +1,7 @@
 //! The candidate centres of the largest circle clearing points and segments:
 //! the vertices of their Voronoi diagram and its crossings with the region's
 //! edges, each with the three pieces that determine it, so that
-//! [`super::clearing_exact`] can decide the best of them exactly.
+//! `clearing_exact` can decide the best of them exactly.
 
 use glam::DVec2;
 

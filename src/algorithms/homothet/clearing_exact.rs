@@ -27,7 +27,7 @@ impl Obstacle {
     pub fn distance(&self, c: DVec2) -> f64 {
         match *self {
             Obstacle::Point(p) => p.distance(c),
-            Obstacle::Segment(a, b) => crate::geometry::chain::segment_distance(c, a, b),
+            Obstacle::Segment(a, b) => crate::geometry::metric::segment_distance(c, a, b),
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::memory::Gather;
-use crate::{algorithms::cpu, Backend};
+use crate::{algorithms::higher_order::cpu, Backend};
 
 /// The smallest homothet of `unit` holding at least `k` of `sites` (every
 /// site when `k` is 0 or the number of sites). Points are exact, from Welzl's

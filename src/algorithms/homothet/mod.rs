@@ -31,9 +31,8 @@ use crate::{
     geometry::seed::Seed,
     geometry::{
         buckets::PointGrid,
-        chain::segment_distance,
         frame::{check_sites, first_of_each, Checked},
-        metric::{Gauge, Metric},
+        metric::{segment_distance, Gauge, Metric},
         scale,
         site::{check_general_sites, Shape, Site, Sites},
         Frame,
@@ -60,8 +59,7 @@ use refine::{
 use super::{
     flooding,
     higher_order::{draw_furthest, k_nearest_checked, KNearestOptions, MAX_LEVELS},
-    sites::draw_sites,
-    voronoi::{draw_point_tiles, Speedup, TileExtras, VoronoiOptions},
+    voronoi::{draw_point_tiles, sites::draw_sites, Speedup, TileExtras, VoronoiOptions},
 };
 
 mod cell_bound;

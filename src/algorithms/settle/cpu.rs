@@ -173,6 +173,12 @@ fn add_band_spans(
 /// of the distinct sites of a checked set.
 fn nearest_labels_cpu(sites: &[DVec2], frame: &Frame, metric: Metric) -> Result<Vec<u32>> {
     let sites = Checked::derived(sites);
-    let near = crate::algorithms::cpu::k_nearest_checked(sites, frame, 1, metric, &mut |_, _| {})?;
+    let near = crate::algorithms::higher_order::cpu::k_nearest_checked(
+        sites,
+        frame,
+        1,
+        metric,
+        &mut |_, _| {},
+    )?;
     Ok(near.labels)
 }

@@ -317,7 +317,8 @@ fn grown(
         .gather("sites")?;
     let frame = Frame::pixels(width, height)?;
     let sites = crate::geometry::frame::Checked::new(&sites)?;
-    let diagram = super::cpu::k_nearest_checked(sites, &frame, 1, metric, &mut |_, _| {})?;
+    let diagram =
+        super::higher_order::cpu::k_nearest_checked(sites, &frame, 1, metric, &mut |_, _| {})?;
     let plane = |of: fn(u32, usize) -> i32| {
         diagram
             .labels

@@ -49,6 +49,7 @@ use super::envelope::{
     SCREEN_TILE_SIDE,
 };
 mod grid;
+pub mod sites;
 
 use grid::grid_bands;
 
@@ -312,7 +313,7 @@ pub struct Band {
 /// [`VoronoiOptions::method`] picks), the grid on the CPU alone (Euclidean
 /// exact diagrams only). Every route gives the same diagram bit for bit.
 /// Sites of any shape and weight ([`Site`](crate::geometry::site::Site)) take
-/// the route of [`crate::algorithms::sites`].
+/// the route of [`sites`].
 ///
 /// ```
 /// use glam::DVec2;
@@ -335,7 +336,7 @@ pub fn voronoi<'a>(
 ) -> Result<VoronoiDiagram> {
     match sites.into() {
         Sites::Points(points) => voronoi_checked(backend, Checked::new(points)?, options),
-        Sites::General(sites) => super::sites::voronoi_of_sites(backend, sites, options),
+        Sites::General(sites) => sites::voronoi_of_sites(backend, sites, options),
     }
 }
 

@@ -33,12 +33,10 @@ use crate::{
     },
 };
 
-use super::certify::certify_levels;
-use super::higher_order::{
-    exactly_furthest, furthest_candidates, with_repeats, Furthest, KNearest, KNearestStats,
-    MAX_LEVELS,
+use super::{
+    certify_levels, exactly_furthest, furthest_candidates, with_repeats, Furthest, KNearest,
+    KNearestStats, MAX_LEVELS,
 };
-use super::sites::{check_exact_metric, SiteCertifier};
 
 /// How far a site may lie from the pixel centre it grows from.
 const SLACK: f64 = std::f64::consts::FRAC_1_SQRT_2;
@@ -297,33 +295,14 @@ pub(crate) fn furthest_checked(
     exactly_furthest(sites, frame, metric, none, hull)
 }
 
-/// The Voronoi diagram of sites of any shape and weight on the CPU: every pixel
-/// labelled with a site of smallest weighted distance (ties to the lower index),
-/// and that distance (world units), row-major. Exact.
-///
-/// The thesis's growth through one offset table (§3.12.1) assumes sites that are
-/// unweighted points (`k_nearest_checked`); here each 32² block of pixels orders the
-/// sites by a lower bound of their weighted distance over the block (from the
-/// Euclidean gap between the block and the shape's box) and every pixel stops at
-/// the first site whose bound exceeds its best.
-pub(crate) fn voronoi_sites(
-    sites: &[Site],
-    frame: &Frame,
-    metric: Metric,
-) -> Result<(Vec<u32>, Vec<f32>)> {
-    check_general_sites(sites)?;
-    check_exact_metric(sites, metric)?;
-    let (mut labels, mut distances) = nearest_by_blocks(sites, frame, metric)?;
-    SiteCertifier::new(sites, frame, metric)?.certify(&mut labels, Some(&mut distances))?;
-    Ok((labels, distances))
-}
-
-/// The diagram of general sites in f64, before the exact check.
+/// The nearest of general sites to every pixel in f64, by blocks (see
+/// `voronoi::sites`), before the exact check: far sites' nearest-site maps
+/// here, general sites' there.
 #[expect(
     clippy::disallowed_methods,
     reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
 )]
-fn nearest_by_blocks(
+pub(crate) fn nearest_by_blocks(
     sites: &[Site],
     frame: &Frame,
     metric: Metric,

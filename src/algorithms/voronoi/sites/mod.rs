@@ -22,7 +22,7 @@
 //! (`glsl/site_tiles.frag`), as the point diagrams do. A pixel then evaluates a
 //! few sites instead of every site whose rectangle covers it.
 
-use super::ms;
+use crate::algorithms::ms;
 use crate::memory::Gather;
 use std::time::Instant;
 
@@ -35,9 +35,9 @@ use crate::{
     geometry::cone::check_fan_size,
     geometry::{
         buckets::{for_ring_cells, group_by_bucket},
-        chain::{segment_distance, FanMeshes, MetricFan},
+        chain::{FanMeshes, MetricFan},
         frame::distance2_to_rect,
-        metric::Metric,
+        metric::{segment_distance, Metric},
         site::{check_general_sites, ArcWedge, Shape, Site},
         surface::{fan_surface, FanSurface},
     },
@@ -48,19 +48,19 @@ use crate::{
     Backend,
 };
 
-use super::cones::{
+use crate::algorithms::cones::{
     draw_cones, draw_over_target, ConeDraw, ConePush, SiteBatch, SiteInstance, SiteShape,
     SITE_EXACT, SITE_EXACT_BATCH, SITE_FAN, SITE_FAN_FOLDED, SITE_TILES,
 };
 
-use super::cpu;
-use super::envelope::{
+use super::{VoronoiDiagram, VoronoiOptions, VoronoiStats};
+use crate::algorithms::envelope::{
     distances_of, drawn_accuracy, hilbert_index, metric_fan, records_image, Accuracy, DepthMap,
     DrawnTile, Speedup, Tiling, Tuning, BATCH, SCREEN_TILE_SIDE, UNIT_SQUARE,
 };
-use super::voronoi::{VoronoiDiagram, VoronoiOptions, VoronoiStats};
 
 mod certify;
+mod cpu;
 mod draws;
 mod reach;
 mod tiles;
