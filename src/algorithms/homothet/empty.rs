@@ -67,21 +67,20 @@ pub fn largest_empty<'a>(
     options: &EmptyOptions,
 ) -> Result<HomothetAnswer> {
     let o = options;
-    match sites.into() {
-        Sites::Points(points) if o.inside => {
-            check_sites(points)?;
-            let general: Vec<Site> = points.iter().map(|&p| Site::point(p)).gather("sites")?;
-            empty_of_sites(
-                machine, &general, o.unit, &o.region, o.inside, o.side, o.stage,
-            )
+    let general: Vec<Site>;
+    let sites = match sites.into() {
+        Sites::Points(points) if !o.inside => {
+            return empty_of_points(machine, points, o.unit, &o.region, o.side, o.stage);
         }
+        // Inside a region, its boundary joins the points as segment sites.
         Sites::Points(points) => {
-            empty_of_points(machine, points, o.unit, &o.region, o.side, o.stage)
+            check_sites(points)?;
+            general = points.iter().map(|&p| Site::point(p)).gather("sites")?;
+            &general[..]
         }
-        Sites::General(sites) => {
-            empty_of_sites(machine, sites, o.unit, &o.region, o.inside, o.side, o.stage)
-        }
-    }
+        Sites::General(sites) => sites,
+    };
+    empty_of_sites(machine, sites, o.unit, &o.region, o.inside, o.side, o.stage)
 }
 
 /// Which empty homothet to find: the unit, the region its centre lies in
