@@ -31,7 +31,7 @@
 //! A radius below the smallest enclosing circle's is an error: no disc holds
 //! every site.
 
-use crate::geometry::predicates::convex_hull;
+use crate::geometry::exact::predicates::convex_hull;
 use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;
@@ -42,7 +42,7 @@ use crate::{
         voronoi::{draw_point_tiles, TileExtras, VoronoiOptions},
     },
     error::{Error, Result},
-    geometry::circle::welzl,
+    geometry::exact::circle::welzl,
     geometry::{
         frame::{first_of_each, Checked},
         Frame,

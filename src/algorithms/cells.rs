@@ -23,9 +23,9 @@ use crate::{
     error::Result,
     geometry::{
         cell::Rect,
-        exact_cell::CellBuilder,
+        exact::cell::CellBuilder,
+        exact::predicates::orient,
         frame::{check_sites, Checked},
-        predicates::orient,
     },
     Backend, Control,
 };

@@ -39,9 +39,9 @@ use crate::{
     error::{Error, Result},
     geometry::seed::Seed,
     geometry::{
+        exact::predicates::orient,
         frame::{distinct_by, Checked},
         mesh::Mesh,
-        predicates::orient,
         scale,
         triangulation::{validate, Validity, DUMMY},
         Frame,

@@ -13,7 +13,7 @@
 use crate::memory::Gather;
 use std::{borrow::Cow, cmp::Ordering};
 
-use crate::geometry::predicates::convex_hull;
+use crate::geometry::exact::predicates::convex_hull;
 use glam::DVec2;
 use rand::SeedableRng;
 use rayon::prelude::*;

@@ -7,7 +7,7 @@ use glam::DVec2;
 
 use crate::{
     algorithms::interpolate::walk::{Place, Triangles},
-    geometry::{frame::check_sites, predicates::orient},
+    geometry::{exact::predicates::orient, frame::check_sites},
     Error, Result,
 };
 

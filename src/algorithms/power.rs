@@ -7,7 +7,7 @@
 //! point lies on or above the lower hull is hidden at once; an illegal edge
 //! whose quadrilateral is not convex takes out its reflex corner if three
 //! triangles surround it, a site the new one hides. Every predicate is
-//! exact ([`crate::geometry::power`]).
+//! exact ([`crate::geometry::exact::power`]).
 //!
 //! The cells are the rectangle clipped by the radical axes with each site's
 //! neighbours in the triangulation, every decision exact and every corner
@@ -35,11 +35,11 @@ use crate::{
     cancel::Watch,
     control::Control,
     geometry::{
-        exact_cell::CellBuilder,
+        exact::cell::CellBuilder,
+        exact::power::{compare_power, power_of, PowerEstimate, Weighted},
+        exact::predicates::orient,
         frame::check_sites,
         mesh::Mesh,
-        power::{compare_power, power_of, PowerEstimate, Weighted},
-        predicates::orient,
         triangulation::DUMMY,
         Frame,
     },
@@ -115,7 +115,7 @@ impl Regular {
 ///
 /// ```
 /// use glam::DVec2;
-/// use pixgeo::{algorithms::{cells::CellsOptions, power::power_cells}, geometry::{cell::Rect, power::Weighted}};
+/// use pixgeo::{algorithms::{cells::CellsOptions, power::power_cells}, geometry::{cell::Rect, exact::power::Weighted}};
 ///
 /// let at = [(1.0, 1.0, 0.0), (3.0, 1.0, 0.0), (2.0, 3.0, 0.0), (2.0, 1.6, -9.0)];
 /// let sites: Vec<Weighted> = at

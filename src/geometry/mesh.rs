@@ -13,8 +13,8 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::buckets::group_by_bucket;
-use super::power::{power_test, Weighted};
-use super::predicates::{incircle, orient};
+use super::exact::power::{power_test, Weighted};
+use super::exact::predicates::{incircle, orient};
 pub use super::triangulation::DUMMY;
 use std::cmp::Ordering;
 

@@ -328,7 +328,7 @@ fn piecewise_linear(metric: Metric) -> bool {
 /// where a side of the ball touches the circle (its normals' directions), and
 /// the arc's ends. Each candidate is computed stably (products of sums for the
 /// differences of squares), so its error is a few ulps of the sizes involved;
-/// `geometry::exact_site` computes the same candidates exactly.
+/// `geometry::exact::site` computes the same candidates exactly.
 pub(crate) fn polygonal_curve_distance(
     metric: Metric,
     e: DVec2,

@@ -16,7 +16,7 @@ use std::collections::HashMap;
 
 use glam::DVec2;
 
-use super::predicates::{incircle, orient};
+use super::exact::predicates::{incircle, orient};
 
 /// The vertex at infinity.
 pub const DUMMY: u32 = u32::MAX;

@@ -1,6 +1,7 @@
 //! The core's shape: it compiles no file format (the readers and writers live
-//! in `pixgeo-io`, which a library user need not take), and no two of its
-//! modules import each other (a route is its problem's child, not its peer).
+//! in `pixgeo-io`, which a library user need not take), no two of its modules
+//! import each other (a route is its problem's child, not its peer), and
+//! rationals are computed with in the exact kernel alone.
 
 #[test]
 fn the_core_depends_on_no_file_format() {
@@ -106,5 +107,44 @@ fn no_two_modules_of_the_core_import_each_other() {
     assert!(
         circles.is_empty(),
         "modules importing each other: {circles:?}"
+    );
+}
+
+/// Every file of the core outside `geometry/exact/` that names a rational or
+/// big-integer type or crate, with the name.
+fn rationals_outside_the_kernel() -> (Vec<String>, usize) {
+    let names = [
+        "num_rational",
+        "num_bigint",
+        "num_traits",
+        "num_integer",
+        "BigRational",
+        "BigInt",
+    ];
+    let (mut outside, mut inside) = (Vec::new(), 0);
+    for (path, _) in modules() {
+        let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let file = path.iter().fold(file, |f, p| f.join(p));
+        let text = std::fs::read_to_string(file.with_extension("rs"))
+            .or_else(|_| std::fs::read_to_string(file.join("mod.rs")))
+            .or_else(|_| std::fs::read_to_string(file.join("lib.rs")))
+            .expect("the module's file");
+        for name in names.iter().filter(|n| text.contains(*n)) {
+            match path.starts_with(&["geometry".to_string(), "exact".to_string()]) {
+                true => inside += 1,
+                false => outside.push(format!("{} names {name}", path.join("/"))),
+            }
+        }
+    }
+    (outside, inside)
+}
+
+#[test]
+fn rationals_are_computed_with_in_the_exact_kernel_alone() {
+    let (outside, inside) = rationals_outside_the_kernel();
+    assert!(inside > 10, "the kernel names rationals {inside} times");
+    assert!(
+        outside.is_empty(),
+        "rationals outside geometry::exact: {outside:?}"
     );
 }

@@ -2,8 +2,6 @@
 //! degenerate answers, and the neighbours' first guess.
 
 use super::*;
-use crate::geometry::{exact::nearest_double, triangle::exact_double_area};
-use num_rational::BigRational;
 
 /// The sites a quadrangle's vertices are searched among (the distinct ones;
 /// for the largest, the hull's vertices where there are four), and the hull; an
@@ -137,15 +135,6 @@ pub(crate) fn counter_clockwise(sites: &[DVec2], mut v: Vec<u32>) -> Vec<u32> {
     v
 }
 
-/// The area of a convex ring, exactly (a fan of triangles from its first
-/// vertex), rounded to the nearest double.
-pub(super) fn polygon_area(sites: &[DVec2], ring: &[u32]) -> f64 {
-    let twice = (1..ring.len().saturating_sub(1))
-        .map(|k| exact_double_area(sites, &[ring[0], ring[k], ring[k + 1]]))
-        .fold(BigRational::from_integer(0.into()), |a, b| a + b);
-    nearest_double(&(twice / BigRational::from_integer(2.into())))
-}
-
 /// Neighbouring sites along rows of square cells (boustrophedon), whose
 /// consecutive triples and quadruples are small shapes: the sample of §7.3.3.
 #[expect(
@@ -197,7 +186,7 @@ pub(super) fn neighbour_triangle(
     }
     let hull_ring = convex_hull(&points);
     let triangles = (2 * points.len()).saturating_sub(hull + 2).max(1);
-    let pigeonhole = polygon_area(&points, &hull_ring) / triangles as f64;
+    let pigeonhole = convex_ring_area(&points, &hull_ring) / triangles as f64;
     // Both rounded to nearest: a bound half an ulp up holds.
     let bound = best.1.min(pigeonhole) * (1.0 + f64::EPSILON);
     (best.0, best.1, bound)

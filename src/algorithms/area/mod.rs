@@ -30,7 +30,7 @@
 //! such sites on the sides of every diagonal.
 
 use super::ms;
-use crate::geometry::predicates::convex_hull;
+use crate::geometry::exact::predicates::convex_hull;
 use crate::memory::Gather;
 use std::{cmp::Ordering, time::Instant};
 
@@ -39,12 +39,12 @@ use glam::DVec2;
 use crate::{
     error::{Error, Result},
     geometry::{
-        frame::{check_sites, first_of_each},
-        scale, Frame,
+        exact::predicates::orient,
+        exact::triangle::{area_bounds, compare_areas, convex_ring_area, exact_area, sides_of},
     },
     geometry::{
-        predicates::orient,
-        triangle::{area_bounds, compare_areas, exact_area, sides_of},
+        frame::{check_sites, first_of_each},
+        scale, Frame,
     },
     machine::{
         shaders, Buffer, Clear, ClearColor, Compare, DepthTest, Draw, DrawParams, Format,

@@ -130,7 +130,7 @@ impl<'m> Roofs<'m> {
         // [0, 1].
         let depth_per_area = match bound {
             Some(b) => 0.5 / b,
-            None => 1.0 / (polygon_area(sites, hull) * 1.001),
+            None => 1.0 / (convex_ring_area(sites, hull) * 1.001),
         };
         let px2 = frame.scale * frame.scale;
         Ok(Self {

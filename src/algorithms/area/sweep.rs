@@ -7,7 +7,7 @@
 //! (thesis ch. 7, [`super`]) leave sites that share a pixel
 //! to an exhaustive search.
 
-use crate::geometry::predicates::convex_hull;
+use crate::geometry::exact::predicates::convex_hull;
 use crate::memory::Gather;
 use std::{ops::Range, time::Instant};
 

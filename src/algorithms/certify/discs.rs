@@ -5,12 +5,10 @@
 use std::cmp::Ordering;
 
 use glam::DVec2;
-use num_rational::BigRational;
-use num_traits::Zero;
 
 use super::{Certifier, FloatKey};
 use crate::geometry::{
-    exact::{exact_float_key, exact_key, exact_order, pixel_offset},
+    exact::{distance::PixelOffset, exact_float_key},
     metric::Metric,
 };
 
@@ -83,10 +81,8 @@ impl Certifier<'_> {
             // least itself, and a float32 key too small for a normal number
             // would reach a device flushed to zero.
             let site = self.sites[disc.site as usize];
-            let centred = disc.lo == 0.0
-                && pixel_offset(&self.frame, site, disc.pixel)
-                    .iter()
-                    .all(|d| d.is_zero());
+            let centred =
+                disc.lo == 0.0 && PixelOffset::of(&self.frame, site, disc.pixel).is_zero();
             return match centred {
                 true => 0.0,
                 false => round_up_f32(disc.hi).max(f32::MIN_POSITIVE),
@@ -99,12 +95,12 @@ impl Certifier<'_> {
             if disc.lo == disc.hi {
                 return m < disc.lo;
             }
-            let key = exact.get_or_insert_with(|| {
-                let site = self.sites[disc.site as usize];
-                exact_key(self.metric, &pixel_offset(&self.frame, site, disc.pixel))
-                    .expect("L1, L2, L∞ and integer p keys are rational")
+            let offset = exact.get_or_insert_with(|| {
+                PixelOffset::of(&self.frame, self.sites[disc.site as usize], disc.pixel)
             });
-            BigRational::from_integer((m as i64).into()) < *key
+            offset
+                .key_exceeds(self.metric, m as i64)
+                .expect("L1, L2, L∞ and integer p keys are rational")
         };
         let mut largest = disc.lo.ceil() - 1.0;
         while largest + 1.0 <= disc.hi && below(largest + 1.0) {
@@ -136,9 +132,8 @@ impl Certifier<'_> {
         if lo > disc.hi || (lo == hi && disc.lo == disc.hi) {
             return lo < disc.lo;
         }
-        let to_site = pixel_offset(&self.frame, self.sites[disc.site as usize], disc.pixel);
-        let to_position = offset.map(|v| BigRational::from_integer(v.into()));
-        let order = exact_order(self.metric, &to_position, &to_site);
+        let to_site = PixelOffset::of(&self.frame, self.sites[disc.site as usize], disc.pixel);
+        let order = PixelOffset::whole(offset).order(self.metric, &to_site);
         order.map_or(lo < disc.lo, |o| o == Ordering::Less)
     }
 
@@ -171,9 +166,9 @@ impl Certifier<'_> {
         if ca.lo > cb.hi {
             return false;
         }
-        let oa = pixel_offset(&self.frame, self.sites[a as usize], pixel);
-        let ob = pixel_offset(&other.frame, other.sites[b as usize], pixel);
-        let order = exact_order(self.metric, &oa, &ob);
+        let oa = PixelOffset::of(&self.frame, self.sites[a as usize], pixel);
+        let ob = PixelOffset::of(&other.frame, other.sites[b as usize], pixel);
+        let order = oa.order(self.metric, &ob);
         order.map_or(ca.lo <= cb.lo, |o| o != Ordering::Greater)
     }
 }

@@ -2,17 +2,11 @@
 //! estimate from the site's place and its rest, and exact keys where the
 //! estimate's bound straddles a float32 rounding boundary.
 
-use std::cmp::Ordering;
-
 use glam::DVec2;
-use num_rational::BigRational;
 use rayon::prelude::*;
 
 use super::{Certifier, Region};
-use crate::geometry::{
-    exact::{exact_key, pixel_offset, rational},
-    metric::Metric,
-};
+use crate::geometry::exact::distance::rounded_pixel_distance;
 
 impl Certifier<'_> {
     /// Each label's distance in `region` (world units, float32, every level) to
@@ -67,57 +61,8 @@ impl Certifier<'_> {
         if lo == hi {
             return lo;
         }
-        let scale = self.frame.scale;
         let at = [pixel.x as i64, pixel.y as i64];
-        let Some(key) = exact_key(
-            metric,
-            &pixel_offset(&self.frame, self.sites[id as usize], at),
-        ) else {
-            return (estimate * to_world) as f32;
-        };
-        rounded_root(&key, key_power(metric), scale, lo, hi)
+        rounded_pixel_distance(metric, &self.frame, self.sites[id as usize], at, [lo, hi])
+            .unwrap_or((estimate * to_world) as f32)
     }
-}
-
-/// The power of the distance that [`exact_key`] gives for `metric`: 2 for
-/// L2, p for L_p with p whole, 1 for L1, L∞ and polygons.
-fn key_power(metric: Metric) -> u32 {
-    match metric {
-        Metric::L2 => 2,
-        Metric::Lp(p) => p as u32,
-        _ => 1,
-    }
-}
-
-/// The float32 nearest `d = key^(1/power) / scale` (ties to even), known to
-/// lie in `[lo, hi]` (non-negative): a binary search over the float32s
-/// between, each step comparing `d` exactly with the midpoint above a
-/// float32 as `(midpoint · scale)^power` against `key`.
-fn rounded_root(key: &BigRational, power: u32, scale: f64, lo: f32, hi: f32) -> f32 {
-    let scale = rational(scale);
-    // Whether d lies beyond the midpoint of r and the float32 above it (on
-    // it, towards the even one).
-    let above = |r: f32| {
-        let up = f32::from_bits(r.to_bits() + 1);
-        // Past the largest float32, the overflow threshold.
-        let mid = match up.is_finite() {
-            true => (r as f64 + up as f64) / 2.0,
-            false => f32::MAX as f64 + 2f64.powi(103),
-        };
-        match num_traits::pow(rational(mid) * &scale, power as usize).cmp(key) {
-            Ordering::Less => true,
-            Ordering::Equal => r.to_bits() % 2 == 1,
-            Ordering::Greater => false,
-        }
-    };
-    let (mut a, mut b) = (lo.to_bits(), hi.to_bits());
-    while a < b {
-        let m = a + (b - a) / 2;
-        if above(f32::from_bits(m)) {
-            a = m + 1;
-        } else {
-            b = m;
-        }
-    }
-    f32::from_bits(a)
 }

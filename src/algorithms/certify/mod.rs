@@ -23,7 +23,6 @@ use crate::memory::Gather;
 use std::cmp::Ordering;
 
 use glam::DVec2;
-use num_rational::BigRational;
 use rayon::prelude::*;
 
 pub(crate) use discs::Disc;
@@ -32,9 +31,9 @@ use crate::{
     cancel::Watch,
     error::{Error, Result},
     geometry::{
-        bisector::Bisectors,
         buckets::PointGrid,
-        exact::{exact_float_key, exact_order, pixel_offset, to_pixel_parts, two_difference},
+        exact::bisector::Bisectors,
+        exact::{distance::PixelOffset, exact_float_key, to_pixel_parts, two_difference},
         metric::Metric,
         Frame,
     },
@@ -578,7 +577,7 @@ impl<'a> Certifier<'a> {
     ) -> Result<()> {
         // An insertion sort: nearly sorted already, and most comparisons are
         // decided by the intervals.
-        let mut exact: Vec<Option<[BigRational; 2]>> =
+        let mut exact: Vec<Option<PixelOffset>> =
             crate::memory::filled(candidates.len(), None, "exact candidates")?;
         let mut ranked: Vec<usize> = crate::memory::room(candidates.len(), "ranked candidates")?;
         for n in 0..candidates.len() {
@@ -607,7 +606,7 @@ impl<'a> Certifier<'a> {
         &self,
         p: [i64; 2],
         candidates: &[Candidate],
-        exact: &mut [Option<[BigRational; 2]>],
+        exact: &mut [Option<PixelOffset>],
         a: usize,
         b: usize,
     ) -> Result<Ordering> {
@@ -638,11 +637,11 @@ impl<'a> Certifier<'a> {
         for n in [a, b] {
             if exact[n].is_none() {
                 let site = self.sites[candidates[n].id as usize];
-                exact[n] = Some(pixel_offset(&self.frame, site, p));
+                exact[n] = Some(PixelOffset::of(&self.frame, site, p));
             }
         }
         let (ea, eb) = (exact[a].as_ref().unwrap(), exact[b].as_ref().unwrap());
-        match exact_order(self.metric, ea, eb) {
+        match ea.order(self.metric, eb) {
             Some(order) => Ok(order),
             None => Err(Error::out_of_range(format!(
                 "pixel ({}, {}) is as far from site {} as from site {} under {} to 4096 bits, \

@@ -17,7 +17,7 @@
 //! The picture is cut into bands of rows, one per thread; sites are sorted by row
 //! so that each offset visits only the sites that land in the band.
 
-use crate::geometry::predicates::convex_hull;
+use crate::geometry::exact::predicates::convex_hull;
 use crate::memory::Gather;
 use glam::DVec2;
 use rayon::prelude::*;

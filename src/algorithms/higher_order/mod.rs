@@ -31,9 +31,9 @@ use crate::{
     geometry::{
         chain::{unit_fan_over, MetricFan},
         cone::{fan_distance_error, unit_fan, unit_footprint, FanShape},
+        exact::predicates::convex_hull,
         frame::{distance2_to_rect, first_of_each, Checked},
         metric::Metric,
-        predicates::convex_hull,
         radius, Frame,
     },
     machine::{

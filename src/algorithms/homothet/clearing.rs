@@ -1,47 +1,13 @@
 //! The candidate centres of the largest circle clearing points and segments:
 //! the vertices of their Voronoi diagram and its crossings with the region's
 //! edges, each with the three pieces that determine it, so that
-//! `clearing_exact` can decide the best of them exactly.
+//! the exact kernel (`geometry::exact::clearing`) can decide the best of them
+//! exactly.
 
 use glam::DVec2;
 
 use super::quadratic_roots;
-
-/// A condition on a clearing circle of centre c and radius r.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Piece {
-    /// |c − p| = r.
-    Point(DVec2),
-    /// side · (n̂·(c − a)) = r for the unit normal n̂ = (b − a)⊥ / |b − a|
-    /// of the line through a and b, side ±1.
-    Line(DVec2, DVec2, f64),
-    /// c on the line through a and b.
-    Wall(DVec2, DVec2),
-}
-
-/// A candidate centre in doubles and what determines it exactly: three
-/// pieces, or nothing where the centre is a given point (a site, a wall's end).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Vertex {
-    pub centre: DVec2,
-    pub pieces: Option<[Piece; 3]>,
-}
-
-impl Vertex {
-    pub fn at(centre: DVec2) -> Self {
-        Self {
-            centre,
-            pieces: None,
-        }
-    }
-
-    fn meeting(centre: DVec2, pieces: [Piece; 3]) -> Self {
-        Self {
-            centre,
-            pieces: Some(pieces),
-        }
-    }
-}
+use crate::geometry::exact::clearing::{Piece, Vertex};
 
 /// Every centre equidistant (Euclidean) from three of the points and the
 /// lines through `lines`, and every point of a `walls` segment equidistant

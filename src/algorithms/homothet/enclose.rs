@@ -553,8 +553,11 @@ fn circle_through(sites: &[DVec2], circle: Homothet) -> Homothet {
     let at = |k: usize| sites[circle.sites[k] as usize];
     let index = |k: usize| circle.sites[k] as usize;
     let exact = match circle.sites.len() {
-        2 => crate::geometry::circle::through_two(at(0), at(1), index(0), index(1)),
-        3 => crate::geometry::circle::through_three([at(0), at(1), at(2)], [0, 1, 2].map(index)),
+        2 => crate::geometry::exact::circle::through_two(at(0), at(1), index(0), index(1)),
+        3 => crate::geometry::exact::circle::through_three(
+            [at(0), at(1), at(2)],
+            [0, 1, 2].map(index),
+        ),
         _ => return circle,
     };
     Homothet {

@@ -39,7 +39,7 @@ impl RegionMesh {
                     [(-h, -h), (h, -h), (h, h), (-h, h)].map(|(x, y)| e + DVec2::new(x, y))
                 })
                 .collect();
-            let hull: Vec<DVec2> = crate::geometry::predicates::convex_hull(&corners)
+            let hull: Vec<DVec2> = crate::geometry::exact::predicates::convex_hull(&corners)
                 .into_iter()
                 .map(|i| corners[i as usize])
                 .collect();

@@ -46,11 +46,10 @@ use crate::{
 use crate::algorithms::cones::{draw_cones, ConeDraw, ConePush, SITE_FAN};
 
 mod clearing;
-mod clearing_exact;
 mod refine;
 
-use clearing::{clearing_vertices, Piece, Vertex};
-use clearing_exact::{certify, Certified, Obstacle, Placement};
+use crate::geometry::exact::clearing::{certify, Certified, Obstacle, Piece, Placement, Vertex};
+use clearing::clearing_vertices;
 use refine::{
     best_of_clusters, best_vertex, branch_and_bound, clusters, quadratic_roots, smallest_circle,
     Goal,

@@ -192,7 +192,7 @@ pub(super) fn smallest_circle(
     loop {
         rounds += 1;
         let points: Vec<DVec2> = chosen.iter().map(|&i| sites[i as usize]).collect();
-        let circle = crate::geometry::circle::welzl(&points);
+        let circle = crate::geometry::exact::circle::welzl(&points);
         let missed: Vec<u32> = (0..sites.len() as u32)
             .filter(|&i| !circle.holds(&points, sites[i as usize]))
             .collect();
@@ -483,13 +483,8 @@ pub(super) fn exact_k_circle(
     frame: &Frame,
     pixels: &[usize],
 ) -> Option<Homothet> {
-    use crate::geometry::exact::{
-        circumcentre_exact, distance_squared, nearest_double, nearest_double_sqrt, rational_point,
-    };
-    use num_rational::BigRational;
-    let exact: Vec<[BigRational; 2]> = sites.iter().map(|&s| rational_point(s)).collect();
-    let two = BigRational::from_integer(2.into());
-    let mut best: Option<([BigRational; 2], BigRational, f64)> = None;
+    use crate::geometry::exact::circle::ExactCircle;
+    let mut best: Option<(ExactCircle, f64)> = None;
     for cluster in clusters(frame, pixels) {
         let (around, reach) = surroundings(frame, &cluster);
         // The float search's radius is within rounding of the optimum's, which
@@ -529,52 +524,39 @@ pub(super) fn exact_k_circle(
         }
         circles.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (r, [i, j, l]) in circles {
-            if best.as_ref().is_some_and(|b| r > b.2 * (1.0 + 1e-9)) {
+            if best.as_ref().is_some_and(|b| r > b.1 * (1.0 + 1e-9)) {
                 break;
             }
-            let c = match j == l {
-                true => {
-                    let (p, q) = (&exact[i as usize], &exact[j as usize]);
-                    [(&p[0] + &q[0]) / &two, (&p[1] + &q[1]) / &two]
-                }
-                false => {
-                    let (p, q, u) = (sites[i as usize], sites[j as usize], sites[l as usize]);
-                    match circumcentre_exact(p, q, u) {
-                        Some(c) => c,
-                        None => continue,
-                    }
-                }
+            let (p, q) = (sites[i as usize], sites[j as usize]);
+            let circle = match j == l {
+                true => ExactCircle::on_diameter(p, q),
+                false => match ExactCircle::through(p, q, sites[l as usize]) {
+                    Some(circle) => circle,
+                    None => continue,
+                },
             };
-            let r2 = distance_squared(&c, &exact[i as usize]);
-            if best.as_ref().is_some_and(|b| b.1 <= r2) {
+            if best
+                .as_ref()
+                .is_some_and(|b| b.0.compare_radius(&circle).is_le())
+            {
                 continue;
             }
-            let cf = DVec2::new(nearest_double(&c[0]), nearest_double(&c[1]));
-            let rf = nearest_double(&r2);
-            // The rounded centre is within `delta` of the exact one.
-            let delta = cf.abs().max_element() * f64::EPSILON;
             let held = held_by
                 .iter()
-                .filter(|&&i| {
-                    let d = sites[i as usize].distance_squared(cf);
-                    let margin = 3.0 * d.sqrt() * delta + 2.0 * delta * delta + 1e-12 * (d + rf);
-                    if (d - rf).abs() > margin + f64::MIN_POSITIVE {
-                        return d < rf;
-                    }
-                    distance_squared(&c, &exact[i as usize]) <= r2
-                })
+                .filter(|&&i| circle.holds(sites[i as usize]))
                 .count();
             if held >= k {
-                best = Some((c, r2, r));
+                best = Some((circle, r));
             }
         }
     }
-    let (c, r2, _) = best?;
+    let (circle, _) = best?;
+    let (centre, radius) = circle.rounded();
     Some(Homothet {
-        centre: [nearest_double(&c[0]), nearest_double(&c[1])],
-        scale: nearest_double_sqrt(&r2),
+        centre: centre.into(),
+        scale: radius,
         sites: (0..sites.len() as u32)
-            .filter(|&i| distance_squared(&c, &exact[i as usize]) == r2)
+            .filter(|&i| circle.passes_through(sites[i as usize]))
             .collect(),
     })
 }

@@ -28,8 +28,8 @@ use crate::{
     algorithms::lloyd::nearest_labels,
     cancel::Watch,
     geometry::{
+        exact::predicates::{convex_hull, orient},
         frame::Checked,
-        predicates::{convex_hull, orient},
         scale::times_power_of_two,
         Frame,
     },

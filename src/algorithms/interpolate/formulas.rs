@@ -1,7 +1,7 @@
-//! The linear and Sibson interpolants at a point, written once for two kinds
-//! of number: double-double values that carry an error bound ([`Bounded`]),
-//! which settle the correctly rounded answer almost everywhere, and
-//! rationals, which settle the rest exactly.
+//! The linear and Sibson interpolants at a point, written once for the
+//! exact kernel's two kinds of [`Number`]: double-double values that carry
+//! an error bound, which settle the correctly rounded answer almost
+//! everywhere, and rationals, which settle the rest exactly.
 //!
 //! Coordinates are taken relative to the query point `q`; differences of two
 //! doubles are exact in both kinds.
@@ -17,43 +17,10 @@
 //! `q` with an inner edge is needed, so `q` on an inner edge is no special
 //! case.
 
-use std::ops::{Add, Div, Mul, Sub};
-
 use glam::DVec2;
-use num_rational::BigRational;
 
 use super::walk::Triangles;
-use crate::geometry::{
-    bounded::Bounded,
-    exact::{nearest_double, rational},
-};
-
-/// A number the formulas are evaluated in.
-pub(crate) trait Number:
-    Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
-{
-    fn exact(v: f64) -> Self;
-    /// `a - b` of two doubles, exactly.
-    fn difference(a: f64, b: f64) -> Self;
-}
-
-impl Number for Bounded {
-    fn exact(v: f64) -> Self {
-        Bounded::exact(v)
-    }
-    fn difference(a: f64, b: f64) -> Self {
-        Bounded::difference(a, b)
-    }
-}
-
-impl Number for BigRational {
-    fn exact(v: f64) -> Self {
-        rational(v)
-    }
-    fn difference(a: f64, b: f64) -> Self {
-        rational(a) - rational(b)
-    }
-}
+use crate::geometry::exact::number::Number;
 
 #[derive(Clone)]
 pub(crate) struct Point<T> {
@@ -220,17 +187,4 @@ pub(crate) fn sibson<T: Number>(
         total = total + area;
     }
     sum / total
-}
-
-/// The double nearest the interpolant `evaluate` gives: settled by the
-/// bounded double-double evaluation where it can, else by rationals. Also
-/// says whether rationals were needed.
-pub(crate) fn nearest(
-    bounded: impl Fn() -> Bounded,
-    exact: impl Fn() -> BigRational,
-) -> (f64, bool) {
-    match bounded().nearest_plus(0.0) {
-        Some(v) => (v, false),
-        None => (nearest_double(&exact()), true),
-    }
 }

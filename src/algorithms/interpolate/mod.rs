@@ -29,7 +29,6 @@ pub use discrete::discrete_sibson;
 
 use crate::memory::Gather;
 use glam::DVec2;
-use num_rational::BigRational;
 use rayon::prelude::*;
 
 use crate::{
@@ -39,11 +38,16 @@ use crate::{
     },
     cancel::Watch,
     control::Control,
-    geometry::{bounded::Bounded, exact::nearest_double, frame::Checked, scale, Frame},
+    geometry::{
+        exact::bounded::Bounded,
+        exact::number::{nearest, Exact},
+        frame::Checked,
+        scale, Frame,
+    },
     machine::PixelRect,
     Backend, Error, Need, Result,
 };
-use formulas::{centre_offset, linear, nearest, on_plane, sibson, slopes, Point};
+use formulas::{centre_offset, linear, on_plane, sibson, slopes, Point};
 use walk::{Place, Triangles};
 
 /// How values are interpolated between the sites.
@@ -389,7 +393,7 @@ impl Mesh<'_> {
             walk.cavity(p, t, &mut cavity);
         }
         let exact = &self.exact;
-        let by_rationals = || -> BigRational {
+        let by_rationals = || -> Exact {
             match sibson_weights {
                 true => sibson(q, exact, &cavity, |t| centre_offset(exact, t), values),
                 false => linear(q, exact, t, values),
@@ -397,7 +401,7 @@ impl Mesh<'_> {
         };
         // A point the scaling would move is settled in rationals at once.
         let Some(sq) = scaled else {
-            return Ok((nearest_double(&by_rationals()), true));
+            return Ok((by_rationals().nearest(), true));
         };
         let offset = |t: u32| self.offsets[t as usize].clone();
         Ok(nearest(

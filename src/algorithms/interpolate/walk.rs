@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use glam::DVec2;
 
 use crate::{
-    geometry::predicates::{incircle, orient},
+    geometry::exact::predicates::{incircle, orient},
     Error, Result,
 };
 

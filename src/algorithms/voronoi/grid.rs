@@ -377,13 +377,7 @@ fn nearest_of(apart: Apart, candidates: &[Candidate], p: DVec2) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use num_rational::BigRational;
-
-    fn exact_key(p: DVec2, s: DVec2) -> BigRational {
-        let r = |v: f64| BigRational::from_float(v).expect("finite");
-        let (dx, dy) = (r(p.x) - r(s.x), r(p.y) - r(s.y));
-        &dx * &dx + &dy * &dy
-    }
+    use crate::geometry::exact::compare_distances;
 
     /// Sites mirrored about the block's corner pixel, one a few ulps
     /// nearer, far enough off that their keys' float difference is mostly
@@ -414,7 +408,7 @@ mod tests {
                 gather(sites.into_iter(), first, last, nearest, 0.0, &mut list);
                 order(&mut list, first, last);
                 let corner = DVec2::ZERO;
-                if exact_key(corner, other) > exact_key(corner, owner) {
+                if compare_distances(corner, other, corner, owner).is_gt() {
                     continue;
                 }
                 ties += 1;

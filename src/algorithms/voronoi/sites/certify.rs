@@ -6,7 +6,7 @@
 //! lower bound of their weighted distance there; each pixel bounds the
 //! distances of the sites that may beat its proposal by an f64 evaluation
 //! with an error bound, and where the best interval overlaps another the two
-//! are ordered exactly (`geometry::exact_site`). Equal distances go to the
+//! are ordered exactly (`geometry::exact::site`). Equal distances go to the
 //! smaller index. Distances are then recomputed from the labels as the CPU's
 //! algorithm computes them, so devices and tilings agree to the bit.
 
@@ -20,8 +20,8 @@ use crate::{
     cancel::Watch,
     error::{Error, Result},
     geometry::{
+        exact::site::ExactFrame,
         exact::{to_pixel_bounded, two_difference, two_product},
-        exact_site::ExactFrame,
         metric::Metric,
         site::{polygonal_curve_distance, ArcWedge, Shape, Site},
         Frame,

@@ -1,6 +1,33 @@
-//! Exact arithmetic on the user's doubles: the error-free transformations that
-//! tell when a float computation was exact (Knuth's and Dekker's), and rationals
-//! for the few comparisons that floats cannot decide.
+//! The exact kernel: every number representation pixgeo decides with (the
+//! error-free transformations, double-double values with an error bound,
+//! rational intervals, surds and rationals) and the predicates and
+//! constructions built on them. Algorithms call these by name; no other module
+//! computes with rationals.
+//!
+//! Here: exact arithmetic on the user's doubles, the error-free
+//! transformations that tell when a float computation was exact (Knuth's and
+//! Dekker's), and rationals for the few comparisons that floats cannot decide.
+
+#![allow(
+    clippy::disallowed_types,
+    reason = "the kernel is where pixgeo computes with rationals (clippy.toml)"
+)]
+
+pub(crate) mod bisector;
+pub(crate) mod bounded;
+pub(crate) mod cell;
+pub mod circle;
+pub(crate) mod clearing;
+pub(crate) mod distance;
+pub(crate) mod mean;
+pub(crate) mod number;
+pub mod power;
+pub(crate) mod precise;
+pub mod predicates;
+pub(crate) mod site;
+pub(crate) mod sphere;
+pub(crate) mod surd;
+pub(crate) mod triangle;
 
 use glam::DVec2;
 use num_bigint::BigInt;

@@ -1,5 +1,6 @@
-//! The best of the candidate centres of [`super::clearing`], decided exactly.
-//! The vertices are algebraic (segment normals are square roots, and a vertex
+//! The best of the candidate centres of the largest circle clearing points
+//! and segments (found in doubles by the homothets' `clearing`), decided
+//! exactly. The vertices are algebraic (segment normals are square roots, and a vertex
 //! by a point is a root of a quadratic in them), so each is solved from its
 //! three pieces in rational intervals, its clearance bracketed against the
 //! sites near it, and the precision doubled until the best clearance rounds
@@ -10,15 +11,47 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{Signed, ToPrimitive, Zero};
 
-use super::clearing::{Piece, Vertex};
-use crate::geometry::{
-    exact::{nearest_double, rational},
-    precise::Interval,
-};
+use super::{nearest_double, precise::Interval, rational};
+
+/// A condition on a clearing circle of centre c and radius r.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Piece {
+    /// |c − p| = r.
+    Point(DVec2),
+    /// side · (n̂·(c − a)) = r for the unit normal n̂ = (b − a)⊥ / |b − a|
+    /// of the line through a and b, side ±1.
+    Line(DVec2, DVec2, f64),
+    /// c on the line through a and b.
+    Wall(DVec2, DVec2),
+}
+
+/// A candidate centre in doubles and what determines it exactly: three
+/// pieces, or nothing where the centre is a given point (a site, a wall's end).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Vertex {
+    pub centre: DVec2,
+    pub pieces: Option<[Piece; 3]>,
+}
+
+impl Vertex {
+    pub fn at(centre: DVec2) -> Self {
+        Self {
+            centre,
+            pieces: None,
+        }
+    }
+
+    pub fn meeting(centre: DVec2, pieces: [Piece; 3]) -> Self {
+        Self {
+            centre,
+            pieces: Some(pieces),
+        }
+    }
+}
 
 /// A site a clearing circle must not reach into.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Obstacle {
+pub(crate) enum Obstacle {
     Point(DVec2),
     Segment(DVec2, DVec2),
 }
@@ -35,7 +68,7 @@ impl Obstacle {
 /// The exact answer in the user's coordinates: centre and radius rounded to
 /// doubles, and the obstacles exactly on the circle.
 #[derive(Debug)]
-pub(super) struct Certified {
+pub(crate) struct Certified {
     pub centre: DVec2,
     pub radius: f64,
     pub on: Vec<u32>,
@@ -44,7 +77,7 @@ pub(super) struct Certified {
 /// Where the sites refined lie against the user's: theirs are these times
 /// 2^k plus `origin`, both exact.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Placement {
+pub(crate) struct Placement {
     pub k: i32,
     pub origin: DVec2,
 }
@@ -66,7 +99,7 @@ const PRECISIONS: [u64; 5] = [96, 192, 384, 768, 1536];
     clippy::disallowed_methods,
     reason = "per-site values, within the room the sites reserved where they entered (memory::MEMORY_PER_SITE)"
 )]
-pub(super) fn certify(
+pub(crate) fn certify(
     contenders: &[(Vertex, f64)],
     (obstacles, near): (&[Obstacle], &dyn Fn(DVec2, f64) -> Vec<u32>),
     slack: f64,

@@ -175,7 +175,7 @@ pub(crate) fn cos_sin(x: f64, bits: u64) -> Option<(Interval, Interval)> {
     if x.is_nan() {
         return None;
     }
-    cos_sin_of(&super::exact::rational(x), bits)
+    cos_sin_of(&super::rational(x), bits)
 }
 
 /// [`cos_sin`] of a rational `x`.

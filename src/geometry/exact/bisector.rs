@@ -16,7 +16,8 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::Signed;
 
-use super::{exact::rational, Frame};
+use super::rational;
+use crate::geometry::Frame;
 
 /// Pairs kept before the cache starts over, so that its memory stays small.
 const KEPT: usize = 1 << 16;

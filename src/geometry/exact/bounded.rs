@@ -5,7 +5,8 @@
 
 use std::ops::{Add, Div, Mul, Sub};
 
-use super::exact::{two_product, two_sum};
+use super::two_product;
+use super::two_sum;
 
 /// The unevaluated sum `hi + lo` (`|lo|` at most half an ulp of `hi`),
 /// within `e` of the exact value.

@@ -10,7 +10,8 @@ use std::cmp::Ordering;
 use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 
-use super::{exact::sign_with_root, precise::Interval};
+use super::precise::Interval;
+use super::sign_with_root;
 
 /// The number `w + u √a`, a >= 0.
 #[derive(Clone, Debug)]

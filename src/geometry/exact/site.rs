@@ -17,14 +17,12 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{ToPrimitive, Zero};
 
-use super::{
-    exact::{exact_key, exact_order, rational},
-    metric::Metric,
-    precise::{cos_sin, Interval},
-    site::{ArcWedge, Shape, Site},
-    surd::Surd,
-    Frame,
-};
+use super::precise::{cos_sin, Interval};
+use super::surd::Surd;
+use super::{exact_key, exact_order, rational};
+use crate::geometry::metric::Metric;
+use crate::geometry::site::{ArcWedge, Shape, Site};
+use crate::geometry::Frame;
 
 type Point = [BigRational; 2];
 

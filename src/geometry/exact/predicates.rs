@@ -1,17 +1,15 @@
 //! The exact predicates every construction of pixgeo decides with, and the
 //! convex hull built on them. Orientation and in-circle tests are Shewchuk's
 //! adaptive ones (`robust`) on the points scaled by a power of two into the
-//! range where they neither overflow nor underflow (`super::scale`), and
+//! range where they neither overflow nor underflow (`crate::geometry::scale`), and
 //! rational arithmetic where no power of two fits: their signs are exact for
 //! the doubles given.
 
 use glam::DVec2;
 
-use super::{
-    exact::{incircle_exact, nearest_double, orient_exact},
-    frame::{distinct_by, lexicographic},
-    scale::{self, times_power_of_two},
-};
+use super::{incircle_exact, nearest_double, orient_exact};
+use crate::geometry::frame::{distinct_by, lexicographic};
+use crate::geometry::scale::{self, times_power_of_two};
 
 fn coord(p: DVec2, shift: i32) -> robust::Coord<f64> {
     robust::Coord {

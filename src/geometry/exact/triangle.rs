@@ -6,10 +6,8 @@ use glam::DVec2;
 use num_rational::BigRational;
 use num_traits::Signed;
 
-use super::{
-    exact::{nearest_double, orient_exact},
-    predicates::orient,
-};
+use super::predicates::orient;
+use super::{nearest_double, orient_exact};
 
 /// The best site strictly on each side of the line p → q (left, right): the
 /// nearest (`largest` false) or farthest, by exact area (the first on a tie),
@@ -81,6 +79,15 @@ pub(crate) fn exact_double_area(sites: &[DVec2], ring: &[u32]) -> BigRational {
 /// The exact area of the ring, rounded to the nearest double.
 pub(crate) fn exact_area(sites: &[DVec2], ring: &[u32]) -> f64 {
     nearest_double(&(exact_double_area(sites, ring) / BigRational::from_integer(2.into())))
+}
+
+/// The area of a convex ring, exactly (a fan of triangles from its first
+/// vertex), rounded to the nearest double.
+pub(crate) fn convex_ring_area(sites: &[DVec2], ring: &[u32]) -> f64 {
+    let twice = (1..ring.len().saturating_sub(1))
+        .map(|k| exact_double_area(sites, &[ring[0], ring[k], ring[k + 1]]))
+        .fold(BigRational::from_integer(0.into()), |a, b| a + b);
+    nearest_double(&(twice / BigRational::from_integer(2.into())))
 }
 
 /// The order of two rings' areas, exactly: floats where their bounds keep

@@ -12,13 +12,11 @@ use num_traits::Zero;
 use rand::seq::SliceRandom;
 use rand_chacha::{rand_core::SeedableRng, ChaCha8Rng};
 
+use super::predicates::{incircle, orient};
 use super::{
-    exact::{
-        circumcentre_exact, distance_squared, nearest_double, nearest_double_sqrt, rational_point,
-    },
-    frame::lexicographic,
-    predicates::{incircle, orient},
+    circumcentre_exact, distance_squared, nearest_double, nearest_double_sqrt, rational_point,
 };
+use crate::geometry::frame::lexicographic;
 
 /// A circle and the indices (into the points given) of the points on it that
 /// determine it.
@@ -90,6 +88,76 @@ pub fn through_three(p: [DVec2; 3], i: [usize; 3]) -> Circle {
             let (x, y) = (by_order[0], by_order[2]);
             through_two(p[x], p[y], i[x], i[y])
         }
+    }
+}
+
+/// A circle with an exact centre and squared radius, through sites given as
+/// doubles, for searches that compare circles before rounding any.
+#[derive(Clone, Debug)]
+pub(crate) struct ExactCircle {
+    centre: [BigRational; 2],
+    radius_squared: BigRational,
+    /// The doubles nearest the centre and the squared radius.
+    rounded: (DVec2, f64),
+}
+
+impl ExactCircle {
+    /// The circle on the segment `a b` as diameter.
+    pub fn on_diameter(a: DVec2, b: DVec2) -> Self {
+        let half = BigRational::new(1.into(), 2.into());
+        let [ea, eb] = [a, b].map(rational_point);
+        Self::centred([(&ea[0] + &eb[0]) * &half, (&ea[1] + &eb[1]) * &half], a)
+    }
+
+    /// The circle through `a`, `b` and `c`; `None` where they are collinear.
+    pub fn through(a: DVec2, b: DVec2, c: DVec2) -> Option<Self> {
+        circumcentre_exact(a, b, c).map(|centre| Self::centred(centre, a))
+    }
+
+    fn centred(centre: [BigRational; 2], on: DVec2) -> Self {
+        let radius_squared = distance_squared(&centre, &rational_point(on));
+        let rounded = (
+            DVec2::new(nearest_double(&centre[0]), nearest_double(&centre[1])),
+            nearest_double(&radius_squared),
+        );
+        Self {
+            centre,
+            radius_squared,
+            rounded,
+        }
+    }
+
+    /// The order of the two circles' radii.
+    pub fn compare_radius(&self, other: &Self) -> Ordering {
+        self.radius_squared.cmp(&other.radius_squared)
+    }
+
+    /// Whether `p` lies in the closed disc: by floats where the rounded
+    /// centre's distance is clear of the radius, exactly where not.
+    pub fn holds(&self, p: DVec2) -> bool {
+        let (centre, r2) = self.rounded;
+        // The rounded centre is within `delta` of the exact one.
+        let delta = centre.abs().max_element() * f64::EPSILON;
+        let d = p.distance_squared(centre);
+        let margin = 3.0 * d.sqrt() * delta + 2.0 * delta * delta + 1e-12 * (d + r2);
+        if (d - r2).abs() > margin + f64::MIN_POSITIVE {
+            return d < r2;
+        }
+        self.distance_squared_to(p) <= self.radius_squared
+    }
+
+    /// Whether `p` lies exactly on the circle.
+    pub fn passes_through(&self, p: DVec2) -> bool {
+        self.distance_squared_to(p) == self.radius_squared
+    }
+
+    fn distance_squared_to(&self, p: DVec2) -> BigRational {
+        distance_squared(&self.centre, &rational_point(p))
+    }
+
+    /// The doubles nearest the centre and the radius.
+    pub fn rounded(&self) -> (DVec2, f64) {
+        (self.rounded.0, nearest_double_sqrt(&self.radius_squared))
     }
 }
 

@@ -14,11 +14,9 @@ use glam::DVec2;
 use num_rational::BigRational;
 use num_traits::Zero;
 
-use super::{
-    bounded::Bounded,
-    cell::Rect,
-    exact::{nearest_double, rational},
-};
+use super::bounded::Bounded;
+use super::{nearest_double, rational};
+use crate::geometry::cell::Rect;
 
 /// A line that bounds the cell of site `s`, as `normal . (p - s) = offset`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -11,7 +11,9 @@ use glam::DVec2;
 use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 
-use super::{bounded::Bounded, exact::rational, predicates::filtered};
+use super::bounded::Bounded;
+use super::predicates::filtered;
+use super::rational;
 
 /// A weighted site.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -167,6 +169,6 @@ pub fn power_of(p: DVec2, s: Weighted) -> f64 {
             rational(p.x) - rational(s.at.x),
             rational(p.y) - rational(s.at.y),
         );
-        super::exact::nearest_double(&(&x * &x + &y * &y - rational(s.weight)))
+        super::nearest_double(&(&x * &x + &y * &y - rational(s.weight)))
     })
 }
