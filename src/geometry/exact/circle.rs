@@ -12,6 +12,7 @@ use num_traits::Zero;
 use rand::seq::SliceRandom;
 use rand_chacha::{rand_core::SeedableRng, ChaCha8Rng};
 
+use super::filter::Bound;
 use super::predicates::{incircle, orient};
 use super::{
     circumcentre_exact, distance_squared, nearest_double, nearest_double_sqrt, rational_point,
@@ -48,12 +49,22 @@ impl Circle {
 /// The sign of (p - a)·(p - b), exactly: negative inside the circle on the
 /// segment ab as diameter, zero on it.
 fn diametral_side(a: DVec2, b: DVec2, p: DVec2) -> Ordering {
+    diametral_side_filtered(Bound::DIAMETRAL, a, b, p)
+        .unwrap_or_else(|| diametral_side_exactly(a, b, p))
+}
+
+pub(super) fn diametral_side_filtered(
+    bound: Bound,
+    a: DVec2,
+    b: DVec2,
+    p: DVec2,
+) -> Option<Ordering> {
     let (u, v) = (p - a, p - b);
-    let value = u.x * v.x + u.y * v.y;
-    let bound = 8.0 * f64::EPSILON * (u.x.abs() * v.x.abs() + u.y.abs() * v.y.abs());
-    if value.is_finite() && bound.is_finite() && value.abs() > bound + 4.0 * f64::MIN_POSITIVE {
-        return value.total_cmp(&0.0);
-    }
+    let magnitude = u.x.abs() * v.x.abs() + u.y.abs() * v.y.abs();
+    bound.sign(u.x * v.x + u.y * v.y, magnitude)
+}
+
+pub(super) fn diametral_side_exactly(a: DVec2, b: DVec2, p: DVec2) -> Ordering {
     let [a, b, p] = [a, b, p].map(rational_point);
     let dot = (&p[0] - &a[0]) * (&p[0] - &b[0]) + (&p[1] - &a[1]) * (&p[1] - &b[1]);
     dot.cmp(&BigRational::zero())

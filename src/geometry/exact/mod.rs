@@ -19,6 +19,7 @@ pub(crate) mod cell;
 pub mod circle;
 pub(crate) mod clearing;
 pub(crate) mod distance;
+pub(crate) mod filter;
 pub(crate) mod mean;
 pub(crate) mod number;
 pub mod power;
@@ -37,6 +38,7 @@ use std::cmp::Ordering;
 use num_traits::{Signed, Zero};
 
 use super::{metric::Metric, Frame};
+use filter::Bound;
 
 /// `a - b` as `(x, e)` with `x + e == a - b` exactly.
 pub(crate) fn two_difference(a: f64, b: f64) -> (f64, f64) {
@@ -377,17 +379,12 @@ pub(crate) fn distance_squared(a: &[BigRational; 2], b: &[BigRational; 2]) -> Bi
 /// keeps the squared distances apart, rationals where not.
 pub(crate) fn compare_distances(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
     let (x, y) = (a.distance_squared(b), c.distance_squared(d));
-    let slack = 8.0 * f64::EPSILON;
-    // Squares of differences round by a few ulps while they stay normal.
-    let normal = |v: f64| v.is_finite() && v >= 2f64.powi(-900);
-    if normal(x) && normal(y) {
-        if x * (1.0 + slack) < y * (1.0 - slack) {
-            return Ordering::Less;
-        }
-        if y * (1.0 + slack) < x * (1.0 - slack) {
-            return Ordering::Greater;
-        }
-    }
+    Bound::DISTANCE
+        .order(x, y)
+        .unwrap_or_else(|| compare_distances_exactly(a, b, c, d))
+}
+
+pub(super) fn compare_distances_exactly(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
     let exact = |p: DVec2, q: DVec2| distance_squared(&rational_point(p), &rational_point(q));
     exact(a, b).cmp(&exact(c, d))
 }

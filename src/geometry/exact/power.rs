@@ -12,7 +12,7 @@ use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 
 use super::bounded::Bounded;
-use super::predicates::filtered;
+use super::filter::Bound;
 use super::rational;
 
 /// A weighted site.
@@ -37,12 +37,6 @@ impl Weighted {
     }
 }
 
-/// The sign of `value`, a double within `factor` u of `magnitude` of the
-/// exact value, where that bound decides it ([`filtered`]).
-fn filtered_sign(value: f64, magnitude: f64, factor: f64) -> Option<Ordering> {
-    filtered(value, magnitude, factor).map(|v| v.total_cmp(&0.0))
-}
-
 fn sign_of(r: &BigRational) -> Ordering {
     if r.is_zero() {
         Ordering::Equal
@@ -58,20 +52,7 @@ fn sign_of(r: &BigRational) -> Ordering {
 /// plane through theirs: the regular triangulation holds no such triangle),
 /// `Equal` on the plane. Without weights it is the in-circle test.
 pub fn power_test(a: Weighted, b: Weighted, c: Weighted, d: Weighted) -> Ordering {
-    // Each lift has a relative error of at most 5u against x² + y² + |Δw|,
-    // each minor 4u against |p s| + |q r|, each product of the two 10u and
-    // the sum 2u more: 16u of the permanent bounds the determinant's error.
-    let rows = [a, b, c].map(|s| {
-        let (x, y) = (s.at.x - d.at.x, s.at.y - d.at.y);
-        let gap = s.weight - d.weight;
-        (x, y, x * x + y * y - gap, x * x + y * y + gap.abs())
-    });
-    let [(ax, ay, al, am), (bx, by, bl, bm), (cx, cy, cl, cm)] = rows;
-    let value = al * (bx * cy - by * cx) - bl * (ax * cy - ay * cx) + cl * (ax * by - ay * bx);
-    let permanent = am * ((bx * cy).abs() + (by * cx).abs())
-        + bm * ((ax * cy).abs() + (ay * cx).abs())
-        + cm * ((ax * by).abs() + (ay * bx).abs());
-    if let Some(sign) = filtered_sign(value, permanent, 16.0) {
+    if let Some(sign) = power_test_filtered(Bound::POWER_TEST, a, b, c, d) {
         return sign;
     }
     let rows_bounded = [a, b, c].map(|s| {
@@ -83,6 +64,32 @@ pub fn power_test(a: Weighted, b: Weighted, c: Weighted, d: Weighted) -> Orderin
     if let Some(sign) = determinant(rows_bounded).sign() {
         return sign;
     }
+    power_test_exactly(a, b, c, d)
+}
+
+/// The power test in doubles, where `bound` decides its sign.
+pub(super) fn power_test_filtered(
+    bound: Bound,
+    a: Weighted,
+    b: Weighted,
+    c: Weighted,
+    d: Weighted,
+) -> Option<Ordering> {
+    let rows = [a, b, c].map(|s| {
+        let (x, y) = (s.at.x - d.at.x, s.at.y - d.at.y);
+        let gap = s.weight - d.weight;
+        (x, y, x * x + y * y - gap, x * x + y * y + gap.abs())
+    });
+    let [(ax, ay, al, am), (bx, by, bl, bm), (cx, cy, cl, cm)] = rows;
+    let value = al * (bx * cy - by * cx) - bl * (ax * cy - ay * cx) + cl * (ax * by - ay * bx);
+    let permanent = am * ((bx * cy).abs() + (by * cx).abs())
+        + bm * ((ax * cy).abs() + (ay * cx).abs())
+        + cm * ((ax * by).abs() + (ay * bx).abs());
+    bound.sign(value, permanent)
+}
+
+/// The power test in rationals.
+pub(super) fn power_test_exactly(a: Weighted, b: Weighted, c: Weighted, d: Weighted) -> Ordering {
     let rows = [a, b, c].map(|s| {
         let x = rational(s.at.x) - rational(d.at.x);
         let y = rational(s.at.y) - rational(d.at.y);
@@ -127,8 +134,11 @@ impl PowerEstimate {
     /// magnitudes bounds its error.
     #[inline]
     pub fn compare(self, other: Self) -> Option<Ordering> {
-        let magnitude = self.magnitude + other.magnitude;
-        filtered_sign(self.value - other.value, magnitude, 8.0)
+        self.compare_within(Bound::POWER_ORDER, other)
+    }
+
+    pub(super) fn compare_within(self, bound: Bound, other: Self) -> Option<Ordering> {
+        bound.sign(self.value - other.value, self.magnitude + other.magnitude)
     }
 }
 
@@ -147,6 +157,12 @@ pub fn compare_power(p: DVec2, s: Weighted, t: Weighted) -> Ordering {
     if let Some(sign) = (power(s) - power(t)).sign() {
         return sign;
     }
+    compare_power_exactly(p, s, t)
+}
+
+/// How the power of `p` from `s` compares with its power from `t`, in
+/// rationals.
+pub(super) fn compare_power_exactly(p: DVec2, s: Weighted, t: Weighted) -> Ordering {
     let exact = |s: Weighted| {
         let (x, y) = (
             rational(p.x) - rational(s.at.x),

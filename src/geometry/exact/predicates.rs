@@ -7,6 +7,7 @@
 
 use glam::DVec2;
 
+use super::filter::Bound;
 use super::{incircle_exact, nearest_double, orient_exact};
 use crate::geometry::frame::{distinct_by, lexicographic};
 use crate::geometry::scale::{self, times_power_of_two};
@@ -32,19 +33,6 @@ fn unscaled(value: f64, shift: i32, degree: i32) -> f64 {
     }
 }
 
-/// The unit roundoff of doubles.
-const U: f64 = f64::EPSILON / 2.0;
-
-/// `det` where its error, under `factor` u of `permanent`, cannot change
-/// its sign. Permanents below 1e-250 may have lost bits to underflow that
-/// the bound does not count, and overflowed ones say nothing: both go on
-/// to slower, exact evaluations.
-#[inline]
-pub(crate) fn filtered(det: f64, permanent: f64, factor: f64) -> Option<f64> {
-    let sure = permanent.is_finite() && permanent > 1e-250 && det.abs() > factor * U * permanent;
-    sure.then_some(det)
-}
-
 /// A rational predicate's value as a double, its sign kept.
 fn signed_double(exact: &num_rational::BigRational) -> f64 {
     let value = nearest_double(exact);
@@ -63,11 +51,7 @@ fn signed_double(exact: &num_rational::BigRational) -> f64 {
 /// when collinear; its magnitude is about twice the triangle's signed area.
 /// The sign is exact at every magnitude of the doubles given.
 pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    // Shewchuk's first filter, before any scaling: the determinant in
-    // doubles errs by less than (3 + 16u)u of its permanent.
-    let (left, right) = ((b.x - a.x) * (c.y - a.y), (b.y - a.y) * (c.x - a.x));
-    let det = left - right;
-    if let Some(det) = filtered(det, left.abs() + right.abs(), 3.0 + 16.0 * U) {
+    if let Some(det) = orient_filtered(Bound::ORIENT, a, b, c) {
         return det;
     }
     match scale::predicate_exponent(&[a, b, c]).ok() {
@@ -83,15 +67,7 @@ pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 /// Positive when `d` lies strictly inside the circle through the
 /// counter-clockwise a, b, c; exact at every magnitude, as [`orient`].
 pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
-    // Shewchuk's first filter: (10 + 96u)u of the permanent.
-    let [ad, bd, cd] = [a - d, b - d, c - d];
-    let lift = |p: DVec2| p.x * p.x + p.y * p.y;
-    let minor = |p: DVec2, q: DVec2| (p.x * q.y - q.x * p.y, (p.x * q.y).abs() + (q.x * p.y).abs());
-    let ((bc, bc_m), (ca, ca_m), (ab, ab_m)) = (minor(bd, cd), minor(cd, ad), minor(ad, bd));
-    let (la, lb, lc) = (lift(ad), lift(bd), lift(cd));
-    let det = la * bc + lb * ca + lc * ab;
-    let permanent = la * bc_m + lb * ca_m + lc * ab_m;
-    if let Some(det) = filtered(det, permanent, 10.0 + 96.0 * U) {
+    if let Some(det) = incircle_filtered(Bound::INCIRCLE, a, b, c, d) {
         return det;
     }
     match scale::incircle_exponent(&[a, b, c, d]).ok() {
@@ -101,6 +77,31 @@ pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
         }
         None => signed_double(&incircle_exact(a, b, c, d)),
     }
+}
+
+/// Shewchuk's first filter of [`orient`], before any scaling: the
+/// determinant in doubles where `bound` decides its sign.
+pub(super) fn orient_filtered(bound: Bound, a: DVec2, b: DVec2, c: DVec2) -> Option<f64> {
+    let (left, right) = ((b.x - a.x) * (c.y - a.y), (b.y - a.y) * (c.x - a.x));
+    bound.decides(left - right, left.abs() + right.abs())
+}
+
+/// Shewchuk's first filter of [`incircle`].
+pub(super) fn incircle_filtered(
+    bound: Bound,
+    a: DVec2,
+    b: DVec2,
+    c: DVec2,
+    d: DVec2,
+) -> Option<f64> {
+    let [ad, bd, cd] = [a - d, b - d, c - d];
+    let lift = |p: DVec2| p.x * p.x + p.y * p.y;
+    let minor = |p: DVec2, q: DVec2| (p.x * q.y - q.x * p.y, (p.x * q.y).abs() + (q.x * p.y).abs());
+    let ((bc, bc_m), (ca, ca_m), (ab, ab_m)) = (minor(bd, cd), minor(cd, ad), minor(ad, bd));
+    let (la, lb, lc) = (lift(ad), lift(bd), lift(cd));
+    let det = la * bc + lb * ca + lc * ab;
+    let permanent = la * bc_m + lb * ca_m + lc * ab_m;
+    bound.decides(det, permanent)
 }
 
 /// Indices of the convex hull's vertices, counter-clockwise, points on its edges

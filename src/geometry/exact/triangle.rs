@@ -6,6 +6,7 @@ use glam::DVec2;
 use num_rational::BigRational;
 use num_traits::Signed;
 
+use super::filter::Bound;
 use super::predicates::orient;
 use super::{nearest_double, orient_exact};
 
@@ -49,11 +50,15 @@ pub(crate) fn sides_of(
 /// third), as a float and a bound on its error: Shewchuk's bound on a float
 /// orientation, doubled.
 pub(crate) fn area_bounds(sites: &[DVec2], ring: &[u32]) -> (f64, f64) {
+    area_bounds_within(Bound::AREA, sites, ring)
+}
+
+pub(super) fn area_bounds_within(bound: Bound, sites: &[DVec2], ring: &[u32]) -> (f64, f64) {
     let p = |k: usize| sites[ring[k] as usize];
     let half = |a: DVec2, b: DVec2, c: DVec2| {
         let (l, r) = ((b.x - a.x) * (c.y - a.y), (b.y - a.y) * (c.x - a.x));
-        let bound = 2.0 * (3.0 + 16.0 * f64::EPSILON) * f64::EPSILON * (l.abs() + r.abs());
-        ((l - r).abs() / 2.0, bound / 2.0 + f64::MIN_POSITIVE)
+        let error = bound.error(l.abs() + r.abs());
+        ((l - r).abs() / 2.0, error + f64::MIN_POSITIVE)
     };
     let (a, ea) = half(p(0), p(1), p(2));
     if ring.len() == 3 {
