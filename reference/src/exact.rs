@@ -10,6 +10,7 @@ use num_rational::BigRational;
 use num_traits::{pow, Signed};
 use rayon::prelude::*;
 
+use crate::metric::{distance, pixels};
 use pixgeo::geometry::{metric::Metric, Frame};
 
 fn exact(x: f64) -> BigRational {
@@ -89,7 +90,7 @@ pub fn ranked_sites(
         .collect();
     let float: Vec<f64> = places
         .iter()
-        .map(|p| metric.distance(centre - *p))
+        .map(|p| distance(metric, centre - *p))
         .collect();
     let mut sorted = float.clone();
     sorted.sort_by(f64::total_cmp);
@@ -140,7 +141,7 @@ pub fn exact_k_nearest(
     k: usize,
 ) -> (Vec<u32>, Vec<u32>) {
     let w = frame.width;
-    let per_pixel: Vec<(Vec<u32>, u32)> = (0..frame.len() as u32)
+    let per_pixel: Vec<(Vec<u32>, u32)> = (0..pixels(frame) as u32)
         .into_par_iter()
         .map(|p| {
             let ranked = ranked_sites(sites, frame, metric, p % w, p / w, k);
@@ -150,8 +151,8 @@ pub fn exact_k_nearest(
             (labels, ties)
         })
         .collect();
-    let mut labels = Vec::with_capacity(frame.len() * k);
-    let mut ties = Vec::with_capacity(frame.len());
+    let mut labels = Vec::with_capacity(pixels(frame) * k);
+    let mut ties = Vec::with_capacity(pixels(frame));
     for (l, t) in per_pixel {
         labels.extend(l);
         ties.push(t);

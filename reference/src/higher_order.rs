@@ -4,6 +4,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
+use crate::metric::{distance, pixels};
 use pixgeo::geometry::{metric::Metric, Frame};
 
 /// For every pixel (row-major), its `k` nearest sites as `(index, distance)` in
@@ -21,14 +22,14 @@ pub fn k_nearest_by_metric(
     metric: Metric,
 ) -> Vec<Vec<(u32, f64)>> {
     let w = frame.width as usize;
-    (0..frame.len())
+    (0..pixels(frame))
         .into_par_iter()
         .map(|p| {
             let q = DVec2::new((p % w) as f64, (p / w) as f64);
             let mut all: Vec<(u32, f64)> = sites
                 .iter()
                 .enumerate()
-                .map(|(i, s)| (i as u32, metric.distance(q - *s)))
+                .map(|(i, s)| (i as u32, distance(metric, q - *s)))
                 .collect();
             all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
             all.truncate(k);
@@ -46,13 +47,13 @@ pub fn furthest_brute_force(
     metric: Metric,
 ) -> (Vec<u32>, Vec<f64>) {
     let w = frame.width as usize;
-    (0..frame.len())
+    (0..pixels(frame))
         .into_par_iter()
         .map(|p| {
             let q = DVec2::new((p % w) as f64, (p / w) as f64);
             let mut best = (u32::MAX, f64::NEG_INFINITY);
             for (i, s) in sites.iter().enumerate() {
-                let d = metric.distance(q - *s);
+                let d = distance(metric, q - *s);
                 if d > best.1 {
                     best = (i as u32, d);
                 }

@@ -2,6 +2,7 @@
 //! same answer: one generator for the core's, the C library's, and the
 //! command line's parity tests.
 
+use crate::metric::to_world;
 use glam::DVec2;
 use pixgeo::geometry::Frame;
 use rand::{Rng, SeedableRng};
@@ -19,7 +20,7 @@ impl Hostile {
     /// The world box the picture shows, as a front end's `bbox` gives it.
     pub fn bbox(&self) -> [f64; 4] {
         let f = &self.frame;
-        let far = f.to_world(DVec2::new(f.width as f64, f.height as f64) - 0.5);
+        let far = to_world(f, DVec2::new(f.width as f64, f.height as f64) - 0.5);
         [f.origin.x, f.origin.y, far.x, far.y]
     }
 }

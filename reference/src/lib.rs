@@ -10,6 +10,7 @@ pub mod flooding;
 pub mod higher_order;
 pub mod homothet;
 pub mod hostile;
+pub mod metric;
 pub mod npy;
 pub mod settle;
 pub mod sibson;

@@ -4,6 +4,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
+use crate::metric::{self, key};
 use pixgeo::geometry::{metric::Metric, Frame};
 
 /// Potential areas by the definition (thesis Def. 3.4 on pixels): for every
@@ -27,23 +28,23 @@ pub fn potential_areas_brute_force(
     let nearest = |sites: &[DVec2], p: DVec2| {
         sites
             .iter()
-            .map(|s| metric.key(*s - p))
+            .map(|s| key(metric, *s - p))
             .fold(f64::INFINITY, f64::min)
     };
     // The radius key of every pixel that counts.
-    let pixels: Vec<(DVec2, f64)> = (0..frame.len())
+    let pixels: Vec<(DVec2, f64)> = (0..metric::pixels(frame))
         .map(pixel)
         .filter_map(|p| {
             let rival = nearest(rivals, p);
             (nearest(own, p) > rival).then_some((p, rival))
         })
         .collect();
-    (0..frame.len())
+    (0..metric::pixels(frame))
         .into_par_iter()
         .map(|k| {
             let t = pixel(k);
             pixels.iter().fold((0, 0), |(lo, hi), &(p, r)| {
-                let key = metric.key(t - p);
+                let key = key(metric, t - p);
                 (
                     lo + (key < r * (1.0 - slack)) as u32,
                     hi + (key < r * (1.0 + slack)) as u32,

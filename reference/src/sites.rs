@@ -17,6 +17,7 @@ use num_rational::BigRational;
 use num_traits::{Signed, ToPrimitive, Zero};
 use rayon::prelude::*;
 
+use crate::metric::{site_distance, to_world};
 use pixgeo::geometry::{
     metric::Metric,
     site::{Shape, Site},
@@ -404,8 +405,11 @@ pub fn nearest_general_sites(sites: &[Site], frame: &Frame, metric: Metric) -> V
             let (i, j) = ((k % w) as i64, (k / w) as i64);
             let centre = |o: f64, i: i64| exact(o) + (int(i) + &half) / exact(frame.scale);
             let q = [centre(frame.origin.x, i), centre(frame.origin.y, j)];
-            let world = frame.to_world(DVec2::new(i as f64, j as f64));
-            let floats: Vec<f64> = sites.iter().map(|s| s.distance(metric, world)).collect();
+            let world = to_world(frame, DVec2::new(i as f64, j as f64));
+            let floats: Vec<f64> = sites
+                .iter()
+                .map(|s| site_distance(metric, s, world, 0))
+                .collect();
             let least = floats.iter().copied().fold(f64::INFINITY, f64::min);
             // Far beyond the doubles' errors (a few ulps of the sizes):
             // a site alone within it is the nearest.

@@ -5,13 +5,18 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use pixgeo::geometry::Frame;
+use crate::metric::{self, distance, euclidean_bounds, shape_distance, to_world};
+use pixgeo::geometry::{
+    metric::Metric,
+    site::{Shape, Site},
+    Frame,
+};
 
 /// For every pixel (row-major), the smallest distance to a site (pixel units) and the
 /// lowest index of a site at that distance. Sites are in pixel coordinates.
 pub fn nearest_sites_brute_force(sites: &[DVec2], frame: &Frame) -> (Vec<u32>, Vec<f64>) {
     let w = frame.width as usize;
-    let results: Vec<(u32, f64)> = (0..frame.len())
+    let results: Vec<(u32, f64)> = (0..metric::pixels(frame))
         .into_par_iter()
         .map(|k| {
             let q = DVec2::new((k % w) as f64, (k / w) as f64);
@@ -33,7 +38,7 @@ pub fn nearest_sites_brute_force(sites: &[DVec2], frame: &Frame) -> (Vec<u32>, V
 /// rendering. Sites far outside the picture are searched linearly.
 pub fn nearest_sites_grid(sites: &[DVec2], frame: &Frame) -> Vec<u32> {
     let (w, h) = (frame.width as usize, frame.height as usize);
-    let cell = ((frame.len() as f64 / sites.len().max(1) as f64).sqrt() * 1.5).max(2.0);
+    let cell = ((metric::pixels(frame) as f64 / sites.len().max(1) as f64).sqrt() * 1.5).max(2.0);
     let gx = (w as f64 / cell).ceil() as usize;
     let gy = (h as f64 / cell).ceil() as usize;
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); gx * gy];
@@ -99,19 +104,15 @@ pub fn nearest_sites_grid(sites: &[DVec2], frame: &Frame) -> Vec<u32> {
 
 /// For every pixel (row-major), the smallest `metric` distance to a site (pixel
 /// units), by looking at every site. Sites are in pixel coordinates.
-pub fn nearest_distances_metric(
-    sites: &[DVec2],
-    frame: &Frame,
-    metric: pixgeo::geometry::metric::Metric,
-) -> Vec<f64> {
+pub fn nearest_distances_metric(sites: &[DVec2], frame: &Frame, metric: Metric) -> Vec<f64> {
     let w = frame.width as usize;
-    (0..frame.len())
+    (0..metric::pixels(frame))
         .into_par_iter()
         .map(|k| {
             let q = DVec2::new((k % w) as f64, (k / w) as f64);
             sites
                 .iter()
-                .map(|s| metric.distance(q - *s))
+                .map(|s| distance(metric, q - *s))
                 .fold(f64::INFINITY, f64::min)
         })
         .collect()
@@ -122,18 +123,13 @@ pub fn nearest_distances_metric(
 /// Circles and arcs under metrics other than L2 are measured at
 /// [`CURVE_SAMPLES`] points per turn (and their ends), which overestimates by at
 /// most [`curve_sampling_slack`].
-pub fn nearest_weighted_distances(
-    sites: &[pixgeo::geometry::site::Site],
-    frame: &Frame,
-    metric: pixgeo::geometry::metric::Metric,
-) -> Vec<f64> {
-    use pixgeo::geometry::site::Shape;
+pub fn nearest_weighted_distances(sites: &[Site], frame: &Frame, metric: Metric) -> Vec<f64> {
     let w = frame.width as usize;
-    let weighted = |s: &pixgeo::geometry::site::Site, d: f64| d / s.multiplicative + s.additive;
+    let weighted = |s: &Site, d: f64| d / s.multiplicative + s.additive;
     // The curves whose distance is sampled, with their circle; the rest.
-    let circle = |s: &pixgeo::geometry::site::Site| match s.shape {
+    let circle = |s: &Site| match s.shape {
         Shape::Circle { center, radius } | Shape::Arc { center, radius, .. }
-            if metric != pixgeo::geometry::metric::Metric::L2 =>
+            if metric != Metric::L2 =>
         {
             Some((center, radius))
         }
@@ -144,19 +140,22 @@ pub fn nearest_weighted_distances(
     // A sampled curve is no nearer than a·|‖q − c‖ − r| (a from the metric's
     // Euclidean bounds); one whose bound cannot beat the best is not sampled.
     let slack = 1.0 - 1e-9;
-    let (a, _) = metric.euclidean_bounds();
-    (0..frame.len())
+    let (a, _) = euclidean_bounds(metric);
+    (0..metric::pixels(frame))
         .into_par_iter()
         .map(|k| {
-            let q = frame.to_world(DVec2::new((k % w) as f64, (k / w) as f64));
+            let q = to_world(frame, DVec2::new((k % w) as f64, (k / w) as f64));
             let mut best = others
                 .iter()
-                .map(|s| weighted(s, shape_distance(s, metric, q)))
+                .map(|s| weighted(s, shape_distance(metric, s.shape, q, CURVE_SAMPLES)))
                 .fold(f64::INFINITY, f64::min);
             for &(s, (center, radius)) in &curves {
                 let bound = weighted(s, slack * a * ((q - center).length() - radius).abs());
                 if bound < best {
-                    best = best.min(weighted(s, shape_distance(s, metric, q)));
+                    best = best.min(weighted(
+                        s,
+                        shape_distance(metric, s.shape, q, CURVE_SAMPLES),
+                    ));
                 }
             }
             best
@@ -169,15 +168,11 @@ pub const CURVE_SAMPLES: usize = 1 << 11;
 
 /// How much sampling curves can overestimate a weighted distance: half the
 /// spacing of the samples, stretched by the metric.
-pub fn curve_sampling_slack(
-    sites: &[pixgeo::geometry::site::Site],
-    metric: pixgeo::geometry::metric::Metric,
-) -> f64 {
-    use pixgeo::geometry::site::Shape;
-    if metric == pixgeo::geometry::metric::Metric::L2 {
+pub fn curve_sampling_slack(sites: &[Site], metric: Metric) -> f64 {
+    if metric == Metric::L2 {
         return 0.0;
     }
-    let b = metric.euclidean_bounds().1;
+    let b = euclidean_bounds(metric).1;
     sites
         .iter()
         .map(|s| match s.shape {
@@ -187,43 +182,4 @@ pub fn curve_sampling_slack(
             _ => 0.0,
         })
         .fold(0.0, f64::max)
-}
-
-/// The distance to a site's shape by its definition: closed forms for points,
-/// segments and Euclidean curves, samples for curves under other metrics.
-fn shape_distance(
-    s: &pixgeo::geometry::site::Site,
-    metric: pixgeo::geometry::metric::Metric,
-    q: DVec2,
-) -> f64 {
-    use pixgeo::geometry::site::Shape;
-    // Samples, and the cusps where the offset lies along a corner ray of the ball
-    // (too narrow a valley for any sampling).
-    let sampled = |center: DVec2, radius: f64, start: f64, span: f64| {
-        let at = |a: f64| metric.distance(q - center - radius * DVec2::new(a.cos(), a.sin()));
-        let n = ((CURVE_SAMPLES as f64 * span / std::f64::consts::TAU).ceil() as usize).max(1);
-        let samples = (0..=n).map(|k| at(start + span * k as f64 / n as f64));
-        let cusps = pixgeo::geometry::site::ray_crossings(metric, q - center, radius)
-            .into_iter()
-            .filter(|a| (a - start).rem_euclid(std::f64::consts::TAU) <= span)
-            .map(at);
-        samples.chain(cusps).fold(f64::INFINITY, f64::min)
-    };
-    match s.shape {
-        Shape::Circle { center, radius } if metric != pixgeo::geometry::metric::Metric::L2 => {
-            sampled(center, radius, 0.0, std::f64::consts::TAU)
-        }
-        Shape::Arc {
-            center,
-            radius,
-            start,
-            end,
-        } if metric != pixgeo::geometry::metric::Metric::L2 => sampled(
-            center,
-            radius,
-            start,
-            (end - start).min(std::f64::consts::TAU),
-        ),
-        _ => s.distance_to_shape(metric, q),
-    }
 }

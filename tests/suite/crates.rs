@@ -148,3 +148,61 @@ fn rationals_are_computed_with_in_the_exact_kernel_alone() {
         "rationals outside geometry::exact: {outside:?}"
     );
 }
+
+/// The oracles in `pixgeo-reference` compute apart from what they check: they
+/// read pixgeo's types (the frame, the metric, a site) as data, and call
+/// none of pixgeo's geometry or algorithms.
+#[test]
+fn the_oracles_compute_with_nothing_of_the_core() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/src");
+    let data = [
+        "Frame",
+        "metric::Metric",
+        "Metric",
+        "site::{Shape, Site}",
+        "Error",
+        "Result",
+    ];
+    let computations = [
+        "metric.distance(",
+        "metric.key(",
+        ".to_world(",
+        ".to_pixel(",
+        "euclidean_bounds()",
+        "distance_to_shape",
+        "ray_crossings",
+        "frame.len()",
+        ".distance(metric",
+        "pixgeo::algorithms",
+        "pixgeo::with_",
+        "pixgeo::simple",
+    ];
+    let mut files = 0;
+    for entry in std::fs::read_dir(&dir).expect("the oracles' sources") {
+        let path = entry.expect("a source").path();
+        let text = std::fs::read_to_string(&path).expect("a source file");
+        files += 1;
+        for call in computations {
+            assert!(!text.contains(call), "{} calls {call}", path.display());
+        }
+        // Every name taken from pixgeo is one of its data types.
+        let flat = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        for import in flat.split("use pixgeo::").skip(1) {
+            let import = import.split(';').next().unwrap_or("");
+            let names = import
+                .trim_start_matches("geometry::")
+                .trim_start_matches('{')
+                .trim_end_matches('}');
+            let mut rest = names.to_string();
+            for name in data {
+                rest = rest.replace(name, "");
+            }
+            assert!(
+                rest.chars().all(|c| c == ',' || c == ' '),
+                "{} takes {import} from pixgeo",
+                path.display()
+            );
+        }
+    }
+    assert!(files > 10, "{files} oracle files read");
+}
