@@ -817,3 +817,42 @@ def test_one_geographic_rule(tmp_path):
                            "--distance", str(tmp_path / "d.tif")], capture_output=True, text=True)
     assert done.returncode == 1 and "not distances on the Earth" in done.stderr, done.stderr
     assert not (tmp_path / "d.tif").exists()
+
+
+DELAUNATOR = Path(__file__).parent / "data" / "delaunator"
+
+
+@pytest.mark.parametrize("name, scale, offset, bbox", [
+    # The box in which cell 30's rounded ring crossed itself at (110, 170).
+    ("robustness1", 1.0, 0.0, (4.5, 24.5, 190.5, 205.5)),
+    ("robustness1", 2.0 ** -996, 0.0, None),
+    ("robustness1", 2.0 ** 966, 0.0, None),
+    ("robustness1", 1.0, 1e9, None),
+    # At 1e15 the doubles are an eighth apart: thin cells flip when rounded.
+    ("ukraine", 0.1, 1e15, None),
+])
+def test_rounded_cells_stay_valid_on_robustness_sets(tmp_path, name, scale, offset, bbox):
+    """Every corner is the double nearest its exact corner, and where those
+    would cross a ring over itself the crowded corners become one, shared:
+    each cell is a valid counter-clockwise polygon and the cells a coverage,
+    as shapely reads them (powers of two scaled back exactly)."""
+    xy = np.array(json.loads((DELAUNATOR / f"{name}.json").read_text())) * scale + offset
+    if bbox is None:
+        lo, hi = xy.min(axis=0), xy.max(axis=0)
+        pad = 0.5 * (hi - lo).max()
+        bbox = (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad)
+    path = tmp_path / "sites.csv"
+    np.savetxt(path, xy, delimiter=",", fmt="%.17g")
+    out = tmp_path / "cells.geojson"
+    pixgeo("voronoi", "--sites", path, "--bbox=" + ",".join("%.17g" % v for v in bbox),
+           "--size", 64, "--cells", out)
+    _, first = np.unique(xy, axis=0, return_index=True)
+    distinct = set(first.tolist())
+    back = 1.0 / scale if offset == 0.0 else 1.0
+    cells = [shapely.transform(shape(f["geometry"]), lambda c: c * back)
+             for f in read_cells(out)
+             if f["geometry"] is not None and f["properties"]["site"] in distinct]
+    assert len(cells) > 0.9 * len(distinct)
+    invalid = [i for i, c in enumerate(cells) if not c.is_valid or not shapely.is_ccw(c.exterior)]
+    assert invalid == []
+    assert shapely.coverage_is_valid(cells)

@@ -7,7 +7,7 @@ use glam::DVec2;
 use serde_json::{json, Map, Value};
 
 use super::output::write_text;
-use pixgeo::Result;
+use pixgeo::{geometry::predicates::orient, Result};
 
 /// Polygons, each an outer ring and then its holes; rings are open (the
 /// first corner is not repeated).
@@ -20,17 +20,34 @@ pub struct Feature {
     pub properties: Map<String, Value>,
 }
 
-/// Twice a ring's signed area: positive counter-clockwise (y up).
-fn twice_area(ring: &[DVec2]) -> f64 {
+/// Whether a simple ring turns counter-clockwise (y up): the exact turn at
+/// its least corner, where the ring is convex (far from the origin, a float
+/// area would cancel away), else the area about its first corner.
+fn counter_clockwise(ring: &[DVec2]) -> bool {
     let n = ring.len();
-    (0..n).map(|k| ring[k].perp_dot(ring[(k + 1) % n])).sum()
+    let least = (0..n).min_by(|&i, &j| {
+        ring[i]
+            .x
+            .total_cmp(&ring[j].x)
+            .then(ring[i].y.total_cmp(&ring[j].y))
+    });
+    let Some(k) = least else { return true };
+    let turn = orient(ring[(k + n - 1) % n], ring[k], ring[(k + 1) % n]);
+    if turn != 0.0 {
+        return turn > 0.0;
+    }
+    let o = ring[0];
+    (0..n)
+        .map(|k| (ring[k] - o).perp_dot(ring[(k + 1) % n] - o))
+        .sum::<f64>()
+        > 0.0
 }
 
 /// A ring as GeoJSON wants it: closed, counter-clockwise when `outer`,
 /// clockwise when a hole (RFC 7946 §3.1.6).
 fn ring_json(ring: &[DVec2], outer: bool) -> Value {
     let mut points: Vec<DVec2> = ring.to_vec();
-    if (twice_area(&points) > 0.0) != outer {
+    if counter_clockwise(&points) != outer {
         points.reverse();
     }
     points.push(points[0]);

@@ -114,6 +114,7 @@ impl<'a> CellBuilder<'a> {
             cells.extend(built);
         }
         control.report(total, total);
+        super::snap::keep_rings_simple(&mut cells)?;
         Ok(cells)
     }
 

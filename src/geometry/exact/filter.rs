@@ -98,6 +98,7 @@ mod tests {
     use num_traits::Zero;
 
     use super::Bound;
+    use crate::geometry::exact::next_toward;
     use crate::geometry::exact::{
         circle::{diametral_side_exactly, diametral_side_filtered},
         compare_distances_exactly, incircle_exact, orient_exact,
@@ -122,7 +123,7 @@ mod tests {
     /// `x` moved by `k` ulps.
     fn step(mut x: f64, k: i64) -> f64 {
         for _ in 0..k.unsigned_abs() {
-            x = if k > 0 { x.next_up() } else { x.next_down() };
+            x = next_toward(x, k as f64 * f64::INFINITY);
         }
         x
     }

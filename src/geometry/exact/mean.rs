@@ -4,7 +4,7 @@
 use num_bigint::BigInt;
 use num_rational::BigRational;
 
-use super::{nearest_double, rational, two_product, two_sum};
+use super::{nearest_double, next_toward, rational, two_product, two_sum};
 
 /// The double nearest to `origin + sum / (weight · scale)` (`weight` > 0):
 /// double-double arithmetic where it proves the rounding, rationals where
@@ -57,22 +57,6 @@ fn certified_mean(origin: f64, sum: u128, weight: u128, scale: f64) -> Option<f6
     }
     // x is nearest unless the rest reaches halfway to the neighbour.
     (low.abs() + error < (neighbour - x).abs() / 2.0).then_some(x)
-}
-
-/// The double next to `x` toward `target`.
-fn next_toward(x: f64, target: f64) -> f64 {
-    if x == target || x.is_nan() {
-        return x;
-    }
-    if x == 0.0 {
-        return f64::from_bits(1).copysign(target);
-    }
-    let bits = x.to_bits();
-    if (target > x) == (x > 0.0) {
-        f64::from_bits(bits + 1)
-    } else {
-        f64::from_bits(bits - 1)
-    }
 }
 
 #[cfg(test)]

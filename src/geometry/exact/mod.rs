@@ -26,6 +26,7 @@ pub mod power;
 pub(crate) mod precise;
 pub mod predicates;
 pub(crate) mod site;
+pub(crate) mod snap;
 pub(crate) mod sphere;
 pub(crate) mod surd;
 pub(crate) mod triangle;
@@ -392,6 +393,22 @@ pub(super) fn compare_distances_exactly(a: DVec2, b: DVec2, c: DVec2, d: DVec2) 
 /// |a - b| rounded to the nearest double.
 pub(crate) fn nearest_distance(a: DVec2, b: DVec2) -> f64 {
     nearest_double_sqrt(&distance_squared(&rational_point(a), &rational_point(b)))
+}
+
+/// The double next to `x` toward `target`.
+pub(crate) fn next_toward(x: f64, target: f64) -> f64 {
+    if x == target || x.is_nan() {
+        return x;
+    }
+    if x == 0.0 {
+        return f64::from_bits(1).copysign(target);
+    }
+    let bits = x.to_bits();
+    if (target > x) == (x > 0.0) {
+        f64::from_bits(bits + 1)
+    } else {
+        f64::from_bits(bits - 1)
+    }
 }
 
 #[cfg(test)]
