@@ -93,6 +93,7 @@ fn snap_ring(ring: &mut Vec<DVec2>, corners: &[DVec2]) -> bool {
 /// passes through (their closed boxes of the points that round to them).
 #[expect(clippy::disallowed_methods, reason = "the corners near one edge")]
 fn passed_pixels(a: DVec2, b: DVec2, corners: &[DVec2]) -> Vec<DVec2> {
+    let (a, b) = ordered(a, b);
     let (lo, hi) = (a.min(b), a.max(b));
     // A double's box reaches past the segment's doubles only if the double
     // itself lies within their range.
@@ -106,17 +107,29 @@ fn passed_pixels(a: DVec2, b: DVec2, corners: &[DVec2]) -> Vec<DVec2> {
         .collect()
 }
 
+/// The segment's ends in one order whichever way it is given, so that both
+/// cells along an edge take the same corners.
+fn ordered(a: DVec2, b: DVec2) -> (DVec2, DVec2) {
+    match lexicographic(&a, &b) {
+        Ordering::Greater => (b, a),
+        _ => (a, b),
+    }
+}
+
 /// A float filter: whether `c` may lie within a few units in the last place
-/// of the line through `a` and `b`.
+/// of the line through `a` and `b`. The differences round by a unit of the
+/// largest coordinate, the products and their difference by a few ε more;
+/// the pixel reaches a unit from `c`.
 fn near_line(a: DVec2, b: DVec2, c: DVec2) -> bool {
-    let d = b - a;
-    let cross = d.perp_dot(c - a);
-    let ulp = |v: f64| {
-        let v = v.abs();
-        f64::from_bits(v.to_bits() + 1) - v
-    };
-    let reach = 4.0 * ulp(c.abs().max_element()) * d.length()
-        + 8.0 * f64::EPSILON * (d.x.abs() * (c - a).y.abs() + d.y.abs() * (c - a).x.abs());
+    let (d, e) = (b - a, c - a);
+    let cross = d.perp_dot(e);
+    let largest = [a, b, c]
+        .map(|p| p.abs().max_element())
+        .into_iter()
+        .fold(0.0, f64::max);
+    let ulp = f64::from_bits(largest.to_bits() + 1) - largest;
+    let reach = 4.0 * ulp * (d.length() + e.length())
+        + 8.0 * f64::EPSILON * (d.x.abs() * e.y.abs() + d.y.abs() * e.x.abs());
     cross.abs() <= reach || !cross.is_finite()
 }
 
