@@ -34,7 +34,7 @@ use crate::{
     error::{Error, Result},
     geometry::seed::{check_seeds, neighbours, priority, Priority, Seed, NONE},
     geometry::Frame,
-    machine::{shaders, Buffer, ComputeProgram, Image, Machine},
+    machine::{shaders, Buffer, ComputeProgram, Extent, Image, Machine},
 };
 
 /// The exact Euclidean colouring of the seed map in buffer 0 into buffer 1
@@ -46,7 +46,11 @@ static EUCLIDEAN_COLOURING: ComputeProgram = ComputeProgram::new(
     "EuclideanColouring",
     shaders::EUCLIDEAN_COMP,
     std::mem::size_of::<[u32; 4]>(),
+    &[TWICE_THE_PIXELS, TWICE_THE_PIXELS],
 );
+
+const PIXELS: Extent = Extent::Push(|p| 4 * p[0] as u64 * p[1] as u64);
+const TWICE_THE_PIXELS: Extent = Extent::Push(|p| 8 * p[0] as u64 * p[1] as u64);
 
 /// One pass of jump flooding from buffer 0 into buffer 1 (push `[width,
 /// height, step, first pixel]`, one invocation per pixel).
@@ -54,6 +58,7 @@ static JUMP_FLOOD: ComputeProgram = ComputeProgram::new(
     "JumpFlood",
     shaders::JUMP_FLOOD_COMP,
     std::mem::size_of::<[u32; 4]>(),
+    &[PIXELS, PIXELS],
 );
 
 /// The dual triangles of a colouring in buffer 0, appended to buffer 1 (push
@@ -63,6 +68,8 @@ static DUALIZE: ComputeProgram = ComputeProgram::new(
     "Dualize",
     shaders::DUALIZE_COMP,
     std::mem::size_of::<[u32; 3]>(),
+    // The colouring; the count, then three words per triangle.
+    &[PIXELS, Extent::Push(|p| 4 * (1 + 3 * p[2] as u64))],
 );
 
 /// How the flooding went.

@@ -44,7 +44,7 @@ pub use pass::{Clear, ClearColor, Draw, Pass, PixelRect, RectDraw, Target, MAX_G
 pub use pipelines::BUFFER_KERNEL_BINDINGS;
 pub use profile::{HostSpan, PassSpan, Phase, Profiler, Timeline};
 pub use program::{
-    ComputeProgram, Fragments, GraphicsProgram, Needs, Shader, Topology, VertexAttribute,
+    ComputeProgram, Extent, Fragments, GraphicsProgram, Needs, Shader, Topology, VertexAttribute,
     VertexBuffer, VertexFormat,
 };
 pub use state::{
@@ -65,6 +65,12 @@ static EXTREMUM: ComputeProgram = ComputeProgram::new(
     "Extremum",
     shaders::EXTREMUM_COMP,
     std::mem::size_of::<[u32; 6]>(),
+    &[
+        // The picture's values.
+        Extent::Push(|p| 4 * p[0] as u64 * p[1] as u64),
+        // The extremes, the list, each strip's extremes.
+        Extent::Push(|p| 4 * (5 + 2 * p[4] as u64 + 2 * p[0] as u64 * p[1].div_ceil(64) as u64)),
+    ],
 );
 
 /// Per-channel minimum and maximum of a picture buffer (thesis §1.7, Fig. 1.12).

@@ -374,21 +374,41 @@ pub enum Fragments {
     ByVariant(&'static [Shader]),
 }
 
+/// How far a kernel reaches into one of its storage buffers, declared with
+/// the kernel so that a dispatch can check it.
+#[derive(Clone, Copy, Debug)]
+pub enum Extent {
+    /// At most this many bytes, a function of the dispatch's push constants
+    /// (as `u32` words): a shorter buffer is refused.
+    Push(fn(&[u32]) -> u64),
+    /// Indexed by what the buffers hold (site lists, discs' pixels): no
+    /// length is known before the kernel runs, so the kernel runs only on a
+    /// device that bounds every access (`robustBufferAccess`).
+    ByData,
+}
+
 /// A compute kernel over storage buffers (bindings 0, 1, … in the order a
-/// dispatch gives them). Declare one in a `static` with
-/// [`ComputeProgram::new`].
-#[derive(Debug, PartialEq, Eq, Hash)]
+/// dispatch gives them), with the extent of each. Declare one in a `static`
+/// with [`ComputeProgram::new`].
+#[derive(Debug)]
 pub struct ComputeProgram {
     pub name: &'static str,
     pub shader: Shader,
     /// Bytes of the push constants a dispatch gives.
     pub push_bytes: u32,
+    /// How far the kernel reaches into each buffer, one per binding.
+    pub extents: &'static [Extent],
 }
 
 impl ComputeProgram {
     /// A kernel, checked against its shader's reflected interface at compile
     /// time when declared in a `static`.
-    pub const fn new(name: &'static str, shader: Shader, push_bytes: usize) -> Self {
+    pub const fn new(
+        name: &'static str,
+        shader: Shader,
+        push_bytes: usize,
+        extents: &'static [Extent],
+    ) -> Self {
         let push_bytes = push_bytes as u32;
         assert!(
             matches!(shader.stage, Stage::Compute),
@@ -402,10 +422,15 @@ impl ComputeProgram {
             push_bytes <= COMPUTE_PUSH_BYTES,
             "push constants larger than the compute layout's range"
         );
+        assert!(
+            !extents.is_empty() && extents.len() <= super::BUFFER_KERNEL_BINDINGS as usize,
+            "a kernel takes one to BUFFER_KERNEL_BINDINGS storage buffers"
+        );
         Self {
             name,
             shader,
             push_bytes,
+            extents,
         }
     }
 

@@ -697,3 +697,55 @@ fn what_the_device_did_not_enable_is_refused() {
         .unwrap_err();
     assert!(matches!(err, pixgeo::Error::Unsupported(_)), "{err}");
 }
+
+/// One pass of jump flooding (push `[width, height, step, first pixel]`),
+/// declared as a user would, with each buffer's reach: a pixel's seed each.
+static FLOOD_STEP: ComputeProgram = ComputeProgram::new(
+    "FloodStep",
+    shaders::JUMP_FLOOD_COMP,
+    16,
+    &[
+        Extent::Push(|p| 4 * p[0] as u64 * p[1] as u64),
+        Extent::Push(|p| 4 * p[0] as u64 * p[1] as u64),
+    ],
+);
+
+#[test]
+fn a_dispatch_past_a_buffers_end_is_refused_before_it_runs() {
+    let m = machine();
+    let (w, h) = (16u32, 8u32);
+    let full = m.storage_buffer(4 * u64::from(w * h)).unwrap();
+    let short = m.storage_buffer(4 * u64::from(w * h) - 4).unwrap();
+    let push = |w: u32, h: u32| [w, h, 1, 0];
+    let dispatch = |before: &Buffer, after: &Buffer, push: [u32; 4]| {
+        m.run(|p| {
+            p.dispatch(
+                &FLOOD_STEP,
+                &[before, after],
+                w * h,
+                bytemuck::bytes_of(&push),
+            )
+        })
+    };
+    dispatch(&full, &full, push(w, h)).expect("buffers that hold the picture");
+    for (before, after) in [(&short, &full), (&full, &short)] {
+        let err = dispatch(before, after, push(w, h)).unwrap_err();
+        assert!(matches!(err, pixgeo::Error::Usage(_)), "{err}");
+        assert!(err.to_string().contains("reaches 512 bytes"), "{err}");
+    }
+    // A picture the push constants say is larger than the buffers.
+    let err = dispatch(&full, &full, push(w, h + 1)).unwrap_err();
+    assert!(matches!(err, pixgeo::Error::Usage(_)), "{err}");
+    // Fewer buffers than the kernel declares.
+    let err = m
+        .run(|p| {
+            p.dispatch(
+                &FLOOD_STEP,
+                &[&full],
+                w * h,
+                bytemuck::bytes_of(&push(w, h)),
+            )
+        })
+        .unwrap_err();
+    assert!(matches!(err, pixgeo::Error::Usage(_)), "{err}");
+}

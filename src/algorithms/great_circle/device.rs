@@ -21,7 +21,7 @@ use rayon::prelude::*;
 use super::{angle, check, nearest, GreatCircle, Tree, EARTH_RADIUS};
 use crate::{
     cancel::Watch,
-    machine::{shaders, ComputeProgram, Machine, MAX_GROUPS},
+    machine::{shaders, ComputeProgram, Extent, Machine, MAX_GROUPS},
     Error, Result,
 };
 
@@ -31,6 +31,15 @@ static GREAT_CIRCLE: ComputeProgram = ComputeProgram::new(
     "GreatCircle",
     shaders::GREAT_CIRCLE_COMP,
     std::mem::size_of::<[u32; 5]>(),
+    &[
+        // Each column's cosine and sine, then each band row's.
+        Extent::Push(|p| 8 * (p[0] as u64 + p[1].div_ceil(p[0].max(1)) as u64)),
+        // The sites and their lists, indexed by the lists.
+        Extent::ByData,
+        Extent::ByData,
+        // A label per pixel.
+        Extent::Push(|p| 4 * p[1] as u64),
+    ],
 );
 
 /// Pixels along a side of the tiles that share a list of sites: about one

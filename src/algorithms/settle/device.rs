@@ -2,6 +2,7 @@
 //! discs counted by stencil wrap-around and blending.
 
 use super::*;
+use crate::machine::Extent;
 use crate::memory::Gather;
 
 /// Push constants of the settle programs (`glsl/settle.glsl`): `[width,
@@ -26,7 +27,14 @@ static SETTLE_DISC: GraphicsProgram = GraphicsProgram::new(
 /// function's kind.
 static SETTLE_SPANS: [ComputeProgram; 5] = {
     const fn spans(name: &'static str, shader: crate::machine::Shader) -> ComputeProgram {
-        ComputeProgram::new(name, shader, std::mem::size_of::<SettleWords>())
+        // The radii by source pixel, and the seven difference pictures at
+        // the discs' pixels.
+        ComputeProgram::new(
+            name,
+            shader,
+            std::mem::size_of::<SettleWords>(),
+            &[Extent::ByData; 8],
+        )
     }
     [
         spans("SettleSpans(L2)", shaders::SETTLE_SPANS_COMP[0]),
@@ -44,6 +52,20 @@ static SETTLE_SUMS: ComputeProgram = ComputeProgram::new(
     "SettleSums",
     shaders::SETTLE_SUMS_COMP,
     std::mem::size_of::<[u32; 3]>(),
+    &{
+        // The radii, untouched; then the seven pictures.
+        const PICTURE: Extent = Extent::Push(|p| 4 * p[0] as u64 * p[1] as u64);
+        [
+            Extent::Push(|_| 0),
+            PICTURE,
+            PICTURE,
+            PICTURE,
+            PICTURE,
+            PICTURE,
+            PICTURE,
+            PICTURE,
+        ]
+    },
 );
 
 /// The push constants of the settle programs (`glsl/settle.glsl`).

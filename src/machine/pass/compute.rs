@@ -4,9 +4,9 @@ use super::*;
 
 impl<'m, 'r> Pass<'m, 'r> {
     /// Records `kernel` over `invocations` invocations (one dimension) with
-    /// `buffers` as its storage buffers 0, 1, … (at most
-    /// [`BUFFER_KERNEL_BINDINGS`]), ordered after
-    /// earlier host writes, copies and dispatches, and visible to the host and to
+    /// `buffers` as its storage buffers 0, 1, … (one per extent the kernel
+    /// declares, each as long as its extent says), ordered after earlier
+    /// host writes, copies and dispatches, and visible to the host and to
     /// later work afterwards.
     pub fn dispatch(
         &mut self,
@@ -29,11 +29,7 @@ impl<'m, 'r> Pass<'m, 'r> {
         push: &[u8],
     ) -> Result<()> {
         check_push(kernel.name, kernel.push_bytes, push)?;
-        if buffers.is_empty() || buffers.len() > BUFFER_KERNEL_BINDINGS as usize {
-            return Err(Error::Usage(format!(
-                "compute kernels take one to {BUFFER_KERNEL_BINDINGS} storage buffers"
-            )));
-        }
+        self.check_extents(kernel, buffers, push)?;
         if self.rendering.is_some() {
             return Err(Error::Usage("dispatch inside a rendering pass".into()));
         }
@@ -59,6 +55,53 @@ impl<'m, 'r> Pass<'m, 'r> {
         self.begin_section(&format!("dispatch {}", kernel.name))?;
         self.record_dispatch(pipeline, layout, set, push, groups);
         self.end_section(None)
+    }
+
+    /// Refuses a dispatch whose buffers are fewer or more than the kernel's,
+    /// or shorter than its extents say it reaches, or whose kernel indexes a
+    /// buffer by data on a device that does not bound such accesses.
+    fn check_extents(
+        &self,
+        kernel: &ComputeProgram,
+        buffers: &[&Buffer],
+        push: &[u8],
+    ) -> Result<()> {
+        if buffers.len() != kernel.extents.len() {
+            return Err(Error::Usage(format!(
+                "{} takes {} storage buffers, not {}",
+                kernel.name,
+                kernel.extents.len(),
+                buffers.len()
+            )));
+        }
+        let mut words = [0u32; (COMPUTE_PUSH_BYTES / 4) as usize];
+        for (word, bytes) in words.iter_mut().zip(push.chunks_exact(4)) {
+            *word = u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+        }
+        for (binding, (buffer, extent)) in buffers.iter().zip(kernel.extents).enumerate() {
+            match *extent {
+                Extent::Push(reach) => {
+                    let needed = reach(&words);
+                    if buffer.size() < needed {
+                        return Err(Error::Usage(format!(
+                            "{} reaches {needed} bytes into buffer {binding}, which holds {}",
+                            kernel.name,
+                            buffer.size()
+                        )));
+                    }
+                }
+                Extent::ByData if !self.machine.has_robust_buffer_access() => {
+                    return Err(Error::Usage(format!(
+                        "{} indexes buffer {binding} by what the buffers hold, and {} does not \
+                         bound such accesses (robustBufferAccess)",
+                        kernel.name,
+                        self.machine.device_name()
+                    )));
+                }
+                Extent::ByData => {}
+            }
+        }
+        Ok(())
     }
 
     /// Records a compute dispatch; its buffers' and images' barriers are

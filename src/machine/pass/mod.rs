@@ -13,8 +13,10 @@ use ash::vk;
 use super::{
     context::Context,
     memory::{Buffer, Format, Image},
-    pipelines::{Kernel, BUFFER_KERNEL_BINDINGS, GRAPHICS_RECORDS_BINDING},
-    program::{ComputeProgram, Fragments, GraphicsProgram, Output, Topology},
+    pipelines::{Kernel, GRAPHICS_RECORDS_BINDING},
+    program::{
+        ComputeProgram, Extent, Fragments, GraphicsProgram, Output, Topology, COMPUTE_PUSH_BYTES,
+    },
     shaders,
     state::{DrawParams, RasterState},
     sync::{self, BufferUse, Usage},
