@@ -7,7 +7,7 @@ use glam::DVec2;
 use serde_json::{json, Map, Value};
 
 use super::output::write_text;
-use pixgeo::{geometry::predicates::orient, Result};
+use pixgeo::{geometry::predicates::ring_turn, Result};
 
 /// Polygons, each an outer ring and then its holes; rings are open (the
 /// first corner is not repeated).
@@ -20,23 +20,16 @@ pub struct Feature {
     pub properties: Map<String, Value>,
 }
 
-/// Whether a simple ring turns counter-clockwise (y up): the exact turn at
-/// its least corner, where the ring is convex (far from the origin, a float
-/// area would cancel away), else the area about its first corner.
+/// Whether a simple ring turns counter-clockwise (y up): by the exact turn
+/// at its least corner (far from the origin, a float area would cancel
+/// away), else by the area about its first corner.
 fn counter_clockwise(ring: &[DVec2]) -> bool {
-    let n = ring.len();
-    let least = (0..n).min_by(|&i, &j| {
-        ring[i]
-            .x
-            .total_cmp(&ring[j].x)
-            .then(ring[i].y.total_cmp(&ring[j].y))
-    });
-    let Some(k) = least else { return true };
-    let turn = orient(ring[(k + n - 1) % n], ring[k], ring[(k + 1) % n]);
+    let turn = ring_turn(ring);
     if turn != 0.0 {
         return turn > 0.0;
     }
-    let o = ring[0];
+    let o = ring.first().copied().unwrap_or_default();
+    let n = ring.len();
     (0..n)
         .map(|k| (ring[k] - o).perp_dot(ring[(k + 1) % n] - o))
         .sum::<f64>()

@@ -104,6 +104,25 @@ pub(super) fn incircle_filtered(
     bound.decides(det, permanent)
 }
 
+/// The turn of a simple ring (not closed) at its least corner, the first by
+/// x then y, where the ring is convex: positive when it runs
+/// counter-clockwise, negative when clockwise, with [`orient`]'s exact sign;
+/// 0 for fewer than three corners or a ring that folds back there.
+pub fn ring_turn(ring: &[DVec2]) -> f64 {
+    let n = ring.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let least = (0..n)
+        .min_by_key(|&k| lexicographic(ring[k]))
+        .expect("corners");
+    orient(
+        ring[(least + n - 1) % n],
+        ring[least],
+        ring[(least + 1) % n],
+    )
+}
+
 /// Indices of the convex hull's vertices, counter-clockwise, points on its edges
 /// left out (Andrew's monotone chain with exact orientation tests). Duplicates
 /// appear once; one or two distinct points are their own hull.

@@ -18,18 +18,15 @@ use glam::DVec2;
 use num_rational::BigRational;
 use rayon::prelude::*;
 
-use super::predicates::orient;
+use super::predicates::{orient, ring_turn};
 use super::{next_toward, rational};
+use crate::geometry::frame::lexicographic;
 use crate::{error::Result, memory::Gather};
 
 /// Rounds in which edges take the hot pixels they pass: each adds corners
 /// already there, so a few suffice; past these the rings are left as the
 /// last round made them.
 const MOST_ROUNDS: usize = 64;
-
-fn lexicographic(a: &DVec2, b: &DVec2) -> Ordering {
-    a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
-}
 
 /// Makes every ring of `cells` simple and counter-clockwise (or empty, where
 /// rounding collapsed it), snapping edges to the corners they pass.
@@ -42,8 +39,8 @@ pub(crate) fn keep_rings_simple(cells: &mut [Vec<DVec2>]) -> Result<()> {
         .flatten()
         .copied()
         .gather::<Vec<_>>("cell corners")?;
-    corners.sort_by(lexicographic);
-    corners.dedup_by(|a, b| lexicographic(a, b) == Ordering::Equal);
+    corners.sort_by_key(|&c| lexicographic(c));
+    corners.dedup_by_key(|c| lexicographic(*c));
     for _ in 0..MOST_ROUNDS {
         let mut snapped = false;
         for ring in cells.iter_mut() {
@@ -110,9 +107,9 @@ fn passed_pixels(a: DVec2, b: DVec2, corners: &[DVec2]) -> Vec<DVec2> {
 /// The segment's ends in one order whichever way it is given, so that both
 /// cells along an edge take the same corners.
 fn ordered(a: DVec2, b: DVec2) -> (DVec2, DVec2) {
-    match lexicographic(&a, &b) {
-        Ordering::Greater => (b, a),
-        _ => (a, b),
+    match lexicographic(a) > lexicographic(b) {
+        true => (b, a),
+        false => (a, b),
     }
 }
 
@@ -195,15 +192,7 @@ fn is_simple(ring: &[DVec2]) -> bool {
     if n < 3 {
         return false;
     }
-    let least = (0..n)
-        .min_by(|&i, &j| lexicographic(&ring[i], &ring[j]))
-        .expect("corners");
-    if orient(
-        ring[(least + n - 1) % n],
-        ring[least],
-        ring[(least + 1) % n],
-    ) <= 0.0
-    {
+    if ring_turn(ring) <= 0.0 {
         return false;
     }
     let edge = |k: usize| (ring[k], ring[(k + 1) % n]);
